@@ -1,0 +1,120 @@
+//! The streaming estimator interface.
+//!
+//! An estimator receives one timestamped [`Sample`] at a time and returns one
+//! [`Estimate`]. It never does I/O and never fixes `dt` at construction: the
+//! step length is always the difference of successive timestamps
+//! (see [`TimeStep`]).
+
+use core::fmt;
+
+use crate::estimate::Estimate;
+use crate::sample::Sample;
+
+/// Why an estimator could not process a sample.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum EstimatorError {
+    /// The sample's time is not after the previous sample's.
+    #[error("time {t} s is not after the previous sample's time {previous} s")]
+    NonIncreasingTime {
+        /// Previous sample time (s).
+        previous: f64,
+        /// Offending sample time (s).
+        t: f64,
+    },
+    /// A timestamp or a reading is not a finite number.
+    #[error("non-finite value in channel {channel}")]
+    NonFinite {
+        /// Channel name.
+        channel: &'static str,
+    },
+    /// A channel the estimator needs is absent from the trial altogether.
+    #[error("this method needs channel {channel}, which the trial does not have")]
+    MissingChannel {
+        /// Channel name.
+        channel: &'static str,
+    },
+    /// A numerical failure (e.g. a singular innovation covariance).
+    #[error("numerical failure: {0}")]
+    Numerical(&'static str),
+}
+
+/// A streaming estimator: one sample in, one estimate out.
+pub trait Estimator {
+    /// Method name as used by `limbfuse estimate --method` (e.g. `mjls`).
+    fn name(&self) -> &'static str;
+
+    /// Writes the parameters in use as `key: value` lines (for the estimate file header).
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result;
+
+    /// Names of the diagnostic values in [`Estimate::diag`] (without the `diag_` prefix).
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &[]
+    }
+
+    /// Forgets all state; the next sample starts a new recording.
+    fn reset(&mut self);
+
+    /// Processes one sample. Missing channels are `None` in the sample; the
+    /// estimator degrades (e.g. predicts only) instead of failing.
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError>;
+}
+
+/// Tracks timestamps and yields the step `dt` of each new sample.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TimeStep {
+    previous: Option<f64>,
+}
+
+impl TimeStep {
+    /// A tracker that has seen no sample.
+    pub const fn new() -> Self {
+        TimeStep { previous: None }
+    }
+
+    /// Registers sample time `t`: `Ok(None)` for the first sample, `Ok(Some(dt))` after.
+    pub fn advance(&mut self, t: f64) -> Result<Option<f64>, EstimatorError> {
+        if !t.is_finite() {
+            return Err(EstimatorError::NonFinite { channel: "t" });
+        }
+        match self.previous {
+            None => {
+                self.previous = Some(t);
+                Ok(None)
+            }
+            Some(previous) if t > previous => {
+                self.previous = Some(t);
+                Ok(Some(t - previous))
+            }
+            Some(previous) => Err(EstimatorError::NonIncreasingTime { previous, t }),
+        }
+    }
+
+    /// Forgets the previous time.
+    pub fn reset(&mut self) {
+        self.previous = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dt_comes_from_timestamps_including_gaps() {
+        let mut ts = TimeStep::new();
+        assert_eq!(ts.advance(1.0).unwrap(), None);
+        assert_eq!(ts.advance(1.01).unwrap(), Some(1.01 - 1.0));
+        assert_eq!(ts.advance(1.5).unwrap(), Some(1.5 - 1.01));
+    }
+
+    #[test]
+    fn non_increasing_time_is_an_error() {
+        let mut ts = TimeStep::new();
+        ts.advance(2.0).unwrap();
+        assert_eq!(
+            ts.advance(2.0),
+            Err(EstimatorError::NonIncreasingTime { previous: 2.0, t: 2.0 })
+        );
+        assert!(ts.advance(f64::NAN).is_err());
+    }
+}

@@ -1,0 +1,34 @@
+//! # limbfuse-core
+//!
+//! The `no_std` foundation of limbfuse: the sample and estimate types every
+//! estimator exchanges, the streaming [`Estimator`] trait, linear Kalman
+//! predict/update steps on `nalgebra` fixed-size matrices, exact (matrix
+//! exponential + Van Loan) and Euler discretisation, and (with the `std`
+//! feature) the [`runner`] that drives an estimator over a sample source and
+//! pushes results to observers.
+//!
+//! Conventions (SPEC section 1): SI units, sagittal angles about the world
+//! z axis (to the subject's right), positive counter-clockwise seen from the
+//! right side; `hip = theta_trunk - theta_thigh`, `knee = theta_thigh -
+//! theta_shank`, `ankle = theta_shank - theta_foot`.
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+pub mod discretize;
+pub mod estimate;
+pub mod estimator;
+pub mod expm;
+pub mod kalman;
+pub mod limb;
+pub mod sample;
+
+#[cfg(feature = "std")]
+pub mod runner;
+
+pub use estimate::{Estimate, MAX_DIAG};
+pub use estimator::{Estimator, EstimatorError, TimeStep};
+pub use limb::{Joint, Segment};
+pub use sample::{GaitPhase, ImuSample, Record, Reference, Sample};
+
+/// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.
+pub const STANDARD_GRAVITY: f64 = 9.81;

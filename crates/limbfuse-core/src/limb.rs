@@ -1,0 +1,79 @@
+//! Names of the limb's segments and joints (SPEC section 1).
+
+/// A body segment of one leg, proximal to distal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Segment {
+    /// Trunk (or pelvis, used as the body segment).
+    Trunk = 0,
+    /// Thigh.
+    Thigh = 1,
+    /// Shank.
+    Shank = 2,
+    /// Foot.
+    Foot = 3,
+}
+
+impl Segment {
+    /// All segments, proximal to distal.
+    pub const ALL: [Segment; 4] = [Segment::Trunk, Segment::Thigh, Segment::Shank, Segment::Foot];
+
+    /// The column-name stem of this segment (`trunk`, `thigh`, `shank`, `foot`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Segment::Trunk => "trunk",
+            Segment::Thigh => "thigh",
+            Segment::Shank => "shank",
+            Segment::Foot => "foot",
+        }
+    }
+
+    /// Index 0..4 of this segment.
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// A joint between two adjacent segments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Joint {
+    /// Hip: `theta_trunk - theta_thigh`.
+    Hip = 0,
+    /// Knee: `theta_thigh - theta_shank`.
+    Knee = 1,
+    /// Ankle: `theta_shank - theta_foot`.
+    Ankle = 2,
+}
+
+impl Joint {
+    /// All joints, proximal to distal.
+    pub const ALL: [Joint; 3] = [Joint::Hip, Joint::Knee, Joint::Ankle];
+
+    /// The column-name stem of this joint (`hip`, `knee`, `ankle`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Joint::Hip => "hip",
+            Joint::Knee => "knee",
+            Joint::Ankle => "ankle",
+        }
+    }
+
+    /// Index 0..3 of this joint.
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The proximal and distal segment of this joint.
+    pub const fn segments(self) -> (Segment, Segment) {
+        match self {
+            Joint::Hip => (Segment::Trunk, Segment::Thigh),
+            Joint::Knee => (Segment::Thigh, Segment::Shank),
+            Joint::Ankle => (Segment::Shank, Segment::Foot),
+        }
+    }
+
+    /// Joint angle from the absolute angles of its two segments (SPEC section 1).
+    pub fn from_segments(self, segments: &[f64; 4]) -> f64 {
+        let (p, d) = self.segments();
+        segments[p.index()] - segments[d.index()]
+    }
+}

@@ -1,0 +1,88 @@
+//! Drives an [`Estimator`] over a source of [`Record`]s and pushes each
+//! estimate to [`Observer`]s (file writers, metrics, progress bars).
+//!
+//! The runner is the only place where estimation meets the outside world;
+//! estimators stay free of I/O (the argmin executor/observer split).
+
+use std::error::Error;
+
+use crate::estimate::Estimate;
+use crate::estimator::{Estimator, EstimatorError};
+use crate::sample::Record;
+
+/// A boxed error from a sample source or an observer.
+pub type BoxError = Box<dyn Error + Send + Sync + 'static>;
+
+/// Receives every (record, estimate) pair of a run.
+pub trait Observer {
+    /// Called once before the first sample, with the estimator that will run.
+    fn start(&mut self, _estimator: &dyn Estimator) -> Result<(), BoxError> {
+        Ok(())
+    }
+    /// Called for every processed sample.
+    fn observe(&mut self, record: &Record, estimate: &Estimate) -> Result<(), BoxError>;
+    /// Called once after the last sample.
+    fn finish(&mut self) -> Result<(), BoxError> {
+        Ok(())
+    }
+}
+
+/// Why a run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The sample source failed (e.g. a malformed trial file row).
+    #[error(transparent)]
+    Source(BoxError),
+    /// The estimator rejected sample number `index` (0-based).
+    #[error("sample {index} (t = {t} s): {source}")]
+    Estimator {
+        /// 0-based sample index.
+        index: u64,
+        /// Sample time (s).
+        t: f64,
+        /// What went wrong.
+        source: EstimatorError,
+    },
+    /// An observer failed (e.g. the output file could not be written).
+    #[error(transparent)]
+    Observer(BoxError),
+}
+
+/// Summary of a finished run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RunSummary {
+    /// Number of samples processed.
+    pub n_samples: u64,
+}
+
+/// Runs `estimator` over `source`, streaming: memory use does not grow with the trial length.
+pub fn run<I, E>(
+    estimator: &mut dyn Estimator,
+    source: I,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunSummary, RunError>
+where
+    I: IntoIterator<Item = Result<Record, E>>,
+    E: Into<BoxError>,
+{
+    for o in observers.iter_mut() {
+        o.start(estimator).map_err(RunError::Observer)?;
+    }
+    let mut n = 0u64;
+    for item in source {
+        let record = item.map_err(|e| RunError::Source(e.into()))?;
+        let estimate = estimator.step(&record.sample).map_err(|source| RunError::Estimator {
+            index: n,
+            t: record.sample.t,
+            source,
+        })?;
+        for o in observers.iter_mut() {
+            o.observe(&record, &estimate).map_err(RunError::Observer)?;
+        }
+        n += 1;
+    }
+    for o in observers.iter_mut() {
+        o.finish().map_err(RunError::Observer)?;
+    }
+    Ok(RunSummary { n_samples: n })
+}

@@ -1,0 +1,167 @@
+//! What an estimator receives at one instant ([`Sample`]) and what the truth
+//! was ([`Reference`]), paired as a [`Record`] of a trial.
+//!
+//! Missing values are `None`, never NaN (a sensor dropout is an empty cell in a
+//! trial file).
+
+use nalgebra::Vector3;
+
+use crate::limb::{Joint, Segment};
+
+/// One IMU's readings at one instant, in the sensor frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ImuSample {
+    /// Specific force (m/s^2); `None` when any axis is missing.
+    pub acc: Option<Vector3<f64>>,
+    /// Angular rate (rad/s); `None` when any axis is missing.
+    pub gyr: Option<Vector3<f64>>,
+    /// Device orientation quaternion `[w, x, y, z]`, when the device provides one.
+    pub quat: Option<[f64; 4]>,
+}
+
+impl ImuSample {
+    /// True when neither accelerometer nor gyroscope nor quaternion is present.
+    pub fn is_empty(&self) -> bool {
+        self.acc.is_none() && self.gyr.is_none() && self.quat.is_none()
+    }
+}
+
+/// Model inputs some estimators need (paper 004): stimulation and motor torques.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ModelInputs {
+    /// Normalised stimulation commands in [0, 1]: `u_ke`, `u_kf`, `u_he`, `u_hf`.
+    pub stim: [Option<f64>; 4],
+    /// Motor torques (N m) at hip, knee, ankle: `tau_hip_motor`, ...
+    pub motor_torque: [Option<f64>; 3],
+}
+
+impl ModelInputs {
+    /// Column names of the stimulation channels, in [`ModelInputs::stim`] order.
+    pub const STIM_NAMES: [&'static str; 4] = ["u_ke", "u_kf", "u_he", "u_hf"];
+}
+
+/// Everything measured at one instant: the input of [`crate::Estimator::step`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sample {
+    /// Time (s). Estimators take `dt` from successive timestamps.
+    pub t: f64,
+    /// IMU readings per segment, indexed by [`Segment::index`].
+    pub imu: [ImuSample; 4],
+    /// Joint encoders (rad) per joint, indexed by [`Joint::index`].
+    pub encoder: [Option<f64>; 3],
+    /// Model inputs (stimulation, motor torques).
+    pub inputs: ModelInputs,
+}
+
+impl Sample {
+    /// A sample at time `t` with every channel missing.
+    pub fn empty(t: f64) -> Self {
+        Sample { t, ..Default::default() }
+    }
+
+    /// The IMU of a segment.
+    pub fn imu(&self, s: Segment) -> &ImuSample {
+        &self.imu[s.index()]
+    }
+
+    /// The encoder of a joint.
+    pub fn encoder(&self, j: Joint) -> Option<f64> {
+        self.encoder[j.index()]
+    }
+}
+
+/// Gait phase of the bipedal SLIP model (paper 003).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GaitPhase {
+    /// First single support.
+    Ss1,
+    /// Double support.
+    Ds,
+    /// Second single support.
+    Ss2,
+}
+
+impl GaitPhase {
+    /// The label used in files (`SS1`, `DS`, `SS2`).
+    pub const fn label(self) -> &'static str {
+        match self {
+            GaitPhase::Ss1 => "SS1",
+            GaitPhase::Ds => "DS",
+            GaitPhase::Ss2 => "SS2",
+        }
+    }
+
+    /// Parses a file label.
+    pub fn from_label(s: &str) -> Option<Self> {
+        match s {
+            "SS1" => Some(GaitPhase::Ss1),
+            "DS" => Some(GaitPhase::Ds),
+            "SS2" => Some(GaitPhase::Ss2),
+            _ => None,
+        }
+    }
+}
+
+/// Ground truth at one instant (from simulation or motion capture).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Reference {
+    /// Absolute sagittal angle (rad) per segment (`S_ref`).
+    pub segment: [Option<f64>; 4],
+    /// Joint angles (rad) (`hip_ref`, `knee_ref`, `ankle_ref`).
+    pub joint: [Option<f64>; 3],
+    /// Centre-of-mass position (m).
+    pub com_pos: Option<Vector3<f64>>,
+    /// Centre-of-mass velocity (m/s).
+    pub com_vel: Option<Vector3<f64>>,
+    /// Gait phase.
+    pub phase: Option<GaitPhase>,
+}
+
+impl Reference {
+    /// Reference value of the named estimate channel (segment or joint name).
+    pub fn angle(&self, channel: AngleChannel) -> Option<f64> {
+        match channel {
+            AngleChannel::Segment(s) => self.segment[s.index()],
+            AngleChannel::Joint(j) => self.joint[j.index()],
+        }
+    }
+}
+
+/// One of the seven angle channels an estimate and a reference share.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum AngleChannel {
+    /// A segment's absolute angle.
+    Segment(Segment),
+    /// A joint angle.
+    Joint(Joint),
+}
+
+impl AngleChannel {
+    /// All seven channels: trunk, thigh, shank, foot, hip, knee, ankle.
+    pub const ALL: [AngleChannel; 7] = [
+        AngleChannel::Segment(Segment::Trunk),
+        AngleChannel::Segment(Segment::Thigh),
+        AngleChannel::Segment(Segment::Shank),
+        AngleChannel::Segment(Segment::Foot),
+        AngleChannel::Joint(Joint::Hip),
+        AngleChannel::Joint(Joint::Knee),
+        AngleChannel::Joint(Joint::Ankle),
+    ];
+
+    /// Column name (`trunk`, ..., `ankle`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            AngleChannel::Segment(s) => s.name(),
+            AngleChannel::Joint(j) => j.name(),
+        }
+    }
+}
+
+/// A sample paired with its ground truth: one row of a trial.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Record {
+    /// What the sensors measured.
+    pub sample: Sample,
+    /// What was true (all `None` when the trial has no reference).
+    pub reference: Reference,
+}
