@@ -1,0 +1,51 @@
+//! Trial metadata: the leading `# key: value` comment lines of a trial file.
+
+use limbfuse_core::STANDARD_GRAVITY;
+
+/// Ordered `key: value` metadata of a trial. Unknown keys are kept.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TrialMeta {
+    entries: Vec<(String, String)>,
+}
+
+impl TrialMeta {
+    /// Empty metadata.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Metadata starting with `format: limbfuse-trial/1`.
+    pub fn trial_v1() -> Self {
+        let mut m = Self::new();
+        m.set("format", "limbfuse-trial/1");
+        m
+    }
+
+    /// Sets `key` (replacing an earlier value, keeping its position).
+    pub fn set(&mut self, key: impl Into<String>, value: impl ToString) {
+        let key = key.into();
+        let value = value.to_string();
+        match self.entries.iter_mut().find(|(k, _)| *k == key) {
+            Some(e) => e.1 = value,
+            None => self.entries.push((key, value)),
+        }
+    }
+
+    /// Value of `key`, if present.
+    pub fn get(&self, key: &str) -> Option<&str> {
+        self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+    }
+
+    /// All entries in file order.
+    pub fn entries(&self) -> &[(String, String)] {
+        &self.entries
+    }
+
+    /// Gravity (m/s^2): the `g` entry if it parses as a positive finite number, else 9.81.
+    pub fn gravity(&self) -> f64 {
+        self.get("g")
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|g| g.is_finite() && *g > 0.0)
+            .unwrap_or(STANDARD_GRAVITY)
+    }
+}

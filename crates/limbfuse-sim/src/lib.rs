@@ -1,0 +1,4 @@
+//! # limbfuse-sim
+//!
+//! Seeded simulators that produce trials with ground truth.
+#![deny(missing_docs)]
