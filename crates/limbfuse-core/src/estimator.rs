@@ -38,10 +38,32 @@ pub enum EstimatorError {
     Numerical(&'static str),
 }
 
+/// Which quantities an estimator produces (the columns of its estimate file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Outputs {
+    /// Absolute segment angles, indexed by [`crate::Segment::index`].
+    pub segment: [bool; 4],
+    /// Joint angles, indexed by [`crate::Joint::index`].
+    pub joint: [bool; 3],
+    /// Gait phase.
+    pub phase: bool,
+    /// Walking speed.
+    pub speed: bool,
+}
+
+impl Outputs {
+    /// All four segment angles and the three joint angles.
+    pub const ALL_ANGLES: Outputs =
+        Outputs { segment: [true; 4], joint: [true; 3], phase: false, speed: false };
+}
+
 /// A streaming estimator: one sample in, one estimate out.
 pub trait Estimator {
     /// Method name as used by `limbfuse estimate --method` (e.g. `mjls`).
     fn name(&self) -> &'static str;
+
+    /// The quantities this estimator fills in its estimates.
+    fn outputs(&self) -> Outputs;
 
     /// Writes the parameters in use as `key: value` lines (for the estimate file header).
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result;

@@ -26,7 +26,7 @@ pub mod sample;
 pub mod runner;
 
 pub use estimate::{Estimate, MAX_DIAG};
-pub use estimator::{Estimator, EstimatorError, TimeStep};
+pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
 pub use limb::{Joint, Segment};
 pub use sample::{GaitPhase, ImuSample, Record, Reference, Sample};
 

@@ -1,12 +1,22 @@
 //! # limbfuse-io
 //!
 //! Trial files (SPEC section 2) and estimate files (SPEC section 3): streaming
-//! readers and writers with precise errors, and importers that turn real
-//! recordings into trial files.
+//! readers and writers with precise errors (file, line, column, what was
+//! expected), and importers that turn real recordings into trial files.
 #![deny(missing_docs)]
 
+mod cell_format;
+pub mod error;
+pub mod estimate_file;
 pub mod layout;
 pub mod meta;
+pub mod table;
+pub mod trial_reader;
+pub mod trial_writer;
 
+pub use error::FileError;
+pub use estimate_file::{EstimateReader, EstimateWriter};
 pub use layout::TrialLayout;
 pub use meta::TrialMeta;
+pub use trial_reader::TrialReader;
+pub use trial_writer::TrialWriter;

@@ -1,0 +1,222 @@
+//! Estimate files (SPEC section 3): the [`EstimateWriter`] observer and the
+//! streaming [`EstimateReader`].
+//!
+//! Layout: `# method: NAME`, then `# key: value` lines with the parameters
+//! used, then `t`, the estimated quantities (`trunk`, ..., `ankle`, `phase`,
+//! `speed`) and the method's diagnostics with a `diag_` prefix.
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::runner::{BoxError, Observer};
+use limbfuse_core::sample::AngleChannel;
+use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
+
+use crate::cell_format::{push_cell, push_value};
+use crate::error::FileError;
+use crate::meta::TrialMeta;
+use crate::table::TableReader;
+
+/// Writes every estimate of a run to an estimate file.
+pub struct EstimateWriter<W: Write> {
+    out: W,
+    outputs: Outputs,
+    n_diag: usize,
+    line: Vec<u8>,
+    buf: ryu::Buffer,
+}
+
+impl<W: Write> EstimateWriter<W> {
+    /// A writer that writes its header when the run starts.
+    pub fn new(out: W) -> Self {
+        EstimateWriter { out, outputs: Outputs::default(), n_diag: 0, line: Vec::with_capacity(512), buf: ryu::Buffer::new() }
+    }
+
+    /// Flushes and returns the underlying writer.
+    pub fn into_inner(mut self) -> std::io::Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}
+
+impl<W: Write> Observer for EstimateWriter<W> {
+    fn start(&mut self, estimator: &dyn Estimator) -> Result<(), BoxError> {
+        writeln!(self.out, "# method: {}", estimator.name())?;
+        let mut params = String::new();
+        estimator.describe_parameters(&mut params)?;
+        for l in params.lines().filter(|l| !l.trim().is_empty()) {
+            writeln!(self.out, "# {l}")?;
+        }
+        self.outputs = estimator.outputs();
+        let names = estimator.diagnostic_names();
+        self.n_diag = names.len().min(MAX_DIAG);
+        let mut header = vec!["t".to_string()];
+        for c in AngleChannel::ALL {
+            if output_has(&self.outputs, c) {
+                header.push(c.name().into());
+            }
+        }
+        if self.outputs.phase {
+            header.push("phase".into());
+        }
+        if self.outputs.speed {
+            header.push("speed".into());
+        }
+        header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
+        writeln!(self.out, "{}", header.join(","))?;
+        Ok(())
+    }
+
+    fn observe(&mut self, _record: &Record, e: &Estimate) -> Result<(), BoxError> {
+        let line = &mut self.line;
+        let buf = &mut self.buf;
+        line.clear();
+        push_value(line, buf, Some(e.t));
+        for c in AngleChannel::ALL {
+            if output_has(&self.outputs, c) {
+                push_cell(line, buf, e.angle(c));
+            }
+        }
+        if self.outputs.phase {
+            line.push(b',');
+            if let Some(p) = e.phase {
+                line.extend_from_slice(p.label().as_bytes());
+            }
+        }
+        if self.outputs.speed {
+            push_cell(line, buf, e.speed);
+        }
+        for d in &e.diag[..self.n_diag] {
+            push_cell(line, buf, *d);
+        }
+        line.push(b'\n');
+        self.out.write_all(line)?;
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), BoxError> {
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+fn output_has(o: &Outputs, c: AngleChannel) -> bool {
+    match c {
+        AngleChannel::Segment(s) => o.segment[s.index()],
+        AngleChannel::Joint(j) => o.joint[j.index()],
+    }
+}
+
+/// Reads an estimate file row by row.
+#[derive(Debug)]
+pub struct EstimateReader {
+    table: TableReader,
+    t: usize,
+    angle: [Option<usize>; 7],
+    phase: Option<usize>,
+    speed: Option<usize>,
+    diag: Vec<(String, usize)>,
+    previous_t: Option<f64>,
+}
+
+impl EstimateReader {
+    /// Opens an estimate file.
+    pub fn open(path: &Path) -> Result<Self, FileError> {
+        Self::from_table(TableReader::open(path)?)
+    }
+
+    /// Reads estimates from any byte source; `path` names it in errors.
+    pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
+        Self::from_table(TableReader::from_reader(path, source)?)
+    }
+
+    fn from_table(table: TableReader) -> Result<Self, FileError> {
+        let t = table.column("t").ok_or_else(|| FileError::Header {
+            path: table.path().to_path_buf(),
+            line: table.header_line(),
+            message: "missing required column `t` (time in seconds)".into(),
+        })?;
+        let angle = AngleChannel::ALL.map(|c| table.column(c.name()));
+        let diag: Vec<(String, usize)> = table
+            .header()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, h)| h.strip_prefix("diag_").map(|n| (n.to_string(), i)))
+            .take(MAX_DIAG)
+            .collect();
+        Ok(EstimateReader {
+            phase: table.column("phase"),
+            speed: table.column("speed"),
+            table,
+            t,
+            angle,
+            diag,
+            previous_t: None,
+        })
+    }
+
+    /// The `# method:` entry (`unknown` if absent) .
+    pub fn method(&self) -> &str {
+        self.table.meta().get("method").unwrap_or("unknown")
+    }
+
+    /// All metadata (method and parameters).
+    pub fn meta(&self) -> &TrialMeta {
+        self.table.meta()
+    }
+
+    /// Names of the diagnostic columns (without `diag_`), in [`Estimate::diag`] order.
+    pub fn diagnostic_names(&self) -> impl Iterator<Item = &str> {
+        self.diag.iter().map(|(n, _)| n.as_str())
+    }
+
+    /// Which angle channels the file holds.
+    pub fn has_angle(&self, c: AngleChannel) -> bool {
+        AngleChannel::ALL.iter().position(|&a| a == c).is_some_and(|i| self.angle[i].is_some())
+    }
+
+    /// The file path.
+    pub fn path(&self) -> &Path {
+        self.table.path()
+    }
+
+    /// Reads the next estimate and its line number; `Ok(None)` at the end.
+    pub fn next_estimate(&mut self) -> Result<Option<(u64, Estimate)>, FileError> {
+        let Some(row) = self.table.next_row()? else { return Ok(None) };
+        let t = row.number(self.t)?.ok_or_else(|| row.cell_error(self.t, "a time in seconds (t cannot be empty)"))?;
+        if let Some(previous) = self.previous_t {
+            if t <= previous {
+                return Err(FileError::TimeNotIncreasing {
+                    path: row.path().to_path_buf(),
+                    line: row.line(),
+                    column: self.t + 1,
+                    t,
+                    previous,
+                });
+            }
+        }
+        let mut e = Estimate::empty(t);
+        for (k, c) in AngleChannel::ALL.iter().enumerate() {
+            let v = row.opt_number(self.angle[k])?;
+            match c {
+                AngleChannel::Segment(s) => e.segment[s.index()] = v,
+                AngleChannel::Joint(j) => e.joint[j.index()] = v,
+            }
+        }
+        if let Some(c) = self.phase {
+            let text = row.text(c);
+            if !text.is_empty() {
+                let p = std::str::from_utf8(text).ok().and_then(GaitPhase::from_label);
+                e.phase = Some(p.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?);
+            }
+        }
+        e.speed = row.opt_number(self.speed)?;
+        for (k, (_, c)) in self.diag.iter().enumerate() {
+            e.diag[k] = row.number(*c)?;
+        }
+        let line = row.line();
+        self.previous_t = Some(t);
+        Ok(Some((line, e)))
+    }
+}

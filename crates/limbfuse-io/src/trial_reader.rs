@@ -1,0 +1,224 @@
+//! Streaming reader of trial files (SPEC section 2).
+//!
+//! Columns are found by name, in any order; unknown columns are ignored. A
+//! 3-axis vector (or quaternion) is present in a sample only when all its
+//! cells are present: a partly empty vector is a missing sample.
+
+use std::io::Read;
+use std::path::Path;
+
+use limbfuse_core::sample::{GaitPhase, ModelInputs};
+use limbfuse_core::{Joint, Record, Segment};
+use nalgebra::Vector3;
+
+use crate::error::FileError;
+use crate::layout::{TrialLayout, AXES, QUAT};
+use crate::meta::TrialMeta;
+use crate::table::{Row, TableReader};
+
+/// Column indices of every known channel.
+#[derive(Debug, Clone, Default)]
+struct ColumnPlan {
+    t: usize,
+    acc: [Option<[usize; 3]>; 4],
+    gyr: [Option<[usize; 3]>; 4],
+    quat: [Option<[usize; 4]>; 4],
+    encoder: [Option<usize>; 3],
+    stim: [Option<usize>; 4],
+    motor: [Option<usize>; 3],
+    segment_ref: [Option<usize>; 4],
+    joint_ref: [Option<usize>; 3],
+    com_pos: Option<[usize; 3]>,
+    com_vel: Option<[usize; 3]>,
+    phase_ref: Option<usize>,
+}
+
+/// Reads a trial file one [`Record`] at a time.
+#[derive(Debug)]
+pub struct TrialReader {
+    table: TableReader,
+    plan: ColumnPlan,
+    layout: TrialLayout,
+    previous_t: Option<f64>,
+    rows: u64,
+}
+
+/// Finds a group of columns `prefix + suffix`; all or none must exist.
+fn group<const K: usize>(
+    table: &TableReader,
+    prefix: &str,
+    suffixes: [&str; K],
+) -> Result<Option<[usize; K]>, FileError> {
+    let found: Vec<Option<usize>> = suffixes.iter().map(|s| table.column(&format!("{prefix}{s}"))).collect();
+    if found.iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    if let Some(k) = found.iter().position(Option::is_none) {
+        return Err(FileError::Header {
+            path: table.path().to_path_buf(),
+            line: table.header_line(),
+            message: format!(
+                "incomplete channel group: found `{prefix}...` columns but not `{prefix}{}` (expected all of {})",
+                suffixes[k],
+                suffixes.iter().map(|s| format!("{prefix}{s}")).collect::<Vec<_>>().join(", ")
+            ),
+        });
+    }
+    let mut out = [0usize; K];
+    for (o, f) in out.iter_mut().zip(found) {
+        *o = f.unwrap_or_default();
+    }
+    Ok(Some(out))
+}
+
+impl TrialReader {
+    /// Opens a trial file.
+    pub fn open(path: &Path) -> Result<Self, FileError> {
+        Self::from_table(TableReader::open(path)?)
+    }
+
+    /// Reads a trial from any byte source; `path` names it in errors.
+    pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
+        Self::from_table(TableReader::from_reader(path, source)?)
+    }
+
+    fn from_table(table: TableReader) -> Result<Self, FileError> {
+        let t = table.column("t").ok_or_else(|| FileError::Header {
+            path: table.path().to_path_buf(),
+            line: table.header_line(),
+            message: "missing required column `t` (time in seconds)".into(),
+        })?;
+        let mut plan = ColumnPlan { t, ..Default::default() };
+        let mut layout = TrialLayout::default();
+        for s in Segment::ALL {
+            let i = s.index();
+            let n = s.name();
+            plan.acc[i] = group(&table, &format!("{n}_acc_"), AXES)?;
+            plan.gyr[i] = group(&table, &format!("{n}_gyr_"), AXES)?;
+            plan.quat[i] = group(&table, &format!("{n}_quat_"), QUAT)?;
+            plan.segment_ref[i] = table.column(&format!("{n}_ref"));
+            layout.acc[i] = plan.acc[i].is_some();
+            layout.gyr[i] = plan.gyr[i].is_some();
+            layout.quat[i] = plan.quat[i].is_some();
+            layout.segment_ref[i] = plan.segment_ref[i].is_some();
+        }
+        for j in Joint::ALL {
+            let i = j.index();
+            plan.encoder[i] = table.column(&format!("{}_enc", j.name()));
+            plan.joint_ref[i] = table.column(&format!("{}_ref", j.name()));
+            plan.motor[i] = table.column(&format!("tau_{}_motor", j.name()));
+            layout.encoder[i] = plan.encoder[i].is_some();
+            layout.joint_ref[i] = plan.joint_ref[i].is_some();
+            layout.motor_torque[i] = plan.motor[i].is_some();
+        }
+        for (k, name) in ModelInputs::STIM_NAMES.iter().enumerate() {
+            plan.stim[k] = table.column(name);
+            layout.stim[k] = plan.stim[k].is_some();
+        }
+        plan.com_pos = group(&table, "com_", ["x", "y", "z"])?;
+        plan.com_vel = group(&table, "com_", ["vx", "vy", "vz"])?;
+        plan.phase_ref = table.column("phase_ref");
+        layout.com_pos = plan.com_pos.is_some();
+        layout.com_vel = plan.com_vel.is_some();
+        layout.phase_ref = plan.phase_ref.is_some();
+        Ok(TrialReader { table, plan, layout, previous_t: None, rows: 0 })
+    }
+
+    /// Metadata from the file's comment lines.
+    pub fn meta(&self) -> &TrialMeta {
+        self.table.meta()
+    }
+
+    /// The channels this trial has.
+    pub fn layout(&self) -> &TrialLayout {
+        &self.layout
+    }
+
+    /// The file path.
+    pub fn path(&self) -> &Path {
+        self.table.path()
+    }
+
+    /// Reads the next record; `Ok(None)` at the end of the file. A file with
+    /// a header and no rows is an error ([`FileError::NoRows`]).
+    pub fn next_record(&mut self) -> Result<Option<Record>, FileError> {
+        let header_line = self.table.header_line();
+        let Some(row) = self.table.next_row()? else {
+            if self.rows == 0 {
+                return Err(FileError::NoRows { path: self.table.path().to_path_buf(), line: header_line + 1 });
+            }
+            return Ok(None);
+        };
+        let plan = &self.plan;
+        let t = row.number(plan.t)?.ok_or_else(|| row.cell_error(plan.t, "a time in seconds (t cannot be empty)"))?;
+        if let Some(previous) = self.previous_t {
+            if t <= previous {
+                return Err(FileError::TimeNotIncreasing {
+                    path: row.path().to_path_buf(),
+                    line: row.line(),
+                    column: plan.t + 1,
+                    t,
+                    previous,
+                });
+            }
+        }
+        let mut rec = Record::default();
+        rec.sample.t = t;
+        for i in 0..4 {
+            rec.sample.imu[i].acc = vector(&row, plan.acc[i])?;
+            rec.sample.imu[i].gyr = vector(&row, plan.gyr[i])?;
+            rec.sample.imu[i].quat = match plan.quat[i] {
+                Some(cols) => numbers(&row, cols)?,
+                None => None,
+            };
+            rec.reference.segment[i] = row.opt_number(plan.segment_ref[i])?;
+        }
+        for i in 0..3 {
+            rec.sample.encoder[i] = row.opt_number(plan.encoder[i])?;
+            rec.sample.inputs.motor_torque[i] = row.opt_number(plan.motor[i])?;
+            rec.reference.joint[i] = row.opt_number(plan.joint_ref[i])?;
+        }
+        for k in 0..4 {
+            rec.sample.inputs.stim[k] = row.opt_number(plan.stim[k])?;
+        }
+        rec.reference.com_pos = vector(&row, plan.com_pos)?;
+        rec.reference.com_vel = vector(&row, plan.com_vel)?;
+        if let Some(c) = plan.phase_ref {
+            let text = row.text(c);
+            if !text.is_empty() {
+                let label = std::str::from_utf8(text).ok().and_then(GaitPhase::from_label);
+                rec.reference.phase = Some(label.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?);
+            }
+        }
+        self.previous_t = Some(t);
+        self.rows += 1;
+        Ok(Some(rec))
+    }
+}
+
+fn numbers<const K: usize>(row: &Row<'_>, cols: [usize; K]) -> Result<Option<[f64; K]>, FileError> {
+    let mut out = [0.0; K];
+    let mut complete = true;
+    for (o, c) in out.iter_mut().zip(cols) {
+        match row.number(c)? {
+            Some(v) => *o = v,
+            None => complete = false,
+        }
+    }
+    Ok(complete.then_some(out))
+}
+
+fn vector(row: &Row<'_>, cols: Option<[usize; 3]>) -> Result<Option<Vector3<f64>>, FileError> {
+    match cols {
+        Some(c) => Ok(numbers(row, c)?.map(Vector3::from)),
+        None => Ok(None),
+    }
+}
+
+impl Iterator for TrialReader {
+    type Item = Result<Record, FileError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_record().transpose()
+    }
+}
