@@ -1,0 +1,14 @@
+//! # limbfuse-estimators
+//!
+//! The estimators of the papers limbfuse implements, each a module with its
+//! parameters struct and documented defaults, all implementing
+//! [`limbfuse_core::Estimator`]. `no_std`; no estimator allocates per sample
+//! or does I/O.
+//!
+//! Until the paper estimators land, two honest baselines are provided:
+//! [`baseline::GyroIntegration`] and [`baseline::AccelInclination`].
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+pub mod baseline;
+pub mod inclination;
