@@ -1,0 +1,157 @@
+//! Pairing a trial file with an estimate file and evaluating the estimate.
+
+use std::fmt;
+use std::path::Path;
+
+use limbfuse_io::{EstimateReader, FileError, TrialReader};
+
+use crate::metrics::{AngleMetrics, Evaluation};
+
+/// A closed time interval `[start, end]` in seconds; open ends mean unbounded.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TimeWindow {
+    /// First time included (s).
+    pub start: Option<f64>,
+    /// Last time included (s).
+    pub end: Option<f64>,
+}
+
+impl TimeWindow {
+    /// Whether `t` lies inside the window.
+    pub fn contains(&self, t: f64) -> bool {
+        self.start.is_none_or(|s| t >= s) && self.end.is_none_or(|e| t <= e)
+    }
+
+    /// Parses `START:END` (seconds; either side may be empty).
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (a, b) = text
+            .split_once(':')
+            .ok_or_else(|| format!("expected START:END in seconds (e.g. 10:40 or 5:), found `{text}`"))?;
+        let num = |s: &str| -> Result<Option<f64>, String> {
+            let s = s.trim();
+            if s.is_empty() {
+                return Ok(None);
+            }
+            match s.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(Some(v)),
+                _ => Err(format!("expected a time in seconds, found `{s}` in `{text}`")),
+            }
+        };
+        let w = TimeWindow { start: num(a)?, end: num(b)? };
+        if let (Some(s), Some(e)) = (w.start, w.end) {
+            if e <= s {
+                return Err(format!("window end {e} s is not after its start {s} s"));
+            }
+        }
+        Ok(w)
+    }
+}
+
+impl fmt::Display for TimeWindow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = self.start.map_or(String::new(), |v| v.to_string());
+        let e = self.end.map_or(String::new(), |v| v.to_string());
+        write!(f, "{s}:{e} s")
+    }
+}
+
+/// How to evaluate.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EvalOptions {
+    /// Only samples inside this window count.
+    pub window: TimeWindow,
+    /// Remove the mean error of each channel before the RMSE.
+    pub offset_free: bool,
+}
+
+/// Why an evaluation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// A file could not be read.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The two files do not share their time base.
+    #[error("{estimate}:{line}: estimate time {t_estimate} s does not match the trial's sample {index} time {t_trial} s (an estimate file must have its trial's time base)")]
+    TimeMismatch {
+        /// Estimate file.
+        estimate: String,
+        /// Line in the estimate file.
+        line: u64,
+        /// 0-based sample index.
+        index: u64,
+        /// Time in the estimate.
+        t_estimate: f64,
+        /// Time in the trial.
+        t_trial: f64,
+    },
+    /// One file has more samples than the other.
+    #[error("{0}")]
+    LengthMismatch(String),
+    /// The trial has no reference angle to compare with.
+    #[error("{0}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against")]
+    NoReference(String),
+}
+
+/// Evaluates the estimate file against the trial's reference, streaming both.
+pub fn evaluate_files(trial: &Path, estimate: &Path, options: EvalOptions) -> Result<Evaluation, EvalError> {
+    let mut tr = TrialReader::open(trial)?;
+    if !tr.layout().has_angle_reference() {
+        return Err(EvalError::NoReference(trial.display().to_string()));
+    }
+    let mut er = EstimateReader::open(estimate)?;
+    let mut metrics = AngleMetrics::new(er.method(), options);
+    metrics.set_diagnostic_names(er.diagnostic_names().map(str::to_string).collect::<Vec<_>>());
+    let mut index = 0u64;
+    loop {
+        let rec = tr.next_record()?;
+        let est = er.next_estimate()?;
+        match (rec, est) {
+            (None, None) => break,
+            (Some(r), Some((line, e))) => {
+                let tol = 1e-9 * r.sample.t.abs().max(1.0);
+                if (r.sample.t - e.t).abs() > tol {
+                    return Err(EvalError::TimeMismatch {
+                        estimate: estimate.display().to_string(),
+                        line,
+                        index,
+                        t_estimate: e.t,
+                        t_trial: r.sample.t,
+                    });
+                }
+                metrics.push(&r, &e);
+            }
+            (Some(_), None) => {
+                return Err(EvalError::LengthMismatch(format!(
+                    "{}: the estimate ends after {index} samples but the trial {} has more",
+                    estimate.display(),
+                    trial.display()
+                )))
+            }
+            (None, Some((line, _))) => {
+                return Err(EvalError::LengthMismatch(format!(
+                    "{}:{line}: the estimate has more samples than the trial {} ({index})",
+                    estimate.display(),
+                    trial.display()
+                )))
+            }
+        }
+        index += 1;
+    }
+    Ok(metrics.evaluation())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn window_parsing() {
+        assert_eq!(TimeWindow::parse("10:40").unwrap(), TimeWindow { start: Some(10.0), end: Some(40.0) });
+        assert_eq!(TimeWindow::parse("5:").unwrap(), TimeWindow { start: Some(5.0), end: None });
+        assert!(TimeWindow::parse("40:10").is_err());
+        assert!(TimeWindow::parse("abc").is_err());
+        assert!(TimeWindow::parse("1:x").unwrap_err().contains("`x`"));
+        let w = TimeWindow::parse(":2").unwrap();
+        assert!(w.contains(2.0) && !w.contains(2.1));
+    }
+}

@@ -1,0 +1,15 @@
+//! # limbfuse-eval
+//!
+//! Errors of estimates against references: streaming per-channel metrics
+//! (RMSE, offset-free RMSE, maximum absolute error, mean error, Pearson
+//! correlation), the pairing of a trial with an estimate file, and the text
+//! and JSON forms of the result (SPEC section 4, `evaluate`).
+#![deny(missing_docs)]
+
+pub mod channel_error;
+pub mod evaluation;
+pub mod metrics;
+
+pub use channel_error::ChannelError;
+pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};
+pub use metrics::{AngleMetrics, Evaluation};
