@@ -1,0 +1,208 @@
+//! Importers that turn real recordings into trials (SPEC section 2), see
+//! `docs/IMPORTERS.md` for the datasets, mappings and measured figures.
+//!
+//! - [`import_gaittoolbox`]: the gaittoolbox walking trial (Xsens IMUs + Vicon
+//!   joint centres), with reference sagittal angles derived by
+//!   [`sagittal_reference`].
+//! - [`import_knee_rig`]: the robotic knee rig (two MPU6050 + stepper knee angle).
+//!
+//! Importers keep the raw (unaligned) 3-axis sensor channels in SI units, turn
+//! dropouts into rows whose channels are `None`, and never panic on bad input:
+//! every [`ImportError`] names the file, the 1-based line and (for a cell) the
+//! column, and what was expected.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+use limbfuse_core::Record;
+
+use crate::layout::TrialLayout;
+use crate::meta::TrialMeta;
+
+mod gaittoolbox;
+mod knee_rig;
+pub mod sagittal_reference;
+
+pub use gaittoolbox::{import_gaittoolbox, import_gaittoolbox_with, GaittoolboxOptions};
+pub use knee_rig::{import_knee_rig, import_knee_rig_with, KneeRigOptions};
+
+/// A recording converted to limbfuse conventions, ready for a trial writer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportedTrial {
+    /// Metadata (`format`, `source`, `sample_rate_hz`, `leg`, `g`, and notes).
+    pub meta: TrialMeta,
+    /// Channels present.
+    pub layout: TrialLayout,
+    /// One record per sample time (`t` from 0 s, strictly increasing).
+    pub records: Vec<Record>,
+}
+
+/// Why an import failed. Every variant names the file and, where there is
+/// one, the 1-based line (and column), and what was expected.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// A file or folder could not be opened or read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// A header row lacks a required column.
+    #[error("{}:{line}: header: missing column `{name}`; expected {expected}", path.display())]
+    MissingColumn {
+        /// File path.
+        path: PathBuf,
+        /// Line of the header row (or where it was expected).
+        line: u64,
+        /// Name of the missing column.
+        name: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// A cell does not hold what its column needs (also a row that ends
+    /// before this column: `found` then says so).
+    #[error("{}:{line}: column {column} (`{name}`): expected {expected}, found {found}", path.display())]
+    Cell {
+        /// File path.
+        path: PathBuf,
+        /// Line of the row.
+        line: u64,
+        /// 1-based column number.
+        column: usize,
+        /// Column name.
+        name: String,
+        /// What was expected.
+        expected: String,
+        /// What was found (quoted cell text, or a description).
+        found: String,
+    },
+    /// A problem with a whole line or with the file as a whole (empty file,
+    /// missing metadata line, sample counts that disagree between files).
+    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
+    Line {
+        /// File path.
+        path: PathBuf,
+        /// Line (the last line read when the problem is about the whole file).
+        line: u64,
+        /// What is wrong.
+        problem: String,
+        /// What was expected.
+        expected: String,
+    },
+}
+
+impl ImportError {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+        ImportError::Io { path: path.to_path_buf(), source }
+    }
+
+    pub(crate) fn line(path: &Path, line: u64, problem: impl Into<String>, expected: impl Into<String>) -> Self {
+        ImportError::Line { path: path.to_path_buf(), line, problem: problem.into(), expected: expected.into() }
+    }
+}
+
+/// Reads a text file as numbered lines (1-based), `\r` stripped.
+pub(crate) fn read_lines(path: &Path) -> Result<Vec<(u64, String)>, ImportError> {
+    let file = File::open(path).map_err(|e| ImportError::io(path, e))?;
+    let mut out = Vec::new();
+    for (i, line) in BufReader::new(file).lines().enumerate() {
+        let n = i as u64 + 1;
+        let line = line.map_err(|e| match e.kind() {
+            std::io::ErrorKind::InvalidData => ImportError::line(path, n, "not UTF-8 text", "UTF-8 text"),
+            _ => ImportError::io(path, e),
+        })?;
+        out.push((n, line.trim_end_matches('\r').to_string()));
+    }
+    Ok(out)
+}
+
+/// Splits a comma-separated line into trimmed cells.
+pub(crate) fn split_cells(line: &str) -> Vec<&str> {
+    line.split(',').map(str::trim).collect()
+}
+
+/// A header row: column names and where to find them.
+#[derive(Debug)]
+pub(crate) struct Header<'a> {
+    pub path: &'a Path,
+    pub line: u64,
+    pub names: Vec<String>,
+}
+
+impl<'a> Header<'a> {
+    pub fn new(path: &'a Path, line: u64, text: &str) -> Self {
+        Header { path, line, names: split_cells(text).into_iter().map(String::from).collect() }
+    }
+
+    /// 0-based index of a required column.
+    pub fn require(&self, name: &str, expected: &str) -> Result<usize, ImportError> {
+        self.names.iter().position(|n| n == name).ok_or_else(|| ImportError::MissingColumn {
+            path: self.path.to_path_buf(),
+            line: self.line,
+            name: name.to_string(),
+            expected: expected.to_string(),
+        })
+    }
+
+    /// The cells of a data row, checked to reach at least column `needed`
+    /// (0-based index of the last column this importer reads).
+    pub fn cells<'l>(&self, line: u64, text: &'l str, needed: usize) -> Result<Vec<&'l str>, ImportError> {
+        let cells = split_cells(text);
+        if cells.len() <= needed {
+            let k = cells.len();
+            return Err(ImportError::Cell {
+                path: self.path.to_path_buf(),
+                line,
+                column: k + 1,
+                name: self.names.get(k).cloned().unwrap_or_default(),
+                expected: format!("{} comma-separated cells as in the header (line {})", self.names.len(), self.line),
+                found: format!("end of row after {k} cell(s) (truncated row)"),
+            });
+        }
+        Ok(cells)
+    }
+
+    /// Parses cell `col` of a row as a finite number; `Ok(None)` for an empty
+    /// cell (or `NaN` when `nan_is_missing`), an error for anything else.
+    pub fn number(&self, line: u64, cells: &[&str], col: usize, nan_is_missing: bool) -> Result<Option<f64>, ImportError> {
+        let text = cells.get(col).copied().unwrap_or("");
+        if text.is_empty() || (nan_is_missing && text.eq_ignore_ascii_case("nan")) {
+            return Ok(None);
+        }
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Some(v)),
+            _ => Err(self.bad_cell(line, col, text, "a finite number")),
+        }
+    }
+
+    /// An error about cell `col` of a row.
+    pub fn bad_cell(&self, line: u64, col: usize, found: &str, expected: impl Into<String>) -> ImportError {
+        ImportError::Cell {
+            path: self.path.to_path_buf(),
+            line,
+            column: col + 1,
+            name: self.names.get(col).cloned().unwrap_or_default(),
+            expected: expected.into(),
+            found: format!("`{found}`"),
+        }
+    }
+}
+
+/// Median of a slice (NaN-free); `None` when empty.
+pub(crate) fn median(values: &[f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) })
+}
+
+/// Formats a number for metadata with `digits` decimals.
+pub(crate) fn fmt(value: f64, digits: usize) -> String {
+    format!("{value:.digits$}")
+}
