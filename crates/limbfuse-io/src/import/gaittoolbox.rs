@@ -51,7 +51,8 @@ impl ToolboxFile {
             let trimmed = text.trim();
             if let Some(c) = trimmed.strip_prefix("//") {
                 comments.extend(c.split_whitespace().filter_map(|kv| {
-                    kv.split_once('=').map(|(k, v)| (k.to_string(), v.to_string()))
+                    kv.split_once('=')
+                        .map(|(k, v)| (k.to_string(), v.to_string()))
                 }));
             } else if trimmed.is_empty() {
                 continue;
@@ -70,24 +71,48 @@ impl ToolboxFile {
                 "a header row such as `ori_1,ori_2,...` followed by one row per sample",
             ));
         };
-        let names = super::split_cells(&text).into_iter().map(String::from).collect();
+        let names = super::split_cells(&text)
+            .into_iter()
+            .map(String::from)
+            .collect();
         if rows.is_empty() {
-            return Err(ImportError::line(path, last_line, "no data rows", "at least one row after the header"));
+            return Err(ImportError::line(
+                path,
+                last_line,
+                "no data rows",
+                "at least one row after the header",
+            ));
         }
-        Ok(ToolboxFile { path: path.to_path_buf(), comments, rows, header_line, names, last_line })
+        Ok(ToolboxFile {
+            path: path.to_path_buf(),
+            comments,
+            rows,
+            header_line,
+            names,
+            last_line,
+        })
     }
 
     fn comment(&self, key: &str) -> Option<&str> {
-        self.comments.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+        self.comments
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
     }
 
     fn header(&self) -> Header<'_> {
-        Header { path: &self.path, line: self.header_line, names: self.names.clone() }
+        Header {
+            path: &self.path,
+            line: self.header_line,
+            names: self.names.clone(),
+        }
     }
 
     /// The `fs=` comment, checked.
     fn sample_rate(&self) -> Result<Option<f64>, ImportError> {
-        let Some(v) = self.comment("fs") else { return Ok(None) };
+        let Some(v) = self.comment("fs") else {
+            return Ok(None);
+        };
         match v.parse::<f64>() {
             Ok(fs) if fs.is_finite() && fs > 0.0 => Ok(Some(fs)),
             _ => Err(ImportError::line(
@@ -101,7 +126,11 @@ impl ToolboxFile {
 
     /// Reads groups of numeric columns `{stem}_1..{stem}_K` for every row; a
     /// group is `None` in a row where any of its cells is empty or `NaN`.
-    fn groups<const K: usize>(&self, stem: &str, expected: &str) -> Result<Vec<Option<[f64; K]>>, ImportError> {
+    fn groups<const K: usize>(
+        &self,
+        stem: &str,
+        expected: &str,
+    ) -> Result<Vec<Option<[f64; K]>>, ImportError> {
         let h = self.header();
         let mut cols = [0usize; K];
         for (i, c) in cols.iter_mut().enumerate() {
@@ -134,11 +163,17 @@ pub fn import_gaittoolbox(dir: &Path) -> Result<ImportedTrial, ImportError> {
 /// thigh, R_LowLeg -> shank, R_Foot -> foot; R_LowLeg2 is not imported) with
 /// their raw acc (m/s^2), gyr (rad/s) and Xsens orientation quaternion, plus
 /// thigh/shank/foot/knee/ankle reference angles from the Vicon joint centres.
-pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<ImportedTrial, ImportError> {
+pub fn import_gaittoolbox_with(
+    dir: &Path,
+    opts: &GaittoolboxOptions,
+) -> Result<ImportedTrial, ImportError> {
     if !dir.is_dir() {
         return Err(ImportError::io(
             dir,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "expected a folder with imu-*.csv and vicon-right.csv"),
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "expected a folder with imu-*.csv and vicon-right.csv",
+            ),
         ));
     }
     let vicon = ToolboxFile::read(&dir.join(VICON_FILE))?;
@@ -159,8 +194,13 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
         }
     };
     let centre = |stem: &str| -> Result<Vec<Option<Vector3<f64>>>, ImportError> {
-        let g = vicon.groups::<3>(stem, "joint-centre columns PELV_1..3, RFEP_1..3, RFEO_1..3, RTIO_1..3, RTOE_1..3")?;
-        Ok(g.into_iter().map(|p| p.map(|p| Vector3::from(p) * scale)).collect())
+        let g = vicon.groups::<3>(
+            stem,
+            "joint-centre columns PELV_1..3, RFEP_1..3, RFEO_1..3, RTIO_1..3, RTOE_1..3",
+        )?;
+        Ok(g.into_iter()
+            .map(|p| p.map(|p| Vector3::from(p) * scale))
+            .collect())
     };
     let joint_centres = JointCentres {
         pelvis: centre("PELV")?,
@@ -203,13 +243,22 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
                     if norm < 1e-6 {
                         let h = file.header();
                         let col = h.require("ori_1", expected)?;
-                        return Err(h.bad_cell(file.rows[k].0, col, "0,0,0,0", "a non-zero orientation quaternion"));
+                        return Err(h.bad_cell(
+                            file.rows[k].0,
+                            col,
+                            "0,0,0,0",
+                            "a non-zero orientation quaternion",
+                        ));
                     }
                     Some(q.map(|c| c / norm))
                 }
                 None => None,
             };
-            samples.push(ImuSample { acc: acc[k].map(Vector3::from), gyr: gyr[k].map(Vector3::from), quat: q });
+            samples.push(ImuSample {
+                acc: acc[k].map(Vector3::from),
+                gyr: gyr[k].map(Vector3::from),
+                quat: q,
+            });
         }
         imus.push(samples);
     }
@@ -239,7 +288,12 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
         records.push(r);
     }
 
-    let mut layout = TrialLayout { acc: [true; 4], gyr: [true; 4], quat: [true; 4], ..Default::default() };
+    let mut layout = TrialLayout {
+        acc: [true; 4],
+        gyr: [true; 4],
+        quat: [true; 4],
+        ..Default::default()
+    };
     layout.segment_ref[Segment::Thigh.index()] = true;
     layout.segment_ref[Segment::Shank.index()] = true;
     layout.segment_ref[Segment::Foot.index()] = has_foot;
@@ -250,7 +304,10 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
     let mut meta = TrialMeta::trial_v1();
     let orig = vicon.comment("origFName").unwrap_or("unknown");
     let idx = vicon.comment("idx").unwrap_or("unknown");
-    meta.set("source", format!("gaittoolbox {orig} (idx {idx}) from {}", dir.display()));
+    meta.set(
+        "source",
+        format!("gaittoolbox {orig} (idx {idx}) from {}", dir.display()),
+    );
     meta.set("sample_rate_hz", fmt(fs, 0));
     meta.set("leg", "right");
     meta.set("g", "9.81");
@@ -281,11 +338,21 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
             fmt(p.heading_window_s, 2)
         ),
     );
-    let ranges: Vec<String> = reference.straight.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
+    let ranges: Vec<String> = reference
+        .straight
+        .iter()
+        .map(|r| format!("{}..{}", r.start, r.end))
+        .collect();
     let times: Vec<String> = reference
         .straight
         .iter()
-        .map(|r| format!("{}..{}", fmt(r.start as f64 / fs, 2), fmt(r.end as f64 / fs, 2)))
+        .map(|r| {
+            format!(
+                "{}..{}",
+                fmt(r.start as f64 / fs, 2),
+                fmt(r.end as f64 / fs, 2)
+            )
+        })
         .collect();
     meta.set("straight_segments", ranges.join(","));
     meta.set("straight_segments_s", times.join(","));
@@ -303,7 +370,10 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
             meta.set("foot_offset_rad", fmt(off, 5));
             meta.set("foot_offset_deg", fmt(off.to_degrees(), 2));
         }
-        None => meta.set("foot_ref", "absent: too few foot-flat samples to fix the foot zero"),
+        None => meta.set(
+            "foot_ref",
+            "absent: too few foot-flat samples to fix the foot zero",
+        ),
     }
     meta.set(
         "foot_zero_rule",
@@ -316,5 +386,9 @@ pub fn import_gaittoolbox_with(dir: &Path, opts: &GaittoolboxOptions) -> Result<
         "trunk_ref",
         "absent: the Vicon pelvis orientation agrees poorly with the pelvis IMU (r = 0.5 on the medio-lateral rate), and there is no standing period to fix its zero; hence no hip_ref",
     );
-    Ok(ImportedTrial { meta, layout, records })
+    Ok(ImportedTrial {
+        meta,
+        layout,
+        records,
+    })
 }

@@ -27,7 +27,10 @@ pub struct KneeRigOptions {
 
 impl Default for KneeRigOptions {
     fn default() -> Self {
-        KneeRigOptions { gap_tolerance: 0.25, max_filled_gap_s: 1.0 }
+        KneeRigOptions {
+            gap_tolerance: 0.25,
+            max_filled_gap_s: 1.0,
+        }
     }
 }
 
@@ -37,18 +40,28 @@ pub fn import_knee_rig(file: &Path) -> Result<ImportedTrial, ImportError> {
 }
 
 fn is_missed_packet(text: &str) -> bool {
-    text.trim().to_ascii_lowercase().starts_with("missed packet")
+    text.trim()
+        .to_ascii_lowercase()
+        .starts_with("missed packet")
 }
 
 /// Imports a knee-rig trial: thigh/shank gyro (deg/s -> rad/s) and acc (g ->
 /// m/s^2, calibration kept), `knee_ref` (deg -> rad, flexion positive), `t`
 /// from `TIME` (microseconds, relative to the first sample), dropouts as rows
 /// with every channel `None`.
-pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<ImportedTrial, ImportError> {
+pub fn import_knee_rig_with(
+    file: &Path,
+    opts: &KneeRigOptions,
+) -> Result<ImportedTrial, ImportError> {
     let lines = read_lines(file)?;
     let expected_layout = "`LOG INTERVAL,<n>,microseconds` and other metadata lines, then a header row `TRANSFER #,TIME,TIME DELTA,G1X,...,ABS KNEE ANGLE,...`";
     if lines.iter().all(|(_, l)| l.trim().is_empty()) {
-        return Err(ImportError::line(file, lines.len().max(1) as u64, "the file is empty", expected_layout));
+        return Err(ImportError::line(
+            file,
+            lines.len().max(1) as u64,
+            "the file is empty",
+            expected_layout,
+        ));
     }
     let mut meta = TrialMeta::trial_v1();
     let mut rig_meta = Vec::new();
@@ -90,7 +103,12 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
     }
     let last_line = lines.last().map_or(1, |(n, _)| *n);
     let Some(h) = header else {
-        return Err(ImportError::line(file, last_line, "no header row (a row with a `TIME` column)", expected_layout));
+        return Err(ImportError::line(
+            file,
+            last_line,
+            "no header row (a row with a `TIME` column)",
+            expected_layout,
+        ));
     };
     let Some(interval_us) = interval_us else {
         return Err(ImportError::line(
@@ -103,13 +121,20 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
 
     let col = |name: &str| h.require(name, "knee-rig columns TIME, G1X..A2Z, ABS KNEE ANGLE");
     let time_col = col("TIME")?;
-    let names = ["G1X", "G1Y", "G1Z", "A1X", "A1Y", "A1Z", "G2X", "G2Y", "G2Z", "A2X", "A2Y", "A2Z"];
+    let names = [
+        "G1X", "G1Y", "G1Z", "A1X", "A1Y", "A1Z", "G2X", "G2Y", "G2Z", "A2X", "A2Y", "A2Z",
+    ];
     let mut sensor_cols = [0usize; 12];
     for (c, name) in sensor_cols.iter_mut().zip(names) {
         *c = col(name)?;
     }
     let knee_col = col("ABS KNEE ANGLE")?;
-    let needed = sensor_cols.iter().copied().chain([time_col, knee_col]).max().unwrap_or(0);
+    let needed = sensor_cols
+        .iter()
+        .copied()
+        .chain([time_col, knee_col])
+        .max()
+        .unwrap_or(0);
 
     let interval_s = interval_us * 1e-6;
     let max_fill = (opts.max_filled_gap_s / interval_s).floor().max(0.0) as u64;
@@ -152,7 +177,10 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
             if k >= 2.0 && on_grid && (k as u64 - 1) <= max_fill {
                 let t_prev = (prev - t0) * 1e-6;
                 for j in 1..k as u64 {
-                    records.push(Record { sample: Sample::empty(t_prev + j as f64 * interval_s), ..Default::default() });
+                    records.push(Record {
+                        sample: Sample::empty(t_prev + j as f64 * interval_s),
+                        ..Default::default()
+                    });
                 }
                 inserted += k as u64 - 1;
                 pending_missed = false;
@@ -173,7 +201,10 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
             *o = h.number(*n, &cells, c, false)?;
         }
         let vec3 = |i: usize, scale: f64| Some(Vector3::new(v[i]?, v[i + 1]?, v[i + 2]?) * scale);
-        let mut r = Record { sample: Sample::empty((time - t0) * 1e-6), ..Default::default() };
+        let mut r = Record {
+            sample: Sample::empty((time - t0) * 1e-6),
+            ..Default::default()
+        };
         let (thigh, shank) = (Segment::Thigh.index(), Segment::Shank.index());
         r.sample.imu[thigh].gyr = vec3(0, 1f64.to_radians());
         r.sample.imu[thigh].acc = vec3(3, G);
@@ -181,11 +212,17 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
         r.sample.imu[shank].acc = vec3(9, G);
         norm_thigh.extend(r.sample.imu[thigh].acc.map(|a| a.norm() / G));
         norm_shank.extend(r.sample.imu[shank].acc.map(|a| a.norm() / G));
-        r.reference.joint[Joint::Knee.index()] = h.number(*n, &cells, knee_col, false)?.map(f64::to_radians);
+        r.reference.joint[Joint::Knee.index()] =
+            h.number(*n, &cells, knee_col, false)?.map(f64::to_radians);
         records.push(r);
     }
     if records.is_empty() {
-        return Err(ImportError::line(file, last_line, "no data rows", "at least one sample row after the header"));
+        return Err(ImportError::line(
+            file,
+            last_line,
+            "no data rows",
+            "at least one sample row after the header",
+        ));
     }
 
     let mut layout = TrialLayout::default();
@@ -195,11 +232,25 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
     }
     layout.joint_ref[Joint::Knee.index()] = true;
 
-    meta.set("source", format!("knee rig (KneeAngleAlgorithmComparison, 250 Hz test data) {}", file.display()));
-    meta.set("sample_rate_hz", fmt(1e6 / interval_us, 3).trim_end_matches('0').trim_end_matches('.'));
+    meta.set(
+        "source",
+        format!(
+            "knee rig (KneeAngleAlgorithmComparison, 250 Hz test data) {}",
+            file.display()
+        ),
+    );
+    meta.set(
+        "sample_rate_hz",
+        fmt(1e6 / interval_us, 3)
+            .trim_end_matches('0')
+            .trim_end_matches('.'),
+    );
     meta.set("leg", "right");
     meta.set("g", "9.81");
-    meta.set("segment_map", "thigh=sensor 1 (G1*, A1*), shank=sensor 2 (G2*, A2*); the rig has no trunk or foot");
+    meta.set(
+        "segment_map",
+        "thigh=sensor 1 (G1*, A1*), shank=sensor 2 (G2*, A2*); the rig has no trunk or foot",
+    );
     meta.set(
         "units",
         "gyr deg/s -> rad/s (x pi/180); acc g -> m/s^2 (x 9.81, sensor calibration kept as recorded); ABS KNEE ANGLE deg -> rad",
@@ -212,7 +263,10 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
         "knee_ref_sign",
         "+1: ABS KNEE ANGLE is 0 with the knee straight (KNEE_CENTER_POS) and grows in flexion, so knee_ref = +ABS KNEE ANGLE (flexion positive)",
     );
-    meta.set("knee_ref_note", "commanded stepper angle, only approximately the real knee angle (belt slop)");
+    meta.set(
+        "knee_ref_note",
+        "commanded stepper angle, only approximately the real knee angle (belt slop)",
+    );
     meta.set(
         "time_base",
         format!(
@@ -229,6 +283,13 @@ pub fn import_knee_rig_with(file: &Path, opts: &KneeRigOptions) -> Result<Import
     for (k, v) in rig_meta {
         meta.set(k, v);
     }
-    meta.set("not_imported", "TRANSFER #, TIME DELTA, HIP STEPPER, KNEE STEPPER, GAIT STAGE, IMPULSE HIT");
-    Ok(ImportedTrial { meta, layout, records })
+    meta.set(
+        "not_imported",
+        "TRANSFER #, TIME DELTA, HIP STEPPER, KNEE STEPPER, GAIT STAGE, IMPULSE HIT",
+    );
+    Ok(ImportedTrial {
+        meta,
+        layout,
+        records,
+    })
 }

@@ -96,11 +96,24 @@ pub enum ImportError {
 
 impl ImportError {
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        ImportError::Io { path: path.to_path_buf(), source }
+        ImportError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     }
 
-    pub(crate) fn line(path: &Path, line: u64, problem: impl Into<String>, expected: impl Into<String>) -> Self {
-        ImportError::Line { path: path.to_path_buf(), line, problem: problem.into(), expected: expected.into() }
+    pub(crate) fn line(
+        path: &Path,
+        line: u64,
+        problem: impl Into<String>,
+        expected: impl Into<String>,
+    ) -> Self {
+        ImportError::Line {
+            path: path.to_path_buf(),
+            line,
+            problem: problem.into(),
+            expected: expected.into(),
+        }
     }
 }
 
@@ -111,7 +124,9 @@ pub(crate) fn read_lines(path: &Path) -> Result<Vec<(u64, String)>, ImportError>
     for (i, line) in BufReader::new(file).lines().enumerate() {
         let n = i as u64 + 1;
         let line = line.map_err(|e| match e.kind() {
-            std::io::ErrorKind::InvalidData => ImportError::line(path, n, "not UTF-8 text", "UTF-8 text"),
+            std::io::ErrorKind::InvalidData => {
+                ImportError::line(path, n, "not UTF-8 text", "UTF-8 text")
+            }
             _ => ImportError::io(path, e),
         })?;
         out.push((n, line.trim_end_matches('\r').to_string()));
@@ -134,22 +149,34 @@ pub(crate) struct Header<'a> {
 
 impl<'a> Header<'a> {
     pub fn new(path: &'a Path, line: u64, text: &str) -> Self {
-        Header { path, line, names: split_cells(text).into_iter().map(String::from).collect() }
+        Header {
+            path,
+            line,
+            names: split_cells(text).into_iter().map(String::from).collect(),
+        }
     }
 
     /// 0-based index of a required column.
     pub fn require(&self, name: &str, expected: &str) -> Result<usize, ImportError> {
-        self.names.iter().position(|n| n == name).ok_or_else(|| ImportError::MissingColumn {
-            path: self.path.to_path_buf(),
-            line: self.line,
-            name: name.to_string(),
-            expected: expected.to_string(),
-        })
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| ImportError::MissingColumn {
+                path: self.path.to_path_buf(),
+                line: self.line,
+                name: name.to_string(),
+                expected: expected.to_string(),
+            })
     }
 
     /// The cells of a data row, checked to reach at least column `needed`
     /// (0-based index of the last column this importer reads).
-    pub fn cells<'l>(&self, line: u64, text: &'l str, needed: usize) -> Result<Vec<&'l str>, ImportError> {
+    pub fn cells<'l>(
+        &self,
+        line: u64,
+        text: &'l str,
+        needed: usize,
+    ) -> Result<Vec<&'l str>, ImportError> {
         let cells = split_cells(text);
         if cells.len() <= needed {
             let k = cells.len();
@@ -158,7 +185,11 @@ impl<'a> Header<'a> {
                 line,
                 column: k + 1,
                 name: self.names.get(k).cloned().unwrap_or_default(),
-                expected: format!("{} comma-separated cells as in the header (line {})", self.names.len(), self.line),
+                expected: format!(
+                    "{} comma-separated cells as in the header (line {})",
+                    self.names.len(),
+                    self.line
+                ),
                 found: format!("end of row after {k} cell(s) (truncated row)"),
             });
         }
@@ -167,7 +198,13 @@ impl<'a> Header<'a> {
 
     /// Parses cell `col` of a row as a finite number; `Ok(None)` for an empty
     /// cell (or `NaN` when `nan_is_missing`), an error for anything else.
-    pub fn number(&self, line: u64, cells: &[&str], col: usize, nan_is_missing: bool) -> Result<Option<f64>, ImportError> {
+    pub fn number(
+        &self,
+        line: u64,
+        cells: &[&str],
+        col: usize,
+        nan_is_missing: bool,
+    ) -> Result<Option<f64>, ImportError> {
         let text = cells.get(col).copied().unwrap_or("");
         if text.is_empty() || (nan_is_missing && text.eq_ignore_ascii_case("nan")) {
             return Ok(None);
@@ -179,7 +216,13 @@ impl<'a> Header<'a> {
     }
 
     /// An error about cell `col` of a row.
-    pub fn bad_cell(&self, line: u64, col: usize, found: &str, expected: impl Into<String>) -> ImportError {
+    pub fn bad_cell(
+        &self,
+        line: u64,
+        col: usize,
+        found: &str,
+        expected: impl Into<String>,
+    ) -> ImportError {
         ImportError::Cell {
             path: self.path.to_path_buf(),
             line,
@@ -199,7 +242,11 @@ pub(crate) fn median(values: &[f64]) -> Option<f64> {
     let mut v = values.to_vec();
     v.sort_by(f64::total_cmp);
     let n = v.len();
-    Some(if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) })
+    Some(if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    })
 }
 
 /// Formats a number for metadata with `digits` decimals.

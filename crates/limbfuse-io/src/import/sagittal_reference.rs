@@ -130,7 +130,12 @@ fn smooth_xy(v: &[Option<Vector3<f64>>], half: usize) -> Vec<Option<[f64; 2]>> {
             let lo = k.saturating_sub(half);
             let hi = (k + half + 1).min(n);
             let count = sum[hi][2] - sum[lo][2];
-            (count > 0.0).then(|| [(sum[hi][0] - sum[lo][0]) / count, (sum[hi][1] - sum[lo][1]) / count])
+            (count > 0.0).then(|| {
+                [
+                    (sum[hi][0] - sum[lo][0]) / count,
+                    (sum[hi][1] - sum[lo][1]) / count,
+                ]
+            })
         })
         .collect()
 }
@@ -166,12 +171,23 @@ pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> Sagi
     let n = c.pelvis.len();
     let half = ((p.heading_window_s * fs / 2.0).round().max(0.0)) as usize;
     let velocity = smooth_xy(&derivative(&c.pelvis, fs), half);
-    let speed: Vec<Option<f64>> = velocity.iter().map(|v| v.map(|[x, y]| x.hypot(y))).collect();
-    let heading: Vec<Option<f64>> =
-        velocity.iter().map(|v| v.filter(|[x, y]| x.hypot(*y) > 1e-9).map(|[x, y]| y.atan2(x))).collect();
+    let speed: Vec<Option<f64>> = velocity
+        .iter()
+        .map(|v| v.map(|[x, y]| x.hypot(y)))
+        .collect();
+    let heading: Vec<Option<f64>> = velocity
+        .iter()
+        .map(|v| {
+            v.filter(|[x, y]| x.hypot(*y) > 1e-9)
+                .map(|[x, y]| y.atan2(x))
+        })
+        .collect();
     let heading_rate: Vec<Option<f64>> = (0..n)
         .map(|k| {
-            let (a, b, span) = match (k.checked_sub(1).and_then(|i| heading[i]), heading.get(k + 1).copied().flatten()) {
+            let (a, b, span) = match (
+                k.checked_sub(1).and_then(|i| heading[i]),
+                heading.get(k + 1).copied().flatten(),
+            ) {
                 (Some(a), Some(b)) => (a, b, 2.0),
                 (None, Some(b)) => (heading[k]?, b, 1.0),
                 (Some(a), None) => (a, heading[k]?, 1.0),
@@ -182,14 +198,24 @@ pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> Sagi
         .collect();
     let mask: Vec<bool> = (0..n)
         .map(|k| {
-            speed[k].is_some_and(|s| s >= p.min_speed) && heading_rate[k].is_some_and(|r| r.abs() <= p.max_heading_rate)
+            speed[k].is_some_and(|s| s >= p.min_speed)
+                && heading_rate[k].is_some_and(|r| r.abs() <= p.max_heading_rate)
         })
         .collect();
     let straight = runs(&mask, (p.min_straight_s * fs).round() as usize);
 
-    let angle = |prox: &[Option<Vector3<f64>>], dist: &[Option<Vector3<f64>>]| -> Vec<Option<f64>> {
-        (0..n).map(|k| Some(segment_angle(prox.get(k).copied()??, dist.get(k).copied()??, heading[k]?))).collect()
-    };
+    let angle =
+        |prox: &[Option<Vector3<f64>>], dist: &[Option<Vector3<f64>>]| -> Vec<Option<f64>> {
+            (0..n)
+                .map(|k| {
+                    Some(segment_angle(
+                        prox.get(k).copied()??,
+                        dist.get(k).copied()??,
+                        heading[k]?,
+                    ))
+                })
+                .collect()
+        };
     let thigh = angle(&c.hip, &c.knee);
     let shank = angle(&c.knee, &c.ankle);
     let foot_raw = angle(&c.ankle, &c.toe);
@@ -205,9 +231,16 @@ pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> Sagi
         })
         .filter_map(|k| foot_raw[k])
         .collect();
-    let foot_offset = if flat.len() >= p.min_foot_flat_samples.max(1) { super::median(&flat) } else { None };
+    let foot_offset = if flat.len() >= p.min_foot_flat_samples.max(1) {
+        super::median(&flat)
+    } else {
+        None
+    };
     let foot = match foot_offset {
-        Some(off) => foot_raw.iter().map(|f| f.map(|f| wrap_angle(f - off))).collect(),
+        Some(off) => foot_raw
+            .iter()
+            .map(|f| f.map(|f| wrap_angle(f - off)))
+            .collect(),
         None => vec![None; n],
     };
     SagittalReference {
@@ -264,7 +297,10 @@ mod tests {
             c.toe.push(Some(toe));
         }
         // Feet never stand still in this synthetic walk: allow any speed for foot-flat.
-        let p = SagittalParams { foot_flat_speed: 10.0, ..Default::default() };
+        let p = SagittalParams {
+            foot_flat_speed: 10.0,
+            ..Default::default()
+        };
         let r = sagittal_reference(&c, fs, &p);
         assert_eq!(r.straight.len(), 2, "{:?}", r.straight);
         assert!(r.straight[0].start == 0 && r.straight[0].end < 400 && r.straight[0].end > 300);
