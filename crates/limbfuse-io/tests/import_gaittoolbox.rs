@@ -12,7 +12,7 @@ use limbfuse_io::import::{
     import_gaittoolbox, import_gaittoolbox_with, GaittoolboxOptions, ImportedTrial,
 };
 use limbfuse_io::{TrialReader, TrialWriter};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 fn data_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("LIMBFUSE_DATA")
@@ -122,6 +122,28 @@ fn shared_trial_imports_with_normal_gait_ranges() {
             (9.3..10.8).contains(&acc) && (2.0..15.0).contains(&gyr),
             "{}: {acc} {gyr}",
             s.name()
+        );
+    }
+    // Xsens quaternion: w first, sensor -> world (z up): the specific force in
+    // world coordinates averages to (0, 0, g).
+    for s in Segment::ALL {
+        let mut mean = Vector3::zeros();
+        for x in r {
+            let (q, a) = (
+                x.sample.imu[s.index()].quat.unwrap(),
+                x.sample.imu[s.index()].acc.unwrap(),
+            );
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+            mean += q * a / r.len() as f64;
+        }
+        println!(
+            "{}: mean specific force in the Xsens world frame {:.2?}",
+            s.name(),
+            mean.as_slice()
+        );
+        assert!(
+            mean.xy().norm() < 0.3 && (mean.z - 9.85).abs() < 0.2,
+            "{mean:?}"
         );
     }
     let all_acc = median(
