@@ -257,3 +257,28 @@ fn missing_file() {
     let e = import_knee_rig(Path::new("/nonexistent/Trial_99.csv")).unwrap_err();
     assert!(e.to_string().contains("Trial_99.csv"));
 }
+
+#[test]
+fn odd_input_never_panics() {
+    let huge = format!("{HEAD}{}{}", row(0, 0), row(1, 1_000_000_000_000_000_000));
+    let cases = [
+        ",,,,\n\n,,".to_string(),
+        "LOG INTERVAL,0.000001,microseconds\nTIME\n0\n1e300\n".to_string(),
+        "LOG INTERVAL,4000,microseconds\nTIME,G1X\n".to_string(),
+        format!("{HEAD}Missed Packet(s)\nMissed Packet(s)\n"),
+        huge,
+        format!("{HEAD}{}", row(0, 0).replace("10.00", "")),
+        String::from_utf8_lossy(&[0xff, 0xfe, b',', b'\n']).into_owned(),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for text in cases {
+        let path = write(&dir, &text);
+        if let Err(e) = import_knee_rig(&path) {
+            assert!(e.to_string().contains("Trial_99.csv:"), "{e}");
+        }
+    }
+    let path = dir.path().join("bin.csv");
+    std::fs::write(&path, [0xffu8, 0xfe, 0x00, b'\n']).unwrap();
+    let msg = import_knee_rig(&path).unwrap_err().to_string();
+    assert!(msg.contains("bin.csv:1:") && msg.contains("UTF-8"), "{msg}");
+}

@@ -86,11 +86,11 @@ pub fn import_knee_rig_with(
                 line: *n,
                 column: col,
                 name: "LOG INTERVAL".into(),
-                expected: "`LOG INTERVAL,<positive number>,microseconds`".into(),
+                expected: "`LOG INTERVAL,<1 to 1e9>,microseconds`".into(),
                 found: format!("`{found}`"),
             };
             match value.parse::<f64>() {
-                Ok(v) if v.is_finite() && v > 0.0 => interval_us = Some(v),
+                Ok(v) if (1.0..=1e9).contains(&v) => interval_us = Some(v),
                 _ => return Err(bad(2, value)),
             }
             if !unit.eq_ignore_ascii_case("microseconds") {
@@ -137,7 +137,7 @@ pub fn import_knee_rig_with(
         .unwrap_or(0);
 
     let interval_s = interval_us * 1e-6;
-    let max_fill = (opts.max_filled_gap_s / interval_s).floor().max(0.0) as u64;
+    let max_fill = (opts.max_filled_gap_s / interval_s).floor().clamp(0.0, 1e6) as u64;
     let mut records: Vec<Record> = Vec::new();
     let (mut missed_lines, mut missed_without_gap, mut pending_missed) = (0usize, 0usize, false);
     let (mut inserted, mut irregular, mut long_gaps) = (0u64, 0usize, 0usize);
@@ -173,7 +173,8 @@ pub fn import_knee_rig_with(
             }
             let dt = time - prev;
             let k = (dt / interval_us).round();
-            let on_grid = (dt - k * interval_us).abs() <= opts.gap_tolerance * interval_us;
+            let on_grid =
+                k.is_finite() && (dt - k * interval_us).abs() <= opts.gap_tolerance * interval_us;
             if k >= 2.0 && on_grid && (k as u64 - 1) <= max_fill {
                 let t_prev = (prev - t0) * 1e-6;
                 for j in 1..k as u64 {
@@ -201,8 +202,13 @@ pub fn import_knee_rig_with(
             *o = h.number(*n, &cells, c, false)?;
         }
         let vec3 = |i: usize, scale: f64| Some(Vector3::new(v[i]?, v[i + 1]?, v[i + 2]?) * scale);
+        let t = (time - t0) * 1e-6;
+        if records.last().is_some_and(|r| r.sample.t >= t) {
+            let what = "TIME values small enough to resolve 1 us steps";
+            return Err(h.bad_cell(*n, time_col, cells[time_col], what));
+        }
         let mut r = Record {
-            sample: Sample::empty((time - t0) * 1e-6),
+            sample: Sample::empty(t),
             ..Default::default()
         };
         let (thigh, shank) = (Segment::Thigh.index(), Segment::Shank.index());

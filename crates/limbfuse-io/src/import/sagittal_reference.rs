@@ -169,7 +169,7 @@ fn runs(mask: &[bool], min_len: usize) -> Vec<Range<usize>> {
 /// Derives heading, straight parts and thigh/shank/foot angles at rate `fs` (Hz).
 pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> SagittalReference {
     let n = c.pelvis.len();
-    let half = ((p.heading_window_s * fs / 2.0).round().max(0.0)) as usize;
+    let half = (p.heading_window_s * fs / 2.0).round().clamp(0.0, n as f64) as usize;
     let velocity = smooth_xy(&derivative(&c.pelvis, fs), half);
     let speed: Vec<Option<f64>> = velocity
         .iter()
@@ -303,7 +303,11 @@ mod tests {
         };
         let r = sagittal_reference(&c, fs, &p);
         assert_eq!(r.straight.len(), 2, "{:?}", r.straight);
-        assert!(r.straight[0].start == 0 && (380..430).contains(&r.straight[0].end), "{:?}", r.straight);
+        assert!(
+            r.straight[0].start == 0 && (380..430).contains(&r.straight[0].end),
+            "{:?}",
+            r.straight
+        );
         assert!((570..620).contains(&r.straight[1].start) && r.straight[1].end == 1000);
         assert!(r.thigh[100].unwrap().abs() < 1e-9 && r.shank[900].unwrap().abs() < 1e-9);
         assert!(r.foot[100].unwrap().abs() < 1e-9 && r.foot[900].unwrap().abs() < 1e-9);
