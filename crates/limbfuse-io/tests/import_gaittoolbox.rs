@@ -479,3 +479,31 @@ fn missing_folder() {
         .to_string();
     assert!(msg.contains("/nonexistent/gaittoolbox"), "{msg}");
 }
+
+#[test]
+fn bad_comment_values() {
+    let dir = folder(|n, t| {
+        if n == "vicon-right.csv" {
+            t.replace("posUnit=m", "posUnit=in")
+        } else {
+            t
+        }
+    });
+    let msg = err(&dir);
+    assert!(
+        msg.contains("vicon-right.csv:2:") && msg.contains("posUnit=in"),
+        "{msg}"
+    );
+    let dir = folder(|n, t| {
+        if n == "imu-R_Foot.csv" {
+            t.replace("fs=100", "fs=120")
+        } else {
+            t
+        }
+    });
+    let msg = err(&dir);
+    assert!(
+        msg.contains("imu-R_Foot.csv:1:") && msg.contains("100 Hz"),
+        "{msg}"
+    );
+}

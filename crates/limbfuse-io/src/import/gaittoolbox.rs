@@ -32,8 +32,8 @@ pub struct GaittoolboxOptions {
 /// One parsed CSV file of the toolbox: `// key=value` comments, header, rows.
 struct ToolboxFile {
     path: PathBuf,
-    /// `key=value` pairs of the `//` lines.
-    comments: Vec<(String, String)>,
+    /// `key=value` pairs of the `//` lines, with their line.
+    comments: Vec<(String, String, u64)>,
     /// Line number and text of each data row.
     rows: Vec<(u64, String)>,
     header_line: u64,
@@ -52,7 +52,7 @@ impl ToolboxFile {
             if let Some(c) = trimmed.strip_prefix("//") {
                 comments.extend(c.split_whitespace().filter_map(|kv| {
                     kv.split_once('=')
-                        .map(|(k, v)| (k.to_string(), v.to_string()))
+                        .map(|(k, v)| (k.to_string(), v.to_string(), *n))
                 }));
             } else if trimmed.is_empty() {
                 continue;
@@ -96,8 +96,16 @@ impl ToolboxFile {
     fn comment(&self, key: &str) -> Option<&str> {
         self.comments
             .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+            .find(|(k, _, _)| k == key)
+            .map(|(_, v, _)| v.as_str())
+    }
+
+    /// Line of a comment key (1 when absent).
+    fn comment_line(&self, key: &str) -> u64 {
+        self.comments
+            .iter()
+            .find(|(k, _, _)| k == key)
+            .map_or(1, |(_, _, n)| *n)
     }
 
     fn header(&self) -> Header<'_> {
@@ -117,7 +125,7 @@ impl ToolboxFile {
             Ok(fs) if fs.is_finite() && fs > 0.0 => Ok(Some(fs)),
             _ => Err(ImportError::line(
                 &self.path,
-                1,
+                self.comment_line("fs"),
                 format!("comment `fs={v}`"),
                 "`// fs=<sample rate in Hz>` with a positive number",
             )),
@@ -187,7 +195,7 @@ pub fn import_gaittoolbox_with(
         other => {
             return Err(ImportError::line(
                 &vicon.path,
-                1,
+                vicon.comment_line("posUnit"),
                 format!("comment `posUnit={other}`"),
                 "position unit `m`, `cm` or `mm`",
             ))
@@ -217,7 +225,7 @@ pub fn import_gaittoolbox_with(
             if (f - fs).abs() > 1e-9 * fs {
                 return Err(ImportError::line(
                     &file.path,
-                    1,
+                    file.comment_line("fs"),
                     format!("sample rate fs={f}"),
                     format!("the rate of {VICON_FILE} ({fs} Hz)"),
                 ));
