@@ -97,7 +97,11 @@ pub fn import_knee_rig_with(
                 return Err(bad(3, unit));
             }
         } else {
-            let key = cells[0].to_ascii_lowercase().replace(' ', "_");
+            let key: String = cells[0]
+                .to_ascii_lowercase()
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect();
             rig_meta.push((format!("rig_{key}"), cells[1..].join(" ")));
         }
     }
