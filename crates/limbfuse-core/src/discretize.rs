@@ -30,8 +30,7 @@ pub fn discretize<const N: usize, const N2: usize>(
     Qc: &SMatrix<f64, N, N>,
     T: f64,
     method: Discretization,
-) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>)
-{
+) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
     const { assert!(N2 == 2 * N, "discretize: N2 must equal 2 * N") };
     match method {
         Discretization::Euler => (SMatrix::identity() + A * T, Qc * T),
@@ -40,7 +39,8 @@ pub fn discretize<const N: usize, const N2: usize>(
             let mut M = SMatrix::<f64, N2, N2>::zeros();
             M.fixed_view_mut::<N, N>(0, 0).copy_from(&(-A * T));
             M.fixed_view_mut::<N, N>(0, N).copy_from(&(Qc * T));
-            M.fixed_view_mut::<N, N>(N, N).copy_from(&(A.transpose() * T));
+            M.fixed_view_mut::<N, N>(N, N)
+                .copy_from(&(A.transpose() * T));
             let E = crate::expm::expm(&M).unwrap_or_else(SMatrix::identity);
             let Phi: SMatrix<f64, N, N> = E.fixed_view::<N, N>(N, N).transpose();
             let Qd = Phi * E.fixed_view::<N, N>(0, N);
@@ -76,7 +76,12 @@ mod tests {
         let q22 = qb * (1.0 - e * e) / (2.0 * a);
         let q12 = qb / a * ((1.0 - e) / a - (1.0 - e * e) / (2.0 * a));
         let q11 = qg * T + qb / (a * a) * (T - 2.0 * (1.0 - e) / a + (1.0 - e * e) / (2.0 * a));
-        assert!((Qd[(1, 1)] - q22).abs() < 1e-18, "{} vs {}", Qd[(1, 1)], q22);
+        assert!(
+            (Qd[(1, 1)] - q22).abs() < 1e-18,
+            "{} vs {}",
+            Qd[(1, 1)],
+            q22
+        );
         assert!((Qd[(0, 1)] - q12).abs() < 1e-18);
         assert!((Qd[(0, 0)] - q11).abs() < 1e-16);
         assert_eq!(Qd[(0, 1)], Qd[(1, 0)]);

@@ -53,8 +53,12 @@ pub struct Outputs {
 
 impl Outputs {
     /// All four segment angles and the three joint angles.
-    pub const ALL_ANGLES: Outputs =
-        Outputs { segment: [true; 4], joint: [true; 3], phase: false, speed: false };
+    pub const ALL_ANGLES: Outputs = Outputs {
+        segment: [true; 4],
+        joint: [true; 3],
+        phase: false,
+        speed: false,
+    };
 }
 
 /// A streaming estimator: one sample in, one estimate out.
@@ -135,7 +139,10 @@ mod tests {
         ts.advance(2.0).unwrap();
         assert_eq!(
             ts.advance(2.0),
-            Err(EstimatorError::NonIncreasingTime { previous: 2.0, t: 2.0 })
+            Err(EstimatorError::NonIncreasingTime {
+                previous: 2.0,
+                t: 2.0
+            })
         );
         assert!(ts.advance(f64::NAN).is_err());
     }

@@ -12,7 +12,10 @@ use nalgebra::SMatrix;
 /// non-finite values (the Padé denominator is then not invertible).
 pub fn expm<const N: usize>(A: &SMatrix<f64, N, N>) -> Option<SMatrix<f64, N, N>> {
     const Q: usize = 6;
-    let norm = A.row_iter().map(|r| r.iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max);
+    let norm = A
+        .row_iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
     if !norm.is_finite() {
         return None;
     }
@@ -57,7 +60,7 @@ fn solve<const N: usize>(
         let (pivot, max) = (col..N)
             .map(|r| (r, D[(r, col)].abs()))
             .fold((col, -1.0), |acc, v| if v.1 > acc.1 { v } else { acc });
-        if !(max > 0.0) || !max.is_finite() {
+        if !max.is_finite() || max <= 0.0 {
             return None;
         }
         D.swap_rows(col, pivot);

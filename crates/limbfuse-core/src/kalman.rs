@@ -66,7 +66,9 @@ pub fn update<const N: usize, const M: usize>(
 ) -> Result<Update<N, M>, KalmanError> {
     let HP = H * P;
     let S = symmetrize(&(HP * H.transpose() + R));
-    let chol = S.cholesky().ok_or(KalmanError::InnovationNotPositiveDefinite)?;
+    let chol = S
+        .cholesky()
+        .ok_or(KalmanError::InnovationNotPositiveDefinite)?;
     // K^T = S^-1 H P (S and P symmetric).
     let K: SMatrix<f64, N, M> = chol.solve(&HP).transpose();
     let innovation = z - H * x;
@@ -76,7 +78,12 @@ pub fn update<const N: usize, const M: usize>(
         CovarianceUpdate::Joseph => I_KH * P * I_KH.transpose() + K * R * K.transpose(),
         CovarianceUpdate::Standard => I_KH * P,
     };
-    Ok(Update { x: x_post, P: symmetrize(&P_post), K, innovation })
+    Ok(Update {
+        x: x_post,
+        P: symmetrize(&P_post),
+        K,
+        innovation,
+    })
 }
 
 /// Measurement update using only the rows of `z`/`H` whose `active` flag is set.
@@ -97,7 +104,12 @@ pub fn update_rows<const N: usize, const M: usize>(
     form: CovarianceUpdate,
 ) -> Result<Update<N, M>, KalmanError> {
     if !active.iter().any(|&a| a) {
-        return Ok(Update { x: *x, P: *P, K: SMatrix::zeros(), innovation: SVector::zeros() });
+        return Ok(Update {
+            x: *x,
+            P: *P,
+            K: SMatrix::zeros(),
+            innovation: SVector::zeros(),
+        });
     }
     let mut Hm = *H;
     let mut zm = *z;
@@ -176,8 +188,16 @@ mod tests {
         assert!((masked.x - reduced.x).norm() < 1e-15);
         assert!((masked.P - reduced.P).norm() < 1e-15);
         assert_eq!(masked.K.column(1).norm(), 0.0);
-        let none =
-            update_rows(&x, &P, &z, &H, &R, &[false, false], CovarianceUpdate::Joseph).unwrap();
+        let none = update_rows(
+            &x,
+            &P,
+            &z,
+            &H,
+            &R,
+            &[false, false],
+            CovarianceUpdate::Joseph,
+        )
+        .unwrap();
         assert_eq!(none.x, x);
         assert_eq!(none.P, P);
     }

@@ -15,7 +15,12 @@ pub enum Segment {
 
 impl Segment {
     /// All segments, proximal to distal.
-    pub const ALL: [Segment; 4] = [Segment::Trunk, Segment::Thigh, Segment::Shank, Segment::Foot];
+    pub const ALL: [Segment; 4] = [
+        Segment::Trunk,
+        Segment::Thigh,
+        Segment::Shank,
+        Segment::Foot,
+    ];
 
     /// The column-name stem of this segment (`trunk`, `thigh`, `shank`, `foot`).
     pub const fn name(self) -> &'static str {

@@ -71,11 +71,13 @@ where
     let mut n = 0u64;
     for item in source {
         let record = item.map_err(|e| RunError::Source(e.into()))?;
-        let estimate = estimator.step(&record.sample).map_err(|source| RunError::Estimator {
-            index: n,
-            t: record.sample.t,
-            source,
-        })?;
+        let estimate = estimator
+            .step(&record.sample)
+            .map_err(|source| RunError::Estimator {
+                index: n,
+                t: record.sample.t,
+                source,
+            })?;
         for o in observers.iter_mut() {
             o.observe(&record, &estimate).map_err(RunError::Observer)?;
         }

@@ -56,7 +56,10 @@ pub struct Sample {
 impl Sample {
     /// A sample at time `t` with every channel missing.
     pub fn empty(t: f64) -> Self {
-        Sample { t, ..Default::default() }
+        Sample {
+            t,
+            ..Default::default()
+        }
     }
 
     /// The IMU of a segment.

@@ -47,8 +47,14 @@ impl Estimator for GyroIntegration {
     }
 
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        writeln!(out, "integration: trapezoidal on gyr_z, zero-order hold over gyro dropouts")?;
-        writeln!(out, "initial_angle: atan2(acc_x, acc_y) of the first sample with acc and gyr")
+        writeln!(
+            out,
+            "integration: trapezoidal on gyr_z, zero-order hold over gyro dropouts"
+        )?;
+        writeln!(
+            out,
+            "initial_angle: atan2(acc_x, acc_y) of the first sample with acc and gyr"
+        )
     }
 
     fn reset(&mut self) {
@@ -134,7 +140,11 @@ mod tests {
     fn sample(t: f64, theta: f64, rate: Option<f64>) -> Sample {
         let mut s = Sample::empty(t);
         for imu in s.imu.iter_mut() {
-            imu.acc = Some(Vector3::new(9.81 * libm::sin(theta), 9.81 * libm::cos(theta), 0.0));
+            imu.acc = Some(Vector3::new(
+                9.81 * libm::sin(theta),
+                9.81 * libm::cos(theta),
+                0.0,
+            ));
             imu.gyr = rate.map(|r| Vector3::new(0.0, 0.0, r));
         }
         s

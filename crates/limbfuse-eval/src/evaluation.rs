@@ -24,9 +24,9 @@ impl TimeWindow {
 
     /// Parses `START:END` (seconds; either side may be empty).
     pub fn parse(text: &str) -> Result<Self, String> {
-        let (a, b) = text
-            .split_once(':')
-            .ok_or_else(|| format!("expected START:END in seconds (e.g. 10:40 or 5:), found `{text}`"))?;
+        let (a, b) = text.split_once(':').ok_or_else(|| {
+            format!("expected START:END in seconds (e.g. 10:40 or 5:), found `{text}`")
+        })?;
         let num = |s: &str| -> Result<Option<f64>, String> {
             let s = s.trim();
             if s.is_empty() {
@@ -34,10 +34,15 @@ impl TimeWindow {
             }
             match s.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(Some(v)),
-                _ => Err(format!("expected a time in seconds, found `{s}` in `{text}`")),
+                _ => Err(format!(
+                    "expected a time in seconds, found `{s}` in `{text}`"
+                )),
             }
         };
-        let w = TimeWindow { start: num(a)?, end: num(b)? };
+        let w = TimeWindow {
+            start: num(a)?,
+            end: num(b)?,
+        };
         if let (Some(s), Some(e)) = (w.start, w.end) {
             if e <= s {
                 return Err(format!("window end {e} s is not after its start {s} s"));
@@ -93,14 +98,22 @@ pub enum EvalError {
 }
 
 /// Evaluates the estimate file against the trial's reference, streaming both.
-pub fn evaluate_files(trial: &Path, estimate: &Path, options: EvalOptions) -> Result<Evaluation, EvalError> {
+pub fn evaluate_files(
+    trial: &Path,
+    estimate: &Path,
+    options: EvalOptions,
+) -> Result<Evaluation, EvalError> {
     let mut tr = TrialReader::open(trial)?;
     if !tr.layout().has_angle_reference() {
         return Err(EvalError::NoReference(trial.display().to_string()));
     }
     let mut er = EstimateReader::open(estimate)?;
     let mut metrics = AngleMetrics::new(er.method(), options);
-    metrics.set_diagnostic_names(er.diagnostic_names().map(str::to_string).collect::<Vec<_>>());
+    metrics.set_diagnostic_names(
+        er.diagnostic_names()
+            .map(str::to_string)
+            .collect::<Vec<_>>(),
+    );
     let mut index = 0u64;
     loop {
         let rec = tr.next_record()?;
@@ -146,8 +159,20 @@ mod tests {
 
     #[test]
     fn window_parsing() {
-        assert_eq!(TimeWindow::parse("10:40").unwrap(), TimeWindow { start: Some(10.0), end: Some(40.0) });
-        assert_eq!(TimeWindow::parse("5:").unwrap(), TimeWindow { start: Some(5.0), end: None });
+        assert_eq!(
+            TimeWindow::parse("10:40").unwrap(),
+            TimeWindow {
+                start: Some(10.0),
+                end: Some(40.0)
+            }
+        );
+        assert_eq!(
+            TimeWindow::parse("5:").unwrap(),
+            TimeWindow {
+                start: Some(5.0),
+                end: None
+            }
+        );
         assert!(TimeWindow::parse("40:10").is_err());
         assert!(TimeWindow::parse("abc").is_err());
         assert!(TimeWindow::parse("1:x").unwrap_err().contains("`x`"));

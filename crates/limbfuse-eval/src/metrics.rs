@@ -75,7 +75,11 @@ impl AngleMetrics {
             n_samples: self.n_samples,
             offset_free: self.options.offset_free,
             window: self.options.window,
-            channels: AngleChannel::ALL.iter().copied().zip(self.channels).collect(),
+            channels: AngleChannel::ALL
+                .iter()
+                .copied()
+                .zip(self.channels)
+                .collect(),
             diag_mean,
         }
     }
@@ -132,7 +136,10 @@ impl Evaluation {
             .filter_map(|(c, _)| self.rmse(*c))
             .collect();
         let vals = if seg.is_empty() {
-            self.channels.iter().filter_map(|(c, _)| self.rmse(*c)).collect()
+            self.channels
+                .iter()
+                .filter_map(|(c, _)| self.rmse(*c))
+                .collect()
         } else {
             seg
         };
@@ -179,19 +186,24 @@ impl Evaluation {
         if self.offset_free {
             s += "offset-free: the mean error of each channel is removed before the RMSE (mean error shown)\n";
         }
-        s += &format!("{:<8}{:>10}{:>12}{:>12}{:>9}{:>9}\n", "channel", "RMSE deg", "max|e| deg", "mean e deg", "corr", "n");
+        s += &format!(
+            "{:<8}{:>10}{:>12}{:>12}{:>9}{:>9}\n",
+            "channel", "RMSE deg", "max|e| deg", "mean e deg", "corr", "n"
+        );
         for (c, st) in &self.channels {
             if st.n() == 0 {
                 continue;
             }
-            let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.3}", v.to_degrees()));
+            let f =
+                |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.3}", v.to_degrees()));
             s += &format!(
                 "{:<8}{:>10}{:>12}{:>12}{:>9}{:>9}\n",
                 c.name(),
                 f(self.rmse(*c)),
                 f(st.max_abs_error()),
                 f(st.mean_error()),
-                st.correlation().map_or("-".to_string(), |r| format!("{r:.4}")),
+                st.correlation()
+                    .map_or("-".to_string(), |r| format!("{r:.4}")),
                 st.n()
             );
         }

@@ -13,7 +13,8 @@ use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use nalgebra::Vector3;
 
 fn trial_bytes(n: usize) -> Vec<u8> {
-    let mut w = TrialWriter::new(Vec::new(), &TrialMeta::trial_v1(), TrialLayout::walking()).expect("in-memory write");
+    let mut w = TrialWriter::new(Vec::new(), &TrialMeta::trial_v1(), TrialLayout::walking())
+        .expect("in-memory write");
     for k in 0..n {
         let t = k as f64 * 0.01;
         let mut r = Record::default();
@@ -24,7 +25,12 @@ fn trial_bytes(n: usize) -> Vec<u8> {
             imu.gyr = Some(Vector3::new(x * 0.1, -x * 0.2, x * 2.3));
         }
         r.sample.encoder = [Some(t.sin()), Some(t.cos()), Some(-t.sin())];
-        r.reference.segment = [Some(0.01 * t.sin()), Some(t.sin()), Some(t.cos()), Some(0.3 * t.sin())];
+        r.reference.segment = [
+            Some(0.01 * t.sin()),
+            Some(t.sin()),
+            Some(t.cos()),
+            Some(0.3 * t.sin()),
+        ];
         r.reference.joint = [Some(t.cos()), Some(-t.sin()), Some(0.2 * t.cos())];
         w.write(&r).expect("in-memory write");
     }
@@ -39,8 +45,11 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Bytes(bytes.len() as u64));
     g.bench_function("read_60k_rows", |b| {
         b.iter(|| {
-            let r = TrialReader::from_reader(Path::new("bench.csv"), Box::new(std::io::Cursor::new(bytes.clone())))
-                .expect("valid");
+            let r = TrialReader::from_reader(
+                Path::new("bench.csv"),
+                Box::new(std::io::Cursor::new(bytes.clone())),
+            )
+            .expect("valid");
             let mut acc = 0.0;
             for rec in r {
                 acc += rec.expect("valid").sample.t;
@@ -48,7 +57,9 @@ fn bench(c: &mut Criterion) {
             black_box(acc)
         })
     });
-    g.bench_function("write_60k_rows", |b| b.iter(|| black_box(trial_bytes(n).len())));
+    g.bench_function("write_60k_rows", |b| {
+        b.iter(|| black_box(trial_bytes(n).len()))
+    });
     g.finish();
 }
 

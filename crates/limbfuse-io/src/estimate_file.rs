@@ -30,7 +30,13 @@ pub struct EstimateWriter<W: Write> {
 impl<W: Write> EstimateWriter<W> {
     /// A writer that writes its header when the run starts.
     pub fn new(out: W) -> Self {
-        EstimateWriter { out, outputs: Outputs::default(), n_diag: 0, line: Vec::with_capacity(512), buf: ryu::Buffer::new() }
+        EstimateWriter {
+            out,
+            outputs: Outputs::default(),
+            n_diag: 0,
+            line: Vec::with_capacity(512),
+            buf: ryu::Buffer::new(),
+        }
     }
 
     /// Flushes and returns the underlying writer.
@@ -173,7 +179,10 @@ impl EstimateReader {
 
     /// Which angle channels the file holds.
     pub fn has_angle(&self, c: AngleChannel) -> bool {
-        AngleChannel::ALL.iter().position(|&a| a == c).is_some_and(|i| self.angle[i].is_some())
+        AngleChannel::ALL
+            .iter()
+            .position(|&a| a == c)
+            .is_some_and(|i| self.angle[i].is_some())
     }
 
     /// The file path.
@@ -183,8 +192,12 @@ impl EstimateReader {
 
     /// Reads the next estimate and its line number; `Ok(None)` at the end.
     pub fn next_estimate(&mut self) -> Result<Option<(u64, Estimate)>, FileError> {
-        let Some(row) = self.table.next_row()? else { return Ok(None) };
-        let t = row.number(self.t)?.ok_or_else(|| row.cell_error(self.t, "a time in seconds (t cannot be empty)"))?;
+        let Some(row) = self.table.next_row()? else {
+            return Ok(None);
+        };
+        let t = row
+            .number(self.t)?
+            .ok_or_else(|| row.cell_error(self.t, "a time in seconds (t cannot be empty)"))?;
         if let Some(previous) = self.previous_t {
             if t <= previous {
                 return Err(FileError::TimeNotIncreasing {
@@ -207,8 +220,11 @@ impl EstimateReader {
         if let Some(c) = self.phase {
             let text = row.text(c);
             if !text.is_empty() {
-                let p = std::str::from_utf8(text).ok().and_then(GaitPhase::from_label);
-                e.phase = Some(p.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?);
+                let p = std::str::from_utf8(text)
+                    .ok()
+                    .and_then(GaitPhase::from_label);
+                e.phase =
+                    Some(p.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?);
             }
         }
         e.speed = row.opt_number(self.speed)?;

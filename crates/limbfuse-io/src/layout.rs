@@ -68,7 +68,10 @@ impl TrialLayout {
                 c.push(format!("{}_enc", j.name()));
             }
         }
-        for (k, name) in limbfuse_core::sample::ModelInputs::STIM_NAMES.iter().enumerate() {
+        for (k, name) in limbfuse_core::sample::ModelInputs::STIM_NAMES
+            .iter()
+            .enumerate()
+        {
             if self.stim[k] {
                 c.push(name.to_string());
             }
@@ -102,6 +105,9 @@ impl TrialLayout {
 
     /// True when the trial has any reference angle.
     pub fn has_angle_reference(&self) -> bool {
-        self.segment_ref.iter().chain(self.joint_ref.iter()).any(|&b| b)
+        self.segment_ref
+            .iter()
+            .chain(self.joint_ref.iter())
+            .any(|&b| b)
     }
 }

@@ -8,6 +8,7 @@
 mod cell_format;
 pub mod error;
 pub mod estimate_file;
+pub mod import;
 pub mod layout;
 pub mod meta;
 pub mod table;

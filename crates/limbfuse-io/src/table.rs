@@ -25,7 +25,10 @@ pub struct TableReader {
 
 impl std::fmt::Debug for TableReader {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("TableReader").field("path", &self.path).field("header", &self.header).finish()
+        f.debug_struct("TableReader")
+            .field("path", &self.path)
+            .field("header", &self.header)
+            .finish()
     }
 }
 
@@ -57,7 +60,9 @@ impl TableReader {
             }
             let mut line = String::new();
             buf.read_line(&mut line).map_err(|e| match e.kind() {
-                std::io::ErrorKind::InvalidData => FileError::at(path, line_offset + 1, "a UTF-8 comment line"),
+                std::io::ErrorKind::InvalidData => {
+                    FileError::at(path, line_offset + 1, "a UTF-8 comment line")
+                }
                 _ => FileError::io(path, e),
             })?;
             line_offset += 1;
@@ -72,10 +77,15 @@ impl TableReader {
             .trim(csv::Trim::All)
             .from_reader(Box::new(buf) as Box<dyn Read + Send>);
         let mut header_rec = csv::StringRecord::new();
-        let got = csv.read_record(&mut header_rec).map_err(|e| FileError::csv(path, line_offset, e))?;
+        let got = csv
+            .read_record(&mut header_rec)
+            .map_err(|e| FileError::csv(path, line_offset, e))?;
         let header_line = line_offset + 1;
         if !got || header_rec.iter().all(|c| c.is_empty()) {
-            return Err(FileError::Empty { path: path.to_path_buf(), line: header_line });
+            return Err(FileError::Empty {
+                path: path.to_path_buf(),
+                line: header_line,
+            });
         }
         let header: Vec<String> = header_rec.iter().map(str::to_string).collect();
         for (i, name) in header.iter().enumerate() {
@@ -90,11 +100,22 @@ impl TableReader {
                 return Err(FileError::Header {
                     path: path.to_path_buf(),
                     line: header_line,
-                    message: format!("duplicate column `{name}` (columns {} and {})", j + 1, i + 1),
+                    message: format!(
+                        "duplicate column `{name}` (columns {} and {})",
+                        j + 1,
+                        i + 1
+                    ),
                 });
             }
         }
-        Ok(TableReader { path: path.to_path_buf(), meta, header, csv, line_offset, record: csv::ByteRecord::new() })
+        Ok(TableReader {
+            path: path.to_path_buf(),
+            meta,
+            header,
+            csv,
+            line_offset,
+            record: csv::ByteRecord::new(),
+        })
     }
 
     /// The file path used in messages.
@@ -144,7 +165,12 @@ impl TableReader {
                     found: self.record.len(),
                 });
             }
-            return Ok(Some(Row { path: &self.path, header: &self.header, record: &self.record, line }));
+            return Ok(Some(Row {
+                path: &self.path,
+                header: &self.header,
+                record: &self.record,
+                line,
+            }));
         }
     }
 }

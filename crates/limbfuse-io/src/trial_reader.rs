@@ -49,7 +49,10 @@ fn group<const K: usize>(
     prefix: &str,
     suffixes: [&str; K],
 ) -> Result<Option<[usize; K]>, FileError> {
-    let found: Vec<Option<usize>> = suffixes.iter().map(|s| table.column(&format!("{prefix}{s}"))).collect();
+    let found: Vec<Option<usize>> = suffixes
+        .iter()
+        .map(|s| table.column(&format!("{prefix}{s}")))
+        .collect();
     if found.iter().all(Option::is_none) {
         return Ok(None);
     }
@@ -88,7 +91,10 @@ impl TrialReader {
             line: table.header_line(),
             message: "missing required column `t` (time in seconds)".into(),
         })?;
-        let mut plan = ColumnPlan { t, ..Default::default() };
+        let mut plan = ColumnPlan {
+            t,
+            ..Default::default()
+        };
         let mut layout = TrialLayout::default();
         for s in Segment::ALL {
             let i = s.index();
@@ -121,7 +127,13 @@ impl TrialReader {
         layout.com_pos = plan.com_pos.is_some();
         layout.com_vel = plan.com_vel.is_some();
         layout.phase_ref = plan.phase_ref.is_some();
-        Ok(TrialReader { table, plan, layout, previous_t: None, rows: 0 })
+        Ok(TrialReader {
+            table,
+            plan,
+            layout,
+            previous_t: None,
+            rows: 0,
+        })
     }
 
     /// Metadata from the file's comment lines.
@@ -145,12 +157,17 @@ impl TrialReader {
         let header_line = self.table.header_line();
         let Some(row) = self.table.next_row()? else {
             if self.rows == 0 {
-                return Err(FileError::NoRows { path: self.table.path().to_path_buf(), line: header_line + 1 });
+                return Err(FileError::NoRows {
+                    path: self.table.path().to_path_buf(),
+                    line: header_line + 1,
+                });
             }
             return Ok(None);
         };
         let plan = &self.plan;
-        let t = row.number(plan.t)?.ok_or_else(|| row.cell_error(plan.t, "a time in seconds (t cannot be empty)"))?;
+        let t = row
+            .number(plan.t)?
+            .ok_or_else(|| row.cell_error(plan.t, "a time in seconds (t cannot be empty)"))?;
         if let Some(previous) = self.previous_t {
             if t <= previous {
                 return Err(FileError::TimeNotIncreasing {
@@ -186,8 +203,12 @@ impl TrialReader {
         if let Some(c) = plan.phase_ref {
             let text = row.text(c);
             if !text.is_empty() {
-                let label = std::str::from_utf8(text).ok().and_then(GaitPhase::from_label);
-                rec.reference.phase = Some(label.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?);
+                let label = std::str::from_utf8(text)
+                    .ok()
+                    .and_then(GaitPhase::from_label);
+                rec.reference.phase = Some(
+                    label.ok_or_else(|| row.cell_error(c, "a gait phase `SS1`, `DS` or `SS2`"))?,
+                );
             }
         }
         self.previous_t = Some(t);

@@ -19,9 +19,17 @@ pub struct TrialWriter<W: Write> {
 impl<W: Write> TrialWriter<W> {
     /// Writes the metadata and header for `layout`.
     pub fn new(mut out: W, meta: &TrialMeta, layout: TrialLayout) -> io::Result<Self> {
-        write_comments(&mut out, meta.entries().iter().map(|(k, v)| (k.as_str(), v.as_str())))?;
+        write_comments(
+            &mut out,
+            meta.entries().iter().map(|(k, v)| (k.as_str(), v.as_str())),
+        )?;
         writeln!(out, "{}", layout.column_names().join(","))?;
-        Ok(TrialWriter { out, layout, line: Vec::with_capacity(1024), buf: ryu::Buffer::new() })
+        Ok(TrialWriter {
+            out,
+            layout,
+            line: Vec::with_capacity(1024),
+            buf: ryu::Buffer::new(),
+        })
     }
 
     /// Writes one record; channels absent from the layout are skipped, `None` values become empty cells.

@@ -6,7 +6,10 @@ use std::path::Path;
 use limbfuse_io::{FileError, TrialReader};
 
 fn read_all(text: &str) -> Result<usize, FileError> {
-    let mut r = TrialReader::from_reader(Path::new("bad.csv"), Box::new(std::io::Cursor::new(text.to_string())))?;
+    let mut r = TrialReader::from_reader(
+        Path::new("bad.csv"),
+        Box::new(std::io::Cursor::new(text.to_string())),
+    )?;
     let mut n = 0;
     while r.next_record()?.is_some() {
         n += 1;
@@ -37,14 +40,20 @@ fn infinity_cell_is_rejected() {
 #[test]
 fn text_in_numeric_cell_names_line_and_column() {
     let m = message("t,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\n0,1,2,3\n0.01,1,two,3\n");
-    assert!(m.starts_with("bad.csv:3: column 3 (`thigh_gyr_y`): expected a number"), "{m}");
+    assert!(
+        m.starts_with("bad.csv:3: column 3 (`thigh_gyr_y`): expected a number"),
+        "{m}"
+    );
     assert!(m.contains("`two`"), "{m}");
 }
 
 #[test]
 fn non_increasing_time_names_line_and_column() {
     let m = message("knee_enc,t\n0.1,0.00\n0.1,0.01\n0.1,0.01\n");
-    assert!(m.starts_with("bad.csv:4: column 2 (`t`): time must increase strictly"), "{m}");
+    assert!(
+        m.starts_with("bad.csv:4: column 2 (`t`): time must increase strictly"),
+        "{m}"
+    );
     let m = message("t\n1.0\n0.5\n");
     assert!(m.starts_with("bad.csv:3: column 1 (`t`)"), "{m}");
 }
@@ -58,19 +67,28 @@ fn empty_time_cell_is_an_error() {
 #[test]
 fn duplicate_column_names_header_line_and_columns() {
     let m = message("# a: b\nt,knee_enc,knee_enc\n0,1,2\n");
-    assert!(m.starts_with("bad.csv:2: header: duplicate column `knee_enc` (columns 2 and 3)"), "{m}");
+    assert!(
+        m.starts_with("bad.csv:2: header: duplicate column `knee_enc` (columns 2 and 3)"),
+        "{m}"
+    );
 }
 
 #[test]
 fn missing_time_column_is_named() {
     let m = message("time,knee_enc\n0,1\n");
-    assert!(m.starts_with("bad.csv:1: header: missing required column `t`"), "{m}");
+    assert!(
+        m.starts_with("bad.csv:1: header: missing required column `t`"),
+        "{m}"
+    );
 }
 
 #[test]
 fn incomplete_vector_group_is_named() {
     let m = message("t,shank_acc_x,shank_acc_z\n0,1,2\n");
-    assert!(m.starts_with("bad.csv:1: header: incomplete channel group"), "{m}");
+    assert!(
+        m.starts_with("bad.csv:1: header: incomplete channel group"),
+        "{m}"
+    );
     assert!(m.contains("shank_acc_y"), "{m}");
 }
 
@@ -102,13 +120,18 @@ fn bad_phase_label_is_named() {
 #[test]
 fn missing_file_names_path() {
     let e = TrialReader::open(Path::new("/nonexistent/dir/trial.csv")).unwrap_err();
-    assert!(e.to_string().starts_with("/nonexistent/dir/trial.csv:"), "{e}");
+    assert!(
+        e.to_string().starts_with("/nonexistent/dir/trial.csv:"),
+        "{e}"
+    );
 }
 
 #[test]
 fn invalid_utf8_is_an_error_not_a_panic() {
     let bytes: Vec<u8> = b"t,knee_enc\n0,\xff\xfe\n".to_vec();
-    let mut r = TrialReader::from_reader(Path::new("bad.csv"), Box::new(std::io::Cursor::new(bytes))).unwrap();
+    let mut r =
+        TrialReader::from_reader(Path::new("bad.csv"), Box::new(std::io::Cursor::new(bytes)))
+            .unwrap();
     let m = r.next_record().unwrap_err().to_string();
     assert!(m.starts_with("bad.csv:2: column 2 (`knee_enc`)"), "{m}");
 }

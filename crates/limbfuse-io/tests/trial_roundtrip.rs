@@ -21,7 +21,11 @@ fn records() -> Vec<Record> {
                     imu.gyr = Some(Vector3::new(1e-300, x * x, std::f64::consts::PI * x));
                 }
             }
-            r.sample.encoder = [Some(0.1 * t), if k % 5 == 0 { None } else { Some(-t) }, Some(t.cos())];
+            r.sample.encoder = [
+                Some(0.1 * t),
+                if k % 5 == 0 { None } else { Some(-t) },
+                Some(t.cos()),
+            ];
             r.reference.segment = [Some(0.0), Some(t), Some(-t), Some(0.5 * t)];
             r.reference.joint = [Some(-t), Some(2.0 * t), Some(-1.5 * t)];
             r
@@ -40,7 +44,9 @@ fn trial_round_trip_is_bit_exact() {
         w.write(r).unwrap();
     }
     let bytes = w.finish().unwrap();
-    let mut reader = TrialReader::from_reader(Path::new("mem.csv"), Box::new(std::io::Cursor::new(bytes))).unwrap();
+    let mut reader =
+        TrialReader::from_reader(Path::new("mem.csv"), Box::new(std::io::Cursor::new(bytes)))
+            .unwrap();
     assert_eq!(reader.meta().get("source"), Some("unit test"));
     assert_eq!(reader.meta().gravity(), 9.80665);
     assert_eq!(*reader.layout(), TrialLayout::walking());
@@ -55,7 +61,8 @@ fn trial_round_trip_is_bit_exact() {
 #[test]
 fn columns_are_found_by_name_in_any_order_and_unknown_ones_ignored() {
     let text = "# note: x\nknee_ref,extra,t,thigh_ref\n0.5,hello,0,0.1\n,world,0.02,0.2\n";
-    let mut r = TrialReader::from_reader(Path::new("m.csv"), Box::new(std::io::Cursor::new(text))).unwrap();
+    let mut r =
+        TrialReader::from_reader(Path::new("m.csv"), Box::new(std::io::Cursor::new(text))).unwrap();
     let a = r.next_record().unwrap().unwrap();
     let b = r.next_record().unwrap().unwrap();
     assert!(r.next_record().unwrap().is_none());
@@ -68,7 +75,9 @@ fn columns_are_found_by_name_in_any_order_and_unknown_ones_ignored() {
 #[test]
 fn estimate_file_reads_angles_and_diagnostics() {
     let text = "# method: test\n# zeta: 0.2\nt,thigh,knee,diag_mode\n0,0.1,0.2,1\n0.01,,0.3,\n";
-    let mut r = EstimateReader::from_reader(Path::new("e.csv"), Box::new(std::io::Cursor::new(text))).unwrap();
+    let mut r =
+        EstimateReader::from_reader(Path::new("e.csv"), Box::new(std::io::Cursor::new(text)))
+            .unwrap();
     assert_eq!(r.method(), "test");
     assert_eq!(r.meta().get("zeta"), Some("0.2"));
     assert!(r.has_angle(AngleChannel::Segment(Segment::Thigh)));
