@@ -1,0 +1,371 @@
+//! The walking simulator: a streaming iterator of [`Record`]s.
+
+use limbfuse_core::{ImuSample, Joint, Record, Reference, Sample, Segment};
+use nalgebra::Vector3;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::chain::{Frame, LegKin, PointKin};
+use crate::config::{EncoderResample, Motion, SimError, WalkingConfig};
+use crate::encoder_model::Encoders;
+use crate::gait_curves::SpeedLaw;
+use crate::gait_model::GaitModel;
+use crate::imu_model::Imu;
+use crate::variability::{Clock, Modulation};
+
+/// ChaCha stream of the set-up draws (variability, mountings, sensor errors, offsets).
+const STREAM_SETUP: u64 = 0;
+/// ChaCha stream of the per-sample IMU noise.
+const STREAM_IMU: u64 = 1;
+/// ChaCha stream of the per-tick encoder noise.
+const STREAM_ENCODER: u64 = 2;
+
+/// Error-free state of the simulated body at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Truth {
+    /// Time (s).
+    pub t: f64,
+    /// Unwrapped gait phase of the right leg (rad; 2 pi per stride, 0 = heel strike).
+    pub phase: f64,
+    /// Sagittal absolute segment angles (rad): trunk, thigh, shank, foot.
+    pub segment_angle: [f64; 4],
+    /// SPEC joint angles (rad): hip, knee, ankle.
+    pub joint_angle: [f64; 3],
+    /// Segment frames (rotation, world angular velocity and acceleration).
+    pub frames: [Frame; 4],
+    /// Hip joint centre, world.
+    pub hip: PointKin,
+    /// IMU mounting points, world (position, velocity, acceleration).
+    pub imu_point: [PointKin; 4],
+    /// Heel and metatarsal-head contact points of the simulated foot, world.
+    pub contacts: [PointKin; 2],
+    /// Error-free gyroscope reading, sensor frame (rad/s).
+    pub gyro: [Vector3<f64>; 4],
+    /// Error-free accelerometer reading (specific force), sensor frame (m/s^2).
+    pub specific_force: [Vector3<f64>; 4],
+}
+
+/// Seeded walking simulator; iterate it for one [`Record`] per IMU sample.
+#[derive(Debug, Clone)]
+pub struct WalkingSimulator {
+    cfg: WalkingConfig,
+    model: GaitModel,
+    clock: Clock,
+    modulation: Modulation,
+    imus: [Imu; 4],
+    encoders: Encoders,
+    imu_rng: ChaCha8Rng,
+    enc_rng: ChaCha8Rng,
+    n_samples: u64,
+    next_sample: u64,
+    next_tick: u64,
+    last_encoder: [f64; 3],
+}
+
+fn joints(seg: &[f64; 4]) -> [f64; 3] {
+    [
+        Joint::Hip.from_segments(seg),
+        Joint::Knee.from_segments(seg),
+        Joint::Ankle.from_segments(seg),
+    ]
+}
+
+impl WalkingSimulator {
+    /// Validates `cfg`, calibrates the gait and draws every constant error.
+    pub fn new(cfg: WalkingConfig) -> Result<Self, SimError> {
+        cfg.validate()?;
+        let law = SpeedLaw {
+            speed: cfg.speed_mps,
+            height: cfg.height_m,
+        };
+        let model = GaitModel::new(law, cfg.out_of_plane).map_err(|e| SimError::Calibration {
+            reached: e.reached,
+            wanted: e.wanted,
+        })?;
+        let mut setup = ChaCha8Rng::seed_from_u64(cfg.seed);
+        setup.set_stream(STREAM_SETUP);
+        let var = cfg.variability.unwrap_or(crate::config::Variability {
+            stride_time_cv: 0.0,
+            amplitude_cv: 0.0,
+        });
+        let (f0, phi0) = match cfg.motion {
+            Motion::Walk => (law.stride_frequency(), cfg.start_phase),
+            Motion::Stand => (0.0, 0.0),
+            Motion::Pose { phase } => (0.0, phase),
+        };
+        let clock = Clock::new(&mut setup, f0, phi0, var.stride_time_cv);
+        let modulation = Modulation::new(&mut setup, var.amplitude_cv);
+        let mut draw_imu = || {
+            Imu::draw(
+                &mut setup,
+                &cfg.imu,
+                cfg.mounting,
+                cfg.imu_rate_hz,
+                cfg.noise,
+            )
+        };
+        let imus = [draw_imu(), draw_imu(), draw_imu(), draw_imu()];
+        let encoders = Encoders::draw(&mut setup, &cfg.encoder, cfg.noise);
+        let mut imu_rng = ChaCha8Rng::seed_from_u64(cfg.seed);
+        imu_rng.set_stream(STREAM_IMU);
+        let mut enc_rng = ChaCha8Rng::seed_from_u64(cfg.seed);
+        enc_rng.set_stream(STREAM_ENCODER);
+        let n_samples = (cfg.duration_s * cfg.imu_rate_hz).round() as u64;
+        Ok(WalkingSimulator {
+            cfg,
+            model,
+            clock,
+            modulation,
+            imus,
+            encoders,
+            imu_rng,
+            enc_rng,
+            n_samples,
+            next_sample: 0,
+            next_tick: 0,
+            last_encoder: [0.0; 3],
+        })
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &WalkingConfig {
+        &self.cfg
+    }
+
+    /// The calibrated gait model.
+    pub fn model(&self) -> &GaitModel {
+        &self.model
+    }
+
+    /// The drawn IMUs (mounting and error state), trunk..foot.
+    pub fn imus(&self) -> &[Imu; 4] {
+        &self.imus
+    }
+
+    /// The drawn encoders.
+    pub fn encoders(&self) -> &Encoders {
+        &self.encoders
+    }
+
+    /// Number of records the trial holds.
+    pub fn sample_count(&self) -> u64 {
+        self.n_samples
+    }
+
+    /// Mean stride frequency (Hz); 0 when not walking.
+    pub fn stride_frequency(&self) -> f64 {
+        self.clock.mean_frequency()
+    }
+
+    /// Nominal walking speed the calibrated gait achieves (m/s):
+    /// stride length x mean stride frequency.
+    pub fn nominal_speed(&self) -> f64 {
+        self.model.hip.stride_length * self.clock.mean_frequency()
+    }
+
+    fn kinematics(&self, t: f64) -> (f64, LegKin, [f64; 4]) {
+        if self.cfg.motion == Motion::Stand {
+            return (0.0, self.model.standing(), [0.0; 4]);
+        }
+        let phase = self.clock.phase(t);
+        let k = self.model.kinematics(phase, &self.modulation);
+        let amp = self.modulation.amp(phase.v).v;
+        (phase.v, k, self.model.sagittal_angles(phase.v, amp))
+    }
+
+    /// Error-free state at time `t` (s). Does not touch the random streams.
+    pub fn truth(&self, t: f64) -> Truth {
+        let (phase, k, seg) = self.kinematics(t);
+        let g = Vector3::new(0.0, self.cfg.g, 0.0);
+        let mut gyro = [Vector3::zeros(); 4];
+        let mut specific_force = [Vector3::zeros(); 4];
+        for i in 0..4 {
+            let (w, f) = self.imus[i].ideal(&k.frames[i].r, &k.frames[i].w, &(k.imu[i].a + g));
+            gyro[i] = w;
+            specific_force[i] = f;
+        }
+        Truth {
+            t,
+            phase,
+            segment_angle: seg,
+            joint_angle: joints(&seg),
+            frames: k.frames,
+            hip: k.joints[0],
+            imu_point: k.imu,
+            contacts: k.contacts,
+            gyro,
+            specific_force,
+        }
+    }
+
+    /// World position (m) of the IMU on segment `s` at time `t`: positions only,
+    /// for checks that differentiate it numerically.
+    pub fn sensor_position(&self, s: Segment, t: f64) -> Vector3<f64> {
+        self.kinematics(t).1.imu[s.index()].p
+    }
+
+    /// True SPEC joint angles at an encoder tick time.
+    fn joint_truth(&self, t: f64) -> [f64; 3] {
+        if self.cfg.motion == Motion::Stand {
+            return [0.0; 3];
+        }
+        let phi = self.clock.phase(t).v;
+        joints(&self.model.sagittal_angles(phi, self.modulation.amp(phi).v))
+    }
+
+    /// Simulates the encoder ticks up to time `t` and resamples them.
+    fn encoder_at(&mut self, t: f64) -> [f64; 3] {
+        let rate = self.cfg.encoder_rate_hz;
+        let last = (t * rate + 1e-9).floor().max(0.0) as u64;
+        let mut sum = [0.0; 3];
+        let mut count = 0u32;
+        while self.next_tick <= last {
+            let tj = self.next_tick as f64 / rate;
+            let truth = self.joint_truth(tj);
+            let r = self.encoders.read(&truth, &mut self.enc_rng);
+            for i in 0..3 {
+                sum[i] += r[i];
+            }
+            count += 1;
+            self.last_encoder = r;
+            self.next_tick += 1;
+        }
+        match self.cfg.encoder_resample {
+            EncoderResample::Mean if count > 0 => sum.map(|s| s / count as f64),
+            _ => self.last_encoder,
+        }
+    }
+
+    /// Run metadata as `key: value` pairs (for a trial file header).
+    pub fn metadata(&self) -> Vec<(String, String)> {
+        let c = &self.cfg;
+        let m = &self.model;
+        let mut out: Vec<(String, String)> = Vec::new();
+        let mut put = |k: &str, v: String| out.push((k.to_string(), v));
+        put("source", "limbfuse-sim walking".into());
+        put("seed", c.seed.to_string());
+        put("leg", "right".into());
+        put("g", c.g.to_string());
+        put("sample_rate_hz", c.imu_rate_hz.to_string());
+        put("encoder_rate_hz", c.encoder_rate_hz.to_string());
+        put(
+            "encoder_resample",
+            format!("{:?}", c.encoder_resample).to_lowercase(),
+        );
+        put("duration_s", c.duration_s.to_string());
+        put("motion", format!("{:?}", c.motion));
+        put("speed_mps", c.speed_mps.to_string());
+        put("nominal_speed_mps", format!("{:.6}", self.nominal_speed()));
+        put(
+            "cadence_steps_per_min",
+            format!("{:.3}", 120.0 * self.stride_frequency()),
+        );
+        put(
+            "stride_frequency_hz",
+            format!("{:.6}", self.stride_frequency()),
+        );
+        put("stride_length_m", format!("{:.6}", m.hip.stride_length));
+        put("height_m", c.height_m.to_string());
+        put("hip_gain", format!("{:.6}", m.hip_gain));
+        put("knee_gain", format!("{:.6}", m.law.knee_gain()));
+        put("ankle_gain", format!("{:.6}", m.law.ankle_gain()));
+        put("out_of_plane", c.out_of_plane.to_string());
+        match c.variability {
+            Some(v) => {
+                put("stride_time_cv", v.stride_time_cv.to_string());
+                put("amplitude_cv", v.amplitude_cv.to_string());
+            }
+            None => put("variability", "none".into()),
+        }
+        put("noise", c.noise.to_string());
+        put("mounting", format!("{:?}", c.mounting).to_lowercase());
+        let s = &c.imu;
+        put(
+            "gyro_spec",
+            format!(
+                "noise_density={:e} rad/s/sqrtHz turn_on_bias={:e} rad/s gm_sigma={:e} rad/s gm_tau={} s scale={} cross_axis={}",
+                s.gyro.noise_density, s.gyro.turn_on_bias, s.gyro.bias_instability, s.gyro.bias_tau_s, s.gyro.scale_error, s.gyro.cross_axis
+            ),
+        );
+        put(
+            "acc_spec",
+            format!(
+                "noise_density={:e} m/s2/sqrtHz turn_on_bias={:e} m/s2 gm_sigma={:e} m/s2 gm_tau={} s scale={} cross_axis={}",
+                s.acc.noise_density, s.acc.turn_on_bias, s.acc.bias_instability, s.acc.bias_tau_s, s.acc.scale_error, s.acc.cross_axis
+            ),
+        );
+        put(
+            "misalignment_sigma_rad",
+            format!("{:e}", s.misalignment_rad),
+        );
+        put(
+            "encoder_spec",
+            format!(
+                "bits={} noise={:e} rad offset_sigma={:e} rad",
+                c.encoder.bits, c.encoder.noise_rad, c.encoder.offset_rad
+            ),
+        );
+        for seg in Segment::ALL {
+            let imu = &self.imus[seg.index()];
+            let q = imu.mount_quaternion();
+            put(
+                &format!("{}_mount_quat", seg.name()),
+                format!("{:.9} {:.9} {:.9} {:.9}", q[0], q[1], q[2], q[3]),
+            );
+            let (g, a) = (imu.gyro.turn_on, imu.acc.turn_on);
+            put(
+                &format!("{}_gyro_turn_on_bias", seg.name()),
+                format!("{:e} {:e} {:e}", g.x, g.y, g.z),
+            );
+            put(
+                &format!("{}_acc_turn_on_bias", seg.name()),
+                format!("{:e} {:e} {:e}", a.x, a.y, a.z),
+            );
+        }
+        for j in Joint::ALL {
+            put(
+                &format!("{}_enc_offset_rad", j.name()),
+                format!("{:e}", self.encoders.offset[j.index()]),
+            );
+        }
+        out
+    }
+}
+
+impl Iterator for WalkingSimulator {
+    type Item = Record;
+
+    fn next(&mut self) -> Option<Record> {
+        if self.next_sample >= self.n_samples {
+            return None;
+        }
+        let t = self.next_sample as f64 / self.cfg.imu_rate_hz;
+        self.next_sample += 1;
+        let (_, k, seg) = self.kinematics(t);
+        let g = Vector3::new(0.0, self.cfg.g, 0.0);
+        let mut sample = Sample::empty(t);
+        for i in 0..4 {
+            let f = &k.frames[i];
+            let (w, a) = self.imus[i].read(&f.r, &f.w, &(k.imu[i].a + g), &mut self.imu_rng);
+            sample.imu[i] = ImuSample {
+                acc: Some(a),
+                gyr: Some(w),
+                quat: None,
+            };
+        }
+        sample.encoder = self.encoder_at(t).map(Some);
+        let reference = Reference {
+            segment: seg.map(Some),
+            joint: joints(&seg).map(Some),
+            ..Default::default()
+        };
+        Some(Record { sample, reference })
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let left = usize::try_from(self.n_samples - self.next_sample).unwrap_or(usize::MAX);
+        (left, Some(left))
+    }
+}
+
+impl ExactSizeIterator for WalkingSimulator {}
