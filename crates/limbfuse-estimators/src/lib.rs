@@ -12,3 +12,4 @@
 
 pub mod baseline;
 pub mod inclination;
+pub mod segment_kf;

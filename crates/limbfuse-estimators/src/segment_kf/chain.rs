@@ -1,0 +1,398 @@
+//! The error-state machinery the three segment filters share: gyro
+//! integration outside the Kalman filter, the 8-state error covariance,
+//! initialisation, missing-data handling, closed/open loop, diagnostics.
+//!
+//! Per segment `i` the filter keeps (000 eqs 5-6, 12-13):
+//! * `theta_g,i`, the gyro-integrated angle: `d theta_g / dt = omega_gyro +
+//!   b_hat` (000 eq 5), integrated with the trapezoidal rule on the gyro
+//!   samples plus the exact integral of the decaying bias estimate;
+//! * `b_hat_i`, the bias estimate in the papers' convention (000 eq 1: true
+//!   rate = gyro reading + b), propagated by `d b_hat / dt = -b_hat / tau`
+//!   (000 eq 6);
+//! * the error state `x` = [dtheta, db] per segment and its covariance `P`.
+#![allow(non_snake_case)]
+
+use limbfuse_core::kalman::{self, Update};
+use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep, MAX_DIAG};
+use nalgebra::{SMatrix, SVector};
+
+use super::criteria::reliability;
+use super::model::{angle_state, bias_state, Discretizer, Mat8};
+use super::params::{CommonParams, LoopMode};
+use crate::inclination::accel_inclination;
+
+/// What the filters read from one sample, after cleaning.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Inputs {
+    /// Accelerometer inclination `atan2(acc_x, acc_y)` per segment.
+    pub theta_a: [Option<f64>; 4],
+    /// `| ||a|| - g |` per segment.
+    pub rho: [Option<f64>; 4],
+    /// Encoders (hip, knee, ankle).
+    pub encoder: [Option<f64>; 3],
+    /// Segment was initialised before this sample, so rows may use it.
+    pub usable: [bool; 4],
+}
+
+/// How a measurement row relates to the segments (for the gain breakdown
+/// of 001 Fig. 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowKind {
+    /// An accelerometer-inclination row of segment `i`.
+    Imu(usize),
+    /// A joint row: encoder (MJLS) or accelerometer difference (global).
+    Joint,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct Chain {
+    pub common: CommonParams,
+    time: TimeStep,
+    x: SVector<f64, 8>,
+    P: Mat8,
+    angle_g: [f64; 4],
+    bias_hat: [f64; 4],
+    last_rate: [Option<f64>; 4],
+    init: [bool; 4],
+    disc: Discretizer,
+}
+
+fn finite(v: f64) -> Option<f64> {
+    if v.is_finite() {
+        Some(v)
+    } else {
+        None
+    }
+}
+
+/// Wraps an angle difference to [-pi, pi].
+#[inline]
+pub(crate) fn wrap(a: f64) -> f64 {
+    libm::remainder(a, core::f64::consts::TAU)
+}
+
+impl Chain {
+    pub fn new(common: CommonParams) -> Self {
+        Chain {
+            time: TimeStep::new(),
+            x: SVector::zeros(),
+            P: Self::p0(&common),
+            angle_g: [0.0; 4],
+            bias_hat: Self::bias0(&common),
+            last_rate: [None; 4],
+            init: [false; 4],
+            disc: Discretizer::new(&common.segments, common.discretization),
+            common,
+        }
+    }
+
+    fn p0(common: &CommonParams) -> Mat8 {
+        let mut p = Mat8::zeros();
+        for i in 0..4 {
+            p[(angle_state(i), angle_state(i))] = common.p0_angle_sigma * common.p0_angle_sigma;
+            p[(bias_state(i), bias_state(i))] = common.p0_bias_sigma * common.p0_bias_sigma;
+        }
+        p
+    }
+
+    fn bias0(common: &CommonParams) -> [f64; 4] {
+        // Sensor convention (gyro = true + beta) -> papers' b = -beta.
+        let mut b = [0.0; 4];
+        for (bi, beta) in b.iter_mut().zip(common.initial_gyro_bias.iter()) {
+            *bi = -*beta;
+        }
+        b
+    }
+
+    pub fn reset(&mut self) {
+        *self = Chain::new(self.common);
+    }
+
+    /// Advances time, integrates the gyros, predicts the covariance,
+    /// initialises new segments and returns the cleaned measurements.
+    pub fn begin(&mut self, sample: &Sample) -> Result<Inputs, EstimatorError> {
+        let dt = self.time.advance(sample.t)?;
+        let g = self.common.gravity;
+        let mut theta_a = [None; 4];
+        let mut rho = [None; 4];
+        let mut rate = [None; 4];
+        for (i, imu) in sample.imu.iter().enumerate() {
+            if let Some(acc) = imu.acc {
+                if acc.iter().all(|v| v.is_finite()) {
+                    theta_a[i] = Some(accel_inclination(&acc));
+                    rho[i] = Some(reliability(&acc, g));
+                }
+            }
+            rate[i] = imu.gyr.and_then(|w| finite(w.z));
+        }
+        let mut encoder = [None; 3];
+        for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {
+            *e = s.and_then(finite);
+        }
+        if let Some(dt) = dt {
+            self.predict(dt, &rate);
+        }
+        let usable = self.init;
+        for i in 0..4 {
+            if !self.init[i] {
+                if let Some(th) = theta_a[i] {
+                    self.initialise(i, th);
+                }
+            }
+            if rate[i].is_some() {
+                self.last_rate[i] = rate[i];
+            }
+        }
+        Ok(Inputs { theta_a, rho, encoder, usable })
+    }
+
+    fn initialise(&mut self, i: usize, theta: f64) {
+        let (a, b) = (angle_state(i), bias_state(i));
+        self.angle_g[i] = theta;
+        self.bias_hat[i] = -self.common.initial_gyro_bias[i];
+        self.x[a] = 0.0;
+        self.x[b] = 0.0;
+        for k in 0..8 {
+            for s in [a, b] {
+                self.P[(s, k)] = 0.0;
+                self.P[(k, s)] = 0.0;
+            }
+        }
+        self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma;
+        self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
+        self.init[i] = true;
+    }
+
+    fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
+        let (phi, qd) = self.disc.get(dt);
+        for i in 0..4 {
+            if !self.init[i] {
+                continue;
+            }
+            // Zero-order hold over a gyro dropout; zero if none was ever seen.
+            let r1 = rate[i].or(self.last_rate[i]).unwrap_or(0.0);
+            let r0 = self.last_rate[i].unwrap_or(r1);
+            let (a, b) = (angle_state(i), bias_state(i));
+            // theta_g += int omega dt + int b_hat dt, b_hat(t) = b_hat e^(-t/tau):
+            // the second integral is Phi[a, b] * b_hat (exact or Euler, as Phi).
+            self.angle_g[i] += 0.5 * (r0 + r1) * dt + phi[(a, b)] * self.bias_hat[i];
+            self.bias_hat[i] *= phi[(b, b)];
+        }
+        let (x, P) = kalman::predict(&self.x, &self.P, &phi, &qd);
+        if x.iter().all(|v| v.is_finite()) && P.iter().all(|v| v.is_finite()) {
+            self.x = x;
+            self.P = P;
+        } else {
+            // Only reachable with absurd steps or parameters: restart the
+            // uncertainty instead of propagating non-finite values.
+            self.fold_error_state();
+            self.P = Self::p0(&self.common);
+        }
+    }
+
+    /// Current angle estimate of segment `i` (000 eq 12): `theta_g + dtheta_hat`.
+    #[inline]
+    pub fn angle(&self, i: usize) -> f64 {
+        self.angle_g[i] + self.x[angle_state(i)]
+    }
+
+    /// Estimated gyro bias in the sensor convention (gyro = true + bias),
+    /// i.e. `-(b_hat + db_hat)` of 000 eq 13.
+    #[inline]
+    pub fn gyro_bias(&self, i: usize) -> f64 {
+        -(self.bias_hat[i] + self.x[bias_state(i)])
+    }
+
+    #[inline]
+    pub fn angle_sd(&self, i: usize) -> f64 {
+        libm::sqrt(self.P[(angle_state(i), angle_state(i))].max(0.0))
+    }
+
+    #[inline]
+    pub fn initialised(&self, i: usize) -> bool {
+        self.init[i]
+    }
+
+    pub fn covariance(&self) -> &Mat8 {
+        &self.P
+    }
+
+    pub fn error_state(&self) -> &SVector<f64, 8> {
+        &self.x
+    }
+
+    /// Measurement update with innovations `innov` (already wrapped) on the
+    /// active rows. Returns the update (gain, innovation) when one was made.
+    pub fn update<const M: usize>(
+        &mut self,
+        innov: &SVector<f64, M>,
+        H: &SMatrix<f64, M, 8>,
+        R: &SMatrix<f64, M, M>,
+        active: &[bool; M],
+    ) -> Option<Update<8, M>> {
+        if !active.iter().any(|&a| a) {
+            return None;
+        }
+        let z = innov + H * self.x;
+        let u = kalman::update_rows(
+            &self.x,
+            &self.P,
+            &z,
+            H,
+            R,
+            active,
+            self.common.covariance_update,
+        )
+        .ok()?;
+        if !(u.x.iter().all(|v| v.is_finite()) && u.P.iter().all(|v| v.is_finite())) {
+            return None;
+        }
+        self.x = u.x;
+        self.P = u.P;
+        if self.common.loop_mode == LoopMode::Closed {
+            self.fold_error_state();
+        }
+        Some(u)
+    }
+
+    /// Closed-loop reset (SPEC section 6): angle correction into the
+    /// integrated angle, bias correction into the bias estimate, x = 0.
+    fn fold_error_state(&mut self) {
+        for i in 0..4 {
+            let (a, b) = (angle_state(i), bias_state(i));
+            if self.x[a].is_finite() && self.x[b].is_finite() {
+                self.angle_g[i] += self.x[a];
+                self.bias_hat[i] += self.x[b];
+            }
+        }
+        self.x = SVector::zeros();
+    }
+
+    /// An estimate with the segment angles (initialised segments only) and
+    /// the joint angles as their differences.
+    pub fn estimate(&self, t: f64) -> Estimate {
+        let mut est = Estimate::empty(t);
+        for i in 0..4 {
+            if self.init[i] {
+                est.segment[i] = Some(self.angle(i));
+            }
+        }
+        est.fill_joints_from_segments();
+        est
+    }
+}
+
+/// Writes diagnostics into an estimate by position.
+pub(crate) struct DiagWriter<'a> {
+    diag: &'a mut [Option<f64>; MAX_DIAG],
+    pos: usize,
+}
+
+impl<'a> DiagWriter<'a> {
+    pub fn new(diag: &'a mut [Option<f64>; MAX_DIAG]) -> Self {
+        DiagWriter { diag, pos: 0 }
+    }
+
+    pub fn push(&mut self, v: Option<f64>) {
+        if self.pos < MAX_DIAG {
+            self.diag[self.pos] = v;
+        }
+        self.pos += 1;
+    }
+
+    pub fn flag(&mut self, b: bool) {
+        self.push(Some(if b { 1.0 } else { 0.0 }));
+    }
+
+    pub fn written(&self) -> usize {
+        self.pos
+    }
+
+    /// `rho_*`, `bias_*`, `sd_*` (the common part, 12 values).
+    pub fn common(&mut self, chain: &Chain, rho: &[Option<f64>; 4]) {
+        for r in rho {
+            self.push(*r);
+        }
+        for i in 0..4 {
+            self.push(chain.initialised(i).then(|| chain.gyro_bias(i)));
+        }
+        for i in 0..4 {
+            self.push(chain.initialised(i).then(|| chain.angle_sd(i)));
+        }
+    }
+
+    /// `share_own_*`, `share_other_*`, `share_joint_*` (12 values).
+    pub fn shares(&mut self, shares: &[[Option<f64>; 3]; 4]) {
+        for kind in 0..3 {
+            for s in shares {
+                self.push(s[kind]);
+            }
+        }
+    }
+}
+
+/// Names of the common diagnostics, in [`DiagWriter::common`] order.
+#[cfg(test)]
+pub(crate) const COMMON_DIAG: [&str; 12] = [
+    "rho_trunk",
+    "rho_thigh",
+    "rho_shank",
+    "rho_foot",
+    "bias_trunk",
+    "bias_thigh",
+    "bias_shank",
+    "bias_foot",
+    "sd_trunk",
+    "sd_thigh",
+    "sd_shank",
+    "sd_foot",
+];
+
+/// Names of the gain-share diagnostics, in [`DiagWriter::shares`] order.
+#[cfg(test)]
+pub(crate) const SHARE_DIAG: [&str; 12] = [
+    "share_own_trunk",
+    "share_own_thigh",
+    "share_own_shank",
+    "share_own_foot",
+    "share_other_trunk",
+    "share_other_thigh",
+    "share_other_shank",
+    "share_other_foot",
+    "share_joint_trunk",
+    "share_joint_thigh",
+    "share_joint_shank",
+    "share_joint_foot",
+];
+
+/// Breakdown of each segment's angle correction by source, as in 001
+/// Fig. 6: the correction of segment `s` is `sum_j K[2s, j] e_j`; the share
+/// of row `j` is `|K[2s, j] e_j| / sum_j |K[2s, j] e_j|`, summed over the
+/// segment's own accelerometer row, the other segments' accelerometer rows
+/// and the joint rows (encoders or accelerometer differences). `None` for a
+/// segment whose correction is exactly zero.
+pub fn gain_shares<const M: usize>(
+    K: &SMatrix<f64, 8, M>,
+    innovation: &SVector<f64, M>,
+    kinds: &[RowKind; M],
+) -> [[Option<f64>; 3]; 4] {
+    let mut out = [[None; 3]; 4];
+    for (s, o) in out.iter_mut().enumerate() {
+        let mut parts = [0.0; 3];
+        for j in 0..M {
+            let c = libm::fabs(K[(angle_state(s), j)] * innovation[j]);
+            let k = match kinds[j] {
+                RowKind::Imu(i) if i == s => 0,
+                RowKind::Imu(_) => 1,
+                RowKind::Joint => 2,
+            };
+            parts[k] += c;
+        }
+        let total = parts[0] + parts[1] + parts[2];
+        if total > 0.0 && total.is_finite() {
+            *o = [Some(parts[0] / total), Some(parts[1] / total), Some(parts[2] / total)];
+        }
+    }
+    out
+}
+

@@ -1,0 +1,208 @@
+//! The local Kalman filter (`local`): one 2-state error-state filter per
+//! segment, stacked as paper 001's "matricial local" model.
+//!
+//! Model: 000 eqs 5-13 per segment (state `[dtheta, db]`, `A = [[0, 1],
+//! [0, -1/tau]]`, `C = [1, 0]`), stacked block-diagonally as 001 eqs 4-6.
+//! Because `A`, `Q`, `C` and `R` are block-diagonal, `P` and the gain `K`
+//! stay block-diagonal (001 after eq 29): no segment's measurement touches
+//! another segment's state.
+//!
+//! Update rows: segment row `i` enters when its accelerometer passes `rho_i
+//! < zeta_i` (001 eq 14-18) and the count criterion `Psi_s` holds (at least
+//! `s` accelerometers pass, 001 eqs 15-18). `s = 2` by default, the
+//! criterion 001 used for its Table 1; `s = 1` is the textbook independent
+//! local filter.
+#![allow(non_snake_case)]
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
+use nalgebra::{SMatrix, SVector};
+
+use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
+use super::criteria::{count_reliable, psi, reliable_flags};
+use super::model::{local_output_matrix, Mat8};
+use super::params::{check_min_reliable, CommonParams, ParamError};
+
+/// Parameters of [`LocalKf`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalKfParams {
+    /// Noise models, initial covariance and numerics.
+    pub common: CommonParams,
+    /// `s` of the count criterion `Psi_s` (001 eqs 15-18), 1..=4. Default 2
+    /// (001 Table 1 uses criterion (17)).
+    pub min_reliable: u8,
+}
+
+impl Default for LocalKfParams {
+    fn default() -> Self {
+        LocalKfParams { common: CommonParams::default(), min_reliable: 2 }
+    }
+}
+
+impl LocalKfParams {
+    /// Paper 000 Table 2 weights with the papers' numerics
+    /// ([`CommonParams::paper_2014`]) and `Psi_2`.
+    pub fn paper_2014() -> Self {
+        LocalKfParams { common: CommonParams::paper_2014(), min_reliable: 2 }
+    }
+
+    /// Checks every value.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.common.validate()?;
+        check_min_reliable(self.min_reliable)
+    }
+}
+
+/// Diagnostic names of [`LocalKf`], in `Estimate::diag` order.
+pub const LOCAL_DIAG: [&str; 30] = [
+    "n_reliable",
+    "psi",
+    "upd_trunk",
+    "upd_thigh",
+    "upd_shank",
+    "upd_foot",
+    "rho_trunk",
+    "rho_thigh",
+    "rho_shank",
+    "rho_foot",
+    "bias_trunk",
+    "bias_thigh",
+    "bias_shank",
+    "bias_foot",
+    "sd_trunk",
+    "sd_thigh",
+    "sd_shank",
+    "sd_foot",
+    "share_own_trunk",
+    "share_own_thigh",
+    "share_own_shank",
+    "share_own_foot",
+    "share_other_trunk",
+    "share_other_thigh",
+    "share_other_shank",
+    "share_other_foot",
+    "share_joint_trunk",
+    "share_joint_thigh",
+    "share_joint_shank",
+    "share_joint_foot",
+];
+
+const KINDS: [RowKind; 4] = [RowKind::Imu(0), RowKind::Imu(1), RowKind::Imu(2), RowKind::Imu(3)];
+
+/// The matricial local Kalman filter of 001 (eqs 1-6, 14-18), i.e. four
+/// independent segment filters of 000 (eqs 5-13). Method name `local`.
+#[derive(Debug, Clone)]
+pub struct LocalKf {
+    params: LocalKfParams,
+    chain: Chain,
+    R: SMatrix<f64, 4, 4>,
+    last_gain: SMatrix<f64, 8, 4>,
+}
+
+impl Default for LocalKf {
+    fn default() -> Self {
+        Self::build(LocalKfParams::default())
+    }
+}
+
+impl LocalKf {
+    /// A filter with the given parameters, after validating them.
+    pub fn new(params: LocalKfParams) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(Self::build(params))
+    }
+
+    fn build(params: LocalKfParams) -> Self {
+        let mut R = SMatrix::<f64, 4, 4>::zeros();
+        for i in 0..4 {
+            let s = params.common.segments[i].accel_angle_sigma;
+            R[(i, i)] = s * s;
+        }
+        LocalKf { chain: Chain::new(params.common), params, R, last_gain: SMatrix::zeros() }
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &LocalKfParams {
+        &self.params
+    }
+
+    /// Gain `K` (8x4) of the last update; zero when the last sample made none.
+    pub fn last_gain(&self) -> &SMatrix<f64, 8, 4> {
+        &self.last_gain
+    }
+
+    /// Error covariance `P` (8x8, state order of 000 eq 16).
+    pub fn covariance(&self) -> &Mat8 {
+        self.chain.covariance()
+    }
+
+    /// Error state (zero after every step in closed loop).
+    pub fn error_state(&self) -> &SVector<f64, 8> {
+        self.chain.error_state()
+    }
+}
+
+impl Estimator for LocalKf {
+    fn name(&self) -> &'static str {
+        "local"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs::ALL_ANGLES
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "model: matricial local KF (Nogueira et al. 2017 eqs 1-6, 14-18)")?;
+        writeln!(out, "min_reliable: {}", self.params.min_reliable)?;
+        self.params.common.describe(out)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &LOCAL_DIAG
+    }
+
+    fn reset(&mut self) {
+        self.chain.reset();
+        self.last_gain = SMatrix::zeros();
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let inp = self.chain.begin(sample)?;
+        let reliable = reliable_flags(&inp.rho, &self.params.common.zetas());
+        let psi_ok = psi(&reliable, self.params.min_reliable);
+        let mut active = [false; 4];
+        let mut innov = SVector::<f64, 4>::zeros();
+        for i in 0..4 {
+            if let (true, true, true, Some(th)) =
+                (psi_ok, reliable[i], inp.usable[i], inp.theta_a[i])
+            {
+                active[i] = true;
+                innov[i] = wrap(th - self.chain.angle(i));
+            }
+        }
+        let H = local_output_matrix();
+        let (updated, shares) = match self.chain.update(&innov, &H, &self.R, &active) {
+            Some(u) => {
+                self.last_gain = u.K;
+                (active, gain_shares(&u.K, &u.innovation, &KINDS))
+            }
+            None => {
+                self.last_gain = SMatrix::zeros();
+                ([false; 4], [[None; 3]; 4])
+            }
+        };
+        let mut est = self.chain.estimate(sample.t);
+        let mut w = DiagWriter::new(&mut est.diag);
+        w.push(Some(count_reliable(&reliable) as f64));
+        w.flag(psi_ok);
+        for u in updated {
+            w.flag(u);
+        }
+        w.common(&self.chain, &inp.rho);
+        w.shares(&shares);
+        debug_assert_eq!(w.written(), LOCAL_DIAG.len());
+        Ok(est)
+    }
+}

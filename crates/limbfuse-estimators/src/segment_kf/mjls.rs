@@ -1,0 +1,274 @@
+//! The Markov-jump (MJLS-based) Kalman filter (`mjls`) of paper 000,
+//! validated in paper 001.
+//!
+//! Model: the 8-state stacked error model (000 eqs 14-16, 001 eqs 7-8) with
+//! the mode-dependent output matrix `C-bar(Xi)` (000 eq 18, 001 eq 10): one
+//! accelerometer row, selected at each sample as the most reliable
+//! accelerometer `Xi = argmin_i rho_i` (000 eqs 28-29, 001 eqs 11-12), plus
+//! the three encoder rows `dtheta_i - dtheta_{i+1}` (000 eq 17). The
+//! measurement noise is `R = diag(sigma_a,Xi^2, sigma_e,h^2, sigma_e,k^2,
+//! sigma_e,a^2)` (000 eq 27). Filter steps: 000 eqs 21-25.
+//!
+//! When `rho(k) <= zeta` (000 eq 30, 001 eq 13) all four rows are used.
+//! Otherwise the paper only predicts ([`WhenUnreliable::PredictOnly`],
+//! default); [`WhenUnreliable::EncodersOnly`] applies the three encoder rows
+//! alone (SPEC section 6). A missing encoder drops its row.
+#![allow(non_snake_case)]
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
+use nalgebra::{SMatrix, SVector};
+
+use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
+use super::criteria::mjls_select;
+use super::model::{mjls_output_matrix, Mat8};
+use super::params::{encoder_quantisation_sigma, imu_spec, positive, CommonParams, ParamError};
+
+/// What the MJLS filter does when no accelerometer is reliable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WhenUnreliable {
+    /// Predict only (000 section 3, "unreliable measurement signal"; default).
+    #[default]
+    PredictOnly,
+    /// Update with the three encoder rows alone (SPEC section 6).
+    EncodersOnly,
+}
+
+impl WhenUnreliable {
+    /// `predict-only` or `encoders-only`.
+    pub const fn label(self) -> &'static str {
+        match self {
+            WhenUnreliable::PredictOnly => "predict-only",
+            WhenUnreliable::EncodersOnly => "encoders-only",
+        }
+    }
+}
+
+/// Parameters of [`MarkovJumpKf`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MarkovJumpKfParams {
+    /// Noise models, initial covariance and numerics.
+    pub common: CommonParams,
+    /// Encoder noise standard deviation (rad) for hip, knee, ankle
+    /// (`sigma_e` of 000 eq 27). Default: quantisation of a 14-bit absolute
+    /// encoder, `(2 pi / 2^14) / sqrt(12)` = 1.107e-4 rad.
+    pub encoder_sigma: [f64; 3],
+    /// Behaviour when `rho(k) > zeta`.
+    pub when_unreliable: WhenUnreliable,
+}
+
+impl Default for MarkovJumpKfParams {
+    fn default() -> Self {
+        MarkovJumpKfParams {
+            common: CommonParams::default(),
+            encoder_sigma: [encoder_quantisation_sigma(imu_spec::ENCODER_BITS); 3],
+            when_unreliable: WhenUnreliable::PredictOnly,
+        }
+    }
+}
+
+impl MarkovJumpKfParams {
+    /// Paper 000 Table 2 ([`CommonParams::paper_2014`]). Table 2 gives no
+    /// encoder noise, so the encoder rows keep the 14-bit default.
+    pub fn paper_2014() -> Self {
+        MarkovJumpKfParams { common: CommonParams::paper_2014(), ..MarkovJumpKfParams::default() }
+    }
+
+    /// Checks every value.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.common.validate()?;
+        for s in self.encoder_sigma {
+            positive("encoder_sigma", s)?;
+        }
+        Ok(())
+    }
+}
+
+/// Diagnostic names of [`MarkovJumpKf`], in `Estimate::diag` order. `mode` is the
+/// selected segment 0..3 (trunk..foot) when it passes the reliability test,
+/// -1 otherwise; `rho_min` is `rho(k)` of 000 eq 28.
+pub const MJLS_DIAG: [&str; 33] = [
+    "mode",
+    "rho_min",
+    "upd_trunk",
+    "upd_thigh",
+    "upd_shank",
+    "upd_foot",
+    "upd_hip",
+    "upd_knee",
+    "upd_ankle",
+    "rho_trunk",
+    "rho_thigh",
+    "rho_shank",
+    "rho_foot",
+    "bias_trunk",
+    "bias_thigh",
+    "bias_shank",
+    "bias_foot",
+    "sd_trunk",
+    "sd_thigh",
+    "sd_shank",
+    "sd_foot",
+    "share_own_trunk",
+    "share_own_thigh",
+    "share_own_shank",
+    "share_own_foot",
+    "share_other_trunk",
+    "share_other_thigh",
+    "share_other_shank",
+    "share_other_foot",
+    "share_joint_trunk",
+    "share_joint_thigh",
+    "share_joint_shank",
+    "share_joint_foot",
+];
+
+/// The Markov-jump Kalman filter of 000 (eqs 14-30). Method name `mjls`.
+#[derive(Debug, Clone)]
+pub struct MarkovJumpKf {
+    params: MarkovJumpKfParams,
+    chain: Chain,
+    last_gain: SMatrix<f64, 8, 4>,
+}
+
+impl Default for MarkovJumpKf {
+    fn default() -> Self {
+        Self::build(MarkovJumpKfParams::default())
+    }
+}
+
+impl MarkovJumpKf {
+    /// A filter with the given parameters, after validating them.
+    pub fn new(params: MarkovJumpKfParams) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(Self::build(params))
+    }
+
+    fn build(params: MarkovJumpKfParams) -> Self {
+        MarkovJumpKf { chain: Chain::new(params.common), params, last_gain: SMatrix::zeros() }
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &MarkovJumpKfParams {
+        &self.params
+    }
+
+    /// Gain `K` (8x4, columns: accelerometer row, hip, knee, ankle) of the
+    /// last update; zero when the last sample made none.
+    pub fn last_gain(&self) -> &SMatrix<f64, 8, 4> {
+        &self.last_gain
+    }
+
+    /// Error covariance `P` (8x8, state order of 000 eq 16).
+    pub fn covariance(&self) -> &Mat8 {
+        self.chain.covariance()
+    }
+
+    /// Error state (zero after every step in closed loop).
+    pub fn error_state(&self) -> &SVector<f64, 8> {
+        self.chain.error_state()
+    }
+
+    /// `R(Xi)` of 000 eq 27 (row 0 is 1 when no mode is selected; it is
+    /// masked then).
+    fn noise(&self, mode: Option<usize>) -> SMatrix<f64, 4, 4> {
+        let mut R = SMatrix::<f64, 4, 4>::zeros();
+        R[(0, 0)] = match mode {
+            Some(i) => {
+                let s = self.params.common.segments[i].accel_angle_sigma;
+                s * s
+            }
+            None => 1.0,
+        };
+        for j in 0..3 {
+            R[(1 + j, 1 + j)] = self.params.encoder_sigma[j] * self.params.encoder_sigma[j];
+        }
+        R
+    }
+}
+
+impl Estimator for MarkovJumpKf {
+    fn name(&self) -> &'static str {
+        "mjls"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs::ALL_ANGLES
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "model: MJLS-based KF (Nogueira et al. 2014 eqs 14-30)")?;
+        writeln!(out, "when_unreliable: {}", self.params.when_unreliable.label())?;
+        writeln!(out, "hip.encoder_sigma: {}", self.params.encoder_sigma[0])?;
+        writeln!(out, "knee.encoder_sigma: {}", self.params.encoder_sigma[1])?;
+        writeln!(out, "ankle.encoder_sigma: {}", self.params.encoder_sigma[2])?;
+        self.params.common.describe(out)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &MJLS_DIAG
+    }
+
+    fn reset(&mut self) {
+        self.chain.reset();
+        self.last_gain = SMatrix::zeros();
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let inp = self.chain.begin(sample)?;
+        let sel = mjls_select(&inp.rho, &self.params.common.zetas());
+        let mode = sel.mode().map(|s| s.index());
+        let encoders_allowed =
+            mode.is_some() || self.params.when_unreliable == WhenUnreliable::EncodersOnly;
+        let mut active = [false; 4];
+        let mut innov = SVector::<f64, 4>::zeros();
+        if let Some(i) = mode {
+            if let (true, Some(th)) = (inp.usable[i], inp.theta_a[i]) {
+                active[0] = true;
+                innov[0] = wrap(th - self.chain.angle(i));
+            }
+        }
+        for j in 0..3 {
+            if let (true, true, true, Some(e)) =
+                (encoders_allowed, inp.usable[j], inp.usable[j + 1], inp.encoder[j])
+            {
+                active[1 + j] = true;
+                innov[1 + j] = wrap(e - (self.chain.angle(j) - self.chain.angle(j + 1)));
+            }
+        }
+        let H = mjls_output_matrix(sel.mode());
+        let R = self.noise(mode);
+        let kinds = [
+            RowKind::Imu(mode.unwrap_or(0)),
+            RowKind::Joint,
+            RowKind::Joint,
+            RowKind::Joint,
+        ];
+        let (updated, shares) = match self.chain.update(&innov, &H, &R, &active) {
+            Some(u) => {
+                self.last_gain = u.K;
+                (active, gain_shares(&u.K, &u.innovation, &kinds))
+            }
+            None => {
+                self.last_gain = SMatrix::zeros();
+                ([false; 4], [[None; 3]; 4])
+            }
+        };
+        let mut est = self.chain.estimate(sample.t);
+        let mut w = DiagWriter::new(&mut est.diag);
+        w.push(Some(mode.map_or(-1.0, |i| i as f64)));
+        w.push(sel.rho_min);
+        for i in 0..4 {
+            w.flag(updated[0] && mode == Some(i));
+        }
+        for u in &updated[1..] {
+            w.flag(*u);
+        }
+        w.common(&self.chain, &inp.rho);
+        w.shares(&shares);
+        debug_assert_eq!(w.written(), MJLS_DIAG.len());
+        Ok(est)
+    }
+}
