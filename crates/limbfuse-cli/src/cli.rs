@@ -1,0 +1,151 @@
+//! Command-line flags (clap). Validated once into the commands' settings.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Estimate lower-limb segment and joint angles from wearable IMUs and exoskeleton encoders.
+#[derive(Debug, Parser)]
+#[command(name = "limbfuse", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands (SPEC section 4).
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate a walking trial, run every segment-angle estimator, print an RMSE table and write a report.
+    Demo(DemoArgs),
+    /// Write a simulated trial file.
+    #[command(subcommand)]
+    Simulate(SimulateCommand),
+    /// Convert a real recording into a trial file.
+    Import(ImportArgs),
+    /// Run one estimator over a trial file.
+    Estimate(EstimateArgs),
+    /// Compare an estimate file with its trial's reference.
+    Evaluate(EvaluateArgs),
+}
+
+/// Options of `demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Directory for the trial, the estimates and the report.
+    #[arg(long, default_value = "limbfuse-demo")]
+    pub out: PathBuf,
+    /// Random seed of the simulated trial.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Walking speed (m/s), 0.4 to 1.8.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Trial duration (s).
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+}
+
+/// Simulation scenarios.
+#[derive(Debug, Subcommand)]
+pub enum SimulateCommand {
+    /// Level walking: trunk, thigh, shank and foot IMUs plus hip, knee and ankle encoders.
+    Walking(WalkingArgs),
+}
+
+/// How simulated IMUs sit on their segments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MountingArg {
+    /// Aligned with the segment up to a small (~1 deg) misalignment.
+    Aligned,
+    /// Arbitrary random orientation (for alignment work).
+    Random,
+}
+
+/// Options of `simulate walking`.
+#[derive(Debug, Args)]
+pub struct WalkingArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Walking speed (m/s), 0.4 to 1.8.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Duration (s).
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub imu_rate: f64,
+    /// Random seed: same seed, same file, bit for bit.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Sensor mounting.
+    #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
+    pub mounting: MountingArg,
+    /// Ideal sensors: no noise, bias, scale-factor error or misalignment.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Keep every segment in the sagittal plane.
+    #[arg(long)]
+    pub no_out_of_plane: bool,
+    /// Identical strides (no stride-to-stride variability).
+    #[arg(long)]
+    pub no_variability: bool,
+}
+
+/// Supported import formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ImportFormat {
+    /// gait-tech/gaittoolbox sample folder (Xsens `imu-*.csv` + `vicon-right.csv`).
+    Gaittoolbox,
+    /// KneeAngleAlgorithmComparison rig log (`Trial_NN.csv`, 250 Hz, MPU6050).
+    KneeRig,
+}
+
+/// Options of `import`.
+#[derive(Debug, Args)]
+pub struct ImportArgs {
+    /// Recording format.
+    #[arg(long, value_enum)]
+    pub format: ImportFormat,
+    /// Input folder (gaittoolbox) or file (knee-rig).
+    pub input: PathBuf,
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// Options of `estimate`.
+#[derive(Debug, Args)]
+pub struct EstimateArgs {
+    /// Estimation method (e.g. gyro-integration, accel-inclination).
+    #[arg(long)]
+    pub method: String,
+    /// Trial file.
+    pub trial: PathBuf,
+    /// Output estimate file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Parameter overrides (TOML).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+}
+
+/// Options of `evaluate`.
+#[derive(Debug, Args)]
+pub struct EvaluateArgs {
+    /// Trial file with reference columns.
+    pub trial: PathBuf,
+    /// Estimate file made from that trial.
+    pub estimate: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Evaluate only START:END seconds (either side may be empty).
+    #[arg(long)]
+    pub window: Option<String>,
+    /// Remove the mean error of each channel before computing the RMSE.
+    #[arg(long)]
+    pub offset_free: bool,
+}

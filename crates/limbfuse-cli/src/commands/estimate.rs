@@ -1,0 +1,27 @@
+//! `limbfuse estimate --method NAME TRIAL -o OUT`.
+
+use anyhow::{Context, Result};
+use limbfuse_core::runner::{self, Observer};
+use limbfuse_io::{EstimateWriter, TrialReader};
+
+use crate::cli::EstimateArgs;
+use crate::methods;
+use crate::progress::Progress;
+
+/// Runs one estimator over a trial file, streaming.
+pub fn run(a: &EstimateArgs) -> Result<()> {
+    let mut est = methods::build(&a.method, a.params.as_deref())?;
+    let reader = TrialReader::open(&a.trial)?;
+    let mut writer = EstimateWriter::new(super::create_file(&a.output)?);
+    let mut progress = Progress::new(&a.method);
+    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];
+    let summary = runner::run(est.as_mut(), reader, observers)
+        .with_context(|| format!("estimating {} with {}", a.trial.display(), a.method))?;
+    eprintln!(
+        "{}: {} samples -> {}",
+        a.method,
+        summary.n_samples,
+        a.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,28 @@
+//! `limbfuse evaluate TRIAL ESTIMATE [--json] [--window A:B] [--offset-free]`.
+
+use anyhow::{anyhow, Result};
+use limbfuse_eval::{evaluate_files, EvalOptions, TimeWindow};
+
+use crate::cli::EvaluateArgs;
+
+/// Prints the errors of an estimate against its trial's reference.
+pub fn run(a: &EvaluateArgs) -> Result<()> {
+    let window = match &a.window {
+        Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
+        None => TimeWindow::default(),
+    };
+    let ev = evaluate_files(
+        &a.trial,
+        &a.estimate,
+        EvalOptions {
+            window,
+            offset_free: a.offset_free,
+        },
+    )?;
+    if a.json {
+        println!("{}", ev.to_json());
+    } else {
+        print!("{}", ev.to_text());
+    }
+    Ok(())
+}

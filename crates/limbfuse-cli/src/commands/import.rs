@@ -1,0 +1,30 @@
+//! `limbfuse import --format gaittoolbox|knee-rig INPUT -o trial.csv`.
+
+use anyhow::{Context, Result};
+use limbfuse_io::import::{import_gaittoolbox, import_knee_rig};
+use limbfuse_io::TrialWriter;
+
+use crate::cli::{ImportArgs, ImportFormat};
+
+/// Converts a recording into a trial file.
+pub fn run(a: &ImportArgs) -> Result<()> {
+    let trial = match a.format {
+        ImportFormat::Gaittoolbox => import_gaittoolbox(&a.input)?,
+        ImportFormat::KneeRig => import_knee_rig(&a.input)?,
+    };
+    let out = super::create_file(&a.output)?;
+    let mut w = TrialWriter::new(out, &trial.meta, trial.layout)
+        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    for r in &trial.records {
+        w.write(r)
+            .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    }
+    w.finish()
+        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    eprintln!(
+        "imported {} samples -> {}",
+        trial.records.len(),
+        a.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,30 @@
+//! One module per subcommand.
+
+mod demo;
+mod estimate;
+mod evaluate;
+mod import;
+mod simulate;
+
+use anyhow::Result;
+
+use crate::cli::{Cli, Command, SimulateCommand};
+
+/// Runs the parsed command.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Demo(a) => demo::run(&a),
+        Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
+        Command::Import(a) => import::run(&a),
+        Command::Estimate(a) => estimate::run(&a),
+        Command::Evaluate(a) => evaluate::run(&a),
+    }
+}
+
+/// Creates `path` for writing, naming it in the error.
+pub fn create_file(path: &std::path::Path) -> Result<std::io::BufWriter<std::fs::File>> {
+    use anyhow::Context;
+    let f = std::fs::File::create(path)
+        .with_context(|| format!("{}: cannot create the output file", path.display()))?;
+    Ok(std::io::BufWriter::with_capacity(1 << 16, f))
+}

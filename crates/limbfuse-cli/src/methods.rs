@@ -1,0 +1,60 @@
+//! The registry of estimation methods selectable with `--method`.
+
+use anyhow::{bail, Result};
+use limbfuse_core::Estimator;
+use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
+
+/// Methods available now, with a one-line description.
+pub const AVAILABLE: &[(&str, &str)] = &[
+    (
+        "gyro-integration",
+        "baseline: trapezoidal integration of each aligned gyro's z rate",
+    ),
+    (
+        "accel-inclination",
+        "baseline: theta = atan2(acc_x, acc_y) per segment",
+    ),
+];
+
+/// Methods named by SPEC section 4 that later issues add.
+pub const PLANNED: &[&str] = &[
+    "local",
+    "mjls",
+    "global",
+    "knee-selfalign",
+    "sdre",
+    "ekf",
+    "rmx",
+    "imm-bslip",
+];
+
+/// Segment-angle methods `limbfuse demo` runs.
+pub const DEMO: &[&str] = &["gyro-integration", "accel-inclination"];
+
+/// Builds the estimator named `name`.
+pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Estimator>> {
+    let est: Box<dyn Estimator> = match name {
+        "gyro-integration" => Box::new(GyroIntegration::new()),
+        "accel-inclination" => Box::new(AccelInclination::new()),
+        other if PLANNED.contains(&other) => bail!(
+            "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
+            names()
+        ),
+        other => bail!("unknown method `{other}`; available methods: {}", names()),
+    };
+    if let Some(p) = params {
+        bail!(
+            "--params {}: method `{name}` has no tunable parameters",
+            p.display()
+        );
+    }
+    Ok(est)
+}
+
+fn names() -> String {
+    AVAILABLE
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
