@@ -24,7 +24,7 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
 use super::criteria::mjls_select;
 use super::model::{mjls_output_matrix, Mat8};
-use super::params::{encoder_quantisation_sigma, imu_spec, positive, CommonParams, ParamError};
+use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 
 /// What the MJLS filter does when no accelerometer is reliable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -52,8 +52,10 @@ pub struct MarkovJumpKfParams {
     /// Noise models, initial covariance and numerics.
     pub common: CommonParams,
     /// Encoder noise standard deviation (rad) for hip, knee, ankle
-    /// (`sigma_e` of 000 eq 27). Default: quantisation of a 14-bit absolute
-    /// encoder, `(2 pi / 2^14) / sqrt(12)` = 1.107e-4 rad.
+    /// (`sigma_e` of 000 eq 27). Default 8.735e-3 rad
+    /// ([`crate::segment_kf::params::default_encoder_sigma`]): one LSB of
+    /// white noise of a 14-bit encoder combined with a 0.5 deg zeroing
+    /// offset between exoskeleton and anatomical joint.
     pub encoder_sigma: [f64; 3],
     /// Behaviour when `rho(k) > zeta`.
     pub when_unreliable: WhenUnreliable,
@@ -63,7 +65,7 @@ impl Default for MarkovJumpKfParams {
     fn default() -> Self {
         MarkovJumpKfParams {
             common: CommonParams::default(),
-            encoder_sigma: [encoder_quantisation_sigma(imu_spec::ENCODER_BITS); 3],
+            encoder_sigma: [default_encoder_sigma(); 3],
             when_unreliable: WhenUnreliable::PredictOnly,
         }
     }

@@ -155,7 +155,7 @@ mod tests {
 
     #[test]
     fn blockwise_equals_full_discretisation() {
-        let mut segs = [super::super::params::SegmentNoise::bmi270_class(9.81); 4];
+        let mut segs = [super::super::params::SegmentNoise::consumer_mems(9.81); 4];
         segs[1].bias_tau = 30.0;
         segs[3].gyro_noise = 0.3;
         let a = chain_a(&segs);

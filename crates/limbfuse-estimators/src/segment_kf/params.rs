@@ -10,9 +10,10 @@
 //!
 //! # Where the defaults come from
 //!
-//! The defaults describe a consumer MEMS IMU of the Bosch BMI160/BMI270
-//! class (datasheet BST-BMI270-DS000; values in [`imu_spec`]) and a 14-bit
-//! absolute joint encoder. Nothing is fitted to a data set. The derivation
+//! The defaults describe a consumer MEMS IMU of the Bosch BMI270 / TDK
+//! ICM-42688-P class and a 14-bit absolute joint encoder, with the figures
+//! of the simulator's `ImuSpec`/`EncoderSpec` (values and sources in
+//! [`imu_spec`]). Nothing is fitted to a data set. The derivation
 //! of every number is in `docs/SEGMENT_FILTERS.md` and on the constants
 //! below.
 
@@ -23,37 +24,53 @@ use limbfuse_core::kalman::CovarianceUpdate;
 use limbfuse_core::{Segment, STANDARD_GRAVITY};
 
 /// Datasheet values the defaults are derived from.
+///
+/// They are the figures of `limbfuse_sim::config::ImuSpec` and
+/// `EncoderSpec` (the simulator's consumer-MEMS IMU and 14-bit encoder),
+/// repeated here because this `no_std` crate cannot depend on the simulator.
+/// Sources: Bosch Sensortec BMI270 data sheet (BST-BMI270-DS000), TDK
+/// InvenSense ICM-42688-P data sheet (DS-000347), ams AS5047P data sheet.
 pub mod imu_spec {
-    /// Gyroscope output noise density, deg/s/sqrt(Hz): 0.007 (typ.), Bosch
-    /// BMI270 datasheet BST-BMI270-DS000 (performance mode); the BMI160
-    /// datasheet gives the same 0.007.
+    /// Gyroscope output noise density, deg/s/sqrt(Hz): 0.007 (typ.), BMI270
+    /// performance mode (the BMI160 data sheet gives the same).
     pub const GYRO_NOISE_DENSITY_DPS: f64 = 0.007;
-    /// Gyroscope zero-rate offset, deg/s: +-0.5 (typ.), BMI270 datasheet;
-    /// Bosch states its "typical" values are one standard deviation. Used as
-    /// the stationary standard deviation of the Gauss-Markov gyro bias and as
-    /// the initial bias uncertainty.
-    pub const GYRO_ZERO_RATE_OFFSET_DPS: f64 = 0.5;
-    /// Correlation time of the gyro bias (s). Not a datasheet number: the
-    /// in-run variation of a MEMS gyro offset is dominated by temperature,
-    /// and a body-worn sensor settles to skin temperature over minutes; 600 s
-    /// is that thermal time scale. With [`GYRO_ZERO_RATE_OFFSET_DPS`] it gives
-    /// a bias random walk of 0.5 deg/s * sqrt(2/600 s) = 0.029 deg/s/sqrt(s).
-    pub const GYRO_BIAS_TAU_S: f64 = 600.0;
+    /// Gyroscope turn-on bias (zero-rate offset), deg/s, one sigma: 0.5
+    /// (BMI270 and ICM-42688-P; Bosch states "typical" means one sigma).
+    /// Constant over a trial.
+    pub const GYRO_TURN_ON_BIAS_DPS: f64 = 0.5;
+    /// In-run gyro bias drift, deg/s, stationary sigma of a Gauss-Markov
+    /// process: 0.03. Not a data-sheet figure: about the offset temperature
+    /// drift (~0.02 deg/s/K) over the 1-5 K of warming of a body-worn sensor.
+    pub const GYRO_BIAS_INSTABILITY_DPS: f64 = 0.03;
+    /// Correlation time (s) of that in-run drift: 200 (thermal time scale).
+    pub const GYRO_BIAS_INSTABILITY_TAU_S: f64 = 200.0;
     /// Accelerometer output noise density, micro-g/sqrt(Hz): 160 (typ.),
-    /// BMI270 datasheet (BMI160: 180).
+    /// BMI270 (BMI160: 180).
     pub const ACCEL_NOISE_DENSITY_UG: f64 = 160.0;
-    /// Accelerometer noise bandwidth (Hz) assumed for the angle noise: the
-    /// BMI270's normal-mode filter at 100 Hz ODR has a -3 dB bandwidth of
-    /// about 40 Hz.
+    /// Accelerometer noise bandwidth (Hz): the BMI270's normal-mode filter at
+    /// 100 Hz output data rate has a -3 dB bandwidth of about 40 Hz.
     pub const ACCEL_BANDWIDTH_HZ: f64 = 40.0;
-    /// Reliability threshold zeta (m/s^2) on `| ||a|| - g |`: the value of
-    /// paper 000's worked example (section 3, zeta = 0.2) read in m/s^2. It is
-    /// 20 times the accelerometer's rms noise at 40 Hz bandwidth (0.0099
-    /// m/s^2), so a still, calibrated sensor always passes, and it bounds the
-    /// accepted dynamic acceleration to about 2 % of g.
-    pub const ZETA_MPS2: f64 = 0.2;
-    /// Resolution of the joint encoders (bits per revolution).
+    /// Accelerometer turn-on bias (zero-g offset), milli-g, one sigma: 20
+    /// (BMI270, ICM-42688-P). Constant over a trial.
+    pub const ACCEL_TURN_ON_BIAS_MG: f64 = 20.0;
+    /// Accelerometer scale-factor error, fraction, one sigma: 0.005
+    /// (ICM-42688-P +-0.5 %, BMI270 +-0.4 %).
+    pub const ACCEL_SCALE_ERROR: f64 = 0.005;
+    /// Reliability threshold zeta (m/s^2) on `| ||a|| - g |`: twice the
+    /// standard deviation of that quantity for a *still* sensor, so a still
+    /// sensor passes about 95 % of the time. With the figures above the
+    /// still-sensor error of `||a||` is sqrt(b^2 + (s g)^2 + n^2) =
+    /// sqrt(0.196^2 + 0.049^2 + 0.0099^2) = 0.2025 m/s^2 (b the zero-g
+    /// offset, s the scale error, n the noise at 40 Hz), and 2 x 0.2025 =
+    /// 0.405, rounded to 0.4.
+    pub const ZETA_MPS2: f64 = 0.4;
+    /// Encoder resolution, bits per turn (AS5047P: 14).
     pub const ENCODER_BITS: u32 = 14;
+    /// Encoder white noise, in least significant bits, one sigma: 1.
+    pub const ENCODER_NOISE_LSB: f64 = 1.0;
+    /// Constant zeroing offset between the exoskeleton joint and the
+    /// anatomical joint, deg, one sigma: 0.5 (mounting the exoskeleton).
+    pub const ENCODER_OFFSET_DEG: f64 = 0.5;
 }
 
 /// Noise model and reliability threshold of one segment's IMU.
@@ -84,47 +101,71 @@ pub struct SegmentNoise {
 
 /// White-noise density driving a first-order Gauss-Markov process of
 /// stationary standard deviation `sigma` and correlation time `tau`:
-/// `sigma * sqrt(2 / tau)` (intensity `2 sigma^2 / tau`).
+/// `sigma * sqrt(2 / tau)` (intensity `2 sigma^2 / tau`). Over steps much
+/// shorter than `tau` the process then changes as it does in the sensor.
 pub fn gauss_markov_drive(sigma: f64, tau: f64) -> f64 {
     sigma * libm::sqrt(2.0 / tau)
 }
 
-/// Standard deviation (rad) of the quantisation noise of an absolute
-/// encoder of `bits` bits per revolution: `(2 pi / 2^bits) / sqrt(12)`.
+/// Standard deviation (rad) of the quantisation noise alone of an absolute
+/// encoder of `bits` bits per turn: `(2 pi / 2^bits) / sqrt(12)`.
 pub fn encoder_quantisation_sigma(bits: u32) -> f64 {
-    core::f64::consts::TAU / libm::pow(2.0, bits as f64) / libm::sqrt(12.0)
+    encoder_lsb(bits) / libm::sqrt(12.0)
+}
+
+/// One least significant bit (rad) of an encoder of `bits` bits per turn.
+pub fn encoder_lsb(bits: u32) -> f64 {
+    core::f64::consts::TAU / libm::pow(2.0, bits as f64)
+}
+
+/// The default encoder-row standard deviation (rad): white noise of
+/// [`imu_spec::ENCODER_NOISE_LSB`] LSB of a 14-bit encoder (3.835e-4 rad)
+/// combined with the 0.5 deg zeroing offset ([`imu_spec::ENCODER_OFFSET_DEG`]),
+/// which the filter cannot separate from the joint angle and so treats as
+/// noise: sqrt(3.835e-4^2 + 8.727e-3^2) = 8.735e-3 rad (0.50 deg).
+pub fn default_encoder_sigma() -> f64 {
+    let n = imu_spec::ENCODER_NOISE_LSB * encoder_lsb(imu_spec::ENCODER_BITS);
+    let o = imu_spec::ENCODER_OFFSET_DEG * core::f64::consts::PI / 180.0;
+    libm::sqrt(n * n + o * o)
 }
 
 impl SegmentNoise {
-    /// The physical default of a BMI270-class IMU (see [`imu_spec`]).
+    /// The physical default of a consumer MEMS IMU ([`imu_spec`]):
     ///
-    /// * `gyro_noise` = 0.007 deg/s/sqrt(Hz) = 1.222e-4 rad/s/sqrt(Hz);
-    /// * `bias_drive` = `gauss_markov_drive(0.5 deg/s, 600 s)` = 5.04e-4 rad/s/sqrt(s);
-    /// * `bias_tau` = 600 s;
-    /// * `accel_angle_sigma` = sqrt((sigma_acc/g)^2 + (zeta/g)^2) = 0.0204 rad
-    ///   (1.17 deg), where sigma_acc = 160 ug/sqrt(Hz) * sqrt(40 Hz) = 0.0099
-    ///   m/s^2 is the accelerometer noise and zeta/g the allowance for the
-    ///   residual dynamic acceleration the reliability test lets through
-    ///   (a dynamic acceleration of size zeta perpendicular to gravity tilts
-    ///   the measured vector by zeta/g);
-    /// * `zeta` = 0.2 m/s^2.
-    pub fn bmi270_class(gravity: f64) -> Self {
+    /// * `gyro_noise` = 0.007 deg/s/sqrt(Hz) = 1.2217e-4 rad/s/sqrt(Hz);
+    /// * `bias_drive` = `gauss_markov_drive(0.03 deg/s, 200 s)` = 0.003
+    ///   deg/s/sqrt(s) = 5.236e-5 rad/s/sqrt(s): the in-run drift;
+    /// * `bias_tau` = infinity: the dominant part of the bias, the 0.5 deg/s
+    ///   turn-on offset, is constant over a trial, so the bias estimate must
+    ///   not decay towards zero between updates (a finite `tau` in 000 eq 6
+    ///   would pull it to zero); over a trial the in-run drift is then a
+    ///   random walk of the same increments;
+    /// * `accel_angle_sigma` = sqrt((n/g)^2 + (b/g)^2 + (zeta/g)^2) = 0.04543
+    ///   rad (2.60 deg): accelerometer noise n = 160 ug/sqrt(Hz) * sqrt(40
+    ///   Hz) = 0.0099 m/s^2; the zero-g offset b = 20 mg, whose component
+    ///   perpendicular to gravity tilts the measured vector by b/g = 0.020
+    ///   rad (constant per trial, treated as noise); and the residual dynamic
+    ///   acceleration the reliability test lets through, of order zeta,
+    ///   which tilts it by up to zeta/g = 0.041 rad when perpendicular to
+    ///   gravity;
+    /// * `zeta` = 0.4 m/s^2 ([`imu_spec::ZETA_MPS2`]).
+    pub fn consumer_mems(gravity: f64) -> Self {
         let deg = core::f64::consts::PI / 180.0;
-        let sigma_b = imu_spec::GYRO_ZERO_RATE_OFFSET_DPS * deg;
-        let sigma_acc = imu_spec::ACCEL_NOISE_DENSITY_UG
+        let n = imu_spec::ACCEL_NOISE_DENSITY_UG
             * 1e-6
             * STANDARD_GRAVITY
             * libm::sqrt(imu_spec::ACCEL_BANDWIDTH_HZ);
+        let b = imu_spec::ACCEL_TURN_ON_BIAS_MG * 1e-3 * STANDARD_GRAVITY;
         let zeta = imu_spec::ZETA_MPS2;
-        let noise_angle = sigma_acc / gravity;
-        let dynamic_angle = zeta / gravity;
+        let (n, b, d) = (n / gravity, b / gravity, zeta / gravity);
         SegmentNoise {
             gyro_noise: imu_spec::GYRO_NOISE_DENSITY_DPS * deg,
-            bias_drive: gauss_markov_drive(sigma_b, imu_spec::GYRO_BIAS_TAU_S),
-            bias_tau: imu_spec::GYRO_BIAS_TAU_S,
-            accel_angle_sigma: libm::sqrt(
-                noise_angle * noise_angle + dynamic_angle * dynamic_angle,
+            bias_drive: gauss_markov_drive(
+                imu_spec::GYRO_BIAS_INSTABILITY_DPS * deg,
+                imu_spec::GYRO_BIAS_INSTABILITY_TAU_S,
             ),
+            bias_tau: f64::INFINITY,
+            accel_angle_sigma: libm::sqrt(n * n + b * b + d * d),
             zeta,
         }
     }
@@ -175,12 +216,14 @@ pub struct CommonParams {
     /// Gravity g (m/s^2) in `rho = | ||a|| - g |`. Default 9.81 (SPEC section 1).
     pub gravity: f64,
     /// Initial standard deviation of each angle error (rad). Default 0.05
-    /// rad (2.9 deg): the first accelerometer inclination of a subject
-    /// standing still but swaying, with up to 0.5 m/s^2 of residual
-    /// acceleration (0.5/9.81 = 0.051 rad).
+    /// rad (2.9 deg): the first accelerometer inclination carries the
+    /// zero-g offset (0.020 rad) and, for a subject standing still but
+    /// swaying, up to about 0.45 m/s^2 of residual acceleration (0.046 rad);
+    /// sqrt(0.020^2 + 0.046^2) = 0.050.
     pub p0_angle_sigma: f64,
     /// Initial standard deviation of each gyro-bias error (rad/s). Default
-    /// 0.5 deg/s, the BMI270 zero-rate offset (one sigma).
+    /// sqrt(0.5^2 + 0.03^2) = 0.5009 deg/s: turn-on offset and in-run drift
+    /// ([`imu_spec`]).
     pub p0_bias_sigma: f64,
     /// Gyro bias assumed at start (rad/s) per segment, in the sensor
     /// convention (gyro reads true rate + bias). Default zero.
@@ -196,12 +239,16 @@ pub struct CommonParams {
 
 impl Default for CommonParams {
     fn default() -> Self {
-        let noise = SegmentNoise::bmi270_class(STANDARD_GRAVITY);
+        let noise = SegmentNoise::consumer_mems(STANDARD_GRAVITY);
         CommonParams {
             segments: [noise; 4],
             gravity: STANDARD_GRAVITY,
             p0_angle_sigma: 0.05,
-            p0_bias_sigma: imu_spec::GYRO_ZERO_RATE_OFFSET_DPS * core::f64::consts::PI / 180.0,
+            p0_bias_sigma: libm::sqrt(
+                imu_spec::GYRO_TURN_ON_BIAS_DPS * imu_spec::GYRO_TURN_ON_BIAS_DPS
+                    + imu_spec::GYRO_BIAS_INSTABILITY_DPS * imu_spec::GYRO_BIAS_INSTABILITY_DPS,
+            ) * core::f64::consts::PI
+                / 180.0,
             initial_gyro_bias: [0.0; 4],
             loop_mode: LoopMode::Closed,
             discretization: Discretization::Exact,
@@ -218,7 +265,7 @@ impl CommonParams {
     /// (closed loop and Joseph form give the same estimates as the papers'
     /// open loop and `(I - K H) P` up to round-off).
     pub fn paper_2014() -> Self {
-        let mut segments = [SegmentNoise::bmi270_class(STANDARD_GRAVITY); 4];
+        let mut segments = [SegmentNoise::consumer_mems(STANDARD_GRAVITY); 4];
         for (s, row) in segments.iter_mut().zip(PAPER_2014_TABLE_2.iter()) {
             *s = SegmentNoise {
                 zeta: row[0],
@@ -360,16 +407,22 @@ mod tests {
 
     #[test]
     fn default_values_follow_from_the_datasheet_numbers() {
-        let s = SegmentNoise::bmi270_class(9.81);
+        let s = SegmentNoise::consumer_mems(9.81);
         // 0.007 deg/s/sqrt(Hz) in rad.
-        assert!((s.gyro_noise - 1.2217e-4).abs() < 1e-8);
-        // 0.5 deg/s * sqrt(2/600) = 8.7266e-3 * 0.057735 = 5.0383e-4.
-        assert!((s.bias_drive - 5.0383e-4).abs() < 1e-8);
-        // sigma_acc = 160e-6 * 9.81 * sqrt(40) = 9.927e-3 m/s^2;
-        // sqrt((9.927e-3/9.81)^2 + (0.2/9.81)^2) = 0.020413 rad.
-        assert!((s.accel_angle_sigma - 0.020413).abs() < 1e-6);
+        assert!((s.gyro_noise - 1.22173e-4).abs() < 1e-9);
+        // 0.03 deg/s * sqrt(2/200) = 0.003 deg/s/sqrt(s) = 5.23599e-5 rad.
+        assert!((s.bias_drive - 5.23599e-5).abs() < 1e-10);
+        assert_eq!(s.bias_tau, f64::INFINITY);
+        // n/g = 160e-6 * sqrt(40) = 1.01193e-3; b/g = 0.02; zeta/g = 0.4/9.81 = 0.0407747;
+        // sqrt(1.02400e-6 + 4e-4 + 1.66258e-3) = sqrt(2.06360e-3) = 0.0454269 rad.
+        assert!((s.accel_angle_sigma - 0.0454269).abs() < 1e-7);
+        assert_eq!(s.zeta, 0.4);
         // 2 pi / 16384 = 3.8350e-4 rad; / sqrt(12) = 1.10706e-4 rad.
         assert!((encoder_quantisation_sigma(14) - 1.10706e-4).abs() < 1e-9);
+        // sqrt(3.83495e-4^2 + 8.72665e-3^2) = 8.73507e-3 rad.
+        assert!((default_encoder_sigma() - 8.73507e-3).abs() < 1e-8);
+        // sqrt(0.5^2 + 0.03^2) deg/s = 0.500899 deg/s = 8.74233e-3 rad/s.
+        assert!((CommonParams::default().p0_bias_sigma - 8.74233e-3).abs() < 1e-8);
         assert!(CommonParams::default().validate().is_ok());
         assert!(CommonParams::paper_2014().validate().is_ok());
     }
