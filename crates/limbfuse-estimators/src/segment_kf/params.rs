@@ -421,8 +421,8 @@ mod tests {
         assert!((encoder_quantisation_sigma(14) - 1.10706e-4).abs() < 1e-9);
         // sqrt(3.83495e-4^2 + 8.72665e-3^2) = 8.73507e-3 rad.
         assert!((default_encoder_sigma() - 8.73507e-3).abs() < 1e-8);
-        // sqrt(0.5^2 + 0.03^2) deg/s = 0.500899 deg/s = 8.74233e-3 rad/s.
-        assert!((CommonParams::default().p0_bias_sigma - 8.74233e-3).abs() < 1e-8);
+        // sqrt(0.5^2 + 0.03^2) deg/s = 0.500899 deg/s = 8.742340e-3 rad/s.
+        assert!((CommonParams::default().p0_bias_sigma - 8.742340e-3).abs() < 1e-9);
         assert!(CommonParams::default().validate().is_ok());
         assert!(CommonParams::paper_2014().validate().is_ok());
     }
