@@ -21,11 +21,17 @@ impl Harmonics {
     /// Table at phase `phi` (angle-addition recurrence from `cos phi`, `sin phi`;
     /// the round-off after 24 steps is a few ulps).
     pub fn new(phi: f64) -> Self {
+        Self::up_to(phi, KMAX)
+    }
+
+    /// Table filled up to harmonic `order` (at most `KMAX`); series of
+    /// higher order must not be evaluated on it.
+    pub fn up_to(phi: f64, order: usize) -> Self {
         let (s1, c1) = phi.sin_cos();
         let mut c = [0.0; KMAX + 1];
         let mut s = [0.0; KMAX + 1];
         c[0] = 1.0;
-        for k in 1..=KMAX {
+        for k in 1..=order.min(KMAX) {
             c[k] = c[k - 1] * c1 - s[k - 1] * s1;
             s[k] = s[k - 1] * c1 + c[k - 1] * s1;
         }
@@ -42,6 +48,8 @@ pub struct Fourier {
     pub a: [f64; KMAX],
     /// Sine coefficients.
     pub b: [f64; KMAX],
+    /// Highest harmonic with a non-zero coefficient (evaluation stops there).
+    pub order: usize,
 }
 
 /// Value and first two phase derivatives of a series at one phase.
@@ -72,6 +80,7 @@ impl Default for Fourier {
             c0: 0.0,
             a: [0.0; KMAX],
             b: [0.0; KMAX],
+            order: 0,
         }
     }
 }
@@ -106,14 +115,23 @@ impl Fourier {
             f.a[k - 1] = 2.0 * a / n as f64;
             f.b[k - 1] = 2.0 * b / n as f64;
         }
-        f
+        f.trimmed()
+    }
+
+    /// Recomputes [`Fourier::order`] from the coefficients.
+    fn trimmed(mut self) -> Self {
+        self.order = (1..=KMAX)
+            .rev()
+            .find(|&k| self.a[k - 1] != 0.0 || self.b[k - 1] != 0.0)
+            .unwrap_or(0);
+        self
     }
 
     /// Value and phase derivatives at the phase of `h`.
     #[inline]
     pub fn eval(&self, h: &Harmonics) -> D2 {
         let mut out = D2::constant(self.c0);
-        for k in 1..=KMAX {
+        for k in 1..=self.order {
             let (a, b) = (self.a[k - 1], self.b[k - 1]);
             let cs = a * h.c[k] + b * h.s[k];
             let kf = k as f64;
@@ -139,7 +157,7 @@ impl Fourier {
                 f.b[k] += w * t.b[k];
             }
         }
-        f
+        f.trimmed()
     }
 
     /// The zero-mean antiderivative `F` with `F' = f - c0`.
@@ -150,7 +168,7 @@ impl Fourier {
             f.a[k - 1] = -self.b[k - 1] / kf;
             f.b[k - 1] = self.a[k - 1] / kf;
         }
-        f
+        f.trimmed()
     }
 
     /// The series shifted by half a stride: `g(phi) = f(phi + pi)`.

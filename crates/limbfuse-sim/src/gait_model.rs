@@ -38,6 +38,8 @@ pub struct GaitModel {
     pub curves: Curves,
     /// Hip path.
     pub hip: HipPath,
+    /// Highest harmonic of any series (harmonic tables stop there).
+    pub order: usize,
 }
 
 /// Smooth swing window: 0 over 2-50 % of the stride, 1 over 62-92 %.
@@ -128,12 +130,21 @@ impl GaitModel {
         };
         let done = |curves: Curves, g: f64| {
             let hip = HipPath::fit(&body, &curves, GRID);
+            let series = curves.theta.iter().chain(&curves.alpha).chain(&curves.beta);
+            let order = series
+                .chain(hip.px.iter())
+                .chain(hip.y.iter())
+                .chain(hip.pz.iter())
+                .map(|f| f.order)
+                .max()
+                .unwrap_or(0);
             GaitModel {
                 body,
                 law,
                 hip_gain: g,
                 curves,
                 hip,
+                order,
             }
         };
         let (mut g0, mut g1) = (0.8, 1.0);
@@ -180,7 +191,7 @@ impl GaitModel {
 
     /// Sagittal segment angles only (rad), for the encoder path.
     pub fn sagittal_angles(&self, phi: f64, amp: f64) -> [f64; 4] {
-        let h = Harmonics::new(phi);
+        let h = Harmonics::up_to(phi, self.order);
         let mut out = [0.0; 4];
         for (o, f) in out.iter_mut().zip(&self.curves.theta) {
             *o = f.c0 + amp * (f.eval(&h).v - f.c0);
@@ -188,9 +199,10 @@ impl GaitModel {
         out
     }
 
-    /// Full chain kinematics at clock reading `phase` under modulation `m`.
-    pub fn kinematics(&self, phase: D2, m: &Modulation) -> LegKin {
-        let h = Harmonics::new(phase.v);
+    /// Full chain kinematics at clock reading `phase` under modulation `m`,
+    /// with the sagittal segment angles (rad).
+    pub fn kinematics(&self, phase: D2, m: &Modulation) -> (LegKin, [f64; 4]) {
+        let h = Harmonics::up_to(phase.v, self.order);
         let amp = m.amp(phase.v);
         let seg = self.angles(&h, phase, amp);
         let [x, y, z] = self.hip.eval(&h, phase.v, amp, m.integral(phase.v));
@@ -200,7 +212,13 @@ impl GaitModel {
             v: [x.d1, y.d1, z.d1].into(),
             a: [x.d2, y.d2, z.d2].into(),
         };
-        leg(&self.body, hip, &seg, 1.0)
+        let theta = [
+            seg[0].theta.v,
+            seg[1].theta.v,
+            seg[2].theta.v,
+            seg[3].theta.v,
+        ];
+        (leg(&self.body, hip, &seg, 1.0), theta)
     }
 
     /// Upright quiet standing: every angle zero, hip at standing height.

@@ -32,6 +32,8 @@ struct Sine {
     amp: f64,
     freq: f64,
     phase: f64,
+    /// `amp / freq * cos(phase)`: the integral's constant term (0 if `freq` is 0).
+    offset: f64,
 }
 
 fn draw<R: Rng, const N: usize>(rng: &mut R, cv: f64, lo: f64, hi: f64, scale: f64) -> [Sine; N] {
@@ -41,7 +43,17 @@ fn draw<R: Rng, const N: usize>(rng: &mut R, cv: f64, lo: f64, hi: f64, scale: f
         let u: f64 = rng.random();
         let freq = (lo.ln() + u * (hi.ln() - lo.ln())).exp() * scale;
         let phase = rng.random::<f64>() * TAU;
-        *s = Sine { amp, freq, phase };
+        let offset = if freq != 0.0 {
+            amp / freq * phase.cos()
+        } else {
+            0.0
+        };
+        *s = Sine {
+            amp,
+            freq,
+            phase,
+            offset,
+        };
     }
     out
 }
@@ -75,7 +87,7 @@ impl Clock {
                 continue;
             }
             let (sn, cs) = (s.freq * t + s.phase).sin_cos();
-            v += s.amp / s.freq * (s.phase.cos() - cs);
+            v += s.offset - s.amp / s.freq * cs;
             e += s.amp * sn;
             ed += s.amp * s.freq * cs;
         }
@@ -124,7 +136,7 @@ impl Modulation {
         let mut v = phi;
         for s in &self.sines {
             if s.amp != 0.0 && s.freq != 0.0 {
-                v += s.amp / s.freq * (s.phase.cos() - (s.freq * phi + s.phase).cos());
+                v += s.offset - s.amp / s.freq * (s.freq * phi + s.phase).cos();
             }
         }
         v

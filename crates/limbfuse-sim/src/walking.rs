@@ -168,9 +168,8 @@ impl WalkingSimulator {
             return (0.0, self.model.standing(), [0.0; 4]);
         }
         let phase = self.clock.phase(t);
-        let k = self.model.kinematics(phase, &self.modulation);
-        let amp = self.modulation.amp(phase.v).v;
-        (phase.v, k, self.model.sagittal_angles(phase.v, amp))
+        let (k, seg) = self.model.kinematics(phase, &self.modulation);
+        (phase.v, k, seg)
     }
 
     /// Error-free state at time `t` (s). Does not touch the random streams.
@@ -213,15 +212,20 @@ impl WalkingSimulator {
         joints(&self.model.sagittal_angles(phi, self.modulation.amp(phi).v))
     }
 
-    /// Simulates the encoder ticks up to time `t` and resamples them.
-    fn encoder_at(&mut self, t: f64) -> [f64; 3] {
+    /// Simulates the encoder ticks up to time `t` and resamples them
+    /// (`joints_at_t`: the true joint angles at `t`, reused for a tick at `t`).
+    fn encoder_at(&mut self, t: f64, joints_at_t: &[f64; 3]) -> [f64; 3] {
         let rate = self.cfg.encoder_rate_hz;
         let last = (t * rate + 1e-9).floor().max(0.0) as u64;
         let mut sum = [0.0; 3];
         let mut count = 0u32;
         while self.next_tick <= last {
             let tj = self.next_tick as f64 / rate;
-            let truth = self.joint_truth(tj);
+            let truth = if tj == t {
+                *joints_at_t
+            } else {
+                self.joint_truth(tj)
+            };
             let r = self.encoders.read(&truth, &mut self.enc_rng);
             for i in 0..3 {
                 sum[i] += r[i];
@@ -353,10 +357,11 @@ impl Iterator for WalkingSimulator {
                 quat: None,
             };
         }
-        sample.encoder = self.encoder_at(t).map(Some);
+        let joint = joints(&seg);
+        sample.encoder = self.encoder_at(t, &joint).map(Some);
         let reference = Reference {
             segment: seg.map(Some),
-            joint: joints(&seg).map(Some),
+            joint: joint.map(Some),
             ..Default::default()
         };
         Some(Record { sample, reference })
