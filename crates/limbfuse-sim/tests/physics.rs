@@ -278,3 +278,32 @@ fn stride_time_variability_is_physiological() {
     );
     assert!((0.01..=0.035).contains(&(sd / mean)));
 }
+
+/// Reports the dynamic accelerations (what makes accelerometers unreliable)
+/// and the forward hip-speed range at 1.0 m/s; checks that they are there.
+#[test]
+fn dynamic_accelerations_come_from_the_motion() {
+    let sim = WalkingSimulator::new(ideal(1.0)).unwrap();
+    let period = 1.0 / sim.stride_frequency();
+    let mut peak = [0.0f64; 4];
+    let mut rms = [0.0f64; 4];
+    let (mut vmin, mut vmax) = (f64::MAX, f64::MIN);
+    let n = 1000;
+    for i in 0..n {
+        let tr = sim.truth(period * i as f64 / n as f64);
+        for s in 0..4 {
+            let a = tr.imu_point[s].a.norm();
+            peak[s] = peak[s].max(a);
+            rms[s] += a * a / n as f64;
+        }
+        vmin = vmin.min(tr.hip.v.x);
+        vmax = vmax.max(tr.hip.v.x);
+    }
+    let r = |x: [f64; 4]| x.map(|v| (v * 10.0).round() / 10.0);
+    println!(
+        "1.0 m/s: |dynamic acceleration| peak trunk/thigh/shank/foot {:?} m/s^2, rms {:?} m/s^2; hip forward speed {vmin:.2}..{vmax:.2} m/s",
+        r(peak),
+        r(rms.map(f64::sqrt))
+    );
+    assert!(peak[3] > 10.0 && peak[0] > 1.0);
+}
