@@ -1,6 +1,13 @@
 //! # limbfuse-sim
 //!
 //! Seeded simulators that produce trials with ground truth.
+//!
+//! [`WalkingSimulator`] streams [`limbfuse_core::Record`]s of a walking leg:
+//! a sagittal trunk-thigh-shank-foot chain driven by normative gait curves
+//! (speed 0.4-1.8 m/s), a hip path that keeps the stance foot still, analytic
+//! angular rates and specific forces at four IMUs, consumer-MEMS sensor
+//! errors (paper 000 eqs 1-4) and 1 kHz joint encoders. Model, defaults,
+//! sources and measured checks: `docs/SIMULATOR.md`.
 #![deny(missing_docs)]
 
 pub mod anthropometry;
