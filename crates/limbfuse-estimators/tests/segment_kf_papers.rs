@@ -1,7 +1,7 @@
 //! The segment filters against the papers' worked examples and equations:
 //! 000's mode-selection example (section 3), 000/001's output matrices,
 //! 001's first-iteration gains of the local and global two-segment models.
-#![allow(non_snake_case)]
+#![allow(clippy::needless_range_loop, non_snake_case)]
 
 mod segment_kf_support;
 
@@ -42,8 +42,18 @@ fn paper_000_worked_example_mode_selection() {
         let rho = [Some(EX_B[k]), Some(EX_T[k]), Some(EX_S[k]), Some(EX_F[k])];
         let m = mjls_select(&rho, &[0.2; 4]);
         assert_eq!(m.rho_min, Some(EX_RHO[k]), "rho at k = {}", k + 1);
-        assert_eq!(seg_letter(m.most_reliable.unwrap()), EX_XI[k], "Xi at k = {}", k + 1);
-        assert_eq!(m.reliable, EX_UPDATES.contains(&(k + 1)), "update at k = {}", k + 1);
+        assert_eq!(
+            seg_letter(m.most_reliable.unwrap()),
+            EX_XI[k],
+            "Xi at k = {}",
+            k + 1
+        );
+        assert_eq!(
+            m.reliable,
+            EX_UPDATES.contains(&(k + 1)),
+            "update at k = {}",
+            k + 1
+        );
     }
 }
 
@@ -71,7 +81,9 @@ fn paper_000_worked_example_through_the_filter() {
     f.step(&sample(0, [0.0; 4])).unwrap();
     let idx = |name: &str| MJLS_DIAG.iter().position(|n| *n == name).unwrap();
     for k in 0..10 {
-        let e = f.step(&sample(k + 1, [EX_B[k], EX_T[k], EX_S[k], EX_F[k]])).unwrap();
+        let e = f
+            .step(&sample(k + 1, [EX_B[k], EX_T[k], EX_S[k], EX_F[k]]))
+            .unwrap();
         let updated = EX_UPDATES.contains(&(k + 1));
         let mode = e.diag[idx("mode")].unwrap();
         let expected_index = match EX_XI[k] {
@@ -80,19 +92,32 @@ fn paper_000_worked_example_through_the_filter() {
             'S' => 2.0,
             _ => 3.0,
         };
-        assert_eq!(mode, if updated { expected_index } else { -1.0 }, "k = {}", k + 1);
+        assert_eq!(
+            mode,
+            if updated { expected_index } else { -1.0 },
+            "k = {}",
+            k + 1
+        );
         assert!((e.diag[idx("rho_min")].unwrap() - EX_RHO[k]).abs() < 1e-12);
         let upd_segments: Vec<f64> = ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"]
             .iter()
             .map(|n| e.diag[idx(n)].unwrap())
             .collect();
-        assert_eq!(upd_segments.iter().sum::<f64>(), if updated { 1.0 } else { 0.0 });
+        assert_eq!(
+            upd_segments.iter().sum::<f64>(),
+            if updated { 1.0 } else { 0.0 }
+        );
         if updated {
             assert_eq!(upd_segments[expected_index as usize], 1.0);
         }
         // Paper behaviour: no encoder rows either when unreliable.
         for n in ["upd_hip", "upd_knee", "upd_ankle"] {
-            assert_eq!(e.diag[idx(n)], Some(if updated { 1.0 } else { 0.0 }), "{n} k = {}", k + 1);
+            assert_eq!(
+                e.diag[idx(n)],
+                Some(if updated { 1.0 } else { 0.0 }),
+                "{n} k = {}",
+                k + 1
+            );
         }
     }
 }
@@ -153,18 +178,18 @@ fn output_matrices_match_the_papers() {
 fn closed_forms(sB: f64, sT: f64, sBT: f64) -> ([f64; 12], f64) {
     let D = sB * (1.0 + 2.0 * sT + sBT + sT * sBT) + sT + sBT * (1.0 + sT);
     let k = [
-        (sT + sBT + sT * sBT) / D,        // k1
-        0.0,                              // k2
-        sT / D,                           // k3
-        0.0,                              // k4
-        sB / D,                           // k5
-        0.0,                              // k6
-        (sB + sBT * (1.0 + sB)) / D,      // k7
-        0.0,                              // k8
-        sB * (1.0 + sT) / D,              // k9
-        0.0,                              // k10
-        -sT * (1.0 + sB) / D,             // k11
-        0.0,                              // k12
+        (sT + sBT + sT * sBT) / D,   // k1
+        0.0,                         // k2
+        sT / D,                      // k3
+        0.0,                         // k4
+        sB / D,                      // k5
+        0.0,                         // k6
+        (sB + sBT * (1.0 + sB)) / D, // k7
+        0.0,                         // k8
+        sB * (1.0 + sT) / D,         // k9
+        0.0,                         // k10
+        -sT * (1.0 + sB) / D,        // k11
+        0.0,                         // k12
     ];
     (k, D)
 }
@@ -186,8 +211,12 @@ fn check_gain(K: &[[f64; 3]; 4], sB: f64, sT: f64, sBT: f64, tol: f64) {
     }
 }
 
-const VARIANCE_TRIPLES: [(f64, f64, f64); 4] =
-    [(0.5, 2.0, 0.25), (1.0, 1.0, 1.0), (0.01, 3.7, 0.2), (46.562, 329.08, 12.0)];
+const VARIANCE_TRIPLES: [(f64, f64, f64); 4] = [
+    (0.5, 2.0, 0.25),
+    (1.0, 1.0, 1.0),
+    (0.01, 3.7, 0.2),
+    (46.562, 329.08, 12.0),
+];
 
 #[test]
 fn paper_001_first_iteration_gains_of_the_global_model() {
@@ -224,7 +253,17 @@ fn paper_001_first_iteration_gains_of_the_global_model() {
             }
         }
         // D is the determinant of S = H P H^T + R (checked independently).
-        let S = nalgebra::Matrix3::new(sB + 1.0, 0.0, 1.0, 0.0, sT + 1.0, -1.0, 1.0, -1.0, sBT + 2.0);
+        let S = nalgebra::Matrix3::new(
+            sB + 1.0,
+            0.0,
+            1.0,
+            0.0,
+            sT + 1.0,
+            -1.0,
+            1.0,
+            -1.0,
+            sBT + 2.0,
+        );
         let (_, D) = closed_forms(sB, sT, sBT);
         assert!((S.determinant() - D).abs() < 1e-12 * D.max(1.0));
     }
@@ -330,7 +369,10 @@ fn names_and_outputs() {
         assert_eq!(e.outputs(), limbfuse_core::Outputs::ALL_ANGLES);
         let mut s = String::new();
         e.describe_parameters(&mut s).unwrap();
-        assert!(s.contains("loop: closed") && s.contains("thigh.zeta: 0.4"), "{s}");
+        assert!(
+            s.contains("loop: closed") && s.contains("thigh.zeta: 0.4"),
+            "{s}"
+        );
         for line in s.lines() {
             assert!(line.contains(": "), "{line}");
         }

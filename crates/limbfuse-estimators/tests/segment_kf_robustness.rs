@@ -1,6 +1,7 @@
 //! Missing data, time gaps, bad timestamps, reset, angle wrapping, options,
 //! and the structural properties (block-diagonal local gain, symmetric
 //! positive-definite covariances over long runs) of the segment filters.
+#![allow(clippy::needless_range_loop)]
 
 mod segment_kf_support;
 
@@ -15,6 +16,7 @@ use proptest::prelude::*;
 use segment_kf_support::{is_spd, Rng, StaticLimb, G};
 
 /// The three filters behind one interface, with their covariance.
+#[allow(clippy::large_enum_variant)]
 enum AnyKf {
     Local(LocalKf),
     Mjls(MarkovJumpKf),
@@ -24,11 +26,27 @@ enum AnyKf {
 impl AnyKf {
     fn all(common: CommonParams) -> [AnyKf; 3] {
         [
-            AnyKf::Local(LocalKf::new(LocalKfParams { common, min_reliable: 2 }).unwrap()),
-            AnyKf::Mjls(
-                MarkovJumpKf::new(MarkovJumpKfParams { common, ..Default::default() }).unwrap(),
+            AnyKf::Local(
+                LocalKf::new(LocalKfParams {
+                    common,
+                    min_reliable: 2,
+                })
+                .unwrap(),
             ),
-            AnyKf::Global(GlobalKf::new(GlobalKfParams { common, ..Default::default() }).unwrap()),
+            AnyKf::Mjls(
+                MarkovJumpKf::new(MarkovJumpKfParams {
+                    common,
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
+            AnyKf::Global(
+                GlobalKf::new(GlobalKfParams {
+                    common,
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
         ]
     }
 
@@ -70,7 +88,11 @@ fn diag(e: &Estimate, names: &[&str], name: &str) -> Option<f64> {
 }
 
 fn all_finite(e: &Estimate) -> bool {
-    e.segment.iter().chain(e.joint.iter()).flatten().all(|v| v.is_finite())
+    e.segment
+        .iter()
+        .chain(e.joint.iter())
+        .flatten()
+        .all(|v| v.is_finite())
         && e.diag.iter().flatten().all(|v| v.is_finite())
 }
 
@@ -158,7 +180,14 @@ fn first_sample_initialises_from_the_accelerometer_without_update() {
             assert_eq!(e.segment[i], Some(libm::atan2(a.x, a.y)));
             let upd = ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"][i];
             assert_eq!(diag(&e, names, upd), Some(0.0));
-            assert_eq!(diag(&e, names, ["bias_trunk", "bias_thigh", "bias_shank", "bias_foot"][i]), Some(0.0));
+            assert_eq!(
+                diag(
+                    &e,
+                    names,
+                    ["bias_trunk", "bias_thigh", "bias_shank", "bias_foot"][i]
+                ),
+                Some(0.0)
+            );
         }
     }
 }
@@ -225,7 +254,10 @@ fn non_increasing_time_is_rejected_and_leaves_the_state_alone() {
         bad.t = f64::NAN;
         assert!(f.est().step(&bad).is_err());
         for k in 50..100 {
-            assert_eq!(f.est().step(&l1.sample(k)).unwrap(), g.est().step(&l2.sample(k)).unwrap());
+            assert_eq!(
+                f.est().step(&l1.sample(k)).unwrap(),
+                g.est().step(&l2.sample(k)).unwrap()
+            );
         }
         // reset = a fresh filter.
         f.est().reset();
@@ -235,7 +267,10 @@ fn non_increasing_time_is_rejected_and_leaves_the_state_alone() {
         let mut l3 = limb(15);
         let mut l4 = limb(15);
         for k in 0..30 {
-            assert_eq!(f.est().step(&l3.sample(k)).unwrap(), fresh.est().step(&l4.sample(k)).unwrap());
+            assert_eq!(
+                f.est().step(&l3.sample(k)).unwrap(),
+                fresh.est().step(&l4.sample(k)).unwrap()
+            );
         }
     }
 }
@@ -252,7 +287,12 @@ fn angles_near_plus_minus_pi_do_not_jump() {
             let e = f.est().step(&l.sample(k)).unwrap();
             for i in 0..4 {
                 let d = libm::remainder(e.segment[i].unwrap() - 3.13, core::f64::consts::TAU);
-                assert!(d.abs() < 0.05, "{} k {k}: {}", f.est().name(), e.segment[i].unwrap());
+                assert!(
+                    d.abs() < 0.05,
+                    "{} k {k}: {}",
+                    f.est().name(),
+                    e.segment[i].unwrap()
+                );
             }
         }
     }
@@ -260,10 +300,15 @@ fn angles_near_plus_minus_pi_do_not_jump() {
 
 #[test]
 fn mjls_encoders_only_option_uses_the_encoders_when_no_imu_is_reliable() {
-    for (opt, want) in [(WhenUnreliable::PredictOnly, 0.0), (WhenUnreliable::EncodersOnly, 1.0)] {
-        let mut f =
-            MarkovJumpKf::new(MarkovJumpKfParams { when_unreliable: opt, ..Default::default() })
-                .unwrap();
+    for (opt, want) in [
+        (WhenUnreliable::PredictOnly, 0.0),
+        (WhenUnreliable::EncodersOnly, 1.0),
+    ] {
+        let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
+            when_unreliable: opt,
+            ..Default::default()
+        })
+        .unwrap();
         let mut l = limb(17);
         f.step(&l.sample(0)).unwrap();
         let mut s = l.sample(1);
@@ -316,7 +361,11 @@ fn gain_shares_are_fractions_and_local_has_only_its_own_rows() {
 fn covariances_stay_spd_over_a_long_random_run() {
     let mut paper_std = CommonParams::paper_2014();
     paper_std.covariance_update = limbfuse_core::kalman::CovarianceUpdate::Standard;
-    for common in [CommonParams::default(), CommonParams::paper_2014(), paper_std] {
+    for common in [
+        CommonParams::default(),
+        CommonParams::paper_2014(),
+        paper_std,
+    ] {
         for mut f in AnyKf::all(common) {
             let mut rng = Rng::new(99);
             let mut t = 0.0;
@@ -337,7 +386,11 @@ fn random_sample(rng: &mut Rng, t: f64) -> Sample {
         let th = 0.5 * rng.normal();
         let dynamic = [0.0, 0.05, 0.3, 2.0][(rng.next_u64() % 4) as usize] * rng.normal();
         if rng.uniform() > 0.1 {
-            imu.acc = Some(Vector3::new(G * th.sin(), (G + dynamic) * th.cos(), 0.1 * rng.normal()));
+            imu.acc = Some(Vector3::new(
+                G * th.sin(),
+                (G + dynamic) * th.cos(),
+                0.1 * rng.normal(),
+            ));
         }
         if rng.uniform() > 0.1 {
             imu.gyr = Some(Vector3::new(0.0, 0.0, 2.0 * rng.normal()));

@@ -35,6 +35,7 @@
 //!   the true biases. (Over 40 seeds the local filter's realised errors
 //!   were 2.5e-5 rad/s bias and 2.5e-4 rad angle rms, matching these
 //!   figures and the filter's own covariance.)
+#![allow(clippy::needless_range_loop)]
 
 mod segment_kf_support;
 
@@ -112,13 +113,25 @@ fn run(f: &mut dyn Estimator, seed: u64, diag_names: &[&str]) -> Run {
     for (i, b) in bias_err.iter_mut().enumerate() {
         *b = last.diag[bias_idx(i)].unwrap() - BIAS[i];
     }
-    Run { rms: sq.map(|s| (s / n).sqrt()), bias_err, last }
+    Run {
+        rms: sq.map(|s| (s / n).sqrt()),
+        bias_err,
+        last,
+    }
 }
 
 fn check(name: &str, r: &Run) {
     for i in 0..4 {
-        assert!(r.rms[i] < ANGLE_RMS_BOUND, "{name}: segment {i} rms {} rad", r.rms[i]);
-        assert!(r.bias_err[i].abs() < BIAS_BOUND, "{name}: segment {i} bias error {}", r.bias_err[i]);
+        assert!(
+            r.rms[i] < ANGLE_RMS_BOUND,
+            "{name}: segment {i} rms {} rad",
+            r.rms[i]
+        );
+        assert!(
+            r.bias_err[i].abs() < BIAS_BOUND,
+            "{name}: segment {i} bias error {}",
+            r.bias_err[i]
+        );
     }
     // Joint angles are the differences of the segment estimates.
     for j in 0..3 {
@@ -130,8 +143,11 @@ fn check(name: &str, r: &Run) {
 #[test]
 fn local_converges_to_angle_and_bias() {
     for seed in [1, 2] {
-        let mut f =
-            LocalKf::new(LocalKfParams { common: matched_common(), min_reliable: 2 }).unwrap();
+        let mut f = LocalKf::new(LocalKfParams {
+            common: matched_common(),
+            min_reliable: 2,
+        })
+        .unwrap();
         let r = run(&mut f, seed, &LOCAL_DIAG);
         check("local", &r);
     }
@@ -154,8 +170,11 @@ fn mjls_converges_to_angle_and_bias() {
 #[test]
 fn global_converges_to_angle_and_bias() {
     for seed in [1, 2] {
-        let mut f = GlobalKf::new(GlobalKfParams { common: matched_common(), ..Default::default() })
-            .unwrap();
+        let mut f = GlobalKf::new(GlobalKfParams {
+            common: matched_common(),
+            ..Default::default()
+        })
+        .unwrap();
         let r = run(&mut f, seed, &GLOBAL_DIAG);
         check("global", &r);
     }
@@ -196,19 +215,52 @@ fn closed_and_open_loop_agree() {
     open.loop_mode = LoopMode::Open;
     let mut fs: [(Box<dyn Estimator>, Box<dyn Estimator>); 3] = [
         (
-            Box::new(LocalKf::new(LocalKfParams { common: matched_common(), min_reliable: 1 }).unwrap()),
-            Box::new(LocalKf::new(LocalKfParams { common: open, min_reliable: 1 }).unwrap()),
+            Box::new(
+                LocalKf::new(LocalKfParams {
+                    common: matched_common(),
+                    min_reliable: 1,
+                })
+                .unwrap(),
+            ),
+            Box::new(
+                LocalKf::new(LocalKfParams {
+                    common: open,
+                    min_reliable: 1,
+                })
+                .unwrap(),
+            ),
         ),
         (
             Box::new(
-                MarkovJumpKf::new(MarkovJumpKfParams { common: matched_common(), ..Default::default() })
-                    .unwrap(),
+                MarkovJumpKf::new(MarkovJumpKfParams {
+                    common: matched_common(),
+                    ..Default::default()
+                })
+                .unwrap(),
             ),
-            Box::new(MarkovJumpKf::new(MarkovJumpKfParams { common: open, ..Default::default() }).unwrap()),
+            Box::new(
+                MarkovJumpKf::new(MarkovJumpKfParams {
+                    common: open,
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
         ),
         (
-            Box::new(GlobalKf::new(GlobalKfParams { common: matched_common(), ..Default::default() }).unwrap()),
-            Box::new(GlobalKf::new(GlobalKfParams { common: open, ..Default::default() }).unwrap()),
+            Box::new(
+                GlobalKf::new(GlobalKfParams {
+                    common: matched_common(),
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
+            Box::new(
+                GlobalKf::new(GlobalKfParams {
+                    common: open,
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
         ),
     ];
     for (closed, open) in fs.iter_mut() {
@@ -231,4 +283,3 @@ fn closed_and_open_loop_agree() {
         }
     }
 }
-

@@ -143,7 +143,12 @@ impl Chain {
                 self.last_rate[i] = rate[i];
             }
         }
-        Ok(Inputs { theta_a, rho, encoder, usable })
+        Ok(Inputs {
+            theta_a,
+            rho,
+            encoder,
+            usable,
+        })
     }
 
     fn initialise(&mut self, i: usize, theta: f64) {
@@ -165,12 +170,12 @@ impl Chain {
 
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
         let (phi, qd) = self.disc.get(dt);
-        for i in 0..4 {
+        for (i, rate) in rate.iter().enumerate() {
             if !self.init[i] {
                 continue;
             }
             // Zero-order hold over a gyro dropout; zero if none was ever seen.
-            let r1 = rate[i].or(self.last_rate[i]).unwrap_or(0.0);
+            let r1 = rate.or(self.last_rate[i]).unwrap_or(0.0);
             let r0 = self.last_rate[i].unwrap_or(r1);
             let (a, b) = (angle_state(i), bias_state(i));
             // theta_g += int omega dt + int b_hat dt, b_hat(t) = b_hat e^(-t/tau):
@@ -390,9 +395,12 @@ pub fn gain_shares<const M: usize>(
         }
         let total = parts[0] + parts[1] + parts[2];
         if total > 0.0 && total.is_finite() {
-            *o = [Some(parts[0] / total), Some(parts[1] / total), Some(parts[2] / total)];
+            *o = [
+                Some(parts[0] / total),
+                Some(parts[1] / total),
+                Some(parts[2] / total),
+            ];
         }
     }
     out
 }
-

@@ -52,7 +52,11 @@ pub fn mjls_select(rho: &[Option<f64>; 4], zeta: &[f64; 4]) -> MjlsMode {
     let mut best: Option<(usize, f64)> = None;
     for (i, r) in rho.iter().enumerate() {
         if let Some(r) = *r {
-            if r.is_finite() && best.map_or(true, |(_, b)| r < b) {
+            let better = match best {
+                None => true,
+                Some((_, b)) => r < b,
+            };
+            if r.is_finite() && better {
                 best = Some((i, r));
             }
         }
@@ -63,7 +67,11 @@ pub fn mjls_select(rho: &[Option<f64>; 4], zeta: &[f64; 4]) -> MjlsMode {
             rho_min: Some(r),
             reliable: r <= zeta[i],
         },
-        None => MjlsMode { most_reliable: None, rho_min: None, reliable: false },
+        None => MjlsMode {
+            most_reliable: None,
+            rho_min: None,
+            reliable: false,
+        },
     }
 }
 
@@ -91,7 +99,11 @@ pub fn psi(reliable: &[bool; 4], s: u8) -> bool {
 /// `Upsilon_h, Upsilon_k, Upsilon_a` (001 eqs 26-28): both accelerometers of
 /// the joint's two segments are reliable.
 pub fn upsilon(reliable: &[bool; 4]) -> [bool; 3] {
-    [reliable[0] && reliable[1], reliable[1] && reliable[2], reliable[2] && reliable[3]]
+    [
+        reliable[0] && reliable[1],
+        reliable[1] && reliable[2],
+        reliable[2] && reliable[3],
+    ]
 }
 
 #[cfg(test)]
@@ -120,7 +132,14 @@ mod tests {
         assert_eq!(m.most_reliable, Some(Segment::Thigh));
         assert!(m.reliable);
         let m = mjls_select(&[None; 4], &[0.3; 4]);
-        assert_eq!(m, MjlsMode { most_reliable: None, rho_min: None, reliable: false });
+        assert_eq!(
+            m,
+            MjlsMode {
+                most_reliable: None,
+                rho_min: None,
+                reliable: false
+            }
+        );
         assert_eq!(m.mode(), None);
     }
 }

@@ -43,7 +43,11 @@ pub struct GlobalKfParams {
 
 impl Default for GlobalKfParams {
     fn default() -> Self {
-        GlobalKfParams { common: CommonParams::default(), min_reliable: 2, relative_sigma: [None; 3] }
+        GlobalKfParams {
+            common: CommonParams::default(),
+            min_reliable: 2,
+            relative_sigma: [None; 3],
+        }
     }
 }
 
@@ -52,7 +56,10 @@ impl GlobalKfParams {
     /// ([`CommonParams::paper_2014`]), `Psi_2`, and relative-row noise
     /// derived from Table 2's sigma_a (001 does not publish its values).
     pub fn paper_2014() -> Self {
-        GlobalKfParams { common: CommonParams::paper_2014(), ..GlobalKfParams::default() }
+        GlobalKfParams {
+            common: CommonParams::paper_2014(),
+            ..GlobalKfParams::default()
+        }
     }
 
     /// The relative-row standard deviations in use.
@@ -157,7 +164,12 @@ impl GlobalKf {
         for (j, s) in params.resolved_relative_sigma().iter().enumerate() {
             R[(4 + j, 4 + j)] = s * s;
         }
-        GlobalKf { chain: Chain::new(params.common), params, R, last_gain: SMatrix::zeros() }
+        GlobalKf {
+            chain: Chain::new(params.common),
+            params,
+            R,
+            last_gain: SMatrix::zeros(),
+        }
     }
 
     /// The parameters in use.
@@ -196,7 +208,10 @@ impl Estimator for GlobalKf {
     }
 
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        writeln!(out, "model: matricial global KF (Nogueira et al. 2017 eqs 19-28)")?;
+        writeln!(
+            out,
+            "model: matricial global KF (Nogueira et al. 2017 eqs 19-28)"
+        )?;
         writeln!(out, "min_reliable: {}", self.params.min_reliable)?;
         let rel = self.params.resolved_relative_sigma();
         writeln!(out, "hip.relative_sigma: {}", rel[0])?;
@@ -230,9 +245,13 @@ impl Estimator for GlobalKf {
             }
         }
         for j in 0..3 {
-            if let (true, true, true, Some(a), Some(b)) =
-                (ups[j], inp.usable[j], inp.usable[j + 1], inp.theta_a[j], inp.theta_a[j + 1])
-            {
+            if let (true, true, true, Some(a), Some(b)) = (
+                ups[j],
+                inp.usable[j],
+                inp.usable[j + 1],
+                inp.theta_a[j],
+                inp.theta_a[j + 1],
+            ) {
                 active[4 + j] = true;
                 innov[4 + j] = wrap((a - b) - (self.chain.angle(j) - self.chain.angle(j + 1)));
             }

@@ -37,7 +37,10 @@ pub struct LocalKfParams {
 
 impl Default for LocalKfParams {
     fn default() -> Self {
-        LocalKfParams { common: CommonParams::default(), min_reliable: 2 }
+        LocalKfParams {
+            common: CommonParams::default(),
+            min_reliable: 2,
+        }
     }
 }
 
@@ -45,7 +48,10 @@ impl LocalKfParams {
     /// Paper 000 Table 2 weights with the papers' numerics
     /// ([`CommonParams::paper_2014`]) and `Psi_2`.
     pub fn paper_2014() -> Self {
-        LocalKfParams { common: CommonParams::paper_2014(), min_reliable: 2 }
+        LocalKfParams {
+            common: CommonParams::paper_2014(),
+            min_reliable: 2,
+        }
     }
 
     /// Checks every value.
@@ -89,7 +95,12 @@ pub const LOCAL_DIAG: [&str; 30] = [
     "share_joint_foot",
 ];
 
-const KINDS: [RowKind; 4] = [RowKind::Imu(0), RowKind::Imu(1), RowKind::Imu(2), RowKind::Imu(3)];
+const KINDS: [RowKind; 4] = [
+    RowKind::Imu(0),
+    RowKind::Imu(1),
+    RowKind::Imu(2),
+    RowKind::Imu(3),
+];
 
 /// The matricial local Kalman filter of 001 (eqs 1-6, 14-18), i.e. four
 /// independent segment filters of 000 (eqs 5-13). Method name `local`.
@@ -120,7 +131,12 @@ impl LocalKf {
             let s = params.common.segments[i].accel_angle_sigma;
             R[(i, i)] = s * s;
         }
-        LocalKf { chain: Chain::new(params.common), params, R, last_gain: SMatrix::zeros() }
+        LocalKf {
+            chain: Chain::new(params.common),
+            params,
+            R,
+            last_gain: SMatrix::zeros(),
+        }
     }
 
     /// The parameters in use.
@@ -154,7 +170,10 @@ impl Estimator for LocalKf {
     }
 
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        writeln!(out, "model: matricial local KF (Nogueira et al. 2017 eqs 1-6, 14-18)")?;
+        writeln!(
+            out,
+            "model: matricial local KF (Nogueira et al. 2017 eqs 1-6, 14-18)"
+        )?;
         writeln!(out, "min_reliable: {}", self.params.min_reliable)?;
         self.params.common.describe(out)
     }

@@ -75,7 +75,10 @@ impl MarkovJumpKfParams {
     /// Paper 000 Table 2 ([`CommonParams::paper_2014`]). Table 2 gives no
     /// encoder noise, so the encoder rows keep the 14-bit default.
     pub fn paper_2014() -> Self {
-        MarkovJumpKfParams { common: CommonParams::paper_2014(), ..MarkovJumpKfParams::default() }
+        MarkovJumpKfParams {
+            common: CommonParams::paper_2014(),
+            ..MarkovJumpKfParams::default()
+        }
     }
 
     /// Checks every value.
@@ -149,7 +152,11 @@ impl MarkovJumpKf {
     }
 
     fn build(params: MarkovJumpKfParams) -> Self {
-        MarkovJumpKf { chain: Chain::new(params.common), params, last_gain: SMatrix::zeros() }
+        MarkovJumpKf {
+            chain: Chain::new(params.common),
+            params,
+            last_gain: SMatrix::zeros(),
+        }
     }
 
     /// The parameters in use.
@@ -202,7 +209,11 @@ impl Estimator for MarkovJumpKf {
 
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
         writeln!(out, "model: MJLS-based KF (Nogueira et al. 2014 eqs 14-30)")?;
-        writeln!(out, "when_unreliable: {}", self.params.when_unreliable.label())?;
+        writeln!(
+            out,
+            "when_unreliable: {}",
+            self.params.when_unreliable.label()
+        )?;
         writeln!(out, "hip.encoder_sigma: {}", self.params.encoder_sigma[0])?;
         writeln!(out, "knee.encoder_sigma: {}", self.params.encoder_sigma[1])?;
         writeln!(out, "ankle.encoder_sigma: {}", self.params.encoder_sigma[2])?;
@@ -233,9 +244,12 @@ impl Estimator for MarkovJumpKf {
             }
         }
         for j in 0..3 {
-            if let (true, true, true, Some(e)) =
-                (encoders_allowed, inp.usable[j], inp.usable[j + 1], inp.encoder[j])
-            {
+            if let (true, true, true, Some(e)) = (
+                encoders_allowed,
+                inp.usable[j],
+                inp.usable[j + 1],
+                inp.encoder[j],
+            ) {
                 active[1 + j] = true;
                 innov[1 + j] = wrap(e - (self.chain.angle(j) - self.chain.angle(j + 1)));
             }

@@ -37,14 +37,20 @@ pub fn segment_a(tau: f64) -> Matrix2<f64> {
 /// One segment's continuous noise intensity `B Q B^T = diag(sigma_g^2,
 /// sigma_bg^2)` with `B = I` (000 eqs 8, 26).
 pub fn segment_qc(noise: &SegmentNoise) -> Matrix2<f64> {
-    Matrix2::new(noise.gyro_noise * noise.gyro_noise, 0.0, 0.0, noise.bias_drive * noise.bias_drive)
+    Matrix2::new(
+        noise.gyro_noise * noise.gyro_noise,
+        0.0,
+        0.0,
+        noise.bias_drive * noise.bias_drive,
+    )
 }
 
 /// The block-diagonal `A-bar` of the four segments (000 eq 18, 001 eq 4).
 pub fn chain_a(segments: &[SegmentNoise; 4]) -> Mat8 {
     let mut a = Mat8::zeros();
     for (i, s) in segments.iter().enumerate() {
-        a.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&segment_a(s.bias_tau));
+        a.fixed_view_mut::<2, 2>(2 * i, 2 * i)
+            .copy_from(&segment_a(s.bias_tau));
     }
     a
 }
@@ -53,7 +59,8 @@ pub fn chain_a(segments: &[SegmentNoise; 4]) -> Mat8 {
 pub fn chain_qc(segments: &[SegmentNoise; 4]) -> Mat8 {
     let mut q = Mat8::zeros();
     for (i, s) in segments.iter().enumerate() {
-        q.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&segment_qc(s));
+        q.fixed_view_mut::<2, 2>(2 * i, 2 * i)
+            .copy_from(&segment_qc(s));
     }
     q
 }
@@ -126,7 +133,12 @@ impl Discretizer {
             a[i] = segment_a(segments[i].bias_tau);
             qc[i] = segment_qc(&segments[i]);
         }
-        Discretizer { a, qc, method, cached: None }
+        Discretizer {
+            a,
+            qc,
+            method,
+            cached: None,
+        }
     }
 
     /// `(Phi, Qd)` for a step of `dt` seconds.

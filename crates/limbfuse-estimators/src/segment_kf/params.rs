@@ -299,8 +299,11 @@ impl CommonParams {
         for s in &self.segments {
             positive_or_zero("gyro_noise", s.gyro_noise)?;
             positive_or_zero("bias_drive", s.bias_drive)?;
-            if !(s.bias_tau > 0.0) {
-                return Err(ParamError::new("bias_tau", "must be > 0 (infinity allowed)"));
+            if s.bias_tau.is_nan() || s.bias_tau <= 0.0 {
+                return Err(ParamError::new(
+                    "bias_tau",
+                    "must be > 0 (infinity allowed)",
+                ));
             }
             positive("accel_angle_sigma", s.accel_angle_sigma)?;
             positive("zeta", s.zeta)?;
@@ -346,7 +349,11 @@ impl CommonParams {
             writeln!(out, "{n}.bias_tau: {}", s.bias_tau)?;
             writeln!(out, "{n}.accel_angle_sigma: {}", s.accel_angle_sigma)?;
             writeln!(out, "{n}.zeta: {}", s.zeta)?;
-            writeln!(out, "{n}.initial_gyro_bias: {}", self.initial_gyro_bias[seg.index()])?;
+            writeln!(
+                out,
+                "{n}.initial_gyro_bias: {}",
+                self.initial_gyro_bias[seg.index()]
+            )?;
         }
         Ok(())
     }
@@ -442,8 +449,10 @@ mod tests {
         let mut p = CommonParams::default();
         p.segments[2].zeta = -1.0;
         assert_eq!(p.validate().unwrap_err().field, "zeta");
-        let mut p = CommonParams::default();
-        p.gravity = f64::NAN;
+        let p = CommonParams {
+            gravity: f64::NAN,
+            ..CommonParams::default()
+        };
         assert!(p.validate().is_err());
         let mut p = CommonParams::default();
         p.segments[0].bias_tau = f64::INFINITY;

@@ -15,7 +15,10 @@ pub struct Rng {
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Rng { state: seed ^ 0x9E37_79B9_7F4A_7C15, spare: None }
+        Rng {
+            state: seed ^ 0x9E37_79B9_7F4A_7C15,
+            spare: None,
+        }
     }
 
     pub fn next_u64(&mut self) -> u64 {
@@ -69,7 +72,8 @@ impl StaticLimb {
             s.imu[i].gyr = Some(Vector3::new(0.0, 0.0, w));
         }
         for j in 0..3 {
-            s.encoder[j] = Some(self.theta[j] - self.theta[j + 1] + self.enc_sigma * self.rng.normal());
+            s.encoder[j] =
+                Some(self.theta[j] - self.theta[j + 1] + self.enc_sigma * self.rng.normal());
         }
         s
     }
