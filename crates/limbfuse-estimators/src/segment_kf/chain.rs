@@ -135,8 +135,8 @@ impl Chain {
         let usable = self.init;
         for i in 0..4 {
             if !self.init[i] {
-                if let Some(th) = theta_a[i] {
-                    self.initialise(i, th);
+                if let (Some(th), Some(r)) = (theta_a[i], rho[i]) {
+                    self.initialise(i, th, r);
                 }
             }
             if rate[i].is_some() {
@@ -151,7 +151,13 @@ impl Chain {
         })
     }
 
-    fn initialise(&mut self, i: usize, theta: f64) {
+    /// Starts segment `i` at the accelerometer inclination `theta`. The
+    /// initial angle variance is `p0_angle_sigma^2` plus the dynamic-tilt
+    /// allowance for the reliability `rho` of that very sample, `2 rho / (3
+    /// g)` (the tilt admitted by `| ||a|| - g | = rho`, taken uniform, see
+    /// `SegmentNoise::consumer_mems`), capped at `(pi/2)^2`: a filter started
+    /// while the limb moves knows its first angle is poor.
+    fn initialise(&mut self, i: usize, theta: f64, rho: f64) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.angle_g[i] = theta;
         self.bias_hat[i] = -self.common.initial_gyro_bias[i];
@@ -163,7 +169,9 @@ impl Chain {
                 self.P[(k, s)] = 0.0;
             }
         }
-        self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma;
+        let dynamic = (2.0 * rho / (3.0 * self.common.gravity))
+            .min(core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2);
+        self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
         self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
         self.init[i] = true;
     }
