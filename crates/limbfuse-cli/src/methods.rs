@@ -3,6 +3,9 @@
 use anyhow::{bail, Result};
 use limbfuse_core::Estimator;
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
+use limbfuse_estimators::segment_kf::{
+    GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams,
+};
 
 /// Methods available now, with a one-line description.
 pub const AVAILABLE: &[(&str, &str)] = &[
@@ -29,13 +32,22 @@ pub const PLANNED: &[&str] = &[
 ];
 
 /// Segment-angle methods `limbfuse demo` runs.
-pub const DEMO: &[&str] = &["gyro-integration", "accel-inclination"];
+pub const DEMO: &[&str] = &[
+    "gyro-integration",
+    "accel-inclination",
+    "local",
+    "mjls",
+    "global",
+];
 
 /// Builds the estimator named `name`.
 pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Estimator>> {
     let est: Box<dyn Estimator> = match name {
         "gyro-integration" => Box::new(GyroIntegration::new()),
         "accel-inclination" => Box::new(AccelInclination::new()),
+        "local" => Box::new(LocalKf::new(LocalKfParams::default())?),
+        "mjls" => Box::new(MarkovJumpKf::new(MarkovJumpKfParams::default())?),
+        "global" => Box::new(GlobalKf::new(GlobalKfParams::default())?),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()

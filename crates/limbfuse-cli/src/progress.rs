@@ -26,7 +26,7 @@ impl Progress {
 impl Observer for Progress {
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
         self.n += 1;
-        if self.n % 4096 == 0 {
+        if self.n.is_multiple_of(4096) {
             self.bar
                 .set_message(format!("{} samples, t = {:.1} s", self.n, record.sample.t));
             self.bar.tick();

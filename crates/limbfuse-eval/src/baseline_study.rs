@@ -52,12 +52,15 @@ pub enum StudyError {
     Run(#[from] RunError),
 }
 
-/// Evaluates `estimator` over `records`.
+/// Estimated segment angles of every sample (trunk to foot).
+pub type SegmentTrack = Vec<[Option<f64>; 4]>;
+
+/// Evaluates `estimator` over `records`; returns the evaluation and the segment estimates.
 pub fn evaluate_records(
     estimator: &mut dyn Estimator,
     records: &[Record],
-) -> Result<(Evaluation, Vec<[Option<f64>; 4]>), RunError> {
-    struct Keep(Vec<[Option<f64>; 4]>);
+) -> Result<(Evaluation, SegmentTrack), RunError> {
+    struct Keep(SegmentTrack);
     impl Observer for Keep {
         fn observe(
             &mut self,

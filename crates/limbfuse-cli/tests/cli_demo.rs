@@ -1,0 +1,147 @@
+//! `limbfuse demo` and the simulate -> estimate -> evaluate pipeline through the binary.
+
+use std::process::Command;
+
+fn limbfuse(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(&["demo", "--out", "out", "--duration", "20"], d.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for m in [
+        "gyro-integration",
+        "accel-inclination",
+        "local",
+        "mjls",
+        "global",
+    ] {
+        assert!(stdout.contains(m), "{m} missing in {stdout}");
+        assert!(d.path().join(format!("out/estimate-{m}.csv")).exists());
+    }
+    for row in [
+        "trunk", "thigh", "shank", "foot", "hip", "knee", "ankle", "mean seg",
+    ] {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(row))
+            .unwrap_or_else(|| panic!("no {row} row"));
+        // every method column holds a number
+        let cells: Vec<&str> = line[row.len()..].split_whitespace().collect();
+        assert_eq!(cells.len(), 5, "{line}");
+        assert!(cells.iter().all(|c| c.parse::<f64>().is_ok()), "{line}");
+    }
+    let report = std::fs::read_to_string(d.path().join("out/report.md")).unwrap();
+    assert!(report.contains("mean seg"));
+}
+
+#[test]
+fn simulate_is_bit_reproducible_and_the_pipeline_evaluates() {
+    let d = tempfile::tempdir().unwrap();
+    for name in ["a.csv", "b.csv"] {
+        let o = limbfuse(
+            &[
+                "simulate",
+                "walking",
+                "--duration",
+                "5",
+                "--seed",
+                "9",
+                "-o",
+                name,
+            ],
+            d.path(),
+        );
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let a = std::fs::read(d.path().join("a.csv")).unwrap();
+    assert_eq!(a, std::fs::read(d.path().join("b.csv")).unwrap());
+    let o = limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "5",
+            "--seed",
+            "10",
+            "-o",
+            "c.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    assert_ne!(a, std::fs::read(d.path().join("c.csv")).unwrap());
+
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "a.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = limbfuse(
+        &[
+            "evaluate",
+            "a.csv",
+            "e.csv",
+            "--json",
+            "--offset-free",
+            "--window",
+            "1:",
+        ],
+        d.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "mjls");
+    assert_eq!(v["offset_free"], true);
+    assert_eq!(v["n_samples"], 400, "t from 1.00 to 4.99 s at 100 Hz");
+    assert!(v["rmse_deg"]["knee"].as_f64().unwrap().is_finite());
+    assert!(v["diag_mean"].as_object().unwrap().contains_key("mode"));
+    let o = limbfuse(&["evaluate", "a.csv", "e.csv", "--offset-free"], d.path());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("offset-free"));
+}
+
+#[test]
+fn out_of_range_simulation_parameters_are_user_errors() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(
+        &["simulate", "walking", "--speed", "2.5", "-o", "x.csv"],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("speed") && e.contains("1.8"), "{e}");
+    let o = limbfuse(&["demo", "--duration", "-3", "--out", "o"], d.path());
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
