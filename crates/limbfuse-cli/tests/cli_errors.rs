@@ -60,7 +60,7 @@ fn unknown_and_planned_methods_are_user_errors() {
     );
     assert_user_error(&o, &["unknown method `magic`", "gyro-integration"]);
     let o = limbfuse(
-        &["estimate", "--method", "mjls", "t.csv", "-o", "e.csv"],
+        &["estimate", "--method", "sdre", "t.csv", "-o", "e.csv"],
         d.path(),
     );
     assert_user_error(&o, &["not implemented yet"]);
