@@ -27,10 +27,15 @@ impl std::error::Error for Internal {}
 pub fn report(e: &anyhow::Error) -> ExitCode {
     let mut msg = String::from("error: ");
     for (i, cause) in e.chain().enumerate() {
+        let text = cause.to_string();
+        // Typed errors often print their source already; don't repeat it.
+        if i > 0 && msg.contains(&text) {
+            continue;
+        }
         if i > 0 {
             msg.push_str(": ");
         }
-        msg.push_str(&cause.to_string());
+        msg.push_str(&text);
     }
     eprintln!("{msg}");
     if e.downcast_ref::<Internal>().is_some() {
