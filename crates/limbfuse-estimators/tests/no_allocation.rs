@@ -1,0 +1,69 @@
+//! Per-sample updates allocate nothing (house rule for real-time use): a
+//! counting global allocator watches `Estimator::step` of every estimator
+//! over a simulated walking trial with dropouts.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
+use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
+use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn step_never_allocates() {
+    let cfg = WalkingConfig {
+        duration_s: 10.0,
+        seed: 5,
+        ..WalkingConfig::default()
+    };
+    let mut records: Vec<Record> = WalkingSimulator::new(cfg).unwrap().collect();
+    for (k, r) in records.iter_mut().enumerate() {
+        if k % 17 == 3 {
+            r.sample.imu[2].acc = None;
+            r.sample.imu[0].gyr = None;
+            r.sample.encoder[1] = None;
+        }
+    }
+    let mut estimators: Vec<Box<dyn Estimator>> = vec![
+        Box::new(GyroIntegration::new()),
+        Box::new(AccelInclination::new()),
+        Box::new(LocalKf::default()),
+        Box::new(MarkovJumpKf::default()),
+        Box::new(GlobalKf::default()),
+    ];
+    for e in estimators.iter_mut() {
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let mut sum = 0.0;
+        for r in &records {
+            sum += e.step(&r.sample).unwrap().segment[1].unwrap_or(0.0);
+        }
+        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        assert!(sum.is_finite());
+        assert_eq!(
+            after - before,
+            0,
+            "{} allocated {} times over {} steps",
+            e.name(),
+            after - before,
+            records.len()
+        );
+    }
+}
