@@ -27,6 +27,34 @@ pub enum Command {
     Estimate(EstimateArgs),
     /// Compare an estimate file with its trial's reference.
     Evaluate(EvaluateArgs),
+    /// Monte Carlo of the segment filters under parametric uncertainty (paper 000 Fig. 9).
+    Montecarlo(MonteCarloArgs),
+}
+
+/// Options of `montecarlo`.
+#[derive(Debug, Args)]
+pub struct MonteCarloArgs {
+    /// Runs per uncertainty level.
+    #[arg(long, default_value_t = 100)]
+    pub runs: usize,
+    /// Uncertainty levels in percent as START:END:STEP.
+    #[arg(long, default_value = "0:20:2")]
+    pub levels: String,
+    /// Base seed (run r simulates with seed + r).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Walking speed of the simulated trials (m/s).
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Duration of each simulated trial (s).
+    #[arg(long, default_value_t = 30.0)]
+    pub duration: f64,
+    /// Output CSV (method, level, mean and std of the mean segment RMSE).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also draw an SVG plot here.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
 }
 
 /// Options of `demo`.

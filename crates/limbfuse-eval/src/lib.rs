@@ -10,6 +10,8 @@ pub mod baseline_study;
 pub mod channel_error;
 pub mod evaluation;
 pub mod metrics;
+pub mod monte_carlo;
+pub mod monte_carlo_plot;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};

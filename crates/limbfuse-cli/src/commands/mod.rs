@@ -4,6 +4,7 @@ mod demo;
 mod estimate;
 mod evaluate;
 mod import;
+mod montecarlo;
 mod simulate;
 
 use anyhow::Result;
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
+        Command::Montecarlo(a) => montecarlo::run(&a),
     }
 }
 

@@ -1,0 +1,99 @@
+//! `limbfuse montecarlo`: paper 000 Fig. 9 on simulated walking.
+
+use anyhow::{anyhow, bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use limbfuse_eval::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
+use limbfuse_eval::monte_carlo_plot::write_svg;
+use limbfuse_sim::WalkingConfig;
+
+use crate::cli::MonteCarloArgs;
+
+/// Parses `START:END:STEP` percent into fractions.
+fn parse_levels(text: &str) -> Result<Vec<f64>> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let bad =
+        || anyhow!("--levels: expected START:END:STEP in percent (e.g. 0:20:2), found `{text}`");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let v: Vec<f64> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_>>()?;
+    let (a, b, step) = (v[0], v[1], v[2]);
+    if !(a.is_finite() && b.is_finite() && step.is_finite())
+        || step <= 0.0
+        || b < a
+        || a < 0.0
+        || b >= 100.0
+    {
+        bail!("--levels: need 0 <= START <= END < 100 and STEP > 0, found `{text}`");
+    }
+    let n = ((b - a) / step + 1e-9).floor() as usize;
+    if n > 1000 {
+        bail!("--levels: {} levels is too many (at most 1000)", n + 1);
+    }
+    Ok((0..=n).map(|k| (a + k as f64 * step) / 100.0).collect())
+}
+
+/// Runs the study and writes the CSV (and SVG).
+pub fn run(a: &MonteCarloArgs) -> Result<()> {
+    let levels = parse_levels(&a.levels)?;
+    let cfg = MonteCarloConfig {
+        runs: a.runs,
+        levels,
+        seed: a.seed,
+        trial: WalkingConfig {
+            speed_mps: a.speed,
+            duration_s: a.duration,
+            ..WalkingConfig::default()
+        },
+    };
+    cfg.trial.validate().context("simulated trial")?;
+    let bar = ProgressBar::new(a.runs as u64);
+    bar.set_style(
+        ProgressStyle::with_template("montecarlo {bar:30} {pos}/{len} runs [{elapsed} < {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let rows = monte_carlo(&cfg, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    let out = super::create_file(&a.output)?;
+    write_csv(&rows, out).with_context(|| format!("{}: cannot write", a.output.display()))?;
+    if let Some(svg) = &a.svg {
+        let title = format!(
+            "{} runs per level, {} m/s, {} s trials",
+            a.runs, a.speed, a.duration
+        );
+        write_svg(&rows, svg, &title).map_err(|e| anyhow!(e))?;
+    }
+    println!(
+        "{:<8}{:>10}{:>16}{:>12}",
+        "method", "level %", "mean RMSE deg", "std deg"
+    );
+    for r in &rows {
+        println!(
+            "{:<8}{:>10.1}{:>16.3}{:>12.3}",
+            r.method,
+            r.level * 100.0,
+            r.mean_rmse_deg,
+            r.std_rmse_deg
+        );
+    }
+    eprintln!("wrote {}", a.output.display());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_levels;
+
+    #[test]
+    fn levels_parse_as_fractions() {
+        let l = parse_levels("0:20:5").unwrap();
+        assert_eq!(l, vec![0.0, 0.05, 0.1, 0.15, 0.2]);
+        assert!(parse_levels("0:20").is_err());
+        assert!(parse_levels("0:20:0").is_err());
+        assert!(parse_levels("5:1:1").is_err());
+        assert!(parse_levels("a:b:c").is_err());
+    }
+}

@@ -1,0 +1,231 @@
+//! Monte Carlo under parametric uncertainty (paper 000, section 4, Fig. 9):
+//! the filters' model parameters are perturbed by up to ±L % while the
+//! simulated truth is not, and the mean estimation error is reported per
+//! filter and uncertainty level L.
+//!
+//! Run `r` simulates one walking trial with seed `seed + r` (the same trial
+//! for every level and filter: common random numbers). At level `L` every
+//! noise parameter of the model — per segment `sigma_g` (gyro noise),
+//! `sigma_bg` (bias drive), `sigma_a` (accelerometer-angle noise), `tau_g`
+//! when finite — and the encoder noise is multiplied by `1 + L u` with `u`
+//! uniform in [-1, 1], drawn independently per parameter from a ChaCha8
+//! stream keyed by (seed, run, level); the three filters of a run and level
+//! share the same perturbed parameters. Runs execute in parallel (rayon) and
+//! are reduced in run order, so results are bit-identical for a seed
+//! whatever the number of threads.
+
+use std::convert::Infallible;
+use std::io::Write;
+
+use limbfuse_core::runner::{run, Observer};
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::segment_kf::{
+    CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams,
+};
+use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+use crate::evaluation::EvalOptions;
+use crate::metrics::AngleMetrics;
+
+/// The filters compared, in output order.
+pub const METHODS: [&str; 3] = ["local", "mjls", "global"];
+
+/// What to run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MonteCarloConfig {
+    /// Runs per level (paper: 100).
+    pub runs: usize,
+    /// Uncertainty levels as fractions (paper: 0 to 0.20).
+    pub levels: Vec<f64>,
+    /// Base seed.
+    pub seed: u64,
+    /// The simulated trial (its `seed` is replaced by `seed + run`).
+    pub trial: WalkingConfig,
+}
+
+impl Default for MonteCarloConfig {
+    fn default() -> Self {
+        MonteCarloConfig {
+            runs: 100,
+            levels: (0..=10).map(|k| k as f64 * 0.02).collect(),
+            seed: 1,
+            trial: WalkingConfig {
+                duration_s: 30.0,
+                ..WalkingConfig::default()
+            },
+        }
+    }
+}
+
+/// Mean error of one filter at one level.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MonteCarloRow {
+    /// Filter name.
+    pub method: &'static str,
+    /// Uncertainty level (fraction).
+    pub level: f64,
+    /// Mean over runs of the 4-segment mean RMSE (deg).
+    pub mean_rmse_deg: f64,
+    /// Standard deviation over runs (deg).
+    pub std_rmse_deg: f64,
+    /// Number of runs.
+    pub runs: usize,
+}
+
+/// Why a Monte Carlo study failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MonteCarloError {
+    /// Bad configuration.
+    #[error("{0}")]
+    Config(String),
+    /// The simulator rejected the trial configuration.
+    #[error(transparent)]
+    Sim(#[from] limbfuse_sim::SimError),
+    /// A filter failed.
+    #[error("{0}")]
+    Filter(String),
+}
+
+/// Multiplies every model noise parameter by `1 + level u`, `u ~ U[-1, 1]`.
+pub fn perturb(
+    common: &CommonParams,
+    encoder_sigma: &[f64; 3],
+    level: f64,
+    rng: &mut ChaCha8Rng,
+) -> (CommonParams, [f64; 3]) {
+    let mut c = *common;
+    let mut f = |v: f64| v * (1.0 + level * rng.random_range(-1.0..=1.0));
+    for s in c.segments.iter_mut() {
+        s.gyro_noise = f(s.gyro_noise);
+        s.bias_drive = f(s.bias_drive);
+        s.accel_angle_sigma = f(s.accel_angle_sigma);
+        if s.bias_tau.is_finite() {
+            s.bias_tau = f(s.bias_tau);
+        }
+    }
+    let enc = encoder_sigma.map(&mut f);
+    (c, enc)
+}
+
+fn stream_seed(seed: u64, run: usize, level: usize) -> u64 {
+    // SplitMix64 of the key, so neighbouring keys give unrelated streams.
+    let mut z = seed ^ ((run as u64) << 20) ^ level as u64 ^ 0x9E37_79B9_7F4A_7C15;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+fn mean_rmse_deg(est: &mut dyn Estimator, records: &[Record]) -> Result<f64, MonteCarloError> {
+    let mut m = AngleMetrics::new(est.name(), EvalOptions::default());
+    let obs: &mut [&mut dyn Observer] = &mut [&mut m];
+    run(est, records.iter().map(|r| Ok::<_, Infallible>(*r)), obs)
+        .map_err(|e| MonteCarloError::Filter(e.to_string()))?;
+    m.evaluation()
+        .mean_rmse()
+        .map(f64::to_degrees)
+        .ok_or_else(|| MonteCarloError::Filter("no segment angle evaluated".into()))
+}
+
+/// One run: errors `[method][level]` in degrees.
+fn one_run(cfg: &MonteCarloConfig, r: usize) -> Result<Vec<[f64; 3]>, MonteCarloError> {
+    let trial = WalkingConfig {
+        seed: cfg.seed.wrapping_add(r as u64),
+        ..cfg.trial
+    };
+    let records: Vec<Record> = WalkingSimulator::new(trial)?.collect();
+    let base = CommonParams::default();
+    let enc0 = MarkovJumpKfParams::default().encoder_sigma;
+    let mut out = Vec::with_capacity(cfg.levels.len());
+    for (li, &level) in cfg.levels.iter().enumerate() {
+        let mut rng = ChaCha8Rng::seed_from_u64(stream_seed(cfg.seed, r, li));
+        let (common, enc) = perturb(&base, &enc0, level, &mut rng);
+        let bad =
+            |e: limbfuse_estimators::segment_kf::ParamError| MonteCarloError::Filter(e.to_string());
+        let mut local = LocalKf::new(LocalKfParams {
+            common,
+            ..LocalKfParams::default()
+        })
+        .map_err(bad)?;
+        let mut mjls = MarkovJumpKf::new(MarkovJumpKfParams {
+            common,
+            encoder_sigma: enc,
+            ..MarkovJumpKfParams::default()
+        })
+        .map_err(bad)?;
+        let mut global = GlobalKf::new(GlobalKfParams {
+            common,
+            ..GlobalKfParams::default()
+        })
+        .map_err(bad)?;
+        out.push([
+            mean_rmse_deg(&mut local, &records)?,
+            mean_rmse_deg(&mut mjls, &records)?,
+            mean_rmse_deg(&mut global, &records)?,
+        ]);
+    }
+    Ok(out)
+}
+
+/// Runs the study; `on_run_done` is called after each run (progress).
+pub fn monte_carlo(
+    cfg: &MonteCarloConfig,
+    on_run_done: &(dyn Fn() + Sync),
+) -> Result<Vec<MonteCarloRow>, MonteCarloError> {
+    if cfg.runs == 0 {
+        return Err(MonteCarloError::Config("runs: expected at least 1".into()));
+    }
+    if cfg.levels.is_empty() || cfg.levels.iter().any(|l| !(0.0..1.0).contains(l)) {
+        return Err(MonteCarloError::Config(
+            "levels: expected fractions in [0, 1), e.g. 0, 0.02, ..., 0.2".into(),
+        ));
+    }
+    let per_run: Vec<Vec<[f64; 3]>> = (0..cfg.runs)
+        .into_par_iter()
+        .map(|r| {
+            let res = one_run(cfg, r);
+            on_run_done();
+            res
+        })
+        .collect::<Result<_, _>>()?;
+    let n = cfg.runs as f64;
+    let mut rows = Vec::new();
+    for (m, method) in METHODS.iter().enumerate() {
+        for (li, &level) in cfg.levels.iter().enumerate() {
+            let mean = per_run.iter().map(|r| r[li][m]).sum::<f64>() / n;
+            let var = per_run
+                .iter()
+                .map(|r| (r[li][m] - mean).powi(2))
+                .sum::<f64>()
+                / (n - 1.0).max(1.0);
+            rows.push(MonteCarloRow {
+                method,
+                level,
+                mean_rmse_deg: mean,
+                std_rmse_deg: var.sqrt(),
+                runs: cfg.runs,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// Writes `method,level_pct,mean_rmse_deg,std_rmse_deg,runs` rows.
+pub fn write_csv(rows: &[MonteCarloRow], mut w: impl Write) -> std::io::Result<()> {
+    writeln!(w, "method,level_pct,mean_rmse_deg,std_rmse_deg,runs")?;
+    for r in rows {
+        writeln!(
+            w,
+            "{},{},{},{},{}",
+            r.method,
+            r.level * 100.0,
+            r.mean_rmse_deg,
+            r.std_rmse_deg,
+            r.runs
+        )?;
+    }
+    Ok(())
+}
