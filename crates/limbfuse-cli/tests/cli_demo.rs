@@ -123,6 +123,8 @@ fn simulate_is_bit_reproducible_and_the_pipeline_evaluates() {
     assert_eq!(v["n_samples"], 400, "t from 1.00 to 4.99 s at 100 Hz");
     assert!(v["rmse_deg"]["knee"].as_f64().unwrap().is_finite());
     assert!(v["diag_mean"].as_object().unwrap().contains_key("mode"));
+    let ar = v["accel_reliability_pct"].as_f64().unwrap();
+    assert!((0.0..=100.0).contains(&ar), "{ar}");
     let o = limbfuse(&["evaluate", "a.csv", "e.csv", "--offset-free"], d.path());
     assert!(String::from_utf8_lossy(&o.stdout).contains("offset-free"));
 }

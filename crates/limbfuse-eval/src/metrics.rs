@@ -20,6 +20,52 @@ pub struct AngleMetrics {
     diag_names: Vec<String>,
     diag_sum: Vec<f64>,
     diag_n: Vec<u64>,
+    reliability: ReliabilityCounter,
+}
+
+/// Counts the samples in which accelerometer rows update the estimate
+/// (001 Table 2): AR = any `upd_<segment>` diagnostic set; AGR (matricial
+/// global only) = any coupled row `upd_hip|knee|ankle` set.
+#[derive(Debug, Clone, Default)]
+struct ReliabilityCounter {
+    segment_cols: Vec<usize>,
+    coupled_cols: Vec<usize>,
+    n: u64,
+    ar: u64,
+    agr: u64,
+}
+
+impl ReliabilityCounter {
+    fn new(method: &str, names: &[String]) -> Self {
+        let find = |ns: &[&str]| -> Vec<usize> {
+            ns.iter()
+                .filter_map(|n| names.iter().position(|m| m == &format!("upd_{n}")))
+                .collect()
+        };
+        ReliabilityCounter {
+            segment_cols: find(&["trunk", "thigh", "shank", "foot"]),
+            coupled_cols: if method == "global" {
+                find(&["hip", "knee", "ankle"])
+            } else {
+                Vec::new()
+            },
+            ..Default::default()
+        }
+    }
+
+    fn push(&mut self, diag: &[Option<f64>]) {
+        let set = |cols: &[usize]| {
+            cols.iter()
+                .any(|&c| diag.get(c).copied().flatten().is_some_and(|v| v > 0.5))
+        };
+        self.n += 1;
+        self.ar += u64::from(set(&self.segment_cols));
+        self.agr += u64::from(set(&self.coupled_cols));
+    }
+
+    fn pct(&self, count: u64, cols: &[usize]) -> Option<f64> {
+        (!cols.is_empty() && self.n > 0).then(|| 100.0 * count as f64 / self.n as f64)
+    }
 }
 
 impl AngleMetrics {
@@ -33,6 +79,7 @@ impl AngleMetrics {
             diag_names: Vec::new(),
             diag_sum: Vec::new(),
             diag_n: Vec::new(),
+            reliability: ReliabilityCounter::default(),
         }
     }
 
@@ -41,6 +88,7 @@ impl AngleMetrics {
         self.diag_names = names.into_iter().map(|s| s.as_ref().to_string()).collect();
         self.diag_sum = vec![0.0; self.diag_names.len()];
         self.diag_n = vec![0; self.diag_names.len()];
+        self.reliability = ReliabilityCounter::new(&self.method, &self.diag_names);
     }
 
     /// Adds one (record, estimate) pair, if inside the time window.
@@ -54,6 +102,8 @@ impl AngleMetrics {
                 self.channels[k].push(e, r);
             }
         }
+        self.reliability
+            .push(&estimate.diag[..self.diag_names.len().min(estimate.diag.len())]);
         for (i, d) in estimate.diag.iter().take(self.diag_names.len()).enumerate() {
             if let Some(v) = d {
                 self.diag_sum[i] += v;
@@ -81,6 +131,12 @@ impl AngleMetrics {
                 .zip(self.channels)
                 .collect(),
             diag_mean,
+            accel_reliability_pct: self
+                .reliability
+                .pct(self.reliability.ar, &self.reliability.segment_cols),
+            accel_global_reliability_pct: self
+                .reliability
+                .pct(self.reliability.agr, &self.reliability.coupled_cols),
         }
     }
 }
@@ -113,6 +169,12 @@ pub struct Evaluation {
     pub channels: Vec<(AngleChannel, ChannelError)>,
     /// Mean of each diagnostic value over the window.
     pub diag_mean: BTreeMap<String, f64>,
+    /// AR (001 Table 2): % of samples in which an accelerometer row updated
+    /// some segment angle (from the `upd_<segment>` diagnostics).
+    pub accel_reliability_pct: Option<f64>,
+    /// AGR (001 Table 2, matricial global): % of samples in which a coupled
+    /// (relative) accelerometer row updated the estimate.
+    pub accel_global_reliability_pct: Option<f64>,
 }
 
 impl Evaluation {
@@ -173,6 +235,8 @@ impl Evaluation {
             "offset_free": self.offset_free,
             "window_s": [self.window.start, self.window.end.filter(|e| e.is_finite())],
             "diag_mean": self.diag_mean,
+            "accel_reliability_pct": self.accel_reliability_pct,
+            "accel_global_reliability_pct": self.accel_global_reliability_pct,
         })
     }
 
@@ -210,9 +274,45 @@ impl Evaluation {
         if let Some(m) = self.mean_rmse() {
             s += &format!("mean RMSE: {:.3} deg\n", m.to_degrees());
         }
+        if let Some(ar) = self.accel_reliability_pct {
+            s += &format!("accelerometer reliability AR: {ar:.1} % of samples\n");
+        }
+        if let Some(agr) = self.accel_global_reliability_pct {
+            s += &format!("coupled accelerometer reliability AGR: {agr:.1} % of samples\n");
+        }
         for (k, v) in &self.diag_mean {
             s += &format!("diag mean {k}: {v:.4}\n");
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reliability_percentages_count_samples_with_an_update() {
+        let mut m = AngleMetrics::new("global", EvalOptions::default());
+        m.set_diagnostic_names(["psi", "upd_trunk", "upd_thigh", "upd_hip", "upd_knee"]);
+        let r = Record::default();
+        // 4 samples: (segment rows, coupled rows) updated = (yes, no), (no, no), (yes, yes), (no, yes)
+        for (seg, cpl) in [(1.0, 0.0), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            let mut e = Estimate::empty(0.0);
+            e.diag[1] = Some(0.0);
+            e.diag[2] = Some(seg);
+            e.diag[4] = Some(cpl);
+            m.push(&r, &e);
+        }
+        let ev = m.evaluation();
+        assert_eq!(ev.accel_reliability_pct, Some(50.0));
+        assert_eq!(ev.accel_global_reliability_pct, Some(50.0));
+        let mut l = AngleMetrics::new("local", EvalOptions::default());
+        l.set_diagnostic_names(["upd_trunk", "upd_hip"]);
+        assert_eq!(l.evaluation().accel_global_reliability_pct, None);
+        let mut b = AngleMetrics::new("gyro-integration", EvalOptions::default());
+        b.set_diagnostic_names(Vec::<String>::new());
+        b.push(&r, &Estimate::empty(0.0));
+        assert_eq!(b.evaluation().accel_reliability_pct, None);
     }
 }
