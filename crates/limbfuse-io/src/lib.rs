@@ -5,6 +5,7 @@
 //! expected), and importers that turn real recordings into trial files.
 #![deny(missing_docs)]
 
+pub mod align;
 mod cell_format;
 pub mod error;
 pub mod estimate_file;

@@ -1,0 +1,378 @@
+//! [`estimate_alignment`]: axis, sign and in-plane zero of every sensor.
+
+use std::f64::consts::PI;
+
+use limbfuse_core::{Record, Segment};
+use nalgebra::{Rotation3, Vector3};
+
+use super::axis::{hinge_fit, principal_axis};
+use super::series::{acc, gyr, quiet_window};
+use super::sign::{choose_signs, peak_score, Evidence};
+use super::trunk::trunk_axis;
+use super::zero::{angle_series, provisional, rot_z, static_angle};
+use super::{AlignError, AlignOptions, Alignment, AxisMethod, SensorAlignment, ZeroMethod};
+
+const LEG: [Segment; 3] = [Segment::Thigh, Segment::Shank, Segment::Foot];
+
+fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
+    let checks: [(&'static str, f64, f64, f64, &'static str); 8] = [
+        (
+            "quiet_gyro_max",
+            o.quiet_gyro_max,
+            0.0,
+            10.0,
+            "(0, 10] rad/s",
+        ),
+        ("quiet_acc_dev", o.quiet_acc_dev, 0.0, 20.0, "(0, 20] m/s^2"),
+        ("quiet_min_s", o.quiet_min_s, 0.0, 1e6, "(0, 1e6] s"),
+        (
+            "max_standing_offset_rad",
+            o.max_standing_offset_rad,
+            0.0,
+            PI,
+            "(0, pi] rad",
+        ),
+        (
+            "min_gyro_rms",
+            o.min_gyro_rms,
+            -1e-300,
+            100.0,
+            "[0, 100] rad/s",
+        ),
+        (
+            "max_hinge_deviation_rad",
+            o.max_hinge_deviation_rad,
+            0.0,
+            PI,
+            "(0, pi] rad",
+        ),
+        ("zero_window_s", o.zero_window_s, 0.0, 1e6, "(0, 1e6] s"),
+        ("trunk_min_corr", o.trunk_min_corr, -1e-300, 1.0, "[0, 1]"),
+    ];
+    for (name, value, lo, hi, range) in checks {
+        if !(value.is_finite() && value > lo && value <= hi) {
+            return Err(AlignError::BadOption { name, value, range });
+        }
+    }
+    for (i, v) in o.mean_angle_rad.iter().enumerate() {
+        if !(v.is_finite() && v.abs() <= PI) {
+            let name = [
+                "mean_angle_rad[0]",
+                "mean_angle_rad[1]",
+                "mean_angle_rad[2]",
+                "mean_angle_rad[3]",
+            ][i];
+            return Err(AlignError::BadOption {
+                name,
+                value: *v,
+                range: "[-pi, pi] rad",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// `x` wrapped to (-pi, pi].
+fn wrap(x: f64) -> f64 {
+    let y = (x + PI).rem_euclid(2.0 * PI) - PI;
+    if y <= -PI {
+        y + 2.0 * PI
+    } else {
+        y
+    }
+}
+
+/// Estimates every sensor's rotation to its segment frame from walking
+/// data (SPEC section 1; method in the module docs and `docs/ALIGNMENT.md`).
+///
+/// Segments without any IMU reading get `None`. A segment with data that
+/// cannot be aligned is an error naming it (or, with
+/// [`AlignOptions::partial`], listed in [`Alignment::skipped`]).
+pub fn estimate_alignment(
+    records: &[Record],
+    opts: &AlignOptions,
+) -> Result<Alignment, AlignError> {
+    check_options(opts)?;
+    if records.is_empty() {
+        return Err(AlignError::NoSamples);
+    }
+    let t_ok = records[0].sample.t.is_finite()
+        && records
+            .windows(2)
+            .all(|w| w[1].sample.t > w[0].sample.t && w[1].sample.t.is_finite());
+    if !t_ok {
+        return Err(AlignError::BadTime);
+    }
+    let n = records.len();
+    let count = |f: fn(&[Record], Segment, usize) -> Option<Vector3<f64>>, s| {
+        (0..n).filter(|&k| f(records, s, k).is_some()).count()
+    };
+    let n_gyr = Segment::ALL.map(|s| count(gyr, s));
+    let n_acc = Segment::ALL.map(|s| count(acc, s));
+    let present = [0, 1, 2, 3].map(|i| n_gyr[i] > 0 || n_acc[i] > 0);
+    if !present.iter().any(|&p| p) {
+        return Err(AlignError::NoImu);
+    }
+    let quiet = if opts.use_quiet {
+        quiet_window(records, &present, opts)
+    } else {
+        None
+    };
+    let moving: Vec<usize> = (0..n)
+        .filter(|k| !quiet.as_ref().is_some_and(|q| q.contains(k)))
+        .collect();
+
+    let mut fail: [Option<AlignError>; 4] = [None, None, None, None];
+    for s in Segment::ALL {
+        let i = s.index();
+        if present[i] && n_gyr[i] == 0 {
+            fail[i] = Some(AlignError::NoGyro { segment: s });
+        } else if present[i] && n_acc[i] == 0 {
+            fail[i] = Some(AlignError::NoAcc { segment: s });
+        }
+    }
+
+    // 1. Leg axes: principal axis, then the hinge fit.
+    let mut axes: [Option<Vector3<f64>>; 4] = [None; 4];
+    let mut pca: [Option<Vector3<f64>>; 4] = [None; 4];
+    let mut method = [AxisMethod::Principal; 4];
+    let mut hinge_res: [Option<f64>; 4] = [None; 4];
+    for s in LEG {
+        let i = s.index();
+        if !present[i] || fail[i].is_some() {
+            continue;
+        }
+        let ws = moving.iter().filter_map(|&k| gyr(records, s, k));
+        match principal_axis(ws) {
+            Some((v, _, rms)) if rms >= opts.min_gyro_rms => pca[i] = Some(v),
+            Some((_, _, rms)) => {
+                fail[i] = Some(AlignError::TooLittleMotion {
+                    segment: s,
+                    gyro_rms: rms,
+                    needed: opts.min_gyro_rms,
+                })
+            }
+            None => fail[i] = Some(AlignError::NoGyro { segment: s }),
+        }
+        axes[i] = pca[i];
+    }
+    if opts.hinge {
+        let pairs: Vec<(Segment, Segment)> = LEG
+            .windows(2)
+            .filter(|w| pca[w[0].index()].is_some() && pca[w[1].index()].is_some())
+            .map(|w| (w[0], w[1]))
+            .collect();
+        if let Some(fit) = hinge_fit(records, &pairs, &pca, opts.hinge_max_samples) {
+            for s in LEG {
+                let i = s.index();
+                let (Some(h), Some(p)) = (fit.axes[i], pca[i]) else {
+                    continue;
+                };
+                if h.dot(&p).abs().min(1.0).acos() > opts.max_hinge_deviation_rad {
+                    continue;
+                }
+                axes[i] = Some(h);
+                let mut res2 = Vec::new();
+                let (mut knee, mut ankle) = (false, false);
+                for (p, &(a, b)) in pairs.iter().enumerate() {
+                    if a == s || b == s {
+                        res2.push(fit.rms[p] * fit.rms[p]);
+                        knee |= a == Segment::Thigh;
+                        ankle |= b == Segment::Foot;
+                    }
+                }
+                hinge_res[i] = Some((res2.iter().sum::<f64>() / res2.len() as f64).sqrt());
+                method[i] = AxisMethod::Hinge { knee, ankle };
+            }
+        }
+    }
+
+    // 2. Signs of the leg axes.
+    let rates: [Vec<Option<f64>>; 4] = Segment::ALL.map(|s| match axes[s.index()] {
+        Some(j) => moving
+            .iter()
+            .map(|&k| gyr(records, s, k).map(|w| w.dot(&j)))
+            .collect(),
+        None => Vec::new(),
+    });
+    let evidence = [0, 1, 2, 3].map(|i| {
+        axes[i].map(|_| {
+            let r: Vec<f64> = rates[i].iter().flatten().copied().collect();
+            Evidence {
+                peak: peak_score(&r),
+            }
+        })
+    });
+    let (signs, margins) = choose_signs(&evidence, &rates);
+    let sign_margin = margins;
+    for i in 0..4 {
+        axes[i] = axes[i].map(|j| j * signs[i]);
+    }
+
+    // 3. In-plane zero of the leg sensors, then the trunk (through the thigh).
+    let mut out = Alignment {
+        quiet: quiet
+            .as_ref()
+            .map(|q| (records[q.start].sample.t, records[q.end - 1].sample.t)),
+        ..Default::default()
+    };
+    let ctx = Ctx {
+        records,
+        moving: &moving,
+        quiet: quiet.as_ref(),
+        opts,
+    };
+    let mut thigh_series = Vec::new();
+    for s in LEG {
+        let i = s.index();
+        let Some(z) = axes[i].filter(|_| fail[i].is_none()) else {
+            continue;
+        };
+        match ctx.in_plane(s, &z, None) {
+            Ok((rotation, zero_method, mean, series)) => {
+                out.per_segment[i] = Some(SensorAlignment {
+                    rotation,
+                    axis_method: method[i],
+                    zero_method,
+                    axis_energy_fraction: ctx.energy_fraction(s, &z),
+                    axis_vs_principal_rad: pca[i].map_or(0.0, |p| p.dot(&z).abs().min(1.0).acos()),
+                    hinge_residual: hinge_res[i],
+                    sign_margin: sign_margin[i],
+                    walking_mean_angle_rad: mean,
+                });
+                if s == Segment::Thigh {
+                    thigh_series = series;
+                }
+            }
+            Err(e) => fail[i] = Some(e),
+        }
+    }
+    let (tr, th) = (Segment::Trunk.index(), Segment::Thigh.index());
+    if present[tr] && fail[tr].is_none() {
+        match &out.per_segment[th] {
+            None => {
+                let thigh = fail[th].clone().map(Box::new);
+                fail[tr] = Some(AlignError::TrunkNeedsThigh { thigh });
+            }
+            Some(t) => match trunk_axis(records, &moving, t.rotation.matrix(), &thigh_series) {
+                Some(ta) if ta.corr >= opts.trunk_min_corr && (0.33..=3.0).contains(&ta.gain) => {
+                    match ctx.in_plane(Segment::Trunk, &ta.z, Some(ta.up)) {
+                        Ok((rotation, zero_method, mean, _)) => {
+                            out.per_segment[tr] = Some(SensorAlignment {
+                                rotation,
+                                axis_method: AxisMethod::GravityHipLink,
+                                zero_method,
+                                axis_energy_fraction: ctx.energy_fraction(Segment::Trunk, &ta.z),
+                                axis_vs_principal_rad: ctx
+                                    .principal_deviation(Segment::Trunk, &ta.z),
+                                hinge_residual: None,
+                                sign_margin: ta.corr,
+                                walking_mean_angle_rad: mean,
+                            })
+                        }
+                        Err(e) => fail[tr] = Some(e),
+                    }
+                }
+                other => {
+                    let (corr, gain) = other.map_or((0.0, 0.0), |t| (t.corr, t.gain));
+                    fail[tr] = Some(AlignError::NoWalkingDirection {
+                        corr,
+                        gain,
+                        needed: opts.trunk_min_corr,
+                    });
+                }
+            },
+        }
+    }
+    for s in Segment::ALL {
+        if let Some(e) = fail[s.index()].take() {
+            if !opts.partial {
+                return Err(e);
+            }
+            out.per_segment[s.index()] = None;
+            out.skipped.push((s, e));
+        }
+    }
+    Ok(out)
+}
+
+/// What the per-sensor steps share.
+struct Ctx<'a> {
+    records: &'a [Record],
+    moving: &'a [usize],
+    quiet: Option<&'a std::ops::Range<usize>>,
+    opts: &'a AlignOptions,
+}
+
+/// Aligned rotation, zero method, walking mean angle and aligned angle series.
+type InPlane = (Rotation3<f64>, ZeroMethod, f64, Vec<(usize, f64)>);
+
+impl Ctx<'_> {
+    /// Fraction of the gyro energy about `z` over the moving samples.
+    fn energy_fraction(&self, s: Segment, z: &Vector3<f64>) -> f64 {
+        let (mut e_z, mut e_all) = (0.0, 0.0);
+        for w in self.moving.iter().filter_map(|&k| gyr(self.records, s, k)) {
+            e_z += w.dot(z).powi(2);
+            e_all += w.norm_squared();
+        }
+        if e_all > 0.0 {
+            e_z / e_all
+        } else {
+            0.0
+        }
+    }
+
+    /// Angle (rad) between `z` and the principal gyro axis.
+    fn principal_deviation(&self, s: Segment, z: &Vector3<f64>) -> f64 {
+        let ws = self.moving.iter().filter_map(|&k| gyr(self.records, s, k));
+        principal_axis(ws).map_or(0.0, |(p, _, _)| p.dot(z).abs().min(1.0).acos())
+    }
+
+    /// Rotation, zero method, walking mean angle and the aligned angle
+    /// series of one sensor with axis `z` (and up direction `up`, default:
+    /// its mean specific force over the moving samples).
+    fn in_plane(
+        &self,
+        s: Segment,
+        z: &Vector3<f64>,
+        up: Option<Vector3<f64>>,
+    ) -> Result<InPlane, AlignError> {
+        let (records, opts) = (self.records, self.opts);
+        let up = up.unwrap_or_else(|| self.moving.iter().filter_map(|&k| acc(records, s, k)).sum());
+        let frame = provisional(z, &up).ok_or(AlignError::VerticalAxis { segment: s })?;
+        let mut series = angle_series(records, s, &frame, self.moving, opts.zero_window_s);
+        let walk_mean = series.first().map(|&(_, r)| {
+            r + series.iter().map(|(_, p)| wrap(p - r)).sum::<f64>() / series.len() as f64
+        });
+        let quiet = self.quiet;
+        let standing = quiet.and_then(|q| static_angle(records, s, &frame, q.clone()));
+        let (delta, zero, mean) = match (standing, walk_mean) {
+            (Some(d), Some(w)) if wrap(w - d).abs() < opts.max_standing_offset_rad => {
+                (d, quiet_method(records, quiet), wrap(w - d))
+            }
+            (Some(d), None) => (d, quiet_method(records, quiet), f64::NAN),
+            (_, Some(w)) => {
+                let target = opts.mean_angle_rad[s.index()];
+                (
+                    w - target,
+                    ZeroMethod::MeanInclination { target_rad: target },
+                    target,
+                )
+            }
+            (None, None) => return Err(AlignError::NoAcc { segment: s }),
+        };
+        for p in series.iter_mut() {
+            p.1 -= delta;
+        }
+        let r = rot_z(delta) * frame;
+        Ok((Rotation3::from_matrix_unchecked(r), zero, mean, series))
+    }
+}
+
+fn quiet_method(records: &[Record], q: Option<&std::ops::Range<usize>>) -> ZeroMethod {
+    let q = q.cloned().unwrap_or(0..1);
+    ZeroMethod::QuietStanding {
+        start_s: records[q.start].sample.t,
+        end_s: records[q.end - 1].sample.t,
+    }
+}
