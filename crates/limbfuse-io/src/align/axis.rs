@@ -10,7 +10,7 @@
 use limbfuse_core::{Record, Segment};
 use nalgebra::{DMatrix, DVector, Matrix3, SymmetricEigen, Vector3};
 
-use super::series::gyr;
+use super::series::{acc, gyr};
 
 /// Principal axis of the gyro samples: the unit eigenvector of `sum w w^T`
 /// with the largest eigenvalue, the fraction of the gyro energy about it and
@@ -194,4 +194,41 @@ pub(crate) fn hinge_fit(
         })
         .collect();
     Some(HingeFit { axes: out, rms })
+}
+
+/// Unit "up" direction (the direction of `-gravity`, i.e. of the static
+/// specific force) in the sensor frame at every record, from a
+/// complementary filter: the vector is carried along by the gyro
+/// (`dv/dt = -w x v`) and pulled toward the normalised accelerometer with
+/// time constant `tau` (s); accelerometer readings further than 30 % from
+/// their median norm are not used. `None` before the first reading.
+pub(crate) fn up_track(records: &[Record], seg: Segment, tau: f64) -> Vec<Option<Vector3<f64>>> {
+    let mut norms: Vec<f64> = (0..records.len())
+        .filter_map(|k| acc(records, seg, k).map(|a| a.norm()))
+        .collect();
+    let g = super::series::median(&mut norms).unwrap_or(0.0);
+    let mut v: Option<Vector3<f64>> = None;
+    let mut t_prev = records.first().map_or(0.0, |r| r.sample.t);
+    records
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let dt = r.sample.t - t_prev;
+            t_prev = r.sample.t;
+            if let (Some(cur), Some(w)) = (v, gyr(records, seg, k)) {
+                v = (cur - w.cross(&cur) * dt).try_normalize(1e-12);
+            }
+            if let Some(a) = acc(records, seg, k) {
+                let trusted = g > 0.0 && (a.norm() - g).abs() < 0.3 * g;
+                v = match (v, a.try_normalize(1e-9)) {
+                    (None, an) => an,
+                    (Some(cur), Some(an)) if trusted => {
+                        (cur + (an - cur) * (dt / tau).clamp(0.0, 1.0)).try_normalize(1e-12)
+                    }
+                    (cur, _) => cur,
+                };
+            }
+            v
+        })
+        .collect()
 }

@@ -5,8 +5,8 @@ use std::f64::consts::PI;
 use limbfuse_core::{Record, Segment};
 use nalgebra::{Rotation3, Vector3};
 
-use super::axis::{hinge_fit, principal_axis};
-use super::series::{acc, gyr, quiet_window};
+use super::axis::{hinge_fit, principal_axis, up_track};
+use super::series::{acc, gyr, quiet_window, turning_mask};
 use super::sign::{choose_signs, peak_score, Evidence};
 use super::trunk::trunk_axis;
 use super::zero::{angle_series, provisional, rot_z, static_angle};
@@ -15,7 +15,7 @@ use super::{AlignError, AlignOptions, Alignment, AxisMethod, SensorAlignment, Ze
 const LEG: [Segment; 3] = [Segment::Thigh, Segment::Shank, Segment::Foot];
 
 fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
-    let checks: [(&'static str, f64, f64, f64, &'static str); 8] = [
+    let checks: [(&'static str, f64, f64, f64, &'static str); 11] = [
         (
             "quiet_gyro_max",
             o.quiet_gyro_max,
@@ -46,6 +46,15 @@ fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
             PI,
             "(0, pi] rad",
         ),
+        (
+            "turn_max_rate",
+            o.turn_max_rate,
+            0.0,
+            100.0,
+            "(0, 100] rad/s",
+        ),
+        ("turn_window_s", o.turn_window_s, 0.0, 100.0, "(0, 100] s"),
+        ("up_tau_s", o.up_tau_s, 0.0, 1e3, "(0, 1000] s"),
         ("zero_window_s", o.zero_window_s, 0.0, 1e6, "(0, 1e6] s"),
         ("trunk_min_corr", o.trunk_min_corr, -1e-300, 1.0, "[0, 1]"),
     ];
@@ -118,8 +127,15 @@ pub fn estimate_alignment(
     } else {
         None
     };
+    let dt = if n > 1 {
+        (records[n - 1].sample.t - records[0].sample.t) / (n - 1) as f64
+    } else {
+        1.0
+    };
+    let half = (0.5 * opts.turn_window_s / dt).round() as usize;
+    let turning = turning_mask(records, &present, half, opts.turn_max_rate);
     let moving: Vec<usize> = (0..n)
-        .filter(|k| !quiet.as_ref().is_some_and(|q| q.contains(k)))
+        .filter(|&k| !turning[k] && !quiet.as_ref().is_some_and(|q| q.contains(&k)))
         .collect();
 
     let mut fail: [Option<AlignError>; 4] = [None, None, None, None];
@@ -142,7 +158,17 @@ pub fn estimate_alignment(
         if !present[i] || fail[i].is_some() {
             continue;
         }
-        let ws = moving.iter().filter_map(|&k| gyr(records, s, k));
+        // Leave out the rate about the vertical (turning, axial rotation of
+        // the leg): the medio-lateral axis is horizontal at every instant.
+        let up = if opts.horizontal {
+            up_track(records, s, opts.up_tau_s)
+        } else {
+            vec![None; n]
+        };
+        let ws = moving.iter().filter_map(|&k| {
+            let w = gyr(records, s, k)?;
+            Some(up[k].map_or(w, |v| w - v * w.dot(&v)))
+        });
         match principal_axis(ws) {
             Some((v, _, rms)) if rms >= opts.min_gyro_rms => pca[i] = Some(v),
             Some((_, _, rms)) => {
@@ -214,6 +240,8 @@ pub fn estimate_alignment(
         quiet: quiet
             .as_ref()
             .map(|q| (records[q.start].sample.t, records[q.end - 1].sample.t)),
+        walking_samples: moving.len(),
+        turning_samples: turning.iter().filter(|&&t| t).count(),
         ..Default::default()
     };
     let ctx = Ctx {

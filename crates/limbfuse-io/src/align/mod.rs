@@ -50,9 +50,22 @@ pub struct AlignOptions {
     /// Target mean angle (rad) of each segment over the walking data, used
     /// when there is no quiet standing (trunk, thigh, shank, foot).
     pub mean_angle_rad: [f64; 4],
+    /// Leave out turns: samples where the (median over the sensors) rate
+    /// about the vertical, averaged over `turn_window_s`, exceeds this (rad/s).
+    pub turn_max_rate: f64,
+    /// Averaging window (s) of the turn detection (also its widening).
+    pub turn_window_s: f64,
     /// Minimum gyro RMS (rad/s) of a leg sensor to identify its axis.
     pub min_gyro_rms: f64,
-    /// Refine the leg axes with the knee/ankle hinge fit.
+    /// Principal axis of the *horizontal* part of the leg gyro signals (the
+    /// rate about the tracked vertical removed) instead of the full signal.
+    pub horizontal: bool,
+    /// Time constant (s) of the accelerometer correction of the tracked
+    /// vertical (complementary filter).
+    pub up_tau_s: f64,
+    /// Refine the leg axes with the knee/ankle hinge fit (off by default:
+    /// better on the simulator, worse on the real trial, see
+    /// `docs/ALIGNMENT.md`).
     pub hinge: bool,
     /// Fall back to the principal axis when the hinge axis is further than
     /// this (rad) from it (a fit that wandered off).
@@ -78,8 +91,12 @@ impl Default for AlignOptions {
             quiet_min_s: 1.0,
             max_standing_offset_rad: 30f64.to_radians(),
             mean_angle_rad: [0.0; 4],
+            turn_max_rate: 0.6,
+            turn_window_s: 1.0,
             min_gyro_rms: 0.2,
-            hinge: true,
+            horizontal: true,
+            up_tau_s: 1.0,
+            hinge: false,
             max_hinge_deviation_rad: 20f64.to_radians(),
             hinge_max_samples: 20_000,
             zero_window_s: 10.0,
@@ -174,6 +191,10 @@ pub struct Alignment {
     pub skipped: Vec<(Segment, AlignError)>,
     /// Quiet period found (first and last sample time, s), if any.
     pub quiet: Option<(f64, f64)>,
+    /// Samples used as walking data (not quiet, not turning).
+    pub walking_samples: usize,
+    /// Samples left out as turning.
+    pub turning_samples: usize,
 }
 
 /// Why a trial (or one of its sensors) could not be aligned.

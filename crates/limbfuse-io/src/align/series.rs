@@ -8,16 +8,20 @@ use nalgebra::Vector3;
 
 use super::AlignOptions;
 
-/// Gyro reading of `seg` at record `k`.
+/// Gyro reading of `seg` at record `k` (a non-finite reading counts as missing).
 #[inline]
 pub(crate) fn gyr(records: &[Record], seg: Segment, k: usize) -> Option<Vector3<f64>> {
-    records[k].sample.imu[seg.index()].gyr
+    records[k].sample.imu[seg.index()]
+        .gyr
+        .filter(|v| v.iter().all(|x| x.is_finite()))
 }
 
-/// Accelerometer reading of `seg` at record `k`.
+/// Accelerometer reading of `seg` at record `k` (non-finite counts as missing).
 #[inline]
 pub(crate) fn acc(records: &[Record], seg: Segment, k: usize) -> Option<Vector3<f64>> {
-    records[k].sample.imu[seg.index()].acc
+    records[k].sample.imu[seg.index()]
+        .acc
+        .filter(|v| v.iter().all(|x| x.is_finite()))
 }
 
 /// Median of a slice (NaN-free input); `None` when empty.
@@ -105,4 +109,61 @@ pub(crate) fn correlation(a: &[f64], b: &[f64]) -> f64 {
     } else {
         sab / (saa * sbb).sqrt()
     }
+}
+
+/// Samples taken while the subject turns: the median over the sensors of
+/// the rate about their mean-specific-force (vertical) direction, averaged
+/// over a centred window of `2 half + 1` samples, exceeds `max_rate`
+/// (rad/s); the mask is widened by `half` samples each side.
+pub(crate) fn turning_mask(
+    records: &[Record],
+    present: &[bool; 4],
+    half: usize,
+    max_rate: f64,
+) -> Vec<bool> {
+    let n = records.len();
+    let mut smoothed: Vec<Vec<f64>> = Vec::new();
+    for s in Segment::ALL {
+        if !present[s.index()] {
+            continue;
+        }
+        let up: Vector3<f64> = (0..n).filter_map(|k| acc(records, s, k)).sum();
+        let Some(up) = up.try_normalize(1e-9) else {
+            continue;
+        };
+        let mut cum = vec![0.0; n + 1];
+        for k in 0..n {
+            cum[k + 1] = cum[k] + gyr(records, s, k).map_or(0.0, |w| w.dot(&up));
+        }
+        smoothed.push(
+            (0..n)
+                .map(|k| {
+                    let (a, b) = (k.saturating_sub(half), (k + half + 1).min(n));
+                    ((cum[b] - cum[a]) / (b - a) as f64).abs()
+                })
+                .collect(),
+        );
+    }
+    let mut turn = vec![false; n];
+    if smoothed.is_empty() {
+        return turn;
+    }
+    for (k, t) in turn.iter_mut().enumerate() {
+        let mut v: Vec<f64> = smoothed.iter().map(|s| s[k]).collect();
+        v.sort_by(f64::total_cmp);
+        let m = v.len();
+        let med = if m % 2 == 1 {
+            v[m / 2]
+        } else {
+            0.5 * (v[m / 2 - 1] + v[m / 2])
+        };
+        *t = med > max_rate;
+    }
+    let core = turn.clone();
+    for (k, _) in core.iter().enumerate().filter(|(_, &c)| c) {
+        for t in &mut turn[k.saturating_sub(half)..(k + half + 1).min(n)] {
+            *t = true;
+        }
+    }
+    turn
 }

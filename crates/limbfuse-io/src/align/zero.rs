@@ -73,22 +73,35 @@ pub(crate) fn angle_series(
     window_s: f64,
 ) -> Vec<(usize, f64)> {
     let mut out = Vec::with_capacity(idx.len());
-    if idx.is_empty() {
-        return out;
-    }
-    // Equal windows of about `window_s` (no short remainder).
-    let t0 = records[idx[0]].sample.t;
-    let span = records[idx[idx.len() - 1]].sample.t - t0;
-    let len = span / (span / window_s).round().max(1.0) + 1e-9;
+    // Runs of consecutive records (the gyro is not integrated over gaps);
+    // runs shorter than 2 s are left out unless no run is longer.
+    let mut runs: Vec<&[usize]> = Vec::new();
     let mut start = 0;
-    while start < idx.len() {
-        let w = ((records[idx[start]].sample.t - t0) / len).floor();
-        let mut end = start + 1;
-        while end < idx.len() && ((records[idx[end]].sample.t - t0) / len).floor() == w {
-            end += 1;
+    for i in 1..=idx.len() {
+        if i == idx.len() || idx[i] != idx[i - 1] + 1 {
+            runs.push(&idx[start..i]);
+            start = i;
         }
-        window(records, seg, frame, &idx[start..end], &mut out);
-        start = end;
+    }
+    let dur = |r: &[usize]| records[r[r.len() - 1]].sample.t - records[r[0]].sample.t;
+    let longest = runs.iter().map(|r| dur(r)).fold(0.0, f64::max);
+    for run in runs {
+        if dur(run) < 2.0_f64.min(longest) {
+            continue;
+        }
+        // Equal windows of about `window_s` (no short remainder).
+        let t0 = records[run[0]].sample.t;
+        let len = dur(run) / (dur(run) / window_s).round().max(1.0) + 1e-9;
+        let mut start = 0;
+        while start < run.len() {
+            let w = ((records[run[start]].sample.t - t0) / len).floor();
+            let mut end = start + 1;
+            while end < run.len() && ((records[run[end]].sample.t - t0) / len).floor() == w {
+                end += 1;
+            }
+            window(records, seg, frame, &run[start..end], &mut out);
+            start = end;
+        }
     }
     out
 }

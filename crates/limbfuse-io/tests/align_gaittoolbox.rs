@@ -1,0 +1,197 @@
+//! Alignment of the shared gaittoolbox walking trial (skipped when
+//! `../shared/data` is absent). Figures for docs/ALIGNMENT.md:
+//! `cargo test -p limbfuse-io --test align_gaittoolbox -- --nocapture`
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+use limbfuse_core::{Record, Segment};
+use limbfuse_io::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
+use limbfuse_io::import::{import_gaittoolbox_with, GaittoolboxOptions, ImportedTrial};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+
+fn data_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    if dir.join("gaittoolbox-s02-walk").is_dir() {
+        Some(dir.join("gaittoolbox-s02-walk"))
+    } else {
+        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
+        None
+    }
+}
+
+fn straight_parts(trial: &ImportedTrial) -> Vec<Range<usize>> {
+    let text = trial.meta.get("straight_segments").unwrap();
+    text.split(',')
+        .map(|r| {
+            let (a, b) = r.split_once("..").unwrap();
+            a.parse().unwrap()..b.parse().unwrap()
+        })
+        .collect()
+}
+
+/// Correlation of aligned gyro z with the central-difference rate of the
+/// reference angle over the straight parts.
+fn rate_corr(rec: &[Record], seg: Segment, parts: &[Range<usize>]) -> f64 {
+    let i = seg.index();
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for p in parts {
+        for k in p.start.max(1)..p.end.min(rec.len() - 1) {
+            let (Some(a), Some(b), Some(w)) = (
+                rec[k - 1].reference.segment[i],
+                rec[k + 1].reference.segment[i],
+                rec[k].sample.imu[i].gyr,
+            ) else {
+                continue;
+            };
+            x.push(w.z);
+            y.push((b - a) / (rec[k + 1].sample.t - rec[k - 1].sample.t));
+        }
+    }
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    let syy: f64 = y.iter().map(|b| (b - my).powi(2)).sum();
+    sxy / (sxx * syy).sqrt()
+}
+
+/// The gyro axis `c` (raw sensor frame, unit) whose projection best fits
+/// the reference angle rate on the straight parts (least squares of
+/// `d ref/dt = c . w`): a data-driven reference for the axis.
+fn fitted_axis(rec: &[Record], seg: Segment, parts: &[Range<usize>]) -> Vector3<f64> {
+    let i = seg.index();
+    let (mut a, mut b) = (Matrix3::zeros(), Vector3::zeros());
+    for p in parts {
+        for k in p.start.max(1)..p.end.min(rec.len() - 1) {
+            let (Some(r0), Some(r1), Some(w)) = (
+                rec[k - 1].reference.segment[i],
+                rec[k + 1].reference.segment[i],
+                rec[k].sample.imu[i].gyr,
+            ) else {
+                continue;
+            };
+            let rate = (r1 - r0) / (rec[k + 1].sample.t - rec[k - 1].sample.t);
+            a += w * w.transpose();
+            b += w * rate;
+        }
+    }
+    a.cholesky().unwrap().solve(&b).normalize()
+}
+
+/// Mean elevation (deg) of the aligned z axis above the horizontal, from the
+/// Xsens orientation (heading-free), over the straight parts.
+fn elevation(rec: &[Record], seg: Segment, parts: &[Range<usize>]) -> f64 {
+    let (mut e, mut n) = (0.0, 0.0);
+    for k in parts.iter().flat_map(|p| p.clone()) {
+        if let Some(q) = rec[k].sample.imu[seg.index()].quat {
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+            e += (q * Vector3::z()).z.clamp(-1.0, 1.0).asin().to_degrees();
+            n += 1.0;
+        }
+    }
+    e / n
+}
+
+/// Over the straight parts, using the Xsens orientation of the aligned
+/// frame (aligned -> world, z up): mean angle (deg) between the aligned z
+/// axis and the subject's right (walking direction x up), and the mean
+/// (aligned pitch - reference angle) (deg), i.e. the in-plane zero error.
+fn xsens_check(rec: &[Record], seg: Segment, parts: &[Range<usize>]) -> (f64, Option<f64>) {
+    let i = seg.index();
+    let up = Vector3::z();
+    let (mut ang, mut n, mut dz, mut nz) = (0.0, 0.0, 0.0, 0.0);
+    for (p, part) in parts.iter().enumerate() {
+        // The subject walks along -y first, then back along +y.
+        let fwd = if p == 0 { -Vector3::y() } else { Vector3::y() };
+        let right = fwd.cross(&up);
+        for k in part.clone() {
+            let Some(q) = rec[k].sample.imu[i].quat else {
+                continue;
+            };
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+            let z = q * Vector3::z();
+            ang += z.dot(&right).clamp(-1.0, 1.0).acos().to_degrees();
+            n += 1.0;
+            let y = q * Vector3::y();
+            let pitch = (-y.dot(&fwd)).atan2(y.dot(&up));
+            if let Some(r) = rec[k].reference.segment[i] {
+                dz += (pitch - r).to_degrees();
+                nz += 1.0;
+            }
+        }
+    }
+    (ang / n, (nz > 0.0).then(|| dz / nz))
+}
+
+fn run(shift: i32) -> Option<(ImportedTrial, Alignment, Vec<Record>)> {
+    let dir = data_dir()?;
+    let opts = GaittoolboxOptions {
+        shift_imu_samples: shift,
+        ..Default::default()
+    };
+    let trial = import_gaittoolbox_with(&dir, &opts).unwrap();
+    let a = estimate_alignment(
+        &trial.records,
+        &AlignOptions {
+            partial: true,
+            hinge: std::env::var_os("HINGE").is_some(),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let aligned: Vec<Record> = trial
+        .records
+        .iter()
+        .map(|r| apply_alignment(r, &a))
+        .collect();
+    Some((trial, a, aligned))
+}
+
+#[test]
+fn gaittoolbox_alignment_recovers_the_sagittal_axes() {
+    for shift in [0, 2] {
+        let Some((trial, a, aligned)) = run(shift) else {
+            return;
+        };
+        let parts = straight_parts(&trial);
+        println!("IMU shift {shift} samples; quiet period: {:?}", a.quiet);
+        for s in Segment::ALL {
+            let Some(sa) = a.per_segment[s.index()] else {
+                println!("{:?}", a.skipped);
+                continue;
+            };
+            let r = if s == Segment::Trunk {
+                f64::NAN
+            } else {
+                rate_corr(&aligned, s, &parts)
+            };
+            let (zdev, zero) = xsens_check(&aligned, s, &parts);
+            let fit = if s == Segment::Trunk {
+                f64::NAN
+            } else {
+                let c = fitted_axis(&trial.records, s, &parts);
+                let z: Vector3<f64> = sa.rotation.matrix().row(2).transpose();
+                z.dot(&c).clamp(-1.0, 1.0).acos().to_degrees()
+            };
+            println!(
+                "   vs fitted axis {fit:.2} deg, elevation {:.2} deg",
+                elevation(&aligned, s, &parts)
+            );
+            println!(
+                "{:6} axis {:26} r(gyro_z, d ref/dt) {r:+.4}  z vs right (Xsens) {zdev:5.2} deg  zero err {:?} deg  energy {:.3}  vs principal {:5.2} deg  hinge {:?}  sign margin {:.3}",
+                s.name(),
+                sa.axis_method.label(),
+                zero.map(|z| (z * 100.0).round() / 100.0),
+                sa.axis_energy_fraction,
+                sa.axis_vs_principal_rad.to_degrees(),
+                sa.hinge_residual.map(|h| (h * 1e3).round() / 1e3),
+                sa.sign_margin
+            );
+        }
+    }
+}
