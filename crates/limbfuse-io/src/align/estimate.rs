@@ -178,7 +178,14 @@ pub fn estimate_alignment(
                     needed: opts.min_gyro_rms,
                 })
             }
-            None => fail[i] = Some(AlignError::NoGyro { segment: s }),
+            // Every gyro sample is in the quiet period or a turn.
+            None => {
+                fail[i] = Some(AlignError::TooLittleMotion {
+                    segment: s,
+                    gyro_rms: 0.0,
+                    needed: opts.min_gyro_rms,
+                })
+            }
         }
         axes[i] = pca[i];
     }
@@ -312,7 +319,8 @@ pub fn estimate_alignment(
             },
         }
     }
-    for s in Segment::ALL {
+    // Leg errors first: a trunk error may only follow from the thigh's.
+    for s in [Segment::Thigh, Segment::Shank, Segment::Foot, Segment::Trunk] {
         if let Some(e) = fail[s.index()].take() {
             if !opts.partial {
                 return Err(e);

@@ -67,17 +67,18 @@ pub(crate) fn trunk_axis(
         if k == 0 || k + 1 >= n {
             continue;
         }
-        let (Some(p), Some(at), Some(a), Some(w), Some(wm), Some(wp)) = (
-            phi[k],
-            acc(records, tr, k),
-            acc(records, th, k),
-            rate(k),
-            rate(k - 1),
-            rate(k + 1),
-        ) else {
+        let (Some(p), Some(at), Some(a), Some(w)) =
+            (phi[k], acc(records, tr, k), acc(records, th, k), rate(k))
+        else {
             continue;
         };
-        let alpha = (wp - wm) / (records[k + 1].sample.t - records[k - 1].sample.t);
+        // Angular acceleration: central difference, one-sided next to a gap.
+        let (lo, wl) = rate(k - 1).map_or((k, w), |x| (k - 1, x));
+        let (hi, wh) = rate(k + 1).map_or((k, w), |x| (k + 1, x));
+        if lo == hi {
+            continue;
+        }
+        let alpha = (wh - wl) / (records[hi].sample.t - records[lo].sample.t);
         let a = thigh_rot * a;
         let (s, c) = p.sin_cos();
         let y = c * a.x - s * a.y;

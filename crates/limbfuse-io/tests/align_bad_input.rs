@@ -1,0 +1,213 @@
+//! Alignment of bad input: typed errors that name the segment, never a panic.
+
+use limbfuse_core::{Record, Segment};
+use limbfuse_io::align::{estimate_alignment, rotations_from_metadata, AlignError, AlignOptions};
+use limbfuse_io::TrialMeta;
+use limbfuse_sim::{Motion, Mounting, WalkingConfig, WalkingSimulator};
+use nalgebra::Vector3;
+
+fn walk(seconds: f64) -> Vec<Record> {
+    let cfg = WalkingConfig {
+        duration_s: seconds,
+        mounting: Mounting::Random,
+        seed: 11,
+        ..Default::default()
+    };
+    WalkingSimulator::new(cfg).unwrap().collect()
+}
+
+fn opts() -> AlignOptions {
+    AlignOptions::default()
+}
+
+#[test]
+fn empty_and_imu_free_trials() {
+    assert_eq!(estimate_alignment(&[], &opts()), Err(AlignError::NoSamples));
+    let mut rec = walk(5.0);
+    for r in &mut rec {
+        r.sample.imu = Default::default();
+    }
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert_eq!(e, AlignError::NoImu);
+    assert!(e.to_string().contains("no IMU data"), "{e}");
+}
+
+#[test]
+fn standing_still_is_not_enough_motion() {
+    let cfg = WalkingConfig {
+        duration_s: 5.0,
+        motion: Motion::Stand,
+        mounting: Mounting::Random,
+        ..Default::default()
+    };
+    let rec: Vec<Record> = WalkingSimulator::new(cfg).unwrap().collect();
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert!(
+        matches!(e, AlignError::TooLittleMotion { segment: Segment::Thigh, gyro_rms, .. } if gyro_rms < 0.05),
+        "{e:?}"
+    );
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("thigh: not enough motion to identify the axis: gyro RMS"),
+        "{msg}"
+    );
+    // Partial: every leg sensor and the trunk (which needs the thigh) are listed.
+    let a = estimate_alignment(
+        &rec,
+        &AlignOptions {
+            partial: true,
+            ..opts()
+        },
+    )
+    .unwrap();
+    assert!(a.per_segment.iter().all(Option::is_none));
+    let skipped: Vec<Segment> = a.skipped.iter().map(|(s, _)| *s).collect();
+    assert_eq!(
+        skipped,
+        [
+            Segment::Thigh,
+            Segment::Shank,
+            Segment::Foot,
+            Segment::Trunk
+        ]
+    );
+    assert!(a.skipped[3]
+        .1
+        .to_string()
+        .contains("needs an aligned thigh sensor (thigh: not enough motion"));
+}
+
+#[test]
+fn a_missing_gyro_channel_names_the_segment() {
+    let mut rec = walk(10.0);
+    for r in &mut rec {
+        r.sample.imu[Segment::Shank.index()].gyr = None;
+    }
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert_eq!(
+        e,
+        AlignError::NoGyro {
+            segment: Segment::Shank
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "shank: no gyro samples (the axis is found from the angular rate)"
+    );
+    // With `partial`, the others are still aligned.
+    let a = estimate_alignment(
+        &rec,
+        &AlignOptions {
+            partial: true,
+            ..opts()
+        },
+    )
+    .unwrap();
+    assert!(a.per_segment[Segment::Shank.index()].is_none());
+    assert!(a.per_segment[Segment::Thigh.index()].is_some());
+    assert!(a.per_segment[Segment::Foot.index()].is_some());
+    assert!(a.per_segment[Segment::Trunk.index()].is_some());
+    let meta = a.metadata();
+    assert!(meta
+        .iter()
+        .any(|(k, v)| k == "shank_align_skipped" && v.starts_with("shank: no gyro")));
+}
+
+#[test]
+fn missing_accelerometer_and_trunk_without_thigh() {
+    let mut rec = walk(10.0);
+    for r in &mut rec {
+        r.sample.imu[Segment::Foot.index()].acc = None;
+    }
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert_eq!(
+        e,
+        AlignError::NoAcc {
+            segment: Segment::Foot
+        }
+    );
+    let mut rec = walk(10.0);
+    for r in &mut rec {
+        r.sample.imu[Segment::Thigh.index()] = Default::default();
+    }
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert_eq!(e, AlignError::TrunkNeedsThigh { thigh: None });
+}
+
+#[test]
+fn dropouts_nan_and_bad_time_do_not_panic() {
+    let mut rec = walk(15.0);
+    // Every third sample missing, a few NaN readings (treated as missing).
+    for (k, r) in rec.iter_mut().enumerate() {
+        if k % 3 == 0 {
+            r.sample.imu = Default::default();
+        }
+        if k % 97 == 1 {
+            r.sample.imu[1].gyr = Some(Vector3::new(f64::NAN, 0.0, 0.0));
+            r.sample.imu[2].acc = Some(Vector3::new(0.0, f64::INFINITY, 0.0));
+        }
+    }
+    let a = estimate_alignment(&rec, &opts()).unwrap();
+    assert!(a.per_segment.iter().all(Option::is_some));
+    let mut bad = walk(2.0);
+    bad[10].sample.t = bad[9].sample.t;
+    assert_eq!(estimate_alignment(&bad, &opts()), Err(AlignError::BadTime));
+    bad[10].sample.t = f64::NAN;
+    assert_eq!(estimate_alignment(&bad, &opts()), Err(AlignError::BadTime));
+    // Very short trials: an error, not a panic.
+    for n in [1, 2, 5, 50] {
+        let short = walk(1.0);
+        assert!(estimate_alignment(&short[..n], &opts()).is_err(), "{n}");
+    }
+}
+
+#[test]
+fn bad_options_and_metadata() {
+    let e = estimate_alignment(
+        &walk(1.0),
+        &AlignOptions {
+            quiet_min_s: -1.0,
+            ..opts()
+        },
+    );
+    assert!(
+        matches!(
+            e,
+            Err(AlignError::BadOption {
+                name: "quiet_min_s",
+                ..
+            })
+        ),
+        "{e:?}"
+    );
+    let e = estimate_alignment(
+        &walk(1.0),
+        &AlignOptions {
+            mean_angle_rad: [0.0, f64::NAN, 0.0, 0.0],
+            ..opts()
+        },
+    );
+    assert!(
+        matches!(
+            e,
+            Err(AlignError::BadOption {
+                name: "mean_angle_rad[1]",
+                ..
+            })
+        ),
+        "{e:?}"
+    );
+    let mut meta = TrialMeta::new();
+    meta.set("thigh_align_quat", "1 0 0");
+    let e = rotations_from_metadata(&meta).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("metadata `thigh_align_quat`: expected four finite numbers"),
+        "{e}"
+    );
+    meta.set("thigh_align_quat", "2 0 0 0");
+    assert!(rotations_from_metadata(&meta).is_err());
+    meta.set("thigh_align_quat", "1 0 0 0");
+    let r = rotations_from_metadata(&meta).unwrap();
+    assert!(r[1].is_some() && r[0].is_none());
+}
