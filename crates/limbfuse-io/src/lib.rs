@@ -12,6 +12,7 @@ pub mod estimate_file;
 pub mod import;
 pub mod layout;
 pub mod meta;
+pub mod resample;
 pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;
