@@ -5,14 +5,14 @@ use std::f64::consts::PI;
 use limbfuse_core::{Record, Segment};
 use nalgebra::{Rotation3, Vector3};
 
-use super::axis::{hinge_fit, principal_axis, up_track};
+use super::axis::principal_axis;
+use super::legs::{leg_axes, LegAxes};
 use super::series::{acc, gyr, quiet_window, turning_mask};
-use super::sign::{choose_signs, peak_score, Evidence};
 use super::trunk::trunk_axis;
 use super::zero::{angle_series, provisional, rot_z, static_angle};
 use super::{AlignError, AlignOptions, Alignment, AxisMethod, SensorAlignment, ZeroMethod};
 
-const LEG: [Segment; 3] = [Segment::Thigh, Segment::Shank, Segment::Foot];
+use super::legs::LEG;
 
 fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
     let checks: [(&'static str, f64, f64, f64, &'static str); 11] = [
@@ -148,99 +148,15 @@ pub fn estimate_alignment(
         }
     }
 
-    // 1. Leg axes: principal axis, then the hinge fit.
-    let mut axes: [Option<Vector3<f64>>; 4] = [None; 4];
-    let mut pca: [Option<Vector3<f64>>; 4] = [None; 4];
-    let mut method = [AxisMethod::Principal; 4];
-    let mut hinge_res: [Option<f64>; 4] = [None; 4];
-    for s in LEG {
-        let i = s.index();
-        if !present[i] || fail[i].is_some() {
-            continue;
-        }
-        // Leave out the rate about the vertical (turning, axial rotation of
-        // the leg): the medio-lateral axis is horizontal at every instant.
-        let up = if opts.horizontal {
-            up_track(records, s, opts.up_tau_s)
-        } else {
-            vec![None; n]
-        };
-        let ws = moving.iter().filter_map(|&k| {
-            let w = gyr(records, s, k)?;
-            Some(up[k].map_or(w, |v| w - v * w.dot(&v)))
-        });
-        match principal_axis(ws) {
-            Some((v, _, rms)) if rms >= opts.min_gyro_rms => pca[i] = Some(v),
-            Some((_, _, rms)) => {
-                fail[i] = Some(AlignError::TooLittleMotion {
-                    segment: s,
-                    gyro_rms: rms,
-                    needed: opts.min_gyro_rms,
-                })
-            }
-            // Every gyro sample is in the quiet period or a turn.
-            None => {
-                fail[i] = Some(AlignError::TooLittleMotion {
-                    segment: s,
-                    gyro_rms: 0.0,
-                    needed: opts.min_gyro_rms,
-                })
-            }
-        }
-        axes[i] = pca[i];
-    }
-    if opts.hinge {
-        let pairs: Vec<(Segment, Segment)> = LEG
-            .windows(2)
-            .filter(|w| pca[w[0].index()].is_some() && pca[w[1].index()].is_some())
-            .map(|w| (w[0], w[1]))
-            .collect();
-        if let Some(fit) = hinge_fit(records, &pairs, &pca, opts.hinge_max_samples) {
-            for s in LEG {
-                let i = s.index();
-                let (Some(h), Some(p)) = (fit.axes[i], pca[i]) else {
-                    continue;
-                };
-                if h.dot(&p).abs().min(1.0).acos() > opts.max_hinge_deviation_rad {
-                    continue;
-                }
-                axes[i] = Some(h);
-                let mut res2 = Vec::new();
-                let (mut knee, mut ankle) = (false, false);
-                for (p, &(a, b)) in pairs.iter().enumerate() {
-                    if a == s || b == s {
-                        res2.push(fit.rms[p] * fit.rms[p]);
-                        knee |= a == Segment::Thigh;
-                        ankle |= b == Segment::Foot;
-                    }
-                }
-                hinge_res[i] = Some((res2.iter().sum::<f64>() / res2.len() as f64).sqrt());
-                method[i] = AxisMethod::Hinge { knee, ankle };
-            }
-        }
-    }
-
-    // 2. Signs of the leg axes.
-    let rates: [Vec<Option<f64>>; 4] = Segment::ALL.map(|s| match axes[s.index()] {
-        Some(j) => moving
-            .iter()
-            .map(|&k| gyr(records, s, k).map(|w| w.dot(&j)))
-            .collect(),
-        None => Vec::new(),
-    });
-    let evidence = [0, 1, 2, 3].map(|i| {
-        axes[i].map(|_| {
-            let r: Vec<f64> = rates[i].iter().flatten().copied().collect();
-            Evidence {
-                peak: peak_score(&r),
-            }
-        })
-    });
-    let (signs, margins) = choose_signs(&evidence, &rates);
-    let sign_margin = margins;
-    for i in 0..4 {
-        axes[i] = axes[i].map(|j| j * signs[i]);
-    }
+    // 1-2. Leg axes (principal axis of the horizontal gyro, optional hinge
+    // fit) and their signs.
+    let LegAxes {
+        axes,
+        pca,
+        method,
+        hinge_res,
+        sign_margin,
+    } = leg_axes(records, &moving, &present, &mut fail, opts);
 
     // 3. In-plane zero of the leg sensors, then the trunk (through the thigh).
     let mut out = Alignment {
@@ -320,7 +236,12 @@ pub fn estimate_alignment(
         }
     }
     // Leg errors first: a trunk error may only follow from the thigh's.
-    for s in [Segment::Thigh, Segment::Shank, Segment::Foot, Segment::Trunk] {
+    for s in [
+        Segment::Thigh,
+        Segment::Shank,
+        Segment::Foot,
+        Segment::Trunk,
+    ] {
         if let Some(e) = fail[s.index()].take() {
             if !opts.partial {
                 return Err(e);

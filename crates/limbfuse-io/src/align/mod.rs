@@ -23,6 +23,7 @@ use nalgebra::Rotation3;
 mod apply;
 mod axis;
 mod estimate;
+mod legs;
 mod series;
 mod sign;
 mod trunk;
