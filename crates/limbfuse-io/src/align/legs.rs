@@ -63,11 +63,14 @@ pub(crate) fn leg_axes(
                     needed: opts.min_gyro_rms,
                 })
             }
-            // Every gyro sample is in the quiet period or a turn.
+            // Every gyro sample is in the quiet period or a turn: report
+            // the RMS over all of them.
             None => {
+                let all = (0..n).filter_map(|k| gyr(records, s, k));
+                let gyro_rms = principal_axis(all).map_or(0.0, |p| p.2);
                 fail[i] = Some(AlignError::TooLittleMotion {
                     segment: s,
-                    gyro_rms: 0.0,
+                    gyro_rms,
                     needed: opts.min_gyro_rms,
                 })
             }
