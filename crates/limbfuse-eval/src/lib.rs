@@ -12,6 +12,9 @@ pub mod evaluation;
 pub mod metrics;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
+pub mod params_file;
+pub mod protocol;
+pub mod tuning;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};

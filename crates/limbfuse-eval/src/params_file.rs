@@ -1,0 +1,698 @@
+//! Parameter files of the segment-angle filters (`--params FILE.toml`).
+//!
+//! A TOML file names a preset to start from and overrides any parameter of
+//! [`LocalKfParams`], [`MarkovJumpKfParams`] or [`GlobalKfParams`]:
+//!
+//! ```toml
+//! method = "mjls"            # optional; must match --method when present
+//! preset = "default"         # or "paper-2014"
+//! gravity = 9.81             # m/s^2
+//! loop_mode = "closed"       # or "open"
+//! encoder_sigma = 0.01       # rad; one number or [hip, knee, ankle]
+//!
+//! [segments.all]             # applied to the four segments first
+//! zeta = 0.5                 # m/s^2
+//!
+//! [segments.thigh]           # then per segment: trunk, thigh, shank, foot
+//! gyro_noise = 2e-4          # rad/s/sqrt(Hz)
+//! ```
+//!
+//! Every key, its unit and range: `docs/TUNING.md`. Unknown keys are errors
+//! that name the file, line and key (serde `deny_unknown_fields`); keys of
+//! another method (e.g. `encoder_sigma` for `local`) are errors; each value
+//! is checked by the filter's own `validate()` as it is applied, so a bad
+//! value is reported with its key and the accepted range. [`to_toml`] writes
+//! every parameter explicitly (this is what `limbfuse tune` writes), and
+//! [`parse_params`] reads it back to the same parameters bit for bit.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use limbfuse_core::discretize::Discretization;
+use limbfuse_core::kalman::CovarianceUpdate;
+use limbfuse_core::{Estimator, Segment};
+use limbfuse_estimators::segment_kf::{
+    CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, LoopMode, MarkovJumpKf,
+    MarkovJumpKfParams, ParamError, WhenUnreliable,
+};
+use serde::Deserialize;
+
+/// The three segment-angle filters that take a parameter file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FilterMethod {
+    /// `local`: matricial local KF.
+    Local,
+    /// `mjls`: Markov-jump KF.
+    Mjls,
+    /// `global`: matricial global KF.
+    Global,
+}
+
+impl FilterMethod {
+    /// All three, in `local`, `mjls`, `global` order.
+    pub const ALL: [FilterMethod; 3] = [
+        FilterMethod::Local,
+        FilterMethod::Mjls,
+        FilterMethod::Global,
+    ];
+
+    /// The `--method` name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            FilterMethod::Local => "local",
+            FilterMethod::Mjls => "mjls",
+            FilterMethod::Global => "global",
+        }
+    }
+
+    /// Parses a `--method` name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// A starting point for the parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+pub enum Preset {
+    /// Physical defaults of a consumer MEMS IMU (`docs/SEGMENT_FILTERS.md`).
+    #[default]
+    #[serde(rename = "default")]
+    Default,
+    /// Paper 000 Table 2 weights with the papers' numerics.
+    #[serde(rename = "paper-2014")]
+    Paper2014,
+}
+
+impl Preset {
+    /// `default` or `paper-2014`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Preset::Default => "default",
+            Preset::Paper2014 => "paper-2014",
+        }
+    }
+
+    /// Parses `default` or `paper-2014`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Preset::Default, Preset::Paper2014]
+            .into_iter()
+            .find(|p| p.name() == name)
+    }
+}
+
+/// The parameters of one of the three filters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FilterParams {
+    /// `local`.
+    Local(LocalKfParams),
+    /// `mjls`.
+    Mjls(MarkovJumpKfParams),
+    /// `global`.
+    Global(GlobalKfParams),
+}
+
+impl FilterParams {
+    /// The preset's parameters for `method`.
+    pub fn preset(method: FilterMethod, preset: Preset) -> Self {
+        match (method, preset) {
+            (FilterMethod::Local, Preset::Default) => FilterParams::Local(LocalKfParams::default()),
+            (FilterMethod::Local, Preset::Paper2014) => {
+                FilterParams::Local(LocalKfParams::paper_2014())
+            }
+            (FilterMethod::Mjls, Preset::Default) => {
+                FilterParams::Mjls(MarkovJumpKfParams::default())
+            }
+            (FilterMethod::Mjls, Preset::Paper2014) => {
+                FilterParams::Mjls(MarkovJumpKfParams::paper_2014())
+            }
+            (FilterMethod::Global, Preset::Default) => {
+                FilterParams::Global(GlobalKfParams::default())
+            }
+            (FilterMethod::Global, Preset::Paper2014) => {
+                FilterParams::Global(GlobalKfParams::paper_2014())
+            }
+        }
+    }
+
+    /// Which filter.
+    pub fn method(&self) -> FilterMethod {
+        match self {
+            FilterParams::Local(_) => FilterMethod::Local,
+            FilterParams::Mjls(_) => FilterMethod::Mjls,
+            FilterParams::Global(_) => FilterMethod::Global,
+        }
+    }
+
+    /// The shared parameters.
+    pub fn common(&self) -> &CommonParams {
+        match self {
+            FilterParams::Local(p) => &p.common,
+            FilterParams::Mjls(p) => &p.common,
+            FilterParams::Global(p) => &p.common,
+        }
+    }
+
+    /// The shared parameters, mutable.
+    pub fn common_mut(&mut self) -> &mut CommonParams {
+        match self {
+            FilterParams::Local(p) => &mut p.common,
+            FilterParams::Mjls(p) => &mut p.common,
+            FilterParams::Global(p) => &mut p.common,
+        }
+    }
+
+    /// The filter's own validation.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        match self {
+            FilterParams::Local(p) => p.validate(),
+            FilterParams::Mjls(p) => p.validate(),
+            FilterParams::Global(p) => p.validate(),
+        }
+    }
+
+    /// A new filter with these parameters.
+    pub fn build(&self) -> Result<Box<dyn Estimator + Send>, ParamError> {
+        Ok(match self {
+            FilterParams::Local(p) => Box::new(LocalKf::new(*p)?),
+            FilterParams::Mjls(p) => Box::new(MarkovJumpKf::new(*p)?),
+            FilterParams::Global(p) => Box::new(GlobalKf::new(*p)?),
+        })
+    }
+}
+
+/// Why a parameter file could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ParamsFileError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, an unknown key or a value of the wrong type.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Syntax {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong (names the key).
+        message: String,
+    },
+    /// A key that does not apply or a value out of range.
+    #[error("{}: {message}", path.display())]
+    Invalid {
+        /// File path.
+        path: PathBuf,
+        /// What is wrong (names the key and the accepted range).
+        message: String,
+    },
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+enum RawMethod {
+    #[serde(rename = "local")]
+    Local,
+    #[serde(rename = "mjls")]
+    Mjls,
+    #[serde(rename = "global")]
+    Global,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+enum RawLoop {
+    #[serde(rename = "closed")]
+    Closed,
+    #[serde(rename = "open")]
+    Open,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+enum RawDiscretization {
+    #[serde(rename = "exact")]
+    Exact,
+    #[serde(rename = "euler")]
+    Euler,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+enum RawCovariance {
+    #[serde(rename = "joseph")]
+    Joseph,
+    #[serde(rename = "standard")]
+    Standard,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+enum RawWhenUnreliable {
+    #[serde(rename = "predict-only")]
+    PredictOnly,
+    #[serde(rename = "encoders-only")]
+    EncodersOnly,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSegment {
+    gyro_noise: Option<f64>,
+    bias_drive: Option<f64>,
+    bias_tau: Option<f64>,
+    accel_angle_sigma: Option<f64>,
+    zeta: Option<f64>,
+    initial_gyro_bias: Option<f64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSegments {
+    all: Option<RawSegment>,
+    trunk: Option<RawSegment>,
+    thigh: Option<RawSegment>,
+    shank: Option<RawSegment>,
+    foot: Option<RawSegment>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    method: Option<RawMethod>,
+    preset: Option<Preset>,
+    gravity: Option<f64>,
+    p0_angle_sigma: Option<f64>,
+    p0_bias_sigma: Option<f64>,
+    loop_mode: Option<RawLoop>,
+    discretization: Option<RawDiscretization>,
+    covariance_update: Option<RawCovariance>,
+    min_reliable: Option<i64>,
+    encoder_sigma: Option<toml::Value>,
+    when_unreliable: Option<RawWhenUnreliable>,
+    relative_sigma: Option<toml::Value>,
+    segments: Option<RawSegments>,
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rfind('\n')
+        .map_or(before.len(), |k| before.len() - k - 1)
+        + 1;
+    (line, col)
+}
+
+fn three(path: &Path, key: &str, what: &str, v: &toml::Value) -> Result<[f64; 3], ParamsFileError> {
+    let num = |v: &toml::Value| match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    };
+    let out = match v {
+        toml::Value::Array(a) if a.len() == 3 => {
+            let n: Vec<f64> = a.iter().filter_map(num).collect();
+            (n.len() == 3).then(|| [n[0], n[1], n[2]])
+        }
+        other => num(other).map(|x| [x; 3]),
+    };
+    out.ok_or_else(|| ParamsFileError::Invalid {
+        path: path.to_path_buf(),
+        message: format!(
+            "`{key}`: expected a number or an array of 3 numbers [hip, knee, ankle] ({what}), found `{v}`"
+        ),
+    })
+}
+
+/// Unit and meaning of a key, for error messages.
+fn unit_of(key: &str) -> &'static str {
+    let field = key.rsplit('.').next().unwrap_or(key);
+    match field {
+        "gyro_noise" => "gyro white-noise density, rad/s/sqrt(Hz)",
+        "bias_drive" => "bias random-walk density, rad/s/sqrt(s)",
+        "bias_tau" => "bias correlation time, s (inf allowed)",
+        "accel_angle_sigma" => "accelerometer-angle standard deviation, rad",
+        "zeta" => "reliability threshold on | ||a|| - g |, m/s^2",
+        "initial_gyro_bias" => "gyro bias at start, rad/s",
+        "gravity" => "m/s^2",
+        "p0_angle_sigma" => "initial angle standard deviation, rad",
+        "p0_bias_sigma" => "initial bias standard deviation, rad/s",
+        "min_reliable" => "count s of the criterion Psi_s",
+        "encoder_sigma" => "encoder standard deviation, rad",
+        "relative_sigma" => "relative-row standard deviation, rad",
+        _ => "",
+    }
+}
+
+struct Applier<'a> {
+    path: &'a Path,
+    params: FilterParams,
+}
+
+impl Applier<'_> {
+    /// Applies one override and validates the result; an error names `key`.
+    fn set(
+        &mut self,
+        key: &str,
+        shown: impl std::fmt::Display,
+        f: impl FnOnce(&mut FilterParams),
+    ) -> Result<(), ParamsFileError> {
+        f(&mut self.params);
+        self.params
+            .validate()
+            .map_err(|e| ParamsFileError::Invalid {
+                path: self.path.to_path_buf(),
+                message: format!("`{key}` = {shown}: {} ({})", e.reason, unit_of(key)),
+            })
+    }
+
+    fn only_for(&self, key: &str, methods: &[FilterMethod]) -> Result<(), ParamsFileError> {
+        let m = self.params.method();
+        if methods.contains(&m) {
+            return Ok(());
+        }
+        Err(ParamsFileError::Invalid {
+            path: self.path.to_path_buf(),
+            message: format!(
+                "`{key}` applies to method {} only, but the file is read for method `{}`",
+                methods
+                    .iter()
+                    .map(|m| format!("`{}`", m.name()))
+                    .collect::<Vec<_>>()
+                    .join(" and "),
+                m.name()
+            ),
+        })
+    }
+
+    fn segment(
+        &mut self,
+        name: &str,
+        idx: &[usize],
+        s: &RawSegment,
+    ) -> Result<(), ParamsFileError> {
+        type Field = (&'static str, Option<f64>, fn(&mut CommonParams, usize, f64));
+        let fields: [Field; 6] = [
+            ("gyro_noise", s.gyro_noise, |c, i, v| {
+                c.segments[i].gyro_noise = v
+            }),
+            ("bias_drive", s.bias_drive, |c, i, v| {
+                c.segments[i].bias_drive = v
+            }),
+            ("bias_tau", s.bias_tau, |c, i, v| c.segments[i].bias_tau = v),
+            ("accel_angle_sigma", s.accel_angle_sigma, |c, i, v| {
+                c.segments[i].accel_angle_sigma = v
+            }),
+            ("zeta", s.zeta, |c, i, v| c.segments[i].zeta = v),
+            ("initial_gyro_bias", s.initial_gyro_bias, |c, i, v| {
+                c.initial_gyro_bias[i] = v
+            }),
+        ];
+        for (field, value, apply) in fields {
+            if let Some(v) = value {
+                self.set(&format!("segments.{name}.{field}"), v, |p| {
+                    for &i in idx {
+                        apply(p.common_mut(), i, v);
+                    }
+                })?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Parses a parameter file's text for `method`; `path` names it in errors.
+pub fn parse_params(
+    text: &str,
+    path: &Path,
+    method: FilterMethod,
+) -> Result<FilterParams, ParamsFileError> {
+    let raw: RawFile = toml::from_str(text).map_err(|e| {
+        let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
+        ParamsFileError::Syntax {
+            path: path.to_path_buf(),
+            line,
+            column,
+            message: e.message().trim().to_string(),
+        }
+    })?;
+    if let Some(m) = raw.method {
+        let m = match m {
+            RawMethod::Local => FilterMethod::Local,
+            RawMethod::Mjls => FilterMethod::Mjls,
+            RawMethod::Global => FilterMethod::Global,
+        };
+        if m != method {
+            return Err(ParamsFileError::Invalid {
+                path: path.to_path_buf(),
+                message: format!(
+                    "`method` = \"{}\" but the file is read for method `{}` (use --method {} or remove the `method` line)",
+                    m.name(),
+                    method.name(),
+                    m.name()
+                ),
+            });
+        }
+    }
+    let mut a = Applier {
+        path,
+        params: FilterParams::preset(method, raw.preset.unwrap_or_default()),
+    };
+    if let Some(v) = raw.gravity {
+        a.set("gravity", v, |p| p.common_mut().gravity = v)?;
+    }
+    if let Some(v) = raw.p0_angle_sigma {
+        a.set("p0_angle_sigma", v, |p| p.common_mut().p0_angle_sigma = v)?;
+    }
+    if let Some(v) = raw.p0_bias_sigma {
+        a.set("p0_bias_sigma", v, |p| p.common_mut().p0_bias_sigma = v)?;
+    }
+    if let Some(v) = raw.loop_mode {
+        let v = match v {
+            RawLoop::Closed => LoopMode::Closed,
+            RawLoop::Open => LoopMode::Open,
+        };
+        a.set("loop_mode", v.label(), |p| p.common_mut().loop_mode = v)?;
+    }
+    if let Some(v) = raw.discretization {
+        let v = match v {
+            RawDiscretization::Exact => Discretization::Exact,
+            RawDiscretization::Euler => Discretization::Euler,
+        };
+        a.set("discretization", "", |p| p.common_mut().discretization = v)?;
+    }
+    if let Some(v) = raw.covariance_update {
+        let v = match v {
+            RawCovariance::Joseph => CovarianceUpdate::Joseph,
+            RawCovariance::Standard => CovarianceUpdate::Standard,
+        };
+        a.set("covariance_update", "", |p| {
+            p.common_mut().covariance_update = v
+        })?;
+    }
+    if let Some(segs) = &raw.segments {
+        if let Some(s) = &segs.all {
+            a.segment("all", &[0, 1, 2, 3], s)?;
+        }
+        for (seg, s) in
+            Segment::ALL
+                .into_iter()
+                .zip([&segs.trunk, &segs.thigh, &segs.shank, &segs.foot])
+        {
+            if let Some(s) = s {
+                a.segment(seg.name(), &[seg.index()], s)?;
+            }
+        }
+    }
+    if let Some(v) = raw.min_reliable {
+        a.only_for("min_reliable", &[FilterMethod::Local, FilterMethod::Global])?;
+        let s = u8::try_from(v).unwrap_or(0);
+        a.set("min_reliable", v, |p| match p {
+            FilterParams::Local(l) => l.min_reliable = s,
+            FilterParams::Global(g) => g.min_reliable = s,
+            FilterParams::Mjls(_) => {}
+        })?;
+    }
+    if let Some(v) = &raw.encoder_sigma {
+        a.only_for("encoder_sigma", &[FilterMethod::Mjls])?;
+        let e = three(path, "encoder_sigma", "rad", v)?;
+        a.set("encoder_sigma", v, |p| {
+            if let FilterParams::Mjls(m) = p {
+                m.encoder_sigma = e;
+            }
+        })?;
+    }
+    if let Some(v) = raw.when_unreliable {
+        a.only_for("when_unreliable", &[FilterMethod::Mjls])?;
+        let w = match v {
+            RawWhenUnreliable::PredictOnly => WhenUnreliable::PredictOnly,
+            RawWhenUnreliable::EncodersOnly => WhenUnreliable::EncodersOnly,
+        };
+        a.set("when_unreliable", w.label(), |p| {
+            if let FilterParams::Mjls(m) = p {
+                m.when_unreliable = w;
+            }
+        })?;
+    }
+    if let Some(v) = &raw.relative_sigma {
+        a.only_for("relative_sigma", &[FilterMethod::Global])?;
+        let r = three(path, "relative_sigma", "rad", v)?;
+        a.set("relative_sigma", v, |p| {
+            if let FilterParams::Global(g) = p {
+                g.relative_sigma = r.map(Some);
+            }
+        })?;
+    }
+    Ok(a.params)
+}
+
+/// Reads and parses a parameter file for `method`.
+pub fn load_params(path: &Path, method: FilterMethod) -> Result<FilterParams, ParamsFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ParamsFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_params(&text, path, method)
+}
+
+/// A float as a TOML literal that reads back to the same bits.
+fn lit(v: f64) -> String {
+    if v.is_infinite() {
+        if v > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else if v.is_nan() {
+        "nan".to_string()
+    } else {
+        // Debug prints the shortest representation that round-trips, with a
+        // decimal point or an exponent, both valid TOML floats.
+        format!("{v:?}")
+    }
+}
+
+/// The parameters as a TOML parameter file, every value explicit. `header`
+/// lines are written first as `#` comments (provenance).
+pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
+    let c = params.common();
+    let mut s = String::new();
+    for h in header {
+        for line in h.lines() {
+            let _ = writeln!(s, "# {line}");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "# limbfuse segment-filter parameters (docs/TUNING.md lists every key)."
+    );
+    let _ = writeln!(
+        s,
+        "# Every value is explicit; the preset only fills keys left out."
+    );
+    let _ = writeln!(s, "method = \"{}\"", params.method().name());
+    let _ = writeln!(s, "preset = \"default\"");
+    let _ = writeln!(s, "gravity = {}  # m/s^2", lit(c.gravity));
+    let _ = writeln!(s, "p0_angle_sigma = {}  # rad", lit(c.p0_angle_sigma));
+    let _ = writeln!(s, "p0_bias_sigma = {}  # rad/s", lit(c.p0_bias_sigma));
+    let _ = writeln!(s, "loop_mode = \"{}\"", c.loop_mode.label());
+    let _ = writeln!(
+        s,
+        "discretization = \"{}\"",
+        match c.discretization {
+            Discretization::Exact => "exact",
+            Discretization::Euler => "euler",
+        }
+    );
+    let _ = writeln!(
+        s,
+        "covariance_update = \"{}\"",
+        match c.covariance_update {
+            CovarianceUpdate::Joseph => "joseph",
+            CovarianceUpdate::Standard => "standard",
+        }
+    );
+    let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
+    match params {
+        FilterParams::Local(p) => {
+            let _ = writeln!(s, "min_reliable = {}", p.min_reliable);
+        }
+        FilterParams::Mjls(p) => {
+            let _ = writeln!(
+                s,
+                "encoder_sigma = {}  # rad, hip, knee, ankle",
+                arr(p.encoder_sigma)
+            );
+            let _ = writeln!(s, "when_unreliable = \"{}\"", p.when_unreliable.label());
+        }
+        FilterParams::Global(p) => {
+            let _ = writeln!(s, "min_reliable = {}", p.min_reliable);
+            if p.relative_sigma.iter().all(Option::is_some) {
+                let _ = writeln!(
+                    s,
+                    "relative_sigma = {}  # rad, hip, knee, ankle rows",
+                    arr(p.resolved_relative_sigma())
+                );
+            } else {
+                let _ = writeln!(
+                    s,
+                    "# relative_sigma left out: derived as sqrt(sigma_a,i^2 + sigma_a,i+1^2)"
+                );
+            }
+        }
+    }
+    for seg in Segment::ALL {
+        let n = &c.segments[seg.index()];
+        let _ = writeln!(s, "\n[segments.{}]", seg.name());
+        let _ = writeln!(s, "gyro_noise = {}  # rad/s/sqrt(Hz)", lit(n.gyro_noise));
+        let _ = writeln!(s, "bias_drive = {}  # rad/s/sqrt(s)", lit(n.bias_drive));
+        let _ = writeln!(s, "bias_tau = {}  # s", lit(n.bias_tau));
+        let _ = writeln!(s, "accel_angle_sigma = {}  # rad", lit(n.accel_angle_sigma));
+        let _ = writeln!(s, "zeta = {}  # m/s^2", lit(n.zeta));
+        let _ = writeln!(
+            s,
+            "initial_gyro_bias = {}  # rad/s",
+            lit(c.initial_gyro_bias[seg.index()])
+        );
+    }
+    s
+}
+
+/// Writes [`to_toml`] to `path`.
+pub fn save_params(
+    path: &Path,
+    params: &FilterParams,
+    header: &[String],
+) -> Result<(), ParamsFileError> {
+    std::fs::write(path, to_toml(params, header)).map_err(|source| ParamsFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column_are_one_based() {
+        assert_eq!(line_col("ab\ncd", 0), (1, 1));
+        assert_eq!(line_col("ab\ncd", 4), (2, 2));
+    }
+
+    #[test]
+    fn float_literals_round_trip() {
+        for v in [
+            1e-5,
+            0.1 + 0.2,
+            9.81,
+            1e300,
+            f64::INFINITY,
+            -0.0,
+            2.0,
+            123456789.0,
+        ] {
+            let t = format!("x = {}", lit(v));
+            let back: toml::Table = toml::from_str(&t).unwrap();
+            assert_eq!(back["x"].as_float().unwrap().to_bits(), v.to_bits(), "{t}");
+        }
+    }
+}
