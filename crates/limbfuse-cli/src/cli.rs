@@ -29,6 +29,28 @@ pub enum Command {
     Evaluate(EvaluateArgs),
     /// Monte Carlo of the segment filters under parametric uncertainty (paper 000 Fig. 9).
     Montecarlo(MonteCarloArgs),
+    /// Rotate raw (arbitrarily mounted) sensor channels into their segment frames, from walking data.
+    Align(AlignArgs),
+}
+
+/// Options of `align`.
+#[derive(Debug, Args)]
+pub struct AlignArgs {
+    /// Trial with raw sensor channels (walking, optionally with quiet standing).
+    pub trial: PathBuf,
+    /// Output trial with aligned channels (rotations recorded in its metadata).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Refine the leg axes by the knee/ankle hinge fit (better on ideal hinges, see docs/ALIGNMENT.md).
+    #[arg(long)]
+    pub hinge: bool,
+    /// Skip (and report) sensors that cannot be aligned instead of failing.
+    #[arg(long)]
+    pub partial: bool,
+    /// Known mean angle over the walking data, SEGMENT=DEGREES (repeatable), used when
+    /// there is no quiet standing (default 0 for every segment).
+    #[arg(long = "mean-angle", value_name = "SEGMENT=DEG")]
+    pub mean_angle: Vec<String>,
 }
 
 /// Options of `montecarlo`.

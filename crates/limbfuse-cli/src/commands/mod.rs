@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+mod align;
 mod demo;
 mod estimate;
 mod evaluate;
@@ -20,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
         Command::Montecarlo(a) => montecarlo::run(&a),
+        Command::Align(a) => align::run(&a),
     }
 }
 
