@@ -9,6 +9,9 @@ use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
+/// A method name and a constructor of a fresh estimator.
+type Maker = (&'static str, fn() -> Box<dyn Estimator>);
+
 fn bench(c: &mut Criterion) {
     let sim = WalkingSimulator::new(WalkingConfig {
         seed: 42,
@@ -19,7 +22,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("estimator_60s_100hz");
     g.throughput(Throughput::Elements(records.len() as u64));
     g.sample_size(20);
-    let makers: [(&str, fn() -> Box<dyn Estimator>); 5] = [
+    let makers: [Maker; 5] = [
         ("gyro-integration", || Box::new(GyroIntegration::new())),
         ("accel-inclination", || Box::new(AccelInclination::new())),
         ("local", || Box::new(LocalKf::default())),
