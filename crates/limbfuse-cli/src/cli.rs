@@ -31,6 +31,10 @@ pub enum Command {
     Montecarlo(MonteCarloArgs),
     /// Rotate raw (arbitrarily mounted) sensor channels into their segment frames, from walking data.
     Align(AlignArgs),
+    /// Resample a trial onto a uniform time base (e.g. 50 Hz, the rate of paper 001).
+    Resample(ResampleArgs),
+    /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
+    Tune(TuneArgs),
 }
 
 /// Options of `align`.
@@ -187,8 +191,8 @@ pub struct EstimateArgs {
 pub struct EvaluateArgs {
     /// Trial file with reference columns.
     pub trial: PathBuf,
-    /// Estimate file made from that trial.
-    pub estimate: PathBuf,
+    /// Estimate file made from that trial (not with --method).
+    pub estimate: Option<PathBuf>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -198,4 +202,87 @@ pub struct EvaluateArgs {
     /// Remove the mean error of each channel before computing the RMSE.
     #[arg(long)]
     pub offset_free: bool,
+    /// Run this method on the trial instead of reading an estimate file
+    /// (paper 001 protocol: see --starts, docs/TUNING.md).
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Parameter file of --method (TOML).
+    #[arg(long, requires = "method")]
+    pub params: Option<PathBuf>,
+    /// Start --method afresh at N instants evenly spread over --window and
+    /// average the errors (paper 001: 50).
+    #[arg(long, value_name = "N")]
+    pub starts: Option<usize>,
+    /// Length (s) of each run with --starts (default: half the window; the
+    /// whole window for one start).
+    #[arg(long, value_name = "SECONDS", requires = "starts")]
+    pub length: Option<f64>,
+}
+
+/// Low-pass of the IMU channels in `resample`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AntiAliasArg {
+    /// Blackman-windowed sinc, cut-off 0.35 x the new rate (default).
+    Sinc,
+    /// Mean over one output period.
+    Boxcar,
+    /// None: linear interpolation (aliases).
+    None,
+}
+
+/// Options of `resample`.
+#[derive(Debug, Args)]
+pub struct ResampleArgs {
+    /// Trial file.
+    pub trial: PathBuf,
+    /// Output rate (Hz).
+    #[arg(long)]
+    pub rate: f64,
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Anti-alias low-pass of the accelerometer and gyro channels.
+    #[arg(long, value_enum, default_value_t = AntiAliasArg::Sinc)]
+    pub anti_alias: AntiAliasArg,
+}
+
+/// Options of `tune`.
+#[derive(Debug, Args)]
+pub struct TuneArgs {
+    /// Segment filter to tune: local, mjls or global.
+    #[arg(long)]
+    pub method: String,
+    /// Trial file with segment reference angles.
+    pub trial: PathBuf,
+    /// Tuning window START:END (s).
+    #[arg(long, default_value = "0:20")]
+    pub window: String,
+    /// Validation window START:END (s), or `none`; default: the block of the
+    /// tuning window's length right after it.
+    #[arg(long)]
+    pub validate: Option<String>,
+    /// Output parameter file (TOML), usable with `estimate --params`.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Seed of the optimiser: same seed, same result.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Number of objective evaluations.
+    #[arg(long, default_value_t = 400)]
+    pub budget: usize,
+    /// Swarm size of the particle swarm optimiser.
+    #[arg(long, default_value_t = 20)]
+    pub particles: usize,
+    /// Starting points per window (paper 001: 50).
+    #[arg(long, default_value_t = 50)]
+    pub starts: usize,
+    /// Length (s) of each run from a starting point (default: half the window).
+    #[arg(long, value_name = "SECONDS")]
+    pub length: Option<f64>,
+    /// Start from this parameter file instead of a preset.
+    #[arg(long, conflicts_with = "preset")]
+    pub params: Option<PathBuf>,
+    /// Start from this preset: default or paper-2014.
+    #[arg(long, default_value = "default")]
+    pub preset: String,
 }

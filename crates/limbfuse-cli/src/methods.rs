@@ -3,9 +3,7 @@
 use anyhow::{bail, Result};
 use limbfuse_core::Estimator;
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
-use limbfuse_estimators::segment_kf::{
-    GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams,
-};
+use limbfuse_eval::params_file::{load_params, FilterMethod, FilterParams, Preset};
 
 /// Methods available now, with a one-line description.
 pub const AVAILABLE: &[(&str, &str)] = &[
@@ -45,9 +43,7 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
     let est: Box<dyn Estimator> = match name {
         "gyro-integration" => Box::new(GyroIntegration::new()),
         "accel-inclination" => Box::new(AccelInclination::new()),
-        "local" => Box::new(LocalKf::new(LocalKfParams::default())?),
-        "mjls" => Box::new(MarkovJumpKf::new(MarkovJumpKfParams::default())?),
-        "global" => Box::new(GlobalKf::new(GlobalKfParams::default())?),
+        "local" | "mjls" | "global" => return segment_filter(name, params),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()
@@ -61,6 +57,19 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         );
     }
     Ok(est)
+}
+
+/// A segment filter (`local`, `mjls`, `global`) with the default preset, or
+/// with a parameter file (`--params`, `limbfuse_eval::params_file`).
+fn segment_filter(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Estimator>> {
+    let Some(method) = FilterMethod::from_name(name) else {
+        bail!("unknown segment filter `{name}`");
+    };
+    let p = match params {
+        Some(path) => load_params(path, method)?,
+        None => FilterParams::preset(method, Preset::Default),
+    };
+    Ok(p.build()?)
 }
 
 fn names() -> String {

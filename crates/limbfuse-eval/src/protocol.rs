@@ -267,8 +267,9 @@ impl MultiStartResult {
     }
 }
 
-/// A factory of fresh filters (called once per starting point).
-pub type FilterFactory<'a> = dyn Fn() -> Result<Box<dyn Estimator + Send>, String> + Sync + 'a;
+/// A factory of fresh filters, called once per starting point on the
+/// thread that runs that start (so the filter itself need not be `Send`).
+pub type FilterFactory<'a> = dyn Fn() -> Result<Box<dyn Estimator>, String> + Sync + 'a;
 
 /// Runs a fresh filter from `make` over each interval of `records` and
 /// evaluates it there (see the module docs).

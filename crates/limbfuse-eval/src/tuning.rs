@@ -252,7 +252,12 @@ pub fn objective_deg(
     if params.validate().is_err() {
         return Ok(f64::INFINITY);
     }
-    let make = || params.build().map_err(|e| e.to_string());
+    let make = || {
+        params
+            .build()
+            .map(|f| f as Box<dyn limbfuse_core::Estimator>)
+            .map_err(|e| e.to_string())
+    };
     let r = multi_start(&make, records, intervals, false)
         .map_err(|e| TuneError::Failed(e.to_string()))?;
     Ok(r.mean_rmse()

@@ -57,7 +57,7 @@ fn averaging_over_starts_matches_a_hand_computed_case() {
     };
     let iv = plan_intervals(&records, &plan).unwrap();
     assert_eq!(iv, vec![(0.0, 2.0), (2.0, 4.0), (4.0, 6.0)]);
-    let make = || Ok(Box::new(Clock::default()) as Box<dyn Estimator + Send>);
+    let make = || Ok(Box::new(Clock::default()) as Box<dyn Estimator>);
     let r = multi_start(&make, &records, &iv, false).unwrap();
     // Thigh error e = (t - s) - 0.5 t: start 0: 0, 0.5, 1 -> sqrt(5/12);
     // start 2: -1, -0.5, 0 -> sqrt(5/12); start 4: -2, -1.5, -1 -> sqrt(29/12).
@@ -102,7 +102,12 @@ fn each_start_is_a_fresh_filter_run_on_its_interval_only() {
     assert_eq!(iv.len(), 4);
     // The 50 Hz trial ends at 11.98 s: the window is clipped there.
     assert!((iv[3].1 - 11.98).abs() < 1e-9 && (iv[0].1 - iv[0].0 - 4.99).abs() < 1e-9);
-    let make = || params.build().map_err(|e| e.to_string());
+    let make = || {
+        params
+            .build()
+            .map(|f| f as Box<dyn Estimator>)
+            .map_err(|e| e.to_string())
+    };
     let r = multi_start(&make, &records, &iv, false).unwrap();
     // By hand: the mean over starts of each run's RMSE.
     let mut sum = [0.0; 4];
@@ -112,13 +117,13 @@ fn each_start_is_a_fresh_filter_run_on_its_interval_only() {
         let recs = slice_interval(&records, s, e);
         for rec in recs {
             let est = f.step(&rec.sample).unwrap();
-            for i in 0..4 {
+            for (i, q) in sq.iter_mut().enumerate() {
                 let d = est.segment[i].unwrap() - rec.reference.segment[i].unwrap();
-                sq[i] += d * d;
+                *q += d * d;
             }
         }
-        for i in 0..4 {
-            sum[i] += (sq[i] / recs.len() as f64).sqrt() / iv.len() as f64;
+        for (m, q) in sum.iter_mut().zip(sq) {
+            *m += (q / recs.len() as f64).sqrt() / iv.len() as f64;
         }
     }
     for s in Segment::ALL {

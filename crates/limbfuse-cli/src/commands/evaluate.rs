@@ -7,13 +7,21 @@ use crate::cli::EvaluateArgs;
 
 /// Prints the errors of an estimate against its trial's reference.
 pub fn run(a: &EvaluateArgs) -> Result<()> {
+    if a.method.is_some() || a.starts.is_some() {
+        return super::protocol::run(a);
+    }
+    let Some(estimate) = &a.estimate else {
+        anyhow::bail!(
+            "evaluate needs an ESTIMATE file, or --method NAME [--params FILE] [--starts N] to run the method on the trial"
+        );
+    };
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
     };
     let ev = evaluate_files(
         &a.trial,
-        &a.estimate,
+        estimate,
         EvalOptions {
             window,
             offset_free: a.offset_free,

@@ -6,7 +6,10 @@ mod estimate;
 mod evaluate;
 mod import;
 mod montecarlo;
+mod protocol;
+mod resample;
 mod simulate;
+mod tune;
 
 use anyhow::Result;
 
@@ -22,6 +25,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Evaluate(a) => evaluate::run(&a),
         Command::Montecarlo(a) => montecarlo::run(&a),
         Command::Align(a) => align::run(&a),
+        Command::Resample(a) => resample::run(&a),
+        Command::Tune(a) => tune::run(&a),
     }
 }
 

@@ -1,0 +1,60 @@
+//! `limbfuse evaluate TRIAL --method NAME [--params FILE] --starts N`: paper
+//! 001's validation from N starting points (`limbfuse_eval::protocol`).
+
+use anyhow::{anyhow, bail, Context, Result};
+use limbfuse_core::Record;
+use limbfuse_eval::protocol::{multi_start, plan_intervals, StartPlan};
+use limbfuse_eval::TimeWindow;
+use limbfuse_io::TrialReader;
+
+use crate::cli::EvaluateArgs;
+use crate::methods;
+
+/// Reads a whole trial; it must have a reference angle.
+pub fn read_trial(path: &std::path::Path) -> Result<Vec<Record>> {
+    let reader = TrialReader::open(path)?;
+    if !reader.layout().has_angle_reference() {
+        bail!(
+            "{}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against",
+            path.display()
+        );
+    }
+    Ok(reader.collect::<Result<Vec<_>, _>>()?)
+}
+
+/// Re-runs `--method` from each starting point and prints the averaged errors.
+pub fn run(a: &EvaluateArgs) -> Result<()> {
+    let Some(method) = &a.method else {
+        bail!("--starts needs --method NAME: the method is re-run from each starting point");
+    };
+    if let Some(e) = &a.estimate {
+        bail!(
+            "with --method, evaluate runs the method itself from each starting point: give the trial only, not the estimate file {}",
+            e.display()
+        );
+    }
+    let params = a.params.as_deref();
+    // Build once up front so a bad method or parameter file fails here.
+    methods::build(method, params)?;
+    let window = match &a.window {
+        Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
+        None => TimeWindow::default(),
+    };
+    let records = read_trial(&a.trial)?;
+    let plan = StartPlan {
+        window,
+        starts: a.starts.unwrap_or(1),
+        length_s: a.length,
+    };
+    let intervals = plan_intervals(&records, &plan)
+        .with_context(|| format!("{}: starting points", a.trial.display()))?;
+    let make = || methods::build(method, params).map_err(|e| format!("{e:#}"));
+    let r = multi_start(&make, &records, &intervals, a.offset_free)
+        .with_context(|| format!("evaluating {} on {}", method, a.trial.display()))?;
+    if a.json {
+        println!("{}", r.to_json());
+    } else {
+        print!("{}", r.to_text());
+    }
+    Ok(())
+}

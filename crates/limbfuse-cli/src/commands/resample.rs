@@ -1,0 +1,32 @@
+//! `limbfuse resample TRIAL --rate HZ -o OUT`.
+
+use anyhow::{Context, Result};
+use limbfuse_io::resample::{resample_file, AntiAlias, ResampleOptions};
+
+use crate::cli::{AntiAliasArg, ResampleArgs};
+
+/// Resamples a trial onto a uniform time base (not streaming: see
+/// `limbfuse_io::resample`).
+pub fn run(a: &ResampleArgs) -> Result<()> {
+    let opts = ResampleOptions {
+        rate_hz: a.rate,
+        anti_alias: match a.anti_alias {
+            AntiAliasArg::Sinc => AntiAlias::WindowedSinc,
+            AntiAliasArg::Boxcar => AntiAlias::Boxcar,
+            AntiAliasArg::None => AntiAlias::None,
+        },
+    };
+    let s = resample_file(&a.trial, &a.output, &opts)
+        .with_context(|| format!("resampling {} to {} Hz", a.trial.display(), a.rate))?;
+    eprintln!(
+        "resampled {} to {} Hz ({} anti-alias on IMU channels): {} samples, {} s to {} s -> {}",
+        a.trial.display(),
+        a.rate,
+        opts.anti_alias.label(),
+        s.n_samples,
+        s.span.0,
+        s.span.1,
+        a.output.display()
+    );
+    Ok(())
+}
