@@ -15,7 +15,8 @@
 //! 50 starting points in the optimisation stage too).
 //!
 //! **Optimiser**: particle swarm optimisation from the `argmin` crate
-//! (argmin-rs, maintained, pure Rust; `ParticleSwarm`, SPSO-2011 weights),
+//! (argmin-rs, maintained, pure Rust; `ParticleSwarm` with the standard
+//! SPSO inertia 1/(2 ln 2) and acceleration 0.5 + ln 2),
 //! chosen because (a) the objective is a black box, not differentiable and
 //! piecewise constant in `zeta` (a threshold that switches updates on and
 //! off), which rules out gradient and quasi-Newton methods; (b) a
