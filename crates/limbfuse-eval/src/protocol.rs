@@ -79,8 +79,9 @@ pub fn plan_intervals(
     let (a, b) = (a.max(t0), b.min(t1));
     if bad || b <= a {
         return Err(ProtocolError::Config(format!(
-            "window {}: the trial covers {t0} s to {t1} s, the window must lie inside it and have an end after its start",
-            plan.window
+            "window {} s to {} s: the trial covers {t0} s to {t1} s, the window must lie inside it and have an end after its start",
+            plan.window.start.unwrap_or(t0),
+            plan.window.end.unwrap_or(t1),
         )));
     }
     if plan.starts == 0 || plan.starts > MAX_STARTS {
