@@ -37,6 +37,18 @@ impl Harmonics {
         }
         Harmonics { c, s }
     }
+
+    /// `cos(k phi)` (`k <= KMAX`, within the filled order).
+    #[inline]
+    pub fn cos(&self, k: usize) -> f64 {
+        self.c[k]
+    }
+
+    /// `sin(k phi)` (`k <= KMAX`, within the filled order).
+    #[inline]
+    pub fn sin(&self, k: usize) -> f64 {
+        self.s[k]
+    }
 }
 
 /// `f(phi) = c0 + sum_k (a_k cos k phi + b_k sin k phi)`, `k = 1..=order`.
@@ -114,6 +126,49 @@ impl Fourier {
             }
             f.a[k - 1] = 2.0 * a / n as f64;
             f.b[k - 1] = 2.0 * b / n as f64;
+        }
+        f.trimmed()
+    }
+
+    /// Weighted least-squares fit of order `order` (clamped to `KMAX` and to
+    /// `(N - 1) / 2`) to samples `y[n] = f(2 pi n / N)` with weights `w[n] >= 0`
+    /// (normal equations, Cholesky). With equal weights it equals [`Fourier::fit`].
+    pub fn fit_weighted(y: &[f64], w: &[f64], order: usize) -> Self {
+        let n = y.len();
+        let order = order.min(KMAX).min(n.saturating_sub(1) / 2);
+        let p = 2 * order + 1;
+        let mut ata = nalgebra::DMatrix::<f64>::zeros(p, p);
+        let mut aty = nalgebra::DVector::<f64>::zeros(p);
+        let mut row = vec![0.0; p];
+        for (i, (&yi, &wi)) in y.iter().zip(w).enumerate() {
+            let h = Harmonics::up_to(core::f64::consts::TAU * i as f64 / n as f64, order);
+            row[0] = 1.0;
+            for k in 1..=order {
+                row[2 * k - 1] = h.c[k];
+                row[2 * k] = h.s[k];
+            }
+            for a in 0..p {
+                let ra = wi * row[a];
+                aty[a] += ra * yi;
+                for b in a..p {
+                    ata[(a, b)] += ra * row[b];
+                }
+            }
+        }
+        for a in 0..p {
+            for b in 0..a {
+                ata[(a, b)] = ata[(b, a)];
+            }
+        }
+        let mut f = Fourier::default();
+        let Some(ch) = ata.cholesky() else {
+            return Fourier::fit(y, order);
+        };
+        let c = ch.solve(&aty);
+        f.c0 = c[0];
+        for k in 1..=order {
+            f.a[k - 1] = c[2 * k - 1];
+            f.b[k - 1] = c[2 * k];
         }
         f.trimmed()
     }
@@ -204,6 +259,17 @@ mod tests {
             let d2 = -0.3 * p.cos() + 1.8 * (3.0 * p).sin() - 2.45 * (7.0 * p).cos();
             assert!((d.d1 - d1).abs() < 1e-11);
             assert!((d.d2 - d2).abs() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn weighted_fit_with_equal_weights_is_the_plain_fit() {
+        let y: Vec<f64> = grid(64).map(|p| (3.0 * p).sin().abs()).collect();
+        let a = Fourier::fit(&y, 8);
+        let b = Fourier::fit_weighted(&y, &[1.0; 64], 8);
+        assert!((a.c0 - b.c0).abs() < 1e-12);
+        for k in 0..8 {
+            assert!((a.a[k] - b.a[k]).abs() < 1e-12 && (a.b[k] - b.b[k]).abs() < 1e-12);
         }
     }
 

@@ -166,7 +166,8 @@ pub fn scale_about_mean(f: &Fourier, gain: f64) -> Fourier {
 ///   (knee) and `0.20` (ankle) per m/s, chosen so that the landmark trends of
 ///   those papers are reproduced over 0.4-1.8 m/s (peak swing knee flexion
 ///   ~57 deg at 0.4 m/s to ~65 deg at 1.8 m/s); the hip gain is not set here
-///   but solved so that stride length x stride frequency = speed.
+///   but solved so that the normative foot positions fit the stance
+///   ([`crate::stance::Normative::reach_gain`]).
 /// * Trunk (pelvis) pitch relative to standing: a forward lean of
 ///   `1 + v` deg plus a pelvic-tilt oscillation at twice the stride frequency
 ///   of amplitude `1 + 0.5 v` deg, most anterior at 45 % and 95 % of the
@@ -203,6 +204,40 @@ impl SpeedLaw {
     /// Ankle excursion gain.
     pub fn ankle_gain(&self) -> f64 {
         1.0 + 0.20 * (self.speed - REFERENCE_SPEED)
+    }
+    /// Relative forward-speed fluctuation of the hip joint centre (`eps`:
+    /// speed `v (1 - eps cos 2 (phi - phi_slow))`), 0.10 at every speed.
+    /// Inverted-pendulum exchange of kinetic and potential energy with ~60 %
+    /// recovery (G. A. Cavagna, H. Thys, A. Zamboni, "The sources of external
+    /// work in level walking and running", J. Physiol. 262:639-657, 1976)
+    /// and the vertical excursion below give `eps = R g e / (2 v^2)` of
+    /// 0.05-0.10 at 1.0-1.6 m/s; lower-back accelerometers show
+    /// antero-posterior RMS accelerations of about 1-1.5 m/s^2 at preferred
+    /// speed (H. B. Menz, S. R. Lord, R. C. Fitzpatrick, Gait Posture
+    /// 18:35-46, 2003), which a step-frequency oscillation of +-10 % gives.
+    pub fn speed_fluctuation(&self) -> f64 {
+        0.10
+    }
+    /// Phase of the slowest forward speed (rad): 25 % of the stride, just
+    /// before the highest point (and again half a stride later).
+    pub fn slow_phase(&self) -> f64 {
+        0.25 * TAU
+    }
+    /// Vertical excursion of the hip joint centre, peak to peak (m):
+    /// `(0.008 + 0.020 v) H / 1.75`, 1.6 cm at 0.4 m/s, 2.8 cm at 1.0 m/s,
+    /// 4.0 cm at 1.6 m/s. The centre of mass rises by roughly 2.5-5 cm over
+    /// 0.7-1.6 m/s, increasing with speed (M. S. Orendurff et al., "The effect
+    /// of walking speed on center of mass displacement", J. Rehabil. Res.
+    /// Dev. 41:829-834, 2004); we take the lower side of that band because
+    /// larger excursions drive the stance knee and ankle of the normative
+    /// curves outside their normal ranges (`docs/SIMULATOR.md`).
+    pub fn vertical_excursion(&self) -> f64 {
+        (0.008 + 0.020 * self.speed) * self.height / 1.75
+    }
+    /// Phase of the highest point (rad): 30 % of the stride, mid-stance, and
+    /// again at 80 % (Orendurff et al. 2004: maxima near 30 % and 80 %).
+    pub fn top_phase(&self) -> f64 {
+        0.30 * TAU
     }
     /// Trunk pitch curve (rad, SPEC sign: positive = leaning back).
     pub fn trunk(&self) -> Fourier {

@@ -1,20 +1,24 @@
-//! The complete kinematic gait model at one speed: segment-angle curves,
-//! out-of-plane angles and the hip path, calibrated so that
-//! stride length x stride frequency equals the requested speed.
+//! The complete kinematic gait model at one speed: a prescribed hip path,
+//! segment-angle curves whose stance part is made consistent with it by
+//! inverse kinematics ([`crate::stance`]), out-of-plane angles, and their
+//! dependence on the amplitude of the variability model.
 
 use core::f64::consts::TAU;
 
 use crate::anthropometry::Body;
 use crate::chain::{leg, Angles, LegKin, PointKin};
 use crate::fourier::{grid, Fourier, Harmonics, D2};
-use crate::gait_curves::{foot_flat_window, scale_about_mean, BaseCurves, SpeedLaw, GRID};
-use crate::hip_path::{modulate, to_time, Curves, HipPath, PathFit};
+use crate::gait_curves::{BaseCurves, SpeedLaw, GRID};
+use crate::hip_path::{along, lateral_fit, quadratic, to_time, Curves, HipPath, AMP_STEP};
+use crate::stance::{
+    Normative, PathShape, Placement, Stance, StanceFigures, SEARCH_GRID, SEGMENT_ORDER,
+};
 use crate::variability::Modulation;
 
-/// Harmonics of the foot-flat-corrected ankle curve.
-const ANKLE_ORDER: usize = 16;
 /// Harmonics of the out-of-plane curves.
 const OOP_ORDER: usize = 8;
+/// Largest stretch of the stance leg accepted (m) before calibration fails.
+const MAX_OVERREACH: f64 = 1e-3;
 
 /// Why the model could not be calibrated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,14 +34,23 @@ pub struct CalibrationFailed {
 pub struct GaitModel {
     /// Geometry.
     pub body: Body,
-    /// Speed law (cadence, gains).
+    /// Speed law (cadence, gains, path).
     pub law: SpeedLaw,
-    /// Hip excursion gain found by calibration.
+    /// Hip excursion gain of the normative curves at amplitude 1.
     pub hip_gain: f64,
-    /// Segment-angle curves of the right leg.
+    /// Segment-angle curves of the right leg at amplitude 1.
     pub curves: Curves,
+    /// `[q0, q1, q2]` of each sagittal angle (trunk, thigh, shank, foot) in
+    /// `a = A - 1` (fits at `A = 1 - d, 1, 1 + d`, [`AMP_STEP`]).
+    pub theta: [[Fourier; 3]; 4],
     /// Hip path.
     pub hip: HipPath,
+    /// Stance placement at amplitude 1 (hip height, heel-strike point).
+    pub placement: Placement,
+    /// Offsets of that placement from its rule (m): hip height, heel strike.
+    pub placement_offset: (f64, f64),
+    /// Figures of the stance fit at amplitude 1 (before the Fourier fit).
+    pub stance: StanceFigures,
     /// Highest harmonic of any series (harmonic tables stop there).
     pub order: usize,
 }
@@ -85,31 +98,41 @@ fn out_of_plane() -> ([Fourier; 4], [Fourier; 4]) {
     (alpha, beta)
 }
 
-/// Sagittal segment curves for a given hip gain (the ankle corrected so that
-/// the foot is flat, theta_foot = 0, in the flat-foot part of stance).
-fn sagittal(base: &BaseCurves, law: &SpeedLaw, hip_gain: f64) -> [Fourier; 4] {
-    let trunk = law.trunk();
-    let hip = scale_about_mean(&base.hip, hip_gain);
-    let knee = scale_about_mean(&base.knee, law.knee_gain());
-    let ankle = scale_about_mean(&base.ankle, law.ankle_gain());
-    // theta_thigh = theta_trunk + hip_flex, theta_shank = theta_thigh - knee_flex,
-    // theta_foot = theta_shank + ankle_dorsi (SPEC section 1 with clinical signs).
-    let thigh = Fourier::combine(&[(1.0, &trunk), (1.0, &hip)]);
-    let shank = Fourier::combine(&[(1.0, &thigh), (-1.0, &knee)]);
-    let ankle_c = sampled(
-        |p| {
-            let a = ankle.value(p);
-            a - foot_flat_window(p) * (shank.value(p) + a)
-        },
-        ANKLE_ORDER,
-    );
-    let foot = Fourier::combine(&[(1.0, &shank), (1.0, &ankle_c)]);
-    [trunk, thigh, shank, foot]
+/// Fit weight of the single-support samples relative to the others: the
+/// stance foot must stay still there, the truncation error goes to swing.
+const SINGLE_SUPPORT_WEIGHT: f64 = 100.0;
+
+fn sampled_fit(y: &[f64]) -> Fourier {
+    let w: Vec<f64> = grid(y.len())
+        .map(|p| {
+            let s = p / TAU;
+            if (FIT_STANCE.0..=FIT_STANCE.1).contains(&s) {
+                SINGLE_SUPPORT_WEIGHT
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    Fourier::fit_weighted(y, &w, SEGMENT_ORDER)
+}
+
+/// Stride fractions fitted with [`SINGLE_SUPPORT_WEIGHT`].
+const FIT_STANCE: (f64, f64) = (0.08, 0.52);
+
+/// One amplitude of the model.
+struct AtAmplitude {
+    theta: [Fourier; 4],
+    height: f64,
+    pz: Fourier,
+    hip_gain: f64,
+    placement: Placement,
+    figures: StanceFigures,
 }
 
 impl GaitModel {
-    /// Builds and calibrates the gait for `law`. The hip gain is found by the
-    /// secant method on `stride_length(gain) - law.stride_length()`.
+    /// Builds and calibrates the gait for `law`: at amplitude 1 the placement
+    /// of the stance leg is searched ([`Stance::fit`]), at the amplitudes
+    /// `1 -+ d` it is followed from there ([`Stance::fit_from`]).
     pub fn new(law: SpeedLaw, out_of_plane_on: bool) -> Result<Self, CalibrationFailed> {
         let body = Body::from_height(law.height);
         let base = BaseCurves::fit();
@@ -118,85 +141,116 @@ impl GaitModel {
         } else {
             ([Fourier::default(); 4], [Fourier::default(); 4])
         };
+        let path1 = PathShape::new(&law);
         let wanted = law.stride_length();
-        let build = |g: f64| {
-            let curves = Curves {
-                theta: sagittal(&base, &law, g),
-                alpha,
-                beta,
-            };
-            let hip = PathFit::fit(&body, &curves, GRID);
-            (curves, hip)
-        };
-        let done = |curves: Curves, g: f64| {
-            let hip = HipPath::fit(&body, &curves, GRID);
-            let series = curves.theta.iter().chain(&curves.alpha).chain(&curves.beta);
-            let order = series
-                .chain(hip.px.iter())
-                .chain(hip.y.iter())
-                .chain(hip.pz.iter())
-                .map(|f| f.order)
-                .max()
-                .unwrap_or(0);
-            GaitModel {
-                body,
-                law,
-                hip_gain: g,
-                curves,
-                hip,
-                order,
-            }
-        };
-        let (mut g0, mut g1) = (0.8, 1.0);
-        let mut l0 = build(g0).1.stride_length;
-        let (mut curves, mut hip) = build(g1);
-        for _ in 0..30 {
-            let l1 = hip.stride_length;
-            if (l1 - wanted).abs() < 1e-9 * wanted {
-                return Ok(done(curves, g1));
-            }
-            let slope = (l1 - l0) / (g1 - g0);
-            if !(slope.is_finite() && slope > 0.0) {
-                break;
-            }
-            let g2 = (g1 + (wanted - l1) / slope).clamp(0.1, 3.0);
-            (g0, l0, g1) = (g1, l1, g2);
-            (curves, hip) = build(g1);
-        }
-        if (hip.stride_length - wanted).abs() < 1e-6 * wanted {
-            return Ok(done(curves, g1));
-        }
-        Err(CalibrationFailed {
-            reached: hip.stride_length,
+        let fail = CalibrationFailed {
+            reached: f64::NAN,
             wanted,
+        };
+        let normative = |amp: f64| {
+            let path = path1.scaled(amp);
+            Normative::reach_gain(&body, &base, &law, amp, &path)
+                .map(|g| (Normative::new(&base, &law, amp, g), path))
+                .ok_or(fail)
+        };
+        let (n1, p1) = normative(1.0)?;
+        let offset = Stance::new(&body, &n1, &p1, SEARCH_GRID).fit();
+        let at = |amp: f64| -> Result<AtAmplitude, CalibrationFailed> {
+            let (nrm, path, off) = if amp == 1.0 {
+                (n1, p1, offset)
+            } else {
+                let (nrm, path) = normative(amp)?;
+                let off = Stance::new(&body, &nrm, &path, SEARCH_GRID).fit_from(offset);
+                (nrm, path, off)
+            };
+            let st = Stance::new(&body, &nrm, &path, GRID);
+            let pl = st.offset(off);
+            let sol = st.solve(pl);
+            if sol.overreach.is_nan() || sol.overreach >= MAX_OVERREACH {
+                return Err(fail);
+            }
+            let figures = st.figures(pl, &sol);
+            let theta = [
+                nrm.theta[0],
+                sampled_fit(&sol.theta[1]),
+                sampled_fit(&sol.theta[2]),
+                sampled_fit(&sol.theta[3]),
+            ];
+            let pz = if out_of_plane_on {
+                lateral_fit(&body, &Curves { theta, alpha, beta }, GRID)
+            } else {
+                Fourier::default()
+            };
+            Ok(AtAmplitude {
+                theta,
+                height: pl.hip_height,
+                pz,
+                hip_gain: nrm.hip_gain,
+                placement: pl,
+                figures,
+            })
+        };
+        let (m, z, p) = (at(1.0 - AMP_STEP)?, at(1.0)?, at(1.0 + AMP_STEP)?);
+        let theta: [[Fourier; 3]; 4] =
+            core::array::from_fn(|i| quadratic(&m.theta[i], &z.theta[i], &p.theta[i]));
+        let d = AMP_STEP;
+        let hip = HipPath {
+            stride_length: p1.stride_length,
+            fluctuation: p1.fluctuation,
+            slow_phase: p1.slow_phase,
+            excursion: p1.excursion,
+            top_phase: p1.top_phase,
+            height: [
+                z.height,
+                (p.height - m.height) / (2.0 * d),
+                (p.height - 2.0 * z.height + m.height) / (2.0 * d * d),
+            ],
+            pz: quadratic(&m.pz, &z.pz, &p.pz),
+        };
+        let curves = Curves {
+            theta: z.theta,
+            alpha,
+            beta,
+        };
+        let order = theta
+            .iter()
+            .flatten()
+            .chain(&alpha)
+            .chain(&beta)
+            .chain(hip.pz.iter())
+            .map(|f| f.order)
+            .max()
+            .unwrap_or(0)
+            .max(2);
+        Ok(GaitModel {
+            body,
+            law,
+            hip_gain: z.hip_gain,
+            curves,
+            theta,
+            hip,
+            placement: z.placement,
+            placement_offset: offset,
+            stance: z.figures,
+            order,
         })
     }
 
     /// Right-leg segment angles with time derivatives, at clock reading
-    /// `phase` (phi, phi', phi'') under amplitude modulation `m`.
+    /// `phase` (phi, phi', phi'') under amplitude modulation `amp`.
     pub fn angles(&self, h: &Harmonics, phase: D2, amp: D2) -> [Angles; 4] {
-        let mut a = self.curves.angles(h, false);
-        for (i, s) in a.iter_mut().enumerate() {
-            let c0 = self.curves.theta[i].c0;
-            let mut dev = s.theta;
-            dev.v -= c0;
-            let mut th = modulate(dev, amp);
-            th.v += c0;
-            s.theta = to_time(th, phase);
-            s.alpha = to_time(s.alpha, phase);
-            s.beta = to_time(s.beta, phase);
-        }
-        a
+        core::array::from_fn(|i| Angles {
+            theta: to_time(along(&self.theta[i], h, amp), phase),
+            alpha: to_time(self.curves.alpha[i].eval(h), phase),
+            beta: to_time(self.curves.beta[i].eval(h), phase),
+        })
     }
 
     /// Sagittal segment angles only (rad), for the encoder path.
     pub fn sagittal_angles(&self, phi: f64, amp: f64) -> [f64; 4] {
         let h = Harmonics::up_to(phi, self.order);
-        let mut out = [0.0; 4];
-        for (o, f) in out.iter_mut().zip(&self.curves.theta) {
-            *o = f.c0 + amp * (f.eval(&h).v - f.c0);
-        }
-        out
+        let a = D2::constant(amp);
+        core::array::from_fn(|i| along(&self.theta[i], &h, a).v)
     }
 
     /// Full chain kinematics at clock reading `phase` under modulation `m`,
@@ -205,7 +259,7 @@ impl GaitModel {
         let h = Harmonics::up_to(phase.v, self.order);
         let amp = m.amp(phase.v);
         let seg = self.angles(&h, phase, amp);
-        let [x, y, z] = self.hip.eval(&h, phase.v, amp, m.integral(phase.v));
+        let [x, y, z] = self.hip.eval(&h, amp, m.integral(phase.v));
         let (x, y, z) = (to_time(x, phase), to_time(y, phase), to_time(z, phase));
         let hip = PointKin {
             p: [x.v, y.v, z.v].into(),

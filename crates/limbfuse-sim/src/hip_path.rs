@@ -1,30 +1,23 @@
-//! The hip path that keeps the stance foot on the ground and still.
+//! The path of the right hip joint centre.
 //!
-//! Both legs are built from the same curves (the left half a stride later,
-//! out-of-plane angles mirrored, its hip joint `hip_width` to the left of the
-//! right one in the trunk frame). Over one stride, on a grid of phases, with
-//! the right hip joint centre as origin, the four contact points (heel and
-//! metatarsal head of each foot) are weighted: the body weight passes from
-//! the trailing to the leading foot with a smooth ramp over each double
-//! support ([`right_leg_load`]), and within a foot it is split between heel
-//! and metatarsal head by a soft minimum of their heights (logistic in the
-//! height difference, scale `T` = [`SOFTMIN_M`]), so the lower point carries
-//! it and heel-to-forefoot roll-over is smooth. (A height-only soft minimum
-//! across both feet hands over within milliseconds at heel strike, because
-//! normative curves are not exactly consistent with two still feet, and gives
-//! hip accelerations of several g; spreading the hand-over over the double
-//! support spreads that inconsistency as a few centimetres of foot slip
-//! during double support instead.) Then
-//! * hip height `= -sum w_i y_i` (the weighted contact point is on the floor),
-//! * hip horizontal and lateral rates `= -sum w_i dr_i/dphi` (the weighted
-//!   contact point does not slide),
+//! Forward and vertical motion are prescribed
+//! ([`crate::stance::PathShape`]: forward speed `v (1 - eps cos 2 (phi -
+//! phi_slow))`, height `h0 + e/2 cos 2 (phi - phi_top)`), analytic in the
+//! phase and in the amplitude `A` of the variability model (stride length and
+//! excursion scale with `A`, `h0` is interpolated quadratically between the
+//! fits at `A = 1 - d, 1, 1 + d`). The stance leg is made consistent with it
+//! by inverse kinematics ([`crate::stance`]).
 //!
-//! and the three are fitted with truncated Fourier series in the phase: the
-//! forward rate's mean times `2 pi` is the stride length `L`, its zero-mean
-//! part is integrated analytically, so `x(phi) = L phi / 2 pi + p_x(phi)`,
-//! `y = y(phi)`, `z = p_z(phi)`, each with analytic phase derivatives. Under
-//! amplitude modulation the path is interpolated between fits at three
-//! amplitudes ([`HipPath`]).
+//! The lateral motion is derived, as before, from the feet: both legs are
+//! built from the same curves (the left half a stride later, out-of-plane
+//! angles mirrored, its hip joint `hip_width` to the left of the right one in
+//! the trunk frame); the body weight passes from the trailing to the leading
+//! foot with a smooth ramp over each double support ([`right_leg_load`]) and
+//! within a foot is split between heel and metatarsal head by a soft minimum
+//! of their heights ([`SOFTMIN_M`]); the hip's lateral rate is minus the
+//! weighted lateral contact velocity (the loaded foot does not slide
+//! sideways), fitted with a truncated Fourier series and integrated
+//! analytically. Without out-of-plane motion it is zero.
 
 use core::f64::consts::TAU;
 
@@ -40,52 +33,30 @@ pub const SOFTMIN_M: f64 = 0.003;
 pub const HIP_ORDER: usize = 16;
 
 /// Amplitude step of the three fits the hip path interpolates between.
-pub const AMP_STEP: f64 = 0.1;
+pub const AMP_STEP: f64 = 0.05;
 
-/// The hip path of one stride at a fixed amplitude.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathFit {
-    /// Stride length (m).
-    pub stride_length: f64,
-    /// Periodic part of the forward position (m).
-    pub px: Fourier,
-    /// Height of the right hip joint centre above the floor (m).
-    pub y: Fourier,
-    /// Lateral position (m).
-    pub pz: Fourier,
-}
-
-/// The hip path as a function of phase and amplitude `A`: fits at
-/// `A = 1 - d, 1, 1 + d` ([`AMP_STEP`]) combined as `q0 + a q1 + a^2 q2`
-/// (`a = A - 1`), so that at any fixed amplitude the stance foot stays still
-/// to third order in `a`; the forward position is
-/// `x = L0/(2 pi) phi + L1/(2 pi) int (A - 1) dphi + p_x(phi, A)`.
+/// The hip path as a function of phase and amplitude `A` (`a = A - 1`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HipPath {
     /// Stride length at `A = 1` (m).
     pub stride_length: f64,
-    /// `dL/dA` (m).
-    pub stride_length_slope: f64,
-    /// `[q0, q1, q2]` of the periodic forward part.
-    pub px: [Fourier; 3],
-    /// `[q0, q1, q2]` of the height.
-    pub y: [Fourier; 3],
-    /// `[q0, q1, q2]` of the lateral position.
+    /// Relative forward-speed fluctuation `eps`.
+    pub fluctuation: f64,
+    /// Phase of the slowest forward speed (rad).
+    pub slow_phase: f64,
+    /// Vertical excursion at `A = 1`, peak to peak (m).
+    pub excursion: f64,
+    /// Phase of the highest point (rad).
+    pub top_phase: f64,
+    /// Mean hip height `h0 = q0 + a q1 + a^2 q2` (m).
+    pub height: [f64; 3],
+    /// `[q0, q1, q2]` of the lateral position (m).
     pub pz: [Fourier; 3],
 }
 
-/// Scales the sagittal excursions about their means by `amp`.
-pub fn scaled(curves: &Curves, amp: f64) -> Curves {
-    let mut c = *curves;
-    for f in c.theta.iter_mut() {
-        let c0 = f.c0;
-        *f = Fourier::combine(&[(amp, f)]);
-        f.c0 = c0;
-    }
-    c
-}
-
-fn quadratic(m: &Fourier, z: &Fourier, p: &Fourier) -> [Fourier; 3] {
+/// `[q0, q1, q2]` with `q(A) = q0 + a q1 + a^2 q2` through the series at
+/// `A = 1 - d, 1, 1 + d` ([`AMP_STEP`]).
+pub fn quadratic(m: &Fourier, z: &Fourier, p: &Fourier) -> [Fourier; 3] {
     let d = AMP_STEP;
     [
         *z,
@@ -95,7 +66,7 @@ fn quadratic(m: &Fourier, z: &Fourier, p: &Fourier) -> [Fourier; 3] {
 }
 
 /// `q(phi, A) = q0 + a q1 + a^2 q2` with total phase derivatives along `A(phi)`.
-fn along(q: &[Fourier; 3], h: &Harmonics, amp: D2) -> D2 {
+pub fn along(q: &[Fourier; 3], h: &Harmonics, amp: D2) -> D2 {
     let a = amp.v - 1.0;
     let (q0, q1, q2) = (q[0].eval(h), q[1].eval(h), q[2].eval(h));
     let qa = D2 {
@@ -201,63 +172,50 @@ pub fn contact_weights(c: &[PointKin; 4], phi: f64) -> [f64; 4] {
     [load * rh, load * rm, (1.0 - load) * lh, (1.0 - load) * lm]
 }
 
-impl PathFit {
-    /// Computes and fits the hip path for the given curves.
-    pub fn fit(body: &Body, curves: &Curves, n: usize) -> Self {
-        let mut hy = Vec::with_capacity(n);
-        let mut dx = Vec::with_capacity(n);
-        let mut dz = Vec::with_capacity(n);
-        for phi in grid(n) {
-            let c = contact_points(body, curves, phi);
-            let w = contact_weights(&c, phi);
-            let (mut y, mut vx, mut vz) = (0.0, 0.0, 0.0);
-            for (wi, p) in w.iter().zip(&c) {
-                y += wi * p.p.y;
-                vx += wi * p.v.x;
-                vz += wi * p.v.z;
-            }
-            hy.push(-y);
-            dx.push(-vx);
-            dz.push(-vz);
-        }
-        let fx = Fourier::fit(&dx, HIP_ORDER);
-        let fz = Fourier::fit(&dz, HIP_ORDER);
-        PathFit {
-            stride_length: TAU * fx.c0,
-            px: fx.integral(),
-            y: Fourier::fit(&hy, HIP_ORDER),
-            pz: fz.integral(),
-        }
+/// Lateral position of the right hip (m, zero-mean series) for the given
+/// curves: minus the load-weighted lateral contact velocity, integrated.
+pub fn lateral_fit(body: &Body, curves: &Curves, n: usize) -> Fourier {
+    let mut dz = Vec::with_capacity(n);
+    for phi in grid(n) {
+        let c = contact_points(body, curves, phi);
+        let w = contact_weights(&c, phi);
+        dz.push(-w.iter().zip(&c).map(|(wi, p)| wi * p.v.z).sum::<f64>());
     }
+    Fourier::fit(&dz, HIP_ORDER).integral()
 }
 
 impl HipPath {
-    /// Fits the path at the three amplitudes.
-    pub fn fit(body: &Body, curves: &Curves, n: usize) -> Self {
-        let m = PathFit::fit(body, &scaled(curves, 1.0 - AMP_STEP), n);
-        let z = PathFit::fit(body, curves, n);
-        let p = PathFit::fit(body, &scaled(curves, 1.0 + AMP_STEP), n);
-        HipPath {
-            stride_length: z.stride_length,
-            stride_length_slope: (p.stride_length - m.stride_length) / (2.0 * AMP_STEP),
-            px: quadratic(&m.px, &z.px, &p.px),
-            y: quadratic(&m.y, &z.y, &p.y),
-            pz: quadratic(&m.pz, &z.pz, &p.pz),
-        }
-    }
-
     /// Hip position (x, y, z) and its phase derivatives, under amplitude
     /// modulation `amp` (`A`, `dA/dphi`, `d2A/dphi2`) whose integral from
-    /// phase 0 is `amp_integral`.
-    pub fn eval(&self, h: &Harmonics, phi: f64, amp: D2, amp_integral: f64) -> [D2; 3] {
-        let (k0, k1) = (self.stride_length / TAU, self.stride_length_slope / TAU);
-        let px = along(&self.px, h, amp);
-        let x = D2 {
-            v: k0 * phi + k1 * (amp_integral - phi) + px.v,
-            d1: k0 + k1 * (amp.v - 1.0) + px.d1,
-            d2: k1 * amp.d1 + px.d2,
+    /// phase 0 is `amp_integral`; `h` is the harmonic table of the phase
+    /// (filled to at least the second harmonic).
+    pub fn eval(&self, h: &Harmonics, amp: D2, amp_integral: f64) -> [D2; 3] {
+        let l = self.stride_length;
+        // sin/cos of 2 (phi - phase) from the table: angle subtraction.
+        let twice = |p: f64| {
+            let (sp, cp) = (2.0 * p).sin_cos();
+            (h.sin(2) * cp - h.cos(2) * sp, h.cos(2) * cp + h.sin(2) * sp)
         };
-        [x, along(&self.y, h, amp), along(&self.pz, h, amp)]
+        let (s2, c2) = twice(self.slow_phase);
+        let k = l * self.fluctuation / (2.0 * TAU);
+        let x = D2 {
+            v: l / TAU * amp_integral - k * amp.v * s2,
+            d1: l / TAU * amp.v - k * (amp.d1 * s2 + 2.0 * amp.v * c2),
+            d2: l / TAU * amp.d1 - k * (amp.d2 * s2 + 4.0 * amp.d1 * c2 - 4.0 * amp.v * s2),
+        };
+        let (sy, cy) = twice(self.top_phase);
+        let e = 0.5 * self.excursion;
+        let a = amp.v - 1.0;
+        let q = &self.height;
+        let ha = q[1] + 2.0 * a * q[2];
+        let y = D2 {
+            v: q[0] + a * q[1] + a * a * q[2] + e * amp.v * cy,
+            d1: ha * amp.d1 + e * (amp.d1 * cy - 2.0 * amp.v * sy),
+            d2: ha * amp.d2
+                + 2.0 * q[2] * amp.d1 * amp.d1
+                + e * (amp.d2 * cy - 4.0 * amp.d1 * sy - 4.0 * amp.v * cy),
+        };
+        [x, y, along(&self.pz, h, amp)]
     }
 }
 

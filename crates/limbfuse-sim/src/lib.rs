@@ -19,6 +19,7 @@ pub mod gait_curves;
 pub mod gait_model;
 pub mod hip_path;
 pub mod imu_model;
+pub mod stance;
 pub mod variability;
 pub mod walking;
 

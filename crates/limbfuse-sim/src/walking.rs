@@ -271,6 +271,12 @@ impl WalkingSimulator {
         put("stride_length_m", format!("{:.6}", m.hip.stride_length));
         put("height_m", c.height_m.to_string());
         put("hip_gain", format!("{:.6}", m.hip_gain));
+        put("hip_height_m", format!("{:.6}", m.placement.hip_height));
+        put(
+            "hip_vertical_excursion_m",
+            format!("{:.6}", m.hip.excursion),
+        );
+        put("hip_speed_fluctuation", format!("{:.4}", m.hip.fluctuation));
         put("knee_gain", format!("{:.6}", m.law.knee_gain()));
         put("ankle_gain", format!("{:.6}", m.law.ankle_gain()));
         put("out_of_plane", c.out_of_plane.to_string());
