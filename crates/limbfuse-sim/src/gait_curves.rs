@@ -234,6 +234,28 @@ impl SpeedLaw {
     pub fn vertical_excursion(&self) -> f64 {
         (0.008 + 0.020 * self.speed) * self.height / 1.75
     }
+    /// Sharpness of the vertical path's trough (0.2): the height is
+    /// `h0 + e/2 (cos 2 psi - 0.2 cos 4 psi)`, so the vertical acceleration
+    /// is larger and briefer in double support (upward, the two legs
+    /// redirecting the body) than in single support (downward, the body
+    /// vaulting over the stance leg), as in the vertical ground reaction
+    /// force of walking (peaks of about 1.1-1.2 body weights around the
+    /// double supports, a trough of about 0.7-0.8 in mid-stance: D. A.
+    /// Winter, *Biomechanics and Motor Control of Human Movement*, 4th ed.,
+    /// Wiley 2009; J. Perry & J. M. Burnfield 2010, ch. 19).
+    pub fn vertical_sharpness(&self) -> f64 {
+        0.2
+    }
+    /// Lateral excursion of the hip joint centre, peak to peak (m):
+    /// `(0.085 - 0.028 v) H / 1.75`, 7.4 cm at 0.4 m/s, 5.7 cm at 1.0 m/s,
+    /// 4.0 cm at 1.6 m/s. The centre of mass sways a few centimetres
+    /// sideways, less at higher speed (about 7 cm at 0.7 m/s to about 4 cm
+    /// at 1.6 m/s in Orendurff et al. 2004, as we read it; approximate). Used
+    /// to scale the stance-leg ab/adduction, from which the lateral path is
+    /// derived ([`crate::hip_path`]).
+    pub fn lateral_excursion(&self) -> f64 {
+        (0.085 - 0.028 * self.speed) * self.height / 1.75
+    }
     /// Phase of the highest point (rad): 30 % of the stride, mid-stance, and
     /// again at 80 % (Orendurff et al. 2004: maxima near 30 % and 80 %).
     pub fn top_phase(&self) -> f64 {

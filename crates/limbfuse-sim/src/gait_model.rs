@@ -80,7 +80,9 @@ fn sampled(f: impl Fn(f64) -> f64, order: usize) -> Fourier {
 /// Perry & Burnfield (2010) ch. 4-8: pelvic obliquity 3 and rotation 4, hip
 /// ab/adduction 4 (adduction peak at ~17 % of the stride), thigh rotation 4,
 /// shank 2 and 5, foot inversion 4 and toe-out 3 in swing only (the stance
-/// foot is planted).
+/// foot is planted). The thigh and shank ab/adduction are then scaled so that
+/// the lateral hip excursion they produce matches
+/// [`SpeedLaw::lateral_excursion`] (see [`GaitModel::new`]).
 fn out_of_plane() -> ([Fourier; 4], [Fourier; 4]) {
     let d = |x: f64| x.to_radians();
     let alpha = [
@@ -142,6 +144,7 @@ impl GaitModel {
             ([Fourier::default(); 4], [Fourier::default(); 4])
         };
         let path1 = PathShape::new(&law);
+        let mut alpha = alpha;
         let wanted = law.stride_length();
         let fail = CalibrationFailed {
             reached: f64::NAN,
@@ -155,6 +158,30 @@ impl GaitModel {
         };
         let (n1, p1) = normative(1.0)?;
         let offset = Stance::new(&body, &n1, &p1, SEARCH_GRID).fit();
+        if out_of_plane_on {
+            // Scale the stance-leg ab/adduction (thigh, shank) so that the
+            // lateral hip excursion matches the speed law; the lateral path is
+            // linear in these small angles to first order.
+            let st = Stance::new(&body, &n1, &p1, GRID);
+            let sol = st.solve(st.offset(offset));
+            let theta = [
+                n1.theta[0],
+                sampled_fit(&sol.theta[1]),
+                sampled_fit(&sol.theta[2]),
+                sampled_fit(&sol.theta[3]),
+            ];
+            let z = lateral_fit(&body, &Curves { theta, alpha, beta }, GRID);
+            let (lo, hi) = grid(GRID)
+                .map(|p| z.value(p))
+                .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+            if hi > lo {
+                let k = law.lateral_excursion() / (hi - lo);
+                for f in &mut alpha[1..3] {
+                    *f = Fourier::combine(&[(k, f)]);
+                }
+            }
+        }
+        let alpha = alpha;
         let at = |amp: f64| -> Result<AtAmplitude, CalibrationFailed> {
             let (nrm, path, off) = if amp == 1.0 {
                 (n1, p1, offset)
@@ -200,6 +227,7 @@ impl GaitModel {
             slow_phase: p1.slow_phase,
             excursion: p1.excursion,
             top_phase: p1.top_phase,
+            sharpness: p1.sharpness,
             height: [
                 z.height,
                 (p.height - m.height) / (2.0 * d),
@@ -221,7 +249,7 @@ impl GaitModel {
             .map(|f| f.order)
             .max()
             .unwrap_or(0)
-            .max(2);
+            .max(4);
         Ok(GaitModel {
             body,
             law,

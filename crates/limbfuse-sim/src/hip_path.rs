@@ -2,7 +2,8 @@
 //!
 //! Forward and vertical motion are prescribed
 //! ([`crate::stance::PathShape`]: forward speed `v (1 - eps cos 2 (phi -
-//! phi_slow))`, height `h0 + e/2 cos 2 (phi - phi_top)`), analytic in the
+//! phi_slow))`, height `h0 + e/2 (cos 2 psi - b cos 4 psi)`, `psi = phi -
+//! phi_top`), analytic in the
 //! phase and in the amplitude `A` of the variability model (stride length and
 //! excursion scale with `A`, `h0` is interpolated quadratically between the
 //! fits at `A = 1 - d, 1, 1 + d`). The stance leg is made consistent with it
@@ -48,6 +49,8 @@ pub struct HipPath {
     pub excursion: f64,
     /// Phase of the highest point (rad).
     pub top_phase: f64,
+    /// Sharpness `b` of the vertical trough (see [`crate::stance::PathShape`]).
+    pub sharpness: f64,
     /// Mean hip height `h0 = q0 + a q1 + a^2 q2` (m).
     pub height: [f64; 3],
     /// `[q0, q1, q2]` of the lateral position (m).
@@ -188,32 +191,40 @@ impl HipPath {
     /// Hip position (x, y, z) and its phase derivatives, under amplitude
     /// modulation `amp` (`A`, `dA/dphi`, `d2A/dphi2`) whose integral from
     /// phase 0 is `amp_integral`; `h` is the harmonic table of the phase
-    /// (filled to at least the second harmonic).
+    /// (filled to at least the fourth harmonic).
     pub fn eval(&self, h: &Harmonics, amp: D2, amp_integral: f64) -> [D2; 3] {
         let l = self.stride_length;
         // sin/cos of 2 (phi - phase) from the table: angle subtraction.
-        let twice = |p: f64| {
-            let (sp, cp) = (2.0 * p).sin_cos();
-            (h.sin(2) * cp - h.cos(2) * sp, h.cos(2) * cp + h.sin(2) * sp)
+        // sin/cos of k (phi - p) from the table (angle subtraction).
+        let shifted = |k: usize, p: f64| {
+            let (sp, cp) = (k as f64 * p).sin_cos();
+            (h.sin(k) * cp - h.cos(k) * sp, h.cos(k) * cp + h.sin(k) * sp)
         };
-        let (s2, c2) = twice(self.slow_phase);
+        let (s2, c2) = shifted(2, self.slow_phase);
         let k = l * self.fluctuation / (2.0 * TAU);
         let x = D2 {
             v: l / TAU * amp_integral - k * amp.v * s2,
             d1: l / TAU * amp.v - k * (amp.d1 * s2 + 2.0 * amp.v * c2),
             d2: l / TAU * amp.d1 - k * (amp.d2 * s2 + 4.0 * amp.d1 * c2 - 4.0 * amp.v * s2),
         };
-        let (sy, cy) = twice(self.top_phase);
+        // g = cos 2 psi - b cos 4 psi, psi = phi - phi_top.
+        let ((s2, c2), (s4, c4)) = (shifted(2, self.top_phase), shifted(4, self.top_phase));
+        let b = self.sharpness;
+        let g = D2 {
+            v: c2 - b * c4,
+            d1: -2.0 * s2 + 4.0 * b * s4,
+            d2: -4.0 * c2 + 16.0 * b * c4,
+        };
         let e = 0.5 * self.excursion;
         let a = amp.v - 1.0;
         let q = &self.height;
         let ha = q[1] + 2.0 * a * q[2];
         let y = D2 {
-            v: q[0] + a * q[1] + a * a * q[2] + e * amp.v * cy,
-            d1: ha * amp.d1 + e * (amp.d1 * cy - 2.0 * amp.v * sy),
+            v: q[0] + a * q[1] + a * a * q[2] + e * amp.v * g.v,
+            d1: ha * amp.d1 + e * (amp.d1 * g.v + amp.v * g.d1),
             d2: ha * amp.d2
                 + 2.0 * q[2] * amp.d1 * amp.d1
-                + e * (amp.d2 * cy - 4.0 * amp.d1 * sy - 4.0 * amp.v * cy),
+                + e * (amp.d2 * g.v + 2.0 * amp.d1 * g.d1 + amp.v * g.d2),
         };
         [x, y, along(&self.pz, h, amp)]
     }

@@ -84,7 +84,10 @@ pub fn stance_weight(s: f64) -> f64 {
 /// The prescribed path of the right hip joint centre, per stride, at a fixed
 /// amplitude (see `docs/SIMULATOR.md` for the sources of the defaults):
 /// `x = L phi / 2 pi - L eps / (4 pi) sin 2 (phi - phi_slow)` (forward speed
-/// `v (1 - eps cos 2 (phi - phi_slow))`), `y = h0 + e/2 cos 2 (phi - phi_top)`.
+/// `v (1 - eps cos 2 (phi - phi_slow))`), `y = h0 + e/2 (cos 2 psi - b cos 4
+/// psi)`, `psi = phi - phi_top`: highest at `phi_top` (mid-stance), lowest a
+/// quarter stride later (double support), peak to peak `e` for `b <= 1/4`;
+/// `b > 0` flattens the top and sharpens the trough.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathShape {
     /// Stride length `L` (m).
@@ -97,6 +100,8 @@ pub struct PathShape {
     pub excursion: f64,
     /// Phase of the highest point (rad; again half a stride later).
     pub top_phase: f64,
+    /// Sharpness `b` of the trough (0: a pure sinusoid; at most 1/4).
+    pub sharpness: f64,
 }
 
 impl PathShape {
@@ -108,6 +113,7 @@ impl PathShape {
             slow_phase: law.slow_phase(),
             excursion: law.vertical_excursion(),
             top_phase: law.top_phase(),
+            sharpness: law.vertical_sharpness(),
         }
     }
 
@@ -128,7 +134,8 @@ impl PathShape {
 
     /// Height above the mean `h0` (m) at phase `phi` (rad).
     pub fn y_offset(&self, phi: f64) -> f64 {
-        0.5 * self.excursion * (2.0 * (phi - self.top_phase)).cos()
+        let psi = phi - self.top_phase;
+        0.5 * self.excursion * ((2.0 * psi).cos() - self.sharpness * (4.0 * psi).cos())
     }
 }
 

@@ -279,31 +279,156 @@ fn stride_time_variability_is_physiological() {
     assert!((0.01..=0.035).contains(&(sd / mean)));
 }
 
-/// Reports the dynamic accelerations (what makes accelerometers unreliable)
-/// and the forward hip-speed range at 1.0 m/s; checks that they are there.
-#[test]
-fn dynamic_accelerations_come_from_the_motion() {
-    let sim = WalkingSimulator::new(ideal(1.0)).unwrap();
+/// RMS and peak of |dynamic acceleration| of the four IMU points and the hip
+/// path figures over one stride (variability off).
+struct StrideFigures {
+    rms: [f64; 4],
+    peak: [f64; 4],
+    hip_speed: (f64, f64),
+    hip_height: (f64, f64),
+    hip_lateral: (f64, f64),
+}
+
+fn stride_figures(cfg: WalkingConfig) -> StrideFigures {
+    let sim = WalkingSimulator::new(cfg).unwrap();
     let period = 1.0 / sim.stride_frequency();
-    let mut peak = [0.0f64; 4];
-    let mut rms = [0.0f64; 4];
-    let (mut vmin, mut vmax) = (f64::MAX, f64::MIN);
-    let n = 1000;
+    let n = 2000;
+    let mut f = StrideFigures {
+        rms: [0.0; 4],
+        peak: [0.0; 4],
+        hip_speed: (f64::MAX, f64::MIN),
+        hip_height: (f64::MAX, f64::MIN),
+        hip_lateral: (f64::MAX, f64::MIN),
+    };
+    let mm = |r: &mut (f64, f64), x: f64| *r = (r.0.min(x), r.1.max(x));
     for i in 0..n {
         let tr = sim.truth(period * i as f64 / n as f64);
         for s in 0..4 {
             let a = tr.imu_point[s].a.norm();
-            peak[s] = peak[s].max(a);
-            rms[s] += a * a / n as f64;
+            f.peak[s] = f.peak[s].max(a);
+            f.rms[s] += a * a / n as f64;
         }
-        vmin = vmin.min(tr.hip.v.x);
-        vmax = vmax.max(tr.hip.v.x);
+        mm(&mut f.hip_speed, tr.hip.v.x);
+        mm(&mut f.hip_height, tr.hip.p.y);
+        mm(&mut f.hip_lateral, tr.hip.p.z);
     }
-    let r = |x: [f64; 4]| x.map(|v| (v * 10.0).round() / 10.0);
-    println!(
-        "1.0 m/s: |dynamic acceleration| peak trunk/thigh/shank/foot {:?} m/s^2, rms {:?} m/s^2; hip forward speed {vmin:.2}..{vmax:.2} m/s",
-        r(peak),
-        r(rms.map(f64::sqrt))
-    );
-    assert!(peak[3] > 10.0 && peak[0] > 1.0);
+    f.rms = f.rms.map(f64::sqrt);
+    f
+}
+
+/// Reports the dynamic accelerations (what makes accelerometers unreliable)
+/// and the hip path at 0.4, 1.0 and 1.6 m/s, planar and with out-of-plane
+/// motion; checks that they are there.
+#[test]
+fn dynamic_accelerations_come_from_the_motion() {
+    let r = |x: [f64; 4]| x.map(|v| (v * 100.0).round() / 100.0);
+    for speed in [0.4, 1.0, 1.6] {
+        for oop in [false, true] {
+            let f = stride_figures(WalkingConfig {
+                out_of_plane: oop,
+                ..ideal(speed)
+            });
+            println!(
+                "{speed} m/s, out-of-plane {oop}: |dynamic acceleration| rms trunk/thigh/shank/foot {:?} m/s^2, peak {:?} m/s^2; hip forward speed {:.3}..{:.3} m/s, height {:.1} cm p-p, lateral {:.1} cm p-p",
+                r(f.rms),
+                r(f.peak),
+                f.hip_speed.0,
+                f.hip_speed.1,
+                100.0 * (f.hip_height.1 - f.hip_height.0),
+                100.0 * (f.hip_lateral.1 - f.hip_lateral.0),
+            );
+            assert!(f.peak[3] > 10.0 && f.peak[0] > 0.3);
+        }
+    }
+}
+
+/// The pelvis moves like a real one. Published ranges:
+/// * lower-back (pelvis) accelerometers in level walking at preferred speed
+///   show RMS accelerations of about 1.0-2.2 m/s^2 per axis (H. B. Menz,
+///   S. R. Lord, R. C. Fitzpatrick, Gait Posture 18:35-46, 2003; W. Zijlstra,
+///   A. L. Hof, Gait Posture 18:1-10, 2003), so the norm of the 3D dynamic
+///   acceleration is a few m/s^2;
+/// * the forward speed of the pelvis varies by roughly +-10-15 % within a
+///   step (inverted-pendulum exchange: G. A. Cavagna, H. Thys, A. Zamboni,
+///   J. Physiol. 262:639-657, 1976);
+/// * the centre of mass moves 2.5-5 cm up and down and a few centimetres
+///   sideways (M. S. Orendurff et al., J. Rehabil. Res. Dev. 41:829-834, 2004).
+///
+/// Bounds (1.0 and 1.2 m/s, out-of-plane motion on, variability off): trunk
+/// dynamic acceleration RMS 0.8-3.5 m/s^2, hip forward speed within +-20 %
+/// of the mean, vertical excursion 2-5 cm, lateral excursion 1-8 cm.
+#[test]
+fn pelvis_motion_is_realistic() {
+    for speed in [1.0, 1.2] {
+        let f = stride_figures(WalkingConfig {
+            out_of_plane: true,
+            ..ideal(speed)
+        });
+        let fluct = (f.hip_speed.1 - speed).max(speed - f.hip_speed.0) / speed;
+        let dy = f.hip_height.1 - f.hip_height.0;
+        let dz = f.hip_lateral.1 - f.hip_lateral.0;
+        println!(
+            "{speed} m/s: trunk dynamic acceleration rms {:.2} m/s^2, hip forward speed +-{:.1} %, vertical {:.1} cm, lateral {:.1} cm",
+            f.rms[0],
+            100.0 * fluct,
+            100.0 * dy,
+            100.0 * dz
+        );
+        assert!((0.8..3.5).contains(&f.rms[0]), "{}", f.rms[0]);
+        assert!(fluct < 0.20, "{fluct}");
+        assert!((0.02..0.05).contains(&dy), "{dy}");
+        assert!((0.01..0.08).contains(&dz), "{dz}");
+    }
+}
+
+/// Foot slip: how far a contact point moves along the floor while it is on
+/// it (within 5 mm of the floor): the heel over 0-30 % of the stride, the
+/// metatarsal head over 8-65 %. Inside single support the stance leg is held
+/// by inverse kinematics; the slip comes from the double-support blends into
+/// the normative curves (`docs/SIMULATOR.md`). Bound: 8 cm at any speed.
+#[test]
+fn foot_slip_is_limited_to_double_support() {
+    let mut worst: f64 = 0.0;
+    for k in 0..8 {
+        let speed = (0.4 + 0.2 * k as f64).min(1.8);
+        let sim = WalkingSimulator::new(WalkingConfig {
+            out_of_plane: true,
+            ..ideal(speed)
+        })
+        .unwrap();
+        let period = 1.0 / sim.stride_frequency();
+        let n = 2000;
+        let (mut heel, mut mtp) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
+        let (mut heel_ss, mut mtp_ss) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
+        let mm = |r: &mut (f64, f64), x: f64| *r = (r.0.min(x), r.1.max(x));
+        for i in 0..n {
+            let s = i as f64 / n as f64;
+            let tr = sim.truth(period * s);
+            let (h, m) = (tr.contacts[0].p, tr.contacts[1].p);
+            if s < 0.30 && h.y < 0.005 {
+                mm(&mut heel, h.x);
+                if s >= 0.10 {
+                    mm(&mut heel_ss, h.x);
+                }
+            }
+            if (0.08..0.65).contains(&s) && m.y < 0.005 {
+                mm(&mut mtp, m.x);
+                if s <= 0.50 {
+                    mm(&mut mtp_ss, m.x);
+                }
+            }
+        }
+        let w = |r: (f64, f64)| if r.1 >= r.0 { r.1 - r.0 } else { 0.0 };
+        let slip = w(heel).max(w(mtp));
+        println!(
+            "{speed:.1} m/s: slip heel {:.1} cm, metatarsal head {:.1} cm; in single support {:.2} / {:.2} cm",
+            100.0 * w(heel),
+            100.0 * w(mtp),
+            100.0 * w(heel_ss),
+            100.0 * w(mtp_ss)
+        );
+        assert!(w(heel_ss).max(w(mtp_ss)) < 0.005);
+        worst = worst.max(slip);
+    }
+    assert!(worst < 0.08, "{worst}");
 }
