@@ -134,6 +134,14 @@ impl Fourier {
     /// `(N - 1) / 2`) to samples `y[n] = f(2 pi n / N)` with weights `w[n] >= 0`
     /// (normal equations, Cholesky). With equal weights it equals [`Fourier::fit`].
     pub fn fit_weighted(y: &[f64], w: &[f64], order: usize) -> Self {
+        Self::fit_penalised(y, w, order, 0.0)
+    }
+
+    /// [`Fourier::fit_weighted`] with a penalty `lambda sum_k k^4 (a_k^2 +
+    /// b_k^2)` on the mean square second derivative, `lambda` relative to the
+    /// sum of the weights: suppresses ringing of high harmonics where the
+    /// weights are small.
+    pub fn fit_penalised(y: &[f64], w: &[f64], order: usize, lambda: f64) -> Self {
         let n = y.len();
         let order = order.min(KMAX).min(n.saturating_sub(1) / 2);
         let p = 2 * order + 1;
@@ -159,6 +167,12 @@ impl Fourier {
             for b in 0..a {
                 ata[(a, b)] = ata[(b, a)];
             }
+        }
+        let scale = lambda * w.iter().sum::<f64>();
+        for k in 1..=order {
+            let pen = scale * (k as f64).powi(4);
+            ata[(2 * k - 1, 2 * k - 1)] += pen;
+            ata[(2 * k, 2 * k)] += pen;
         }
         let mut f = Fourier::default();
         let Some(ch) = ata.cholesky() else {

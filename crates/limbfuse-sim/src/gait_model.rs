@@ -115,8 +115,11 @@ fn sampled_fit(y: &[f64]) -> Fourier {
             }
         })
         .collect();
-    Fourier::fit_weighted(y, &w, SEGMENT_ORDER)
+    Fourier::fit_penalised(y, &w, SEGMENT_ORDER, FIT_SMOOTHING)
 }
+
+/// Curvature penalty of the segment fits (relative to the summed weights).
+const FIT_SMOOTHING: f64 = 1e-6;
 
 /// Stride fractions fitted with [`SINGLE_SUPPORT_WEIGHT`].
 const FIT_STANCE: (f64, f64) = (0.08, 0.52);

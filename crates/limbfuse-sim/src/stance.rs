@@ -10,11 +10,13 @@
 //!
 //! * **Foot.** Heel rocker (0 to [`FOOT_FLAT`]): the foot angle goes from its
 //!   normative heel-strike value and rate to 0 (cubic Hermite), pivoting on
-//!   the heel contact point. Flat foot until [`HEEL_OFF`]. From there the foot
-//!   pivots on the metatarsal head and its angle is the one that gives the
-//!   stance knee its normative flexion (two-circle intersection: hip to ankle
-//!   at the knee's hip-ankle distance, ankle to metatarsal head at the foot's
-//!   length), limited smoothly to heel-up angles and faded in over
+//!   the heel contact point. Then the foot pivots on the metatarsal head and
+//!   its angle is the one that gives the stance knee a target flexion
+//!   (two-circle intersection: hip to ankle at the knee's hip-ankle distance,
+//!   ankle to metatarsal head at the foot's length), limited smoothly to
+//!   heel-up angles: the target is [`KNEE_MIN`] until [`HEEL_OFF`] (the foot
+//!   stays flat unless the hip would pull the knee straighter: no jerky
+//!   near-straight knee), then it moves to the normative knee flexion over
 //!   [`HEEL_RISE_RAMP`]. The contact point never moves.
 //! * **Thigh and shank**: two-link inverse kinematics from the prescribed hip
 //!   joint centre to that ankle, knee bending forward.
@@ -46,6 +48,9 @@ pub const FOOT_FLAT: f64 = 0.08;
 pub const HEEL_OFF: f64 = 0.30;
 /// Fade-in of the knee-driven heel rise (fraction of the stride).
 pub const HEEL_RISE_RAMP: f64 = 0.08;
+/// Smallest knee flexion the stance leg keeps before heel-off (rad, 5 deg):
+/// if the hip would pull it straighter, the heel rises instead.
+pub const KNEE_MIN: f64 = 0.087_266_462_599_716_48;
 /// Toe-off (fraction of the stride).
 pub const TOE_OFF: f64 = 0.60;
 /// Length of each double support (fraction of the stride).
@@ -301,6 +306,8 @@ pub struct StanceFigures {
     pub dorsiflexion_deg: f64,
     /// Smallest knee flexion in stance (deg).
     pub knee_min_deg: f64,
+    /// Largest heel-up foot angle before heel-off (deg).
+    pub early_heel_rise_deg: f64,
 }
 
 /// Two-link inverse kinematics from hip to ankle (`d` = ankle - hip): thigh
@@ -424,12 +431,11 @@ impl Stance {
                 let (y0, m0) = self.foot_hs;
                 let psi = (2.0 * u3 - 3.0 * u2 + 1.0) * y0 + (u3 - 2.0 * u2 + u) * span * m0;
                 (psi, p_heel, c_heel)
-            } else if s < HEEL_OFF {
-                (0.0, p_mtp, c_mtp)
             } else {
-                let k = foot_for_knee(b, hip, p_mtp, c_mtp, nt - ns);
                 let r = smoothstep((s - HEEL_OFF) / HEEL_RISE_RAMP);
-                (r * smooth_min0(k), p_mtp, c_mtp)
+                let knee = KNEE_MIN + r * (nt - ns - KNEE_MIN);
+                let k = foot_for_knee(b, hip, p_mtp, c_mtp, knee);
+                (smooth_min0(k), p_mtp, c_mtp)
             };
             let rc = rot(psi, c);
             let d = [p[0] - rc[0] - hip[0], p[1] - rc[1] - hip[1]];
@@ -473,6 +479,9 @@ impl Stance {
             if s > 0.02 && s < TOE_OFF - 0.02 {
                 f.knee_min_deg = f.knee_min_deg.min(knee);
             }
+            if (FOOT_FLAT..HEEL_OFF).contains(&s) {
+                f.early_heel_rise_deg = f.early_heel_rise_deg.max(-deg(ft[i]));
+            }
             if (DOUBLE_SUPPORT..=TOE_OFF - DOUBLE_SUPPORT).contains(&s) {
                 let (nt, ns, nf) = (self.n[1][i], self.n[2][i], self.n[3][i]);
                 sk += (knee - deg(nt - ns)).powi(2);
@@ -513,6 +522,7 @@ impl Stance {
         let f = self.figures(pl, &sol);
         let pen = 1e5 * (sol.overreach + 1e-4).max(0.0)
             + 10.0 * (3.0 - f.knee_min_deg).max(0.0)
+            + 10.0 * (f.early_heel_rise_deg - 0.5).max(0.0)
             + 5.0 * (f.dorsiflexion_deg - 14.0).max(0.0)
             + 5.0 * (f.knee_stance_deg - 23.0).max(0.0);
         f.deviation_deg + 30.0 * f.slip_m + pen

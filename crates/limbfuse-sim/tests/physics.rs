@@ -420,12 +420,17 @@ fn foot_slip_is_limited_to_double_support() {
         }
         let w = |r: (f64, f64)| if r.1 >= r.0 { r.1 - r.0 } else { 0.0 };
         let slip = w(heel).max(w(mtp));
+        let m = sim.model();
         println!(
-            "{speed:.1} m/s: slip heel {:.1} cm, metatarsal head {:.1} cm; in single support {:.2} / {:.2} cm",
+            "{speed:.1} m/s: slip heel {:.1} cm, metatarsal head {:.1} cm; in single support {:.2} / {:.2} cm; hip height {:.3} m (offset {:+.1} mm), heel strike offset {:+.1} mm, single-support deviation from the normative angles {:.1} deg",
             100.0 * w(heel),
             100.0 * w(mtp),
             100.0 * w(heel_ss),
-            100.0 * w(mtp_ss)
+            100.0 * w(mtp_ss),
+            m.placement.hip_height,
+            1e3 * m.placement_offset.0,
+            1e3 * m.placement_offset.1,
+            m.stance.deviation_deg
         );
         assert!(w(heel_ss).max(w(mtp_ss)) < 0.005);
         worst = worst.max(slip);
