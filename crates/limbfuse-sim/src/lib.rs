@@ -4,7 +4,8 @@
 //!
 //! [`WalkingSimulator`] streams [`limbfuse_core::Record`]s of a walking leg:
 //! a sagittal trunk-thigh-shank-foot chain driven by normative gait curves
-//! (speed 0.4-1.8 m/s), a hip path that keeps the stance foot still, analytic
+//! (speed 0.4-1.8 m/s), a prescribed realistic hip path with the stance leg
+//! made consistent with it by inverse kinematics, analytic
 //! angular rates and specific forces at four IMUs, consumer-MEMS sensor
 //! errors (paper 000 eqs 1-4) and 1 kHz joint encoders. Model, defaults,
 //! sources and measured checks: `docs/SIMULATOR.md`.
