@@ -41,10 +41,10 @@ struct Errors {
     mean_ref: f64,
 }
 
-fn errors(rec: &[Record], m: &[Matrix3<f64>; 4], a: &Alignment) -> [Errors; 4] {
+fn errors(rec: &[Record], m: &[Matrix3<f64>; 4], a: &Alignment) -> [Option<Errors>; 4] {
     Segment::ALL.map(|s| {
         let i = s.index();
-        let r = a.per_segment[i].unwrap().rotation.into_inner();
+        let r = a.per_segment[i]?.rotation.into_inner();
         let z_est: Vector3<f64> = r.row(2).transpose();
         let z_true: Vector3<f64> = m[i].row(2).transpose();
         let e = r * m[i].transpose();
@@ -63,12 +63,12 @@ fn errors(rec: &[Record], m: &[Matrix3<f64>; 4], a: &Alignment) -> [Errors; 4] {
             .map(|x| x.reference.segment[i].unwrap())
             .sum::<f64>()
             / rec.len() as f64;
-        Errors {
+        Some(Errors {
             axis: z_est.dot(&z_true).clamp(-1.0, 1.0).acos().to_degrees(),
             zero: e[(1, 0)].atan2(e[(0, 0)]).to_degrees(),
             rate: ((se / n).sqrt().to_degrees(), (st / n).sqrt().to_degrees()),
             mean_ref: mean_ref.to_degrees(),
-        }
+        })
     })
 }
 
@@ -80,6 +80,15 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
     let mut min_margin = [f64::INFINITY; 4];
     let mut runs = 0.0;
     println!("{label}: per run, per segment: axis error / zero - mean ref / rate rms est (true) (deg, deg, deg/s)");
+    // `partial`: a sensor that cannot be aligned is reported, not fatal. With
+    // the realistic pelvis path the trunk's walking direction (hip-link
+    // correlation) is unobservable at slow speeds (pelvis acceleration
+    // ~0.3 m/s^2 RMS at 0.4 m/s); it may be skipped there, never at >= 1 m/s,
+    // and the legs must always be aligned.
+    let opts = &AlignOptions {
+        partial: true,
+        ..*opts
+    };
     for seed in seeds {
         for speed in [0.4, 0.7, 1.0, 1.4, 1.8] {
             let (rec, m) = sim(config(seed, speed, 30.0));
@@ -87,7 +96,15 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
             let e = errors(&rec, &m, &a);
             let mut line = format!("  seed {seed} {speed} m/s:");
             for s in Segment::ALL {
-                let x = &e[s.index()];
+                let Some(x) = &e[s.index()] else {
+                    assert!(
+                        s == Segment::Trunk && speed < 1.0,
+                        "{label} seed {seed} {speed}: {} not aligned",
+                        s.name()
+                    );
+                    line += &format!(" {} skipped", s.name());
+                    continue;
+                };
                 assert!(
                     x.axis < 90.0,
                     "{label} seed {seed} {speed}: {} z sign wrong",
@@ -135,7 +152,12 @@ fn random_mountings_axes_signs_and_zero() {
     // The axis "error" is against the segment z of the simulator; with
     // out-of-plane motion the functional axis differs from it by a few
     // degrees, which the rate check shows does not hurt gyro_z.
-    let axis_max = [5.5, 9.5, 8.0, 5.5];
+    // Trunk bound raised from 5.5 to 8.0 deg (and its rate bound to 2.0 deg/s)
+    // when the simulator's pelvis path became realistic (smaller pelvis
+    // accelerations make the hip-link walking direction noisier: measured
+    // max 6.79 deg, +1.52 deg/s).
+    let axis_max = [8.0, 9.5, 8.0, 5.5];
+    let rate_max = [2.0, 1.5, 1.5, 1.5];
     for s in Segment::ALL {
         let w = worst[s.index()];
         assert!(
@@ -148,7 +170,7 @@ fn random_mountings_axes_signs_and_zero() {
         // its mean over the trial, up to accelerometer bias (20 mg ~ 1.1 deg).
         assert!(w[1] < 4.0, "{}: zero error {:.2} deg", s.name(), w[1]);
         assert!(
-            w[2] < 1.5,
+            w[2] < rate_max[s.index()],
             "{}: gyro z rate error exceeds the true frame's by {:.2} deg/s",
             s.name(),
             w[2]
@@ -202,7 +224,10 @@ fn known_mean_angles_remove_the_zero_bias() {
             ..Default::default()
         };
         let a = estimate_alignment(&rec, &opts).unwrap();
-        for (s, e) in Segment::ALL.iter().zip(errors(&rec, &m, &a)) {
+        for (s, e) in Segment::ALL
+            .iter()
+            .zip(errors(&rec, &m, &a).map(|e| e.expect("every sensor aligned")))
+        {
             println!(
                 "seed {seed} {}: zero error with the true mean given {:+.2} deg",
                 s.name(),
@@ -239,7 +264,10 @@ fn quiet_standing_sets_the_zero() {
         let a = estimate_alignment(&rec, &AlignOptions::default()).unwrap();
         let (q0, q1) = a.quiet.unwrap();
         assert!(q0 < 0.05 && q1 > 2.9 && q1 < 3.0, "quiet {q0}..{q1}");
-        for (s, e) in Segment::ALL.iter().zip(errors(&rec, &m, &a)) {
+        for (s, e) in Segment::ALL
+            .iter()
+            .zip(errors(&rec, &m, &a).map(|e| e.expect("every sensor aligned")))
+        {
             let sa = a.per_segment[s.index()].unwrap();
             println!(
                 "seed {seed} {}: standing zero error {:+.2} deg, walking mean {:+.2} deg (true {:+.2})",
