@@ -138,11 +138,7 @@ impl EstimateReader {
     }
 
     fn from_table(table: TableReader) -> Result<Self, FileError> {
-        let t = table.column("t").ok_or_else(|| FileError::Header {
-            path: table.path().to_path_buf(),
-            line: table.header_line(),
-            message: "missing required column `t` (time in seconds)".into(),
-        })?;
+        let t = table.time_column()?;
         let angle = AngleChannel::ALL.map(|c| table.column(c.name()));
         let diag: Vec<(String, usize)> = table
             .header()
@@ -195,20 +191,7 @@ impl EstimateReader {
         let Some(row) = self.table.next_row()? else {
             return Ok(None);
         };
-        let t = row
-            .number(self.t)?
-            .ok_or_else(|| row.cell_error(self.t, "a time in seconds (t cannot be empty)"))?;
-        if let Some(previous) = self.previous_t {
-            if t <= previous {
-                return Err(FileError::TimeNotIncreasing {
-                    path: row.path().to_path_buf(),
-                    line: row.line(),
-                    column: self.t + 1,
-                    t,
-                    previous,
-                });
-            }
-        }
+        let t = row.time(self.t, self.previous_t)?;
         let mut e = Estimate::empty(t);
         for (k, c) in AngleChannel::ALL.iter().enumerate() {
             let v = row.opt_number(self.angle[k])?;

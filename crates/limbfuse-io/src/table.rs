@@ -138,6 +138,15 @@ impl TableReader {
         self.line_offset + 1
     }
 
+    /// 0-based index of the required time column `t`.
+    pub fn time_column(&self) -> Result<usize, FileError> {
+        self.column("t").ok_or_else(|| FileError::Header {
+            path: self.path.clone(),
+            line: self.header_line(),
+            message: "missing required column `t` (time in seconds)".into(),
+        })
+    }
+
     /// 0-based index of the column named `name`.
     pub fn column(&self, name: &str) -> Option<usize> {
         self.header.iter().position(|h| h == name)
@@ -217,6 +226,23 @@ impl Row<'_> {
             return Err(self.cell_error(col, "a finite number (NaN and inf are not allowed; leave the cell empty for a missing value)"));
         }
         Ok(Some(v))
+    }
+
+    /// The time in column `col`: present, finite, and after `previous`.
+    pub fn time(&self, col: usize, previous: Option<f64>) -> Result<f64, FileError> {
+        let t = self
+            .number(col)?
+            .ok_or_else(|| self.cell_error(col, "a time in seconds (t cannot be empty)"))?;
+        match previous {
+            Some(previous) if t <= previous => Err(FileError::TimeNotIncreasing {
+                path: self.path.to_path_buf(),
+                line: self.line,
+                column: col + 1,
+                t,
+                previous,
+            }),
+            _ => Ok(t),
+        }
     }
 
     /// The number in an optional column.

@@ -86,11 +86,7 @@ impl TrialReader {
     }
 
     fn from_table(table: TableReader) -> Result<Self, FileError> {
-        let t = table.column("t").ok_or_else(|| FileError::Header {
-            path: table.path().to_path_buf(),
-            line: table.header_line(),
-            message: "missing required column `t` (time in seconds)".into(),
-        })?;
+        let t = table.time_column()?;
         let mut plan = ColumnPlan {
             t,
             ..Default::default()
@@ -165,20 +161,7 @@ impl TrialReader {
             return Ok(None);
         };
         let plan = &self.plan;
-        let t = row
-            .number(plan.t)?
-            .ok_or_else(|| row.cell_error(plan.t, "a time in seconds (t cannot be empty)"))?;
-        if let Some(previous) = self.previous_t {
-            if t <= previous {
-                return Err(FileError::TimeNotIncreasing {
-                    path: row.path().to_path_buf(),
-                    line: row.line(),
-                    column: plan.t + 1,
-                    t,
-                    previous,
-                });
-            }
-        }
+        let t = row.time(plan.t, self.previous_t)?;
         let mut rec = Record::default();
         rec.sample.t = t;
         for i in 0..4 {
