@@ -1,0 +1,11 @@
+//! # limbfuse-models
+//!
+//! Physical models shared by the simulators (`limbfuse-sim`) and the
+//! model-based estimators (`limbfuse-estimators`): the FES-driven
+//! musculoskeletal knee and fixed-hip models of paper 004 and the bipedal
+//! spring-loaded inverted pendulum (B-SLIP) of paper 003. `no_std`; each
+//! model is a module with its parameter struct, its dynamics `f(x, u)` and
+//! its measurement function, so a simulator integrates exactly the equations
+//! an estimator linearises.
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
