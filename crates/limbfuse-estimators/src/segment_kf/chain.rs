@@ -55,6 +55,9 @@ pub(crate) struct Chain {
     last_rate: [Option<f64>; 4],
     init: [bool; 4],
     disc: Discretizer,
+    /// Encoder standard deviations when the filter starts the whole chain
+    /// from one accelerometer and the encoders ([`Chain::with_encoder_start`]).
+    encoder_start: Option<[f64; 3]>,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -83,6 +86,18 @@ impl Chain {
             init: [false; 4],
             disc: Discretizer::new(&common.segments, common.discretization),
             common,
+            encoder_start: None,
+        }
+    }
+
+    /// A chain that, when its first sample has all three encoders, starts
+    /// every segment from the most reliable accelerometer (argmin rho) and the
+    /// encoders instead of each segment from its own accelerometer (see
+    /// [`Chain::initialise_from_encoders`]). For filters with encoder rows.
+    pub fn with_encoder_start(common: CommonParams, encoder_sigma: [f64; 3]) -> Self {
+        Chain {
+            encoder_start: Some(encoder_sigma),
+            ..Chain::new(common)
         }
     }
 
@@ -105,7 +120,9 @@ impl Chain {
     }
 
     pub fn reset(&mut self) {
+        let start = self.encoder_start;
         *self = Chain::new(self.common);
+        self.encoder_start = start;
     }
 
     /// Advances time, integrates the gyros, predicts the covariance,
@@ -133,6 +150,16 @@ impl Chain {
             self.predict(dt, &rate);
         }
         let usable = self.init;
+        if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
+            (self.encoder_start, self.init, encoder)
+        {
+            let best = (0..4)
+                .filter_map(|i| Some((i, rho[i]?, theta_a[i]?)))
+                .min_by(|x, y| x.1.total_cmp(&y.1));
+            if let Some((i, r, th)) = best {
+                self.initialise_from_encoders(i, th, r, [h, k, a], sigma);
+            }
+        }
         for i in 0..4 {
             if !self.init[i] {
                 if let (Some(th), Some(r)) = (theta_a[i], rho[i]) {
@@ -174,6 +201,56 @@ impl Chain {
         self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
         self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
         self.init[i] = true;
+    }
+
+    /// Starts all four segments at once: segment `k` at its accelerometer
+    /// inclination `theta` (initial variance as in [`Chain::initialise`]),
+    /// the others through the joint chain `theta_{j+1} = theta_j - enc_j`
+    /// (SPEC section 1). The angle covariance is the exact one of that
+    /// construction: `cov(theta_i, theta_j) = v + sum of the encoder
+    /// variances on the part of the path from `k` that `i` and `j` share`,
+    /// so the started angles are as correlated as they really are. Not in the
+    /// papers (which do not say how the filters start); without it a filter
+    /// started mid-stride carries each distal segment's poor first
+    /// inclination (tens of degrees for the foot in swing) until its own
+    /// accelerometer is next reliable, even though the encoders pin it to its
+    /// neighbours.
+    fn initialise_from_encoders(
+        &mut self,
+        k: usize,
+        theta: f64,
+        rho: f64,
+        enc: [f64; 3],
+        enc_sigma: [f64; 3],
+    ) {
+        let mut angle = [theta; 4];
+        for i in k + 1..4 {
+            angle[i] = angle[i - 1] - enc[i - 1];
+        }
+        for i in (0..k).rev() {
+            angle[i] = angle[i + 1] + enc[i];
+        }
+        // encoder j lies on the path from k to i when it sits between them
+        let on_path = |j: usize, i: usize| (i > k && j >= k && j < i) || (i < k && j >= i && j < k);
+        let dynamic = (2.0 * rho / (3.0 * self.common.gravity))
+            .min(core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2);
+        let v = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
+        self.P = Mat8::zeros();
+        for i in 0..4 {
+            for m in 0..4 {
+                let shared: f64 = (0..3)
+                    .filter(|&j| on_path(j, i) && on_path(j, m))
+                    .map(|j| enc_sigma[j] * enc_sigma[j])
+                    .sum();
+                self.P[(angle_state(i), angle_state(m))] = v + shared;
+            }
+            let b = bias_state(i);
+            self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
+            self.angle_g[i] = angle[i];
+            self.bias_hat[i] = -self.common.initial_gyro_bias[i];
+        }
+        self.x = SVector::zeros();
+        self.init = [true; 4];
     }
 
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {

@@ -153,7 +153,7 @@ impl MarkovJumpKf {
 
     fn build(params: MarkovJumpKfParams) -> Self {
         MarkovJumpKf {
-            chain: Chain::new(params.common),
+            chain: Chain::with_encoder_start(params.common, params.encoder_sigma),
             params,
             last_gain: SMatrix::zeros(),
         }
