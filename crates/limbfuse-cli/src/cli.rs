@@ -202,6 +202,10 @@ pub struct EvaluateArgs {
     /// Remove the mean error of each channel before computing the RMSE.
     #[arg(long)]
     pub offset_free: bool,
+    /// Synchronise: per channel, shift the estimate by the lag within +-N samples
+    /// that minimises its RMSE, and report the lags (IMU and motion-capture clocks differ).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub max_lag: usize,
     /// Run this method on the trial instead of reading an estimate file
     /// (paper 001 protocol: see --starts, docs/TUNING.md).
     #[arg(long)]

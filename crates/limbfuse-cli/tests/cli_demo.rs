@@ -127,6 +127,24 @@ fn simulate_is_bit_reproducible_and_the_pipeline_evaluates() {
     assert!((0.0..=100.0).contains(&ar), "{ar}");
     let o = limbfuse(&["evaluate", "a.csv", "e.csv", "--offset-free"], d.path());
     assert!(String::from_utf8_lossy(&o.stdout).contains("offset-free"));
+    // --max-lag: the lag is reported per channel and never worsens the RMSE
+    let o = limbfuse(
+        &["evaluate", "a.csv", "e.csv", "--json", "--max-lag", "3"],
+        d.path(),
+    );
+    let synced: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = limbfuse(&["evaluate", "a.csv", "e.csv", "--json"], d.path());
+    let plain: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(plain["sync_lag_samples"].is_null());
+    for c in ["trunk", "thigh", "shank", "foot", "knee"] {
+        let lag = synced["sync_lag_samples"][c].as_i64().unwrap();
+        assert!((-3..=3).contains(&lag), "{c}: {lag}");
+        let (s, p) = (
+            synced["rmse_deg"][c].as_f64().unwrap(),
+            plain["rmse_deg"][c].as_f64().unwrap(),
+        );
+        assert!(s <= p, "{c}: synchronised {s} > plain {p}");
+    }
 }
 
 #[test]

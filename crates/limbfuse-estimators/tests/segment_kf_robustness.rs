@@ -184,7 +184,10 @@ fn mjls_without_a_foot_accelerometer_estimates_the_foot_through_the_ankle_encode
         assert!(all_finite(&e));
         let (shank, foot) = (e.segment[2].unwrap(), e.segment[3].unwrap());
         // the ankle encoder row keeps shank - foot on the encoder
-        assert!((shank - foot - l.theta[2] + l.theta[3]).abs() < 0.01, "step {k}");
+        assert!(
+            (shank - foot - l.theta[2] + l.theta[3]).abs() < 0.01,
+            "step {k}"
+        );
     }
 }
 
@@ -194,7 +197,11 @@ fn mjls_starts_the_chain_from_the_most_reliable_accelerometer_and_the_encoders()
     let mut l = limb(13);
     let s = l.sample(0);
     let g = CommonParams::default().gravity;
-    let rho: Vec<f64> = s.imu.iter().map(|m| (m.acc.unwrap().norm() - g).abs()).collect();
+    let rho: Vec<f64> = s
+        .imu
+        .iter()
+        .map(|m| (m.acc.unwrap().norm() - g).abs())
+        .collect();
     let k = (0..4).min_by(|a, b| rho[*a].total_cmp(&rho[*b])).unwrap();
     let e = f.step(&s).unwrap();
     let a = s.imu[k].acc.unwrap();

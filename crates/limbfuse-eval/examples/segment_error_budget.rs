@@ -39,7 +39,12 @@ fn mean_rmse(est: &mut dyn Estimator, records: &[Record]) -> [f64; 2] {
         },
     );
     let observers: &mut [&mut dyn Observer] = &mut [&mut plain, &mut free];
-    run(est, records.iter().map(|r| Ok::<_, Infallible>(*r)), observers).expect("runs");
+    run(
+        est,
+        records.iter().map(|r| Ok::<_, Infallible>(*r)),
+        observers,
+    )
+    .expect("runs");
     let deg = |m: &AngleMetrics| m.evaluation().mean_rmse().unwrap_or(f64::NAN).to_degrees();
     [deg(&plain), deg(&free)]
 }

@@ -67,6 +67,9 @@ pub struct EvalOptions {
     pub window: TimeWindow,
     /// Remove the mean error of each channel before the RMSE.
     pub offset_free: bool,
+    /// Synchronise each channel by the lag within `-max_lag..=max_lag`
+    /// samples that minimises its RMSE ([`crate::sync_lag`]); 0 = off.
+    pub max_lag: usize,
 }
 
 /// Why an evaluation failed.

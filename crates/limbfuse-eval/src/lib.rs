@@ -14,6 +14,7 @@ pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod params_file;
 pub mod protocol;
+pub mod sync_lag;
 pub mod tuning;
 
 pub use channel_error::ChannelError;

@@ -9,6 +9,7 @@ use serde_json::{json, Map, Value};
 
 use crate::channel_error::ChannelError;
 use crate::evaluation::{EvalOptions, TimeWindow};
+use crate::sync_lag::LagSearch;
 
 /// Accumulates errors of every angle channel (and diagnostic means) over a run.
 #[derive(Debug, Clone)]
@@ -16,6 +17,8 @@ pub struct AngleMetrics {
     method: String,
     options: EvalOptions,
     channels: [ChannelError; 7],
+    /// Per channel, when `options.max_lag > 0`.
+    lags: Vec<LagSearch>,
     n_samples: u64,
     diag_names: Vec<String>,
     diag_sum: Vec<f64>,
@@ -75,6 +78,11 @@ impl AngleMetrics {
             method: method.into(),
             options,
             channels: [ChannelError::default(); 7],
+            lags: if options.max_lag > 0 {
+                vec![LagSearch::new(options.max_lag); 7]
+            } else {
+                Vec::new()
+            },
             n_samples: 0,
             diag_names: Vec::new(),
             diag_sum: Vec::new(),
@@ -93,7 +101,11 @@ impl AngleMetrics {
 
     /// Adds one (record, estimate) pair, if inside the time window.
     pub fn push(&mut self, record: &Record, estimate: &Estimate) {
-        if !self.options.window.contains(record.sample.t) {
+        let inside = self.options.window.contains(record.sample.t);
+        for (lag, c) in self.lags.iter_mut().zip(AngleChannel::ALL) {
+            lag.push(estimate.angle(c), record.reference.angle(c), inside);
+        }
+        if !inside {
             return;
         }
         self.n_samples += 1;
@@ -120,16 +132,25 @@ impl AngleMetrics {
                 diag_mean.insert(n.clone(), self.diag_sum[i] / self.diag_n[i] as f64);
             }
         }
+        let mut channels: Vec<(AngleChannel, ChannelError)> = AngleChannel::ALL
+            .iter()
+            .copied()
+            .zip(self.channels)
+            .collect();
+        let mut sync_lag = BTreeMap::new();
+        for ((c, stats), lag) in channels.iter_mut().zip(&self.lags) {
+            if let Some((l, best)) = lag.best(self.options.offset_free) {
+                *stats = best;
+                sync_lag.insert(c.name().to_string(), l);
+            }
+        }
         Evaluation {
             method: self.method.clone(),
             n_samples: self.n_samples,
             offset_free: self.options.offset_free,
             window: self.options.window,
-            channels: AngleChannel::ALL
-                .iter()
-                .copied()
-                .zip(self.channels)
-                .collect(),
+            channels,
+            sync_lag: (self.options.max_lag > 0).then_some(sync_lag),
             diag_mean,
             accel_reliability_pct: self
                 .reliability
@@ -167,6 +188,9 @@ pub struct Evaluation {
     pub window: TimeWindow,
     /// Statistics per channel (channels without estimate or reference have `n = 0`).
     pub channels: Vec<(AngleChannel, ChannelError)>,
+    /// With `--max-lag`: per channel, the lag (samples; positive = the
+    /// estimate trails the reference) at which `channels` were measured.
+    pub sync_lag: Option<BTreeMap<String, i64>>,
     /// Mean of each diagnostic value over the window.
     pub diag_mean: BTreeMap<String, f64>,
     /// AR (001 Table 2): % of samples in which an accelerometer row updated
@@ -233,6 +257,7 @@ impl Evaluation {
             "corr": corr,
             "mean_err_deg": mean_err,
             "offset_free": self.offset_free,
+            "sync_lag_samples": self.sync_lag,
             "window_s": [self.window.start, self.window.end.filter(|e| e.is_finite())],
             "diag_mean": self.diag_mean,
             "accel_reliability_pct": self.accel_reliability_pct,
@@ -249,6 +274,13 @@ impl Evaluation {
         s += "\n";
         if self.offset_free {
             s += "offset-free: the mean error of each channel is removed before the RMSE (mean error shown)\n";
+        }
+        if let Some(lags) = &self.sync_lag {
+            let list: Vec<String> = lags.iter().map(|(c, l)| format!("{c} {l:+}")).collect();
+            s += &format!(
+                "synchronised: each channel's estimate shifted by the lag (samples, + = estimate trails) that minimises its RMSE: {}\n",
+                list.join(", ")
+            );
         }
         s += &format!(
             "{:<8}{:>10}{:>12}{:>12}{:>9}{:>9}\n",

@@ -296,6 +296,7 @@ pub fn multi_start(
                         end: Some(e),
                     },
                     offset_free,
+                    max_lag: 0,
                 },
             );
             let observers: &mut [&mut dyn Observer] = &mut [&mut m];

@@ -1,4 +1,4 @@
-//! `limbfuse evaluate TRIAL ESTIMATE [--json] [--window A:B] [--offset-free]`.
+//! `limbfuse evaluate TRIAL ESTIMATE [--json] [--window A:B] [--offset-free] [--max-lag N]`.
 
 use anyhow::{anyhow, Result};
 use limbfuse_eval::{evaluate_files, EvalOptions, TimeWindow};
@@ -25,6 +25,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         EvalOptions {
             window,
             offset_free: a.offset_free,
+            max_lag: a.max_lag,
         },
     )?;
     if a.json {

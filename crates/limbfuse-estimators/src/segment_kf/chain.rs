@@ -246,9 +246,9 @@ impl Chain {
             }
             let b = bias_state(i);
             self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
-            self.angle_g[i] = angle[i];
             self.bias_hat[i] = -self.common.initial_gyro_bias[i];
         }
+        self.angle_g = angle;
         self.x = SVector::zeros();
         self.init = [true; 4];
     }
