@@ -78,7 +78,7 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
     let mut worst = [[0.0f64; 3]; 4];
     let mut mean_axis = [0.0f64; 4];
     let mut min_margin = [f64::INFINITY; 4];
-    let mut runs = 0.0;
+    let mut runs = [0.0f64; 4];
     println!("{label}: per run, per segment: axis error / zero - mean ref / rate rms est (true) (deg, deg, deg/s)");
     // `partial`: a sensor that cannot be aligned is reported, not fatal. With
     // the realistic pelvis path the trunk's walking direction (hip-link
@@ -115,6 +115,7 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
                 w[1] = w[1].max((x.zero - x.mean_ref).abs());
                 w[2] = w[2].max(x.rate.0 - x.rate.1);
                 mean_axis[s.index()] += x.axis;
+                runs[s.index()] += 1.0;
                 let sm = a.per_segment[s.index()].unwrap().sign_margin;
                 min_margin[s.index()] = min_margin[s.index()].min(sm);
                 line += &format!(
@@ -126,7 +127,6 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
                     x.rate.1
                 );
             }
-            runs += 1.0;
             println!("{line}");
         }
     }
@@ -135,7 +135,7 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
         println!(
             "{label}: {:5}: axis error mean {:.2} max {:.2} deg; |zero - mean ref| max {:.2} deg; rate rms est - true max {:+.2} deg/s; sign margin min {:.2}",
             s.name(),
-            mean_axis[s.index()] / runs,
+            mean_axis[s.index()] / runs[s.index()],
             w[0],
             w[1],
             w[2],
