@@ -489,3 +489,35 @@ pub fn gain_shares<const M: usize>(
     }
     out
 }
+
+#[cfg(test)]
+mod gain_share_tests {
+    use super::*;
+
+    /// 001 Fig. 6 breakdown on a hand-built gain: rows = [IMU trunk,
+    /// IMU thigh, joint]. Trunk correction parts: |0.5 * 0.2| = 0.1 (own),
+    /// |0.1 * -0.5| = 0.05 (other), |0.25 * 0.2| = 0.05 (joint) -> 0.5 /
+    /// 0.25 / 0.25. Thigh: |0.2 * 0.2| = 0.04 (other), |0.4 * -0.5| = 0.2
+    /// (own), 0 (joint) -> own 0.2/0.24, other 0.04/0.24. Shank and foot have
+    /// no gain: `None`.
+    #[test]
+    fn shares_match_a_hand_computed_breakdown() {
+        let mut K = SMatrix::<f64, 8, 3>::zeros();
+        K[(angle_state(0), 0)] = 0.5;
+        K[(angle_state(0), 1)] = 0.1;
+        K[(angle_state(0), 2)] = 0.25;
+        K[(angle_state(1), 0)] = 0.2;
+        K[(angle_state(1), 1)] = 0.4;
+        // bias rows never count
+        K[(bias_state(0), 0)] = 9.0;
+        let e = SVector::<f64, 3>::new(0.2, -0.5, 0.2);
+        let kinds = [RowKind::Imu(0), RowKind::Imu(1), RowKind::Joint];
+        let s = gain_shares(&K, &e, &kinds);
+        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-15;
+        assert!(close(s[0][0], 0.5) && close(s[0][1], 0.25) && close(s[0][2], 0.25));
+        assert!(close(s[1][0], 0.2 / 0.24) && close(s[1][1], 0.04 / 0.24));
+        assert!(close(s[1][2], 0.0));
+        assert_eq!(s[2], [None; 3]);
+        assert_eq!(s[3], [None; 3]);
+    }
+}
