@@ -9,7 +9,9 @@ use nalgebra::{SVector, Vector3, Vector4, Vector6};
 
 use super::angle::{accel_angle, gyro_angle_rate, wrap, PlaneBasis};
 use super::axis::{axes_of_state, axis_residual, axis_state};
-use super::param_ekf::{estimate_parameters, residual_sum, ParamEkfError, WindowResiduals};
+use super::param_ekf::{
+    estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
+};
 use super::params::{AngleZero, KneeSelfAlignParams};
 use super::position::{
     central_derivative, correct_along_axes, position_residual, uniform_step, Kinematics,
@@ -149,6 +151,48 @@ fn principal_axis(ring: &Ring, seg: usize) -> Vector3<f64> {
     let eig = nalgebra::SymmetricEigen::new(m);
     let k = eig.eigenvalues.imax();
     eig.eigenvectors.column(k).into_owned()
+}
+
+/// Smallest eigenvalue of `H^T H / N` of the axis residuals with respect to
+/// unit tangent displacements of the two axes (radians of turn), so that it
+/// does not depend on where the axes lie in the spherical coordinates of
+/// eq 1 (near `phi = +-pi/2` a step in `theta` moves the axis only by
+/// `cos(phi)` times as much).
+fn tangent_information(ring: &Ring, psi: &Vector4<f64>) -> f64 {
+    let scale = Vector4::new(
+        1.0,
+        1.0 / libm::cos(psi[0]).abs().max(1e-9),
+        1.0,
+        1.0 / libm::cos(psi[2]).abs().max(1e-9),
+    );
+    let mut a = nalgebra::Matrix4::<f64>::zeros();
+    let mut n = 0usize;
+    AxisResiduals(ring).visit(psi, &mut |_, h| {
+        let ht = h.component_mul(&scale);
+        a.ger(1.0, &ht, &ht, 1.0);
+        n += 1;
+    });
+    if n == 0 {
+        return 0.0;
+    }
+    let eig = nalgebra::SymmetricEigen::new(a / n as f64);
+    eig.eigenvalues.min()
+}
+
+fn mean_square_rate(ring: &Ring, seg: usize) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for i in 0..ring.len() {
+        let x = ring.get(i);
+        if x.gyr_ok {
+            s += x.gyr[seg].norm_squared();
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        s / n as f64
+    }
 }
 
 /// The identified joint geometry, both axes pointing to the same side.
@@ -298,13 +342,26 @@ pub fn identify(
     };
     let j = match estimate_parameters(&axes, start, p.order, &p.axis_noise, normalise_axes) {
         Ok(r) => r,
-        Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
+        // Every rate is parallel to its starting axis: planar rotation about
+        // exactly those axes, which then solve eq 2 exactly. Their
+        // information is the smaller mean squared rate (the scale of H).
+        Err(ParamEkfError::NoResiduals) => ParamEkfResult {
+            x: start,
+            p: nalgebra::Matrix4::zeros(),
+            n_used: 0,
+            rms_before: 0.0,
+            rms_after: 0.0,
+            min_information: mean_square_rate(ring, 0).min(mean_square_rate(ring, 1)),
+        },
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
     };
-    if j.min_information.is_nan() || j.min_information < p.min_information {
-        return WindowOutcome::Unobservable {
-            information: j.min_information,
-        };
+    let information = if j.n_used == 0 {
+        j.min_information
+    } else {
+        tangent_information(ring, &j.x)
+    };
+    if information.is_nan() || information < p.min_information {
+        return WindowOutcome::Unobservable { information };
     }
     let o_start: Vector6<f64> = match previous {
         Some(g) => stack(&g.position[0], &g.position[1]),
@@ -347,7 +404,7 @@ pub fn identify(
         geometry: g,
         rms_axis: j.rms_after,
         rms_position: o.rms_after,
-        information: j.min_information,
+        information,
     }
 }
 
