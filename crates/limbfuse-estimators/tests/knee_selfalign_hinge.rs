@@ -3,6 +3,7 @@
 //! estimator (orientation and position differentiated numerically): noise
 //! free, the identified axes must be within 1 deg and the positions within
 //! 1 cm of the truth, and the knee angle must follow the hinge angle.
+#![allow(clippy::needless_range_loop)] // axis i of thigh (0) and shank (1) in parallel arrays
 
 use limbfuse_core::{Estimator, ImuSample, Joint, Sample, Segment};
 use limbfuse_estimators::knee_selfalign::position::correct_along_axes;

@@ -2,6 +2,7 @@
 //! random sensor mountings: the axis sign convention (SPEC section 6), the
 //! knee angle against the simulator's truth, and bad input (missing samples,
 //! a motionless recording, a saturated gyro).
+#![allow(clippy::needless_range_loop)] // axis i of thigh (0) and shank (1) in parallel arrays
 
 use limbfuse_core::{Estimate, Estimator, Joint, Record, Segment};
 use limbfuse_estimators::knee_selfalign::{status, KneeSelfAlign, KneeSelfAlignParams, KNEE_DIAG};
