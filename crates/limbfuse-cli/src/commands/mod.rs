@@ -9,6 +9,7 @@ mod montecarlo;
 mod protocol;
 mod resample;
 mod simulate;
+mod simulate_knee;
 mod tune;
 
 use anyhow::Result;
@@ -20,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
+        Command::Simulate(SimulateCommand::Knee(a)) => simulate_knee::run(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
