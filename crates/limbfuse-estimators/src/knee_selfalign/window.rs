@@ -310,12 +310,12 @@ fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64)> {
 /// the positions, then the sign rules and the correction along the axes.
 ///
 /// Signs (SPEC section 6): `e_j` and `e_o` do not depend on the axis signs.
-/// The shank axis is flipped if that makes the accelerometer angle follow the
-/// integrated gyro angle better (both axes must point to the same side for
-/// eqs 4 and 5 to describe the same rotation); then both are flipped, with
-/// the sensor-position zero, if the mean angle is negative (the knee flexes
-/// to positive angles, SPEC section 1), or with the paper's zero, if the
-/// thigh axis would point away from `previous`.
+/// In the first window the shank axis is flipped if that makes the
+/// accelerometer angle follow the integrated gyro angle better (both axes
+/// must point to the same side for eqs 4 and 5 to describe the same
+/// rotation); then both are flipped, with the sensor-position zero, if the
+/// mean angle is negative (the knee flexes to positive angles, SPEC section
+/// 1). In later windows each axis keeps the side of its `previous` axis.
 pub fn identify(
     ring: &Ring,
     previous: Option<&Geometry>,
@@ -376,6 +376,23 @@ pub fn identify(
     let (j_t, j_s) = axes_of_state(&j.x);
     let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
+    if let Some(prev) = previous {
+        // Continuity: a sensor does not turn its axis to the other side
+        // between two windows (a re-mounting by less than 90 deg keeps
+        // j_new . j_old > 0), so each axis keeps the side it had.
+        let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
+        let (jt, js) = (side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1]));
+        let (ct, cs) = correct_along_axes(&o_t, &o_s, &jt, &js);
+        return WindowOutcome::Identified {
+            geometry: Geometry {
+                axis: [jt, js],
+                position: [ct, cs],
+            },
+            rms_axis: j.rms_after,
+            rms_position: o.rms_after,
+            information,
+        };
+    }
     let mut best: Option<(f64, f64, Geometry)> = None;
     for sign in [1.0, -1.0] {
         let (ct, cs) = correct_along_axes(&o_t, &o_s, &j_t, &(j_s * sign));
@@ -392,10 +409,9 @@ pub fn identify(
     let Some((_, level, mut g)) = best else {
         return WindowOutcome::TooFewSamples { usable: 0 };
     };
-    let flip = match (p.zero, previous) {
-        (AngleZero::SensorPositions, _) => level < 0.0,
-        (AngleZero::PaperC, Some(prev)) => g.axis[0].dot(&prev.axis[0]) < 0.0,
-        (AngleZero::PaperC, None) => false,
+    let flip = match p.zero {
+        AngleZero::SensorPositions => level < 0.0,
+        AngleZero::PaperC => false,
     };
     if flip {
         g.axis = [-g.axis[0], -g.axis[1]];
