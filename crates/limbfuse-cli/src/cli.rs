@@ -55,6 +55,13 @@ pub struct AlignArgs {
     /// there is no quiet standing (default 0 for every segment).
     #[arg(long = "mean-angle", value_name = "SEGMENT=DEG")]
     pub mean_angle: Vec<String>,
+    /// Instead: identify the knee joint axis and joint position in the raw thigh and shank
+    /// sensor frames (paper 002, over the whole trial) and write them to OUTPUT (TOML).
+    #[arg(long, conflicts_with_all = ["hinge", "partial", "mean_angle"])]
+    pub joint_axis: bool,
+    /// With --joint-axis: parameter-EKF iterations (paper 002 default 6).
+    #[arg(long, default_value_t = 6, requires = "joint_axis")]
+    pub order: usize,
 }
 
 /// Options of `montecarlo`.

@@ -1,10 +1,12 @@
 //! One module per subcommand.
 
 mod align;
+mod align_joint_axis;
 mod demo;
 mod estimate;
 mod evaluate;
 mod import;
+mod knee_demo;
 mod montecarlo;
 mod protocol;
 mod resample;
