@@ -4,6 +4,7 @@
 //! cargo run --release -p limbfuse-eval --example knee_study -- seeds [N] [AP_SD_CM]
 //! cargo run --release -p limbfuse-eval --example knee_study -- table1 [N]
 //! cargo run --release -p limbfuse-eval --example knee_study -- remount [N]
+//! cargo run --release -p limbfuse-eval --example knee_study -- real [DATA_DIR]
 //! ```
 //!
 //! * `seeds`: 60 s simulated walking (1 m/s, default sensors, random IMU
@@ -14,6 +15,8 @@
 //! * `remount`: thigh sensor turned 50 deg about the thigh's long axis at
 //!   t = 30 s; recovery time of the 2 s sliding RMSE below 2 deg for
 //!   s_w = 200 and 400 (order 6), seeds 1..=N (default 10).
+//! * `real`: the shared gaittoolbox trial (right knee vs Vicon, straight
+//!   parts) and the five knee-rig trials (vs the stepper angle).
 
 use limbfuse_estimators::knee_selfalign::KneeSelfAlignParams;
 use limbfuse_eval::knee_study::{mean_error, recovery_time, run, simulate, sliding_rmse};
@@ -182,11 +185,93 @@ fn remount(n: u64) {
     }
 }
 
+fn show(label: &str, r: &limbfuse_eval::knee_study::KneeRun) {
+    println!(
+        "| {label} | {} | {:.2} | {:.2} | {:+.2} | {:.4} |",
+        r.errors.len(),
+        r.rmse.to_degrees(),
+        r.rmse_offset_free.to_degrees(),
+        r.mean.to_degrees(),
+        r.corr
+    );
+}
+
+fn real(data: &str) {
+    use limbfuse_io::import::{import_gaittoolbox_with, import_knee_rig, GaittoolboxOptions};
+    let dir = std::path::Path::new(data);
+    let straight = [(45usize, 355usize), (440, 872)];
+    println!("gaittoolbox right knee, evaluated on the straight parts (samples 45..355, 440..872)");
+    println!("| variant | n | RMSE deg | offset-free RMSE deg | mean error deg | corr |");
+    println!("|---|---|---|---|---|---|");
+    for shift in [0, 2] {
+        let trial = match import_gaittoolbox_with(
+            &dir.join("gaittoolbox-s02-walk"),
+            &GaittoolboxOptions {
+                shift_imu_samples: shift,
+                ..GaittoolboxOptions::default()
+            },
+        ) {
+            Ok(t) => t,
+            Err(e) => {
+                println!("skipped: {e}");
+                return;
+            }
+        };
+        let recs = &trial.records;
+        for window in [300usize, 500] {
+            let r = limbfuse_eval::knee_study::run_on(recs, params(window, 6), &straight)
+                .expect("runs");
+            show(
+                &format!("online s_w={window}, order 6, IMU shift {shift}"),
+                &r,
+            );
+        }
+        let g = limbfuse_eval::knee_study::identify_offline(&recs[45..355], 6);
+        match g {
+            Some(g) => {
+                let r = limbfuse_eval::knee_study::run_fixed(recs, g, &straight).expect("runs");
+                show(
+                    &format!("geometry from straight part 1, IMU shift {shift}"),
+                    &r,
+                );
+                let r =
+                    limbfuse_eval::knee_study::run_fixed(recs, g, &straight[1..]).expect("runs");
+                show(
+                    &format!("  same, straight part 2 only (held out), IMU shift {shift}"),
+                    &r,
+                );
+            }
+            None => println!("| offline identification failed (shift {shift}) | | | | | |"),
+        }
+    }
+    println!();
+    println!(
+        "knee rig (250 Hz), whole trial after the first window; corr with the stepper reference"
+    );
+    println!("| variant | n | RMSE deg | offset-free RMSE deg | mean error deg | corr |");
+    println!("|---|---|---|---|---|---|");
+    for i in 1..=5 {
+        let path = dir.join(format!("knee-rig/Trial_0{i}.csv"));
+        let trial = match import_knee_rig(&path) {
+            Ok(t) => t,
+            Err(e) => {
+                println!("skipped: {e}");
+                return;
+            }
+        };
+        for window in [500usize, 1250] {
+            let r = run(&trial.records, params(window, 6)).expect("runs");
+            show(&format!("Trial_0{i} online s_w={window}"), &r);
+        }
+    }
+}
+
 fn main() {
     match std::env::args().nth(1).as_deref() {
         Some("seeds") => seeds(arg(2, 30), arg(3, 0.0)),
         Some("table1") => table1(arg(2, 10)),
         Some("remount") => remount(arg(2, 10)),
+        Some("real") => real(&arg(2, String::from("../shared/data"))),
         _ => eprintln!("usage: knee_study seeds [N] [AP_SD_CM] | table1 [N] | remount [N]"),
     }
 }

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use limbfuse_core::{Estimator, Joint, Record};
-use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
+use limbfuse_estimators::knee_selfalign::{Geometry, KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_sim::{KneeScenario, KneeSimulator, Remount, SimError, WalkingConfig};
 
 /// Knee-angle errors of one run against the reference.
@@ -61,9 +61,74 @@ pub fn run(records: &[Record], params: KneeSelfAlignParams) -> Result<KneeRun, S
         out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
     }
     let seconds = start.elapsed().as_secs_f64();
+    Ok(summarise(records, &out, &[(0, records.len())], seconds))
+}
+
+/// Identifies the joint geometry from `records` as one window (offline,
+/// like `limbfuse align --joint-axis`); `None` when not identified.
+pub fn identify_offline(records: &[Record], order: usize) -> Option<Geometry> {
+    let mut est = KneeSelfAlign::new(KneeSelfAlignParams {
+        window: records.len(),
+        order,
+        ..KneeSelfAlignParams::default()
+    })
+    .ok()?;
+    for r in records {
+        est.step(&r.sample).ok()?;
+    }
+    est.geometry().copied()
+}
+
+/// Knee-angle errors of a run with a fixed geometry on the samples whose
+/// index is in one of `ranges` (half-open).
+pub fn run_fixed(
+    records: &[Record],
+    geometry: Geometry,
+    ranges: &[(usize, usize)],
+) -> Result<KneeRun, String> {
+    let mut est = KneeSelfAlign::default();
+    est.fix_geometry(geometry)
+        .ok_or("the geometry gives no joint-plane basis")?;
+    let k = Joint::Knee.index();
+    let start = Instant::now();
+    let mut out = Vec::with_capacity(records.len());
+    for r in records {
+        out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(summarise(records, &out, ranges, seconds))
+}
+
+/// Like [`run`], evaluated on the samples in `ranges` only.
+pub fn run_on(
+    records: &[Record],
+    params: KneeSelfAlignParams,
+    ranges: &[(usize, usize)],
+) -> Result<KneeRun, String> {
+    let mut est = KneeSelfAlign::new(params).map_err(|e| e.to_string())?;
+    let k = Joint::Knee.index();
+    let start = Instant::now();
+    let mut out = Vec::with_capacity(records.len());
+    for r in records {
+        out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(summarise(records, &out, ranges, seconds))
+}
+
+fn summarise(
+    records: &[Record],
+    out: &[Option<f64>],
+    ranges: &[(usize, usize)],
+    seconds: f64,
+) -> KneeRun {
+    let k = Joint::Knee.index();
     let mut errors = Vec::new();
     let (mut e_s, mut r_s) = (Vec::new(), Vec::new());
-    for (r, e) in records.iter().zip(&out) {
+    for (i, (r, e)) in records.iter().zip(out).enumerate() {
+        if !ranges.iter().any(|&(a, b)| i >= a && i < b) {
+            continue;
+        }
         if let (Some(e), Some(x)) = (e, r.reference.joint[k]) {
             errors.push((r.sample.t, e - x));
             e_s.push(*e);
@@ -74,7 +139,7 @@ pub fn run(records: &[Record], params: KneeSelfAlignParams) -> Result<KneeRun, S
     let mean = errors.iter().map(|x| x.1).sum::<f64>() / n;
     let rmse = (errors.iter().map(|x| x.1 * x.1).sum::<f64>() / n).sqrt();
     let rmse_offset_free = (errors.iter().map(|x| (x.1 - mean).powi(2)).sum::<f64>() / n).sqrt();
-    Ok(KneeRun {
+    KneeRun {
         rmse,
         mean,
         rmse_offset_free,
@@ -82,7 +147,7 @@ pub fn run(records: &[Record], params: KneeSelfAlignParams) -> Result<KneeRun, S
         errors,
         seconds,
         n_samples: records.len(),
-    })
+    }
 }
 
 /// Pearson correlation (NaN for fewer than two points or no variance).
