@@ -19,7 +19,9 @@
 //!   parts) and the five knee-rig trials (vs the stepper angle).
 
 use limbfuse_estimators::knee_selfalign::KneeSelfAlignParams;
-use limbfuse_eval::knee_study::{mean_error, recovery_time, run, simulate, sliding_rmse};
+use limbfuse_eval::knee_study::{
+    mean_error, recovery_time, run, simulate, simulate_with_truth, sliding_rmse,
+};
 use limbfuse_sim::Remount;
 use rayon::prelude::*;
 
@@ -51,24 +53,32 @@ fn seeds(n: u64, ap_sd_cm: f64) {
     let runs: Vec<_> = (1..=n)
         .into_par_iter()
         .map(|seed| {
-            let recs = simulate(seed, 60.0, ap_sd_cm / 100.0, None).expect("valid scenario");
-            (seed, run(&recs, params(500, 6)).expect("runs"))
+            let (recs, truth) =
+                simulate_with_truth(seed, 60.0, ap_sd_cm / 100.0).expect("valid scenario");
+            let fixed = limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())])
+                .expect("runs");
+            (seed, run(&recs, params(500, 6)).expect("runs"), fixed)
         })
         .collect();
     println!("seeds 1..={n}, A/P offset sd {ap_sd_cm} cm, s_w = 500, order = 6 (angles from sample 500 on)");
-    println!("| seed | RMSE deg | offset-free RMSE deg | mean error deg | corr |");
-    println!("|---|---|---|---|---|");
-    for (seed, r) in &runs {
+    println!("| seed | RMSE deg | offset-free RMSE deg | mean error deg | corr | true geometry: RMSE / mean deg |");
+    println!("|---|---|---|---|---|---|");
+    for (seed, r, f) in &runs {
         println!(
-            "| {seed} | {:.3} | {:.3} | {:+.3} | {:.5} |",
+            "| {seed} | {:.3} | {:.3} | {:+.3} | {:.5} | {:.3} / {:+.3} |",
             r.rmse.to_degrees(),
             r.rmse_offset_free.to_degrees(),
             r.mean.to_degrees(),
-            r.corr
+            r.corr,
+            f.rmse.to_degrees(),
+            f.mean.to_degrees()
         );
     }
     let col = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
-        stats(&runs.iter().map(|(_, r)| f(r)).collect::<Vec<_>>())
+        stats(&runs.iter().map(|(_, r, _)| f(r)).collect::<Vec<_>>())
+    };
+    let colf = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+        stats(&runs.iter().map(|(_, _, r)| f(r)).collect::<Vec<_>>())
     };
     for (name, s) in [
         ("RMSE deg", col(&|r| r.rmse.to_degrees())),
@@ -78,6 +88,18 @@ fn seeds(n: u64, ap_sd_cm: f64) {
         ),
         ("|mean error| deg", col(&|r| r.mean.abs().to_degrees())),
         ("corr", col(&|r| r.corr)),
+        (
+            "true geometry (fixed): RMSE deg",
+            colf(&|r| r.rmse.to_degrees()),
+        ),
+        (
+            "true geometry (fixed): offset-free RMSE deg",
+            colf(&|r| r.rmse_offset_free.to_degrees()),
+        ),
+        (
+            "true geometry (fixed): |mean error| deg",
+            colf(&|r| r.mean.abs().to_degrees()),
+        ),
     ] {
         println!(
             "{name}: mean {:.4}, sd {:.4}, min {:.4}, max {:.4}",

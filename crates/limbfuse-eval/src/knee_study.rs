@@ -50,6 +50,38 @@ pub fn simulate(
     Ok(KneeSimulator::new(sc)?.collect())
 }
 
+/// Like [`simulate`], also returning the true geometry (segment z axes and
+/// sensor positions in the sensor frames, moved along the axes as the
+/// estimator does) at the start of the trial.
+pub fn simulate_with_truth(
+    seed: u64,
+    duration_s: f64,
+    ap_offset_sd_m: f64,
+) -> Result<(Vec<Record>, Geometry), SimError> {
+    let d = KneeScenario::default();
+    let sim = KneeSimulator::new(KneeScenario {
+        walking: WalkingConfig {
+            seed,
+            duration_s,
+            ..d.walking
+        },
+        ap_offset_sd_m,
+        ..d
+    })?;
+    let (axis, position) = sim.sensor_frame_geometry();
+    let (pt, ps) = limbfuse_estimators::knee_selfalign::position::correct_along_axes(
+        &position[0],
+        &position[1],
+        &axis[0],
+        &axis[1],
+    );
+    let g = Geometry {
+        axis,
+        position: [pt, ps],
+    };
+    Ok((sim.collect(), g))
+}
+
 /// Runs a fresh estimator over `records` and compares its knee angle with
 /// the reference.
 pub fn run(records: &[Record], params: KneeSelfAlignParams) -> Result<KneeRun, String> {
