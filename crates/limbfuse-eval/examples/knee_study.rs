@@ -1,7 +1,7 @@
 //! Self-aligning knee study of issue 4 (paper 002), for docs/RESULTS.md:
 //!
 //! ```text
-//! cargo run --release -p limbfuse-eval --example knee_study -- seeds [N] [AP_SD_CM]
+//! cargo run --release -p limbfuse-eval --example knee_study -- seeds [N] [AP_SD_CM] [paper|rate-bias]
 //! cargo run --release -p limbfuse-eval --example knee_study -- table1 [N]
 //! cargo run --release -p limbfuse-eval --example knee_study -- remount [N]
 //! cargo run --release -p limbfuse-eval --example knee_study -- real [DATA_DIR]
@@ -18,7 +18,7 @@
 //! * `real`: the shared gaittoolbox trial (right knee vs Vicon, straight
 //!   parts) and the five knee-rig trials (vs the stepper angle).
 
-use limbfuse_estimators::knee_selfalign::KneeSelfAlignParams;
+use limbfuse_estimators::knee_selfalign::{Fusion, KneeSelfAlignParams};
 use limbfuse_eval::knee_study::{
     mean_error, recovery_time, run, simulate, simulate_with_truth, sliding_rmse,
 };
@@ -49,18 +49,27 @@ fn stats(x: &[f64]) -> (f64, f64, f64, f64) {
     (m, sd, lo, hi)
 }
 
-fn seeds(n: u64, ap_sd_cm: f64) {
+fn seeds(n: u64, ap_sd_cm: f64, fusion: &str) {
+    let fusion = match fusion {
+        "rate-bias" => Fusion::RATE_BIAS,
+        _ => Fusion::Paper,
+    };
+    let params = |w, o| KneeSelfAlignParams {
+        fusion,
+        ..params(w, o)
+    };
     let runs: Vec<_> = (1..=n)
         .into_par_iter()
         .map(|seed| {
             let (recs, truth) =
                 simulate_with_truth(seed, 60.0, ap_sd_cm / 100.0).expect("valid scenario");
-            let fixed = limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())])
-                .expect("runs");
+            let fixed =
+                limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())], fusion)
+                    .expect("runs");
             (seed, run(&recs, params(500, 6)).expect("runs"), fixed)
         })
         .collect();
-    println!("seeds 1..={n}, A/P offset sd {ap_sd_cm} cm, s_w = 500, order = 6 (angles from sample 500 on)");
+    println!("seeds 1..={n}, A/P offset sd {ap_sd_cm} cm, s_w = 500, order = 6, fusion {fusion:?} (angles from sample 500 on)");
     println!("| seed | RMSE deg | offset-free RMSE deg | mean error deg | corr | true geometry: RMSE / mean deg |");
     println!("|---|---|---|---|---|---|");
     for (seed, r, f) in &runs {
@@ -251,13 +260,15 @@ fn real(data: &str) {
         let g = limbfuse_eval::knee_study::identify_offline(&recs[45..355], 6);
         match g {
             Some(g) => {
-                let r = limbfuse_eval::knee_study::run_fixed(recs, g, &straight).expect("runs");
+                let r = limbfuse_eval::knee_study::run_fixed(recs, g, &straight, Fusion::Paper)
+                    .expect("runs");
                 show(
                     &format!("geometry from straight part 1, IMU shift {shift}"),
                     &r,
                 );
                 let r =
-                    limbfuse_eval::knee_study::run_fixed(recs, g, &straight[1..]).expect("runs");
+                    limbfuse_eval::knee_study::run_fixed(recs, g, &straight[1..], Fusion::Paper)
+                        .expect("runs");
                 show(
                     &format!("  same, straight part 2 only (held out), IMU shift {shift}"),
                     &r,
@@ -290,7 +301,7 @@ fn real(data: &str) {
 
 fn main() {
     match std::env::args().nth(1).as_deref() {
-        Some("seeds") => seeds(arg(2, 30), arg(3, 0.0)),
+        Some("seeds") => seeds(arg(2, 30), arg(3, 0.0), &arg(4, String::from("paper"))),
         Some("table1") => table1(arg(2, 10)),
         Some("remount") => remount(arg(2, 10)),
         Some("real") => real(&arg(2, String::from("../shared/data"))),

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use limbfuse_core::{Estimator, Joint, Record};
-use limbfuse_estimators::knee_selfalign::{Geometry, KneeSelfAlign, KneeSelfAlignParams};
+use limbfuse_estimators::knee_selfalign::{Fusion, Geometry, KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_sim::{KneeScenario, KneeSimulator, Remount, SimError, WalkingConfig};
 
 /// Knee-angle errors of one run against the reference.
@@ -117,8 +117,13 @@ pub fn run_fixed(
     records: &[Record],
     geometry: Geometry,
     ranges: &[(usize, usize)],
+    fusion: Fusion,
 ) -> Result<KneeRun, String> {
-    let mut est = KneeSelfAlign::default();
+    let mut est = KneeSelfAlign::new(KneeSelfAlignParams {
+        fusion,
+        ..KneeSelfAlignParams::default()
+    })
+    .map_err(|e| e.to_string())?;
     est.fix_geometry(geometry)
         .ok_or("the geometry gives no joint-plane basis")?;
     let k = Joint::Knee.index();

@@ -122,6 +122,66 @@ impl ComplementaryKf {
     }
 }
 
+/// An extension of Algorithm 1 (not in paper 002): a second state for the
+/// rate bias of `alpha_gyro' = g_T . j_T - g_S . j_S`, so that a constant
+/// gyro-bias difference does not leave a lag of `b / (gain / dt)`.
+///
+/// State `[x, b]`: `x` the correction added to `alpha_gyro` (as in
+/// Algorithm 1), `b` the rate bias; `x_{k+1} = x_k - b dt`, `b_{k+1} = b_k`;
+/// `z = alpha_acc - alpha_gyro = x + v`. `Q = diag(q, q_b)` per sample,
+/// `R = r`, `P0 = diag(1, p_b0)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RateBiasKf {
+    /// Correction `x` (rad) and rate bias `b` (rad/s).
+    pub x: [f64; 2],
+    /// Covariance.
+    pub p: [[f64; 2]; 2],
+    /// Process noise of `x` per sample (rad^2).
+    pub q: f64,
+    /// Process noise of `b` per sample ((rad/s)^2).
+    pub q_b: f64,
+    /// Measurement noise (rad^2).
+    pub r: f64,
+}
+
+impl RateBiasKf {
+    /// `x0 = 0`, `P0 = diag(1, p_b0)`.
+    pub fn new(q: f64, q_b: f64, r: f64, p_b0: f64) -> Self {
+        RateBiasKf {
+            x: [0.0; 2],
+            p: [[1.0, 0.0], [0.0, p_b0]],
+            q,
+            q_b,
+            r,
+        }
+    }
+
+    /// Prediction over `dt` seconds.
+    pub fn predict(&mut self, dt: f64) {
+        let [x, b] = self.x;
+        self.x = [x - b * dt, b];
+        let p = self.p;
+        // P <- F P F^T + Q with F = [[1, -dt], [0, 1]].
+        let p00 = p[0][0] - dt * (p[1][0] + p[0][1]) + dt * dt * p[1][1] + self.q;
+        let p01 = p[0][1] - dt * p[1][1];
+        let p11 = p[1][1] + self.q_b;
+        self.p = [[p00, p01], [p01, p11]];
+    }
+
+    /// Correction with `z = alpha_acc - alpha_gyro` (innovation wrapped).
+    pub fn update(&mut self, z: f64) {
+        let s = self.p[0][0] + self.r;
+        let k = [self.p[0][0] / s, self.p[1][0] / s];
+        let nu = wrap(z - self.x[0]);
+        self.x = [self.x[0] + k[0] * nu, self.x[1] + k[1] * nu];
+        let p = self.p;
+        let p00 = (1.0 - k[0]) * p[0][0];
+        let p01 = (1.0 - k[0]) * p[0][1];
+        let p11 = p[1][1] - k[1] * p[0][1];
+        self.p = [[p00, p01], [p01, p11]];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -168,6 +228,29 @@ mod tests {
         let k = kf.p / (kf.p + kf.r);
         assert!((kf.x - 0.5).abs() < 1e-9);
         assert!((k - 0.005).abs() < 2e-4, "{k}");
+    }
+
+    #[test]
+    fn rate_bias_state_removes_the_ramp_lag() {
+        // alpha_gyro carries a 0.01 rad/s bias: z = -0.01 t. Algorithm 1
+        // lags it by about b dt / K; the two-state filter does not.
+        let dt = 0.01;
+        let mut one = ComplementaryKf::new(5e-6, 0.2);
+        let mut two = RateBiasKf::new(5e-6, 1e-10, 0.2, 1e-4);
+        for k in 1..=20_000 {
+            let z = -0.01 * k as f64 * dt;
+            one.predict();
+            one.update(z);
+            two.predict(dt);
+            two.update(z);
+        }
+        let z = -0.01 * 20_000.0 * dt;
+        let lag_one = (one.x - z).abs();
+        let lag_two = (two.x[0] - z).abs();
+        // Steady-state lag of Algorithm 1: b dt / K = 1e-4 / 0.0050 = 0.02 rad.
+        assert!((lag_one - 0.02).abs() < 0.002, "{lag_one}");
+        assert!(lag_two < 0.002, "{lag_two}");
+        assert!((two.x[1] - 0.01).abs() < 1e-3, "{}", two.x[1]);
     }
 
     #[test]

@@ -33,13 +33,13 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep};
 use nalgebra::Vector3;
 
-use angle::{accel_angle, gyro_angle_rate, ComplementaryKf, PlaneBasis};
-pub use params::{AngleZero, KneeParamError, KneeSelfAlignParams};
+use angle::{accel_angle, gyro_angle_rate, ComplementaryKf, PlaneBasis, RateBiasKf};
+pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 pub use window::Geometry;
 use window::{identify, Ring, Slot, WindowOutcome};
 
 /// Diagnostic names of [`KneeSelfAlign`], in `Estimate::diag` order.
-pub const KNEE_DIAG: [&str; 26] = [
+pub const KNEE_DIAG: [&str; 27] = [
     "identified",
     "window_status",
     "unobservable",
@@ -66,6 +66,7 @@ pub const KNEE_DIAG: [&str; 26] = [
     "rms_e_o",
     "information",
     "alpha_acc_lag",
+    "kf_rate_bias",
 ];
 
 /// `window_status` values.
@@ -82,6 +83,43 @@ pub mod status {
     pub const FAILED: f64 = 4.0;
 }
 
+/// The angle-fusion filter in use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Fuser {
+    Paper(ComplementaryKf),
+    RateBias(RateBiasKf),
+}
+
+impl Fuser {
+    fn new(p: &KneeSelfAlignParams) -> Self {
+        match p.fusion {
+            Fusion::Paper => Fuser::Paper(ComplementaryKf::new(p.kf_q, p.kf_r)),
+            Fusion::RateBias { q_bias, p_bias0 } => {
+                Fuser::RateBias(RateBiasKf::new(p.kf_q, q_bias, p.kf_r, p_bias0))
+            }
+        }
+    }
+    fn predict(&mut self, dt: f64) {
+        match self {
+            Fuser::Paper(k) => k.predict(),
+            Fuser::RateBias(k) => k.predict(dt),
+        }
+    }
+    fn update(&mut self, z: f64) {
+        match self {
+            Fuser::Paper(k) => k.update(z),
+            Fuser::RateBias(k) => k.update(z),
+        }
+    }
+    /// Correction added to the gyro angle, its variance, the rate bias.
+    fn state(&self) -> (f64, f64, Option<f64>) {
+        match self {
+            Fuser::Paper(k) => (k.x, k.p, None),
+            Fuser::RateBias(k) => (k.x[0], k.p[0][0], Some(k.x[1])),
+        }
+    }
+}
+
 /// The self-aligning knee estimator (paper 002, Algorithm 3 online).
 #[derive(Debug, Clone)]
 pub struct KneeSelfAlign {
@@ -95,7 +133,7 @@ pub struct KneeSelfAlign {
     bases: Option<[PlaneBasis; 2]>,
     alpha_gyro: f64,
     last_rate: Option<f64>,
-    kf: ComplementaryKf,
+    kf: Fuser,
     windows: usize,
     status: f64,
     usable: usize,
@@ -136,7 +174,7 @@ impl KneeSelfAlign {
             bases: None,
             alpha_gyro: 0.0,
             last_rate: None,
-            kf: ComplementaryKf::new(params.kf_q, params.kf_r),
+            kf: Fuser::new(&params),
             windows: 0,
             status: status::NONE,
             usable: 0,
@@ -166,7 +204,7 @@ impl KneeSelfAlign {
         if self.geometry.is_none() {
             self.alpha_gyro = 0.0;
             self.last_rate = None;
-            self.kf = ComplementaryKf::new(self.params.kf_q, self.params.kf_r);
+            self.kf = Fuser::new(&self.params);
         }
         self.geometry = Some(geometry);
         self.bases = Some(bases);
@@ -197,7 +235,7 @@ impl KneeSelfAlign {
                     if self.geometry.is_none() {
                         self.alpha_gyro = 0.0;
                         self.last_rate = None;
-                        self.kf = ComplementaryKf::new(self.params.kf_q, self.params.kf_r);
+                        self.kf = Fuser::new(&self.params);
                         self.recent_gyro_angle = [None; 5];
                     }
                     self.geometry = Some(geometry);
@@ -263,7 +301,7 @@ impl Estimator for KneeSelfAlign {
         self.bases = None;
         self.alpha_gyro = 0.0;
         self.last_rate = None;
-        self.kf = ComplementaryKf::new(self.params.kf_q, self.params.kf_r);
+        self.kf = Fuser::new(&self.params);
         self.windows = 0;
         self.status = status::NONE;
         self.usable = 0;
@@ -314,12 +352,12 @@ impl Estimator for KneeSelfAlign {
         self.recent_gyro_angle.rotate_left(1);
         self.recent_gyro_angle[4] = self.geometry.map(|_| self.alpha_gyro);
         if self.geometry.is_some() {
-            self.kf.predict();
+            self.kf.predict(dt.unwrap_or(0.0));
             alpha_acc = self.lagged_accel_angle();
             if let (Some(a), Some(gyro)) = (alpha_acc, self.recent_gyro_angle[2]) {
                 self.kf.update(a - gyro);
             }
-            est.joint[Joint::Knee.index()] = Some(self.alpha_gyro + self.kf.x);
+            est.joint[Joint::Knee.index()] = Some(self.alpha_gyro + self.kf.state().0);
         }
         let d = &mut est.diag;
         d[0] = Some(if self.geometry.is_some() { 1.0 } else { 0.0 });
@@ -335,8 +373,10 @@ impl Estimator for KneeSelfAlign {
         if let Some(g) = &self.geometry {
             d[6] = Some(self.alpha_gyro);
             d[7] = alpha_acc;
-            d[8] = Some(self.kf.x);
-            d[9] = Some(self.kf.p);
+            let (x, p, bias) = self.kf.state();
+            d[8] = Some(x);
+            d[9] = Some(p);
+            d[26] = bias;
             for k in 0..3 {
                 d[10 + k] = Some(g.axis[0][k]);
                 d[13 + k] = Some(g.axis[1][k]);

@@ -30,6 +30,34 @@ impl AngleZero {
     }
 }
 
+/// How the gyro and accelerometer angles are fused.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Fusion {
+    /// Algorithm 1 of paper 002: one state (default, reproduces the paper).
+    #[default]
+    Paper,
+    /// Algorithm 1 plus a rate-bias state ([`super::angle::RateBiasKf`], a
+    /// limbfuse extension): removes the lag a gyro-bias difference leaves.
+    RateBias {
+        /// Bias random walk per sample ((rad/s)^2). Suggested 1e-10: over a
+        /// minute at 100 Hz the bias may wander by sqrt(6000 x 1e-10) =
+        /// 0.04 deg/s, the in-run instability of the modelled gyro.
+        q_bias: f64,
+        /// Initial bias variance ((rad/s)^2). Suggested (1 deg/s)^2 =
+        /// 3.05e-4, above the 0.7 deg/s (1 sigma) turn-on bias difference of
+        /// two BMI270-class gyros.
+        p_bias0: f64,
+    },
+}
+
+impl Fusion {
+    /// The rate-bias variant with the suggested values.
+    pub const RATE_BIAS: Fusion = Fusion::RateBias {
+        q_bias: 1e-10,
+        p_bias0: 3.05e-4,
+    };
+}
+
 /// A parameter value outside its allowed range.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[error("knee-selfalign parameter {name} = {value} is outside {range}")]
@@ -63,6 +91,8 @@ pub struct KneeSelfAlignParams {
     pub kf_r: f64,
     /// Zero of the accelerometer angle.
     pub zero: AngleZero,
+    /// Angle fusion (paper's Algorithm 1 by default).
+    pub fusion: Fusion,
     /// Gyroscope full-scale range (rad/s): a reading with any axis at or
     /// beyond 99.9 % of it is treated as saturated and kept out of the
     /// identification. Default 2000 deg/s, the largest range of the BMI270 /
@@ -91,6 +121,7 @@ impl Default for KneeSelfAlignParams {
             kf_q: 5e-6,
             kf_r: 0.2,
             zero: AngleZero::SensorPositions,
+            fusion: Fusion::Paper,
             gyro_range: 2000f64.to_radians(),
             min_valid_fraction: 0.5,
             min_information: 1e-3,
@@ -149,6 +180,10 @@ impl KneeSelfAlignParams {
         check("kf_q", self.kf_q, 0.0, 1e6, "[0, 1e6]")?;
         positive("kf_r", self.kf_r)?;
         positive("gyro_range", self.gyro_range)?;
+        if let Fusion::RateBias { q_bias, p_bias0 } = self.fusion {
+            check("q_bias", q_bias, 0.0, 1.0, "[0, 1]")?;
+            positive("p_bias0", p_bias0)?;
+        }
         check(
             "min_valid_fraction",
             self.min_valid_fraction,
@@ -180,6 +215,13 @@ impl KneeSelfAlignParams {
             self.position_noise.q, self.position_noise.r, self.position_noise.p0
         )?;
         writeln!(out, "complementary_kf: q={} r={}", self.kf_q, self.kf_r)?;
+        match self.fusion {
+            Fusion::Paper => writeln!(out, "fusion: paper (Algorithm 1, one state)")?,
+            Fusion::RateBias { q_bias, p_bias0 } => writeln!(
+                out,
+                "fusion: rate-bias (Algorithm 1 + rate-bias state) q_bias={q_bias} p_bias0={p_bias0}"
+            )?,
+        }
         writeln!(out, "zero: {}", self.zero.name())?;
         writeln!(out, "gyro_range_rad_s: {}", self.gyro_range)?;
         writeln!(out, "min_valid_fraction: {}", self.min_valid_fraction)?;
