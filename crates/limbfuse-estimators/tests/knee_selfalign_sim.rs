@@ -62,7 +62,7 @@ fn both_axes_point_to_the_subjects_right_for_random_mountings() {
         let (est, out) = run(&records, params);
         let g = est
             .geometry()
-            .unwrap_or_else(|| panic!("seed {seed}: {:?}", est.debug_status()));
+            .unwrap_or_else(|| panic!("seed {seed}: {:?}", est.last_window()));
         for i in 0..2 {
             let cos = g.axis[i].dot(&truth[i]);
             assert!(

@@ -191,7 +191,7 @@ impl KneeSelfAlign {
 
     /// Status of the last window (see [`status`]), its usable samples, the
     /// RMS residuals `[e_j, e_o]` and the information of the axes.
-    pub fn debug_status(&self) -> (f64, usize, [f64; 2], f64) {
+    pub fn last_window(&self) -> (f64, usize, [f64; 2], f64) {
         (self.status, self.usable, self.rms, self.information)
     }
 
@@ -357,7 +357,9 @@ impl Estimator for KneeSelfAlign {
             if let (Some(a), Some(gyro)) = (alpha_acc, self.recent_gyro_angle[2]) {
                 self.kf.update(a - gyro);
             }
-            est.joint[Joint::Knee.index()] = Some(self.alpha_gyro + self.kf.state().0);
+            // An angle: reported in (-pi, pi] (the gyro integral itself is
+            // not wrapped, so eq 4 stays continuous).
+            est.joint[Joint::Knee.index()] = Some(angle::wrap(self.alpha_gyro + self.kf.state().0));
         }
         let d = &mut est.diag;
         d[0] = Some(if self.geometry.is_some() { 1.0 } else { 0.0 });
