@@ -227,6 +227,45 @@ fn show(label: &str, r: &limbfuse_eval::knee_study::KneeRun) {
     );
 }
 
+/// The gyro part alone: correlation and slope of `g_T.j_T - g_S.j_S` (eq 4's
+/// integrand) at the identified axes against the reference knee rate
+/// (central differences), on the given sample ranges.
+fn gyro_check(
+    recs: &[limbfuse_core::Record],
+    g: &limbfuse_estimators::knee_selfalign::Geometry,
+    ranges: &[(usize, usize)],
+    shift: i32,
+) {
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for &(a, b) in ranges {
+        for k in a.max(1)..b.min(recs.len() - 1) {
+            let (Some(gt), Some(gs)) = (recs[k].sample.imu[1].gyr, recs[k].sample.imu[2].gyr)
+            else {
+                continue;
+            };
+            let (Some(r0), Some(r1)) = (
+                recs[k - 1].reference.joint[1],
+                recs[k + 1].reference.joint[1],
+            ) else {
+                continue;
+            };
+            let dt = recs[k + 1].sample.t - recs[k - 1].sample.t;
+            x.push((r1 - r0) / dt);
+            y.push(gt.dot(&g.axis[0]) - gs.dot(&g.axis[1]));
+        }
+    }
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    println!(
+        "gyro check (IMU shift {shift}): eq 4 rate at the axes identified on straight part 1 vs reference knee rate: corr {:.3}, slope {:.3} ({} samples)",
+        limbfuse_eval::knee_study::pearson(&x, &y),
+        sxy / sxx,
+        x.len()
+    );
+}
+
 fn real(data: &str) {
     use limbfuse_io::import::{import_gaittoolbox_with, import_knee_rig, GaittoolboxOptions};
     let dir = std::path::Path::new(data);
@@ -258,6 +297,9 @@ fn real(data: &str) {
             );
         }
         let g = limbfuse_eval::knee_study::identify_offline(&recs[45..355], 6);
+        if let Some(g) = g {
+            gyro_check(recs, &g, &straight, shift);
+        }
         match g {
             Some(g) => {
                 let r = limbfuse_eval::knee_study::run_fixed(recs, g, &straight, Fusion::Paper)
