@@ -193,3 +193,30 @@ fn saturated_gyro_samples_are_flagged_and_left_out() {
     }
     assert!(out.iter().all(|e| e.joint[1].is_none_or(f64::is_finite)));
 }
+
+#[test]
+fn reset_gives_the_same_output_bit_for_bit() {
+    let records: Vec<Record> = WalkingSimulator::new(config(12, 8.0)).unwrap().collect();
+    let mut est = KneeSelfAlign::new(KneeSelfAlignParams {
+        window: 300,
+        ..KneeSelfAlignParams::default()
+    })
+    .unwrap();
+    let first: Vec<Estimate> = records
+        .iter()
+        .map(|r| est.step(&r.sample).unwrap())
+        .collect();
+    est.reset();
+    let second: Vec<Estimate> = records
+        .iter()
+        .map(|r| est.step(&r.sample).unwrap())
+        .collect();
+    assert!(first[400].joint[Joint::Knee.index()].is_some());
+    for (a, b) in first.iter().zip(&second) {
+        assert_eq!(a.joint[1].map(f64::to_bits), b.joint[1].map(f64::to_bits));
+        assert_eq!(
+            a.diag.map(|d| d.map(f64::to_bits)),
+            b.diag.map(|d| d.map(f64::to_bits))
+        );
+    }
+}

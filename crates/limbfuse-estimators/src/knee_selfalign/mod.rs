@@ -195,7 +195,8 @@ impl KneeSelfAlign {
         (self.status, self.usable, self.rms, self.information)
     }
 
-    /// Uses `geometry` from now on and stops identifying windows (for a
+    /// Uses `geometry` from now on and stops identifying windows, until
+    /// [`Estimator::reset`] (for a
     /// geometry known from elsewhere, e.g. `limbfuse align --joint-axis`, and
     /// for checking the angle fusion alone). `None` when the geometry gives no
     /// joint-plane basis (an axis along its reference direction).
@@ -224,6 +225,12 @@ impl KneeSelfAlign {
 
     fn end_window(&mut self) {
         self.windows += 1;
+        self.usable = (0..self.window.len())
+            .filter(|&i| {
+                let s = self.window.get(i);
+                s.gyr_ok && s.acc_ok
+            })
+            .count();
         match identify(&self.window, self.geometry.as_ref(), &self.params) {
             WindowOutcome::Identified {
                 geometry,
@@ -247,10 +254,7 @@ impl KneeSelfAlign {
                     self.status = status::FAILED;
                 }
             }
-            WindowOutcome::TooFewSamples { usable } => {
-                self.status = status::TOO_FEW_SAMPLES;
-                self.usable = usable;
-            }
+            WindowOutcome::TooFewSamples { .. } => self.status = status::TOO_FEW_SAMPLES,
             WindowOutcome::Unobservable { information } => {
                 self.status = status::UNOBSERVABLE;
                 self.information = information;
@@ -307,6 +311,7 @@ impl Estimator for KneeSelfAlign {
         self.usable = 0;
         self.rms = [0.0; 2];
         self.information = 0.0;
+        self.fixed = false;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
