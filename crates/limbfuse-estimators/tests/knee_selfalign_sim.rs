@@ -78,6 +78,9 @@ fn both_axes_point_to_the_subjects_right_for_random_mountings() {
         }
         let c = correlation(&e, &r);
         assert!(c > 0.99, "seed {seed}: correlation {c}");
+        // The accelerometer angle follows the gyro angle (0 = exactly).
+        let spread = diag(out.last().unwrap(), "acc_gyro_spread").unwrap();
+        assert!(spread < 0.01, "seed {seed}: spread {spread}");
     }
 }
 

@@ -39,7 +39,7 @@ pub use window::Geometry;
 use window::{identify, Ring, Slot, WindowOutcome};
 
 /// Diagnostic names of [`KneeSelfAlign`], in `Estimate::diag` order.
-pub const KNEE_DIAG: [&str; 27] = [
+pub const KNEE_DIAG: [&str; 28] = [
     "identified",
     "window_status",
     "unobservable",
@@ -67,6 +67,7 @@ pub const KNEE_DIAG: [&str; 27] = [
     "information",
     "alpha_acc_lag",
     "kf_rate_bias",
+    "acc_gyro_spread",
 ];
 
 /// `window_status` values.
@@ -139,6 +140,7 @@ pub struct KneeSelfAlign {
     usable: usize,
     rms: [f64; 2],
     information: f64,
+    spread: f64,
     fixed: bool,
 }
 
@@ -180,6 +182,7 @@ impl KneeSelfAlign {
             usable: 0,
             rms: [0.0; 2],
             information: 0.0,
+            spread: 1.0,
             fixed: false,
         }
     }
@@ -237,6 +240,7 @@ impl KneeSelfAlign {
                 rms_axis,
                 rms_position,
                 information,
+                spread,
             } => {
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     if self.geometry.is_none() {
@@ -250,6 +254,7 @@ impl KneeSelfAlign {
                     self.status = status::IDENTIFIED;
                     self.rms = [rms_axis, rms_position];
                     self.information = information;
+                    self.spread = spread;
                 } else {
                     self.status = status::FAILED;
                 }
@@ -311,6 +316,7 @@ impl Estimator for KneeSelfAlign {
         self.usable = 0;
         self.rms = [0.0; 2];
         self.information = 0.0;
+        self.spread = 1.0;
         self.fixed = false;
     }
 
@@ -392,6 +398,7 @@ impl Estimator for KneeSelfAlign {
             }
             d[22] = Some(self.rms[0]);
             d[23] = Some(self.rms[1]);
+            d[27] = Some(self.spread);
         }
         d[24] = Some(self.information);
         d[25] = Some(position::DERIVATIVE_LATENCY as f64);

@@ -233,6 +233,10 @@ pub enum WindowOutcome {
         rms_position: f64,
         /// Smallest eigenvalue of `H_j^T H_j / N` ((rad/s)^2).
         information: f64,
+        /// Circular spread (0..1) of `alpha_acc - integral(alpha_gyro')`
+        /// over the window with the chosen geometry: near 0 when the
+        /// accelerometer angle follows the gyro angle up to a constant.
+        spread: f64,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -383,14 +387,16 @@ pub fn identify(
         let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
         let (jt, js) = (side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1]));
         let (ct, cs) = correct_along_axes(&o_t, &o_s, &jt, &js);
+        let geometry = Geometry {
+            axis: [jt, js],
+            position: [ct, cs],
+        };
         return WindowOutcome::Identified {
-            geometry: Geometry {
-                axis: [jt, js],
-                position: [ct, cs],
-            },
+            geometry,
             rms_axis: j.rms_after,
             rms_position: o.rms_after,
             information,
+            spread: agreement(ring, &geometry, p.zero).map_or(1.0, |a| a.0),
         };
     }
     let mut best: Option<(f64, f64, Geometry)> = None;
@@ -406,7 +412,7 @@ pub fn identify(
             }
         }
     }
-    let Some((_, level, mut g)) = best else {
+    let Some((spread, level, mut g)) = best else {
         return WindowOutcome::TooFewSamples { usable: 0 };
     };
     let flip = match p.zero {
@@ -421,6 +427,7 @@ pub fn identify(
         rms_axis: j.rms_after,
         rms_position: o.rms_after,
         information,
+        spread,
     }
 }
 
