@@ -16,7 +16,7 @@ fn vec3(r: f64) -> impl Strategy<Value = Vector3<f64>> {
 
 proptest! {
     #[test]
-    fn spherical_round_trip(phi in -1.5f64..1.5, theta in 0.0f64..6.28) {
+    fn spherical_round_trip(phi in -1.5f64..1.5, theta in 0.0f64..std::f64::consts::TAU) {
         let j = axis_from_spherical(phi, theta);
         prop_assert!((j.norm() - 1.0).abs() < 1e-12);
         let (p, t) = spherical_from_axis(&j);
@@ -26,7 +26,7 @@ proptest! {
     #[test]
     fn axis_residual_is_sign_blind_and_its_gradient_matches(
         gt in vec3(4.0), gs in vec3(4.0),
-        p in (-1.4f64..1.4, 0.0f64..6.28, -1.4f64..1.4, 0.0f64..6.28),
+        p in (-1.4f64..1.4, 0.0f64..std::f64::consts::TAU, -1.4f64..1.4, 0.0f64..std::f64::consts::TAU),
     ) {
         let psi = Vector4::new(p.0, p.1, p.2, p.3);
         if let Some((e, h)) = axis_residual(&gt, &gs, &psi) {
