@@ -55,6 +55,13 @@ pub struct AlignArgs {
     /// there is no quiet standing (default 0 for every segment).
     #[arg(long = "mean-angle", value_name = "SEGMENT=DEG")]
     pub mean_angle: Vec<String>,
+    /// Instead: identify the knee joint axis and joint position in the raw thigh and shank
+    /// sensor frames (paper 002, over the whole trial) and write them to OUTPUT (TOML).
+    #[arg(long, conflicts_with_all = ["hinge", "partial", "mean_angle"])]
+    pub joint_axis: bool,
+    /// With --joint-axis: parameter-EKF iterations (paper 002 default 6).
+    #[arg(long, default_value_t = 6, requires = "joint_axis")]
+    pub order: usize,
 }
 
 /// Options of `montecarlo`.
@@ -105,6 +112,44 @@ pub struct DemoArgs {
 pub enum SimulateCommand {
     /// Level walking: trunk, thigh, shank and foot IMUs plus hip, knee and ankle encoders.
     Walking(WalkingArgs),
+    /// Walking with every IMU at a random orientation, the thigh and shank IMUs at random
+    /// positions, optionally a thigh-sensor re-mounting (paper 002).
+    Knee(KneeSimArgs),
+}
+
+/// Options of `simulate knee`.
+#[derive(Debug, Args)]
+pub struct KneeSimArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Walking speed (m/s), 0.4 to 1.8.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Duration (s).
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub imu_rate: f64,
+    /// Random seed: same seed, same file, bit for bit.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Standard deviation (cm) of each sensor's forward/backward offset from its segment line.
+    #[arg(long, default_value_t = 0.0)]
+    pub ap_offset_sd_cm: f64,
+    /// Re-mount the thigh sensor at this time (s): turned about the thigh's long axis.
+    #[arg(long, value_name = "SECONDS")]
+    pub remount_at: Option<f64>,
+    /// Angle of the re-mounting (deg); paper 002: 50.
+    #[arg(long, default_value_t = 50.0, requires = "remount_at")]
+    pub remount_deg: f64,
+    /// Ideal sensors: no noise, bias, scale-factor error or misalignment.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Keep every segment in the sagittal plane.
+    #[arg(long)]
+    pub no_out_of_plane: bool,
 }
 
 /// How simulated IMUs sit on their segments.
@@ -184,6 +229,12 @@ pub struct EstimateArgs {
     /// Parameter overrides (TOML).
     #[arg(long)]
     pub params: Option<PathBuf>,
+    /// knee-selfalign: window length s_w in samples (paper 002 default 500).
+    #[arg(long, value_name = "SAMPLES")]
+    pub window: Option<usize>,
+    /// knee-selfalign: parameter-EKF iterations per window (paper 002 default 6).
+    #[arg(long)]
+    pub order: Option<usize>,
 }
 
 /// Options of `evaluate`.

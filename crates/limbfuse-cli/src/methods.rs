@@ -3,6 +3,7 @@
 use anyhow::{bail, Result};
 use limbfuse_core::Estimator;
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
+use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_eval::params_file::{load_params, FilterMethod, FilterParams, Preset};
 
 /// Methods available now, with a one-line description.
@@ -27,10 +28,14 @@ pub const AVAILABLE: &[(&str, &str)] = &[
         "global",
         "paper 001: matricial global KF, 4 IMUs + relative rows + encoders",
     ),
+    (
+        "knee-selfalign",
+        "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
+    ),
 ];
 
 /// Methods named by SPEC section 4 that later issues add.
-pub const PLANNED: &[&str] = &["knee-selfalign", "sdre", "ekf", "rmx", "imm-bslip"];
+pub const PLANNED: &[&str] = &["sdre", "ekf", "rmx", "imm-bslip"];
 
 /// Segment-angle methods `limbfuse demo` runs.
 pub const DEMO: &[&str] = &[
@@ -47,6 +52,7 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         "gyro-integration" => Box::new(GyroIntegration::new()),
         "accel-inclination" => Box::new(AccelInclination::new()),
         "local" | "mjls" | "global" => return segment_filter(name, params),
+        "knee-selfalign" => return knee_selfalign(&KneeOptions::default(), params),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()
@@ -73,6 +79,39 @@ fn segment_filter(name: &str, params: Option<&std::path::Path>) -> Result<Box<dy
         None => FilterParams::preset(method, Preset::Default),
     };
     Ok(p.build()?)
+}
+
+/// Flags of `knee-selfalign` (`--window`, `--order`); `None` = paper default.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KneeOptions {
+    /// Window length `s_w` (samples).
+    pub window: Option<usize>,
+    /// Iterations of the parameter EKF per window.
+    pub order: Option<usize>,
+}
+
+/// The self-aligning knee estimator (paper 002) with its defaults overridden
+/// by the flags; validated here, once.
+pub fn knee_selfalign(
+    opts: &KneeOptions,
+    params: Option<&std::path::Path>,
+) -> Result<Box<dyn Estimator>> {
+    if let Some(p) = params {
+        bail!(
+            "--params {}: method `knee-selfalign` takes --window and --order, not a parameter file",
+            p.display()
+        );
+    }
+    let d = KneeSelfAlignParams::default();
+    let p = KneeSelfAlignParams {
+        window: opts.window.unwrap_or(d.window),
+        order: opts.order.unwrap_or(d.order),
+        ..d
+    };
+    let est = KneeSelfAlign::new(p).map_err(|e| {
+        anyhow::anyhow!("{e} (--window counts samples: 20 to 100000; --order: 1 to 100)")
+    })?;
+    Ok(Box::new(est))
 }
 
 fn names() -> String {

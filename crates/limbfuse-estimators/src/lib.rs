@@ -10,6 +10,9 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 
+extern crate alloc;
+
 pub mod baseline;
 pub mod inclination;
+pub mod knee_selfalign;
 pub mod segment_kf;

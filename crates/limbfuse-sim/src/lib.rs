@@ -20,6 +20,7 @@ pub mod gait_curves;
 pub mod gait_model;
 pub mod hip_path;
 pub mod imu_model;
+pub mod knee_scenario;
 pub mod stance;
 pub mod variability;
 pub mod walking;
@@ -28,4 +29,5 @@ pub use config::{
     EncoderResample, EncoderSpec, ImuSpec, Motion, Mounting, SimError, TriadSpec, Variability,
     WalkingConfig,
 };
+pub use knee_scenario::{KneeScenario, KneeSimulator, Remount};
 pub use walking::{Truth, WalkingSimulator};

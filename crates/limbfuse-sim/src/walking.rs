@@ -147,6 +147,11 @@ impl WalkingSimulator {
         &self.encoders
     }
 
+    /// Number of records already produced.
+    pub fn len_done(&self) -> u64 {
+        self.next_sample
+    }
+
     /// Number of records the trial holds.
     pub fn sample_count(&self) -> u64 {
         self.n_samples
@@ -201,6 +206,19 @@ impl WalkingSimulator {
     /// for checks that differentiate it numerically.
     pub fn sensor_position(&self, s: Segment, t: f64) -> Vector3<f64> {
         self.kinematics(t).1.imu[s.index()].p
+    }
+
+    /// Moves the IMU of segment `s` to `r` (segment frame, from the segment's
+    /// proximal joint; the trunk's from the right hip joint centre). Takes
+    /// effect from the next record. Used by [`crate::knee_scenario`].
+    pub fn set_imu_position(&mut self, s: Segment, r: Vector3<f64>) {
+        self.model.body.imu[s.index()] = r;
+    }
+
+    /// Replaces the sensor-to-segment rotation of the IMU of segment `s`
+    /// (a re-mounting); takes effect from the next record.
+    pub fn set_imu_mount(&mut self, s: Segment, mount: nalgebra::Matrix3<f64>) {
+        self.imus[s.index()].mount = mount;
     }
 
     /// True SPEC joint angles at an encoder tick time.

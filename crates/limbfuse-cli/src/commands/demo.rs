@@ -38,8 +38,14 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     }
     let table = rmse_table(&evaluations);
     print!("{table}");
+    let knee = super::knee_demo::run(a.seed, a.speed, &a.out)?;
+    print!("\n{knee}");
     let report = a.out.join("report.md");
-    std::fs::write(&report, report_markdown(a, &summary, &table))
+    let mut markdown = report_markdown(a, &summary, &table);
+    markdown.push_str(&format!(
+        "\n## Self-aligning knee (paper 002)\n\n```\n{knee}```\n"
+    ));
+    std::fs::write(&report, markdown)
         .with_context(|| format!("{}: cannot write the report", report.display()))?;
     println!("\nreport: {}", report.display());
     Ok(())

@@ -1,6 +1,6 @@
 //! `limbfuse estimate --method NAME TRIAL -o OUT`.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_io::{EstimateWriter, TrialReader};
 
@@ -10,7 +10,20 @@ use crate::progress::Progress;
 
 /// Runs one estimator over a trial file, streaming.
 pub fn run(a: &EstimateArgs) -> Result<()> {
-    let mut est = methods::build(&a.method, a.params.as_deref())?;
+    let knee = methods::KneeOptions {
+        window: a.window,
+        order: a.order,
+    };
+    let mut est = if a.method == "knee-selfalign" {
+        methods::knee_selfalign(&knee, a.params.as_deref())?
+    } else if knee != methods::KneeOptions::default() {
+        bail!(
+            "--window and --order apply to method knee-selfalign only, not to `{}`",
+            a.method
+        );
+    } else {
+        methods::build(&a.method, a.params.as_deref())?
+    };
     let reader = TrialReader::open(&a.trial)?;
     let mut writer = EstimateWriter::new(super::create_file(&a.output)?);
     let mut progress = Progress::new(&a.method);

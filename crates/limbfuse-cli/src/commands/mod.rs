@@ -1,14 +1,17 @@
 //! One module per subcommand.
 
 mod align;
+mod align_joint_axis;
 mod demo;
 mod estimate;
 mod evaluate;
 mod import;
+mod knee_demo;
 mod montecarlo;
 mod protocol;
 mod resample;
 mod simulate;
+mod simulate_knee;
 mod tune;
 
 use anyhow::Result;
@@ -20,6 +23,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
+        Command::Simulate(SimulateCommand::Knee(a)) => simulate_knee::run(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),

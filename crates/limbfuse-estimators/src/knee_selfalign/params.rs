@@ -1,0 +1,234 @@
+//! Parameters of [`super::KneeSelfAlign`] and their defaults (paper 002).
+
+use core::fmt;
+
+use super::param_ekf::ParamEkfNoise;
+
+/// Which direction in each joint plane is the zero of the accelerometer
+/// angle (the `x_i` of eq 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AngleZero {
+    /// `x_T` along the joint-to-thigh-sensor direction `o_T`, `x_S` along the
+    /// sensor-to-joint direction `-o_S` (both projected into the joint
+    /// plane): the angle is zero when the two joint-to-sensor lines are
+    /// aligned, i.e. the anatomical zero when each sensor sits on its
+    /// segment's long-axis line seen from the side. Default.
+    #[default]
+    SensorPositions,
+    /// The paper's `x_i = j_i x c` with `c = [1, 0, 0]` in each sensor
+    /// frame: the zero depends on how the sensors are mounted.
+    PaperC,
+}
+
+impl AngleZero {
+    /// Name used in parameter listings.
+    pub const fn name(self) -> &'static str {
+        match self {
+            AngleZero::SensorPositions => "sensor-positions",
+            AngleZero::PaperC => "paper-c",
+        }
+    }
+}
+
+/// How the gyro and accelerometer angles are fused.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Fusion {
+    /// Algorithm 1 of paper 002: one state (default, reproduces the paper).
+    #[default]
+    Paper,
+    /// Algorithm 1 plus a rate-bias state ([`super::angle::RateBiasKf`], a
+    /// limbfuse extension): removes the lag a gyro-bias difference leaves.
+    RateBias {
+        /// Bias random walk per sample ((rad/s)^2). Suggested 1e-10: over a
+        /// minute at 100 Hz the bias may wander by sqrt(6000 x 1e-10) =
+        /// 0.04 deg/s, the in-run instability of the modelled gyro.
+        q_bias: f64,
+        /// Initial bias variance ((rad/s)^2). Suggested (1 deg/s)^2 =
+        /// 3.05e-4, above the 0.7 deg/s (1 sigma) turn-on bias difference of
+        /// two BMI270-class gyros.
+        p_bias0: f64,
+    },
+}
+
+impl Fusion {
+    /// The rate-bias variant with the suggested values.
+    pub const RATE_BIAS: Fusion = Fusion::RateBias {
+        q_bias: 1e-10,
+        p_bias0: 3.05e-4,
+    };
+}
+
+/// A parameter value outside its allowed range.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("knee-selfalign parameter {name} = {value} is outside {range}")]
+pub struct KneeParamError {
+    /// Parameter name.
+    pub name: &'static str,
+    /// Offending value.
+    pub value: f64,
+    /// Allowed range.
+    pub range: &'static str,
+}
+
+/// Parameters of the self-aligning knee estimator.
+///
+/// Defaults are paper 002's: window `s_w = 500`, `order = 6` (section 3.5),
+/// Algorithm 2 noise `Q = R = 1e-3`, `P0 = I` (after eq 13), Algorithm 1
+/// noise `Q = 5e-6`, `R = 0.2` (section 2.3.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KneeSelfAlignParams {
+    /// Window length `s_w` in samples (Algorithm 3); 20..=100000.
+    pub window: usize,
+    /// Iterations of Algorithm 2 per window (`ordem`); 1..=100.
+    pub order: usize,
+    /// Algorithm 2 noise for the axes `j`.
+    pub axis_noise: ParamEkfNoise,
+    /// Algorithm 2 noise for the positions `o`.
+    pub position_noise: ParamEkfNoise,
+    /// Algorithm 1 process noise `Q` (rad^2 per sample).
+    pub kf_q: f64,
+    /// Algorithm 1 measurement noise `R` (rad^2).
+    pub kf_r: f64,
+    /// Zero of the accelerometer angle.
+    pub zero: AngleZero,
+    /// Angle fusion (paper's Algorithm 1 by default).
+    pub fusion: Fusion,
+    /// Gyroscope full-scale range (rad/s): a reading with any axis at or
+    /// beyond 99.9 % of it is treated as saturated and kept out of the
+    /// identification. Default 2000 deg/s, the largest range of the BMI270 /
+    /// ICM-42688-P class the simulator models.
+    pub gyro_range: f64,
+    /// A window is used only when at least this fraction of its samples has
+    /// both IMUs complete and unsaturated; 0..=1, default 0.5.
+    pub min_valid_fraction: f64,
+    /// Smallest eigenvalue of `H_j^T H_j / N` ((rad/s)^2 per rad^2 of axis
+    /// turn) below which the axes are declared unobservable (e.g. a
+    /// motionless recording) and the window's estimate is discarded.
+    /// Default 1e-3: measured on simulated 30 s trials (400-sample windows,
+    /// 8 random mountings, default sensors) it is 8e-6 to 9e-5 when standing
+    /// still (gyro noise and bias only) and 0.29 to 0.48 when walking
+    /// (`docs/KNEE_SELFALIGN.md`).
+    pub min_information: f64,
+}
+
+impl Default for KneeSelfAlignParams {
+    fn default() -> Self {
+        KneeSelfAlignParams {
+            window: 500,
+            order: 6,
+            axis_noise: ParamEkfNoise::default(),
+            position_noise: ParamEkfNoise::default(),
+            kf_q: 5e-6,
+            kf_r: 0.2,
+            zero: AngleZero::SensorPositions,
+            fusion: Fusion::Paper,
+            gyro_range: 2000f64.to_radians(),
+            min_valid_fraction: 0.5,
+            min_information: 1e-3,
+        }
+    }
+}
+
+fn check(
+    name: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    range: &'static str,
+) -> Result<(), KneeParamError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(KneeParamError { name, value, range })
+    }
+}
+
+fn positive(name: &'static str, value: f64) -> Result<(), KneeParamError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(KneeParamError {
+            name,
+            value,
+            range: "(0, inf)",
+        })
+    }
+}
+
+impl KneeSelfAlignParams {
+    /// Checks every value; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), KneeParamError> {
+        check(
+            "window",
+            self.window as f64,
+            20.0,
+            100_000.0,
+            "20..=100000 samples",
+        )?;
+        check("order", self.order as f64, 1.0, 100.0, "1..=100")?;
+        for (names, n) in [
+            (["axis_q", "axis_r", "axis_p0"], &self.axis_noise),
+            (
+                ["position_q", "position_r", "position_p0"],
+                &self.position_noise,
+            ),
+        ] {
+            check(names[0], n.q, 0.0, 1e6, "[0, 1e6]")?;
+            positive(names[1], n.r)?;
+            positive(names[2], n.p0)?;
+        }
+        check("kf_q", self.kf_q, 0.0, 1e6, "[0, 1e6]")?;
+        positive("kf_r", self.kf_r)?;
+        positive("gyro_range", self.gyro_range)?;
+        if let Fusion::RateBias { q_bias, p_bias0 } = self.fusion {
+            check("q_bias", q_bias, 0.0, 1.0, "[0, 1]")?;
+            positive("p_bias0", p_bias0)?;
+        }
+        check(
+            "min_valid_fraction",
+            self.min_valid_fraction,
+            0.0,
+            1.0,
+            "[0, 1]",
+        )?;
+        check(
+            "min_information",
+            self.min_information,
+            0.0,
+            1e6,
+            "[0, 1e6]",
+        )
+    }
+
+    /// Writes the parameters as `key: value` lines.
+    pub fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "window: {}", self.window)?;
+        writeln!(out, "order: {}", self.order)?;
+        writeln!(
+            out,
+            "axis_ekf: q={} r={} p0={}",
+            self.axis_noise.q, self.axis_noise.r, self.axis_noise.p0
+        )?;
+        writeln!(
+            out,
+            "position_ekf: q={} r={} p0={}",
+            self.position_noise.q, self.position_noise.r, self.position_noise.p0
+        )?;
+        writeln!(out, "complementary_kf: q={} r={}", self.kf_q, self.kf_r)?;
+        match self.fusion {
+            Fusion::Paper => writeln!(out, "fusion: paper (Algorithm 1, one state)")?,
+            Fusion::RateBias { q_bias, p_bias0 } => writeln!(
+                out,
+                "fusion: rate-bias (Algorithm 1 + rate-bias state) q_bias={q_bias} p_bias0={p_bias0}"
+            )?,
+        }
+        writeln!(out, "zero: {}", self.zero.name())?;
+        writeln!(out, "gyro_range_rad_s: {}", self.gyro_range)?;
+        writeln!(out, "min_valid_fraction: {}", self.min_valid_fraction)?;
+        writeln!(out, "min_information: {}", self.min_information)?;
+        writeln!(
+            out,
+            "gyro_derivative: five-point symmetric, latency 2 samples"
+        )
+    }
+}

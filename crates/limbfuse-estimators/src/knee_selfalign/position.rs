@@ -1,0 +1,212 @@
+//! Joint-position identification (paper 002 section 2.2.2): the radial and
+//! tangential acceleration model `Gamma` (equation before eq 3), the position
+//! cost `e_o` (eq 3, as a difference: SPEC section 6), its Jacobian
+//! (eqs 12-13), the correction of the positions along the axes, and the
+//! symmetric finite-difference derivative of the gyro rate.
+//!
+//! `o_i` is the position of sensor `i` relative to the joint centre,
+//! expressed in the sensor's frame (m). The specific force of the joint
+//! centre seen from sensor `i` is `a_i - Gamma_{g_i}(o_i)` (eq 7); both
+//! sensors see the same joint centre, so the norms agree at the true
+//! positions: `e_o = ||a_T - Gamma_T(o_T)|| - ||a_S - Gamma_S(o_S)||`.
+
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+/// Accelerations whose joint-centre part is below this norm (m/s^2) give no
+/// usable gradient (eq 13 divides by it); such samples are left out.
+pub const MIN_JOINT_ACCELERATION: f64 = 1e-6;
+
+/// Cross-product matrix `[v]x` (`[v]x w = v x w`).
+pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// `M = [g]x^2 + [gdot]x`, so that `Gamma_g(o) = M o`.
+pub fn gamma_matrix(g: &Vector3<f64>, gdot: &Vector3<f64>) -> Matrix3<f64> {
+    let gx = skew(g);
+    gx * gx + skew(gdot)
+}
+
+/// `Gamma_g(o) = g x (g x o) + gdot x o` (radial + tangential acceleration
+/// of a point at `o` rotating with rate `g`).
+pub fn gamma(g: &Vector3<f64>, gdot: &Vector3<f64>, o: &Vector3<f64>) -> Vector3<f64> {
+    g.cross(&g.cross(o)) + gdot.cross(o)
+}
+
+/// One sensor's readings at one sample, with the rate derivative.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics {
+    /// Specific force (m/s^2).
+    pub acc: Vector3<f64>,
+    /// Angular rate (rad/s).
+    pub gyr: Vector3<f64>,
+    /// Angular acceleration (rad/s^2), from [`central_derivative`].
+    pub gyr_dot: Vector3<f64>,
+}
+
+impl Kinematics {
+    /// `a~ = a - Gamma(o)` (eq 7): the joint centre's specific force in this
+    /// sensor's frame.
+    pub fn joint_acceleration(&self, o: &Vector3<f64>) -> Vector3<f64> {
+        self.acc - gamma(&self.gyr, &self.gyr_dot, o)
+    }
+
+    /// Gradient of `||a - Gamma(o)||` with respect to `o` (eq 13 with its
+    /// sign): `-(([g]x^2 - [gdot]x) a~ / ||a~||)^T`, since `M^T = [g]x^2 -
+    /// [gdot]x`. The paper prints it without the leading minus; with `r =
+    /// -e` in Algorithm 2 the minus is needed for the update to descend.
+    /// `None` when `||a~||` is below [`MIN_JOINT_ACCELERATION`].
+    pub fn norm_gradient(&self, o: &Vector3<f64>) -> Option<(f64, Vector3<f64>)> {
+        let at = self.joint_acceleration(o);
+        let n = at.norm();
+        if n < MIN_JOINT_ACCELERATION {
+            return None;
+        }
+        let m = gamma_matrix(&self.gyr, &self.gyr_dot);
+        Some((n, -(m.transpose() * at) / n))
+    }
+}
+
+/// The position residual `e_o(k)` (eq 3, a difference) and its gradient with
+/// respect to `Psi_o = [o_T, o_S]` (eqs 12-13).
+pub fn position_residual(
+    thigh: &Kinematics,
+    shank: &Kinematics,
+    psi: &Vector6<f64>,
+) -> Option<(f64, Vector6<f64>)> {
+    let o_t = psi.fixed_rows::<3>(0).into_owned();
+    let o_s = psi.fixed_rows::<3>(3).into_owned();
+    let (n_t, d_t) = thigh.norm_gradient(&o_t)?;
+    let (n_s, d_s) = shank.norm_gradient(&o_s)?;
+    Some((
+        n_t - n_s,
+        Vector6::new(d_t.x, d_t.y, d_t.z, -d_s.x, -d_s.y, -d_s.z),
+    ))
+}
+
+/// Number of samples the rate derivative looks ahead (its latency).
+pub const DERIVATIVE_LATENCY: usize = 2;
+
+/// Symmetric five-point ("third-order", Seel et al. 2014) derivative at the
+/// middle of five equally spaced rates `g[0..5]` (spacing `dt`):
+/// `(g[0] - 8 g[1] + 8 g[3] - g[4]) / (12 dt)`. Exact for polynomials up to
+/// degree 4; the estimate for sample `k` needs sample `k + 2`, a latency of
+/// [`DERIVATIVE_LATENCY`] samples.
+pub fn central_derivative(g: &[Vector3<f64>; 5], dt: f64) -> Vector3<f64> {
+    (g[0] - g[1] * 8.0 + g[3] * 8.0 - g[4]) / (12.0 * dt)
+}
+
+/// Whether five sample times are equally spaced (within 1 % of the mean
+/// step), as [`central_derivative`] assumes; returns the mean step.
+pub fn uniform_step(t: &[f64; 5]) -> Option<f64> {
+    let dt = (t[4] - t[0]) / 4.0;
+    if dt.is_nan() || dt <= 0.0 {
+        return None;
+    }
+    let ok = (0..4).all(|i| ((t[i + 1] - t[i]) - dt).abs() <= 0.01 * dt);
+    ok.then_some(dt)
+}
+
+/// Moves both positions along their axes to the points of the axis midway
+/// between the sensors (paper 002 after eq 3; Seel et al. 2014):
+/// `o_i <- o_i - j_i (o_T . j_T + o_S . j_S) / 2`. The axes must point to
+/// the same side (SPEC section 6): then shifting the joint centre by `s`
+/// along the axis adds `s` to both projections, and the correction puts it
+/// where they cancel.
+pub fn correct_along_axes(
+    o_t: &Vector3<f64>,
+    o_s: &Vector3<f64>,
+    j_t: &Vector3<f64>,
+    j_s: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let m = 0.5 * (o_t.dot(j_t) + o_s.dot(j_s));
+    (o_t - j_t * m, o_s - j_s * m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kin(a: [f64; 3], g: [f64; 3], gd: [f64; 3]) -> Kinematics {
+        Kinematics {
+            acc: a.into(),
+            gyr: g.into(),
+            gyr_dot: gd.into(),
+        }
+    }
+
+    #[test]
+    fn gamma_hand_value() {
+        // g = (0, 0, 2), o = (1, 0, 0): radial g x (g x o) = (-4, 0, 0);
+        // gdot = (0, 0, 3): tangential (0, 3, 0).
+        let v = gamma(
+            &Vector3::new(0.0, 0.0, 2.0),
+            &Vector3::new(0.0, 0.0, 3.0),
+            &Vector3::new(1.0, 0.0, 0.0),
+        );
+        assert!((v - Vector3::new(-4.0, 3.0, 0.0)).norm() < 1e-15);
+        let g = Vector3::new(0.3, -0.2, 1.1);
+        let gd = Vector3::new(-2.0, 0.5, 0.7);
+        let o = Vector3::new(0.1, 0.25, -0.04);
+        assert!((gamma_matrix(&g, &gd) * o - gamma(&g, &gd, &o)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn eq3_is_a_difference() {
+        // o = 0: e_o = ||a_T|| - ||a_S||.
+        let t = kin([3.0, 4.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]);
+        let s = kin([0.0, 0.0, 2.0], [0.0, 1.0, 0.0], [0.0; 3]);
+        let (e, _) = position_residual(&t, &s, &Vector6::zeros()).unwrap();
+        assert!((e - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn jacobian_matches_central_differences() {
+        let t = kin([1.0, 9.5, -0.4], [0.4, -0.3, 2.2], [3.0, -1.0, 6.0]);
+        let s = kin([-2.0, 8.1, 1.3], [-0.2, 0.6, -3.1], [-4.0, 2.0, 1.0]);
+        let psi = Vector6::new(0.02, 0.21, 0.08, -0.01, -0.2, 0.05);
+        let (_, h) = position_residual(&t, &s, &psi).unwrap();
+        for i in 0..6 {
+            let step = 1e-6;
+            let mut p = psi;
+            p[i] += step;
+            let mut m = psi;
+            m[i] -= step;
+            let fd = (position_residual(&t, &s, &p).unwrap().0
+                - position_residual(&t, &s, &m).unwrap().0)
+                / (2.0 * step);
+            assert!((fd - h[i]).abs() < 1e-7, "d/do{i}: {fd} vs {}", h[i]);
+        }
+    }
+
+    #[test]
+    fn five_point_derivative_is_exact_on_quartics() {
+        let f = |t: f64| Vector3::new(t.powi(4), 2.0 * t.powi(3) - t, 5.0);
+        let df = |t: f64| Vector3::new(4.0 * t.powi(3), 6.0 * t * t - 1.0, 0.0);
+        let (t0, dt) = (0.7, 0.01);
+        let g = [-2.0, -1.0, 0.0, 1.0, 2.0].map(|k| f(t0 + k * dt));
+        assert!((central_derivative(&g, dt) - df(t0)).norm() < 1e-9);
+        assert_eq!(uniform_step(&[0.0, 0.01, 0.02, 0.03, 0.04]), Some(0.01));
+        assert_eq!(uniform_step(&[0.0, 0.01, 0.02, 0.05, 0.06]), None);
+    }
+
+    #[test]
+    fn correction_makes_the_projections_cancel() {
+        let j_t = Vector3::new(0.0, 0.6, 0.8);
+        let j_s = Vector3::new(1.0, 0.0, 0.0);
+        let (o_t, o_s) = correct_along_axes(
+            &Vector3::new(0.1, 0.2, 0.3),
+            &Vector3::new(0.4, -0.1, 0.0),
+            &j_t,
+            &j_s,
+        );
+        assert!((o_t.dot(&j_t) + o_s.dot(&j_s)).abs() < 1e-15);
+        // The perpendicular parts are untouched.
+        assert!(
+            (o_t - j_t * o_t.dot(&j_t) - Vector3::new(0.1, 0.2, 0.3)
+                + j_t * Vector3::new(0.1, 0.2, 0.3).dot(&j_t))
+            .norm()
+                < 1e-15
+        );
+    }
+}

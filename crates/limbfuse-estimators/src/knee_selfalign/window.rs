@@ -1,0 +1,436 @@
+//! The data window of Algorithm 3 (a fixed-capacity ring buffer allocated
+//! once) and the identification of one window: Algorithm 2 for the axes and
+//! for the positions, the choice of the axis signs (SPEC section 6) and the
+//! correction of the positions along the axes.
+
+use alloc::vec::Vec;
+
+use nalgebra::{SVector, Vector3, Vector4, Vector6};
+
+use super::angle::{accel_angle, gyro_angle_rate, wrap, PlaneBasis};
+use super::axis::{axes_of_state, axis_residual, axis_state};
+use super::param_ekf::{
+    estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
+};
+use super::params::{AngleZero, KneeSelfAlignParams};
+use super::position::{
+    central_derivative, correct_along_axes, position_residual, uniform_step, Kinematics,
+};
+
+/// Both IMUs' readings at one sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Slot {
+    /// Time (s).
+    pub t: f64,
+    /// Thigh and shank angular rates (rad/s).
+    pub gyr: [Vector3<f64>; 2],
+    /// Thigh and shank specific forces (m/s^2).
+    pub acc: [Vector3<f64>; 2],
+    /// Both gyros present and unsaturated.
+    pub gyr_ok: bool,
+    /// Both accelerometers present.
+    pub acc_ok: bool,
+}
+
+/// The last `capacity` samples, oldest first.
+#[derive(Debug, Clone)]
+pub struct Ring {
+    slots: Vec<Slot>,
+    head: usize,
+    len: usize,
+}
+
+impl Ring {
+    /// An empty ring; the only allocation.
+    pub fn new(capacity: usize) -> Self {
+        Ring {
+            slots: alloc::vec![Slot::default(); capacity.max(1)],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    /// Appends a sample, dropping the oldest when full.
+    pub fn push(&mut self, s: Slot) {
+        let cap = self.slots.len();
+        let idx = (self.head + self.len) % cap;
+        self.slots[idx] = s;
+        if self.len < cap {
+            self.len += 1;
+        } else {
+            self.head = (self.head + 1) % cap;
+        }
+    }
+
+    /// Number of samples held.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Forgets every sample.
+    pub fn clear(&mut self) {
+        self.head = 0;
+        self.len = 0;
+    }
+
+    /// The `i`-th oldest sample.
+    pub fn get(&self, i: usize) -> &Slot {
+        &self.slots[(self.head + i) % self.slots.len()]
+    }
+
+    /// Thigh and shank kinematics (with the five-point rate derivative) at
+    /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros,
+    /// sample `i` complete accelerometers, and the times are equally spaced.
+    pub fn kinematics(&self, i: usize) -> Option<[Kinematics; 2]> {
+        if i < 2 || i + 2 >= self.len || !self.get(i).acc_ok {
+            return None;
+        }
+        let w: [&Slot; 5] = core::array::from_fn(|k| self.get(i + k - 2));
+        if !w.iter().all(|s| s.gyr_ok) {
+            return None;
+        }
+        let dt = uniform_step(&w.map(|s| s.t))?;
+        let s = w[2];
+        Some(core::array::from_fn(|seg| Kinematics {
+            acc: s.acc[seg],
+            gyr: s.gyr[seg],
+            gyr_dot: central_derivative(&w.map(|x| x.gyr[seg]), dt),
+        }))
+    }
+}
+
+struct AxisResiduals<'a>(&'a Ring);
+
+impl WindowResiduals<4> for AxisResiduals<'_> {
+    fn visit(&self, x: &Vector4<f64>, f: &mut dyn FnMut(f64, &Vector4<f64>)) {
+        for i in 0..self.0.len() {
+            let s = self.0.get(i);
+            if s.gyr_ok {
+                if let Some((e, h)) = axis_residual(&s.gyr[0], &s.gyr[1], x) {
+                    f(e, &h);
+                }
+            }
+        }
+    }
+}
+
+struct PositionResiduals<'a>(&'a Ring);
+
+impl WindowResiduals<6> for PositionResiduals<'_> {
+    fn visit(&self, x: &Vector6<f64>, f: &mut dyn FnMut(f64, &Vector6<f64>)) {
+        for i in 0..self.0.len() {
+            if let Some([t, s]) = self.0.kinematics(i) {
+                if let Some((e, h)) = position_residual(&t, &s, x) {
+                    f(e, &h);
+                }
+            }
+        }
+    }
+}
+
+fn normalise_axes(x: Vector4<f64>) -> Vector4<f64> {
+    let (j_t, j_s) = axes_of_state(&x);
+    axis_state(&j_t, &j_s)
+}
+
+/// Dominant rotation axis of one gyro over the window: the principal
+/// eigenvector of `sum g g^T` (the starting point of the first window).
+fn principal_axis(ring: &Ring, seg: usize) -> Vector3<f64> {
+    let mut m = nalgebra::Matrix3::<f64>::zeros();
+    for i in 0..ring.len() {
+        let s = ring.get(i);
+        if s.gyr_ok {
+            m.ger(1.0, &s.gyr[seg], &s.gyr[seg], 1.0);
+        }
+    }
+    let eig = nalgebra::SymmetricEigen::new(m);
+    let k = eig.eigenvalues.imax();
+    eig.eigenvectors.column(k).into_owned()
+}
+
+/// Smallest eigenvalue of `H^T H / N` of the axis residuals with respect to
+/// unit tangent displacements of the two axes (radians of turn), so that it
+/// does not depend on where the axes lie in the spherical coordinates of
+/// eq 1 (near `phi = +-pi/2` a step in `theta` moves the axis only by
+/// `cos(phi)` times as much).
+fn tangent_information(ring: &Ring, psi: &Vector4<f64>) -> f64 {
+    let scale = Vector4::new(
+        1.0,
+        1.0 / libm::cos(psi[0]).abs().max(1e-9),
+        1.0,
+        1.0 / libm::cos(psi[2]).abs().max(1e-9),
+    );
+    let mut a = nalgebra::Matrix4::<f64>::zeros();
+    let mut n = 0usize;
+    AxisResiduals(ring).visit(psi, &mut |_, h| {
+        let ht = h.component_mul(&scale);
+        a.ger(1.0, &ht, &ht, 1.0);
+        n += 1;
+    });
+    if n == 0 {
+        return 0.0;
+    }
+    let eig = nalgebra::SymmetricEigen::new(a / n as f64);
+    eig.eigenvalues.min()
+}
+
+fn mean_square_rate(ring: &Ring, seg: usize) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for i in 0..ring.len() {
+        let x = ring.get(i);
+        if x.gyr_ok {
+            s += x.gyr[seg].norm_squared();
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        s / n as f64
+    }
+}
+
+/// The identified joint geometry, both axes pointing to the same side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// Joint axis in the thigh and shank sensor frames (unit).
+    pub axis: [Vector3<f64>; 2],
+    /// Sensor positions relative to the joint centre, in their frames (m).
+    pub position: [Vector3<f64>; 2],
+}
+
+impl Geometry {
+    /// The joint-plane bases of eq 6 for the chosen zero.
+    pub fn bases(&self, zero: AngleZero) -> Option<[PlaneBasis; 2]> {
+        match zero {
+            AngleZero::SensorPositions => Some([
+                PlaneBasis::from_reference(&self.axis[0], &self.position[0])?,
+                PlaneBasis::from_reference(&self.axis[1], &(-self.position[1]))?,
+            ]),
+            AngleZero::PaperC => Some([
+                PlaneBasis::from_cross(&self.axis[0], &Vector3::x())?,
+                PlaneBasis::from_cross(&self.axis[1], &Vector3::x())?,
+            ]),
+        }
+    }
+}
+
+/// What identifying one window gave.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WindowOutcome {
+    /// New geometry.
+    Identified {
+        /// The geometry.
+        geometry: Geometry,
+        /// RMS of `e_j` after Algorithm 2 (rad/s).
+        rms_axis: f64,
+        /// RMS of `e_o` after Algorithm 2 (m/s^2).
+        rms_position: f64,
+        /// Smallest eigenvalue of `H_j^T H_j / N` ((rad/s)^2).
+        information: f64,
+        /// Circular spread (0..1) of `alpha_acc - integral(alpha_gyro')`
+        /// over the window with the chosen geometry: near 0 when the
+        /// accelerometer angle follows the gyro angle up to a constant.
+        spread: f64,
+    },
+    /// Too few complete, unsaturated samples.
+    TooFewSamples {
+        /// Usable samples.
+        usable: usize,
+    },
+    /// The window does not determine the axes (e.g. no motion).
+    Unobservable {
+        /// Smallest eigenvalue of `H_j^T H_j / N` ((rad/s)^2).
+        information: f64,
+    },
+    /// Algorithm 2 failed numerically.
+    Failed,
+}
+
+/// Circular mean and spread of angles fed one by one.
+#[derive(Default)]
+struct Circular {
+    c: f64,
+    s: f64,
+    n: usize,
+}
+
+impl Circular {
+    fn add(&mut self, a: f64) {
+        let (s, c) = libm::sincos(a);
+        self.s += s;
+        self.c += c;
+        self.n += 1;
+    }
+    fn mean(&self) -> f64 {
+        libm::atan2(self.s, self.c)
+    }
+    /// 1 - mean resultant length (0 = all equal, 1 = uniform).
+    fn spread(&self) -> f64 {
+        if self.n == 0 {
+            return 1.0;
+        }
+        1.0 - libm::hypot(self.s, self.c) / self.n as f64
+    }
+}
+
+/// Over the window: spread of `alpha_acc - integral(gyro rate)` (small when
+/// both angles agree up to a constant) and circular mean of `alpha_acc`.
+fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64)> {
+    let bases = g.bases(zero)?;
+    let mut diff = Circular::default();
+    let mut level = Circular::default();
+    let mut integral = 0.0;
+    let mut last: Option<(f64, f64)> = None;
+    for i in 0..ring.len() {
+        let s = ring.get(i);
+        if !s.gyr_ok {
+            continue;
+        }
+        let rate = gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]);
+        if let Some((t0, r0)) = last {
+            integral += 0.5 * (rate + r0) * (s.t - t0);
+        }
+        last = Some((s.t, rate));
+        if let Some([kt, ks]) = ring.kinematics(i) {
+            let at = kt.joint_acceleration(&g.position[0]);
+            let as_ = ks.joint_acceleration(&g.position[1]);
+            if let Some(a) = accel_angle(&at, &as_, &bases[0], &bases[1]) {
+                diff.add(wrap(a - integral));
+                level.add(a);
+            }
+        }
+    }
+    (diff.n > 0).then(|| (diff.spread(), level.mean()))
+}
+
+/// Identifies the joint geometry from the window in `ring` (Algorithm 3,
+/// one window): Algorithm 2 with `order` iterations for the axes and for
+/// the positions, then the sign rules and the correction along the axes.
+///
+/// Signs (SPEC section 6): `e_j` and `e_o` do not depend on the axis signs.
+/// In the first window the shank axis is flipped if that makes the
+/// accelerometer angle follow the integrated gyro angle better (both axes
+/// must point to the same side for eqs 4 and 5 to describe the same
+/// rotation); then both are flipped, with the sensor-position zero, if the
+/// mean angle is negative (the knee flexes to positive angles, SPEC section
+/// 1). In later windows each axis keeps the side of its `previous` axis.
+pub fn identify(
+    ring: &Ring,
+    previous: Option<&Geometry>,
+    p: &KneeSelfAlignParams,
+) -> WindowOutcome {
+    let usable = (0..ring.len())
+        .filter(|&i| ring.get(i).gyr_ok && ring.get(i).acc_ok)
+        .count();
+    if usable == 0 || (usable as f64) < p.min_valid_fraction * p.window as f64 {
+        return WindowOutcome::TooFewSamples { usable };
+    }
+    let axes = AxisResiduals(ring);
+    let pca = axis_state(&principal_axis(ring, 0), &principal_axis(ring, 1));
+    let start = match previous {
+        Some(g) => {
+            let prev = axis_state(&g.axis[0], &g.axis[1]);
+            if residual_sum(&axes, &prev).0 <= residual_sum(&axes, &pca).0 {
+                prev
+            } else {
+                pca
+            }
+        }
+        None => pca,
+    };
+    let j = match estimate_parameters(&axes, start, p.order, &p.axis_noise, normalise_axes) {
+        Ok(r) => r,
+        // Every rate is parallel to its starting axis: planar rotation about
+        // exactly those axes, which then solve eq 2 exactly. Their
+        // information is the smaller mean squared rate (the scale of H).
+        Err(ParamEkfError::NoResiduals) => ParamEkfResult {
+            x: start,
+            p: nalgebra::Matrix4::zeros(),
+            n_used: 0,
+            rms_before: 0.0,
+            rms_after: 0.0,
+            min_information: mean_square_rate(ring, 0).min(mean_square_rate(ring, 1)),
+        },
+        Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
+    };
+    let information = if j.n_used == 0 {
+        j.min_information
+    } else {
+        tangent_information(ring, &j.x)
+    };
+    if information.is_nan() || information < p.min_information {
+        return WindowOutcome::Unobservable { information };
+    }
+    let o_start: Vector6<f64> = match previous {
+        Some(g) => stack(&g.position[0], &g.position[1]),
+        None => Vector6::zeros(),
+    };
+    let positions = PositionResiduals(ring);
+    let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
+        Ok(r) => r,
+        Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
+        Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
+    };
+    let (j_t, j_s) = axes_of_state(&j.x);
+    let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
+    let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
+    if let Some(prev) = previous {
+        // Continuity: a sensor does not turn its axis to the other side
+        // between two windows (a re-mounting by less than 90 deg keeps
+        // j_new . j_old > 0), so each axis keeps the side it had.
+        let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
+        let (jt, js) = (side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1]));
+        let (ct, cs) = correct_along_axes(&o_t, &o_s, &jt, &js);
+        let geometry = Geometry {
+            axis: [jt, js],
+            position: [ct, cs],
+        };
+        return WindowOutcome::Identified {
+            geometry,
+            rms_axis: j.rms_after,
+            rms_position: o.rms_after,
+            information,
+            spread: agreement(ring, &geometry, p.zero).map_or(1.0, |a| a.0),
+        };
+    }
+    let mut best: Option<(f64, f64, Geometry)> = None;
+    for sign in [1.0, -1.0] {
+        let (ct, cs) = correct_along_axes(&o_t, &o_s, &j_t, &(j_s * sign));
+        let g = Geometry {
+            axis: [j_t, j_s * sign],
+            position: [ct, cs],
+        };
+        if let Some((spread, level)) = agreement(ring, &g, p.zero) {
+            if best.is_none_or(|b| spread < b.0) {
+                best = Some((spread, level, g));
+            }
+        }
+    }
+    let Some((spread, level, mut g)) = best else {
+        return WindowOutcome::TooFewSamples { usable: 0 };
+    };
+    let flip = match p.zero {
+        AngleZero::SensorPositions => level < 0.0,
+        AngleZero::PaperC => false,
+    };
+    if flip {
+        g.axis = [-g.axis[0], -g.axis[1]];
+    }
+    WindowOutcome::Identified {
+        geometry: g,
+        rms_axis: j.rms_after,
+        rms_position: o.rms_after,
+        information,
+        spread,
+    }
+}
+
+fn stack(a: &Vector3<f64>, b: &Vector3<f64>) -> SVector<f64, 6> {
+    Vector6::new(a.x, a.y, a.z, b.x, b.y, b.z)
+}
