@@ -105,6 +105,62 @@ pub struct DemoArgs {
 pub enum SimulateCommand {
     /// Level walking: trunk, thigh, shank and foot IMUs plus hip, knee and ankle encoders.
     Walking(WalkingArgs),
+    /// Leg-extension machine with FES of the quadriceps (paper 004): thigh and shank IMUs, knee encoder, u_ke.
+    KneeFes(KneeFesArgs),
+    /// 2-DOF fixed-hip swing with FES and motors (paper 004): thigh and shank IMUs, encoders, u_*, tau_*_motor.
+    FixedHip(FixedHipArgs),
+}
+
+/// Options of `simulate knee-fes`.
+#[derive(Debug, Args)]
+pub struct KneeFesArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Leg of Table 1 (P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6).
+    #[arg(long, default_value = "P1-L")]
+    pub subject: String,
+    /// Duration (s).
+    #[arg(long, default_value_t = 30.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Random seed: same seed, same file, bit for bit.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Ideal sensors.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Extra constant gyro drift on both gyros (deg/s).
+    #[arg(long, default_value_t = 0.0)]
+    pub gyro_drift: f64,
+    /// Truth without muscle activation dynamics (a = u, as the estimators assume).
+    #[arg(long)]
+    pub no_activation_dynamics: bool,
+}
+
+/// Options of `simulate fixed-hip`.
+#[derive(Debug, Args)]
+pub struct FixedHipArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Duration (s).
+    #[arg(long, default_value_t = 20.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Ideal sensors.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Extra constant gyro drift on both gyros (deg/s).
+    #[arg(long, default_value_t = 0.0)]
+    pub gyro_drift: f64,
 }
 
 /// How simulated IMUs sit on their segments.

@@ -10,8 +10,12 @@ use crate::progress::Progress;
 
 /// Runs one estimator over a trial file, streaming.
 pub fn run(a: &EstimateArgs) -> Result<()> {
-    let mut est = methods::build(&a.method, a.params.as_deref())?;
     let reader = TrialReader::open(&a.trial)?;
+    let mut est = if methods::FROM_TRIAL.contains(&a.method.as_str()) {
+        super::fes::build(&a.method, a.params.as_deref(), &reader)?
+    } else {
+        methods::build(&a.method, a.params.as_deref())?
+    };
     let mut writer = EstimateWriter::new(super::create_file(&a.output)?);
     let mut progress = Progress::new(&a.method);
     let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];

@@ -4,6 +4,7 @@ mod align;
 mod demo;
 mod estimate;
 mod evaluate;
+mod fes;
 mod import;
 mod montecarlo;
 mod protocol;
@@ -20,6 +21,8 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
+        Command::Simulate(SimulateCommand::KneeFes(a)) => fes::simulate_knee(&a),
+        Command::Simulate(SimulateCommand::FixedHip(a)) => fes::simulate_hip(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),

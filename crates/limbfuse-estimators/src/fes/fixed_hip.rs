@@ -26,8 +26,8 @@ pub type FixedHipFilter = FesFilter<FixedHipPlant, 4, 4, 6>;
 /// as for the knee; `Q` on the acceleration rows.
 pub fn fixed_hip_default_tuning(lin: Linearisation) -> ContinuousTuning<4, 4> {
     ContinuousTuning {
-        q: Vector4::new(1e-4, 1e-4, 5.0, 5.0),
-        s: Vector4::new(7.6e-7, 7.6e-7, 9e-4, 9e-4),
+        q: Vector4::new(1e-4, 1e-4, 0.1, 0.1),
+        s: Vector4::new(1e-6, 1e-6, 1.0, 1.0),
         a: match lin {
             Linearisation::Sdc => 1.0,
             Linearisation::Jacobian => 0.0,

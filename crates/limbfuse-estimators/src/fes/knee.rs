@@ -42,8 +42,8 @@ pub type KneeFesFilter = FesFilter<KneePlant, 2, 2, 1>;
 /// the model's torque error (about 1 N m on J = 0.46 kg m^2) on the rate row.
 pub fn knee_default_tuning(lin: Linearisation) -> ContinuousTuning<2, 2> {
     ContinuousTuning {
-        q: Vector2::new(1e-4, 5.0),
-        s: Vector2::new(7.6e-7, 9e-4),
+        q: Vector2::new(1e-4, 100.0),
+        s: Vector2::new(1e-6, 0.1),
         a: match lin {
             Linearisation::Sdc => 1.0,
             Linearisation::Jacobian => 0.0,

@@ -16,8 +16,11 @@ pub mod continuous;
 pub mod filter;
 pub mod fixed_hip;
 pub mod knee;
+pub mod mahony;
+pub mod rmx;
 
 pub use continuous::{ContinuousTuning, Linearisation};
 pub use filter::{FesFilter, Plant};
 pub use fixed_hip::{FixedHipFilter, FixedHipPlant};
 pub use knee::{KneeFesFilter, KneePlant};
+pub use rmx::RotationMatrixKnee;
