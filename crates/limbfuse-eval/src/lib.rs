@@ -15,6 +15,7 @@ pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod params_file;
 pub mod protocol;
+pub mod stats;
 pub mod tuning;
 
 pub use channel_error::ChannelError;
