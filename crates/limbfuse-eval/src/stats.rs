@@ -21,6 +21,7 @@ pub fn normal_cdf(x: f64) -> f64 {
 
 /// Standard normal quantile: Acklam's rational approximation refined by one
 /// Halley step on `normal_cdf` (full double precision in practice).
+#[allow(clippy::excessive_precision)] // published coefficients, kept as printed
 pub fn normal_quantile(p: f64) -> f64 {
     if p <= 0.0 {
         return f64::NEG_INFINITY;
