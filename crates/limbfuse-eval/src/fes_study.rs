@@ -222,7 +222,8 @@ impl SingleJointStudy {
     }
 }
 
-/// Runs study (a): tuning on the pre-trial of P1-L, then 6 legs x 3 seeds.
+/// Runs study (a): tuning on the pre-trials of P1-L, then 6 legs x 3 trials
+/// (seed `10 (leg + 1) + trial`).
 pub fn single_joint_study(base: &KneeFesConfig) -> SingleJointStudy {
     let pre: Vec<Vec<Record>> = PRE_TRIAL_SEEDS
         .iter()
@@ -246,9 +247,10 @@ pub fn single_joint_study(base: &KneeFesConfig) -> SingleJointStudy {
     let rows: Vec<KneeRow> = cases
         .into_par_iter()
         .map(|(subject, trial)| {
+            // Independent sensor draws per leg and trial.
             let cfg = KneeFesConfig {
                 subject,
-                seed: trial,
+                seed: 10 * (subject.index() as u64 + 1) + trial,
                 ..*base
             };
             let recs = simulate_knee_fes(&cfg).expect("trial").records;

@@ -36,8 +36,9 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     for name in methods::DEMO {
         evaluations.push(run_method(name, &trial_path, &a.out)?);
     }
-    let table = rmse_table(&evaluations);
+    let mut table = rmse_table(&evaluations);
     print!("{table}");
+    table.push_str(&super::demo_fes::run(&a.out, a.seed)?);
     let report = a.out.join("report.md");
     std::fs::write(&report, report_markdown(a, &summary, &table))
         .with_context(|| format!("{}: cannot write the report", report.display()))?;

@@ -2,6 +2,7 @@
 
 mod align;
 mod demo;
+mod demo_fes;
 mod estimate;
 mod evaluate;
 mod fes;
