@@ -82,7 +82,27 @@ fn main() {
     );
     println!("| case | SDRE hip / knee (deg) | EKF hip / knee (deg) |\n|---|---|---|");
     let r = fixed_hip_run(&base, base.params, &tuning, &seeds, &none);
-    hip_row("default", &r, false);
+    hip_row("each tuned", &r, false);
+    let shared = limbfuse_eval::fes_study::HipTuning {
+        sdre: tuning.sdre,
+        ekf: tuning.sdre,
+    };
+    hip_row(
+        "EKF with the SDRE's Q, S",
+        &fixed_hip_run(&base, base.params, &shared, &seeds, &none),
+        false,
+    );
+    for (sg, sa, q) in [(1e-6, 1.0, 0.1), (1e-4, 1.0, 0.1), (1e-6, 100.0, 0.01)] {
+        let t = limbfuse_eval::fes_study::HipTuning {
+            sdre: (sg, sa, q),
+            ekf: (sg, sa, q),
+        };
+        hip_row(
+            &format!("both with S_gyro {sg:e}, S_acc {sa}, Q_rate {q}"),
+            &fixed_hip_run(&base, base.params, &t, &seeds, &none),
+            false,
+        );
+    }
     println!("\n### (c) Gyro drift (constant added to both gyros), fixed hip\n");
     println!("| drift (deg/s) | SDRE hip / knee | EKF hip / knee | gyro integration hip / knee |\n|---|---|---|---|");
     for d in [0.0, 0.1, 0.5, 1.0, 3.0] {

@@ -222,9 +222,10 @@ impl SingleJointStudy {
     }
 }
 
-/// Runs study (a): tuning on the pre-trials of P1-L, then 6 legs x 3 trials
+/// Runs study (a): tuning on the pre-trials of P1-L (the EKF reuses the
+/// SDRE's `Q`, `S` when `shared_tuning`), then 6 legs x 3 trials
 /// (seed `10 (leg + 1) + trial`).
-pub fn single_joint_study(base: &KneeFesConfig) -> SingleJointStudy {
+pub fn single_joint_study(base: &KneeFesConfig, shared_tuning: bool) -> SingleJointStudy {
     let pre: Vec<Vec<Record>> = PRE_TRIAL_SEEDS
         .iter()
         .map(|seed| {
@@ -238,7 +239,11 @@ pub fn single_joint_study(base: &KneeFesConfig) -> SingleJointStudy {
         .collect();
     let pre_model = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).expect("preset");
     let t_sdre = tune_knee(Linearisation::Sdc, pre_model, &pre).0;
-    let t_ekf = tune_knee(Linearisation::Jacobian, pre_model, &pre).0;
+    let t_ekf = if shared_tuning {
+        t_sdre
+    } else {
+        tune_knee(Linearisation::Jacobian, pre_model, &pre).0
+    };
     let (gains, _) = tune_rmx(&pre);
     let cases: Vec<(KneeSubject, u64)> = KneeSubject::ALL
         .iter()

@@ -33,17 +33,17 @@ impl KneePlant {
 /// `sdre` / `ekf` on the leg-extension model.
 pub type KneeFesFilter = FesFilter<KneePlant, 2, 2, 1>;
 
-/// Default tuning of the knee filters (see docs/FES_ESTIMATION.md).
-///
-/// `S` is the intensity of the measurement errors the model does not carry:
-/// gyro bias and noise (`(0.5 deg/s)^2 x 0.01 s`) and, for the accelerometer,
-/// the motion acceleration at the sensor (about 0.3 m/s^2 rms in these slow
-/// extensions, eq 3.1 and Fig. 8 of the thesis: `0.3^2 x 0.01 s`). `Q` carries
-/// the model's torque error (about 1 N m on J = 0.46 kg m^2) on the rate row.
+/// Default tuning of the knee filters: the values the tuning protocol of
+/// docs/FES_ESTIMATION.md picks on three pre-trials (P1-L, seeds 1000-1002,
+/// `limbfuse-eval::fes_study`) for both `sdre` and `ekf`:
+/// `S = diag(1e-5, 1e-2)` (gyro, accelerometer), `Q = diag(1e-4, 1e3)`.
+/// The large `Q` on the rate row and small `S` make the estimate follow the
+/// measurements closely (the muscle model is uncertain: activation
+/// dynamics, eq 4.3's simplification).
 pub fn knee_default_tuning(lin: Linearisation) -> ContinuousTuning<2, 2> {
     ContinuousTuning {
-        q: Vector2::new(1e-4, 100.0),
-        s: Vector2::new(1e-6, 0.1),
+        q: Vector2::new(1e-4, 1e3),
+        s: Vector2::new(1e-5, 1e-2),
         a: match lin {
             Linearisation::Sdc => 1.0,
             Linearisation::Jacobian => 0.0,
