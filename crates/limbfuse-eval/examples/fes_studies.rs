@@ -27,20 +27,30 @@ fn hip_row(name: &str, r: &HipResult, gyro: bool) {
 
 fn main() {
     let t0 = std::time::Instant::now();
-    for (label, activation) in [
+    for (label, activation, shared) in [
         (
-            "with muscle activation dynamics in the truth (default)",
+            "with muscle activation dynamics in the truth (default), each method tuned",
+            true,
+            false,
+        ),
+        (
+            "with activation dynamics, EKF with the SDRE's Q and S",
+            true,
             true,
         ),
         (
-            "truth without activation dynamics (a = u, the estimators' model)",
+            "truth without activation dynamics (a = u, the estimators' model), each method tuned",
+            false,
             false,
         ),
     ] {
-        let st = single_joint_study(&KneeFesConfig {
-            activation_dynamics: activation,
-            ..KneeFesConfig::default()
-        });
+        let st = single_joint_study(
+            &KneeFesConfig {
+                activation_dynamics: activation,
+                ..KneeFesConfig::default()
+            },
+            shared,
+        );
         println!("### (a) Single joint, {label}\n");
         println!(
             "Tuned on the pre-trials (P1-L, seeds 1000-1002): sdre (S_gyro, S_acc, Q_rate) = {:?}, ekf = {:?}, rmx k_p = {}, k_i = {}.\n",
