@@ -33,7 +33,7 @@ fn knee_filters_beat_rmx_on_simulated_trials() {
         let ekf = rmse(&mut KneeFesFilter::ekf(m), &tr.records, 1);
         let rmx = rmse(&mut RotationMatrixKnee::new(), &tr.records, 1);
         eprintln!(
-            "{}: sdre {sdre:.3} deg, ekf {ekf:.3} deg, rmx {rmx:.3} deg",
+            "{}: sdre {sdre:.6} deg, ekf {ekf:.6} deg, rmx {rmx:.6} deg",
             subject.label()
         );
         assert!(sdre < 1.0 && ekf < 1.0, "{sdre} {ekf}");

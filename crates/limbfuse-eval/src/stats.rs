@@ -195,7 +195,12 @@ pub fn wilcoxon_signed_rank(x: &[f64], y: &[f64]) -> Option<TestResult> {
         }
         i = j + 1;
     }
-    let w_plus: f64 = (0..n).filter(|&k| d[k] > 0.0).map(|k| ranks[k]).sum();
+    // `+ 0.0`: an empty f64 sum is -0.0.
+    let w_plus: f64 = (0..n)
+        .filter(|&k| d[k] > 0.0)
+        .map(|k| ranks[k])
+        .sum::<f64>()
+        + 0.0;
     let total = (n * (n + 1)) as f64 / 2.0;
     let w_minus = total - w_plus;
     let stat = w_plus.min(w_minus);

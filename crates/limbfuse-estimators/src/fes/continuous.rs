@@ -109,8 +109,9 @@ where
 }
 
 /// RK4 is stable on the real axis for `h |lambda| < 2.78`; sub-steps keep
-/// `h |lambda|` below this.
-const RK4_STABLE_STEP: f64 = 1.0;
+/// `h |lambda|` (bounded by [`stiffness`], which includes the Riccati
+/// equation's factor 2) at most 2.
+const RK4_STABLE_STEP: f64 = 2.0;
 /// Upper bound on sub-steps per interval (bounds the work per sample).
 const MAX_SUBSTEPS: f64 = 400.0;
 

@@ -49,7 +49,7 @@ pub fn knee_default_tuning(lin: Linearisation) -> ContinuousTuning<2, 2> {
             Linearisation::Jacobian => 0.0,
         },
         p0: Vector2::new(1e-2, 1e-2),
-        max_substep: 2e-3,
+        max_substep: 1e-2,
     }
 }
 
