@@ -10,6 +10,7 @@ pub mod baseline_study;
 pub mod channel_error;
 pub mod evaluation;
 pub mod fes_params;
+pub mod fes_plot;
 pub mod fes_study;
 pub mod metrics;
 pub mod monte_carlo;
