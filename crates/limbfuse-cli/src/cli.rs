@@ -55,6 +55,22 @@ pub struct AlignArgs {
     /// there is no quiet standing (default 0 for every segment).
     #[arg(long = "mean-angle", value_name = "SEGMENT=DEG")]
     pub mean_angle: Vec<String>,
+    /// Alignment procedure: from walking data, or paper 004's quiet standing + flexion/extension rotations.
+    #[arg(long, value_enum, default_value_t = AlignProcedure::Walking)]
+    pub procedure: AlignProcedure,
+    /// static-rotation: calibration recording (quiet standing + rotations) of the same sensors;
+    /// default: the calibration segment at the start of TRIAL.
+    #[arg(long)]
+    pub calibration: Option<PathBuf>,
+}
+
+/// Alignment procedures of `align`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AlignProcedure {
+    /// Sensor-to-segment rotations from walking data (docs/ALIGNMENT.md).
+    Walking,
+    /// Paper 004 section 3.3: quiet standing (gravity) + 3-5 hip flexion/extension rotations (gyro axis).
+    StaticRotation,
 }
 
 /// Options of `montecarlo`.
@@ -138,6 +154,12 @@ pub struct KneeFesArgs {
     /// Truth without muscle activation dynamics (a = u, as the estimators assume).
     #[arg(long)]
     pub no_activation_dynamics: bool,
+    /// Sensor mounting (random: raw sensor frames, align with `align --procedure static-rotation`).
+    #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
+    pub mounting: MountingArg,
+    /// Also write the calibration recording (quiet standing + 4 hip rotations) of the same sensors.
+    #[arg(long)]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Options of `simulate fixed-hip`.

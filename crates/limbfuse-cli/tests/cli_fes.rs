@@ -154,3 +154,61 @@ fn fixed_hip_round_trip() {
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(j["rmse_deg"]["hip"].as_f64().unwrap() < 1.0);
 }
+
+#[test]
+fn static_rotation_alignment_of_randomly_mounted_sensors() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &[
+            "simulate",
+            "knee-fes",
+            "--mounting",
+            "random",
+            "--calibration",
+            "cal.csv",
+            "-o",
+            "raw.csv",
+            "--duration",
+            "10",
+        ],
+        p,
+    ));
+    ok(&limbfuse(
+        &[
+            "align",
+            "--procedure",
+            "static-rotation",
+            "--calibration",
+            "cal.csv",
+            "raw.csv",
+            "-o",
+            "al.csv",
+        ],
+        p,
+    ));
+    ok(&limbfuse(
+        &["estimate", "--method", "sdre", "al.csv", "-o", "e.csv"],
+        p,
+    ));
+    let o = limbfuse(&["evaluate", "al.csv", "e.csv", "--json"], p);
+    ok(&o);
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let knee = j["rmse_deg"]["knee"].as_f64().unwrap();
+    assert!(knee < 1.0, "knee RMSE after alignment {knee} deg");
+    // The trial itself has no calibration segment (seated, stimulated from 2 s).
+    user_error(
+        &limbfuse(
+            &[
+                "align",
+                "--procedure",
+                "static-rotation",
+                "raw.csv",
+                "-o",
+                "x.csv",
+            ],
+            p,
+        ),
+        &["raw.csv", "no calibration segment", "quiet standing"],
+    );
+}

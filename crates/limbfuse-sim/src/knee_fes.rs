@@ -63,6 +63,8 @@ pub struct KneeFesConfig {
     pub shank_imu_m: f64,
     /// Extra constant gyro drift added to both gyros' z axis (rad/s).
     pub gyro_drift: f64,
+    /// How the IMUs sit on their segments (`Random` needs `limbfuse align`).
+    pub mounting: Mounting,
 }
 
 impl Default for KneeFesConfig {
@@ -82,6 +84,7 @@ impl Default for KneeFesConfig {
             activation_dynamics: true,
             shank_imu_m: 0.2,
             gyro_drift: 0.0,
+            mounting: Mounting::Aligned,
         }
     }
 }
@@ -178,20 +181,8 @@ pub fn simulate_knee_fes(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError> {
     };
     let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
     let mut imus = [
-        Imu::draw(
-            &mut rng,
-            &cfg.imu,
-            Mounting::Aligned,
-            cfg.rate_hz,
-            cfg.noise,
-        ),
-        Imu::draw(
-            &mut rng,
-            &cfg.imu,
-            Mounting::Aligned,
-            cfg.rate_hz,
-            cfg.noise,
-        ),
+        Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
+        Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
     ];
     let encoders = Encoders::draw(&mut rng, &cfg.encoder, cfg.noise);
     let thigh_angle = core::f64::consts::FRAC_PI_2;
@@ -273,6 +264,100 @@ pub fn simulate_knee_fes(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError> {
     metadata.extend(knee_param_metadata(&params));
     Ok(FesTrial { records, metadata })
 }
+
+/// The calibration recording of the static-rotation alignment procedure
+/// (paper 004 section 3.3, Fig. 9) with the same sensors as the trial of
+/// `cfg` (same seed, so the same mounting and sensor errors): 12 s of quiet
+/// standing, then 4 straight-leg hip flexion/extension rotations (1 s
+/// forward to 30 deg, 0.5 s hold, 1 s back, 0.5 s hold). Thigh IMU 0.2 m
+/// below the hip, shank IMU `shank_imu_m` below the knee (thigh 0.245 H,
+/// H = 1.75 m, Winter).
+pub fn simulate_calibration(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError> {
+    in_range("rate_hz", cfg.rate_hz, 10.0, 2000.0, "[10, 2000]")?;
+    let g = cfg.params.map_or(9.81, |p| p.g);
+    let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
+    let mut imus = [
+        Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
+        Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
+    ];
+    let thigh_len = 0.245 * DEFAULT_HEIGHT_M;
+    let amp = 30f64.to_radians();
+    // theta(t), rate, acceleration of the straight leg.
+    let motion = |t: f64| -> (f64, f64, f64) {
+        let t = t - 12.0;
+        if !(0.0..12.0).contains(&t) {
+            return (0.0, 0.0, 0.0);
+        }
+        let tc = t % 3.0;
+        let pi = core::f64::consts::PI;
+        // Smooth step s(u) = (1 - cos(pi u)) / 2 over 1 s.
+        let step = |u: f64, sign: f64, base: f64| {
+            (
+                base + sign * amp * (1.0 - (pi * u).cos()) / 2.0,
+                sign * amp * pi * (pi * u).sin() / 2.0,
+                sign * amp * pi * pi * (pi * u).cos() / 2.0,
+            )
+        };
+        match tc {
+            tc if tc < 1.0 => step(tc, 1.0, 0.0),
+            tc if tc < 1.5 => (amp, 0.0, 0.0),
+            tc if tc < 2.5 => step(tc - 1.5, -1.0, amp),
+            _ => (0.0, 0.0, 0.0),
+        }
+    };
+    let dt = 1.0 / cfg.rate_hz;
+    let n = (24.0 * cfg.rate_hz).round() as usize;
+    let mut records = Vec::with_capacity(n);
+    for k in 0..n {
+        let t = k as f64 * dt;
+        let (th, w, a) = motion(t);
+        let thigh = PlanarSegment {
+            angle: th,
+            rate: w,
+            accel: a,
+            pivot_accel: Vector2::zeros(),
+        };
+        let shank = PlanarSegment {
+            angle: th,
+            rate: w,
+            accel: a,
+            pivot_accel: thigh.point_accel(thigh_len),
+        };
+        let mut sample = Sample::empty(t);
+        for (i, (seg, r, which)) in [
+            (thigh, 0.2, Segment::Thigh),
+            (shank, cfg.shank_imu_m, Segment::Shank),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (rot, wv, f) = seg.imu_inputs(r, g);
+            let (gyr, acc) = imus[i].read(&rot, &wv, &f, &mut rng);
+            sample.imu[which.index()].gyr = Some(gyr);
+            sample.imu[which.index()].acc = Some(acc);
+        }
+        let mut reference = Reference::default();
+        reference.segment[Segment::Thigh.index()] = Some(th);
+        reference.segment[Segment::Shank.index()] = Some(th);
+        reference.joint[1] = Some(0.0);
+        records.push(Record { sample, reference });
+    }
+    let metadata = vec![
+        (
+            "source".to_string(),
+            "limbfuse simulate knee-fes --calibration".to_string(),
+        ),
+        ("seed".to_string(), cfg.seed.to_string()),
+        (
+            "calibration".to_string(),
+            "static-rotation: 12 s quiet standing, 4 hip flexion/extension rotations".to_string(),
+        ),
+    ];
+    Ok(FesTrial { records, metadata })
+}
+
+/// Body height behind the calibration geometry (m).
+const DEFAULT_HEIGHT_M: f64 = 1.75;
 
 /// One classical RK4 step of `x_dot = f(t, x)`.
 pub fn rk4<const N: usize>(

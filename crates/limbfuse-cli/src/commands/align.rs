@@ -36,6 +36,9 @@ fn parse_mean_angles(items: &[String]) -> Result<[f64; 4]> {
 
 /// Reads the trial, estimates the rotations, writes the aligned trial.
 pub fn run(a: &AlignArgs) -> Result<()> {
+    if a.procedure == crate::cli::AlignProcedure::StaticRotation {
+        return super::align_static::run(a);
+    }
     let opts = AlignOptions {
         hinge: a.hinge,
         partial: a.partial,

@@ -78,6 +78,10 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
         noise: !a.no_noise,
         gyro_drift: a.gyro_drift.to_radians(),
         activation_dynamics: !a.no_activation_dynamics,
+        mounting: match a.mounting {
+            crate::cli::MountingArg::Aligned => limbfuse_sim::Mounting::Aligned,
+            crate::cli::MountingArg::Random => limbfuse_sim::Mounting::Random,
+        },
         ..KneeFesConfig::default()
     })
 }
@@ -87,6 +91,15 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
     let cfg = knee_config(a)?;
     let tr = simulate_knee_fes(&cfg).context("simulate knee-fes")?;
     write_trial(&a.output, "limbfuse simulate knee-fes", a.rate, &tr, false)?;
+    if let Some(cal) = &a.calibration {
+        let c =
+            limbfuse_sim::knee_fes::simulate_calibration(&cfg).context("simulate calibration")?;
+        write_calibration(cal, a.rate, &c)?;
+        eprintln!(
+            "calibration (quiet standing + 4 hip rotations) -> {}",
+            cal.display()
+        );
+    }
     eprintln!(
         "simulated {:.0} s of FES leg extension, subject {} (seed {}) -> {}",
         a.duration,
@@ -126,4 +139,26 @@ pub fn build(
 ) -> Result<Box<dyn Estimator>> {
     build_fes_estimator(method, reader.meta(), reader.layout(), params)
         .with_context(|| format!("{}: cannot run `{method}`", reader.path().display()))
+}
+
+/// Writes a calibration recording (thigh and shank IMUs with references).
+fn write_calibration(path: &std::path::Path, rate: f64, tr: &FesTrial) -> Result<()> {
+    let mut meta = TrialMeta::trial_v1();
+    meta.set("sample_rate_hz", rate);
+    for (k, v) in &tr.metadata {
+        meta.set(k.clone(), v);
+    }
+    let mut layout = fes_layout(false);
+    layout.encoder = [false; 3];
+    layout.stim = [false; 4];
+    let out = super::create_file(path)?;
+    let mut w = TrialWriter::new(out, &meta, layout)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    for r in &tr.records {
+        w.write(r)
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    w.finish()
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    Ok(())
 }

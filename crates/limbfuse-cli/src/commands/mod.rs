@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 mod align;
+mod align_static;
 mod demo;
 mod demo_fes;
 mod estimate;
