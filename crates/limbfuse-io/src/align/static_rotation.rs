@@ -247,6 +247,13 @@ pub fn static_rotation_alignment(
     Ok(out)
 }
 
+/// `[w, x, y, z]` of a rotation (w >= 0), for metadata.
+pub fn quat_wxyz(r: &Rotation3<f64>) -> [f64; 4] {
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(r);
+    let s = if q.w < 0.0 { -1.0 } else { 1.0 };
+    [s * q.w, s * q.i, s * q.j, s * q.k]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -268,11 +275,4 @@ mod tests {
         assert!((n.determinant() - 1.0).abs() < 1e-12);
         assert!((n - r).amax() < 5e-3);
     }
-}
-
-/// `[w, x, y, z]` of a rotation (w >= 0), for metadata.
-pub fn quat_wxyz(r: &Rotation3<f64>) -> [f64; 4] {
-    let q = nalgebra::UnitQuaternion::from_rotation_matrix(r);
-    let s = if q.w < 0.0 { -1.0 } else { 1.0 };
-    [s * q.w, s * q.i, s * q.j, s * q.k]
 }
