@@ -25,25 +25,30 @@ fn hip_row(name: &str, r: &HipResult, gyro: bool) {
     );
 }
 
+const SINGLE: [(&str, bool, bool); 3] = [
+    (
+        "with muscle activation dynamics in the truth (default), each method tuned",
+        true,
+        false,
+    ),
+    (
+        "with activation dynamics, EKF with the SDRE's Q and S",
+        true,
+        true,
+    ),
+    (
+        "truth without activation dynamics (a = u, the estimators' model), each method tuned",
+        false,
+        false,
+    ),
+];
+
 fn main() {
     let t0 = std::time::Instant::now();
-    for (label, activation, shared) in [
-        (
-            "with muscle activation dynamics in the truth (default), each method tuned",
-            true,
-            false,
-        ),
-        (
-            "with activation dynamics, EKF with the SDRE's Q and S",
-            true,
-            true,
-        ),
-        (
-            "truth without activation dynamics (a = u, the estimators' model), each method tuned",
-            false,
-            false,
-        ),
-    ] {
+    // FES_STUDY=hip skips the single-joint study (a).
+    let hip_only = std::env::var("FES_STUDY").as_deref() == Ok("hip");
+    let single: &[(&str, bool, bool)] = if hip_only { &[] } else { &SINGLE };
+    for &(label, activation, shared) in single {
         let st = single_joint_study(
             &KneeFesConfig {
                 activation_dynamics: activation,
@@ -172,6 +177,27 @@ fn main() {
     hip_row(
         "S2: acc x 0.8",
         &fixed_hip_run(&base, base.params, &tuning, &seeds, &s2),
+        false,
+    );
+    let trusting = limbfuse_eval::fes_study::HipTuning {
+        sdre: (1e-6, 1.0, 0.1),
+        ekf: (1e-6, 1.0, 0.1),
+    };
+    println!("\nSame, both filters with the accelerometer-trusting tuning S_gyro 1e-6, S_acc 1, Q_rate 0.1:\n");
+    println!("| case | SDRE hip / knee | EKF hip / knee |\n|---|---|---|");
+    hip_row(
+        "aligned",
+        &fixed_hip_run(&base, base.params, &trusting, &seeds, &none),
+        false,
+    );
+    hip_row(
+        "S1: acc_x + 0.5 m/s^2",
+        &fixed_hip_run(&base, base.params, &trusting, &seeds, &s1),
+        false,
+    );
+    hip_row(
+        "S2: acc x 0.8",
+        &fixed_hip_run(&base, base.params, &trusting, &seeds, &s2),
         false,
     );
     eprintln!("done in {:.1} s", t0.elapsed().as_secs_f64());
