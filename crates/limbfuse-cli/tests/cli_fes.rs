@@ -212,3 +212,24 @@ fn static_rotation_alignment_of_randomly_mounted_sensors() {
         &["raw.csv", "no calibration segment", "quiet standing"],
     );
 }
+
+#[test]
+fn demo_runs_sdre_ekf_rmx_on_a_knee_fes_trial() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(&["demo", "--out", "out", "--duration", "10"], d.path());
+    ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("knee-FES leg extension"), "{stdout}");
+    let header = stdout
+        .lines()
+        .find(|l| l.contains("sdre") && l.contains("ekf") && l.contains("rmx"));
+    assert!(header.is_some(), "{stdout}");
+    for m in ["sdre", "ekf", "rmx"] {
+        assert!(d
+            .path()
+            .join(format!("out/estimate-knee-fes-{m}.csv"))
+            .exists());
+    }
+    let report = std::fs::read_to_string(d.path().join("out/report.md")).unwrap();
+    assert!(report.contains("knee-FES"));
+}
