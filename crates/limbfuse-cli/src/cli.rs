@@ -62,6 +62,22 @@ pub struct AlignArgs {
     /// With --joint-axis: parameter-EKF iterations (paper 002 default 6).
     #[arg(long, default_value_t = 6, requires = "joint_axis")]
     pub order: usize,
+    /// Alignment procedure: from walking data, or paper 004's quiet standing + flexion/extension rotations.
+    #[arg(long, value_enum, default_value_t = AlignProcedure::Walking)]
+    pub procedure: AlignProcedure,
+    /// static-rotation: calibration recording (quiet standing + rotations) of the same sensors;
+    /// default: the calibration segment at the start of TRIAL.
+    #[arg(long)]
+    pub calibration: Option<PathBuf>,
+}
+
+/// Alignment procedures of `align`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AlignProcedure {
+    /// Sensor-to-segment rotations from walking data (docs/ALIGNMENT.md).
+    Walking,
+    /// Paper 004 section 3.3: quiet standing (gravity) + 3-5 hip flexion/extension rotations (gyro axis).
+    StaticRotation,
 }
 
 /// Options of `montecarlo`.
@@ -115,6 +131,10 @@ pub enum SimulateCommand {
     /// Walking with every IMU at a random orientation, the thigh and shank IMUs at random
     /// positions, optionally a thigh-sensor re-mounting (paper 002).
     Knee(KneeSimArgs),
+    /// Leg-extension machine with FES of the quadriceps (paper 004): thigh and shank IMUs, knee encoder, u_ke.
+    KneeFes(KneeFesArgs),
+    /// 2-DOF fixed-hip swing with FES and motors (paper 004): thigh and shank IMUs, encoders, u_*, tau_*_motor.
+    FixedHip(FixedHipArgs),
 }
 
 /// Options of `simulate knee`.
@@ -150,6 +170,64 @@ pub struct KneeSimArgs {
     /// Keep every segment in the sagittal plane.
     #[arg(long)]
     pub no_out_of_plane: bool,
+}
+
+/// Options of `simulate knee-fes`.
+#[derive(Debug, Args)]
+pub struct KneeFesArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Leg of Table 1 (P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6).
+    #[arg(long, default_value = "P1-L")]
+    pub subject: String,
+    /// Duration (s).
+    #[arg(long, default_value_t = 30.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Random seed: same seed, same file, bit for bit.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Ideal sensors.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Extra constant gyro drift on both gyros (deg/s).
+    #[arg(long, default_value_t = 0.0)]
+    pub gyro_drift: f64,
+    /// Truth without muscle activation dynamics (a = u, as the estimators assume).
+    #[arg(long)]
+    pub no_activation_dynamics: bool,
+    /// Sensor mounting (random: raw sensor frames, align with `align --procedure static-rotation`).
+    #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
+    pub mounting: MountingArg,
+    /// Also write the calibration recording (quiet standing + 4 hip rotations) of the same sensors.
+    #[arg(long)]
+    pub calibration: Option<PathBuf>,
+}
+
+/// Options of `simulate fixed-hip`.
+#[derive(Debug, Args)]
+pub struct FixedHipArgs {
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Duration (s).
+    #[arg(long, default_value_t = 20.0)]
+    pub duration: f64,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Ideal sensors.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Extra constant gyro drift on both gyros (deg/s).
+    #[arg(long, default_value_t = 0.0)]
+    pub gyro_drift: f64,
 }
 
 /// How simulated IMUs sit on their segments.

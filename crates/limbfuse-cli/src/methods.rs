@@ -32,10 +32,26 @@ pub const AVAILABLE: &[(&str, &str)] = &[
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
     ),
+    (
+        "sdre",
+        "paper 004: SDRE estimator on the trial's model (knee-fes or fixed-hip metadata)",
+    ),
+    (
+        "ekf",
+        "paper 004: extended Kalman(-Bucy) filter on the trial's model",
+    ),
+    (
+        "rmx",
+        "paper 004: knee from the relative orientation of thigh and shank IMUs",
+    ),
 ];
 
+/// Methods built from the trial itself (model metadata, channels): `estimate` builds them
+/// through `commands::fes`.
+pub const FROM_TRIAL: &[&str] = &["sdre", "ekf", "rmx"];
+
 /// Methods named by SPEC section 4 that later issues add.
-pub const PLANNED: &[&str] = &["sdre", "ekf", "rmx", "imm-bslip"];
+pub const PLANNED: &[&str] = &["imm-bslip"];
 
 /// Segment-angle methods `limbfuse demo` runs.
 pub const DEMO: &[&str] = &[
@@ -53,6 +69,9 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         "accel-inclination" => Box::new(AccelInclination::new()),
         "local" | "mjls" | "global" => return segment_filter(name, params),
         "knee-selfalign" => return knee_selfalign(&KneeOptions::default(), params),
+        "sdre" | "ekf" | "rmx" => bail!(
+            "method `{name}` is built from a trial's model metadata; use `limbfuse estimate --method {name} TRIAL`"
+        ),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()

@@ -63,7 +63,8 @@ fn unknown_and_planned_methods_are_user_errors() {
         &["estimate", "--method", "sdre", "t.csv", "-o", "e.csv"],
         d.path(),
     );
-    assert_user_error(&o, &["not implemented yet"]);
+    // sdre exists now (paper 004); without model metadata it is a user error.
+    assert_user_error(&o, &["t.csv", "# model:"]);
 }
 
 #[test]

@@ -13,6 +13,7 @@
 extern crate alloc;
 
 pub mod baseline;
+pub mod fes;
 pub mod inclination;
 pub mod knee_selfalign;
 pub mod segment_kf;

@@ -7,6 +7,7 @@
 
 pub mod align;
 mod cell_format;
+pub mod conditioning;
 pub mod error;
 pub mod estimate_file;
 pub mod import;

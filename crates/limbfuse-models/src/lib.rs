@@ -9,3 +9,13 @@
 //! an estimator linearises.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
+
+pub mod error;
+pub mod fes_knee;
+pub mod fixed_hip;
+pub mod sdc;
+
+pub use error::ModelError;
+pub use fes_knee::{KneeFesModel, KneeFesParams, KneeSubject};
+pub use fixed_hip::{FixedHipModel, FixedHipParams};
+pub use sdc::SdcModel;

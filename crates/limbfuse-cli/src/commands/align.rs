@@ -39,6 +39,9 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     if a.joint_axis {
         return super::align_joint_axis::run(a);
     }
+    if a.procedure == crate::cli::AlignProcedure::StaticRotation {
+        return super::align_static::run(a);
+    }
     let opts = AlignOptions {
         hinge: a.hinge,
         partial: a.partial,

@@ -36,10 +36,11 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     for name in methods::DEMO {
         evaluations.push(run_method(name, &trial_path, &a.out)?);
     }
-    let table = rmse_table(&evaluations);
+    let mut table = rmse_table(&evaluations);
     print!("{table}");
     let knee = super::knee_demo::run(a.seed, a.speed, &a.out)?;
     print!("\n{knee}");
+    table.push_str(&super::demo_fes::run(&a.out, a.seed)?);
     let report = a.out.join("report.md");
     let mut markdown = report_markdown(a, &summary, &table);
     markdown.push_str(&format!(

@@ -14,17 +14,20 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         window: a.window,
         order: a.order,
     };
-    let mut est = if a.method == "knee-selfalign" {
-        methods::knee_selfalign(&knee, a.params.as_deref())?
-    } else if knee != methods::KneeOptions::default() {
+    if a.method != "knee-selfalign" && knee != methods::KneeOptions::default() {
         bail!(
             "--window and --order apply to method knee-selfalign only, not to `{}`",
             a.method
         );
+    }
+    let reader = TrialReader::open(&a.trial)?;
+    let mut est = if a.method == "knee-selfalign" {
+        methods::knee_selfalign(&knee, a.params.as_deref())?
+    } else if methods::FROM_TRIAL.contains(&a.method.as_str()) {
+        super::fes::build(&a.method, a.params.as_deref(), &reader)?
     } else {
         methods::build(&a.method, a.params.as_deref())?
     };
-    let reader = TrialReader::open(&a.trial)?;
     let mut writer = EstimateWriter::new(super::create_file(&a.output)?);
     let mut progress = Progress::new(&a.method);
     let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];

@@ -2,9 +2,12 @@
 
 mod align;
 mod align_joint_axis;
+mod align_static;
 mod demo;
+mod demo_fes;
 mod estimate;
 mod evaluate;
+mod fes;
 mod import;
 mod knee_demo;
 mod montecarlo;
@@ -24,6 +27,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
         Command::Simulate(SimulateCommand::Knee(a)) => simulate_knee::run(&a),
+        Command::Simulate(SimulateCommand::KneeFes(a)) => fes::simulate_knee(&a),
+        Command::Simulate(SimulateCommand::FixedHip(a)) => fes::simulate_hip(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),

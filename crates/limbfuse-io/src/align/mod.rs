@@ -26,6 +26,7 @@ mod estimate;
 mod legs;
 mod series;
 mod sign;
+pub mod static_rotation;
 mod trunk;
 mod zero;
 

@@ -1,0 +1,49 @@
+//! The paper 004 part of `limbfuse demo`: a simulated knee-FES trial (leg
+//! extension, P2-R, 30 s) estimated by `sdre`, `ekf` and `rmx`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use limbfuse_core::runner::{self, Observer};
+use limbfuse_eval::{AngleMetrics, EvalOptions};
+use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+
+/// Simulates the knee-FES trial into `out`, runs the three methods, prints
+/// and returns the knee RMSE table.
+pub fn run(out: &Path, seed: u64) -> Result<String> {
+    let cfg = KneeFesConfig {
+        subject: limbfuse_models::KneeSubject::P2R,
+        seed,
+        ..KneeFesConfig::default()
+    };
+    let tr = simulate_knee_fes(&cfg).context("simulate knee-fes")?;
+    let trial = out.join("trial-knee-fes.csv");
+    super::fes::write_trial(&trial, "limbfuse demo (knee-fes)", cfg.rate_hz, &tr, false)?;
+    let mut table = format!("{:<10}", "RMSE deg");
+    let mut row = format!("{:<10}", "knee");
+    for m in ["sdre", "ekf", "rmx"] {
+        let reader = TrialReader::open(&trial)?;
+        let mut est = super::fes::build(m, None, &reader)?;
+        let path = out.join(format!("estimate-knee-fes-{m}.csv"));
+        let mut writer = EstimateWriter::new(super::create_file(&path)?);
+        let mut metrics = AngleMetrics::new(m, EvalOptions::default());
+        let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut metrics];
+        runner::run(est.as_mut(), reader, observers).with_context(|| format!("running {m}"))?;
+        let e = metrics.evaluation();
+        let knee = e
+            .rmse(limbfuse_core::sample::AngleChannel::Joint(
+                limbfuse_core::Joint::Knee,
+            ))
+            .map_or("-".into(), |v| format!("{:.2}", v.to_degrees()));
+        let _ = write!(table, "{m:>10}");
+        let _ = write!(row, "{knee:>10}");
+    }
+    let text = format!(
+        "knee-FES leg extension (paper 004), subject P2-R, 30 s, seed {seed}: {}\n{table}\n{row}\n",
+        trial.display()
+    );
+    print!("\n{text}");
+    Ok(text)
+}

@@ -1,0 +1,69 @@
+//! Per-sample cost of the paper 004 estimators on seeded simulated trials
+//! (100 Hz, default sensors, default tuning), one core: `sdre`/`ekf` on the
+//! 2-state knee model and the 4-state fixed-hip model, and `rmx`.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
+use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+
+fn run(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    recs: &[Record],
+    make: &dyn Fn() -> Box<dyn Estimator>,
+) {
+    g.throughput(Throughput::Elements(recs.len() as u64));
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let mut e = make();
+            let mut acc = 0.0;
+            for r in recs {
+                acc += e.step(&r.sample).expect("valid sample").joint[1].unwrap_or(0.0);
+            }
+            black_box(acc)
+        })
+    });
+}
+
+fn bench(c: &mut Criterion) {
+    let knee = simulate_knee_fes(&KneeFesConfig {
+        seed: 42,
+        ..KneeFesConfig::default()
+    })
+    .expect("valid config")
+    .records;
+    let hip = simulate_fixed_hip(&FixedHipConfig {
+        seed: 42,
+        ..FixedHipConfig::default()
+    })
+    .expect("valid config")
+    .records;
+    let km = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).expect("preset");
+    let hm = FixedHipModel::new(FixedHipParams::default()).expect("defaults");
+    let mut g = c.benchmark_group("fes_100hz");
+    g.sample_size(20);
+    run(&mut g, "sdre-knee-2state", &knee, &|| {
+        Box::new(KneeFesFilter::sdre(km))
+    });
+    run(&mut g, "ekf-knee-2state", &knee, &|| {
+        Box::new(KneeFesFilter::ekf(km))
+    });
+    run(&mut g, "rmx-knee", &knee, &|| {
+        Box::new(RotationMatrixKnee::new())
+    });
+    run(&mut g, "sdre-fixed-hip-4state", &hip, &|| {
+        Box::new(FixedHipFilter::sdre(hm))
+    });
+    run(&mut g, "ekf-fixed-hip-4state", &hip, &|| {
+        Box::new(FixedHipFilter::ekf(hm))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,264 @@
+//! The `sdre` / `ekf` estimator over a plant (a model plus the mapping from
+//! trial channels to its measurements and inputs), implementing
+//! [`limbfuse_core::Estimator`].
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample, TimeStep};
+use limbfuse_models::SdcModel;
+use nalgebra::{SMatrix, SVector};
+
+use super::continuous::{propagate, ContinuousTuning, FilterState, Linearisation};
+
+/// A model together with how a trial feeds it.
+pub trait Plant<const N: usize, const M: usize, const U: usize> {
+    /// The dynamic and measurement model.
+    type Model: SdcModel<N, M, U>;
+    /// The model.
+    fn model(&self) -> &Self::Model;
+    /// Model name as in trial metadata (`knee-fes`, `fixed-hip`).
+    fn model_name(&self) -> &'static str;
+    /// Names of the measurement rows, in order.
+    fn measurement_names(&self) -> [&'static str; M];
+    /// Names of the input channels, in order (trial column names).
+    fn input_names(&self) -> [&'static str; U];
+    /// The measurement rows present in `s`.
+    fn measurement(&self, s: &Sample) -> [Option<f64>; M];
+    /// The input channels present in `s`.
+    fn input(&self, s: &Sample) -> [Option<f64>; U];
+    /// Initial state from the first sample (static accelerometer inclination).
+    fn initial_state(&self, s: &Sample) -> SVector<f64, N>;
+    /// Which estimate channels [`Plant::fill`] sets.
+    fn outputs(&self) -> Outputs;
+    /// Writes the state into the estimate's angle channels.
+    fn fill(&self, x: &SVector<f64, N>, e: &mut Estimate);
+    /// Writes the plant's own parameters as `key: value` lines.
+    fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result;
+    /// Diagnostic names: the state's rate rows, then `p_ii`, then `resets`.
+    fn diagnostic_names(&self) -> &'static [&'static str];
+}
+
+/// The continuous-time estimator of paper 004 on plant `P`: `sdre` with
+/// [`Linearisation::Sdc`], `ekf` with [`Linearisation::Jacobian`].
+#[derive(Debug, Clone)]
+pub struct FesFilter<P, const N: usize, const M: usize, const U: usize> {
+    plant: P,
+    lin: Linearisation,
+    tuning: ContinuousTuning<N, M>,
+    s_inv: SVector<f64, M>,
+    time: TimeStep,
+    state: Option<FilterState<N>>,
+    y_prev: SVector<f64, M>,
+    y_seen: [bool; M],
+    u_prev: SVector<f64, U>,
+    u_seen: [bool; U],
+    resets: u32,
+}
+
+impl<P, const N: usize, const M: usize, const U: usize> FesFilter<P, N, M, U>
+where
+    P: Plant<N, M, U>,
+{
+    /// A filter on `plant`. `S` entries must be positive (they are inverted).
+    pub fn new(plant: P, lin: Linearisation, tuning: ContinuousTuning<N, M>) -> Self {
+        let s_inv = tuning.s.map(|s| if s > 0.0 { 1.0 / s } else { 0.0 });
+        FesFilter {
+            plant,
+            lin,
+            tuning,
+            s_inv,
+            time: TimeStep::new(),
+            state: None,
+            y_prev: SVector::zeros(),
+            y_seen: [false; M],
+            u_prev: SVector::zeros(),
+            u_seen: [false; U],
+            resets: 0,
+        }
+    }
+
+    /// The plant.
+    pub fn plant(&self) -> &P {
+        &self.plant
+    }
+
+    /// The tuning in use.
+    pub fn tuning(&self) -> &ContinuousTuning<N, M> {
+        &self.tuning
+    }
+
+    /// Current state and Riccati solution, once started.
+    pub fn state(&self) -> Option<&FilterState<N>> {
+        self.state.as_ref()
+    }
+
+    fn inputs(&mut self, s: &Sample) -> Result<SVector<f64, U>, EstimatorError> {
+        let names = self.plant.input_names();
+        let mut u = self.u_prev;
+        for (i, v) in self.plant.input(s).into_iter().enumerate() {
+            match v {
+                Some(v) if v.is_finite() => {
+                    u[i] = v;
+                    self.u_seen[i] = true;
+                }
+                Some(_) => return Err(EstimatorError::NonFinite { channel: names[i] }),
+                None if !self.u_seen[i] => {
+                    return Err(EstimatorError::MissingChannel { channel: names[i] })
+                }
+                None => {} // dropout: hold the last input
+            }
+        }
+        Ok(u)
+    }
+
+    fn restart(&mut self, s: &Sample) {
+        let x = self.plant.initial_state(s);
+        self.state = Some(FilterState {
+            x,
+            p: SMatrix::from_diagonal(&self.tuning.p0),
+        });
+    }
+}
+
+impl<P, const N: usize, const M: usize, const U: usize> Estimator for FesFilter<P, N, M, U>
+where
+    P: Plant<N, M, U>,
+{
+    fn name(&self) -> &'static str {
+        match self.lin {
+            Linearisation::Sdc => "sdre",
+            Linearisation::Jacobian => "ekf",
+        }
+    }
+
+    fn outputs(&self) -> Outputs {
+        self.plant.outputs()
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "model: {}", self.plant.model_name())?;
+        writeln!(
+            out,
+            "linearisation: {}",
+            match self.lin {
+                Linearisation::Sdc =>
+                    "state-dependent coefficients (paper 004 eqs 4.11-4.13, 4.25)",
+                Linearisation::Jacobian => "Jacobians df/dx, dh/dx",
+            }
+        )?;
+        write_names(out, "measurements", &self.plant.measurement_names())?;
+        write_names(out, "inputs", &self.plant.input_names())?;
+        write_list(out, "q", self.tuning.q.as_slice())?;
+        write_list(out, "s", self.tuning.s.as_slice())?;
+        writeln!(out, "a: {}", self.tuning.a)?;
+        write_list(out, "p0", self.tuning.p0.as_slice())?;
+        writeln!(out, "max_substep_s: {}", self.tuning.max_substep)?;
+        writeln!(
+            out,
+            "propagation: RK4 on state and Riccati equation, first-order hold of y and u"
+        )?;
+        self.plant.describe(out)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        self.plant.diagnostic_names()
+    }
+
+    fn reset(&mut self) {
+        self.time.reset();
+        self.state = None;
+        self.y_seen = [false; M];
+        self.u_seen = [false; U];
+        self.resets = 0;
+    }
+
+    fn step(&mut self, s: &Sample) -> Result<Estimate, EstimatorError> {
+        let dt = self.time.advance(s.t)?;
+        let u = self.inputs(s)?;
+        let meas = self.plant.measurement(s);
+        let mut y = self.y_prev;
+        let mut weight = self.s_inv;
+        for (i, m) in meas.iter().enumerate() {
+            match m {
+                Some(v) if v.is_finite() => y[i] = *v,
+                Some(_) => {
+                    return Err(EstimatorError::NonFinite {
+                        channel: self.plant.measurement_names()[i],
+                    })
+                }
+                None => weight[i] = 0.0,
+            }
+            if !self.y_seen[i] {
+                weight[i] = 0.0;
+            }
+        }
+        match (dt, self.state.as_mut()) {
+            (Some(dt), Some(st)) => {
+                propagate(
+                    self.plant.model(),
+                    self.lin,
+                    st,
+                    dt,
+                    (&self.y_prev, &y),
+                    (&self.u_prev, &u),
+                    &weight,
+                    &self.tuning,
+                );
+                if !(st.x.iter().all(|v| v.is_finite()) && st.p.iter().all(|v| v.is_finite())) {
+                    self.resets += 1;
+                    self.restart(s);
+                }
+            }
+            _ => self.restart(s),
+        }
+        for (i, m) in meas.iter().enumerate() {
+            if m.is_some() {
+                self.y_seen[i] = true;
+            }
+        }
+        self.y_prev = y;
+        self.u_prev = u;
+        let st = self
+            .state
+            .as_ref()
+            .ok_or(EstimatorError::Numerical("no state"))?;
+        let mut e = Estimate::empty(s.t);
+        self.plant.fill(&st.x, &mut e);
+        let mut k = 0;
+        for i in N / 2..N {
+            e.diag[k] = Some(st.x[i]);
+            k += 1;
+        }
+        for i in 0..N {
+            e.diag[k] = Some(st.p[(i, i)]);
+            k += 1;
+        }
+        e.diag[k] = Some(f64::from(self.resets));
+        Ok(e)
+    }
+}
+
+/// Writes `key: v1, v2, ...`.
+fn write_list(out: &mut dyn fmt::Write, key: &str, v: &[f64]) -> fmt::Result {
+    write!(out, "{key}: ")?;
+    for (i, x) in v.iter().enumerate() {
+        if i > 0 {
+            write!(out, ", ")?;
+        }
+        write!(out, "{x}")?;
+    }
+    writeln!(out)
+}
+
+/// Writes `key: a, b, ...`.
+fn write_names(out: &mut dyn fmt::Write, key: &str, v: &[&str]) -> fmt::Result {
+    write!(out, "{key}: ")?;
+    for (i, x) in v.iter().enumerate() {
+        if i > 0 {
+            write!(out, ", ")?;
+        }
+        write!(out, "{x}")?;
+    }
+    writeln!(out)
+}

@@ -1,0 +1,156 @@
+//! The fixed-hip plant (paper 004 section 4.2): thigh and shank IMUs, four
+//! stimulation channels and two motor torques.
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Sample, Segment};
+use limbfuse_models::FixedHipModel;
+use nalgebra::{SVector, Vector4};
+
+use super::continuous::{ContinuousTuning, Linearisation};
+use super::filter::{FesFilter, Plant};
+
+/// The fixed-hip model as an estimator plant (trunk upright and fixed).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixedHipPlant {
+    /// The model (eqs 4.18-4.25).
+    pub model: FixedHipModel,
+}
+
+/// `sdre` / `ekf` on the fixed-hip model.
+pub type FixedHipFilter = FesFilter<FixedHipPlant, 4, 4, 6>;
+
+/// Default tuning of the fixed-hip filters: the values the tuning protocol
+/// of docs/FES_ESTIMATION.md picks on three pre-trials (seeds 1000-1002)
+/// for both `sdre` and `ekf`: `S = diag(1e-6, 1e-6, 1e4, 1e4)`,
+/// `Q = diag(1e-4, 1e-4, 1e-3, 1e-3)`: trust the model and the gyros, use
+/// the accelerometers only very weakly (their motion acceleration is not
+/// in the measurement model).
+pub fn fixed_hip_default_tuning(lin: Linearisation) -> ContinuousTuning<4, 4> {
+    ContinuousTuning {
+        q: Vector4::new(1e-4, 1e-4, 1e-3, 1e-3),
+        s: Vector4::new(1e-6, 1e-6, 1e4, 1e4),
+        a: match lin {
+            Linearisation::Sdc => 1.0,
+            Linearisation::Jacobian => 0.0,
+        },
+        p0: Vector4::new(1e-2, 1e-2, 1e-2, 1e-2),
+        max_substep: 2e-3,
+    }
+}
+
+impl FixedHipFilter {
+    /// The SDRE estimator with the default tuning.
+    pub fn sdre(model: FixedHipModel) -> Self {
+        FesFilter::new(
+            FixedHipPlant { model },
+            Linearisation::Sdc,
+            fixed_hip_default_tuning(Linearisation::Sdc),
+        )
+    }
+
+    /// The extended Kalman-Bucy filter with the default tuning.
+    pub fn ekf(model: FixedHipModel) -> Self {
+        FesFilter::new(
+            FixedHipPlant { model },
+            Linearisation::Jacobian,
+            fixed_hip_default_tuning(Linearisation::Jacobian),
+        )
+    }
+}
+
+impl Plant<4, 4, 6> for FixedHipPlant {
+    type Model = FixedHipModel;
+
+    fn model(&self) -> &FixedHipModel {
+        &self.model
+    }
+
+    fn model_name(&self) -> &'static str {
+        "fixed-hip"
+    }
+
+    fn measurement_names(&self) -> [&'static str; 4] {
+        ["thigh_gyr_z", "shank_gyr_z", "thigh_acc_x", "shank_acc_x"]
+    }
+
+    fn input_names(&self) -> [&'static str; 6] {
+        [
+            "u_hf",
+            "u_he",
+            "u_kf",
+            "u_ke",
+            "tau_hip_motor",
+            "tau_knee_motor",
+        ]
+    }
+
+    fn measurement(&self, s: &Sample) -> [Option<f64>; 4] {
+        let th = s.imu(Segment::Thigh);
+        let sh = s.imu(Segment::Shank);
+        [
+            th.gyr.map(|g| g.z),
+            sh.gyr.map(|g| g.z),
+            th.acc.map(|a| a.x),
+            sh.acc.map(|a| a.x),
+        ]
+    }
+
+    fn input(&self, s: &Sample) -> [Option<f64>; 6] {
+        // ModelInputs::stim order is [u_ke, u_kf, u_he, u_hf].
+        let st = &s.inputs.stim;
+        let m = &s.inputs.motor_torque;
+        [st[3], st[2], st[1], st[0], m[0], m[1]]
+    }
+
+    fn initial_state(&self, s: &Sample) -> SVector<f64, 4> {
+        let incl = |seg: Segment| {
+            let imu = s.imu(seg);
+            (
+                imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(0.0),
+                imu.gyr.map(|g| g.z).unwrap_or(0.0),
+            )
+        };
+        let (t, tr) = incl(Segment::Thigh);
+        let (sh, sr) = incl(Segment::Shank);
+        Vector4::new(t, sh, tr, sr)
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            segment: [false, true, true, false],
+            joint: [true, true, false],
+            ..Outputs::default()
+        }
+    }
+
+    fn fill(&self, x: &SVector<f64, 4>, e: &mut Estimate) {
+        e.set_segment(Segment::Thigh, x[0]);
+        e.set_segment(Segment::Shank, x[1]);
+        e.joint[0] = Some(-x[0]);
+        e.joint[1] = Some(x[0] - x[1]);
+    }
+
+    fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.model.p;
+        writeln!(out, "trunk: fixed upright (hip = -thigh)")?;
+        writeln!(out, "thigh_mass: {}", p.thigh_mass)?;
+        writeln!(out, "thigh_length: {}", p.thigh_length)?;
+        writeln!(out, "leg_mass: {}", p.leg_mass)?;
+        writeln!(out, "g: {}", p.g)?;
+        writeln!(out, "muscle_peak_hf_he_kf_ke: {:?}", p.muscle_peak)
+    }
+
+    fn diagnostic_names(&self) -> &'static [&'static str] {
+        &[
+            "thigh_rate",
+            "shank_rate",
+            "p11",
+            "p22",
+            "p33",
+            "p44",
+            "resets",
+        ]
+    }
+}

@@ -1,0 +1,149 @@
+//! The leg-extension plant (paper 004 section 4.1): the FES knee model fed by
+//! the aligned shank IMU and the `u_ke` stimulation channel.
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Sample, Segment};
+use limbfuse_models::KneeFesModel;
+use nalgebra::{SVector, Vector1, Vector2};
+
+use super::continuous::{ContinuousTuning, Linearisation};
+use super::filter::{FesFilter, Plant};
+
+/// The knee-FES model plus the (fixed) thigh angle of the machine seat.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KneePlant {
+    /// The model (eqs 4.1-4.7).
+    pub model: KneeFesModel,
+    /// Absolute thigh angle (rad); the seat holds the thigh horizontal: pi/2.
+    pub thigh_angle: f64,
+}
+
+impl KneePlant {
+    /// A plant with the thigh horizontal.
+    pub fn new(model: KneeFesModel) -> Self {
+        KneePlant {
+            model,
+            thigh_angle: core::f64::consts::FRAC_PI_2,
+        }
+    }
+}
+
+/// `sdre` / `ekf` on the leg-extension model.
+pub type KneeFesFilter = FesFilter<KneePlant, 2, 2, 1>;
+
+/// Default tuning of the knee filters: the values the tuning protocol of
+/// docs/FES_ESTIMATION.md picks on three pre-trials (P1-L, seeds 1000-1002,
+/// `limbfuse-eval::fes_study`) for both `sdre` and `ekf`:
+/// `S = diag(1e-5, 1e-2)` (gyro, accelerometer), `Q = diag(1e-4, 1e3)`.
+/// The large `Q` on the rate row and small `S` make the estimate follow the
+/// measurements closely (the muscle model is uncertain: activation
+/// dynamics, eq 4.3's simplification).
+pub fn knee_default_tuning(lin: Linearisation) -> ContinuousTuning<2, 2> {
+    ContinuousTuning {
+        q: Vector2::new(1e-4, 1e3),
+        s: Vector2::new(1e-5, 1e-2),
+        a: match lin {
+            Linearisation::Sdc => 1.0,
+            Linearisation::Jacobian => 0.0,
+        },
+        p0: Vector2::new(1e-2, 1e-2),
+        max_substep: 1e-2,
+    }
+}
+
+impl KneeFesFilter {
+    /// The SDRE estimator (eqs 4.14-4.16, `a = 1`) with the default tuning.
+    pub fn sdre(model: KneeFesModel) -> Self {
+        FesFilter::new(
+            KneePlant::new(model),
+            Linearisation::Sdc,
+            knee_default_tuning(Linearisation::Sdc),
+        )
+    }
+
+    /// The extended Kalman-Bucy filter with the default tuning.
+    pub fn ekf(model: KneeFesModel) -> Self {
+        FesFilter::new(
+            KneePlant::new(model),
+            Linearisation::Jacobian,
+            knee_default_tuning(Linearisation::Jacobian),
+        )
+    }
+}
+
+impl Plant<2, 2, 1> for KneePlant {
+    type Model = KneeFesModel;
+
+    fn model(&self) -> &KneeFesModel {
+        &self.model
+    }
+
+    fn model_name(&self) -> &'static str {
+        "knee-fes"
+    }
+
+    fn measurement_names(&self) -> [&'static str; 2] {
+        ["shank_gyr_z", "shank_acc_x"]
+    }
+
+    fn input_names(&self) -> [&'static str; 1] {
+        ["u_ke"]
+    }
+
+    fn measurement(&self, s: &Sample) -> [Option<f64>; 2] {
+        let imu = s.imu(Segment::Shank);
+        [imu.gyr.map(|g| g.z), imu.acc.map(|a| a.x)]
+    }
+
+    fn input(&self, s: &Sample) -> [Option<f64>; 1] {
+        [s.inputs.stim[0]]
+    }
+
+    fn initial_state(&self, s: &Sample) -> SVector<f64, 2> {
+        let imu = s.imu(Segment::Shank);
+        let x1 = imu
+            .acc
+            .map(|a| libm::atan2(a.x, a.y))
+            .unwrap_or(self.model.p.theta_eq);
+        let x2 = imu.gyr.map(|g| g.z).unwrap_or(0.0);
+        Vector2::new(x1, x2)
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            segment: [false, true, true, false],
+            joint: [false, true, false],
+            ..Outputs::default()
+        }
+    }
+
+    fn fill(&self, x: &SVector<f64, 2>, e: &mut Estimate) {
+        e.set_segment(Segment::Thigh, self.thigh_angle);
+        e.set_segment(Segment::Shank, x[0]);
+        e.joint[1] = Some(self.thigh_angle - x[0]);
+    }
+
+    fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.model.p;
+        writeln!(out, "thigh_angle_rad: {}", self.thigh_angle)?;
+        writeln!(out, "inertia: {}", p.inertia)?;
+        writeln!(out, "mass: {}", p.mass)?;
+        writeln!(out, "l_c: {}", p.l_c)?;
+        writeln!(out, "g: {}", p.g)?;
+        writeln!(out, "phi0: {}", p.phi0)?;
+        writeln!(out, "d: {:?}", p.d)?;
+        writeln!(out, "c: {:?}", p.c)?;
+        writeln!(out, "activation: a_ke = u_ke (thesis section 4.1.1)")
+    }
+
+    fn diagnostic_names(&self) -> &'static [&'static str] {
+        &["shank_rate", "p11", "p22", "resets"]
+    }
+}
+
+/// Input vector of the knee model.
+pub fn knee_input(u_ke: f64) -> SVector<f64, 1> {
+    Vector1::new(u_ke)
+}

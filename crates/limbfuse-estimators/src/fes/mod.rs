@@ -1,0 +1,26 @@
+//! Model-based knee and hip estimation for FES (paper 004, Zhong 2016).
+//!
+//! * [`continuous`]: the continuous-time estimator of eqs 4.14-4.16 (state
+//!   and Riccati equation integrated together by RK4 between samples), with
+//!   SDC matrices (`sdre`) or Jacobians (`ekf`).
+//! * [`filter`]: [`filter::FesFilter`], the [`limbfuse_core::Estimator`]
+//!   over a [`filter::Plant`] (a model plus the channel mapping).
+//! * [`knee`]: the leg-extension plant (2 states), [`fixed_hip`]: the
+//!   fixed-hip plant (4 states).
+//! * [`rmx`]: the rotation-matrix baseline (relative orientation of the two
+//!   IMUs, each from a Mahony complementary filter or device quaternions).
+//!
+//! Design notes and measured results: docs/FES_ESTIMATION.md.
+
+pub mod continuous;
+pub mod filter;
+pub mod fixed_hip;
+pub mod knee;
+pub mod mahony;
+pub mod rmx;
+
+pub use continuous::{ContinuousTuning, Linearisation};
+pub use filter::{FesFilter, Plant};
+pub use fixed_hip::{FixedHipFilter, FixedHipPlant};
+pub use knee::{KneeFesFilter, KneePlant};
+pub use rmx::RotationMatrixKnee;

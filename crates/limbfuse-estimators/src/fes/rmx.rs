@@ -1,0 +1,98 @@
+//! The rotation-matrix (RMX) baseline of paper 004 (section 4.1.4): the knee
+//! angle from the relative orientation of the thigh and shank IMUs, each
+//! orientation from a [`Mahony`] filter on its gyro and accelerometer, or
+//! from the device quaternions (`S_quat_*`) when both are in the trial (the
+//! thesis used the YEI 3-Space sensor's on-board filter). Needs aligned
+//! sensors (SPEC section 1).
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep};
+use nalgebra::{Quaternion, UnitQuaternion};
+
+use super::mahony::{sagittal_joint_angle, Mahony, MahonyGains};
+
+/// Knee angle from the relative orientation of two IMUs.
+#[derive(Debug, Clone, Default)]
+pub struct RotationMatrixKnee {
+    gains: MahonyGains,
+    time: TimeStep,
+    filters: [Option<Mahony>; 2],
+}
+
+impl RotationMatrixKnee {
+    /// With the default (reference-implementation) Mahony gains.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// With explicit gains.
+    pub fn with_gains(gains: MahonyGains) -> Self {
+        RotationMatrixKnee {
+            gains,
+            ..Self::default()
+        }
+    }
+}
+
+fn device_quat(q: [f64; 4]) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+impl Estimator for RotationMatrixKnee {
+    fn name(&self) -> &'static str {
+        "rmx"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            joint: [false, true, false],
+            ..Outputs::default()
+        }
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "orientation: device quaternions when both thigh and shank have them, else Mahony filter (Mahony et al. 2008)")?;
+        writeln!(out, "kp: {}", self.gains.kp)?;
+        writeln!(out, "ki: {}", self.gains.ki)?;
+        writeln!(out, "knee: minus the z twist of q_thigh^-1 q_shank")
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &["source_device_quat"]
+    }
+
+    fn reset(&mut self) {
+        self.time.reset();
+        self.filters = [None, None];
+    }
+
+    fn step(&mut self, s: &Sample) -> Result<Estimate, EstimatorError> {
+        let dt = self.time.advance(s.t)?;
+        let mut e = Estimate::empty(s.t);
+        let segs = [Segment::Thigh, Segment::Shank];
+        if let (Some(a), Some(b)) = (s.imu(segs[0]).quat, s.imu(segs[1]).quat) {
+            e.joint[1] = Some(sagittal_joint_angle(&device_quat(a), &device_quat(b)));
+            e.diag[0] = Some(1.0);
+            return Ok(e);
+        }
+        for (i, seg) in segs.iter().enumerate() {
+            let imu = s.imu(*seg);
+            match (&mut self.filters[i], dt, imu.gyr) {
+                (None, _, _) => {
+                    if let Some(a) = imu.acc {
+                        self.filters[i] = Some(Mahony::from_accel(&a));
+                    }
+                }
+                (Some(f), Some(dt), Some(g)) => f.update(&g, imu.acc.as_ref(), dt, &self.gains),
+                _ => {} // gyro dropout: hold the orientation
+            }
+        }
+        if let [Some(t), Some(sh)] = &self.filters {
+            e.joint[1] = Some(sagittal_joint_angle(&t.q, &sh.q));
+        }
+        e.diag[0] = Some(0.0);
+        Ok(e)
+    }
+}

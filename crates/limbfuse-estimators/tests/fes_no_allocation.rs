@@ -1,0 +1,85 @@
+//! `sdre`, `ekf` (both plants) and `rmx` allocate nothing per step (same
+//! counting-allocator pattern as `no_allocation.rs`, in its own binary so
+//! the global counter sees no other test's allocations).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
+use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn with_dropouts(mut recs: Vec<Record>) -> Vec<Record> {
+    for (k, r) in recs.iter_mut().enumerate() {
+        if k % 13 == 5 {
+            r.sample.imu[2].acc = None;
+            r.sample.imu[1].gyr = None;
+            r.sample.inputs.stim[0] = None;
+        }
+    }
+    recs
+}
+
+#[test]
+fn fes_estimators_step_without_allocating() {
+    let knee = with_dropouts(
+        simulate_knee_fes(&KneeFesConfig {
+            duration_s: 5.0,
+            ..KneeFesConfig::default()
+        })
+        .unwrap()
+        .records,
+    );
+    let hip = with_dropouts(
+        simulate_fixed_hip(&FixedHipConfig {
+            duration_s: 5.0,
+            ..FixedHipConfig::default()
+        })
+        .unwrap()
+        .records,
+    );
+    let km = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let hm = FixedHipModel::new(FixedHipParams::default()).unwrap();
+    let mut cases: Vec<(Box<dyn Estimator>, &[Record])> = vec![
+        (Box::new(KneeFesFilter::sdre(km)), &knee),
+        (Box::new(KneeFesFilter::ekf(km)), &knee),
+        (Box::new(RotationMatrixKnee::new()), &knee),
+        (Box::new(FixedHipFilter::sdre(hm)), &hip),
+        (Box::new(FixedHipFilter::ekf(hm)), &hip),
+    ];
+    for (e, recs) in cases.iter_mut() {
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let mut sum = 0.0;
+        for r in recs.iter() {
+            sum += e.step(&r.sample).unwrap().joint[1].unwrap_or(0.0);
+        }
+        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        assert!(sum.is_finite());
+        assert_eq!(
+            after - before,
+            0,
+            "{} allocated {} times",
+            e.name(),
+            after - before
+        );
+    }
+}

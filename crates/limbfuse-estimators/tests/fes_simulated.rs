@@ -1,0 +1,76 @@
+//! Paper 004 estimators with their default tuning on simulated trials:
+//! knee accuracy, the fixed-hip accuracy target of the thesis (<= 0.3 deg),
+//! and the missing-stimulation error.
+
+use limbfuse_core::{Estimator, EstimatorError, Record};
+use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
+use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+
+/// RMSE (deg) of joint `j` over the records.
+fn rmse(e: &mut dyn Estimator, recs: &[Record], j: usize) -> f64 {
+    let mut s = 0.0;
+    for r in recs {
+        let est = e.step(&r.sample).unwrap();
+        let d = est.joint[j].unwrap() - r.reference.joint[j].unwrap();
+        s += d * d;
+    }
+    (s / recs.len() as f64).sqrt().to_degrees()
+}
+
+#[test]
+fn knee_filters_beat_rmx_on_simulated_trials() {
+    for subject in [KneeSubject::P1L, KneeSubject::P2R] {
+        let tr = simulate_knee_fes(&KneeFesConfig {
+            subject,
+            seed: 3,
+            ..KneeFesConfig::default()
+        })
+        .unwrap();
+        let m = KneeFesModel::new(KneeFesParams::subject(subject)).unwrap();
+        let sdre = rmse(&mut KneeFesFilter::sdre(m), &tr.records, 1);
+        let ekf = rmse(&mut KneeFesFilter::ekf(m), &tr.records, 1);
+        let rmx = rmse(&mut RotationMatrixKnee::new(), &tr.records, 1);
+        eprintln!(
+            "{}: sdre {sdre:.6} deg, ekf {ekf:.6} deg, rmx {rmx:.6} deg",
+            subject.label()
+        );
+        assert!(sdre < 1.0 && ekf < 1.0, "{sdre} {ekf}");
+        assert!(sdre < rmx && ekf < rmx);
+    }
+}
+
+#[test]
+fn fixed_hip_sdre_meets_the_thesis_accuracy() {
+    let m = FixedHipModel::new(FixedHipParams::default()).unwrap();
+    let mut worst: f64 = 0.0;
+    for seed in 1..=3 {
+        let tr = simulate_fixed_hip(&FixedHipConfig {
+            seed,
+            ..FixedHipConfig::default()
+        })
+        .unwrap();
+        let hip = rmse(&mut FixedHipFilter::sdre(m), &tr.records, 0);
+        let knee = rmse(&mut FixedHipFilter::sdre(m), &tr.records, 1);
+        eprintln!("seed {seed}: sdre hip {hip:.3} knee {knee:.3} deg");
+        worst = worst.max(hip).max(knee);
+    }
+    assert!(worst <= 0.3, "worst {worst} deg");
+}
+
+#[test]
+fn missing_stimulation_channel_is_a_clear_error() {
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        duration_s: 2.0,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let mut f = KneeFesFilter::sdre(m);
+    let mut s = tr.records[0].sample;
+    s.inputs.stim[0] = None;
+    let e = f.step(&s).unwrap_err();
+    assert_eq!(e, EstimatorError::MissingChannel { channel: "u_ke" });
+    assert!(e.to_string().contains("u_ke"));
+}

@@ -1,0 +1,54 @@
+//! The interface the continuous-time estimators of paper 004 need from a
+//! model: dynamics `f(x, u)`, measurement `h(x)`, a state-dependent
+//! coefficient (SDC) factorisation and the analytic Jacobians.
+//!
+//! The SDC factorisation (paper 004 eq 4.8) must be exact:
+//! `A(x) x + B(x) u = f(x, u)` and `C(x) x = h(x)` for every state,
+//! including `x_i -> 0` (sinc terms). `B(x) u` is returned as one vector
+//! ([`SdcModel::input_term`]) because it also carries the passive torques,
+//! which the thesis lumps into it (eqs 4.12 and 4.25).
+
+use nalgebra::{SMatrix, SVector};
+
+/// A model with `N` states, `M` measurements and `U` inputs.
+pub trait SdcModel<const N: usize, const M: usize, const U: usize> {
+    /// Dynamics `f(x, u)` (eqs 4.6, 4.23).
+    fn f(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> SVector<f64, N>;
+    /// Measurement `h(x)` (eqs 4.7, 4.24).
+    fn h(&self, x: &SVector<f64, N>) -> SVector<f64, M>;
+    /// SDC state matrix `A(x)` (eqs 4.11, 4.25).
+    fn sdc_a(&self, x: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+    /// The input term `B(x) u` (eqs 4.12, 4.25), with `f = A(x) x + B(x) u`.
+    fn input_term(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> SVector<f64, N>;
+    /// SDC measurement matrix `C(x)` (eqs 4.13, 4.25), with `h = C(x) x`.
+    fn sdc_c(&self, x: &SVector<f64, N>) -> SMatrix<f64, M, N>;
+    /// Jacobian `df/dx` (for the EKF).
+    fn jacobian_f(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> SMatrix<f64, N, N>;
+    /// Jacobian `dh/dx` (for the EKF).
+    fn jacobian_h(&self, x: &SVector<f64, N>) -> SMatrix<f64, M, N>;
+}
+
+/// `sin(x) / x`, equal to 1 at 0 and accurate near it (Taylor series below 1e-4).
+#[inline]
+pub fn sinc(x: f64) -> f64 {
+    if libm::fabs(x) < 1e-4 {
+        let x2 = x * x;
+        1.0 - x2 / 6.0 + x2 * x2 / 120.0
+    } else {
+        libm::sin(x) / x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sinc_is_continuous_through_zero() {
+        assert_eq!(sinc(0.0), 1.0);
+        for x in [1e-12, 1e-6, 9.9e-5, 1.01e-4, 1e-3, 0.5, -2.0] {
+            let direct = if x == 0.0 { 1.0 } else { libm::sin(x) / x };
+            assert!((sinc(x) - direct).abs() < 1e-15, "x = {x}");
+        }
+    }
+}
