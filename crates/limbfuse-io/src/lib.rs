@@ -9,6 +9,7 @@ pub mod align;
 mod cell_format;
 pub mod error;
 pub mod estimate_file;
+pub mod gait_library;
 pub mod import;
 pub mod layout;
 pub mod meta;

@@ -9,3 +9,5 @@
 //! an estimator linearises.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
+
+pub mod bslip;

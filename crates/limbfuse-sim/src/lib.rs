@@ -29,3 +29,4 @@ pub use config::{
     WalkingConfig,
 };
 pub use walking::{Truth, WalkingSimulator};
+pub mod bslip;
