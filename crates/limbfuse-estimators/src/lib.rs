@@ -11,5 +11,6 @@
 #![deny(missing_docs)]
 
 pub mod baseline;
+pub mod imm_bslip;
 pub mod inclination;
 pub mod segment_kf;
