@@ -27,10 +27,14 @@ pub const AVAILABLE: &[(&str, &str)] = &[
         "global",
         "paper 001: matricial global KF, 4 IMUs + relative rows + encoders",
     ),
+    (
+        "imm-bslip",
+        "paper 003: gait phase and speed from CoM measurements, IMM over a B-SLIP gait library (--library)",
+    ),
 ];
 
 /// Methods named by SPEC section 4 that later issues add.
-pub const PLANNED: &[&str] = &["knee-selfalign", "sdre", "ekf", "rmx", "imm-bslip"];
+pub const PLANNED: &[&str] = &["knee-selfalign", "sdre", "ekf", "rmx"];
 
 /// Segment-angle methods `limbfuse demo` runs.
 pub const DEMO: &[&str] = &[
@@ -47,6 +51,7 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         "gyro-integration" => Box::new(GyroIntegration::new()),
         "accel-inclination" => Box::new(AccelInclination::new()),
         "local" | "mjls" | "global" => return segment_filter(name, params),
+        "imm-bslip" => bail!("method `imm-bslip` needs a trial and --library (use `limbfuse estimate --method imm-bslip --library LIB.json TRIAL -o OUT`)"),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()

@@ -9,6 +9,7 @@
 pub mod baseline_study;
 pub mod channel_error;
 pub mod evaluation;
+pub mod gait_evaluation;
 pub mod metrics;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;

@@ -38,6 +38,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     }
     let table = rmse_table(&evaluations);
     print!("{table}");
+    super::gait::demo(&a.out)?;
     let report = a.out.join("report.md");
     std::fs::write(&report, report_markdown(a, &summary, &table))
         .with_context(|| format!("{}: cannot write the report", report.display()))?;

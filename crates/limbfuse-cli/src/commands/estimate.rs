@@ -10,6 +10,16 @@ use crate::progress::Progress;
 
 /// Runs one estimator over a trial file, streaming.
 pub fn run(a: &EstimateArgs) -> Result<()> {
+    if a.method == "imm-bslip" {
+        let mut est =
+            super::gait::imm_estimator(&a.trial, a.library.as_deref(), a.kappa, a.rescale_height)?;
+        let n = super::gait::run_estimator(est.as_mut(), &a.trial, &a.output, &a.method)?;
+        eprintln!("{}: {n} samples -> {}", a.method, a.output.display());
+        return Ok(());
+    }
+    if a.library.is_some() || a.kappa.is_some() || a.rescale_height.is_some() {
+        anyhow::bail!("--library, --kappa and --rescale-height apply to --method imm-bslip only");
+    }
     let mut est = methods::build(&a.method, a.params.as_deref())?;
     let reader = TrialReader::open(&a.trial)?;
     let mut writer = EstimateWriter::new(super::create_file(&a.output)?);

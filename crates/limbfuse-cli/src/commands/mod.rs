@@ -4,6 +4,7 @@ mod align;
 mod demo;
 mod estimate;
 mod evaluate;
+mod gait;
 mod import;
 mod montecarlo;
 mod protocol;
@@ -13,13 +14,15 @@ mod tune;
 
 use anyhow::Result;
 
-use crate::cli::{Cli, Command, SimulateCommand};
+use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),
+        Command::Simulate(SimulateCommand::Bslip(a)) => gait::simulate(&a),
+        Command::GaitLibrary(GaitLibraryCommand::Build(a)) => gait::library_build(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
