@@ -21,9 +21,18 @@ pub type Cov = Matrix6<f64>;
 /// ln(2 pi).
 const LN_2PI: f64 = 1.837_877_066_409_345_5;
 
+/// `(f(x), F P + P F^T + Q)`. `F = [[0, I], [A, 0]]` (A = da/dc), so
+/// `M = F P = [[P21, P22], [A P11, A P12]]` and `F P + P F^T = M + M^T`
+/// for symmetric P: two 3x3 products instead of two 6x6 ones.
 fn riccati(p: &BslipParams, stance: &Stance, x: &State, P: &Cov, Q: &Cov) -> (State, Cov) {
     let F = jacobian(p, x, stance);
-    (derivative(p, x, stance), F * P + P * F.transpose() + Q)
+    let A = F.fixed_view::<3, 3>(3, 0);
+    let mut M = Cov::zeros();
+    M.fixed_view_mut::<3, 6>(0, 0)
+        .copy_from(&P.fixed_view::<3, 6>(3, 0));
+    M.fixed_view_mut::<3, 6>(3, 0)
+        .copy_from(&(A * P.fixed_view::<3, 6>(0, 0)));
+    (derivative(p, x, stance), M + M.transpose() + Q)
 }
 
 /// Propagates `(x, P)` over `dt` by RK4 with `n` equal sub-steps.

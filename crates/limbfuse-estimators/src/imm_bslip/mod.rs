@@ -197,6 +197,7 @@ impl ImmBslip {
         let names = models
             .iter()
             .map(|&(g, p)| WEIGHT_NAMES[3 * g + phase_index(p)])
+            .chain(core::iter::once("speed_mean"))
             .collect();
         let zero = Model {
             gait: 0,

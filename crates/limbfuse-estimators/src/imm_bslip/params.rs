@@ -57,7 +57,8 @@ impl ImmBslipParams {
     /// Settings the paper does not give (documented choices):
     /// kappa = 1e5 /m^2 (a leg stretched 1 cm beyond rest costs e^-10),
     /// phase switching 0.05 per sample (phases last 10-50 samples at 100 Hz),
-    /// gait switching 0.01 per sample, RK4 sub-steps <= 5 ms, P0 =
+    /// gait switching 0.01 per sample, RK4 sub-steps <= 10 ms (one per
+    /// sample at 100 Hz; `omega h` = 0.26 for the stiffest library leg, 55 kN/m), P0 =
     /// diag(1e-4 m^2, 1e-2 m^2/s^2), left foot trailing first, restart after
     /// a 0.25 s gap.
     fn common() -> Self {
@@ -67,7 +68,7 @@ impl ImmBslipParams {
             kappa: 1e5,
             p_next_phase: 0.05,
             p_other_gait: 0.01,
-            max_substep: 0.005,
+            max_substep: 0.01,
             p0: [1e-4, 1e-2],
             first_side: Side::Left,
             max_gap: 0.25,
