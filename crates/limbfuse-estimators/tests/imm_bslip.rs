@@ -206,3 +206,53 @@ fn the_true_gait_wins_and_the_phase_follows_the_reference() {
         "phase accuracy {acc}, true gait most likely {win}"
     );
 }
+
+mod property {
+    use super::*;
+    use proptest::prelude::*;
+    use std::sync::OnceLock;
+
+    fn shared() -> &'static (Vec<GaitTemplate>, Vec<Record>) {
+        static LIB: OnceLock<(Vec<GaitTemplate>, Vec<Record>)> = OnceLock::new();
+        LIB.get_or_init(|| {
+            let lib = library();
+            let records = trial(&lib[1], 1.5);
+            (lib, records)
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+        /// Whatever the measurement offsets, scale of R, kappa and dropout
+        /// pattern, the weights are finite, non-negative and sum to one.
+        #[test]
+        fn weights_are_a_distribution(
+            offset in prop::array::uniform3(-0.5f64..0.5),
+            r_scale in -12.0f64..2.0,
+            kappa in prop::sample::select(vec![0.0, 1e3, 1e5, 1e9]),
+            drop_every in 2usize..9,
+        ) {
+            let (lib, records) = shared();
+            let base = ImmBslipParams::full_com();
+            let params = ImmBslipParams {
+                r: base.r.map(|r| r * 10f64.powf(r_scale)),
+                kappa,
+                ..base
+            };
+            let mut imm = ImmBslip::new(lib, params).unwrap();
+            for (k, r) in records.iter().enumerate() {
+                let mut s = r.sample;
+                for (p, o) in s.com.pos.iter_mut().zip(offset) {
+                    *p = p.map(|v| v + o);
+                }
+                if k % drop_every == 1 {
+                    s.com = Default::default();
+                }
+                imm.step(&s).unwrap();
+                let w: Vec<f64> = imm.weights().collect();
+                prop_assert!(w.iter().all(|v| v.is_finite() && *v >= 0.0));
+                prop_assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            }
+        }
+    }
+}
