@@ -48,9 +48,19 @@ fn main() {
                     ..Default::default()
                 };
                 let trial = simulate_trial(&truth, &cfg);
+                // P_NEXT / P_GAIT override the Markov probabilities (sweeps).
+                let env = |k: &str, d: f64| {
+                    std::env::var(k)
+                        .ok()
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(d)
+                };
+                let base = ImmBslipParams::full_com();
                 let params = ImmBslipParams {
                     kappa,
-                    ..ImmBslipParams::full_com()
+                    p_next_phase: env("P_NEXT", base.p_next_phase),
+                    p_other_gait: env("P_GAIT", base.p_other_gait),
+                    ..base
                 };
                 let mut imm = ImmBslip::new(lib, params).unwrap();
                 let (mut ok, mut n, mut se, mut nb, mut n2) = (0, 0, 0.0, 0, 0);
