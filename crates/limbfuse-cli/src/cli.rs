@@ -35,6 +35,65 @@ pub enum Command {
     Resample(ResampleArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
     Tune(TuneArgs),
+    /// B-SLIP gait libraries for `imm-bslip` (paper 003).
+    #[command(subcommand, name = "gait-library")]
+    GaitLibrary(GaitLibraryCommand),
+}
+
+/// `gait-library` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum GaitLibraryCommand {
+    /// Search periodic B-SLIP gaits at the given speeds and write a library file (JSON).
+    Build(GaitLibraryBuildArgs),
+}
+
+/// Options of `gait-library build`.
+#[derive(Debug, Args)]
+pub struct GaitLibraryBuildArgs {
+    /// Speeds START:END:STEP in m/s (inclusive), e.g. 0.4:0.9:0.1.
+    #[arg(long)]
+    pub speeds: String,
+    /// Output library file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Body mass (kg).
+    #[arg(long, default_value_t = 80.0)]
+    pub mass: f64,
+    /// Leg rest length l0 (m).
+    #[arg(long, default_value_t = 1.0)]
+    pub leg_length: f64,
+}
+
+/// Options of `simulate bslip`.
+#[derive(Debug, Args)]
+pub struct BslipArgs {
+    /// Gait speed (m/s): the gait of --library at this speed, or searched now.
+    #[arg(long, default_value_t = 0.7)]
+    pub speed: f64,
+    /// Gait library to take the gait from.
+    #[arg(long)]
+    pub library: Option<PathBuf>,
+    /// Duration (s).
+    #[arg(long, default_value_t = 4.0)]
+    pub duration: f64,
+    /// Sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Random seed of the measurement noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Measure CoM position only (paper sec IV-B) instead of position + sagittal velocity.
+    #[arg(long)]
+    pub position_only: bool,
+    /// Body mass (kg) when searching the gait.
+    #[arg(long, default_value_t = 80.0)]
+    pub mass: f64,
+    /// Leg rest length (m) when searching the gait.
+    #[arg(long, default_value_t = 1.0)]
+    pub leg_length: f64,
+    /// Output trial file.
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 /// Options of `align`.
@@ -135,6 +194,8 @@ pub enum SimulateCommand {
     KneeFes(KneeFesArgs),
     /// 2-DOF fixed-hip swing with FES and motors (paper 004): thigh and shank IMUs, encoders, u_*, tau_*_motor.
     FixedHip(FixedHipArgs),
+    /// B-SLIP walking on a periodic gait: CoM measurements (eq 15 noise) and phase_ref (paper 003).
+    Bslip(BslipArgs),
 }
 
 /// Options of `simulate knee`.
@@ -313,6 +374,15 @@ pub struct EstimateArgs {
     /// knee-selfalign: parameter-EKF iterations per window (paper 002 default 6).
     #[arg(long)]
     pub order: Option<usize>,
+    /// imm-bslip: gait library file (`limbfuse gait-library build`).
+    #[arg(long)]
+    pub library: Option<PathBuf>,
+    /// imm-bslip: physical-likelihood gain kappa (1/m^2; eq 14), 0 disables it.
+    #[arg(long)]
+    pub kappa: Option<f64>,
+    /// imm-bslip: rescale every library gait to this CoM height at mid-stance (m; sec IV-B).
+    #[arg(long)]
+    pub rescale_height: Option<f64>,
 }
 
 /// Options of `evaluate`.

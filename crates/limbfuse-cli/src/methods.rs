@@ -44,6 +44,10 @@ pub const AVAILABLE: &[(&str, &str)] = &[
         "rmx",
         "paper 004: knee from the relative orientation of thigh and shank IMUs",
     ),
+    (
+        "imm-bslip",
+        "paper 003: gait phase and speed from CoM measurements, IMM over a B-SLIP gait library (--library)",
+    ),
 ];
 
 /// Methods built from the trial itself (model metadata, channels): `estimate` builds them
@@ -51,7 +55,7 @@ pub const AVAILABLE: &[(&str, &str)] = &[
 pub const FROM_TRIAL: &[&str] = &["sdre", "ekf", "rmx"];
 
 /// Methods named by SPEC section 4 that later issues add.
-pub const PLANNED: &[&str] = &["imm-bslip"];
+pub const PLANNED: &[&str] = &[];
 
 /// Segment-angle methods `limbfuse demo` runs.
 pub const DEMO: &[&str] = &[
@@ -72,6 +76,7 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         "sdre" | "ekf" | "rmx" => bail!(
             "method `{name}` is built from a trial's model metadata; use `limbfuse estimate --method {name} TRIAL`"
         ),
+        "imm-bslip" => bail!("method `imm-bslip` needs a trial and --library (use `limbfuse estimate --method imm-bslip --library LIB.json TRIAL -o OUT`)"),
         other if PLANNED.contains(&other) => bail!(
             "method `{other}` is specified but not implemented yet in this version of limbfuse; available methods: {}",
             names()

@@ -1,5 +1,7 @@
 //! What an estimator returns at one instant.
 
+use nalgebra::Vector3;
+
 use crate::limb::{Joint, Segment};
 use crate::sample::{AngleChannel, GaitPhase};
 
@@ -19,6 +21,10 @@ pub struct Estimate {
     pub phase: Option<GaitPhase>,
     /// Walking speed (m/s) (paper 003).
     pub speed: Option<f64>,
+    /// Centre-of-mass position (m) (paper 003), columns `com_x, com_y, com_z`.
+    pub com_pos: Option<Vector3<f64>>,
+    /// Centre-of-mass velocity (m/s), columns `com_vx, com_vy, com_vz`.
+    pub com_vel: Option<Vector3<f64>>,
     /// Diagnostic values, named by [`crate::Estimator::diagnostic_names`].
     pub diag: [Option<f64>; MAX_DIAG],
 }
@@ -32,6 +38,8 @@ impl Estimate {
             joint: [None; 3],
             phase: None,
             speed: None,
+            com_pos: None,
+            com_vel: None,
             diag: [None; MAX_DIAG],
         }
     }

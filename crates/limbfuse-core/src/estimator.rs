@@ -49,6 +49,8 @@ pub struct Outputs {
     pub phase: bool,
     /// Walking speed.
     pub speed: bool,
+    /// Centre-of-mass position and velocity (`com_x`..`com_vz`).
+    pub com: bool,
 }
 
 impl Outputs {
@@ -58,6 +60,7 @@ impl Outputs {
         joint: [true; 3],
         phase: false,
         speed: false,
+        com: false,
     };
 }
 

@@ -28,7 +28,7 @@ pub mod runner;
 pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
 pub use limb::{Joint, Segment};
-pub use sample::{GaitPhase, ImuSample, Record, Reference, Sample};
+pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
 
 /// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.
 pub const STANDARD_GRAVITY: f64 = 9.81;

@@ -40,6 +40,51 @@ impl ModelInputs {
     pub const STIM_NAMES: [&'static str; 4] = ["u_ke", "u_kf", "u_he", "u_hf"];
 }
 
+/// Centre-of-mass measurements (paper 003), world frame (x forward, y up,
+/// z right), each axis optional: the paper's full set measures position and
+/// the sagittal velocities only. File columns `com_meas_x`..`com_meas_vz`
+/// (limbfuse addition: SPEC's `com_*` columns are the reference).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ComMeasurement {
+    /// Position (m) per axis.
+    pub pos: [Option<f64>; 3],
+    /// Velocity (m/s) per axis.
+    pub vel: [Option<f64>; 3],
+}
+
+impl ComMeasurement {
+    /// Column names, position then velocity.
+    pub const NAMES: [&'static str; 6] = [
+        "com_meas_x",
+        "com_meas_y",
+        "com_meas_z",
+        "com_meas_vx",
+        "com_meas_vy",
+        "com_meas_vz",
+    ];
+
+    /// The six values, position then velocity.
+    pub fn values(&self) -> [Option<f64>; 6] {
+        [
+            self.pos[0],
+            self.pos[1],
+            self.pos[2],
+            self.vel[0],
+            self.vel[1],
+            self.vel[2],
+        ]
+    }
+
+    /// Sets value `i` of [`ComMeasurement::values`].
+    pub fn set(&mut self, i: usize, v: Option<f64>) {
+        if i < 3 {
+            self.pos[i] = v;
+        } else if i < 6 {
+            self.vel[i - 3] = v;
+        }
+    }
+}
+
 /// Everything measured at one instant: the input of [`crate::Estimator::step`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Sample {
@@ -51,6 +96,8 @@ pub struct Sample {
     pub encoder: [Option<f64>; 3],
     /// Model inputs (stimulation, motor torques).
     pub inputs: ModelInputs,
+    /// Centre-of-mass measurements (paper 003).
+    pub com: ComMeasurement,
 }
 
 impl Sample {

@@ -43,7 +43,45 @@ fn step_never_allocates() {
             r.sample.encoder[1] = None;
         }
     }
+    // A B-SLIP IMM over 6 gaits x 3 phases (18 filters): one searched gait
+    // and five dynamically similar rescalings (no library search needed).
+    let body = limbfuse_models::bslip::BslipParams::default();
+    let sim = limbfuse_sim::bslip::step::StepSimulator::new(body);
+    let gait: limbfuse_sim::bslip::library::LibraryGait =
+        limbfuse_sim::bslip::search::optimise_gait(
+            &sim,
+            &limbfuse_sim::bslip::library::start_seed(1.0),
+            1.0,
+            &Default::default(),
+        )
+        .unwrap()
+        .into();
+    let tpl = gait.template(&body);
+    let library: Vec<_> = [0.85, 0.9, 0.95, 1.0, 1.05, 1.1]
+        .iter()
+        .map(|s| tpl.rescaled_to_height(tpl.gait.height * s).unwrap())
+        .collect();
+    let bslip = limbfuse_sim::bslip::trial::simulate_trial(
+        &tpl,
+        &limbfuse_sim::bslip::trial::BslipTrialConfig::default(),
+    );
+    for (k, r) in records.iter_mut().enumerate() {
+        if let Some(b) = bslip.get(k) {
+            r.sample.com = if k % 13 == 5 {
+                Default::default()
+            } else {
+                b.sample.com
+            };
+        }
+    }
     let mut estimators: Vec<Box<dyn Estimator>> = vec![
+        Box::new(
+            limbfuse_estimators::imm_bslip::ImmBslip::new(
+                &library,
+                limbfuse_estimators::imm_bslip::ImmBslipParams::default(),
+            )
+            .unwrap(),
+        ),
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),
         Box::new(LocalKf::default()),
@@ -57,7 +95,9 @@ fn step_never_allocates() {
         let mut sum = 0.0;
         for r in &records {
             let est = e.step(&r.sample).unwrap();
-            sum += est.segment[1].unwrap_or(0.0) + est.joint[1].unwrap_or(0.0);
+            sum += est.segment[1].unwrap_or(0.0)
+                + est.joint[1].unwrap_or(0.0)
+                + est.speed.unwrap_or(0.0);
         }
         let after = ALLOCATIONS.load(Ordering::SeqCst);
         assert!(sum.is_finite());

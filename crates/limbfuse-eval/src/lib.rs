@@ -12,6 +12,7 @@ pub mod evaluation;
 pub mod fes_params;
 pub mod fes_plot;
 pub mod fes_study;
+pub mod gait_evaluation;
 pub mod knee_study;
 pub mod metrics;
 pub mod monte_carlo;

@@ -69,6 +69,9 @@ impl<W: Write> Observer for EstimateWriter<W> {
         if self.outputs.speed {
             header.push("speed".into());
         }
+        if self.outputs.com {
+            header.extend(COM_COLUMNS.iter().map(|c| c.to_string()));
+        }
         header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
         writeln!(self.out, "{}", header.join(","))?;
         Ok(())
@@ -93,6 +96,14 @@ impl<W: Write> Observer for EstimateWriter<W> {
         if self.outputs.speed {
             push_cell(line, buf, e.speed);
         }
+        if self.outputs.com {
+            for k in 0..3 {
+                push_cell(line, buf, e.com_pos.map(|v| v[k]));
+            }
+            for k in 0..3 {
+                push_cell(line, buf, e.com_vel.map(|v| v[k]));
+            }
+        }
         for d in &e.diag[..self.n_diag] {
             push_cell(line, buf, *d);
         }
@@ -106,6 +117,9 @@ impl<W: Write> Observer for EstimateWriter<W> {
         Ok(())
     }
 }
+
+/// CoM estimate columns (SPEC section 3: `com_*` without `_ref`), position then velocity.
+pub const COM_COLUMNS: [&str; 6] = ["com_x", "com_y", "com_z", "com_vx", "com_vy", "com_vz"];
 
 fn output_has(o: &Outputs, c: AngleChannel) -> bool {
     match c {
@@ -122,6 +136,7 @@ pub struct EstimateReader {
     angle: [Option<usize>; 7],
     phase: Option<usize>,
     speed: Option<usize>,
+    com: [Option<usize>; 6],
     diag: Vec<(String, usize)>,
     previous_t: Option<f64>,
 }
@@ -150,6 +165,7 @@ impl EstimateReader {
         Ok(EstimateReader {
             phase: table.column("phase"),
             speed: table.column("speed"),
+            com: COM_COLUMNS.map(|c| table.column(c)),
             table,
             t,
             angle,
@@ -211,6 +227,16 @@ impl EstimateReader {
             }
         }
         e.speed = row.opt_number(self.speed)?;
+        let mut com = [None; 6];
+        for (v, c) in com.iter_mut().zip(self.com) {
+            *v = row.opt_number(c)?;
+        }
+        if let [Some(x), Some(y), Some(z), ..] = com {
+            e.com_pos = Some(nalgebra::Vector3::new(x, y, z));
+        }
+        if let [.., Some(x), Some(y), Some(z)] = com {
+            e.com_vel = Some(nalgebra::Vector3::new(x, y, z));
+        }
         for (k, (_, c)) in self.diag.iter().enumerate() {
             e.diag[k] = row.number(*c)?;
         }

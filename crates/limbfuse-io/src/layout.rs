@@ -27,6 +27,8 @@ pub struct TrialLayout {
     pub stim: [bool; 4],
     /// `tau_hip_motor, tau_knee_motor, tau_ankle_motor`.
     pub motor_torque: [bool; 3],
+    /// CoM measurements `com_meas_x`..`com_meas_vz` (paper 003), per column.
+    pub com_meas: [bool; 6],
 }
 
 /// Axis suffixes of 3-vectors.
@@ -79,6 +81,11 @@ impl TrialLayout {
         for j in Joint::ALL {
             if self.motor_torque[j.index()] {
                 c.push(format!("tau_{}_motor", j.name()));
+            }
+        }
+        for (k, name) in limbfuse_core::ComMeasurement::NAMES.iter().enumerate() {
+            if self.com_meas[k] {
+                c.push(name.to_string());
             }
         }
         for s in Segment::ALL {

@@ -10,6 +10,7 @@ mod cell_format;
 pub mod conditioning;
 pub mod error;
 pub mod estimate_file;
+pub mod gait_library;
 pub mod import;
 pub mod layout;
 pub mod meta;

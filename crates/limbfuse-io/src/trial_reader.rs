@@ -31,6 +31,7 @@ struct ColumnPlan {
     com_pos: Option<[usize; 3]>,
     com_vel: Option<[usize; 3]>,
     phase_ref: Option<usize>,
+    com_meas: [Option<usize>; 6],
 }
 
 /// Reads a trial file one [`Record`] at a time.
@@ -120,6 +121,10 @@ impl TrialReader {
         plan.com_pos = group(&table, "com_", ["x", "y", "z"])?;
         plan.com_vel = group(&table, "com_", ["vx", "vy", "vz"])?;
         plan.phase_ref = table.column("phase_ref");
+        for (k, name) in limbfuse_core::ComMeasurement::NAMES.iter().enumerate() {
+            plan.com_meas[k] = table.column(name);
+            layout.com_meas[k] = plan.com_meas[k].is_some();
+        }
         layout.com_pos = plan.com_pos.is_some();
         layout.com_vel = plan.com_vel.is_some();
         layout.phase_ref = plan.phase_ref.is_some();
@@ -180,6 +185,9 @@ impl TrialReader {
         }
         for k in 0..4 {
             rec.sample.inputs.stim[k] = row.opt_number(plan.stim[k])?;
+        }
+        for k in 0..6 {
+            rec.sample.com.set(k, row.opt_number(plan.com_meas[k])?);
         }
         rec.reference.com_pos = vector(&row, plan.com_pos)?;
         rec.reference.com_vel = vector(&row, plan.com_vel)?;

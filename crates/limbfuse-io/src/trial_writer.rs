@@ -72,6 +72,11 @@ impl<W: Write> TrialWriter<W> {
                 push_cell(line, buf, s.inputs.motor_torque[i]);
             }
         }
+        for (present, v) in l.com_meas.iter().zip(s.com.values()) {
+            if *present {
+                push_cell(line, buf, v);
+            }
+        }
         for i in 0..4 {
             if l.segment_ref[i] {
                 push_cell(line, buf, re.segment[i]);

@@ -19,3 +19,4 @@ pub use error::ModelError;
 pub use fes_knee::{KneeFesModel, KneeFesParams, KneeSubject};
 pub use fixed_hip::{FixedHipModel, FixedHipParams};
 pub use sdc::SdcModel;
+pub mod bslip;

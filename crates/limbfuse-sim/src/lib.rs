@@ -35,3 +35,4 @@ pub use config::{
 };
 pub use knee_scenario::{KneeScenario, KneeSimulator, Remount};
 pub use walking::{Truth, WalkingSimulator};
+pub mod bslip;

@@ -41,6 +41,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     let knee = super::knee_demo::run(a.seed, a.speed, &a.out)?;
     print!("\n{knee}");
     table.push_str(&super::demo_fes::run(&a.out, a.seed)?);
+    super::gait::demo(&a.out)?;
     let report = a.out.join("report.md");
     let mut markdown = report_markdown(a, &summary, &table);
     markdown.push_str(&format!(

@@ -20,6 +20,16 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             a.method
         );
     }
+    if a.method == "imm-bslip" {
+        let mut est =
+            super::gait::imm_estimator(&a.trial, a.library.as_deref(), a.kappa, a.rescale_height)?;
+        let n = super::gait::run_estimator(est.as_mut(), &a.trial, &a.output, &a.method)?;
+        eprintln!("{}: {n} samples -> {}", a.method, a.output.display());
+        return Ok(());
+    }
+    if a.library.is_some() || a.kappa.is_some() || a.rescale_height.is_some() {
+        anyhow::bail!("--library, --kappa and --rescale-height apply to --method imm-bslip only");
+    }
     let reader = TrialReader::open(&a.trial)?;
     let mut est = if a.method == "knee-selfalign" {
         methods::knee_selfalign(&knee, a.params.as_deref())?

@@ -15,6 +15,19 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             "evaluate needs an ESTIMATE file, or --method NAME [--params FILE] [--starts N] to run the method on the trial"
         );
     };
+    {
+        let layout = *limbfuse_io::TrialReader::open(&a.trial)?.layout();
+        if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
+            // A gait trial (paper 003): phase, CoM and speed errors.
+            let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&a.trial, estimate)?;
+            if a.json {
+                println!("{}", ev.to_json());
+            } else {
+                print!("{}", ev.to_text());
+            }
+            return Ok(());
+        }
+    }
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),

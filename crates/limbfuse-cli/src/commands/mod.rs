@@ -8,6 +8,7 @@ mod demo_fes;
 mod estimate;
 mod evaluate;
 mod fes;
+mod gait;
 mod import;
 mod knee_demo;
 mod montecarlo;
@@ -19,7 +20,7 @@ mod tune;
 
 use anyhow::Result;
 
-use crate::cli::{Cli, Command, SimulateCommand};
+use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
@@ -29,6 +30,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(SimulateCommand::Knee(a)) => simulate_knee::run(&a),
         Command::Simulate(SimulateCommand::KneeFes(a)) => fes::simulate_knee(&a),
         Command::Simulate(SimulateCommand::FixedHip(a)) => fes::simulate_hip(&a),
+        Command::Simulate(SimulateCommand::Bslip(a)) => gait::simulate(&a),
+        Command::GaitLibrary(GaitLibraryCommand::Build(a)) => gait::library_build(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),

@@ -1,0 +1,181 @@
+//! Paper 003 through the binary: gait-library build -> simulate bslip ->
+//! estimate imm-bslip -> evaluate, and bad library files.
+
+use std::process::Command;
+
+fn limbfuse(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+fn ok(o: &std::process::Output) {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn library_simulation_estimate_and_evaluation_pipeline() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.9:1.0:0.1",
+            "-o",
+            "lib.json",
+        ],
+        p,
+    ));
+    let lib: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p.join("lib.json")).unwrap()).unwrap();
+    assert_eq!(lib["format"], "limbfuse-gait-library");
+    assert_eq!(lib["gaits"].as_array().unwrap().len(), 2);
+    assert!(
+        lib["gaits"][0]["trajectory"]["DS"]
+            .as_array()
+            .unwrap()
+            .len()
+            > 3
+    );
+    ok(&limbfuse(
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "1.0",
+            "--library",
+            "lib.json",
+            "--duration",
+            "2",
+            "-o",
+            "t.csv",
+        ],
+        p,
+    ));
+    let trial = std::fs::read_to_string(p.join("t.csv")).unwrap();
+    assert!(trial.contains("com_meas_x") && trial.contains("phase_ref"));
+    ok(&limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "t.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    ));
+    let est = std::fs::read_to_string(p.join("e.csv")).unwrap();
+    assert!(est.starts_with("# method: imm-bslip"));
+    let header = est.lines().find(|l| l.starts_with("t,")).unwrap();
+    for c in [
+        "phase",
+        "speed",
+        "com_x",
+        "com_vz",
+        "diag_w_g00_ss1",
+        "diag_w_g01_ss2",
+    ] {
+        assert!(header.split(',').any(|h| h == c), "{c} not in {header}");
+    }
+    let o = limbfuse(&["evaluate", "t.csv", "e.csv", "--json"], p);
+    ok(&o);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "imm-bslip");
+    assert!(v["phase_accuracy_pct"].as_f64().unwrap() > 50.0, "{v}");
+    assert!(v["com_pos_rmse_m"].as_f64().unwrap() < 0.01, "{v}");
+    assert!(
+        (v["speed_ref_mps"].as_f64().unwrap() - 1.0).abs() < 0.02,
+        "{v}"
+    );
+}
+
+#[test]
+fn bad_library_files_are_user_errors_that_say_what_is_wrong() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "1.0",
+            "--duration",
+            "0.5",
+            "-o",
+            "t.csv",
+        ],
+        p,
+    ));
+    std::fs::write(
+        p.join("trunc.json"),
+        "{\"format\": \"limbfuse-gait-library\", \"version\": 1, \"gaits\": [",
+    )
+    .unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "trunc.json",
+            "t.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("trunc.json:1:"), "{err}");
+    std::fs::write(
+        p.join("v9.json"),
+        "{\"format\": \"limbfuse-gait-library\", \"version\": 9}",
+    )
+    .unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "v9.json",
+            "t.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("version 9"), "{err}");
+    let o = limbfuse(
+        &["estimate", "--method", "imm-bslip", "t.csv", "-o", "e.csv"],
+        p,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--library"));
+    let o = limbfuse(
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.9:0.4:0.1",
+            "-o",
+            "x.json",
+        ],
+        p,
+    );
+    assert_eq!(o.status.code(), Some(1));
+}

@@ -1,0 +1,105 @@
+//! Paper 003 sec IV-A reproduction: measurements simulated from the 0.7 m/s
+//! gait, that gait removed from a 0.4-0.9 m/s library; IMM with kappa > 0
+//! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study`
+//! (prints the tables of docs/RESULTS.md).
+
+use limbfuse_core::{Estimator, GaitPhase};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_models::bslip::BslipParams;
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+
+fn main() {
+    let body = BslipParams::default();
+    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
+    let lib = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {}).unwrap();
+    let templates: Vec<_> = lib.iter().map(|g| g.template(&body)).collect();
+    let truth = templates
+        .iter()
+        .find(|t| (t.speed - 0.7).abs() < 1e-9)
+        .copied()
+        .unwrap();
+    let held_out: Vec<_> = templates
+        .iter()
+        .filter(|t| (t.speed - 0.7).abs() > 1e-9)
+        .copied()
+        .collect();
+    let seeds: Vec<u64> = std::env::args()
+        .nth(1)
+        .map(|s| s.parse().unwrap())
+        .map_or((1..=10).collect(), |n| (1..=n).collect());
+    println!(
+        "step time of the 0.7 m/s gait: {:.3} s (stride {:.3} s)",
+        truth.step_time,
+        2.0 * truth.step_time
+    );
+    for kappa in [1e5, 1e4, 1e3, 0.0] {
+        for (label, lib) in [("held out", &held_out), ("included", &templates)] {
+            let mut acc = Vec::new();
+            let mut pos_rms = Vec::new();
+            let mut neighbour = Vec::new();
+            let mut speed_hist = std::collections::BTreeMap::new();
+            let mut conf = [[0usize; 3]; 3];
+            for &seed in &seeds {
+                let cfg = BslipTrialConfig {
+                    duration: 4.0 * truth.step_time,
+                    seed,
+                    ..Default::default()
+                };
+                let trial = simulate_trial(&truth, &cfg);
+                // P_NEXT / P_GAIT override the Markov probabilities (sweeps).
+                let env = |k: &str, d: f64| {
+                    std::env::var(k)
+                        .ok()
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(d)
+                };
+                let base = ImmBslipParams::full_com();
+                let params = ImmBslipParams {
+                    kappa,
+                    p_next_phase: env("P_NEXT", base.p_next_phase),
+                    p_other_gait: env("P_GAIT", base.p_other_gait),
+                    ..base
+                };
+                let mut imm = ImmBslip::new(lib, params).unwrap();
+                let (mut ok, mut n, mut se, mut nb, mut n2) = (0, 0, 0.0, 0, 0);
+                for r in &trial {
+                    let e = imm.step(&r.sample).unwrap();
+                    let w: f64 = imm.weights().sum();
+                    assert!((w - 1.0).abs() < 1e-9);
+                    if e.phase == r.reference.phase {
+                        ok += 1;
+                    }
+                    let pi = |p: Option<GaitPhase>| match p {
+                        Some(GaitPhase::Ss1) => 0,
+                        Some(GaitPhase::Ds) => 1,
+                        _ => 2,
+                    };
+                    conf[pi(r.reference.phase)][pi(e.phase)] += 1;
+                    n += 1;
+                    let d = e.com_pos.unwrap() - r.reference.com_pos.unwrap();
+                    se += d.norm_squared();
+                    // second gait cycle: steps 3 and 4
+                    if r.sample.t >= 2.0 * truth.step_time {
+                        n2 += 1;
+                        let s = e.speed.unwrap();
+                        *speed_hist.entry(format!("{s:.1}")).or_insert(0) += 1;
+                        if (s - 0.6).abs() < 1e-9 || (s - 0.8).abs() < 1e-9 {
+                            nb += 1;
+                        }
+                    }
+                    let _ = GaitPhase::Ss1;
+                }
+                acc.push(ok as f64 / n as f64 * 100.0);
+                pos_rms.push((se / n as f64).sqrt() * 100.0);
+                neighbour.push(nb as f64 / n2 as f64 * 100.0);
+            }
+            let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+            let min = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+            println!("kappa {kappa:>8} 0.7 {label}: phase acc mean {:.1} % (min {:.1}), CoM pos RMS {:.2} cm (max {:.2}), neighbour-most-likely in cycle 2 {:.1} % ; speeds {:?}",
+                mean(&acc), min(&acc), mean(&pos_rms), pos_rms.iter().cloned().fold(0.0, f64::max), mean(&neighbour), speed_hist);
+            println!("   confusion (rows true SS1/DS/SS2, cols est): {conf:?}");
+        }
+    }
+}

@@ -1,0 +1,595 @@
+//! `imm-bslip`: gait phase and walking speed from CoM measurements by an
+//! interacting multiple-model estimator over a B-SLIP gait library
+//! (paper 003, Karulkar & Wensing, sec III). docs/GAIT_IMM.md.
+//!
+//! One continuous-discrete EKF ([`ekf`], Table I) per (gait, phase), M = N x 3.
+//! Per sample: each filter propagates its mixed initial estimate by the
+//! sample's `dt`; the measurement likelihood of eq 7 (with the SPEC section 6
+//! sign fix) times the physical likelihood of eq 14 gives each model's
+//! weight by eq 8 (normalised, without the previous weights) computed in the
+//! log domain (log-sum-exp), so weights sum to one and stay finite when every
+//! likelihood underflows; the filters update (Table I); the ensemble is
+//! eqs 9-10; Markov mixing (eqs 11-13) gives the next initial estimates.
+//!
+//! Feet. A (gait, phase) model needs its feet on the ground; SS1 uses the
+//! stance (trailing) foot, DS both, SS2 the leading foot. Each gait places
+//! them by its own B-SLIP laws applied to the ensemble CoM: until touchdown
+//! the leading foot swings with the CoM at the gait's touchdown offset
+//! `l0 (cos phi cos theta, -, +-sin theta)` (the SLIP swing leg, so a DS or
+//! SS2 model is stretched, and penalised by eq 14, until the CoM has fallen
+//! to the gait's touchdown height); it lands when the CoM, past the stance
+//! foot, reaches that height; it becomes the stance foot at MS (the CoM's
+//! vertical velocity crossing zero downwards within `0.1 l0` of it). At the first sample the stance foot lies under the measured CoM
+//! at the gait's MS lateral offset (the trial starts at MS of SS1 on the
+//! `first_side` foot, as in the paper's simulation).
+//!
+//! Degradation (documented, tested): samples without CoM channels only
+//! predict (weights propagated by the Markov chain); a gap longer than
+//! `max_gap` restarts the bank at the next measured position; a model whose
+//! state turns non-finite gets weight zero and is re-seeded by mixing.
+#![allow(non_snake_case)]
+
+pub mod ekf;
+mod names;
+pub mod params;
+
+extern crate alloc;
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample, TimeStep};
+use limbfuse_models::bslip::{leg_compression, GaitTemplate, Side, Stance, State};
+use nalgebra::{Matrix6, Vector3};
+
+use ekf::{propagate, update, Cov};
+pub use names::{MAX_GAITS, WEIGHT_NAMES};
+pub use params::ImmBslipParams;
+
+/// Why an IMM could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ImmBslipError {
+    /// The library is empty.
+    #[error("the gait library has no gaits")]
+    EmptyLibrary,
+    /// More gaits than the estimate has diagnostic columns for.
+    #[error("the gait library has {0} gaits; at most {MAX_GAITS} are supported")]
+    TooManyGaits(usize),
+    /// A parameter is out of range.
+    #[error("parameter {0}")]
+    Parameter(&'static str),
+}
+
+const PHASES: [GaitPhase; 3] = [GaitPhase::Ss1, GaitPhase::Ds, GaitPhase::Ss2];
+
+fn phase_index(p: GaitPhase) -> usize {
+    match p {
+        GaitPhase::Ss1 => 0,
+        GaitPhase::Ds => 1,
+        GaitPhase::Ss2 => 2,
+    }
+}
+
+/// One (gait, phase) filter.
+#[derive(Debug, Clone, Copy)]
+struct Model {
+    gait: usize,
+    phase: GaitPhase,
+    /// Mixed initial estimate (eqs 11, 13).
+    x0: State,
+    P0: Cov,
+    /// Posterior estimate.
+    x: State,
+    P: Cov,
+    log_l: f64,
+    w: f64,
+}
+
+/// A gait's feet bookkeeping.
+#[derive(Debug, Clone, Copy)]
+struct Feet {
+    /// The stance foot of SS1 (trailing foot).
+    stance: [f64; 2],
+    /// Trailing side.
+    side: Side,
+    /// The leading foot once it has touched down; before touchdown it swings
+    /// with the CoM at the gait's touchdown offset (the SLIP swing leg).
+    landed: Option<[f64; 2]>,
+    /// Where the swinging leading foot is now: CoM `(x, z)` + touchdown offset.
+    swinging: [f64; 2],
+}
+
+impl Feet {
+    fn leading(&self) -> [f64; 2] {
+        self.landed.unwrap_or(self.swinging)
+    }
+
+    fn stance_for(&self, phase: GaitPhase) -> Stance {
+        match phase {
+            GaitPhase::Ss1 => Stance {
+                trailing: Some(self.stance),
+                leading: None,
+            },
+            GaitPhase::Ds => Stance {
+                trailing: Some(self.stance),
+                leading: Some(self.leading()),
+            },
+            GaitPhase::Ss2 => Stance {
+                trailing: None,
+                leading: Some(self.leading()),
+            },
+        }
+    }
+}
+
+/// The B-SLIP IMM estimator (`imm-bslip`).
+#[derive(Debug, Clone)]
+pub struct ImmBslip {
+    params: ImmBslipParams,
+    templates: Vec<GaitTemplate>,
+    models: Vec<Model>,
+    feet: Vec<Feet>,
+    /// Markov transition probabilities `p_ij`, row-major (i from, j to).
+    transition: Vec<f64>,
+    names: Vec<&'static str>,
+    Q: Cov,
+    time: TimeStep,
+    last_t: Option<f64>,
+    running: bool,
+    ensemble: (State, Cov),
+}
+
+impl ImmBslip {
+    /// An IMM over every (gait, phase) of `library`.
+    pub fn new(library: &[GaitTemplate], params: ImmBslipParams) -> Result<Self, ImmBslipError> {
+        if library.is_empty() {
+            return Err(ImmBslipError::EmptyLibrary);
+        }
+        if library.len() > MAX_GAITS {
+            return Err(ImmBslipError::TooManyGaits(library.len()));
+        }
+        let mut models = Vec::with_capacity(3 * library.len());
+        for g in 0..library.len() {
+            for p in PHASES {
+                models.push((g, p));
+            }
+        }
+        Self::build(library, &models, params)
+    }
+
+    /// An IMM with the single model (`template`, `phase`): it must equal that
+    /// model's EKF.
+    pub fn single(
+        template: &GaitTemplate,
+        phase: GaitPhase,
+        params: ImmBslipParams,
+    ) -> Result<Self, ImmBslipError> {
+        Self::build(core::slice::from_ref(template), &[(0, phase)], params)
+    }
+
+    fn build(
+        library: &[GaitTemplate],
+        models: &[(usize, GaitPhase)],
+        params: ImmBslipParams,
+    ) -> Result<Self, ImmBslipError> {
+        params.validate().map_err(ImmBslipError::Parameter)?;
+        let m = models.len();
+        let mut transition = alloc::vec![0.0; m * m];
+        for (i, &(gi, pi)) in models.iter().enumerate() {
+            let next = PHASES[(phase_index(pi) + 1) % 3];
+            let others = library.len().saturating_sub(1).max(1) as f64;
+            for (j, &(gj, pj)) in models.iter().enumerate() {
+                transition[i * m + j] = if gi == gj && pi == pj {
+                    1.0 - params.p_next_phase - params.p_other_gait
+                } else if gi == gj && pj == next {
+                    params.p_next_phase
+                } else if gi != gj && pi == pj {
+                    params.p_other_gait / others
+                } else {
+                    0.0
+                };
+            }
+            let row = &mut transition[i * m..(i + 1) * m];
+            let s: f64 = row.iter().sum();
+            row.iter_mut().for_each(|p| *p /= s);
+        }
+        let names = models
+            .iter()
+            .map(|&(g, p)| WEIGHT_NAMES[3 * g + phase_index(p)])
+            .chain(core::iter::once("speed_mean"))
+            .collect();
+        let zero = Model {
+            gait: 0,
+            phase: GaitPhase::Ss1,
+            x0: State::zeros(),
+            P0: Cov::zeros(),
+            x: State::zeros(),
+            P: Cov::zeros(),
+            log_l: 0.0,
+            w: 0.0,
+        };
+        Ok(ImmBslip {
+            params,
+            templates: library.to_vec(),
+            models: models
+                .iter()
+                .map(|&(gait, phase)| Model {
+                    gait,
+                    phase,
+                    ..zero
+                })
+                .collect(),
+            feet: library
+                .iter()
+                .map(|_| Feet {
+                    stance: [0.0; 2],
+                    side: params.first_side,
+                    landed: None,
+                    swinging: [0.0; 2],
+                })
+                .collect(),
+            transition,
+            names,
+            Q: Matrix6::from_diagonal(&params.q.into()),
+            time: TimeStep::new(),
+            last_t: None,
+            running: false,
+            ensemble: (State::zeros(), Cov::zeros()),
+        })
+    }
+
+    /// The library's templates.
+    pub fn templates(&self) -> &[GaitTemplate] {
+        &self.templates
+    }
+
+    /// Current weight of every model, in diagnostic-column order.
+    pub fn weights(&self) -> impl Iterator<Item = f64> + '_ {
+        self.models.iter().map(|m| m.w)
+    }
+
+    /// Ensemble covariance (eq 10) of the last sample.
+    pub fn ensemble_covariance(&self) -> &Cov {
+        &self.ensemble.1
+    }
+
+    fn start(&mut self, z: &[Option<f64>; 6]) {
+        let pos = Vector3::new(
+            z[0].unwrap_or(0.0),
+            z[1].unwrap_or(0.0),
+            z[2].unwrap_or(0.0),
+        );
+        let P0 = Matrix6::from_diagonal(&nalgebra::Vector6::new(
+            self.params.p0[0],
+            self.params.p0[0],
+            self.params.p0[0],
+            self.params.p0[1],
+            self.params.p0[1],
+            self.params.p0[1],
+        ));
+        for (f, t) in self.feet.iter_mut().zip(&self.templates) {
+            f.stance = [pos[0], pos[2] - f.side.sign() * t.gait.lateral];
+            f.landed = None;
+        }
+        self.swing_feet(&pos);
+        let w = 1.0 / self.models.len() as f64;
+        for m in &mut self.models {
+            let t = &self.templates[m.gait];
+            let v = [
+                z[3].unwrap_or(t.gait.forward_speed),
+                z[4].unwrap_or(0.0),
+                z[5].unwrap_or(0.0),
+            ];
+            m.x0 = State::new(pos[0], pos[1], pos[2], v[0], v[1], v[2]);
+            m.P0 = P0;
+            m.w = w;
+        }
+        self.running = true;
+    }
+
+    /// Eq 14's `lambda_p = -kappa min(0, dl)^2`, `dl` the smallest leg
+    /// compression of the model's stance legs at `x`.
+    fn physical_log_likelihood(&self, m: &Model, x: &State) -> f64 {
+        if self.params.kappa == 0.0 {
+            return 0.0;
+        }
+        let t = &self.templates[m.gait];
+        let stance = self.feet[m.gait].stance_for(m.phase);
+        let dl = stance
+            .feet()
+            .map(|f| leg_compression(&t.body, x, f))
+            .fold(f64::INFINITY, f64::min);
+        let d = dl.min(0.0);
+        -self.params.kappa * d * d
+    }
+
+    /// Eq 8 in the log domain: `w_j = exp(l_j - max) / sum`.
+    fn normalise_weights(&mut self) {
+        let max = self
+            .models
+            .iter()
+            .map(|m| m.log_l)
+            .filter(|l| !l.is_nan())
+            .fold(f64::NEG_INFINITY, f64::max);
+        if !max.is_finite() {
+            let w = 1.0 / self.models.len() as f64;
+            self.models.iter_mut().for_each(|m| m.w = w);
+            return;
+        }
+        let mut sum = 0.0;
+        for m in &mut self.models {
+            m.w = if m.log_l.is_nan() {
+                0.0
+            } else {
+                libm::exp(m.log_l - max)
+            };
+            sum += m.w;
+        }
+        self.models.iter_mut().for_each(|m| m.w /= sum);
+    }
+
+    /// Markov prediction of the weights, `w_j = sum_i p_ij w_i` (samples
+    /// without measurements).
+    fn predict_weights(&mut self) {
+        let n = self.models.len();
+        for j in 0..n {
+            let mut s = 0.0;
+            for i in 0..n {
+                s += self.transition[i * n + j] * self.models[i].w;
+            }
+            self.models[j].log_l = s;
+        }
+        let total: f64 = self.models.iter().map(|m| m.log_l).sum();
+        for m in &mut self.models {
+            m.w = m.log_l / total;
+            m.log_l = libm::log(m.w);
+        }
+    }
+
+    /// Eqs 9-10.
+    fn fuse(&mut self) {
+        let mut x = State::zeros();
+        for m in self.models.iter().filter(|m| m.w > 0.0) {
+            x += m.x * m.w;
+        }
+        let mut P = Cov::zeros();
+        for m in self.models.iter().filter(|m| m.w > 0.0) {
+            let d = m.x - x;
+            P += (d * d.transpose() + m.P) * m.w;
+        }
+        self.ensemble = (x, P);
+    }
+
+    /// Places every gait's swinging leading foot at the CoM plus the gait's
+    /// touchdown offset.
+    fn swing_feet(&mut self, c: &Vector3<f64>) {
+        for (f, t) in self.feet.iter_mut().zip(&self.templates) {
+            let (dx, dz) = t.gait.touchdown_offset(t.body.rest_length, f.side);
+            f.swinging = [c[0] + dx, c[2] + dz];
+        }
+    }
+
+    /// Per gait, after the ensemble update: the swinging foot lands when the
+    /// CoM, past the stance foot, has fallen to the gait's touchdown height
+    /// (the model's touchdown law); the landed foot becomes the stance foot
+    /// when the CoM passes it (MS).
+    fn advance_feet(&mut self, previous_vy: f64) {
+        let x = self.ensemble.0;
+        self.swing_feet(&Vector3::new(x[0], x[1], x[2]));
+        for (f, t) in self.feet.iter_mut().zip(&self.templates) {
+            match f.landed {
+                None => {
+                    let falling = x[4] < 0.0;
+                    if falling
+                        && x[0] > f.stance[0]
+                        && x[1] <= t.gait.touchdown_height(t.body.rest_length)
+                    {
+                        f.landed = Some(f.swinging);
+                    }
+                }
+                Some(lead) => {
+                    // MS: the CoM's apex (vy crossing zero downwards) near
+                    // the landed foot, the model's own MS event.
+                    let apex = previous_vy > 0.0 && x[4] <= 0.0;
+                    if apex && x[0] >= lead[0] - 0.1 * t.body.rest_length {
+                        f.stance = lead;
+                        f.side = f.side.other();
+                        f.landed = None;
+                        let (dx, dz) = t.gait.touchdown_offset(t.body.rest_length, f.side);
+                        f.swinging = [x[0] + dx, x[2] + dz];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Eqs 11-13.
+    fn mix(&mut self) {
+        let n = self.models.len();
+        for j in 0..n {
+            let mut c = 0.0;
+            for i in 0..n {
+                c += self.models[i].w * self.transition[i * n + j];
+            }
+            if c.is_nan() || c <= 0.0 {
+                let own = self.models[j];
+                let finite = own.x.iter().all(|v| v.is_finite());
+                self.models[j].x0 = if finite { own.x } else { self.ensemble.0 };
+                self.models[j].P0 = if finite { own.P } else { self.ensemble.1 };
+                continue;
+            }
+            let mut x0 = State::zeros();
+            for i in 0..n {
+                let wij = self.models[i].w * self.transition[i * n + j] / c;
+                if wij > 0.0 {
+                    x0 += self.models[i].x * wij;
+                }
+            }
+            let mut P0 = Cov::zeros();
+            for i in 0..n {
+                let wij = self.models[i].w * self.transition[i * n + j] / c;
+                if wij > 0.0 {
+                    let e = self.models[i].x - x0;
+                    P0 += (e * e.transpose() + self.models[i].P) * wij;
+                }
+            }
+            self.models[j].x0 = x0;
+            self.models[j].P0 = P0;
+        }
+    }
+
+    fn estimate(&self, t: f64) -> Estimate {
+        let mut e = Estimate::empty(t);
+        let n_gaits = self.templates.len();
+        let mut phase_w = [0.0; 3];
+        let mut best_gait = (0usize, -1.0);
+        let mut mean_speed = 0.0;
+        for g in 0..n_gaits {
+            let w: f64 = self
+                .models
+                .iter()
+                .filter(|m| m.gait == g)
+                .map(|m| m.w)
+                .sum();
+            mean_speed += w * self.templates[g].speed;
+            if w > best_gait.1 {
+                best_gait = (g, w);
+            }
+        }
+        for m in &self.models {
+            phase_w[phase_index(m.phase)] += m.w;
+        }
+        let mut best_phase = 0;
+        for p in 1..3 {
+            if phase_w[p] > phase_w[best_phase] {
+                best_phase = p;
+            }
+        }
+        e.phase = Some(PHASES[best_phase]);
+        e.speed = Some(self.templates[best_gait.0].speed);
+        let x = self.ensemble.0;
+        e.com_pos = Some(Vector3::new(x[0], x[1], x[2]));
+        e.com_vel = Some(Vector3::new(x[3], x[4], x[5]));
+        for (d, m) in e.diag.iter_mut().zip(&self.models) {
+            *d = Some(m.w);
+        }
+        if let Some(d) = e.diag.get_mut(self.models.len()) {
+            *d = Some(mean_speed);
+        }
+        e
+    }
+}
+
+impl Estimator for ImmBslip {
+    fn name(&self) -> &'static str {
+        "imm-bslip"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            phase: true,
+            speed: true,
+            com: true,
+            ..Outputs::default()
+        }
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.params;
+        writeln!(out, "r: {:?}", p.r)?;
+        writeln!(out, "q: {:?}", p.q)?;
+        writeln!(out, "kappa: {}", p.kappa)?;
+        writeln!(out, "p_next_phase: {}", p.p_next_phase)?;
+        writeln!(out, "p_other_gait: {}", p.p_other_gait)?;
+        writeln!(out, "max_substep: {}", p.max_substep)?;
+        writeln!(out, "max_gap: {}", p.max_gap)?;
+        for (g, t) in self.templates.iter().enumerate() {
+            writeln!(
+                out,
+                "gait g{g:02}: speed {:.3} m/s, step {:.3} x {:.3} m, l0 {:.3} m, k {:.0} N/m",
+                t.speed, t.step_length, t.step_width, t.body.rest_length, t.body.stiffness
+            )?;
+        }
+        Ok(())
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &self.names
+    }
+
+    fn reset(&mut self) {
+        self.time.reset();
+        self.last_t = None;
+        self.running = false;
+        for f in &mut self.feet {
+            f.side = self.params.first_side;
+        }
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let dt = self.time.advance(sample.t)?;
+        let z = sample.com.values();
+        for (v, name) in z.iter().zip(limbfuse_core::ComMeasurement::NAMES) {
+            if v.is_some_and(|v| !v.is_finite()) {
+                return Err(EstimatorError::NonFinite { channel: name });
+            }
+        }
+        let has_position = z[..3].iter().all(Option::is_some);
+        let gap = dt.is_some_and(|dt| dt > self.params.max_gap);
+        let propagate_dt = if !self.running || gap {
+            if !has_position {
+                self.running = false;
+                return Ok(Estimate::empty(sample.t));
+            }
+            self.start(&z);
+            0.0
+        } else {
+            dt.unwrap_or(0.0)
+        };
+        let measured = z.iter().any(Option::is_some);
+        let max_substep = self.params.max_substep;
+        for k in 0..self.models.len() {
+            let m = self.models[k];
+            let t = &self.templates[m.gait];
+            let stance = self.feet[m.gait].stance_for(m.phase);
+            let (mut x, mut P) = (m.x0, m.P0);
+            propagate(
+                &t.body,
+                &stance,
+                &mut x,
+                &mut P,
+                &self.Q,
+                propagate_dt,
+                max_substep,
+            );
+            let lambda_p = self.physical_log_likelihood(&m, &x);
+            let log_l = if measured {
+                update(&mut x, &mut P, &z, &self.params.r) + lambda_p
+            } else {
+                0.0
+            };
+            let finite = x.iter().all(|v| v.is_finite()) && P.iter().all(|v| v.is_finite());
+            let model = &mut self.models[k];
+            model.x = x;
+            model.P = P;
+            model.log_l = if finite { log_l } else { f64::NEG_INFINITY };
+        }
+        if measured {
+            self.normalise_weights();
+        } else {
+            self.predict_weights();
+        }
+        for m in &mut self.models {
+            if !(m.x.iter().all(|v| v.is_finite())) {
+                m.w = 0.0;
+            }
+        }
+        let previous_vy = self.ensemble.0[4];
+        self.fuse();
+        self.advance_feet(previous_vy);
+        self.mix();
+        self.last_t = Some(sample.t);
+        Ok(self.estimate(sample.t))
+    }
+}

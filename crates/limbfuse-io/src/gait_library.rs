@@ -1,0 +1,402 @@
+//! Gait-library files (paper 003): a B-SLIP gait library as versioned JSON.
+//!
+//! Format `limbfuse-gait-library`, version 1 (docs/GAIT_IMM.md):
+//!
+//! ```text
+//! { "format": "limbfuse-gait-library", "version": 1,
+//!   "body": { "mass": kg, "rest_length": m, "gravity": m/s^2 },
+//!   "search": { "k_max": N/m, "stiffness_weight": m^2, "periodic_tol": .. },
+//!   "gaits": [ { "speed": m/s,
+//!       "xi": { "phi": rad, "theta": rad, "stiffness": N/m, "height": m,
+//!               "lateral": m, "forward_speed": m/s },
+//!       "rest_length": m, "step_length": m, "step_width": m, "step_time": s,
+//!       "t_touchdown": s, "t_lift_off": s, "periodicity_residual": ..,
+//!       "vertical_excursion": m, "lateral_excursion": m,
+//!       "trajectory": { "SS1": [[t, x, y, z, vx, vy, vz], ...], "DS": [...], "SS2": [...] } } ] }
+//! ```
+//!
+//! Trajectories are one step from MS (trailing foot at the origin, left
+//! foot trailing), world axes of SPEC section 1. The reader checks the format
+//! name and version before anything else, and names the file, line and
+//! column of a syntax error (e.g. a truncated file).
+
+use std::path::{Path, PathBuf};
+
+use limbfuse_models::bslip::{BslipParams, GaitParameters, GaitTemplate};
+use serde::{Deserialize, Serialize};
+
+/// Format name in the `format` field.
+pub const FORMAT: &str = "limbfuse-gait-library";
+/// Version this build reads and writes.
+pub const VERSION: u32 = 1;
+
+/// A problem with a gait-library file.
+#[derive(Debug, thiserror::Error)]
+pub enum LibraryFileError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// Not valid JSON (e.g. truncated).
+    #[error("{}:{line}:{column}: not a valid gait-library file: {message}", path.display())]
+    Syntax {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What the parser found.
+        message: String,
+    },
+    /// Wrong format name or version.
+    #[error("{}: {message}", path.display())]
+    Version {
+        /// File path.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Valid JSON with missing or invalid content.
+    #[error("{}: {message}", path.display())]
+    Content {
+        /// File path.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Body parameters shared by the library's gaits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BodyRecord {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Leg rest length (m).
+    pub rest_length: f64,
+    /// Gravity (m/s^2).
+    pub gravity: f64,
+}
+
+/// Search settings the library was built with.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SearchRecord {
+    /// `k_max` (N/m).
+    pub k_max: f64,
+    /// Weight of the stiffness term (m^2).
+    pub stiffness_weight: f64,
+    /// Periodicity tolerance (m, m/s).
+    pub periodic_tol: f64,
+}
+
+/// Gait parameters `xi`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct XiRecord {
+    /// Sagittal touchdown angle (rad).
+    pub phi: f64,
+    /// Lateral touchdown angle (rad).
+    pub theta: f64,
+    /// Stiffness (N/m).
+    pub stiffness: f64,
+    /// CoM height at MS (m).
+    pub height: f64,
+    /// Lateral CoM offset from the stance foot at MS (m).
+    pub lateral: f64,
+    /// Forward velocity at MS (m/s).
+    pub forward_speed: f64,
+}
+
+/// Sampled trajectory rows `[t, x, y, z, vx, vy, vz]` per phase.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct PhaseTrajectories {
+    /// First single support.
+    #[serde(rename = "SS1")]
+    pub ss1: Vec<[f64; 7]>,
+    /// Double support.
+    #[serde(rename = "DS")]
+    pub ds: Vec<[f64; 7]>,
+    /// Second single support.
+    #[serde(rename = "SS2")]
+    pub ss2: Vec<[f64; 7]>,
+}
+
+/// One gait of the file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GaitRecord {
+    /// Mean forward speed (m/s).
+    pub speed: f64,
+    /// Gait parameters.
+    pub xi: XiRecord,
+    /// Leg rest length of this gait (m) (differs from the body's after rescaling).
+    pub rest_length: f64,
+    /// Step length (m).
+    pub step_length: f64,
+    /// Step width (m).
+    pub step_width: f64,
+    /// Step duration (s).
+    pub step_time: f64,
+    /// Touchdown time after MS (s).
+    pub t_touchdown: f64,
+    /// Lift-off time after MS (s).
+    pub t_lift_off: f64,
+    /// Largest periodicity residual (m, m/s).
+    pub periodicity_residual: f64,
+    /// Peak-to-peak vertical CoM excursion over a step (m).
+    pub vertical_excursion: f64,
+    /// Peak-to-peak lateral CoM excursion over a stride (m).
+    pub lateral_excursion: f64,
+    /// Sampled trajectories.
+    pub trajectory: PhaseTrajectories,
+}
+
+/// A gait library file's content.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GaitLibraryFile {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// Always [`VERSION`] when written by this build.
+    pub version: u32,
+    /// Body parameters.
+    pub body: BodyRecord,
+    /// Search settings.
+    pub search: SearchRecord,
+    /// Gaits, by increasing speed.
+    pub gaits: Vec<GaitRecord>,
+}
+
+impl GaitRecord {
+    /// The template the IMM uses.
+    pub fn template(&self, body: &BodyRecord) -> GaitTemplate {
+        let x = self.xi;
+        GaitTemplate {
+            speed: self.speed,
+            body: BslipParams {
+                mass: body.mass,
+                rest_length: self.rest_length,
+                stiffness: x.stiffness,
+                gravity: body.gravity,
+            },
+            gait: GaitParameters {
+                phi: x.phi,
+                theta: x.theta,
+                stiffness: x.stiffness,
+                height: x.height,
+                lateral: x.lateral,
+                forward_speed: x.forward_speed,
+            },
+            step_length: self.step_length,
+            step_width: self.step_width,
+            step_time: self.step_time,
+            t_touchdown: self.t_touchdown,
+            t_lift_off: self.t_lift_off,
+        }
+    }
+}
+
+impl GaitLibraryFile {
+    /// The templates of all gaits, by increasing speed.
+    pub fn templates(&self) -> Vec<GaitTemplate> {
+        self.gaits.iter().map(|g| g.template(&self.body)).collect()
+    }
+
+    /// Writes the library as pretty JSON.
+    pub fn write(&self, path: &Path) -> Result<(), LibraryFileError> {
+        let text = serde_json::to_string(self).map_err(|e| LibraryFileError::Content {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        std::fs::write(path, text).map_err(|source| LibraryFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
+    /// Reads and checks a library file.
+    pub fn read(path: &Path) -> Result<Self, LibraryFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| LibraryFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(path, &text)
+    }
+
+    /// Parses library text; `path` names it in errors.
+    pub fn parse(path: &Path, text: &str) -> Result<Self, LibraryFileError> {
+        let p = || path.to_path_buf();
+        let syntax = |e: serde_json::Error| LibraryFileError::Syntax {
+            path: p(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        };
+        let value: serde_json::Value = serde_json::from_str(text).map_err(syntax)?;
+        let format = value.get("format").and_then(|v| v.as_str());
+        if format != Some(FORMAT) {
+            return Err(LibraryFileError::Version {
+                path: p(),
+                message: format!(
+                    "expected `\"format\": \"{FORMAT}\"`, found {}",
+                    format.map_or("no format field".to_string(), |f| format!("`{f}`"))
+                ),
+            });
+        }
+        let version = value.get("version").and_then(|v| v.as_u64());
+        if version != Some(u64::from(VERSION)) {
+            return Err(LibraryFileError::Version {
+                path: p(),
+                message: format!(
+                    "gait-library version {} is not supported by this build (reads version {VERSION}); rebuild the library with `limbfuse gait-library build`",
+                    version.map_or("(missing)".to_string(), |v| v.to_string())
+                ),
+            });
+        }
+        let lib: GaitLibraryFile =
+            serde_json::from_value(value).map_err(|e| LibraryFileError::Content {
+                path: p(),
+                message: e.to_string(),
+            })?;
+        lib.validate(path)?;
+        Ok(lib)
+    }
+
+    fn validate(&self, path: &Path) -> Result<(), LibraryFileError> {
+        let bad = |message: String| LibraryFileError::Content {
+            path: path.to_path_buf(),
+            message,
+        };
+        let b = self.body;
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !(positive(b.mass) && positive(b.rest_length) && positive(b.gravity)) {
+            return Err(bad(
+                "body: mass, rest_length and gravity must be positive numbers".into(),
+            ));
+        }
+        if self.gaits.is_empty() {
+            return Err(bad("the library has no gaits".into()));
+        }
+        for (i, g) in self.gaits.iter().enumerate() {
+            let x = g.xi;
+            let values = [
+                g.speed,
+                x.phi,
+                x.theta,
+                x.stiffness,
+                x.height,
+                x.lateral,
+                x.forward_speed,
+                g.rest_length,
+                g.step_length,
+                g.step_width,
+                g.step_time,
+                g.t_touchdown,
+                g.t_lift_off,
+            ];
+            if values.iter().any(|v| !v.is_finite())
+                || !(x.stiffness > 0.0
+                    && x.height > 0.0
+                    && g.rest_length > 0.0
+                    && g.step_time > 0.0)
+                || !(0.0 < g.t_touchdown
+                    && g.t_touchdown < g.t_lift_off
+                    && g.t_lift_off < g.step_time)
+            {
+                return Err(bad(format!(
+                    "gait {i} (speed {} m/s): parameters must be finite, stiffness/height/rest_length/step_time positive and 0 < t_touchdown < t_lift_off < step_time",
+                    g.speed
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> GaitLibraryFile {
+        GaitLibraryFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            body: BodyRecord {
+                mass: 80.0,
+                rest_length: 1.0,
+                gravity: 9.81,
+            },
+            search: SearchRecord {
+                k_max: 6e4,
+                stiffness_weight: 1e-2,
+                periodic_tol: 1e-8,
+            },
+            gaits: vec![GaitRecord {
+                speed: 0.7,
+                xi: XiRecord {
+                    phi: 1.2,
+                    theta: 0.066,
+                    stiffness: 15000.0,
+                    height: 0.95,
+                    lateral: 0.03,
+                    forward_speed: 0.55,
+                },
+                rest_length: 1.0,
+                step_length: 0.57,
+                step_width: 0.11,
+                step_time: 0.81,
+                t_touchdown: 0.32,
+                t_lift_off: 0.49,
+                periodicity_residual: 1e-9,
+                vertical_excursion: 0.03,
+                lateral_excursion: 0.05,
+                trajectory: PhaseTrajectories::default(),
+            }],
+        }
+    }
+
+    #[test]
+    fn round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("lib.json");
+        sample().write(&p).unwrap();
+        assert_eq!(GaitLibraryFile::read(&p).unwrap(), sample());
+    }
+
+    #[test]
+    fn truncated_file_names_line_and_column() {
+        let text = serde_json::to_string_pretty(&sample()).unwrap();
+        let cut = &text[..text.len() / 2];
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), cut).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, LibraryFileError::Syntax { .. }), "{msg}");
+        assert!(msg.starts_with("lib.json:"), "{msg}");
+        assert!(msg.contains("EOF"), "{msg}");
+    }
+
+    #[test]
+    fn other_version_is_refused_with_the_versions_named() {
+        let text = serde_json::to_string(&sample())
+            .unwrap()
+            .replace("\"version\":1", "\"version\":2");
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, LibraryFileError::Version { .. }), "{msg}");
+        assert!(
+            msg.contains("version 2") && msg.contains("version 1"),
+            "{msg}"
+        );
+        let e = GaitLibraryFile::parse(Path::new("x.json"), "{\"a\": 1}").unwrap_err();
+        assert!(e.to_string().contains("format"), "{e}");
+    }
+
+    #[test]
+    fn inconsistent_event_times_are_refused() {
+        let mut lib = sample();
+        lib.gaits[0].t_lift_off = 0.1;
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
+        assert!(e.to_string().contains("gait 0"), "{e}");
+    }
+}

@@ -1,0 +1,181 @@
+//! Gait library construction (paper 003 sec II-C): a directly optimised
+//! high-speed gait, then the predictor-corrector homotopy (eqs 3-6) down (or
+//! up) to every requested speed, and the library's per-phase trajectories.
+
+use limbfuse_models::bslip::{BslipParams, GaitParameters, GaitTemplate};
+
+use super::search::{optimise_gait, predict_seed, FoundGait, SearchError, SearchSettings};
+use super::step::{StepOutcome, StepSimulator};
+
+/// Speed at which the homotopy starts with a direct optimisation (m/s): the
+/// paper finds gaits above 0.8 m/s without special seeds.
+pub const START_SPEED: f64 = 1.0;
+
+/// Homotopy sub-step (m/s) between library speeds; halved on failure.
+pub const HOMOTOPY_STEP: f64 = 0.05;
+
+/// Seed of the direct optimisation at [`START_SPEED`] for a 1 m leg (scaled
+/// with the leg length): Geyer et al. 2006's angle of attack (69 deg),
+/// k = 20 kN/m, a 3 cm lateral offset.
+pub fn start_seed(l0: f64) -> GaitParameters {
+    GaitParameters {
+        phi: 1.2,
+        theta: 0.05,
+        stiffness: 20_000.0 / l0,
+        height: 0.97 * l0,
+        lateral: 0.03 * l0,
+        forward_speed: 0.9 * l0.sqrt(),
+    }
+}
+
+/// One library gait: its target speed, parameters and step.
+#[derive(Debug, Clone, Copy)]
+pub struct LibraryGait {
+    /// Mean forward speed (m/s).
+    pub speed: f64,
+    /// Gait parameters `xi`.
+    pub gait: GaitParameters,
+    /// The simulated step.
+    pub step: StepOutcome,
+    /// Largest periodicity residual (m, m/s).
+    pub residual: f64,
+    /// Eq 1's objective.
+    pub objective: f64,
+}
+
+impl LibraryGait {
+    /// The template the IMM and the trial simulator use.
+    pub fn template(&self, body: &BslipParams) -> GaitTemplate {
+        GaitTemplate {
+            speed: self.speed,
+            body: self.gait.model(body),
+            gait: self.gait,
+            step_length: self.step.step_length(),
+            step_width: self.step.step_width(),
+            step_time: self.step.t_end,
+            t_touchdown: self.step.t_touchdown,
+            t_lift_off: self.step.t_lift_off,
+        }
+    }
+
+    /// Peak-to-peak vertical CoM excursion over a step (m).
+    pub fn vertical_excursion(&self) -> f64 {
+        self.step.height_range.1 - self.step.height_range.0
+    }
+}
+
+/// Peak-to-peak lateral CoM excursion over a stride (m), from a sampled step
+/// (left-trailing step; the next step is its mirror about the midline
+/// `step_width / 2`).
+pub fn lateral_excursion(template: &GaitTemplate, rows: &[Vec<[f64; 7]>; 3]) -> f64 {
+    let mid = template.step_width / 2.0;
+    rows.iter()
+        .flatten()
+        .map(|r| (r[3] - mid).abs())
+        .fold(0.0, f64::max)
+        * 2.0
+}
+
+impl From<FoundGait> for LibraryGait {
+    fn from(f: FoundGait) -> Self {
+        LibraryGait {
+            speed: f.speed,
+            gait: f.solution.gait,
+            step: f.solution.outcome,
+            residual: f.solution.residual,
+            objective: f.objective,
+        }
+    }
+}
+
+/// Builds gaits at `speeds` (any order); `progress(done, total)` is called
+/// after each library speed is reached.
+pub fn build_library(
+    body: &BslipParams,
+    speeds: &[f64],
+    settings: &SearchSettings,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<Vec<LibraryGait>, SearchError> {
+    let sim = StepSimulator::new(*body);
+    let mut targets: Vec<f64> = speeds.to_vec();
+    targets.sort_by(|a, b| b.total_cmp(a));
+    let mut out: Vec<LibraryGait> = Vec::with_capacity(targets.len());
+    let mut current = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)?;
+    // Walk from the start speed to each target in turn (down, or up first).
+    let mut order: Vec<f64> = targets
+        .iter()
+        .copied()
+        .filter(|&v| v > START_SPEED)
+        .collect();
+    order.sort_by(f64::total_cmp);
+    let mut rest: Vec<f64> = targets
+        .iter()
+        .copied()
+        .filter(|&v| v <= START_SPEED)
+        .collect();
+    rest.sort_by(|a, b| b.total_cmp(a));
+    let up_start = current;
+    for (pass, list) in [order, rest].into_iter().enumerate() {
+        if pass == 1 {
+            current = up_start;
+        }
+        for target in list {
+            current = continue_to(&sim, &current, target, settings)?;
+            out.push(current.into());
+            progress(out.len(), targets.len());
+        }
+    }
+    out.sort_by(|a, b| a.speed.total_cmp(&b.speed));
+    Ok(out)
+}
+
+/// Homotopy from a found gait to `target` speed by predictor (eq 6) /
+/// corrector (eqs 1-2) sub-steps.
+pub fn continue_to(
+    sim: &StepSimulator,
+    from: &FoundGait,
+    target: f64,
+    settings: &SearchSettings,
+) -> Result<FoundGait, SearchError> {
+    let mut current = *from;
+    let mut step = HOMOTOPY_STEP;
+    while (target - current.speed).abs() > 1e-9 {
+        let dv = (target - current.speed).clamp(-step, step);
+        let next_speed = if (target - current.speed).abs() <= step {
+            target
+        } else {
+            current.speed + dv
+        };
+        let dv = next_speed - current.speed;
+        // Predictor of eq 6; if its correction fails, the previous gait with
+        // the forward speed shifted (natural continuation) as the seed.
+        let predicted = predict_seed(sim, &current.solution.gait, dv);
+        let attempt = match predicted {
+            Ok(seed) => optimise_gait(sim, &seed, next_speed, settings),
+            Err(failure) => Err(SearchError::Step {
+                speed: next_speed,
+                failure,
+            }),
+        };
+        let attempt = attempt.or_else(|_| {
+            let seed = GaitParameters {
+                forward_speed: current.solution.gait.forward_speed + dv,
+                ..current.solution.gait
+            };
+            optimise_gait(sim, &seed, next_speed, settings)
+        });
+        match attempt {
+            Ok(found) => {
+                current = found;
+                step = HOMOTOPY_STEP;
+            }
+            Err(e) => {
+                step *= 0.5;
+                if step < HOMOTOPY_STEP / 16.0 {
+                    return Err(e);
+                }
+            }
+        }
+    }
+    Ok(current)
+}
