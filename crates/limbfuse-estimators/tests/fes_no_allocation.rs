@@ -2,31 +2,14 @@
 //! counting-allocator pattern as `no_allocation.rs`, in its own binary so
 //! the global counter sees no other test's allocations).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
 use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+mod counting_alloc;
+use counting_alloc::allocations;
 
 fn with_dropouts(mut recs: Vec<Record>) -> Vec<Record> {
     for (k, r) in recs.iter_mut().enumerate() {
@@ -67,12 +50,12 @@ fn fes_estimators_step_without_allocating() {
         (Box::new(FixedHipFilter::ekf(hm)), &hip),
     ];
     for (e, recs) in cases.iter_mut() {
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = allocations();
         let mut sum = 0.0;
         for r in recs.iter() {
             sum += e.step(&r.sample).unwrap().joint[1].unwrap_or(0.0);
         }
-        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        let after = allocations();
         assert!(sum.is_finite());
         assert_eq!(
             after - before,

@@ -2,31 +2,14 @@
 //! counting global allocator watches `Estimator::step` of every estimator
 //! over a simulated walking trial with dropouts.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
 use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+mod counting_alloc;
+use counting_alloc::allocations;
 
 #[test]
 fn step_never_allocates() {
@@ -91,7 +74,7 @@ fn step_never_allocates() {
         Box::new(KneeSelfAlign::default()),
     ];
     for e in estimators.iter_mut() {
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = allocations();
         let mut sum = 0.0;
         for r in &records {
             let est = e.step(&r.sample).unwrap();
@@ -99,7 +82,7 @@ fn step_never_allocates() {
                 + est.joint[1].unwrap_or(0.0)
                 + est.speed.unwrap_or(0.0);
         }
-        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        let after = allocations();
         assert!(sum.is_finite());
         assert_eq!(
             after - before,
