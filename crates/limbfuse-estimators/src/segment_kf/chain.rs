@@ -12,26 +12,36 @@
 //! * the error state `x` = [dtheta, db] per segment and its covariance `P`.
 #![allow(non_snake_case)]
 
-use limbfuse_core::kalman::{self, Update};
 use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep, MAX_DIAG};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
+use super::structured::{self, all_finite, ChainRow, Gain};
 use crate::inclination::accel_inclination;
 
 /// What the filters read from one sample, after cleaning.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Inputs {
-    /// Accelerometer inclination `atan2(acc_x, acc_y)` per segment.
-    pub theta_a: [Option<f64>; 4],
+    /// Finite accelerometer reading per segment (its inclination is
+    /// [`Inputs::theta_a`]).
+    pub acc: [Option<Vector3<f64>>; 4],
     /// `| ||a|| - g |` per segment.
     pub rho: [Option<f64>; 4],
     /// Encoders (hip, knee, ankle).
     pub encoder: [Option<f64>; 3],
     /// Segment was initialised before this sample, so rows may use it.
     pub usable: [bool; 4],
+}
+
+impl Inputs {
+    /// Accelerometer inclination `atan2(acc_x, acc_y)` of segment `i`
+    /// (computed on demand: most samples use few of the four).
+    #[inline]
+    pub fn theta_a(&self, i: usize) -> Option<f64> {
+        self.acc[i].as_ref().map(accel_inclination)
+    }
 }
 
 /// How a measurement row relates to the segments (for the gain breakdown
@@ -130,13 +140,13 @@ impl Chain {
     pub fn begin(&mut self, sample: &Sample) -> Result<Inputs, EstimatorError> {
         let dt = self.time.advance(sample.t)?;
         let g = self.common.gravity;
-        let mut theta_a = [None; 4];
+        let mut accs = [None; 4];
         let mut rho = [None; 4];
         let mut rate = [None; 4];
         for (i, imu) in sample.imu.iter().enumerate() {
             if let Some(acc) = imu.acc {
                 if acc.iter().all(|v| v.is_finite()) {
-                    theta_a[i] = Some(accel_inclination(&acc));
+                    accs[i] = Some(acc);
                     rho[i] = Some(reliability(&acc, g));
                 }
             }
@@ -154,7 +164,7 @@ impl Chain {
             (self.encoder_start, self.init, encoder)
         {
             let best = (0..4)
-                .filter_map(|i| Some((i, rho[i]?, theta_a[i]?)))
+                .filter_map(|i| Some((i, rho[i]?, accel_inclination(&accs[i]?))))
                 .min_by(|x, y| x.1.total_cmp(&y.1));
             if let Some((i, r, th)) = best {
                 self.initialise_from_encoders(i, th, r, [h, k, a], sigma);
@@ -162,8 +172,8 @@ impl Chain {
         }
         for i in 0..4 {
             if !self.init[i] {
-                if let (Some(th), Some(r)) = (theta_a[i], rho[i]) {
-                    self.initialise(i, th, r);
+                if let (Some(a), Some(r)) = (accs[i], rho[i]) {
+                    self.initialise(i, accel_inclination(&a), r);
                 }
             }
             if rate[i].is_some() {
@@ -171,7 +181,7 @@ impl Chain {
             }
         }
         Ok(Inputs {
-            theta_a,
+            acc: accs,
             rho,
             encoder,
             usable,
@@ -254,7 +264,7 @@ impl Chain {
     }
 
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
-        let (phi, qd) = self.disc.get(dt);
+        let blocks = self.disc.blocks(dt);
         for (i, rate) in rate.iter().enumerate() {
             if !self.init[i] {
                 continue;
@@ -262,14 +272,14 @@ impl Chain {
             // Zero-order hold over a gyro dropout; zero if none was ever seen.
             let r1 = rate.or(self.last_rate[i]).unwrap_or(0.0);
             let r0 = self.last_rate[i].unwrap_or(r1);
-            let (a, b) = (angle_state(i), bias_state(i));
+            let phi = &blocks.phi[i];
             // theta_g += int omega dt + int b_hat dt, b_hat(t) = b_hat e^(-t/tau):
             // the second integral is Phi[a, b] * b_hat (exact or Euler, as Phi).
-            self.angle_g[i] += 0.5 * (r0 + r1) * dt + phi[(a, b)] * self.bias_hat[i];
-            self.bias_hat[i] *= phi[(b, b)];
+            self.angle_g[i] += 0.5 * (r0 + r1) * dt + phi[(0, 1)] * self.bias_hat[i];
+            self.bias_hat[i] *= phi[(1, 1)];
         }
-        let (x, P) = kalman::predict(&self.x, &self.P, &phi, &qd);
-        if x.iter().all(|v| v.is_finite()) && P.iter().all(|v| v.is_finite()) {
+        let (x, P) = structured::predict_blocks(&self.x, &self.P, &blocks.phi, &blocks.qd);
+        if all_finite(x.as_slice()) && all_finite(P.as_slice()) {
             self.x = x;
             self.P = P;
         } else {
@@ -312,33 +322,28 @@ impl Chain {
     }
 
     /// Measurement update with innovations `innov` (already wrapped) on the
-    /// active rows. Returns the update (gain, innovation) when one was made.
+    /// active `rows`, measurement variances `r` (diagonal `R`). Returns the
+    /// update (gain, innovation) when one was made.
     pub fn update<const M: usize>(
         &mut self,
         innov: &SVector<f64, M>,
-        H: &SMatrix<f64, M, 8>,
-        R: &SMatrix<f64, M, M>,
+        rows: &[ChainRow; M],
+        r: &[f64; M],
         active: &[bool; M],
-    ) -> Option<Update<8, M>> {
+    ) -> Option<Gain<M>> {
         if !active.iter().any(|&a| a) {
             return None;
         }
-        let z = innov + H * self.x;
-        let u = kalman::update_rows(
-            &self.x,
-            &self.P,
-            &z,
-            H,
-            R,
+        let u = structured::update_rows(
+            &mut self.x,
+            &mut self.P,
+            innov,
+            rows,
+            r,
             active,
             self.common.covariance_update,
         )
         .ok()?;
-        if !(u.x.iter().all(|v| v.is_finite()) && u.P.iter().all(|v| v.is_finite())) {
-            return None;
-        }
-        self.x = u.x;
-        self.P = u.P;
         if self.common.loop_mode == LoopMode::Closed {
             self.fold_error_state();
         }

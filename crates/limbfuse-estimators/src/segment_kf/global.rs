@@ -22,7 +22,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
 use super::criteria::{count_reliable, psi, reliable_flags, upsilon};
-use super::model::{global_output_matrix, Mat8};
+use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
 
 /// Parameters of [`GlobalKf`].
@@ -236,10 +236,12 @@ impl Estimator for GlobalKf {
         let ups = upsilon(&reliable);
         let mut active = [false; 7];
         let mut innov = SVector::<f64, 7>::zeros();
+        // Inclinations of the segments that pass their test (the only ones
+        // any row uses: Upsilon needs both segments of a joint to pass).
+        let theta_a: [Option<f64>; 4] =
+            core::array::from_fn(|i| if reliable[i] { inp.theta_a(i) } else { None });
         for i in 0..4 {
-            if let (true, true, true, Some(th)) =
-                (psi_ok, reliable[i], inp.usable[i], inp.theta_a[i])
-            {
+            if let (true, true, true, Some(th)) = (psi_ok, reliable[i], inp.usable[i], theta_a[i]) {
                 active[i] = true;
                 innov[i] = wrap(th - self.chain.angle(i));
             }
@@ -249,15 +251,15 @@ impl Estimator for GlobalKf {
                 ups[j],
                 inp.usable[j],
                 inp.usable[j + 1],
-                inp.theta_a[j],
-                inp.theta_a[j + 1],
+                theta_a[j],
+                theta_a[j + 1],
             ) {
                 active[4 + j] = true;
                 innov[4 + j] = wrap((a - b) - (self.chain.angle(j) - self.chain.angle(j + 1)));
             }
         }
-        let H = global_output_matrix();
-        let (updated, shares) = match self.chain.update(&innov, &H, &self.R, &active) {
+        let r: [f64; 7] = core::array::from_fn(|k| self.R[(k, k)]);
+        let (updated, shares) = match self.chain.update(&innov, &GLOBAL_ROWS, &r, &active) {
             Some(u) => {
                 self.last_gain = u.K;
                 (active, gain_shares(&u.K, &u.innovation, &KINDS))

@@ -22,7 +22,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
 use super::criteria::{count_reliable, psi, reliable_flags};
-use super::model::{local_output_matrix, Mat8};
+use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 
 /// Parameters of [`LocalKf`].
@@ -194,15 +194,21 @@ impl Estimator for LocalKf {
         let mut active = [false; 4];
         let mut innov = SVector::<f64, 4>::zeros();
         for i in 0..4 {
-            if let (true, true, true, Some(th)) =
-                (psi_ok, reliable[i], inp.usable[i], inp.theta_a[i])
-            {
+            if !(psi_ok && reliable[i] && inp.usable[i]) {
+                continue;
+            }
+            if let Some(th) = inp.theta_a(i) {
                 active[i] = true;
                 innov[i] = wrap(th - self.chain.angle(i));
             }
         }
-        let H = local_output_matrix();
-        let (updated, shares) = match self.chain.update(&innov, &H, &self.R, &active) {
+        let r = [
+            self.R[(0, 0)],
+            self.R[(1, 1)],
+            self.R[(2, 2)],
+            self.R[(3, 3)],
+        ];
+        let (updated, shares) = match self.chain.update(&innov, &LOCAL_ROWS, &r, &active) {
             Some(u) => {
                 self.last_gain = u.K;
                 (active, gain_shares(&u.K, &u.innovation, &KINDS))

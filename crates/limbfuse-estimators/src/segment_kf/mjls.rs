@@ -23,7 +23,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
 use super::criteria::mjls_select;
-use super::model::{mjls_output_matrix, Mat8};
+use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 
 /// What the MJLS filter does when no accelerometer is reliable.
@@ -238,7 +238,7 @@ impl Estimator for MarkovJumpKf {
         let mut active = [false; 4];
         let mut innov = SVector::<f64, 4>::zeros();
         if let Some(i) = mode {
-            if let (true, Some(th)) = (inp.usable[i], inp.theta_a[i]) {
+            if let (true, Some(th)) = (inp.usable[i], inp.theta_a(i)) {
                 active[0] = true;
                 innov[0] = wrap(th - self.chain.angle(i));
             }
@@ -254,15 +254,16 @@ impl Estimator for MarkovJumpKf {
                 innov[1 + j] = wrap(e - (self.chain.angle(j) - self.chain.angle(j + 1)));
             }
         }
-        let H = mjls_output_matrix(sel.mode());
+        let rows = mjls_rows(sel.mode());
         let R = self.noise(mode);
+        let r = [R[(0, 0)], R[(1, 1)], R[(2, 2)], R[(3, 3)]];
         let kinds = [
             RowKind::Imu(mode.unwrap_or(0)),
             RowKind::Joint,
             RowKind::Joint,
             RowKind::Joint,
         ];
-        let (updated, shares) = match self.chain.update(&innov, &H, &R, &active) {
+        let (updated, shares) = match self.chain.update(&innov, &rows, &r, &active) {
             Some(u) => {
                 self.last_gain = u.K;
                 (active, gain_shares(&u.K, &u.innovation, &kinds))

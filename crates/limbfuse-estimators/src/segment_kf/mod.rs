@@ -36,6 +36,7 @@ pub mod local;
 pub mod mjls;
 pub mod model;
 pub mod params;
+pub mod structured;
 
 pub use chain::{gain_shares, RowKind};
 pub use criteria::{mjls_select, psi, reliability, reliable_flags, upsilon, MjlsMode};

@@ -13,6 +13,7 @@ use limbfuse_core::Segment;
 use nalgebra::{Matrix2, SMatrix};
 
 use super::params::SegmentNoise;
+use super::structured::{dense_output_matrix, ChainRow};
 
 /// 8x8 matrix of the stacked segment model.
 pub type Mat8 = SMatrix<f64, 8, 8>;
@@ -65,45 +66,60 @@ pub fn chain_qc(segments: &[SegmentNoise; 4]) -> Mat8 {
     q
 }
 
-/// Output matrix of the matricial local model, 001 eq 6: row `i` picks the
-/// angle error of segment `i`.
+/// Rows of the matricial local model, 001 eq 6: row `i` picks the angle
+/// error of segment `i`.
+pub const LOCAL_ROWS: [ChainRow; 4] = [
+    ChainRow::segment(0),
+    ChainRow::segment(1),
+    ChainRow::segment(2),
+    ChainRow::segment(3),
+];
+
+/// Rows of the matricial global model, 001 eq 22: rows 0-3 the segment
+/// angle errors, rows 4-6 the hip, knee and ankle differences (001 eqs
+/// 23-25).
+pub const GLOBAL_ROWS: [ChainRow; 7] = [
+    ChainRow::segment(0),
+    ChainRow::segment(1),
+    ChainRow::segment(2),
+    ChainRow::segment(3),
+    ChainRow::joint(0),
+    ChainRow::joint(1),
+    ChainRow::joint(2),
+];
+
+/// Rows of the MJLS model `C-bar(Xi)`, 000 eq 18 / 001 eq 10, with `M_i`
+/// from 000 Table 1: row 0 the angle error of the selected segment (for
+/// `None` the trunk row as a placeholder: the filter never activates it),
+/// rows 1-3 the hip, knee and ankle differences `dtheta_i - dtheta_{i+1}`.
+pub fn mjls_rows(mode: Option<Segment>) -> [ChainRow; 4] {
+    [
+        ChainRow::segment(mode.map_or(0, |s| s.index())),
+        ChainRow::joint(0),
+        ChainRow::joint(1),
+        ChainRow::joint(2),
+    ]
+}
+
+/// Output matrix of the matricial local model, 001 eq 6 ([`LOCAL_ROWS`]).
 pub fn local_output_matrix() -> SMatrix<f64, 4, 8> {
-    let mut c = SMatrix::<f64, 4, 8>::zeros();
-    for i in 0..4 {
-        c[(i, angle_state(i))] = 1.0;
-    }
-    c
+    dense_output_matrix(&LOCAL_ROWS)
 }
 
-/// Output matrix `C-bar(Xi)` of the MJLS model, 000 eq 18 / 001 eq 10, with
-/// `M_i` from 000 Table 1: row 0 picks the angle error of the selected
-/// segment (all zeros for `None`), rows 1-3 are the hip, knee and ankle
-/// differences `dtheta_i - dtheta_{i+1}`.
+/// Output matrix `C-bar(Xi)` of the MJLS model, 000 eq 18 / 001 eq 10
+/// ([`mjls_rows`]); row 0 is all zeros for `None`.
 pub fn mjls_output_matrix(mode: Option<Segment>) -> SMatrix<f64, 4, 8> {
-    let mut c = SMatrix::<f64, 4, 8>::zeros();
-    if let Some(s) = mode {
-        c[(0, angle_state(s.index()))] = 1.0;
-    }
-    for j in 0..3 {
-        c[(1 + j, angle_state(j))] = 1.0;
-        c[(1 + j, angle_state(j + 1))] = -1.0;
+    let mut c = dense_output_matrix(&mjls_rows(mode));
+    if mode.is_none() {
+        c.row_mut(0).fill(0.0);
     }
     c
 }
 
-/// Coupled output matrix `C-bar_c` of the matricial global model, 001 eq 22:
-/// rows 0-3 the segment angle errors, rows 4-6 the hip, knee and ankle
-/// differences (001 eqs 23-25).
+/// Coupled output matrix `C-bar_c` of the matricial global model, 001 eq 22
+/// ([`GLOBAL_ROWS`]).
 pub fn global_output_matrix() -> SMatrix<f64, 7, 8> {
-    let mut c = SMatrix::<f64, 7, 8>::zeros();
-    for i in 0..4 {
-        c[(i, angle_state(i))] = 1.0;
-    }
-    for j in 0..3 {
-        c[(4 + j, angle_state(j))] = 1.0;
-        c[(4 + j, angle_state(j + 1))] = -1.0;
-    }
-    c
+    dense_output_matrix(&GLOBAL_ROWS)
 }
 
 /// Discretises the block-diagonal model segment by segment and caches the
@@ -121,7 +137,8 @@ pub struct Discretizer {
     a: [Matrix2<f64>; 4],
     qc: [Matrix2<f64>; 4],
     method: Discretization,
-    cached: Option<(f64, Mat8, Mat8)>,
+    cached_dt: f64,
+    cached: Blocks,
 }
 
 impl Discretizer {
@@ -137,27 +154,50 @@ impl Discretizer {
             a,
             qc,
             method,
-            cached: None,
+            cached_dt: f64::NAN,
+            cached: Blocks {
+                phi: [Matrix2::zeros(); 4],
+                qd: [Matrix2::zeros(); 4],
+            },
         }
     }
 
-    /// `(Phi, Qd)` for a step of `dt` seconds.
-    pub fn get(&mut self, dt: f64) -> (Mat8, Mat8) {
-        if let Some((t, phi, qd)) = self.cached {
-            if libm::fabs(dt - t) <= 1e-9 * t {
-                return (phi, qd);
+    /// Per-segment blocks `(Phi_i, Qd_i)` for a step of `dt` seconds.
+    pub fn blocks(&mut self, dt: f64) -> &Blocks {
+        // `cached_dt` starts as NaN, which never compares within tolerance.
+        let reuse = libm::fabs(dt - self.cached_dt) <= 1e-9 * self.cached_dt;
+        if !reuse {
+            for i in 0..4 {
+                let (p, q) = discretize::<2, 4>(&self.a[i], &self.qc[i], dt, self.method);
+                self.cached.phi[i] = p;
+                self.cached.qd[i] = q;
             }
+            self.cached_dt = dt;
         }
+        &self.cached
+    }
+
+    /// `(Phi, Qd)` (8x8, block-diagonal) for a step of `dt` seconds.
+    pub fn get(&mut self, dt: f64) -> (Mat8, Mat8) {
+        let b = *self.blocks(dt);
         let mut phi = Mat8::zeros();
         let mut qd = Mat8::zeros();
         for i in 0..4 {
-            let (p, q) = discretize::<2, 4>(&self.a[i], &self.qc[i], dt, self.method);
-            phi.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&p);
-            qd.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&q);
+            phi.fixed_view_mut::<2, 2>(2 * i, 2 * i)
+                .copy_from(&b.phi[i]);
+            qd.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&b.qd[i]);
         }
-        self.cached = Some((dt, phi, qd));
         (phi, qd)
     }
+}
+
+/// The per-segment 2x2 blocks of the discretised model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Blocks {
+    /// `Phi_i = expm(A_i T)` (or `I + A_i T`).
+    pub phi: [Matrix2<f64>; 4],
+    /// `Qd_i` (Van Loan, or `Q_i T`).
+    pub qd: [Matrix2<f64>; 4],
 }
 
 #[cfg(test)]
