@@ -278,11 +278,8 @@ impl Chain {
             self.angle_g[i] += 0.5 * (r0 + r1) * dt + phi[(0, 1)] * self.bias_hat[i];
             self.bias_hat[i] *= phi[(1, 1)];
         }
-        let (x, P) = structured::predict_blocks(&self.x, &self.P, &blocks.phi, &blocks.qd);
-        if all_finite(x.as_slice()) && all_finite(P.as_slice()) {
-            self.x = x;
-            self.P = P;
-        } else {
+        structured::predict_blocks(&mut self.x, &mut self.P, &blocks.phi, &blocks.qd);
+        if !(all_finite(self.x.as_slice()) && all_finite(self.P.as_slice())) {
             // Only reachable with absurd steps or parameters: restart the
             // uncertainty instead of propagating non-finite values.
             self.fold_error_state();
@@ -466,6 +463,7 @@ pub(crate) const SHARE_DIAG: [&str; 12] = [
 /// segment's own accelerometer row, the other segments' accelerometer rows
 /// and the joint rows (encoders or accelerometer differences). `None` for a
 /// segment whose correction is exactly zero.
+#[inline]
 pub fn gain_shares<const M: usize>(
     K: &SMatrix<f64, 8, M>,
     innovation: &SVector<f64, M>,

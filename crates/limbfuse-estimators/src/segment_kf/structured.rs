@@ -87,40 +87,36 @@ pub fn dense_output_matrix<const M: usize>(rows: &[ChainRow; M]) -> SMatrix<f64,
 }
 
 /// Time update `x- = Phi x`, `P- = Phi P Phi^T + Q_d` (000 eqs 21-22) for a
-/// block-diagonal `Phi` and `Q_d` given as per-segment 2x2 blocks.
+/// block-diagonal `Phi` and `Q_d` given as per-segment 2x2 blocks, in place.
 pub fn predict_blocks(
-    x: &SVector<f64, 8>,
-    P: &Mat8,
+    x: &mut SVector<f64, 8>,
+    P: &mut Mat8,
     phi: &[Matrix2<f64>; 4],
     qd: &[Matrix2<f64>; 4],
-) -> (SVector<f64, 8>, Mat8) {
-    let mut xn = SVector::<f64, 8>::zeros();
+) {
     for i in 0..4 {
         let (a, b) = (2 * i, 2 * i + 1);
         let f = &phi[i];
-        xn[a] = f[(0, 0)] * x[a] + f[(0, 1)] * x[b];
-        xn[b] = f[(1, 0)] * x[a] + f[(1, 1)] * x[b];
+        let (xa, xb) = (x[a], x[b]);
+        x[a] = f[(0, 0)] * xa + f[(0, 1)] * xb;
+        x[b] = f[(1, 0)] * xa + f[(1, 1)] * xb;
     }
-    // Column-major storage: p[col][row].
-    let p = &P.data.0;
-    let mut out = [[0.0f64; 8]; 8];
-    // T = Phi P Phi^T in two passes over whole columns/rows of 2x2 blocks:
-    // first U = P Phi^T (column pairs of block j mixed by Phi_j), then
-    // T = Phi U (row pairs of block i mixed by Phi_i).
-    let mut u = [[0.0f64; 8]; 8];
+    // Column-major storage: p[col][row]. First P Phi^T (the two columns of
+    // block j mixed by Phi_j), then Phi (P Phi^T) (the two rows of block i
+    // mixed by Phi_i).
+    let p = &mut P.data.0;
     for j in 0..4 {
         let f = &phi[j];
-        let (c0, c1) = (&p[2 * j], &p[2 * j + 1]);
-        // (P Phi^T)[:, 2j + r] = sum_k P[:, 2j + k] Phi_j[r, k]
+        let (c0, c1) = (p[2 * j], p[2 * j + 1]);
         for s in 0..8 {
-            u[2 * j][s] = c0[s] * f[(0, 0)] + c1[s] * f[(0, 1)];
-            u[2 * j + 1][s] = c0[s] * f[(1, 0)] + c1[s] * f[(1, 1)];
+            p[2 * j][s] = c0[s] * f[(0, 0)] + c1[s] * f[(0, 1)];
+            p[2 * j + 1][s] = c0[s] * f[(1, 0)] + c1[s] * f[(1, 1)];
         }
     }
-    for (col, ucol) in out.iter_mut().zip(u.iter()) {
+    for col in p.iter_mut() {
         for i in 0..4 {
             let f = &phi[i];
-            let (r0, r1) = (ucol[2 * i], ucol[2 * i + 1]);
+            let (r0, r1) = (col[2 * i], col[2 * i + 1]);
             col[2 * i] = f[(0, 0)] * r0 + f[(0, 1)] * r1;
             col[2 * i + 1] = f[(1, 0)] * r0 + f[(1, 1)] * r1;
         }
@@ -128,21 +124,18 @@ pub fn predict_blocks(
     for i in 0..4 {
         let q = &qd[i];
         let (a, b) = (2 * i, 2 * i + 1);
-        out[a][a] += q[(0, 0)];
-        out[b][b] += q[(1, 1)];
-        out[b][a] += q[(0, 1)];
-        out[a][b] += q[(1, 0)];
+        p[a][a] += q[(0, 0)];
+        p[b][b] += q[(1, 1)];
+        p[b][a] += q[(0, 1)];
+        p[a][b] += q[(1, 0)];
     }
     for a in 0..8 {
         for b in a + 1..8 {
-            let v = 0.5 * (out[a][b] + out[b][a]);
-            out[a][b] = v;
-            out[b][a] = v;
+            let v = 0.5 * (p[a][b] + p[b][a]);
+            p[a][b] = v;
+            p[b][a] = v;
         }
     }
-    let mut Pn = Mat8::zeros();
-    Pn.data.0 = out;
-    (xn, Pn)
 }
 
 /// Gain and innovation of a measurement update (the state and covariance
@@ -167,6 +160,68 @@ pub struct Gain<const M: usize> {
 /// Fails, leaving `x` and `P` untouched, when `S = H P H^T + R` is not
 /// positive definite or the result is not finite.
 pub fn update_rows<const M: usize>(
+    x: &mut SVector<f64, 8>,
+    P: &mut Mat8,
+    innovation: &SVector<f64, M>,
+    rows: &[ChainRow; M],
+    r: &[f64; M],
+    active: &[bool; M],
+    form: CovarianceUpdate,
+) -> Result<Gain<M>, KalmanError> {
+    let m = active.iter().filter(|&&a| a).count();
+    if m == M {
+        return update_masked(x, P, innovation, rows, r, &[true; M], form);
+    }
+    if m > 6 {
+        return update_masked(x, P, innovation, rows, r, active, form);
+    }
+    if m == 0 {
+        return Ok(Gain {
+            K: SMatrix::zeros(),
+            innovation: SVector::zeros(),
+        });
+    }
+    // Compact the active rows and run the kernel at their exact count, so
+    // that every loop has a fixed trip count and no row is padding.
+    let mut idx = [0usize; M];
+    let mut n = 0;
+    for (k, &on) in active.iter().enumerate() {
+        if on {
+            idx[n] = k;
+            n += 1;
+        }
+    }
+    macro_rules! compact {
+        ($n:literal) => {{
+            let rows_c: [ChainRow; $n] = core::array::from_fn(|c| rows[idx[c]]);
+            let r_c: [f64; $n] = core::array::from_fn(|c| r[idx[c]]);
+            let e_c = SVector::<f64, $n>::from_fn(|c, _| innovation[idx[c]]);
+            let g = update_masked(x, P, &e_c, &rows_c, &r_c, &[true; $n], form)?;
+            let mut out = Gain {
+                K: SMatrix::<f64, 8, M>::zeros(),
+                innovation: SVector::<f64, M>::zeros(),
+            };
+            for c in 0..$n {
+                out.K.set_column(idx[c], &g.K.column(c));
+                out.innovation[idx[c]] = g.innovation[c];
+            }
+            Ok(out)
+        }};
+    }
+    match m {
+        1 => compact!(1),
+        2 => compact!(2),
+        3 => compact!(3),
+        4 => compact!(4),
+        5 => compact!(5),
+        _ => compact!(6),
+    }
+}
+
+/// [`update_rows`] on a fixed-size row set with a mask (inactive rows
+/// padded).
+#[inline(always)]
+fn update_masked<const M: usize>(
     x: &mut SVector<f64, 8>,
     P: &mut Mat8,
     innovation: &SVector<f64, M>,
@@ -280,10 +335,9 @@ pub fn update_rows<const M: usize>(
             }
         }
     }
-    let mut Pp = A;
     if form == CovarianceUpdate::Joseph {
         // (I - K H) P (I - K H)^T + K R K^T = A + sum_c w_c k_c^T with
-        // w_c = r_c k_c - (A H^T)_c.
+        // w_c = r_c k_c - (A H^T)_c, accumulated into A in place.
         let mut w = [[0.0f64; 8]; M];
         for c in 0..M {
             if active[c] {
@@ -294,7 +348,7 @@ pub fn update_rows<const M: usize>(
                 }
             }
         }
-        for (t, col) in Pp.iter_mut().enumerate() {
+        for (t, col) in A.iter_mut().enumerate() {
             for c in 0..M {
                 let f = k[c][t];
                 for s in 0..8 {
@@ -305,9 +359,9 @@ pub fn update_rows<const M: usize>(
     }
     for a in 0..8 {
         for b in a + 1..8 {
-            let v = 0.5 * (Pp[a][b] + Pp[b][a]);
-            Pp[a][b] = v;
-            Pp[b][a] = v;
+            let v = 0.5 * (A[a][b] + A[b][a]);
+            A[a][b] = v;
+            A[b][a] = v;
         }
     }
     for c in 0..M {
@@ -315,20 +369,24 @@ pub fn update_rows<const M: usize>(
             gain.K[(s, c)] = k[c][s];
         }
     }
-    let flat = Pp.as_flattened();
-    if !(all_finite(xp.as_slice()) && all_finite(flat) && all_finite(gain.K.as_slice())) {
+    if !(all_finite(xp.as_slice()) && all_finite(A.as_flattened()) && all_finite(gain.K.as_slice()))
+    {
         return Err(KalmanError::InnovationNotPositiveDefinite);
     }
     *x = xp;
-    P.data.0 = Pp;
+    P.data.0 = A;
     Ok(gain)
 }
 
-/// Whether every value is finite, without branching per value (`v * 0` is
-/// zero for finite `v`, NaN otherwise).
+/// Whether every value is finite. Tests the exponent bits (all ones for
+/// infinities and NaN) with integer operations, which, unlike a
+/// floating-point reduction, the compiler may reorder and vectorise.
 #[inline]
 pub fn all_finite(v: &[f64]) -> bool {
-    v.iter().fold(0.0, |acc, v| acc + v * 0.0) == 0.0
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    v.iter()
+        .fold(0u64, |acc, v| acc | u64::from(v.to_bits() & EXP == EXP))
+        == 0
 }
 
 #[cfg(test)]
@@ -413,7 +471,8 @@ mod tests {
                 Qd.fixed_view_mut::<2, 2>(2 * i, 2 * i).copy_from(&qd[i]);
             }
             let (xd, Pd) = kalman::predict(&x, &P, &Phi, &Qd);
-            let (xf, Pf) = predict_blocks(&x, &P, &phi, &qd);
+            let (mut xf, mut Pf) = (x, P);
+            predict_blocks(&mut xf, &mut Pf, &phi, &qd);
             prop_assert!((xd - xf).norm() < 1e-14);
             prop_assert!((Pd - Pf).norm() < 1e-12 * (1.0 + P.norm()));
             prop_assert_eq!(Pf, Pf.transpose());
