@@ -10,7 +10,8 @@
 //! `gyroW` (`AccelGate::max_rate`, rad/s), e.g. `hold20+gyro1`; a suffix
 //! `@mjls` applies the gate to mjls only (local and global keep the papers'
 //! test). Default: the list `ALL`. `--ideal` switches every sensor error
-//! off (`WalkingConfig::noise = false`).
+//! off (`WalkingConfig::noise = false`); `--rate=HZ` sets the IMU rate
+//! (default 100).
 
 use std::convert::Infallible;
 
@@ -77,10 +78,14 @@ fn main() {
     let a: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
     let b: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
     let ideal = args.iter().any(|a| a == "--ideal");
+    let rate_hz: f64 = args
+        .iter()
+        .find_map(|a| a.strip_prefix("--rate="))
+        .map_or(100.0, |v| v.parse().expect("--rate=HZ"));
     let named: Vec<String> = args
         .iter()
         .skip(3)
-        .filter(|a| *a != "--ideal")
+        .filter(|a| !a.starts_with("--"))
         .cloned()
         .collect();
     let variants: Vec<String> = if !named.is_empty() {
@@ -88,7 +93,7 @@ fn main() {
     } else {
         ALL.iter().map(|s| s.to_string()).collect()
     };
-    println!("seeds {a}..={b}, ideal sensors: {ideal}");
+    println!("seeds {a}..={b}, ideal sensors: {ideal}, IMU {rate_hz} Hz");
     println!("| variant | speed m/s | local | mjls | global | mjls<global<local | mjls max | mjls offset-free |");
     println!("|---|---|---|---|---|---|---|---|");
     for v in &variants {
@@ -109,6 +114,7 @@ fn main() {
                         speed_mps: speed,
                         seed,
                         noise: !ideal,
+                        imu_rate_hz: rate_hz,
                         ..WalkingConfig::default()
                     };
                     let records: Vec<Record> =
