@@ -5,7 +5,10 @@
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
-use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
+use limbfuse_estimators::segment_kf::{
+    AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams,
+};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
 mod counting_alloc;
@@ -57,6 +60,14 @@ fn step_never_allocates() {
             };
         }
     }
+    // The refined accelerometer test (duration + angular rate) keeps state.
+    let gated = CommonParams {
+        accel_gate: AccelGate {
+            hold_s: 0.01,
+            max_rate: 2.0,
+        },
+        ..CommonParams::default()
+    };
     let mut estimators: Vec<Box<dyn Estimator>> = vec![
         Box::new(
             limbfuse_estimators::imm_bslip::ImmBslip::new(
@@ -70,6 +81,27 @@ fn step_never_allocates() {
         Box::new(LocalKf::default()),
         Box::new(MarkovJumpKf::default()),
         Box::new(GlobalKf::default()),
+        Box::new(
+            LocalKf::new(LocalKfParams {
+                common: gated,
+                ..LocalKfParams::default()
+            })
+            .unwrap(),
+        ),
+        Box::new(
+            MarkovJumpKf::new(MarkovJumpKfParams {
+                common: gated,
+                ..MarkovJumpKfParams::default()
+            })
+            .unwrap(),
+        ),
+        Box::new(
+            GlobalKf::new(GlobalKfParams {
+                common: gated,
+                ..GlobalKfParams::default()
+            })
+            .unwrap(),
+        ),
         // Window re-estimates (every 500 samples) run inside `step` too.
         Box::new(KneeSelfAlign::default()),
     ];

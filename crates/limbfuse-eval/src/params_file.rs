@@ -9,6 +9,7 @@
 //! gravity = 9.81             # m/s^2
 //! loop_mode = "closed"       # or "open"
 //! encoder_sigma = 0.01       # rad; one number or [hip, knee, ankle]
+//! accel_hold_s = 0.01        # s; quasi-static duration test, 0 = off
 //!
 //! [segments.all]             # applied to the four segments first
 //! zeta = 0.5                 # m/s^2
@@ -287,6 +288,8 @@ struct RawFile {
     loop_mode: Option<RawLoop>,
     discretization: Option<RawDiscretization>,
     covariance_update: Option<RawCovariance>,
+    accel_hold_s: Option<f64>,
+    accel_max_rate: Option<f64>,
     min_reliable: Option<i64>,
     encoder_sigma: Option<toml::Value>,
     when_unreliable: Option<RawWhenUnreliable>,
@@ -340,6 +343,8 @@ fn unit_of(key: &str) -> &'static str {
         "p0_angle_sigma" => "initial angle standard deviation, rad",
         "p0_bias_sigma" => "initial bias standard deviation, rad/s",
         "min_reliable" => "count s of the criterion Psi_s",
+        "accel_hold_s" => "quasi-static duration of rho < zeta, s (0 = off)",
+        "accel_max_rate" => "angular-rate bound of the accelerometer test, rad/s (inf = off)",
         "encoder_sigma" => "encoder standard deviation, rad",
         "relative_sigma" => "relative-row standard deviation, rad",
         _ => "",
@@ -492,6 +497,14 @@ pub fn parse_params(
             p.common_mut().covariance_update = v
         })?;
     }
+    if let Some(v) = raw.accel_hold_s {
+        a.set("accel_hold_s", v, |p| p.common_mut().accel_gate.hold_s = v)?;
+    }
+    if let Some(v) = raw.accel_max_rate {
+        a.set("accel_max_rate", v, |p| {
+            p.common_mut().accel_gate.max_rate = v
+        })?;
+    }
     if let Some(segs) = &raw.segments {
         if let Some(s) = &segs.all {
             a.segment("all", &[0, 1, 2, 3], s)?;
@@ -609,6 +622,16 @@ pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
             CovarianceUpdate::Joseph => "joseph",
             CovarianceUpdate::Standard => "standard",
         }
+    );
+    let _ = writeln!(
+        s,
+        "accel_hold_s = {}  # s, 0 = off",
+        lit(c.accel_gate.hold_s)
+    );
+    let _ = writeln!(
+        s,
+        "accel_max_rate = {}  # rad/s, inf = off",
+        lit(c.accel_gate.max_rate)
     );
     let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
     match params {

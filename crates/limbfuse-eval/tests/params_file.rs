@@ -71,6 +71,10 @@ fn written_file_reads_back_to_the_same_parameters() {
             p.common_mut().segments[1].gyro_noise = 0.1 + 0.2; // not a short decimal
             p.common_mut().segments[2].zeta = 1.0 / 3.0;
             p.common_mut().initial_gyro_bias[3] = -1e-3;
+            p.common_mut().accel_gate.hold_s = 0.01;
+            if preset == Preset::Paper2014 {
+                p.common_mut().accel_gate.max_rate = 0.7;
+            }
             let path = d.path().join(format!("{}.toml", m.name()));
             save_params(&path, &p, &["tuned by a test".into()]).unwrap();
             let back = load_params(&path, m).unwrap();
@@ -131,4 +135,25 @@ fn bad_values_name_the_key_and_range() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("/nonexistent/p.toml"), "{e}");
+}
+
+#[test]
+fn accelerometer_gate_keys_apply_to_every_method_and_are_checked() {
+    for m in FilterMethod::ALL {
+        let p = parse("accel_hold_s = 0.01\naccel_max_rate = 1.5", m).unwrap();
+        assert_eq!(p.common().accel_gate.hold_s, 0.01);
+        assert_eq!(p.common().accel_gate.max_rate, 1.5);
+        let p = parse("", m).unwrap();
+        assert!(p.common().accel_gate.is_off());
+    }
+    let e = parse("accel_hold_s = -0.01", FilterMethod::Mjls).unwrap_err();
+    assert!(
+        e.contains("`accel_hold_s` = -0.01") && e.contains(">= 0"),
+        "{e}"
+    );
+    let e = parse("accel_max_rate = 0", FilterMethod::Global).unwrap_err();
+    assert!(
+        e.contains("`accel_max_rate` = 0") && e.contains("infinity = off"),
+        "{e}"
+    );
 }

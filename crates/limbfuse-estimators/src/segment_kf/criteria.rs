@@ -106,6 +106,117 @@ pub fn upsilon(reliable: &[bool; 4]) -> [bool; 3] {
     ]
 }
 
+/// Optional refinements of the accelerometer acceptance test, applied on
+/// top of `rho_i < zeta_i` by all three filters. Both tests are off by
+/// default ([`AccelGate::OFF`]), which keeps the papers' behaviour.
+///
+/// Why: `rho` is only second-order sensitive to an acceleration
+/// perpendicular to gravity (`rho ~ a_perp^2 / (2 g)`), so `rho < zeta`
+/// admits tilts up to `sqrt(2 zeta / g)` (16 deg for zeta = 0.4), see
+/// `SegmentNoise::consumer_mems`. Both refinements are the usual tests of
+/// stationary / quasi-static detectors (e.g. Skog et al., IEEE TBME 57(11),
+/// 2010: window tests on the acceleration magnitude and on the angular-rate
+/// energy):
+///
+/// * `hold_s`: while a segment accelerates, the norm of its specific force
+///   often only *crosses* `g`; a quasi-static phase keeps it near `g` for a
+///   while. A segment passes only when `rho < zeta` has held on every sample
+///   of the last `hold_s` seconds (timestamps, not sample counts). On the
+///   walking simulator at 100 Hz, `hold_s = 0.01` (two consecutive samples)
+///   lowers the MJLS error at 1.0 and 1.6 m/s but raises local/global
+///   errors, which lose too many updates (docs/RESULTS.md, "Accelerometer
+///   gating").
+/// * `max_rate`: the segment's angular rate `||omega||` (rad/s) must be
+///   below `max_rate`; a missing gyro sample fails this test. No clear gain
+///   on the walking simulator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AccelGate {
+    /// Quasi-static duration (s), >= 0; 0 = off.
+    pub hold_s: f64,
+    /// Angular-rate bound (rad/s), > 0; infinity = off.
+    pub max_rate: f64,
+}
+
+impl AccelGate {
+    /// No refinement: the papers' test alone.
+    pub const OFF: AccelGate = AccelGate {
+        hold_s: 0.0,
+        max_rate: f64::INFINITY,
+    };
+
+    /// True when both tests are off.
+    pub fn is_off(&self) -> bool {
+        self.hold_s == 0.0 && self.max_rate == f64::INFINITY
+    }
+}
+
+impl Default for AccelGate {
+    fn default() -> Self {
+        AccelGate::OFF
+    }
+}
+
+/// Tolerance (s) on the hold duration, for timestamps that are not exact
+/// multiples of the sample period.
+const HOLD_EPS_S: f64 = 1e-6;
+
+/// State of the duration test of [`AccelGate`]: when the current run of
+/// `rho < zeta` began, per segment. Fixed size, no allocation.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AccelGateState {
+    run_start: [Option<f64>; 4],
+}
+
+impl AccelGateState {
+    /// Forgets every run.
+    pub fn reset(&mut self) {
+        self.run_start = [None; 4];
+    }
+
+    /// Per segment: `rho_i < zeta_i` and the `hold_s` and `max_rate` tests
+    /// of `gate` at time `t` (s); `rate` is `||omega_i||` (rad/s), `None`
+    /// when the gyro sample is missing. A missing accelerometer sample ends
+    /// the run. Call once per sample, in time order.
+    pub fn passes(
+        &mut self,
+        gate: &AccelGate,
+        t: f64,
+        rho: &[Option<f64>; 4],
+        zeta: &[f64; 4],
+        rate: &[Option<f64>; 4],
+    ) -> [bool; 4] {
+        let base = reliable_flags(rho, zeta);
+        let mut out = [false; 4];
+        for i in 0..4 {
+            if !base[i] {
+                self.run_start[i] = None;
+                continue;
+            }
+            let start = *self.run_start[i].get_or_insert(t);
+            let held = t - start >= gate.hold_s - HOLD_EPS_S;
+            let still =
+                gate.max_rate == f64::INFINITY || matches!(rate[i], Some(w) if w < gate.max_rate);
+            out[i] = held && still;
+        }
+        out
+    }
+
+    /// [`AccelGateState::passes`] with the rates `||gyr_i||` of `sample`.
+    pub fn passes_sample(
+        &mut self,
+        gate: &AccelGate,
+        sample: &limbfuse_core::Sample,
+        rho: &[Option<f64>; 4],
+        zeta: &[f64; 4],
+    ) -> [bool; 4] {
+        let mut rate = [None; 4];
+        for (r, imu) in rate.iter_mut().zip(sample.imu.iter()) {
+            *r = imu.gyr.map(|w| w.norm()).filter(|w| w.is_finite());
+        }
+        self.passes(gate, sample.t, rho, zeta, &rate)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,5 +252,60 @@ mod tests {
             }
         );
         assert_eq!(m.mode(), None);
+    }
+
+    #[test]
+    fn hold_test_needs_the_whole_duration_on_the_timestamps() {
+        let gate = AccelGate {
+            hold_s: 0.02,
+            ..AccelGate::OFF
+        };
+        let zeta = [0.4; 4];
+        let rate = [Some(0.0); 4];
+        let mut st = AccelGateState::default();
+        // segment 0 at 100 Hz: rho passes except at k = 3
+        let rho0 = [0.1, 0.1, 0.1, 0.5, 0.1, 0.1, 0.1, 0.1];
+        let want = [false, false, true, false, false, false, true, true];
+        for (k, (&r, &w)) in rho0.iter().zip(want.iter()).enumerate() {
+            let rho = [Some(r), None, Some(0.5), Some(0.1)];
+            let out = st.passes(&gate, k as f64 * 0.01, &rho, &zeta, &rate);
+            assert_eq!(out[0], w, "k = {k}");
+            assert!(!out[1] && !out[2]);
+            assert_eq!(out[3], k >= 2, "k = {k}");
+        }
+        // irregular timestamps: what counts is the time, not the samples
+        st.reset();
+        let rho = [Some(0.1); 4];
+        assert!(!st.passes(&gate, 1.0, &rho, &zeta, &rate)[0]);
+        assert!(!st.passes(&gate, 1.015, &rho, &zeta, &rate)[0]);
+        assert!(st.passes(&gate, 1.0199999995, &rho, &zeta, &rate)[0]);
+        // a missing accelerometer sample ends the run
+        assert!(!st.passes(&gate, 1.03, &[None; 4], &zeta, &rate)[0]);
+        assert!(!st.passes(&gate, 1.04, &rho, &zeta, &rate)[0]);
+    }
+
+    #[test]
+    fn rate_test_and_off_gate() {
+        let zeta = [0.4; 4];
+        let rho = [Some(0.1), Some(0.1), Some(0.1), Some(0.39)];
+        let rate = [Some(0.5), Some(1.5), None, Some(0.9)];
+        let gate = AccelGate {
+            max_rate: 1.0,
+            ..AccelGate::OFF
+        };
+        let mut st = AccelGateState::default();
+        assert_eq!(
+            st.passes(&gate, 0.0, &rho, &zeta, &rate),
+            [true, false, false, true]
+        );
+        // everything off: the papers' test alone, missing gyro or not
+        assert!(AccelGate::OFF.is_off() && AccelGate::default().is_off());
+        let mut st = AccelGateState::default();
+        let rho = [Some(0.1), Some(0.5), None, Some(0.39)];
+        assert_eq!(
+            st.passes(&AccelGate::OFF, 0.0, &rho, &zeta, &rate),
+            reliable_flags(&rho, &zeta)
+        );
+        assert!(!gate.is_off());
     }
 }

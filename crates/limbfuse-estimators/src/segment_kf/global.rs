@@ -21,7 +21,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
-use super::criteria::{count_reliable, psi, reliable_flags, upsilon};
+use super::criteria::{count_reliable, psi, reliable_flags, upsilon, AccelGateState};
 use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
 
@@ -138,6 +138,7 @@ const KINDS: [RowKind; 7] = [
 pub struct GlobalKf {
     params: GlobalKfParams,
     chain: Chain,
+    gate: AccelGateState,
     R: SMatrix<f64, 7, 7>,
     last_gain: SMatrix<f64, 8, 7>,
 }
@@ -167,6 +168,7 @@ impl GlobalKf {
         GlobalKf {
             chain: Chain::new(params.common),
             params,
+            gate: AccelGateState::default(),
             R,
             last_gain: SMatrix::zeros(),
         }
@@ -226,12 +228,19 @@ impl Estimator for GlobalKf {
 
     fn reset(&mut self) {
         self.chain.reset();
+        self.gate.reset();
         self.last_gain = SMatrix::zeros();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
         let inp = self.chain.begin(sample)?;
-        let reliable = reliable_flags(&inp.rho, &self.params.common.zetas());
+        let zeta = self.params.common.zetas();
+        let gate = self.params.common.accel_gate;
+        let reliable = if gate.is_off() {
+            reliable_flags(&inp.rho, &zeta)
+        } else {
+            self.gate.passes_sample(&gate, sample, &inp.rho, &zeta)
+        };
         let psi_ok = psi(&reliable, self.params.min_reliable);
         let ups = upsilon(&reliable);
         let mut active = [false; 7];

@@ -21,7 +21,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
-use super::criteria::{count_reliable, psi, reliable_flags};
+use super::criteria::{count_reliable, psi, reliable_flags, AccelGateState};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 
@@ -108,6 +108,7 @@ const KINDS: [RowKind; 4] = [
 pub struct LocalKf {
     params: LocalKfParams,
     chain: Chain,
+    gate: AccelGateState,
     R: SMatrix<f64, 4, 4>,
     last_gain: SMatrix<f64, 8, 4>,
 }
@@ -134,6 +135,7 @@ impl LocalKf {
         LocalKf {
             chain: Chain::new(params.common),
             params,
+            gate: AccelGateState::default(),
             R,
             last_gain: SMatrix::zeros(),
         }
@@ -184,12 +186,19 @@ impl Estimator for LocalKf {
 
     fn reset(&mut self) {
         self.chain.reset();
+        self.gate.reset();
         self.last_gain = SMatrix::zeros();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
         let inp = self.chain.begin(sample)?;
-        let reliable = reliable_flags(&inp.rho, &self.params.common.zetas());
+        let zeta = self.params.common.zetas();
+        let gate = self.params.common.accel_gate;
+        let reliable = if gate.is_off() {
+            reliable_flags(&inp.rho, &zeta)
+        } else {
+            self.gate.passes_sample(&gate, sample, &inp.rho, &zeta)
+        };
         let psi_ok = psi(&reliable, self.params.min_reliable);
         let mut active = [false; 4];
         let mut innov = SVector::<f64, 4>::zeros();

@@ -22,7 +22,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
-use super::criteria::mjls_select;
+use super::criteria::{mjls_select, AccelGateState};
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 
@@ -135,6 +135,7 @@ pub const MJLS_DIAG: [&str; 33] = [
 pub struct MarkovJumpKf {
     params: MarkovJumpKfParams,
     chain: Chain,
+    gate: AccelGateState,
     last_gain: SMatrix<f64, 8, 4>,
 }
 
@@ -155,6 +156,7 @@ impl MarkovJumpKf {
         MarkovJumpKf {
             chain: Chain::with_encoder_start(params.common, params.encoder_sigma),
             params,
+            gate: AccelGateState::default(),
             last_gain: SMatrix::zeros(),
         }
     }
@@ -226,12 +228,27 @@ impl Estimator for MarkovJumpKf {
 
     fn reset(&mut self) {
         self.chain.reset();
+        self.gate.reset();
         self.last_gain = SMatrix::zeros();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
         let inp = self.chain.begin(sample)?;
-        let sel = mjls_select(&inp.rho, &self.params.common.zetas());
+        let zeta = self.params.common.zetas();
+        let gate = self.params.common.accel_gate;
+        let sel = if gate.is_off() {
+            mjls_select(&inp.rho, &zeta)
+        } else {
+            // Segments failing the refined test take no part in the mode choice.
+            let ok = self.gate.passes_sample(&gate, sample, &inp.rho, &zeta);
+            let mut rho = inp.rho;
+            for (r, o) in rho.iter_mut().zip(ok) {
+                if !o {
+                    *r = None;
+                }
+            }
+            mjls_select(&rho, &zeta)
+        };
         let mode = sel.mode().map(|s| s.index());
         let encoders_allowed =
             mode.is_some() || self.params.when_unreliable == WhenUnreliable::EncodersOnly;

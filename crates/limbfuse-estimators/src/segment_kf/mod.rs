@@ -39,7 +39,9 @@ pub mod params;
 pub mod structured;
 
 pub use chain::{gain_shares, RowKind};
-pub use criteria::{mjls_select, psi, reliability, reliable_flags, upsilon, MjlsMode};
+pub use criteria::{
+    mjls_select, psi, reliability, reliable_flags, upsilon, AccelGate, AccelGateState, MjlsMode,
+};
 pub use global::{GlobalKf, GlobalKfParams, GLOBAL_DIAG};
 pub use local::{LocalKf, LocalKfParams, LOCAL_DIAG};
 pub use mjls::{MarkovJumpKf, MarkovJumpKfParams, WhenUnreliable, MJLS_DIAG};

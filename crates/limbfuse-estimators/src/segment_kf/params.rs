@@ -23,6 +23,8 @@ use limbfuse_core::discretize::Discretization;
 use limbfuse_core::kalman::CovarianceUpdate;
 use limbfuse_core::{Segment, STANDARD_GRAVITY};
 
+use super::criteria::AccelGate;
+
 /// Datasheet values the defaults are derived from.
 ///
 /// They are the figures of `limbfuse_sim::config::ImuSpec` and
@@ -244,6 +246,11 @@ pub struct CommonParams {
     pub discretization: Discretization,
     /// Posterior covariance form: Joseph (default) or the papers' `(I - K H) P`.
     pub covariance_update: CovarianceUpdate,
+    /// Refinements of the accelerometer acceptance test on top of `rho_i <
+    /// zeta_i` (quasi-static duration, angular rate). Off
+    /// by default ([`AccelGate::OFF`]): the papers' test alone. See
+    /// [`AccelGate`] and `docs/SEGMENT_FILTERS.md`.
+    pub accel_gate: AccelGate,
 }
 
 impl Default for CommonParams {
@@ -262,6 +269,7 @@ impl Default for CommonParams {
             loop_mode: LoopMode::Closed,
             discretization: Discretization::Exact,
             covariance_update: CovarianceUpdate::Joseph,
+            accel_gate: AccelGate::OFF,
         }
     }
 }
@@ -325,6 +333,14 @@ impl CommonParams {
                 return Err(ParamError::new("initial_gyro_bias", "must be finite"));
             }
         }
+        let g = &self.accel_gate;
+        positive_or_zero("accel_gate.hold_s", g.hold_s)?;
+        if g.max_rate.is_nan() || g.max_rate <= 0.0 {
+            return Err(ParamError::new(
+                "accel_gate.max_rate",
+                "must be > 0 (infinity = off)",
+            ));
+        }
         Ok(())
     }
 
@@ -350,6 +366,11 @@ impl CommonParams {
         writeln!(out, "gravity: {}", self.gravity)?;
         writeln!(out, "p0_angle_sigma: {}", self.p0_angle_sigma)?;
         writeln!(out, "p0_bias_sigma: {}", self.p0_bias_sigma)?;
+        if !self.accel_gate.is_off() {
+            let g = &self.accel_gate;
+            writeln!(out, "accel_gate.hold_s: {}", g.hold_s)?;
+            writeln!(out, "accel_gate.max_rate: {}", g.max_rate)?;
+        }
         for seg in Segment::ALL {
             let s = &self.segments[seg.index()];
             let n = seg.name();
@@ -466,6 +487,15 @@ mod tests {
         assert!(p.validate().is_err());
         let mut p = CommonParams::default();
         p.segments[0].bias_tau = f64::INFINITY;
+        assert!(p.validate().is_ok());
+        p.accel_gate.hold_s = -0.01;
+        assert_eq!(p.validate().unwrap_err().field, "accel_gate.hold_s");
+        p.accel_gate.hold_s = 0.01;
+        p.accel_gate.max_rate = 0.0;
+        assert_eq!(p.validate().unwrap_err().field, "accel_gate.max_rate");
+        p.accel_gate.max_rate = f64::NAN;
+        assert!(p.validate().is_err());
+        p.accel_gate.max_rate = 1.0;
         assert!(p.validate().is_ok());
     }
 }

@@ -1,0 +1,164 @@
+//! Accelerometer-gate study (issue 3):
+//! `cargo run --release -p limbfuse-eval --example accel_gate_study FIRST LAST [variant ...] [--ideal]`
+//!
+//! 60 s simulated walking trials (default sensors, aligned mounting) at 0.4,
+//! 1.0 and 1.6 m/s, seeds FIRST..=LAST; for each acceptance variant
+//! (`AccelGate`, see `limbfuse_estimators::segment_kf::criteria`) the mean
+//! 4-segment RMSE (deg) of local / mjls / global over the seeds and the
+//! share of runs ordered mjls < global < local. A variant is `base` or
+//! `+`-joined parts `holdMS` (`AccelGate::hold_s`, milliseconds) and
+//! `gyroW` (`AccelGate::max_rate`, rad/s), e.g. `hold20+gyro1`; a suffix
+//! `@mjls` applies the gate to mjls only (local and global keep the papers'
+//! test). Default: the list `ALL`. `--ideal` switches every sensor error
+//! off (`WalkingConfig::noise = false`); `--rate=HZ` sets the IMU rate
+//! (default 100).
+
+use std::convert::Infallible;
+
+use limbfuse_core::runner::{run, Observer};
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::segment_kf::{
+    AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams,
+};
+use limbfuse_eval::{AngleMetrics, EvalOptions};
+use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use rayon::prelude::*;
+
+const ALL: [&str; 10] = [
+    "base",
+    "hold10",
+    "hold20",
+    "hold30",
+    "hold50",
+    "gyro0.5",
+    "gyro1",
+    "gyro2",
+    "hold20+gyro1",
+    "hold10@mjls",
+];
+
+fn gate(name: &str) -> AccelGate {
+    let mut g = AccelGate::OFF;
+    for part in name.trim_end_matches("@mjls").split('+') {
+        if let Some(v) = part.strip_prefix("hold") {
+            g.hold_s = v.parse::<f64>().expect("hold ms") * 1e-3;
+        } else if let Some(v) = part.strip_prefix("gyro") {
+            g.max_rate = v.parse().expect("gyro rad/s");
+        } else if part != "base" {
+            panic!("unknown variant part {part}");
+        }
+    }
+    g
+}
+
+/// Mean 4-segment RMSE (deg), plain and offset-free.
+fn mean_rmse(est: &mut dyn Estimator, records: &[Record]) -> [f64; 2] {
+    let mut plain = AngleMetrics::new(est.name(), EvalOptions::default());
+    let mut free = AngleMetrics::new(
+        est.name(),
+        EvalOptions {
+            offset_free: true,
+            ..EvalOptions::default()
+        },
+    );
+    let observers: &mut [&mut dyn Observer] = &mut [&mut plain, &mut free];
+    run(
+        est,
+        records.iter().map(|r| Ok::<_, Infallible>(*r)),
+        observers,
+    )
+    .expect("runs");
+    let deg = |m: &AngleMetrics| m.evaluation().mean_rmse().unwrap_or(f64::NAN).to_degrees();
+    [deg(&plain), deg(&free)]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let a: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
+    let b: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
+    let ideal = args.iter().any(|a| a == "--ideal");
+    let rate_hz: f64 = args
+        .iter()
+        .find_map(|a| a.strip_prefix("--rate="))
+        .map_or(100.0, |v| v.parse().expect("--rate=HZ"));
+    let named: Vec<String> = args
+        .iter()
+        .skip(3)
+        .filter(|a| !a.starts_with("--"))
+        .cloned()
+        .collect();
+    let variants: Vec<String> = if !named.is_empty() {
+        named
+    } else {
+        ALL.iter().map(|s| s.to_string()).collect()
+    };
+    println!("seeds {a}..={b}, ideal sensors: {ideal}, IMU {rate_hz} Hz");
+    println!("| variant | speed m/s | local | mjls | global | mjls<global<local | mjls max | mjls offset-free |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for v in &variants {
+        let gated = CommonParams {
+            accel_gate: gate(v),
+            ..CommonParams::default()
+        };
+        let common = if v.ends_with("@mjls") {
+            CommonParams::default()
+        } else {
+            gated
+        };
+        for speed in [0.4, 1.0, 1.6] {
+            let per: Vec<[f64; 4]> = (a..=b)
+                .into_par_iter()
+                .map(|seed| {
+                    let cfg = WalkingConfig {
+                        speed_mps: speed,
+                        seed,
+                        noise: !ideal,
+                        imu_rate_hz: rate_hz,
+                        ..WalkingConfig::default()
+                    };
+                    let records: Vec<Record> =
+                        WalkingSimulator::new(cfg).expect("valid config").collect();
+                    let l = mean_rmse(
+                        &mut LocalKf::new(LocalKfParams {
+                            common,
+                            ..LocalKfParams::default()
+                        })
+                        .expect("valid"),
+                        &records,
+                    );
+                    let m = mean_rmse(
+                        &mut MarkovJumpKf::new(MarkovJumpKfParams {
+                            common: gated,
+                            ..MarkovJumpKfParams::default()
+                        })
+                        .expect("valid"),
+                        &records,
+                    );
+                    let g = mean_rmse(
+                        &mut GlobalKf::new(GlobalKfParams {
+                            common,
+                            ..GlobalKfParams::default()
+                        })
+                        .expect("valid"),
+                        &records,
+                    );
+                    [l[0], m[0], g[0], m[1]]
+                })
+                .collect();
+            let n = per.len() as f64;
+            let avg = |k: usize| per.iter().map(|r| r[k]).sum::<f64>() / n;
+            let ord = per.iter().filter(|r| r[1] < r[2] && r[2] < r[0]).count();
+            let mx = per.iter().map(|r| r[1]).fold(0.0, f64::max);
+            println!(
+                "| {v} | {speed} | {:.2} | {:.2} | {:.2} | {ord}/{} | {:.2} | {:.2} |",
+                avg(0),
+                avg(1),
+                avg(2),
+                per.len(),
+                mx,
+                avg(3)
+            );
+        }
+    }
+}
