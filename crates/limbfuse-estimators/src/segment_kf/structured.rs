@@ -105,21 +105,28 @@ pub fn predict_blocks(
     // block j mixed by Phi_j), then Phi (P Phi^T) (the two rows of block i
     // mixed by Phi_i).
     let p = &mut P.data.0;
-    for j in 0..4 {
-        let f = &phi[j];
-        let (c0, c1) = (p[2 * j], p[2 * j + 1]);
-        for s in 0..8 {
-            p[2 * j][s] = c0[s] * f[(0, 0)] + c1[s] * f[(0, 1)];
-            p[2 * j + 1][s] = c0[s] * f[(1, 0)] + c1[s] * f[(1, 1)];
+    // The segment model's Phi_i = [[1, c_i], [0, d_i]] (000 eq 8: the angle
+    // integrates the bias, the bias decays) has half the products of a
+    // general 2x2 block; both discretisations give these exact 1 and 0.
+    if phi.iter().all(|f| f[(0, 0)] == 1.0 && f[(1, 0)] == 0.0) {
+        for j in 0..4 {
+            let (c, d) = (phi[j][(0, 1)], phi[j][(1, 1)]);
+            let (lo, hi) = p.split_at_mut(2 * j + 1);
+            let (c0, c1) = (&mut lo[2 * j], &mut hi[0]);
+            for s in 0..8 {
+                c0[s] += c * c1[s];
+                c1[s] *= d;
+            }
         }
-    }
-    for col in p.iter_mut() {
-        for i in 0..4 {
-            let f = &phi[i];
-            let (r0, r1) = (col[2 * i], col[2 * i + 1]);
-            col[2 * i] = f[(0, 0)] * r0 + f[(0, 1)] * r1;
-            col[2 * i + 1] = f[(1, 0)] * r0 + f[(1, 1)] * r1;
+        for col in p.iter_mut() {
+            for i in 0..4 {
+                let (c, d) = (phi[i][(0, 1)], phi[i][(1, 1)]);
+                col[2 * i] += c * col[2 * i + 1];
+                col[2 * i + 1] *= d;
+            }
         }
+    } else {
+        predict_general(p, phi);
     }
     for i in 0..4 {
         let q = &qd[i];
@@ -134,6 +141,26 @@ pub fn predict_blocks(
             let v = 0.5 * (p[a][b] + p[b][a]);
             p[a][b] = v;
             p[b][a] = v;
+        }
+    }
+}
+
+/// `p <- Phi p Phi^T` for general 2x2 blocks `Phi_i` (column-major `p`).
+fn predict_general(p: &mut [[f64; 8]; 8], phi: &[Matrix2<f64>; 4]) {
+    for j in 0..4 {
+        let f = &phi[j];
+        let (c0, c1) = (p[2 * j], p[2 * j + 1]);
+        for s in 0..8 {
+            p[2 * j][s] = c0[s] * f[(0, 0)] + c1[s] * f[(0, 1)];
+            p[2 * j + 1][s] = c0[s] * f[(1, 0)] + c1[s] * f[(1, 1)];
+        }
+    }
+    for col in p.iter_mut() {
+        for i in 0..4 {
+            let f = &phi[i];
+            let (r0, r1) = (col[2 * i], col[2 * i + 1]);
+            col[2 * i] = f[(0, 0)] * r0 + f[(0, 1)] * r1;
+            col[2 * i + 1] = f[(1, 0)] * r0 + f[(1, 1)] * r1;
         }
     }
 }
@@ -476,6 +503,34 @@ mod tests {
             prop_assert!((xd - xf).norm() < 1e-14);
             prop_assert!((Pd - Pf).norm() < 1e-12 * (1.0 + P.norm()));
             prop_assert_eq!(Pf, Pf.transpose());
+        }
+    }
+
+    /// The fast path for the segment model's `Phi_i = [[1, c], [0, d]]`
+    /// (taken by the real discretisations) equals the dense time update.
+    #[test]
+    fn triangular_predict_equals_dense() {
+        use crate::segment_kf::model::Discretizer;
+        use crate::segment_kf::params::SegmentNoise;
+        use limbfuse_core::discretize::Discretization;
+        let mut segs = [SegmentNoise::consumer_mems(9.81); 4];
+        segs[2].bias_tau = 7.0;
+        for method in [Discretization::Exact, Discretization::Euler] {
+            let mut disc = Discretizer::new(&segs, method);
+            let b = *disc.blocks(0.013);
+            assert!(b.phi.iter().all(|f| f[(0, 0)] == 1.0 && f[(1, 0)] == 0.0));
+            let (Phi, Qd) = disc.get(0.013);
+            let mut seed = [0.0; 36];
+            for (k, v) in seed.iter_mut().enumerate() {
+                *v = ((k * 37 % 11) as f64 - 5.0) / 7.0;
+            }
+            let P = spd(&seed);
+            let x = SVector::<f64, 8>::from_fn(|i, _| 0.1 * i as f64 - 0.3);
+            let (xd, Pd) = kalman::predict(&x, &P, &Phi, &Qd);
+            let (mut xf, mut Pf) = (x, P);
+            predict_blocks(&mut xf, &mut Pf, &b.phi, &b.qd);
+            assert!((xd - xf).norm() < 1e-14);
+            assert!((Pd - Pf).norm() < 1e-12 * (1.0 + P.norm()), "{method:?}");
         }
     }
 
