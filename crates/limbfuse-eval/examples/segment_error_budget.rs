@@ -126,7 +126,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!();
     println!("| sensors | local | mjls | global | mjls offset-free |");
     println!("|---|---|---|---|---|");
-    for k in 0..2 {
+    for (k, name) in VARIANTS.iter().enumerate().take(2) {
         let per_seed: Vec<[f64; 4]> = (1..=n)
             .into_par_iter()
             .map(|seed| {
@@ -146,8 +146,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         let avg = |i: usize| per_seed.iter().map(|r| r[i]).sum::<f64>() / per_seed.len() as f64;
         println!(
-            "| {} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            VARIANTS[k],
+            "| {name} | {:.2} | {:.2} | {:.2} | {:.2} |",
             avg(0),
             avg(1),
             avg(2),
