@@ -5,6 +5,7 @@
 //! cargo run --release -p limbfuse-eval --example knee_study -- table1 [N]
 //! cargo run --release -p limbfuse-eval --example knee_study -- remount [N]
 //! cargo run --release -p limbfuse-eval --example knee_study -- real [DATA_DIR]
+//! cargo run --release -p limbfuse-eval --example knee_study -- floor [N]
 //! ```
 //!
 //! * `seeds`: 60 s simulated walking (1 m/s, default sensors, random IMU
@@ -17,10 +18,15 @@
 //!   s_w = 200 and 400 (order 6), seeds 1..=N (default 10).
 //! * `real`: the shared gaittoolbox trial (right knee vs Vicon, straight
 //!   parts) and the five knee-rig trials (vs the stepper angle).
+//! * `floor`: the error left with the TRUE geometry fixed (no
+//!   identification), seeds 1..=N (default 30), while sensor error sources
+//!   are switched off cumulatively (static accelerometer errors, then gyro
+//!   bias, then everything): what the fusion of Algorithm 1 alone costs.
 
 use limbfuse_estimators::knee_selfalign::{Fusion, KneeSelfAlignParams};
 use limbfuse_eval::knee_study::{
-    mean_error, recovery_time, run, simulate, simulate_with_truth, sliding_rmse,
+    mean_error, recovery_time, run, simulate, simulate_with_truth, simulate_with_truth_and,
+    sliding_rmse,
 };
 use limbfuse_sim::Remount;
 use rayon::prelude::*;
@@ -114,6 +120,60 @@ fn seeds(n: u64, ap_sd_cm: f64, fusion: &str) {
             "{name}: mean {:.4}, sd {:.4}, min {:.4}, max {:.4}",
             s.0, s.1, s.2, s.3
         );
+    }
+}
+
+fn floor(n: u64) {
+    type Adjust = fn(&mut limbfuse_sim::WalkingConfig);
+    let variants: [(&str, Adjust); 4] = [
+        ("default sensors", |_| {}),
+        (
+            "- static accel (bias, drift, scale, cross-axis, misalignment)",
+            |c| {
+                c.imu.acc.turn_on_bias = 0.0;
+                c.imu.acc.bias_instability = 0.0;
+                c.imu.acc.scale_error = 0.0;
+                c.imu.acc.cross_axis = 0.0;
+                c.imu.misalignment_rad = 0.0;
+            },
+        ),
+        ("- static accel - gyro bias", |c| {
+            c.imu.acc.turn_on_bias = 0.0;
+            c.imu.acc.bias_instability = 0.0;
+            c.imu.acc.scale_error = 0.0;
+            c.imu.acc.cross_axis = 0.0;
+            c.imu.misalignment_rad = 0.0;
+            c.imu.gyro.turn_on_bias = 0.0;
+            c.imu.gyro.bias_instability = 0.0;
+        }),
+        ("ideal sensors", |c| c.noise = false),
+    ];
+    println!("true geometry fixed, seeds 1..={n}, 60 s walking at 1 m/s, random mountings, angles from sample 500 on");
+    println!("| sensors | fusion | RMSE deg | offset-free RMSE deg | mean abs(mean error) deg | max RMSE deg |");
+    println!("|---|---|---|---|---|---|");
+    for (name, adjust) in variants {
+        for fusion in [Fusion::Paper, Fusion::RATE_BIAS] {
+            let runs: Vec<_> = (1..=n)
+                .into_par_iter()
+                .map(|seed| {
+                    let (recs, truth) =
+                        simulate_with_truth_and(seed, 60.0, 0.0, adjust).expect("valid scenario");
+                    limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())], fusion)
+                        .expect("runs")
+                })
+                .collect();
+            let m = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+                runs.iter().map(f).sum::<f64>() / runs.len() as f64
+            };
+            let max = runs.iter().map(|r| r.rmse.to_degrees()).fold(0.0, f64::max);
+            println!(
+                "| {name} | {fusion:?} | {:.3} | {:.3} | {:.3} | {:.3} |",
+                m(&|r| r.rmse.to_degrees()),
+                m(&|r| r.rmse_offset_free.to_degrees()),
+                m(&|r| r.mean.abs().to_degrees()),
+                max
+            );
+        }
     }
 }
 
@@ -347,6 +407,7 @@ fn main() {
         Some("table1") => table1(arg(2, 10)),
         Some("remount") => remount(arg(2, 10)),
         Some("real") => real(&arg(2, String::from("../shared/data"))),
-        _ => eprintln!("usage: knee_study seeds [N] [AP_SD_CM] | table1 [N] | remount [N]"),
+        Some("floor") => floor(arg(2, 30)),
+        _ => eprintln!("usage: knee_study seeds [N] [AP_SD_CM] | table1 [N] | remount [N] | real [DIR] | floor [N]"),
     }
 }

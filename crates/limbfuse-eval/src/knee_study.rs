@@ -58,13 +58,26 @@ pub fn simulate_with_truth(
     duration_s: f64,
     ap_offset_sd_m: f64,
 ) -> Result<(Vec<Record>, Geometry), SimError> {
+    simulate_with_truth_and(seed, duration_s, ap_offset_sd_m, |_| {})
+}
+
+/// [`simulate_with_truth`] with the walking configuration (sensor error
+/// models, ...) adjusted by `adjust` after seed and duration are set.
+pub fn simulate_with_truth_and(
+    seed: u64,
+    duration_s: f64,
+    ap_offset_sd_m: f64,
+    adjust: impl FnOnce(&mut WalkingConfig),
+) -> Result<(Vec<Record>, Geometry), SimError> {
     let d = KneeScenario::default();
+    let mut walking = WalkingConfig {
+        seed,
+        duration_s,
+        ..d.walking
+    };
+    adjust(&mut walking);
     let sim = KneeSimulator::new(KneeScenario {
-        walking: WalkingConfig {
-            seed,
-            duration_s,
-            ..d.walking
-        },
+        walking,
         ap_offset_sd_m,
         ..d
     })?;
