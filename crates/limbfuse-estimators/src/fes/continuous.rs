@@ -147,7 +147,7 @@ where
 }
 
 /// Propagates `st` over `dt` with RK4 sub-steps (at most `max_substep`
-/// long, shorter when the error dynamics are fast, see [`MAX_SUBSTEPS`]), `y`/`u` interpolated from
+/// long, shorter when the error dynamics are fast, see `MAX_SUBSTEPS`), `y`/`u` interpolated from
 /// `(y0, u0)` at the start to `(y1, u1)` at the end.
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(

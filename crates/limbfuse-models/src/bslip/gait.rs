@@ -43,7 +43,7 @@ pub struct BslipParams {
 }
 
 impl Default for BslipParams {
-    /// Geyer et al. 2006 (paper 003 ref [19]), walking: m = 80 kg, l0 = 1 m,
+    /// Geyer et al. 2006 (paper 003 ref \[19\]), walking: m = 80 kg, l0 = 1 m,
     /// k = 20 kN/m, g = 9.81 m/s^2.
     fn default() -> Self {
         BslipParams {

@@ -91,7 +91,7 @@ pub fn initial_state(gait: &GaitParameters, side: Side) -> State {
 const PHASE_TIME_LIMIT: f64 = 3.0;
 
 /// Phase-resolved simulator of steps: used by the gait search and, with
-/// [`StepSimulator::advance_to`], by the trial simulator.
+/// [`phase_at`], by the trial simulator.
 #[derive(Debug, Clone, Copy)]
 pub struct StepSimulator {
     /// Body parameters (mass, rest length, gravity; stiffness from the gait).

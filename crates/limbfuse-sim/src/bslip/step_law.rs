@@ -1,6 +1,6 @@
 //! Desired step length and width as functions of walking speed, from
 //! published human data (paper 003 sec II-B, which uses a polynomial fit to
-//! [20]/[21]; the fit's coefficients are not printed, so limbfuse uses these
+//! \[20\]/\[21\]; the fit's coefficients are not printed, so limbfuse uses these
 //! published relations instead).
 //!
 //! - **Step length**: the walk ratio (step length / step rate) is nearly
