@@ -13,15 +13,12 @@
 //! off (`WalkingConfig::noise = false`); `--rate=HZ` sets the IMU rate
 //! (default 100).
 
-use std::convert::Infallible;
-
-use limbfuse_core::runner::{run, Observer};
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::segment_kf::{
     AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
     MarkovJumpKfParams,
 };
-use limbfuse_eval::{AngleMetrics, EvalOptions};
+use limbfuse_eval::baseline_study::mean_rmse_deg;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 use rayon::prelude::*;
 
@@ -54,23 +51,7 @@ fn gate(name: &str) -> AccelGate {
 
 /// Mean 4-segment RMSE (deg), plain and offset-free.
 fn mean_rmse(est: &mut dyn Estimator, records: &[Record]) -> [f64; 2] {
-    let mut plain = AngleMetrics::new(est.name(), EvalOptions::default());
-    let mut free = AngleMetrics::new(
-        est.name(),
-        EvalOptions {
-            offset_free: true,
-            ..EvalOptions::default()
-        },
-    );
-    let observers: &mut [&mut dyn Observer] = &mut [&mut plain, &mut free];
-    run(
-        est,
-        records.iter().map(|r| Ok::<_, Infallible>(*r)),
-        observers,
-    )
-    .expect("runs");
-    let deg = |m: &AngleMetrics| m.evaluation().mean_rmse().unwrap_or(f64::NAN).to_degrees();
-    [deg(&plain), deg(&free)]
+    mean_rmse_deg(est, records).expect("runs")
 }
 
 fn main() {

@@ -26,34 +26,33 @@
 //! floor under the walking figures for filters whose absolute reference is
 //! the accelerometer inclination.
 
-use std::convert::Infallible;
-
-use limbfuse_core::runner::{run, Observer};
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
-use limbfuse_eval::{AngleMetrics, EvalOptions};
+use limbfuse_eval::baseline_study::mean_rmse_deg;
 use limbfuse_sim::{Motion, WalkingConfig, WalkingSimulator};
 use rayon::prelude::*;
 
 /// Mean 4-segment RMSE (deg), plain and offset-free.
 fn mean_rmse(est: &mut dyn Estimator, records: &[Record]) -> [f64; 2] {
-    let mut plain = AngleMetrics::new(est.name(), EvalOptions::default());
-    let mut free = AngleMetrics::new(
-        est.name(),
-        EvalOptions {
-            offset_free: true,
-            ..EvalOptions::default()
-        },
-    );
-    let observers: &mut [&mut dyn Observer] = &mut [&mut plain, &mut free];
-    run(
-        est,
-        records.iter().map(|r| Ok::<_, Infallible>(*r)),
-        observers,
-    )
-    .expect("runs");
-    let deg = |m: &AngleMetrics| m.evaluation().mean_rmse().unwrap_or(f64::NAN).to_degrees();
-    [deg(&plain), deg(&free)]
+    mean_rmse_deg(est, records).expect("runs")
+}
+
+/// Means over seeds 1..=n of local, mjls, global and offset-free mjls RMSE
+/// for the trial `base` with sensor variant `k`.
+fn seed_means(n: u64, base: WalkingConfig, k: usize) -> [f64; 4] {
+    let per_seed: Vec<[f64; 4]> = (1..=n)
+        .into_par_iter()
+        .map(|seed| {
+            let mut cfg = WalkingConfig { seed, ..base };
+            variant(k, &mut cfg);
+            let records: Vec<Record> = WalkingSimulator::new(cfg).expect("valid config").collect();
+            let l = mean_rmse(&mut LocalKf::default(), &records);
+            let m = mean_rmse(&mut MarkovJumpKf::default(), &records);
+            let g = mean_rmse(&mut GlobalKf::default(), &records);
+            [l[0], m[0], g[0], m[1]]
+        })
+        .collect();
+    core::array::from_fn(|i| per_seed.iter().map(|r| r[i]).sum::<f64>() / per_seed.len() as f64)
 }
 
 fn variant(k: usize, cfg: &mut WalkingConfig) {
@@ -94,31 +93,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("|---|---|---|---|---|---|");
     for speed in [0.4, 1.0, 1.6] {
         for (k, name) in VARIANTS.iter().enumerate() {
-            let per_seed: Vec<[f64; 4]> = (1..=n)
-                .into_par_iter()
-                .map(|seed| {
-                    let mut cfg = WalkingConfig {
-                        speed_mps: speed,
-                        seed,
-                        ..WalkingConfig::default()
-                    };
-                    variant(k, &mut cfg);
-                    let records: Vec<Record> =
-                        WalkingSimulator::new(cfg).expect("valid config").collect();
-                    let l = mean_rmse(&mut LocalKf::default(), &records);
-                    let m = mean_rmse(&mut MarkovJumpKf::default(), &records);
-                    let g = mean_rmse(&mut GlobalKf::default(), &records);
-                    [l[0], m[0], g[0], m[1]]
-                })
-                .collect();
-            let avg = |i: usize| per_seed.iter().map(|r| r[i]).sum::<f64>() / per_seed.len() as f64;
-            println!(
-                "| {speed} | {name} | {:.2} | {:.2} | {:.2} | {:.2} |",
-                avg(0),
-                avg(1),
-                avg(2),
-                avg(3)
-            );
+            let base = WalkingConfig {
+                speed_mps: speed,
+                ..WalkingConfig::default()
+            };
+            let [l, m, g, f] = seed_means(n, base, k);
+            println!("| {speed} | {name} | {l:.2} | {m:.2} | {g:.2} | {f:.2} |");
         }
     }
     println!();
@@ -127,31 +107,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| sensors | local | mjls | global | mjls offset-free |");
     println!("|---|---|---|---|---|");
     for (k, name) in VARIANTS.iter().enumerate().take(2) {
-        let per_seed: Vec<[f64; 4]> = (1..=n)
-            .into_par_iter()
-            .map(|seed| {
-                let mut cfg = WalkingConfig {
-                    motion: Motion::Stand,
-                    seed,
-                    ..WalkingConfig::default()
-                };
-                variant(k, &mut cfg);
-                let records: Vec<Record> =
-                    WalkingSimulator::new(cfg).expect("valid config").collect();
-                let l = mean_rmse(&mut LocalKf::default(), &records);
-                let m = mean_rmse(&mut MarkovJumpKf::default(), &records);
-                let g = mean_rmse(&mut GlobalKf::default(), &records);
-                [l[0], m[0], g[0], m[1]]
-            })
-            .collect();
-        let avg = |i: usize| per_seed.iter().map(|r| r[i]).sum::<f64>() / per_seed.len() as f64;
-        println!(
-            "| {name} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            avg(0),
-            avg(1),
-            avg(2),
-            avg(3)
-        );
+        let base = WalkingConfig {
+            motion: Motion::Stand,
+            ..WalkingConfig::default()
+        };
+        let [l, m, g, f] = seed_means(n, base, k);
+        println!("| {name} | {l:.2} | {m:.2} | {g:.2} | {f:.2} |");
     }
     Ok(())
 }

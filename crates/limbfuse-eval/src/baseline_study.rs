@@ -55,6 +55,31 @@ pub enum StudyError {
 /// Estimated segment angles of every sample (trunk to foot).
 pub type SegmentTrack = Vec<[Option<f64>; 4]>;
 
+/// Mean 4-segment RMSE (deg) of `estimator` over `records`, plain and
+/// offset-free (mean error per channel removed), in one pass. `NaN` where
+/// no segment was scored.
+pub fn mean_rmse_deg(
+    estimator: &mut dyn Estimator,
+    records: &[Record],
+) -> Result<[f64; 2], RunError> {
+    let mut plain = AngleMetrics::new(estimator.name(), EvalOptions::default());
+    let mut free = AngleMetrics::new(
+        estimator.name(),
+        EvalOptions {
+            offset_free: true,
+            ..EvalOptions::default()
+        },
+    );
+    let observers: &mut [&mut dyn Observer] = &mut [&mut plain, &mut free];
+    run(
+        estimator,
+        records.iter().map(|r| Ok::<_, Infallible>(*r)),
+        observers,
+    )?;
+    let deg = |m: &AngleMetrics| m.evaluation().mean_rmse().unwrap_or(f64::NAN).to_degrees();
+    Ok([deg(&plain), deg(&free)])
+}
+
 /// Evaluates `estimator` over `records`; returns the evaluation and the segment estimates.
 pub fn evaluate_records(
     estimator: &mut dyn Estimator,
