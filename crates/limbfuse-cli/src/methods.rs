@@ -1,10 +1,13 @@
 //! The registry of estimation methods selectable with `--method`.
 
+use std::path::Path;
+
 use anyhow::{bail, Result};
-use limbfuse_core::Estimator;
+use limbfuse_core::{Estimator, Joint, Segment};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_eval::params_file::{load_params, FilterMethod, FilterParams, Preset};
+use limbfuse_io::TrialLayout;
 
 /// Methods available now, with a one-line description.
 pub const AVAILABLE: &[(&str, &str)] = &[
@@ -90,6 +93,46 @@ pub fn build(name: &str, params: Option<&std::path::Path>) -> Result<Box<dyn Est
         );
     }
     Ok(est)
+}
+
+/// Checks that a trial carries the channels `method` needs before any sample
+/// is read: the segment filters (`local`, `mjls`, `global`) estimate all four
+/// segments from their accelerometers and gyros, and `mjls` also needs the
+/// three encoders (000 eq 17). Other methods check their own inputs.
+pub fn check_trial_channels(method: &str, layout: &TrialLayout, trial: &Path) -> Result<()> {
+    if FilterMethod::from_name(method).is_none() {
+        return Ok(());
+    }
+    let mut missing = Vec::new();
+    for s in Segment::ALL {
+        let i = s.index();
+        if !layout.acc[i] {
+            missing.push(format!("{}_acc_x/y/z", s.name()));
+        }
+        if !layout.gyr[i] {
+            missing.push(format!("{}_gyr_x/y/z", s.name()));
+        }
+    }
+    if !missing.is_empty() {
+        bail!(
+            "{}: method `{method}` estimates all four segments from their IMUs, but the trial has no {} column(s)",
+            trial.display(),
+            missing.join(", ")
+        );
+    }
+    let no_enc: Vec<String> = Joint::ALL
+        .iter()
+        .filter(|j| !layout.encoder[j.index()])
+        .map(|j| format!("{}_enc", j.name()))
+        .collect();
+    if method == "mjls" && !no_enc.is_empty() {
+        bail!(
+            "{}: method `mjls` needs the joint encoders (its output rows are the most reliable accelerometer plus hip, knee and ankle encoders), but the trial has no {} column(s); use `local` or `global` on trials without encoders",
+            trial.display(),
+            no_enc.join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// A segment filter (`local`, `mjls`, `global`) with the default preset, or

@@ -156,3 +156,109 @@ fn estimate_then_evaluate_json_on_a_hand_made_trial() {
     assert!(v["mean_rmse_deg"].as_f64().unwrap() < 1e-12);
     assert_eq!(v["offset_free"], false);
 }
+
+/// A hand-made trial with the given IMU segments (acc + gyr, static,
+/// upright), optionally the three encoders, and a `thigh_ref` reference, 5
+/// samples at 100 Hz.
+fn trial_with(segments: &[&str], encoders: bool) -> String {
+    let mut header = vec!["t".to_string()];
+    for s in segments {
+        for q in ["acc", "gyr"] {
+            for a in ["x", "y", "z"] {
+                header.push(format!("{s}_{q}_{a}"));
+            }
+        }
+    }
+    if encoders {
+        header.extend(["hip_enc", "knee_enc", "ankle_enc"].map(String::from));
+    }
+    header.push("thigh_ref".to_string());
+    let mut out = header.join(",") + "\n";
+    for k in 0..5 {
+        let mut row = vec![format!("{}", k as f64 * 0.01)];
+        for _ in segments {
+            row.extend(["0", "9.81", "0", "0", "0", "0"].map(String::from));
+        }
+        if encoders {
+            row.extend(["0", "0", "0"].map(String::from));
+        }
+        row.push("0".to_string());
+        out += &(row.join(",") + "\n");
+    }
+    out
+}
+
+/// Issue 3: `mjls` on a trial without encoders is a user error naming the
+/// missing columns (it used to run on the accelerometers alone).
+#[test]
+fn issue3_mjls_without_encoders_names_the_missing_columns() {
+    let d = tempfile::tempdir().unwrap();
+    let all = ["trunk", "thigh", "shank", "foot"];
+    std::fs::write(d.path().join("noenc.csv"), trial_with(&all, false)).unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "noenc.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    assert_user_error(
+        &o,
+        &[
+            "noenc.csv",
+            "`mjls`",
+            "hip_enc, knee_enc, ankle_enc",
+            "`local` or `global`",
+        ],
+    );
+    assert!(
+        !d.path().join("e.csv").exists(),
+        "no estimate file on error"
+    );
+    // local and global need no encoders.
+    for m in ["local", "global"] {
+        let o = limbfuse(
+            &["estimate", "--method", m, "noenc.csv", "-o", "e.csv"],
+            d.path(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{m}: {}", stderr(&o));
+    }
+    // tune checks too, before any optimisation.
+    let o = limbfuse(
+        &[
+            "tune",
+            "--method",
+            "mjls",
+            "noenc.csv",
+            "--window",
+            "0:0.04",
+            "-o",
+            "p.toml",
+        ],
+        d.path(),
+    );
+    assert_user_error(&o, &["noenc.csv", "hip_enc"]);
+}
+
+/// Issue 3: a segment filter on a trial lacking one segment's IMU is a user
+/// error naming that segment's columns.
+#[test]
+fn issue3_segment_filter_without_a_segment_imu_names_it() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("noshank.csv"),
+        trial_with(&["trunk", "thigh", "foot"], true),
+    )
+    .unwrap();
+    for m in ["local", "mjls", "global"] {
+        let o = limbfuse(
+            &["estimate", "--method", m, "noshank.csv", "-o", "e.csv"],
+            d.path(),
+        );
+        assert_user_error(
+            &o,
+            &[
+                "noshank.csv",
+                &format!("`{m}`"),
+                "shank_acc_x/y/z, shank_gyr_x/y/z",
+            ],
+        );
+    }
+}

@@ -31,6 +31,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         anyhow::bail!("--library, --kappa and --rescale-height apply to --method imm-bslip only");
     }
     let reader = TrialReader::open(&a.trial)?;
+    methods::check_trial_channels(&a.method, reader.layout(), &a.trial)?;
     let mut est = if a.method == "knee-selfalign" {
         methods::knee_selfalign(&knee, a.params.as_deref())?
     } else if methods::FROM_TRIAL.contains(&a.method.as_str()) {

@@ -11,7 +11,7 @@ use crate::cli::EvaluateArgs;
 use crate::methods;
 
 /// Reads a whole trial; it must have a reference angle.
-pub fn read_trial(path: &std::path::Path) -> Result<Vec<Record>> {
+pub fn read_trial(path: &std::path::Path, method: &str) -> Result<Vec<Record>> {
     let reader = TrialReader::open(path)?;
     if !reader.layout().has_angle_reference() {
         bail!(
@@ -19,6 +19,7 @@ pub fn read_trial(path: &std::path::Path) -> Result<Vec<Record>> {
             path.display()
         );
     }
+    methods::check_trial_channels(method, reader.layout(), path)?;
     Ok(reader.collect::<Result<Vec<_>, _>>()?)
 }
 
@@ -40,7 +41,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
     };
-    let records = read_trial(&a.trial)?;
+    let records = read_trial(&a.trial, method)?;
     let plan = StartPlan {
         window,
         starts: a.starts.unwrap_or(1),

@@ -87,7 +87,7 @@ pub fn run(a: &TuneArgs) -> Result<()> {
         }
     };
     let window = TimeWindow::parse(&a.window).map_err(|m| anyhow!("--window: {m}"))?;
-    let records = super::protocol::read_trial(&a.trial)?;
+    let records = super::protocol::read_trial(&a.trial, &a.method)?;
     let plan = StartPlan {
         window,
         starts: a.starts,
