@@ -131,6 +131,21 @@ fn missing_samples_nan_cells_and_a_time_gap_never_give_nan() {
             }
             let e = f.est().step(&s).unwrap();
             assert!(all_finite(&e), "{} step {k}", f.est().name());
+            // Missing inputs are counted: 4 acc + 4 gyro (+ 3 encoders for mjls).
+            let mjls = f.est().name() == "mjls";
+            let expected = match k % 13 {
+                1 | 2 | 5 | 7 => 1.0,
+                3 => 3.0 * f64::from(u8::from(mjls)),
+                4 => 8.0 + 3.0 * f64::from(u8::from(mjls)),
+                6 => f64::from(u8::from(mjls)),
+                _ => 0.0,
+            };
+            assert_eq!(
+                diag(&e, f.diag_names(), "missing_inputs"),
+                Some(expected),
+                "{} step {k}",
+                f.est().name()
+            );
             assert!(e.segment.iter().all(|v| v.is_some()));
             assert!(e.joint.iter().all(|v| v.is_some()));
             assert!(is_spd(&f.p(), 0.0), "{} step {k}", f.est().name());

@@ -33,9 +33,13 @@ pub struct AngleMetrics {
 struct ReliabilityCounter {
     segment_cols: Vec<usize>,
     coupled_cols: Vec<usize>,
+    /// The `missing_inputs` diagnostic (segment filters), if present.
+    missing_col: Vec<usize>,
     n: u64,
     ar: u64,
     agr: u64,
+    /// Samples in which at least one input was missing.
+    missing: u64,
 }
 
 impl ReliabilityCounter {
@@ -52,6 +56,11 @@ impl ReliabilityCounter {
             } else {
                 Vec::new()
             },
+            missing_col: names
+                .iter()
+                .position(|m| m == "missing_inputs")
+                .into_iter()
+                .collect(),
             ..Default::default()
         }
     }
@@ -64,6 +73,7 @@ impl ReliabilityCounter {
         self.n += 1;
         self.ar += u64::from(set(&self.segment_cols));
         self.agr += u64::from(set(&self.coupled_cols));
+        self.missing += u64::from(set(&self.missing_col));
     }
 
     fn pct(&self, count: u64, cols: &[usize]) -> Option<f64> {
@@ -158,6 +168,9 @@ impl AngleMetrics {
             accel_global_reliability_pct: self
                 .reliability
                 .pct(self.reliability.agr, &self.reliability.coupled_cols),
+            missing_input_pct: self
+                .reliability
+                .pct(self.reliability.missing, &self.reliability.missing_col),
         }
     }
 }
@@ -199,6 +212,10 @@ pub struct Evaluation {
     /// AGR (001 Table 2, matricial global): % of samples in which a coupled
     /// (relative) accelerometer row updated the estimate.
     pub accel_global_reliability_pct: Option<f64>,
+    /// % of samples with at least one missing input (empty or non-finite
+    /// cell), from the segment filters' `missing_inputs` diagnostic: those
+    /// samples were predicted without that input's update.
+    pub missing_input_pct: Option<f64>,
 }
 
 impl Evaluation {
@@ -262,6 +279,7 @@ impl Evaluation {
             "diag_mean": self.diag_mean,
             "accel_reliability_pct": self.accel_reliability_pct,
             "accel_global_reliability_pct": self.accel_global_reliability_pct,
+            "missing_input_pct": self.missing_input_pct,
         })
     }
 
@@ -312,6 +330,10 @@ impl Evaluation {
         if let Some(agr) = self.accel_global_reliability_pct {
             s += &format!("coupled accelerometer reliability AGR: {agr:.1} % of samples\n");
         }
+        if let Some(m) = self.missing_input_pct {
+            s +=
+                &format!("samples with a missing input (predicted without its update): {m:.1} %\n");
+        }
         for (k, v) in &self.diag_mean {
             s += &format!("diag mean {k}: {v:.4}\n");
         }
@@ -346,5 +368,23 @@ mod tests {
         b.set_diagnostic_names(Vec::<String>::new());
         b.push(&r, &Estimate::empty(0.0));
         assert_eq!(b.evaluation().accel_reliability_pct, None);
+        assert_eq!(b.evaluation().missing_input_pct, None);
+    }
+
+    #[test]
+    fn missing_inputs_are_counted_per_sample() {
+        let mut m = AngleMetrics::new("mjls", EvalOptions::default());
+        m.set_diagnostic_names(["mode", "missing_inputs"]);
+        let r = Record::default();
+        for miss in [0.0, 3.0, 0.0, 1.0, 0.0] {
+            let mut e = Estimate::empty(0.0);
+            e.diag[1] = Some(miss);
+            m.push(&r, &e);
+        }
+        let ev = m.evaluation();
+        assert_eq!(ev.missing_input_pct, Some(40.0));
+        assert!(ev
+            .to_text()
+            .contains("missing input (predicted without its update): 40.0 %"));
     }
 }

@@ -31,8 +31,26 @@ pub(crate) struct Inputs {
     pub rho: [Option<f64>; 4],
     /// Encoders (hip, knee, ankle).
     pub encoder: [Option<f64>; 3],
+    /// Gyro rates that were missing (empty or non-finite) in this sample.
+    pub rate_missing: u8,
     /// Segment was initialised before this sample, so rows may use it.
     pub usable: [bool; 4],
+}
+
+impl Inputs {
+    /// How many of this sample's inputs are missing (empty or non-finite):
+    /// the four accelerometers and four gyro rates, plus the three encoders
+    /// when `with_encoders`. Missing inputs drop their rows (gyros: the last
+    /// rate is held); the count is the `missing_inputs` diagnostic.
+    pub fn missing(&self, rate_missing: u8, with_encoders: bool) -> u8 {
+        let acc = self.acc.iter().filter(|a| a.is_none()).count() as u8;
+        let enc = if with_encoders {
+            self.encoder.iter().filter(|e| e.is_none()).count() as u8
+        } else {
+            0
+        };
+        acc + rate_missing + enc
+    }
 }
 
 impl Inputs {
@@ -184,6 +202,7 @@ impl Chain {
             acc: accs,
             rho,
             encoder,
+            rate_missing: rate.iter().filter(|r| r.is_none()).count() as u8,
             usable,
         })
     }
@@ -400,9 +419,13 @@ impl<'a> DiagWriter<'a> {
         self.pos
     }
 
-    /// `rho_*`, `bias_*`, `sd_*` (the common part, 12 values).
-    pub fn common(&mut self, chain: &Chain, rho: &[Option<f64>; 4]) {
-        for r in rho {
+    /// `missing_inputs`, `rho_*`, `bias_*`, `sd_*` (the common part, 13
+    /// values).
+    pub fn common(&mut self, chain: &Chain, inp: &Inputs, with_encoders: bool) {
+        self.push(Some(f64::from(
+            inp.missing(inp.rate_missing, with_encoders),
+        )));
+        for r in &inp.rho {
             self.push(*r);
         }
         for i in 0..4 {
@@ -425,7 +448,8 @@ impl<'a> DiagWriter<'a> {
 
 /// Names of the common diagnostics, in [`DiagWriter::common`] order.
 #[cfg(test)]
-pub(crate) const COMMON_DIAG: [&str; 12] = [
+pub(crate) const COMMON_DIAG: [&str; 13] = [
+    "missing_inputs",
     "rho_trunk",
     "rho_thigh",
     "rho_shank",

@@ -87,7 +87,7 @@ impl GlobalKfParams {
 }
 
 /// Diagnostic names of [`GlobalKf`], in `Estimate::diag` order.
-pub const GLOBAL_DIAG: [&str; 33] = [
+pub const GLOBAL_DIAG: [&str; 34] = [
     "n_reliable",
     "psi",
     "upd_trunk",
@@ -97,6 +97,7 @@ pub const GLOBAL_DIAG: [&str; 33] = [
     "upd_hip",
     "upd_knee",
     "upd_ankle",
+    "missing_inputs",
     "rho_trunk",
     "rho_thigh",
     "rho_shank",
@@ -285,7 +286,7 @@ impl Estimator for GlobalKf {
         for u in updated {
             w.flag(u);
         }
-        w.common(&self.chain, &inp.rho);
+        w.common(&self.chain, &inp, false);
         w.shares(&shares);
         debug_assert_eq!(w.written(), GLOBAL_DIAG.len());
         Ok(est)

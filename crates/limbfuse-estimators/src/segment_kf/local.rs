@@ -62,13 +62,14 @@ impl LocalKfParams {
 }
 
 /// Diagnostic names of [`LocalKf`], in `Estimate::diag` order.
-pub const LOCAL_DIAG: [&str; 30] = [
+pub const LOCAL_DIAG: [&str; 31] = [
     "n_reliable",
     "psi",
     "upd_trunk",
     "upd_thigh",
     "upd_shank",
     "upd_foot",
+    "missing_inputs",
     "rho_trunk",
     "rho_thigh",
     "rho_shank",
@@ -234,7 +235,7 @@ impl Estimator for LocalKf {
         for u in updated {
             w.flag(u);
         }
-        w.common(&self.chain, &inp.rho);
+        w.common(&self.chain, &inp, false);
         w.shares(&shares);
         debug_assert_eq!(w.written(), LOCAL_DIAG.len());
         Ok(est)

@@ -94,7 +94,7 @@ impl MarkovJumpKfParams {
 /// Diagnostic names of [`MarkovJumpKf`], in `Estimate::diag` order. `mode` is the
 /// selected segment 0..3 (trunk..foot) when it passes the reliability test,
 /// -1 otherwise; `rho_min` is `rho(k)` of 000 eq 28.
-pub const MJLS_DIAG: [&str; 33] = [
+pub const MJLS_DIAG: [&str; 34] = [
     "mode",
     "rho_min",
     "upd_trunk",
@@ -104,6 +104,7 @@ pub const MJLS_DIAG: [&str; 33] = [
     "upd_hip",
     "upd_knee",
     "upd_ankle",
+    "missing_inputs",
     "rho_trunk",
     "rho_thigh",
     "rho_shank",
@@ -300,7 +301,7 @@ impl Estimator for MarkovJumpKf {
         for u in &updated[1..] {
             w.flag(*u);
         }
-        w.common(&self.chain, &inp.rho);
+        w.common(&self.chain, &inp, true);
         w.shares(&shares);
         debug_assert_eq!(w.written(), MJLS_DIAG.len());
         Ok(est)
