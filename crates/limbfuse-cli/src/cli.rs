@@ -383,6 +383,10 @@ pub struct EstimateArgs {
     /// imm-bslip: rescale every library gait to this CoM height at mid-stance (m; sec IV-B).
     #[arg(long)]
     pub rescale_height: Option<f64>,
+    /// imm-bslip: weight rule, `paper` (eq 8, per-sample likelihoods; default) or
+    /// `recursive` (the standard IMM mode probability, with memory).
+    #[arg(long, value_name = "RULE")]
+    pub imm_weights: Option<String>,
 }
 
 /// Options of `evaluate`.

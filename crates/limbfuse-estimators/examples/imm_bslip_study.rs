@@ -4,7 +4,7 @@
 //! (prints the tables of docs/RESULTS.md).
 
 use limbfuse_core::{Estimator, GaitPhase};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -56,10 +56,16 @@ fn main() {
                         .unwrap_or(d)
                 };
                 let base = ImmBslipParams::full_com();
+                // IMM_WEIGHTS=recursive: the standard IMM mode probability.
+                let weights = match std::env::var("IMM_WEIGHTS").as_deref() {
+                    Ok("recursive") => ImmWeights::Recursive,
+                    _ => ImmWeights::Paper,
+                };
                 let params = ImmBslipParams {
                     kappa,
                     p_next_phase: env("P_NEXT", base.p_next_phase),
                     p_other_gait: env("P_GAIT", base.p_other_gait),
+                    weights,
                     ..base
                 };
                 let mut imm = ImmBslip::new(lib, params).unwrap();

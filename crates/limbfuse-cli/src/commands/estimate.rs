@@ -21,14 +21,25 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         );
     }
     if a.method == "imm-bslip" {
-        let mut est =
-            super::gait::imm_estimator(&a.trial, a.library.as_deref(), a.kappa, a.rescale_height)?;
+        let mut est = super::gait::imm_estimator(
+            &a.trial,
+            a.library.as_deref(),
+            a.kappa,
+            a.rescale_height,
+            a.imm_weights.as_deref(),
+        )?;
         let n = super::gait::run_estimator(est.as_mut(), &a.trial, &a.output, &a.method)?;
         eprintln!("{}: {n} samples -> {}", a.method, a.output.display());
         return Ok(());
     }
-    if a.library.is_some() || a.kappa.is_some() || a.rescale_height.is_some() {
-        anyhow::bail!("--library, --kappa and --rescale-height apply to --method imm-bslip only");
+    if a.library.is_some()
+        || a.kappa.is_some()
+        || a.rescale_height.is_some()
+        || a.imm_weights.is_some()
+    {
+        anyhow::bail!(
+            "--library, --kappa, --rescale-height and --imm-weights apply to --method imm-bslip only"
+        );
     }
     let reader = TrialReader::open(&a.trial)?;
     methods::check_trial_channels(&a.method, reader.layout(), &a.trial)?;

@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights};
 use limbfuse_io::gait_library::{
     BodyRecord, GaitLibraryFile, GaitRecord, PhaseTrajectories, SearchRecord, XiRecord, FORMAT,
     VERSION,
@@ -255,6 +255,7 @@ pub fn imm_estimator(
     library: Option<&Path>,
     kappa: Option<f64>,
     height: Option<f64>,
+    weights: Option<&str>,
 ) -> Result<Box<dyn Estimator>> {
     let Some(library) = library else {
         bail!("method `imm-bslip` needs --library LIB.json (build one with `limbfuse gait-library build`)");
@@ -275,6 +276,11 @@ pub fn imm_estimator(
     if let Some(k) = kappa {
         params.kappa = k;
     }
+    params.weights = match weights {
+        None | Some("paper") => ImmWeights::Paper,
+        Some("recursive") => ImmWeights::Recursive,
+        Some(other) => bail!("--imm-weights: expected `paper` or `recursive`, found `{other}`"),
+    };
     Ok(Box::new(ImmBslip::new(&templates, params)?))
 }
 

@@ -45,7 +45,7 @@ use nalgebra::{Matrix6, Vector3};
 
 use ekf::{propagate, update, Cov};
 pub use names::{MAX_GAITS, WEIGHT_NAMES};
-pub use params::ImmBslipParams;
+pub use params::{ImmBslipParams, ImmWeights};
 
 /// Why an IMM could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -304,6 +304,23 @@ impl ImmBslip {
         -self.params.kappa * d * d
     }
 
+    /// [`ImmWeights::Recursive`]: adds `log c_j`, `c_j = sum_i p_ij w_i` (the
+    /// Markov-predicted weight, eq 11's normaliser), to each model's log
+    /// likelihood before [`Self::normalise_weights`], so that
+    /// `w_j ~ c_j L_j`, the standard IMM mode probability.
+    fn add_predicted_weights(&mut self) {
+        let n = self.models.len();
+        for j in 0..n {
+            let mut c = 0.0;
+            for i in 0..n {
+                c += self.models[i].w * self.transition[i * n + j];
+            }
+            // c = 0 gives -inf (weight 0); every weight zero is handled by
+            // normalise_weights (uniform).
+            self.models[j].log_l += libm::log(c);
+        }
+    }
+
     /// Eq 8 in the log domain: `w_j = exp(l_j - max) / sum`.
     fn normalise_weights(&mut self) {
         let max = self
@@ -500,6 +517,7 @@ impl Estimator for ImmBslip {
         writeln!(out, "r: {:?}", p.r)?;
         writeln!(out, "q: {:?}", p.q)?;
         writeln!(out, "kappa: {}", p.kappa)?;
+        writeln!(out, "weights: {}", p.weights.label())?;
         writeln!(out, "p_next_phase: {}", p.p_next_phase)?;
         writeln!(out, "p_other_gait: {}", p.p_other_gait)?;
         writeln!(out, "max_substep: {}", p.max_substep)?;
@@ -574,6 +592,9 @@ impl Estimator for ImmBslip {
             model.x = x;
             model.P = P;
             model.log_l = if finite { log_l } else { f64::NEG_INFINITY };
+        }
+        if measured && self.params.weights == ImmWeights::Recursive {
+            self.add_predicted_weights();
         }
         if measured {
             self.normalise_weights();

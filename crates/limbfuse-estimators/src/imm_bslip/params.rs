@@ -5,6 +5,30 @@
 
 use limbfuse_models::bslip::Side;
 
+/// How the model weights are formed from the measurement likelihoods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ImmWeights {
+    /// Eq 8 of paper 003: each weight is the normalised likelihood of the
+    /// current sample alone, without the previous weights (default, the
+    /// paper's estimator).
+    #[default]
+    Paper,
+    /// The standard IMM mode probability (Blom & Bar-Shalom 1988): the
+    /// likelihood times the Markov-predicted weight `c_j = sum_i p_ij w_i`,
+    /// so the weights carry memory across samples. Not in the paper.
+    Recursive,
+}
+
+impl ImmWeights {
+    /// `paper` or `recursive`.
+    pub const fn label(self) -> &'static str {
+        match self {
+            ImmWeights::Paper => "paper",
+            ImmWeights::Recursive => "recursive",
+        }
+    }
+}
+
 /// Parameters of [`super::ImmBslip`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImmBslipParams {
@@ -28,6 +52,8 @@ pub struct ImmBslipParams {
     pub first_side: Side,
     /// A gap between samples longer than this (s) restarts the filter bank.
     pub max_gap: f64,
+    /// Weight rule: eq 8 (default) or the recursive IMM mode probability.
+    pub weights: ImmWeights,
 }
 
 impl ImmBslipParams {
@@ -72,6 +98,7 @@ impl ImmBslipParams {
             p0: [1e-4, 1e-2],
             first_side: Side::Left,
             max_gap: 0.25,
+            weights: ImmWeights::Paper,
         }
     }
 
