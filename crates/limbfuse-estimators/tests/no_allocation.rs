@@ -76,6 +76,16 @@ fn step_never_allocates() {
             )
             .unwrap(),
         ),
+        Box::new(
+            limbfuse_estimators::imm_bslip::ImmBslip::new(
+                &library,
+                limbfuse_estimators::imm_bslip::ImmBslipParams {
+                    weights: limbfuse_estimators::imm_bslip::ImmWeights::Recursive,
+                    ..Default::default()
+                },
+            )
+            .unwrap(),
+        ),
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),
         Box::new(LocalKf::default()),
