@@ -201,6 +201,23 @@ impl AccelGateState {
         out
     }
 
+    /// The per-segment test of this sample: `rho_i < zeta_i`
+    /// ([`reliable_flags`]) when `gate` is off, else
+    /// [`AccelGateState::passes_sample`].
+    pub fn reliable(
+        &mut self,
+        gate: &AccelGate,
+        sample: &limbfuse_core::Sample,
+        rho: &[Option<f64>; 4],
+        zeta: &[f64; 4],
+    ) -> [bool; 4] {
+        if gate.is_off() {
+            reliable_flags(rho, zeta)
+        } else {
+            self.passes_sample(gate, sample, rho, zeta)
+        }
+    }
+
     /// [`AccelGateState::passes`] with the rates `||gyr_i||` of `sample`.
     pub fn passes_sample(
         &mut self,

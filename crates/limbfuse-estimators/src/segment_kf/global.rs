@@ -21,7 +21,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
-use super::criteria::{count_reliable, psi, reliable_flags, upsilon, AccelGateState};
+use super::criteria::{count_reliable, psi, upsilon, AccelGateState};
 use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
 
@@ -237,11 +237,7 @@ impl Estimator for GlobalKf {
         let inp = self.chain.begin(sample)?;
         let zeta = self.params.common.zetas();
         let gate = self.params.common.accel_gate;
-        let reliable = if gate.is_off() {
-            reliable_flags(&inp.rho, &zeta)
-        } else {
-            self.gate.passes_sample(&gate, sample, &inp.rho, &zeta)
-        };
+        let reliable = self.gate.reliable(&gate, sample, &inp.rho, &zeta);
         let psi_ok = psi(&reliable, self.params.min_reliable);
         let ups = upsilon(&reliable);
         let mut active = [false; 7];

@@ -21,7 +21,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
 use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
-use super::criteria::{count_reliable, psi, reliable_flags, AccelGateState};
+use super::criteria::{count_reliable, psi, AccelGateState};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 
@@ -195,11 +195,7 @@ impl Estimator for LocalKf {
         let inp = self.chain.begin(sample)?;
         let zeta = self.params.common.zetas();
         let gate = self.params.common.accel_gate;
-        let reliable = if gate.is_off() {
-            reliable_flags(&inp.rho, &zeta)
-        } else {
-            self.gate.passes_sample(&gate, sample, &inp.rho, &zeta)
-        };
+        let reliable = self.gate.reliable(&gate, sample, &inp.rho, &zeta);
         let psi_ok = psi(&reliable, self.params.min_reliable);
         let mut active = [false; 4];
         let mut innov = SVector::<f64, 4>::zeros();
