@@ -4,8 +4,9 @@
 //! * The transition `Phi-bar` and process noise `Q_d` are block-diagonal
 //!   with one 2x2 block per segment (000 eqs 16-19, 001 eq 4), so
 //!   `P- = Phi P Phi^T + Q_d` (000 eq 22) needs only the pairs of columns
-//!   (then rows) of each block mixed by that block's `Phi_i`: 4 x 8 x 8
-//!   multiplications instead of 2 x 8^3.
+//!   (then rows) of each block mixed by that block's `Phi_i`: 2 x 4 x 8 x 4
+//!   multiplications instead of 2 x 8^3, and half of that for the segment
+//!   model's `Phi_i = [[1, c], [0, d]]`, which both discretisations produce.
 //! * Every output row of the three models (000 eqs 17-18, 001 eqs 6, 10,
 //!   22) is either `e_a` (one segment's angle error) or `e_a - e_b` (a joint:
 //!   the difference of two angle errors), and `R` is diagonal (000 eq 27,
@@ -14,8 +15,9 @@
 //!   `(I - K H) P (I - K H)^T + K R K^T` (000 eq 25 in Joseph form) is
 //!   evaluated as `A = P - K (H P)`, `P+ = A - (A H^T) K^T + K R K^T`: the
 //!   same products, with the multiplications by `H` done as column
-//!   selections. Only the active rows enter (`m <= M`); inactive rows get a
-//!   zero gain column, exactly as [`limbfuse_core::kalman::update_rows`].
+//!   selections. Only the active rows enter (`m <= M`, compacted into a
+//!   kernel of exactly `m` rows); inactive rows get a zero gain column,
+//!   exactly as [`limbfuse_core::kalman::update_rows`].
 //!
 //! The results equal the dense [`limbfuse_core::kalman`] functions to
 //! round-off (tests below). Nothing allocates.
