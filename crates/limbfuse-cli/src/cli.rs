@@ -387,6 +387,11 @@ pub struct EstimateArgs {
     /// `recursive` (the standard IMM mode probability, with memory).
     #[arg(long, value_name = "RULE")]
     pub imm_weights: Option<String>,
+    /// imm-bslip: when a library gait's leading foot lands, `step-clock` (its
+    /// template touchdown time after mid-stance; default) or `height` (the
+    /// CoM falling to its touchdown height).
+    #[arg(long, value_name = "RULE")]
+    pub imm_touchdown: Option<String>,
 }
 
 /// Options of `evaluate`.

@@ -1,10 +1,12 @@
 //! Paper 003 sec IV-A reproduction: measurements simulated from the 0.7 m/s
 //! gait, that gait removed from a 0.4-0.9 m/s library; IMM with kappa > 0
-//! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study`
-//! (prints the tables of docs/RESULTS.md).
+//! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
+//! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
+//! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
+//! `IMM_TOUCHDOWN=height`, `P_NEXT`, `P_GAIT` (Markov probabilities).
 
 use limbfuse_core::{Estimator, GaitPhase};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -14,15 +16,20 @@ fn main() {
     let body = BslipParams::default();
     let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
     let lib = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {}).unwrap();
+    // TRUTH=0.5 etc.: simulate another library gait (held out in turn).
+    let truth_speed: f64 = std::env::var("TRUTH")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0.7);
     let templates: Vec<_> = lib.iter().map(|g| g.template(&body)).collect();
     let truth = templates
         .iter()
-        .find(|t| (t.speed - 0.7).abs() < 1e-9)
+        .find(|t| (t.speed - truth_speed).abs() < 1e-9)
         .copied()
         .unwrap();
     let held_out: Vec<_> = templates
         .iter()
-        .filter(|t| (t.speed - 0.7).abs() > 1e-9)
+        .filter(|t| (t.speed - truth_speed).abs() > 1e-9)
         .copied()
         .collect();
     let seeds: Vec<u64> = std::env::args()
@@ -61,7 +68,14 @@ fn main() {
                     Ok("recursive") => ImmWeights::Recursive,
                     _ => ImmWeights::Paper,
                 };
+                // IMM_TOUCHDOWN=height: the touchdown-height rule instead of
+                // each gait's step clock (default).
+                let touchdown = match std::env::var("IMM_TOUCHDOWN").as_deref() {
+                    Ok("height") => TouchdownRule::Height,
+                    _ => TouchdownRule::StepClock,
+                };
                 let params = ImmBslipParams {
+                    touchdown,
                     kappa,
                     p_next_phase: env("P_NEXT", base.p_next_phase),
                     p_other_gait: env("P_GAIT", base.p_other_gait),
@@ -91,7 +105,7 @@ fn main() {
                         n2 += 1;
                         let s = e.speed.unwrap();
                         *speed_hist.entry(format!("{s:.1}")).or_insert(0) += 1;
-                        if (s - 0.6).abs() < 1e-9 || (s - 0.8).abs() < 1e-9 {
+                        if ((s - truth_speed).abs() - 0.1).abs() < 1e-9 {
                             nb += 1;
                         }
                     }

@@ -21,13 +21,14 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         );
     }
     if a.method == "imm-bslip" {
-        let mut est = super::gait::imm_estimator(
-            &a.trial,
-            a.library.as_deref(),
-            a.kappa,
-            a.rescale_height,
-            a.imm_weights.as_deref(),
-        )?;
+        let options = super::gait::ImmOptions {
+            library: a.library.as_deref(),
+            kappa: a.kappa,
+            rescale_height: a.rescale_height,
+            weights: a.imm_weights.as_deref(),
+            touchdown: a.imm_touchdown.as_deref(),
+        };
+        let mut est = super::gait::imm_estimator(&a.trial, &options)?;
         let n = super::gait::run_estimator(est.as_mut(), &a.trial, &a.output, &a.method)?;
         eprintln!("{}: {n} samples -> {}", a.method, a.output.display());
         return Ok(());
@@ -36,9 +37,10 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         || a.kappa.is_some()
         || a.rescale_height.is_some()
         || a.imm_weights.is_some()
+        || a.imm_touchdown.is_some()
     {
         anyhow::bail!(
-            "--library, --kappa, --rescale-height and --imm-weights apply to --method imm-bslip only"
+            "--library, --kappa, --rescale-height, --imm-weights and --imm-touchdown apply to --method imm-bslip only"
         );
     }
     let reader = TrialReader::open(&a.trial)?;

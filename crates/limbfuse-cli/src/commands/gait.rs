@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
 use limbfuse_io::gait_library::{
     BodyRecord, GaitLibraryFile, GaitRecord, PhaseTrajectories, SearchRecord, XiRecord, FORMAT,
     VERSION,
@@ -248,19 +248,28 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
     Ok(())
 }
 
+/// The `imm-bslip` options of `estimate`, as given on the command line.
+#[derive(Debug, Default)]
+pub struct ImmOptions<'a> {
+    /// `--library`.
+    pub library: Option<&'a Path>,
+    /// `--kappa`.
+    pub kappa: Option<f64>,
+    /// `--rescale-height`.
+    pub rescale_height: Option<f64>,
+    /// `--imm-weights`.
+    pub weights: Option<&'a str>,
+    /// `--imm-touchdown`.
+    pub touchdown: Option<&'a str>,
+}
+
 /// The `imm-bslip` estimator for `trial`: position-only defaults (eqs 17-18)
 /// when the trial has no CoM velocity channel, else eqs 15-16.
-pub fn imm_estimator(
-    trial: &Path,
-    library: Option<&Path>,
-    kappa: Option<f64>,
-    height: Option<f64>,
-    weights: Option<&str>,
-) -> Result<Box<dyn Estimator>> {
-    let Some(library) = library else {
+pub fn imm_estimator(trial: &Path, options: &ImmOptions) -> Result<Box<dyn Estimator>> {
+    let Some(library) = options.library else {
         bail!("method `imm-bslip` needs --library LIB.json (build one with `limbfuse gait-library build`)");
     };
-    let templates = load_templates(library, height)?;
+    let templates = load_templates(library, options.rescale_height)?;
     let layout = *TrialReader::open(trial)?.layout();
     if !layout.com_meas[..3].iter().all(|&b| b) {
         bail!(
@@ -273,13 +282,20 @@ pub fn imm_estimator(
     } else {
         ImmBslipParams::position_only()
     };
-    if let Some(k) = kappa {
+    if let Some(k) = options.kappa {
         params.kappa = k;
     }
-    params.weights = match weights {
+    params.weights = match options.weights {
         None | Some("paper") => ImmWeights::Paper,
         Some("recursive") => ImmWeights::Recursive,
         Some(other) => bail!("--imm-weights: expected `paper` or `recursive`, found `{other}`"),
+    };
+    params.touchdown = match options.touchdown {
+        None | Some("step-clock") => TouchdownRule::StepClock,
+        Some("height") => TouchdownRule::Height,
+        Some(other) => {
+            bail!("--imm-touchdown: expected `step-clock` or `height`, found `{other}`")
+        }
     };
     Ok(Box::new(ImmBslip::new(&templates, params)?))
 }

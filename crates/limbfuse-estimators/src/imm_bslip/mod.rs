@@ -13,15 +13,18 @@
 //!
 //! Feet. A (gait, phase) model needs its feet on the ground; SS1 uses the
 //! stance (trailing) foot, DS both, SS2 the leading foot. Each gait places
-//! them by its own B-SLIP laws applied to the ensemble CoM: until touchdown
+//! them by its own template applied to the ensemble CoM: until touchdown
 //! the leading foot swings with the CoM at the gait's touchdown offset
 //! `l0 (cos phi cos theta, -, +-sin theta)` (the SLIP swing leg, so a DS or
-//! SS2 model is stretched, and penalised by eq 14, until the CoM has fallen
-//! to the gait's touchdown height); it lands when the CoM, past the stance
-//! foot, reaches that height; it becomes the stance foot at MS (the CoM's
-//! vertical velocity crossing zero downwards within `0.1 l0` of it). At the first sample the stance foot lies under the measured CoM
-//! at the gait's MS lateral offset (the trial starts at MS of SS1 on the
-//! `first_side` foot, as in the paper's simulation).
+//! SS2 model is stretched, and penalised by eq 14, until the foot lands); it
+//! lands on the gait's step clock, `t_touchdown` after the gait's last MS
+//! ([`TouchdownRule::StepClock`], default), or when the CoM, past the stance
+//! foot, has fallen to the gait's touchdown height
+//! ([`TouchdownRule::Height`]); it becomes the stance foot at MS (the CoM's
+//! vertical velocity crossing zero downwards within `0.1 l0` of it). At the
+//! first sample the stance foot lies under the measured CoM at the gait's MS
+//! lateral offset (the trial starts at MS of SS1 on the `first_side` foot, as
+//! in the paper's simulation).
 //!
 //! Degradation (documented, tested): samples without CoM channels only
 //! predict (weights propagated by the Markov chain); a gap longer than
@@ -45,7 +48,7 @@ use nalgebra::{Matrix6, Vector3};
 
 use ekf::{propagate, update, Cov};
 pub use names::{MAX_GAITS, WEIGHT_NAMES};
-pub use params::{ImmBslipParams, ImmWeights};
+pub use params::{ImmBslipParams, ImmWeights, TouchdownRule};
 
 /// Why an IMM could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -98,6 +101,8 @@ struct Feet {
     landed: Option<[f64; 2]>,
     /// Where the swinging leading foot is now: CoM `(x, z)` + touchdown offset.
     swinging: [f64; 2],
+    /// Time of the last mid-stance (s).
+    ms_t: f64,
 }
 
 impl Feet {
@@ -227,6 +232,7 @@ impl ImmBslip {
                     side: params.first_side,
                     landed: None,
                     swinging: [0.0; 2],
+                    ms_t: 0.0,
                 })
                 .collect(),
             transition,
@@ -254,7 +260,7 @@ impl ImmBslip {
         &self.ensemble.1
     }
 
-    fn start(&mut self, z: &[Option<f64>; 6]) {
+    fn start(&mut self, now: f64, z: &[Option<f64>; 6]) {
         let pos = Vector3::new(
             z[0].unwrap_or(0.0),
             z[1].unwrap_or(0.0),
@@ -271,6 +277,7 @@ impl ImmBslip {
         for (f, t) in self.feet.iter_mut().zip(&self.templates) {
             f.stance = [pos[0], pos[2] - f.side.sign() * t.gait.lateral];
             f.landed = None;
+            f.ms_t = now;
         }
         self.swing_feet(&pos);
         let w = 1.0 / self.models.len() as f64;
@@ -387,21 +394,27 @@ impl ImmBslip {
         }
     }
 
-    /// Per gait, after the ensemble update: the swinging foot lands when the
-    /// CoM, past the stance foot, has fallen to the gait's touchdown height
-    /// (the model's touchdown law); the landed foot becomes the stance foot
-    /// when the CoM passes it (MS).
-    fn advance_feet(&mut self, previous_vy: f64) {
+    /// Per gait, after the ensemble update: the swinging foot lands by the
+    /// [`TouchdownRule`] (the gait's step clock since its last MS, or the CoM
+    /// falling past the stance foot to the gait's touchdown height); the
+    /// landed foot becomes the stance foot at the CoM's apex near it (MS),
+    /// which restarts the gait's step clock.
+    fn advance_feet(&mut self, now: f64, previous_vy: f64) {
         let x = self.ensemble.0;
+        let rule = self.params.touchdown;
         self.swing_feet(&Vector3::new(x[0], x[1], x[2]));
         for (f, t) in self.feet.iter_mut().zip(&self.templates) {
             match f.landed {
                 None => {
-                    let falling = x[4] < 0.0;
-                    if falling
-                        && x[0] > f.stance[0]
-                        && x[1] <= t.gait.touchdown_height(t.body.rest_length)
-                    {
+                    let lands = match rule {
+                        TouchdownRule::Height => {
+                            x[4] < 0.0
+                                && x[0] > f.stance[0]
+                                && x[1] <= t.gait.touchdown_height(t.body.rest_length)
+                        }
+                        TouchdownRule::StepClock => now - f.ms_t >= t.t_touchdown,
+                    };
+                    if lands {
                         f.landed = Some(f.swinging);
                     }
                 }
@@ -411,6 +424,7 @@ impl ImmBslip {
                     let apex = previous_vy > 0.0 && x[4] <= 0.0;
                     if apex && x[0] >= lead[0] - 0.1 * t.body.rest_length {
                         f.stance = lead;
+                        f.ms_t = now;
                         f.side = f.side.other();
                         f.landed = None;
                         let (dx, dz) = t.gait.touchdown_offset(t.body.rest_length, f.side);
@@ -518,6 +532,7 @@ impl Estimator for ImmBslip {
         writeln!(out, "q: {:?}", p.q)?;
         writeln!(out, "kappa: {}", p.kappa)?;
         writeln!(out, "weights: {}", p.weights.label())?;
+        writeln!(out, "touchdown: {}", p.touchdown.label())?;
         writeln!(out, "p_next_phase: {}", p.p_next_phase)?;
         writeln!(out, "p_other_gait: {}", p.p_other_gait)?;
         writeln!(out, "max_substep: {}", p.max_substep)?;
@@ -560,7 +575,7 @@ impl Estimator for ImmBslip {
                 self.running = false;
                 return Ok(Estimate::empty(sample.t));
             }
-            self.start(&z);
+            self.start(sample.t, &z);
             0.0
         } else {
             dt.unwrap_or(0.0)
@@ -608,9 +623,72 @@ impl Estimator for ImmBslip {
         }
         let previous_vy = self.ensemble.0[4];
         self.fuse();
-        self.advance_feet(previous_vy);
+        self.advance_feet(sample.t, previous_vy);
         self.mix();
         self.last_t = Some(sample.t);
         Ok(self.estimate(sample.t))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_models::bslip::{BslipParams, GaitParameters};
+
+    /// A gait whose touchdown height (`sin(1.2) cos(0.05)` = 0.931 m) lies
+    /// below the level CoM path of [`level_walk`] (0.96 m).
+    fn template() -> GaitTemplate {
+        let gait = GaitParameters {
+            phi: 1.2,
+            theta: 0.05,
+            stiffness: 20_000.0,
+            height: 0.96,
+            lateral: 0.05,
+            forward_speed: 0.6,
+        };
+        GaitTemplate {
+            speed: 0.6,
+            body: BslipParams::default(),
+            gait,
+            step_length: 0.5,
+            step_width: 0.1,
+            step_time: 0.8,
+            t_touchdown: 0.295,
+            t_lift_off: 0.45,
+        }
+    }
+
+    /// Feeds a level CoM path at 0.6 m/s (no vertical motion, so no MS event
+    /// and no fall to the touchdown height) and returns, per sample, whether
+    /// the gait's leading foot has landed.
+    fn level_walk(rule: TouchdownRule) -> Vec<(f64, bool)> {
+        let params = ImmBslipParams {
+            touchdown: rule,
+            ..ImmBslipParams::full_com()
+        };
+        let mut imm = ImmBslip::new(&[template()], params).unwrap();
+        (0..40)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                let mut s = Sample::empty(t);
+                s.com.pos = [Some(0.6 * t), Some(0.96), Some(0.05)];
+                s.com.vel = [Some(0.6), Some(0.0), None];
+                imm.step(&s).unwrap();
+                (t, imm.feet[0].landed.is_some())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn step_clock_lands_the_foot_t_touchdown_after_the_start() {
+        for (t, landed) in level_walk(TouchdownRule::StepClock) {
+            assert_eq!(landed, t >= 0.295, "t = {t}");
+        }
+    }
+
+    #[test]
+    fn height_rule_waits_for_the_com_to_fall_to_the_touchdown_height() {
+        assert!(template().gait.touchdown_height(1.0) < 0.96);
+        assert!(level_walk(TouchdownRule::Height).iter().all(|&(_, l)| !l));
     }
 }
