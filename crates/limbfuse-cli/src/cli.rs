@@ -387,9 +387,9 @@ pub struct EstimateArgs {
     /// `recursive` (the standard IMM mode probability, with memory).
     #[arg(long, value_name = "RULE")]
     pub imm_weights: Option<String>,
-    /// imm-bslip: when a library gait's leading foot lands, `step-clock` (its
-    /// template touchdown time after mid-stance; default) or `height` (the
-    /// CoM falling to its touchdown height).
+    /// imm-bslip: when a library gait's leading foot lands, `height` (the CoM
+    /// falling to the gait's touchdown height; default) or `step-clock` (the
+    /// gait's touchdown time after its last mid-stance).
     #[arg(long, value_name = "RULE")]
     pub imm_touchdown: Option<String>,
 }

@@ -89,6 +89,46 @@ fn library_simulation_estimate_and_evaluation_pipeline() {
     ] {
         assert!(header.split(',').any(|h| h == c), "{c} not in {header}");
     }
+    assert!(est.contains("touchdown: height"), "default touchdown rule");
+    ok(&limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "--imm-touchdown",
+            "step-clock",
+            "t.csv",
+            "-o",
+            "e_clock.csv",
+        ],
+        p,
+    ));
+    let clock = std::fs::read_to_string(p.join("e_clock.csv")).unwrap();
+    assert!(clock.contains("touchdown: step-clock"));
+    assert_ne!(clock, est, "the rule changes the estimate");
+    let bad = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "--imm-touchdown",
+            "clock",
+            "t.csv",
+            "-o",
+            "e_bad.csv",
+        ],
+        p,
+    );
+    assert_eq!(bad.status.code(), Some(1));
+    let msg = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        msg.contains("--imm-touchdown") && msg.contains("step-clock"),
+        "{msg}"
+    );
     let o = limbfuse(&["evaluate", "t.csv", "e.csv", "--json"], p);
     ok(&o);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();

@@ -3,7 +3,7 @@
 //! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
 //! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
 //! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
-//! `IMM_TOUCHDOWN=height`, `P_NEXT`, `P_GAIT` (Markov probabilities).
+//! `IMM_TOUCHDOWN=step-clock`, `P_NEXT`, `P_GAIT` (Markov probabilities).
 
 use limbfuse_core::{Estimator, GaitPhase};
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
@@ -68,11 +68,11 @@ fn main() {
                     Ok("recursive") => ImmWeights::Recursive,
                     _ => ImmWeights::Paper,
                 };
-                // IMM_TOUCHDOWN=height: the touchdown-height rule instead of
-                // each gait's step clock (default).
+                // IMM_TOUCHDOWN=step-clock: each gait's foot lands on its own
+                // step clock instead of at its touchdown height (default).
                 let touchdown = match std::env::var("IMM_TOUCHDOWN").as_deref() {
-                    Ok("height") => TouchdownRule::Height,
-                    _ => TouchdownRule::StepClock,
+                    Ok("step-clock") => TouchdownRule::StepClock,
+                    _ => TouchdownRule::Height,
                 };
                 let params = ImmBslipParams {
                     touchdown,

@@ -291,10 +291,10 @@ pub fn imm_estimator(trial: &Path, options: &ImmOptions) -> Result<Box<dyn Estim
         Some(other) => bail!("--imm-weights: expected `paper` or `recursive`, found `{other}`"),
     };
     params.touchdown = match options.touchdown {
-        None | Some("step-clock") => TouchdownRule::StepClock,
-        Some("height") => TouchdownRule::Height,
+        None | Some("height") => TouchdownRule::Height,
+        Some("step-clock") => TouchdownRule::StepClock,
         Some(other) => {
-            bail!("--imm-touchdown: expected `step-clock` or `height`, found `{other}`")
+            bail!("--imm-touchdown: expected `height` or `step-clock`, found `{other}`")
         }
     };
     Ok(Box::new(ImmBslip::new(&templates, params)?))

@@ -17,10 +17,10 @@
 //! the leading foot swings with the CoM at the gait's touchdown offset
 //! `l0 (cos phi cos theta, -, +-sin theta)` (the SLIP swing leg, so a DS or
 //! SS2 model is stretched, and penalised by eq 14, until the foot lands); it
-//! lands on the gait's step clock, `t_touchdown` after the gait's last MS
-//! ([`TouchdownRule::StepClock`], default), or when the CoM, past the stance
-//! foot, has fallen to the gait's touchdown height
-//! ([`TouchdownRule::Height`]); it becomes the stance foot at MS (the CoM's
+//! lands when the CoM, past the stance foot, has fallen to the gait's
+//! touchdown height ([`TouchdownRule::Height`], default), or on the gait's
+//! step clock, `t_touchdown` after the gait's last MS
+//! ([`TouchdownRule::StepClock`]); it becomes the stance foot at MS (the CoM's
 //! vertical velocity crossing zero downwards within `0.1 l0` of it). At the
 //! first sample the stance foot lies under the measured CoM at the gait's MS
 //! lateral offset (the trial starts at MS of SS1 on the `first_side` foot, as

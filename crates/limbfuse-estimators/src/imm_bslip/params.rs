@@ -31,20 +31,24 @@ impl ImmWeights {
 
 /// When a gait's model puts its leading foot down. The paper does not say
 /// how a library gait's feet are placed against measured data
-/// (docs/GAIT_IMM.md, "Feet").
+/// (docs/GAIT_IMM.md, "Feet"; the trade-off between the two rules is
+/// measured in docs/RESULTS.md, "Touchdown rule").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum TouchdownRule {
-    /// The gait's own step clock (default): the foot lands the template's
-    /// `t_touchdown` after the model's last mid-stance (the first sample of
-    /// a run counts as one). Independent of the absolute CoM height, which
-    /// differs between a subject and a library gait by about as much as the
-    /// whole fall from mid-stance to touchdown (1-2 cm of 2-4 cm).
-    #[default]
-    StepClock,
-    /// The B-SLIP touchdown guard applied to the ensemble CoM: the CoM,
-    /// falling past the stance foot, reaches the gait's touchdown height
+    /// The B-SLIP touchdown guard applied to the ensemble CoM (default): the
+    /// CoM, falling past the stance foot, reaches the gait's touchdown height
     /// `l0 sin(phi) cos(theta)`.
+    #[default]
     Height,
+    /// The gait's own step clock: the foot lands the template's
+    /// `t_touchdown` after the gait's last mid-stance (the first sample of a
+    /// run counts as one). Independent of the absolute CoM height, which can
+    /// differ between the walker and a library gait by about as much as the
+    /// whole fall from mid-stance to touchdown (1-2 cm of 2-4 cm): better
+    /// phase with a gait outside the library, weaker gait (speed)
+    /// discrimination, since every gait then touches down at nearly the same
+    /// instant.
+    StepClock,
 }
 
 impl TouchdownRule {
@@ -113,7 +117,7 @@ impl ImmBslipParams {
     /// Settings the paper does not give (documented choices):
     /// kappa = 1e5 /m^2 (a leg stretched 1 cm beyond rest costs e^-10),
     /// phase switching 0.05 per sample (phases last 10-50 samples at 100 Hz),
-    /// gait switching 0.01 per sample, touchdown on each gait's step clock, RK4 sub-steps <= 10 ms (one per
+    /// gait switching 0.01 per sample, touchdown at each gait's touchdown height, RK4 sub-steps <= 10 ms (one per
     /// sample at 100 Hz; `omega h` = 0.26 for the stiffest library leg, 55 kN/m), P0 =
     /// diag(1e-4 m^2, 1e-2 m^2/s^2), left foot trailing first, restart after
     /// a 0.25 s gap.
@@ -129,7 +133,7 @@ impl ImmBslipParams {
             first_side: Side::Left,
             max_gap: 0.25,
             weights: ImmWeights::Paper,
-            touchdown: TouchdownRule::StepClock,
+            touchdown: TouchdownRule::Height,
         }
     }
 
