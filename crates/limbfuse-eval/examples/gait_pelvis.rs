@@ -5,7 +5,7 @@
 //! `cargo run --release -p limbfuse-eval --example gait_pelvis [DATA_DIR]`
 
 use limbfuse_core::{Estimator, Sample};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, TouchdownRule};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -99,7 +99,15 @@ fn main() {
                     .collect::<Vec<_>>(),
             ),
         ] {
-            let mut imm = ImmBslip::new(&templates, ImmBslipParams::position_only()).unwrap();
+            // IMM_TOUCHDOWN=step-clock: feet land on each gait's step clock.
+            let params = ImmBslipParams {
+                touchdown: match std::env::var("IMM_TOUCHDOWN").as_deref() {
+                    Ok("step-clock") => TouchdownRule::StepClock,
+                    _ => TouchdownRule::Height,
+                },
+                ..ImmBslipParams::position_only()
+            };
+            let mut imm = ImmBslip::new(&templates, params).unwrap();
             let mut hist = vec![0usize; templates.len()];
             let (mut wmean, mut nw, mut n2) = (0.0, 0, 0);
             for (i, q) in p[s..e].iter().enumerate() {
