@@ -11,6 +11,14 @@ fn limbfuse(args: &[&str], dir: &std::path::Path) -> std::process::Output {
         .expect("the binary runs")
 }
 
+/// `limbfuse estimate --method imm-bslip --library lib.json EXTRA.. t.csv -o OUT`.
+fn estimate_imm(extra: &[&str], out: &str, dir: &std::path::Path) -> std::process::Output {
+    let mut args = vec!["estimate", "--method", "imm-bslip", "--library", "lib.json"];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["t.csv", "-o", out]);
+    limbfuse(&args, dir)
+}
+
 fn ok(o: &std::process::Output) {
     assert_eq!(
         o.status.code(),
@@ -63,19 +71,7 @@ fn library_simulation_estimate_and_evaluation_pipeline() {
     ));
     let trial = std::fs::read_to_string(p.join("t.csv")).unwrap();
     assert!(trial.contains("com_meas_x") && trial.contains("phase_ref"));
-    ok(&limbfuse(
-        &[
-            "estimate",
-            "--method",
-            "imm-bslip",
-            "--library",
-            "lib.json",
-            "t.csv",
-            "-o",
-            "e.csv",
-        ],
-        p,
-    ));
+    ok(&estimate_imm(&[], "e.csv", p));
     let est = std::fs::read_to_string(p.join("e.csv")).unwrap();
     assert!(est.starts_with("# method: imm-bslip"));
     let header = est.lines().find(|l| l.starts_with("t,")).unwrap();
@@ -90,39 +86,15 @@ fn library_simulation_estimate_and_evaluation_pipeline() {
         assert!(header.split(',').any(|h| h == c), "{c} not in {header}");
     }
     assert!(est.contains("touchdown: height"), "default touchdown rule");
-    ok(&limbfuse(
-        &[
-            "estimate",
-            "--method",
-            "imm-bslip",
-            "--library",
-            "lib.json",
-            "--imm-touchdown",
-            "step-clock",
-            "t.csv",
-            "-o",
-            "e_clock.csv",
-        ],
+    ok(&estimate_imm(
+        &["--imm-touchdown", "step-clock"],
+        "e_clock.csv",
         p,
     ));
     let clock = std::fs::read_to_string(p.join("e_clock.csv")).unwrap();
     assert!(clock.contains("touchdown: step-clock"));
     assert_ne!(clock, est, "the rule changes the estimate");
-    let bad = limbfuse(
-        &[
-            "estimate",
-            "--method",
-            "imm-bslip",
-            "--library",
-            "lib.json",
-            "--imm-touchdown",
-            "clock",
-            "t.csv",
-            "-o",
-            "e_bad.csv",
-        ],
-        p,
-    );
+    let bad = estimate_imm(&["--imm-touchdown", "clock"], "e_bad.csv", p);
     assert_eq!(bad.status.code(), Some(1));
     let msg = String::from_utf8_lossy(&bad.stderr);
     assert!(
