@@ -316,12 +316,8 @@ impl ImmBslip {
     /// likelihood before [`Self::normalise_weights`], so that
     /// `w_j ~ c_j L_j`, the standard IMM mode probability.
     fn add_predicted_weights(&mut self) {
-        let n = self.models.len();
-        for j in 0..n {
-            let mut c = 0.0;
-            for i in 0..n {
-                c += self.models[i].w * self.transition[i * n + j];
-            }
+        for j in 0..self.models.len() {
+            let c = self.predicted_weight(j);
             // c = 0 gives -inf (weight 0); every weight zero is handled by
             // normalise_weights (uniform).
             self.models[j].log_l += libm::log(c);
@@ -356,13 +352,8 @@ impl ImmBslip {
     /// Markov prediction of the weights, `w_j = sum_i p_ij w_i` (samples
     /// without measurements).
     fn predict_weights(&mut self) {
-        let n = self.models.len();
-        for j in 0..n {
-            let mut s = 0.0;
-            for i in 0..n {
-                s += self.transition[i * n + j] * self.models[i].w;
-            }
-            self.models[j].log_l = s;
+        for j in 0..self.models.len() {
+            self.models[j].log_l = self.predicted_weight(j);
         }
         let total: f64 = self.models.iter().map(|m| m.log_l).sum();
         for m in &mut self.models {
@@ -435,14 +426,22 @@ impl ImmBslip {
         }
     }
 
+    /// The Markov-predicted weight of model `j`, `c_j = sum_i p_ij w_i`
+    /// (eq 11's normaliser).
+    fn predicted_weight(&self, j: usize) -> f64 {
+        let n = self.models.len();
+        let mut c = 0.0;
+        for i in 0..n {
+            c += self.models[i].w * self.transition[i * n + j];
+        }
+        c
+    }
+
     /// Eqs 11-13.
     fn mix(&mut self) {
         let n = self.models.len();
         for j in 0..n {
-            let mut c = 0.0;
-            for i in 0..n {
-                c += self.models[i].w * self.transition[i * n + j];
-            }
+            let c = self.predicted_weight(j);
             if c.is_nan() || c <= 0.0 {
                 let own = self.models[j];
                 let finite = own.x.iter().all(|v| v.is_finite());
