@@ -388,8 +388,9 @@ pub struct EstimateArgs {
     #[arg(long, value_name = "RULE")]
     pub imm_weights: Option<String>,
     /// imm-bslip: when a library gait's leading foot lands, `height` (the CoM
-    /// falling to the gait's touchdown height; default) or `step-clock` (the
-    /// gait's touchdown time after its last mid-stance).
+    /// falling to the gait's touchdown height; default), `step-clock` (the
+    /// gait's touchdown time after its last mid-stance) or `mixed` (foot
+    /// placement mixed by the IMM from the phase weights).
     #[arg(long, value_name = "RULE")]
     pub imm_touchdown: Option<String>,
 }

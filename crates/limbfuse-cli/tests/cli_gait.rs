@@ -86,19 +86,21 @@ fn library_simulation_estimate_and_evaluation_pipeline() {
         assert!(header.split(',').any(|h| h == c), "{c} not in {header}");
     }
     assert!(est.contains("touchdown: height"), "default touchdown rule");
-    ok(&estimate_imm(
-        &["--imm-touchdown", "step-clock"],
-        "e_clock.csv",
-        p,
-    ));
-    let clock = std::fs::read_to_string(p.join("e_clock.csv")).unwrap();
-    assert!(clock.contains("touchdown: step-clock"));
-    assert_ne!(clock, est, "the rule changes the estimate");
+    // Each touchdown rule is reported and changes the estimate.
+    let mut by_rule = vec![est.clone()];
+    for rule in ["step-clock", "mixed"] {
+        let file = format!("e_{rule}.csv");
+        ok(&estimate_imm(&["--imm-touchdown", rule], &file, p));
+        let e = std::fs::read_to_string(p.join(&file)).unwrap();
+        assert!(e.contains(&format!("touchdown: {rule}")), "{rule}");
+        assert!(!by_rule.contains(&e), "{rule} changes the estimate");
+        by_rule.push(e);
+    }
     let bad = estimate_imm(&["--imm-touchdown", "clock"], "e_bad.csv", p);
     assert_eq!(bad.status.code(), Some(1));
     let msg = String::from_utf8_lossy(&bad.stderr);
     assert!(
-        msg.contains("--imm-touchdown") && msg.contains("step-clock"),
+        msg.contains("--imm-touchdown") && msg.contains("step-clock") && msg.contains("mixed"),
         "{msg}"
     );
     let o = limbfuse(&["evaluate", "t.csv", "e.csv", "--json"], p);

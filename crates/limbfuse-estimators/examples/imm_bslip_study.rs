@@ -3,7 +3,7 @@
 //! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
 //! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
 //! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
-//! `IMM_TOUCHDOWN=step-clock`, `P_NEXT`, `P_GAIT` (Markov probabilities).
+//! `IMM_TOUCHDOWN=step-clock|mixed`, `P_NEXT`, `P_GAIT` (Markov probabilities).
 
 use limbfuse_core::{Estimator, GaitPhase};
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
@@ -69,9 +69,11 @@ fn main() {
                     _ => ImmWeights::Paper,
                 };
                 // IMM_TOUCHDOWN=step-clock: each gait's foot lands on its own
-                // step clock instead of at its touchdown height (default).
+                // step clock instead of at its touchdown height (default);
+                // IMM_TOUCHDOWN=mixed: foot placement mixed by the IMM.
                 let touchdown = match std::env::var("IMM_TOUCHDOWN").as_deref() {
                     Ok("step-clock") => TouchdownRule::StepClock,
+                    Ok("mixed") => TouchdownRule::Mixed,
                     _ => TouchdownRule::Height,
                 };
                 let params = ImmBslipParams {

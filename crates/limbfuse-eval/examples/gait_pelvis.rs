@@ -99,10 +99,11 @@ fn main() {
                     .collect::<Vec<_>>(),
             ),
         ] {
-            // IMM_TOUCHDOWN=step-clock: feet land on each gait's step clock.
+            // IMM_TOUCHDOWN=step-clock|mixed: the touchdown rule (default height).
             let params = ImmBslipParams {
                 touchdown: match std::env::var("IMM_TOUCHDOWN").as_deref() {
                     Ok("step-clock") => TouchdownRule::StepClock,
+                    Ok("mixed") => TouchdownRule::Mixed,
                     _ => TouchdownRule::Height,
                 },
                 ..ImmBslipParams::position_only()

@@ -293,8 +293,9 @@ pub fn imm_estimator(trial: &Path, options: &ImmOptions) -> Result<Box<dyn Estim
     params.touchdown = match options.touchdown {
         None | Some("height") => TouchdownRule::Height,
         Some("step-clock") => TouchdownRule::StepClock,
+        Some("mixed") => TouchdownRule::Mixed,
         Some(other) => {
-            bail!("--imm-touchdown: expected `height` or `step-clock`, found `{other}`")
+            bail!("--imm-touchdown: expected `height`, `step-clock` or `mixed`, found `{other}`")
         }
     };
     Ok(Box::new(ImmBslip::new(&templates, params)?))

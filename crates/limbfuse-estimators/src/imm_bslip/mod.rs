@@ -11,17 +11,11 @@
 //! likelihood underflows; the filters update (Table I); the ensemble is
 //! eqs 9-10; Markov mixing (eqs 11-13) gives the next initial estimates.
 //!
-//! Feet. A (gait, phase) model needs its feet on the ground; SS1 uses the
-//! stance (trailing) foot, DS both, SS2 the leading foot. Each gait places
-//! them by its own template applied to the ensemble CoM: until touchdown
-//! the leading foot swings with the CoM at the gait's touchdown offset
-//! `l0 (cos phi cos theta, -, +-sin theta)` (the SLIP swing leg, so a DS or
-//! SS2 model is stretched, and penalised by eq 14, until the foot lands); it
-//! lands when the CoM, past the stance foot, has fallen to the gait's
-//! touchdown height ([`TouchdownRule::Height`], default), or on the gait's
-//! step clock, `t_touchdown` after the gait's last MS
-//! ([`TouchdownRule::StepClock`]); it becomes the stance foot at MS (the CoM's
-//! vertical velocity crossing zero downwards within `0.1 l0` of it). At the
+//! Feet ([`feet`]). A (gait, phase) model needs its feet on the ground; SS1
+//! uses the stance (trailing) foot, DS both, SS2 the leading foot. Each gait
+//! places them by its own template applied to the ensemble CoM; when its
+//! leading foot lands is the [`TouchdownRule`] (the gait's touchdown height,
+//! default; its step clock; or mixed by the IMM from the weights). At the
 //! first sample the stance foot lies under the measured CoM at the gait's MS
 //! lateral offset (the trial starts at MS of SS1 on the `first_side` foot, as
 //! in the paper's simulation).
@@ -33,6 +27,7 @@
 #![allow(non_snake_case)]
 
 pub mod ekf;
+pub(crate) mod feet;
 mod names;
 pub mod params;
 
@@ -43,10 +38,11 @@ use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample, TimeStep};
-use limbfuse_models::bslip::{leg_compression, GaitTemplate, Side, Stance, State};
+use limbfuse_models::bslip::{leg_compression, GaitTemplate, State};
 use nalgebra::{Matrix6, Vector3};
 
 use ekf::{propagate, update, Cov};
+use feet::{Feet, FootPlacement};
 pub use names::{MAX_GAITS, WEIGHT_NAMES};
 pub use params::{ImmBslipParams, ImmWeights, TouchdownRule};
 
@@ -87,45 +83,6 @@ struct Model {
     P: Cov,
     log_l: f64,
     w: f64,
-}
-
-/// A gait's feet bookkeeping.
-#[derive(Debug, Clone, Copy)]
-struct Feet {
-    /// The stance foot of SS1 (trailing foot).
-    stance: [f64; 2],
-    /// Trailing side.
-    side: Side,
-    /// The leading foot once it has touched down; before touchdown it swings
-    /// with the CoM at the gait's touchdown offset (the SLIP swing leg).
-    landed: Option<[f64; 2]>,
-    /// Where the swinging leading foot is now: CoM `(x, z)` + touchdown offset.
-    swinging: [f64; 2],
-    /// Time of the last mid-stance (s).
-    ms_t: f64,
-}
-
-impl Feet {
-    fn leading(&self) -> [f64; 2] {
-        self.landed.unwrap_or(self.swinging)
-    }
-
-    fn stance_for(&self, phase: GaitPhase) -> Stance {
-        match phase {
-            GaitPhase::Ss1 => Stance {
-                trailing: Some(self.stance),
-                leading: None,
-            },
-            GaitPhase::Ds => Stance {
-                trailing: Some(self.stance),
-                leading: Some(self.leading()),
-            },
-            GaitPhase::Ss2 => Stance {
-                trailing: None,
-                leading: Some(self.leading()),
-            },
-        }
-    }
 }
 
 /// The B-SLIP IMM estimator (`imm-bslip`).
@@ -227,13 +184,7 @@ impl ImmBslip {
                 .collect(),
             feet: library
                 .iter()
-                .map(|_| Feet {
-                    stance: [0.0; 2],
-                    side: params.first_side,
-                    landed: None,
-                    swinging: [0.0; 2],
-                    ms_t: 0.0,
-                })
+                .map(|_| Feet::new(params.first_side))
                 .collect(),
             transition,
             names,
@@ -275,11 +226,8 @@ impl ImmBslip {
             self.params.p0[1],
         ));
         for (f, t) in self.feet.iter_mut().zip(&self.templates) {
-            f.stance = [pos[0], pos[2] - f.side.sign() * t.gait.lateral];
-            f.landed = None;
-            f.ms_t = now;
+            f.start(t, [pos[0], pos[2]], now, self.params.touchdown);
         }
-        self.swing_feet(&pos);
         let w = 1.0 / self.models.len() as f64;
         for m in &mut self.models {
             let t = &self.templates[m.gait];
@@ -376,53 +324,20 @@ impl ImmBslip {
         self.ensemble = (x, P);
     }
 
-    /// Places every gait's swinging leading foot at the CoM plus the gait's
-    /// touchdown offset.
-    fn swing_feet(&mut self, c: &Vector3<f64>) {
-        for (f, t) in self.feet.iter_mut().zip(&self.templates) {
-            let (dx, dz) = t.gait.touchdown_offset(t.body.rest_length, f.side);
-            f.swinging = [c[0] + dx, c[2] + dz];
-        }
-    }
-
-    /// Per gait, after the ensemble update: the swinging foot lands by the
-    /// [`TouchdownRule`] (the gait's step clock since its last MS, or the CoM
-    /// falling past the stance foot to the gait's touchdown height); the
-    /// landed foot becomes the stance foot at the CoM's apex near it (MS),
-    /// which restarts the gait's step clock.
+    /// Per gait, after the ensemble update: [`Feet::advance`].
     fn advance_feet(&mut self, now: f64, previous_vy: f64) {
         let x = self.ensemble.0;
-        let rule = self.params.touchdown;
-        self.swing_feet(&Vector3::new(x[0], x[1], x[2]));
-        for (f, t) in self.feet.iter_mut().zip(&self.templates) {
-            match f.landed {
-                None => {
-                    let lands = match rule {
-                        TouchdownRule::Height => {
-                            x[4] < 0.0
-                                && x[0] > f.stance[0]
-                                && x[1] <= t.gait.touchdown_height(t.body.rest_length)
-                        }
-                        TouchdownRule::StepClock => now - f.ms_t >= t.t_touchdown,
-                    };
-                    if lands {
-                        f.landed = Some(f.swinging);
-                    }
-                }
-                Some(lead) => {
-                    // MS: the CoM's apex (vy crossing zero downwards) near
-                    // the landed foot, the model's own MS event.
-                    let apex = previous_vy > 0.0 && x[4] <= 0.0;
-                    if apex && x[0] >= lead[0] - 0.1 * t.body.rest_length {
-                        f.stance = lead;
-                        f.ms_t = now;
-                        f.side = f.side.other();
-                        f.landed = None;
-                        let (dx, dz) = t.gait.touchdown_offset(t.body.rest_length, f.side);
-                        f.swinging = [x[0] + dx, x[2] + dz];
-                    }
-                }
-            }
+        let placement = FootPlacement {
+            rule: self.params.touchdown,
+            stay: 1.0 - self.params.p_next_phase - self.params.p_other_gait,
+            next: self.params.p_next_phase,
+        };
+        let mut w = [[0.0; 3]; MAX_GAITS];
+        for m in &self.models {
+            w[m.gait][phase_index(m.phase)] = m.w;
+        }
+        for ((f, t), w) in self.feet.iter_mut().zip(&self.templates).zip(w) {
+            f.advance(t, placement, &x, previous_vy, now, w);
         }
     }
 
@@ -632,7 +547,7 @@ impl Estimator for ImmBslip {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use limbfuse_models::bslip::{BslipParams, GaitParameters};
+    use limbfuse_models::bslip::{BslipParams, GaitParameters, Side};
 
     /// A gait whose touchdown height (`sin(1.2) cos(0.05)` = 0.931 m) lies
     /// below the level CoM path of [`level_walk`] (0.96 m).
@@ -683,6 +598,48 @@ mod tests {
         for (t, landed) in level_walk(TouchdownRule::StepClock) {
             assert_eq!(landed, t >= 0.295, "t = {t}");
         }
+    }
+
+    /// Paper-free check of the mixed rule against a hand computation: DS's
+    /// foot is `(w_DS stay ds + w_SS1 next swing) / (w_DS stay + w_SS1
+    /// next)`, SS2's `(w_SS2 stay ss2 + w_DS next ds) / (..)`.
+    #[test]
+    fn mixed_rule_blends_feet_by_the_weights_flowing_between_phases() {
+        let t = template();
+        let mut f = Feet::new(Side::Left);
+        f.start(&t, [0.0, 0.05], 0.0, TouchdownRule::Mixed);
+        assert_eq!(f.landed, Some(f.swinging));
+        assert_eq!(f.ss2, Some(f.swinging));
+        let (ds, ss2) = ([0.40, 0.10], [0.30, 0.12]);
+        f.landed = Some(ds);
+        f.ss2 = Some(ss2);
+        let placement = FootPlacement {
+            rule: TouchdownRule::Mixed,
+            stay: 0.94,
+            next: 0.05,
+        };
+        // Rising CoM: no MS.
+        let x = State::new(0.1, 0.96, 0.05, 0.6, 0.1, 0.0);
+        f.advance(&t, placement, &x, 0.2, 0.01, [0.6, 0.3, 0.1]);
+        let (dx, dz) = t.gait.touchdown_offset(1.0, Side::Left);
+        let swing = [0.1 + dx, 0.05 + dz];
+        let (a, b) = (0.3 * 0.94, 0.6 * 0.05);
+        let (c, d) = (0.1 * 0.94, 0.3 * 0.05);
+        for i in 0..2 {
+            let want_ds = (a * ds[i] + b * swing[i]) / (a + b);
+            let want_ss2 = (c * ss2[i] + d * ds[i]) / (c + d);
+            assert!((f.landed.unwrap()[i] - want_ds).abs() < 1e-15);
+            assert!((f.ss2.unwrap()[i] - want_ss2).abs() < 1e-15);
+        }
+        assert_eq!(f.stance[1], 0.05 - Side::Left.sign() * t.gait.lateral);
+        // The apex near SS2's foot is MS: SS2's foot becomes the stance foot.
+        let ms = f.ss2.unwrap();
+        let x = State::new(ms[0], 0.96, 0.05, 0.6, -0.01, 0.0);
+        f.advance(&t, placement, &x, 0.01, 0.02, [0.0, 0.1, 0.9]);
+        assert_eq!(f.side, Side::Right);
+        assert_eq!(f.ms_t, 0.02);
+        assert!((f.stance[0] - ms[0]).abs() < 0.05);
+        assert_eq!(f.landed, Some(f.swinging));
     }
 
     #[test]

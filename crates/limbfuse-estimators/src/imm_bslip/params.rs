@@ -49,14 +49,21 @@ pub enum TouchdownRule {
     /// discrimination, since every gait then touches down at nearly the same
     /// instant.
     StepClock,
+    /// Foot placement estimated by the IMM: the DS model's leading foot is
+    /// mixed like its state (eqs 11-13) — the weight flowing in from SS1
+    /// brings the foot where it would land now, the weight staying in DS
+    /// keeps its foot — and SS2's foot is mixed from DS's the same way. No
+    /// touchdown threshold; the data decide when the foot is down.
+    Mixed,
 }
 
 impl TouchdownRule {
-    /// `height` or `step-clock`.
+    /// `height`, `step-clock` or `mixed`.
     pub const fn label(self) -> &'static str {
         match self {
             TouchdownRule::Height => "height",
             TouchdownRule::StepClock => "step-clock",
+            TouchdownRule::Mixed => "mixed",
         }
     }
 }
