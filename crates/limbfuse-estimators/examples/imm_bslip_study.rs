@@ -1,6 +1,7 @@
 //! Paper 003 sec IV-A reproduction: measurements simulated from the 0.7 m/s
 //! gait, that gait removed from a 0.4-0.9 m/s library; IMM with kappa > 0
-//! and kappa = 0. `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
+//! and kappa = 0; also the true gait included and alone (the exact-model
+//! ceiling). `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
 //! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
 //! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
 //! `IMM_TOUCHDOWN=step-clock|mixed`, `P_NEXT`, `P_GAIT` (Markov probabilities).
@@ -42,7 +43,12 @@ fn main() {
         2.0 * truth.step_time
     );
     for kappa in [1e5, 1e4, 1e3, 0.0] {
-        for (label, lib) in [("held out", &held_out), ("included", &templates)] {
+        let only = vec![truth];
+        for (label, lib) in [
+            ("held out", &held_out),
+            ("included", &templates),
+            ("truth only", &only),
+        ] {
             let mut acc = Vec::new();
             let mut pos_rms = Vec::new();
             let mut neighbour = Vec::new();
