@@ -222,11 +222,10 @@ impl SingleJointStudy {
     }
 }
 
-/// Runs study (a): tuning on the pre-trials of P1-L (the EKF reuses the
-/// SDRE's `Q`, `S` when `shared_tuning`), then 6 legs x 3 trials
-/// (seed `10 (leg + 1) + trial`).
-pub fn single_joint_study(base: &KneeFesConfig, shared_tuning: bool) -> SingleJointStudy {
-    let pre: Vec<Vec<Record>> = PRE_TRIAL_SEEDS
+/// The single-joint tuning pre-trials: P1-L, seeds [`PRE_TRIAL_SEEDS`],
+/// otherwise `base`.
+pub fn knee_pre_trials(base: &KneeFesConfig) -> Vec<Vec<Record>> {
+    PRE_TRIAL_SEEDS
         .iter()
         .map(|seed| {
             let cfg = KneeFesConfig {
@@ -236,7 +235,14 @@ pub fn single_joint_study(base: &KneeFesConfig, shared_tuning: bool) -> SingleJo
             };
             simulate_knee_fes(&cfg).expect("pre-trial").records
         })
-        .collect();
+        .collect()
+}
+
+/// Runs study (a): tuning on the pre-trials of P1-L (the EKF reuses the
+/// SDRE's `Q`, `S` when `shared_tuning`), then 6 legs x 3 trials
+/// (seed `10 (leg + 1) + trial`).
+pub fn single_joint_study(base: &KneeFesConfig, shared_tuning: bool) -> SingleJointStudy {
+    let pre = knee_pre_trials(base);
     let pre_model = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).expect("preset");
     let t_sdre = tune_knee(Linearisation::Sdc, pre_model, &pre).0;
     let t_ekf = if shared_tuning {
