@@ -47,13 +47,14 @@ pub fn run(a: &AlignArgs) -> Result<()> {
                 .with_context(|| format!("{}", a.trial.display()))?,
         );
     }
-    let last = last.expect("n >= 20");
+    let Some(last) = last else {
+        bail!("{}: no samples", a.trial.display());
+    };
     let diag = |name: &str| {
-        let i = KNEE_DIAG
+        KNEE_DIAG
             .iter()
             .position(|d| *d == name)
-            .expect("known diagnostic");
-        last.diag[i]
+            .and_then(|i| last.diag[i])
     };
     let Some(g) = est.geometry() else {
         let why = match diag("window_status") {
