@@ -138,20 +138,15 @@ impl Feet {
         now: f64,
         w: [f64; 3],
     ) {
-        let (rule, flow) = (placement.rule, placement);
+        let FootPlacement { rule, stay, next } = placement;
         self.swing(t, [x[0], x[2]]);
         let lead = match rule {
             TouchdownRule::Mixed => {
                 let ds = self.leading();
                 let ss2 = self.ss2.unwrap_or(ds);
                 let [w_ss1, w_ds, w_ss2] = w;
-                self.ss2 = Some(blend(ss2, w_ss2 * flow.stay, ds, w_ds * flow.next));
-                self.landed = Some(blend(
-                    ds,
-                    w_ds * flow.stay,
-                    self.swinging,
-                    w_ss1 * flow.next,
-                ));
+                self.ss2 = Some(blend(ss2, w_ss2 * stay, ds, w_ds * next));
+                self.landed = Some(blend(ds, w_ds * stay, self.swinging, w_ss1 * next));
                 self.ss2
             }
             TouchdownRule::Height | TouchdownRule::StepClock => match self.landed {

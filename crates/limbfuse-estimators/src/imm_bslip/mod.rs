@@ -11,7 +11,7 @@
 //! likelihood underflows; the filters update (Table I); the ensemble is
 //! eqs 9-10; Markov mixing (eqs 11-13) gives the next initial estimates.
 //!
-//! Feet ([`feet`]). A (gait, phase) model needs its feet on the ground; SS1
+//! Feet (`imm_bslip/feet.rs`). A (gait, phase) model needs its feet on the ground; SS1
 //! uses the stance (trailing) foot, DS both, SS2 the leading foot. Each gait
 //! places them by its own template applied to the ensemble CoM; when its
 //! leading foot lands is the [`TouchdownRule`] (the gait's touchdown height,
@@ -27,7 +27,7 @@
 #![allow(non_snake_case)]
 
 pub mod ekf;
-pub(crate) mod feet;
+mod feet;
 mod names;
 pub mod params;
 
