@@ -4,7 +4,8 @@
 //! ceiling). `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
 //! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
 //! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
-//! `IMM_TOUCHDOWN=step-clock|mixed`, `P_NEXT`, `P_GAIT` (Markov probabilities).
+//! `IMM_TOUCHDOWN=step-clock|mixed`, `P_NEXT`, `P_GAIT` (Markov probabilities),
+//! `RATE` (measurement rate in Hz, default 100).
 
 use limbfuse_core::{Estimator, GaitPhase};
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
@@ -57,6 +58,10 @@ fn main() {
             for &seed in &seeds {
                 let cfg = BslipTrialConfig {
                     duration: 4.0 * truth.step_time,
+                    sample_rate: std::env::var("RATE")
+                        .ok()
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(100.0),
                     seed,
                     ..Default::default()
                 };
