@@ -225,20 +225,29 @@ mod property {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
-        /// Whatever the measurement offsets, scale of R, kappa and dropout
-        /// pattern, the weights are finite, non-negative and sum to one.
+        /// Whatever the measurement offsets, scale of R, kappa, dropout
+        /// pattern, weight rule and touchdown rule, the weights are finite,
+        /// non-negative and sum to one.
         #[test]
         fn weights_are_a_distribution(
             offset in prop::array::uniform3(-0.5f64..0.5),
             r_scale in -12.0f64..2.0,
             kappa in prop::sample::select(vec![0.0, 1e3, 1e5, 1e9]),
             drop_every in 2usize..9,
+            weights in prop::sample::select(vec![ImmWeights::Paper, ImmWeights::Recursive]),
+            touchdown in prop::sample::select(vec![
+                TouchdownRule::Height,
+                TouchdownRule::StepClock,
+                TouchdownRule::Mixed,
+            ]),
         ) {
             let (lib, records) = shared();
             let base = ImmBslipParams::full_com();
             let params = ImmBslipParams {
                 r: base.r.map(|r| r * 10f64.powf(r_scale)),
                 kappa,
+                weights,
+                touchdown,
                 ..base
             };
             let mut imm = ImmBslip::new(lib, params).unwrap();

@@ -4,6 +4,7 @@
 
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
 use limbfuse_estimators::segment_kf::{
     AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
@@ -68,24 +69,27 @@ fn step_never_allocates() {
         },
         ..CommonParams::default()
     };
-    let mut estimators: Vec<Box<dyn Estimator>> = vec![
-        Box::new(
-            limbfuse_estimators::imm_bslip::ImmBslip::new(
-                &library,
-                limbfuse_estimators::imm_bslip::ImmBslipParams::default(),
-            )
-            .unwrap(),
-        ),
-        Box::new(
-            limbfuse_estimators::imm_bslip::ImmBslip::new(
-                &library,
-                limbfuse_estimators::imm_bslip::ImmBslipParams {
-                    weights: limbfuse_estimators::imm_bslip::ImmWeights::Recursive,
-                    ..Default::default()
-                },
-            )
-            .unwrap(),
-        ),
+    // The IMM with each weight rule and touchdown rule.
+    let imm_variants = [
+        ImmBslipParams::default(),
+        ImmBslipParams {
+            weights: ImmWeights::Recursive,
+            ..Default::default()
+        },
+        ImmBslipParams {
+            touchdown: TouchdownRule::StepClock,
+            ..Default::default()
+        },
+        ImmBslipParams {
+            touchdown: TouchdownRule::Mixed,
+            ..Default::default()
+        },
+    ];
+    let mut estimators: Vec<Box<dyn Estimator>> = imm_variants
+        .iter()
+        .map(|p| Box::new(ImmBslip::new(&library, *p).unwrap()) as Box<dyn Estimator>)
+        .collect();
+    estimators.extend::<[Box<dyn Estimator>; 9]>([
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),
         Box::new(LocalKf::default()),
@@ -114,7 +118,7 @@ fn step_never_allocates() {
         ),
         // Window re-estimates (every 500 samples) run inside `step` too.
         Box::new(KneeSelfAlign::default()),
-    ];
+    ]);
     for e in estimators.iter_mut() {
         let before = allocations();
         let mut sum = 0.0;
