@@ -32,6 +32,14 @@ const RATE_Q: [f64; 17] = [
     1e6,
 ];
 
+/// Every `(n1, n2)` of the process-noise grid.
+fn q_grid() -> Vec<(f64, f64)> {
+    ANGLE_Q
+        .iter()
+        .flat_map(|&n1| RATE_Q.iter().map(move |&n2| (n1, n2)))
+        .collect()
+}
+
 /// Sample variance of each measurement row over `t < rest_s - 0.1`.
 fn rest_variance(plant: &KneePlant, recs: &[Record], rest_s: f64) -> Vector2<f64> {
     let t0 = recs.first().map_or(0.0, |r| r.sample.t);
@@ -144,13 +152,7 @@ fn fixed_hip() {
         let pre = trials(&PRE_TRIAL_SEEDS, gravity_only);
         let study = trials(&(1..=10).collect::<Vec<_>>(), gravity_only);
         for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
-            let mut grid = Vec::new();
-            for n1 in ANGLE_Q {
-                for n2 in RATE_Q {
-                    grid.push((n1, n2));
-                }
-            }
-            let (q, _) = grid
+            let (q, _) = q_grid()
                 .into_par_iter()
                 .map(|q| {
                     let m = mean_rmse(lin, q, &pre);
@@ -179,13 +181,8 @@ fn main() {
         .collect();
     println!("measured S on the pre-trials: {pre_s:?}");
     let tune = |lin: Linearisation| {
-        let mut grid = Vec::new();
-        for n1 in ANGLE_Q {
-            for n2 in RATE_Q {
-                grid.push((n1, n2));
-            }
-        }
-        grid.into_par_iter()
+        q_grid()
+            .into_par_iter()
             .map(|q| {
                 let m = pre
                     .iter()
