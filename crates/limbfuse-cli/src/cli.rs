@@ -35,9 +35,24 @@ pub enum Command {
     Resample(ResampleArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
     Tune(TuneArgs),
+    /// List every estimation method: what it estimates, the columns it reads, its settings.
+    Methods,
+    /// Write a method's parameter file with every default, commented (for `--params`).
+    Params(ParamsArgs),
     /// B-SLIP gait libraries for `imm-bslip` (paper 003).
     #[command(subcommand, name = "gait-library")]
     GaitLibrary(GaitLibraryCommand),
+}
+
+/// Options of `params`.
+#[derive(Debug, Args)]
+pub struct ParamsArgs {
+    /// The method (see `limbfuse methods`).
+    #[arg(long)]
+    pub method: String,
+    /// Output file (default: standard output).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
 }
 
 /// `gait-library` subcommands.
@@ -357,7 +372,7 @@ pub struct ImportArgs {
 /// Options of `estimate`.
 #[derive(Debug, Args)]
 pub struct EstimateArgs {
-    /// Estimation method (e.g. gyro-integration, accel-inclination).
+    /// Estimation method (`limbfuse methods` lists them).
     #[arg(long)]
     pub method: String,
     /// Trial file.

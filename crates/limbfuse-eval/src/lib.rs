@@ -9,7 +9,6 @@
 pub mod baseline_study;
 pub mod channel_error;
 pub mod evaluation;
-pub mod fes_params;
 pub mod fes_plot;
 pub mod fes_study;
 pub mod gait_evaluation;
@@ -17,7 +16,6 @@ pub mod knee_study;
 pub mod metrics;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
-pub mod params_file;
 pub mod protocol;
 pub mod stats;
 pub mod sync_lag;

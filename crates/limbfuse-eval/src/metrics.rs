@@ -1,5 +1,6 @@
 //! The [`AngleMetrics`] observer and the [`Evaluation`] it produces.
 
+use limbfuse_methods::MethodName;
 use std::collections::BTreeMap;
 
 use limbfuse_core::runner::{BoxError, Observer};
@@ -51,7 +52,7 @@ impl ReliabilityCounter {
         };
         ReliabilityCounter {
             segment_cols: find(&["trunk", "thigh", "shank", "foot"]),
-            coupled_cols: if method == "global" {
+            coupled_cols: if MethodName::parse(method).is_ok_and(MethodName::has_relative_rows) {
                 find(&["hip", "knee", "ankle"])
             } else {
                 Vec::new()

@@ -38,8 +38,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::params_file::FilterParams;
 use crate::protocol::multi_start;
+use limbfuse_methods::segment_params::FilterParams;
 
 /// Half-width (decades) of the search range of the noise parameters.
 pub const NOISE_DECADES: f64 = 2.0;

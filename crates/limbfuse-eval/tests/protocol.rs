@@ -5,9 +5,9 @@ use std::fmt;
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, Outputs, Record, Sample, Segment};
-use limbfuse_eval::params_file::{FilterMethod, FilterParams, Preset};
 use limbfuse_eval::protocol::{multi_start, plan_intervals, slice_interval, StartPlan};
 use limbfuse_eval::TimeWindow;
+use limbfuse_methods::segment_params::{FilterMethod, FilterParams, Preset};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
 /// Outputs thigh = time since its first sample, trunk = 0.

@@ -9,6 +9,7 @@ use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::{AngleMetrics, EvalOptions, Evaluation};
 use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_methods::{MethodName, MethodSpec};
 
 use crate::cli::{DemoArgs, MountingArg, WalkingArgs};
 use crate::methods;
@@ -33,8 +34,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     println!("limbfuse demo: simulated {summary}");
     println!("trial: {}\n", trial_path.display());
     let mut evaluations = Vec::new();
-    for name in methods::DEMO {
-        evaluations.push(run_method(name, &trial_path, &a.out)?);
+    for method in MethodName::walking_demo() {
+        evaluations.push(run_method(method, &trial_path, &a.out)?);
     }
     let mut table = rmse_table(&evaluations);
     print!("{table}");
@@ -53,9 +54,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     Ok(())
 }
 
-fn run_method(name: &str, trial: &Path, out: &Path) -> Result<Evaluation> {
-    let mut est = methods::build(name, None)?;
+fn run_method(method: MethodName, trial: &Path, out: &Path) -> Result<Evaluation> {
+    let name = method.name();
     let reader = TrialReader::open(trial)?;
+    let mut est = methods::build_for(&MethodSpec::defaults(method)?, &reader)?;
     let est_path = out.join(format!("estimate-{name}.csv"));
     let mut writer = EstimateWriter::new(super::create_file(&est_path)?);
     let mut metrics = AngleMetrics::new(name, EvalOptions::default());

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_eval::{AngleMetrics, EvalOptions};
 use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_methods::{MethodName, MethodSpec};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
 /// Simulates the knee-FES trial into `out`, runs the three methods, prints
@@ -23,9 +24,10 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
     super::fes::write_trial(&trial, "limbfuse demo (knee-fes)", cfg.rate_hz, &tr, false)?;
     let mut table = format!("{:<10}", "RMSE deg");
     let mut row = format!("{:<10}", "knee");
-    for m in ["sdre", "ekf", "rmx"] {
+    for method in [MethodName::Sdre, MethodName::Ekf, MethodName::Rmx] {
+        let m = method.name();
         let reader = TrialReader::open(&trial)?;
-        let mut est = super::fes::build(m, None, &reader)?;
+        let mut est = crate::methods::build_for(&MethodSpec::defaults(method)?, &reader)?;
         let path = out.join(format!("estimate-knee-fes-{m}.csv"));
         let mut writer = EstimateWriter::new(super::create_file(&path)?);
         let mut metrics = AngleMetrics::new(m, EvalOptions::default());

@@ -2,9 +2,7 @@
 //! trial-dependent construction of `sdre`, `ekf`, `rmx` for `estimate`.
 
 use anyhow::{bail, Context, Result};
-use limbfuse_core::Estimator;
-use limbfuse_eval::fes_params::build_fes_estimator;
-use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
+use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
 use limbfuse_models::KneeSubject;
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, FesTrial, KneeFesConfig};
@@ -129,16 +127,6 @@ pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
-}
-
-/// Builds `sdre`, `ekf` or `rmx` for the trial being read.
-pub fn build(
-    method: &str,
-    params: Option<&std::path::Path>,
-    reader: &TrialReader,
-) -> Result<Box<dyn Estimator>> {
-    build_fes_estimator(method, reader.meta(), reader.layout(), params)
-        .with_context(|| format!("{}: cannot run `{method}`", reader.path().display()))
 }
 
 /// Writes a calibration recording (thigh and shank IMUs with references).

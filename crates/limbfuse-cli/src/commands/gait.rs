@@ -5,14 +5,12 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use limbfuse_core::runner::{self, Observer};
-use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
 use limbfuse_io::gait_library::{
     BodyRecord, GaitLibraryFile, GaitRecord, PhaseTrajectories, SearchRecord, XiRecord, FORMAT,
     VERSION,
 };
-use limbfuse_io::{EstimateWriter, TrialLayout, TrialMeta, TrialReader, TrialWriter};
+use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::{build_library, lateral_excursion, LibraryGait};
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -20,7 +18,6 @@ use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
 use limbfuse_sim::bslip::walker::sample_step;
 
 use crate::cli::{BslipArgs, GaitLibraryBuildArgs};
-use crate::progress::Progress;
 
 /// Parses `START:END:STEP` (inclusive) into speeds.
 pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
@@ -168,22 +165,6 @@ pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads a library file's templates, optionally rescaled (sec IV-B).
-pub fn load_templates(path: &Path, height: Option<f64>) -> Result<Vec<GaitTemplate>> {
-    let lib = GaitLibraryFile::read(path)?;
-    let mut t = lib.templates();
-    if let Some(h) = height {
-        t = t
-            .iter()
-            .map(|g| g.rescaled_to_height(h))
-            .collect::<Option<Vec<_>>>()
-            .with_context(|| {
-                format!("--rescale-height {h}: expected a positive height in metres")
-            })?;
-    }
-    Ok(t)
-}
-
 /// `limbfuse simulate bslip`.
 pub fn simulate(a: &BslipArgs) -> Result<()> {
     if !(a.duration.is_finite() && a.duration > 0.0 && a.rate.is_finite() && a.rate > 0.0) {
@@ -191,7 +172,7 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
     }
     let template = match &a.library {
         Some(p) => {
-            let t = load_templates(p, None)?;
+            let t = limbfuse_methods::imm_params::load_templates(p, None)?;
             t.into_iter()
                 .find(|g| (g.speed - a.speed).abs() < 1e-6)
                 .with_context(|| format!("{}: no gait at {} m/s", p.display(), a.speed))?
@@ -248,75 +229,6 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
     Ok(())
 }
 
-/// The `imm-bslip` options of `estimate`, as given on the command line.
-#[derive(Debug, Default)]
-pub struct ImmOptions<'a> {
-    /// `--library`.
-    pub library: Option<&'a Path>,
-    /// `--kappa`.
-    pub kappa: Option<f64>,
-    /// `--rescale-height`.
-    pub rescale_height: Option<f64>,
-    /// `--imm-weights`.
-    pub weights: Option<&'a str>,
-    /// `--imm-touchdown`.
-    pub touchdown: Option<&'a str>,
-}
-
-/// The `imm-bslip` estimator for `trial`: position-only defaults (eqs 17-18)
-/// when the trial has no CoM velocity channel, else eqs 15-16.
-pub fn imm_estimator(trial: &Path, options: &ImmOptions) -> Result<Box<dyn Estimator>> {
-    let Some(library) = options.library else {
-        bail!("method `imm-bslip` needs --library LIB.json (build one with `limbfuse gait-library build`)");
-    };
-    let templates = load_templates(library, options.rescale_height)?;
-    let layout = *TrialReader::open(trial)?.layout();
-    if !layout.com_meas[..3].iter().all(|&b| b) {
-        bail!(
-            "{}: method `imm-bslip` needs CoM measurement columns com_meas_x, com_meas_y, com_meas_z",
-            trial.display()
-        );
-    }
-    let mut params = if layout.com_meas[3] || layout.com_meas[4] {
-        ImmBslipParams::full_com()
-    } else {
-        ImmBslipParams::position_only()
-    };
-    if let Some(k) = options.kappa {
-        params.kappa = k;
-    }
-    params.weights = match options.weights {
-        None | Some("paper") => ImmWeights::Paper,
-        Some("recursive") => ImmWeights::Recursive,
-        Some(other) => bail!("--imm-weights: expected `paper` or `recursive`, found `{other}`"),
-    };
-    params.touchdown = match options.touchdown {
-        None | Some("height") => TouchdownRule::Height,
-        Some("step-clock") => TouchdownRule::StepClock,
-        Some("mixed") => TouchdownRule::Mixed,
-        Some(other) => {
-            bail!("--imm-touchdown: expected `height`, `step-clock` or `mixed`, found `{other}`")
-        }
-    };
-    Ok(Box::new(ImmBslip::new(&templates, params)?))
-}
-
-/// Runs an estimator over a trial into an estimate file.
-pub fn run_estimator(
-    est: &mut dyn Estimator,
-    trial: &Path,
-    output: &Path,
-    label: &str,
-) -> Result<u64> {
-    let reader = TrialReader::open(trial)?;
-    let mut writer = EstimateWriter::new(super::create_file(output)?);
-    let mut progress = Progress::new(label);
-    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];
-    let summary = runner::run(est, reader, observers)
-        .with_context(|| format!("estimating {} with {label}", trial.display()))?;
-    Ok(summary.n_samples)
-}
-
 /// The demo section: gait speed and phase on a simulated B-SLIP trial with a
 /// small built-in library (0.6, 0.7, 0.8 m/s, the 0.7 m/s gait simulated).
 pub fn demo(dir: &Path) -> Result<()> {
@@ -342,7 +254,12 @@ pub fn demo(dir: &Path) -> Result<()> {
     }
     w.finish()?;
     let mut imm = ImmBslip::new(&templates, ImmBslipParams::full_com())?;
-    run_estimator(&mut imm, &trial, &estimate, "imm-bslip")?;
+    super::estimate::run_to_file(
+        &mut imm,
+        TrialReader::open(&trial)?,
+        &estimate,
+        limbfuse_methods::MethodName::ImmBslip.name(),
+    )?;
     let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&trial, &estimate)?;
     println!();
     println!("Gait phase and speed (paper 003, imm-bslip): B-SLIP trial at 0.7 m/s, library 0.6/0.7/0.8 m/s");

@@ -11,6 +11,7 @@ mod fes;
 mod gait;
 mod import;
 mod knee_demo;
+mod method_list;
 mod montecarlo;
 mod protocol;
 mod resample;
@@ -39,6 +40,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Align(a) => align::run(&a),
         Command::Resample(a) => resample::run(&a),
         Command::Tune(a) => tune::run(&a),
+        Command::Methods => method_list::list(),
+        Command::Params(a) => method_list::params(&a),
     }
 }
 

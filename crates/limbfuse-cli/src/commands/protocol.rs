@@ -2,16 +2,28 @@
 //! 001's validation from N starting points (`limbfuse_eval::protocol`).
 
 use anyhow::{anyhow, bail, Context, Result};
-use limbfuse_core::Record;
+use limbfuse_core::{Estimator, Record};
 use limbfuse_eval::protocol::{multi_start, plan_intervals, StartPlan};
 use limbfuse_eval::TimeWindow;
-use limbfuse_io::TrialReader;
+use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
+use limbfuse_methods::{build, check_channels, MethodFlags, MethodName};
 
 use crate::cli::EvaluateArgs;
 use crate::methods;
 
-/// Reads a whole trial; it must have a reference angle.
-pub fn read_trial(path: &std::path::Path, method: &str) -> Result<Vec<Record>> {
+/// A whole trial read into memory, with its metadata and columns.
+pub struct TrialInMemory {
+    /// Metadata.
+    pub meta: TrialMeta,
+    /// Columns.
+    pub layout: TrialLayout,
+    /// Every record.
+    pub records: Vec<Record>,
+}
+
+/// Reads a whole trial; it must have a reference angle and the columns
+/// `method` needs.
+pub fn read_trial(path: &std::path::Path, method: MethodName) -> Result<TrialInMemory> {
     let reader = TrialReader::open(path)?;
     if !reader.layout().has_angle_reference() {
         bail!(
@@ -19,8 +31,13 @@ pub fn read_trial(path: &std::path::Path, method: &str) -> Result<Vec<Record>> {
             path.display()
         );
     }
-    methods::check_trial_channels(method, reader.layout(), path)?;
-    Ok(reader.collect::<Result<Vec<_>, _>>()?)
+    check_channels(method, reader.layout()).with_context(|| path.display().to_string())?;
+    let (meta, layout) = (reader.meta().clone(), *reader.layout());
+    Ok(TrialInMemory {
+        meta,
+        layout,
+        records: reader.collect::<Result<Vec<_>, _>>()?,
+    })
 }
 
 /// Re-runs `--method` from each starting point and prints the averaged errors.
@@ -34,23 +51,26 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             e.display()
         );
     }
-    let params = a.params.as_deref();
-    // Build once up front so a bad method or parameter file fails here.
-    methods::build(method, params)?;
+    let spec = methods::resolve(method, a.params.as_deref(), &MethodFlags::default())?;
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
     };
-    let records = read_trial(&a.trial, method)?;
+    let trial = read_trial(&a.trial, spec.method())?;
+    let records = &trial.records;
     let plan = StartPlan {
         window,
         starts: a.starts.unwrap_or(1),
         length_s: a.length,
     };
-    let intervals = plan_intervals(&records, &plan)
+    let intervals = plan_intervals(records, &plan)
         .with_context(|| format!("{}: starting points", a.trial.display()))?;
-    let make = || methods::build(method, params).map_err(|e| format!("{e:#}"));
-    let r = multi_start(&make, &records, &intervals, a.offset_free)
+    let make = || {
+        build(&spec, &trial.meta, &trial.layout)
+            .map(|e| e as Box<dyn Estimator>)
+            .map_err(|e| e.to_string())
+    };
+    let r = multi_start(&make, records, &intervals, a.offset_free)
         .with_context(|| format!("evaluating {} on {}", method, a.trial.display()))?;
     if a.json {
         println!("{}", r.to_json());

@@ -4,10 +4,13 @@ use anyhow::{anyhow, bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimator, Record, Segment};
-use limbfuse_eval::params_file::{load_params, save_params, FilterMethod, FilterParams, Preset};
 use limbfuse_eval::protocol::{multi_start, plan_intervals, MultiStartResult, StartPlan};
 use limbfuse_eval::tuning::{tune, SearchSpace, TuneConfig};
 use limbfuse_eval::TimeWindow;
+use limbfuse_methods::segment_params::{
+    load_params, save_params, FilterMethod, FilterParams, Preset,
+};
+use limbfuse_methods::MethodName;
 
 use crate::cli::TuneArgs;
 
@@ -68,10 +71,10 @@ fn segment_row(name: &str, r: [Option<&MultiStartResult>; 4]) -> String {
 
 /// Tunes the noise parameters and writes them as a parameter file.
 pub fn run(a: &TuneArgs) -> Result<()> {
-    let Some(method) = FilterMethod::from_name(&a.method) else {
+    let name = MethodName::parse(&a.method)?;
+    let Some(method) = FilterMethod::from_method(name) else {
         bail!(
-            "tune: method `{}` has no tunable noise parameters; tune supports local, mjls and global",
-            a.method
+            "tune: method `{name}` has no tunable noise parameters; tune supports local, mjls and global"
         );
     };
     let start = match &a.params {
@@ -87,7 +90,7 @@ pub fn run(a: &TuneArgs) -> Result<()> {
         }
     };
     let window = TimeWindow::parse(&a.window).map_err(|m| anyhow!("--window: {m}"))?;
-    let records = super::protocol::read_trial(&a.trial, &a.method)?;
+    let records = super::protocol::read_trial(&a.trial, name)?.records;
     let plan = StartPlan {
         window,
         starts: a.starts,

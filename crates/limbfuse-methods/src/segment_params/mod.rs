@@ -26,8 +26,7 @@
 //! every parameter explicitly (this is what `limbfuse tune` writes), and
 //! [`parse_params`] reads it back to the same parameters bit for bit.
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use limbfuse_core::discretize::Discretization;
 use limbfuse_core::kalman::CovarianceUpdate;
@@ -37,6 +36,12 @@ use limbfuse_estimators::segment_kf::{
     MarkovJumpKfParams, ParamError, WhenUnreliable,
 };
 use serde::Deserialize;
+
+pub use crate::params_toml::ParamsFileError;
+use crate::MethodName;
+
+mod writer;
+pub use writer::{save_params, to_toml};
 
 /// The three segment-angle filters that take a parameter file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -57,18 +62,28 @@ impl FilterMethod {
         FilterMethod::Global,
     ];
 
-    /// The `--method` name.
-    pub const fn name(self) -> &'static str {
+    /// The method this filter is.
+    pub const fn method(self) -> MethodName {
         match self {
-            FilterMethod::Local => "local",
-            FilterMethod::Mjls => "mjls",
-            FilterMethod::Global => "global",
+            FilterMethod::Local => MethodName::Local,
+            FilterMethod::Mjls => MethodName::Mjls,
+            FilterMethod::Global => MethodName::Global,
         }
     }
 
-    /// Parses a `--method` name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
+    /// The `--method` name.
+    pub const fn name(self) -> &'static str {
+        self.method().name()
+    }
+
+    /// The segment filter `method` is, if it is one.
+    pub const fn from_method(method: MethodName) -> Option<Self> {
+        match method {
+            MethodName::Local => Some(FilterMethod::Local),
+            MethodName::Mjls => Some(FilterMethod::Mjls),
+            MethodName::Global => Some(FilterMethod::Global),
+            _ => None,
+        }
     }
 }
 
@@ -181,49 +196,6 @@ impl FilterParams {
     }
 }
 
-/// Why a parameter file could not be used.
-#[derive(Debug, thiserror::Error)]
-pub enum ParamsFileError {
-    /// The file could not be read or written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// File path.
-        path: PathBuf,
-        /// Underlying error.
-        source: std::io::Error,
-    },
-    /// Not valid TOML, an unknown key or a value of the wrong type.
-    #[error("{}:{line}:{column}: {message}", path.display())]
-    Syntax {
-        /// File path.
-        path: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong (names the key).
-        message: String,
-    },
-    /// A key that does not apply or a value out of range.
-    #[error("{}: {message}", path.display())]
-    Invalid {
-        /// File path.
-        path: PathBuf,
-        /// What is wrong (names the key and the accepted range).
-        message: String,
-    },
-}
-
-#[derive(Debug, Clone, Copy, Deserialize)]
-enum RawMethod {
-    #[serde(rename = "local")]
-    Local,
-    #[serde(rename = "mjls")]
-    Mjls,
-    #[serde(rename = "global")]
-    Global,
-}
-
 #[derive(Debug, Clone, Copy, Deserialize)]
 enum RawLoop {
     #[serde(rename = "closed")]
@@ -280,7 +252,7 @@ struct RawSegments {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFile {
-    method: Option<RawMethod>,
+    method: Option<MethodName>,
     preset: Option<Preset>,
     gravity: Option<f64>,
     p0_angle_sigma: Option<f64>,
@@ -295,17 +267,6 @@ struct RawFile {
     when_unreliable: Option<RawWhenUnreliable>,
     relative_sigma: Option<toml::Value>,
     segments: Option<RawSegments>,
-}
-
-/// 1-based line and column of byte `offset` in `text`.
-fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let col = before
-        .rfind('\n')
-        .map_or(before.len(), |k| before.len() - k - 1)
-        + 1;
-    (line, col)
 }
 
 fn three(path: &Path, key: &str, what: &str, v: &toml::Value) -> Result<[f64; 3], ParamsFileError> {
@@ -434,29 +395,14 @@ pub fn parse_params(
     path: &Path,
     method: FilterMethod,
 ) -> Result<FilterParams, ParamsFileError> {
-    let raw: RawFile = toml::from_str(text).map_err(|e| {
-        let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
-        ParamsFileError::Syntax {
-            path: path.to_path_buf(),
-            line,
-            column,
-            message: e.message().trim().to_string(),
-        }
-    })?;
+    let raw: RawFile = crate::params_toml::from_str(text, path)?;
     if let Some(m) = raw.method {
-        let m = match m {
-            RawMethod::Local => FilterMethod::Local,
-            RawMethod::Mjls => FilterMethod::Mjls,
-            RawMethod::Global => FilterMethod::Global,
-        };
-        if m != method {
+        if m != method.method() {
             return Err(ParamsFileError::Invalid {
                 path: path.to_path_buf(),
                 message: format!(
-                    "`method` = \"{}\" but the file is read for method `{}` (use --method {} or remove the `method` line)",
-                    m.name(),
+                    "`method` = \"{m}\" but the file is read for method `{}` (use --method {m} or remove the `method` line)",
                     method.name(),
-                    m.name()
                 ),
             });
         }
@@ -563,159 +509,5 @@ pub fn parse_params(
 
 /// Reads and parses a parameter file for `method`.
 pub fn load_params(path: &Path, method: FilterMethod) -> Result<FilterParams, ParamsFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ParamsFileError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_params(&text, path, method)
-}
-
-/// A float as a TOML literal that reads back to the same bits.
-fn lit(v: f64) -> String {
-    if v.is_infinite() {
-        if v > 0.0 { "inf" } else { "-inf" }.to_string()
-    } else if v.is_nan() {
-        "nan".to_string()
-    } else {
-        // Debug prints the shortest representation that round-trips, with a
-        // decimal point or an exponent, both valid TOML floats.
-        format!("{v:?}")
-    }
-}
-
-/// The parameters as a TOML parameter file, every value explicit. `header`
-/// lines are written first as `#` comments (provenance).
-pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
-    let c = params.common();
-    let mut s = String::new();
-    for h in header {
-        for line in h.lines() {
-            let _ = writeln!(s, "# {line}");
-        }
-    }
-    let _ = writeln!(
-        s,
-        "# limbfuse segment-filter parameters (docs/TUNING.md lists every key)."
-    );
-    let _ = writeln!(
-        s,
-        "# Every value is explicit; the preset only fills keys left out."
-    );
-    let _ = writeln!(s, "method = \"{}\"", params.method().name());
-    let _ = writeln!(s, "preset = \"default\"");
-    let _ = writeln!(s, "gravity = {}  # m/s^2", lit(c.gravity));
-    let _ = writeln!(s, "p0_angle_sigma = {}  # rad", lit(c.p0_angle_sigma));
-    let _ = writeln!(s, "p0_bias_sigma = {}  # rad/s", lit(c.p0_bias_sigma));
-    let _ = writeln!(s, "loop_mode = \"{}\"", c.loop_mode.label());
-    let _ = writeln!(
-        s,
-        "discretization = \"{}\"",
-        match c.discretization {
-            Discretization::Exact => "exact",
-            Discretization::Euler => "euler",
-        }
-    );
-    let _ = writeln!(
-        s,
-        "covariance_update = \"{}\"",
-        match c.covariance_update {
-            CovarianceUpdate::Joseph => "joseph",
-            CovarianceUpdate::Standard => "standard",
-        }
-    );
-    let _ = writeln!(
-        s,
-        "accel_hold_s = {}  # s, 0 = off",
-        lit(c.accel_gate.hold_s)
-    );
-    let _ = writeln!(
-        s,
-        "accel_max_rate = {}  # rad/s, inf = off",
-        lit(c.accel_gate.max_rate)
-    );
-    let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
-    match params {
-        FilterParams::Local(p) => {
-            let _ = writeln!(s, "min_reliable = {}", p.min_reliable);
-        }
-        FilterParams::Mjls(p) => {
-            let _ = writeln!(
-                s,
-                "encoder_sigma = {}  # rad, hip, knee, ankle",
-                arr(p.encoder_sigma)
-            );
-            let _ = writeln!(s, "when_unreliable = \"{}\"", p.when_unreliable.label());
-        }
-        FilterParams::Global(p) => {
-            let _ = writeln!(s, "min_reliable = {}", p.min_reliable);
-            if p.relative_sigma.iter().all(Option::is_some) {
-                let _ = writeln!(
-                    s,
-                    "relative_sigma = {}  # rad, hip, knee, ankle rows",
-                    arr(p.resolved_relative_sigma())
-                );
-            } else {
-                let _ = writeln!(
-                    s,
-                    "# relative_sigma left out: derived as sqrt(sigma_a,i^2 + sigma_a,i+1^2)"
-                );
-            }
-        }
-    }
-    for seg in Segment::ALL {
-        let n = &c.segments[seg.index()];
-        let _ = writeln!(s, "\n[segments.{}]", seg.name());
-        let _ = writeln!(s, "gyro_noise = {}  # rad/s/sqrt(Hz)", lit(n.gyro_noise));
-        let _ = writeln!(s, "bias_drive = {}  # rad/s/sqrt(s)", lit(n.bias_drive));
-        let _ = writeln!(s, "bias_tau = {}  # s", lit(n.bias_tau));
-        let _ = writeln!(s, "accel_angle_sigma = {}  # rad", lit(n.accel_angle_sigma));
-        let _ = writeln!(s, "zeta = {}  # m/s^2", lit(n.zeta));
-        let _ = writeln!(
-            s,
-            "initial_gyro_bias = {}  # rad/s",
-            lit(c.initial_gyro_bias[seg.index()])
-        );
-    }
-    s
-}
-
-/// Writes [`to_toml`] to `path`.
-pub fn save_params(
-    path: &Path,
-    params: &FilterParams,
-    header: &[String],
-) -> Result<(), ParamsFileError> {
-    std::fs::write(path, to_toml(params, header)).map_err(|source| ParamsFileError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn line_and_column_are_one_based() {
-        assert_eq!(line_col("ab\ncd", 0), (1, 1));
-        assert_eq!(line_col("ab\ncd", 4), (2, 2));
-    }
-
-    #[test]
-    fn float_literals_round_trip() {
-        for v in [
-            1e-5,
-            0.1 + 0.2,
-            9.81,
-            1e300,
-            f64::INFINITY,
-            -0.0,
-            2.0,
-            123456789.0,
-        ] {
-            let t = format!("x = {}", lit(v));
-            let back: toml::Table = toml::from_str(&t).unwrap();
-            assert_eq!(back["x"].as_float().unwrap().to_bits(), v.to_bits(), "{t}");
-        }
-    }
+    parse_params(&crate::params_toml::read(path)?, path, method)
 }

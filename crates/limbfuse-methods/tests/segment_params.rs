@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use limbfuse_estimators::segment_kf::{LoopMode, WhenUnreliable};
-use limbfuse_eval::params_file::{
+use limbfuse_methods::segment_params::{
     load_params, parse_params, save_params, to_toml, FilterMethod, FilterParams, Preset,
 };
 

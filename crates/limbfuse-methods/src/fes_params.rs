@@ -21,6 +21,7 @@
 //! A model that needs a stimulation or motor channel the trial lacks, an
 //! unphysical parameter, an unknown key: typed errors naming the problem.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::Estimator;
@@ -36,6 +37,10 @@ use limbfuse_models::{
     FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject, ModelError,
 };
 use nalgebra::SVector;
+use serde::Deserialize;
+
+use crate::segment_params::ParamsFileError;
+use crate::MethodName;
 
 /// Why an FES estimator could not be built for a trial.
 #[derive(Debug, thiserror::Error)]
@@ -44,7 +49,7 @@ pub enum FesBuildError {
     #[error("the trial has no `# model:` metadata line; `{method}` needs a model: `# model: knee-fes` (with `# subject: P1-L` ... `P3-R`) or `# model: fixed-hip` (`limbfuse simulate knee-fes|fixed-hip` writes them)")]
     NoModel {
         /// Method name.
-        method: String,
+        method: MethodName,
     },
     /// `# model:` names an unknown model.
     #[error("unknown model `{0}` in the trial metadata; known: knee-fes, fixed-hip")]
@@ -83,8 +88,8 @@ pub enum FesBuildError {
     /// The parameters are unphysical.
     #[error("unphysical model parameters: {0}")]
     Model(#[from] ModelError),
-    /// The TOML file cannot be read or parsed.
-    #[error("{path}: {message}")]
+    /// A value of the parameter file is out of range.
+    #[error("{}: {message}", path.display())]
     File {
         /// File path.
         path: PathBuf,
@@ -164,10 +169,8 @@ pub fn set_hip_param(p: &mut FixedHipParams, key: &str, v: f64) -> bool {
 
 impl FesModel {
     /// The model of a trial's metadata (preset + `param.*` overrides).
-    pub fn from_meta(meta: &TrialMeta, method: &str) -> Result<Self, FesBuildError> {
-        let name = meta.get("model").ok_or_else(|| FesBuildError::NoModel {
-            method: method.to_string(),
-        })?;
+    pub fn from_meta(meta: &TrialMeta, method: MethodName) -> Result<Self, FesBuildError> {
+        let name = meta.get("model").ok_or(FesBuildError::NoModel { method })?;
         let mut m = match name.trim() {
             "knee-fes" => {
                 let subject = meta.get("subject").unwrap_or("P1-L").trim();
@@ -238,62 +241,139 @@ impl FesModel {
     }
 }
 
-/// Overrides read from a TOML file.
-#[derive(Debug, Clone, Default)]
-struct Overrides {
-    model: Vec<(String, f64)>,
-    tuning: Vec<(String, Vec<f64>)>,
-    rmx: Vec<(String, f64)>,
+/// Which paper-004 estimator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FesMethod {
+    /// `sdre`: SDC linearisation (eqs 4.14-4.16).
+    Sdre,
+    /// `ekf`: Jacobian linearisation.
+    Ekf,
+    /// `rmx`: relative orientation of two Mahony filters.
+    Rmx,
 }
 
-fn read_overrides(path: &Path) -> Result<Overrides, FesBuildError> {
-    let file_err = |message: String| FesBuildError::File {
-        path: path.to_path_buf(),
-        message,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| file_err(format!("cannot read: {e}")))?;
-    let table: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| file_err(e.to_string()))?;
-    let mut o = Overrides::default();
-    let num = |v: &toml::Value, key: &str| -> Result<f64, FesBuildError> {
-        v.as_float()
-            .or_else(|| v.as_integer().map(|i| i as f64))
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| file_err(format!("`{key}` must be a number, found {v}")))
-    };
-    for (section, v) in &table {
-        let t = v
-            .as_table()
-            .ok_or_else(|| file_err(format!("`{section}` must be a table ([{section}])")))?;
-        for (key, val) in t {
-            match section.as_str() {
-                "model" => o.model.push((key.clone(), num(val, key)?)),
-                "rmx" => o.rmx.push((key.clone(), num(val, key)?)),
-                "tuning" => {
-                    let list = match val.as_array() {
-                        Some(a) => a
-                            .iter()
-                            .map(|x| num(x, key))
-                            .collect::<Result<Vec<_>, _>>()?,
-                        None => vec![num(val, key)?],
-                    };
-                    o.tuning.push((key.clone(), list));
-                }
-                other => {
-                    return Err(file_err(format!(
-                        "unknown section [{other}]; known: [model], [tuning], [rmx]"
-                    )))
-                }
-            }
+impl FesMethod {
+    /// The method this is.
+    pub const fn method(self) -> MethodName {
+        match self {
+            FesMethod::Sdre => MethodName::Sdre,
+            FesMethod::Ekf => MethodName::Ekf,
+            FesMethod::Rmx => MethodName::Rmx,
         }
     }
-    Ok(o)
+
+    /// The paper-004 estimator `method` is, if it is one.
+    pub const fn from_method(method: MethodName) -> Option<Self> {
+        match method {
+            MethodName::Sdre => Some(FesMethod::Sdre),
+            MethodName::Ekf => Some(FesMethod::Ekf),
+            MethodName::Rmx => Some(FesMethod::Rmx),
+            _ => None,
+        }
+    }
+}
+
+/// A number or a list of numbers (`q = 1e-4` or `q = [1e-4, 5.0]`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+enum Numbers {
+    One(f64),
+    Many(Vec<f64>),
+}
+
+impl Numbers {
+    fn values(&self) -> Vec<f64> {
+        match self {
+            Numbers::One(x) => vec![*x],
+            Numbers::Many(v) => v.clone(),
+        }
+    }
+}
+
+/// `[tuning]` of an FES parameter file: diagonals of Q, S, P0, the gain a
+/// and the RK4 sub-step (docs/FES_ESTIMATION.md).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FesTuningFile {
+    q: Option<Numbers>,
+    s: Option<Numbers>,
+    a: Option<Numbers>,
+    p0: Option<Numbers>,
+    max_substep: Option<Numbers>,
+}
+
+/// `[rmx]` of an FES parameter file: the Mahony gains.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RmxFile {
+    /// Proportional gain (1/s).
+    pub kp: Option<f64>,
+    /// Integral gain (1/s^2).
+    pub ki: Option<f64>,
+}
+
+/// A parameter file of `sdre`, `ekf` or `rmx` (typed, unknown keys are
+/// errors with line and column; model keys are checked against the trial's
+/// model when the estimator is built).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FesParamsFile {
+    /// Optional; must match `--method` when present.
+    pub method: Option<MethodName>,
+    /// Model parameter overrides, same names as the `param.*` metadata keys.
+    #[serde(default)]
+    pub model: BTreeMap<String, f64>,
+    /// Filter tuning of `sdre` / `ekf`.
+    #[serde(default)]
+    pub tuning: FesTuningFile,
+    /// Gains of `rmx`.
+    #[serde(default)]
+    pub rmx: RmxFile,
+    /// The file the values came from (`-` for none), for messages.
+    #[serde(skip)]
+    pub path: PathBuf,
+}
+
+impl FesParamsFile {
+    /// No overrides.
+    pub fn none() -> Self {
+        FesParamsFile {
+            path: PathBuf::from("-"),
+            ..Default::default()
+        }
+    }
+
+    /// Parses a file's text; `path` names it in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, ParamsFileError> {
+        let mut f: FesParamsFile = crate::params_toml::from_str(text, path)?;
+        f.path = path.to_path_buf();
+        if let Some((k, v)) = f.model.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(ParamsFileError::Invalid {
+                path: path.to_path_buf(),
+                message: format!("[model] `{k}` must be a finite number, found {v}"),
+            });
+        }
+        Ok(f)
+    }
+
+    fn tuning_entries(&self) -> Vec<(&'static str, Vec<f64>)> {
+        let t = &self.tuning;
+        [
+            ("q", &t.q),
+            ("s", &t.s),
+            ("a", &t.a),
+            ("p0", &t.p0),
+            ("max_substep", &t.max_substep),
+        ]
+        .into_iter()
+        .filter_map(|(k, v)| v.as_ref().map(|v| (k, v.values())))
+        .collect()
+    }
 }
 
 fn apply_tuning<const N: usize, const M: usize>(
     t: &mut ContinuousTuning<N, M>,
-    o: &[(String, Vec<f64>)],
+    o: &[(&'static str, Vec<f64>)],
     path: &Path,
 ) -> Result<(), FesBuildError> {
     let err = |message: String| FesBuildError::File {
@@ -313,7 +393,10 @@ fn apply_tuning<const N: usize, const M: usize>(
         Ok(())
     };
     for (key, v) in o {
-        match key.as_str() {
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(err(format!("[tuning] {key} must be finite")));
+        }
+        match *key {
             "q" => {
                 vector(key, v, N)?;
                 t.q = SVector::from_column_slice(v);
@@ -340,67 +423,53 @@ fn apply_tuning<const N: usize, const M: usize>(
                 }
                 t.max_substep = v[0];
             }
-            other => {
-                return Err(err(format!(
-                    "unknown [tuning] key `{other}`; known: q, s, a, p0, max_substep"
-                )))
-            }
+            _ => unreachable!("FesTuningFile has exactly these keys"),
         }
     }
     Ok(())
 }
 
 /// Builds `sdre`, `ekf` or `rmx` for a trial with the given metadata and
-/// layout, with optional TOML overrides.
+/// layout, with the overrides of a parameter file.
 pub fn build_fes_estimator(
-    method: &str,
+    method: FesMethod,
     meta: &TrialMeta,
     layout: &TrialLayout,
-    params: Option<&Path>,
-) -> Result<Box<dyn Estimator>, FesBuildError> {
-    let o = match params {
-        Some(p) => read_overrides(p)?,
-        None => Overrides::default(),
-    };
-    let path = params.unwrap_or(Path::new("-"));
-    if method == "rmx" {
-        let mut g = MahonyGains::default();
-        for (k, v) in &o.rmx {
-            match k.as_str() {
-                "kp" => g.kp = *v,
-                "ki" => g.ki = *v,
-                other => {
-                    return Err(FesBuildError::File {
-                        path: path.to_path_buf(),
-                        message: format!("unknown [rmx] key `{other}`; known: kp, ki"),
-                    })
-                }
+    file: &FesParamsFile,
+) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
+    let path = file.path.as_path();
+    let lin = match method {
+        FesMethod::Rmx => {
+            let mut g = MahonyGains::default();
+            if let Some(kp) = file.rmx.kp {
+                g.kp = kp;
             }
+            if let Some(ki) = file.rmx.ki {
+                g.ki = ki;
+            }
+            return Ok(Box::new(RotationMatrixKnee::with_gains(g)));
         }
-        return Ok(Box::new(RotationMatrixKnee::with_gains(g)));
-    }
-    let lin = if method == "sdre" {
-        Linearisation::Sdc
-    } else {
-        Linearisation::Jacobian
+        FesMethod::Sdre => Linearisation::Sdc,
+        FesMethod::Ekf => Linearisation::Jacobian,
     };
-    let mut model = FesModel::from_meta(meta, method)?;
+    let mut model = FesModel::from_meta(meta, method.method())?;
     let source = path.display().to_string();
-    for (k, v) in &o.model {
+    for (k, v) in &file.model {
         model.set(&source, k, *v)?;
     }
     model.check_layout(layout)?;
+    let tuning = file.tuning_entries();
     Ok(match model {
         FesModel::Knee(p, thigh) => {
             let mut t = knee_default_tuning(lin);
-            apply_tuning(&mut t, &o.tuning, path)?;
+            apply_tuning(&mut t, &tuning, path)?;
             let mut plant = KneePlant::new(KneeFesModel::new(p)?);
             plant.thigh_angle = thigh;
             Box::new(FesFilter::new(plant, lin, t))
         }
         FesModel::FixedHip(p) => {
             let mut t = fixed_hip_default_tuning(lin);
-            apply_tuning(&mut t, &o.tuning, path)?;
+            apply_tuning(&mut t, &tuning, path)?;
             Box::new(FesFilter::new(
                 FixedHipPlant {
                     model: FixedHipModel::new(p)?,
@@ -410,4 +479,60 @@ pub fn build_fes_estimator(
             ))
         }
     })
+}
+
+/// The default parameter file of `sdre`, `ekf` or `rmx`, commented
+/// (`limbfuse params --method NAME`). The model and the default tuning come
+/// from the trial's `# model:` metadata, so they are listed as comments.
+pub fn default_file(method: MethodName) -> String {
+    use std::fmt::Write as _;
+    let mut s = format!(
+        "# limbfuse {method} parameters (paper 004; docs/FES_ESTIMATION.md).\n\
+         # The model comes from the trial's `# model:` / `# subject:` / `# param.*` lines;\n\
+         # every key below overrides it.\n\
+         method = \"{method}\"\n\n"
+    );
+    if method == MethodName::Rmx {
+        let g = MahonyGains::default();
+        let _ = write!(
+            s,
+            "[rmx]  # Mahony gains\nkp = {:?}  # 1/s\nki = {:?}  # 1/s^2\n",
+            g.kp, g.ki
+        );
+        return s;
+    }
+    let lin = if method == MethodName::Sdre {
+        Linearisation::Sdc
+    } else {
+        Linearisation::Jacobian
+    };
+    let knee = knee_default_tuning(lin);
+    let hip = fixed_hip_default_tuning(lin);
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(
+        s,
+        "[model]  # e.g. inertia = 0.45 (knee-fes keys: inertia, mass, l_c, g, phi0, theta_eq, t_a, d1-d6, c0-c3, i_threshold_ma, i_saturation_ma)\n"
+    );
+    let _ = writeln!(
+        s,
+        "[tuning]  # defaults per model; uncomment to override\n\
+         # knee-fes:  q = [{}]  s = [{}]  a = {:?}  p0 = [{}]  max_substep = {:?}\n\
+         # fixed-hip: q = [{}]  s = [{}]  a = {:?}  p0 = [{}]  max_substep = {:?}",
+        list(knee.q.as_slice()),
+        list(knee.s.as_slice()),
+        knee.a,
+        list(knee.p0.as_slice()),
+        knee.max_substep,
+        list(hip.q.as_slice()),
+        list(hip.s.as_slice()),
+        hip.a,
+        list(hip.p0.as_slice()),
+        hip.max_substep,
+    );
+    s
 }

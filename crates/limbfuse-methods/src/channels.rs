@@ -1,0 +1,97 @@
+//! The trial columns each method reads, checked before any sample is read.
+
+use limbfuse_core::{Joint, Segment};
+use limbfuse_io::TrialLayout;
+
+use crate::MethodName;
+
+/// Columns a method cannot run without.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ChannelNeeds {
+    /// Accelerometer `SEG_acc_x/y/z`, per segment (trunk, thigh, shank, foot).
+    pub acc: [bool; 4],
+    /// Gyroscope `SEG_gyr_x/y/z`, per segment.
+    pub gyr: [bool; 4],
+    /// Joint encoders `hip_enc`, `knee_enc`, `ankle_enc`.
+    pub encoder: [bool; 3],
+    /// CoM position measurements `com_meas_x/y/z`.
+    pub com_position: bool,
+}
+
+impl ChannelNeeds {
+    const fn imus(segments: [bool; 4]) -> Self {
+        ChannelNeeds {
+            acc: segments,
+            gyr: segments,
+            encoder: [false; 3],
+            com_position: false,
+        }
+    }
+
+    /// The column groups of these needs that `layout` lacks, as column
+    /// patterns (`thigh_acc_x/y/z`, `knee_enc`, ...).
+    pub fn missing(&self, layout: &TrialLayout) -> Vec<String> {
+        let mut out = Vec::new();
+        for s in Segment::ALL {
+            let i = s.index();
+            if self.acc[i] && !layout.acc[i] {
+                out.push(format!("{}_acc_x/y/z", s.name()));
+            }
+            if self.gyr[i] && !layout.gyr[i] {
+                out.push(format!("{}_gyr_x/y/z", s.name()));
+            }
+        }
+        for j in Joint::ALL {
+            if self.encoder[j.index()] && !layout.encoder[j.index()] {
+                out.push(format!("{}_enc", j.name()));
+            }
+        }
+        if self.com_position && !layout.com_meas[..3].iter().all(|&b| b) {
+            out.push("com_meas_x, com_meas_y, com_meas_z".to_string());
+        }
+        out
+    }
+}
+
+impl MethodName {
+    /// The columns the method needs in every trial. Model inputs of the
+    /// paper-004 filters (`u_*`, motor torques) depend on the trial's model
+    /// and are checked when the estimator is built.
+    pub const fn required_channels(self) -> ChannelNeeds {
+        const ALL4: [bool; 4] = [true; 4];
+        const THIGH_SHANK: [bool; 4] = [false, true, true, false];
+        const SHANK: [bool; 4] = [false, false, true, false];
+        match self {
+            MethodName::GyroIntegration | MethodName::AccelInclination => {
+                ChannelNeeds::imus([false; 4])
+            }
+            MethodName::Local | MethodName::Global => ChannelNeeds::imus(ALL4),
+            MethodName::Mjls => ChannelNeeds {
+                encoder: [true; 3],
+                ..ChannelNeeds::imus(ALL4)
+            },
+            MethodName::KneeSelfAlign | MethodName::Rmx => ChannelNeeds::imus(THIGH_SHANK),
+            MethodName::Sdre | MethodName::Ekf => ChannelNeeds::imus(SHANK),
+            MethodName::ImmBslip => ChannelNeeds {
+                com_position: true,
+                ..ChannelNeeds::imus([false; 4])
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mjls_lists_missing_encoders_and_imus() {
+        let mut l = TrialLayout::default();
+        l.acc = [true; 4];
+        l.gyr = [true, true, false, true];
+        l.encoder = [true, false, true];
+        let m = MethodName::Mjls.required_channels().missing(&l);
+        assert_eq!(m, ["shank_gyr_x/y/z", "knee_enc"]);
+        assert!(MethodName::Global.required_channels().missing(&l).len() == 1);
+    }
+}

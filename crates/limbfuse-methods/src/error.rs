@@ -1,0 +1,91 @@
+//! The one error type of the method layer: resolving a method's settings
+//! (name, parameter file, flags) and building it for a trial.
+
+use std::path::PathBuf;
+
+use limbfuse_estimators::knee_selfalign::KneeParamError;
+use limbfuse_estimators::segment_kf::ParamError;
+use limbfuse_io::gait_library::LibraryFileError;
+
+use crate::fes_params::FesBuildError;
+use crate::name::UnknownMethod;
+use crate::segment_params::ParamsFileError;
+use crate::MethodName;
+
+/// Why a method could not be configured or built.
+#[derive(Debug, thiserror::Error)]
+pub enum MethodError {
+    /// The name is not a method.
+    #[error(transparent)]
+    Unknown(#[from] UnknownMethod),
+    /// The parameter file cannot be read, is not valid, or has a key that
+    /// does not belong to the method (file, line, column, key).
+    #[error(transparent)]
+    ParamsFile(#[from] ParamsFileError),
+    /// A command-line flag that the method does not take.
+    #[error("{flags} apply to method {owner} only, not to `{method}`")]
+    FlagNotForMethod {
+        /// The flags, as typed.
+        flags: &'static str,
+        /// The method they belong to.
+        owner: MethodName,
+        /// The method being configured.
+        method: MethodName,
+    },
+    /// A flag's value is not one of the accepted ones.
+    #[error("{flag}: expected {expected}, found `{found}`")]
+    BadFlagValue {
+        /// The flag.
+        flag: &'static str,
+        /// The accepted values.
+        expected: &'static str,
+        /// What was given.
+        found: String,
+    },
+    /// A setting the method cannot run without.
+    #[error("method `{method}` needs {what}")]
+    Missing {
+        /// The method.
+        method: MethodName,
+        /// What is missing and how to get it.
+        what: &'static str,
+    },
+    /// A segment-filter parameter out of range.
+    #[error(transparent)]
+    SegmentParams(#[from] ParamError),
+    /// A knee-selfalign setting out of range.
+    #[error("{0} (--window counts samples: 20 to 100000; --order: 1 to 100)")]
+    KneeParams(#[from] KneeParamError),
+    /// An imm-bslip setting out of range.
+    #[error("method `imm-bslip`: {0}")]
+    ImmParams(String),
+    /// The gait library file cannot be used.
+    #[error(transparent)]
+    Library(#[from] LibraryFileError),
+    /// `rescale_height` is not a positive height.
+    #[error("--rescale-height {0}: expected a positive height in metres")]
+    RescaleHeight(f64),
+    /// The paper-004 estimator cannot be built for this trial.
+    #[error("cannot run `{method}`: {source}")]
+    Fes {
+        /// The method.
+        method: MethodName,
+        /// Why.
+        source: FesBuildError,
+    },
+    /// The trial lacks columns the method needs.
+    #[error("method `{method}` {why}, but the trial has no {} column(s){hint}", missing.join(", "))]
+    MissingChannels {
+        /// The method.
+        method: MethodName,
+        /// What the method does with them.
+        why: &'static str,
+        /// The missing column groups.
+        missing: Vec<String>,
+        /// What to do instead ("" or "; use ...").
+        hint: &'static str,
+    },
+    /// A library path in a parameter file that is not valid UTF-8 or empty.
+    #[error("{}: `library` must name a gait library file", .0.display())]
+    BadLibraryPath(PathBuf),
+}

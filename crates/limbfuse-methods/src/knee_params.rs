@@ -1,0 +1,112 @@
+//! The parameter file of `knee-selfalign` (paper 002) and its flags.
+//!
+//! ```toml
+//! method = "knee-selfalign"   # optional
+//! window = 500                # s_w, samples (--window)
+//! order = 6                   # parameter-EKF iterations per window (--order)
+//! zero = "sensor-positions"   # or "paper-c": which sensor pose is 0 deg
+//! ```
+
+use std::path::Path;
+
+use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
+use serde::Deserialize;
+
+use crate::{MethodError, MethodFlags, MethodName};
+
+/// The zero of the accelerometer angle, as written in a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+enum ZeroName {
+    #[serde(rename = "sensor-positions")]
+    SensorPositions,
+    #[serde(rename = "paper-c")]
+    PaperC,
+}
+
+/// A `knee-selfalign` parameter file.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KneeSelfAlignFile {
+    method: Option<MethodName>,
+    window: Option<usize>,
+    order: Option<usize>,
+    zero: Option<ZeroName>,
+}
+
+/// The parameters of a parameter file's text (or the paper defaults for
+/// none) with `--window` / `--order` applied on top, validated.
+pub fn knee_params(
+    file: Option<(&str, &Path)>,
+    flags: &MethodFlags,
+) -> Result<KneeSelfAlignParams, MethodError> {
+    let f: KneeSelfAlignFile = match file {
+        Some((text, path)) => crate::params_toml::from_str(text, path)?,
+        None => KneeSelfAlignFile::default(),
+    };
+    if let (Some(m), Some((_, path))) = (f.method, file) {
+        crate::spec::check_file_method(m, MethodName::KneeSelfAlign, path)?;
+    }
+    let d = KneeSelfAlignParams::default();
+    let p = KneeSelfAlignParams {
+        window: flags.window.or(f.window).unwrap_or(d.window),
+        order: flags.order.or(f.order).unwrap_or(d.order),
+        zero: match f.zero {
+            None => d.zero,
+            Some(ZeroName::SensorPositions) => AngleZero::SensorPositions,
+            Some(ZeroName::PaperC) => AngleZero::PaperC,
+        },
+        ..d
+    };
+    p.validate()?;
+    Ok(p)
+}
+
+/// The estimator.
+pub fn build_knee(p: &KneeSelfAlignParams) -> Result<KneeSelfAlign, MethodError> {
+    Ok(KneeSelfAlign::new(*p)?)
+}
+
+/// The default file, commented (`limbfuse params --method knee-selfalign`).
+pub fn default_file() -> String {
+    let d = KneeSelfAlignParams::default();
+    format!(
+        "# limbfuse knee-selfalign parameters (paper 002; docs/KNEE_SELFALIGN.md).\n\
+         method = \"knee-selfalign\"\n\
+         window = {}  # s_w, samples (20 to 100000); --window overrides\n\
+         order = {}  # parameter-EKF iterations per window (1 to 100); --order overrides\n\
+         zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n",
+        d.window,
+        d.order,
+        d.zero.name()
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_override_the_file_and_unknown_keys_are_errors() {
+        let path = Path::new("k.toml");
+        let flags = MethodFlags {
+            order: Some(3),
+            ..Default::default()
+        };
+        let p = knee_params(Some(("window = 300\norder = 5\n", path)), &flags).unwrap();
+        assert_eq!((p.window, p.order), (300, 3));
+        let e = knee_params(Some(("windw = 300\n", path)), &flags).unwrap_err();
+        assert!(e.to_string().contains("k.toml:1:1"), "{e}");
+        let e = knee_params(Some(("window = 3\n", path)), &MethodFlags::default()).unwrap_err();
+        assert!(e.to_string().contains("window"), "{e}");
+    }
+
+    #[test]
+    fn the_default_file_reads_back_to_the_defaults() {
+        let p = knee_params(
+            Some((&default_file(), Path::new("d.toml"))),
+            &MethodFlags::default(),
+        )
+        .unwrap();
+        assert_eq!(p, KneeSelfAlignParams::default());
+    }
+}

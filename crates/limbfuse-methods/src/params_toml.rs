@@ -1,0 +1,99 @@
+//! What every parameter file (`--params FILE.toml`) shares: TOML read into a
+//! method's typed file struct (`deny_unknown_fields`), errors that name the
+//! file, line, column and key.
+
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+
+/// Why a parameter file could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ParamsFileError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, an unknown key or a value of the wrong type.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Syntax {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong (names the key).
+        message: String,
+    },
+    /// A key that does not apply or a value out of range.
+    #[error("{}: {message}", path.display())]
+    Invalid {
+        /// File path.
+        path: PathBuf,
+        /// What is wrong (names the key and the accepted range).
+        message: String,
+    },
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rfind('\n')
+        .map_or(before.len(), |k| before.len() - k - 1)
+        + 1;
+    (line, col)
+}
+
+/// Reads a parameter file's text.
+pub fn read(path: &Path) -> Result<String, ParamsFileError> {
+    std::fs::read_to_string(path).map_err(|source| ParamsFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Parses `text` into a method's typed file struct; `path` names it in
+/// errors, which carry the line and column of the offending key or value.
+pub fn from_str<T: DeserializeOwned>(text: &str, path: &Path) -> Result<T, ParamsFileError> {
+    toml::from_str(text).map_err(|e| {
+        let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
+        ParamsFileError::Syntax {
+            path: path.to_path_buf(),
+            line,
+            column,
+            message: e.message().trim().to_string(),
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column_are_one_based() {
+        assert_eq!(line_col("ab\ncd", 0), (1, 1));
+        assert_eq!(line_col("ab\ncd", 4), (2, 2));
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Two {
+        a: f64,
+    }
+
+    #[test]
+    fn unknown_keys_name_line_and_column() {
+        let e = from_str::<Two>("a = 1.0\nbee = 2\n", Path::new("f.toml")).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.starts_with("f.toml:2:1:"), "{msg}");
+        assert!(msg.contains("bee"), "{msg}");
+    }
+}
