@@ -28,11 +28,13 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
+use limbfuse_methods::MethodName;
+
 use crate::evaluation::EvalOptions;
 use crate::metrics::AngleMetrics;
 
 /// The filters compared, in output order.
-pub const METHODS: [&str; 3] = ["local", "mjls", "global"];
+pub const METHODS: [MethodName; 3] = [MethodName::Local, MethodName::Mjls, MethodName::Global];
 
 /// What to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -202,7 +204,7 @@ pub fn monte_carlo(
                 .sum::<f64>()
                 / (n - 1.0).max(1.0);
             rows.push(MonteCarloRow {
-                method,
+                method: method.name(),
                 level,
                 mean_rmse_deg: mean,
                 std_rmse_deg: var.sqrt(),

@@ -35,14 +35,14 @@ pub fn write_svg(rows: &[MonteCarloRow], path: &Path, title: &str) -> Result<(),
     for (m, method) in METHODS.iter().enumerate() {
         let pts: Vec<(f64, f64)> = rows
             .iter()
-            .filter(|r| r.method == *method)
+            .filter(|r| r.method == method.name())
             .map(|r| (r.level * 100.0, r.mean_rmse_deg))
             .collect();
         let c = colours[m];
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
             .map_err(|e| err(&e))?
-            .label(*method)
+            .label(method.name())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
         chart
             .draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))

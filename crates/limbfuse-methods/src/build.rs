@@ -49,14 +49,14 @@ pub fn check_channels(method: MethodName, layout: &TrialLayout) -> Result<(), Me
 }
 
 /// A new estimator of `spec` for a trial with this metadata and these
-/// columns. Checks the columns first.
+/// columns. Model errors (paper 004: the trial's `# model:`) come first,
+/// then missing columns.
 pub fn build(
     spec: &MethodSpec,
     meta: &TrialMeta,
     layout: &TrialLayout,
 ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-    check_channels(spec.method(), layout)?;
-    Ok(match spec {
+    let est: Box<dyn Estimator + Send> = match spec {
         MethodSpec::GyroIntegration => Box::new(GyroIntegration::new()),
         MethodSpec::AccelInclination => Box::new(AccelInclination::new()),
         MethodSpec::SegmentFilter(p) => p.build()?,
@@ -68,5 +68,7 @@ pub fn build(
             })?
         }
         MethodSpec::ImmBslip(s) => Box::new(build_imm(s, layout)?),
-    })
+    };
+    check_channels(spec.method(), layout)?;
+    Ok(est)
 }
