@@ -35,10 +35,17 @@ fn too_long(files: &[PathBuf]) -> Vec<String> {
 #[test]
 fn no_source_file_is_over_600_lines() {
     let mut files = Vec::new();
-    sources(&Path::new(env!("CARGO_MANIFEST_DIR")).join(".."), &mut files);
+    sources(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join(".."),
+        &mut files,
+    );
     assert!(files.len() > 50, "found only {} sources", files.len());
     let long = too_long(&files);
-    assert!(long.is_empty(), "split these by concept:\n{}", long.join("\n"));
+    assert!(
+        long.is_empty(),
+        "split these by concept:\n{}",
+        long.join("\n")
+    );
 }
 
 #[test]

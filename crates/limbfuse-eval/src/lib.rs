@@ -14,12 +14,8 @@ pub mod fes_study;
 pub mod gait_evaluation;
 pub mod knee_study;
 pub mod metrics;
-pub mod monte_carlo;
-pub mod monte_carlo_plot;
-pub mod protocol;
 pub mod stats;
 pub mod sync_lag;
-pub mod tuning;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};

@@ -2,9 +2,9 @@
 
 use anyhow::{anyhow, bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use limbfuse_eval::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
-use limbfuse_eval::monte_carlo_plot::write_svg;
 use limbfuse_sim::WalkingConfig;
+use limbfuse_workflows::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
+use limbfuse_workflows::monte_carlo_plot::write_svg;
 
 use crate::cli::MonteCarloArgs;
 

@@ -1,12 +1,12 @@
 //! `limbfuse evaluate TRIAL --method NAME [--params FILE] --starts N`: paper
-//! 001's validation from N starting points (`limbfuse_eval::protocol`).
+//! 001's validation from N starting points (`limbfuse_workflows::protocol`).
 
 use anyhow::{anyhow, bail, Context, Result};
 use limbfuse_core::{Estimator, Record};
-use limbfuse_eval::protocol::{multi_start, plan_intervals, StartPlan};
 use limbfuse_eval::TimeWindow;
 use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
 use limbfuse_methods::{build, check_channels, MethodFlags, MethodName};
+use limbfuse_workflows::protocol::{multi_start, plan_intervals, StartPlan};
 
 use crate::cli::EvaluateArgs;
 use crate::methods;

@@ -27,8 +27,8 @@ use limbfuse_core::{Estimator, Record};
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
-use crate::evaluation::{EvalOptions, TimeWindow};
-use crate::metrics::{AngleMetrics, Evaluation};
+use limbfuse_eval::{AngleMetrics, Evaluation};
+use limbfuse_eval::{EvalOptions, TimeWindow};
 
 /// Largest number of starting points.
 pub const MAX_STARTS: usize = 10_000;

@@ -2,8 +2,8 @@
 //! per filter and level, perturbation that really changes the parameters.
 
 use limbfuse_estimators::segment_kf::CommonParams;
-use limbfuse_eval::monte_carlo::{monte_carlo, perturb, write_csv, MonteCarloConfig};
 use limbfuse_sim::WalkingConfig;
+use limbfuse_workflows::monte_carlo::{monte_carlo, perturb, write_csv, MonteCarloConfig};
 use rand::SeedableRng;
 
 fn small() -> MonteCarloConfig {

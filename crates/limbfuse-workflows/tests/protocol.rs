@@ -5,10 +5,10 @@ use std::fmt;
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, Outputs, Record, Sample, Segment};
-use limbfuse_eval::protocol::{multi_start, plan_intervals, slice_interval, StartPlan};
 use limbfuse_eval::TimeWindow;
 use limbfuse_methods::segment_params::{FilterMethod, FilterParams, Preset};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_workflows::protocol::{multi_start, plan_intervals, slice_interval, StartPlan};
 
 /// Outputs thigh = time since its first sample, trunk = 0.
 #[derive(Default)]

@@ -30,8 +30,8 @@ use rayon::prelude::*;
 
 use limbfuse_methods::MethodName;
 
-use crate::evaluation::EvalOptions;
-use crate::metrics::AngleMetrics;
+use limbfuse_eval::AngleMetrics;
+use limbfuse_eval::EvalOptions;
 
 /// The filters compared, in output order.
 pub const METHODS: [MethodName; 3] = [MethodName::Local, MethodName::Mjls, MethodName::Global];

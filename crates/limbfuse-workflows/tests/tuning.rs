@@ -6,11 +6,11 @@ use std::path::Path;
 use std::time::Instant;
 
 use limbfuse_core::Record;
-use limbfuse_eval::protocol::{plan_intervals, slice_interval, StartPlan};
-use limbfuse_eval::tuning::{objective_deg, tune, SearchSpace, TuneConfig};
 use limbfuse_eval::TimeWindow;
 use limbfuse_methods::segment_params::{parse_params, to_toml, FilterMethod, FilterParams, Preset};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_workflows::protocol::{plan_intervals, slice_interval, StartPlan};
+use limbfuse_workflows::tuning::{objective_deg, tune, SearchSpace, TuneConfig};
 
 fn trial() -> Vec<Record> {
     WalkingSimulator::new(WalkingConfig {

@@ -1,0 +1,15 @@
+//! # limbfuse-workflows
+//!
+//! What a study or a command does with estimators, above the method layer
+//! and the metrics, so that the CLI and the Python package call the same
+//! code: paper 001's multi-start protocol ([`protocol`]), noise tuning
+//! ([`tuning`]) and the tune-then-validate loop of `limbfuse tune`
+//! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
+//! [`monte_carlo_plot`]).
+#![deny(missing_docs)]
+
+pub mod monte_carlo;
+pub mod monte_carlo_plot;
+pub mod protocol;
+pub mod tune_validate;
+pub mod tuning;
