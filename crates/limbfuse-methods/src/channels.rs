@@ -3,7 +3,8 @@
 use limbfuse_core::{Joint, Segment};
 use limbfuse_io::TrialLayout;
 
-use crate::MethodName;
+use crate::method_def::MethodInfo;
+use crate::{MethodError, MethodName};
 
 /// Columns a method cannot run without.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -19,7 +20,13 @@ pub struct ChannelNeeds {
 }
 
 impl ChannelNeeds {
-    const fn imus(segments: [bool; 4]) -> Self {
+    /// Nothing.
+    pub const NONE: ChannelNeeds = ChannelNeeds::imus([false; 4]);
+    /// The four IMUs.
+    pub const FOUR_IMUS: ChannelNeeds = ChannelNeeds::imus([true; 4]);
+
+    /// Accelerometer and gyroscope of these segments (trunk, thigh, shank, foot).
+    pub const fn imus(segments: [bool; 4]) -> Self {
         ChannelNeeds {
             acc: segments,
             gyr: segments,
@@ -58,26 +65,22 @@ impl MethodName {
     /// paper-004 filters (`u_*`, motor torques) depend on the trial's model
     /// and are checked when the estimator is built.
     pub const fn required_channels(self) -> ChannelNeeds {
-        const ALL4: [bool; 4] = [true; 4];
-        const THIGH_SHANK: [bool; 4] = [false, true, true, false];
-        const SHANK: [bool; 4] = [false, false, true, false];
-        match self {
-            MethodName::GyroIntegration | MethodName::AccelInclination => {
-                ChannelNeeds::imus([false; 4])
-            }
-            MethodName::Local | MethodName::Global => ChannelNeeds::imus(ALL4),
-            MethodName::Mjls => ChannelNeeds {
-                encoder: [true; 3],
-                ..ChannelNeeds::imus(ALL4)
-            },
-            MethodName::KneeSelfAlign | MethodName::Rmx => ChannelNeeds::imus(THIGH_SHANK),
-            MethodName::Sdre | MethodName::Ekf => ChannelNeeds::imus(SHANK),
-            MethodName::ImmBslip => ChannelNeeds {
-                com_position: true,
-                ..ChannelNeeds::imus([false; 4])
-            },
-        }
+        self.info().needs
     }
+}
+
+/// Checks a trial's columns against a method's [`MethodInfo::needs`].
+pub fn check_info(info: &MethodInfo, layout: &TrialLayout) -> Result<(), MethodError> {
+    let missing = info.needs.missing(layout);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    Err(MethodError::MissingChannels {
+        method: info.name,
+        why: info.needs_why,
+        missing,
+        hint: info.needs_hint,
+    })
 }
 
 #[cfg(test)]

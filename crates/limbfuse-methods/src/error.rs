@@ -77,7 +77,7 @@ pub enum MethodError {
     #[error("method `{method}` {why}, but the trial has no {} column(s){hint}", missing.join(", "))]
     MissingChannels {
         /// The method.
-        method: MethodName,
+        method: &'static str,
         /// What the method does with them.
         why: &'static str,
         /// The missing column groups.

@@ -12,19 +12,21 @@
 
 use std::path::{Path, PathBuf};
 
+use limbfuse_core::Estimator;
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
 use limbfuse_io::gait_library::GaitLibraryFile;
-use limbfuse_io::TrialLayout;
+use limbfuse_io::{TrialLayout, TrialMeta};
 use limbfuse_models::bslip::GaitTemplate;
 use serde::Deserialize;
 
-use crate::{MethodError, MethodFlags, MethodName};
+use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
+use crate::{ChannelNeeds, MethodError, MethodFlags, MethodName};
 
 /// An `imm-bslip` parameter file.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ImmBslipFile {
-    method: Option<MethodName>,
+    method: Option<String>,
     library: Option<PathBuf>,
     kappa: Option<f64>,
     rescale_height: Option<f64>,
@@ -93,13 +95,7 @@ pub fn load_templates(path: &Path, height: Option<f64>) -> Result<Vec<GaitTempla
 /// `imm-bslip` from a parameter file's text (or none) and the flags, which
 /// override the file.
 pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmSpec, MethodError> {
-    let f: ImmBslipFile = match file {
-        Some((text, path)) => crate::params_toml::from_str(text, path)?,
-        None => ImmBslipFile::default(),
-    };
-    if let (Some(m), Some((_, path))) = (f.method, file) {
-        crate::spec::check_file_method(m, MethodName::ImmBslip, path)?;
-    }
+    let f: ImmBslipFile = read_file::<ImmBslipMethod, _>(file)?;
     let in_file = |p: &PathBuf| match file {
         Some((_, path)) => path.parent().unwrap_or(Path::new("")).join(p),
         None => p.clone(),
@@ -148,6 +144,49 @@ pub fn build_imm(spec: &ImmSpec, layout: &TrialLayout) -> Result<ImmBslip, Metho
     params.weights = spec.weights;
     params.touchdown = spec.touchdown;
     ImmBslip::new(&spec.templates, params).map_err(|e| MethodError::ImmParams(e.to_string()))
+}
+
+impl MethodFile for ImmBslipFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+/// `imm-bslip` (paper 003).
+#[derive(Debug, Clone, Copy)]
+pub struct ImmBslipMethod;
+
+impl MethodDef for ImmBslipMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "imm-bslip",
+        "paper 003: gait phase and speed from CoM measurements, IMM over a B-SLIP gait library (--library)",
+        "com_meas_x/y/z (and com_meas_vx/vy when present)",
+        "library, kappa, rescale_height, weights, touchdown (file keys or --library, --kappa, ...)",
+    )
+    .needing(
+        ChannelNeeds {
+            com_position: true,
+            ..ChannelNeeds::NONE
+        },
+        "needs CoM measurement columns",
+    );
+    type Settings = ImmSpec;
+
+    fn resolve(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmSpec, MethodError> {
+        imm_spec(file, flags)
+    }
+
+    fn build(
+        spec: &ImmSpec,
+        _: &TrialMeta,
+        layout: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        Ok(Box::new(build_imm(spec, layout)?))
+    }
+
+    fn default_file() -> String {
+        default_file()
+    }
 }
 
 /// The default file, commented (`limbfuse params --method imm-bslip`).

@@ -12,7 +12,11 @@ use std::path::Path;
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
 
-use crate::{MethodError, MethodFlags, MethodName};
+use limbfuse_core::Estimator;
+use limbfuse_io::{TrialLayout, TrialMeta};
+
+use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
+use crate::{ChannelNeeds, MethodError, MethodFlags};
 
 /// The zero of the accelerometer angle, as written in a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -24,10 +28,10 @@ enum ZeroName {
 }
 
 /// A `knee-selfalign` parameter file.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct KneeSelfAlignFile {
-    method: Option<MethodName>,
+    method: Option<String>,
     window: Option<usize>,
     order: Option<usize>,
     zero: Option<ZeroName>,
@@ -39,13 +43,7 @@ pub fn knee_params(
     file: Option<(&str, &Path)>,
     flags: &MethodFlags,
 ) -> Result<KneeSelfAlignParams, MethodError> {
-    let f: KneeSelfAlignFile = match file {
-        Some((text, path)) => crate::params_toml::from_str(text, path)?,
-        None => KneeSelfAlignFile::default(),
-    };
-    if let (Some(m), Some((_, path))) = (f.method, file) {
-        crate::spec::check_file_method(m, MethodName::KneeSelfAlign, path)?;
-    }
+    let f: KneeSelfAlignFile = read_file::<KneeSelfAlignMethod, _>(file)?;
     let d = KneeSelfAlignParams::default();
     let p = KneeSelfAlignParams {
         window: flags.window.or(f.window).unwrap_or(d.window),
@@ -61,9 +59,47 @@ pub fn knee_params(
     Ok(p)
 }
 
-/// The estimator.
-pub fn build_knee(p: &KneeSelfAlignParams) -> Result<KneeSelfAlign, MethodError> {
-    Ok(KneeSelfAlign::new(*p)?)
+impl MethodFile for KneeSelfAlignFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+/// `knee-selfalign` (paper 002).
+#[derive(Debug, Clone, Copy)]
+pub struct KneeSelfAlignMethod;
+
+impl MethodDef for KneeSelfAlignMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "knee-selfalign",
+        "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
+        "raw thigh and shank IMUs (any mounting)",
+        "window, order, zero (file keys or --window/--order)",
+    )
+    .needing(
+        ChannelNeeds::imus([false, true, true, false]),
+        "needs the thigh and shank accelerometers and gyroscopes (the knee axis and angle come from both)",
+    );
+    type Settings = KneeSelfAlignParams;
+
+    fn resolve(
+        file: Option<(&str, &Path)>,
+        flags: &MethodFlags,
+    ) -> Result<KneeSelfAlignParams, MethodError> {
+        knee_params(file, flags)
+    }
+
+    fn build(
+        p: &KneeSelfAlignParams,
+        _: &TrialMeta,
+        _: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        Ok(Box::new(KneeSelfAlign::new(*p)?))
+    }
+
+    fn default_file() -> String {
+        default_file()
+    }
 }
 
 /// The default file, commented (`limbfuse params --method knee-selfalign`).

@@ -20,24 +20,35 @@
 //! - [`build`] turns a spec and a trial's metadata and columns into an
 //!   estimator; it does no I/O.
 //!
-//! Adding a method: write its estimator in `limbfuse-estimators`, add a
-//! [`MethodName`] variant with its [`MethodInfo`], a [`MethodSpec`] variant
-//! with its settings, and the arms the compiler then asks for.
+//! Adding a method: write its estimator in `limbfuse-estimators`, implement
+//! [`MethodDef`] for it (name and documentation, settings from a typed
+//! parameter file and flags, build for a trial, default file) and add one
+//! line to the registry ([`registry`]); [`MethodName`], [`MethodSpec`] and
+//! every dispatch follow from that line.
+//! `tests/adding_a_method.rs` does it for a trivial method.
 #![deny(missing_docs)]
 
+mod baseline_methods;
 mod build;
 pub mod channels;
 mod error;
+pub mod fes_methods;
 pub mod fes_params;
 pub mod imm_params;
 pub mod knee_params;
+pub mod method_def;
 mod name;
 pub mod params_toml;
+pub mod registry;
+pub mod segment_methods;
 pub mod segment_params;
 mod spec;
 
+pub use baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
 pub use build::{build, check_channels};
 pub use channels::ChannelNeeds;
 pub use error::MethodError;
-pub use name::{MethodInfo, MethodName, UnknownMethod};
-pub use spec::{default_params_file, MethodFlags, MethodSpec};
+pub use method_def::{build_with, read_file, resolve_with, MethodDef, MethodFile, MethodInfo};
+pub use name::{check_file_method, UnknownMethod};
+pub use registry::{default_params_file, MethodName, MethodSpec};
+pub use spec::MethodFlags;
