@@ -133,7 +133,10 @@ fn the_generic_path_rejects_what_does_not_belong_to_the_new_method() {
     let e = resolve_with::<ConstantAngleMethod>(Some(("method = \"mjls\"\n", path)), &flags)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("\"mjls\"") && e.contains("`constant-angle`"), "{e}");
+    assert!(
+        e.contains("\"mjls\"") && e.contains("`constant-angle`"),
+        "{e}"
+    );
     let e =
         build_with::<ConstantAngleMethod>(&0.0, &TrialMeta::trial_v1(), &TrialLayout::default())
             .err()

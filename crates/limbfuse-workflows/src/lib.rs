@@ -5,11 +5,13 @@
 //! code: paper 001's multi-start protocol ([`protocol`]), noise tuning
 //! ([`tuning`]) and the tune-then-validate loop of `limbfuse tune`
 //! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
-//! [`monte_carlo_plot`]).
+//! [`monte_carlo_plot`]), simulated trials with their metadata and columns
+//! ([`simulated_trials`]).
 #![deny(missing_docs)]
 
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod protocol;
+pub mod simulated_trials;
 pub mod tune_validate;
 pub mod tuning;

@@ -9,7 +9,8 @@ use limbfuse_core::runner::{self, Observer};
 use limbfuse_eval::{AngleMetrics, EvalOptions};
 use limbfuse_io::{EstimateWriter, TrialReader};
 use limbfuse_methods::{MethodName, MethodSpec};
-use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+use limbfuse_sim::knee_fes::KneeFesConfig;
+use limbfuse_workflows::simulated_trials;
 
 /// Simulates the knee-FES trial into `out`, runs the three methods, prints
 /// and returns the knee RMSE table.
@@ -19,9 +20,9 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
         seed,
         ..KneeFesConfig::default()
     };
-    let tr = simulate_knee_fes(&cfg).context("simulate knee-fes")?;
+    let sim = simulated_trials::knee_fes(&cfg, "limbfuse demo (knee-fes)")?;
     let trial = out.join("trial-knee-fes.csv");
-    super::fes::write_trial(&trial, "limbfuse demo (knee-fes)", cfg.rate_hz, &tr, false)?;
+    simulated_trials::write_trial(super::create_file(&trial)?, sim, &trial)?;
     let mut table = format!("{:<10}", "RMSE deg");
     let mut row = format!("{:<10}", "knee");
     for method in [MethodName::Sdre, MethodName::Ekf, MethodName::Rmx] {

@@ -10,12 +10,13 @@ use limbfuse_io::gait_library::{
     BodyRecord, GaitLibraryFile, GaitRecord, PhaseTrajectories, SearchRecord, XiRecord, FORMAT,
     VERSION,
 };
-use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
+use limbfuse_io::TrialReader;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::{build_library, lateral_excursion, LibraryGait};
 use limbfuse_sim::bslip::search::SearchSettings;
-use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
+use limbfuse_sim::bslip::trial::{BslipTrialConfig, ComChannels};
 use limbfuse_sim::bslip::walker::sample_step;
+use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{BslipArgs, GaitLibraryBuildArgs};
 
@@ -194,25 +195,8 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
         seed: a.seed,
         ..Default::default()
     };
-    let records = simulate_trial(&template, &cfg);
-    let mut meta = TrialMeta::trial_v1();
-    meta.set("source", "limbfuse simulate bslip");
-    meta.set("sample_rate_hz", a.rate);
-    meta.set("bslip_speed_mps", template.speed);
-    meta.set("bslip_step_time_s", template.step_time);
-    meta.set("seed", a.seed);
-    let mut layout = TrialLayout {
-        com_pos: true,
-        com_vel: true,
-        phase_ref: true,
-        ..Default::default()
-    };
-    layout.com_meas = [true, true, true, !a.position_only, !a.position_only, false];
-    let mut w = TrialWriter::new(super::create_file(&a.output)?, &meta, layout)?;
-    for r in &records {
-        w.write(r)?;
-    }
-    w.finish()?;
+    let trial = simulated_trials::bslip(&template, &cfg, "limbfuse simulate bslip");
+    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
     eprintln!(
         "simulated {:.1} s of B-SLIP walking at {} m/s ({} Hz, {} channels, seed {}) -> {}",
         a.duration,
@@ -238,21 +222,12 @@ pub fn demo(dir: &Path) -> Result<()> {
     let templates: Vec<GaitTemplate> = lib.iter().map(|g| g.template(&body)).collect();
     let trial = dir.join("bslip_trial.csv");
     let estimate = dir.join("bslip_imm.csv");
-    let records = simulate_trial(&templates[1], &BslipTrialConfig::default());
-    let mut meta = TrialMeta::trial_v1();
-    meta.set("source", "limbfuse demo (B-SLIP 0.7 m/s)");
-    let mut layout = TrialLayout {
-        com_pos: true,
-        com_vel: true,
-        phase_ref: true,
-        ..Default::default()
-    };
-    layout.com_meas = [true, true, true, true, true, false];
-    let mut w = TrialWriter::new(super::create_file(&trial)?, &meta, layout)?;
-    for r in &records {
-        w.write(r)?;
-    }
-    w.finish()?;
+    let sim = simulated_trials::bslip(
+        &templates[1],
+        &BslipTrialConfig::default(),
+        "limbfuse demo (B-SLIP 0.7 m/s)",
+    );
+    simulated_trials::write_trial(super::create_file(&trial)?, sim, &trial)?;
     let mut imm = ImmBslip::new(&templates, ImmBslipParams::full_com())?;
     super::estimate::run_to_file(
         &mut imm,

@@ -1,9 +1,8 @@
 //! `limbfuse simulate walking ... -o trial.csv`.
 
-use anyhow::{Context, Result};
-use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
+use anyhow::Result;
 use limbfuse_sim::config::{Mounting, WalkingConfig};
-use limbfuse_sim::WalkingSimulator;
+use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{MountingArg, WalkingArgs};
 
@@ -39,15 +38,7 @@ pub fn walking(a: &WalkingArgs) -> Result<()> {
 /// Simulates and writes the trial; returns a one-line summary.
 pub fn write_walking(a: &WalkingArgs) -> Result<String> {
     let cfg = walking_config(a);
-    let sim = WalkingSimulator::new(cfg).context("simulate walking")?;
-    let mut meta = TrialMeta::trial_v1();
-    meta.set("source", "limbfuse simulate walking");
-    meta.set("sample_rate_hz", a.imu_rate);
-    meta.set("leg", "right");
-    meta.set("g", cfg.g);
-    for (k, v) in sim.metadata() {
-        meta.set(k, v);
-    }
+    let trial = simulated_trials::walking(cfg)?;
     let summary = format!(
         "{:.0} s of walking at {} m/s (seed {}, {} Hz IMUs, {} mounting, noise {})",
         a.duration,
@@ -61,14 +52,6 @@ pub fn write_walking(a: &WalkingArgs) -> Result<String> {
         },
         if a.no_noise { "off" } else { "on" }
     );
-    let out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(out, &meta, TrialLayout::walking())
-        .with_context(|| format!("{}: cannot write", a.output.display()))?;
-    for r in sim {
-        w.write(&r)
-            .with_context(|| format!("{}: cannot write", a.output.display()))?;
-    }
-    w.finish()
-        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
     Ok(summary)
 }

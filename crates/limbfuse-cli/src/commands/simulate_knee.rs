@@ -1,8 +1,8 @@
 //! `limbfuse simulate knee ... -o trial.csv` (paper 002 scenario).
 
-use anyhow::{Context, Result};
-use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
-use limbfuse_sim::{KneeScenario, KneeSimulator, Remount, WalkingConfig};
+use anyhow::Result;
+use limbfuse_sim::{KneeScenario, Remount, WalkingConfig};
+use limbfuse_workflows::simulated_trials;
 
 use crate::cli::KneeSimArgs;
 
@@ -38,15 +38,7 @@ pub fn run(a: &KneeSimArgs) -> Result<()> {
 /// Simulates and writes the trial; returns a one-line summary.
 pub fn write(a: &KneeSimArgs) -> Result<String> {
     let sc = scenario(a);
-    let sim = KneeSimulator::new(sc).context("simulate knee")?;
-    let mut meta = TrialMeta::trial_v1();
-    meta.set("source", "limbfuse simulate knee");
-    meta.set("sample_rate_hz", a.imu_rate);
-    meta.set("leg", "right");
-    meta.set("g", sc.walking.g);
-    for (k, v) in sim.metadata() {
-        meta.set(k, v);
-    }
+    let trial = simulated_trials::knee(sc)?;
     let summary = format!(
         "{:.0} s of walking at {} m/s (seed {}, random IMU orientations and positions{})",
         a.duration,
@@ -60,14 +52,6 @@ pub fn write(a: &KneeSimArgs) -> Result<String> {
             None => String::new(),
         }
     );
-    let out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(out, &meta, TrialLayout::walking())
-        .with_context(|| format!("{}: cannot write", a.output.display()))?;
-    for r in sim {
-        w.write(&r)
-            .with_context(|| format!("{}: cannot write", a.output.display()))?;
-    }
-    w.finish()
-        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
     Ok(summary)
 }

@@ -1,0 +1,220 @@
+//! Simulated trials as files: each simulator's records with the metadata
+//! and columns its trial file carries (SPEC section 3), in one place for
+//! the CLI, the demo and the Python package.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use limbfuse_core::Record;
+use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
+use limbfuse_models::bslip::GaitTemplate;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
+use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::knee_fes::{simulate_calibration, simulate_knee_fes, FesTrial, KneeFesConfig};
+use limbfuse_sim::{KneeScenario, KneeSimulator, WalkingConfig, WalkingSimulator};
+
+/// A simulated trial: metadata, columns and the records (a stream for the
+/// walking simulators, which never hold a trial in memory).
+#[derive(Debug, Clone)]
+pub struct SimulatedTrial<R> {
+    /// The `# key: value` header.
+    pub meta: TrialMeta,
+    /// The columns written.
+    pub layout: TrialLayout,
+    /// The records.
+    pub records: R,
+}
+
+/// Why a simulated trial could not be made or written.
+#[derive(Debug, thiserror::Error)]
+pub enum SimulatedTrialError {
+    /// The simulator rejected its configuration or failed.
+    #[error("simulate {scenario}: {message}")]
+    Simulator {
+        /// Which simulator.
+        scenario: &'static str,
+        /// Why.
+        message: String,
+    },
+    /// The output file.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        /// File path.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+}
+
+fn sim_err(scenario: &'static str) -> impl Fn(&dyn std::fmt::Display) -> SimulatedTrialError {
+    move |e| SimulatedTrialError::Simulator {
+        scenario,
+        message: e.to_string(),
+    }
+}
+
+/// The header every simulated trial starts with.
+fn meta(source: &str, rate_hz: f64) -> TrialMeta {
+    let mut meta = TrialMeta::trial_v1();
+    meta.set("source", source);
+    meta.set("sample_rate_hz", rate_hz);
+    meta
+}
+
+/// Level walking (`simulate walking`, `demo`).
+pub fn walking(
+    cfg: WalkingConfig,
+) -> Result<SimulatedTrial<WalkingSimulator>, SimulatedTrialError> {
+    let sim = WalkingSimulator::new(cfg).map_err(|e| sim_err("walking")(&e))?;
+    let mut m = meta("limbfuse simulate walking", cfg.imu_rate_hz);
+    m.set("leg", "right");
+    m.set("g", cfg.g);
+    for (k, v) in sim.metadata() {
+        m.set(k, v);
+    }
+    Ok(SimulatedTrial {
+        meta: m,
+        layout: TrialLayout::walking(),
+        records: sim,
+    })
+}
+
+/// The paper-002 knee scenario (`simulate knee`).
+pub fn knee(sc: KneeScenario) -> Result<SimulatedTrial<KneeSimulator>, SimulatedTrialError> {
+    let sim = KneeSimulator::new(sc).map_err(|e| sim_err("knee")(&e))?;
+    let mut m = meta("limbfuse simulate knee", sc.walking.imu_rate_hz);
+    m.set("leg", "right");
+    m.set("g", sc.walking.g);
+    for (k, v) in sim.metadata() {
+        m.set(k, v);
+    }
+    Ok(SimulatedTrial {
+        meta: m,
+        layout: TrialLayout::walking(),
+        records: sim,
+    })
+}
+
+/// Columns the FES simulators write (`hip`: the fixed-hip model).
+pub fn fes_layout(hip: bool) -> TrialLayout {
+    let mut l = TrialLayout::default();
+    for i in [1, 2] {
+        l.acc[i] = true;
+        l.gyr[i] = true;
+        l.segment_ref[i] = true;
+    }
+    l.encoder[1] = true;
+    l.joint_ref[1] = true;
+    l.stim[0] = true;
+    if hip {
+        l.encoder[0] = true;
+        l.joint_ref[0] = true;
+        l.segment_ref[0] = true;
+        l.stim = [true; 4];
+        l.motor_torque = [true, true, false];
+    }
+    l
+}
+
+fn fes_trial(source: &str, rate: f64, tr: FesTrial, hip: bool) -> SimulatedTrial<Vec<Record>> {
+    let mut m = meta(source, rate);
+    m.set("leg", "right");
+    for (k, v) in &tr.metadata {
+        m.set(k.clone(), v);
+    }
+    if let Some(g) = tr.metadata.iter().find(|(k, _)| k == "param.g") {
+        m.set("g", &g.1);
+    }
+    SimulatedTrial {
+        meta: m,
+        layout: fes_layout(hip),
+        records: tr.records,
+    }
+}
+
+/// FES leg extension, paper 004 (`simulate knee-fes`); `source` names the
+/// producer in the header.
+pub fn knee_fes(
+    cfg: &KneeFesConfig,
+    source: &str,
+) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
+    let tr = simulate_knee_fes(cfg).map_err(|e| sim_err("knee-fes")(&e))?;
+    Ok(fes_trial(source, cfg.rate_hz, tr, false))
+}
+
+/// The calibration recording (quiet standing + 4 hip rotations) of the
+/// knee-FES trial's sensors (`simulate knee-fes --calibration`).
+pub fn knee_fes_calibration(
+    cfg: &KneeFesConfig,
+) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
+    let tr = simulate_calibration(cfg).map_err(|e| sim_err("calibration")(&e))?;
+    let mut m = TrialMeta::trial_v1();
+    m.set("sample_rate_hz", cfg.rate_hz);
+    for (k, v) in &tr.metadata {
+        m.set(k.clone(), v);
+    }
+    let mut layout = fes_layout(false);
+    layout.encoder = [false; 3];
+    layout.stim = [false; 4];
+    Ok(SimulatedTrial {
+        meta: m,
+        layout,
+        records: tr.records,
+    })
+}
+
+/// Fixed-hip swing, paper 004 (`simulate fixed-hip`).
+pub fn fixed_hip(cfg: &FixedHipConfig) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
+    let tr = simulate_fixed_hip(cfg).map_err(|e| sim_err("fixed-hip")(&e))?;
+    Ok(fes_trial(
+        "limbfuse simulate fixed-hip",
+        cfg.rate_hz,
+        tr,
+        true,
+    ))
+}
+
+/// B-SLIP walking on one gait, paper 003 (`simulate bslip`, `demo`).
+pub fn bslip(
+    template: &GaitTemplate,
+    cfg: &BslipTrialConfig,
+    source: &str,
+) -> SimulatedTrial<Vec<Record>> {
+    let mut m = meta(source, cfg.sample_rate);
+    m.set("bslip_speed_mps", template.speed);
+    m.set("bslip_step_time_s", template.step_time);
+    m.set("seed", cfg.seed);
+    let velocity = cfg.channels == ComChannels::Full;
+    let mut layout = TrialLayout {
+        com_pos: true,
+        com_vel: true,
+        phase_ref: true,
+        ..Default::default()
+    };
+    layout.com_meas = [true, true, true, velocity, velocity, false];
+    SimulatedTrial {
+        meta: m,
+        layout,
+        records: simulate_trial(template, cfg),
+    }
+}
+
+/// Writes a trial to `out`; returns the number of records.
+pub fn write_trial<W: Write, R: IntoIterator<Item = Record>>(
+    out: W,
+    trial: SimulatedTrial<R>,
+    path: &Path,
+) -> Result<u64, SimulatedTrialError> {
+    let err = |source| SimulatedTrialError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut w = TrialWriter::new(out, &trial.meta, trial.layout).map_err(err)?;
+    let mut n = 0;
+    for r in trial.records {
+        w.write(&r).map_err(err)?;
+        n += 1;
+    }
+    w.finish().map_err(err)?;
+    Ok(n)
+}
