@@ -44,11 +44,11 @@ use limbfuse_core::sample::GaitPhase;
 use limbfuse_core::Record;
 use nalgebra::Vector3;
 
-use crate::error::FileError;
-use crate::layout::TrialLayout;
-use crate::meta::TrialMeta;
-use crate::trial_reader::TrialReader;
-use crate::trial_writer::TrialWriter;
+use limbfuse_io::FileError;
+use limbfuse_io::TrialLayout;
+use limbfuse_io::TrialMeta;
+use limbfuse_io::TrialReader;
+use limbfuse_io::TrialWriter;
 
 /// Cut-off of the windowed-sinc anti-alias filter as a fraction of the
 /// output rate: 0.35 (17.5 Hz at 50 Hz, 0.7 of the output Nyquist frequency).
