@@ -14,6 +14,7 @@ extern crate alloc;
 
 pub mod baseline;
 pub mod fes;
+pub mod hinge_axis;
 pub mod imm_bslip;
 pub mod inclination;
 pub mod knee_selfalign;

@@ -1,9 +1,9 @@
 //! Invariants of the paper-002 building blocks over random inputs.
 
-use limbfuse_estimators::knee_selfalign::angle::{accel_angle, wrap, PlaneBasis};
-use limbfuse_estimators::knee_selfalign::axis::{
+use limbfuse_estimators::hinge_axis::spherical::{
     axis_from_spherical, axis_residual, spherical_from_axis,
 };
+use limbfuse_estimators::knee_selfalign::angle::{accel_angle, wrap, PlaneBasis};
 use limbfuse_estimators::knee_selfalign::position::{
     correct_along_axes, position_residual, Kinematics,
 };

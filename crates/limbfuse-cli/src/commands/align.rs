@@ -2,8 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use limbfuse_core::{Record, Segment};
-use limbfuse_io::align::{apply_alignment, estimate_alignment, AlignOptions};
 use limbfuse_io::{TrialReader, TrialWriter};
+use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
 
 use crate::cli::AlignArgs;
 

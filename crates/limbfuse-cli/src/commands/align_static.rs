@@ -4,11 +4,11 @@
 
 use anyhow::{Context, Result};
 use limbfuse_core::{Record, Segment};
-use limbfuse_io::align::apply_rotations;
-use limbfuse_io::align::static_rotation::{
+use limbfuse_io::{TrialReader, TrialWriter};
+use limbfuse_signal::align::apply_rotations;
+use limbfuse_signal::align::static_rotation::{
     quat_wxyz, static_rotation_alignment, StaticRotationOptions,
 };
-use limbfuse_io::{TrialReader, TrialWriter};
 
 use crate::cli::AlignArgs;
 

@@ -1,12 +1,12 @@
 //! `limbfuse resample TRIAL --rate HZ -o OUT`.
 
 use anyhow::{Context, Result};
-use limbfuse_io::resample::{resample_file, AntiAlias, ResampleOptions};
+use limbfuse_signal::resample::{resample_file, AntiAlias, ResampleOptions};
 
 use crate::cli::{AntiAliasArg, ResampleArgs};
 
 /// Resamples a trial onto a uniform time base (not streaming: see
-/// `limbfuse_io::resample`).
+/// `limbfuse_signal::resample`).
 pub fn run(a: &ResampleArgs) -> Result<()> {
     let opts = ResampleOptions {
         rate_hz: a.rate,

@@ -7,7 +7,7 @@
 //!
 //! | module | paper 002 |
 //! |---|---|
-//! | [`axis`] | eq 1 (spherical axes), eq 2 (`e_j`), eqs 10-11 (Jacobian) |
+//! | [`crate::hinge_axis`] | eq 1 (spherical axes), eq 2 (`e_j`), eqs 10-11 (Jacobian), shared with `limbfuse align` |
 //! | [`position`] | `Gamma`, eq 3 (`e_o`, a difference: SPEC 6), eqs 12-13, o-correction, rate derivative |
 //! | [`param_ekf`] | Algorithm 2 (information form: linear in the window length) |
 //! | [`angle`] | eq 4, eqs 5-7 (signed `atan2`: SPEC 6), Algorithm 1 |
@@ -21,7 +21,6 @@
 //! measured accuracy: `docs/KNEE_SELFALIGN.md`.
 
 pub mod angle;
-pub mod axis;
 pub mod param_ekf;
 pub mod params;
 pub mod position;

@@ -8,7 +8,6 @@ use alloc::vec::Vec;
 use nalgebra::{SVector, Vector3, Vector4, Vector6};
 
 use super::angle::{accel_angle, gyro_angle_rate, wrap, PlaneBasis};
-use super::axis::{axes_of_state, axis_residual, axis_state};
 use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
@@ -16,6 +15,7 @@ use super::params::{AngleZero, KneeSelfAlignParams};
 use super::position::{
     central_derivative, correct_along_axes, position_residual, uniform_step, Kinematics,
 };
+use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -1,8 +1,10 @@
 //! Alignment of bad input: typed errors that name the segment, never a panic.
 
 use limbfuse_core::{Record, Segment};
-use limbfuse_io::align::{estimate_alignment, rotations_from_metadata, AlignError, AlignOptions};
 use limbfuse_io::TrialMeta;
+use limbfuse_signal::align::{
+    estimate_alignment, rotations_from_metadata, AlignError, AlignOptions,
+};
 use limbfuse_sim::{Motion, Mounting, WalkingConfig, WalkingSimulator};
 use nalgebra::Vector3;
 

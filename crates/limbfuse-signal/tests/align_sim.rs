@@ -1,13 +1,13 @@
 //! Alignment on simulated walking with random mountings (true mounting from
 //! the simulator's `imus()`). Figures for docs/ALIGNMENT.md:
-//! `cargo test -p limbfuse-io --test align_sim -- --nocapture --test-threads 1`
+//! `cargo test -p limbfuse-signal --test align_sim -- --nocapture --test-threads 1`
 
 use limbfuse_core::{Record, Segment};
-use limbfuse_io::align::{
+use limbfuse_io::TrialMeta;
+use limbfuse_signal::align::{
     apply_alignment, apply_rotations, estimate_alignment, rotations_from_metadata, AlignOptions,
     Alignment, AxisMethod, ZeroMethod,
 };
-use limbfuse_io::TrialMeta;
 use limbfuse_sim::{Motion, Mounting, WalkingConfig, WalkingSimulator};
 use nalgebra::{Matrix3, Vector3};
 

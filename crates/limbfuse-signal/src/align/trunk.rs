@@ -24,9 +24,9 @@
 //! * `z = forward x up` (x forward, y up, z right).
 
 use limbfuse_core::{Record, Segment};
+use limbfuse_estimators::hinge_axis::chain_fit::tangent_basis;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
-use super::axis::tangent_basis;
 use super::series::{acc, correlation, gyr};
 
 /// Trunk axis estimate.

@@ -1,13 +1,13 @@
 //! Alignment of the shared gaittoolbox walking trial (skipped when
 //! `../shared/data` is absent). Figures for docs/ALIGNMENT.md:
-//! `cargo test -p limbfuse-io --test align_gaittoolbox -- --nocapture`
+//! `cargo test -p limbfuse-signal --test align_gaittoolbox -- --nocapture`
 
 use std::ops::Range;
 use std::path::PathBuf;
 
 use limbfuse_core::{Record, Segment};
-use limbfuse_io::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
 use limbfuse_io::import::{import_gaittoolbox_with, GaittoolboxOptions, ImportedTrial};
+use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 fn data_dir() -> Option<PathBuf> {

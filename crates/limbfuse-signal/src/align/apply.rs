@@ -4,7 +4,7 @@ use limbfuse_core::{Record, Segment};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion};
 
 use super::{AlignError, Alignment, ZeroMethod};
-use crate::meta::TrialMeta;
+use limbfuse_io::TrialMeta;
 
 /// The record with every aligned sensor's readings turned into its aligned
 /// frame: `acc` and `gyr` become `R v`. A device quaternion `q` (sensor to

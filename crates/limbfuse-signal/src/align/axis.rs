@@ -5,10 +5,13 @@
 //! projected on the plane normal to the axis agree,
 //! `e(k) = ||w1(k) x j1|| - ||w2(k) x j2|| = 0`. The axes of all segments in
 //! a chain of hinges (thigh-shank knee, shank-foot ankle) are fitted together
-//! by Levenberg-Marquardt on two tangent-plane coordinates per axis.
+//! by the hinge-axis solver shared with `knee-selfalign`
+//! (`limbfuse_estimators::hinge_axis::chain_fit`); this module picks the
+//! samples and maps segments to axes.
 
 use limbfuse_core::{Record, Segment};
-use nalgebra::{DMatrix, DVector, Matrix3, SymmetricEigen, Vector3};
+use limbfuse_estimators::hinge_axis::chain_fit::{fit_hinge_chain, Hinge};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
 use super::series::{acc, gyr};
 
@@ -40,19 +43,6 @@ pub(crate) fn principal_axis(
     Some((v.normalize(), frac, rms))
 }
 
-/// Two unit vectors spanning the plane normal to unit `j`.
-pub(crate) fn tangent_basis(j: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    let a = if j.x.abs() < 0.6 {
-        Vector3::x()
-    } else if j.y.abs() < 0.6 {
-        Vector3::y()
-    } else {
-        Vector3::z()
-    };
-    let e1 = j.cross(&a).normalize();
-    (e1, j.cross(&e1))
-}
-
 /// Result of a hinge-chain fit.
 pub(crate) struct HingeFit {
     /// Fitted axis per segment (only segments in a pair are `Some`).
@@ -61,26 +51,17 @@ pub(crate) struct HingeFit {
     pub rms: Vec<f64>,
 }
 
-const EPS: f64 = 1e-6;
-
-/// `||w x j||` (smoothed at 0) and its tangent-plane gradient.
-#[inline]
-fn perp(w: &Vector3<f64>, j: &Vector3<f64>, e: &(Vector3<f64>, Vector3<f64>)) -> (f64, f64, f64) {
-    let wj = w.dot(j);
-    let f = (w.norm_squared() - wj * wj).max(0.0).sqrt().max(EPS);
-    (f, -wj * w.dot(&e.0) / f, -wj * w.dot(&e.1) / f)
-}
-
 /// Fits the axes of the segments joined by `pairs` (proximal, distal),
-/// starting from `init` (e.g. principal axes). Samples where either gyro is
-/// missing are skipped; at most `max_samples` samples per pair are used
-/// (evenly strided).
+/// starting from `init` (e.g. principal axes), with the shared hinge-axis
+/// solver [`fit_hinge_chain`]. Samples where either gyro is missing are
+/// skipped; at most `max_samples` samples per pair are used (evenly strided).
 pub(crate) fn hinge_fit(
     records: &[Record],
     pairs: &[(Segment, Segment)],
     init: &[Option<Vector3<f64>>; 4],
     max_samples: usize,
 ) -> Option<HingeFit> {
+    // slot[segment] = index of its axis in the solver's axis list.
     let mut slot = [usize::MAX; 4];
     let mut m = 0;
     for &(a, b) in pairs {
@@ -102,98 +83,32 @@ pub(crate) fn hinge_fit(
             all.into_iter().step_by(stride).collect()
         })
         .collect();
-    let n_res: usize = data.iter().map(Vec::len).sum();
-    if m == 0 || n_res < 4 * m {
-        return None;
-    }
     let mut axes: Vec<Vector3<f64>> = vec![Vector3::zeros(); m];
     for s in Segment::ALL {
         if slot[s.index()] != usize::MAX {
-            axes[slot[s.index()]] = init[s.index()]?.normalize();
+            axes[slot[s.index()]] = init[s.index()]?;
         }
     }
-    let cost = |axes: &[Vector3<f64>]| -> f64 {
-        let mut c = 0.0;
-        for (p, &(a, b)) in pairs.iter().enumerate() {
-            let (ja, jb) = (axes[slot[a.index()]], axes[slot[b.index()]]);
-            for (w1, w2) in &data[p] {
-                let r = w1.cross(&ja).norm() - w2.cross(&jb).norm();
-                c += r * r;
-            }
-        }
-        c
-    };
-    let mut c0 = cost(&axes);
-    let mut lambda = 1e-3;
-    for _ in 0..100 {
-        let basis: Vec<_> = axes.iter().map(tangent_basis).collect();
-        let mut jtj = DMatrix::<f64>::zeros(2 * m, 2 * m);
-        let mut jtr = DVector::<f64>::zeros(2 * m);
-        for (p, &(a, b)) in pairs.iter().enumerate() {
-            let (ia, ib) = (slot[a.index()], slot[b.index()]);
-            for (w1, w2) in &data[p] {
-                let (f1, g1a, g1b) = perp(w1, &axes[ia], &basis[ia]);
-                let (f2, g2a, g2b) = perp(w2, &axes[ib], &basis[ib]);
-                let r = f1 - f2;
-                let idx = [2 * ia, 2 * ia + 1, 2 * ib, 2 * ib + 1];
-                let g = [g1a, g1b, -g2a, -g2b];
-                for u in 0..4 {
-                    jtr[idx[u]] += g[u] * r;
-                    for v in 0..4 {
-                        jtj[(idx[u], idx[v])] += g[u] * g[v];
-                    }
-                }
-            }
-        }
-        let mut improved = false;
-        for _ in 0..10 {
-            let mut h = jtj.clone();
-            for d in 0..2 * m {
-                h[(d, d)] += lambda * (jtj[(d, d)] + 1e-9);
-            }
-            let Some(step) = h.cholesky().map(|ch| ch.solve(&(-&jtr))) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial: Vec<Vector3<f64>> = (0..m)
-                .map(|i| {
-                    (axes[i] + basis[i].0 * step[2 * i] + basis[i].1 * step[2 * i + 1]).normalize()
-                })
-                .collect();
-            let c1 = cost(&trial);
-            if c1 < c0 {
-                let small = step.norm() < 1e-10;
-                axes = trial;
-                c0 = c1;
-                lambda = (lambda * 0.3).max(1e-12);
-                improved = !small;
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !improved {
-            break;
-        }
-    }
+    let hinges: Vec<Hinge<'_>> = pairs
+        .iter()
+        .zip(&data)
+        .map(|(&(a, b), rates)| Hinge {
+            proximal: slot[a.index()],
+            distal: slot[b.index()],
+            rates,
+        })
+        .collect();
+    let fit = fit_hinge_chain(&hinges, &axes)?;
     let mut out = [None; 4];
     for s in Segment::ALL {
         if slot[s.index()] != usize::MAX {
-            out[s.index()] = Some(axes[slot[s.index()]]);
+            out[s.index()] = Some(fit.axes[slot[s.index()]]);
         }
     }
-    let rms = pairs
-        .iter()
-        .enumerate()
-        .map(|(p, &(a, b))| {
-            let (ja, jb) = (axes[slot[a.index()]], axes[slot[b.index()]]);
-            let s: f64 = data[p]
-                .iter()
-                .map(|(w1, w2)| (w1.cross(&ja).norm() - w2.cross(&jb).norm()).powi(2))
-                .sum();
-            (s / data[p].len().max(1) as f64).sqrt()
-        })
-        .collect();
-    Some(HingeFit { axes: out, rms })
+    Some(HingeFit {
+        axes: out,
+        rms: fit.rms,
+    })
 }
 
 /// Unit "up" direction (the direction of `-gravity`, i.e. of the static

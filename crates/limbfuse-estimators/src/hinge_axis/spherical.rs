@@ -1,20 +1,11 @@
-//! Joint-axis identification (paper 002 section 2.2.1): the spherical
-//! parametrisation of each sensor's joint axis (eq 1), the axis cost (eq 2)
-//! and its Jacobian (eqs 10-11).
-//!
-//! For a hinge joint the angular rates of the two segments differ only by a
-//! rotation about the common axis, so the part of each rate perpendicular to
-//! the axis has the same norm in both sensor frames:
-//! `e_j(k) = ||g_T(k) x j_T|| - ||g_S(k) x j_S||` vanishes at the true axes
-//! `j_T`, `j_S` (each in its own sensor frame). The sign of each axis is not
-//! identifiable from `e_j`; [`super::window`] chooses it (SPEC section 6).
+//! The spherical parametrisation of a joint axis (paper 002 eq 1) and the
+//! axis residual with its Jacobian in those coordinates (eqs 2, 10-11):
+//! the form the knee EKF (`knee_selfalign`, Algorithm 2) identifies
+//! `Psi_j = [phi_T, theta_T, phi_S, theta_S]` in.
 
 use nalgebra::{Matrix3x2, Vector3, Vector4};
 
-/// Rates whose component perpendicular to the axis is below this (rad/s)
-/// give no usable gradient of `||g x j||` (eq 11 divides by it); such samples
-/// are left out of the window.
-pub const MIN_PERPENDICULAR_RATE: f64 = 1e-6;
+use super::{hinge_residual, perpendicular_rate_gradient};
 
 /// Unit axis from spherical coordinates (eq 1):
 /// `j = [cos(phi) cos(theta), cos(phi) sin(theta), sin(phi)]`.
@@ -44,15 +35,6 @@ pub fn axis_partials(phi: f64, theta: f64) -> Matrix3x2<f64> {
     Matrix3x2::new(-sp * ct, -cp * st, -sp * st, cp * ct, cp, 0.0)
 }
 
-/// Gradient of `||g x j||` with respect to `j` (eq 11):
-/// `((g x j) x g)^T / ||g x j||`. `None` when `||g x j||` is below
-/// [`MIN_PERPENDICULAR_RATE`].
-pub fn perpendicular_rate_gradient(g: &Vector3<f64>, j: &Vector3<f64>) -> Option<Vector3<f64>> {
-    let c = g.cross(j);
-    let n = c.norm();
-    (n >= MIN_PERPENDICULAR_RATE).then(|| c.cross(g) / n)
-}
-
 /// The axis residual `e_j(k)` (eq 2) and its gradient with respect to
 /// `Psi_j = [phi_T, theta_T, phi_S, theta_S]` (eqs 10-11), at one sample.
 ///
@@ -65,7 +47,7 @@ pub fn axis_residual(
 ) -> Option<(f64, Vector4<f64>)> {
     let j_t = axis_from_spherical(psi[0], psi[1]);
     let j_s = axis_from_spherical(psi[2], psi[3]);
-    let e = g_t.cross(&j_t).norm() - g_s.cross(&j_s).norm();
+    let e = hinge_residual(g_t, &j_t, g_s, &j_s);
     let d_t = perpendicular_rate_gradient(g_t, &j_t)?;
     let d_s = perpendicular_rate_gradient(g_s, &j_s)?;
     let h_t = axis_partials(psi[0], psi[1]).transpose() * d_t;

@@ -2,18 +2,18 @@
 //! frequency keeps its amplitude and phase, one above it is attenuated (not
 //! aliased into the band), a constant stays exact, gaps stay missing.
 //!
-//! `cargo test -p limbfuse-io --test resample -- --nocapture response_table`
+//! `cargo test -p limbfuse-signal --test resample -- --nocapture response_table`
 //! prints the measured response quoted in docs/TUNING.md.
 
 use std::f64::consts::PI;
 use std::path::Path;
 
 use limbfuse_core::Record;
-use limbfuse_io::resample::{
+use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
+use limbfuse_signal::resample::{
     resample_series, resample_trial, uniform_grid, AntiAlias, ChannelMethod, ResampleOptions,
     Series,
 };
-use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use nalgebra::Vector3;
 
 fn sine(rate_in: f64, duration: f64, f: f64, phase: f64) -> Series {
@@ -284,7 +284,7 @@ fn mixed_rate_trial_with_a_dropout_resamples_to_50_hz() {
     }
     // Write and read back: a valid trial file.
     let back = d.path().join("back.csv");
-    limbfuse_io::resample::resample_file(&path, &back, &ResampleOptions::new(50.0)).unwrap();
+    limbfuse_signal::resample::resample_file(&path, &back, &ResampleOptions::new(50.0)).unwrap();
     let n = TrialReader::open(&back).unwrap().count();
     assert_eq!(n, 251);
 }

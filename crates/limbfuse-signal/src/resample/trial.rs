@@ -1,0 +1,243 @@
+//! The trial-level resampler: every channel of a trial file onto one
+//! uniform grid ([`resample_trial`], [`resample_file`]).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use limbfuse_core::sample::GaitPhase;
+use limbfuse_core::Record;
+use limbfuse_io::{FileError, TrialLayout, TrialMeta, TrialReader, TrialWriter};
+use nalgebra::Vector3;
+
+use super::interpolation::{resample_phase, resample_quat};
+use super::{
+    check_rate, resample_series, uniform_grid, AntiAlias, ChannelMethod, ResampleError,
+    ResampleOptions, Series,
+};
+
+/// A resampled trial, held in memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResampledTrial {
+    /// Input metadata with `sample_rate_hz` and `resampled` set.
+    pub meta: TrialMeta,
+    /// Same channels as the input.
+    pub layout: TrialLayout,
+    /// One record per output time.
+    pub records: Vec<Record>,
+}
+
+/// A scalar cell of a record.
+#[derive(Debug, Clone, Copy)]
+enum Slot {
+    Acc(usize, usize),
+    Gyr(usize, usize),
+    Encoder(usize),
+    Stim(usize),
+    Motor(usize),
+    SegmentRef(usize),
+    JointRef(usize),
+    ComPos(usize),
+    ComVel(usize),
+}
+
+impl Slot {
+    fn get(self, r: &Record) -> Option<f64> {
+        let (s, re) = (&r.sample, &r.reference);
+        match self {
+            Slot::Acc(i, k) => s.imu[i].acc.map(|v| v[k]),
+            Slot::Gyr(i, k) => s.imu[i].gyr.map(|v| v[k]),
+            Slot::Encoder(j) => s.encoder[j],
+            Slot::Stim(k) => s.inputs.stim[k],
+            Slot::Motor(j) => s.inputs.motor_torque[j],
+            Slot::SegmentRef(i) => re.segment[i],
+            Slot::JointRef(j) => re.joint[j],
+            Slot::ComPos(k) => re.com_pos.map(|v| v[k]),
+            Slot::ComVel(k) => re.com_vel.map(|v| v[k]),
+        }
+    }
+
+    fn method(self, anti_alias: AntiAlias) -> ChannelMethod {
+        match self {
+            Slot::Acc(..) | Slot::Gyr(..) => ChannelMethod::Decimate(anti_alias),
+            _ => ChannelMethod::Linear,
+        }
+    }
+}
+
+fn slots(l: &TrialLayout) -> Vec<Slot> {
+    let mut v = Vec::new();
+    for i in 0..4 {
+        if l.acc[i] {
+            v.extend((0..3).map(|k| Slot::Acc(i, k)));
+        }
+        if l.gyr[i] {
+            v.extend((0..3).map(|k| Slot::Gyr(i, k)));
+        }
+        if l.segment_ref[i] {
+            v.push(Slot::SegmentRef(i));
+        }
+        if l.stim[i] {
+            v.push(Slot::Stim(i));
+        }
+    }
+    for j in 0..3 {
+        if l.encoder[j] {
+            v.push(Slot::Encoder(j));
+        }
+        if l.motor_torque[j] {
+            v.push(Slot::Motor(j));
+        }
+        if l.joint_ref[j] {
+            v.push(Slot::JointRef(j));
+        }
+        if l.com_pos {
+            v.push(Slot::ComPos(j));
+        }
+        if l.com_vel {
+            v.push(Slot::ComVel(j));
+        }
+    }
+    v
+}
+
+/// Reads the whole trial and resamples it (see the module docs).
+pub fn resample_trial(
+    mut reader: TrialReader,
+    opts: &ResampleOptions,
+) -> Result<ResampledTrial, ResampleError> {
+    check_rate(opts.rate_hz)?;
+    let layout = *reader.layout();
+    let slots = slots(&layout);
+    let mut series = vec![Series::default(); slots.len()];
+    let mut quat: [(Vec<f64>, Vec<[f64; 4]>); 4] = Default::default();
+    let mut phase: (Vec<f64>, Vec<GaitPhase>) = Default::default();
+    let (mut t_first, mut t_last) = (None, 0.0);
+    while let Some(r) = reader.next_record()? {
+        let t = r.sample.t;
+        t_first.get_or_insert(t);
+        t_last = t;
+        for (s, slot) in series.iter_mut().zip(&slots) {
+            s.push(t, slot.get(&r));
+        }
+        for (i, q) in quat.iter_mut().enumerate() {
+            if let Some(v) = r.sample.imu[i].quat {
+                q.0.push(t);
+                q.1.push(v);
+            }
+        }
+        if let Some(p) = r.reference.phase {
+            phase.0.push(t);
+            phase.1.push(p);
+        }
+    }
+    // TrialReader errors on a file without rows, so t_first is set.
+    let t_first = t_first.unwrap_or(t_last);
+    let grid = uniform_grid(t_first, t_last, opts.rate_hz)?;
+    let mut records: Vec<Record> = grid
+        .iter()
+        .map(|&t| {
+            let mut r = Record::default();
+            r.sample.t = t;
+            r
+        })
+        .collect();
+    // Scalars; vectors are assembled per axis, present when all axes are.
+    let mut acc = vec![[[None; 3]; 4]; grid.len()];
+    let mut gyr = vec![[[None; 3]; 4]; grid.len()];
+    let mut com = vec![[[None; 3]; 2]; grid.len()];
+    for (s, &slot) in series.iter().zip(&slots) {
+        let out = resample_series(s, &grid, opts.rate_hz, slot.method(opts.anti_alias));
+        for (k, v) in out.into_iter().enumerate() {
+            let r = &mut records[k];
+            match slot {
+                Slot::Acc(i, a) => acc[k][i][a] = v,
+                Slot::Gyr(i, a) => gyr[k][i][a] = v,
+                Slot::Encoder(j) => r.sample.encoder[j] = v,
+                Slot::Stim(j) => r.sample.inputs.stim[j] = v,
+                Slot::Motor(j) => r.sample.inputs.motor_torque[j] = v,
+                Slot::SegmentRef(i) => r.reference.segment[i] = v,
+                Slot::JointRef(j) => r.reference.joint[j] = v,
+                Slot::ComPos(a) => com[k][0][a] = v,
+                Slot::ComVel(a) => com[k][1][a] = v,
+            }
+        }
+    }
+    let vec3 = |v: [Option<f64>; 3]| Some(Vector3::new(v[0]?, v[1]?, v[2]?));
+    for (k, r) in records.iter_mut().enumerate() {
+        for i in 0..4 {
+            r.sample.imu[i].acc = vec3(acc[k][i]);
+            r.sample.imu[i].gyr = vec3(gyr[k][i]);
+        }
+        r.reference.com_pos = vec3(com[k][0]);
+        r.reference.com_vel = vec3(com[k][1]);
+    }
+    for (i, (t, q)) in quat.iter().enumerate() {
+        if layout.quat[i] {
+            for (k, v) in resample_quat(t, q, &grid, 1.0 / opts.rate_hz)
+                .into_iter()
+                .enumerate()
+            {
+                records[k].sample.imu[i].quat = v;
+            }
+        }
+    }
+    if layout.phase_ref {
+        for (k, v) in resample_phase(&phase.0, &phase.1, &grid, 1.0 / opts.rate_hz)
+            .into_iter()
+            .enumerate()
+        {
+            records[k].reference.phase = v;
+        }
+    }
+    let mut meta = reader.meta().clone();
+    meta.set("sample_rate_hz", opts.rate_hz);
+    meta.set(
+        "resampled",
+        format!(
+            "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear)",
+            reader.path().display(),
+            opts.anti_alias.label()
+        ),
+    );
+    Ok(ResampledTrial {
+        meta,
+        layout,
+        records,
+    })
+}
+
+/// What [`resample_file`] did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResampleSummary {
+    /// Number of output samples.
+    pub n_samples: usize,
+    /// First and last output time (s).
+    pub span: (f64, f64),
+}
+
+/// Resamples the trial file `input` into the trial file `output`.
+pub fn resample_file(
+    input: &Path,
+    output: &Path,
+    opts: &ResampleOptions,
+) -> Result<ResampleSummary, ResampleError> {
+    let trial = resample_trial(TrialReader::open(input)?, opts)?;
+    let io_err = |e: std::io::Error| FileError::Io {
+        path: PathBuf::from(output),
+        source: e,
+    };
+    let file = std::fs::File::create(output).map_err(io_err)?;
+    let mut w = TrialWriter::new(std::io::BufWriter::new(file), &trial.meta, trial.layout)
+        .map_err(io_err)?;
+    for r in &trial.records {
+        w.write(r).map_err(io_err)?;
+    }
+    w.finish().map_err(io_err)?.flush().map_err(io_err)?;
+    Ok(ResampleSummary {
+        n_samples: trial.records.len(),
+        span: (
+            trial.records.first().map_or(0.0, |r| r.sample.t),
+            trial.records.last().map_or(0.0, |r| r.sample.t),
+        ),
+    })
+}
