@@ -90,7 +90,7 @@ pub fn extract(markdown: &str) -> Vec<ResultsCommand> {
 }
 
 /// Inline code spans (single backticks) of `markdown` that look like a
-/// study command (`cargo run`, `cargo test`, `--example`) or an abbreviated
+/// study command (`cargo run`, `cargo test -p`, `--example`) or an abbreviated
 /// one (starting with `...` or `-- `), with their line: such a span must be
 /// written out as a ```` ```sh ```` block command too.
 pub fn inline_study_commands(markdown: &str) -> Vec<(usize, String)> {
@@ -112,7 +112,7 @@ pub fn inline_study_commands(markdown: &str) -> Vec<(usize, String)> {
                     let (l, s) = span.take().unwrap_or_default();
                     let s = s.split_whitespace().collect::<Vec<_>>().join(" ");
                     if s.contains("cargo run")
-                        || s.contains("cargo test")
+                        || s.contains("cargo test -p")
                         || s.contains("--example")
                         || s.starts_with("...")
                         || s.starts_with("-- ")

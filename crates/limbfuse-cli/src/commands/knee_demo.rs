@@ -33,12 +33,12 @@ pub fn run(seed: u64, speed: f64, out: &Path) -> Result<String> {
     let mut est = KneeSelfAlign::new(KneeSelfAlignParams::default()).map_err(anyhow::Error::msg)?;
     let knee = Joint::Knee.index();
     let start = Instant::now();
-    let mut out = Vec::with_capacity(records.len());
+    let mut knee_estimates = Vec::with_capacity(records.len());
     for r in &records {
-        out.push(est.step(&r.sample).map_err(anyhow::Error::msg)?.joint[knee]);
+        knee_estimates.push(est.step(&r.sample).map_err(anyhow::Error::msg)?.joint[knee]);
     }
     let seconds = start.elapsed().as_secs_f64();
-    let run = KneeRun::from_estimates(&records, &out, &[(0, records.len())], seconds);
+    let run = KneeRun::from_estimates(&records, &knee_estimates, &[(0, records.len())], seconds);
     let mut s = String::new();
     writeln!(
         s,
