@@ -6,13 +6,10 @@
 //! and JSON forms of the result (SPEC section 4, `evaluate`).
 #![deny(missing_docs)]
 
-pub mod baseline_study;
 pub mod channel_error;
 pub mod evaluation;
-pub mod fes_plot;
-pub mod fes_study;
 pub mod gait_evaluation;
-pub mod knee_study;
+pub mod knee_errors;
 pub mod metrics;
 pub mod stats;
 pub mod sync_lag;

@@ -4,11 +4,12 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
+use std::time::Instant;
 
 use anyhow::{Context, Result};
-use limbfuse_core::Estimator;
+use limbfuse_core::{Estimator, Joint};
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
-use limbfuse_eval::knee_study::KneeRun;
+use limbfuse_eval::knee_errors::KneeRun;
 use limbfuse_sim::{KneeScenario, KneeSimulator, WalkingConfig};
 
 /// Duration of the demo's knee trial (s): six windows of 500 samples.
@@ -29,14 +30,15 @@ pub fn run(seed: u64, speed: f64, out: &Path) -> Result<String> {
     .context("simulate the knee demo trial")?;
     let (true_axes, _) = sim.sensor_frame_geometry();
     let records: Vec<_> = sim.collect();
-    let run = limbfuse_eval::knee_study::run(&records, KneeSelfAlignParams::default())
-        .map_err(anyhow::Error::msg)?;
-    // The geometry the estimator ends with (a second, identical run: the
-    // study helper keeps its estimator private).
-    let mut est = KneeSelfAlign::default();
+    let mut est = KneeSelfAlign::new(KneeSelfAlignParams::default()).map_err(anyhow::Error::msg)?;
+    let knee = Joint::Knee.index();
+    let start = Instant::now();
+    let mut knee_estimates = Vec::with_capacity(records.len());
     for r in &records {
-        est.step(&r.sample).map_err(anyhow::Error::msg)?;
+        knee_estimates.push(est.step(&r.sample).map_err(anyhow::Error::msg)?.joint[knee]);
     }
+    let seconds = start.elapsed().as_secs_f64();
+    let run = KneeRun::from_estimates(&records, &knee_estimates, &[(0, records.len())], seconds);
     let mut s = String::new();
     writeln!(
         s,

@@ -35,7 +35,7 @@ pub type KneeFesFilter = FesFilter<KneePlant, 2, 2, 1>;
 
 /// Default tuning of the knee filters: the values the tuning protocol of
 /// docs/FES_ESTIMATION.md picks on three pre-trials (P1-L, seeds 1000-1002,
-/// `limbfuse-eval::fes_study`) for both `sdre` and `ekf`:
+/// `limbfuse-studies::fes_study`) for both `sdre` and `ekf`:
 /// `S = diag(1e-5, 1e-2)` (gyro, accelerometer), `Q = diag(1e-4, 1e3)`.
 /// The large `Q` on the rate row and small `S` make the estimate follow the
 /// measurements closely (the muscle model is uncertain: activation

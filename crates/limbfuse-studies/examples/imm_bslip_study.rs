@@ -1,28 +1,28 @@
 //! Paper 003 sec IV-A reproduction: measurements simulated from the 0.7 m/s
 //! gait, that gait removed from a 0.4-0.9 m/s library; IMM with kappa > 0
 //! and kappa = 0; also the true gait included and alone (the exact-model
-//! ceiling). `cargo run --release -p limbfuse-estimators --example imm_bslip_study [SEEDS]`
-//! (prints the tables of docs/RESULTS.md). Environment: `TRUTH=0.5` simulates
-//! (and holds out) another library gait, `IMM_WEIGHTS=recursive`,
-//! `IMM_TOUCHDOWN=step-clock|mixed`, `P_NEXT`, `P_GAIT` (Markov probabilities),
-//! `RATE` (measurement rate in Hz, default 100).
+//! ceiling). `cargo run --release -p limbfuse-studies --example imm_bslip_study -- [SEEDS]`
+//! (prints the tables of docs/RESULTS.md). Options: `--truth 0.5` simulates
+//! (and holds out) another library gait, `--weights recursive`,
+//! `--touchdown step-clock|mixed`, `--p-next P`, `--p-gait P` (Markov
+//! probabilities), `--rate HZ` (measurement rate, default 100).
 
+use clap::Parser;
 use limbfuse_core::{Estimator, GaitPhase};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_studies::example_args::{ImmBslipStudyArgs, IMM_STUDY_SPEEDS};
 
 fn main() {
+    let args = ImmBslipStudyArgs::parse();
     let body = BslipParams::default();
-    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
+    let speeds = IMM_STUDY_SPEEDS;
     let lib = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {}).unwrap();
-    // TRUTH=0.5 etc.: simulate another library gait (held out in turn).
-    let truth_speed: f64 = std::env::var("TRUTH")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0.7);
+    // --truth 0.5 etc.: simulate another library gait (held out in turn).
+    let truth_speed = args.truth;
     let templates: Vec<_> = lib.iter().map(|g| g.template(&body)).collect();
     let truth = templates
         .iter()
@@ -34,10 +34,7 @@ fn main() {
         .filter(|t| (t.speed - truth_speed).abs() > 1e-9)
         .copied()
         .collect();
-    let seeds: Vec<u64> = std::env::args()
-        .nth(1)
-        .map(|s| s.parse().unwrap())
-        .map_or((1..=10).collect(), |n| (1..=n).collect());
+    let seeds: Vec<u64> = (1..=args.seeds).collect();
     println!(
         "step time of the 0.7 m/s gait: {:.3} s (stride {:.3} s)",
         truth.step_time,
@@ -58,41 +55,23 @@ fn main() {
             for &seed in &seeds {
                 let cfg = BslipTrialConfig {
                     duration: 4.0 * truth.step_time,
-                    sample_rate: std::env::var("RATE")
-                        .ok()
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(100.0),
+                    sample_rate: args.rate,
                     seed,
                     ..Default::default()
                 };
                 let trial = simulate_trial(&truth, &cfg);
-                // P_NEXT / P_GAIT override the Markov probabilities (sweeps).
-                let env = |k: &str, d: f64| {
-                    std::env::var(k)
-                        .ok()
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(d)
-                };
+                // --p-next / --p-gait override the Markov probabilities (sweeps).
                 let base = ImmBslipParams::full_com();
-                // IMM_WEIGHTS=recursive: the standard IMM mode probability.
-                let weights = match std::env::var("IMM_WEIGHTS").as_deref() {
-                    Ok("recursive") => ImmWeights::Recursive,
-                    _ => ImmWeights::Paper,
-                };
-                // IMM_TOUCHDOWN=step-clock: each gait's foot lands on its own
+                // --weights recursive: the standard IMM mode probability.
+                // --touchdown step-clock: each gait's foot lands on its own
                 // step clock instead of at its touchdown height (default);
-                // IMM_TOUCHDOWN=mixed: foot placement mixed by the IMM.
-                let touchdown = match std::env::var("IMM_TOUCHDOWN").as_deref() {
-                    Ok("step-clock") => TouchdownRule::StepClock,
-                    Ok("mixed") => TouchdownRule::Mixed,
-                    _ => TouchdownRule::Height,
-                };
+                // --touchdown mixed: foot placement mixed by the IMM.
                 let params = ImmBslipParams {
-                    touchdown,
+                    touchdown: args.touchdown,
                     kappa,
-                    p_next_phase: env("P_NEXT", base.p_next_phase),
-                    p_other_gait: env("P_GAIT", base.p_other_gait),
-                    weights,
+                    p_next_phase: args.p_next.unwrap_or(base.p_next_phase),
+                    p_other_gait: args.p_gait.unwrap_or(base.p_other_gait),
+                    weights: args.weights,
                     ..base
                 };
                 let mut imm = ImmBslip::new(lib, params).unwrap();

@@ -1,11 +1,13 @@
 //! Paper 004 studies on simulated trials; prints Markdown tables (pasted
-//! into docs/RESULTS.md). `cargo run --release -p limbfuse-eval --example fes_studies`.
+//! into docs/RESULTS.md). `cargo run --release -p limbfuse-studies --example fes_studies [-- --hip-only]`.
 
+use clap::Parser;
 use limbfuse_core::Record;
-use limbfuse_eval::fes_study::{fixed_hip_run, single_joint_study, tune_fixed_hip, HipResult};
 use limbfuse_models::FixedHipParams;
 use limbfuse_sim::fixed_hip::FixedHipConfig;
 use limbfuse_sim::knee_fes::KneeFesConfig;
+use limbfuse_studies::example_args::FesStudiesArgs;
+use limbfuse_studies::fes_study::{fixed_hip_run, single_joint_study, tune_fixed_hip, HipResult};
 
 fn p(t: &Option<limbfuse_eval::stats::TestResult>) -> String {
     t.map_or("-".into(), |t| {
@@ -45,8 +47,8 @@ const SINGLE: [(&str, bool, bool); 3] = [
 
 fn main() {
     let t0 = std::time::Instant::now();
-    // FES_STUDY=hip skips the single-joint study (a).
-    let hip_only = std::env::var("FES_STUDY").as_deref() == Ok("hip");
+    // --hip-only skips the single-joint study (a).
+    let hip_only = FesStudiesArgs::parse().hip_only;
     let single: &[(&str, bool, bool)] = if hip_only { &[] } else { &SINGLE };
     for &(label, activation, shared) in single {
         let st = single_joint_study(
@@ -98,7 +100,7 @@ fn main() {
     println!("| case | SDRE hip / knee (deg) | EKF hip / knee (deg) |\n|---|---|---|");
     let r = fixed_hip_run(&base, base.params, &tuning, &seeds, &none);
     hip_row("each tuned", &r, false);
-    let shared = limbfuse_eval::fes_study::HipTuning {
+    let shared = limbfuse_studies::fes_study::HipTuning {
         sdre: tuning.sdre,
         ekf: tuning.sdre,
     };
@@ -108,7 +110,7 @@ fn main() {
         false,
     );
     for (sg, sa, q) in [(1e-6, 1.0, 0.1), (1e-4, 1.0, 0.1), (1e-6, 100.0, 0.01)] {
-        let t = limbfuse_eval::fes_study::HipTuning {
+        let t = limbfuse_studies::fes_study::HipTuning {
             sdre: (sg, sa, q),
             ekf: (sg, sa, q),
         };
@@ -179,7 +181,7 @@ fn main() {
         &fixed_hip_run(&base, base.params, &tuning, &seeds, &s2),
         false,
     );
-    let trusting = limbfuse_eval::fes_study::HipTuning {
+    let trusting = limbfuse_studies::fes_study::HipTuning {
         sdre: (1e-6, 1.0, 0.1),
         ekf: (1e-6, 1.0, 0.1),
     };
@@ -205,7 +207,7 @@ fn main() {
 
 fn r_default(
     base: &FixedHipConfig,
-    tuning: &limbfuse_eval::fes_study::HipTuning,
+    tuning: &limbfuse_studies::fes_study::HipTuning,
     seeds: &[u64],
 ) -> HipResult {
     fixed_hip_run(base, base.params, tuning, seeds, &|_: &mut Record| {})

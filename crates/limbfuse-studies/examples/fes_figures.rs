@@ -2,18 +2,21 @@
 //! leg-extension trial (like Fig. 12) and the fixed-hip estimation errors
 //! (like Fig. 18). Writes `docs/figures/fes-knee-trial.svg` and
 //! `docs/figures/fes-fixed-hip-errors.svg`.
-//! `cargo run --release -p limbfuse-eval --example fes_figures`
+//! `cargo run --release -p limbfuse-studies --example fes_figures`
 
 use std::path::Path;
 
+use clap::Parser;
+
 use limbfuse_core::Estimator;
 use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
-use limbfuse_eval::fes_plot::write_traces_svg;
 use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+use limbfuse_studies::fes_plot::write_traces_svg;
 
 fn main() -> Result<(), String> {
+    limbfuse_studies::example_args::NoArgs::parse();
     let subject = KneeSubject::P2R;
     let recs = simulate_knee_fes(&KneeFesConfig {
         subject,

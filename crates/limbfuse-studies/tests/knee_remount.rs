@@ -4,8 +4,8 @@
 //! pre-event zero) returns below 2 deg.
 
 use limbfuse_estimators::knee_selfalign::KneeSelfAlignParams;
-use limbfuse_eval::knee_study::{mean_error, recovery_time, run, simulate, sliding_rmse};
 use limbfuse_sim::Remount;
+use limbfuse_studies::knee_study::{mean_error, recovery_time, run, simulate, sliding_rmse};
 
 #[test]
 fn recovers_after_a_50_deg_thigh_remount() {

@@ -1,5 +1,5 @@
 //! The studies of paper 004 on simulated trials (docs/FES_ESTIMATION.md,
-//! results in docs/RESULTS.md; run `cargo run --release -p limbfuse-eval
+//! results in docs/RESULTS.md; run `cargo run --release -p limbfuse-studies
 //! --example fes_studies`):
 //!
 //! * tuning protocol (thesis section 4.1.1: `Q` "determined by tuning for the
@@ -28,7 +28,7 @@ use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 use nalgebra::{Vector2, Vector4};
 use rayon::prelude::*;
 
-use crate::stats::{shapiro_wilk, wilcoxon_signed_rank, TestResult};
+use limbfuse_eval::stats::{shapiro_wilk, wilcoxon_signed_rank, TestResult};
 
 /// Seeds of the tuning pre-trials (never used in a study).
 pub const PRE_TRIAL_SEEDS: [u64; 3] = [1000, 1001, 1002];

@@ -10,8 +10,8 @@ use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_sim::{SimError, WalkingConfig, WalkingSimulator};
 
-use crate::evaluation::EvalOptions;
-use crate::metrics::{AngleMetrics, Evaluation};
+use limbfuse_eval::evaluation::EvalOptions;
+use limbfuse_eval::metrics::{AngleMetrics, Evaluation};
 
 /// Per-segment figures of one simulated trial.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -2,18 +2,19 @@
 //! shared gaittoolbox trial as a CoM proxy, straight parts only,
 //! position-only measurements (eqs 17-18), a 0.6-1.0 m/s library rescaled
 //! to the pelvis height at mid-stance (sec IV-B).
-//! `cargo run --release -p limbfuse-eval --example gait_pelvis [DATA_DIR]`
+//! `cargo run --release -p limbfuse-studies --example gait_pelvis -- [DATA_DIR] [--touchdown height|step-clock|mixed]`
 
+use clap::Parser;
 use limbfuse_core::{Estimator, Sample};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, TouchdownRule};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_studies::example_args::GaitPelvisArgs;
 
 fn main() {
-    let dir = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "../shared/data/gaittoolbox-s02-walk".into());
+    let args = GaitPelvisArgs::parse();
+    let dir = args.data_dir;
     let path = std::path::Path::new(&dir).join("vicon-right.csv");
     let Ok(text) = std::fs::read_to_string(&path) else {
         eprintln!("skipped: {} not found", path.display());
@@ -99,13 +100,9 @@ fn main() {
                     .collect::<Vec<_>>(),
             ),
         ] {
-            // IMM_TOUCHDOWN=step-clock|mixed: the touchdown rule (default height).
+            // --touchdown step-clock|mixed: the touchdown rule (default height).
             let params = ImmBslipParams {
-                touchdown: match std::env::var("IMM_TOUCHDOWN").as_deref() {
-                    Ok("step-clock") => TouchdownRule::StepClock,
-                    Ok("mixed") => TouchdownRule::Mixed,
-                    _ => TouchdownRule::Height,
-                },
+                touchdown: args.touchdown,
                 ..ImmBslipParams::position_only()
             };
             let mut imm = ImmBslip::new(&templates, params).unwrap();

@@ -1,14 +1,16 @@
 //! Baseline study for docs/RESULTS.md:
-//! `cargo run --release -p limbfuse-eval --example baseline_study`
+//! `cargo run --release -p limbfuse-studies --example baseline_study`
 //!
 //! 60 s simulated walking trials (default sensors, aligned mounting) at
 //! 0.4, 1.0 and 1.6 m/s, seeds 1..=10; per segment the mean over seeds of
 //! the dynamic acceleration, the baselines' RMSE and the gyro drift vs bias.
 
-use limbfuse_eval::baseline_study::baseline_trial;
+use clap::Parser;
 use limbfuse_sim::WalkingConfig;
+use limbfuse_studies::baseline_study::baseline_trial;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    limbfuse_studies::example_args::NoArgs::parse();
     let seeds = 1..=10u64;
     let names = ["trunk", "thigh", "shank", "foot"];
     println!("| speed m/s | segment | RMS dyn. acc m/s^2 | mean rho m/s^2 | accel-inclination RMSE deg | gyro-integration RMSE deg | gyro drift deg/s | mean gyro z bias deg/s |");

@@ -1,11 +1,11 @@
 //! Self-aligning knee study of issue 4 (paper 002), for docs/RESULTS.md:
 //!
 //! ```text
-//! cargo run --release -p limbfuse-eval --example knee_study -- seeds [N] [AP_SD_CM] [paper|rate-bias]
-//! cargo run --release -p limbfuse-eval --example knee_study -- table1 [N]
-//! cargo run --release -p limbfuse-eval --example knee_study -- remount [N]
-//! cargo run --release -p limbfuse-eval --example knee_study -- real [DATA_DIR]
-//! cargo run --release -p limbfuse-eval --example knee_study -- floor [N]
+//! cargo run --release -p limbfuse-studies --example knee_study -- seeds [N] [AP_SD_CM] [paper|rate-bias]
+//! cargo run --release -p limbfuse-studies --example knee_study -- table1 [N]
+//! cargo run --release -p limbfuse-studies --example knee_study -- remount [N]
+//! cargo run --release -p limbfuse-studies --example knee_study -- real [DATA_DIR]
+//! cargo run --release -p limbfuse-studies --example knee_study -- floor [N]
 //! ```
 //!
 //! * `seeds`: 60 s simulated walking (1 m/s, default sensors, random IMU
@@ -23,20 +23,15 @@
 //!   are switched off cumulatively (static accelerometer errors, then gyro
 //!   bias, then everything): what the fusion of Algorithm 1 alone costs.
 
+use clap::Parser;
 use limbfuse_estimators::knee_selfalign::{Fusion, KneeSelfAlignParams};
-use limbfuse_eval::knee_study::{
+use limbfuse_sim::Remount;
+use limbfuse_studies::example_args::{KneeStudyArgs, KneeStudyMode};
+use limbfuse_studies::knee_study::{
     mean_error, recovery_time, run, simulate, simulate_with_truth, simulate_with_truth_and,
     sliding_rmse,
 };
-use limbfuse_sim::Remount;
 use rayon::prelude::*;
-
-fn arg<T: std::str::FromStr>(i: usize, default: T) -> T {
-    std::env::args()
-        .nth(i)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(default)
-}
 
 fn params(window: usize, order: usize) -> KneeSelfAlignParams {
     KneeSelfAlignParams {
@@ -70,7 +65,7 @@ fn seeds(n: u64, ap_sd_cm: f64, fusion: &str) {
             let (recs, truth) =
                 simulate_with_truth(seed, 60.0, ap_sd_cm / 100.0).expect("valid scenario");
             let fixed =
-                limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())], fusion)
+                limbfuse_studies::knee_study::run_fixed(&recs, truth, &[(500, recs.len())], fusion)
                     .expect("runs");
             (seed, run(&recs, params(500, 6)).expect("runs"), fixed)
         })
@@ -89,10 +84,10 @@ fn seeds(n: u64, ap_sd_cm: f64, fusion: &str) {
             f.mean.to_degrees()
         );
     }
-    let col = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+    let col = |f: &dyn Fn(&limbfuse_studies::knee_study::KneeRun) -> f64| {
         stats(&runs.iter().map(|(_, r, _)| f(r)).collect::<Vec<_>>())
     };
-    let colf = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+    let colf = |f: &dyn Fn(&limbfuse_studies::knee_study::KneeRun) -> f64| {
         stats(&runs.iter().map(|(_, _, r)| f(r)).collect::<Vec<_>>())
     };
     for (name, s) in [
@@ -158,11 +153,16 @@ fn floor(n: u64) {
                 .map(|seed| {
                     let (recs, truth) =
                         simulate_with_truth_and(seed, 60.0, 0.0, adjust).expect("valid scenario");
-                    limbfuse_eval::knee_study::run_fixed(&recs, truth, &[(500, recs.len())], fusion)
-                        .expect("runs")
+                    limbfuse_studies::knee_study::run_fixed(
+                        &recs,
+                        truth,
+                        &[(500, recs.len())],
+                        fusion,
+                    )
+                    .expect("runs")
                 })
                 .collect();
-            let m = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+            let m = |f: &dyn Fn(&limbfuse_studies::knee_study::KneeRun) -> f64| {
                 runs.iter().map(f).sum::<f64>() / runs.len() as f64
             };
             let max = runs.iter().map(|r| r.rmse.to_degrees()).fold(0.0, f64::max);
@@ -194,7 +194,7 @@ fn table1(n: u64) {
             .iter()
             .map(|t| run(t, params(window, order)).expect("runs"))
             .collect();
-        let m = |f: &dyn Fn(&limbfuse_eval::knee_study::KneeRun) -> f64| {
+        let m = |f: &dyn Fn(&limbfuse_studies::knee_study::KneeRun) -> f64| {
             runs.iter().map(f).sum::<f64>() / runs.len() as f64
         };
         println!(
@@ -276,7 +276,7 @@ fn remount(n: u64) {
     }
 }
 
-fn show(label: &str, r: &limbfuse_eval::knee_study::KneeRun) {
+fn show(label: &str, r: &limbfuse_studies::knee_study::KneeRun) {
     println!(
         "| {label} | {} | {:.2} | {:.2} | {:+.2} | {:.4} |",
         r.errors.len(),
@@ -320,7 +320,7 @@ fn gyro_check(
     let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
     println!(
         "gyro check (IMU shift {shift}): eq 4 rate at the axes identified on straight part 1 vs reference knee rate: corr {:.3}, slope {:.3} ({} samples)",
-        limbfuse_eval::knee_study::pearson(&x, &y),
+        limbfuse_studies::knee_study::pearson(&x, &y),
         sxy / sxx,
         x.len()
     );
@@ -349,27 +349,27 @@ fn real(data: &str) {
         };
         let recs = &trial.records;
         for window in [300usize, 500] {
-            let r = limbfuse_eval::knee_study::run_on(recs, params(window, 6), &straight)
+            let r = limbfuse_studies::knee_study::run_on(recs, params(window, 6), &straight)
                 .expect("runs");
             show(
                 &format!("online s_w={window}, order 6, IMU shift {shift}"),
                 &r,
             );
         }
-        let g = limbfuse_eval::knee_study::identify_offline(&recs[45..355], 6);
+        let g = limbfuse_studies::knee_study::identify_offline(&recs[45..355], 6);
         if let Some(g) = g {
             gyro_check(recs, &g, &straight, shift);
         }
         match g {
             Some(g) => {
-                let r = limbfuse_eval::knee_study::run_fixed(recs, g, &straight, Fusion::Paper)
+                let r = limbfuse_studies::knee_study::run_fixed(recs, g, &straight, Fusion::Paper)
                     .expect("runs");
                 show(
                     &format!("geometry from straight part 1, IMU shift {shift}"),
                     &r,
                 );
                 let r =
-                    limbfuse_eval::knee_study::run_fixed(recs, g, &straight[1..], Fusion::Paper)
+                    limbfuse_studies::knee_study::run_fixed(recs, g, &straight[1..], Fusion::Paper)
                         .expect("runs");
                 show(
                     &format!("  same, straight part 2 only (held out), IMU shift {shift}"),
@@ -402,12 +402,15 @@ fn real(data: &str) {
 }
 
 fn main() {
-    match std::env::args().nth(1).as_deref() {
-        Some("seeds") => seeds(arg(2, 30), arg(3, 0.0), &arg(4, String::from("paper"))),
-        Some("table1") => table1(arg(2, 10)),
-        Some("remount") => remount(arg(2, 10)),
-        Some("real") => real(&arg(2, String::from("../shared/data"))),
-        Some("floor") => floor(arg(2, 30)),
-        _ => eprintln!("usage: knee_study seeds [N] [AP_SD_CM] | table1 [N] | remount [N] | real [DIR] | floor [N]"),
+    match KneeStudyArgs::parse().mode {
+        KneeStudyMode::Seeds {
+            n,
+            ap_sd_cm,
+            fusion,
+        } => seeds(n, ap_sd_cm, &fusion),
+        KneeStudyMode::Table1 { n } => table1(n),
+        KneeStudyMode::Remount { n } => remount(n),
+        KneeStudyMode::Real { data_dir } => real(&data_dir),
+        KneeStudyMode::Floor { n } => floor(n),
     }
 }

@@ -8,19 +8,20 @@
 //! stationary recording of the simulated IMUs has, `noise_density^2 fs / 2`
 //! per row; it runs with the simulator's accelerometers and with
 //! gravity-only ones, as in the thesis's simulation.
-//! `cargo run --release -p limbfuse-eval --example fes_thesis_protocol`.
+//! `cargo run --release -p limbfuse-studies --example fes_thesis_protocol`.
 
+use clap::Parser;
 use limbfuse_core::Record;
 use limbfuse_estimators::fes::{
     ContinuousTuning, FesFilter, FixedHipPlant, KneePlant, Linearisation, Plant, RotationMatrixKnee,
-};
-use limbfuse_eval::fes_study::{
-    joint_rmse, knee_pre_trials, stability_gain, tune_rmx, PRE_TRIAL_SEEDS,
 };
 use limbfuse_eval::stats::{shapiro_wilk, wilcoxon_signed_rank};
 use limbfuse_models::{FixedHipModel, KneeFesModel, KneeFesParams, KneeSubject};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+use limbfuse_studies::fes_study::{
+    joint_rmse, knee_pre_trials, stability_gain, tune_rmx, PRE_TRIAL_SEEDS,
+};
 use nalgebra::{Vector2, Vector4};
 use rayon::prelude::*;
 
@@ -170,6 +171,7 @@ fn fixed_hip() {
 }
 
 fn main() {
+    limbfuse_studies::example_args::NoArgs::parse();
     fixed_hip();
     let base = KneeFesConfig::default();
     let pre = knee_pre_trials(&base);

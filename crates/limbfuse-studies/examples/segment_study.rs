@@ -1,5 +1,5 @@
 //! Segment-filter study of issue 3 (for docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-eval --example segment_study [seeds]`
+//! `cargo run --release -p limbfuse-studies --example segment_study -- [SEEDS]`
 //!
 //! 60 s simulated walking trials (default sensors, aligned mounting) at 0.4,
 //! 1.0 and 1.6 m/s, seeds 1..=N (default 30); per speed: per-segment RMSE of
@@ -7,19 +7,17 @@
 //! (share of samples with rho < zeta, 001 Table 2), and the share of runs
 //! ordered mjls < global < local on the mean 4-segment RMSE.
 
+use clap::Parser;
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Record, Segment};
 use limbfuse_estimators::segment_kf::{CommonParams, GlobalKf, LocalKf, MarkovJumpKf};
-use limbfuse_eval::baseline_study::evaluate_records;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_studies::baseline_study::evaluate_records;
+use limbfuse_studies::example_args::SegmentStudyArgs;
 use rayon::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let n: u64 = std::env::args()
-        .nth(1)
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(30);
+    let n = SegmentStudyArgs::parse().seeds;
     let zeta = CommonParams::default().zetas();
     println!("| speed m/s | method | trunk | thigh | shank | foot | mean | hip | knee | ankle |");
     println!("|---|---|---|---|---|---|---|---|---|---|");

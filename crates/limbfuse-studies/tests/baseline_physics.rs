@@ -1,7 +1,7 @@
 //! Issue 2: the two baselines behave as physics says on a 60 s simulated trial.
 
-use limbfuse_eval::baseline_study::baseline_trial;
 use limbfuse_sim::WalkingConfig;
+use limbfuse_studies::baseline_study::baseline_trial;
 
 /// With planar motion the only drift source is the gyro bias. (With the
 /// default out-of-plane motion, integrating gyro z also picks up the

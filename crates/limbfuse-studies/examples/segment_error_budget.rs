@@ -1,5 +1,5 @@
 //! Error budget of the segment filters (issue 3, for docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-eval --example segment_error_budget [seeds]`
+//! `cargo run --release -p limbfuse-studies --example segment_error_budget -- [SEEDS]`
 //!
 //! Which sensor error sources set the floor of the mean 4-segment RMSE?
 //! The same walking trials (seeds 1..=N, default 10, 60 s, aligned
@@ -26,10 +26,12 @@
 //! floor under the walking figures for filters whose absolute reference is
 //! the accelerometer inclination.
 
+use clap::Parser;
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
-use limbfuse_eval::baseline_study::mean_rmse_deg;
 use limbfuse_sim::{Motion, WalkingConfig, WalkingSimulator};
+use limbfuse_studies::baseline_study::mean_rmse_deg;
+use limbfuse_studies::example_args::SegmentErrorBudgetArgs;
 use rayon::prelude::*;
 
 /// Mean 4-segment RMSE (deg), plain and offset-free.
@@ -84,11 +86,7 @@ const VARIANTS: [&str; 5] = [
 ];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let n: u64 = std::env::args()
-        .nth(1)
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(10);
+    let n = SegmentErrorBudgetArgs::parse().seeds;
     println!("| speed m/s | sensors | local | mjls | global | mjls offset-free |");
     println!("|---|---|---|---|---|---|");
     for speed in [0.4, 1.0, 1.6] {

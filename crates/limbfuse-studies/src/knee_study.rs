@@ -7,26 +7,8 @@ use std::time::Instant;
 
 use limbfuse_core::{Estimator, Joint, Record};
 use limbfuse_estimators::knee_selfalign::{Fusion, Geometry, KneeSelfAlign, KneeSelfAlignParams};
+pub use limbfuse_eval::knee_errors::{pearson, KneeRun};
 use limbfuse_sim::{KneeScenario, KneeSimulator, Remount, SimError, WalkingConfig};
-
-/// Knee-angle errors of one run against the reference.
-#[derive(Debug, Clone, PartialEq)]
-pub struct KneeRun {
-    /// `(t, estimate - reference)` (rad) where both exist.
-    pub errors: Vec<(f64, f64)>,
-    /// RMSE (rad).
-    pub rmse: f64,
-    /// Mean error (rad).
-    pub mean: f64,
-    /// RMSE after removing the mean error (rad).
-    pub rmse_offset_free: f64,
-    /// Pearson correlation with the reference.
-    pub corr: f64,
-    /// Wall time of the estimator loop (s).
-    pub seconds: f64,
-    /// Samples in the trial.
-    pub n_samples: usize,
-}
 
 /// Simulates the paper-002 scenario: walking, random IMU orientations and
 /// positions, optional re-mounting.
@@ -106,7 +88,12 @@ pub fn run(records: &[Record], params: KneeSelfAlignParams) -> Result<KneeRun, S
         out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
     }
     let seconds = start.elapsed().as_secs_f64();
-    Ok(summarise(records, &out, &[(0, records.len())], seconds))
+    Ok(KneeRun::from_estimates(
+        records,
+        &out,
+        &[(0, records.len())],
+        seconds,
+    ))
 }
 
 /// Identifies the joint geometry from `records` as one window (offline,
@@ -146,7 +133,7 @@ pub fn run_fixed(
         out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
     }
     let seconds = start.elapsed().as_secs_f64();
-    Ok(summarise(records, &out, ranges, seconds))
+    Ok(KneeRun::from_estimates(records, &out, ranges, seconds))
 }
 
 /// Like [`run`], evaluated on the samples in `ranges` only.
@@ -163,54 +150,7 @@ pub fn run_on(
         out.push(est.step(&r.sample).map_err(|e| e.to_string())?.joint[k]);
     }
     let seconds = start.elapsed().as_secs_f64();
-    Ok(summarise(records, &out, ranges, seconds))
-}
-
-fn summarise(
-    records: &[Record],
-    out: &[Option<f64>],
-    ranges: &[(usize, usize)],
-    seconds: f64,
-) -> KneeRun {
-    let k = Joint::Knee.index();
-    let mut errors = Vec::new();
-    let (mut e_s, mut r_s) = (Vec::new(), Vec::new());
-    for (i, (r, e)) in records.iter().zip(out).enumerate() {
-        if !ranges.iter().any(|&(a, b)| i >= a && i < b) {
-            continue;
-        }
-        if let (Some(e), Some(x)) = (e, r.reference.joint[k]) {
-            errors.push((r.sample.t, e - x));
-            e_s.push(*e);
-            r_s.push(x);
-        }
-    }
-    let n = errors.len().max(1) as f64;
-    let mean = errors.iter().map(|x| x.1).sum::<f64>() / n;
-    let rmse = (errors.iter().map(|x| x.1 * x.1).sum::<f64>() / n).sqrt();
-    let rmse_offset_free = (errors.iter().map(|x| (x.1 - mean).powi(2)).sum::<f64>() / n).sqrt();
-    KneeRun {
-        rmse,
-        mean,
-        rmse_offset_free,
-        corr: pearson(&e_s, &r_s),
-        errors,
-        seconds,
-        n_samples: records.len(),
-    }
-}
-
-/// Pearson correlation (NaN for fewer than two points or no variance).
-pub fn pearson(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len() as f64;
-    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
-    let (mut c, mut va, mut vb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        c += (x - ma) * (y - mb);
-        va += (x - ma).powi(2);
-        vb += (y - mb).powi(2);
-    }
-    c / (va * vb).sqrt()
+    Ok(KneeRun::from_estimates(records, &out, ranges, seconds))
 }
 
 /// Sliding RMSE over the `width_s` seconds ending at each error sample, of
@@ -284,9 +224,5 @@ mod tests {
         assert_eq!(s[14].1, 0.0);
         assert_eq!(recovery_time(&s, 10.0, 2.0, 1.0), Some(4.0));
         assert_eq!(recovery_time(&s, 20.0, 2.0, 1.0), Some(2.0));
-        // numpy.corrcoef([1, 2, 3], [2, 4, 6.5]) = 0.9979487157886733
-        assert!(
-            (pearson(&[1.0, 2.0, 3.0], &[2.0, 4.0, 6.5]) - 0.997_948_715_788_673_3).abs() < 1e-12
-        );
     }
 }

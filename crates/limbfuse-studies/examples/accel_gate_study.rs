@@ -1,5 +1,5 @@
 //! Accelerometer-gate study (issue 3):
-//! `cargo run --release -p limbfuse-eval --example accel_gate_study FIRST LAST [variant ...] [--ideal]`
+//! `cargo run --release -p limbfuse-studies --example accel_gate_study -- [FIRST] [LAST] [VARIANT ...] [--ideal] [--rate HZ]`
 //!
 //! 60 s simulated walking trials (default sensors, aligned mounting) at 0.4,
 //! 1.0 and 1.6 m/s, seeds FIRST..=LAST; for each acceptance variant
@@ -10,16 +10,18 @@
 //! `gyroW` (`AccelGate::max_rate`, rad/s), e.g. `hold20+gyro1`; a suffix
 //! `@mjls` applies the gate to mjls only (local and global keep the papers'
 //! test). Default: the list `ALL`. `--ideal` switches every sensor error
-//! off (`WalkingConfig::noise = false`); `--rate=HZ` sets the IMU rate
+//! off (`WalkingConfig::noise = false`); `--rate HZ` sets the IMU rate
 //! (default 100).
 
+use clap::Parser;
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::segment_kf::{
-    AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
+    CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
     MarkovJumpKfParams,
 };
-use limbfuse_eval::baseline_study::mean_rmse_deg;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_studies::baseline_study::mean_rmse_deg;
+use limbfuse_studies::example_args::{accel_gate, AccelGateStudyArgs};
 use rayon::prelude::*;
 
 const ALL: [&str; 10] = [
@@ -35,40 +37,15 @@ const ALL: [&str; 10] = [
     "hold10@mjls",
 ];
 
-fn gate(name: &str) -> AccelGate {
-    let mut g = AccelGate::OFF;
-    for part in name.trim_end_matches("@mjls").split('+') {
-        if let Some(v) = part.strip_prefix("hold") {
-            g.hold_s = v.parse::<f64>().expect("hold ms") * 1e-3;
-        } else if let Some(v) = part.strip_prefix("gyro") {
-            g.max_rate = v.parse().expect("gyro rad/s");
-        } else if part != "base" {
-            panic!("unknown variant part {part}");
-        }
-    }
-    g
-}
-
 /// Mean 4-segment RMSE (deg), plain and offset-free.
 fn mean_rmse(est: &mut dyn Estimator, records: &[Record]) -> [f64; 2] {
     mean_rmse_deg(est, records).expect("runs")
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let a: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let b: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
-    let ideal = args.iter().any(|a| a == "--ideal");
-    let rate_hz: f64 = args
-        .iter()
-        .find_map(|a| a.strip_prefix("--rate="))
-        .map_or(100.0, |v| v.parse().expect("--rate=HZ"));
-    let named: Vec<String> = args
-        .iter()
-        .skip(3)
-        .filter(|a| !a.starts_with("--"))
-        .cloned()
-        .collect();
+    let args = AccelGateStudyArgs::parse();
+    let (a, b, ideal, rate_hz) = (args.first, args.last, args.ideal, args.rate);
+    let named = args.variants;
     let variants: Vec<String> = if !named.is_empty() {
         named
     } else {
@@ -79,7 +56,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     for v in &variants {
         let gated = CommonParams {
-            accel_gate: gate(v),
+            accel_gate: accel_gate(v).expect("checked by the parser"),
             ..CommonParams::default()
         };
         let common = if v.ends_with("@mjls") {

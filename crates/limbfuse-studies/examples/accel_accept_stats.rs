@@ -1,5 +1,5 @@
 //! Accelerometer acceptance statistics (issue 3, gating study):
-//! `cargo run --release -p limbfuse-eval --example accel_accept_stats [first_seed] [last_seed] [ideal]`
+//! `cargo run --release -p limbfuse-studies --example accel_accept_stats -- [FIRST] [LAST] [ideal]`
 //!
 //! For each speed and segment, the inclination error `theta_a - theta_true`
 //! (deg) over the samples an acceptance test passes: mean, sd, share of
@@ -9,9 +9,11 @@
 //! `mjls sel` row uses the segment MJLS would select (argmin rho, passing).
 //! `ideal` as the third argument switches sensor errors off.
 
+use clap::Parser;
 use limbfuse_core::{Record, Segment};
 use limbfuse_estimators::segment_kf::CommonParams;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_studies::example_args::AccelAcceptStatsArgs;
 use rayon::prelude::*;
 
 #[derive(Clone, Copy, Default)]
@@ -84,10 +86,8 @@ fn wrapd(a: f64) -> f64 {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let a: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let b: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
-    let ideal = args.get(3).map(|s| s == "ideal").unwrap_or(false);
+    let args = AccelAcceptStatsArgs::parse();
+    let (a, b, ideal) = (args.first, args.last, args.ideal.is_some());
     let zeta = CommonParams::default().zetas();
     println!("seeds {a}..={b}, ideal sensors: {ideal}");
     println!("| speed | segment | test | acc % | mean | sd | >3 % | mean from >3 | >5 % | mean from >5 | mean from <=3 |");

@@ -1,0 +1,273 @@
+//! The command-line arguments of every study example, parsed here (with
+//! clap) rather than in the examples, so that a command written in
+//! `docs/RESULTS.md` can be checked without running the study: [`check`]
+//! parses the arguments exactly as the example's `main` does.
+
+use clap::{Parser, Subcommand};
+use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
+use limbfuse_estimators::segment_kf::AccelGate;
+
+/// Every example of this crate, by name (the file `examples/NAME.rs`).
+pub const EXAMPLES: [&str; 11] = [
+    "accel_accept_stats",
+    "accel_gate_study",
+    "baseline_study",
+    "fes_figures",
+    "fes_studies",
+    "fes_thesis_protocol",
+    "gait_pelvis",
+    "imm_bslip_study",
+    "knee_study",
+    "segment_error_budget",
+    "segment_study",
+];
+
+/// Why the arguments of an example command are not runnable.
+#[derive(Debug, thiserror::Error)]
+pub enum ExampleArgsError {
+    /// No example of that name exists in this crate.
+    #[error("no study example named `{0}` (examples: {list})", list = EXAMPLES.join(", "))]
+    UnknownExample(String),
+    /// The example's parser rejects the arguments.
+    #[error("example `{example}` rejects its arguments: {message}")]
+    Rejected {
+        /// The example.
+        example: String,
+        /// clap's message.
+        message: String,
+    },
+}
+
+/// Parses `args` (without the program name) as example `example` would;
+/// `Ok` when the example would start its work with them.
+pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
+    fn parse<P: Parser>(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
+        let argv = std::iter::once(example.to_string()).chain(args.iter().cloned());
+        P::try_parse_from(argv)
+            .map(|_| ())
+            .map_err(|e| ExampleArgsError::Rejected {
+                example: example.into(),
+                message: e.to_string(),
+            })
+    }
+    match example {
+        "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
+        "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
+        "baseline_study" | "fes_figures" | "fes_thesis_protocol" => parse::<NoArgs>(example, args),
+        "fes_studies" => parse::<FesStudiesArgs>(example, args),
+        "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
+        "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
+        "knee_study" => parse::<KneeStudyArgs>(example, args),
+        "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
+        "segment_study" => parse::<SegmentStudyArgs>(example, args),
+        _ => Err(ExampleArgsError::UnknownExample(example.into())),
+    }
+}
+
+/// Examples that take no arguments (`baseline_study`, `fes_figures`,
+/// `fes_thesis_protocol`).
+#[derive(Debug, Parser)]
+pub struct NoArgs {}
+
+/// `segment_study [SEEDS]`.
+#[derive(Debug, Parser)]
+pub struct SegmentStudyArgs {
+    /// Seeds 1..=SEEDS per speed.
+    #[arg(default_value_t = 30)]
+    pub seeds: u64,
+}
+
+/// `segment_error_budget [SEEDS]`.
+#[derive(Debug, Parser)]
+pub struct SegmentErrorBudgetArgs {
+    /// Seeds 1..=SEEDS per speed.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
+}
+
+/// `accel_accept_stats [FIRST] [LAST] [ideal]`.
+#[derive(Debug, Parser)]
+pub struct AccelAcceptStatsArgs {
+    /// First seed.
+    #[arg(default_value_t = 1)]
+    pub first: u64,
+    /// Last seed (inclusive).
+    #[arg(default_value_t = 10)]
+    pub last: u64,
+    /// `ideal` switches every sensor error off.
+    #[arg(value_parser = ["ideal"])]
+    pub ideal: Option<String>,
+}
+
+/// `accel_gate_study [FIRST] [LAST] [VARIANT ...] [--ideal] [--rate HZ]`.
+#[derive(Debug, Parser)]
+pub struct AccelGateStudyArgs {
+    /// First seed.
+    #[arg(default_value_t = 1)]
+    pub first: u64,
+    /// Last seed (inclusive).
+    #[arg(default_value_t = 10)]
+    pub last: u64,
+    /// Acceptance variants (see [`accel_gate`]); default: the study's list.
+    #[arg(value_parser = accel_gate_variant)]
+    pub variants: Vec<String>,
+    /// Switch every sensor error off.
+    #[arg(long)]
+    pub ideal: bool,
+    /// IMU sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+}
+
+/// The accelerometer gate of an `accel_gate_study` variant: `base` or
+/// `+`-joined parts `holdMS` (`AccelGate::hold_s`, milliseconds) and
+/// `gyroW` (`AccelGate::max_rate`, rad/s), optionally suffixed `@mjls`.
+pub fn accel_gate(name: &str) -> Result<AccelGate, String> {
+    let mut g = AccelGate::OFF;
+    for part in name.trim_end_matches("@mjls").split('+') {
+        if let Some(v) = part.strip_prefix("hold") {
+            g.hold_s = v
+                .parse::<f64>()
+                .map_err(|e| format!("hold ms `{v}`: {e}"))?
+                * 1e-3;
+        } else if let Some(v) = part.strip_prefix("gyro") {
+            g.max_rate = v.parse().map_err(|e| format!("gyro rad/s `{v}`: {e}"))?;
+        } else if part != "base" {
+            return Err(format!("unknown variant part `{part}`"));
+        }
+    }
+    Ok(g)
+}
+
+fn accel_gate_variant(name: &str) -> Result<String, String> {
+    accel_gate(name).map(|_| name.to_string())
+}
+
+/// `knee_study MODE [...]`.
+#[derive(Debug, Parser)]
+pub struct KneeStudyArgs {
+    /// The study to run.
+    #[command(subcommand)]
+    pub mode: KneeStudyMode,
+}
+
+/// The modes of `knee_study`.
+#[derive(Debug, Subcommand)]
+pub enum KneeStudyMode {
+    /// Accuracy over seeds 1..=N (s_w = 500, order 6).
+    Seeds {
+        /// Seeds 1..=N.
+        #[arg(default_value_t = 30)]
+        n: u64,
+        /// Anterior-posterior sensor offset from the segment line, sd (cm).
+        #[arg(default_value_t = 0.0)]
+        ap_sd_cm: f64,
+        /// Fusion filter: `paper` (Algorithm 1) or `rate-bias`.
+        #[arg(default_value = "paper", value_parser = ["paper", "rate-bias"])]
+        fusion: String,
+    },
+    /// The order x window grid of 002 Table 1, seeds 1..=N.
+    Table1 {
+        /// Seeds 1..=N.
+        #[arg(default_value_t = 10)]
+        n: u64,
+    },
+    /// Thigh-sensor re-mounting at t = 30 s, seeds 1..=N.
+    Remount {
+        /// Seeds 1..=N.
+        #[arg(default_value_t = 10)]
+        n: u64,
+    },
+    /// The shared gaittoolbox and knee-rig recordings.
+    Real {
+        /// Directory of the shared data.
+        #[arg(default_value = "../shared/data")]
+        data_dir: String,
+    },
+    /// The error left with the true geometry fixed, seeds 1..=N.
+    Floor {
+        /// Seeds 1..=N.
+        #[arg(default_value_t = 30)]
+        n: u64,
+    },
+}
+
+/// `fes_studies [--hip-only]`.
+#[derive(Debug, Parser)]
+pub struct FesStudiesArgs {
+    /// Skip the single-joint study (a): run the fixed-hip studies (b)-(e).
+    #[arg(long)]
+    pub hip_only: bool,
+}
+
+/// `gait_pelvis [DATA_DIR] [--touchdown RULE]`.
+#[derive(Debug, Parser)]
+pub struct GaitPelvisArgs {
+    /// The gaittoolbox trial directory.
+    #[arg(default_value = "../shared/data/gaittoolbox-s02-walk")]
+    pub data_dir: String,
+    /// Touchdown rule: `height` (default), `step-clock` or `mixed`.
+    #[arg(long, default_value = "height", value_parser = touchdown_rule)]
+    pub touchdown: TouchdownRule,
+}
+
+/// `imm_bslip_study [SEEDS] [--truth SPEED] [--weights W] [--touchdown R]
+/// [--p-next P] [--p-gait P] [--rate HZ]`.
+#[derive(Debug, Parser)]
+pub struct ImmBslipStudyArgs {
+    /// Noise seeds 1..=SEEDS.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
+    /// The library gait (m/s, one of 0.4-0.9 by 0.1) simulated and held out.
+    #[arg(long, default_value_t = 0.7, value_parser = library_speed)]
+    pub truth: f64,
+    /// IMM weights: `paper` (eq 8, default) or `recursive`.
+    #[arg(long, default_value = "paper", value_parser = imm_weights)]
+    pub weights: ImmWeights,
+    /// Touchdown rule: `height` (default), `step-clock` or `mixed`.
+    #[arg(long, default_value = "height", value_parser = touchdown_rule)]
+    pub touchdown: TouchdownRule,
+    /// Markov probability of the next phase (default: the estimator's).
+    #[arg(long)]
+    pub p_next: Option<f64>,
+    /// Markov probability of another gait (default: the estimator's).
+    #[arg(long)]
+    pub p_gait: Option<f64>,
+    /// Measurement rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+}
+
+/// The gait speeds of the `imm_bslip_study` library (m/s).
+pub const IMM_STUDY_SPEEDS: [f64; 6] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
+
+fn library_speed(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if IMM_STUDY_SPEEDS.iter().any(|x| (x - v).abs() < 1e-9) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not a library speed {IMM_STUDY_SPEEDS:?}"))
+    }
+}
+
+/// Parses a touchdown rule name (`height`, `step-clock`, `mixed`; the names of
+/// `limbfuse estimate --imm-touchdown`).
+pub fn touchdown_rule(s: &str) -> Result<TouchdownRule, String> {
+    match s {
+        "height" => Ok(TouchdownRule::Height),
+        "step-clock" => Ok(TouchdownRule::StepClock),
+        "mixed" => Ok(TouchdownRule::Mixed),
+        _ => Err(format!(
+            "unknown touchdown rule `{s}` (height, step-clock, mixed)"
+        )),
+    }
+}
+
+/// Parses an IMM weight rule name (`paper`, `recursive`).
+pub fn imm_weights(s: &str) -> Result<ImmWeights, String> {
+    match s {
+        "paper" => Ok(ImmWeights::Paper),
+        "recursive" => Ok(ImmWeights::Recursive),
+        _ => Err(format!("unknown IMM weights `{s}` (paper, recursive)")),
+    }
+}

@@ -1,0 +1,115 @@
+//! Every command written in docs/RESULTS.md is runnable (issue 13): each
+//! study example it names exists and accepts its arguments (parsed by the
+//! example's own parser, without running the study), each `cargo test`
+//! command names an existing package and test target, and no study command
+//! is left abbreviated in the prose. `limbfuse` commands are checked by
+//! `limbfuse-cli`'s `tests/results_commands.rs`. `scripts/results-commands.sh
+//! --run` runs them all (hours).
+
+use std::path::{Path, PathBuf};
+
+use limbfuse_studies::example_args::{check, EXAMPLES};
+use limbfuse_studies::results_commands::{extract, inline_study_commands, CommandKind};
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn results_md() -> String {
+    std::fs::read_to_string(workspace().join("docs/RESULTS.md")).expect("docs/RESULTS.md")
+}
+
+/// The problems of the commands of `markdown` that this crate can check.
+fn problems(markdown: &str) -> Vec<String> {
+    let root = workspace();
+    let mut out = Vec::new();
+    let commands = extract(markdown);
+    for c in &commands {
+        match c.kind() {
+            Err(e) => out.push(e.to_string()),
+            Ok(CommandKind::Limbfuse { .. }) => {}
+            Ok(CommandKind::Example {
+                package,
+                example,
+                args,
+            }) => {
+                if package != "limbfuse-studies" {
+                    out.push(format!(
+                        "line {}: study examples live in limbfuse-studies, not {package}",
+                        c.line
+                    ));
+                } else if !root
+                    .join(format!("crates/limbfuse-studies/examples/{example}.rs"))
+                    .is_file()
+                {
+                    out.push(format!("line {}: no example file {example}.rs", c.line));
+                } else if let Err(e) = check(&example, &args) {
+                    out.push(format!("line {}: {e}", c.line));
+                }
+            }
+            Ok(CommandKind::CargoTest { package, tests }) => {
+                let dir = root.join("crates").join(&package);
+                if !dir.join("Cargo.toml").is_file() {
+                    out.push(format!("line {}: no package {package}", c.line));
+                }
+                for t in tests {
+                    if !dir.join(format!("tests/{t}.rs")).is_file() {
+                        out.push(format!("line {}: {package} has no test {t}", c.line));
+                    }
+                }
+            }
+        }
+    }
+    for (line, span) in inline_study_commands(markdown) {
+        if !commands.iter().any(|c| c.text == span) {
+            out.push(format!(
+                "line {line}: `{span}` is not written out as a command of a ```sh block"
+            ));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_results_command_is_runnable() {
+    let md = results_md();
+    assert!(
+        extract(&md).len() > 20,
+        "docs/RESULTS.md lost its ```sh blocks"
+    );
+    let p = problems(&md);
+    assert!(p.is_empty(), "docs/RESULTS.md:\n{}", p.join("\n"));
+}
+
+#[test]
+fn the_check_catches_broken_commands() {
+    let md = "```sh\n\
+        cargo run --release -p limbfuse-studies --example no_such_study\n\
+        cargo run --release -p limbfuse-studies --example knee_study -- seeds 30 0 rate-bais\n\
+        cargo run --release -p limbfuse-studies --example imm_bslip_study -- --truth 0.65\n\
+        cargo run --release -p limbfuse-eval --example knee_study -- seeds\n\
+        cargo test -p limbfuse-studies --test no_such_test\n\
+        IMM_WEIGHTS=recursive cargo run --release -p limbfuse-studies --example imm_bslip_study\n\
+        ```\n\
+        and `cargo run --release -p limbfuse-studies --example segment_study -- 30`\n";
+    let p = problems(md);
+    assert_eq!(p.len(), 7, "{p:#?}");
+}
+
+#[test]
+fn every_example_has_an_argument_parser() {
+    let mut files: Vec<String> =
+        std::fs::read_dir(workspace().join("crates/limbfuse-studies/examples"))
+            .expect("examples dir")
+            .filter_map(|e| {
+                let p = e.ok()?.path();
+                (p.extension()? == "rs").then(|| p.file_stem()?.to_str().map(str::to_string))?
+            })
+            .collect();
+    files.sort();
+    assert_eq!(files, EXAMPLES.to_vec());
+    for e in EXAMPLES {
+        // Bad arguments are refused by every example's parser.
+        assert!(check(e, &["--no-such-flag".into()]).is_err(), "{e}");
+    }
+}
