@@ -9,7 +9,7 @@
 
 use clap::Parser;
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_core::{Record, Segment};
+use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::segment_kf::{CommonParams, GlobalKf, LocalKf, MarkovJumpKf};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 use limbfuse_studies::baseline_study::evaluate_records;
@@ -66,7 +66,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
             .collect();
         let nn = per_seed.len() as f64;
-        for (m, name) in ["local", "mjls", "global"].iter().enumerate() {
+        let names = [
+            LocalKf::default().name(),
+            MarkovJumpKf::default().name(),
+            GlobalKf::default().name(),
+        ];
+        for (m, name) in names.iter().enumerate() {
             let mean = |k: usize| per_seed.iter().map(|(o, _)| o[m][k]).sum::<f64>() / nn;
             println!(
                 "| {speed} | {name} | {:.2} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.2} | {:.2} | {:.2} |",
