@@ -75,7 +75,9 @@ pub trait Estimator {
     /// Writes the parameters in use as `key: value` lines (for the estimate file header).
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result;
 
-    /// Names of the diagnostic values in [`Estimate::diag`] (without the `diag_` prefix).
+    /// Names of the diagnostic values in [`Estimate::diag`] (without the `diag_` prefix):
+    /// the `NAMES` of the estimator's declared [`crate::DiagnosticSet`]
+    /// (see [`crate::diagnostics`]).
     fn diagnostic_names(&self) -> &[&'static str] {
         &[]
     }

@@ -14,6 +14,7 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 
+pub mod diagnostics;
 pub mod discretize;
 pub mod estimate;
 pub mod estimator;
@@ -25,6 +26,7 @@ pub mod sample;
 #[cfg(feature = "std")]
 pub mod runner;
 
+pub use diagnostics::{DiagnosticSet, DiagnosticWriter};
 pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
 pub use limb::{Joint, Segment};

@@ -4,7 +4,7 @@
 use limbfuse_core::{Estimator, GaitPhase, Record};
 use limbfuse_estimators::imm_bslip::ekf::{propagate, update, Cov};
 use limbfuse_estimators::imm_bslip::{
-    ImmBslip, ImmBslipError, ImmBslipParams, ImmWeights, TouchdownRule,
+    ImmBslip, ImmBslipError, ImmBslipParams, ImmDiag, ImmWeights, TouchdownRule, SPEED_MEAN,
 };
 use limbfuse_models::bslip::{BslipParams, GaitTemplate, Stance, State};
 use limbfuse_sim::bslip::library::{start_seed, LibraryGait, START_SPEED};
@@ -119,7 +119,28 @@ fn weights_sum_to_one_and_stay_finite_when_every_likelihood_underflows() {
         let e = imm.step(&r.sample).unwrap();
         assert_weights_ok(&imm, r.sample.t);
         assert!(e.com_pos.unwrap().iter().all(|v| v.is_finite()));
+        assert_diagnostics_written(&imm, &e);
     }
+}
+
+/// Every named column (the weights, then `speed_mean`) is written, none past them.
+fn assert_diagnostics_written(imm: &ImmBslip, e: &limbfuse_core::Estimate) {
+    let names = imm.diagnostic_names();
+    assert_eq!(names.len(), 3 * imm.templates().len() + 1);
+    let speed = imm.diagnostic_column(ImmDiag::SpeedMean).unwrap();
+    assert_eq!(names[speed], SPEED_MEAN);
+    assert_eq!(
+        imm.diagnostic_column(ImmDiag::Weight(names.len() - 1)),
+        None
+    );
+    for (k, w) in imm.weights().enumerate() {
+        assert_eq!(
+            e.diag[imm.diagnostic_column(ImmDiag::Weight(k)).unwrap()],
+            Some(w)
+        );
+    }
+    assert!(e.diag[..names.len()].iter().all(Option::is_some));
+    assert!(e.diag[names.len()..].iter().all(Option::is_none));
 }
 
 #[test]

@@ -5,7 +5,9 @@
 #![allow(clippy::needless_range_loop)] // axis i of thigh (0) and shank (1) in parallel arrays
 
 use limbfuse_core::{Estimate, Estimator, Joint, Record, Segment};
-use limbfuse_estimators::knee_selfalign::{status, KneeSelfAlign, KneeSelfAlignParams, KNEE_DIAG};
+use limbfuse_estimators::knee_selfalign::{
+    KneeDiag, KneeSelfAlign, KneeSelfAlignParams, WindowStatus,
+};
 use limbfuse_sim::{Motion, Mounting, WalkingConfig, WalkingSimulator};
 use nalgebra::Vector3;
 
@@ -24,7 +26,7 @@ fn true_axes(sim: &WalkingSimulator) -> [Vector3<f64>; 2] {
 }
 
 fn diag(e: &Estimate, name: &str) -> Option<f64> {
-    let i = KNEE_DIAG.iter().position(|n| *n == name).unwrap();
+    let i = KneeDiag::NAMES.iter().position(|n| *n == name).unwrap();
     e.diag[i]
 }
 
@@ -97,7 +99,10 @@ fn no_angle_before_the_first_window_and_diagnostics_after() {
         );
     }
     let last = out.last().unwrap();
-    assert_eq!(diag(last, "window_status"), Some(status::IDENTIFIED));
+    assert_eq!(
+        diag(last, "window_status"),
+        Some(WindowStatus::Identified.code())
+    );
     assert_eq!(diag(last, "windows"), Some(1.0));
     let j = Vector3::new(
         diag(last, "j_thigh_x").unwrap(),
@@ -121,7 +126,10 @@ fn motionless_recording_is_reported_unobservable() {
     }
     let last = out.last().unwrap();
     assert_eq!(diag(last, "unobservable"), Some(1.0));
-    assert_eq!(diag(last, "window_status"), Some(status::UNOBSERVABLE));
+    assert_eq!(
+        diag(last, "window_status"),
+        Some(WindowStatus::Unobservable.code())
+    );
     assert!(diag(last, "information").unwrap() < 0.01);
 }
 
@@ -143,11 +151,14 @@ fn windows_with_missing_samples() {
     let (est, out) = run(&records, KneeSelfAlignParams::default());
     assert_eq!(
         diag(&out[499], "window_status"),
-        Some(status::TOO_FEW_SAMPLES)
+        Some(WindowStatus::TooFewSamples.code())
     );
     assert_eq!(diag(&out[499], "window_usable"), Some(150.0));
     assert_eq!(out[700].joint[Joint::Knee.index()], None);
-    assert_eq!(diag(&out[999], "window_status"), Some(status::IDENTIFIED));
+    assert_eq!(
+        diag(&out[999], "window_status"),
+        Some(WindowStatus::Identified.code())
+    );
     let g = est.geometry().unwrap();
     for i in 0..2 {
         assert!(g.axis[i].dot(&truth[i]) > 10f64.to_radians().cos());

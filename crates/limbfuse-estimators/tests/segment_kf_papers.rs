@@ -10,7 +10,7 @@ use limbfuse_core::{Estimator, Sample, Segment};
 use limbfuse_estimators::segment_kf::params::CommonParams;
 use limbfuse_estimators::segment_kf::{
     global_output_matrix, local_output_matrix, mjls_output_matrix, mjls_select, GlobalKf,
-    GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams, MJLS_DIAG,
+    GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams, MjlsDiag,
 };
 use nalgebra::{SMatrix, SVector, Vector3};
 use segment_kf_support::G;
@@ -79,13 +79,12 @@ fn paper_000_worked_example_through_the_filter() {
     };
     // k = 0 initialises the segments.
     f.step(&sample(0, [0.0; 4])).unwrap();
-    let idx = |name: &str| MJLS_DIAG.iter().position(|n| *n == name).unwrap();
     for k in 0..10 {
         let e = f
             .step(&sample(k + 1, [EX_B[k], EX_T[k], EX_S[k], EX_F[k]]))
             .unwrap();
         let updated = EX_UPDATES.contains(&(k + 1));
-        let mode = e.diag[idx("mode")].unwrap();
+        let mode = e.diagnostic(MjlsDiag::Mode).unwrap();
         let expected_index = match EX_XI[k] {
             'B' => 0.0,
             'T' => 1.0,
@@ -98,10 +97,10 @@ fn paper_000_worked_example_through_the_filter() {
             "k = {}",
             k + 1
         );
-        assert!((e.diag[idx("rho_min")].unwrap() - EX_RHO[k]).abs() < 1e-12);
-        let upd_segments: Vec<f64> = ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"]
+        assert!((e.diagnostic(MjlsDiag::RhoMin).unwrap() - EX_RHO[k]).abs() < 1e-12);
+        let upd_segments: Vec<f64> = MjlsDiag::UPDATED_SEGMENT
             .iter()
-            .map(|n| e.diag[idx(n)].unwrap())
+            .map(|k| e.diagnostic(*k).unwrap())
             .collect();
         assert_eq!(
             upd_segments.iter().sum::<f64>(),
@@ -111,11 +110,12 @@ fn paper_000_worked_example_through_the_filter() {
             assert_eq!(upd_segments[expected_index as usize], 1.0);
         }
         // Paper behaviour: no encoder rows either when unreliable.
-        for n in ["upd_hip", "upd_knee", "upd_ankle"] {
+        for n in MjlsDiag::UPDATED_JOINT {
             assert_eq!(
-                e.diag[idx(n)],
+                e.diagnostic(n),
                 Some(if updated { 1.0 } else { 0.0 }),
-                "{n} k = {}",
+                "{} k = {}",
+                n.name(),
                 k + 1
             );
         }

@@ -8,8 +8,8 @@ mod segment_kf_support;
 use limbfuse_core::{Estimate, Estimator, Sample};
 use limbfuse_estimators::segment_kf::params::CommonParams;
 use limbfuse_estimators::segment_kf::{
-    AccelGate, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams,
-    WhenUnreliable, GLOBAL_DIAG, LOCAL_DIAG, MJLS_DIAG,
+    AccelGate, GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams,
+    MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable,
 };
 use nalgebra::{SMatrix, Vector3};
 use proptest::prelude::*;
@@ -76,9 +76,9 @@ impl AnyKf {
 
     fn diag_names(&self) -> &'static [&'static str] {
         match self {
-            AnyKf::Local(_) => &LOCAL_DIAG,
-            AnyKf::Mjls(_) => &MJLS_DIAG,
-            AnyKf::Global(_) => &GLOBAL_DIAG,
+            AnyKf::Local(_) => &LocalDiag::NAMES,
+            AnyKf::Mjls(_) => &MjlsDiag::NAMES,
+            AnyKf::Global(_) => &GlobalDiag::NAMES,
         }
     }
 }
@@ -383,12 +383,12 @@ fn mjls_encoders_only_option_uses_the_encoders_when_no_imu_is_reliable() {
             imu.acc = imu.acc.map(|a| a * 1.2); // rho ~ 2 m/s^2: unreliable
         }
         let e = f.step(&s).unwrap();
-        assert_eq!(diag(&e, &MJLS_DIAG, "mode"), Some(-1.0));
+        assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(-1.0));
         for n in ["upd_hip", "upd_knee", "upd_ankle"] {
-            assert_eq!(diag(&e, &MJLS_DIAG, n), Some(want), "{opt:?}");
+            assert_eq!(diag(&e, &MjlsDiag::NAMES, n), Some(want), "{opt:?}");
         }
         for n in ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"] {
-            assert_eq!(diag(&e, &MJLS_DIAG, n), Some(0.0));
+            assert_eq!(diag(&e, &MjlsDiag::NAMES, n), Some(0.0));
         }
     }
 }
@@ -597,12 +597,12 @@ fn accel_rate_gate_drops_a_rotating_segment() {
         imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64)); // trunk best
     }
     let e = f.step(&s).unwrap();
-    assert_eq!(diag(&e, &MJLS_DIAG, "mode"), Some(0.0));
+    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(0.0));
     let mut s = l.sample(2);
     for (i, imu) in s.imu.iter_mut().enumerate() {
         imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64));
     }
     s.imu[0].gyr = Some(Vector3::new(0.0, 0.0, -1.5));
     let e = f.step(&s).unwrap();
-    assert_eq!(diag(&e, &MJLS_DIAG, "mode"), Some(1.0));
+    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(1.0));
 }

@@ -42,8 +42,8 @@ mod segment_kf_support;
 use limbfuse_core::{Estimate, Estimator};
 use limbfuse_estimators::segment_kf::params::{CommonParams, LoopMode};
 use limbfuse_estimators::segment_kf::{
-    GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams,
-    GLOBAL_DIAG, LOCAL_DIAG, MJLS_DIAG,
+    GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams, MjlsDiag, SegmentDiag,
 };
 use segment_kf_support::{Rng, StaticLimb, G};
 
@@ -106,7 +106,7 @@ fn run(f: &mut dyn Estimator, seed: u64, diag_names: &[&str]) -> Run {
     }
     let last = last.unwrap();
     let bias_idx = |i: usize| {
-        let name = ["bias_trunk", "bias_thigh", "bias_shank", "bias_foot"][i];
+        let name = SegmentDiag::BIAS[i].name();
         diag_names.iter().position(|d| *d == name).unwrap()
     };
     let mut bias_err = [0.0; 4];
@@ -148,7 +148,7 @@ fn local_converges_to_angle_and_bias() {
             min_reliable: 2,
         })
         .unwrap();
-        let r = run(&mut f, seed, &LOCAL_DIAG);
+        let r = run(&mut f, seed, &LocalDiag::NAMES);
         check("local", &r);
     }
 }
@@ -162,7 +162,7 @@ fn mjls_converges_to_angle_and_bias() {
             ..MarkovJumpKfParams::default()
         })
         .unwrap();
-        let r = run(&mut f, seed, &MJLS_DIAG);
+        let r = run(&mut f, seed, &MjlsDiag::NAMES);
         check("mjls", &r);
     }
 }
@@ -175,7 +175,7 @@ fn global_converges_to_angle_and_bias() {
             ..Default::default()
         })
         .unwrap();
-        let r = run(&mut f, seed, &GLOBAL_DIAG);
+        let r = run(&mut f, seed, &GlobalDiag::NAMES);
         check("global", &r);
     }
 }

@@ -6,7 +6,9 @@ use std::fmt::Write as _;
 
 use anyhow::{bail, Context, Result};
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::knee_selfalign::{status, KneeSelfAlign, KneeSelfAlignParams, KNEE_DIAG};
+use limbfuse_estimators::knee_selfalign::{
+    KneeDiag, KneeSelfAlign, KneeSelfAlignParams, WindowStatus,
+};
 use limbfuse_io::TrialReader;
 
 use crate::cli::AlignArgs;
@@ -50,22 +52,17 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let Some(last) = last else {
         bail!("{}: no samples", a.trial.display());
     };
-    let diag = |name: &str| {
-        KNEE_DIAG
-            .iter()
-            .position(|d| *d == name)
-            .and_then(|i| last.diag[i])
-    };
+    let diag = |key: KneeDiag| last.diagnostic(key);
     let Some(g) = est.geometry() else {
-        let why = match diag("window_status") {
-            Some(s) if s == status::UNOBSERVABLE => format!(
+        let why = match est.last_window().0 {
+            WindowStatus::Unobservable => format!(
                 "the motion does not determine the axes (information {:.2e} < {:.0e} (rad/s)^2): record some walking or knee flexion",
-                diag("information").unwrap_or(0.0),
+                diag(KneeDiag::Information).unwrap_or(0.0),
                 params.min_information
             ),
-            Some(s) if s == status::TOO_FEW_SAMPLES => format!(
+            WindowStatus::TooFewSamples => format!(
                 "too few samples with both IMUs complete and unsaturated ({})",
-                diag("window_usable").unwrap_or(0.0)
+                diag(KneeDiag::WindowUsable).unwrap_or(0.0)
             ),
             _ => "the parameter EKF failed numerically".into(),
         };
@@ -87,17 +84,17 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     writeln!(
         s,
         "rms_e_j_rad_s = {:.6}",
-        diag("rms_e_j").unwrap_or(f64::NAN)
+        diag(KneeDiag::RmsEJ).unwrap_or(f64::NAN)
     )?;
     writeln!(
         s,
         "rms_e_o_m_s2 = {:.6}",
-        diag("rms_e_o").unwrap_or(f64::NAN)
+        diag(KneeDiag::RmsEO).unwrap_or(f64::NAN)
     )?;
     writeln!(
         s,
         "information = {:.6}",
-        diag("information").unwrap_or(f64::NAN)
+        diag(KneeDiag::Information).unwrap_or(f64::NAN)
     )?;
     std::fs::write(&a.output, &s)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;

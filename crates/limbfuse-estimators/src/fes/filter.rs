@@ -5,7 +5,7 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample, TimeStep};
+use limbfuse_core::{DiagnosticSet, Estimate, Estimator, EstimatorError, Sample, TimeStep};
 use limbfuse_models::SdcModel;
 use nalgebra::{SMatrix, SVector};
 
@@ -35,8 +35,15 @@ pub trait Plant<const N: usize, const M: usize, const U: usize> {
     fn fill(&self, x: &SVector<f64, N>, e: &mut Estimate);
     /// Writes the plant's own parameters as `key: value` lines.
     fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result;
-    /// Diagnostic names: the state's rate rows, then `p_ii`, then `resets`.
-    fn diagnostic_names(&self) -> &'static [&'static str];
+    /// The plant's declared diagnostics: the state's rate rows, `P_ii`,
+    /// the restart count.
+    type Diag: DiagnosticSet;
+    /// Keys of the rate states `x[N/2..N]` (paper 004's `dq`), in state order.
+    const RATE_DIAG: &'static [Self::Diag];
+    /// Keys of the Riccati-solution diagonal `P_ii` (eq 4.16), in state order.
+    const COVARIANCE_DIAG: [Self::Diag; N];
+    /// Key of the number of restarts after a non-finite state.
+    const RESETS_DIAG: Self::Diag;
 }
 
 /// The continuous-time estimator of paper 004 on plant `P`: `sdre` with
@@ -162,7 +169,7 @@ where
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        self.plant.diagnostic_names()
+        <P::Diag as DiagnosticSet>::NAMES
     }
 
     fn reset(&mut self) {
@@ -225,16 +232,14 @@ where
             .ok_or(EstimatorError::Numerical("no state"))?;
         let mut e = Estimate::empty(s.t);
         self.plant.fill(&st.x, &mut e);
-        let mut k = 0;
-        for i in N / 2..N {
-            e.diag[k] = Some(st.x[i]);
-            k += 1;
+        let mut d = e.diagnostics_mut::<P::Diag>();
+        for (key, i) in P::RATE_DIAG.iter().zip(N / 2..N) {
+            d.value(*key, st.x[i]);
         }
-        for i in 0..N {
-            e.diag[k] = Some(st.p[(i, i)]);
-            k += 1;
+        for (i, key) in P::COVARIANCE_DIAG.into_iter().enumerate() {
+            d.value(key, st.p[(i, i)]);
         }
-        e.diag[k] = Some(f64::from(self.resets));
+        d.value(P::RESETS_DIAG, f64::from(self.resets));
         Ok(e)
     }
 }

@@ -4,7 +4,7 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Sample, Segment};
+use limbfuse_core::{diagnostic_set, Estimate, Sample, Segment};
 use limbfuse_models::FixedHipModel;
 use nalgebra::{SVector, Vector4};
 
@@ -60,8 +60,37 @@ impl FixedHipFilter {
     }
 }
 
+diagnostic_set! {
+    /// Diagnostics of the fixed-hip `sdre` / `ekf` ([`FixedHipPlant`]).
+    pub enum FixedHipDiag {
+        /// Thigh angular rate state `x_3` (rad/s, paper 004 eq 4.18).
+        ThighRate = "thigh_rate",
+        /// Shank angular rate state `x_4` (rad/s).
+        ShankRate = "shank_rate",
+        /// `P_11` of the Riccati solution (eq 4.16), thigh angle (rad^2).
+        P11 = "p11",
+        /// `P_22`, shank angle (rad^2).
+        P22 = "p22",
+        /// `P_33`, thigh rate ((rad/s)^2).
+        P33 = "p33",
+        /// `P_44`, shank rate ((rad/s)^2).
+        P44 = "p44",
+        /// Restarts after a non-finite state.
+        Resets = "resets",
+    }
+}
+
 impl Plant<4, 4, 6> for FixedHipPlant {
     type Model = FixedHipModel;
+    type Diag = FixedHipDiag;
+    const RATE_DIAG: &'static [FixedHipDiag] = &[FixedHipDiag::ThighRate, FixedHipDiag::ShankRate];
+    const COVARIANCE_DIAG: [FixedHipDiag; 4] = [
+        FixedHipDiag::P11,
+        FixedHipDiag::P22,
+        FixedHipDiag::P33,
+        FixedHipDiag::P44,
+    ];
+    const RESETS_DIAG: FixedHipDiag = FixedHipDiag::Resets;
 
     fn model(&self) -> &FixedHipModel {
         &self.model
@@ -140,17 +169,5 @@ impl Plant<4, 4, 6> for FixedHipPlant {
         writeln!(out, "leg_mass: {}", p.leg_mass)?;
         writeln!(out, "g: {}", p.g)?;
         writeln!(out, "muscle_peak_hf_he_kf_ke: {:?}", p.muscle_peak)
-    }
-
-    fn diagnostic_names(&self) -> &'static [&'static str] {
-        &[
-            "thigh_rate",
-            "shank_rate",
-            "p11",
-            "p22",
-            "p33",
-            "p44",
-            "resets",
-        ]
     }
 }

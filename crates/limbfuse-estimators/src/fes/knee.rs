@@ -4,7 +4,7 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Sample, Segment};
+use limbfuse_core::{diagnostic_set, Estimate, Sample, Segment};
 use limbfuse_models::KneeFesModel;
 use nalgebra::{SVector, Vector1, Vector2};
 
@@ -73,8 +73,26 @@ impl KneeFesFilter {
     }
 }
 
+diagnostic_set! {
+    /// Diagnostics of the knee-FES `sdre` / `ekf` ([`KneePlant`]).
+    pub enum KneeFesDiag {
+        /// Shank angular rate state `x_2` (rad/s, paper 004 eq 4.1).
+        ShankRate = "shank_rate",
+        /// `P_11` of the Riccati solution (eq 4.16), shank angle (rad^2).
+        P11 = "p11",
+        /// `P_22`, shank rate ((rad/s)^2).
+        P22 = "p22",
+        /// Restarts after a non-finite state.
+        Resets = "resets",
+    }
+}
+
 impl Plant<2, 2, 1> for KneePlant {
     type Model = KneeFesModel;
+    type Diag = KneeFesDiag;
+    const RATE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::ShankRate];
+    const COVARIANCE_DIAG: [KneeFesDiag; 2] = [KneeFesDiag::P11, KneeFesDiag::P22];
+    const RESETS_DIAG: KneeFesDiag = KneeFesDiag::Resets;
 
     fn model(&self) -> &KneeFesModel {
         &self.model
@@ -136,10 +154,6 @@ impl Plant<2, 2, 1> for KneePlant {
         writeln!(out, "d: {:?}", p.d)?;
         writeln!(out, "c: {:?}", p.c)?;
         writeln!(out, "activation: a_ke = u_ke (thesis section 4.1.1)")
-    }
-
-    fn diagnostic_names(&self) -> &'static [&'static str] {
-        &["shank_rate", "p11", "p22", "resets"]
     }
 }
 

@@ -21,6 +21,6 @@ pub mod rmx;
 
 pub use continuous::{ContinuousTuning, Linearisation};
 pub use filter::{FesFilter, Plant};
-pub use fixed_hip::{FixedHipFilter, FixedHipPlant};
-pub use knee::{KneeFesFilter, KneePlant};
-pub use rmx::RotationMatrixKnee;
+pub use fixed_hip::{FixedHipDiag, FixedHipFilter, FixedHipPlant};
+pub use knee::{KneeFesDiag, KneeFesFilter, KneePlant};
+pub use rmx::{OrientationSource, RmxDiag, RotationMatrixKnee};

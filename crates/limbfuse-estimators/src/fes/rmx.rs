@@ -8,10 +8,39 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep};
+use limbfuse_core::{
+    diagnostic_set, Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep,
+};
 use nalgebra::{Quaternion, UnitQuaternion};
 
 use super::mahony::{sagittal_joint_angle, Mahony, MahonyGains};
+
+diagnostic_set! {
+    /// Diagnostics of [`RotationMatrixKnee`].
+    pub enum RmxDiag {
+        /// Where this sample's orientations came from, [`OrientationSource::code`].
+        SourceDeviceQuat = "source_device_quat",
+    }
+}
+
+/// Where the thigh and shank orientations of a sample come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OrientationSource {
+    /// The two [`Mahony`] filters on gyro and accelerometer.
+    Mahony,
+    /// The device quaternions `S_quat_*` of both IMUs.
+    DeviceQuaternions,
+}
+
+impl OrientationSource {
+    /// The `source_device_quat` column value: 1 for device quaternions, 0 for Mahony.
+    pub const fn code(self) -> f64 {
+        match self {
+            OrientationSource::Mahony => 0.0,
+            OrientationSource::DeviceQuaternions => 1.0,
+        }
+    }
+}
 
 /// Knee angle from the relative orientation of two IMUs.
 #[derive(Debug, Clone, Default)]
@@ -60,7 +89,7 @@ impl Estimator for RotationMatrixKnee {
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        &["source_device_quat"]
+        &RmxDiag::NAMES
     }
 
     fn reset(&mut self) {
@@ -74,7 +103,10 @@ impl Estimator for RotationMatrixKnee {
         let segs = [Segment::Thigh, Segment::Shank];
         if let (Some(a), Some(b)) = (s.imu(segs[0]).quat, s.imu(segs[1]).quat) {
             e.joint[1] = Some(sagittal_joint_angle(&device_quat(a), &device_quat(b)));
-            e.diag[0] = Some(1.0);
+            e.diagnostics_mut::<RmxDiag>().value(
+                RmxDiag::SourceDeviceQuat,
+                OrientationSource::DeviceQuaternions.code(),
+            );
             return Ok(e);
         }
         for (i, seg) in segs.iter().enumerate() {
@@ -92,7 +124,8 @@ impl Estimator for RotationMatrixKnee {
         if let [Some(t), Some(sh)] = &self.filters {
             e.joint[1] = Some(sagittal_joint_angle(&t.q, &sh.q));
         }
-        e.diag[0] = Some(0.0);
+        e.diagnostics_mut::<RmxDiag>()
+            .value(RmxDiag::SourceDeviceQuat, OrientationSource::Mahony.code());
         Ok(e)
     }
 }

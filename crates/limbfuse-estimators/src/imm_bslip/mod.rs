@@ -27,7 +27,9 @@
 #![allow(non_snake_case)]
 
 pub mod ekf;
+mod ensemble;
 mod feet;
+mod mode_probabilities;
 mod names;
 pub mod params;
 
@@ -38,12 +40,12 @@ use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample, TimeStep};
-use limbfuse_models::bslip::{leg_compression, GaitTemplate, State};
+use limbfuse_models::bslip::{GaitTemplate, State};
 use nalgebra::{Matrix6, Vector3};
 
 use ekf::{propagate, update, Cov};
 use feet::{Feet, FootPlacement};
-pub use names::{MAX_GAITS, WEIGHT_NAMES};
+pub use names::{ImmDiag, MAX_GAITS, SPEED_MEAN, WEIGHT_NAMES};
 pub use params::{ImmBslipParams, ImmWeights, TouchdownRule};
 
 /// Why an IMM could not be built.
@@ -159,7 +161,7 @@ impl ImmBslip {
         let names = models
             .iter()
             .map(|&(g, p)| WEIGHT_NAMES[3 * g + phase_index(p)])
-            .chain(core::iter::once("speed_mean"))
+            .chain(core::iter::once(SPEED_MEAN))
             .collect();
         let zero = Model {
             gait: 0,
@@ -206,6 +208,15 @@ impl ImmBslip {
         self.models.iter().map(|m| m.w)
     }
 
+    /// The column of diagnostic `d` in [`Estimate::diag`] (`None` for a
+    /// weight of a model the IMM does not have).
+    pub fn diagnostic_column(&self, d: ImmDiag) -> Option<usize> {
+        match d {
+            ImmDiag::Weight(k) => (k < self.models.len()).then_some(k),
+            ImmDiag::SpeedMean => Some(self.models.len()),
+        }
+    }
+
     /// Ensemble covariance (eq 10) of the last sample.
     pub fn ensemble_covariance(&self) -> &Cov {
         &self.ensemble.1
@@ -243,87 +254,6 @@ impl ImmBslip {
         self.running = true;
     }
 
-    /// Eq 14's `lambda_p = -kappa min(0, dl)^2`, `dl` the smallest leg
-    /// compression of the model's stance legs at `x`.
-    fn physical_log_likelihood(&self, m: &Model, x: &State) -> f64 {
-        if self.params.kappa == 0.0 {
-            return 0.0;
-        }
-        let t = &self.templates[m.gait];
-        let stance = self.feet[m.gait].stance_for(m.phase);
-        let dl = stance
-            .feet()
-            .map(|f| leg_compression(&t.body, x, f))
-            .fold(f64::INFINITY, f64::min);
-        let d = dl.min(0.0);
-        -self.params.kappa * d * d
-    }
-
-    /// [`ImmWeights::Recursive`]: adds `log c_j`, `c_j = sum_i p_ij w_i` (the
-    /// Markov-predicted weight, eq 11's normaliser), to each model's log
-    /// likelihood before [`Self::normalise_weights`], so that
-    /// `w_j ~ c_j L_j`, the standard IMM mode probability.
-    fn add_predicted_weights(&mut self) {
-        for j in 0..self.models.len() {
-            let c = self.predicted_weight(j);
-            // c = 0 gives -inf (weight 0); every weight zero is handled by
-            // normalise_weights (uniform).
-            self.models[j].log_l += libm::log(c);
-        }
-    }
-
-    /// Eq 8 in the log domain: `w_j = exp(l_j - max) / sum`.
-    fn normalise_weights(&mut self) {
-        let max = self
-            .models
-            .iter()
-            .map(|m| m.log_l)
-            .filter(|l| !l.is_nan())
-            .fold(f64::NEG_INFINITY, f64::max);
-        if !max.is_finite() {
-            let w = 1.0 / self.models.len() as f64;
-            self.models.iter_mut().for_each(|m| m.w = w);
-            return;
-        }
-        let mut sum = 0.0;
-        for m in &mut self.models {
-            m.w = if m.log_l.is_nan() {
-                0.0
-            } else {
-                libm::exp(m.log_l - max)
-            };
-            sum += m.w;
-        }
-        self.models.iter_mut().for_each(|m| m.w /= sum);
-    }
-
-    /// Markov prediction of the weights, `w_j = sum_i p_ij w_i` (samples
-    /// without measurements).
-    fn predict_weights(&mut self) {
-        for j in 0..self.models.len() {
-            self.models[j].log_l = self.predicted_weight(j);
-        }
-        let total: f64 = self.models.iter().map(|m| m.log_l).sum();
-        for m in &mut self.models {
-            m.w = m.log_l / total;
-            m.log_l = libm::log(m.w);
-        }
-    }
-
-    /// Eqs 9-10.
-    fn fuse(&mut self) {
-        let mut x = State::zeros();
-        for m in self.models.iter().filter(|m| m.w > 0.0) {
-            x += m.x * m.w;
-        }
-        let mut P = Cov::zeros();
-        for m in self.models.iter().filter(|m| m.w > 0.0) {
-            let d = m.x - x;
-            P += (d * d.transpose() + m.P) * m.w;
-        }
-        self.ensemble = (x, P);
-    }
-
     /// Per gait, after the ensemble update: [`Feet::advance`].
     fn advance_feet(&mut self, now: f64, previous_vy: f64) {
         let x = self.ensemble.0;
@@ -339,90 +269,6 @@ impl ImmBslip {
         for ((f, t), w) in self.feet.iter_mut().zip(&self.templates).zip(w) {
             f.advance(t, placement, &x, previous_vy, now, w);
         }
-    }
-
-    /// The Markov-predicted weight of model `j`, `c_j = sum_i p_ij w_i`
-    /// (eq 11's normaliser).
-    fn predicted_weight(&self, j: usize) -> f64 {
-        let n = self.models.len();
-        let mut c = 0.0;
-        for i in 0..n {
-            c += self.models[i].w * self.transition[i * n + j];
-        }
-        c
-    }
-
-    /// Eqs 11-13.
-    fn mix(&mut self) {
-        let n = self.models.len();
-        for j in 0..n {
-            let c = self.predicted_weight(j);
-            if c.is_nan() || c <= 0.0 {
-                let own = self.models[j];
-                let finite = own.x.iter().all(|v| v.is_finite());
-                self.models[j].x0 = if finite { own.x } else { self.ensemble.0 };
-                self.models[j].P0 = if finite { own.P } else { self.ensemble.1 };
-                continue;
-            }
-            let mut x0 = State::zeros();
-            for i in 0..n {
-                let wij = self.models[i].w * self.transition[i * n + j] / c;
-                if wij > 0.0 {
-                    x0 += self.models[i].x * wij;
-                }
-            }
-            let mut P0 = Cov::zeros();
-            for i in 0..n {
-                let wij = self.models[i].w * self.transition[i * n + j] / c;
-                if wij > 0.0 {
-                    let e = self.models[i].x - x0;
-                    P0 += (e * e.transpose() + self.models[i].P) * wij;
-                }
-            }
-            self.models[j].x0 = x0;
-            self.models[j].P0 = P0;
-        }
-    }
-
-    fn estimate(&self, t: f64) -> Estimate {
-        let mut e = Estimate::empty(t);
-        let n_gaits = self.templates.len();
-        let mut phase_w = [0.0; 3];
-        let mut best_gait = (0usize, -1.0);
-        let mut mean_speed = 0.0;
-        for g in 0..n_gaits {
-            let w: f64 = self
-                .models
-                .iter()
-                .filter(|m| m.gait == g)
-                .map(|m| m.w)
-                .sum();
-            mean_speed += w * self.templates[g].speed;
-            if w > best_gait.1 {
-                best_gait = (g, w);
-            }
-        }
-        for m in &self.models {
-            phase_w[phase_index(m.phase)] += m.w;
-        }
-        let mut best_phase = 0;
-        for p in 1..3 {
-            if phase_w[p] > phase_w[best_phase] {
-                best_phase = p;
-            }
-        }
-        e.phase = Some(PHASES[best_phase]);
-        e.speed = Some(self.templates[best_gait.0].speed);
-        let x = self.ensemble.0;
-        e.com_pos = Some(Vector3::new(x[0], x[1], x[2]));
-        e.com_vel = Some(Vector3::new(x[3], x[4], x[5]));
-        for (d, m) in e.diag.iter_mut().zip(&self.models) {
-            *d = Some(m.w);
-        }
-        if let Some(d) = e.diag.get_mut(self.models.len()) {
-            *d = Some(mean_speed);
-        }
-        e
     }
 }
 
@@ -545,106 +391,4 @@ impl Estimator for ImmBslip {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use limbfuse_models::bslip::{BslipParams, GaitParameters, Side};
-
-    /// A gait whose touchdown height (`sin(1.2) cos(0.05)` = 0.931 m) lies
-    /// below the level CoM path of [`level_walk`] (0.96 m).
-    fn template() -> GaitTemplate {
-        let gait = GaitParameters {
-            phi: 1.2,
-            theta: 0.05,
-            stiffness: 20_000.0,
-            height: 0.96,
-            lateral: 0.05,
-            forward_speed: 0.6,
-        };
-        GaitTemplate {
-            speed: 0.6,
-            body: BslipParams::default(),
-            gait,
-            step_length: 0.5,
-            step_width: 0.1,
-            step_time: 0.8,
-            t_touchdown: 0.295,
-            t_lift_off: 0.45,
-        }
-    }
-
-    /// Feeds a level CoM path at 0.6 m/s (no vertical motion, so no MS event
-    /// and no fall to the touchdown height) and returns, per sample, whether
-    /// the gait's leading foot has landed.
-    fn level_walk(rule: TouchdownRule) -> Vec<(f64, bool)> {
-        let params = ImmBslipParams {
-            touchdown: rule,
-            ..ImmBslipParams::full_com()
-        };
-        let mut imm = ImmBslip::new(&[template()], params).unwrap();
-        (0..40)
-            .map(|k| {
-                let t = k as f64 * 0.01;
-                let mut s = Sample::empty(t);
-                s.com.pos = [Some(0.6 * t), Some(0.96), Some(0.05)];
-                s.com.vel = [Some(0.6), Some(0.0), None];
-                imm.step(&s).unwrap();
-                (t, imm.feet[0].landed.is_some())
-            })
-            .collect()
-    }
-
-    #[test]
-    fn step_clock_lands_the_foot_t_touchdown_after_the_start() {
-        for (t, landed) in level_walk(TouchdownRule::StepClock) {
-            assert_eq!(landed, t >= 0.295, "t = {t}");
-        }
-    }
-
-    /// Paper-free check of the mixed rule against a hand computation: DS's
-    /// foot is `(w_DS stay ds + w_SS1 next swing) / (w_DS stay + w_SS1
-    /// next)`, SS2's `(w_SS2 stay ss2 + w_DS next ds) / (..)`.
-    #[test]
-    fn mixed_rule_blends_feet_by_the_weights_flowing_between_phases() {
-        let t = template();
-        let mut f = Feet::new(Side::Left);
-        f.start(&t, [0.0, 0.05], 0.0, TouchdownRule::Mixed);
-        assert_eq!(f.landed, Some(f.swinging));
-        assert_eq!(f.ss2, Some(f.swinging));
-        let (ds, ss2) = ([0.40, 0.10], [0.30, 0.12]);
-        f.landed = Some(ds);
-        f.ss2 = Some(ss2);
-        let placement = FootPlacement {
-            rule: TouchdownRule::Mixed,
-            stay: 0.94,
-            next: 0.05,
-        };
-        // Rising CoM: no MS.
-        let x = State::new(0.1, 0.96, 0.05, 0.6, 0.1, 0.0);
-        f.advance(&t, placement, &x, 0.2, 0.01, [0.6, 0.3, 0.1]);
-        let (dx, dz) = t.gait.touchdown_offset(1.0, Side::Left);
-        let swing = [0.1 + dx, 0.05 + dz];
-        let (a, b) = (0.3 * 0.94, 0.6 * 0.05);
-        let (c, d) = (0.1 * 0.94, 0.3 * 0.05);
-        for i in 0..2 {
-            let want_ds = (a * ds[i] + b * swing[i]) / (a + b);
-            let want_ss2 = (c * ss2[i] + d * ds[i]) / (c + d);
-            assert!((f.landed.unwrap()[i] - want_ds).abs() < 1e-15);
-            assert!((f.ss2.unwrap()[i] - want_ss2).abs() < 1e-15);
-        }
-        assert_eq!(f.stance[1], 0.05 - Side::Left.sign() * t.gait.lateral);
-        // The apex near SS2's foot is MS: SS2's foot becomes the stance foot.
-        let ms = f.ss2.unwrap();
-        let x = State::new(ms[0], 0.96, 0.05, 0.6, -0.01, 0.0);
-        f.advance(&t, placement, &x, 0.01, 0.02, [0.0, 0.1, 0.9]);
-        assert_eq!(f.side, Side::Right);
-        assert_eq!(f.ms_t, 0.02);
-        assert!((f.stance[0] - ms[0]).abs() < 0.05);
-        assert_eq!(f.landed, Some(f.swinging));
-    }
-
-    #[test]
-    fn height_rule_waits_for_the_com_to_fall_to_the_touchdown_height() {
-        assert!(template().gait.touchdown_height(1.0) < 0.96);
-        assert!(level_walk(TouchdownRule::Height).iter().all(|&(_, l)| !l));
-    }
-}
+mod tests;

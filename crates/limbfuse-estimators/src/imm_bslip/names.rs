@@ -1,6 +1,7 @@
-//! Diagnostic column names of the model weights: `w_gNN_PHASE` for gait
-//! `NN` (by increasing speed; the estimate header maps `gNN` to its speed)
-//! and phase `ss1`, `ds`, `ss2`.
+//! Diagnostic columns of [`super::ImmBslip`]. They depend on the library:
+//! one weight per (gait, phase) model, `w_gNN_PHASE` for gait `NN` (by
+//! increasing speed; the estimate header maps `gNN` to its speed) and phase
+//! `ss1`, `ds`, `ss2`, then [`SPEED_MEAN`].
 
 /// Largest number of gaits (3 weights each must fit [`limbfuse_core::MAX_DIAG`]).
 pub const MAX_GAITS: usize = 20;
@@ -68,3 +69,17 @@ pub const WEIGHT_NAMES: [&str; 3 * MAX_GAITS] = [
     "w_g19_ds",
     "w_g19_ss2",
 ];
+
+/// Name of the column after the weights: the weight-averaged library speed.
+pub const SPEED_MEAN: &str = "speed_mean";
+
+/// One diagnostic of [`super::ImmBslip`]; its column is
+/// [`super::ImmBslip::diagnostic_column`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImmDiag {
+    /// Weight (mode probability, paper 003 eq 8) of model `k`, in the order
+    /// of [`super::ImmBslip::weights`].
+    Weight(usize),
+    /// `sum_j w_j v_j` over the gaits: the weight-averaged library speed (m/s).
+    SpeedMean,
+}

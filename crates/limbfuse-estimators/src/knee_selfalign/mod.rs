@@ -29,7 +29,9 @@ pub mod window;
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep};
+use limbfuse_core::{
+    diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep,
+};
 use nalgebra::Vector3;
 
 use angle::{accel_angle, gyro_angle_rate, ComplementaryKf, PlaneBasis, RateBiasKf};
@@ -37,50 +39,111 @@ pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 pub use window::Geometry;
 use window::{identify, Ring, Slot, WindowOutcome};
 
-/// Diagnostic names of [`KneeSelfAlign`], in `Estimate::diag` order.
-pub const KNEE_DIAG: [&str; 28] = [
-    "identified",
-    "window_status",
-    "unobservable",
-    "windows",
-    "window_usable",
-    "saturated",
-    "alpha_gyro",
-    "alpha_acc",
-    "kf_x",
-    "kf_p",
-    "j_thigh_x",
-    "j_thigh_y",
-    "j_thigh_z",
-    "j_shank_x",
-    "j_shank_y",
-    "j_shank_z",
-    "o_thigh_x",
-    "o_thigh_y",
-    "o_thigh_z",
-    "o_shank_x",
-    "o_shank_y",
-    "o_shank_z",
-    "rms_e_j",
-    "rms_e_o",
-    "information",
-    "alpha_acc_lag",
-    "kf_rate_bias",
-    "acc_gyro_spread",
-];
+diagnostic_set! {
+    /// Diagnostics of [`KneeSelfAlign`].
+    pub enum KneeDiag {
+        /// 1 once a window has identified the geometry (the knee angle is output), else 0.
+        Identified = "identified",
+        /// Status of the last window, [`WindowStatus::code`].
+        WindowStatus = "window_status",
+        /// 1 when the last window did not determine the axes, else 0.
+        Unobservable = "unobservable",
+        /// Number of windows completed.
+        Windows = "windows",
+        /// Complete, unsaturated samples of the last window.
+        WindowUsable = "window_usable",
+        /// 1 when a gyro of this sample is saturated, else 0.
+        Saturated = "saturated",
+        /// Gyro knee angle, eq 4 integrated (rad).
+        AlphaGyro = "alpha_gyro",
+        /// Accelerometer knee angle, eqs 5-7, of the lagged sample (rad).
+        AlphaAcc = "alpha_acc",
+        /// Correction state of the fusion filter, Algorithm 1 (rad).
+        KfX = "kf_x",
+        /// Variance of that correction (rad^2).
+        KfP = "kf_p",
+        /// Thigh joint axis `j_1`, x (eq 1, sensor frame).
+        JThighX = "j_thigh_x",
+        /// Thigh joint axis `j_1`, y.
+        JThighY = "j_thigh_y",
+        /// Thigh joint axis `j_1`, z.
+        JThighZ = "j_thigh_z",
+        /// Shank joint axis `j_2`, x (eq 1, sensor frame).
+        JShankX = "j_shank_x",
+        /// Shank joint axis `j_2`, y.
+        JShankY = "j_shank_y",
+        /// Shank joint axis `j_2`, z.
+        JShankZ = "j_shank_z",
+        /// Thigh sensor position `o_1`, x (eq 3, m).
+        OThighX = "o_thigh_x",
+        /// Thigh sensor position `o_1`, y (m).
+        OThighY = "o_thigh_y",
+        /// Thigh sensor position `o_1`, z (m).
+        OThighZ = "o_thigh_z",
+        /// Shank sensor position `o_2`, x (eq 3, m).
+        OShankX = "o_shank_x",
+        /// Shank sensor position `o_2`, y (m).
+        OShankY = "o_shank_y",
+        /// Shank sensor position `o_2`, z (m).
+        OShankZ = "o_shank_z",
+        /// RMS of the axis residual `e_j` (eq 2) over the last identified window (rad/s).
+        RmsEJ = "rms_e_j",
+        /// RMS of the position residual `e_o` (eq 3) over the last identified window (m/s^2).
+        RmsEO = "rms_e_o",
+        /// Information of the axes in the last window: smallest eigenvalue of
+        /// `H_j^T H_j / N` ((rad/s)^2).
+        Information = "information",
+        /// Lag of the accelerometer angle behind the gyro angle (samples).
+        AlphaAccLag = "alpha_acc_lag",
+        /// Rate-bias state of the [`Fusion::RateBias`] filter (rad/s).
+        KfRateBias = "kf_rate_bias",
+        /// Circular spread (1 - mean resultant length, 0..1) of `alpha_acc -
+        /// integral(alpha_gyro')` over the last identified window.
+        AccGyroSpread = "acc_gyro_spread",
+    }
+}
 
-/// `window_status` values.
-pub mod status {
+impl KneeDiag {
+    /// `j_thigh_*`, `j_shank_*` (`[sensor][component]`).
+    pub const AXIS: [[KneeDiag; 3]; 2] = [
+        [KneeDiag::JThighX, KneeDiag::JThighY, KneeDiag::JThighZ],
+        [KneeDiag::JShankX, KneeDiag::JShankY, KneeDiag::JShankZ],
+    ];
+    /// `o_thigh_*`, `o_shank_*` (`[sensor][component]`).
+    pub const POSITION: [[KneeDiag; 3]; 2] = [
+        [KneeDiag::OThighX, KneeDiag::OThighY, KneeDiag::OThighZ],
+        [KneeDiag::OShankX, KneeDiag::OShankY, KneeDiag::OShankZ],
+    ];
+}
+
+/// What the last identification window (Algorithm 3) gave.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WindowStatus {
     /// No window completed yet.
-    pub const NONE: f64 = 0.0;
+    #[default]
+    NoWindowYet,
     /// The last window identified the geometry.
-    pub const IDENTIFIED: f64 = 1.0;
+    Identified,
     /// The last window had too few complete, unsaturated samples.
-    pub const TOO_FEW_SAMPLES: f64 = 2.0;
+    TooFewSamples,
     /// The last window did not determine the axes (e.g. no motion).
-    pub const UNOBSERVABLE: f64 = 3.0;
+    Unobservable,
     /// Algorithm 2 failed numerically on the last window.
-    pub const FAILED: f64 = 4.0;
+    Failed,
+}
+
+impl WindowStatus {
+    /// The `window_status` column value: 0 no window yet, 1 identified,
+    /// 2 too few samples, 3 unobservable, 4 failed.
+    pub const fn code(self) -> f64 {
+        match self {
+            WindowStatus::NoWindowYet => 0.0,
+            WindowStatus::Identified => 1.0,
+            WindowStatus::TooFewSamples => 2.0,
+            WindowStatus::Unobservable => 3.0,
+            WindowStatus::Failed => 4.0,
+        }
+    }
 }
 
 /// The angle-fusion filter in use.
@@ -135,7 +198,7 @@ pub struct KneeSelfAlign {
     last_rate: Option<f64>,
     kf: Fuser,
     windows: usize,
-    status: f64,
+    status: WindowStatus,
     usable: usize,
     rms: [f64; 2],
     information: f64,
@@ -177,7 +240,7 @@ impl KneeSelfAlign {
             last_rate: None,
             kf: Fuser::new(&params),
             windows: 0,
-            status: status::NONE,
+            status: WindowStatus::NoWindowYet,
             usable: 0,
             rms: [0.0; 2],
             information: 0.0,
@@ -191,9 +254,9 @@ impl KneeSelfAlign {
         &self.params
     }
 
-    /// Status of the last window (see [`status`]), its usable samples, the
-    /// RMS residuals `[e_j, e_o]` and the information of the axes.
-    pub fn last_window(&self) -> (f64, usize, [f64; 2], f64) {
+    /// Status of the last window, its usable samples, the RMS residuals
+    /// `[e_j, e_o]` and the information of the axes.
+    pub fn last_window(&self) -> (WindowStatus, usize, [f64; 2], f64) {
         (self.status, self.usable, self.rms, self.information)
     }
 
@@ -250,20 +313,20 @@ impl KneeSelfAlign {
                     }
                     self.geometry = Some(geometry);
                     self.bases = Some(bases);
-                    self.status = status::IDENTIFIED;
+                    self.status = WindowStatus::Identified;
                     self.rms = [rms_axis, rms_position];
                     self.information = information;
                     self.spread = spread;
                 } else {
-                    self.status = status::FAILED;
+                    self.status = WindowStatus::Failed;
                 }
             }
-            WindowOutcome::TooFewSamples { .. } => self.status = status::TOO_FEW_SAMPLES,
+            WindowOutcome::TooFewSamples { .. } => self.status = WindowStatus::TooFewSamples,
             WindowOutcome::Unobservable { information } => {
-                self.status = status::UNOBSERVABLE;
+                self.status = WindowStatus::Unobservable;
                 self.information = information;
             }
-            WindowOutcome::Failed => self.status = status::FAILED,
+            WindowOutcome::Failed => self.status = WindowStatus::Failed,
         }
     }
 
@@ -296,7 +359,7 @@ impl Estimator for KneeSelfAlign {
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        &KNEE_DIAG
+        &KneeDiag::NAMES
     }
 
     fn reset(&mut self) {
@@ -311,7 +374,7 @@ impl Estimator for KneeSelfAlign {
         self.last_rate = None;
         self.kf = Fuser::new(&self.params);
         self.windows = 0;
-        self.status = status::NONE;
+        self.status = WindowStatus::NoWindowYet;
         self.usable = 0;
         self.rms = [0.0; 2];
         self.information = 0.0;
@@ -371,36 +434,35 @@ impl Estimator for KneeSelfAlign {
             // not wrapped, so eq 4 stays continuous).
             est.joint[Joint::Knee.index()] = Some(angle::wrap(self.alpha_gyro + self.kf.state().0));
         }
-        let d = &mut est.diag;
-        d[0] = Some(if self.geometry.is_some() { 1.0 } else { 0.0 });
-        d[1] = Some(self.status);
-        d[2] = Some(if self.status == status::UNOBSERVABLE {
-            1.0
-        } else {
-            0.0
-        });
-        d[3] = Some(self.windows as f64);
-        d[4] = Some(self.usable as f64);
-        d[5] = Some(if saturated { 1.0 } else { 0.0 });
+        let mut d = est.diagnostics_mut::<KneeDiag>();
+        d.flag(KneeDiag::Identified, self.geometry.is_some());
+        d.value(KneeDiag::WindowStatus, self.status.code());
+        d.flag(
+            KneeDiag::Unobservable,
+            self.status == WindowStatus::Unobservable,
+        );
+        d.value(KneeDiag::Windows, self.windows as f64);
+        d.value(KneeDiag::WindowUsable, self.usable as f64);
+        d.flag(KneeDiag::Saturated, saturated);
         if let Some(g) = &self.geometry {
-            d[6] = Some(self.alpha_gyro);
-            d[7] = alpha_acc;
+            d.value(KneeDiag::AlphaGyro, self.alpha_gyro);
+            d.set(KneeDiag::AlphaAcc, alpha_acc);
             let (x, p, bias) = self.kf.state();
-            d[8] = Some(x);
-            d[9] = Some(p);
-            d[26] = bias;
-            for k in 0..3 {
-                d[10 + k] = Some(g.axis[0][k]);
-                d[13 + k] = Some(g.axis[1][k]);
-                d[16 + k] = Some(g.position[0][k]);
-                d[19 + k] = Some(g.position[1][k]);
+            d.value(KneeDiag::KfX, x);
+            d.value(KneeDiag::KfP, p);
+            d.set(KneeDiag::KfRateBias, bias);
+            for sensor in 0..2 {
+                for k in 0..3 {
+                    d.value(KneeDiag::AXIS[sensor][k], g.axis[sensor][k]);
+                    d.value(KneeDiag::POSITION[sensor][k], g.position[sensor][k]);
+                }
             }
-            d[22] = Some(self.rms[0]);
-            d[23] = Some(self.rms[1]);
-            d[27] = Some(self.spread);
+            d.value(KneeDiag::RmsEJ, self.rms[0]);
+            d.value(KneeDiag::RmsEO, self.rms[1]);
+            d.value(KneeDiag::AccGyroSpread, self.spread);
         }
-        d[24] = Some(self.information);
-        d[25] = Some(position::DERIVATIVE_LATENCY as f64);
+        d.value(KneeDiag::Information, self.information);
+        d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
         Ok(est)
     }
 }

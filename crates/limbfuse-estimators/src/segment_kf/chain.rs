@@ -12,7 +12,7 @@
 //! * the error state `x` = [dtheta, db] per segment and its covariance `P`.
 #![allow(non_snake_case)]
 
-use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep, MAX_DIAG};
+use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep};
 use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::criteria::reliability;
@@ -392,94 +392,6 @@ impl Chain {
         est
     }
 }
-
-/// Writes diagnostics into an estimate by position.
-pub(crate) struct DiagWriter<'a> {
-    diag: &'a mut [Option<f64>; MAX_DIAG],
-    pos: usize,
-}
-
-impl<'a> DiagWriter<'a> {
-    pub fn new(diag: &'a mut [Option<f64>; MAX_DIAG]) -> Self {
-        DiagWriter { diag, pos: 0 }
-    }
-
-    pub fn push(&mut self, v: Option<f64>) {
-        if self.pos < MAX_DIAG {
-            self.diag[self.pos] = v;
-        }
-        self.pos += 1;
-    }
-
-    pub fn flag(&mut self, b: bool) {
-        self.push(Some(if b { 1.0 } else { 0.0 }));
-    }
-
-    pub fn written(&self) -> usize {
-        self.pos
-    }
-
-    /// `missing_inputs`, `rho_*`, `bias_*`, `sd_*` (the common part, 13
-    /// values).
-    pub fn common(&mut self, chain: &Chain, inp: &Inputs, with_encoders: bool) {
-        self.push(Some(f64::from(
-            inp.missing(inp.rate_missing, with_encoders),
-        )));
-        for r in &inp.rho {
-            self.push(*r);
-        }
-        for i in 0..4 {
-            self.push(chain.initialised(i).then(|| chain.gyro_bias(i)));
-        }
-        for i in 0..4 {
-            self.push(chain.initialised(i).then(|| chain.angle_sd(i)));
-        }
-    }
-
-    /// `share_own_*`, `share_other_*`, `share_joint_*` (12 values).
-    pub fn shares(&mut self, shares: &[[Option<f64>; 3]; 4]) {
-        for kind in 0..3 {
-            for s in shares {
-                self.push(s[kind]);
-            }
-        }
-    }
-}
-
-/// Names of the common diagnostics, in [`DiagWriter::common`] order.
-#[cfg(test)]
-pub(crate) const COMMON_DIAG: [&str; 13] = [
-    "missing_inputs",
-    "rho_trunk",
-    "rho_thigh",
-    "rho_shank",
-    "rho_foot",
-    "bias_trunk",
-    "bias_thigh",
-    "bias_shank",
-    "bias_foot",
-    "sd_trunk",
-    "sd_thigh",
-    "sd_shank",
-    "sd_foot",
-];
-
-/// Names of the gain-share diagnostics, in [`DiagWriter::shares`] order.
-#[cfg(test)]
-pub(crate) const SHARE_DIAG: [&str; 12] = [
-    "share_own_trunk",
-    "share_own_thigh",
-    "share_own_shank",
-    "share_own_foot",
-    "share_other_trunk",
-    "share_other_thigh",
-    "share_other_shank",
-    "share_other_foot",
-    "share_joint_trunk",
-    "share_joint_thigh",
-    "share_joint_shank",
-    "share_joint_foot",
-];
 
 /// Breakdown of each segment's angle correction by source, as in 001
 /// Fig. 6: the correction of segment `s` is `sum_j K[2s, j] e_j`; the share

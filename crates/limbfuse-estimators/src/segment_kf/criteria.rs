@@ -43,6 +43,12 @@ impl MjlsMode {
             None
         }
     }
+
+    /// The `mode` diagnostic column: the index (trunk 0 .. foot 3) of
+    /// [`MjlsMode::mode`], -1 when no segment passes.
+    pub fn code(&self) -> f64 {
+        self.mode().map_or(-1.0, |s| s.index() as f64)
+    }
 }
 
 /// Markov mode selection (000 eqs 28-30, 001 eqs 11-13). `zeta` is per

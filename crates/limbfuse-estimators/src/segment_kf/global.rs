@@ -17,11 +17,12 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
+use super::chain::{gain_shares, wrap, Chain, RowKind};
 use super::criteria::{count_reliable, psi, upsilon, AccelGateState};
+use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
 use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
 
@@ -86,43 +87,47 @@ impl GlobalKfParams {
     }
 }
 
-/// Diagnostic names of [`GlobalKf`], in `Estimate::diag` order.
-pub const GLOBAL_DIAG: [&str; 34] = [
-    "n_reliable",
-    "psi",
-    "upd_trunk",
-    "upd_thigh",
-    "upd_shank",
-    "upd_foot",
-    "upd_hip",
-    "upd_knee",
-    "upd_ankle",
-    "missing_inputs",
-    "rho_trunk",
-    "rho_thigh",
-    "rho_shank",
-    "rho_foot",
-    "bias_trunk",
-    "bias_thigh",
-    "bias_shank",
-    "bias_foot",
-    "sd_trunk",
-    "sd_thigh",
-    "sd_shank",
-    "sd_foot",
-    "share_own_trunk",
-    "share_own_thigh",
-    "share_own_shank",
-    "share_own_foot",
-    "share_other_trunk",
-    "share_other_thigh",
-    "share_other_shank",
-    "share_other_foot",
-    "share_joint_trunk",
-    "share_joint_thigh",
-    "share_joint_shank",
-    "share_joint_foot",
-];
+diagnostic_set! {
+    /// Diagnostics of [`GlobalKf`]: its own, then the [`SegmentDiag`] shared
+    /// by the segment filters.
+    pub enum GlobalDiag {
+        /// Number of accelerometers passing `rho_i < zeta_i` (001 eqs 15-18).
+        NReliable = "n_reliable",
+        /// The count criterion `Psi_s` holds (001 eqs 15-18).
+        Psi = "psi",
+        /// The trunk accelerometer row updated the filter (001 eq 20).
+        UpdTrunk = "upd_trunk",
+        /// The thigh accelerometer row updated the filter.
+        UpdThigh = "upd_thigh",
+        /// The shank accelerometer row updated the filter.
+        UpdShank = "upd_shank",
+        /// The foot accelerometer row updated the filter.
+        UpdFoot = "upd_foot",
+        /// The hip accelerometer-difference row (`Upsilon_h`, 001 eq 26) updated the filter.
+        UpdHip = "upd_hip",
+        /// The knee accelerometer-difference row (`Upsilon_k`, 001 eq 27) updated the filter.
+        UpdKnee = "upd_knee",
+        /// The ankle accelerometer-difference row (`Upsilon_a`, 001 eq 28) updated the filter.
+        UpdAnkle = "upd_ankle",
+    }
+    extends
+    /// The diagnostics shared by the segment filters.
+    Segment(SegmentDiag)
+}
+
+impl GlobalDiag {
+    /// `upd_*` per measurement row (001 eq 20 row order: the four
+    /// accelerometer rows, then hip, knee, ankle).
+    pub const UPDATED: [GlobalDiag; 7] = [
+        GlobalDiag::UpdTrunk,
+        GlobalDiag::UpdThigh,
+        GlobalDiag::UpdShank,
+        GlobalDiag::UpdFoot,
+        GlobalDiag::UpdHip,
+        GlobalDiag::UpdKnee,
+        GlobalDiag::UpdAnkle,
+    ];
+}
 
 const KINDS: [RowKind; 7] = [
     RowKind::Imu(0),
@@ -224,7 +229,7 @@ impl Estimator for GlobalKf {
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        &GLOBAL_DIAG
+        &GlobalDiag::NAMES
     }
 
     fn reset(&mut self) {
@@ -276,15 +281,13 @@ impl Estimator for GlobalKf {
             }
         };
         let mut est = self.chain.estimate(sample.t);
-        let mut w = DiagWriter::new(&mut est.diag);
-        w.push(Some(count_reliable(&reliable) as f64));
-        w.flag(psi_ok);
-        for u in updated {
-            w.flag(u);
+        let mut d = est.diagnostics_mut::<GlobalDiag>();
+        d.value(GlobalDiag::NReliable, count_reliable(&reliable) as f64);
+        d.flag(GlobalDiag::Psi, psi_ok);
+        for (key, u) in GlobalDiag::UPDATED.into_iter().zip(updated) {
+            d.flag(key, u);
         }
-        w.common(&self.chain, &inp, false);
-        w.shares(&shares);
-        debug_assert_eq!(w.written(), GLOBAL_DIAG.len());
+        write_segment_diagnostics(&mut d, &self.chain, &inp, false, &shares);
         Ok(est)
     }
 }

@@ -17,11 +17,12 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
+use super::chain::{gain_shares, wrap, Chain, RowKind};
 use super::criteria::{count_reliable, psi, AccelGateState};
+use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 
@@ -61,40 +62,37 @@ impl LocalKfParams {
     }
 }
 
-/// Diagnostic names of [`LocalKf`], in `Estimate::diag` order.
-pub const LOCAL_DIAG: [&str; 31] = [
-    "n_reliable",
-    "psi",
-    "upd_trunk",
-    "upd_thigh",
-    "upd_shank",
-    "upd_foot",
-    "missing_inputs",
-    "rho_trunk",
-    "rho_thigh",
-    "rho_shank",
-    "rho_foot",
-    "bias_trunk",
-    "bias_thigh",
-    "bias_shank",
-    "bias_foot",
-    "sd_trunk",
-    "sd_thigh",
-    "sd_shank",
-    "sd_foot",
-    "share_own_trunk",
-    "share_own_thigh",
-    "share_own_shank",
-    "share_own_foot",
-    "share_other_trunk",
-    "share_other_thigh",
-    "share_other_shank",
-    "share_other_foot",
-    "share_joint_trunk",
-    "share_joint_thigh",
-    "share_joint_shank",
-    "share_joint_foot",
-];
+diagnostic_set! {
+    /// Diagnostics of [`LocalKf`]: its own, then the [`SegmentDiag`] shared
+    /// by the segment filters.
+    pub enum LocalDiag {
+        /// Number of accelerometers passing `rho_i < zeta_i` (001 eqs 15-18).
+        NReliable = "n_reliable",
+        /// The count criterion `Psi_s` holds (001 eqs 15-18).
+        Psi = "psi",
+        /// The trunk accelerometer row updated the filter.
+        UpdTrunk = "upd_trunk",
+        /// The thigh accelerometer row updated the filter.
+        UpdThigh = "upd_thigh",
+        /// The shank accelerometer row updated the filter.
+        UpdShank = "upd_shank",
+        /// The foot accelerometer row updated the filter.
+        UpdFoot = "upd_foot",
+    }
+    extends
+    /// The diagnostics shared by the segment filters.
+    Segment(SegmentDiag)
+}
+
+impl LocalDiag {
+    /// `upd_*` per segment (index [`limbfuse_core::Segment::index`]).
+    pub const UPDATED: [LocalDiag; 4] = [
+        LocalDiag::UpdTrunk,
+        LocalDiag::UpdThigh,
+        LocalDiag::UpdShank,
+        LocalDiag::UpdFoot,
+    ];
+}
 
 const KINDS: [RowKind; 4] = [
     RowKind::Imu(0),
@@ -182,7 +180,7 @@ impl Estimator for LocalKf {
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        &LOCAL_DIAG
+        &LocalDiag::NAMES
     }
 
     fn reset(&mut self) {
@@ -225,15 +223,13 @@ impl Estimator for LocalKf {
             }
         };
         let mut est = self.chain.estimate(sample.t);
-        let mut w = DiagWriter::new(&mut est.diag);
-        w.push(Some(count_reliable(&reliable) as f64));
-        w.flag(psi_ok);
-        for u in updated {
-            w.flag(u);
+        let mut d = est.diagnostics_mut::<LocalDiag>();
+        d.value(LocalDiag::NReliable, count_reliable(&reliable) as f64);
+        d.flag(LocalDiag::Psi, psi_ok);
+        for (key, u) in LocalDiag::UPDATED.into_iter().zip(updated) {
+            d.flag(key, u);
         }
-        w.common(&self.chain, &inp, false);
-        w.shares(&shares);
-        debug_assert_eq!(w.written(), LOCAL_DIAG.len());
+        write_segment_diagnostics(&mut d, &self.chain, &inp, false, &shares);
         Ok(est)
     }
 }

@@ -18,11 +18,12 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample};
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, DiagWriter, RowKind};
+use super::chain::{gain_shares, wrap, Chain, RowKind};
 use super::criteria::{mjls_select, AccelGateState};
+use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 
@@ -91,45 +92,49 @@ impl MarkovJumpKfParams {
     }
 }
 
-/// Diagnostic names of [`MarkovJumpKf`], in `Estimate::diag` order. `mode` is the
-/// selected segment 0..3 (trunk..foot) when it passes the reliability test,
-/// -1 otherwise; `rho_min` is `rho(k)` of 000 eq 28.
-pub const MJLS_DIAG: [&str; 34] = [
-    "mode",
-    "rho_min",
-    "upd_trunk",
-    "upd_thigh",
-    "upd_shank",
-    "upd_foot",
-    "upd_hip",
-    "upd_knee",
-    "upd_ankle",
-    "missing_inputs",
-    "rho_trunk",
-    "rho_thigh",
-    "rho_shank",
-    "rho_foot",
-    "bias_trunk",
-    "bias_thigh",
-    "bias_shank",
-    "bias_foot",
-    "sd_trunk",
-    "sd_thigh",
-    "sd_shank",
-    "sd_foot",
-    "share_own_trunk",
-    "share_own_thigh",
-    "share_own_shank",
-    "share_own_foot",
-    "share_other_trunk",
-    "share_other_thigh",
-    "share_other_shank",
-    "share_other_foot",
-    "share_joint_trunk",
-    "share_joint_thigh",
-    "share_joint_shank",
-    "share_joint_foot",
-];
+diagnostic_set! {
+    /// Diagnostics of [`MarkovJumpKf`]: its own, then the [`SegmentDiag`]
+    /// shared by the segment filters.
+    pub enum MjlsDiag {
+        /// The Markov mode `Xi(k)` (000 eq 29) as [`super::MjlsMode::code`]: the
+        /// selected segment 0..3 (trunk..foot) when it passes the
+        /// reliability test (000 eq 30), -1 otherwise.
+        Mode = "mode",
+        /// `rho(k) = min_i rho_i` (m/s^2, 000 eq 28).
+        RhoMin = "rho_min",
+        /// The accelerometer row of the trunk (the selected mode) updated the filter.
+        UpdTrunk = "upd_trunk",
+        /// The accelerometer row of the thigh (the selected mode) updated the filter.
+        UpdThigh = "upd_thigh",
+        /// The accelerometer row of the shank (the selected mode) updated the filter.
+        UpdShank = "upd_shank",
+        /// The accelerometer row of the foot (the selected mode) updated the filter.
+        UpdFoot = "upd_foot",
+        /// The hip encoder row updated the filter.
+        UpdHip = "upd_hip",
+        /// The knee encoder row updated the filter.
+        UpdKnee = "upd_knee",
+        /// The ankle encoder row updated the filter.
+        UpdAnkle = "upd_ankle",
+    }
+    extends
+    /// The diagnostics shared by the segment filters.
+    Segment(SegmentDiag)
+}
+
+impl MjlsDiag {
+    /// `upd_*` of the accelerometer row per selected segment (index
+    /// [`limbfuse_core::Segment::index`]).
+    pub const UPDATED_SEGMENT: [MjlsDiag; 4] = [
+        MjlsDiag::UpdTrunk,
+        MjlsDiag::UpdThigh,
+        MjlsDiag::UpdShank,
+        MjlsDiag::UpdFoot,
+    ];
+    /// `upd_*` of the encoder rows (index [`limbfuse_core::Joint::index`]).
+    pub const UPDATED_JOINT: [MjlsDiag; 3] =
+        [MjlsDiag::UpdHip, MjlsDiag::UpdKnee, MjlsDiag::UpdAnkle];
+}
 
 /// The Markov-jump Kalman filter of 000 (eqs 14-30). Method name `mjls`.
 #[derive(Debug, Clone)]
@@ -224,7 +229,7 @@ impl Estimator for MarkovJumpKf {
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
-        &MJLS_DIAG
+        &MjlsDiag::NAMES
     }
 
     fn reset(&mut self) {
@@ -292,18 +297,16 @@ impl Estimator for MarkovJumpKf {
             }
         };
         let mut est = self.chain.estimate(sample.t);
-        let mut w = DiagWriter::new(&mut est.diag);
-        w.push(Some(mode.map_or(-1.0, |i| i as f64)));
-        w.push(sel.rho_min);
-        for i in 0..4 {
-            w.flag(updated[0] && mode == Some(i));
+        let mut d = est.diagnostics_mut::<MjlsDiag>();
+        d.value(MjlsDiag::Mode, sel.code());
+        d.set(MjlsDiag::RhoMin, sel.rho_min);
+        for (i, key) in MjlsDiag::UPDATED_SEGMENT.into_iter().enumerate() {
+            d.flag(key, updated[0] && mode == Some(i));
         }
-        for u in &updated[1..] {
-            w.flag(*u);
+        for (key, u) in MjlsDiag::UPDATED_JOINT.into_iter().zip(&updated[1..]) {
+            d.flag(key, *u);
         }
-        w.common(&self.chain, &inp, true);
-        w.shares(&shares);
-        debug_assert_eq!(w.written(), MJLS_DIAG.len());
+        write_segment_diagnostics(&mut d, &self.chain, &inp, true, &shares);
         Ok(est)
     }
 }

@@ -31,6 +31,7 @@
 
 mod chain;
 pub mod criteria;
+mod diagnostics;
 pub mod global;
 pub mod local;
 pub mod mjls;
@@ -42,25 +43,33 @@ pub use chain::{gain_shares, RowKind};
 pub use criteria::{
     mjls_select, psi, reliability, reliable_flags, upsilon, AccelGate, AccelGateState, MjlsMode,
 };
-pub use global::{GlobalKf, GlobalKfParams, GLOBAL_DIAG};
-pub use local::{LocalKf, LocalKfParams, LOCAL_DIAG};
-pub use mjls::{MarkovJumpKf, MarkovJumpKfParams, WhenUnreliable, MJLS_DIAG};
+pub use diagnostics::SegmentDiag;
+pub use global::{GlobalDiag, GlobalKf, GlobalKfParams};
+pub use local::{LocalDiag, LocalKf, LocalKfParams};
+pub use mjls::{MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable};
 pub use model::{global_output_matrix, local_output_matrix, mjls_output_matrix};
 pub use params::{CommonParams, LoopMode, ParamError, SegmentNoise};
 
 #[cfg(test)]
 mod tests {
-    use super::chain::{COMMON_DIAG, SHARE_DIAG};
     use super::*;
 
+    /// Every filter's columns end with the shared block, in its declared order.
     #[test]
-    fn diagnostic_lists_end_with_the_common_and_share_blocks() {
-        for names in [&LOCAL_DIAG[..], &MJLS_DIAG[..], &GLOBAL_DIAG[..]] {
+    fn diagnostic_lists_end_with_the_shared_segment_block() {
+        for names in [
+            &LocalDiag::NAMES[..],
+            &MjlsDiag::NAMES[..],
+            &GlobalDiag::NAMES[..],
+        ] {
             let n = names.len();
-            let (c, sh) = (COMMON_DIAG.len(), SHARE_DIAG.len());
-            assert_eq!(&names[n - c - sh..n - sh], &COMMON_DIAG[..]);
-            assert_eq!(&names[n - sh..], &SHARE_DIAG[..]);
-            assert!(n <= limbfuse_core::MAX_DIAG);
+            assert_eq!(&names[n - SegmentDiag::COUNT..], &SegmentDiag::NAMES[..]);
+        }
+        for (i, k) in SegmentDiag::ALL.into_iter().enumerate() {
+            assert_eq!(
+                MjlsDiag::from(k).index(),
+                MjlsDiag::COUNT - SegmentDiag::COUNT + i
+            );
         }
     }
 }

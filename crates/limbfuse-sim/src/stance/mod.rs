@@ -36,11 +36,19 @@
 //!   where possible (loading-response knee flexion <= 23 deg, dorsiflexion
 //!   <= 14 deg).
 
+mod leg;
+mod nelder_mead;
+mod normative;
+mod path;
+
 use core::f64::consts::TAU;
 
 use crate::anthropometry::Body;
-use crate::fourier::{grid, Fourier, Harmonics};
-use crate::gait_curves::{foot_flat_window, scale_about_mean, BaseCurves, SpeedLaw, GRID};
+use crate::fourier::{grid, Harmonics};
+use leg::{foot_for_knee, heel, leg_points, mtp, rot, smooth_min0, two_link};
+use nelder_mead::nelder_mead;
+pub use normative::Normative;
+pub use path::PathShape;
 
 /// End of the heel rocker (fraction of the stride): foot flat from here.
 pub const FOOT_FLAT: f64 = 0.08;
@@ -83,177 +91,6 @@ pub fn stance_weight(s: f64) -> f64 {
         1.0 - smoothstep((s - (TOE_OFF - DOUBLE_SUPPORT)) / DOUBLE_SUPPORT)
     } else {
         0.0
-    }
-}
-
-/// The prescribed path of the right hip joint centre, per stride, at a fixed
-/// amplitude (see `docs/SIMULATOR.md` for the sources of the defaults):
-/// `x = L phi / 2 pi - L eps / (4 pi) sin 2 (phi - phi_slow)` (forward speed
-/// `v (1 - eps cos 2 (phi - phi_slow))`), `y = h0 + e/2 (cos 2 psi - b cos 4
-/// psi)`, `psi = phi - phi_top`: highest at `phi_top` (mid-stance), lowest a
-/// quarter stride later (double support), peak to peak `e` for `b <= 1/4`;
-/// `b > 0` flattens the top and sharpens the trough.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathShape {
-    /// Stride length `L` (m).
-    pub stride_length: f64,
-    /// Relative forward-speed fluctuation `eps`.
-    pub fluctuation: f64,
-    /// Phase of the slowest forward speed (rad; again half a stride later).
-    pub slow_phase: f64,
-    /// Vertical excursion `e`, peak to peak (m).
-    pub excursion: f64,
-    /// Phase of the highest point (rad; again half a stride later).
-    pub top_phase: f64,
-    /// Sharpness `b` of the trough (0: a pure sinusoid; at most 1/4).
-    pub sharpness: f64,
-}
-
-impl PathShape {
-    /// The path of `law` at amplitude 1.
-    pub fn new(law: &SpeedLaw) -> Self {
-        PathShape {
-            stride_length: law.stride_length(),
-            fluctuation: law.speed_fluctuation(),
-            slow_phase: law.slow_phase(),
-            excursion: law.vertical_excursion(),
-            top_phase: law.top_phase(),
-            sharpness: law.vertical_sharpness(),
-        }
-    }
-
-    /// The path with stride length and vertical excursion scaled by `amp`.
-    pub fn scaled(&self, amp: f64) -> Self {
-        PathShape {
-            stride_length: self.stride_length * amp,
-            excursion: self.excursion * amp,
-            ..*self
-        }
-    }
-
-    /// Forward position (m) at phase `phi` (rad).
-    pub fn x(&self, phi: f64) -> f64 {
-        let l = self.stride_length;
-        l * phi / TAU - l * self.fluctuation / (2.0 * TAU) * (2.0 * (phi - self.slow_phase)).sin()
-    }
-
-    /// Height above the mean `h0` (m) at phase `phi` (rad).
-    pub fn y_offset(&self, phi: f64) -> f64 {
-        let psi = phi - self.top_phase;
-        0.5 * self.excursion * ((2.0 * psi).cos() - self.sharpness * (4.0 * psi).cos())
-    }
-}
-
-/// The normative segment curves at one amplitude (rad).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Normative {
-    /// Hip excursion gain (solved by [`Normative::reach_gain`]).
-    pub hip_gain: f64,
-    /// Trunk, thigh, shank and foot; the foot corrected to be flat in the
-    /// flat-foot part of stance (smooth window, full over 10-30 %).
-    pub theta: [Fourier; 4],
-    /// The uncorrected foot curve (shank + ankle dorsiflexion).
-    pub foot_raw: Fourier,
-}
-
-/// Trunk, thigh, shank and raw foot at a hip gain, every excursion about
-/// its mean scaled by `amp`: thigh = trunk + hip flexion, shank = thigh -
-/// knee flexion, foot = shank + ankle dorsiflexion (SPEC section 1 with
-/// clinical signs).
-fn segments(base: &BaseCurves, law: &SpeedLaw, amp: f64, hip_gain: f64) -> [Fourier; 4] {
-    let trunk = scale_about_mean(&law.trunk(), amp);
-    let hip = scale_about_mean(&base.hip, hip_gain);
-    let knee = scale_about_mean(&base.knee, law.knee_gain() * amp);
-    let ankle = scale_about_mean(&base.ankle, law.ankle_gain() * amp);
-    let thigh = Fourier::combine(&[(1.0, &trunk), (1.0, &hip)]);
-    let shank = Fourier::combine(&[(1.0, &thigh), (-1.0, &knee)]);
-    let foot = Fourier::combine(&[(1.0, &shank), (1.0, &ankle)]);
-    [trunk, thigh, shank, foot]
-}
-
-/// Heel, metatarsal head and ankle of a planar leg relative to the hip (m).
-fn leg_points(body: &Body, thigh: f64, shank: f64, foot: f64) -> [[f64; 2]; 3] {
-    let ankle = [
-        body.thigh * thigh.sin() + body.shank * shank.sin(),
-        -body.thigh * thigh.cos() - body.shank * shank.cos(),
-    ];
-    let at = |c: [f64; 2]| {
-        let r = rot(foot, c);
-        [ankle[0] + r[0], ankle[1] + r[1]]
-    };
-    [at(heel(body)), at(mtp(body)), ankle]
-}
-
-fn heel(body: &Body) -> [f64; 2] {
-    [body.heel.x, body.heel.y]
-}
-
-fn mtp(body: &Body) -> [f64; 2] {
-    [body.mtp.x, body.mtp.y]
-}
-
-fn rot(t: f64, c: [f64; 2]) -> [f64; 2] {
-    let (s, co) = t.sin_cos();
-    [co * c[0] - s * c[1], s * c[0] + co * c[1]]
-}
-
-impl Normative {
-    /// The hip gain at which the normative foot positions fit one stance of
-    /// the path: heel ahead of the hip at heel strike + heel-to-metatarsal
-    /// distance + metatarsal head behind the hip at toe-off = the hip's
-    /// forward travel over stance. Bisection (the reach grows with the gain).
-    pub fn reach_gain(
-        body: &Body,
-        base: &BaseCurves,
-        law: &SpeedLaw,
-        amp: f64,
-        path: &PathShape,
-    ) -> Option<f64> {
-        let to = TOE_OFF * TAU;
-        let need = path.x(to) - path.x(0.0);
-        let (h0, h1) = (Harmonics::new(0.0), Harmonics::new(to));
-        let gap = |g: f64| {
-            let s = segments(base, law, amp, g);
-            let at = |h: &Harmonics| {
-                let v = s.map(|f| f.eval(h).v);
-                leg_points(body, v[1], v[2], v[3])
-            };
-            let (hs, off) = (at(&h0), at(&h1));
-            hs[0][0] - off[1][0] + (body.mtp.x - body.heel.x) - need
-        };
-        let (mut lo, mut hi) = (0.05, 3.0);
-        if !(gap(lo) < 0.0 && gap(hi) > 0.0) {
-            return None;
-        }
-        for _ in 0..50 {
-            let mid = 0.5 * (lo + hi);
-            if gap(mid) > 0.0 {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        Some(0.5 * (lo + hi))
-    }
-
-    /// The curves at amplitude `amp` and hip gain `hip_gain`.
-    pub fn new(base: &BaseCurves, law: &SpeedLaw, amp: f64, hip_gain: f64) -> Self {
-        let [trunk, thigh, shank, foot_raw] = segments(base, law, amp, hip_gain);
-        // Flat foot over 10-30 %: ankle_c = ankle - w (theta_shank + ankle).
-        let y: Vec<f64> = grid(GRID)
-            .map(|p| {
-                let (sh, f) = (shank.value(p), foot_raw.value(p));
-                let a = f - sh;
-                a - foot_flat_window(p) * f
-            })
-            .collect();
-        let ankle_c = Fourier::fit(&y, ANKLE_ORDER);
-        let foot = Fourier::combine(&[(1.0, &shank), (1.0, &ankle_c)]);
-        Normative {
-            hip_gain,
-            theta: [trunk, thigh, shank, foot],
-            foot_raw,
-        }
     }
 }
 
@@ -308,59 +145,6 @@ pub struct StanceFigures {
     pub knee_min_deg: f64,
     /// Largest heel-up foot angle before heel-off (deg).
     pub early_heel_rise_deg: f64,
-}
-
-/// Two-link inverse kinematics from hip to ankle (`d` = ankle - hip): thigh
-/// and shank angles (knee forward) and hip-ankle distance minus leg length.
-fn two_link(body: &Body, d: [f64; 2]) -> (f64, f64, f64) {
-    let (l1, l2) = (body.thigh, body.shank);
-    let r0 = d[0].hypot(d[1]);
-    let r = r0.clamp((l1 - l2).abs() + 1e-9, l1 + l2);
-    let knee = core::f64::consts::PI
-        - ((l1 * l1 + l2 * l2 - r * r) / (2.0 * l1 * l2))
-            .clamp(-1.0, 1.0)
-            .acos();
-    let base = d[0].atan2(-d[1]);
-    let alpha = ((l1 * l1 + r * r - l2 * l2) / (2.0 * l1 * r))
-        .clamp(-1.0, 1.0)
-        .acos();
-    let thigh = base + alpha;
-    (thigh, thigh - knee, r0 - (l1 + l2))
-}
-
-/// Foot angle that puts the ankle at the hip-ankle distance of knee flexion
-/// `knee` while the foot point `c` stays at `p` (two-circle intersection; the
-/// smaller of the two angles; tangent solution when the circles do not meet).
-fn foot_for_knee(body: &Body, hip: [f64; 2], p: [f64; 2], c: [f64; 2], knee: f64) -> f64 {
-    let (l1, l2) = (body.thigh, body.shank);
-    let r = (l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * knee.cos()).sqrt();
-    let rc = c[0].hypot(c[1]);
-    let d = [hip[0] - p[0], hip[1] - p[1]];
-    let dd = d[0].hypot(d[1]);
-    let a = (rc * rc - r * r + dd * dd) / (2.0 * dd);
-    let h = (rc * rc - a * a).max(0.0).sqrt();
-    let e = [d[0] / dd, d[1] / dd];
-    let nrm = [-e[1], e[0]];
-    let c_ang = c[1].atan2(c[0]);
-    let mut best = f64::NAN;
-    for sgn in [1.0, -1.0] {
-        // ankle = p + a e + sgn h n; R(psi) c = p - ankle.
-        let u = [
-            -(a * e[0] + sgn * h * nrm[0]),
-            -(a * e[1] + sgn * h * nrm[1]),
-        ];
-        let psi = (u[1].atan2(u[0]) - c_ang + core::f64::consts::PI).rem_euclid(TAU)
-            - core::f64::consts::PI;
-        if best.is_nan() || psi.abs() < best.abs() {
-            best = psi;
-        }
-    }
-    best
-}
-
-/// `min(x, 0)`, smoothed over `HEEL_SMIN`.
-fn smooth_min0(x: f64) -> f64 {
-    0.5 * (x - (x * x + HEEL_SMIN * HEEL_SMIN).sqrt())
 }
 
 impl Stance {
@@ -571,87 +355,5 @@ impl Stance {
             hip_height: self.rule.hip_height + o.0,
             heel_strike: self.rule.heel_strike + o.1,
         }
-    }
-}
-
-/// Nelder-Mead minimisation in two dimensions (standard coefficients 1, 2,
-/// 1/2, 1/2), `iters` iterations from `x0` with initial steps `step`.
-fn nelder_mead(
-    f: impl Fn([f64; 2]) -> f64,
-    x0: [f64; 2],
-    step: [f64; 2],
-    iters: usize,
-) -> (f64, f64) {
-    let mut p = [x0, [x0[0] + step[0], x0[1]], [x0[0], x0[1] + step[1]]];
-    let mut v = p.map(&f);
-    let lerp =
-        |a: [f64; 2], b: [f64; 2], t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-    for _ in 0..iters {
-        let mut idx = [0usize, 1, 2];
-        idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
-        p = idx.map(|i| p[i]);
-        v = idx.map(|i| v[i]);
-        let c = lerp(p[0], p[1], 0.5);
-        let r = lerp(c, p[2], -1.0);
-        let fr = f(r);
-        if fr < v[0] {
-            let e = lerp(c, p[2], -2.0);
-            let fe = f(e);
-            (p[2], v[2]) = if fe < fr { (e, fe) } else { (r, fr) };
-        } else if fr < v[1] {
-            (p[2], v[2]) = (r, fr);
-        } else {
-            let k = lerp(c, p[2], 0.5);
-            let fk = f(k);
-            if fk < v[2] {
-                (p[2], v[2]) = (k, fk);
-            } else {
-                for i in 1..3 {
-                    p[i] = lerp(p[0], p[i], 0.5);
-                    v[i] = f(p[i]);
-                }
-            }
-        }
-    }
-    let i = (0..3).min_by(|&a, &b| v[a].total_cmp(&v[b])).unwrap_or(0);
-    (p[i][0], p[i][1])
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn two_link_reaches_the_ankle() {
-        let body = Body::from_height(1.75);
-        let d = [0.2, -0.8];
-        let (t, s, over) = two_link(&body, d);
-        let a = leg_points(&body, t, s, 0.0)[2];
-        assert!((a[0] - d[0]).abs() < 1e-12 && (a[1] - d[1]).abs() < 1e-12);
-        assert!(over < 0.0 && t > s, "knee bends forward");
-    }
-
-    #[test]
-    fn foot_for_knee_gives_the_knee() {
-        let body = Body::from_height(1.75);
-        let (p, c) = ([0.3, 0.0], mtp(&body));
-        let hip = [0.55, 0.87];
-        let psi = foot_for_knee(&body, hip, p, c, 0.2);
-        let rc = rot(psi, c);
-        let d = [p[0] - rc[0] - hip[0], p[1] - rc[1] - hip[1]];
-        let (t, s, _) = two_link(&body, d);
-        assert!((t - s - 0.2).abs() < 1e-9, "{}", t - s);
-        assert!(psi < 0.0, "heel up");
-    }
-
-    #[test]
-    fn nelder_mead_finds_a_quadratic_minimum() {
-        let (x, y) = nelder_mead(
-            |p| (p[0] - 0.3).powi(2) + 2.0 * (p[1] + 0.1).powi(2),
-            [0.0, 0.0],
-            [0.1, 0.1],
-            80,
-        );
-        assert!((x - 0.3).abs() < 1e-4 && (y + 0.1).abs() < 1e-4);
     }
 }
