@@ -63,13 +63,19 @@ fn every_crate_depends_only_on_crates_below_it() {
         bad.extend(violations(&name, &normal_dependencies(&text)));
         seen += 1;
     }
-    assert_eq!(seen, LAYERS.len(), "a crate was added or removed: update LAYERS");
+    assert_eq!(
+        seen,
+        LAYERS.len(),
+        "a crate was added or removed: update LAYERS"
+    );
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
 #[test]
 fn a_dependency_upwards_is_found() {
-    let deps = normal_dependencies("[dependencies]\nlimbfuse-eval.workspace = true\n[dev-dependencies]\nlimbfuse-cli = {}\n");
+    let deps = normal_dependencies(
+        "[dependencies]\nlimbfuse-eval.workspace = true\n[dev-dependencies]\nlimbfuse-cli = {}\n",
+    );
     assert_eq!(deps, ["limbfuse-eval"]);
     assert_eq!(violations("limbfuse-io", &deps).len(), 1);
     assert!(violations("limbfuse-workflows", &deps).is_empty());

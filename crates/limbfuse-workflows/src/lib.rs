@@ -6,9 +6,11 @@
 //! ([`tuning`]) and the tune-then-validate loop of `limbfuse tune`
 //! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
 //! [`monte_carlo_plot`]), simulated trials with their metadata and columns
-//! ([`simulated_trials`]).
+//! ([`simulated_trials`]), a built gait library as its file
+//! ([`gait_library`]).
 #![deny(missing_docs)]
 
+pub mod gait_library;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod protocol;

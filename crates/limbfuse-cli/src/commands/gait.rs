@@ -6,16 +6,12 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
-use limbfuse_io::gait_library::{
-    BodyRecord, GaitLibraryFile, GaitRecord, PhaseTrajectories, SearchRecord, XiRecord, FORMAT,
-    VERSION,
-};
 use limbfuse_io::TrialReader;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
-use limbfuse_sim::bslip::library::{build_library, lateral_excursion, LibraryGait};
+use limbfuse_sim::bslip::library::{build_library, LibraryGait};
 use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{BslipTrialConfig, ComChannels};
-use limbfuse_sim::bslip::walker::sample_step;
+use limbfuse_workflows::gait_library::gait_library_file;
 use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{BslipArgs, GaitLibraryBuildArgs};
@@ -82,64 +78,13 @@ pub fn build(body: &BslipParams, speeds: &[f64], show_progress: bool) -> Result<
     Ok(lib)
 }
 
-/// The file record of a built library.
-pub fn library_file(body: &BslipParams, lib: &[LibraryGait]) -> GaitLibraryFile {
-    let s = SearchSettings::default();
-    GaitLibraryFile {
-        format: FORMAT.into(),
-        version: VERSION,
-        body: BodyRecord {
-            mass: body.mass,
-            rest_length: body.rest_length,
-            gravity: body.gravity,
-        },
-        search: SearchRecord {
-            k_max: s.k_max,
-            stiffness_weight: s.stiffness_weight,
-            periodic_tol: s.periodic_tol,
-        },
-        gaits: lib
-            .iter()
-            .map(|g| {
-                let t = g.template(body);
-                let rows = sample_step(&t, 0.01);
-                let x = g.gait;
-                GaitRecord {
-                    speed: g.speed,
-                    xi: XiRecord {
-                        phi: x.phi,
-                        theta: x.theta,
-                        stiffness: x.stiffness,
-                        height: x.height,
-                        lateral: x.lateral,
-                        forward_speed: x.forward_speed,
-                    },
-                    rest_length: body.rest_length,
-                    step_length: t.step_length,
-                    step_width: t.step_width,
-                    step_time: t.step_time,
-                    t_touchdown: t.t_touchdown,
-                    t_lift_off: t.t_lift_off,
-                    periodicity_residual: g.residual,
-                    vertical_excursion: g.vertical_excursion(),
-                    lateral_excursion: lateral_excursion(&t, &rows),
-                    trajectory: {
-                        let [ss1, ds, ss2] = rows;
-                        PhaseTrajectories { ss1, ds, ss2 }
-                    },
-                }
-            })
-            .collect(),
-    }
-}
-
 /// `limbfuse gait-library build`.
 pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
     let speeds = parse_speeds(&a.speeds)?;
     let body = body(a.mass, a.leg_length)?;
     let t0 = std::time::Instant::now();
     let lib = build(&body, &speeds, true)?;
-    let file = library_file(&body, &lib);
+    let file = gait_library_file(&body, &lib);
     file.write(&a.output)?;
     eprintln!(
         "gait library: {} gaits ({} m/s) in {:.1} s -> {}",
