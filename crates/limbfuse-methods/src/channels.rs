@@ -89,10 +89,12 @@ mod tests {
 
     #[test]
     fn mjls_lists_missing_encoders_and_imus() {
-        let mut l = TrialLayout::default();
-        l.acc = [true; 4];
-        l.gyr = [true, true, false, true];
-        l.encoder = [true, false, true];
+        let l = TrialLayout {
+            acc: [true; 4],
+            gyr: [true, true, false, true],
+            encoder: [true, false, true],
+            ..Default::default()
+        };
         let m = MethodName::Mjls.required_channels().missing(&l);
         assert_eq!(m, ["shank_gyr_x/y/z", "knee_enc"]);
         assert!(MethodName::Global.required_channels().missing(&l).len() == 1);
