@@ -27,12 +27,40 @@ fn no_settings_file(name: &str) -> String {
     format!("# limbfuse {name}: this method has no parameters.\nmethod = \"{name}\"\n")
 }
 
-/// `gyro-integration`.
-#[derive(Debug, Clone, Copy)]
-pub struct GyroIntegrationMethod;
+macro_rules! baseline_method {
+    ($(#[$doc:meta])* $name:ident, $estimator:ident, $info:expr) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy)]
+        pub struct $name;
 
-impl MethodDef for GyroIntegrationMethod {
-    const INFO: MethodInfo = MethodInfo {
+        impl MethodDef for $name {
+            const INFO: MethodInfo = $info;
+            type Settings = ();
+
+            fn resolve(file: Option<(&str, &Path)>, _: &MethodFlags) -> Result<(), MethodError> {
+                read_file::<Self, NoSettingsFile>(file).map(|_| ())
+            }
+
+            fn build(
+                _: &(),
+                _: &TrialMeta,
+                _: &TrialLayout,
+            ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+                Ok(Box::new($estimator::new()))
+            }
+
+            fn default_file() -> String {
+                no_settings_file(Self::INFO.name)
+            }
+        }
+    };
+}
+
+baseline_method!(
+    /// `gyro-integration`.
+    GyroIntegrationMethod,
+    GyroIntegration,
+    MethodInfo {
         in_walking_demo: true,
         ..MethodInfo::new(
             "gyro-integration",
@@ -40,32 +68,14 @@ impl MethodDef for GyroIntegrationMethod {
             "each segment's gyro (aligned: z = sagittal axis)",
             "none",
         )
-    };
-    type Settings = ();
-
-    fn resolve(file: Option<(&str, &Path)>, _: &MethodFlags) -> Result<(), MethodError> {
-        read_file::<Self, NoSettingsFile>(file).map(|_| ())
     }
+);
 
-    fn build(
-        _: &(),
-        _: &TrialMeta,
-        _: &TrialLayout,
-    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(GyroIntegration::new()))
-    }
-
-    fn default_file() -> String {
-        no_settings_file(Self::INFO.name)
-    }
-}
-
-/// `accel-inclination`.
-#[derive(Debug, Clone, Copy)]
-pub struct AccelInclinationMethod;
-
-impl MethodDef for AccelInclinationMethod {
-    const INFO: MethodInfo = MethodInfo {
+baseline_method!(
+    /// `accel-inclination`.
+    AccelInclinationMethod,
+    AccelInclination,
+    MethodInfo {
         in_walking_demo: true,
         ..MethodInfo::new(
             "accel-inclination",
@@ -73,22 +83,5 @@ impl MethodDef for AccelInclinationMethod {
             "each segment's accelerometer (aligned)",
             "none",
         )
-    };
-    type Settings = ();
-
-    fn resolve(file: Option<(&str, &Path)>, _: &MethodFlags) -> Result<(), MethodError> {
-        read_file::<Self, NoSettingsFile>(file).map(|_| ())
     }
-
-    fn build(
-        _: &(),
-        _: &TrialMeta,
-        _: &TrialLayout,
-    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(AccelInclination::new()))
-    }
-
-    fn default_file() -> String {
-        no_settings_file(Self::INFO.name)
-    }
-}
+);
