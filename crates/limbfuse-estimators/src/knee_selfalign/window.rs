@@ -14,6 +14,7 @@ use super::param_ekf::{
 use super::params::{AngleZero, KneeSelfAlignParams};
 use super::position::{
     central_derivative, correct_along_axes, position_residual, uniform_step, Kinematics,
+    LiftedStart,
 };
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
@@ -367,11 +368,8 @@ pub fn identify(
     if information.is_nan() || information < p.min_information {
         return WindowOutcome::Unobservable { information };
     }
-    let o_start: Vector6<f64> = match previous {
-        Some(g) => stack(&g.position[0], &g.position[1]),
-        None => Vector6::zeros(),
-    };
     let positions = PositionResiduals(ring);
+    let o_start = position_start(ring, &positions, previous);
     let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
         Ok(r) => r,
         Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
@@ -428,6 +426,30 @@ pub fn identify(
         rms_position: o.rms_after,
         information,
         spread,
+    }
+}
+
+/// Starting positions of Algorithm 2: the lower-cost (`sum e_o^2`) of the
+/// previous window's positions (`o = 0` in the first window) and the lifted
+/// least-squares solution ([`LiftedStart`]).
+fn position_start(
+    ring: &Ring,
+    positions: &PositionResiduals<'_>,
+    previous: Option<&Geometry>,
+) -> Vector6<f64> {
+    let old = match previous {
+        Some(g) => stack(&g.position[0], &g.position[1]),
+        None => Vector6::zeros(),
+    };
+    let mut lifted = LiftedStart::default();
+    for i in 0..ring.len() {
+        if let Some([t, s]) = ring.kinematics(i) {
+            lifted.add(&t, &s);
+        }
+    }
+    match lifted.solve() {
+        Some(l) if residual_sum(positions, &l).0 < residual_sum(positions, &old).0 => l,
+        _ => old,
     }
 }
 
