@@ -86,7 +86,7 @@ fn first_window_positions_are_the_true_ones() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let g = match identify(&ring, None, &p) {
+        let g = match identify(&ring, None, false, &p) {
             limbfuse_estimators::knee_selfalign::window::WindowOutcome::Identified {
                 geometry,
                 ..
@@ -115,4 +115,53 @@ fn independent_walks_meet_the_target() {
         assert!(rmse <= 2.0, "{name}: {rmse} deg");
     }
     let _ = KneeDiag::NAMES;
+}
+
+/// Cause 2: the relative axis sign was chosen once, in the first
+/// identified window, with no margin, and kept for good by the continuity
+/// rule, so one window with misleading evidence (here: the accelerometers of
+/// the first 5 s desynchronised from the gyros by 0.37 to 2.51 s) fixed the
+/// wrong pair for the whole trial. Now the pair stays uncommitted until a
+/// window's sign confidence reaches `sign_commit`. The run with
+/// `sign_commit = 0` is the old behaviour: it keeps the wrong pair on the
+/// 0.7 m/s walk with a 2.51 s shift (knee RMSE 55 deg).
+#[test]
+fn a_misleading_first_window_does_not_fix_the_sign() {
+    let Some(dir) = data_dir() else { return };
+    let mut old_wrong = 0;
+    for name in WALKS {
+        let records = read(&dir.join(format!("independent-sim/{name}.csv")));
+        for shift in [37usize, 137, 251] {
+            let mut rec = records.clone();
+            for i in 0..500 {
+                for seg in [1, 2] {
+                    rec[i].sample.imu[seg].acc = records[i + shift].sample.imu[seg].acc;
+                }
+            }
+            let same_side = |params: KneeSelfAlignParams| {
+                let mut est = KneeSelfAlign::new(params).unwrap();
+                let mut conf = Vec::new();
+                for r in &rec {
+                    let e = est.step(&r.sample).unwrap();
+                    conf.push(e.diag[KneeDiag::SignConfidence as usize]);
+                }
+                let g = est.geometry().unwrap();
+                (g.axis[0].z > 0.5 && g.axis[1].z > 0.5, conf.last().copied().flatten())
+            };
+            let (new, c) = same_side(KneeSelfAlignParams::default());
+            let (old, _) = same_side(KneeSelfAlignParams {
+                sign_commit: 0.0,
+                ..Default::default()
+            });
+            let rmse = knee_rmse(&rec, KneeSelfAlignParams::default(), 20.0);
+            println!(
+                "{name}, accelerometers shifted {shift} samples: right pair now {new} \
+                 (confidence {c:?}), with the old rule {old}; RMSE after 20 s {rmse:.2} deg"
+            );
+            assert!(new, "{name} shift {shift}");
+            assert!(rmse < 2.0, "{name} shift {shift}: {rmse}");
+            old_wrong += usize::from(!old);
+        }
+    }
+    assert!(old_wrong > 0, "the old rule should fail on at least one case");
 }
