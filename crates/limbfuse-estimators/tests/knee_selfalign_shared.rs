@@ -146,7 +146,10 @@ fn a_misleading_first_window_does_not_fix_the_sign() {
                     conf.push(e.diag[KneeDiag::SignConfidence as usize]);
                 }
                 let g = est.geometry().unwrap();
-                (g.axis[0].z > 0.5 && g.axis[1].z > 0.5, conf.last().copied().flatten())
+                (
+                    g.axis[0].z > 0.5 && g.axis[1].z > 0.5,
+                    conf.last().copied().flatten(),
+                )
             };
             let (new, c) = same_side(KneeSelfAlignParams::default());
             let (old, _) = same_side(KneeSelfAlignParams {
@@ -163,5 +166,8 @@ fn a_misleading_first_window_does_not_fix_the_sign() {
             old_wrong += usize::from(!old);
         }
     }
-    assert!(old_wrong > 0, "the old rule should fail on at least one case");
+    assert!(
+        old_wrong > 0,
+        "the old rule should fail on at least one case"
+    );
 }

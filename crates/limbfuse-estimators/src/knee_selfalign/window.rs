@@ -12,11 +12,10 @@ use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::sign::score_pairs;
 use super::position::{
-    central_derivative, position_residual, uniform_step, Kinematics,
-    LiftedStart,
+    central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
 };
+use super::sign::score_pairs;
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
@@ -346,8 +345,7 @@ pub fn identify(
             None => WindowOutcome::TooFewSamples { usable: 0 },
         };
     }
-    let Some(mut c) = score_pairs(ring, [j_t, j_s], [o_t, o_s], p.zero, p.sign_floor, None)
-    else {
+    let Some(mut c) = score_pairs(ring, [j_t, j_s], [o_t, o_s], p.zero, p.sign_floor, None) else {
         return WindowOutcome::TooFewSamples { usable: 0 };
     };
     let flip = match p.zero {
