@@ -5,6 +5,8 @@
 //! window = 500                # s_w, samples (--window)
 //! order = 6                   # parameter-EKF iterations per window (--order)
 //! zero = "sensor-positions"   # or "paper-c": which sensor pose is 0 deg
+//! sign_commit = 0.5           # sign confidence at which the axis-sign pair is kept
+//! sign_floor = 0.00061        # spread of the sign evidence that noise alone gives
 //! ```
 
 use std::path::Path;
@@ -35,6 +37,8 @@ struct KneeSelfAlignFile {
     window: Option<usize>,
     order: Option<usize>,
     zero: Option<ZeroName>,
+    sign_commit: Option<f64>,
+    sign_floor: Option<f64>,
 }
 
 /// The parameters of a parameter file's text (or the paper defaults for
@@ -53,6 +57,8 @@ pub fn knee_params(
             Some(ZeroName::SensorPositions) => AngleZero::SensorPositions,
             Some(ZeroName::PaperC) => AngleZero::PaperC,
         },
+        sign_commit: f.sign_commit.unwrap_or(d.sign_commit),
+        sign_floor: f.sign_floor.unwrap_or(d.sign_floor),
         ..d
     };
     p.validate()?;
@@ -74,7 +80,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, zero (file keys or --window/--order)",
+        "window, order, zero, sign_commit, sign_floor (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -110,10 +116,14 @@ pub fn default_file() -> String {
          method = \"knee-selfalign\"\n\
          window = {}  # s_w, samples (20 to 100000); --window overrides\n\
          order = {}  # parameter-EKF iterations per window (1 to 100); --order overrides\n\
-         zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n",
+         zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n\
+         sign_commit = {}  # sign confidence (0 to 1) at which the axis-sign pair is kept (limbfuse)\n\
+         sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n",
         d.window,
         d.order,
-        d.zero.name()
+        d.zero.name(),
+        d.sign_commit,
+        d.sign_floor
     )
 }
 

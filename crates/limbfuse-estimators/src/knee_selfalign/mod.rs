@@ -24,6 +24,7 @@ pub mod angle;
 pub mod param_ekf;
 pub mod params;
 pub mod position;
+pub mod sign;
 pub mod window;
 
 use core::fmt;
@@ -100,6 +101,14 @@ diagnostic_set! {
         /// Circular spread (1 - mean resultant length, 0..1) of `alpha_acc -
         /// integral(alpha_gyro')` over the last identified window.
         AccGyroSpread = "acc_gyro_spread",
+        /// Confidence (-1..1) in the relative sign of the two axes from the
+        /// last identified window ([`sign::confidence`]): near 1 when the
+        /// accelerometer angle follows the gyro angle far better with the
+        /// chosen pair than with the other, near 0 when the window cannot
+        /// tell them apart, negative when it prefers the other pair.
+        SignConfidence = "sign_confidence",
+        /// 1 once the relative axis sign is committed (kept from then on), else 0.
+        SignCommitted = "sign_committed",
     }
 }
 
@@ -203,6 +212,8 @@ pub struct KneeSelfAlign {
     rms: [f64; 2],
     information: f64,
     spread: f64,
+    sign_confidence: f64,
+    sign_committed: bool,
     fixed: bool,
 }
 
@@ -245,6 +256,8 @@ impl KneeSelfAlign {
             rms: [0.0; 2],
             information: 0.0,
             spread: 1.0,
+            sign_confidence: 0.0,
+            sign_committed: false,
             fixed: false,
         }
     }
@@ -275,6 +288,7 @@ impl KneeSelfAlign {
         self.geometry = Some(geometry);
         self.bases = Some(bases);
         self.fixed = true;
+        self.sign_committed = true;
         Some(())
     }
 
@@ -296,16 +310,29 @@ impl KneeSelfAlign {
                 s.gyr_ok && s.acc_ok
             })
             .count();
-        match identify(&self.window, self.geometry.as_ref(), &self.params) {
+        match identify(
+            &self.window,
+            self.geometry.as_ref(),
+            self.sign_committed,
+            &self.params,
+        ) {
             WindowOutcome::Identified {
                 geometry,
                 rms_axis,
                 rms_position,
                 information,
                 spread,
+                sign_confidence,
             } => {
                 if let Some(bases) = geometry.bases(self.params.zero) {
-                    if self.geometry.is_none() {
+                    // A new pair of sides (first window, or an uncommitted
+                    // sign that changed) changes what eq 4 integrates: the
+                    // angle starts afresh.
+                    let new_sides = self.geometry.is_none_or(|old| {
+                        old.axis[0].dot(&geometry.axis[0]) < 0.0
+                            || old.axis[1].dot(&geometry.axis[1]) < 0.0
+                    });
+                    if new_sides {
                         self.alpha_gyro = 0.0;
                         self.last_rate = None;
                         self.kf = Fuser::new(&self.params);
@@ -317,6 +344,10 @@ impl KneeSelfAlign {
                     self.rms = [rms_axis, rms_position];
                     self.information = information;
                     self.spread = spread;
+                    self.sign_confidence = sign_confidence;
+                    if sign_confidence >= self.params.sign_commit {
+                        self.sign_committed = true;
+                    }
                 } else {
                     self.status = WindowStatus::Failed;
                 }
@@ -379,6 +410,8 @@ impl Estimator for KneeSelfAlign {
         self.rms = [0.0; 2];
         self.information = 0.0;
         self.spread = 1.0;
+        self.sign_confidence = 0.0;
+        self.sign_committed = false;
         self.fixed = false;
     }
 
@@ -460,7 +493,9 @@ impl Estimator for KneeSelfAlign {
             d.value(KneeDiag::RmsEJ, self.rms[0]);
             d.value(KneeDiag::RmsEO, self.rms[1]);
             d.value(KneeDiag::AccGyroSpread, self.spread);
+            d.value(KneeDiag::SignConfidence, self.sign_confidence);
         }
+        d.flag(KneeDiag::SignCommitted, self.sign_committed);
         d.value(KneeDiag::Information, self.information);
         d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
         Ok(est)

@@ -109,6 +109,17 @@ pub struct KneeSelfAlignParams {
     /// still (gyro noise and bias only) and 0.29 to 0.48 when walking
     /// (`docs/KNEE_SELFALIGN.md`).
     pub min_information: f64,
+    /// Noise floor of the sign evidence ([`super::sign::confidence`]): the
+    /// circular spread of `alpha_acc - integral(alpha_gyro')` that noise
+    /// alone gives. Default `1 - cos(2 deg)` = 6.1e-4, the spread of a
+    /// difference wobbling by +-2 deg (a limbfuse extension).
+    pub sign_floor: f64,
+    /// The relative axis sign is committed (kept by continuity from then on)
+    /// after the first window whose sign confidence reaches this value; until
+    /// then every window chooses the pair afresh and `diag_sign_confidence`
+    /// says how sure it is. Default 0.5: the wrong pair's spread at least
+    /// twice the right one's, above the floor (a limbfuse extension).
+    pub sign_commit: f64,
 }
 
 impl Default for KneeSelfAlignParams {
@@ -125,6 +136,8 @@ impl Default for KneeSelfAlignParams {
             gyro_range: 2000f64.to_radians(),
             min_valid_fraction: 0.5,
             min_information: 1e-3,
+            sign_floor: 1.0 - libm::cos(2f64.to_radians()),
+            sign_commit: 0.5,
         }
     }
 }
@@ -197,7 +210,9 @@ impl KneeSelfAlignParams {
             0.0,
             1e6,
             "[0, 1e6]",
-        )
+        )?;
+        check("sign_floor", self.sign_floor, 0.0, 1.0, "[0, 1]")?;
+        check("sign_commit", self.sign_commit, 0.0, 1.0, "[0, 1]")
     }
 
     /// Writes the parameters as `key: value` lines.
@@ -226,6 +241,11 @@ impl KneeSelfAlignParams {
         writeln!(out, "gyro_range_rad_s: {}", self.gyro_range)?;
         writeln!(out, "min_valid_fraction: {}", self.min_valid_fraction)?;
         writeln!(out, "min_information: {}", self.min_information)?;
+        writeln!(
+            out,
+            "sign: floor={} commit={}",
+            self.sign_floor, self.sign_commit
+        )?;
         writeln!(
             out,
             "gyro_derivative: five-point symmetric, latency 2 samples"

@@ -7,14 +7,15 @@ use alloc::vec::Vec;
 
 use nalgebra::{SVector, Vector3, Vector4, Vector6};
 
-use super::angle::{accel_angle, gyro_angle_rate, wrap, PlaneBasis};
+use super::angle::PlaneBasis;
 use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
 use super::position::{
-    central_derivative, correct_along_axes, position_residual, uniform_step, Kinematics,
+    central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
 };
+use super::sign::score_pairs;
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
@@ -237,6 +238,9 @@ pub enum WindowOutcome {
         /// over the window with the chosen geometry: near 0 when the
         /// accelerometer angle follows the gyro angle up to a constant.
         spread: f64,
+        /// Confidence (-1..1) in the relative axis sign,
+        /// [`super::sign::confidence`].
+        sign_confidence: f64,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -252,77 +256,22 @@ pub enum WindowOutcome {
     Failed,
 }
 
-/// Circular mean and spread of angles fed one by one.
-#[derive(Default)]
-struct Circular {
-    c: f64,
-    s: f64,
-    n: usize,
-}
-
-impl Circular {
-    fn add(&mut self, a: f64) {
-        let (s, c) = libm::sincos(a);
-        self.s += s;
-        self.c += c;
-        self.n += 1;
-    }
-    fn mean(&self) -> f64 {
-        libm::atan2(self.s, self.c)
-    }
-    /// 1 - mean resultant length (0 = all equal, 1 = uniform).
-    fn spread(&self) -> f64 {
-        if self.n == 0 {
-            return 1.0;
-        }
-        1.0 - libm::hypot(self.s, self.c) / self.n as f64
-    }
-}
-
-/// Over the window: spread of `alpha_acc - integral(gyro rate)` (small when
-/// both angles agree up to a constant) and circular mean of `alpha_acc`.
-fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64)> {
-    let bases = g.bases(zero)?;
-    let mut diff = Circular::default();
-    let mut level = Circular::default();
-    let mut integral = 0.0;
-    let mut last: Option<(f64, f64)> = None;
-    for i in 0..ring.len() {
-        let s = ring.get(i);
-        if !s.gyr_ok {
-            continue;
-        }
-        let rate = gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]);
-        if let Some((t0, r0)) = last {
-            integral += 0.5 * (rate + r0) * (s.t - t0);
-        }
-        last = Some((s.t, rate));
-        if let Some([kt, ks]) = ring.kinematics(i) {
-            let at = kt.joint_acceleration(&g.position[0]);
-            let as_ = ks.joint_acceleration(&g.position[1]);
-            if let Some(a) = accel_angle(&at, &as_, &bases[0], &bases[1]) {
-                diff.add(wrap(a - integral));
-                level.add(a);
-            }
-        }
-    }
-    (diff.n > 0).then(|| (diff.spread(), level.mean()))
-}
-
 /// Identifies the joint geometry from the window in `ring` (Algorithm 3,
 /// one window): Algorithm 2 with `order` iterations for the axes and for
 /// the positions, then the sign rules and the correction along the axes.
 ///
-/// Signs (SPEC section 6): `e_j` and `e_o` do not depend on the axis signs.
-/// In the first window the shank axis is flipped if that makes the
-/// accelerometer angle follow the integrated gyro angle better (both axes
-/// must point to the same side for eqs 4 and 5 to describe the same
-/// rotation); then both are flipped, with the sensor-position zero, if the
-/// mean angle is negative (the knee flexes to positive angles, SPEC section
-/// 1). In later windows each axis keeps the side of its `previous` axis.
+/// Signs (SPEC section 6; [`super::sign`]): `e_j` and `e_o` do not depend
+/// on the axis signs. Until the relative sign is `committed` the shank axis
+/// is flipped if that makes the accelerometer angle follow the integrated
+/// gyro angle better (both axes must point to the same side for eqs 4 and 5
+/// to describe the same rotation); then both are flipped, with the
+/// sensor-position zero, if the mean angle is negative (the knee flexes to
+/// positive angles, SPEC section 1). Once committed, each axis keeps the
+/// side of its `previous` axis.
 pub fn identify(
     ring: &Ring,
     previous: Option<&Geometry>,
+    committed: bool,
     p: &KneeSelfAlignParams,
 ) -> WindowOutcome {
     let usable = (0..ring.len())
@@ -367,11 +316,8 @@ pub fn identify(
     if information.is_nan() || information < p.min_information {
         return WindowOutcome::Unobservable { information };
     }
-    let o_start: Vector6<f64> = match previous {
-        Some(g) => stack(&g.position[0], &g.position[1]),
-        None => Vector6::zeros(),
-    };
     let positions = PositionResiduals(ring);
+    let o_start = position_start(ring, &positions, previous);
     let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
         Ok(r) => r,
         Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
@@ -380,54 +326,59 @@ pub fn identify(
     let (j_t, j_s) = axes_of_state(&j.x);
     let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
-    if let Some(prev) = previous {
+    let identified = |c: super::sign::SignChoice| WindowOutcome::Identified {
+        geometry: c.geometry,
+        rms_axis: j.rms_after,
+        rms_position: o.rms_after,
+        information,
+        spread: c.spread,
+        sign_confidence: c.confidence,
+    };
+    if let (Some(prev), true) = (previous, committed) {
         // Continuity: a sensor does not turn its axis to the other side
         // between two windows (a re-mounting by less than 90 deg keeps
         // j_new . j_old > 0), so each axis keeps the side it had.
         let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
-        let (jt, js) = (side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1]));
-        let (ct, cs) = correct_along_axes(&o_t, &o_s, &jt, &js);
-        let geometry = Geometry {
-            axis: [jt, js],
-            position: [ct, cs],
-        };
-        return WindowOutcome::Identified {
-            geometry,
-            rms_axis: j.rms_after,
-            rms_position: o.rms_after,
-            information,
-            spread: agreement(ring, &geometry, p.zero).map_or(1.0, |a| a.0),
+        let jj = [side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1])];
+        return match score_pairs(ring, jj, [o_t, o_s], p.zero, p.sign_floor, Some(true)) {
+            Some(c) => identified(c),
+            None => WindowOutcome::TooFewSamples { usable: 0 },
         };
     }
-    let mut best: Option<(f64, f64, Geometry)> = None;
-    for sign in [1.0, -1.0] {
-        let (ct, cs) = correct_along_axes(&o_t, &o_s, &j_t, &(j_s * sign));
-        let g = Geometry {
-            axis: [j_t, j_s * sign],
-            position: [ct, cs],
-        };
-        if let Some((spread, level)) = agreement(ring, &g, p.zero) {
-            if best.is_none_or(|b| spread < b.0) {
-                best = Some((spread, level, g));
-            }
-        }
-    }
-    let Some((spread, level, mut g)) = best else {
+    let Some(mut c) = score_pairs(ring, [j_t, j_s], [o_t, o_s], p.zero, p.sign_floor, None) else {
         return WindowOutcome::TooFewSamples { usable: 0 };
     };
     let flip = match p.zero {
-        AngleZero::SensorPositions => level < 0.0,
+        AngleZero::SensorPositions => c.level < 0.0,
         AngleZero::PaperC => false,
     };
     if flip {
-        g.axis = [-g.axis[0], -g.axis[1]];
+        c.geometry.axis = [-c.geometry.axis[0], -c.geometry.axis[1]];
     }
-    WindowOutcome::Identified {
-        geometry: g,
-        rms_axis: j.rms_after,
-        rms_position: o.rms_after,
-        information,
-        spread,
+    identified(c)
+}
+
+/// Starting positions of Algorithm 2: the lower-cost (`sum e_o^2`) of the
+/// previous window's positions (`o = 0` in the first window) and the lifted
+/// least-squares solution ([`LiftedStart`]).
+fn position_start(
+    ring: &Ring,
+    positions: &PositionResiduals<'_>,
+    previous: Option<&Geometry>,
+) -> Vector6<f64> {
+    let old = match previous {
+        Some(g) => stack(&g.position[0], &g.position[1]),
+        None => Vector6::zeros(),
+    };
+    let mut lifted = LiftedStart::default();
+    for i in 0..ring.len() {
+        if let Some([t, s]) = ring.kinematics(i) {
+            lifted.add(&t, &s);
+        }
+    }
+    match lifted.solve() {
+        Some(l) if residual_sum(positions, &l).0 < residual_sum(positions, &old).0 => l,
+        _ => old,
     }
 }
 

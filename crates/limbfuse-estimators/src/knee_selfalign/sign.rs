@@ -1,0 +1,180 @@
+//! The pair of axis signs (SPEC section 6; a limbfuse decision, paper 002
+//! does not choose signs): the evidence for it, its confidence, and the
+//! choice.
+//!
+//! `e_j` (eq 2) and `e_o` (eq 3) do not depend on the signs of `j_T`, `j_S`.
+//! Eqs 4 and 5-7 describe the same rotation only when both axes point to
+//! the same side of the joint. With the shank axis flipped, eq 4 integrates
+//! `theta_T + theta_S` (the sum of the segment rates) and eq 5, whose shank
+//! basis is then mirrored, measures `theta_T + theta_S - 2 phi_a`, where
+//! `phi_a` is the direction of the joint-centre acceleration in the joint
+//! plane (gravity plus the knee's own acceleration). So with the right pair
+//! `alpha_acc - integral(alpha_gyro')` is constant up to noise, with the
+//! wrong pair it varies as `2 phi_a`: in walking the knee's horizontal and
+//! vertical accelerations turn `phi_a` by tens of degrees each stride. The
+//! evidence is the circular spread of that difference under both pairs.
+//! With no joint acceleration besides gravity (`phi_a` constant, e.g. a
+//! fixed thigh) the two pairs are indistinguishable and the confidence is 0.
+
+use nalgebra::Vector3;
+
+use super::angle::{accel_angle, gyro_angle_rate, wrap};
+use super::params::AngleZero;
+use super::position::correct_along_axes;
+use super::window::{Geometry, Ring};
+
+/// Circular mean and spread of angles fed one by one.
+#[derive(Default)]
+struct Circular {
+    c: f64,
+    s: f64,
+    n: usize,
+}
+
+impl Circular {
+    fn add(&mut self, a: f64) {
+        let (s, c) = libm::sincos(a);
+        self.s += s;
+        self.c += c;
+        self.n += 1;
+    }
+    fn mean(&self) -> f64 {
+        libm::atan2(self.s, self.c)
+    }
+    /// 1 - mean resultant length (0 = all equal, 1 = uniform).
+    fn spread(&self) -> f64 {
+        if self.n == 0 {
+            return 1.0;
+        }
+        1.0 - libm::hypot(self.s, self.c) / self.n as f64
+    }
+}
+
+/// Over the window: spread of `alpha_acc - integral(gyro rate)` (small when
+/// both angles agree up to a constant) and circular mean of `alpha_acc`.
+pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64)> {
+    let bases = g.bases(zero)?;
+    let mut diff = Circular::default();
+    let mut level = Circular::default();
+    let mut integral = 0.0;
+    let mut last: Option<(f64, f64)> = None;
+    for i in 0..ring.len() {
+        let s = ring.get(i);
+        if !s.gyr_ok {
+            continue;
+        }
+        let rate = gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]);
+        if let Some((t0, r0)) = last {
+            integral += 0.5 * (rate + r0) * (s.t - t0);
+        }
+        last = Some((s.t, rate));
+        if let Some([kt, ks]) = ring.kinematics(i) {
+            let at = kt.joint_acceleration(&g.position[0]);
+            let as_ = ks.joint_acceleration(&g.position[1]);
+            if let Some(a) = accel_angle(&at, &as_, &bases[0], &bases[1]) {
+                diff.add(wrap(a - integral));
+                level.add(a);
+            }
+        }
+    }
+    (diff.n > 0).then(|| (diff.spread(), level.mean()))
+}
+
+/// Confidence (-1..1) that the pair with spread `chosen` is right rather
+/// than the pair with spread `other`: `1 - (chosen + floor) / (other +
+/// floor)` when `chosen <= other`, the negative of the reverse otherwise.
+/// `floor` is the spread noise alone can give (the accelerometer angle's
+/// noise): evidence below it counts for nothing. 0 when the two pairs fit
+/// equally well, near 1 when the chosen one fits much better.
+pub fn confidence(chosen: f64, other: f64, floor: f64) -> f64 {
+    let (a, b) = (chosen + floor, other + floor);
+    if !(a.is_finite() && b.is_finite()) || a <= 0.0 || b <= 0.0 {
+        return 0.0;
+    }
+    if a <= b {
+        1.0 - a / b
+    } else {
+        -(1.0 - b / a)
+    }
+}
+
+/// The geometry with both axes as given and the positions corrected along
+/// them (paper 002 after eq 3).
+fn geometry(j: [Vector3<f64>; 2], o: [Vector3<f64>; 2]) -> Geometry {
+    let (ct, cs) = correct_along_axes(&o[0], &o[1], &j[0], &j[1]);
+    Geometry {
+        axis: j,
+        position: [ct, cs],
+    }
+}
+
+/// A pair of signs and what it rests on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SignChoice {
+    /// The geometry with the chosen signs.
+    pub geometry: Geometry,
+    /// Spread of `alpha_acc - integral(alpha_gyro')` with it.
+    pub spread: f64,
+    /// [`confidence`] of the relative sign against the other pair.
+    pub confidence: f64,
+    /// Circular mean of the accelerometer angle with it (rad).
+    pub level: f64,
+}
+
+/// Scores both relative pairs `(j_T, j_S)` and `(j_T, -j_S)`; returns the
+/// one `keep` says (`Some(true)`: the pair as given, `Some(false)`: shank
+/// flipped) or, with `None`, the better-scoring one. `None` when the
+/// accelerometer angle is never defined in the window.
+pub fn score_pairs(
+    ring: &Ring,
+    j: [Vector3<f64>; 2],
+    o: [Vector3<f64>; 2],
+    zero: AngleZero,
+    floor: f64,
+    keep: Option<bool>,
+) -> Option<SignChoice> {
+    let same = geometry(j, o);
+    let flipped = geometry([j[0], -j[1]], o);
+    let a = agreement(ring, &same, zero);
+    let b = agreement(ring, &flipped, zero);
+    let pick_same = match keep {
+        Some(k) => k,
+        None => match (a, b) {
+            (Some(a), Some(b)) => a.0 <= b.0,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => return None,
+        },
+    };
+    let (g, mine, theirs) = if pick_same {
+        (same, a, b)
+    } else {
+        (flipped, b, a)
+    };
+    let (spread, level) = mine.unwrap_or((1.0, 0.0));
+    let c = match theirs {
+        Some(t) => confidence(spread, t.0, floor),
+        None => 0.0,
+    };
+    Some(SignChoice {
+        geometry: g,
+        spread,
+        confidence: c,
+        level,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn confidence_hand_values() {
+        assert!((confidence(0.01, 0.04, 0.0) - 0.75).abs() < 1e-15);
+        assert!((confidence(0.04, 0.01, 0.0) + 0.75).abs() < 1e-15);
+        // Both spreads at the noise floor: no evidence.
+        assert!(confidence(1e-6, 3e-6, 1e-3).abs() < 0.01);
+        assert_eq!(confidence(0.0, 0.0, 0.0), 0.0);
+        assert_eq!(confidence(f64::NAN, 0.1, 0.0), 0.0);
+    }
+}
