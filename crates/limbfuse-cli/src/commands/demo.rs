@@ -15,6 +15,7 @@ use crate::methods;
 
 /// Runs the demo.
 pub fn run(a: &DemoArgs) -> Result<()> {
+    crate::bounds::simulated_trial(a.duration, "the IMU rate", 100.0, a.cap.force)?;
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("{}: cannot create the demo directory", a.out.display()))?;
     let trial_path = a.out.join("trial.csv");
