@@ -1,6 +1,6 @@
 //! Which trial an estimate file came from: the trial file's content hash
 //! (XXH3-64 of its bytes, `xxhash-rust`), written in the estimate file's
-//! header (`# trial:` and `# trial_hash:`, see docs/FILE_PROVENANCE.md) and
+//! header (`# trial:` and `# trial_hash:`, see docs/OUTPUTS.md) and
 //! checked by `limbfuse evaluate`.
 //!
 //! [`HashingReader`] hashes the bytes as a reader streams them, so
