@@ -50,7 +50,7 @@ fn the_estimate_header_records_the_trial_name_and_hash() {
     let text = String::from_utf8(bytes).unwrap();
     assert!(
         text.starts_with(&format!(
-            "# method: echo\n# gain: 1\n# trial: walk.csv\n# trial_hash: {hash}\nt,thigh\n0,0\n"
+            "# method: echo\n# gain: 1\n# trial: walk.csv\n# trial_hash: {hash}\nt,thigh\n0.0,0.0\n"
         )),
         "{text}"
     );
