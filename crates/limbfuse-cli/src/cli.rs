@@ -44,6 +44,15 @@ pub enum Command {
     GaitLibrary(GaitLibraryCommand),
 }
 
+/// `--force` of the commands that simulate trials (caps in `crate::bounds`).
+#[derive(Debug, Clone, Copy, Default, Args)]
+pub struct LengthCap {
+    /// Allow a --duration beyond 24 h of simulated time (or 86.4 M samples):
+    /// the cap keeps a typo from filling the disk (24 h of walking at 100 Hz is ~6 GB).
+    #[arg(long)]
+    pub force: bool,
+}
+
 /// Options of `params`.
 #[derive(Debug, Args)]
 pub struct ParamsArgs {
@@ -88,7 +97,7 @@ pub struct BslipArgs {
     /// Gait library to take the gait from.
     #[arg(long)]
     pub library: Option<PathBuf>,
-    /// Duration (s).
+    /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 4.0)]
     pub duration: f64,
     /// Sample rate (Hz).
@@ -109,6 +118,9 @@ pub struct BslipArgs {
     /// Output trial file.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Options of `align`.
@@ -169,7 +181,7 @@ pub struct MonteCarloArgs {
     /// Walking speed of the simulated trials (m/s).
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
-    /// Duration of each simulated trial (s).
+    /// Duration of each simulated trial (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 30.0)]
     pub duration: f64,
     /// Output CSV (method, level, mean and std of the mean segment RMSE).
@@ -178,6 +190,9 @@ pub struct MonteCarloArgs {
     /// Also draw an SVG plot here.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Options of `demo`.
@@ -192,9 +207,12 @@ pub struct DemoArgs {
     /// Walking speed (m/s), 0.4 to 1.8.
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
-    /// Trial duration (s).
+    /// Trial duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Simulation scenarios.
@@ -222,7 +240,7 @@ pub struct KneeSimArgs {
     /// Walking speed (m/s), 0.4 to 1.8.
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
-    /// Duration (s).
+    /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
     /// IMU sample rate (Hz).
@@ -246,6 +264,9 @@ pub struct KneeSimArgs {
     /// Keep every segment in the sagittal plane.
     #[arg(long)]
     pub no_out_of_plane: bool,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Options of `simulate knee-fes`.
@@ -257,7 +278,7 @@ pub struct KneeFesArgs {
     /// Leg of Table 1 (P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6).
     #[arg(long, default_value = "P1-L")]
     pub subject: String,
-    /// Duration (s).
+    /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 30.0)]
     pub duration: f64,
     /// IMU sample rate (Hz).
@@ -281,6 +302,9 @@ pub struct KneeFesArgs {
     /// Also write the calibration recording (quiet standing + 4 hip rotations) of the same sensors.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Options of `simulate fixed-hip`.
@@ -289,7 +313,7 @@ pub struct FixedHipArgs {
     /// Output trial file.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Duration (s).
+    /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 20.0)]
     pub duration: f64,
     /// IMU sample rate (Hz).
@@ -304,6 +328,9 @@ pub struct FixedHipArgs {
     /// Extra constant gyro drift on both gyros (deg/s).
     #[arg(long, default_value_t = 0.0)]
     pub gyro_drift: f64,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// How simulated IMUs sit on their segments.
@@ -324,7 +351,7 @@ pub struct WalkingArgs {
     /// Walking speed (m/s), 0.4 to 1.8.
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
-    /// Duration (s).
+    /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
     /// IMU sample rate (Hz).
@@ -345,6 +372,9 @@ pub struct WalkingArgs {
     /// Identical strides (no stride-to-stride variability).
     #[arg(long)]
     pub no_variability: bool,
+    /// Lift the cap on the simulated length.
+    #[command(flatten)]
+    pub cap: LengthCap,
 }
 
 /// Supported import formats.
@@ -428,8 +458,13 @@ pub struct EvaluateArgs {
     pub offset_free: bool,
     /// Synchronise: per channel, shift the estimate by the lag within +-N samples
     /// that minimises its RMSE, and report the lags (IMU and motion-capture clocks differ).
+    /// At most half the trial's samples.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub max_lag: usize,
+    /// Evaluate an estimate whose header records another trial (`# trial_hash:`)
+    /// instead of refusing it.
+    #[arg(long)]
+    pub allow_trial_mismatch: bool,
     /// Run this method on the trial instead of reading an estimate file
     /// (paper 001 protocol: see --starts, docs/TUNING.md).
     #[arg(long)]

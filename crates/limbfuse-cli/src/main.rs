@@ -3,6 +3,7 @@
 //! validated once here, then the library does the work.
 #![deny(missing_docs)]
 
+mod bounds;
 mod cli;
 mod commands;
 mod exit;

@@ -3,9 +3,10 @@
 use std::fmt;
 use std::path::Path;
 
-use limbfuse_io::{EstimateReader, FileError, TrialReader};
+use limbfuse_io::{EstimateReader, FileError, TrialFingerprint, TrialReader};
 
 use crate::metrics::{AngleMetrics, Evaluation};
+use crate::trial_check::{check_trial, TrialMismatch};
 
 /// A closed time interval `[start, end]` in seconds; open ends mean unbounded.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -68,8 +69,20 @@ pub struct EvalOptions {
     /// Remove the mean error of each channel before the RMSE.
     pub offset_free: bool,
     /// Synchronise each channel by the lag within `-max_lag..=max_lag`
-    /// samples that minimises its RMSE ([`crate::sync_lag`]); 0 = off.
+    /// samples that minimises its RMSE ([`crate::sync_lag`]); 0 = off. At
+    /// most [`max_lag_bound`] of the trial's samples.
     pub max_lag: usize,
+    /// Evaluate an estimate whose header records another trial
+    /// ([`crate::trial_check`]) instead of refusing it.
+    pub allow_trial_mismatch: bool,
+}
+
+/// The largest synchronisation lag allowed on a trial of `samples` samples:
+/// half of it, so that every lag searched still compares at least half the
+/// trial (a longer lag compares a handful of samples and its "best" RMSE
+/// means nothing).
+pub fn max_lag_bound(samples: u64) -> u64 {
+    samples / 2
 }
 
 /// Why an evaluation failed.
@@ -95,22 +108,54 @@ pub enum EvalError {
     /// One file has more samples than the other.
     #[error("{0}")]
     LengthMismatch(String),
+    /// The estimate file records another trial than the one given.
+    #[error("{0}")]
+    TrialMismatch(TrialMismatch),
+    /// The synchronisation lag is too long for the trial.
+    #[error("a maximum lag of {max_lag} samples is longer than half the trial {trial} ({samples} samples): at most {bound}, so that every lag searched compares at least half the trial")]
+    MaxLagTooLong {
+        /// The lag asked for (samples).
+        max_lag: usize,
+        /// [`max_lag_bound`] of the trial.
+        bound: u64,
+        /// The trial file.
+        trial: String,
+        /// Its samples.
+        samples: u64,
+    },
     /// The trial has no reference angle to compare with.
     #[error("{0}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against")]
     NoReference(String),
 }
 
 /// Evaluates the estimate file against the trial's reference, streaming both.
+///
+/// First, one pass over the trial's bytes hashes it and counts its samples:
+/// an estimate recording another trial is refused
+/// ([`EvalError::TrialMismatch`], unless `options.allow_trial_mismatch`) and
+/// `options.max_lag` is bounded by the trial ([`EvalError::MaxLagTooLong`])
+/// before anything is sized by it.
 pub fn evaluate_files(
     trial: &Path,
     estimate: &Path,
     options: EvalOptions,
 ) -> Result<Evaluation, EvalError> {
+    let fingerprint = TrialFingerprint::of_file(trial)?;
     let mut tr = TrialReader::open(trial)?;
     if !tr.layout().has_angle_reference() {
         return Err(EvalError::NoReference(trial.display().to_string()));
     }
     let mut er = EstimateReader::open(estimate)?;
+    let trial_check = check_trial(trial, fingerprint.hash, &er, options.allow_trial_mismatch)?;
+    let bound = max_lag_bound(fingerprint.data_rows);
+    if options.max_lag as u64 > bound {
+        return Err(EvalError::MaxLagTooLong {
+            max_lag: options.max_lag,
+            bound,
+            trial: trial.display().to_string(),
+            samples: fingerprint.data_rows,
+        });
+    }
     let mut metrics = AngleMetrics::new(er.method(), options);
     metrics.set_diagnostic_names(
         er.diagnostic_names()
@@ -153,7 +198,10 @@ pub fn evaluate_files(
         }
         index += 1;
     }
-    Ok(metrics.evaluation())
+    Ok(Evaluation {
+        trial_check,
+        ..metrics.evaluation()
+    })
 }
 
 #[cfg(test)]

@@ -28,6 +28,8 @@ pub struct GaitEvaluation {
     pub speed_mean_mps: Option<f64>,
     /// Mean reference forward CoM velocity (m/s).
     pub speed_ref_mps: Option<f64>,
+    /// Whether the estimate file records this trial ([`crate::trial_check`]).
+    pub trial_check: crate::trial_check::TrialCheck,
 }
 
 fn index(p: limbfuse_core::GaitPhase) -> usize {
@@ -38,12 +40,21 @@ fn index(p: limbfuse_core::GaitPhase) -> usize {
     }
 }
 
-/// Compares a gait estimate with its trial (same time base).
-pub fn evaluate_gait_files(trial: &Path, estimate: &Path) -> Result<GaitEvaluation, EvalError> {
+/// Compares a gait estimate with its trial (same time base); an estimate
+/// recording another trial is refused unless `allow_trial_mismatch`
+/// ([`crate::trial_check`]).
+pub fn evaluate_gait_files(
+    trial: &Path,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+) -> Result<GaitEvaluation, EvalError> {
+    let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
     let mut tr = TrialReader::open(trial)?;
     let mut er = EstimateReader::open(estimate)?;
+    let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
     let mut ev = GaitEvaluation {
         method: er.method().to_string(),
+        trial_check,
         ..Default::default()
     };
     let (mut se, mut n_pos, mut max) = (0.0, 0u64, 0.0f64);

@@ -13,7 +13,9 @@ pub mod knee_errors;
 pub mod metrics;
 pub mod stats;
 pub mod sync_lag;
+pub mod trial_check;
 
 pub use channel_error::ChannelError;
-pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};
+pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, TimeWindow};
 pub use metrics::{AngleMetrics, Evaluation};
+pub use trial_check::{TrialCheck, TrialMismatch};

@@ -172,6 +172,7 @@ impl AngleMetrics {
             missing_input_pct: self
                 .reliability
                 .pct(self.reliability.missing, &self.reliability.missing_col),
+            trial_check: Default::default(),
         }
     }
 }
@@ -217,6 +218,8 @@ pub struct Evaluation {
     /// cell), from the segment filters' `missing_inputs` diagnostic: those
     /// samples were predicted without that input's update.
     pub missing_input_pct: Option<f64>,
+    /// Whether the estimate file records this trial ([`crate::trial_check`]).
+    pub trial_check: crate::trial_check::TrialCheck,
 }
 
 impl Evaluation {

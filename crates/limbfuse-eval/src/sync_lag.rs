@@ -18,13 +18,20 @@ use std::collections::VecDeque;
 use crate::channel_error::ChannelError;
 
 /// Per-lag error statistics of one channel.
+///
+/// Memory grows with the samples seen, up to `max_lag + 1` per direction: a
+/// `max_lag` far beyond the trial costs no more than the trial itself (the
+/// caller still bounds it against the trial, see
+/// [`crate::evaluation::max_lag_bound`]).
 #[derive(Debug, Clone)]
 pub struct LagSearch {
     max_lag: usize,
     /// Last `max_lag + 1` (estimate, reference, counts) triples, newest last.
     history: VecDeque<(Option<f64>, Option<f64>, bool)>,
-    /// Index `max_lag + L` holds lag `L`.
-    per_lag: Vec<ChannelError>,
+    /// Index `L` holds lag `L >= 0`.
+    positive: Vec<ChannelError>,
+    /// Index `m - 1` holds lag `-m < 0`.
+    negative: Vec<ChannelError>,
 }
 
 impl LagSearch {
@@ -32,8 +39,9 @@ impl LagSearch {
     pub fn new(max_lag: usize) -> Self {
         LagSearch {
             max_lag,
-            history: VecDeque::with_capacity(max_lag + 1),
-            per_lag: vec![ChannelError::default(); 2 * max_lag + 1],
+            history: VecDeque::with_capacity(max_lag.saturating_add(1).min(1 << 12)),
+            positive: Vec::new(),
+            negative: Vec::new(),
         }
     }
 
@@ -41,31 +49,43 @@ impl LagSearch {
     /// counts (inside the evaluation window). A pair counts when the
     /// estimate's sample counts.
     pub fn push(&mut self, estimate: Option<f64>, reference: Option<f64>, counts: bool) {
-        if self.history.len() == self.max_lag + 1 {
+        if self.history.len() > self.max_lag {
             self.history.pop_front();
         }
         self.history.push_back((estimate, reference, counts));
         let n = self.history.len();
+        if self.positive.len() < n {
+            self.positive.resize(n, ChannelError::default());
+        }
+        if self.negative.len() < n - 1 {
+            self.negative.resize(n - 1, ChannelError::default());
+        }
         let (e_k, r_k, c_k) = self.history[n - 1];
         // lag L >= 0: estimate k against reference k - L
         for l in 0..n {
             if let (true, Some(e), Some(r)) = (c_k, e_k, self.history[n - 1 - l].1) {
-                self.per_lag[self.max_lag + l].push(e, r);
+                self.positive[l].push(e, r);
             }
         }
         // lag -m < 0: estimate k - m against reference k
         for m in 1..n {
             let (e_m, _, c_m) = self.history[n - 1 - m];
             if let (true, Some(e), Some(r)) = (c_m, e_m, r_k) {
-                self.per_lag[self.max_lag - m].push(e, r);
+                self.negative[m - 1].push(e, r);
             }
         }
     }
 
-    /// Statistics at lag `lag` samples.
+    /// Statistics at lag `lag` samples (`None` outside `-max_lag..=max_lag`
+    /// or beyond the samples seen).
     pub fn at(&self, lag: i64) -> Option<&ChannelError> {
-        let i = self.max_lag as i64 + lag;
-        usize::try_from(i).ok().and_then(|i| self.per_lag.get(i))
+        if lag >= 0 {
+            usize::try_from(lag).ok().and_then(|l| self.positive.get(l))
+        } else {
+            usize::try_from(lag.unsigned_abs())
+                .ok()
+                .and_then(|m| self.negative.get(m - 1))
+        }
     }
 
     /// The lag (samples) with the smallest RMSE (offset-free RMSE if
@@ -79,9 +99,15 @@ impl LagSearch {
                 c.rmse()
             }
         };
+        let lags = self
+            .negative
+            .iter()
+            .enumerate()
+            .rev()
+            .map(|(i, c)| (-(i as i64) - 1, c))
+            .chain(self.positive.iter().enumerate().map(|(i, c)| (i as i64, c)));
         let mut best: Option<(i64, ChannelError, f64)> = None;
-        for (i, c) in self.per_lag.iter().enumerate() {
-            let lag = i as i64 - self.max_lag as i64;
+        for (lag, c) in lags {
             let Some(s) = score(c) else { continue };
             let better = match &best {
                 None => true,
@@ -148,5 +174,17 @@ mod tests {
         assert_eq!(s.at(0).unwrap().n(), 0);
         assert_eq!(s.at(1).unwrap().n(), 0);
         assert!(LagSearch::new(3).best(false).is_none());
+    }
+
+    /// A lag far beyond the data allocates for the data only (no abort).
+    #[test]
+    fn a_huge_max_lag_costs_what_the_data_costs() {
+        let mut s = LagSearch::new(usize::MAX);
+        for k in 0..50 {
+            s.push(Some(k as f64), Some(k as f64), true);
+        }
+        assert_eq!(s.best(false).unwrap().0, 0);
+        assert!(s.at(50).is_none() && s.at(-50).is_none() && s.at(i64::MIN).is_none());
+        assert_eq!(s.at(49).unwrap().n(), 1);
     }
 }

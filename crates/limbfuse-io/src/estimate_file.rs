@@ -2,10 +2,12 @@
 //! streaming [`EstimateReader`].
 //!
 //! Layout: `# method: NAME`, then `# key: value` lines with the parameters
-//! used, then `t`, the estimated quantities (`trunk`, ..., `ankle`, `phase`,
-//! `speed`) and the method's diagnostics with a `diag_` prefix.
+//! used, then (when the writer knows its trial) `# trial: FILE NAME` and
+//! `# trial_hash: xxh3:HEX` (the trial file's [`ContentHash`]), then `t`, the
+//! estimated quantities (`trunk`, ..., `ankle`, `phase`, `speed`) and the
+//! method's diagnostics with a `diag_` prefix.
 
-use std::io::{Read, Write};
+use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use limbfuse_core::estimator::Outputs;
@@ -14,6 +16,7 @@ use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 
 use crate::cell_format::{push_cell, push_value};
+use crate::content_hash::{ContentHash, TRIAL_HASH_KEY, TRIAL_KEY};
 use crate::error::FileError;
 use crate::meta::TrialMeta;
 use crate::table::TableReader;
@@ -25,7 +28,14 @@ pub struct EstimateWriter<W: Write> {
     n_diag: usize,
     line: Vec<u8>,
     buf: ryu::Buffer,
+    /// The trial's file name, for the `# trial:` header line.
+    trial: Option<String>,
+    /// Byte offset of the `# trial_hash:` value, once the header is written.
+    hash_offset: Option<u64>,
 }
+
+/// Written in place of the trial hash until [`EstimateWriter::stamp_trial_hash`].
+const HASH_PLACEHOLDER: &str = "xxh3:????????????????";
 
 impl<W: Write> EstimateWriter<W> {
     /// A writer that writes its header when the run starts.
@@ -36,7 +46,19 @@ impl<W: Write> EstimateWriter<W> {
             n_diag: 0,
             line: Vec::with_capacity(512),
             buf: ryu::Buffer::new(),
+            trial: None,
+            hash_offset: None,
         }
+    }
+
+    /// Records the trial in the header: `# trial: NAME` and a
+    /// `# trial_hash:` line whose value [`EstimateWriter::stamp_trial_hash`]
+    /// fills in after the run (the trial is hashed as it is read, so the hash
+    /// is known only at its end).
+    pub fn recording_trial(mut self, name: impl Into<String>) -> Self {
+        let name: String = name.into();
+        self.trial = Some(name.replace(['\n', '\r'], " "));
+        self
     }
 
     /// Flushes and returns the underlying writer.
@@ -48,12 +70,19 @@ impl<W: Write> EstimateWriter<W> {
 
 impl<W: Write> Observer for EstimateWriter<W> {
     fn start(&mut self, estimator: &dyn Estimator) -> Result<(), BoxError> {
-        writeln!(self.out, "# method: {}", estimator.name())?;
+        let mut head = format!("# method: {}\n", estimator.name());
         let mut params = String::new();
         estimator.describe_parameters(&mut params)?;
         for l in params.lines().filter(|l| !l.trim().is_empty()) {
-            writeln!(self.out, "# {l}")?;
+            head.push_str(&format!("# {l}\n"));
         }
+        if let Some(name) = &self.trial {
+            head.push_str(&format!("# {TRIAL_KEY}: {name}\n# {TRIAL_HASH_KEY}: "));
+            self.hash_offset = Some(head.len() as u64);
+            head.push_str(HASH_PLACEHOLDER);
+            head.push('\n');
+        }
+        self.out.write_all(head.as_bytes())?;
         self.outputs = estimator.outputs();
         let names = estimator.diagnostic_names();
         self.n_diag = names.len().min(MAX_DIAG);
@@ -118,6 +147,26 @@ impl<W: Write> Observer for EstimateWriter<W> {
     }
 }
 
+impl<W: Write + Seek> EstimateWriter<W> {
+    /// Writes the trial's hash into the `# trial_hash:` line of the header
+    /// (after the run; needs [`EstimateWriter::recording_trial`] and a
+    /// started run). `out` must have been empty when the writer was made.
+    pub fn stamp_trial_hash(&mut self, hash: ContentHash) -> std::io::Result<()> {
+        let Some(offset) = self.hash_offset else {
+            return Err(std::io::Error::other(
+                "no `# trial_hash:` line to stamp: the writer does not record its trial or the run did not start",
+            ));
+        };
+        let text = hash.to_string();
+        debug_assert_eq!(text.len(), HASH_PLACEHOLDER.len());
+        self.out.flush()?;
+        self.out.seek(SeekFrom::Start(offset))?;
+        self.out.write_all(text.as_bytes())?;
+        self.out.seek(SeekFrom::End(0))?;
+        Ok(())
+    }
+}
+
 /// CoM estimate columns (SPEC section 3: `com_*` without `_ref`), position then velocity.
 pub const COM_COLUMNS: [&str; 6] = ["com_x", "com_y", "com_z", "com_vx", "com_vy", "com_vz"];
 
@@ -177,6 +226,18 @@ impl EstimateReader {
     /// The `# method:` entry (`unknown` if absent) .
     pub fn method(&self) -> &str {
         self.table.meta().get("method").unwrap_or("unknown")
+    }
+
+    /// The `# trial:` entry: the file name of the trial the estimate was
+    /// made from (absent in files written before limbfuse recorded it).
+    pub fn recorded_trial(&self) -> Option<&str> {
+        self.table.meta().get(TRIAL_KEY)
+    }
+
+    /// The `# trial_hash:` entry as written (`xxh3:HEX`); parse it with
+    /// [`ContentHash::parse`].
+    pub fn recorded_trial_hash(&self) -> Option<&str> {
+        self.table.meta().get(TRIAL_HASH_KEY)
     }
 
     /// All metadata (method and parameters).

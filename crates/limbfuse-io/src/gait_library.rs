@@ -203,13 +203,13 @@ impl GaitLibraryFile {
         self.gaits.iter().map(|g| g.template(&self.body)).collect()
     }
 
-    /// Writes the library as pretty JSON.
+    /// Writes the library as JSON ([`crate::AtomicFile`]: whole or not at all).
     pub fn write(&self, path: &Path) -> Result<(), LibraryFileError> {
         let text = serde_json::to_string(self).map_err(|e| LibraryFileError::Content {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
-        std::fs::write(path, text).map_err(|source| LibraryFileError::Io {
+        crate::AtomicFile::write(path, text).map_err(|source| LibraryFileError::Io {
             path: path.to_path_buf(),
             source,
         })

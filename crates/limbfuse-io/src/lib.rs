@@ -7,7 +7,9 @@
 //! conditioning) lives in `limbfuse-signal`.
 #![deny(missing_docs)]
 
+pub mod atomic_file;
 mod cell_format;
+pub mod content_hash;
 pub mod error;
 pub mod estimate_file;
 pub mod gait_library;
@@ -18,6 +20,8 @@ pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;
 
+pub use atomic_file::AtomicFile;
+pub use content_hash::{ContentHash, TrialFingerprint};
 pub use error::FileError;
 pub use estimate_file::{EstimateReader, EstimateWriter};
 pub use layout::TrialLayout;

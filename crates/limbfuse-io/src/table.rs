@@ -9,6 +9,7 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
+use crate::content_hash::{ContentHash, HashHandle, HashingReader};
 use crate::error::FileError;
 use crate::meta::TrialMeta;
 
@@ -21,6 +22,8 @@ pub struct TableReader {
     /// Number of physical lines before the header (comment lines).
     line_offset: u64,
     record: csv::ByteRecord,
+    /// Hash of the bytes read so far.
+    hash: HashHandle,
 }
 
 impl std::fmt::Debug for TableReader {
@@ -50,6 +53,7 @@ impl TableReader {
 
     /// Reads a table from any byte source; `path` is used in error messages.
     pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
+        let (source, hash) = HashingReader::new(source);
         let mut buf = BufReader::with_capacity(1 << 16, source);
         let mut meta = TrialMeta::new();
         let mut line_offset = 0u64;
@@ -115,12 +119,19 @@ impl TableReader {
             csv,
             line_offset,
             record: csv::ByteRecord::new(),
+            hash,
         })
     }
 
     /// The file path used in messages.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// The hash of the whole source once every row has been read
+    /// ([`TableReader::next_row`] returned `Ok(None)`); `None` before.
+    pub fn content_hash(&self) -> Option<ContentHash> {
+        self.hash.finished()
     }
 
     /// Metadata from the leading comment lines.

@@ -152,6 +152,12 @@ impl TrialReader {
         self.table.path()
     }
 
+    /// The content hash of the trial file, hashed as it was read; `Some`
+    /// once every record has been read (the estimate file records it).
+    pub fn content_hash(&self) -> Option<crate::ContentHash> {
+        self.table.content_hash()
+    }
+
     /// Reads the next record; `Ok(None)` at the end of the file. A file with
     /// a header and no rows is an error ([`FileError::NoRows`]).
     pub fn next_record(&mut self) -> Result<Option<Record>, FileError> {

@@ -172,13 +172,20 @@ fn one_run(cfg: &MonteCarloConfig, r: usize) -> Result<Vec<[f64; 3]>, MonteCarlo
     Ok(out)
 }
 
+/// Most runs per level (paper 000 Fig. 9 uses 100): the results of every run
+/// are kept in memory, so the count is bounded (issue 18 item 7).
+pub const MAX_RUNS: usize = 100_000;
+
 /// Runs the study; `on_run_done` is called after each run (progress).
 pub fn monte_carlo(
     cfg: &MonteCarloConfig,
     on_run_done: &(dyn Fn() + Sync),
 ) -> Result<Vec<MonteCarloRow>, MonteCarloError> {
-    if cfg.runs == 0 {
-        return Err(MonteCarloError::Config("runs: expected at least 1".into()));
+    if !(1..=MAX_RUNS).contains(&cfg.runs) {
+        return Err(MonteCarloError::Config(format!(
+            "runs: expected 1 to {MAX_RUNS} runs per level, found {}",
+            cfg.runs
+        )));
     }
     if cfg.levels.is_empty() || cfg.levels.iter().any(|l| !(0.0..1.0).contains(l)) {
         return Err(MonteCarloError::Config(

@@ -7,15 +7,28 @@ use plotters::prelude::*;
 
 use crate::monte_carlo::{MonteCarloRow, METHODS};
 
-/// Draws the mean RMSE of each filter against the uncertainty level.
+/// Draws the mean RMSE of each filter against the uncertainty level into
+/// the SVG file `path` (whole or not at all, [`limbfuse_io::AtomicFile`]).
 pub fn write_svg(rows: &[MonteCarloRow], path: &Path, title: &str) -> Result<(), String> {
+    let mut svg = String::new();
+    draw_svg(rows, &mut svg, path, title)?;
+    limbfuse_io::AtomicFile::write(path, svg)
+        .map_err(|e| format!("{}: cannot write the plot: {e}", path.display()))
+}
+
+fn draw_svg(
+    rows: &[MonteCarloRow],
+    svg: &mut String,
+    path: &Path,
+    title: &str,
+) -> Result<(), String> {
     let max_level = rows
         .iter()
         .map(|r| r.level * 100.0)
         .fold(0.0, f64::max)
         .max(1.0);
     let max_err = rows.iter().map(|r| r.mean_rmse_deg).fold(0.0, f64::max) * 1.15 + 1e-9;
-    let root = SVGBackend::new(path, (720, 440)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (720, 440)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| format!("{}: cannot draw the plot: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)

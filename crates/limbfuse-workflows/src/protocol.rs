@@ -296,7 +296,7 @@ pub fn multi_start(
                         end: Some(e),
                     },
                     offset_free,
-                    max_lag: 0,
+                    ..EvalOptions::default()
                 },
             );
             let observers: &mut [&mut dyn Observer] = &mut [&mut m];

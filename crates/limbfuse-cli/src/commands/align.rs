@@ -58,8 +58,8 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let alignment = estimate_alignment(&records, &opts)
         .with_context(|| format!("aligning {}", a.trial.display()))?;
     alignment.annotate(&mut meta);
-    let out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(out, &meta, layout)
+    let mut out = super::create_file(&a.output)?;
+    let mut w = TrialWriter::new(&mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         w.write(&apply_alignment(r, &alignment))
@@ -67,6 +67,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     }
     w.finish()
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::commit(out)?;
     for (k, v) in alignment.metadata() {
         if k.ends_with("_axis")
             || k.ends_with("_zero")

@@ -96,8 +96,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         "information = {:.6}",
         diag(KneeDiag::Information).unwrap_or(f64::NAN)
     )?;
-    std::fs::write(&a.output, &s)
-        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::write_file(&a.output, &s)?;
     print!(
         "{}",
         s.lines()

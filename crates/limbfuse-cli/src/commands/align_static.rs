@@ -60,8 +60,8 @@ pub fn run(a: &AlignArgs) -> Result<()> {
             );
         }
     }
-    let out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(out, &meta, layout)
+    let mut out = super::create_file(&a.output)?;
+    let mut w = TrialWriter::new(&mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         w.write(&apply_rotations(r, &al.rotations))
@@ -69,6 +69,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     }
     w.finish()
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::commit(out)?;
     eprintln!(
         "aligned {} sensors with the static-rotation procedure (quiet {:.1}-{:.1} s) -> {}",
         segments.len(),

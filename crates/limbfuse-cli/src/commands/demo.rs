@@ -5,10 +5,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::{AngleMetrics, EvalOptions, Evaluation};
-use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_io::TrialReader;
 use limbfuse_methods::{MethodName, MethodSpec};
 
 use crate::cli::{DemoArgs, MountingArg, WalkingArgs};
@@ -16,6 +15,7 @@ use crate::methods;
 
 /// Runs the demo.
 pub fn run(a: &DemoArgs) -> Result<()> {
+    crate::bounds::simulated_trial(a.duration, "the IMU rate", 100.0, a.cap.force)?;
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("{}: cannot create the demo directory", a.out.display()))?;
     let trial_path = a.out.join("trial.csv");
@@ -29,6 +29,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         no_noise: false,
         no_out_of_plane: false,
         no_variability: false,
+        cap: a.cap,
     };
     let summary = super::simulate::write_walking(&sim)?;
     println!("limbfuse demo: simulated {summary}");
@@ -48,8 +49,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     markdown.push_str(&format!(
         "\n## Self-aligning knee (paper 002)\n\n```\n{knee}```\n"
     ));
-    std::fs::write(&report, markdown)
-        .with_context(|| format!("{}: cannot write the report", report.display()))?;
+    super::write_file(&report, markdown)?;
     println!("\nreport: {}", report.display());
     Ok(())
 }
@@ -59,10 +59,8 @@ fn run_method(method: MethodName, trial: &Path, out: &Path) -> Result<Evaluation
     let reader = TrialReader::open(trial)?;
     let mut est = methods::build_for(&MethodSpec::defaults(method)?, &reader)?;
     let est_path = out.join(format!("estimate-{name}.csv"));
-    let mut writer = EstimateWriter::new(super::create_file(&est_path)?);
     let mut metrics = AngleMetrics::new(name, EvalOptions::default());
-    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut metrics];
-    runner::run(est.as_mut(), reader, observers).with_context(|| format!("running {name}"))?;
+    super::estimate::run_to_file(est.as_mut(), reader, &est_path, name, &mut [&mut metrics])?;
     Ok(metrics.evaluation())
 }
 

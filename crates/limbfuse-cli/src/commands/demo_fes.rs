@@ -4,10 +4,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use limbfuse_core::runner::{self, Observer};
+use anyhow::Result;
 use limbfuse_eval::{AngleMetrics, EvalOptions};
-use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_io::TrialReader;
 use limbfuse_methods::{MethodName, MethodSpec};
 use limbfuse_sim::knee_fes::KneeFesConfig;
 use limbfuse_workflows::simulated_trials;
@@ -22,7 +21,9 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
     };
     let sim = simulated_trials::knee_fes(&cfg, "limbfuse demo (knee-fes)")?;
     let trial = out.join("trial-knee-fes.csv");
-    simulated_trials::write_trial(super::create_file(&trial)?, sim, &trial)?;
+    let mut file = super::create_file(&trial)?;
+    simulated_trials::write_trial(&mut file, sim, &trial)?;
+    super::commit(file)?;
     let mut table = format!("{:<10}", "RMSE deg");
     let mut row = format!("{:<10}", "knee");
     for method in [MethodName::Sdre, MethodName::Ekf, MethodName::Rmx] {
@@ -30,10 +31,8 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
         let reader = TrialReader::open(&trial)?;
         let mut est = crate::methods::build_for(&MethodSpec::defaults(method)?, &reader)?;
         let path = out.join(format!("estimate-knee-fes-{m}.csv"));
-        let mut writer = EstimateWriter::new(super::create_file(&path)?);
         let mut metrics = AngleMetrics::new(m, EvalOptions::default());
-        let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut metrics];
-        runner::run(est.as_mut(), reader, observers).with_context(|| format!("running {m}"))?;
+        super::estimate::run_to_file(est.as_mut(), reader, &path, m, &mut [&mut metrics])?;
         let e = metrics.evaluation();
         let knee = e
             .rmse(limbfuse_core::sample::AngleChannel::Joint(

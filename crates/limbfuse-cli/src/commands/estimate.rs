@@ -9,6 +9,7 @@ use limbfuse_core::Estimator;
 use limbfuse_io::{EstimateWriter, TrialReader};
 
 use crate::cli::EstimateArgs;
+use crate::exit::Internal;
 use crate::methods;
 use crate::progress::Progress;
 
@@ -17,24 +18,54 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let reader = TrialReader::open(&a.trial)?;
     let mut est = methods::build_for(&spec, &reader)?;
-    let n = run_to_file(est.as_mut(), reader, &a.output, spec.method().name())?;
+    let n = run_to_file(
+        est.as_mut(),
+        reader,
+        &a.output,
+        spec.method().name(),
+        &mut [],
+    )?;
     eprintln!("{}: {n} samples -> {}", spec.method(), a.output.display());
     Ok(())
 }
 
 /// Runs an estimator over an opened trial into an estimate file, with a
-/// progress bar; returns the number of samples.
+/// progress bar and the `extra` observers; returns the number of samples.
+///
+/// The estimate file records its trial (`# trial:`, `# trial_hash:`; the
+/// trial is hashed as it is read) and appears only if the whole run succeeds.
 pub fn run_to_file(
     est: &mut dyn Estimator,
-    reader: TrialReader,
+    mut reader: TrialReader,
     output: &Path,
     label: &str,
+    extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
-    let mut writer = EstimateWriter::new(super::create_file(output)?);
+    let trial_name = trial.file_name().map_or_else(
+        || trial.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let mut writer = EstimateWriter::new(super::create_file(output)?).recording_trial(trial_name);
     let mut progress = Progress::new(label);
-    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];
-    let summary = runner::run(est, reader, observers)
-        .with_context(|| format!("estimating {} with {label}", trial.display()))?;
+    let summary = {
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(2 + extra.len());
+        observers.push(&mut writer);
+        observers.push(&mut progress);
+        for o in extra.iter_mut() {
+            observers.push(&mut **o);
+        }
+        runner::run(est, &mut reader, &mut observers)
+            .with_context(|| format!("estimating {} with {label}", trial.display()))?
+    };
+    let hash = reader.content_hash().ok_or_else(|| {
+        Internal(format!(
+            "{}: the trial was not read to its end",
+            trial.display()
+        ))
+    })?;
+    let write_err = || format!("{}: cannot write the output file", output.display());
+    writer.stamp_trial_hash(hash).with_context(write_err)?;
+    super::commit(writer.into_inner().with_context(write_err)?)?;
     Ok(summary.n_samples)
 }

@@ -1,7 +1,7 @@
 //! `limbfuse evaluate TRIAL ESTIMATE [--json] [--window A:B] [--offset-free] [--max-lag N]`.
 
 use anyhow::{anyhow, Result};
-use limbfuse_eval::{evaluate_files, EvalOptions, TimeWindow};
+use limbfuse_eval::{evaluate_files, EvalError, EvalOptions, TimeWindow, TrialCheck};
 
 use crate::cli::EvaluateArgs;
 
@@ -19,7 +19,12 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         let layout = *limbfuse_io::TrialReader::open(&a.trial)?.layout();
         if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
             // A gait trial (paper 003): phase, CoM and speed errors.
-            let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&a.trial, estimate)?;
+            let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(
+                &a.trial,
+                estimate,
+                a.allow_trial_mismatch,
+            )?;
+            warn(&ev.trial_check);
             if a.json {
                 println!("{}", ev.to_json());
             } else {
@@ -39,12 +44,29 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             window,
             offset_free: a.offset_free,
             max_lag: a.max_lag,
+            allow_trial_mismatch: a.allow_trial_mismatch,
         },
-    )?;
+    )
+    .map_err(|e| match e {
+        EvalError::MaxLagTooLong { .. } => anyhow!(e).context(format!("--max-lag {}", a.max_lag)),
+        EvalError::TrialMismatch(_) => anyhow!(e).context(
+            "refusing to evaluate an estimate made from another trial \
+             (--allow-trial-mismatch evaluates it anyway)",
+        ),
+        e => e.into(),
+    })?;
+    warn(&ev.trial_check);
     if a.json {
         println!("{}", ev.to_json());
     } else {
         print!("{}", ev.to_text());
     }
     Ok(())
+}
+
+/// Prints the trial check's warning, if any.
+fn warn(check: &TrialCheck) {
+    if let Some(w) = check.warning() {
+        eprintln!("warning: {w}");
+    }
 }

@@ -35,12 +35,17 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
 
 /// `simulate knee-fes`.
 pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
+    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     let cfg = knee_config(a)?;
     let trial = simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes")?;
-    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
+    let mut out = super::create_file(&a.output)?;
+    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
     if let Some(cal) = &a.calibration {
         let c = simulated_trials::knee_fes_calibration(&cfg)?;
-        simulated_trials::write_trial(super::create_file(cal)?, c, cal)?;
+        let mut out = super::create_file(cal)?;
+        simulated_trials::write_trial(&mut out, c, cal)?;
+        super::commit(out)?;
         eprintln!(
             "calibration (quiet standing + 4 hip rotations) -> {}",
             cal.display()
@@ -58,6 +63,7 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
 
 /// `simulate fixed-hip`.
 pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
+    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     let cfg = FixedHipConfig {
         duration_s: a.duration,
         rate_hz: a.rate,
@@ -67,7 +73,9 @@ pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
         ..FixedHipConfig::default()
     };
     let trial = simulated_trials::fixed_hip(&cfg)?;
-    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
+    let mut out = super::create_file(&a.output)?;
+    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
     eprintln!(
         "simulated {:.0} s of fixed-hip swing (seed {}) -> {}",
         a.duration,

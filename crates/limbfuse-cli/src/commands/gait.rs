@@ -113,9 +113,7 @@ pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
 
 /// `limbfuse simulate bslip`.
 pub fn simulate(a: &BslipArgs) -> Result<()> {
-    if !(a.duration.is_finite() && a.duration > 0.0 && a.rate.is_finite() && a.rate > 0.0) {
-        bail!("--duration and --rate must be positive");
-    }
+    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     let template = match &a.library {
         Some(p) => {
             let t = limbfuse_methods::imm_params::load_templates(p, None)?;
@@ -141,7 +139,9 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
         ..Default::default()
     };
     let trial = simulated_trials::bslip(&template, &cfg, "limbfuse simulate bslip");
-    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
+    let mut out = super::create_file(&a.output)?;
+    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
     eprintln!(
         "simulated {:.1} s of B-SLIP walking at {} m/s ({} Hz, {} channels, seed {}) -> {}",
         a.duration,
@@ -172,15 +172,18 @@ pub fn demo(dir: &Path) -> Result<()> {
         &BslipTrialConfig::default(),
         "limbfuse demo (B-SLIP 0.7 m/s)",
     );
-    simulated_trials::write_trial(super::create_file(&trial)?, sim, &trial)?;
+    let mut out = super::create_file(&trial)?;
+    simulated_trials::write_trial(&mut out, sim, &trial)?;
+    super::commit(out)?;
     let mut imm = ImmBslip::new(&templates, ImmBslipParams::full_com())?;
     super::estimate::run_to_file(
         &mut imm,
         TrialReader::open(&trial)?,
         &estimate,
         limbfuse_methods::MethodName::ImmBslip.name(),
+        &mut [],
     )?;
-    let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&trial, &estimate)?;
+    let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&trial, &estimate, false)?;
     println!();
     println!("Gait phase and speed (paper 003, imm-bslip): B-SLIP trial at 0.7 m/s, library 0.6/0.7/0.8 m/s");
     println!(

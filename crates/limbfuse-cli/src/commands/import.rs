@@ -12,8 +12,8 @@ pub fn run(a: &ImportArgs) -> Result<()> {
         ImportFormat::Gaittoolbox => import_gaittoolbox(&a.input)?,
         ImportFormat::KneeRig => import_knee_rig(&a.input)?,
     };
-    let out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(out, &trial.meta, trial.layout)
+    let mut out = super::create_file(&a.output)?;
+    let mut w = TrialWriter::new(&mut out, &trial.meta, trial.layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &trial.records {
         w.write(r)
@@ -21,6 +21,7 @@ pub fn run(a: &ImportArgs) -> Result<()> {
     }
     w.finish()
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::commit(out)?;
     eprintln!(
         "imported {} samples -> {}",
         trial.records.len(),

@@ -58,7 +58,7 @@ pub fn run(seed: u64, speed: f64, out: &Path) -> Result<String> {
     }
     write_summary(&mut s, &run)?;
     let path = out.join("knee-selfalign.txt");
-    std::fs::write(&path, &s).with_context(|| format!("{}: cannot write", path.display()))?;
+    super::write_file(&path, &s)?;
     Ok(s)
 }
 

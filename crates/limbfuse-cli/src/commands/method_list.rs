@@ -1,7 +1,7 @@
 //! `limbfuse methods` (every method, its inputs and settings) and
 //! `limbfuse params --method NAME` (its default parameter file).
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use limbfuse_methods::{default_params_file, MethodName};
 
 use crate::cli::ParamsArgs;
@@ -26,8 +26,7 @@ pub fn params(a: &ParamsArgs) -> Result<()> {
     let text = default_params_file(method);
     match &a.output {
         Some(p) => {
-            std::fs::write(p, &text)
-                .with_context(|| format!("{}: cannot write the parameter file", p.display()))?;
+            super::write_file(p, &text)?;
             eprintln!("{method} defaults -> {}", p.display());
         }
         None => print!("{text}"),

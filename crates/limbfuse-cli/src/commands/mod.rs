@@ -19,7 +19,10 @@ mod simulate;
 mod simulate_knee;
 mod tune;
 
-use anyhow::Result;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 
@@ -45,10 +48,22 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Creates `path` for writing, naming it in the error.
-pub fn create_file(path: &std::path::Path) -> Result<std::io::BufWriter<std::fs::File>> {
-    use anyhow::Context;
-    let f = std::fs::File::create(path)
-        .with_context(|| format!("{}: cannot create the output file", path.display()))?;
-    Ok(std::io::BufWriter::with_capacity(1 << 16, f))
+/// Starts writing the output file `path` ([`AtomicFile`]: it appears only
+/// when [`commit`] succeeds; on any error before, nothing is left behind).
+pub fn create_file(path: &Path) -> Result<AtomicFile> {
+    AtomicFile::create(path)
+        .with_context(|| format!("{}: cannot create the output file", path.display()))
+}
+
+/// Finishes an output file from [`create_file`]: renames it into place.
+pub fn commit(file: AtomicFile) -> Result<()> {
+    let path = file.path().to_path_buf();
+    file.commit()
+        .with_context(|| format!("{}: cannot write the output file", path.display()))
+}
+
+/// Writes a whole output file atomically (the CLI's `std::fs::write`).
+pub fn write_file(path: &Path, contents: impl AsRef<[u8]>) -> Result<()> {
+    AtomicFile::write(path, contents)
+        .with_context(|| format!("{}: cannot write the output file", path.display()))
 }

@@ -39,6 +39,12 @@ fn parse_levels(text: &str) -> Result<Vec<f64>> {
 /// Runs the study and writes the CSV (and SVG).
 pub fn run(a: &MonteCarloArgs) -> Result<()> {
     let levels = parse_levels(&a.levels)?;
+    crate::bounds::simulated_trial(
+        a.duration,
+        "the IMU rate",
+        WalkingConfig::default().imu_rate_hz,
+        a.cap.force,
+    )?;
     let cfg = MonteCarloConfig {
         runs: a.runs,
         levels,
@@ -57,8 +63,9 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
     );
     let rows = monte_carlo(&cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    let out = super::create_file(&a.output)?;
-    write_csv(&rows, out).with_context(|| format!("{}: cannot write", a.output.display()))?;
+    let mut out = super::create_file(&a.output)?;
+    write_csv(&rows, &mut out).with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::commit(out)?;
     if let Some(svg) = &a.svg {
         let title = format!(
             "{} runs per level, {} m/s, {} s trials",

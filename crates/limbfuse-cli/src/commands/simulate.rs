@@ -37,6 +37,7 @@ pub fn walking(a: &WalkingArgs) -> Result<()> {
 
 /// Simulates and writes the trial; returns a one-line summary.
 pub fn write_walking(a: &WalkingArgs) -> Result<String> {
+    crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = walking_config(a);
     let trial = simulated_trials::walking(cfg)?;
     let summary = format!(
@@ -52,6 +53,8 @@ pub fn write_walking(a: &WalkingArgs) -> Result<String> {
         },
         if a.no_noise { "off" } else { "on" }
     );
-    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
+    let mut out = super::create_file(&a.output)?;
+    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
     Ok(summary)
 }

@@ -37,6 +37,7 @@ pub fn run(a: &KneeSimArgs) -> Result<()> {
 
 /// Simulates and writes the trial; returns a one-line summary.
 pub fn write(a: &KneeSimArgs) -> Result<String> {
+    crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let sc = scenario(a);
     let trial = simulated_trials::knee(sc)?;
     let summary = format!(
@@ -52,6 +53,8 @@ pub fn write(a: &KneeSimArgs) -> Result<String> {
             None => String::new(),
         }
     );
-    simulated_trials::write_trial(super::create_file(&a.output)?, trial, &a.output)?;
+    let mut out = super::create_file(&a.output)?;
+    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
     Ok(summary)
 }

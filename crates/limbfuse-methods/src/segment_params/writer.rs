@@ -120,15 +120,17 @@ pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
     s
 }
 
-/// Writes [`to_toml`] to `path`.
+/// Writes [`to_toml`] to `path` (whole or not at all, [`limbfuse_io::AtomicFile`]).
 pub fn save_params(
     path: &Path,
     params: &FilterParams,
     header: &[String],
 ) -> Result<(), ParamsFileError> {
-    std::fs::write(path, to_toml(params, header)).map_err(|source| ParamsFileError::Io {
-        path: path.to_path_buf(),
-        source,
+    limbfuse_io::AtomicFile::write(path, to_toml(params, header)).map_err(|source| {
+        ParamsFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })
 }
 

@@ -1,7 +1,6 @@
 //! The trial-level resampler: every channel of a trial file onto one
 //! uniform grid ([`resample_trial`], [`resample_file`]).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::sample::GaitPhase;
@@ -226,13 +225,13 @@ pub fn resample_file(
         path: PathBuf::from(output),
         source: e,
     };
-    let file = std::fs::File::create(output).map_err(io_err)?;
-    let mut w = TrialWriter::new(std::io::BufWriter::new(file), &trial.meta, trial.layout)
-        .map_err(io_err)?;
+    let mut file = limbfuse_io::AtomicFile::create(output).map_err(io_err)?;
+    let mut w = TrialWriter::new(&mut file, &trial.meta, trial.layout).map_err(io_err)?;
     for r in &trial.records {
         w.write(r).map_err(io_err)?;
     }
-    w.finish().map_err(io_err)?.flush().map_err(io_err)?;
+    w.finish().map_err(io_err)?;
+    file.commit().map_err(io_err)?;
     Ok(ResampleSummary {
         n_samples: trial.records.len(),
         span: (

@@ -1,0 +1,142 @@
+//! [`AtomicFile`]: an output file that appears whole or not at all.
+//!
+//! Every limbfuse command that writes a file writes it through this type: the
+//! bytes go to a temporary file in the output's directory (so the final
+//! rename stays on one file system) and [`AtomicFile::commit`] renames it over
+//! the output path. Dropped without a commit (an error, a panic unwinding),
+//! the temporary file is removed and an existing output file is left as it
+//! was: a failed run never leaves a partial output behind.
+
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use tempfile::NamedTempFile;
+
+/// A buffered output file written under a temporary name and renamed to its
+/// path only by [`AtomicFile::commit`].
+#[derive(Debug)]
+pub struct AtomicFile {
+    path: PathBuf,
+    out: BufWriter<NamedTempFile>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path`: creates `.NAME.XXXXXX.tmp` in its directory.
+    /// `path` itself is not touched until [`AtomicFile::commit`]. Errors are
+    /// plain I/O errors: callers name `path` in their own error type.
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .ok_or_else(|| {
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "expected a file name for the output, not a directory",
+                )
+            })?;
+        let prefix = format!(".{name}.");
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(&prefix).suffix(".tmp");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            // As `File::create`: read-write for everyone the umask allows.
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let tmp = builder.tempfile_in(dir)?;
+        Ok(AtomicFile {
+            path: path.to_path_buf(),
+            out: BufWriter::with_capacity(1 << 16, tmp),
+        })
+    }
+
+    /// Writes `contents` to `path` atomically (the [`std::fs::write`] of this type).
+    pub fn write(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
+        let mut f = Self::create(path)?;
+        f.write_all(contents.as_ref())?;
+        f.commit()
+    }
+
+    /// The output path (not the temporary file's).
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Flushes the data and renames the temporary file over the output path.
+    pub fn commit(self) -> std::io::Result<()> {
+        let tmp = self.out.into_inner().map_err(|e| e.into_error())?;
+        tmp.persist(&self.path).map_err(|e| e.error)?;
+        Ok(())
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.out.write(buf)
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        self.out.write_all(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+impl Seek for AtomicFile {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        self.out.seek(pos)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn the_output_appears_only_on_commit() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("a.csv");
+        let mut f = AtomicFile::create(&out).unwrap();
+        f.write_all(b"t\n1\n").unwrap();
+        f.flush().unwrap();
+        assert!(!out.exists());
+        f.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "t\n1\n");
+        assert_eq!(listing(dir.path()), vec!["a.csv"]);
+    }
+
+    #[test]
+    fn a_dropped_file_leaves_nothing_and_keeps_the_old_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("a.csv");
+        std::fs::write(&out, "old").unwrap();
+        {
+            let mut f = AtomicFile::create(&out).unwrap();
+            f.write_all(&vec![b'x'; 1 << 20]).unwrap();
+        }
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
+        assert_eq!(listing(dir.path()), vec!["a.csv"]);
+    }
+
+    #[test]
+    fn a_missing_directory_or_a_directory_path_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(AtomicFile::create(&dir.path().join("no/such/dir/a.csv")).is_err());
+        assert!(AtomicFile::create(Path::new("/")).is_err());
+    }
+}
