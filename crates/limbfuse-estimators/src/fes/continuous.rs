@@ -113,18 +113,23 @@ where
 /// equation's factor 2) at most 2.
 const RK4_STABLE_STEP: f64 = 2.0;
 /// Upper bound on sub-steps per interval (bounds the work per sample).
-const MAX_SUBSTEPS: f64 = 400.0;
+const MAX_SUBSTEPS: usize = 400;
+/// Halvings of a trial sub-step while its predicted end is stiffer than
+/// the step allows (see [`propagate`]).
+const MAX_STEP_CUTS: usize = 24;
 
-/// A bound on the fastest rate of the error dynamics at the start of an
-/// interval: the infinity norm of `A - K C` (Gershgorin), with `A`, `C` as
-/// linearised by `lin`. The Riccati equation's rates are at most twice it.
+/// A bound on the fastest rate of the error dynamics and of the Riccati
+/// equation at state `st`: twice the infinity norm of `A - K C`
+/// (Gershgorin; the linearised Riccati equation has the rates
+/// `lambda_i + lambda_j + 2a` of the closed loop) plus `2a`, with `A`, `C`
+/// as linearised by `lin`. Non-finite when `st` is.
 fn stiffness<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
     lin: Linearisation,
     st: &FilterState<N>,
-    _y: &SVector<f64, M>,
     u: &SVector<f64, U>,
     s_inv: &SVector<f64, M>,
+    a: f64,
 ) -> f64
 where
     Mdl: SdcModel<N, M, U>,
@@ -141,14 +146,26 @@ where
     let mut worst: f64 = 0.0;
     for r in 0..N {
         let row: f64 = m.row(r).iter().map(|v| libm::fabs(*v)).sum();
-        worst = worst.max(row);
+        // `f64::max` would drop a NaN row; keep it so the caller sees it.
+        worst = if row.is_nan() || row > worst { row } else { worst };
     }
-    2.0 * worst
+    2.0 * (worst + libm::fabs(a))
 }
 
-/// Propagates `st` over `dt` with RK4 sub-steps (at most `max_substep`
-/// long, shorter when the error dynamics are fast, see `MAX_SUBSTEPS`), `y`/`u` interpolated from
-/// `(y0, u0)` at the start to `(y1, u1)` at the end.
+/// Propagates `st` over `dt` with RK4 sub-steps, `y`/`u` interpolated from
+/// `(y0, u0)` at the start to `(y1, u1)` at the end (first-order hold).
+///
+/// The sub-steps are chosen one at a time: at most `max_substep` long and
+/// short enough that `h * stiffness <= 2` both at the sub-step's start and
+/// at its explicit-Euler predicted end (halving `h` until it is). The
+/// second check matters when the Riccati solution is far from its steady
+/// state: from `P_22 = p0 = 0.01` the knee filters' default tuning
+/// (`q_2 = 1e3`, `s_1 = 1e-5`) drives `P_22` to `sqrt(q_2 s_1) = 0.1` within
+/// about 1e-4 s, and the gain `K = P C^T S^-1` (eq 4.15) with it, so a step
+/// sized from the start of the interval was ten times too long for RK4
+/// (issue 16: a non-finite state and a restart at every sample). After
+/// [`MAX_SUBSTEPS`] sub-steps the rest of the interval is taken in one step
+/// (bounded work per sample; a divergence then shows as a restart).
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
@@ -162,13 +179,9 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
 ) where
     Mdl: SdcModel<N, M, U>,
 {
-    let n = libm::ceil(dt / tuning.max_substep)
-        .max(libm::ceil(
-            dt * stiffness(model, lin, st, y0, u0, s_inv) / RK4_STABLE_STEP,
-        ))
-        .clamp(1.0, MAX_SUBSTEPS);
-    let h = dt / n;
-    let steps = n as usize;
+    if dt.is_nan() || dt <= 0.0 {
+        return;
+    }
     let lerp_y = |s: f64| y0 + (y1 - y0) * s;
     let lerp_u = |s: f64| u0 + (u1 - u0) * s;
     let add = |a: &FilterState<N>, k: &FilterState<N>, c: f64| FilterState {
@@ -176,19 +189,55 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
         p: a.p + k.p * c,
     };
     let (q, a) = (&tuning.q, tuning.a);
-    for i in 0..steps {
-        let s0 = i as f64 / n;
-        let sm = (i as f64 + 0.5) / n;
-        let s1 = (i as f64 + 1.0) / n;
-        let (ya, ym, yb) = (lerp_y(s0), lerp_y(sm), lerp_y(s1));
-        let (ua, um, ub) = (lerp_u(s0), lerp_u(sm), lerp_u(s1));
-        let k1 = derivative(model, lin, st, &ya, &ua, s_inv, q, a);
+    let stable = |st: &FilterState<N>, u: &SVector<f64, U>, h: f64| {
+        let k = stiffness(model, lin, st, u, s_inv, a);
+        k.is_finite() && h * k <= RK4_STABLE_STEP
+    };
+    let mut t = 0.0;
+    for step in 0..MAX_SUBSTEPS {
+        let remaining = dt - t;
+        let (s0, ua) = (t / dt, lerp_u(t / dt));
+        let k0 = stiffness(model, lin, st, &ua, s_inv, a);
+        if !k0.is_finite() {
+            return; // already diverged: the caller sees the non-finite state
+        }
+        let k1 = derivative(model, lin, st, &lerp_y(s0), &ua, s_inv, q, a);
+        let mut h = if step + 1 == MAX_SUBSTEPS {
+            remaining
+        } else {
+            // Equal sub-steps over the rest of the interval, each within the bounds.
+            let mut bound = tuning.max_substep.min(remaining);
+            if k0 > 0.0 {
+                bound = bound.min(RK4_STABLE_STEP / k0);
+            }
+            let mut h = remaining / libm::ceil(remaining / bound - 1e-9).max(1.0);
+            for _ in 0..MAX_STEP_CUTS {
+                let end = lerp_u((t + h) / dt);
+                if stable(&add(st, &k1, h), &end, h) {
+                    break;
+                }
+                h *= 0.5;
+            }
+            h
+        };
+        // The last sub-step ends exactly at `dt` (no sliver from round-off).
+        let last = step + 1 == MAX_SUBSTEPS || h >= remaining * (1.0 - 1e-9);
+        if last {
+            h = remaining;
+        }
+        let (sm, s1) = ((t + h / 2.0) / dt, if last { 1.0 } else { (t + h) / dt });
+        let (ym, yb) = (lerp_y(sm), lerp_y(s1));
+        let (um, ub) = (lerp_u(sm), lerp_u(s1));
         let k2 = derivative(model, lin, &add(st, &k1, h / 2.0), &ym, &um, s_inv, q, a);
         let k3 = derivative(model, lin, &add(st, &k2, h / 2.0), &ym, &um, s_inv, q, a);
         let k4 = derivative(model, lin, &add(st, &k3, h), &yb, &ub, s_inv, q, a);
         st.x += (k1.x + (k2.x + k3.x) * 2.0 + k4.x) * (h / 6.0);
         st.p += (k1.p + (k2.p + k3.p) * 2.0 + k4.p) * (h / 6.0);
         st.p = (st.p + st.p.transpose()) * 0.5;
+        if last {
+            return;
+        }
+        t += h;
     }
 }
 
