@@ -10,9 +10,7 @@
 //! allowed for).
 
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::fes::{
-    FixedHipFilter, KneeFesFilter, Linearisation, RotationMatrixKnee,
-};
+use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, Linearisation, RotationMatrixKnee};
 use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
@@ -25,7 +23,9 @@ fn resets(e: &mut dyn Estimator, recs: &[Record]) -> Result<(u32, Option<f64>), 
     let mut first = None;
     let mut last = 0.0;
     for r in recs {
-        let est = e.step(&r.sample).map_err(|err| format!("t = {}: {err}", r.sample.t))?;
+        let est = e
+            .step(&r.sample)
+            .map_err(|err| format!("t = {}: {err}", r.sample.t))?;
         if let Some(j) = est.joint.iter().flatten().find(|v| !v.is_finite()) {
             return Err(format!("t = {}: non-finite knee {j}", r.sample.t));
         }

@@ -11,9 +11,11 @@ pub mod evaluation;
 pub mod gait_evaluation;
 pub mod knee_errors;
 pub mod metrics;
+pub mod resets;
 pub mod stats;
 pub mod sync_lag;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, EvalError, EvalOptions, TimeWindow};
 pub use metrics::{AngleMetrics, Evaluation};
+pub use resets::{scan_estimate_file, ResetWatch, Resets};

@@ -63,7 +63,9 @@ fn run_method(method: MethodName, trial: &Path, out: &Path) -> Result<Evaluation
     let mut metrics = AngleMetrics::new(name, EvalOptions::default());
     let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut metrics];
     runner::run(est.as_mut(), reader, observers).with_context(|| format!("running {name}"))?;
-    Ok(metrics.evaluation())
+    let ev = metrics.evaluation();
+    super::warn_resets(name, ev.resets.as_ref());
+    Ok(ev)
 }
 
 /// RMSE (deg) per channel (rows) and method (columns).

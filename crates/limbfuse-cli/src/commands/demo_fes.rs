@@ -35,6 +35,7 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
         let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut metrics];
         runner::run(est.as_mut(), reader, observers).with_context(|| format!("running {m}"))?;
         let e = metrics.evaluation();
+        super::warn_resets(m, e.resets.as_ref());
         let knee = e
             .rmse(limbfuse_core::sample::AngleChannel::Joint(
                 limbfuse_core::Joint::Knee,

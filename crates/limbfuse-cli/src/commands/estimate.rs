@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
+use limbfuse_eval::ResetWatch;
 use limbfuse_io::{EstimateWriter, TrialReader};
 
 use crate::cli::EstimateArgs;
@@ -23,7 +24,8 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
 }
 
 /// Runs an estimator over an opened trial into an estimate file, with a
-/// progress bar; returns the number of samples.
+/// progress bar; warns on stderr when the estimator restarted during the
+/// run (issue 16); returns the number of samples.
 pub fn run_to_file(
     est: &mut dyn Estimator,
     reader: TrialReader,
@@ -33,8 +35,13 @@ pub fn run_to_file(
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::new(super::create_file(output)?);
     let mut progress = Progress::new(label);
-    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress];
+    let mut resets = ResetWatch::default();
+    let observers: &mut [&mut dyn Observer] = &mut [&mut writer, &mut progress, &mut resets];
     let summary = runner::run(est, reader, observers)
         .with_context(|| format!("estimating {} with {label}", trial.display()))?;
+    super::warn_resets(
+        &format!("{label} on {}", trial.display()),
+        resets.resets().as_ref(),
+    );
     Ok(summary.n_samples)
 }

@@ -41,6 +41,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             max_lag: a.max_lag,
         },
     )?;
+    super::warn_resets(&estimate.display().to_string(), ev.resets.as_ref());
     if a.json {
         println!("{}", ev.to_json());
     } else {

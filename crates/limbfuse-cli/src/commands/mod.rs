@@ -52,3 +52,11 @@ pub fn create_file(path: &std::path::Path) -> Result<std::io::BufWriter<std::fs:
         .with_context(|| format!("{}: cannot create the output file", path.display()))?;
     Ok(std::io::BufWriter::with_capacity(1 << 16, f))
 }
+
+/// Prints the restart warning of issue 16 to stderr (the exit status stays
+/// 0): `what` names the estimate (file or method).
+pub fn warn_resets(what: &str, resets: Option<&limbfuse_eval::Resets>) {
+    if let Some(r) = resets {
+        eprintln!("warning: {what}: {r}");
+    }
+}

@@ -147,7 +147,11 @@ where
     for r in 0..N {
         let row: f64 = m.row(r).iter().map(|v| libm::fabs(*v)).sum();
         // `f64::max` would drop a NaN row; keep it so the caller sees it.
-        worst = if row.is_nan() || row > worst { row } else { worst };
+        worst = if row.is_nan() || row > worst {
+            row
+        } else {
+            worst
+        };
     }
     2.0 * (worst + libm::fabs(a))
 }
