@@ -118,18 +118,18 @@ const MAX_SUBSTEPS: usize = 400;
 /// the step allows (see [`propagate`]).
 const MAX_STEP_CUTS: usize = 24;
 
-/// A bound on the fastest rate of the error dynamics and of the Riccati
-/// equation at state `st`: twice the infinity norm of `A - K C`
-/// (Gershgorin; the linearised Riccati equation has the rates
-/// `lambda_i + lambda_j + 2a` of the closed loop) plus `2a`, with `A`, `C`
-/// as linearised by `lin`. Non-finite when `st` is.
+/// A bound on the fastest rate of the error dynamics at state `st`: the
+/// infinity norm of `A - K C` (Gershgorin), with `A`, `C` as linearised by
+/// `lin`, times 2 (the Riccati equation's rates are at most twice it; the
+/// prescribed-stability shift `2a` is left out, small against the margin
+/// between [`RK4_STABLE_STEP`] and RK4's real-axis limit 2.78). Non-finite
+/// when `st` is.
 fn stiffness<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
     lin: Linearisation,
     st: &FilterState<N>,
     u: &SVector<f64, U>,
     s_inv: &SVector<f64, M>,
-    a: f64,
 ) -> f64
 where
     Mdl: SdcModel<N, M, U>,
@@ -153,23 +153,27 @@ where
             worst
         };
     }
-    2.0 * (worst + libm::fabs(a))
+    2.0 * worst
 }
 
 /// Propagates `st` over `dt` with RK4 sub-steps, `y`/`u` interpolated from
 /// `(y0, u0)` at the start to `(y1, u1)` at the end (first-order hold).
 ///
-/// The sub-steps are chosen one at a time: at most `max_substep` long and
-/// short enough that `h * stiffness <= 2` both at the sub-step's start and
-/// at its explicit-Euler predicted end (halving `h` until it is). The
-/// second check matters when the Riccati solution is far from its steady
-/// state: from `P_22 = p0 = 0.01` the knee filters' default tuning
-/// (`q_2 = 1e3`, `s_1 = 1e-5`) drives `P_22` to `sqrt(q_2 s_1) = 0.1` within
-/// about 1e-4 s, and the gain `K = P C^T S^-1` (eq 4.15) with it, so a step
-/// sized from the start of the interval was ten times too long for RK4
-/// (issue 16: a non-finite state and a restart at every sample). After
-/// [`MAX_SUBSTEPS`] sub-steps the rest of the interval is taken in one step
-/// (bounded work per sample; a divergence then shows as a restart).
+/// The interval is split into equal sub-steps at most `max_substep` long
+/// and short enough that `h * stiffness <= 2` at the start of the interval.
+/// Before each sub-step the stiffness is checked again at the sub-step's
+/// explicit-Euler predicted end; when it is too stiff there, the rest of
+/// the interval is integrated with sub-steps chosen one at a time, halved
+/// until their predicted end passes the same test. The check matters when
+/// the Riccati solution is far from its steady state: from
+/// `P_22 = p0 = 0.01` the knee filters' default tuning (`q_2 = 1e3`,
+/// `s_1 = 1e-5`) drives `P_22` to `sqrt(q_2 s_1) = 0.1` within about 1e-4 s,
+/// and the gain `K = P C^T S^-1` (eq 4.15) with it, so a step sized at the
+/// start of the interval was ten times too long for RK4 (issue 16: a
+/// non-finite state and a restart at every sample). When `P` shrinks (the
+/// fixed hip) the equal sub-steps are kept. The work per sample is bounded:
+/// at most [`MAX_SUBSTEPS`] sub-steps, the last ones spreading what is left
+/// evenly (a divergence then shows as a restart).
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
@@ -188,60 +192,90 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     }
     let lerp_y = |s: f64| y0 + (y1 - y0) * s;
     let lerp_u = |s: f64| u0 + (u1 - u0) * s;
-    let add = |a: &FilterState<N>, k: &FilterState<N>, c: f64| FilterState {
-        x: a.x + k.x * c,
-        p: a.p + k.p * c,
-    };
-    let (q, a) = (&tuning.q, tuning.a);
     let stable = |st: &FilterState<N>, u: &SVector<f64, U>, h: f64| {
-        let k = stiffness(model, lin, st, u, s_inv, a);
+        let k = stiffness(model, lin, st, u, s_inv);
         k.is_finite() && h * k <= RK4_STABLE_STEP
     };
-    let mut t = 0.0;
-    for step in 0..MAX_SUBSTEPS {
-        let remaining = dt - t;
-        let (s0, ua) = (t / dt, lerp_u(t / dt));
-        let k0 = stiffness(model, lin, st, &ua, s_inv, a);
-        if !k0.is_finite() {
-            return; // already diverged: the caller sees the non-finite state
-        }
-        let k1 = derivative(model, lin, st, &lerp_y(s0), &ua, s_inv, q, a);
-        let mut h = if step + 1 == MAX_SUBSTEPS {
-            remaining
-        } else {
-            // Equal sub-steps over the rest of the interval, each within the bounds.
-            let mut bound = tuning.max_substep.min(remaining);
-            if k0 > 0.0 {
-                bound = bound.min(RK4_STABLE_STEP / k0);
-            }
-            let mut h = remaining / libm::ceil(remaining / bound - 1e-9).max(1.0);
-            for _ in 0..MAX_STEP_CUTS {
-                let end = lerp_u((t + h) / dt);
-                if stable(&add(st, &k1, h), &end, h) {
-                    break;
-                }
-                h *= 0.5;
-            }
-            h
-        };
-        // The last sub-step ends exactly at `dt` (no sliver from round-off).
-        let last = step + 1 == MAX_SUBSTEPS || h >= remaining * (1.0 - 1e-9);
-        if last {
-            h = remaining;
-        }
-        let (sm, s1) = ((t + h / 2.0) / dt, if last { 1.0 } else { (t + h) / dt });
-        let (ym, yb) = (lerp_y(sm), lerp_y(s1));
-        let (um, ub) = (lerp_u(sm), lerp_u(s1));
-        let k2 = derivative(model, lin, &add(st, &k1, h / 2.0), &ym, &um, s_inv, q, a);
+    // One RK4 sub-step of length `h` from `st` (slope `k1` at its start), its
+    // middle and end at the fractions `sm`, `s1` of the interval.
+    let step = |st: &mut FilterState<N>, k1: &FilterState<N>, (sm, s1): (f64, f64), h: f64| {
+        let (q, a) = (&tuning.q, tuning.a);
+        let (ym, yb, um, ub) = (lerp_y(sm), lerp_y(s1), lerp_u(sm), lerp_u(s1));
+        let k2 = derivative(model, lin, &add(st, k1, h / 2.0), &ym, &um, s_inv, q, a);
         let k3 = derivative(model, lin, &add(st, &k2, h / 2.0), &ym, &um, s_inv, q, a);
         let k4 = derivative(model, lin, &add(st, &k3, h), &yb, &ub, s_inv, q, a);
         st.x += (k1.x + (k2.x + k3.x) * 2.0 + k4.x) * (h / 6.0);
         st.p += (k1.p + (k2.p + k3.p) * 2.0 + k4.p) * (h / 6.0);
         st.p = (st.p + st.p.transpose()) * 0.5;
-        if last {
+    };
+    let k1_at = |st: &FilterState<N>, s0: f64| {
+        derivative(
+            model,
+            lin,
+            st,
+            &lerp_y(s0),
+            &lerp_u(s0),
+            s_inv,
+            &tuning.q,
+            tuning.a,
+        )
+    };
+    // Equal sub-steps sized at the start of the interval.
+    let n = libm::ceil(dt / tuning.max_substep)
+        .max(libm::ceil(
+            dt * stiffness(model, lin, st, u0, s_inv) / RK4_STABLE_STEP,
+        ))
+        .clamp(1.0, MAX_SUBSTEPS as f64);
+    let h = dt / n;
+    let mut done = 0;
+    while done < n as usize {
+        let (s0, s1) = (done as f64 / n, (done as f64 + 1.0) / n);
+        let k1 = k1_at(st, s0);
+        if !stable(&add(st, &k1, h), &lerp_u(s1), h) {
+            break;
+        }
+        step(st, &k1, ((done as f64 + 0.5) / n, s1), h);
+        done += 1;
+    }
+    if done == n as usize {
+        return;
+    }
+    // Stiffer than at the start: sub-steps chosen one at a time.
+    let mut t = dt * done as f64 / n;
+    for i in done..MAX_SUBSTEPS {
+        let remaining = dt - t;
+        let s0 = t / dt;
+        let k0 = stiffness(model, lin, st, &lerp_u(s0), s_inv);
+        if !k0.is_finite() {
+            return; // already diverged: the caller sees the non-finite state
+        }
+        let k1 = k1_at(st, s0);
+        let mut h = tuning.max_substep.min(remaining);
+        if k0 > 0.0 {
+            h = h.min(RK4_STABLE_STEP / k0);
+        }
+        for _ in 0..MAX_STEP_CUTS {
+            if stable(&add(st, &k1, h), &lerp_u((t + h) / dt), h) {
+                break;
+            }
+            h *= 0.5;
+        }
+        // At most MAX_SUBSTEPS sub-steps: spread what is left over those left.
+        h = h.max(remaining / (MAX_SUBSTEPS - i) as f64);
+        if h >= remaining * (1.0 - 1e-9) {
+            step(st, &k1, ((t + remaining / 2.0) / dt, 1.0), remaining);
             return;
         }
+        step(st, &k1, ((t + h / 2.0) / dt, (t + h) / dt), h);
         t += h;
+    }
+}
+
+/// `a + c k` for state and Riccati solution.
+fn add<const N: usize>(a: &FilterState<N>, k: &FilterState<N>, c: f64) -> FilterState<N> {
+    FilterState {
+        x: a.x + k.x * c,
+        p: a.p + k.p * c,
     }
 }
 
@@ -324,6 +358,59 @@ mod tests {
             let p22 = 2f64.sqrt() * q.powf(0.75) * r.powf(0.25);
             let want = Matrix2::new(p11, p12, p12, p22);
             assert!((st.p - want).amax() < 1e-10, "{lin:?}: {} vs {want}", st.p);
+        }
+    }
+
+    /// Issue 16: from a Riccati solution far below its steady state, with a
+    /// large `Q` and a small `S` (the knee default tuning's stiffness), the
+    /// gain grows tenfold within the first sub-step; the sub-steps must
+    /// follow it. Double integrator measured through its rate (as the
+    /// knee's gyro row): `H = [0, 1]`, `q = (0, 1e3)`, `r = 1e-5`,
+    /// `P0 = 0.01 I`, 10 ms intervals; the Riccati solution stays finite
+    /// and settles to `P_22 = sqrt(q r) = 0.1` (the scalar ARE of the
+    /// measured rate, `P_12 -> 0` since the angle is not observable here).
+    #[test]
+    fn stiff_riccati_transient_from_small_p0_stays_finite() {
+        let (q, r) = (1e3, 1e-5);
+        let m = Linear {
+            f: Matrix2::new(0.0, 1.0, 0.0, 0.0),
+            h: SMatrix::<f64, 1, 2>::new(0.0, 1.0),
+        };
+        let tuning = ContinuousTuning {
+            q: Vector2::new(0.0, q),
+            s: Vector1::new(r),
+            a: 0.0,
+            p0: Vector2::new(1e-2, 1e-2),
+            max_substep: 1e-2,
+        };
+        for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
+            let mut st = FilterState {
+                x: Vector2::zeros(),
+                p: Matrix2::identity() * 1e-2,
+            };
+            let z = Vector1::new(0.0);
+            for k in 0..100 {
+                propagate(
+                    &m,
+                    lin,
+                    &mut st,
+                    0.01,
+                    (&z, &z),
+                    (&z, &z),
+                    &Vector1::new(1.0 / r),
+                    &tuning,
+                );
+                assert!(
+                    st.p.iter().all(|v| v.is_finite()),
+                    "{lin:?} interval {k}: {}",
+                    st.p
+                );
+            }
+            assert!(
+                (st.p[(1, 1)] - (q * r).sqrt()).abs() < 1e-9,
+                "{lin:?}: {}",
+                st.p
+            );
         }
     }
 
