@@ -233,3 +233,52 @@ fn demo_runs_sdre_ekf_rmx_on_a_knee_fes_trial() {
     let report = std::fs::read_to_string(d.path().join("out/report.md")).unwrap();
     assert!(report.contains("knee-FES"));
 }
+
+/// Issue 16 item 0: a run whose filter restarts is reported on stderr by
+/// `estimate` (count and first time) and by `evaluate` (from the estimate
+/// file's `diag_resets`), exit status 0; a nominal run prints no warning.
+/// The divergent run uses an absurd tuning (`s = 1e-14`): the stiffness
+/// exceeds what the bounded number of RK4 sub-steps can integrate.
+#[test]
+fn issue_16_estimate_and_evaluate_warn_on_resets() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &["simulate", "knee-fes", "-o", "k.csv", "--duration", "3"],
+        p,
+    ));
+    std::fs::write(
+        p.join("bad.toml"),
+        "method = \"sdre\"\n[tuning]\ns = [1e-14, 1e-14]\n",
+    )
+    .unwrap();
+    let warned = |o: &Output, what: &str| {
+        ok(o);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("warning: ") && e.contains(what) && e.contains("restarted"),
+            "{e}"
+        );
+        assert!(e.contains("first at t = 0.01 s"), "{e}");
+    };
+    let est = [
+        "estimate", "--method", "sdre", "--params", "bad.toml", "k.csv", "-o", "bad.csv",
+    ];
+    warned(&limbfuse(&est, p), "sdre on k.csv");
+    warned(&limbfuse(&["evaluate", "k.csv", "bad.csv"], p), "bad.csv");
+    let o = limbfuse(&["evaluate", "k.csv", "bad.csv", "--json"], p);
+    warned(&o, "bad.csv");
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(j["resets"]["count"].as_u64().unwrap() > 0, "{j}");
+    for m in ["sdre", "ekf"] {
+        let out = format!("{m}.csv");
+        for o in [
+            limbfuse(&["estimate", "--method", m, "k.csv", "-o", &out], p),
+            limbfuse(&["evaluate", "k.csv", &out, "--json"], p),
+        ] {
+            ok(&o);
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert!(!e.contains("warning"), "{m}: {e}");
+        }
+    }
+}

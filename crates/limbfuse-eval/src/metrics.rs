@@ -10,6 +10,7 @@ use serde_json::{json, Map, Value};
 
 use crate::channel_error::ChannelError;
 use crate::evaluation::{EvalOptions, TimeWindow};
+use crate::resets::{ResetWatch, Resets};
 use crate::sync_lag::LagSearch;
 
 /// Accumulates errors of every angle channel (and diagnostic means) over a run.
@@ -25,6 +26,7 @@ pub struct AngleMetrics {
     diag_sum: Vec<f64>,
     diag_n: Vec<u64>,
     reliability: ReliabilityCounter,
+    resets: ResetWatch,
 }
 
 /// Counts the samples in which accelerometer rows update the estimate
@@ -99,6 +101,7 @@ impl AngleMetrics {
             diag_sum: Vec::new(),
             diag_n: Vec::new(),
             reliability: ReliabilityCounter::default(),
+            resets: ResetWatch::default(),
         }
     }
 
@@ -108,10 +111,13 @@ impl AngleMetrics {
         self.diag_sum = vec![0.0; self.diag_names.len()];
         self.diag_n = vec![0; self.diag_names.len()];
         self.reliability = ReliabilityCounter::new(&self.method, &self.diag_names);
+        self.resets = ResetWatch::new(&self.diag_names);
     }
 
-    /// Adds one (record, estimate) pair, if inside the time window.
+    /// Adds one (record, estimate) pair, if inside the time window
+    /// (restarts count over the whole run, window or not).
     pub fn push(&mut self, record: &Record, estimate: &Estimate) {
+        self.resets.push(estimate);
         let inside = self.options.window.contains(record.sample.t);
         for (lag, c) in self.lags.iter_mut().zip(AngleChannel::ALL) {
             lag.push(estimate.angle(c), record.reference.angle(c), inside);
@@ -173,6 +179,7 @@ impl AngleMetrics {
                 .reliability
                 .pct(self.reliability.missing, &self.reliability.missing_col),
             trial_check: Default::default(),
+            resets: self.resets.resets(),
         }
     }
 }
@@ -220,6 +227,10 @@ pub struct Evaluation {
     pub missing_input_pct: Option<f64>,
     /// Whether the estimate file records this trial ([`crate::trial_check`]).
     pub trial_check: crate::trial_check::TrialCheck,
+    /// Restarts of the estimator over the whole run (the `resets`
+    /// diagnostic of `sdre` / `ekf`), `None` when there were none: the
+    /// estimate after a restart is not a filter output (issue 16).
+    pub resets: Option<Resets>,
 }
 
 impl Evaluation {
@@ -253,7 +264,8 @@ impl Evaluation {
         (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
     }
 
-    /// The JSON object of SPEC section 4 (angles in degrees).
+    /// The JSON object of SPEC section 4 (angles in degrees), with a
+    /// `resets` object (`count`, `first_t_s`) only when the estimator restarted.
     pub fn to_json(&self) -> Value {
         let mut rmse = Map::new();
         let mut max_abs = Map::new();
@@ -269,7 +281,7 @@ impl Evaluation {
             corr.insert(name.clone(), json!(s.correlation()));
             mean_err.insert(name, json!(s.mean_error().map(f64::to_degrees)));
         }
-        json!({
+        let mut v = json!({
             "method": self.method,
             "n_samples": self.n_samples,
             "rmse_deg": rmse,
@@ -284,7 +296,14 @@ impl Evaluation {
             "accel_reliability_pct": self.accel_reliability_pct,
             "accel_global_reliability_pct": self.accel_global_reliability_pct,
             "missing_input_pct": self.missing_input_pct,
-        })
+        });
+        if let (Some(r), Some(obj)) = (&self.resets, v.as_object_mut()) {
+            obj.insert(
+                "resets".into(),
+                json!({"count": r.count, "first_t_s": r.first_t, "samples": r.samples}),
+            );
+        }
+        v
     }
 
     /// A human-readable table (degrees).

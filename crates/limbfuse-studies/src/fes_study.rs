@@ -34,15 +34,24 @@ use limbfuse_eval::stats::{shapiro_wilk, wilcoxon_signed_rank, TestResult};
 pub const PRE_TRIAL_SEEDS: [u64; 3] = [1000, 1001, 1002];
 
 /// RMSE (rad) of each listed joint of `est` over `recs`; joints without an
-/// estimate count as missing (skipped).
+/// estimate count as missing (skipped). A run in which the estimator
+/// restarted (the `resets` diagnostic of `sdre` / `ekf` rose: its state went
+/// non-finite) scores infinity, so a tuning never picks a diverging
+/// configuration and a study table shows `inf` instead of the restart value
+/// (issue 16: the restart, the accelerometer inclination, scored well).
 pub fn joint_rmse(est: &mut dyn Estimator, recs: &[Record], joints: &[usize]) -> Vec<f64> {
     let mut s = vec![0.0; joints.len()];
     let mut n = vec![0usize; joints.len()];
     est.reset();
+    let mut resets = limbfuse_eval::ResetWatch::new(est.diagnostic_names().iter());
     for r in recs {
         let Ok(e) = est.step(&r.sample) else {
             return vec![f64::INFINITY; joints.len()];
         };
+        resets.push(&e);
+        if resets.resets().is_some() {
+            return vec![f64::INFINITY; joints.len()];
+        }
         for (k, j) in joints.iter().enumerate() {
             if let (Some(a), Some(b)) = (e.joint[*j], r.reference.joint[*j]) {
                 s[k] += (a - b) * (a - b);

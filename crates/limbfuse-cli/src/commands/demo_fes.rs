@@ -34,6 +34,7 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
         let mut metrics = AngleMetrics::new(m, EvalOptions::default());
         super::estimate::run_to_file(est.as_mut(), reader, &path, m, &mut [&mut metrics])?;
         let e = metrics.evaluation();
+        super::warn_resets(m, e.resets.as_ref());
         let knee = e
             .rmse(limbfuse_core::sample::AngleChannel::Joint(
                 limbfuse_core::Joint::Knee,

@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
+use limbfuse_eval::ResetWatch;
 use limbfuse_io::{EstimateWriter, TrialReader};
 
 use crate::cli::EstimateArgs;
@@ -30,7 +31,9 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
 }
 
 /// Runs an estimator over an opened trial into an estimate file, with a
-/// progress bar and the `extra` observers; returns the number of samples.
+/// progress bar and the `extra` observers; warns on stderr when the
+/// estimator restarted during the run (issue 16); returns the number of
+/// samples.
 ///
 /// The estimate file records its trial (`# trial:`, `# trial_hash:`; the
 /// trial is hashed as it is read) and appears only if the whole run succeeds.
@@ -48,10 +51,12 @@ pub fn run_to_file(
     );
     let mut writer = EstimateWriter::new(super::create_file(output)?).recording_trial(trial_name);
     let mut progress = Progress::new(label);
+    let mut resets = ResetWatch::default();
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(2 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(3 + extra.len());
         observers.push(&mut writer);
         observers.push(&mut progress);
+        observers.push(&mut resets);
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
@@ -67,5 +72,9 @@ pub fn run_to_file(
     let write_err = || format!("{}: cannot write the output file", output.display());
     writer.stamp_trial_hash(hash).with_context(write_err)?;
     super::commit(writer.into_inner().with_context(write_err)?)?;
+    super::warn_resets(
+        &format!("{label} on {}", trial.display()),
+        resets.resets().as_ref(),
+    );
     Ok(summary.n_samples)
 }

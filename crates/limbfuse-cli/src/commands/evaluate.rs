@@ -56,6 +56,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         e => e.into(),
     })?;
     warn(&ev.trial_check);
+    super::warn_resets(&estimate.display().to_string(), ev.resets.as_ref());
     if a.json {
         println!("{}", ev.to_json());
     } else {

@@ -67,3 +67,11 @@ pub fn write_file(path: &Path, contents: impl AsRef<[u8]>) -> Result<()> {
     AtomicFile::write(path, contents)
         .with_context(|| format!("{}: cannot write the output file", path.display()))
 }
+
+/// Prints the restart warning of issue 16 to stderr (the exit status stays
+/// 0): `what` names the estimate (file or method).
+pub fn warn_resets(what: &str, resets: Option<&limbfuse_eval::Resets>) {
+    if let Some(r) = resets {
+        eprintln!("warning: {what}: {r}");
+    }
+}

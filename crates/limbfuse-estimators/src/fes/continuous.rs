@@ -113,16 +113,21 @@ where
 /// equation's factor 2) at most 2.
 const RK4_STABLE_STEP: f64 = 2.0;
 /// Upper bound on sub-steps per interval (bounds the work per sample).
-const MAX_SUBSTEPS: f64 = 400.0;
+const MAX_SUBSTEPS: usize = 400;
+/// Halvings of a trial sub-step while its predicted end is stiffer than
+/// the step allows (see [`propagate`]).
+const MAX_STEP_CUTS: usize = 24;
 
-/// A bound on the fastest rate of the error dynamics at the start of an
-/// interval: the infinity norm of `A - K C` (Gershgorin), with `A`, `C` as
-/// linearised by `lin`. The Riccati equation's rates are at most twice it.
+/// A bound on the fastest rate of the error dynamics at state `st`: the
+/// infinity norm of `A - K C` (Gershgorin), with `A`, `C` as linearised by
+/// `lin`, times 2 (the Riccati equation's rates are at most twice it; the
+/// prescribed-stability shift `2a` is left out, small against the margin
+/// between [`RK4_STABLE_STEP`] and RK4's real-axis limit 2.78). Non-finite
+/// when `st` is.
 fn stiffness<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
     lin: Linearisation,
     st: &FilterState<N>,
-    _y: &SVector<f64, M>,
     u: &SVector<f64, U>,
     s_inv: &SVector<f64, M>,
 ) -> f64
@@ -141,14 +146,34 @@ where
     let mut worst: f64 = 0.0;
     for r in 0..N {
         let row: f64 = m.row(r).iter().map(|v| libm::fabs(*v)).sum();
-        worst = worst.max(row);
+        // `f64::max` would drop a NaN row; keep it so the caller sees it.
+        worst = if row.is_nan() || row > worst {
+            row
+        } else {
+            worst
+        };
     }
     2.0 * worst
 }
 
-/// Propagates `st` over `dt` with RK4 sub-steps (at most `max_substep`
-/// long, shorter when the error dynamics are fast, see `MAX_SUBSTEPS`), `y`/`u` interpolated from
-/// `(y0, u0)` at the start to `(y1, u1)` at the end.
+/// Propagates `st` over `dt` with RK4 sub-steps, `y`/`u` interpolated from
+/// `(y0, u0)` at the start to `(y1, u1)` at the end (first-order hold).
+///
+/// The interval is split into equal sub-steps at most `max_substep` long
+/// and short enough that `h * stiffness <= 2` at the start of the interval.
+/// Before each sub-step the stiffness is checked again at the sub-step's
+/// explicit-Euler predicted end; when it is too stiff there, the rest of
+/// the interval is integrated with sub-steps chosen one at a time, halved
+/// until their predicted end passes the same test. The check matters when
+/// the Riccati solution is far from its steady state: from
+/// `P_22 = p0 = 0.01` the knee filters' default tuning (`q_2 = 1e3`,
+/// `s_1 = 1e-5`) drives `P_22` to `sqrt(q_2 s_1) = 0.1` within about 1e-4 s,
+/// and the gain `K = P C^T S^-1` (eq 4.15) with it, so a step sized at the
+/// start of the interval was ten times too long for RK4 (issue 16: a
+/// non-finite state and a restart at every sample). When `P` shrinks (the
+/// fixed hip) the equal sub-steps are kept. The work per sample is bounded:
+/// at most [`MAX_SUBSTEPS`] sub-steps, the last ones spreading what is left
+/// evenly (a divergence then shows as a restart).
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     model: &Mdl,
@@ -162,33 +187,95 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
 ) where
     Mdl: SdcModel<N, M, U>,
 {
-    let n = libm::ceil(dt / tuning.max_substep)
-        .max(libm::ceil(
-            dt * stiffness(model, lin, st, y0, u0, s_inv) / RK4_STABLE_STEP,
-        ))
-        .clamp(1.0, MAX_SUBSTEPS);
-    let h = dt / n;
-    let steps = n as usize;
+    if dt.is_nan() || dt <= 0.0 {
+        return;
+    }
     let lerp_y = |s: f64| y0 + (y1 - y0) * s;
     let lerp_u = |s: f64| u0 + (u1 - u0) * s;
-    let add = |a: &FilterState<N>, k: &FilterState<N>, c: f64| FilterState {
-        x: a.x + k.x * c,
-        p: a.p + k.p * c,
+    let stable = |st: &FilterState<N>, u: &SVector<f64, U>, h: f64| {
+        let k = stiffness(model, lin, st, u, s_inv);
+        k.is_finite() && h * k <= RK4_STABLE_STEP
     };
-    let (q, a) = (&tuning.q, tuning.a);
-    for i in 0..steps {
-        let s0 = i as f64 / n;
-        let sm = (i as f64 + 0.5) / n;
-        let s1 = (i as f64 + 1.0) / n;
-        let (ya, ym, yb) = (lerp_y(s0), lerp_y(sm), lerp_y(s1));
-        let (ua, um, ub) = (lerp_u(s0), lerp_u(sm), lerp_u(s1));
-        let k1 = derivative(model, lin, st, &ya, &ua, s_inv, q, a);
-        let k2 = derivative(model, lin, &add(st, &k1, h / 2.0), &ym, &um, s_inv, q, a);
+    // One RK4 sub-step of length `h` from `st` (slope `k1` at its start), its
+    // middle and end at the fractions `sm`, `s1` of the interval.
+    let step = |st: &mut FilterState<N>, k1: &FilterState<N>, (sm, s1): (f64, f64), h: f64| {
+        let (q, a) = (&tuning.q, tuning.a);
+        let (ym, yb, um, ub) = (lerp_y(sm), lerp_y(s1), lerp_u(sm), lerp_u(s1));
+        let k2 = derivative(model, lin, &add(st, k1, h / 2.0), &ym, &um, s_inv, q, a);
         let k3 = derivative(model, lin, &add(st, &k2, h / 2.0), &ym, &um, s_inv, q, a);
         let k4 = derivative(model, lin, &add(st, &k3, h), &yb, &ub, s_inv, q, a);
         st.x += (k1.x + (k2.x + k3.x) * 2.0 + k4.x) * (h / 6.0);
         st.p += (k1.p + (k2.p + k3.p) * 2.0 + k4.p) * (h / 6.0);
         st.p = (st.p + st.p.transpose()) * 0.5;
+    };
+    let k1_at = |st: &FilterState<N>, s0: f64| {
+        derivative(
+            model,
+            lin,
+            st,
+            &lerp_y(s0),
+            &lerp_u(s0),
+            s_inv,
+            &tuning.q,
+            tuning.a,
+        )
+    };
+    // Equal sub-steps sized at the start of the interval.
+    let n = libm::ceil(dt / tuning.max_substep)
+        .max(libm::ceil(
+            dt * stiffness(model, lin, st, u0, s_inv) / RK4_STABLE_STEP,
+        ))
+        .clamp(1.0, MAX_SUBSTEPS as f64);
+    let h = dt / n;
+    let mut done = 0;
+    while done < n as usize {
+        let (s0, s1) = (done as f64 / n, (done as f64 + 1.0) / n);
+        let k1 = k1_at(st, s0);
+        if !stable(&add(st, &k1, h), &lerp_u(s1), h) {
+            break;
+        }
+        step(st, &k1, ((done as f64 + 0.5) / n, s1), h);
+        done += 1;
+    }
+    if done == n as usize {
+        return;
+    }
+    // Stiffer than at the start: sub-steps chosen one at a time.
+    let mut t = dt * done as f64 / n;
+    for i in done..MAX_SUBSTEPS {
+        let remaining = dt - t;
+        let s0 = t / dt;
+        let k0 = stiffness(model, lin, st, &lerp_u(s0), s_inv);
+        if !k0.is_finite() {
+            return; // already diverged: the caller sees the non-finite state
+        }
+        let k1 = k1_at(st, s0);
+        let mut h = tuning.max_substep.min(remaining);
+        if k0 > 0.0 {
+            h = h.min(RK4_STABLE_STEP / k0);
+        }
+        for _ in 0..MAX_STEP_CUTS {
+            if stable(&add(st, &k1, h), &lerp_u((t + h) / dt), h) {
+                break;
+            }
+            h *= 0.5;
+        }
+        // At most MAX_SUBSTEPS sub-steps: spread what is left over those left.
+        h = h.max(remaining / (MAX_SUBSTEPS - i) as f64);
+        if h >= remaining * (1.0 - 1e-9) {
+            step(st, &k1, ((t + remaining / 2.0) / dt, 1.0), remaining);
+            return;
+        }
+        step(st, &k1, ((t + h / 2.0) / dt, (t + h) / dt), h);
+        t += h;
+    }
+}
+
+/// `a + c k` for state and Riccati solution.
+fn add<const N: usize>(a: &FilterState<N>, k: &FilterState<N>, c: f64) -> FilterState<N> {
+    FilterState {
+        x: a.x + k.x * c,
+        p: a.p + k.p * c,
     }
 }
 
@@ -271,6 +358,59 @@ mod tests {
             let p22 = 2f64.sqrt() * q.powf(0.75) * r.powf(0.25);
             let want = Matrix2::new(p11, p12, p12, p22);
             assert!((st.p - want).amax() < 1e-10, "{lin:?}: {} vs {want}", st.p);
+        }
+    }
+
+    /// Issue 16: from a Riccati solution far below its steady state, with a
+    /// large `Q` and a small `S` (the knee default tuning's stiffness), the
+    /// gain grows tenfold within the first sub-step; the sub-steps must
+    /// follow it. Double integrator measured through its rate (as the
+    /// knee's gyro row): `H = [0, 1]`, `q = (0, 1e3)`, `r = 1e-5`,
+    /// `P0 = 0.01 I`, 10 ms intervals; the Riccati solution stays finite
+    /// and settles to `P_22 = sqrt(q r) = 0.1` (the scalar ARE of the
+    /// measured rate, `P_12 -> 0` since the angle is not observable here).
+    #[test]
+    fn stiff_riccati_transient_from_small_p0_stays_finite() {
+        let (q, r) = (1e3, 1e-5);
+        let m = Linear {
+            f: Matrix2::new(0.0, 1.0, 0.0, 0.0),
+            h: SMatrix::<f64, 1, 2>::new(0.0, 1.0),
+        };
+        let tuning = ContinuousTuning {
+            q: Vector2::new(0.0, q),
+            s: Vector1::new(r),
+            a: 0.0,
+            p0: Vector2::new(1e-2, 1e-2),
+            max_substep: 1e-2,
+        };
+        for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
+            let mut st = FilterState {
+                x: Vector2::zeros(),
+                p: Matrix2::identity() * 1e-2,
+            };
+            let z = Vector1::new(0.0);
+            for k in 0..100 {
+                propagate(
+                    &m,
+                    lin,
+                    &mut st,
+                    0.01,
+                    (&z, &z),
+                    (&z, &z),
+                    &Vector1::new(1.0 / r),
+                    &tuning,
+                );
+                assert!(
+                    st.p.iter().all(|v| v.is_finite()),
+                    "{lin:?} interval {k}: {}",
+                    st.p
+                );
+            }
+            assert!(
+                (st.p[(1, 1)] - (q * r).sqrt()).abs() < 1e-9,
+                "{lin:?}: {}",
+                st.p
+            );
         }
     }
 

@@ -1,0 +1,128 @@
+//! Issue 16 item 0: the paper-004 filters must never restart on nominal
+//! data. A restart (`diag_resets`) happens only when the state or the
+//! Riccati solution goes non-finite, so any restart on a simulated trial of
+//! the filter's own model is a divergence, not a feature of the data.
+//!
+//! Before the fix the knee `sdre` / `ekf` restarted at every sample (the
+//! RK4 sub-step was chosen from the Riccati solution at the start of each
+//! interval, `P_22 = p0 = 0.01`, while `P_22` rises to its steady value
+//! `sqrt(q_2 s_1) = 0.1` within 1e-4 s, ten times stiffer than the step
+//! allowed for).
+
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, Linearisation, RotationMatrixKnee};
+use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
+
+/// Runs `e` over `recs`; returns the restart count at the end and the
+/// first time a restart was counted, or an error text on a non-finite angle
+/// or an estimator error.
+fn resets(e: &mut dyn Estimator, recs: &[Record]) -> Result<(u32, Option<f64>), String> {
+    let col = e.diagnostic_names().iter().position(|n| *n == "resets");
+    let mut first = None;
+    let mut last = 0.0;
+    for r in recs {
+        let est = e
+            .step(&r.sample)
+            .map_err(|err| format!("t = {}: {err}", r.sample.t))?;
+        if let Some(j) = est.joint.iter().flatten().find(|v| !v.is_finite()) {
+            return Err(format!("t = {}: non-finite knee {j}", r.sample.t));
+        }
+        if let Some(n) = col.and_then(|c| est.diag[c]) {
+            if n > 0.0 && first.is_none() {
+                first = Some(r.sample.t);
+            }
+            last = n;
+        }
+    }
+    Ok((last as u32, first))
+}
+
+#[test]
+fn issue_16_knee_fes_filters_never_reset_on_nominal_data() {
+    let mut failures = Vec::new();
+    for subject in KneeSubject::ALL {
+        let m = KneeFesModel::new(KneeFesParams::subject(subject)).unwrap();
+        for noise in [true, false] {
+            let tr = simulate_knee_fes(&KneeFesConfig {
+                subject,
+                seed: 5,
+                noise,
+                duration_s: 8.0,
+                cycles: 1,
+                ..KneeFesConfig::default()
+            })
+            .unwrap();
+            let filters: [(&str, Box<dyn Estimator>); 3] = [
+                ("sdre", Box::new(KneeFesFilter::sdre(m))),
+                ("ekf", Box::new(KneeFesFilter::ekf(m))),
+                ("rmx", Box::new(RotationMatrixKnee::new())),
+            ];
+            for (name, mut f) in filters {
+                match resets(f.as_mut(), &tr.records) {
+                    Ok((0, _)) => {}
+                    Ok((n, t)) => failures.push(format!(
+                        "{} noise={noise} {name}: {n} resets, first at t = {t:?} s",
+                        subject.label()
+                    )),
+                    Err(e) => failures.push(format!("{} {name}: {e}", subject.label())),
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn issue_16_fixed_hip_filters_never_reset_on_nominal_data() {
+    let m = FixedHipModel::new(FixedHipParams::default()).unwrap();
+    let mut failures = Vec::new();
+    for noise in [true, false] {
+        let tr = simulate_fixed_hip(&FixedHipConfig {
+            seed: 5,
+            noise,
+            duration_s: 6.0,
+            ..FixedHipConfig::default()
+        })
+        .unwrap();
+        let filters: [(&str, Box<dyn Estimator>); 3] = [
+            ("sdre", Box::new(FixedHipFilter::sdre(m))),
+            ("ekf", Box::new(FixedHipFilter::ekf(m))),
+            ("rmx", Box::new(RotationMatrixKnee::new())),
+        ];
+        for (name, mut f) in filters {
+            match resets(f.as_mut(), &tr.records) {
+                Ok((0, _)) => {}
+                Ok((n, t)) => failures.push(format!(
+                    "fixed-hip noise={noise} {name}: {n} resets, first at t = {t:?} s"
+                )),
+                Err(e) => failures.push(format!("fixed-hip {name}: {e}")),
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The knee filters with the sub-step bounds the issue tried
+/// (`max_substep` 2 ms and 0.5 ms) must not restart either.
+#[test]
+fn issue_16_knee_filters_never_reset_with_shorter_max_substep() {
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        duration_s: 6.0,
+        cycles: 1,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
+        for max_substep in [2e-3, 5e-4] {
+            let mut tuning = limbfuse_estimators::fes::knee::knee_default_tuning(lin);
+            tuning.max_substep = max_substep;
+            let plant = limbfuse_estimators::fes::KneePlant::new(m);
+            let mut f = limbfuse_estimators::fes::FesFilter::new(plant, lin, tuning);
+            let got = resets(&mut f, &tr.records).unwrap();
+            assert_eq!(got.0, 0, "{lin:?} max_substep {max_substep}: {got:?}");
+        }
+    }
+}
