@@ -57,7 +57,7 @@ pub struct LengthCap {
 #[derive(Debug, Args)]
 pub struct ParamsArgs {
     /// The method (see `limbfuse methods`).
-    #[arg(long)]
+    #[arg(long, help = crate::methods::method_flag_help("The method"))]
     pub method: String,
     /// Output file (default: standard output).
     #[arg(short, long)]
@@ -281,9 +281,9 @@ pub struct KneeFesArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 30.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
-    pub rate: f64,
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
+    pub imu_rate: f64,
     /// Random seed: same seed, same file, bit for bit.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -316,9 +316,9 @@ pub struct FixedHipArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 20.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
-    pub rate: f64,
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
+    pub imu_rate: f64,
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -402,8 +402,8 @@ pub struct ImportArgs {
 /// Options of `estimate`.
 #[derive(Debug, Args)]
 pub struct EstimateArgs {
-    /// Estimation method (`limbfuse methods` lists them).
-    #[arg(long)]
+    /// Estimation method (`limbfuse methods` describes each).
+    #[arg(long, help = crate::methods::method_flag_help("Estimation method"))]
     pub method: String,
     /// Trial file.
     pub trial: PathBuf,
@@ -465,6 +465,9 @@ pub struct EvaluateArgs {
     /// instead of refusing it.
     #[arg(long)]
     pub allow_trial_mismatch: bool,
+    /// Also print the mean of each estimator diagnostic (`diag_*` columns) over the trial.
+    #[arg(long)]
+    pub diagnostics: bool,
     /// Run this method on the trial instead of reading an estimate file
     /// (paper 001 protocol: see --starts, docs/TUNING.md).
     #[arg(long)]

@@ -12,11 +12,11 @@ mod progress;
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> ExitCode {
     exit::install_panic_hook();
-    let cli = match cli::Cli::try_parse() {
+    let cli = match parse_args() {
         Ok(c) => c,
         Err(e) => {
             let user_asked = matches!(
@@ -35,4 +35,18 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => exit::report(&e),
     }
+}
+
+/// Parses the command line. Every command accepts negative numbers as
+/// values, so that `--duration -5` reaches the range check of its flag
+/// ("expected a positive number") instead of clap's "unexpected argument
+/// '-5'" (issue 17 item 6).
+fn parse_args() -> Result<cli::Cli, clap::Error> {
+    fn negative_numbers_are_values(cmd: clap::Command) -> clap::Command {
+        cmd.allow_negative_numbers(true)
+            .mut_subcommands(negative_numbers_are_values)
+    }
+    let mut cmd = negative_numbers_are_values(cli::Cli::command());
+    let matches = cmd.try_get_matches_from_mut(std::env::args_os())?;
+    cli::Cli::from_arg_matches(&matches).map_err(|e| e.format(&mut cmd))
 }

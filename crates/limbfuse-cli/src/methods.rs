@@ -10,6 +10,16 @@ use limbfuse_methods::{build, MethodFlags, MethodName, MethodSpec};
 
 use crate::cli::EstimateArgs;
 
+/// The help of a `--method` flag: `what`, then every method name of the
+/// registry, so `--help` lists them all (not "e.g.").
+pub fn method_flag_help(what: &str) -> String {
+    let names: Vec<&str> = MethodName::ALL.iter().map(|m| m.info().name).collect();
+    format!(
+        "{what}: one of {} (`limbfuse methods` describes each)",
+        names.join(", ")
+    )
+}
+
 /// The method-specific flags of `estimate`.
 pub fn flags(a: &EstimateArgs) -> MethodFlags {
     MethodFlags {

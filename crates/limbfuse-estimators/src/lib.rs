@@ -5,8 +5,16 @@
 //! [`limbfuse_core::Estimator`]. `no_std`; no estimator allocates per sample
 //! or does I/O.
 //!
-//! Until the paper estimators land, two honest baselines are provided:
-//! [`baseline::GyroIntegration`] and [`baseline::AccelInclination`].
+//! | module | paper | estimators |
+//! |---|---|---|
+//! | [`segment_kf`] | 000, 001 | local, Markov-jump (MJLS) and global segment-angle Kalman filters |
+//! | [`knee_selfalign`] | 002 | self-aligning knee angle (joint axes and positions identified online) |
+//! | [`fes`] | 004 | SDRE, EKF and rotation-matrix (RMX) estimators on the FES knee and fixed-hip models |
+//! | [`imm_bslip`] | 003 | interacting multiple models over a B-SLIP gait library (gait phase, speed) |
+//! | [`baseline`] | - | honest baselines: [`baseline::GyroIntegration`], [`baseline::AccelInclination`] |
+//!
+//! [`hinge_axis`] is the hinge-axis solver shared by the knee estimator and
+//! sensor alignment; [`inclination`] the accelerometer inclination angle.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 

@@ -245,23 +245,62 @@ impl Evaluation {
     }
 
     /// Mean RMSE (rad) of the evaluated segment angles (the papers' figure);
-    /// of the joint angles when no segment angle was evaluated.
+    /// of the joint angles when no segment angle was evaluated. A channel
+    /// whose estimate equals its reference on every sample (the fixed thigh
+    /// of the knee-FES model, which the estimator copies from the trial) is
+    /// not an estimate and is left out when another channel is estimated
+    /// ([`Evaluation::exact_channels`]), so
+    /// that it does not halve the mean (issue 17 item 6).
     pub fn mean_rmse(&self) -> Option<f64> {
-        let seg: Vec<f64> = self
+        let all_exact = self
             .channels
             .iter()
-            .filter(|(c, _)| matches!(c, AngleChannel::Segment(_)))
-            .filter_map(|(c, _)| self.rmse(*c))
-            .collect();
-        let vals = if seg.is_empty() {
-            self.channels
+            .all(|(c, s)| s.n() == 0 || self.is_exact(*c));
+        let counted = |c: &AngleChannel| all_exact || !self.is_exact(*c);
+        let mean_over = |segments_only: bool| -> Option<f64> {
+            let vals: Vec<f64> = self
+                .channels
                 .iter()
-                .filter_map(|(c, _)| self.rmse(*c))
-                .collect()
-        } else {
-            seg
+                .map(|(c, _)| c)
+                .filter(|c| !segments_only || matches!(c, AngleChannel::Segment(_)))
+                .filter(|c| counted(c))
+                .filter_map(|c| self.rmse(*c))
+                .collect();
+            (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
         };
-        (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
+        mean_over(true).or_else(|| mean_over(false))
+    }
+
+    /// Whether the estimate of `c` equals its reference on every evaluated
+    /// sample (zero error everywhere): a value the estimator was given, not
+    /// one it estimated.
+    fn is_exact(&self, c: AngleChannel) -> bool {
+        self.channels
+            .iter()
+            .find(|(k, _)| *k == c)
+            .and_then(|(_, s)| s.max_abs_error())
+            .is_some_and(|m| m == 0.0)
+    }
+
+    /// The channels left out of [`Evaluation::mean_rmse`] because their
+    /// estimate equals the reference on every sample while another
+    /// channel's does not.
+    pub fn exact_channels(&self) -> Vec<AngleChannel> {
+        let exact: Vec<AngleChannel> = self
+            .channels
+            .iter()
+            .map(|(c, _)| *c)
+            .filter(|c| self.is_exact(*c))
+            .collect();
+        let any_estimated = self
+            .channels
+            .iter()
+            .any(|(c, s)| s.n() > 0 && !self.is_exact(*c));
+        if any_estimated {
+            exact
+        } else {
+            Vec::new()
+        }
     }
 
     /// The JSON object of SPEC section 4 (angles in degrees), with a
@@ -345,7 +384,15 @@ impl Evaluation {
             );
         }
         if let Some(m) = self.mean_rmse() {
-            s += &format!("mean RMSE: {:.3} deg\n", m.to_degrees());
+            s += &format!("mean RMSE: {:.3} deg", m.to_degrees());
+            let exact: Vec<&str> = self.exact_channels().iter().map(|c| c.name()).collect();
+            if !exact.is_empty() {
+                s += &format!(
+                    " (without {}: equal to the reference on every sample, a value the estimator was given)",
+                    exact.join(", ")
+                );
+            }
+            s += "\n";
         }
         if let Some(ar) = self.accel_reliability_pct {
             s += &format!("accelerometer reliability AR: {ar:.1} % of samples\n");
@@ -357,6 +404,20 @@ impl Evaluation {
             s +=
                 &format!("samples with a missing input (predicted without its update): {m:.1} %\n");
         }
+        if !self.diag_mean.is_empty() {
+            s += &format!(
+                "({} estimator diagnostics averaged over the trial: `--diagnostics` lists them)\n",
+                self.diag_mean.len()
+            );
+        }
+        s
+    }
+
+    /// The mean of each estimator diagnostic over the trial, one line each
+    /// (`evaluate --diagnostics`; what each means: docs/OUTPUTS.md and the
+    /// method's page).
+    pub fn diagnostics_text(&self) -> String {
+        let mut s = String::new();
         for (k, v) in &self.diag_mean {
             s += &format!("diag mean {k}: {v:.4}\n");
         }

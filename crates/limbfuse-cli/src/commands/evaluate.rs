@@ -15,8 +15,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             "evaluate needs an ESTIMATE file, or --method NAME [--params FILE] [--starts N] to run the method on the trial"
         );
     };
-    {
-        let layout = *limbfuse_io::TrialReader::open(&a.trial)?.layout();
+    let assumed_zero = {
+        let reader = limbfuse_io::TrialReader::open(&a.trial)?;
+        let layout = *reader.layout();
         if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
             // A gait trial (paper 003): phase, CoM and speed errors.
             let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(
@@ -32,7 +33,8 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             }
             return Ok(());
         }
-    }
+        segments_zeroed_by_assumption(reader.meta())
+    };
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
@@ -61,8 +63,33 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         println!("{}", ev.to_json());
     } else {
         print!("{}", ev.to_text());
+        if !a.offset_free && !assumed_zero.is_empty() {
+            println!(
+                "note: `align` found no quiet standing and set the zero of {} from an assumed mean angle over the walking \
+                 data (0 deg unless `align --mean-angle SEGMENT=DEG` gave it): their absolute errors include how far the true mean is from that assumption; `--offset-free` scores without it",
+                assumed_zero.join(", ")
+            );
+        }
+        if a.diagnostics {
+            print!("{}", ev.diagnostics_text());
+        }
     }
     Ok(())
+}
+
+/// The segments whose zero angle `align` set from an assumed mean angle
+/// over walking (`<segment>_align_zero: mean-inclination ...`), not from
+/// quiet standing (issue 17 item 6: a 9-10 deg error on every segment
+/// without a word why).
+fn segments_zeroed_by_assumption(meta: &limbfuse_io::TrialMeta) -> Vec<&'static str> {
+    limbfuse_core::Segment::ALL
+        .iter()
+        .map(|s| s.name())
+        .filter(|name| {
+            meta.get(&format!("{name}_align_zero"))
+                .is_some_and(|z| z.starts_with("mean-inclination"))
+        })
+        .collect()
 }
 
 /// Prints the trial check's warning, if any.

@@ -20,7 +20,7 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
     Ok(KneeFesConfig {
         subject,
         duration_s: a.duration,
-        rate_hz: a.rate,
+        rate_hz: a.imu_rate,
         seed: a.seed,
         noise: !a.no_noise,
         gyro_drift: a.gyro_drift.to_radians(),
@@ -35,7 +35,7 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
 
 /// `simulate knee-fes`.
 pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
-    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
+    crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = knee_config(a)?;
     let trial = simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes")?;
     let mut out = super::create_file(&a.output)?;
@@ -63,10 +63,10 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
 
 /// `simulate fixed-hip`.
 pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
-    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
+    crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = FixedHipConfig {
         duration_s: a.duration,
-        rate_hz: a.rate,
+        rate_hz: a.imu_rate,
         seed: a.seed,
         noise: !a.no_noise,
         gyro_drift: a.gyro_drift.to_radians(),

@@ -16,6 +16,10 @@ use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{BslipArgs, GaitLibraryBuildArgs};
 
+/// Fastest gait speed searched (m/s): B-SLIP walking beyond it runs into
+/// Froude numbers where walking gives way to running.
+const MAX_GAIT_SPEED: f64 = 2.0;
+
 /// Parses `START:END:STEP` (inclusive) into speeds.
 pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(':').collect();
@@ -31,8 +35,8 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
     let [a, b, s] = nums[..] else {
         bail!("--speeds: expected START:END:STEP in m/s (e.g. 0.4:0.9:0.1), found `{text}`");
     };
-    if !(a > 0.0 && b >= a && s > 0.0 && b <= 2.0) {
-        bail!("--speeds {text}: need 0 < START <= END <= 2 m/s and STEP > 0");
+    if !(a > 0.0 && b >= a && s > 0.0 && b <= MAX_GAIT_SPEED) {
+        bail!("--speeds {text}: need 0 < START <= END <= {MAX_GAIT_SPEED} m/s and STEP > 0");
     }
     let n = ((b - a) / s + 1e-9).floor() as usize + 1;
     if n > limbfuse_estimators::imm_bslip::MAX_GAITS {
@@ -114,6 +118,12 @@ pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
 /// `limbfuse simulate bslip`.
 pub fn simulate(a: &BslipArgs) -> Result<()> {
     crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
+    if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= MAX_GAIT_SPEED) {
+        bail!(
+            "--speed {}: expected a walking speed in (0, {MAX_GAIT_SPEED}] m/s (the range `gait-library build --speeds` accepts)",
+            a.speed
+        );
+    }
     let template = match &a.library {
         Some(p) => {
             let t = limbfuse_methods::imm_params::load_templates(p, None)?;
@@ -123,7 +133,12 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
         }
         None => {
             let body = body(a.mass, a.leg_length)?;
-            let lib = build(&body, &[a.speed], false)?;
+            let lib = build(&body, &[a.speed], false).with_context(|| {
+                format!(
+                    "--speed {}: no periodic B-SLIP gait found at this speed for a {} kg body with {} m legs",
+                    a.speed, a.mass, a.leg_length
+                )
+            })?;
             lib[0].template(&body)
         }
     };

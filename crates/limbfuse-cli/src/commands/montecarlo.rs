@@ -87,6 +87,12 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
         );
     }
     eprintln!("wrote {}", a.output.display());
+    if let Some(svg) = &a.svg {
+        eprintln!(
+            "wrote {} (mean RMSE against noise level, paper 000 Fig. 9)",
+            svg.display()
+        );
+    }
     Ok(())
 }
 
