@@ -1,8 +1,33 @@
-//! A progress observer for long runs (hidden when stderr is not a terminal).
+//! Progress bars for the commands that can take more than a second
+//! (issue 17 item 4): hidden with `--quiet` and when stderr is not a
+//! terminal (indicatif draws nothing then), so piped output stays clean.
+
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::{Estimate, Record};
+
+/// Whether `--quiet` was given.
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Records `--quiet` (called once, before any command runs).
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// A bar of `len` steps drawn with the indicatif `template`, or a hidden
+/// one with `--quiet`.
+pub fn bar(len: u64, template: &str) -> ProgressBar {
+    if QUIET.load(Ordering::Relaxed) {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
 
 /// Shows the number of processed samples and the trial time reached.
 pub struct Progress {
@@ -13,7 +38,11 @@ pub struct Progress {
 impl Progress {
     /// A spinner labelled with `what`.
     pub fn new(what: &str) -> Self {
-        let bar = ProgressBar::new_spinner();
+        let bar = if QUIET.load(Ordering::Relaxed) {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new_spinner()
+        };
         bar.set_style(
             ProgressStyle::with_template("{spinner} {prefix} {msg} [{elapsed}]")
                 .unwrap_or_else(|_| ProgressStyle::default_spinner()),

@@ -229,3 +229,48 @@ fn montecarlo_says_it_wrote_the_svg() {
         text(&o.stderr)
     );
 }
+
+/// Issue 17 item 4: a long command draws a progress bar on a terminal and
+/// none with `--quiet` (or when stderr is not a terminal). The terminal is
+/// util-linux's `script`, which runs the command on a pseudo-terminal.
+#[test]
+fn progress_bar_on_a_terminal_and_none_with_quiet() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: util-linux `script` (a pseudo-terminal) is not installed");
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let bin = env!("CARGO_BIN_EXE_limbfuse");
+    let run = |quiet: &str| -> String {
+        let cmd =
+            format!("{bin} montecarlo {quiet} --runs 2 --levels 0:2:2 --duration 3 -o mc.csv");
+        let o = Command::new("script")
+            .args(["-qec", &cmd, "/dev/null"])
+            .current_dir(d.path())
+            .output()
+            .unwrap();
+        assert_ok(&o);
+        text(&o.stdout)
+    };
+    assert!(run("").contains("2/2 runs"), "no bar on a terminal");
+    let quiet = run("--quiet");
+    assert!(!quiet.contains("runs ["), "{quiet}");
+    assert!(quiet.contains("mean RMSE deg"), "{quiet}");
+    // Piped (not a terminal): no bar either.
+    let o = limbfuse(
+        &[
+            "montecarlo",
+            "--runs",
+            "2",
+            "--levels",
+            "0:2:2",
+            "--duration",
+            "3",
+            "-o",
+            "p.csv",
+        ],
+        d.path(),
+    );
+    assert_ok(&o);
+    assert!(!text(&o.stderr).contains("runs ["), "{}", text(&o.stderr));
+}

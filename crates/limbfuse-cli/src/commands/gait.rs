@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
 use limbfuse_io::TrialReader;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
@@ -64,10 +64,9 @@ fn body(mass: f64, leg: f64) -> Result<BslipParams> {
 /// Builds a library with a progress bar.
 pub fn build(body: &BslipParams, speeds: &[f64], show_progress: bool) -> Result<Vec<LibraryGait>> {
     let bar = if show_progress {
-        let bar = ProgressBar::new(speeds.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} gaits [{elapsed}]")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        let bar = crate::progress::bar(
+            speeds.len() as u64,
+            "{prefix} [{bar:30}] {pos}/{len} gaits [{elapsed}]",
         );
         bar.set_prefix("gait library");
         bar

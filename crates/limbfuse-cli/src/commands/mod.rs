@@ -28,6 +28,7 @@ use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
+    crate::progress::set_quiet(cli.quiet);
     match cli.command {
         Command::Demo(a) => demo::run(&a),
         Command::Simulate(SimulateCommand::Walking(a)) => simulate::walking(&a),

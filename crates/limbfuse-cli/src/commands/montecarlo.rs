@@ -1,7 +1,6 @@
 //! `limbfuse montecarlo`: paper 000 Fig. 9 on simulated walking.
 
 use anyhow::{anyhow, bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_sim::WalkingConfig;
 use limbfuse_workflows::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
 use limbfuse_workflows::monte_carlo_plot::write_svg;
@@ -56,10 +55,9 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
         },
     };
     cfg.trial.validate().context("simulated trial")?;
-    let bar = ProgressBar::new(a.runs as u64);
-    bar.set_style(
-        ProgressStyle::with_template("montecarlo {bar:30} {pos}/{len} runs [{elapsed} < {eta}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    let bar = crate::progress::bar(
+        a.runs as u64,
+        "montecarlo {bar:30} {pos}/{len} runs [{elapsed} < {eta}]",
     );
     let rows = monte_carlo(&cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();

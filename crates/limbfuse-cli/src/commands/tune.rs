@@ -1,7 +1,6 @@
 //! `limbfuse tune --method local|mjls|global TRIAL --window 0:20 -o params.toml`.
 
 use anyhow::{anyhow, bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
 use limbfuse_eval::TimeWindow;
 use limbfuse_methods::segment_params::{
     load_params, save_params, FilterMethod, FilterParams, Preset,
@@ -61,12 +60,9 @@ pub fn run(a: &TuneArgs) -> Result<()> {
     } else {
         0
     };
-    let bar = ProgressBar::new(n_eval as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "tune {prefix} {bar:30} {pos}/{len} evaluations [{elapsed} < {eta}]",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    let bar = crate::progress::bar(
+        n_eval as u64,
+        "tune {prefix} {bar:30} {pos}/{len} evaluations [{elapsed} < {eta}]",
     );
     bar.set_prefix(method.name());
     let r = tune_and_validate(&records, &cfg, &|| bar.inc(1))
