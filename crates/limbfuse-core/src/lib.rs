@@ -22,6 +22,7 @@ pub mod expm;
 pub mod kalman;
 pub mod limb;
 pub mod sample;
+pub mod sample_gate;
 
 #[cfg(feature = "std")]
 pub mod runner;
@@ -31,6 +32,7 @@ pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
 pub use limb::{Joint, Segment};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
+pub use sample_gate::{Rejections, SampleGate, SensorRanges};
 
 /// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.
 pub const STANDARD_GRAVITY: f64 = 9.81;

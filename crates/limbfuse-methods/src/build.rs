@@ -13,11 +13,14 @@ pub fn check_channels(method: MethodName, layout: &TrialLayout) -> Result<(), Me
 
 /// A new estimator of `spec` for a trial with this metadata and these
 /// columns. The method's own errors (paper 004: the trial's `# model:`)
-/// come first, then missing columns.
+/// come first, then missing columns. The estimator sees its samples
+/// through the trial's sensor-range gate ([`crate::gated`]).
 pub fn build(
     spec: &MethodSpec,
     meta: &TrialMeta,
     layout: &TrialLayout,
 ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-    spec.build_estimator(meta, layout)
+    let ranges = crate::gated::sensor_ranges(meta)?;
+    let inner = spec.build_estimator(meta, layout)?;
+    Ok(Box::new(crate::gated::GatedEstimator::new(inner, ranges)))
 }

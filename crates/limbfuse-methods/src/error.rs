@@ -73,6 +73,14 @@ pub enum MethodError {
         /// Why.
         source: FesBuildError,
     },
+    /// A sensor range in the trial metadata that is not a positive number.
+    #[error("trial metadata `# {key}: {found}`: expected the sensor's full-scale range as a positive number")]
+    SensorRange {
+        /// The metadata key.
+        key: &'static str,
+        /// Its value.
+        found: String,
+    },
     /// The trial lacks columns the method needs.
     #[error("method `{method}` {why}, but the trial has no {} column(s){hint}", missing.join(", "))]
     MissingChannels {

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
-use limbfuse_eval::ResetWatch;
+use limbfuse_eval::{RejectionWatch, ResetWatch};
 use limbfuse_io::{EstimateWriter, TrialReader};
 
 use crate::cli::EstimateArgs;
@@ -32,8 +32,8 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
 
 /// Runs an estimator over an opened trial into an estimate file, with a
 /// progress bar and the `extra` observers; warns on stderr when the
-/// estimator restarted during the run (issue 16); returns the number of
-/// samples.
+/// estimator restarted during the run (issue 16) or sensor readings were
+/// rejected as out of range (issue 18); returns the number of samples.
 ///
 /// The estimate file records its trial (`# trial:`, `# trial_hash:`; the
 /// trial is hashed as it is read) and appears only if the whole run succeeds.
@@ -52,11 +52,13 @@ pub fn run_to_file(
     let mut writer = EstimateWriter::new(super::create_file(output)?).recording_trial(trial_name);
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
+    let mut rejections = RejectionWatch::default();
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(3 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(4 + extra.len());
         observers.push(&mut writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
+        observers.push(&mut rejections);
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
@@ -76,5 +78,8 @@ pub fn run_to_file(
         &format!("{label} on {}", trial.display()),
         resets.resets().as_ref(),
     );
+    if let Some(r) = rejections.rejected() {
+        eprintln!("warning: {label} on {}: {r}", trial.display());
+    }
     Ok(summary.n_samples)
 }

@@ -1,0 +1,201 @@
+//! Physical-range screening of sensor readings before any estimator sees
+//! them (issue 18 item 1).
+//!
+//! A reading outside the range its sensor can measure cannot be a
+//! measurement: it is a bus glitch (a bit flip, a dropped byte, a parser
+//! misreading a cell). Passed on, one such value ruins a filter for the rest
+//! of a trial: a single thigh gyro cell of `1e300` left `mjls`, `global` and
+//! `local` 91 deg off for a minute. [`SampleGate`] turns every reading outside
+//! [`SensorRanges`] (or not finite) into a missing reading, which every
+//! estimator already survives (it predicts without that update), and counts
+//! it.
+//!
+//! The whole 3-axis vector of a sensor is dropped when any of its axes is out
+//! of range: the other axes of a corrupted packet are not to be trusted
+//! either.
+
+use crate::sample::Sample;
+
+/// The largest readings a sensor can produce, per kind.
+///
+/// The defaults are the widest full-scale ranges of the IMUs used for gait
+/// and exoskeleton work, plus 15 % for scale-factor and cross-axis errors:
+/// Xsens MTw Awinda and MTi-3 (2000 deg/s, 160 m/s^2 = 16 g), Bosch BMI160 /
+/// BMI270 and TDK ICM-20948 (2000 deg/s, 16 g) datasheets. A trial sets its
+/// own with the metadata keys `gyro_range_rad_s` and `acc_range_m_s2`
+/// (see docs/OUTPUTS.md); a sensor with a wider range needs them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorRanges {
+    /// Largest angular rate magnitude on any axis (rad/s).
+    pub gyro_rad_s: f64,
+    /// Largest specific force magnitude on any axis (m/s^2).
+    pub acc_m_s2: f64,
+    /// Largest joint-encoder angle magnitude (rad): no human joint turns
+    /// further than half a turn from its zero.
+    pub encoder_rad: f64,
+}
+
+impl Default for SensorRanges {
+    fn default() -> Self {
+        SensorRanges {
+            gyro_rad_s: 1.15 * 2000.0 * core::f64::consts::PI / 180.0,
+            acc_m_s2: 1.15 * 16.0 * 9.80665,
+            encoder_rad: core::f64::consts::PI,
+        }
+    }
+}
+
+/// Readings turned into missing ones so far, per sensor kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Rejections {
+    /// Gyroscope vectors (one per IMU and sample).
+    pub gyro: u64,
+    /// Accelerometer vectors (one per IMU and sample).
+    pub acc: u64,
+    /// Encoder readings.
+    pub encoder: u64,
+    /// Time of the first sample with a rejected reading (s).
+    pub first_t: Option<f64>,
+}
+
+impl Rejections {
+    /// Readings rejected, all kinds.
+    pub fn total(&self) -> u64 {
+        self.gyro + self.acc + self.encoder
+    }
+}
+
+/// Screens samples against [`SensorRanges`]; see the module documentation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleGate {
+    ranges: SensorRanges,
+    rejections: Rejections,
+}
+
+impl SampleGate {
+    /// A gate with these ranges and nothing rejected yet.
+    pub fn new(ranges: SensorRanges) -> Self {
+        SampleGate {
+            ranges,
+            rejections: Rejections::default(),
+        }
+    }
+
+    /// The ranges in use.
+    pub fn ranges(&self) -> &SensorRanges {
+        &self.ranges
+    }
+
+    /// What was rejected since construction or [`SampleGate::reset`].
+    pub fn rejections(&self) -> &Rejections {
+        &self.rejections
+    }
+
+    /// Forgets the counts.
+    pub fn reset(&mut self) {
+        self.rejections = Rejections::default();
+    }
+
+    /// `sample` with every out-of-range or non-finite sensor reading made
+    /// missing; the count of rejections grows by what was removed.
+    pub fn screen(&mut self, sample: &Sample) -> Sample {
+        let mut out = *sample;
+        let before = self.rejections.total();
+        let r = self.ranges;
+        let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
+        for imu in out.imu.iter_mut() {
+            if imu.gyr.is_some_and(|g| !within(&g, r.gyro_rad_s)) {
+                imu.gyr = None;
+                self.rejections.gyro += 1;
+            }
+            if imu.acc.is_some_and(|a| !within(&a, r.acc_m_s2)) {
+                imu.acc = None;
+                self.rejections.acc += 1;
+            }
+        }
+        for e in out.encoder.iter_mut() {
+            if e.is_some_and(|x| !x.is_finite() || x.abs() > r.encoder_rad) {
+                *e = None;
+                self.rejections.encoder += 1;
+            }
+        }
+        if self.rejections.total() > before && self.rejections.first_t.is_none() {
+            self.rejections.first_t = Some(sample.t);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    fn walking_sample() -> Sample {
+        let mut s = Sample::empty(1.0);
+        for imu in s.imu.iter_mut() {
+            imu.gyr = Some(Vector3::new(0.1, -0.2, 3.0));
+            imu.acc = Some(Vector3::new(2.0, 9.5, -0.3));
+        }
+        s.encoder = [Some(0.3), Some(1.2), Some(-0.2)];
+        s
+    }
+
+    #[test]
+    fn readings_within_range_pass_unchanged() {
+        let mut g = SampleGate::new(SensorRanges::default());
+        let s = walking_sample();
+        assert_eq!(g.screen(&s), s);
+        assert_eq!(g.rejections().total(), 0);
+        assert_eq!(g.rejections().first_t, None);
+    }
+
+    #[test]
+    fn a_glitch_on_one_axis_drops_that_sensor_only_and_is_counted() {
+        let mut g = SampleGate::new(SensorRanges::default());
+        let mut s = walking_sample();
+        s.imu[1].gyr = Some(Vector3::new(0.1, 1e300, 3.0));
+        s.imu[2].acc = Some(Vector3::new(-1e308, 9.5, 0.0));
+        s.encoder[1] = Some(f64::INFINITY);
+        let out = g.screen(&s);
+        assert_eq!(out.imu[1].gyr, None);
+        assert_eq!(out.imu[1].acc, s.imu[1].acc);
+        assert_eq!(out.imu[2].acc, None);
+        assert_eq!(out.imu[2].gyr, s.imu[2].gyr);
+        assert_eq!(out.encoder, [Some(0.3), None, Some(-0.2)]);
+        let r = g.rejections();
+        assert_eq!((r.gyro, r.acc, r.encoder, r.first_t), (1, 1, 1, Some(1.0)));
+        // The first time stays the first.
+        let mut later = s;
+        later.t = 2.0;
+        g.screen(&later);
+        assert_eq!(g.rejections().first_t, Some(1.0));
+        assert_eq!(g.rejections().total(), 6);
+    }
+
+    #[test]
+    fn nan_is_rejected_and_the_limit_itself_is_accepted() {
+        let ranges = SensorRanges {
+            gyro_rad_s: 10.0,
+            acc_m_s2: 50.0,
+            encoder_rad: 1.0,
+        };
+        let mut g = SampleGate::new(ranges);
+        let mut s = walking_sample();
+        s.imu[0].gyr = Some(Vector3::new(10.0, -10.0, 0.0));
+        s.imu[0].acc = Some(Vector3::new(f64::NAN, 0.0, 0.0));
+        s.encoder = [Some(1.0), Some(-1.0), Some(1.0000001)];
+        let out = g.screen(&s);
+        assert!(out.imu[0].gyr.is_some());
+        assert!(out.imu[0].acc.is_none());
+        assert_eq!(out.encoder, [Some(1.0), Some(-1.0), None]);
+    }
+
+    #[test]
+    fn default_ranges_are_the_datasheet_full_scales_with_margin() {
+        let r = SensorRanges::default();
+        // 2000 deg/s = 34.9 rad/s; 16 g = 156.9 m/s^2; each + 15 %.
+        assert!((r.gyro_rad_s - 40.142).abs() < 1e-3, "{}", r.gyro_rad_s);
+        assert!((r.acc_m_s2 - 180.442).abs() < 1e-3, "{}", r.acc_m_s2);
+    }
+}

@@ -1,0 +1,116 @@
+//! Every estimator [`crate::build`] makes sees its samples through a
+//! [`SampleGate`] (issue 18 item 1): readings outside the sensors' physical
+//! range become missing readings, counted in three cumulative diagnostics
+//! appended to the estimator's own, `rejected_gyro`, `rejected_acc` and
+//! `rejected_encoder` (`diag_rejected_*` columns).
+
+use std::fmt;
+
+use limbfuse_core::{
+    Estimate, Estimator, EstimatorError, Outputs, Sample, SampleGate, SensorRanges, MAX_DIAG,
+};
+use limbfuse_io::TrialMeta;
+
+use crate::MethodError;
+
+/// Names of the gate's diagnostics, in the order they follow the
+/// estimator's own.
+pub const REJECTION_DIAGNOSTICS: [&str; 3] = ["rejected_gyro", "rejected_acc", "rejected_encoder"];
+
+/// Trial metadata key of the gyroscopes' range (rad/s).
+pub const GYRO_RANGE_KEY: &str = "gyro_range_rad_s";
+/// Trial metadata key of the accelerometers' range (m/s^2).
+pub const ACC_RANGE_KEY: &str = "acc_range_m_s2";
+
+/// The sensor ranges of a trial: its metadata's `gyro_range_rad_s` and
+/// `acc_range_m_s2` where given, the datasheet defaults of
+/// [`SensorRanges::default`] otherwise.
+pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
+    let mut r = SensorRanges::default();
+    for (key, slot) in [
+        (GYRO_RANGE_KEY, &mut r.gyro_rad_s),
+        (ACC_RANGE_KEY, &mut r.acc_m_s2),
+    ] {
+        if let Some(text) = meta.get(key) {
+            match text.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() && v > 0.0 => *slot = v,
+                _ => {
+                    return Err(MethodError::SensorRange {
+                        key,
+                        found: text.to_string(),
+                    })
+                }
+            }
+        }
+    }
+    Ok(r)
+}
+
+/// An estimator behind a [`SampleGate`].
+pub struct GatedEstimator {
+    inner: Box<dyn Estimator + Send>,
+    gate: SampleGate,
+    /// The inner estimator's diagnostic names, then [`REJECTION_DIAGNOSTICS`]
+    /// (when they fit in [`MAX_DIAG`]).
+    names: Vec<&'static str>,
+    /// Index of `rejected_gyro` in [`Estimate::diag`], if written.
+    first: Option<usize>,
+}
+
+impl GatedEstimator {
+    /// `inner` behind a gate with `ranges`.
+    pub fn new(inner: Box<dyn Estimator + Send>, ranges: SensorRanges) -> Self {
+        let mut names: Vec<&'static str> = inner.diagnostic_names().to_vec();
+        let first = (names.len() + REJECTION_DIAGNOSTICS.len() <= MAX_DIAG).then_some(names.len());
+        if first.is_some() {
+            names.extend_from_slice(&REJECTION_DIAGNOSTICS);
+        }
+        GatedEstimator {
+            inner,
+            gate: SampleGate::new(ranges),
+            names,
+            first,
+        }
+    }
+}
+
+impl Estimator for GatedEstimator {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn outputs(&self) -> Outputs {
+        self.inner.outputs()
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        self.inner.describe_parameters(out)?;
+        let r = self.gate.ranges();
+        writeln!(
+            out,
+            "sensor_range: gyro {} rad/s, acc {} m/s2, encoder {} rad (readings beyond are treated as missing)",
+            r.gyro_rad_s, r.acc_m_s2, r.encoder_rad
+        )
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &self.names
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.gate.reset();
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let screened = self.gate.screen(sample);
+        let mut e = self.inner.step(&screened)?;
+        if let Some(i) = self.first {
+            let r = self.gate.rejections();
+            e.diag[i] = Some(r.gyro as f64);
+            e.diag[i + 1] = Some(r.acc as f64);
+            e.diag[i + 2] = Some(r.encoder as f64);
+        }
+        Ok(e)
+    }
+}
