@@ -112,7 +112,7 @@ class Trial:
                 raise TypeError(
                     f"channel `{name}`: expected a numeric column, found dtype {col.dtype}"
                 )
-            values = col.to_numpy(dtype=np.float64)
+            values = col.to_numpy(dtype=np.float64, na_value=np.nan)
             missing = np.isnan(values)
             channels[str(name)] = np.ma.MaskedArray(values, mask=missing) if missing.any() else values
         if meta is None:

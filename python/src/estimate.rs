@@ -156,12 +156,7 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
     guarded(|| {
         let table = TableReader::open(&path).map_err(|e| user_error(&e))?;
         let header_names = table.header().to_vec();
-        let header: Vec<String> = table
-            .meta()
-            .entries()
-            .iter()
-            .map(|(k, v)| format!("{k}: {v}"))
-            .collect();
+        let header = comment_lines(&path)?;
         drop(table);
         let mut reader = EstimateReader::open(&path).map_err(|e| user_error(&e))?;
         let known = |n: &str| {
@@ -225,6 +220,23 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
             None,
         ))
     })
+}
+
+/// The leading `# ...` lines of a file, without `# ` (kept as written, so
+/// that writing the estimate back gives the same header).
+fn comment_lines(path: &std::path::Path) -> PyResult<Vec<String>> {
+    use std::io::BufRead;
+    let f = std::fs::File::open(path)
+        .map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
+    let mut out = Vec::new();
+    for line in std::io::BufReader::new(f).lines() {
+        let line = line.map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
+        let Some(body) = line.strip_prefix('#') else {
+            break;
+        };
+        out.push(body.strip_prefix(' ').unwrap_or(body).to_string());
+    }
+    Ok(out)
 }
 
 /// Writes an estimate file (the estimate writer's format, byte for byte).
