@@ -2,7 +2,7 @@
 loop of estimate + evaluate, and the time of each way, side by side.
 
     pip install ./python[cohort]
-    python python/benchmarks/cohort_scaling.py [--trials 200] [--duration 60] [--method mjls]
+    python python/benchmarks/cohort_scaling.py [--trials 200] [--duration 30] [--method mjls]
 
 Trials are simulated walking (seed = index, speed 0.8-1.6 m/s), written to
 a temporary folder first; the timings are read + estimate + evaluate.
@@ -22,7 +22,7 @@ from limbfuse import cohort
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--trials", type=int, default=200)
-    ap.add_argument("--duration", type=float, default=60.0)
+    ap.add_argument("--duration", type=float, default=30.0)
     ap.add_argument("--method", default="mjls")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:

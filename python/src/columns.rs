@@ -368,7 +368,10 @@ impl OwnedColumns {
     }
 
     /// The columns of `records` with `layout`.
-    pub fn of_records<'r>(layout: &TrialLayout, records: impl IntoIterator<Item = &'r Record>) -> Self {
+    pub fn of_records<'r>(
+        layout: &TrialLayout,
+        records: impl IntoIterator<Item = &'r Record>,
+    ) -> Self {
         let (mut cols, channels) = Self::new(layout, 0);
         for r in records {
             cols.push(&channels, r);

@@ -166,11 +166,7 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
                 || AngleChannel::ALL.iter().any(|c| c.name() == n)
                 || COM_COLUMNS.contains(&n)
         };
-        let names: Vec<String> = header_names
-            .iter()
-            .filter(|n| known(n))
-            .cloned()
-            .collect();
+        let names: Vec<String> = header_names.iter().filter(|n| known(n)).cloned().collect();
         let has_phase = header_names.iter().any(|n| n == PHASE);
         let mut values: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         let mut phase = has_phase.then(Vec::new);
@@ -226,8 +222,7 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
 /// that writing the estimate back gives the same header).
 fn comment_lines(path: &std::path::Path) -> PyResult<Vec<String>> {
     use std::io::BufRead;
-    let f = std::fs::File::open(path)
-        .map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
+    let f = std::fs::File::open(path).map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
     let mut out = Vec::new();
     for line in std::io::BufReader::new(f).lines() {
         let line = line.map_err(|e| user_msg(format!("{}: {e}", path.display())))?;

@@ -117,7 +117,9 @@ fn gait(
 ) -> PyResult<String> {
     let io = |e: std::io::Error| user_msg(format!("temporary files: {e}"));
     let dir = tempfile::tempdir().map_err(io)?;
-    let tp = dir.path().join(trial.source().map_or("trial.csv", |s| s.0.as_str()));
+    let tp = dir
+        .path()
+        .join(trial.source().map_or("trial.csv", |s| s.0.as_str()));
     let ep = dir.path().join("estimate.csv");
     {
         let mut f = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io)?);

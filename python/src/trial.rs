@@ -37,7 +37,9 @@ impl<'py> TrialArgs<'py> {
     /// The columns, checked (names, lengths, time).
     pub fn columns(&self) -> PyResult<TrialColumns<'_>> {
         if self.2.len() != self.3.len() {
-            return Err(user_msg("trial: as many channel names as arrays are needed"));
+            return Err(user_msg(
+                "trial: as many channel names as arrays are needed",
+            ));
         }
         let t = slice(&self.1, "t")?;
         let mut named = Vec::with_capacity(self.2.len());
@@ -62,8 +64,11 @@ impl<'py> TrialArgs<'py> {
 
 /// A contiguous float64 array as a slice.
 pub fn slice<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
-    a.as_slice()
-        .map_err(|_| user_msg(format!("channel `{name}`: expected a contiguous 1-D float64 array")))
+    a.as_slice().map_err(|_| {
+        user_msg(format!(
+            "channel `{name}`: expected a contiguous 1-D float64 array"
+        ))
+    })
 }
 
 /// The tuple the Python layer builds a `Trial` from (the layout of
@@ -103,16 +108,17 @@ pub fn trial_tuple<'py>(
 #[pyfunction]
 fn read_trial(py: Python<'_>, path: PathBuf) -> PyResult<TrialTuple<'_>> {
     guarded(|| {
-        let (meta, cols, hash) = py.detach(|| -> Result<_, limbfuse_io::FileError> {
-            let mut reader = TrialReader::open(&path)?;
-            let meta = reader.meta().clone();
-            let (mut cols, channels) = OwnedColumns::new(reader.layout(), 1024);
-            while let Some(r) = reader.next_record()? {
-                cols.push(&channels, &r);
-            }
-            Ok((meta, cols, reader.content_hash()))
-        })
-        .map_err(|e| user_error(&e))?;
+        let (meta, cols, hash) = py
+            .detach(|| -> Result<_, limbfuse_io::FileError> {
+                let mut reader = TrialReader::open(&path)?;
+                let meta = reader.meta().clone();
+                let (mut cols, channels) = OwnedColumns::new(reader.layout(), 1024);
+                while let Some(r) = reader.next_record()? {
+                    cols.push(&channels, &r);
+                }
+                Ok((meta, cols, reader.content_hash()))
+            })
+            .map_err(|e| user_error(&e))?;
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),

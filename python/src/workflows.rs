@@ -27,7 +27,11 @@ use crate::{chain_message, guarded, user_error, user_msg};
 /// cap on a simulated trial).
 const MAX_SAMPLES: f64 = 86_400_000.0;
 
-fn rate_and_duration(o: &mut Options<'_>, rate_key: &'static str, d: (f64, f64)) -> PyResult<(f64, f64)> {
+fn rate_and_duration(
+    o: &mut Options<'_>,
+    rate_key: &'static str,
+    d: (f64, f64),
+) -> PyResult<(f64, f64)> {
     let duration = o.f64("duration")?.unwrap_or(d.0);
     let rate = o.f64(rate_key)?.unwrap_or(d.1);
     if duration <= 0.0 {
@@ -60,7 +64,9 @@ fn mounting(o: &mut Options<'_>) -> PyResult<Option<Mounting>> {
     }
 }
 
-fn collect<R: IntoIterator<Item = Record>>(tr: SimulatedTrial<R>) -> (limbfuse_io::TrialMeta, OwnedColumns) {
+fn collect<R: IntoIterator<Item = Record>>(
+    tr: SimulatedTrial<R>,
+) -> (limbfuse_io::TrialMeta, OwnedColumns) {
     let (mut cols, channels) = OwnedColumns::new(&tr.layout, 1024);
     for r in tr.records {
         cols.push(&channels, &r);
@@ -83,7 +89,8 @@ fn simulate<'py>(
         let (meta, cols) = match kind {
             "walking" | "knee" => {
                 let d = WalkingConfig::default();
-                let (duration, rate) = rate_and_duration(&mut o, "imu_rate", (d.duration_s, d.imu_rate_hz))?;
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "imu_rate", (d.duration_s, d.imu_rate_hz))?;
                 let walking = WalkingConfig {
                     speed_mps: o.f64("speed")?.unwrap_or(d.speed_mps),
                     duration_s: duration,
@@ -118,7 +125,8 @@ fn simulate<'py>(
             }
             "knee-fes" => {
                 let d = KneeFesConfig::default();
-                let (duration, rate) = rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
                 let subject = match o.string("subject")? {
                     None => d.subject,
                     Some(s) => KneeSubject::parse(&s).ok_or_else(|| {
@@ -142,7 +150,8 @@ fn simulate<'py>(
             }
             "fixed-hip" => {
                 let d = FixedHipConfig::default();
-                let (duration, rate) = rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
                 let cfg = FixedHipConfig {
                     duration_s: duration,
                     rate_hz: rate,
@@ -154,11 +163,9 @@ fn simulate<'py>(
                 let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
                 tr.map_err(|e| sim_err(&e))?
             }
-            other => {
-                return Err(user_msg(format!(
-                    "simulate: unknown kind `{other}` (expected walking, knee, knee-fes or fixed-hip)"
-                )))
-            }
+            other => return Err(user_msg(format!(
+                "simulate: unknown kind `{other}` (expected walking, knee, knee-fes or fixed-hip)"
+            ))),
         };
         Ok(trial_tuple(py, &meta, cols, None))
     })
@@ -189,9 +196,15 @@ fn align<'py>(
                 let s = Segment::ALL.into_iter().find(|s| s.name() == seg).ok_or_else(|| {
                     user_msg(format!("align: option `mean_angle`: unknown segment `{seg}` (expected trunk, thigh, shank or foot)"))
                 })?;
-                let deg: f64 = v.extract().ok().filter(|x: &f64| x.is_finite()).ok_or_else(|| {
-                    user_msg(format!("align: option `mean_angle`: expected a number of degrees for `{seg}`"))
-                })?;
+                let deg: f64 = v
+                    .extract()
+                    .ok()
+                    .filter(|x: &f64| x.is_finite())
+                    .ok_or_else(|| {
+                        user_msg(format!(
+                            "align: option `mean_angle`: expected a number of degrees for `{seg}`"
+                        ))
+                    })?;
                 opts.mean_angle_rad[s.index()] = deg.to_radians();
             }
         }
@@ -210,8 +223,10 @@ fn align<'py>(
             .detach(|| {
                 let alignment = estimate_alignment(&records, &opts)?;
                 alignment.annotate(&mut meta);
-                let aligned: Vec<Record> =
-                    records.iter().map(|r| apply_alignment(r, &alignment)).collect();
+                let aligned: Vec<Record> = records
+                    .iter()
+                    .map(|r| apply_alignment(r, &alignment))
+                    .collect();
                 Ok::<_, limbfuse_signal::align::AlignError>((
                     meta,
                     OwnedColumns::of_records(&layout, &aligned),

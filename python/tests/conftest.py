@@ -55,3 +55,11 @@ def walking_file(tmp_path_factory, walking_trial):
     p = tmp_path_factory.mktemp("walking") / "walk.csv"
     walking_trial.write(p)
     return p
+
+
+@pytest.fixture(scope="session")
+def gait_library(tmp_path_factory):
+    """A one-gait B-SLIP library (0.7 m/s), built once by the package:
+    (file, the gait summaries `limbfuse.gait_library` returned)."""
+    p = tmp_path_factory.mktemp("gait") / "lib.json"
+    return p, limbfuse.gait_library(p, [0.7])

@@ -22,10 +22,9 @@ OPTIONS = {"knee-selfalign": {"window": 500, "order": 6}}
 
 
 @pytest.fixture(scope="module")
-def files(cli, tmp_path_factory):
+def files(cli, tmp_path_factory, gait_library):
     d = tmp_path_factory.mktemp("equivalence")
-    lib = d / "lib.json"
-    cli("gait-library", "build", "--speeds", "0.7:0.7:0.1", "-o", lib)
+    lib = gait_library[0]
     out = {}
     for kind, cmd in KINDS.items():
         p = d / f"{kind}.csv"

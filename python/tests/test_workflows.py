@@ -60,10 +60,19 @@ def test_align_recovers_the_segment_frames(tmp_path, cli):
         limbfuse.align(raw, mean_angle={"knee": 3})
 
 
-def test_gait_library_feeds_imm_bslip(tmp_path):
-    lib = tmp_path / "lib.json"
-    gaits = limbfuse.gait_library(lib, [0.7])
-    assert len(gaits) == 1 and abs(gaits[0]["speed"] - 0.7) < 1e-12 and lib.is_file()
+def test_gait_library_feeds_imm_bslip(gait_library):
+    import json
+
+    gait_library_file, (g,) = gait_library[0], gait_library[1]
+    assert abs(g["speed"] - 0.7) < 1e-12 and g["step_time"] > 0 and g["periodicity_residual"] < 1e-6
+    assert len(json.loads(gait_library_file.read_text())["gaits"]) == 1
+    # imm-bslip reads it (test_equivalence runs it against the CLI).
+    trial = limbfuse.Trial(np.arange(3) * 0.01, {"com_meas_x": np.zeros(3), "com_meas_y": np.ones(3), "com_meas_z": np.zeros(3)})
+    est = limbfuse.estimate(trial, "imm-bslip", library=str(gait_library_file))
+    assert "speed" in est.channels
+
+
+def test_gait_library_bad_input(tmp_path):
     with pytest.raises(LimbfuseError, match="speeds"):
         limbfuse.gait_library(tmp_path / "x.json", [-1.0])
     with pytest.raises(LimbfuseError, match="mass"):
