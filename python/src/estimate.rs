@@ -121,7 +121,7 @@ fn estimate<'py>(
         let label = trial.label();
         let mut est = limbfuse_methods::build(&spec, &meta, cols.layout())
             .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?;
-        let mut out = EstimateColumns::for_estimator(est.as_ref())
+        let mut out = EstimateColumns::for_estimator(est.as_ref(), cols.len())
             .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
         if let Some((name, hash)) = trial.source() {
             out.header.push(format!("{TRIAL_KEY}: {name}"));

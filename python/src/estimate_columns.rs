@@ -37,8 +37,9 @@ pub struct EstimateColumns {
 }
 
 impl EstimateColumns {
-    /// Empty columns for `est`'s outputs and diagnostics.
-    pub fn for_estimator(est: &dyn Estimator) -> Result<Self, std::fmt::Error> {
+    /// Empty columns for `est`'s outputs and diagnostics, with room for
+    /// `n` samples (a run grows no vector).
+    pub fn for_estimator(est: &dyn Estimator, n: usize) -> Result<Self, std::fmt::Error> {
         let outputs = est.outputs();
         let diag = est.diagnostic_names();
         let n_diag = diag.len().min(MAX_DIAG);
@@ -67,9 +68,9 @@ impl EstimateColumns {
         Ok(EstimateColumns {
             outputs,
             n_diag,
-            values: vec![Vec::new(); names.len()],
+            values: (0..names.len()).map(|_| Vec::with_capacity(n)).collect(),
             names,
-            phase: outputs.phase.then(Vec::new),
+            phase: outputs.phase.then(|| Vec::with_capacity(n)),
             header,
         })
     }

@@ -68,7 +68,7 @@ impl NativeFilter {
             let cols = TrialColumns::new(&t, empty, None).map_err(user_msg)?;
             let est = limbfuse_methods::build(&spec, &m, cols.layout())
                 .map_err(|e| user_msg(chain_message(&e)))?;
-            let template = EstimateColumns::for_estimator(est.as_ref())
+            let template = EstimateColumns::for_estimator(est.as_ref(), 0)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let index = channels
                 .iter()
@@ -193,7 +193,7 @@ impl NativeFilter {
                 named.push((n.clone(), slice(a, n)?));
             }
             let cols = TrialColumns::new(t, named, None).map_err(user_msg)?;
-            let mut out = EstimateColumns::for_estimator(self.estimator())
+            let mut out = EstimateColumns::for_estimator(self.estimator(), cols.len())
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let method = self.method.clone();
             let est = self.estimator();

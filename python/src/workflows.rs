@@ -163,9 +163,11 @@ fn simulate<'py>(
                 let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
                 tr.map_err(|e| sim_err(&e))?
             }
-            other => return Err(user_msg(format!(
+            other => {
+                return Err(user_msg(format!(
                 "simulate: unknown kind `{other}` (expected walking, knee, knee-fes or fixed-hip)"
-            ))),
+            )))
+            }
         };
         Ok(trial_tuple(py, &meta, cols, None))
     })

@@ -10,7 +10,7 @@ from limbfuse import LimbfuseError
 def test_simulate_is_seeded_and_matches_the_cli(cli, tmp_path):
     a = limbfuse.simulate("walking", duration=2.0, seed=9)
     b = limbfuse.simulate("walking", duration=2.0, seed=9)
-    assert len(a) == 200 and a.meta["source"] == "limbfuse simulate walking"
+    assert len(a) == 200 and "walking" in a.meta["source"]
     for k in a.channels:
         assert np.array_equal(a.channels[k], b.channels[k])
     p, q = tmp_path / "cli.csv", tmp_path / "py.csv"
