@@ -238,24 +238,8 @@ impl<'a> TrialColumns<'a> {
         let phase = match phase {
             None => None,
             Some(cells) => {
-                if cells.len() != t.len() {
-                    return Err(format!(
-                        "channel `{PHASE_REF}` has {} samples but `t` has {}",
-                        cells.len(),
-                        t.len()
-                    ));
-                }
                 layout.phase_ref = true;
-                let mut out = Vec::with_capacity(cells.len());
-                for (i, c) in cells.iter().enumerate() {
-                    out.push(match c.as_deref() {
-                        None | Some("") => None,
-                        Some(text) => Some(GaitPhase::from_label(text).ok_or_else(|| {
-                            format!("channel `{PHASE_REF}`, sample {i}: expected a gait phase `SS1`, `DS` or `SS2` (or an empty cell), found `{text}`")
-                        })?),
-                    });
-                }
-                Some(out)
+                Some(phase_cells(PHASE_REF, &cells, t.len())?)
             }
         };
         Ok(TrialColumns {
@@ -294,6 +278,31 @@ impl<'a> TrialColumns<'a> {
     pub fn records(&self) -> impl Iterator<Item = Record> + '_ {
         (0..self.len()).map(|i| self.record(i))
     }
+}
+
+/// Gait-phase cells (`SS1`, `DS`, `SS2`; `None` or `""` = missing) of the
+/// column `name`, which must have `n` of them.
+pub fn phase_cells(
+    name: &str,
+    cells: &[Option<String>],
+    n: usize,
+) -> Result<Vec<Option<GaitPhase>>, String> {
+    if cells.len() != n {
+        return Err(format!(
+            "channel `{name}` has {} samples but `t` has {n}",
+            cells.len()
+        ));
+    }
+    let mut out = Vec::with_capacity(n);
+    for (i, c) in cells.iter().enumerate() {
+        out.push(match c.as_deref() {
+            None | Some("") => None,
+            Some(text) => Some(GaitPhase::from_label(text).ok_or_else(|| {
+                format!("channel `{name}`, sample {i}: expected a gait phase `SS1`, `DS` or `SS2` (or an empty cell), found `{text}`")
+            })?),
+        });
+    }
+    Ok(out)
 }
 
 fn unknown_column(name: &str) -> String {

@@ -190,23 +190,7 @@ impl<'a> EstimateView<'a> {
             }
         }
         if let Some(cells) = phase {
-            if cells.len() != t.len() {
-                return Err(format!(
-                    "estimate column `{PHASE}` has {} samples but `t` has {}",
-                    cells.len(),
-                    t.len()
-                ));
-            }
-            let mut out = Vec::with_capacity(cells.len());
-            for (i, c) in cells.iter().enumerate() {
-                out.push(match c.as_deref() {
-                    None | Some("") => None,
-                    Some(text) => Some(GaitPhase::from_label(text).ok_or_else(|| {
-                        format!("estimate column `{PHASE}`, sample {i}: expected `SS1`, `DS` or `SS2`, found `{text}`")
-                    })?),
-                });
-            }
-            v.phase = Some(out);
+            v.phase = Some(crate::columns::phase_cells(PHASE, &cells, t.len())?);
         }
         Ok(v)
     }

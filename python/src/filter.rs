@@ -97,8 +97,11 @@ impl NativeFilter {
     }
 
     /// Forgets the state (the next sample starts a new run).
-    fn reset(&mut self) {
-        self.estimator().reset();
+    fn reset(&mut self) -> PyResult<()> {
+        guarded(|| {
+            self.estimator().reset();
+            Ok(())
+        })
     }
 
     /// One sample in (`t` and channel values, `None` or absent = missing),
