@@ -26,6 +26,7 @@ from ._estimate import (
 )
 from ._filter import Filter
 from ._workflows import align, gait_library, simulate
+from . import cohort  # Dask is imported only when cohort.run is called
 
 #: Every method name, in ``limbfuse methods`` order.
 METHODS = tuple(name for name, _ in methods())
@@ -39,6 +40,7 @@ __all__ = [
     "LimbfuseWarning",
     "Trial",
     "align",
+    "cohort",
     "default_params",
     "estimate",
     "evaluate",

@@ -26,6 +26,7 @@ def serial(paths, method):
 
 
 def test_threads_equal_the_serial_loop(cohort_dir):
+    assert limbfuse.cohort is cohort
     paths = sorted(str(p) for p in cohort_dir.glob("*.csv"))
     df = cohort.run(str(cohort_dir / "*.csv"), "mjls")
     assert len(df) == N_TRIALS * 7 and df["trial"].nunique() == N_TRIALS
