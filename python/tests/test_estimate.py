@@ -160,7 +160,7 @@ def test_filter_bad_input(walking_trial):
 def test_filter_run_releases_the_gil():
     import time
 
-    trial = limbfuse.simulate("walking", duration=300.0, seed=1)
+    trial = limbfuse.simulate("walking", duration=1200.0, seed=1)
     f = Filter.for_trial(trial, "mjls")
     _, t, names, arrays, _, _ = trial._native()
     start = time.perf_counter()
@@ -168,22 +168,27 @@ def test_filter_run_releases_the_gil():
     run_s = time.perf_counter() - start
     f.reset()
     errors = []
+    started = threading.Event()
 
     def work():
+        started.set()
         try:
             f._native.run(t, names, arrays)
         except Exception as e:  # pragma: no cover - reported below
             errors.append(e)
 
     worker = threading.Thread(target=work)
-    worker.start()
-    time.sleep(run_s / 10)  # the worker is now inside the native run
     t0 = time.perf_counter()
-    sum(range(1000))  # Python code: needs the GIL
-    waited = time.perf_counter() - t0
+    worker.start()
+    # Waking from the wait and the sleep needs the GIL: were the run holding
+    # it, this thread would go on only once the run is over.
+    started.wait()
+    pause = run_s / 20
+    time.sleep(pause)
+    sum(range(1000))
+    waited = time.perf_counter() - t0 - pause
     worker.join()
     assert not errors, errors
-    # Had the run held the GIL, this thread would have waited for its end.
     assert waited < run_s / 3, (waited, run_s)
 
 
