@@ -26,7 +26,16 @@ from ._estimate import (
 )
 from ._filter import Filter
 from ._workflows import align, gait_library, simulate
-from . import cohort  # Dask is imported only when cohort.run is called
+
+def __getattr__(name: str):
+    # `limbfuse.cohort` without importing it with the package, so that
+    # `python -m limbfuse.cohort` runs it as a fresh module.
+    if name == "cohort":
+        import importlib
+
+        return importlib.import_module(".cohort", __name__)
+    raise AttributeError(f"module 'limbfuse' has no attribute {name!r}")
+
 
 #: Every method name, in ``limbfuse methods`` order.
 METHODS = tuple(name for name, _ in methods())
