@@ -3,20 +3,26 @@
 
 use std::path::Path;
 
-/// Bottom to top.
-const LAYERS: [&str; 11] = [
-    "limbfuse-core",
-    "limbfuse-models",
-    "limbfuse-estimators",
-    "limbfuse-sim",
-    "limbfuse-io",
-    "limbfuse-signal",
-    "limbfuse-methods",
-    "limbfuse-eval",
-    "limbfuse-workflows",
-    "limbfuse-studies",
-    "limbfuse-cli",
+/// Bottom to top; crates in one layer (the two front ends, the `limbfuse`
+/// binary and the Python package of `python/`) may not depend on each other.
+const LAYERS: [&[&str]; 11] = [
+    &["limbfuse-core"],
+    &["limbfuse-models"],
+    &["limbfuse-estimators"],
+    &["limbfuse-sim"],
+    &["limbfuse-io"],
+    &["limbfuse-signal"],
+    &["limbfuse-methods"],
+    &["limbfuse-eval"],
+    &["limbfuse-workflows"],
+    &["limbfuse-studies"],
+    &["limbfuse-cli", "limbfuse-py"],
 ];
+
+/// The layer of a crate.
+fn layer(name: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| l.contains(&name))
+}
 
 /// The `limbfuse-*` names under `[dependencies]` of a manifest.
 fn normal_dependencies(manifest: &str) -> Vec<String> {
@@ -40,11 +46,11 @@ fn normal_dependencies(manifest: &str) -> Vec<String> {
 }
 
 fn violations(crate_name: &str, deps: &[String]) -> Vec<String> {
-    let Some(me) = LAYERS.iter().position(|l| *l == crate_name) else {
+    let Some(me) = layer(crate_name) else {
         return vec![format!("{crate_name} is not in LAYERS")];
     };
     deps.iter()
-        .filter(|d| LAYERS.iter().position(|l| l == d).is_none_or(|k| k >= me))
+        .filter(|d| layer(d).is_none_or(|k| k >= me))
         .map(|d| format!("{crate_name} depends on {d}, which is not below it"))
         .collect()
 }
@@ -63,9 +69,13 @@ fn every_crate_depends_only_on_crates_below_it() {
         bad.extend(violations(&name, &normal_dependencies(&text)));
         seen += 1;
     }
+    // The Python package: its own cargo workspace (python/Cargo.toml).
+    let py = std::fs::read_to_string(crates.join("../python/Cargo.toml")).unwrap();
+    bad.extend(violations("limbfuse-py", &normal_dependencies(&py)));
+    seen += 1;
     assert_eq!(
         seen,
-        LAYERS.len(),
+        LAYERS.iter().map(|l| l.len()).sum::<usize>(),
         "a crate was added or removed: update LAYERS"
     );
     assert!(bad.is_empty(), "{}", bad.join("\n"));
@@ -79,4 +89,8 @@ fn a_dependency_upwards_is_found() {
     assert_eq!(deps, ["limbfuse-eval"]);
     assert_eq!(violations("limbfuse-io", &deps).len(), 1);
     assert!(violations("limbfuse-workflows", &deps).is_empty());
+    // The two front ends sit side by side: neither may call the other.
+    let cli = ["limbfuse-cli".to_string()];
+    assert_eq!(violations("limbfuse-py", &cli).len(), 1);
+    assert!(violations("limbfuse-py", &deps).is_empty());
 }

@@ -1,0 +1,94 @@
+"""limbfuse.estimate(trial, "mjls") in memory vs filterpy stepping a
+KalmanFilter of the same size (8 states: angle + gyro bias of 4 segments;
+7 measurements: 4 accelerometer inclinations + 3 joint encoders) over the
+same 1-hour 100 Hz walking trial, side by side in one run.
+
+    pip install ./python[bench]
+    python python/benchmarks/filterpy_vs_limbfuse.py [--duration 3600]
+
+Wall time and the process's CPU time are both reported: on a shared, loaded
+machine the CPU time is the figure that does not depend on the load.
+Only the filtering is timed on the filterpy side (its inputs, measurements
+and matrices are prepared with numpy beforehand); the limbfuse figure is the
+whole `estimate` call (trial arrays in, Estimate arrays out).
+"""
+
+import argparse
+import os
+import platform
+import time
+
+import numpy as np
+
+import limbfuse
+
+SEGMENTS = ("trunk", "thigh", "shank", "foot")
+JOINTS = (("hip", "trunk", "thigh"), ("knee", "thigh", "shank"), ("ankle", "shank", "foot"))
+
+
+def filterpy_inputs(trial):
+    """Gyro inputs u (N x 4), measurements z (N x 7), dt."""
+    ch = trial.channels
+    u = np.column_stack([np.ma.filled(ch[f"{s}_gyr_z"], 0.0) for s in SEGMENTS])
+    incl = [np.arctan2(np.ma.filled(ch[f"{s}_acc_y"], 0.0), np.ma.filled(ch[f"{s}_acc_x"], 1.0)) for s in SEGMENTS]
+    enc = [np.ma.filled(ch[f"{j}_enc"], 0.0) for j, _, _ in JOINTS]
+    z = np.column_stack(incl + enc)
+    dt = float(np.median(np.diff(trial.t)))
+    return u, z, dt
+
+
+def filterpy_filter(dt):
+    from filterpy.kalman import KalmanFilter
+
+    kf = KalmanFilter(dim_x=8, dim_z=7, dim_u=4)
+    F = np.eye(8)
+    B = np.zeros((8, 4))
+    H = np.zeros((7, 8))
+    for k in range(4):
+        F[2 * k, 2 * k + 1] = -dt  # angle_k+1 = angle_k + dt (gyro - bias)
+        B[2 * k, k] = dt
+        H[k, 2 * k] = 1.0  # inclination measures the angle
+    for r, (_, a, b) in enumerate(JOINTS):
+        H[4 + r, 2 * SEGMENTS.index(a)] = 1.0  # encoder = proximal - distal
+        H[4 + r, 2 * SEGMENTS.index(b)] = -1.0
+    kf.F, kf.B, kf.H = F, B, H
+    kf.Q = np.diag([1e-5, 1e-8] * 4)
+    kf.R = np.diag([1e-2] * 4 + [1e-5] * 3)
+    kf.P *= 0.1
+    return kf
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--duration", type=float, default=3600.0, help="trial length (s), 100 Hz")
+    a = ap.parse_args()
+    trial = limbfuse.simulate("walking", duration=a.duration, seed=1)
+    n = len(trial)
+    limbfuse.estimate(limbfuse.simulate("walking", duration=5.0, seed=1), "mjls")  # warm-up
+
+    c0, t0 = time.process_time(), time.perf_counter()
+    est = limbfuse.estimate(trial, "mjls")
+    t_lf, c_lf = time.perf_counter() - t0, time.process_time() - c0
+    assert len(est) == n
+
+    u, z, dt = filterpy_inputs(trial)
+    kf = filterpy_filter(dt)
+    c0, t0 = time.process_time(), time.perf_counter()
+    for i in range(n):
+        kf.predict(u=u[i])
+        kf.update(z[i])
+    t_fp, c_fp = time.perf_counter() - t0, time.process_time() - c0
+
+    import filterpy
+
+    print(f"python {platform.python_version()}, numpy {np.__version__}, filterpy {filterpy.__version__}")
+    print(f"trial: {a.duration:.0f} s walking at 100 Hz = {n} samples")
+    print(f"load average before: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
+    print(f"{'':32}{'wall s':>9}{'CPU s':>9}{'samples per CPU-s':>19}")
+    print(f"{'limbfuse.estimate(trial, mjls)':32}{t_lf:>9.3f}{c_lf:>9.3f}{n / c_lf:>19.0f}")
+    print(f"{'filterpy KalmanFilter 8x7':32}{t_fp:>9.3f}{c_fp:>9.3f}{n / c_fp:>19.0f}")
+    print(f"speed-up: {t_fp / t_lf:.0f}x wall, {c_fp / c_lf:.0f}x CPU time")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,117 @@
+"""Checks and conversions of the numpy arrays that cross into the extension.
+
+A missing sample is a masked element (``numpy.ma``) in arrays and NaN in a
+pandas DataFrame (pandas' own missing marker). A bare NaN or inf in a numpy
+array is refused: limbfuse never takes NaN for a value.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._native import LimbfuseError
+
+PHASE_LABELS = ("SS1", "DS", "SS2")
+
+
+def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
+    """A 1-D float64 array of `values` (masked where missing), checked.
+
+    Raises ``TypeError`` for a non-numeric dtype and ``LimbfuseError`` for a
+    wrong shape or length, or an unmasked NaN/inf.
+    """
+    if np.ma.isMaskedArray(values):
+        data = np.ma.getdata(values)
+        mask = np.ma.getmaskarray(values)
+    else:
+        data = np.asarray(values)
+        mask = None
+    if data.dtype.kind not in "fiu":
+        raise TypeError(
+            f"channel `{name}`: expected a numeric (float or int) array, found dtype {data.dtype}"
+        )
+    if data.ndim != 1:
+        raise LimbfuseError(
+            f"channel `{name}`: expected a 1-D array, found shape {data.shape}"
+        )
+    if n is not None and data.shape[0] != n:
+        raise LimbfuseError(
+            f"channel `{name}` has {data.shape[0]} samples but `t` has {n} "
+            "(every channel needs one value per time)"
+        )
+    data = np.ascontiguousarray(data, dtype=np.float64)
+    bad = ~np.isfinite(data)
+    if mask is not None:
+        bad &= ~mask
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise LimbfuseError(
+            f"channel `{name}`, sample {i}: {data[i]} is not a value; mark missing samples "
+            "with a masked array (numpy.ma) or with NaN in a pandas DataFrame"
+        )
+    if mask is not None and mask.any():
+        return np.ma.MaskedArray(data, mask=mask)
+    return data
+
+
+def as_time(t: Any) -> np.ndarray:
+    """The time array: 1-D, numeric, finite (order is checked in Rust)."""
+    if np.ma.isMaskedArray(t) and np.ma.getmaskarray(t).any():
+        raise LimbfuseError("`t`: time cannot be missing (masked)")
+    arr = as_column("t", np.ma.getdata(t) if np.ma.isMaskedArray(t) else t, None)
+    return np.asarray(arr)
+
+
+def filled(a: np.ndarray) -> np.ndarray:
+    """The float64 array the extension reads: NaN where masked (no copy for
+    an unmasked contiguous float64 array)."""
+    if np.ma.isMaskedArray(a):
+        return np.ascontiguousarray(np.ma.filled(a.astype(np.float64), np.nan))
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def from_native(a: np.ndarray) -> np.ndarray:
+    """An array from the extension (NaN = missing) as the public form:
+    masked where missing, the plain array otherwise."""
+    missing = np.isnan(a)
+    if missing.any():
+        return np.ma.MaskedArray(a, mask=missing)
+    return a
+
+
+def phase_cells(name: str, values: Any, n: int) -> list:
+    """Gait-phase cells: ``SS1``, ``DS``, ``SS2``, or missing (None, "", NaN)."""
+    cells = list(np.asarray(values, dtype=object))
+    if len(cells) != n:
+        raise LimbfuseError(f"channel `{name}` has {len(cells)} samples but `t` has {n}")
+    out = []
+    for i, c in enumerate(cells):
+        if c is None or (isinstance(c, float) and np.isnan(c)) or c == "" or c is np.ma.masked:
+            out.append(None)
+        elif isinstance(c, str):
+            out.append(c)
+        else:
+            raise LimbfuseError(
+                f"channel `{name}`, sample {i}: expected a gait phase `SS1`, `DS` or `SS2`, found {c!r}"
+            )
+    return out
+
+
+def phase_array(cells: Optional[Sequence[Optional[str]]]) -> Optional[np.ndarray]:
+    """Phase cells as an object array (None = missing)."""
+    if cells is None:
+        return None
+    return np.array(list(cells), dtype=object)
+
+
+def split_header(lines: Sequence[str]) -> Tuple[dict, dict]:
+    """Header lines ``key: value`` -> (all entries, parameters only)."""
+    entries = {}
+    for line in lines:
+        k, sep, v = line.partition(":")
+        if sep:
+            entries[k.strip()] = v.strip()
+    params = {k: v for k, v in entries.items() if k not in ("method", "trial", "trial_hash")}
+    return entries, params

@@ -1,0 +1,216 @@
+"""`Estimate`, `estimate` and `evaluate`."""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._arrays import as_column, as_time, filled, from_native, phase_array, phase_cells, split_header
+from ._trial import PathLike, Trial
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+PHASE = "phase"
+
+
+class LimbfuseWarning(UserWarning):
+    """A warning the CLI prints on stderr (e.g. an estimator restarted)."""
+
+
+class Estimate:
+    """The output of one method over one trial (SPEC section 3).
+
+    Attributes:
+        t: time (s), the trial's.
+        channels: read-only mapping of column name (``trunk`` ... ``ankle``
+            in rad, ``speed``, ``com_x`` ... ``com_vz``, ``diag_NAME``) to a
+            float64 array, masked where the method gave no value.
+        phase: estimated gait phase (object array of ``"SS1"``, ``"DS"``,
+            ``"SS2"`` or None) or None.
+        header: the estimate file's ``key: value`` header lines.
+        method: the method name; ``params``: its parameters as written in
+            the header.
+    """
+
+    __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns")
+
+    def __init__(
+        self,
+        t: Any,
+        channels: Mapping[str, Any],
+        method: str = "unknown",
+        phase: Any = None,
+        header: Optional[Sequence[str]] = None,
+    ) -> None:
+        t = as_time(t)
+        cols = {name: as_column(name, v, t.shape[0]) for name, v in channels.items() if name != PHASE}
+        if PHASE in channels and phase is None:
+            phase = channels[PHASE]
+        self._set(
+            t,
+            cols,
+            None if phase is None else phase_array(phase_cells(PHASE, phase, t.shape[0])),
+            list(header) if header is not None else [f"method: {method}"],
+            None,
+        )
+        self._check()
+
+    def _set(self, t, cols, phase, header, order) -> None:
+        self.t = t
+        self.channels = MappingProxyType(cols)
+        self.phase = phase
+        self.header = list(header)
+        entries, params = split_header(self.header)
+        self.method = entries.get("method", "unknown")
+        self.params = params
+        names = list(cols)
+        if order is None:
+            order = ["t"] + names[:]
+            if phase is not None:
+                order.append(PHASE)
+        self.columns = list(order)
+
+    def _check(self) -> None:
+        # The extension checks names and lengths when it reads the columns.
+        _native.check_estimate(self._native())
+
+    def _native(self) -> tuple:
+        names = list(self.channels)
+        return (
+            self.header,
+            self.t,
+            names,
+            [filled(self.channels[n]) for n in names],
+            None if self.phase is None else list(self.phase),
+        )
+
+    @classmethod
+    def _from_native(cls, tup: tuple) -> "Estimate":
+        header, order, t, names, arrays, phase, resets = tup
+        e = cls.__new__(cls)
+        e._set(t, {n: from_native(a) for n, a in zip(names, arrays)}, phase_array(phase), header, order)
+        if resets:
+            warnings.warn(resets, LimbfuseWarning, stacklevel=3)
+        return e
+
+    def to_pandas(self) -> "pd.DataFrame":
+        """The estimate as a DataFrame in the file's column order (NaN or
+        None = not estimated); ``attrs["header"]`` holds the header lines."""
+        import pandas as pd
+
+        data: Dict[str, Any] = {}
+        for name in self.columns:
+            if name == "t":
+                data[name] = self.t
+            elif name == PHASE:
+                data[name] = self.phase
+            else:
+                data[name] = filled(self.channels[name])
+        df = pd.DataFrame(data)
+        df.attrs["header"] = list(self.header)
+        return df
+
+    def write(self, path: PathLike) -> None:
+        """Writes the estimate file; for an estimate of a trial read from a
+        file, the same bytes as ``limbfuse estimate -o``."""
+        _native.write_estimate(os.fspath(path), self._native())
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
+
+    def __repr__(self) -> str:
+        return f"<Estimate {self.method}: {len(self)} samples, columns {', '.join(self.columns[1:8])}{'...' if len(self.columns) > 8 else ''}>"
+
+
+def estimate(
+    trial: Trial,
+    method: str,
+    params: Union[None, PathLike, Mapping[str, Any]] = None,
+    **options: Any,
+) -> Estimate:
+    """Runs `method` over `trial` in memory (the GIL is released).
+
+    Args:
+        trial: the trial.
+        method: a method name (``limbfuse.METHODS``).
+        params: None (defaults), a TOML parameter file
+            (``limbfuse params --method NAME``) or a dict of the same keys.
+        **options: the method's ``limbfuse estimate`` flags: ``window``,
+            ``order`` (knee-selfalign), ``library``, ``kappa``,
+            ``rescale_height``, ``imm_weights``, ``imm_touchdown`` (imm-bslip).
+
+    Raises:
+        LimbfuseError: unknown method, bad parameter, a channel the method
+            needs is missing, or the estimator failed (the message names it).
+    """
+    if not isinstance(trial, Trial):
+        raise TypeError(f"estimate: expected a limbfuse.Trial, found {type(trial).__name__}")
+    p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+    return Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
+
+
+def read_estimate(path: PathLike) -> Estimate:
+    """Reads an estimate file."""
+    return Estimate._from_native(_native.read_estimate(os.fspath(path)))
+
+
+def _window_text(window: Union[None, str, Tuple[Optional[float], Optional[float]]]) -> Optional[str]:
+    if window is None or isinstance(window, str):
+        return window
+    try:
+        start, end = window
+    except (TypeError, ValueError):
+        raise _native.LimbfuseError(
+            f"window: expected \"START:END\" or (start, end) in seconds, found {window!r}"
+        ) from None
+    fmt = lambda x: "" if x is None else repr(float(x))  # noqa: E731
+    return f"{fmt(start)}:{fmt(end)}"
+
+
+def evaluate(
+    trial: Trial,
+    estimate: Estimate,
+    window: Union[None, str, Tuple[Optional[float], Optional[float]]] = None,
+    offset_free: bool = False,
+    max_lag: int = 0,
+    allow_trial_mismatch: bool = False,
+) -> Dict[str, Any]:
+    """Errors of `estimate` against the trial's reference: the same object
+    (and numbers) as ``limbfuse evaluate --json`` (angles in degrees).
+
+    Args:
+        window: ``"10:40"`` or ``(10, 40)`` (s); either end may be open.
+        offset_free: remove each channel's mean error before the RMSE.
+        max_lag: synchronise each channel within +-max_lag samples.
+        allow_trial_mismatch: evaluate an estimate recording another trial.
+    """
+    if not isinstance(trial, Trial) or not isinstance(estimate, Estimate):
+        raise TypeError("evaluate: expected a limbfuse.Trial and a limbfuse.Estimate")
+    if isinstance(max_lag, bool) or not isinstance(max_lag, (int, np.integer)) or max_lag < 0:
+        raise _native.LimbfuseError(f"max_lag: expected a non-negative integer, found {max_lag!r}")
+    text = _native.evaluate(
+        trial._native(),
+        estimate._native(),
+        _window_text(window),
+        bool(offset_free),
+        int(max_lag),
+        bool(allow_trial_mismatch),
+    )
+    return json.loads(text)
+
+
+def methods() -> List[Tuple[str, str]]:
+    """Every method: (name, one-line summary), as ``limbfuse methods`` lists them."""
+    return list(_native.methods())
+
+
+def default_params(method: str) -> str:
+    """A method's default parameter file, commented (``limbfuse params``)."""
+    return _native.default_params(method)

@@ -1,0 +1,85 @@
+"""`Filter`: a method's estimator kept between calls, for real-time use."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
+
+from . import _native
+from ._estimate import Estimate
+from ._trial import PathLike, Trial
+
+
+class Filter:
+    """One estimator, stepped sample by sample or run over arrays.
+
+    ``Filter("mjls", channels=trial.channels, meta=trial.meta)`` builds the
+    method for a trial with those channels (``Filter.for_trial`` does the
+    same from a trial). A method that needs a channel not in ``channels``
+    raises ``LimbfuseError`` here, naming the channel.
+
+    ``step({"t": 0.01, "thigh_gyr_x": ..., ...})`` returns a dict of the
+    estimate's columns (``None`` = not estimated); a channel absent from the
+    sample or ``None`` is a missing sample. ``run({"t": t, ...})`` runs over
+    arrays with the GIL released and returns an ``Estimate``. Both continue
+    from the filter's state; ``reset()`` starts over.
+    """
+
+    def __init__(
+        self,
+        method: str,
+        params: Union[None, PathLike, Mapping[str, Any]] = None,
+        *,
+        channels: Sequence[str],
+        meta: Optional[Mapping[str, Any]] = None,
+        **options: Any,
+    ) -> None:
+        p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+        names = [str(c) for c in channels]
+        self._native = _native.NativeFilter(
+            method,
+            names,
+            [(str(k), str(v)) for k, v in (meta or {}).items()],
+            p,
+            options or None,
+        )
+
+    @classmethod
+    def for_trial(
+        cls,
+        trial: Trial,
+        method: str,
+        params: Union[None, PathLike, Mapping[str, Any]] = None,
+        **options: Any,
+    ) -> "Filter":
+        """A filter for trials with `trial`'s channels and metadata."""
+        return cls(method, params, channels=list(trial.channels), meta=trial.meta, **options)
+
+    @property
+    def channels(self) -> list:
+        """The channels the filter reads."""
+        return list(self._native.channels)
+
+    @property
+    def header(self) -> list:
+        """The method and its parameters (estimate file header lines)."""
+        return list(self._native.header)
+
+    def step(self, sample: Mapping[str, Optional[float]]) -> Dict[str, Any]:
+        """One sample in, one estimate out."""
+        if not isinstance(sample, dict):
+            sample = dict(sample)
+        return self._native.step(sample)
+
+    def run(self, arrays: Mapping[str, Any]) -> Estimate:
+        """Runs over arrays (``t`` and channels; masked = missing), the GIL
+        released; returns the estimates as an ``Estimate``."""
+        if "t" not in arrays:
+            raise _native.LimbfuseError("run: the arrays need `t` (time in seconds)")
+        data = Trial(arrays["t"], {k: v for k, v in arrays.items() if k != "t"})
+        _, t, names, filled, _, _ = data._native()
+        return Estimate._from_native(self._native.run(t, names, filled))
+
+    def reset(self) -> None:
+        """Forgets the state: the next sample starts a new run."""
+        self._native.reset()

@@ -1,0 +1,155 @@
+"""`Trial`: a trial (SPEC section 2) as numpy arrays, and its file I/O."""
+
+from __future__ import annotations
+
+import os
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Dict, Mapping, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._arrays import as_column, as_time, filled, from_native, phase_array, phase_cells
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+PHASE_REF = "phase_ref"
+
+
+class Trial:
+    """One recorded or simulated trial.
+
+    Attributes:
+        t: time (s), float64, strictly increasing.
+        channels: read-only mapping of SPEC column name (``thigh_gyr_x``,
+            ``knee_enc``, ``thigh_ref``, ...) to a float64 array; an array
+            with missing samples is a ``numpy.ma.MaskedArray``.
+        phase_ref: the gait-phase reference (``"SS1"``, ``"DS"``, ``"SS2"``
+            or None) as an object array, or None when the trial has none.
+        meta: the ``# key: value`` header (units and conventions of SPEC).
+        source: ``(file name, content hash)`` when read from a file (an
+            estimate made from it records both, as the CLI's does).
+
+    Build one from arrays, ``Trial(t, {"thigh_gyr_x": gx, ...}, meta)``, or
+    from a DataFrame, ``Trial.from_pandas(df)``. Arrays are checked: a
+    non-numeric dtype raises ``TypeError``; a wrong length, an unknown or
+    incomplete channel group, non-increasing time or an unmasked NaN raises
+    ``LimbfuseError``. Arrays already float64 and contiguous are not copied.
+    """
+
+    __slots__ = ("t", "channels", "phase_ref", "meta", "source")
+
+    def __init__(
+        self,
+        t: Any,
+        channels: Mapping[str, Any],
+        meta: Optional[Mapping[str, Any]] = None,
+        phase_ref: Any = None,
+        *,
+        source: Optional[Tuple[str, str]] = None,
+    ) -> None:
+        t = as_time(t)
+        cols: Dict[str, np.ndarray] = {}
+        for name, values in channels.items():
+            if not isinstance(name, str):
+                raise TypeError(f"channel names must be str, found {name!r}")
+            if name == PHASE_REF:
+                if phase_ref is not None:
+                    raise _native.LimbfuseError("`phase_ref` is given twice")
+                phase_ref = values
+                continue
+            cols[name] = as_column(name, values, t.shape[0])
+        self.t = t
+        self.channels = MappingProxyType(cols)
+        self.phase_ref = (
+            None if phase_ref is None else phase_array(phase_cells(PHASE_REF, phase_ref, t.shape[0]))
+        )
+        self.meta = {str(k): str(v) for k, v in (meta or {}).items()}
+        self.source = source
+        _native.check_trial(self._native())
+
+    def _native(self) -> tuple:
+        names = list(self.channels)
+        return (
+            list(self.meta.items()),
+            self.t,
+            names,
+            [filled(self.channels[n]) for n in names],
+            None if self.phase_ref is None else list(self.phase_ref),
+            self.source,
+        )
+
+    @classmethod
+    def _from_native(cls, tup: tuple) -> "Trial":
+        meta, t, names, arrays, phase, source = tup
+        trial = cls.__new__(cls)
+        trial.t = t
+        trial.channels = MappingProxyType({n: from_native(a) for n, a in zip(names, arrays)})
+        trial.phase_ref = phase_array(phase)
+        trial.meta = dict(meta)
+        trial.source = source
+        return trial
+
+    @classmethod
+    def from_pandas(cls, df: "pd.DataFrame", meta: Optional[Mapping[str, Any]] = None) -> "Trial":
+        """A trial from a DataFrame with a ``t`` column and SPEC channel
+        columns (NaN = missing sample); ``meta`` defaults to ``df.attrs["meta"]``."""
+        if "t" not in df.columns:
+            raise _native.LimbfuseError("the DataFrame has no `t` column (time in seconds)")
+        channels: Dict[str, Any] = {}
+        phase = None
+        for name in df.columns:
+            if name == "t":
+                continue
+            col = df[name]
+            if name == PHASE_REF:
+                phase = col.to_numpy(dtype=object)
+                continue
+            if col.dtype.kind not in "fiu":
+                raise TypeError(
+                    f"channel `{name}`: expected a numeric column, found dtype {col.dtype}"
+                )
+            values = col.to_numpy(dtype=np.float64, na_value=np.nan)
+            missing = np.isnan(values)
+            channels[str(name)] = np.ma.MaskedArray(values, mask=missing) if missing.any() else values
+        if meta is None:
+            meta = df.attrs.get("meta", {})
+        return cls(df["t"].to_numpy(), channels, meta, phase)
+
+    def to_pandas(self) -> "pd.DataFrame":
+        """The trial as a DataFrame (missing samples are NaN; ``attrs["meta"]``
+        holds the metadata)."""
+        import pandas as pd
+
+        data: Dict[str, Any] = {"t": self.t}
+        for name, a in self.channels.items():
+            data[name] = filled(a)
+        if self.phase_ref is not None:
+            data[PHASE_REF] = self.phase_ref
+        df = pd.DataFrame(data)
+        df.attrs["meta"] = dict(self.meta)
+        return df
+
+    def write(self, path: PathLike) -> None:
+        """Writes the trial file (the same bytes ``limbfuse`` writes)."""
+        _native.write_trial(os.fspath(path), self._native())
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
+
+    def __repr__(self) -> str:
+        src = f" from {self.source[0]}" if self.source else ""
+        return f"<Trial{src}: {len(self)} samples, {len(self.channels)} channels>"
+
+
+def read_trial(path: PathLike) -> Trial:
+    """Reads a trial file. Errors name the file, line and column."""
+    return Trial._from_native(_native.read_trial(os.fspath(path)))
+
+
+def write_trial(trial: Trial, path: PathLike) -> None:
+    """Writes `trial` to `path` (as ``Trial.write``)."""
+    trial.write(path)

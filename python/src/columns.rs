@@ -1,0 +1,401 @@
+//! Trial columns held as numpy arrays (SPEC section 2 names) <-> the
+//! [`Record`]s the estimators read.
+//!
+//! Inside the extension a missing cell is NaN: the Python layer refuses NaN
+//! in the arrays a user gives (missing samples are masked) and fills the
+//! masked cells with NaN before calling in. A 3-axis vector or a quaternion
+//! is present in a record only when all its components are, as in
+//! `limbfuse_io::TrialReader`.
+
+use limbfuse_core::sample::{ComMeasurement, GaitPhase, ModelInputs};
+use limbfuse_core::{Joint, Record, Segment};
+use limbfuse_io::layout::{AXES, QUAT};
+use limbfuse_io::TrialLayout;
+use nalgebra::Vector3;
+
+/// One numeric trial column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channel {
+    /// `S_acc_A`: segment index, axis index.
+    Acc(usize, usize),
+    /// `S_gyr_A`.
+    Gyr(usize, usize),
+    /// `S_quat_C` (w, x, y, z).
+    Quat(usize, usize),
+    /// `J_enc`.
+    Encoder(usize),
+    /// `u_ke`, `u_kf`, `u_he`, `u_hf`.
+    Stim(usize),
+    /// `tau_J_motor`.
+    Motor(usize),
+    /// `com_meas_x` .. `com_meas_vz`.
+    ComMeas(usize),
+    /// `S_ref`.
+    SegmentRef(usize),
+    /// `J_ref`.
+    JointRef(usize),
+    /// `com_x`, `com_y`, `com_z`.
+    ComPos(usize),
+    /// `com_vx`, `com_vy`, `com_vz`.
+    ComVel(usize),
+}
+
+/// The column of the gait-phase reference (text cells `SS1`, `DS`, `SS2`).
+pub const PHASE_REF: &str = "phase_ref";
+
+const COM_POS: [&str; 3] = ["com_x", "com_y", "com_z"];
+const COM_VEL: [&str; 3] = ["com_vx", "com_vy", "com_vz"];
+
+impl Channel {
+    /// Every numeric channel, in the writers' column order.
+    pub fn all() -> Vec<Channel> {
+        let mut c = Vec::with_capacity(80);
+        for s in 0..4 {
+            c.extend((0..3).map(|k| Channel::Acc(s, k)));
+            c.extend((0..3).map(|k| Channel::Gyr(s, k)));
+            c.extend((0..4).map(|k| Channel::Quat(s, k)));
+        }
+        c.extend((0..3).map(Channel::Encoder));
+        c.extend((0..4).map(Channel::Stim));
+        c.extend((0..3).map(Channel::Motor));
+        c.extend((0..6).map(Channel::ComMeas));
+        c.extend((0..4).map(Channel::SegmentRef));
+        c.extend((0..3).map(Channel::JointRef));
+        c.extend((0..3).map(Channel::ComPos));
+        c.extend((0..3).map(Channel::ComVel));
+        c
+    }
+
+    /// The column name.
+    pub fn name(self) -> String {
+        let seg = |s: usize| Segment::ALL[s].name();
+        let joint = |j: usize| Joint::ALL[j].name();
+        match self {
+            Channel::Acc(s, k) => format!("{}_acc_{}", seg(s), AXES[k]),
+            Channel::Gyr(s, k) => format!("{}_gyr_{}", seg(s), AXES[k]),
+            Channel::Quat(s, k) => format!("{}_quat_{}", seg(s), QUAT[k]),
+            Channel::Encoder(j) => format!("{}_enc", joint(j)),
+            Channel::Stim(k) => ModelInputs::STIM_NAMES[k].to_string(),
+            Channel::Motor(j) => format!("tau_{}_motor", joint(j)),
+            Channel::ComMeas(k) => ComMeasurement::NAMES[k].to_string(),
+            Channel::SegmentRef(s) => format!("{}_ref", seg(s)),
+            Channel::JointRef(j) => format!("{}_ref", joint(j)),
+            Channel::ComPos(k) => COM_POS[k].to_string(),
+            Channel::ComVel(k) => COM_VEL[k].to_string(),
+        }
+    }
+
+    /// The channel named `name`, if it is a trial column.
+    pub fn parse(name: &str) -> Option<Channel> {
+        Channel::all().into_iter().find(|c| c.name() == name)
+    }
+
+    /// The value in `r` (`None` when missing).
+    pub fn get(self, r: &Record) -> Option<f64> {
+        let (s, re) = (&r.sample, &r.reference);
+        match self {
+            Channel::Acc(i, k) => s.imu[i].acc.map(|v| v[k]),
+            Channel::Gyr(i, k) => s.imu[i].gyr.map(|v| v[k]),
+            Channel::Quat(i, k) => s.imu[i].quat.map(|q| q[k]),
+            Channel::Encoder(j) => s.encoder[j],
+            Channel::Stim(k) => s.inputs.stim[k],
+            Channel::Motor(j) => s.inputs.motor_torque[j],
+            Channel::ComMeas(k) => s.com.values()[k],
+            Channel::SegmentRef(i) => re.segment[i],
+            Channel::JointRef(j) => re.joint[j],
+            Channel::ComPos(k) => re.com_pos.map(|v| v[k]),
+            Channel::ComVel(k) => re.com_vel.map(|v| v[k]),
+        }
+    }
+
+    /// Writes `v` (NaN = missing) into `r`; vectors are completed by
+    /// [`normalise`].
+    fn set(self, r: &mut Record, v: f64) {
+        let (s, re) = (&mut r.sample, &mut r.reference);
+        let vec3 = |o: &mut Option<Vector3<f64>>, k: usize| {
+            o.get_or_insert_with(Vector3::zeros)[k] = v;
+        };
+        match self {
+            Channel::Acc(i, k) => vec3(&mut s.imu[i].acc, k),
+            Channel::Gyr(i, k) => vec3(&mut s.imu[i].gyr, k),
+            Channel::Quat(i, k) => s.imu[i].quat.get_or_insert([0.0; 4])[k] = v,
+            Channel::Encoder(j) => s.encoder[j] = Some(v),
+            Channel::Stim(k) => s.inputs.stim[k] = Some(v),
+            Channel::Motor(j) => s.inputs.motor_torque[j] = Some(v),
+            Channel::ComMeas(k) => s.com.set(k, Some(v)),
+            Channel::SegmentRef(i) => re.segment[i] = Some(v),
+            Channel::JointRef(j) => re.joint[j] = Some(v),
+            Channel::ComPos(k) => vec3(&mut re.com_pos, k),
+            Channel::ComVel(k) => vec3(&mut re.com_vel, k),
+        }
+    }
+
+    /// Marks the channel present in `layout`.
+    fn mark(self, l: &mut TrialLayout) {
+        match self {
+            Channel::Acc(i, _) => l.acc[i] = true,
+            Channel::Gyr(i, _) => l.gyr[i] = true,
+            Channel::Quat(i, _) => l.quat[i] = true,
+            Channel::Encoder(j) => l.encoder[j] = true,
+            Channel::Stim(k) => l.stim[k] = true,
+            Channel::Motor(j) => l.motor_torque[j] = true,
+            Channel::ComMeas(k) => l.com_meas[k] = true,
+            Channel::SegmentRef(i) => l.segment_ref[i] = true,
+            Channel::JointRef(j) => l.joint_ref[j] = true,
+            Channel::ComPos(_) => l.com_pos = true,
+            Channel::ComVel(_) => l.com_vel = true,
+        }
+    }
+}
+
+/// Turns every value holding a NaN (a missing cell) into `None`; a vector
+/// with one missing component is missing.
+fn normalise(r: &mut Record) {
+    fn scalar(o: &mut Option<f64>) {
+        if o.is_some_and(f64::is_nan) {
+            *o = None;
+        }
+    }
+    fn vector(o: &mut Option<Vector3<f64>>) {
+        if o.is_some_and(|v| v.iter().any(|x| x.is_nan())) {
+            *o = None;
+        }
+    }
+    let (s, re) = (&mut r.sample, &mut r.reference);
+    for imu in &mut s.imu {
+        vector(&mut imu.acc);
+        vector(&mut imu.gyr);
+        if imu.quat.is_some_and(|q| q.iter().any(|x| x.is_nan())) {
+            imu.quat = None;
+        }
+    }
+    s.encoder.iter_mut().for_each(scalar);
+    s.inputs.stim.iter_mut().for_each(scalar);
+    s.inputs.motor_torque.iter_mut().for_each(scalar);
+    s.com.pos.iter_mut().for_each(scalar);
+    s.com.vel.iter_mut().for_each(scalar);
+    re.segment.iter_mut().for_each(scalar);
+    re.joint.iter_mut().for_each(scalar);
+    vector(&mut re.com_pos);
+    vector(&mut re.com_vel);
+}
+
+/// A trial held as columns borrowed from numpy arrays.
+#[derive(Debug)]
+pub struct TrialColumns<'a> {
+    /// Time (s), strictly increasing.
+    pub t: &'a [f64],
+    columns: Vec<(Channel, &'a [f64])>,
+    phase: Option<Vec<Option<GaitPhase>>>,
+    layout: TrialLayout,
+}
+
+impl<'a> TrialColumns<'a> {
+    /// Checks the column names and lengths and the time column. `phase`
+    /// holds the `phase_ref` cells (`None` or `""` = missing).
+    pub fn new(
+        t: &'a [f64],
+        named: Vec<(String, &'a [f64])>,
+        phase: Option<Vec<Option<String>>>,
+    ) -> Result<Self, String> {
+        check_time(t)?;
+        let mut layout = TrialLayout::default();
+        let mut columns: Vec<(Channel, &[f64])> = Vec::with_capacity(named.len());
+        for (name, values) in named {
+            let c = Channel::parse(&name).ok_or_else(|| unknown_column(&name))?;
+            if columns.iter().any(|(k, _)| *k == c) {
+                return Err(format!("channel `{name}` is given twice"));
+            }
+            if values.len() != t.len() {
+                return Err(format!(
+                    "channel `{name}` has {} samples but `t` has {} (every channel needs one value per time)",
+                    values.len(),
+                    t.len()
+                ));
+            }
+            c.mark(&mut layout);
+            columns.push((c, values));
+        }
+        // A vector group needs all its components, as in a trial file.
+        let names: Vec<Channel> = columns.iter().map(|(c, _)| *c).collect();
+        for c in Channel::all() {
+            let group_has = |f: &dyn Fn(Channel) -> bool| names.iter().any(|k| f(*k));
+            let missing_of_group = match c {
+                Channel::Acc(i, _) => group_has(&|k| matches!(k, Channel::Acc(j, _) if j == i)),
+                Channel::Gyr(i, _) => group_has(&|k| matches!(k, Channel::Gyr(j, _) if j == i)),
+                Channel::Quat(i, _) => group_has(&|k| matches!(k, Channel::Quat(j, _) if j == i)),
+                Channel::ComPos(_) => group_has(&|k| matches!(k, Channel::ComPos(_))),
+                Channel::ComVel(_) => group_has(&|k| matches!(k, Channel::ComVel(_))),
+                _ => false,
+            };
+            if missing_of_group && !names.contains(&c) {
+                return Err(format!(
+                    "incomplete channel group: channel `{}` is missing (a 3-axis vector or quaternion needs all its components)",
+                    c.name()
+                ));
+            }
+        }
+        let phase = match phase {
+            None => None,
+            Some(cells) => {
+                layout.phase_ref = true;
+                Some(phase_cells(PHASE_REF, &cells, t.len())?)
+            }
+        };
+        Ok(TrialColumns {
+            t,
+            columns,
+            phase,
+            layout,
+        })
+    }
+
+    /// The channels present.
+    pub fn layout(&self) -> &TrialLayout {
+        &self.layout
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// The record of sample `i`.
+    pub fn record(&self, i: usize) -> Record {
+        let mut r = Record::default();
+        r.sample.t = self.t[i];
+        for (c, v) in &self.columns {
+            c.set(&mut r, v[i]);
+        }
+        normalise(&mut r);
+        if let Some(p) = &self.phase {
+            r.reference.phase = p[i];
+        }
+        r
+    }
+
+    /// Every record, in order.
+    pub fn records(&self) -> impl Iterator<Item = Record> + '_ {
+        (0..self.len()).map(|i| self.record(i))
+    }
+}
+
+/// Gait-phase cells (`SS1`, `DS`, `SS2`; `None` or `""` = missing) of the
+/// column `name`, which must have `n` of them.
+pub fn phase_cells(
+    name: &str,
+    cells: &[Option<String>],
+    n: usize,
+) -> Result<Vec<Option<GaitPhase>>, String> {
+    if cells.len() != n {
+        return Err(format!(
+            "channel `{name}` has {} samples but `t` has {n}",
+            cells.len()
+        ));
+    }
+    let mut out = Vec::with_capacity(n);
+    for (i, c) in cells.iter().enumerate() {
+        out.push(match c.as_deref() {
+            None | Some("") => None,
+            Some(text) => Some(GaitPhase::from_label(text).ok_or_else(|| {
+                format!("channel `{name}`, sample {i}: expected a gait phase `SS1`, `DS` or `SS2` (or an empty cell), found `{text}`")
+            })?),
+        });
+    }
+    Ok(out)
+}
+
+fn unknown_column(name: &str) -> String {
+    if name == "t" {
+        return "`t` is the time array, not a channel".into();
+    }
+    format!(
+        "unknown channel `{name}`: trial channels are named as in SPEC section 2 (e.g. `thigh_gyr_x`, `knee_enc`, `thigh_ref`, `u_ke`, `com_meas_x`)"
+    )
+}
+
+/// `t` must be non-empty, finite and strictly increasing.
+pub fn check_time(t: &[f64]) -> Result<(), String> {
+    if t.is_empty() {
+        return Err("no samples: `t` is empty".into());
+    }
+    for (i, w) in t.iter().enumerate() {
+        if !w.is_finite() {
+            return Err(format!(
+                "`t`, sample {i}: time must be a finite number, found {w}"
+            ));
+        }
+        if i > 0 && *w <= t[i - 1] {
+            return Err(format!(
+                "`t`, sample {i}: time must increase strictly, but {w} follows {}",
+                t[i - 1]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A trial as owned columns (NaN = missing), in the writers' column order.
+#[derive(Debug, Default)]
+pub struct OwnedColumns {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Channel names and values.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// `phase_ref` cells, when the trial has them.
+    pub phase: Option<Vec<Option<&'static str>>>,
+}
+
+impl OwnedColumns {
+    /// Empty columns for `layout`, with room for `n` samples.
+    pub fn new(layout: &TrialLayout, n: usize) -> (Self, Vec<Channel>) {
+        let channels: Vec<Channel> = layout
+            .column_names()
+            .iter()
+            .filter_map(|n| Channel::parse(n))
+            .collect();
+        let cols = OwnedColumns {
+            t: Vec::with_capacity(n),
+            columns: channels
+                .iter()
+                .map(|c| (c.name(), Vec::with_capacity(n)))
+                .collect(),
+            phase: layout.phase_ref.then(|| Vec::with_capacity(n)),
+        };
+        (cols, channels)
+    }
+
+    /// Appends one record.
+    pub fn push(&mut self, channels: &[Channel], r: &Record) {
+        self.t.push(r.sample.t);
+        for (c, (_, v)) in channels.iter().zip(self.columns.iter_mut()) {
+            v.push(c.get(r).unwrap_or(f64::NAN));
+        }
+        if let Some(p) = &mut self.phase {
+            p.push(r.reference.phase.map(GaitPhase::label));
+        }
+    }
+
+    /// The columns of `records` with `layout`.
+    pub fn of_records<'r>(
+        layout: &TrialLayout,
+        records: impl IntoIterator<Item = &'r Record>,
+    ) -> Self {
+        let (mut cols, channels) = Self::new(layout, 0);
+        for r in records {
+            cols.push(&channels, r);
+        }
+        cols
+    }
+}
+
+/// Writes `v` (NaN = missing) into channel `c` of `r`; call
+/// [`normalise_record`] once every channel is set.
+pub fn set_value(r: &mut Record, c: Channel, v: f64) {
+    c.set(r, v);
+}
+
+/// Turns the NaN placeholders of [`set_value`] into missing values.
+pub fn normalise_record(r: &mut Record) {
+    normalise(r);
+}

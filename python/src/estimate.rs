@@ -1,0 +1,277 @@
+//! `estimate` (a method over an in-memory trial, the GIL released),
+//! `read_estimate` and `write_estimate` (SPEC section 3 files).
+
+use std::convert::Infallible;
+use std::io::Write;
+use std::path::PathBuf;
+
+use limbfuse_core::runner::{self, Observer};
+use limbfuse_core::sample::AngleChannel;
+use limbfuse_eval::ResetWatch;
+use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
+use limbfuse_io::estimate_file::COM_COLUMNS;
+use limbfuse_io::table::TableReader;
+use limbfuse_io::{AtomicFile, EstimateReader};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
+use crate::trial::{slice, TrialArgs};
+use crate::{chain_message, guarded, user_error, user_msg};
+
+/// What the Python `Estimate._native()` returns: header lines, `t`, numeric
+/// column names and arrays, `phase` cells.
+#[derive(FromPyObject)]
+pub struct EstimateArgs<'py>(
+    pub Vec<String>,
+    pub PyReadonlyArray1<'py, f64>,
+    pub Vec<String>,
+    pub Vec<PyReadonlyArray1<'py, f64>>,
+    pub Option<Vec<Option<String>>>,
+);
+
+impl<'py> EstimateArgs<'py> {
+    /// The columns, checked.
+    pub fn view(&self) -> PyResult<EstimateView<'_>> {
+        if self.2.len() != self.3.len() {
+            return Err(user_msg(
+                "estimate: as many column names as arrays are needed",
+            ));
+        }
+        let t = slice(&self.1, "t")?;
+        let mut named = Vec::with_capacity(self.2.len());
+        for (n, a) in self.2.iter().zip(&self.3) {
+            named.push((n.clone(), slice(a, n)?));
+        }
+        EstimateView::new(t, named, self.4.clone()).map_err(user_msg)
+    }
+
+    /// The header entry `key`, if present.
+    pub fn header(&self, key: &str) -> Option<&str> {
+        self.0.iter().find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            (k.trim() == key).then(|| v.trim())
+        })
+    }
+}
+
+/// The tuple the Python layer builds an `Estimate` from: header lines,
+/// file column order, `t`, numeric names and arrays, `phase` cells, and a
+/// restart warning (issue 16) when the estimator restarted.
+pub type EstimateTuple<'py> = (
+    Vec<String>,
+    Vec<String>,
+    Bound<'py, PyArray1<f64>>,
+    Vec<String>,
+    Vec<Bound<'py, PyArray1<f64>>>,
+    Option<Vec<Option<&'static str>>>,
+    Option<String>,
+);
+
+fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
+    let mut order: Vec<String> = Vec::with_capacity(names.len() + 1);
+    for n in names {
+        let after_angles = !(n == "t" || AngleChannel::ALL.iter().any(|c| c.name() == n));
+        if has_phase && after_angles && !order.iter().any(|o| o == PHASE) {
+            order.push(PHASE.into());
+        }
+        order.push(n.clone());
+    }
+    if has_phase && !order.iter().any(|o| o == PHASE) {
+        order.push(PHASE.into());
+    }
+    order
+}
+
+pub(crate) fn estimate_tuple(
+    py: Python<'_>,
+    cols: EstimateColumns,
+    resets: Option<String>,
+) -> EstimateTuple<'_> {
+    let order = file_order(&cols.names, cols.phase.is_some());
+    let mut values = cols.values.into_iter();
+    let t = values.next().unwrap_or_default();
+    let arrays = values.map(|v| PyArray1::from_vec(py, v)).collect();
+    (
+        cols.header,
+        order,
+        PyArray1::from_vec(py, t),
+        cols.names[1..].to_vec(),
+        arrays,
+        cols.phase,
+        resets,
+    )
+}
+
+/// Runs `method` over the trial, in memory, with the GIL released.
+#[pyfunction]
+#[pyo3(signature = (trial, method, params=None, options=None))]
+fn estimate<'py>(
+    py: Python<'py>,
+    trial: TrialArgs<'py>,
+    method: &str,
+    params: Option<&Bound<'py, PyAny>>,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<EstimateTuple<'py>> {
+    guarded(|| {
+        let spec = crate::options::method_spec(method, params, options)?;
+        let meta = trial.meta();
+        let cols = trial.columns()?;
+        let label = trial.label();
+        let mut est = limbfuse_methods::build(&spec, &meta, cols.layout())
+            .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?;
+        let mut out = EstimateColumns::for_estimator(est.as_ref(), cols.len())
+            .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+        if let Some((name, hash)) = trial.source() {
+            out.header.push(format!("{TRIAL_KEY}: {name}"));
+            out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
+        }
+        let mut resets = ResetWatch::default();
+        let run = py.detach(|| {
+            let mut observers: [&mut dyn Observer; 2] = [&mut out, &mut resets];
+            runner::run(
+                est.as_mut(),
+                cols.records().map(Ok::<_, Infallible>),
+                &mut observers,
+            )
+        });
+        run.map_err(|e| {
+            user_msg(format!(
+                "estimating {label} with {}: {}",
+                spec.method(),
+                chain_message(&e)
+            ))
+        })?;
+        let warning = resets
+            .resets()
+            .map(|r| format!("{} on {label}: {r}", spec.method()));
+        Ok(estimate_tuple(py, out, warning))
+    })
+}
+
+/// Reads an estimate file.
+#[pyfunction]
+fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
+    guarded(|| {
+        let table = TableReader::open(&path).map_err(|e| user_error(&e))?;
+        let header_names = table.header().to_vec();
+        let header = comment_lines(&path)?;
+        drop(table);
+        let mut reader = EstimateReader::open(&path).map_err(|e| user_error(&e))?;
+        let known = |n: &str| {
+            n == "t"
+                || n == "speed"
+                || n.starts_with("diag_")
+                || AngleChannel::ALL.iter().any(|c| c.name() == n)
+                || COM_COLUMNS.contains(&n)
+        };
+        let names: Vec<String> = header_names.iter().filter(|n| known(n)).cloned().collect();
+        let has_phase = header_names.iter().any(|n| n == PHASE);
+        let mut values: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+        let mut phase = has_phase.then(Vec::new);
+        let diag_names: Vec<String> = reader.diagnostic_names().map(str::to_string).collect();
+        while let Some((_, e)) = reader.next_estimate().map_err(|e| user_error(&e))? {
+            for (n, col) in names.iter().zip(values.iter_mut()) {
+                let v = if n == "t" {
+                    Some(e.t)
+                } else if n == "speed" {
+                    e.speed
+                } else if let Some(d) = n.strip_prefix("diag_") {
+                    diag_names
+                        .iter()
+                        .position(|m| m == d)
+                        .and_then(|k| e.diag[k])
+                } else if let Some(k) = COM_COLUMNS.iter().position(|c| c == n) {
+                    if k < 3 {
+                        e.com_pos.map(|p| p[k])
+                    } else {
+                        e.com_vel.map(|p| p[k - 3])
+                    }
+                } else {
+                    AngleChannel::ALL
+                        .iter()
+                        .find(|c| c.name() == n)
+                        .and_then(|c| e.angle(*c))
+                };
+                col.push(v.unwrap_or(f64::NAN));
+            }
+            if let Some(p) = &mut phase {
+                p.push(e.phase.map(limbfuse_core::GaitPhase::label));
+            }
+        }
+        let mut order: Vec<String> = names.clone();
+        if has_phase {
+            order = file_order(&names, true);
+        }
+        let mut values = values.into_iter();
+        let t = values.next().unwrap_or_default();
+        Ok((
+            header,
+            order,
+            PyArray1::from_vec(py, t),
+            names[1..].to_vec(),
+            values.map(|v| PyArray1::from_vec(py, v)).collect(),
+            phase,
+            None,
+        ))
+    })
+}
+
+/// The leading `# ...` lines of a file, without `# ` (kept as written, so
+/// that writing the estimate back gives the same header).
+fn comment_lines(path: &std::path::Path) -> PyResult<Vec<String>> {
+    use std::io::BufRead;
+    let f = std::fs::File::open(path).map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
+    let mut out = Vec::new();
+    for line in std::io::BufReader::new(f).lines() {
+        let line = line.map_err(|e| user_msg(format!("{}: {e}", path.display())))?;
+        let Some(body) = line.strip_prefix('#') else {
+            break;
+        };
+        out.push(body.strip_prefix(' ').unwrap_or(body).to_string());
+    }
+    Ok(out)
+}
+
+/// Writes an estimate file (the estimate writer's format, byte for byte).
+#[pyfunction]
+fn write_estimate(py: Python<'_>, path: PathBuf, estimate: EstimateArgs<'_>) -> PyResult<()> {
+    guarded(|| {
+        let view = estimate.view()?;
+        let header = &estimate.0;
+        let err = |e: std::io::Error| user_msg(format!("{}: cannot write: {e}", path.display()));
+        py.detach(|| {
+            let mut file = AtomicFile::create(&path).map_err(err)?;
+            let mut head = String::new();
+            for l in header {
+                head.push_str(&format!("# {}\n", l.replace(['\n', '\r'], " ")));
+            }
+            head.push_str(&view.file_columns().join(","));
+            head.push('\n');
+            file.write_all(head.as_bytes()).map_err(err)?;
+            let mut line = Vec::with_capacity(512);
+            let mut buf = ryu::Buffer::new();
+            for i in 0..view.len() {
+                line.clear();
+                view.write_row(i, &mut line, &mut buf);
+                file.write_all(&line).map_err(err)?;
+            }
+            file.commit().map_err(err)
+        })
+    })
+}
+
+/// Checks an estimate's columns (names, lengths, time, phase cells).
+#[pyfunction]
+fn check_estimate(estimate: EstimateArgs<'_>) -> PyResult<()> {
+    guarded(|| estimate.view().map(|_| ()))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(check_estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(read_estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(write_estimate, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! `evaluate`: an estimate against its trial's reference, the CLI's
+//! `evaluate --json` object (SPEC section 4) computed by the same code
+//! (`limbfuse-eval`'s `AngleMetrics`; for gait trials, the gait evaluation
+//! over the two written to temporary files).
+
+use std::io::Write;
+
+use limbfuse_eval::gait_evaluation::evaluate_gait_files;
+use limbfuse_eval::{max_lag_bound, AngleMetrics, EvalOptions, TimeWindow};
+use limbfuse_io::content_hash::TRIAL_HASH_KEY;
+use limbfuse_io::TrialWriter;
+use pyo3::prelude::*;
+
+use crate::columns::TrialColumns;
+use crate::estimate::EstimateArgs;
+use crate::estimate_columns::EstimateView;
+use crate::trial::TrialArgs;
+use crate::{guarded, user_error, user_msg};
+
+/// Evaluates; returns the JSON text of `limbfuse evaluate --json`.
+#[pyfunction]
+#[pyo3(signature = (trial, estimate, window=None, offset_free=false, max_lag=0, allow_trial_mismatch=false))]
+fn evaluate(
+    py: Python<'_>,
+    trial: TrialArgs<'_>,
+    estimate: EstimateArgs<'_>,
+    window: Option<&str>,
+    offset_free: bool,
+    max_lag: usize,
+    allow_trial_mismatch: bool,
+) -> PyResult<String> {
+    guarded(|| {
+        let cols = trial.columns()?;
+        let view = estimate.view()?;
+        let label = trial.label();
+        check_same_trial(&trial, &estimate, allow_trial_mismatch)?;
+        let layout = *cols.layout();
+        if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
+            return gait(&trial, &cols, &estimate, &view);
+        }
+        if !layout.has_angle_reference() {
+            return Err(user_msg(format!(
+                "{label}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against"
+            )));
+        }
+        let window = match window {
+            Some(w) => TimeWindow::parse(w).map_err(|m| user_msg(format!("window: {m}")))?,
+            None => TimeWindow::default(),
+        };
+        let bound = max_lag_bound(cols.len() as u64);
+        if max_lag as u64 > bound {
+            return Err(user_msg(format!(
+                "max_lag {max_lag}: a maximum lag of {max_lag} samples is longer than half the trial {label} ({} samples): at most {bound}, so that every lag searched compares at least half the trial",
+                cols.len()
+            )));
+        }
+        if view.len() != cols.len() {
+            return Err(user_msg(format!(
+                "the estimate has {} samples but the trial {label} has {} (an estimate must have its trial's time base)",
+                view.len(),
+                cols.len()
+            )));
+        }
+        let method = estimate.header("method").unwrap_or("unknown").to_string();
+        let options = EvalOptions {
+            window,
+            offset_free,
+            max_lag,
+            allow_trial_mismatch,
+        };
+        py.detach(|| {
+            let mut metrics = AngleMetrics::new(method, options);
+            metrics.set_diagnostic_names(view.diag.iter().map(|(n, _)| n.as_str()));
+            for i in 0..cols.len() {
+                let r = cols.record(i);
+                let e = view.estimate(i);
+                let tol = 1e-9 * r.sample.t.abs().max(1.0);
+                if (r.sample.t - e.t).abs() > tol {
+                    return Err(user_msg(format!(
+                        "estimate time {} s does not match the trial's sample {i} time {} s (an estimate must have its trial's time base)",
+                        e.t, r.sample.t
+                    )));
+                }
+                metrics.push(&r, &e);
+            }
+            Ok(metrics.evaluation().to_json().to_string())
+        })
+    })
+}
+
+/// Refuses an estimate whose header records another trial than this one
+/// (both hashes known), unless allowed, as `limbfuse evaluate` does.
+fn check_same_trial(
+    trial: &TrialArgs<'_>,
+    estimate: &EstimateArgs<'_>,
+    allow: bool,
+) -> PyResult<()> {
+    let (Some((name, hash)), Some(recorded)) = (trial.source(), estimate.header(TRIAL_HASH_KEY))
+    else {
+        return Ok(());
+    };
+    if allow || recorded == hash {
+        return Ok(());
+    }
+    let made_from = estimate.header("trial").unwrap_or("another trial");
+    Err(user_msg(format!(
+        "the estimate was made from `{made_from}` ({recorded}) but the trial is `{name}` ({hash}): refusing to evaluate an estimate made from another trial (allow_trial_mismatch=True evaluates it anyway)"
+    )))
+}
+
+/// The gait evaluation (paper 003) over temporary files.
+fn gait(
+    trial: &TrialArgs<'_>,
+    cols: &TrialColumns<'_>,
+    estimate: &EstimateArgs<'_>,
+    view: &EstimateView<'_>,
+) -> PyResult<String> {
+    let io = |e: std::io::Error| user_msg(format!("temporary files: {e}"));
+    let dir = tempfile::tempdir().map_err(io)?;
+    let tp = dir
+        .path()
+        .join(trial.source().map_or("trial.csv", |s| s.0.as_str()));
+    let ep = dir.path().join("estimate.csv");
+    {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io)?);
+        let mut w = TrialWriter::new(&mut f, &trial.meta(), *cols.layout()).map_err(io)?;
+        for r in cols.records() {
+            w.write(&r).map_err(io)?;
+        }
+        w.finish().map_err(io)?;
+    }
+    {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&ep).map_err(io)?);
+        for l in &estimate.0 {
+            // The temporary trial is not the file the estimate recorded:
+            // the trial check was done above.
+            if l.starts_with("trial") {
+                continue;
+            }
+            writeln!(f, "# {l}").map_err(io)?;
+        }
+        writeln!(f, "{}", view.file_columns().join(",")).map_err(io)?;
+        let mut line = Vec::new();
+        let mut buf = ryu::Buffer::new();
+        for i in 0..view.len() {
+            line.clear();
+            view.write_row(i, &mut line, &mut buf);
+            f.write_all(&line).map_err(io)?;
+        }
+        f.flush().map_err(io)?;
+    }
+    let ev = evaluate_gait_files(&tp, &ep, true).map_err(|e| user_error(&e))?;
+    Ok(ev.to_json().to_string())
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,211 @@
+//! `Filter`: one estimator kept between calls, for real-time use: `step`
+//! takes one sample (a dict of channel values) and returns one estimate;
+//! `run` takes arrays and releases the GIL.
+
+use std::collections::HashMap;
+use std::convert::Infallible;
+use std::sync::Mutex;
+
+use limbfuse_core::runner::{self, Observer};
+use limbfuse_core::{Estimator, Record};
+use limbfuse_io::TrialMeta;
+use numpy::PyReadonlyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict};
+
+use crate::columns::{Channel, TrialColumns};
+use crate::estimate::EstimateTuple;
+use crate::estimate_columns::EstimateColumns;
+use crate::trial::slice;
+use crate::{chain_message, guarded, user_msg};
+
+/// A method's estimator for a set of channels, stepped from Python.
+#[pyclass(module = "limbfuse._native")]
+pub struct NativeFilter {
+    /// In a mutex only to make the class `Sync` (PyO3 needs it); the
+    /// methods take `&mut self` and use `get_mut`, which never locks.
+    est: Mutex<Box<dyn Estimator + Send>>,
+    method: String,
+    channels: Vec<String>,
+    index: HashMap<String, Channel>,
+    template: EstimateColumns,
+}
+
+fn step_error(method: &str, t: f64, e: &dyn std::error::Error) -> PyErr {
+    user_msg(format!("{method}: sample at t = {t} s: {e}"))
+}
+
+impl NativeFilter {
+    fn estimator(&mut self) -> &mut (dyn Estimator + Send) {
+        match self.est.get_mut() {
+            Ok(e) => e.as_mut(),
+            Err(poisoned) => poisoned.into_inner().as_mut(),
+        }
+    }
+}
+
+#[pymethods]
+impl NativeFilter {
+    #[new]
+    #[pyo3(signature = (method, channels, meta, params=None, options=None))]
+    fn new(
+        method: &str,
+        channels: Vec<String>,
+        meta: Vec<(String, String)>,
+        params: Option<&Bound<'_, PyAny>>,
+        options: Option<Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        guarded(|| {
+            let spec = crate::options::method_spec(method, params, options)?;
+            let mut m = TrialMeta::new();
+            for (k, v) in meta {
+                m.set(k, v);
+            }
+            // The layout of the declared channels (checked as a trial's).
+            let t = [0.0];
+            let empty: Vec<(String, &[f64])> =
+                channels.iter().map(|c| (c.clone(), &t[..])).collect();
+            let cols = TrialColumns::new(&t, empty, None).map_err(user_msg)?;
+            let est = limbfuse_methods::build(&spec, &m, cols.layout())
+                .map_err(|e| user_msg(chain_message(&e)))?;
+            let template = EstimateColumns::for_estimator(est.as_ref(), 0)
+                .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+            let index = channels
+                .iter()
+                .filter_map(|c| Channel::parse(c).map(|k| (c.clone(), k)))
+                .collect();
+            Ok(NativeFilter {
+                est: Mutex::new(est),
+                method: spec.method().to_string(),
+                channels,
+                index,
+                template,
+            })
+        })
+    }
+
+    /// The channels the filter was made for.
+    #[getter]
+    fn channels(&self) -> Vec<String> {
+        self.channels.clone()
+    }
+
+    /// The estimate file header lines (method and parameters).
+    #[getter]
+    fn header(&self) -> Vec<String> {
+        self.template.header.clone()
+    }
+
+    /// Forgets the state (the next sample starts a new run).
+    fn reset(&mut self) -> PyResult<()> {
+        guarded(|| {
+            self.estimator().reset();
+            Ok(())
+        })
+    }
+
+    /// One sample in (`t` and channel values, `None` or absent = missing),
+    /// one estimate out (a dict, `None` = not estimated).
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        sample: &Bound<'py, PyDict>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        guarded(|| {
+            let mut r = Record::default();
+            let mut t = None;
+            for (k, v) in sample.iter() {
+                let key: String = k
+                    .extract()
+                    .map_err(|_| user_msg("sample: every key must be a channel name (str)"))?;
+                let value: Option<f64> = if v.is_none() {
+                    None
+                } else if v.is_instance_of::<PyBool>() {
+                    return Err(user_msg(format!(
+                        "sample `{key}`: expected a number or None, found a bool"
+                    )));
+                } else {
+                    Some(v.extract().map_err(|_| {
+                        user_msg(format!("sample `{key}`: expected a number or None"))
+                    })?)
+                };
+                if let Some(x) = value {
+                    if !x.is_finite() {
+                        return Err(user_msg(format!(
+                            "sample `{key}`: {x} is not a value (pass None for a missing sample)"
+                        )));
+                    }
+                }
+                if key == "t" {
+                    t = value;
+                    continue;
+                }
+                let Some(c) = self.index.get(&key) else {
+                    return Err(user_msg(format!(
+                        "sample: `{key}` is not one of the filter's channels ({})",
+                        self.channels.join(", ")
+                    )));
+                };
+                crate::columns::set_value(&mut r, *c, value.unwrap_or(f64::NAN));
+            }
+            let t = t.ok_or_else(|| user_msg("sample: `t` (time in s) is required"))?;
+            r.sample.t = t;
+            crate::columns::normalise_record(&mut r);
+            let e = self
+                .estimator()
+                .step(&r.sample)
+                .map_err(|e| step_error(&self.method, t, &e))?;
+            let out = PyDict::new(py);
+            for (name, v) in self.template.row(&e) {
+                out.set_item(name, v)?;
+            }
+            if self.template.phase.is_some() {
+                out.set_item(
+                    crate::estimate_columns::PHASE,
+                    e.phase.map(limbfuse_core::GaitPhase::label),
+                )?;
+            }
+            Ok(out)
+        })
+    }
+
+    /// Runs the filter over arrays (`t` and the channels), continuing from
+    /// its state, with the GIL released.
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        names: Vec<String>,
+        arrays: Vec<PyReadonlyArray1<'py, f64>>,
+    ) -> PyResult<EstimateTuple<'py>> {
+        guarded(|| {
+            if names.len() != arrays.len() {
+                return Err(user_msg("run: as many channel names as arrays are needed"));
+            }
+            for n in &names {
+                if !self.channels.contains(n) {
+                    return Err(user_msg(format!(
+                        "run: `{n}` is not one of the filter's channels ({})",
+                        self.channels.join(", ")
+                    )));
+                }
+            }
+            let t = slice(&t, "t")?;
+            let mut named = Vec::with_capacity(names.len());
+            for (n, a) in names.iter().zip(&arrays) {
+                named.push((n.clone(), slice(a, n)?));
+            }
+            let cols = TrialColumns::new(t, named, None).map_err(user_msg)?;
+            let mut out = EstimateColumns::for_estimator(self.estimator(), cols.len())
+                .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+            let method = self.method.clone();
+            let est = self.estimator();
+            py.detach(|| {
+                let mut observers: [&mut dyn Observer; 1] = [&mut out];
+                runner::run(est, cols.records().map(Ok::<_, Infallible>), &mut observers)
+            })
+            .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
+            Ok(crate::estimate::estimate_tuple(py, out, None))
+        })
+    }
+}

@@ -1,0 +1,124 @@
+//! `limbfuse._native`: the Rust side of the `limbfuse` Python package.
+//!
+//! It calls the limbfuse crates as the CLI does (`limbfuse-methods` to
+//! resolve and build a method, `limbfuse-core`'s runner, `limbfuse-io` for
+//! files, `limbfuse-eval` for metrics, `limbfuse-workflows` and
+//! `limbfuse-signal` for simulation and alignment); the pure-Python layer
+//! (`python/limbfuse/`) wraps these functions in the `Trial`, `Estimate` and
+//! `Filter` classes of the public API. Trials cross the boundary as columns
+//! (numpy arrays, NaN = missing inside this crate: see [`columns`]).
+//!
+//! Every entry point runs inside [`guarded`]: a user error becomes a
+//! `limbfuse.LimbfuseError` (a `ValueError`) with the CLI's message, a panic
+//! a `limbfuse.InternalError`; no panic unwinds into Python.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+
+mod columns;
+mod estimate;
+mod estimate_columns;
+mod evaluate;
+mod filter;
+mod options;
+mod trial;
+mod workflows;
+
+create_exception!(
+    _native,
+    LimbfuseError,
+    PyValueError,
+    "A user error: a bad file, array, method name or parameter (the message names it)."
+);
+create_exception!(
+    _native,
+    InternalError,
+    PyRuntimeError,
+    "A limbfuse bug (a Rust panic caught at the boundary); please report it."
+);
+
+/// The message of an error and its sources, as the CLI prints it (a source
+/// already contained in the message is not repeated).
+pub(crate) fn chain_message(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut msg = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !msg.contains(&text) {
+            msg.push_str(": ");
+            msg.push_str(&text);
+        }
+        source = s.source();
+    }
+    msg
+}
+
+/// A user error from a typed error.
+pub(crate) fn user_error(e: &(dyn std::error::Error + 'static)) -> PyErr {
+    LimbfuseError::new_err(chain_message(e))
+}
+
+/// A user error from a message.
+pub(crate) fn user_msg(msg: impl Into<String>) -> PyErr {
+    LimbfuseError::new_err(msg.into())
+}
+
+/// Runs `f`, turning a panic into `InternalError`.
+pub(crate) fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(payload) => {
+            let text = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(InternalError::new_err(format!(
+                "internal error: {text} (this is a limbfuse bug; please report it)"
+            )))
+        }
+    }
+}
+
+/// Every method's name and one-line summary, in `limbfuse methods` order.
+#[pyfunction]
+fn methods() -> Vec<(&'static str, &'static str)> {
+    limbfuse_methods::MethodName::ALL
+        .iter()
+        .map(|m| (m.name(), m.info().summary))
+        .collect()
+}
+
+/// A method's default parameter file, commented (`limbfuse params`).
+#[pyfunction]
+fn default_params(method: &str) -> PyResult<String> {
+    guarded(|| {
+        let m = limbfuse_methods::MethodName::parse(method).map_err(|e| user_error(&e))?;
+        Ok(limbfuse_methods::default_params_file(m))
+    })
+}
+
+/// Raises `InternalError` from inside Rust (tests the panic boundary).
+#[pyfunction]
+fn _panic_for_test() -> PyResult<()> {
+    guarded(|| panic!("a test panic"))
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("LimbfuseError", py.get_type::<LimbfuseError>())?;
+    m.add("InternalError", py.get_type::<InternalError>())?;
+    m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(default_params, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    trial::register(m)?;
+    estimate::register(m)?;
+    evaluate::register(m)?;
+    workflows::register(m)?;
+    m.add_class::<filter::NativeFilter>()?;
+    Ok(())
+}

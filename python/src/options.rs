@@ -1,0 +1,235 @@
+//! Keyword options from Python (`**options`): typed reads that name the
+//! option in their errors, an error on any option not read, and method
+//! settings (`params` as a TOML file path or a dict; the method flags).
+
+use std::path::PathBuf;
+
+use limbfuse_methods::{MethodFlags, MethodName, MethodSpec};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+
+use crate::{user_error, user_msg};
+
+/// The options of one call, read one by one.
+pub struct Options<'py> {
+    what: &'static str,
+    dict: Option<Bound<'py, PyDict>>,
+    read: Vec<&'static str>,
+}
+
+impl<'py> Options<'py> {
+    /// Options of the function `what` (named in errors).
+    pub fn new(what: &'static str, dict: Option<Bound<'py, PyDict>>) -> Self {
+        Options {
+            what,
+            dict,
+            read: Vec::new(),
+        }
+    }
+
+    fn raw(&mut self, key: &'static str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.read.push(key);
+        match &self.dict {
+            Some(d) => Ok(d.get_item(key)?.filter(|v| !v.is_none())),
+            None => Ok(None),
+        }
+    }
+
+    /// A finite number.
+    pub fn f64(&mut self, key: &'static str) -> PyResult<Option<f64>> {
+        let Some(v) = self.raw(key)? else {
+            return Ok(None);
+        };
+        let x: f64 = if v.is_instance_of::<PyBool>() {
+            None
+        } else {
+            v.extract().ok()
+        }
+        .ok_or_else(|| user_msg(format!("{}: option `{key}`: expected a number", self.what)))?;
+        if !x.is_finite() {
+            return Err(user_msg(format!(
+                "{}: option `{key}`: expected a finite number, found {x}",
+                self.what
+            )));
+        }
+        Ok(Some(x))
+    }
+
+    /// A non-negative integer.
+    pub fn u64(&mut self, key: &'static str) -> PyResult<Option<u64>> {
+        let Some(v) = self.raw(key)? else {
+            return Ok(None);
+        };
+        if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
+            return Err(user_msg(format!(
+                "{}: option `{key}`: expected a non-negative integer",
+                self.what
+            )));
+        }
+        v.extract().map(Some).map_err(|_| {
+            user_msg(format!(
+                "{}: option `{key}`: expected a non-negative integer",
+                self.what
+            ))
+        })
+    }
+
+    /// A boolean.
+    pub fn bool(&mut self, key: &'static str) -> PyResult<Option<bool>> {
+        let Some(v) = self.raw(key)? else {
+            return Ok(None);
+        };
+        if !v.is_instance_of::<PyBool>() {
+            return Err(user_msg(format!(
+                "{}: option `{key}`: expected True or False",
+                self.what
+            )));
+        }
+        Ok(Some(v.extract()?))
+    }
+
+    /// A string (or a path, for `PathLike` objects).
+    pub fn string(&mut self, key: &'static str) -> PyResult<Option<String>> {
+        let Some(v) = self.raw(key)? else {
+            return Ok(None);
+        };
+        if let Ok(s) = v.extract::<String>() {
+            return Ok(Some(s));
+        }
+        if let Ok(p) = v.extract::<PathBuf>() {
+            return Ok(Some(p.to_string_lossy().into_owned()));
+        }
+        Err(user_msg(format!(
+            "{}: option `{key}`: expected a string",
+            self.what
+        )))
+    }
+
+    /// The raw object (for options with their own conversion).
+    pub fn any(&mut self, key: &'static str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.raw(key)
+    }
+
+    /// Fails on an option that was not read.
+    pub fn finish(self) -> PyResult<()> {
+        let Some(d) = &self.dict else {
+            return Ok(());
+        };
+        for k in d.keys() {
+            let k: String = k.extract()?;
+            if !self.read.iter().any(|r| *r == k) {
+                let mut known = self.read.clone();
+                known.sort_unstable();
+                return Err(user_msg(format!(
+                    "{}: unknown option `{k}` (accepted here: {})",
+                    self.what,
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Resolves a method: its name, `params` (None, a TOML file path or a
+/// dict of the same keys) and the method's options (`limbfuse estimate`'s
+/// flags: `window`, `order`, `library`, `kappa`, `rescale_height`,
+/// `imm_weights`, `imm_touchdown`).
+pub fn method_spec(
+    method: &str,
+    params: Option<&Bound<'_, PyAny>>,
+    options: Option<Bound<'_, PyDict>>,
+) -> PyResult<MethodSpec> {
+    let name = MethodName::parse(method).map_err(|e| user_error(&e))?;
+    let mut o = Options::new("method options", options);
+    let flags = MethodFlags {
+        window: o.u64("window")?.map(|v| v as usize),
+        order: o.u64("order")?.map(|v| v as usize),
+        library: o.string("library")?.map(PathBuf::from),
+        kappa: o.f64("kappa")?,
+        rescale_height: o.f64("rescale_height")?,
+        imm_weights: o.string("imm_weights")?,
+        imm_touchdown: o.string("imm_touchdown")?,
+    };
+    o.finish()?;
+    let params = params.filter(|p| !p.is_none());
+    let spec = match params {
+        None => MethodSpec::from_parts(name, None, &flags),
+        Some(p) if p.is_instance_of::<PyDict>() => {
+            let text = toml_text(p.downcast::<PyDict>()?)?;
+            let label = PathBuf::from("<params dict>");
+            MethodSpec::from_parts(name, Some((&text, &label)), &flags)
+        }
+        Some(p) => {
+            let path: PathBuf = p.extract().map_err(|_| {
+                user_msg("params: expected None, a parameter file path or a dict of parameters")
+            })?;
+            MethodSpec::resolve(name, Some(&path), &flags)
+        }
+    };
+    spec.map_err(|e| user_error(&e))
+}
+
+/// A dict of parameters as the text of a TOML parameter file.
+fn toml_text(d: &Bound<'_, PyDict>) -> PyResult<String> {
+    let table = toml_table(d, "params")?;
+    toml::to_string(&table).map_err(|e| user_msg(format!("params: {e}")))
+}
+
+fn toml_table(d: &Bound<'_, PyDict>, at: &str) -> PyResult<toml::Table> {
+    let mut t = toml::Table::new();
+    for (k, v) in d.iter() {
+        let key: String = k
+            .extract()
+            .map_err(|_| user_msg(format!("{at}: every key must be a string")))?;
+        let value = toml_value(&v, &format!("{at}[{key:?}]"))?;
+        t.insert(key, value);
+    }
+    Ok(t)
+}
+
+fn toml_value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+    if v.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(v.extract()?));
+    }
+    if v.is_instance_of::<PyInt>() {
+        let i: i64 = v
+            .extract()
+            .map_err(|_| user_msg(format!("{at}: integer out of range")))?;
+        return Ok(toml::Value::Integer(i));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        let x: f64 = v.extract()?;
+        if !x.is_finite() {
+            return Err(user_msg(format!(
+                "{at}: expected a finite number, found {x}"
+            )));
+        }
+        return Ok(toml::Value::Float(x));
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(v.extract()?));
+    }
+    if let Ok(d) = v.downcast::<PyDict>() {
+        return Ok(toml::Value::Table(toml_table(d, at)?));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let mut out = Vec::new();
+        for (i, x) in v.try_iter()?.enumerate() {
+            out.push(toml_value(&x?, &format!("{at}[{i}]"))?);
+        }
+        return Ok(toml::Value::Array(out));
+    }
+    // numpy scalars and other numbers
+    if let Ok(x) = v.extract::<f64>() {
+        return toml_value(&PyFloat::new(v.py(), x).into_any(), at);
+    }
+    Err(user_msg(format!(
+        "{at}: expected a number, string, bool, list or dict, found {}",
+        v.get_type().name()?
+    )))
+}

@@ -1,0 +1,306 @@
+//! `simulate`, `align` and `gait_library`: the CLI's workflows as functions
+//! (`limbfuse-workflows`, `limbfuse-signal`, `limbfuse-sim`).
+//! `calibrate` (issue 17: "when it exists") will join them here.
+
+use std::path::PathBuf;
+
+use limbfuse_core::{Record, Segment};
+use limbfuse_models::bslip::BslipParams;
+use limbfuse_models::KneeSubject;
+use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::fixed_hip::FixedHipConfig;
+use limbfuse_sim::knee_fes::KneeFesConfig;
+use limbfuse_sim::{KneeScenario, Mounting, WalkingConfig};
+use limbfuse_workflows::gait_library::gait_library_file;
+use limbfuse_workflows::simulated_trials::{self, SimulatedTrial};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::columns::OwnedColumns;
+use crate::options::Options;
+use crate::trial::{trial_tuple, TrialArgs, TrialTuple};
+use crate::{chain_message, guarded, user_error, user_msg};
+
+/// The most samples `simulate` makes in memory (24 h at 1 kHz, the CLI's
+/// cap on a simulated trial).
+const MAX_SAMPLES: f64 = 86_400_000.0;
+
+fn rate_and_duration(
+    o: &mut Options<'_>,
+    rate_key: &'static str,
+    d: (f64, f64),
+) -> PyResult<(f64, f64)> {
+    let duration = o.f64("duration")?.unwrap_or(d.0);
+    let rate = o.f64(rate_key)?.unwrap_or(d.1);
+    if duration <= 0.0 {
+        return Err(user_msg(format!(
+            "simulate: option `duration`: expected a positive number of seconds, found {duration}"
+        )));
+    }
+    if rate <= 0.0 {
+        return Err(user_msg(format!(
+            "simulate: option `{rate_key}`: expected a positive number of Hz, found {rate}"
+        )));
+    }
+    if duration * rate > MAX_SAMPLES {
+        return Err(user_msg(format!(
+            "simulate: {duration} s at {rate} Hz is {:.3e} samples, more than the cap of {MAX_SAMPLES:.3e}",
+            duration * rate
+        )));
+    }
+    Ok((duration, rate))
+}
+
+fn mounting(o: &mut Options<'_>) -> PyResult<Option<Mounting>> {
+    match o.string("mounting")?.as_deref() {
+        None => Ok(None),
+        Some("aligned") => Ok(Some(Mounting::Aligned)),
+        Some("random") => Ok(Some(Mounting::Random)),
+        Some(other) => Err(user_msg(format!(
+            "simulate: option `mounting`: expected \"aligned\" or \"random\", found \"{other}\""
+        ))),
+    }
+}
+
+fn collect<R: IntoIterator<Item = Record>>(
+    tr: SimulatedTrial<R>,
+) -> (limbfuse_io::TrialMeta, OwnedColumns) {
+    let (mut cols, channels) = OwnedColumns::new(&tr.layout, 1024);
+    for r in tr.records {
+        cols.push(&channels, &r);
+    }
+    (tr.meta, cols)
+}
+
+/// Simulates a trial: `kind` is `walking`, `knee`, `knee-fes` or
+/// `fixed-hip` (the `limbfuse simulate` subcommands), with their options.
+#[pyfunction]
+#[pyo3(signature = (kind, options=None))]
+fn simulate<'py>(
+    py: Python<'py>,
+    kind: &str,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<TrialTuple<'py>> {
+    guarded(|| {
+        let mut o = Options::new("simulate", options);
+        let sim_err = |e: &dyn std::error::Error| user_msg(format!("simulate {kind}: {e}"));
+        let (meta, cols) = match kind {
+            "walking" | "knee" => {
+                let d = WalkingConfig::default();
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "imu_rate", (d.duration_s, d.imu_rate_hz))?;
+                let walking = WalkingConfig {
+                    speed_mps: o.f64("speed")?.unwrap_or(d.speed_mps),
+                    duration_s: duration,
+                    imu_rate_hz: rate,
+                    seed: o.u64("seed")?.unwrap_or(d.seed),
+                    noise: o.bool("noise")?.unwrap_or(d.noise),
+                    out_of_plane: o.bool("out_of_plane")?.unwrap_or(d.out_of_plane),
+                    ..d
+                };
+                if kind == "walking" {
+                    let walking = WalkingConfig {
+                        mounting: mounting(&mut o)?.unwrap_or(d.mounting),
+                        variability: if o.bool("variability")?.unwrap_or(true) {
+                            d.variability
+                        } else {
+                            None
+                        },
+                        ..walking
+                    };
+                    o.finish()?;
+                    let tr = py.detach(|| simulated_trials::walking(walking).map(collect));
+                    tr.map_err(|e| user_error(&e))?
+                } else {
+                    o.finish()?;
+                    let sc = KneeScenario {
+                        walking,
+                        ..KneeScenario::default()
+                    };
+                    let tr = py.detach(|| simulated_trials::knee(sc).map(collect));
+                    tr.map_err(|e| user_error(&e))?
+                }
+            }
+            "knee-fes" => {
+                let d = KneeFesConfig::default();
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
+                let subject = match o.string("subject")? {
+                    None => d.subject,
+                    Some(s) => KneeSubject::parse(&s).ok_or_else(|| {
+                        user_msg(format!("simulate knee-fes: option `subject`: unknown leg `{s}`; use P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6"))
+                    })?,
+                };
+                let cfg = KneeFesConfig {
+                    subject,
+                    duration_s: duration,
+                    rate_hz: rate,
+                    seed: o.u64("seed")?.unwrap_or(d.seed),
+                    noise: o.bool("noise")?.unwrap_or(d.noise),
+                    mounting: mounting(&mut o)?.unwrap_or(d.mounting),
+                    ..d
+                };
+                o.finish()?;
+                let tr = py.detach(|| {
+                    simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
+                });
+                tr.map_err(|e| sim_err(&e))?
+            }
+            "fixed-hip" => {
+                let d = FixedHipConfig::default();
+                let (duration, rate) =
+                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
+                let cfg = FixedHipConfig {
+                    duration_s: duration,
+                    rate_hz: rate,
+                    seed: o.u64("seed")?.unwrap_or(d.seed),
+                    noise: o.bool("noise")?.unwrap_or(d.noise),
+                    ..d
+                };
+                o.finish()?;
+                let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
+                tr.map_err(|e| sim_err(&e))?
+            }
+            other => {
+                return Err(user_msg(format!(
+                "simulate: unknown kind `{other}` (expected walking, knee, knee-fes or fixed-hip)"
+            )))
+            }
+        };
+        Ok(trial_tuple(py, &meta, cols, None))
+    })
+}
+
+/// Sensor-to-segment alignment from walking data (`limbfuse align`):
+/// returns the aligned trial, its metadata annotated with the rotations.
+#[pyfunction]
+#[pyo3(signature = (trial, options=None))]
+fn align<'py>(
+    py: Python<'py>,
+    trial: TrialArgs<'py>,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<TrialTuple<'py>> {
+    guarded(|| {
+        let mut o = Options::new("align", options);
+        let mut opts = AlignOptions {
+            hinge: o.bool("hinge")?.unwrap_or(false),
+            partial: o.bool("partial")?.unwrap_or(false),
+            ..AlignOptions::default()
+        };
+        if let Some(m) = o.any("mean_angle")? {
+            let d = m.downcast::<PyDict>().map_err(|_| {
+                user_msg("align: option `mean_angle`: expected a dict {segment: degrees}, e.g. {\"thigh\": 7}")
+            })?;
+            for (k, v) in d.iter() {
+                let seg: String = k.extract()?;
+                let s = Segment::ALL.into_iter().find(|s| s.name() == seg).ok_or_else(|| {
+                    user_msg(format!("align: option `mean_angle`: unknown segment `{seg}` (expected trunk, thigh, shank or foot)"))
+                })?;
+                let deg: f64 = v
+                    .extract()
+                    .ok()
+                    .filter(|x: &f64| x.is_finite())
+                    .ok_or_else(|| {
+                        user_msg(format!(
+                            "align: option `mean_angle`: expected a number of degrees for `{seg}`"
+                        ))
+                    })?;
+                opts.mean_angle_rad[s.index()] = deg.to_radians();
+            }
+        }
+        o.finish()?;
+        let cols = trial.columns()?;
+        let layout = *cols.layout();
+        let label = trial.label();
+        if !layout.gyr.iter().any(|&g| g) {
+            return Err(user_msg(format!(
+                "{label}: the trial has no gyroscope channels (`<segment>_gyr_x` ...), which alignment needs"
+            )));
+        }
+        let mut meta = trial.meta();
+        let records: Vec<Record> = cols.records().collect();
+        let (meta, out) = py
+            .detach(|| {
+                let alignment = estimate_alignment(&records, &opts)?;
+                alignment.annotate(&mut meta);
+                let aligned: Vec<Record> = records
+                    .iter()
+                    .map(|r| apply_alignment(r, &alignment))
+                    .collect();
+                Ok::<_, limbfuse_signal::align::AlignError>((
+                    meta,
+                    OwnedColumns::of_records(&layout, &aligned),
+                ))
+            })
+            .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
+        Ok(trial_tuple(py, &meta, out, None))
+    })
+}
+
+/// Builds a B-SLIP gait library (`limbfuse gait-library build`) and writes
+/// it to `path`; returns one summary dict per gait.
+#[pyfunction]
+#[pyo3(signature = (path, speeds, mass=80.0, leg_length=1.0))]
+fn gait_library<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    speeds: Vec<f64>,
+    mass: f64,
+    leg_length: f64,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    guarded(|| {
+        if speeds.is_empty()
+            || speeds
+                .iter()
+                .any(|s| !(s.is_finite() && *s > 0.0 && *s <= 2.0))
+        {
+            return Err(user_msg(
+                "gait_library: speeds: expected one or more speeds in (0, 2] m/s",
+            ));
+        }
+        let max = limbfuse_estimators::imm_bslip::MAX_GAITS;
+        if speeds.len() > max {
+            return Err(user_msg(format!(
+                "gait_library: {} speeds; at most {max} gaits are supported",
+                speeds.len()
+            )));
+        }
+        if !(mass.is_finite() && mass > 0.0 && leg_length.is_finite() && leg_length > 0.0) {
+            return Err(user_msg(format!(
+                "gait_library: mass and leg_length must be positive (got {mass} kg, {leg_length} m)"
+            )));
+        }
+        let body = BslipParams {
+            mass,
+            rest_length: leg_length,
+            ..BslipParams::default()
+        };
+        let lib = py
+            .detach(|| build_library(&body, &speeds, &SearchSettings::default(), |_, _| {}))
+            .map_err(|e| user_msg(format!("gait library search: {}", chain_message(&e))))?;
+        let file = gait_library_file(&body, &lib);
+        file.write(&path).map_err(|e| user_error(&e))?;
+        file.gaits
+            .iter()
+            .map(|g| {
+                let d = PyDict::new(py);
+                d.set_item("speed", g.speed)?;
+                d.set_item("step_length", g.step_length)?;
+                d.set_item("step_width", g.step_width)?;
+                d.set_item("step_time", g.step_time)?;
+                d.set_item("stiffness", g.xi.stiffness)?;
+                d.set_item("periodicity_residual", g.periodicity_residual)?;
+                Ok(d)
+            })
+            .collect()
+    })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(align, m)?)?;
+    m.add_function(wrap_pyfunction!(gait_library, m)?)?;
+    Ok(())
+}

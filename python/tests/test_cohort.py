@@ -1,0 +1,64 @@
+"""limbfuse.cohort: Dask over a generated cohort equals the serial loop."""
+
+import pandas as pd
+import pytest
+
+import limbfuse
+from limbfuse import LimbfuseError, cohort
+
+N_TRIALS = 12
+
+
+@pytest.fixture(scope="module")
+def cohort_dir(tmp_path_factory):
+    d = tmp_path_factory.mktemp("cohort")
+    for k in range(N_TRIALS):
+        limbfuse.simulate("walking", duration=4.0, seed=100 + k, speed=0.8 + 0.05 * k).write(d / f"s{k:02}.csv")
+    return d
+
+
+def serial(paths, method):
+    rows = []
+    for p in paths:
+        tr = limbfuse.read_trial(p)
+        rows += cohort.rows_of(str(p), limbfuse.evaluate(tr, limbfuse.estimate(tr, method)))
+    return pd.DataFrame(rows, columns=list(cohort.COLUMNS))
+
+
+def test_threads_equal_the_serial_loop(cohort_dir):
+    assert limbfuse.cohort is cohort
+    paths = sorted(str(p) for p in cohort_dir.glob("*.csv"))
+    df = cohort.run(str(cohort_dir / "*.csv"), "mjls")
+    assert len(df) == N_TRIALS * 7 and df["trial"].nunique() == N_TRIALS
+    pd.testing.assert_frame_equal(df, serial(paths, "mjls"), check_exact=True)
+    # a directory and a list give the same
+    pd.testing.assert_frame_equal(cohort.run(cohort_dir, "mjls", scheduler="sync"), df, check_exact=True)
+
+
+def test_local_cluster_of_two_workers(cohort_dir):
+    distributed = pytest.importorskip("distributed")
+    paths = sorted(str(p) for p in cohort_dir.glob("*.csv"))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        df = cohort.run(paths, "local", client=client)
+    pd.testing.assert_frame_equal(df, serial(paths, "local"), check_exact=True)
+
+
+def test_cohort_errors(cohort_dir, tmp_path):
+    with pytest.raises(LimbfuseError, match="no trial file matches"):
+        cohort.run(str(tmp_path / "*.csv"), "mjls")
+    with pytest.raises(LimbfuseError, match="unknown method"):
+        cohort.run(str(cohort_dir / "*.csv"), "nope", scheduler="sync")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,knee_enc\n0,x\n")
+    with pytest.raises(LimbfuseError, match="bad.csv:2"):
+        cohort.run([bad], "mjls", scheduler="sync")
+
+
+def test_command_line(cohort_dir, tmp_path, capsys):
+    out = tmp_path / "m.csv"
+    assert cohort.main([str(cohort_dir / "*.csv"), "--method", "gyro-integration", "-o", str(out), "--quiet"]) == 0
+    df = pd.read_csv(out)
+    assert set(df.columns) == set(cohort.COLUMNS) and df["trial"].nunique() == N_TRIALS
+    assert cohort.main([str(cohort_dir / "*.csv"), "--method", "nope", "--quiet"]) == 1
+    assert "unknown method" in capsys.readouterr().err

@@ -1,0 +1,70 @@
+"""Python `estimate` equals the CLI's estimate file bit for bit, for every
+method of the registry (a method added to the registry is tested here
+without a change: it runs on the first trial kind the CLI accepts it on)."""
+
+import numpy as np
+import pytest
+
+import limbfuse
+
+# Trial kinds, as `limbfuse` commands writing FILE (short: the test's time).
+KINDS = {
+    "walking": ["simulate", "walking", "--duration", "8", "--seed", "11"],
+    "knee": ["simulate", "knee", "--duration", "20", "--seed", "3"],
+    "knee-fes": ["simulate", "knee-fes", "--subject", "P1-L", "--duration", "6", "--seed", "2"],
+    "fixed-hip": ["simulate", "fixed-hip", "--duration", "6", "--seed", "2"],
+    "bslip": ["simulate", "bslip", "--speed", "0.7", "--duration", "3", "--seed", "2"],
+}
+
+# Settings a method needs besides the trial (the CLI flag is the option
+# name with `-`), and the trial kind it is meant for.
+OPTIONS = {"knee-selfalign": {"window": 500, "order": 6}}
+
+
+@pytest.fixture(scope="module")
+def files(cli, tmp_path_factory, gait_library):
+    d = tmp_path_factory.mktemp("equivalence")
+    lib = gait_library[0]
+    out = {}
+    for kind, cmd in KINDS.items():
+        p = d / f"{kind}.csv"
+        extra = ["--library", lib] if kind == "bslip" else []
+        cli(*cmd, *extra, "-o", p)
+        out[kind] = p
+    return d, lib, out
+
+
+def bits(a):
+    return np.ascontiguousarray(np.ma.filled(a, np.nan), dtype=np.float64).view(np.uint64)
+
+
+@pytest.mark.parametrize("method", limbfuse.METHODS)
+def test_python_estimate_equals_the_cli_file(cli, files, method):
+    d, lib, trials = files
+    options = dict(OPTIONS.get(method, {}))
+    if method == "imm-bslip":
+        options["library"] = str(lib)
+    flags = []
+    for k, v in options.items():
+        flags += [f"--{k.replace('_', '-')}", str(v)]
+    tried = []
+    for kind, trial_file in trials.items():
+        out = d / f"{method}-{kind}.csv"
+        r = cli("estimate", "--method", method, *flags, trial_file, "-o", out, check=False)
+        if r.returncode != 0:
+            tried.append(f"{kind}: {r.stderr.strip()}")
+            continue
+        trial = limbfuse.read_trial(trial_file)
+        est = limbfuse.estimate(trial, method, **options)
+        ref = limbfuse.read_estimate(out)
+        assert est.columns == ref.columns and est.header == ref.header
+        assert np.array_equal(bits(est.t), bits(ref.t))
+        for name in ref.channels:
+            assert np.array_equal(bits(est.channels[name]), bits(ref.channels[name])), name
+        if ref.phase is not None:
+            assert list(est.phase) == list(ref.phase)
+        mine = d / f"{method}-{kind}-py.csv"
+        est.write(mine)
+        assert mine.read_bytes() == out.read_bytes()
+        return
+    pytest.fail(f"the CLI ran {method} on none of the trial kinds:\n" + "\n".join(tried))

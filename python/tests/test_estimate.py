@@ -1,0 +1,210 @@
+"""estimate, evaluate, Filter, read/write_estimate; bad input."""
+
+import json
+import threading
+
+import numpy as np
+import pytest
+
+import limbfuse
+from limbfuse import Estimate, Filter, LimbfuseError, Trial
+
+
+def bits(a):
+    """An array's exact bits (NaN included)."""
+    return np.ascontiguousarray(np.ma.filled(a, np.nan), dtype=np.float64).view(np.uint64)
+
+
+def test_methods_are_the_registry():
+    names = [n for n, _ in limbfuse.methods()]
+    assert names == list(limbfuse.METHODS)
+    assert {"mjls", "local", "global", "gyro-integration", "sdre", "imm-bslip"} <= set(names)
+    assert "method" in limbfuse.default_params("mjls")
+    with pytest.raises(LimbfuseError, match="nope"):
+        limbfuse.default_params("nope")
+
+
+def test_estimate_returns_arrays_and_a_dataframe(walking_trial):
+    e = limbfuse.estimate(walking_trial, "mjls")
+    assert isinstance(e, Estimate) and e.method == "mjls" and len(e) == len(walking_trial)
+    assert e.t is not walking_trial.t and np.array_equal(e.t, walking_trial.t)
+    assert {"trunk", "thigh", "shank", "foot", "hip", "knee", "ankle"} <= set(e.channels)
+    assert any(c.startswith("diag_") for c in e.channels)
+    df = e.to_pandas()
+    assert list(df.columns) == e.columns and len(df) == len(e)
+    rmse = limbfuse.evaluate(walking_trial, e)["rmse_deg"]["thigh"]
+    assert 0.0 < rmse < 10.0
+
+
+def test_estimate_bad_input(walking_trial):
+    with pytest.raises(LimbfuseError, match="unknown method `nope`"):
+        limbfuse.estimate(walking_trial, "nope")
+    no_thigh = Trial(
+        walking_trial.t,
+        {k: v for k, v in walking_trial.channels.items() if not k.startswith("thigh_")},
+        walking_trial.meta,
+    )
+    with pytest.raises(LimbfuseError, match="thigh"):
+        limbfuse.estimate(no_thigh, "mjls")
+    with pytest.raises(LimbfuseError, match="no_such_key"):
+        limbfuse.estimate(walking_trial, "mjls", {"no_such_key": 1.0})
+    with pytest.raises(LimbfuseError, match="--window and --order"):
+        limbfuse.estimate(walking_trial, "mjls", window=100)
+    with pytest.raises(LimbfuseError, match="unknown option `bogus`"):
+        limbfuse.estimate(walking_trial, "mjls", bogus=1)
+    with pytest.raises(TypeError, match="limbfuse.Trial"):
+        limbfuse.estimate({"t": [0.0]}, "mjls")
+    with pytest.raises(LimbfuseError, match="missing.toml"):
+        limbfuse.estimate(walking_trial, "mjls", "missing.toml")
+
+
+def test_params_dict_equals_params_file(walking_trial, tmp_path):
+    p = tmp_path / "m.toml"
+    p.write_text(limbfuse.default_params("mjls"))
+    a = limbfuse.estimate(walking_trial, "mjls", p)
+    b = limbfuse.estimate(walking_trial, "mjls", {"method": "mjls"})
+    for k in a.channels:
+        assert np.array_equal(bits(a.channels[k]), bits(b.channels[k])), k
+
+
+def test_evaluate_options_and_errors(walking_trial):
+    e = limbfuse.estimate(walking_trial, "local")
+    full = limbfuse.evaluate(walking_trial, e)
+    w = limbfuse.evaluate(walking_trial, e, window=(2.0, None))
+    assert w["n_samples"] < full["n_samples"] and w["window_s"] == [2.0, None]
+    assert limbfuse.evaluate(walking_trial, e, window="2:")["rmse_deg"] == w["rmse_deg"]
+    off = limbfuse.evaluate(walking_trial, e, offset_free=True)
+    assert off["offset_free"] is True
+    lag = limbfuse.evaluate(walking_trial, e, max_lag=3)
+    assert set(lag["sync_lag_samples"]) == set(lag["rmse_deg"])
+    with pytest.raises(LimbfuseError, match="longer than half the trial"):
+        limbfuse.evaluate(walking_trial, e, max_lag=10_000)
+    with pytest.raises(LimbfuseError, match="window"):
+        limbfuse.evaluate(walking_trial, e, window="40:10")
+    with pytest.raises(LimbfuseError, match="max_lag"):
+        limbfuse.evaluate(walking_trial, e, max_lag=-1)
+    short = Trial(walking_trial.t[:50], {k: v[:50] for k, v in walking_trial.channels.items()})
+    with pytest.raises(LimbfuseError, match="samples but the trial"):
+        limbfuse.evaluate(short, e)
+    no_ref = Trial(walking_trial.t, {k: v for k, v in walking_trial.channels.items() if not k.endswith("_ref")})
+    with pytest.raises(LimbfuseError, match="no reference angle"):
+        limbfuse.evaluate(no_ref, e)
+
+
+def test_evaluate_refuses_an_estimate_of_another_trial(tmp_path, walking_trial):
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    walking_trial.write(a)
+    limbfuse.simulate("walking", duration=10.0, seed=4).write(b)
+    ta, tb = limbfuse.read_trial(a), limbfuse.read_trial(b)
+    e = limbfuse.estimate(ta, "gyro-integration")
+    assert "trial: a.csv" in e.header
+    with pytest.raises(LimbfuseError, match="made from `a.csv`.*allow_trial_mismatch"):
+        limbfuse.evaluate(tb, e)
+    assert limbfuse.evaluate(tb, e, allow_trial_mismatch=True)["n_samples"] == len(tb)
+
+
+def test_estimate_file_round_trip(tmp_path, walking_trial):
+    e = limbfuse.estimate(walking_trial, "global")
+    p = tmp_path / "e.csv"
+    e.write(p)
+    back = limbfuse.read_estimate(p)
+    assert back.columns == e.columns and back.header == e.header
+    for k in e.channels:
+        assert np.array_equal(bits(back.channels[k]), bits(e.channels[k])), k
+    # An estimate made outside limbfuse, from arrays.
+    ext = Estimate(walking_trial.t, {"thigh": walking_trial.channels["thigh_ref"] + 0.01}, method="external")
+    ev = limbfuse.evaluate(walking_trial, ext)
+    assert ev["method"] == "external" and abs(ev["mean_err_deg"]["thigh"] - np.degrees(0.01)) < 1e-9
+    with pytest.raises(LimbfuseError, match="unknown estimate column `thighs`"):
+        Estimate(walking_trial.t, {"thighs": walking_trial.t})
+
+
+def test_filter_step_and_run_equal_estimate(walking_trial):
+    ref = limbfuse.estimate(walking_trial, "mjls")
+    f = Filter.for_trial(walking_trial, "mjls")
+    assert f.header == ref.header
+    names = list(walking_trial.channels)
+    out = []
+    for i in range(len(walking_trial)):
+        sample = {"t": float(walking_trial.t[i])}
+        sample.update({n: float(walking_trial.channels[n][i]) for n in names})
+        out.append(f.step(sample))
+    for k in ref.channels:
+        got = np.array([np.nan if o[k] is None else o[k] for o in out])
+        assert np.array_equal(bits(got), bits(ref.channels[k])), k
+    f.reset()
+    run = f.run({"t": walking_trial.t, **walking_trial.channels})
+    for k in ref.channels:
+        assert np.array_equal(bits(run.channels[k]), bits(ref.channels[k])), k
+
+
+def test_filter_bad_input(walking_trial):
+    with pytest.raises(LimbfuseError, match="unknown method"):
+        Filter("kalman", channels=["thigh_gyr_x"])
+    with pytest.raises(LimbfuseError, match="thigh"):
+        Filter("mjls", channels=["shank_gyr_x", "shank_gyr_y", "shank_gyr_z"])
+    f = Filter.for_trial(walking_trial, "gyro-integration")
+    with pytest.raises(LimbfuseError, match="`t` \\(time in s\\) is required"):
+        f.step({"thigh_gyr_x": 0.1})
+    with pytest.raises(LimbfuseError, match="not one of the filter's channels"):
+        f.step({"t": 0.0, "thigh_gyro_x": 0.1})
+    with pytest.raises(LimbfuseError, match="pass None for a missing sample"):
+        f.step({"t": 0.0, "thigh_gyr_x": float("nan")})
+    f.step({"t": 1.0, "thigh_gyr_x": None})
+    with pytest.raises(LimbfuseError, match="t = 0.5"):
+        f.step({"t": 0.5})
+    with pytest.raises(LimbfuseError, match="need `t`"):
+        f.run({"thigh_gyr_x": np.zeros(3)})
+
+
+def test_filter_run_releases_the_gil():
+    import time
+
+    trial = limbfuse.simulate("walking", duration=1200.0, seed=1)
+    f = Filter.for_trial(trial, "mjls")
+    _, t, names, arrays, _, _ = trial._native()
+    start = time.perf_counter()
+    f._native.run(t, names, arrays)
+    run_s = time.perf_counter() - start
+    f.reset()
+    errors = []
+    started = threading.Event()
+
+    def work():
+        started.set()
+        try:
+            f._native.run(t, names, arrays)
+        except Exception as e:  # pragma: no cover - reported below
+            errors.append(e)
+
+    worker = threading.Thread(target=work)
+    t0 = time.perf_counter()
+    worker.start()
+    # Waking from the wait and the sleep needs the GIL: were the run holding
+    # it, this thread would go on only once the run is over.
+    started.wait()
+    pause = run_s / 20
+    time.sleep(pause)
+    sum(range(1000))
+    waited = time.perf_counter() - t0 - pause
+    worker.join()
+    assert not errors, errors
+    assert waited < run_s / 3, (waited, run_s)
+
+
+def test_panics_become_internal_errors():
+    with pytest.raises(limbfuse.InternalError, match="internal error: a test panic"):
+        limbfuse._native._panic_for_test()
+    assert issubclass(LimbfuseError, ValueError)
+
+
+def test_evaluate_result_is_the_cli_json(cli, walking_file, tmp_path):
+    est = tmp_path / "e.csv"
+    cli("estimate", "--method", "mjls", walking_file, "-o", est)
+    trial = limbfuse.read_trial(walking_file)
+    for flags, kw in [((), {}), (("--offset-free", "--window", "1:8"), {"offset_free": True, "window": "1:8"}),
+                      (("--max-lag", "4"), {"max_lag": 4})]:
+        cli_json = json.loads(cli("evaluate", walking_file, est, "--json", *flags).stdout)
+        py = limbfuse.evaluate(trial, limbfuse.read_estimate(est), **kw)
+        assert py == cli_json
+        assert limbfuse.evaluate(trial, limbfuse.estimate(trial, "mjls"), **kw) == cli_json

@@ -1,0 +1,79 @@
+"""simulate, align, gait_library."""
+
+import numpy as np
+import pytest
+
+import limbfuse
+from limbfuse import LimbfuseError
+
+
+def test_simulate_is_seeded_and_matches_the_cli(cli, tmp_path):
+    a = limbfuse.simulate("walking", duration=2.0, seed=9)
+    b = limbfuse.simulate("walking", duration=2.0, seed=9)
+    assert len(a) == 200 and "walking" in a.meta["source"]
+    for k in a.channels:
+        assert np.array_equal(a.channels[k], b.channels[k])
+    p, q = tmp_path / "cli.csv", tmp_path / "py.csv"
+    cli("simulate", "walking", "--duration", "2", "--seed", "9", "-o", p)
+    a.write(q)
+    assert p.read_bytes() == q.read_bytes()
+
+
+@pytest.mark.parametrize("kind", ["walking", "knee", "knee-fes", "fixed-hip"])
+def test_every_kind_simulates(kind):
+    tr = limbfuse.simulate(kind, duration=2.0, seed=1)
+    assert len(tr) > 0 and tr.channels
+
+
+def test_simulate_bad_input():
+    with pytest.raises(LimbfuseError, match="unknown kind `running`"):
+        limbfuse.simulate("running")
+    with pytest.raises(LimbfuseError, match="`duration`: expected a positive number"):
+        limbfuse.simulate("walking", duration=-5)
+    with pytest.raises(LimbfuseError, match="unknown option `durations`"):
+        limbfuse.simulate("walking", durations=5)
+    with pytest.raises(LimbfuseError, match="`duration`: expected a finite number"):
+        limbfuse.simulate("walking", duration=float("nan"))
+    with pytest.raises(LimbfuseError, match="`seed`: expected a non-negative integer"):
+        limbfuse.simulate("walking", seed=1.5)
+    with pytest.raises(LimbfuseError, match="unknown leg `P9`"):
+        limbfuse.simulate("knee-fes", subject="P9")
+    with pytest.raises(LimbfuseError, match="cap"):
+        limbfuse.simulate("walking", duration=1e9)
+
+
+def test_align_recovers_the_segment_frames(tmp_path, cli):
+    raw = limbfuse.simulate("walking", duration=30.0, seed=2, mounting="random")
+    aligned = limbfuse.align(raw)
+    assert any(k.endswith("_align_quat") for k in aligned.meta)
+    assert set(aligned.channels) == set(raw.channels)
+    # Same as the CLI's `align`.
+    p, q = tmp_path / "raw.csv", tmp_path / "al.csv"
+    raw.write(p)
+    cli("align", p, "-o", q)
+    ref = limbfuse.read_trial(q)
+    for k in ref.channels:
+        assert np.array_equal(np.ma.filled(aligned.channels[k], 0.0), np.ma.filled(ref.channels[k], 0.0)), k
+    with pytest.raises(LimbfuseError, match="no gyroscope channels"):
+        limbfuse.align(limbfuse.Trial(raw.t, {"knee_enc": raw.channels["knee_enc"]}))
+    with pytest.raises(LimbfuseError, match="unknown segment `knee`"):
+        limbfuse.align(raw, mean_angle={"knee": 3})
+
+
+def test_gait_library_feeds_imm_bslip(gait_library):
+    import json
+
+    gait_library_file, (g,) = gait_library[0], gait_library[1]
+    assert abs(g["speed"] - 0.7) < 1e-12 and g["step_time"] > 0 and g["periodicity_residual"] < 1e-6
+    assert len(json.loads(gait_library_file.read_text())["gaits"]) == 1
+    # imm-bslip reads it (test_equivalence runs it against the CLI).
+    trial = limbfuse.Trial(np.arange(3) * 0.01, {"com_meas_x": np.zeros(3), "com_meas_y": np.ones(3), "com_meas_z": np.zeros(3)})
+    est = limbfuse.estimate(trial, "imm-bslip", library=str(gait_library_file))
+    assert "speed" in est.channels
+
+
+def test_gait_library_bad_input(tmp_path):
+    with pytest.raises(LimbfuseError, match="speeds"):
+        limbfuse.gait_library(tmp_path / "x.json", [-1.0])
+    with pytest.raises(LimbfuseError, match="mass"):
+        limbfuse.gait_library(tmp_path / "x.json", [0.7], mass=0)
