@@ -4,7 +4,7 @@
 use std::path::Path;
 
 /// Bottom to top.
-const LAYERS: [&str; 11] = [
+const LAYERS: [&str; 12] = [
     "limbfuse-core",
     "limbfuse-models",
     "limbfuse-estimators",
@@ -13,6 +13,7 @@ const LAYERS: [&str; 11] = [
     "limbfuse-signal",
     "limbfuse-methods",
     "limbfuse-eval",
+    "limbfuse-report",
     "limbfuse-workflows",
     "limbfuse-studies",
     "limbfuse-cli",

@@ -246,16 +246,24 @@ impl Evaluation {
 
     /// Mean RMSE (rad) of the evaluated segment angles (the papers' figure);
     /// of the joint angles when no segment angle was evaluated.
+    ///
+    /// A channel whose estimate equals its reference in every sample is
+    /// left out: it is a value the method was given, not an estimate (the
+    /// seat-fixed thigh of the knee-FES leg-extension machine, paper 004,
+    /// which `sdre`/`ekf` output as the model's constant): averaging its
+    /// 0 in would halve the knee-FES figure (issue 17 item 6).
     pub fn mean_rmse(&self) -> Option<f64> {
+        let estimated = |s: &ChannelError| s.max_abs_error() != Some(0.0);
         let seg: Vec<f64> = self
             .channels
             .iter()
-            .filter(|(c, _)| matches!(c, AngleChannel::Segment(_)))
+            .filter(|(c, s)| matches!(c, AngleChannel::Segment(_)) && estimated(s))
             .filter_map(|(c, _)| self.rmse(*c))
             .collect();
         let vals = if seg.is_empty() {
             self.channels
                 .iter()
+                .filter(|(_, s)| estimated(s))
                 .filter_map(|(c, _)| self.rmse(*c))
                 .collect()
         } else {
@@ -367,6 +375,35 @@ impl Evaluation {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mean_rmse_leaves_out_a_channel_equal_to_its_reference() {
+        // Knee-FES shape: thigh given (error 0 everywhere), shank estimated.
+        let mut m = AngleMetrics::new("sdre", EvalOptions::default());
+        for k in 0..4 {
+            let mut r = Record::default();
+            r.reference.segment[1] = Some(1.5);
+            r.reference.segment[2] = Some(0.1 * k as f64);
+            let mut e = Estimate::empty(0.0);
+            e.segment[1] = Some(1.5);
+            e.segment[2] = Some(0.1 * k as f64 + if k % 2 == 0 { 0.02 } else { -0.02 });
+            m.push(&r, &e);
+        }
+        let ev = m.evaluation();
+        assert_eq!(
+            ev.rmse(AngleChannel::Segment(limbfuse_core::Segment::Thigh)),
+            Some(0.0)
+        );
+        let mean = ev.mean_rmse().unwrap();
+        assert!((mean - 0.02).abs() < 1e-12, "{mean}");
+        // With a nonzero thigh error, both count.
+        let mut r = Record::default();
+        r.reference.segment[1] = Some(1.5);
+        let mut e = Estimate::empty(0.0);
+        e.segment[1] = Some(1.6);
+        m.push(&r, &e);
+        assert!(m.evaluation().mean_rmse().unwrap() > 0.03);
+    }
 
     #[test]
     fn reliability_percentages_count_samples_with_an_update() {
