@@ -59,7 +59,8 @@
       g.appendChild(el('text', { 'class': 'ticklabel', x: ax - 4, y: px + 4, 'text-anchor': 'end' }, fmt(v, sy)));
     }
     g.appendChild(el('text', { 'class': 'axislabel', x: ax + aw, y: ay + ah + 28, 'text-anchor': 'end' }, svg.dataset.xLabel));
-    g.appendChild(el('text', { 'class': 'axislabel', x: 4, y: ay + 10 }, svg.dataset.yLabel));
+    var yl = ay + ah / 2;
+    g.appendChild(el('text', { 'class': 'axislabel', x: 12, y: yl, 'text-anchor': 'middle', transform: 'rotate(-90 12 ' + yl + ')' }, svg.dataset.yLabel));
   }
 
   // Time window shared by the time plots, in seconds.
