@@ -248,27 +248,25 @@ impl Evaluation {
     /// of the joint angles when no segment angle was evaluated.
     ///
     /// A channel whose estimate equals its reference in every sample is
-    /// left out: it is a value the method was given, not an estimate (the
-    /// seat-fixed thigh of the knee-FES leg-extension machine, paper 004,
-    /// which `sdre`/`ekf` output as the model's constant): averaging its
-    /// 0 in would halve the knee-FES figure (issue 17 item 6).
+    /// left out when another channel has an error: it is then a value the
+    /// method was given, not an estimate (the seat-fixed thigh of the
+    /// knee-FES leg-extension machine, paper 004, which `sdre`/`ekf` output
+    /// as the model's constant); averaging its 0 in halved the knee-FES
+    /// figure (issue 17 item 6). When every channel is exact the mean is 0.
     pub fn mean_rmse(&self) -> Option<f64> {
-        let estimated = |s: &ChannelError| s.max_abs_error() != Some(0.0);
-        let seg: Vec<f64> = self
-            .channels
-            .iter()
-            .filter(|(c, s)| matches!(c, AngleChannel::Segment(_)) && estimated(s))
-            .filter_map(|(c, _)| self.rmse(*c))
-            .collect();
-        let vals = if seg.is_empty() {
+        let pick = |segments_only: bool, exact_too: bool| -> Vec<f64> {
             self.channels
                 .iter()
-                .filter(|(_, s)| estimated(s))
+                .filter(|(c, _)| !segments_only || matches!(c, AngleChannel::Segment(_)))
+                .filter(|(_, s)| exact_too || s.max_abs_error() != Some(0.0))
                 .filter_map(|(c, _)| self.rmse(*c))
                 .collect()
-        } else {
-            seg
         };
+        let vals = [(true, false), (true, true), (false, false), (false, true)]
+            .into_iter()
+            .map(|(seg, exact)| pick(seg, exact))
+            .find(|v| !v.is_empty())
+            .unwrap_or_default();
         (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
     }
 
@@ -403,6 +401,14 @@ mod tests {
         e.segment[1] = Some(1.6);
         m.push(&r, &e);
         assert!(m.evaluation().mean_rmse().unwrap() > 0.03);
+        // Every channel exact: the mean is 0, not absent.
+        let mut x = AngleMetrics::new("accel-inclination", EvalOptions::default());
+        let mut r = Record::default();
+        r.reference.segment[1] = Some(0.2);
+        let mut e = Estimate::empty(0.0);
+        e.segment[1] = Some(0.2);
+        x.push(&r, &e);
+        assert_eq!(x.evaluation().mean_rmse(), Some(0.0));
     }
 
     #[test]

@@ -107,4 +107,32 @@ mod tests {
         assert_eq!(p[0], (0.0, None));
         assert!(p.iter().filter(|(_, v)| v.is_none()).count() == 5);
     }
+
+    proptest::proptest! {
+        /// Kept points are samples of the series, in time order; each
+        /// bucket's extremes (and so the series' global ones) are kept;
+        /// never more than two points per bucket.
+        #[test]
+        fn kept_points_are_samples_and_keep_the_extremes(
+            y in proptest::collection::vec(proptest::option::weighted(0.9, -1e3f64..1e3), 1..600),
+            buckets in 1usize..100,
+        ) {
+            let t: Vec<f64> = (0..y.len()).map(|i| i as f64 * 0.01).collect();
+            let p = min_max(&t, &y, buckets);
+            proptest::prop_assert!(p.len() <= y.len().max(2 * buckets));
+            proptest::prop_assert!(p.windows(2).all(|w| w[0].0 < w[1].0));
+            for (pt, v) in &p {
+                let i = (pt / 0.01).round() as usize;
+                if let Some(v) = v {
+                    proptest::prop_assert_eq!(y[i], Some(*v));
+                }
+            }
+            let vals = || y.iter().flatten().copied();
+            if let Some(hi) = vals().reduce(f64::max) {
+                proptest::prop_assert!(p.iter().any(|(_, v)| *v == Some(hi)));
+                let lo = vals().reduce(f64::min).unwrap();
+                proptest::prop_assert!(p.iter().any(|(_, v)| *v == Some(lo)));
+            }
+        }
+    }
 }

@@ -143,11 +143,11 @@ pub fn detect_initial_contacts(g: &Column) -> Vec<usize> {
     let mut run: Option<(usize, f64)> = None;
     for (i, v) in g.iter().enumerate() {
         match (*v, run) {
-            (Some(v), None) if v > threshold => run = Some((i, v)),
-            (Some(v), Some((_, m))) if v > threshold => {
-                if v > m {
-                    run = Some((i, v));
-                }
+            (Some(v), _) if v > threshold => {
+                run = Some(match run {
+                    Some((k, m)) if m >= v => (k, m),
+                    _ => (i, v),
+                });
             }
             (_, Some((k, _))) => {
                 peaks.push(k);

@@ -307,7 +307,7 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
 fn error_section(s: &mut String, labels: &[String], evals: &[Evaluation], gait: &[GaitEvaluation]) {
     s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
     if !evals.is_empty() {
-        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code>: every sample, no window, no offset removal or lag. The mean RMSE is over the segment angles estimated (over the joint angles when no segment is), leaving out channels equal to their reference in every sample (a value the method is given, not an estimate).</p>"#);
+        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code>: every sample, no window, no offset removal or lag. The mean RMSE is over the segment angles estimated (over the joint angles when no segment is), leaving out channels equal to their reference in every sample when another channel has an error (a value the method is given, not an estimate).</p>"#);
         s.push_str(&tables::rmse_matrix(labels, evals));
         s.push_str("<details><summary>All columns of <code>evaluate</code></summary>");
         s.push_str(&tables::error_details(labels, evals));
