@@ -19,7 +19,8 @@ pub struct Cli {
 /// Subcommands (SPEC section 4).
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Simulate a walking trial, run every segment-angle estimator, print an RMSE table and write a report.
+    /// Simulate and estimate every scenario (walking segment angles, self-aligning knee, knee-FES,
+    /// B-SLIP gait): print the results, write report.md and HTML reports.
     Demo(DemoArgs),
     /// Write a simulated trial file.
     #[command(subcommand)]
@@ -30,6 +31,8 @@ pub enum Command {
     Estimate(EstimateArgs),
     /// Compare an estimate file with its trial's reference.
     Evaluate(EvaluateArgs),
+    /// Write one self-contained HTML report (plots, error tables, method panels) of a trial and its estimates.
+    Report(ReportArgs),
     /// Monte Carlo of the segment filters under parametric uncertainty (paper 000 Fig. 9).
     Montecarlo(MonteCarloArgs),
     /// Rotate raw (arbitrarily mounted) sensor channels into their segment frames, from walking data.
@@ -486,6 +489,25 @@ pub struct EvaluateArgs {
     /// whole window for one start).
     #[arg(long, value_name = "SECONDS", requires = "starts")]
     pub length: Option<f64>,
+}
+
+/// Options of `report` (docs/REPORT.md).
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Trial file.
+    pub trial: PathBuf,
+    /// Estimate files made from that trial (one or more).
+    #[arg(required = true)]
+    pub estimates: Vec<PathBuf>,
+    /// Output HTML file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Display resolution: each line is drawn with at most 2 x N points (min and max of N runs).
+    #[arg(long, value_name = "N", default_value_t = limbfuse_report::DEFAULT_BUCKETS)]
+    pub buckets: usize,
+    /// Include estimates whose header records another trial (as `evaluate --allow-trial-mismatch`).
+    #[arg(long)]
+    pub allow_trial_mismatch: bool,
 }
 
 /// Low-pass of the IMU channels in `resample`.

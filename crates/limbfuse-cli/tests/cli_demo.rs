@@ -45,6 +45,46 @@ fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
     }
     let report = std::fs::read_to_string(d.path().join("out/report.md")).unwrap();
     assert!(report.contains("mean seg"));
+    // Issue 17 item 6: each section in its own code block, the IMM result
+    // the terminal prints, every file named; HTML reports written.
+    let blocks: Vec<&str> = report.split("```").collect();
+    let block_with = |s: &str| blocks.iter().position(|b| b.contains(s));
+    let seg = block_with("mean seg").unwrap();
+    let fes = block_with("sdre").expect("knee-FES table");
+    let imm = block_with("phase accuracy").expect("IMM result");
+    assert!(seg != fes && fes != imm && seg % 2 == 1 && fes % 2 == 1 && imm % 2 == 1);
+    assert!(
+        stdout.contains(blocks[imm].lines().nth(2).unwrap().trim()),
+        "IMM line as printed"
+    );
+    for f in [
+        "bslip_trial.csv",
+        "bslip_imm.csv",
+        "report.html",
+        "report-knee-fes.html",
+        "report-bslip.html",
+    ] {
+        assert!(report.contains(f), "report.md does not name {f}");
+    }
+    for f in ["report.html", "report-knee-fes.html", "report-bslip.html"] {
+        let html = std::fs::read_to_string(d.path().join("out").join(f)).unwrap();
+        assert!(
+            html.contains("id=\"rmse-table\"") || html.contains("id=\"gait-table\""),
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn demo_help_names_every_section() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(&["demo", "--help"], d.path());
+    let help = String::from_utf8_lossy(&o.stdout);
+    for s in ["segment", "knee", "FES", "B-SLIP", "HTML"] {
+        assert!(help.contains(s), "demo --help does not mention {s}: {help}");
+    }
+    let o = limbfuse(&["--help"], d.path());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("report"));
 }
 
 #[test]

@@ -5,7 +5,7 @@ use std::path::Path;
 
 /// Bottom to top; crates in one layer (the two front ends, the `limbfuse`
 /// binary and the Python package of `python/`) may not depend on each other.
-const LAYERS: [&[&str]; 11] = [
+const LAYERS: [&[&str]; 12] = [
     &["limbfuse-core"],
     &["limbfuse-models"],
     &["limbfuse-estimators"],
@@ -14,6 +14,7 @@ const LAYERS: [&[&str]; 11] = [
     &["limbfuse-signal"],
     &["limbfuse-methods"],
     &["limbfuse-eval"],
+    &["limbfuse-report"],
     &["limbfuse-workflows"],
     &["limbfuse-studies"],
     &["limbfuse-cli", "limbfuse-py"],

@@ -430,6 +430,43 @@ mod tests {
     use super::*;
 
     #[test]
+    fn mean_rmse_leaves_out_a_channel_equal_to_its_reference() {
+        // Knee-FES shape: thigh given (error 0 everywhere), shank estimated.
+        let mut m = AngleMetrics::new("sdre", EvalOptions::default());
+        for k in 0..4 {
+            let mut r = Record::default();
+            r.reference.segment[1] = Some(1.5);
+            r.reference.segment[2] = Some(0.1 * k as f64);
+            let mut e = Estimate::empty(0.0);
+            e.segment[1] = Some(1.5);
+            e.segment[2] = Some(0.1 * k as f64 + if k % 2 == 0 { 0.02 } else { -0.02 });
+            m.push(&r, &e);
+        }
+        let ev = m.evaluation();
+        assert_eq!(
+            ev.rmse(AngleChannel::Segment(limbfuse_core::Segment::Thigh)),
+            Some(0.0)
+        );
+        let mean = ev.mean_rmse().unwrap();
+        assert!((mean - 0.02).abs() < 1e-12, "{mean}");
+        // With a nonzero thigh error, both count.
+        let mut r = Record::default();
+        r.reference.segment[1] = Some(1.5);
+        let mut e = Estimate::empty(0.0);
+        e.segment[1] = Some(1.6);
+        m.push(&r, &e);
+        assert!(m.evaluation().mean_rmse().unwrap() > 0.03);
+        // Every channel exact: the mean is 0, not absent.
+        let mut x = AngleMetrics::new("accel-inclination", EvalOptions::default());
+        let mut r = Record::default();
+        r.reference.segment[1] = Some(0.2);
+        let mut e = Estimate::empty(0.0);
+        e.segment[1] = Some(0.2);
+        x.push(&r, &e);
+        assert_eq!(x.evaluation().mean_rmse(), Some(0.0));
+    }
+
+    #[test]
     fn reliability_percentages_count_samples_with_an_update() {
         let mut m = AngleMetrics::new("global", EvalOptions::default());
         m.set_diagnostic_names(["psi", "upd_trunk", "upd_thigh", "upd_hip", "upd_knee"]);

@@ -2,7 +2,8 @@
 //! streaming [`EstimateReader`].
 //!
 //! Layout: `# method: NAME`, then `# key: value` lines with the parameters
-//! used, then (when the writer knows its trial) `# trial: FILE NAME` and
+//! used, then (when the writer knows it) `# command:` (the command that
+//! made the file), then (when the writer knows its trial) `# trial: FILE NAME` and
 //! `# trial_hash: xxh3:HEX` (the trial file's [`ContentHash`]), then `t`, the
 //! estimated quantities (`trunk`, ..., `ankle`, `phase`, `speed`) and the
 //! method's diagnostics with a `diag_` prefix.
@@ -32,7 +33,12 @@ pub struct EstimateWriter<W: Write> {
     trial: Option<String>,
     /// Byte offset of the `# trial_hash:` value, once the header is written.
     hash_offset: Option<u64>,
+    /// The command that made the file, for the `# command:` header line.
+    command: Option<String>,
 }
+
+/// Header key of the command that wrote an estimate file (`# command: ...`).
+pub const COMMAND_KEY: &str = "command";
 
 /// Written in place of the trial hash until [`EstimateWriter::stamp_trial_hash`].
 const HASH_PLACEHOLDER: &str = "xxh3:????????????????";
@@ -48,6 +54,7 @@ impl<W: Write> EstimateWriter<W> {
             buf: ryu::Buffer::new(),
             trial: None,
             hash_offset: None,
+            command: None,
         }
     }
 
@@ -58,6 +65,14 @@ impl<W: Write> EstimateWriter<W> {
     pub fn recording_trial(mut self, name: impl Into<String>) -> Self {
         let name: String = name.into();
         self.trial = Some(name.replace(['\n', '\r'], " "));
+        self
+    }
+
+    /// Records the command that makes the file: a `# command:` header line
+    /// after the parameters (line breaks become spaces).
+    pub fn recording_command(mut self, command: impl Into<String>) -> Self {
+        let command: String = command.into();
+        self.command = Some(command.replace(['\n', '\r'], " "));
         self
     }
 
@@ -75,6 +90,9 @@ impl<W: Write> Observer for EstimateWriter<W> {
         estimator.describe_parameters(&mut params)?;
         for l in params.lines().filter(|l| !l.trim().is_empty()) {
             head.push_str(&format!("# {l}\n"));
+        }
+        if let Some(c) = &self.command {
+            head.push_str(&format!("# {COMMAND_KEY}: {c}\n"));
         }
         if let Some(name) = &self.trial {
             head.push_str(&format!("# {TRIAL_KEY}: {name}\n# {TRIAL_HASH_KEY}: "));

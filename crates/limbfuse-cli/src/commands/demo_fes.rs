@@ -12,7 +12,7 @@ use limbfuse_sim::knee_fes::KneeFesConfig;
 use limbfuse_workflows::simulated_trials;
 
 /// Simulates the knee-FES trial into `out`, runs the three methods, prints
-/// and returns the knee RMSE table.
+/// and returns the knee RMSE table, writes `report-knee-fes.html`.
 pub fn run(out: &Path, seed: u64) -> Result<String> {
     let cfg = KneeFesConfig {
         subject: limbfuse_models::KneeSubject::P2R,
@@ -26,13 +26,25 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
     super::commit(file)?;
     let mut table = format!("{:<10}", "RMSE deg");
     let mut row = format!("{:<10}", "knee");
+    let mut estimates = Vec::new();
     for method in [MethodName::Sdre, MethodName::Ekf, MethodName::Rmx] {
         let m = method.name();
         let reader = TrialReader::open(&trial)?;
         let mut est = crate::methods::build_for(&MethodSpec::defaults(method)?, &reader)?;
         let path = out.join(format!("estimate-knee-fes-{m}.csv"));
         let mut metrics = AngleMetrics::new(m, EvalOptions::default());
-        super::estimate::run_to_file(est.as_mut(), reader, &path, m, &mut [&mut metrics])?;
+        let command = format!(
+            "limbfuse estimate --method {m} trial-knee-fes.csv -o estimate-knee-fes-{m}.csv"
+        );
+        super::estimate::run_to_file(
+            est.as_mut(),
+            reader,
+            &path,
+            m,
+            &command,
+            &mut [&mut metrics],
+        )?;
+        estimates.push(path);
         let e = metrics.evaluation();
         super::warn_resets(m, e.resets.as_ref());
         let knee = e
@@ -48,5 +60,11 @@ pub fn run(out: &Path, seed: u64) -> Result<String> {
         trial.display()
     );
     print!("\n{text}");
+    super::demo::html_report(
+        &trial,
+        &estimates,
+        &out.join("report-knee-fes.html"),
+        "knee-FES trial",
+    )?;
     Ok(text)
 }

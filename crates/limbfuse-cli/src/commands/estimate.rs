@@ -24,16 +24,51 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         reader,
         &a.output,
         spec.method().name(),
+        &command_line(a),
         &mut [],
     )?;
     eprintln!("{}: {n} samples -> {}", spec.method(), a.output.display());
     Ok(())
 }
 
+/// The `# command:` line of an estimate file: the flags given, with file
+/// names only (like `# trial:`, so that the same run in another directory
+/// writes the same file).
+fn command_line(a: &EstimateArgs) -> String {
+    let name = |p: &Path| {
+        p.file_name().map_or_else(
+            || p.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        )
+    };
+    let mut c = format!("limbfuse estimate --method {}", a.method);
+    if let Some(p) = &a.params {
+        c += &format!(" --params {}", name(p));
+    }
+    let opt = |c: &mut String, flag: &str, v: Option<String>| {
+        if let Some(v) = v {
+            *c += &format!(" --{flag} {v}");
+        }
+    };
+    opt(&mut c, "window", a.window.map(|v| v.to_string()));
+    opt(&mut c, "order", a.order.map(|v| v.to_string()));
+    opt(&mut c, "library", a.library.as_deref().map(name));
+    opt(&mut c, "kappa", a.kappa.map(|v| v.to_string()));
+    opt(
+        &mut c,
+        "rescale-height",
+        a.rescale_height.map(|v| v.to_string()),
+    );
+    opt(&mut c, "imm-weights", a.imm_weights.clone());
+    opt(&mut c, "imm-touchdown", a.imm_touchdown.clone());
+    c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
+}
+
 /// Runs an estimator over an opened trial into an estimate file, with a
-/// progress bar and the `extra` observers; warns on stderr when the
-/// estimator restarted during the run (issue 16) or sensor readings were
-/// rejected as out of range (issue 18); returns the number of samples.
+/// progress bar and the `extra` observers; records `command` in the
+/// header; warns on stderr when the estimator restarted during the run
+/// (issue 16) or sensor readings were rejected as out of range (issue 18);
+/// returns the number of samples.
 ///
 /// The estimate file records its trial (`# trial:`, `# trial_hash:`; the
 /// trial is hashed as it is read) and appears only if the whole run succeeds.
@@ -42,6 +77,7 @@ pub fn run_to_file(
     mut reader: TrialReader,
     output: &Path,
     label: &str,
+    command: &str,
     extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
@@ -49,7 +85,9 @@ pub fn run_to_file(
         || trial.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    let mut writer = EstimateWriter::new(super::create_file(output)?).recording_trial(trial_name);
+    let mut writer = EstimateWriter::new(super::create_file(output)?)
+        .recording_trial(trial_name)
+        .recording_command(command);
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();

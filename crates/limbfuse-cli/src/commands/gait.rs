@@ -173,8 +173,9 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
 }
 
 /// The demo section: gait speed and phase on a simulated B-SLIP trial with a
-/// small built-in library (0.6, 0.7, 0.8 m/s, the 0.7 m/s gait simulated).
-pub fn demo(dir: &Path) -> Result<()> {
+/// small built-in library (0.6, 0.7, 0.8 m/s, the 0.7 m/s gait simulated);
+/// writes `report-bslip.html`, returns the lines printed (for report.md).
+pub fn demo(dir: &Path) -> Result<String> {
     let t0 = std::time::Instant::now();
     let body = BslipParams::default();
     let lib = build(&body, &[0.6, 0.7, 0.8], false)?;
@@ -195,17 +196,24 @@ pub fn demo(dir: &Path) -> Result<()> {
         TrialReader::open(&trial)?,
         &estimate,
         limbfuse_methods::MethodName::ImmBslip.name(),
+        "limbfuse demo (imm-bslip, full CoM, over a gait library of 0.6, 0.7 and 0.8 m/s searched in memory)",
         &mut [],
     )?;
     let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(&trial, &estimate, false)?;
-    println!();
-    println!("Gait phase and speed (paper 003, imm-bslip): B-SLIP trial at 0.7 m/s, library 0.6/0.7/0.8 m/s");
-    println!(
-        "  phase accuracy {:.1} %, CoM position RMS {:.2} cm, mean speed estimate {:.3} m/s (true 0.700)  [{:.1} s]",
+    let text = format!(
+        "Gait phase and speed (paper 003, imm-bslip): B-SLIP trial at 0.7 m/s, library 0.6/0.7/0.8 m/s\n  \
+         phase accuracy {:.1} %, CoM position RMS {:.2} cm, mean speed estimate {:.3} m/s (true 0.700)  [{:.1} s]\n",
         ev.phase_accuracy_pct.unwrap_or(f64::NAN),
         100.0 * ev.com_pos_rmse_m.unwrap_or(f64::NAN),
         ev.speed_mean_mps.unwrap_or(f64::NAN),
         t0.elapsed().as_secs_f64()
     );
-    Ok(())
+    print!("\n{text}");
+    super::demo::html_report(
+        &trial,
+        &[estimate],
+        &dir.join("report-bslip.html"),
+        "B-SLIP trial and imm-bslip",
+    )?;
+    Ok(text)
 }

@@ -14,6 +14,7 @@ mod knee_demo;
 mod method_list;
 mod montecarlo;
 mod protocol;
+mod report;
 mod resample;
 mod simulate;
 mod simulate_knee;
@@ -40,6 +41,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
+        Command::Report(a) => report::run(&a),
         Command::Montecarlo(a) => montecarlo::run(&a),
         Command::Align(a) => align::run(&a),
         Command::Resample(a) => resample::run(&a),

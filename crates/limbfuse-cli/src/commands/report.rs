@@ -1,0 +1,54 @@
+//! `limbfuse report TRIAL EST... -o report.html` (docs/REPORT.md).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use limbfuse_report::{render, ReportInput};
+
+use crate::cli::ReportArgs;
+
+/// Writes the HTML report.
+pub fn run(a: &ReportArgs) -> Result<()> {
+    if a.buckets == 0 {
+        bail!("--buckets: expected a positive number of display buckets, found 0");
+    }
+    let mut command = command_line(&a.trial, &a.estimates, &a.output, a.buckets);
+    if a.allow_trial_mismatch {
+        command.push_str(" --allow-trial-mismatch");
+    }
+    let input = ReportInput {
+        buckets: a.buckets,
+        allow_trial_mismatch: a.allow_trial_mismatch,
+        ..ReportInput::new(&a.trial, &a.estimates, command)
+    };
+    let n = write(&input, &a.output)?;
+    eprintln!(
+        "report: {} estimate(s) of {} -> {} ({:.2} MB)",
+        a.estimates.len(),
+        a.trial.display(),
+        a.output.display(),
+        n as f64 / 1e6
+    );
+    Ok(())
+}
+
+/// Renders `input` into `output` (atomically); returns its size in bytes.
+pub fn write(input: &ReportInput, output: &Path) -> Result<usize> {
+    let html = render(input)?;
+    super::write_file(output, &html)?;
+    Ok(html.len())
+}
+
+/// The command as the report records it (paths as given).
+pub fn command_line(trial: &Path, estimates: &[PathBuf], output: &Path, buckets: usize) -> String {
+    let mut c = format!("limbfuse report {}", trial.display());
+    for e in estimates {
+        c.push(' ');
+        c.push_str(&e.display().to_string());
+    }
+    c.push_str(&format!(" -o {}", output.display()));
+    if buckets != limbfuse_report::DEFAULT_BUCKETS {
+        c.push_str(&format!(" --buckets {buckets}"));
+    }
+    c
+}

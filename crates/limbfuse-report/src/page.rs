@@ -1,0 +1,402 @@
+//! Assembling the page: sections in order, each plot an inline SVG with an
+//! `id` and `data-*` attributes that tests (and readers of the source) can
+//! find; style and script inline.
+
+use std::fmt::Write as _;
+
+use limbfuse_core::sample::AngleChannel;
+use limbfuse_eval::gait_evaluation::{evaluate_gait_files, GaitEvaluation};
+use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
+
+use crate::data::{file_name, Column, EstimateData, TrialData};
+use crate::gait_cycle::{cycle_mean_sd, find_cycles};
+use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
+use crate::svg::{esc, Band, Line, Plot};
+use crate::{tables, ReportError, ReportInput};
+
+const STYLE: &str = include_str!("report.css");
+const SCRIPT: &str = include_str!("report.js");
+
+/// The report's HTML.
+pub fn render(input: &ReportInput) -> Result<String, ReportError> {
+    if input.estimates.is_empty() {
+        return Err(ReportError::NoEstimate);
+    }
+    let trial = TrialData::read(&input.trial)?;
+    let angle_trial = trial.reference.iter().any(Option::is_some);
+    let mut evals = Vec::new();
+    let mut gait_evals = Vec::new();
+    let mut estimates = Vec::new();
+    for path in &input.estimates {
+        if angle_trial {
+            let options = EvalOptions {
+                allow_trial_mismatch: input.allow_trial_mismatch,
+                ..EvalOptions::default()
+            };
+            evals.push(evaluate_files(&input.trial, path, options)?);
+        } else if trial.phase_ref.is_some() {
+            gait_evals.push(evaluate_gait_files(
+                &input.trial,
+                path,
+                input.allow_trial_mismatch,
+            )?);
+        }
+        let e = EstimateData::read(path, wanted_diagnostic)?;
+        let n_estimate = e
+            .angle
+            .iter()
+            .flatten()
+            .map(Vec::len)
+            .next()
+            .unwrap_or_else(|| {
+                e.phase
+                    .as_ref()
+                    .or(e.speed.as_ref())
+                    .or(e.diag.values().next())
+                    .map_or(trial.t.len(), Vec::len)
+            });
+        if n_estimate != trial.t.len() {
+            return Err(ReportError::Length {
+                estimate: path.display().to_string(),
+                n_estimate,
+                trial: input.trial.display().to_string(),
+                n_trial: trial.t.len(),
+            });
+        }
+        estimates.push(e);
+    }
+    let labels: Vec<String> = unique_labels(&estimates);
+    for (e, l) in estimates.iter_mut().zip(&labels) {
+        e.label = l.clone();
+    }
+    let rate = trial.sample_rate().unwrap_or(100.0);
+    let tp = TimePlot {
+        t: &trial.t,
+        buckets: input.buckets,
+        x_scale: if rate > 1000.0 { 1e6 } else { 1e3 },
+    };
+    let mut body = String::new();
+    header(&mut body, &trial, &estimates, rate, input.buckets);
+    angle_section(&mut body, &trial, &estimates, &tp);
+    cycle_section(&mut body, &trial, &estimates);
+    error_section(&mut body, &labels, &evals, &gait_evals);
+    panel_section(&mut body, &panels(&trial, &estimates, &tp));
+    command_section(&mut body, input, &trial, &estimates);
+    Ok(format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>limbfuse report: {}</title><style>{STYLE}</style></head><body>{body}<script>{SCRIPT}</script></body></html>\n",
+        esc(&trial.name())
+    ))
+}
+
+/// Legend labels: file names, with the directory added where two are equal.
+fn unique_labels(estimates: &[EstimateData]) -> Vec<String> {
+    estimates
+        .iter()
+        .map(|e| {
+            let dup = estimates.iter().filter(|o| o.label == e.label).count() > 1;
+            if dup {
+                e.path.display().to_string()
+            } else {
+                e.label.clone()
+            }
+        })
+        .collect()
+}
+
+fn header(
+    s: &mut String,
+    trial: &TrialData,
+    estimates: &[EstimateData],
+    rate: f64,
+    buckets: usize,
+) {
+    let dur = trial
+        .t
+        .last()
+        .zip(trial.t.first())
+        .map_or(0.0, |(b, a)| b - a);
+    let _ = write!(
+        s,
+        r##"<header><h1>limbfuse report</h1><p id="summary">Trial <code>{}</code>: {} samples, {:.1} s, {:.1} Hz. {} estimate{}: {}.</p><p class="note">Plots show at most 2 x {} points per line (min/max per run of samples, docs/REPORT.md); tables use every sample.</p></header><nav><a href="#angles">angles</a> <a href="#gait-cycle">gait cycle</a> <a href="#errors">errors</a> <a href="#methods">method panels</a> <a href="#commands">commands</a></nav>"##,
+        esc(&trial.name()),
+        trial.t.len(),
+        dur,
+        rate,
+        estimates.len(),
+        if estimates.len() == 1 { "" } else { "s" },
+        estimates
+            .iter()
+            .map(|e| format!("<code>{}</code> ({})", esc(&e.label), esc(&e.method)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        buckets
+    );
+    window_controls(s, trial);
+}
+
+/// The time window shared by every time plot (the page's script acts on it).
+fn window_controls(s: &mut String, trial: &TrialData) {
+    let (t0, t1) = (
+        trial.t.first().copied().unwrap_or(0.0),
+        trial.t.last().copied().unwrap_or(0.0),
+    );
+    let _ = write!(
+        s,
+        r#"<div class="controls" id="window-controls">window <input id="win-start" type="number" step="any" value="{t0}"> to <input id="win-end" type="number" step="any" value="{t1}"> s <button id="win-apply">show</button> <button id="win-in">zoom in</button> <button id="win-out">zoom out</button> <button id="win-left">&larr;</button> <button id="win-right">&rarr;</button> <button id="win-all">whole trial</button> <span class="note">(or scroll on a plot to zoom, drag to pan; click a legend entry to hide a line)</span></div>"#
+    );
+}
+
+fn degrees(c: &Column) -> Column {
+    c.iter().map(|v| v.map(f64::to_degrees)).collect()
+}
+
+/// The channels with a reference and at least one estimate.
+fn compared_channels(trial: &TrialData, estimates: &[EstimateData]) -> Vec<(usize, AngleChannel)> {
+    AngleChannel::ALL
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| {
+            trial.reference[*k].is_some() && estimates.iter().any(|e| e.angle[*k].is_some())
+        })
+        .map(|(k, c)| (k, *c))
+        .collect()
+}
+
+fn angle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) {
+    s.push_str(r#"<section id="angles" data-section="angles"><h2>Angles over time</h2>"#);
+    let channels = compared_channels(trial, estimates);
+    if channels.is_empty() {
+        s.push_str(r#"<p class="note">No angle channel has both a reference in the trial and an estimate.</p></section>"#);
+        return;
+    }
+    for (k, c) in channels {
+        let Some(r) = &trial.reference[k] else {
+            continue;
+        };
+        let reference = degrees(r);
+        let est: Vec<(usize, Column)> = estimates
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| Some((i, degrees(e.angle[k].as_ref()?))))
+            .collect();
+        let mut lines = vec![(
+            "reference".to_string(),
+            format!("{}_ref", c.name()),
+            "#000".to_string(),
+            &reference,
+            false,
+        )];
+        for (i, col) in &est {
+            lines.push((
+                format!("est-{i}"),
+                estimates[*i].label.clone(),
+                color(*i),
+                col,
+                false,
+            ));
+        }
+        let plot = tp.plot(
+            format!("plot-angle-{}", c.name()),
+            "angle",
+            format!("{} angle", c.name()),
+            "deg",
+            lines,
+        );
+        figure(s, &plot, c.name());
+    }
+    s.push_str("</section>");
+}
+
+fn figure(s: &mut String, plot: &Plot, channel: &str) {
+    let _ = write!(
+        s,
+        r#"<figure data-channel="{}">{}{}</figure>"#,
+        esc(channel),
+        plot.render(),
+        plot.legend()
+    );
+}
+
+fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) {
+    s.push_str(r#"<section id="gait-cycle" data-section="gait-cycle"><h2>Error over the normalised gait cycle</h2>"#);
+    let channels = compared_channels(trial, estimates);
+    let cycles = match find_cycles(trial) {
+        Ok(c) if !channels.is_empty() => c,
+        Ok(_) => {
+            s.push_str(r#"<p class="note" id="gait-events">No angle channel to show over the gait cycle.</p></section>"#);
+            return;
+        }
+        Err(why) => {
+            let _ = write!(
+                s,
+                r#"<p class="note" id="gait-events" data-source="none">No gait cycle: {}.</p></section>"#,
+                esc(&why)
+            );
+            return;
+        }
+    };
+    let mut durations: Vec<f64> = cycles
+        .cycles
+        .iter()
+        .map(|&(a, b)| trial.t[b] - trial.t[a])
+        .collect();
+    durations.sort_by(f64::total_cmp);
+    let median_s = durations[durations.len() / 2];
+    let _ = write!(
+        s,
+        r#"<p class="note" id="gait-events" data-source="{}" data-cycles="{}" data-median-s="{:.4}">{}; {} cycles (median {:.3} s){}. Error = estimate - reference, interpolated at 0, 1, ..., 100 % of each cycle; line = mean, band = mean +- sd over the cycles.</p>"#,
+        match &cycles.source {
+            crate::gait_cycle::EventSource::Contact(_) => "contact",
+            crate::gait_cycle::EventSource::Gyro(_) => "gyro",
+        },
+        cycles.cycles.len(),
+        median_s,
+        esc(&cycles.source.describe()),
+        cycles.cycles.len(),
+        median_s,
+        if cycles.rejected > 0 {
+            format!(
+                " ({} left out: duration off the median by more than 50 %)",
+                cycles.rejected
+            )
+        } else {
+            String::new()
+        }
+    );
+    for (k, c) in channels {
+        let Some(r) = &trial.reference[k] else {
+            continue;
+        };
+        let mut plot = Plot {
+            id: format!("plot-cycle-{}", c.name()),
+            kind: "cycle".into(),
+            title: format!("{} error over the gait cycle", c.name()),
+            x_label: "gait cycle (%)".into(),
+            y_label: "deg".into(),
+            x_scale: 10.0,
+            zoomable: false,
+            lines: Vec::new(),
+            bands: Vec::new(),
+        };
+        for (i, e) in estimates.iter().enumerate() {
+            let Some(a) = &e.angle[k] else { continue };
+            let err: Column = a
+                .iter()
+                .zip(r)
+                .map(|(e, r)| Some((e.as_ref()? - r.as_ref()?).to_degrees()))
+                .collect();
+            let ms = cycle_mean_sd(&trial.t, &err, &cycles.cycles);
+            plot.bands.push(Band {
+                key: format!("est-{i}"),
+                color: color(i),
+                points: ms.iter().map(|(p, m, sd)| (*p, m - sd, m + sd)).collect(),
+            });
+            plot.lines.push(Line {
+                key: format!("est-{i}"),
+                label: e.label.clone(),
+                color: color(i),
+                points: ms.iter().map(|(p, m, _)| (*p, Some(*m))).collect(),
+                dashed: false,
+            });
+        }
+        figure(s, &plot, c.name());
+    }
+    s.push_str("</section>");
+}
+
+fn error_section(s: &mut String, labels: &[String], evals: &[Evaluation], gait: &[GaitEvaluation]) {
+    s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
+    if !evals.is_empty() {
+        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code>: every sample, no window, no offset removal or lag. The mean RMSE is over the segment angles estimated (over the joint angles when no segment is), leaving out channels equal to their reference in every sample when another channel has an error (a value the method is given, not an estimate).</p>"#);
+        s.push_str(&tables::rmse_matrix(labels, evals));
+        s.push_str("<details><summary>All columns of <code>evaluate</code></summary>");
+        s.push_str(&tables::error_details(labels, evals));
+        s.push_str("</details>");
+    }
+    if !gait.is_empty() {
+        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate</code> on a gait trial (paper 003).</p>"#);
+        s.push_str(&tables::gait_table(labels, gait));
+    }
+    if evals.is_empty() && gait.is_empty() {
+        s.push_str(r#"<p class="note">The trial has no reference to evaluate against.</p>"#);
+    }
+    s.push_str("</section>");
+}
+
+fn panel_section(s: &mut String, panels: &[Panel]) {
+    s.push_str(r#"<section id="methods" data-section="methods"><h2>Method panels</h2>"#);
+    if panels.is_empty() {
+        s.push_str(r#"<p class="note">No method-specific panel applies (panels: IMM weights, knee-axis convergence, FES stimulation).</p>"#);
+    }
+    for p in panels {
+        let _ = write!(
+            s,
+            r#"<div class="panel" id="{}" data-panel="{}"><h3>{}</h3><p class="note">{}</p>"#,
+            esc(&p.id),
+            esc(&p.kind),
+            esc(&p.title),
+            p.note
+        );
+        for plot in &p.plots {
+            figure(s, plot, "");
+        }
+        s.push_str(&p.table);
+        s.push_str("</div>");
+    }
+    s.push_str("</section>");
+}
+
+fn command_section(
+    s: &mut String,
+    input: &ReportInput,
+    trial: &TrialData,
+    estimates: &[EstimateData],
+) {
+    s.push_str(r#"<section id="commands" data-section="commands"><h2>How these files were made</h2><pre id="command-list">"#);
+    let _ = writeln!(s, "# this report\n{}", esc(&input.command));
+    let _ = writeln!(
+        s,
+        "\n# trial {}: {}",
+        esc(&trial.name()),
+        esc(trial.meta.get("source").unwrap_or("no `# source:` line"))
+    );
+    for e in estimates {
+        match e.meta.get(limbfuse_io::estimate_file::COMMAND_KEY) {
+            Some(c) => {
+                let _ = writeln!(s, "\n# {}\n{}", esc(&e.label), esc(c));
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "\n# {}: no `# command:` line (written before limbfuse recorded it); same method with the parameters below:\nlimbfuse estimate --method {} {} -o {}",
+                    esc(&e.label),
+                    esc(&e.method),
+                    esc(&trial.name()),
+                    esc(&file_name(&e.path))
+                );
+            }
+        }
+    }
+    s.push_str("</pre>");
+    let _ = write!(
+        s,
+        "<details><summary>Header of <code>{}</code></summary><pre>",
+        esc(&trial.name())
+    );
+    for (k, v) in trial.meta.entries() {
+        let _ = writeln!(s, "# {}: {}", esc(k), esc(v));
+    }
+    s.push_str("</pre></details>");
+    for e in estimates {
+        let _ = write!(
+            s,
+            "<details><summary>Header of <code>{}</code></summary><pre>",
+            esc(&e.label)
+        );
+        for (k, v) in e.meta.entries() {
+            let _ = writeln!(s, "# {}: {}", esc(k), esc(v));
+        }
+        s.push_str("</pre></details>");
+    }
+    s.push_str("</section>");
+}
