@@ -6,31 +6,24 @@
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights};
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
-use limbfuse_sim::bslip::library::{start_seed, LibraryGait, START_SPEED};
-use limbfuse_sim::bslip::search::{optimise_gait, SearchSettings};
-use limbfuse_sim::bslip::step::StepSimulator;
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
 
-/// One optimised gait (the walker) and a family of two dynamically similar
-/// gaits around it (CoM heights x0.9 and x1.1: speeds x0.95 and x1.05),
-/// so the test costs one gait search.
+/// A 0.95 / 1.0 / 1.05 m/s library of the default body (one gait search
+/// and two continuation steps): the walker is the 1.0 m/s gait, the family
+/// the other two.
 fn walker_and_family() -> (GaitTemplate, Vec<GaitTemplate>) {
     let body = BslipParams::default();
-    let sim = StepSimulator::new(body);
-    let g: LibraryGait = optimise_gait(
-        &sim,
-        &start_seed(1.0),
-        START_SPEED,
+    let lib = build_library(
+        &body,
+        &[0.95, 1.0, 1.05],
         &SearchSettings::default(),
+        |_, _| {},
     )
-    .unwrap()
-    .into();
-    let t = g.template(&body);
-    let family = vec![
-        t.rescaled_to_height(t.gait.height * 0.9).unwrap(),
-        t.rescaled_to_height(t.gait.height * 1.1).unwrap(),
-    ];
-    (t, family)
+    .unwrap();
+    let t: Vec<GaitTemplate> = lib.iter().map(|g| g.template(&body)).collect();
+    (t[1], vec![t[0], t[2]])
 }
 
 fn params() -> ImmBslipParams {
@@ -60,8 +53,8 @@ fn speed_between_the_family_gaits_and_phase_from_the_leg_lengths() {
     let acc = ok as f64 / records.len() as f64;
     speeds.sort_by(f64::total_cmp);
     let median = speeds[speeds.len() / 2];
-    // The family's gaits are 5 % slower and faster than the walker: a grid
-    // estimate would be off by ~0.05 m/s.
+    // The family's gaits are 0.05 m/s slower and faster than the walker: a
+    // grid estimate would be off by 0.05 m/s.
     let grid = (family[0].speed - walker.speed).abs();
     assert!(grid > 0.04, "family spacing {grid}");
     assert!(

@@ -1,8 +1,8 @@
 //! The trial body of `imm-bslip` and the library's rescaling to it
 //! (issue 19 item 1; docs/GAIT_IMM.md, "Continuous gait family").
 //!
-//! The body comes from, in order: the flags / parameter file (`--leg-length`,
-//! `--mass`), the trial's metadata keys `# leg_length_m:` and
+//! Each of mass and leg length comes from, in order: the flags / parameter
+//! file (`--leg-length`, `--mass`), the trial's metadata keys `# leg_length_m:` and
 //! `# body_mass_kg:` (SPEC addition), or a `# model:` line that describes a
 //! B-SLIP in words ("... mass 70.0 kg ... rest length 0.95 m ...", as the
 //! shared independent B-SLIP trials do); gravity is the trial's `# g:`.
@@ -67,45 +67,36 @@ fn number_after(text: &str, before: &str, unit: &str) -> Option<f64> {
     (u == unit && value.is_finite() && value > 0.0).then_some(value)
 }
 
-/// The trial's body from the flags (`mass`, `leg_length`) and its metadata.
+/// The trial's body from the flags (`mass`, `leg_length`) and its metadata,
+/// each quantity from the first source that has it.
 pub fn trial_body(
     mass: Option<f64>,
     leg_length: Option<f64>,
     meta: &TrialMeta,
 ) -> Result<TrialBody, MethodError> {
-    let gravity = meta.gravity();
     if let Some(m) = mass {
         positive("--mass", m)?;
     }
     if let Some(l) = leg_length {
         positive("--leg-length", l)?;
     }
-    if mass.is_some() || leg_length.is_some() {
-        return Ok(TrialBody {
-            mass,
-            leg_length,
-            gravity,
-            source: "--leg-length / --mass",
-        });
-    }
-    let (m, l) = (
-        meta_number(meta, "body_mass_kg")?,
-        meta_number(meta, "leg_length_m")?,
-    );
-    if m.is_some() || l.is_some() {
-        return Ok(TrialBody {
-            mass: m,
-            leg_length: l,
-            gravity,
-            source: "# body_mass_kg / # leg_length_m",
-        });
-    }
     let model = meta.get("model").filter(|t| t.contains("SLIP"));
+    let key_mass = meta_number(meta, "body_mass_kg")?;
+    let key_leg = meta_number(meta, "leg_length_m")?;
+    let model_mass = model.and_then(|t| number_after(t, "mass", "kg"));
+    let model_leg = model.and_then(|t| number_after(t, "rest length", "m"));
+    let source = if leg_length.is_some() || (mass.is_some() && key_leg.or(model_leg).is_none()) {
+        "--leg-length / --mass"
+    } else if key_leg.is_some() || (key_mass.is_some() && model_leg.is_none()) {
+        "# body_mass_kg / # leg_length_m"
+    } else {
+        "# model"
+    };
     Ok(TrialBody {
-        mass: model.and_then(|t| number_after(t, "mass", "kg")),
-        leg_length: model.and_then(|t| number_after(t, "rest length", "m")),
-        gravity,
-        source: "# model",
+        mass: mass.or(key_mass).or(model_mass),
+        leg_length: leg_length.or(key_leg).or(model_leg),
+        gravity: meta.gravity(),
+        source,
     })
 }
 

@@ -26,9 +26,13 @@ pub fn interpolate(a: &GaitTemplate, b: &GaitTemplate, w: f64) -> GaitTemplate {
     }));
     GaitTemplate {
         speed: l(a.speed, b.speed),
+        // One body in a library; interpolated too, so that gaits rescaled
+        // to other heights (sec IV-B) still form a family.
         body: BslipParams {
+            mass: l(a.body.mass, b.body.mass),
+            rest_length: l(a.body.rest_length, b.body.rest_length),
+            gravity: l(a.body.gravity, b.body.gravity),
             stiffness: gait.stiffness,
-            ..a.body
         },
         gait,
         step_length: l(a.step_length, b.step_length),
