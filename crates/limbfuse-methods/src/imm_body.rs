@@ -199,9 +199,11 @@ mod tests {
             &meta(&[("leg_length_m", "0.9"), ("model", model)]),
         )
         .unwrap();
-        assert_eq!((b.mass, b.leg_length), (None, Some(0.9)));
+        assert_eq!((b.mass, b.leg_length), (Some(70.0), Some(0.9)));
         let b = trial_body(Some(60.0), None, &meta(&[("model", model)])).unwrap();
-        assert_eq!((b.mass, b.leg_length), (Some(60.0), None));
+        assert_eq!((b.mass, b.leg_length), (Some(60.0), Some(0.95)));
+        let b = trial_body(None, Some(1.1), &meta(&[("body_mass_kg", "50")])).unwrap();
+        assert_eq!((b.mass, b.leg_length), (Some(50.0), Some(1.1)));
         let b = trial_body(None, None, &meta(&[("model", "knee: mass 3 kg")])).unwrap();
         assert_eq!((b.mass, b.leg_length), (None, None));
         let e = trial_body(None, None, &meta(&[("leg_length_m", "long")])).unwrap_err();
