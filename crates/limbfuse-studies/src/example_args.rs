@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 11] = [
+pub const EXAMPLES: [&str; 12] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -17,6 +17,7 @@ pub const EXAMPLES: [&str; 11] = [
     "fes_thesis_protocol",
     "gait_pelvis",
     "imm_bslip_study",
+    "imm_continuous_study",
     "knee_study",
     "segment_error_budget",
     "segment_study",
