@@ -444,6 +444,18 @@ pub struct EstimateArgs {
     /// placement mixed by the IMM from the phase weights).
     #[arg(long, value_name = "RULE")]
     pub imm_touchdown: Option<String>,
+    /// imm-bslip: `paper` (paper 003's estimator over the library's gaits;
+    /// default) or `continuous` (one gait of the continuous family
+    /// re-targeted to the measured speed, phase from the leg lengths).
+    #[arg(long, value_name = "CONFIG")]
+    pub imm_config: Option<String>,
+    /// imm-bslip: the trial body's leg rest length (m), over its metadata
+    /// (`# leg_length_m:`); a library built for another body is rescaled.
+    #[arg(long, value_name = "M")]
+    pub leg_length: Option<f64>,
+    /// imm-bslip: the trial body's mass (kg), over its metadata (`# body_mass_kg:`).
+    #[arg(long, value_name = "KG")]
+    pub mass: Option<f64>,
 }
 
 /// Options of `evaluate`.

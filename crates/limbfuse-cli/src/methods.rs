@@ -30,6 +30,9 @@ pub fn flags(a: &EstimateArgs) -> MethodFlags {
         rescale_height: a.rescale_height,
         imm_weights: a.imm_weights.clone(),
         imm_touchdown: a.imm_touchdown.clone(),
+        imm_config: a.imm_config.clone(),
+        leg_length: a.leg_length,
+        mass: a.mass,
     }
 }
 
@@ -42,4 +45,17 @@ pub fn resolve(name: &str, params: Option<&Path>, flags: &MethodFlags) -> Result
 /// Builds `spec` for the trial `reader` is reading; errors name the trial.
 pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Estimator + Send>> {
     build(spec, reader.meta(), reader.layout()).with_context(|| reader.path().display().to_string())
+}
+
+/// imm-bslip: says on stderr when the library was rescaled to the trial's
+/// body (issue 19).
+pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
+    if let MethodSpec::ImmBslip(s) = spec {
+        let (_, note) = limbfuse_methods::imm_params::templates_for_trial(s, reader.meta())
+            .with_context(|| reader.path().display().to_string())?;
+        if let Some(note) = note {
+            eprintln!("{note}");
+        }
+    }
+    Ok(())
 }

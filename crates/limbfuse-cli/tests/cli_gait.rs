@@ -113,6 +113,57 @@ fn library_simulation_estimate_and_evaluation_pipeline() {
         (v["speed_ref_mps"].as_f64().unwrap() - 1.0).abs() < 0.02,
         "{v}"
     );
+    continuous_configuration_and_trial_body(p);
+}
+
+/// Issue 19 through the binary, on the pipeline's library and trial:
+/// `--imm-config continuous`, the trial body from the metadata (rescaling
+/// with a message), and the errors.
+fn continuous_configuration_and_trial_body(p: &std::path::Path) {
+    ok(&estimate_imm(&["--imm-config", "continuous"], "c.csv", p));
+    let est = std::fs::read_to_string(p.join("c.csv")).unwrap();
+    assert!(est.contains("configuration: continuous"));
+    let o = limbfuse(&["evaluate", "t.csv", "c.csv", "--json"], p);
+    ok(&o);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["phase_accuracy_pct"].as_f64().unwrap() > 85.0, "{v}");
+    assert!(
+        (v["speed_mean_mps"].as_f64().unwrap() - 1.0).abs() < 0.03,
+        "{v}"
+    );
+    // The trial body in the metadata: the library (l0 1 m) is rescaled.
+    let trial = std::fs::read_to_string(p.join("t.csv")).unwrap();
+    let with = |line: &str| trial.replacen('\n', &format!("\n# {line}\n"), 1);
+    std::fs::write(p.join("t.csv"), with("leg_length_m: 0.9")).unwrap();
+    let o = estimate_imm(&["--imm-config", "continuous"], "r.csv", p);
+    ok(&o);
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        msg.contains("rescaled by Froude similarity") && msg.contains("l0 0.9 m"),
+        "{msg}"
+    );
+    let est = std::fs::read_to_string(p.join("r.csv")).unwrap();
+    assert!(est.contains("l0 0.900 m"), "the rescaled body is reported");
+    // Another body without its leg length: cannot rescale, exit 1.
+    std::fs::write(p.join("t.csv"), with("body_mass_kg: 70")).unwrap();
+    let o = estimate_imm(&[], "x.csv", p);
+    assert_eq!(o.status.code(), Some(1));
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        msg.contains("leg length is unknown") && msg.contains("--leg-length"),
+        "{msg}"
+    );
+    // --leg-length supplies it.
+    ok(&estimate_imm(&["--leg-length", "0.95"], "y.csv", p));
+    std::fs::write(p.join("t.csv"), &trial).unwrap();
+    for bad in [
+        &["--imm-config", "banana"][..],
+        &["--imm-config", "continuous", "--imm-touchdown", "height"][..],
+        &["--leg-length", "-1"][..],
+    ] {
+        let o = estimate_imm(bad, "z.csv", p);
+        assert_eq!(o.status.code(), Some(1), "{bad:?}");
+    }
 }
 
 #[test]

@@ -1,13 +1,16 @@
 //! Per-sample cost of `imm-bslip` with 18 filters (the 0.4-0.9 m/s library
 //! minus nothing: 6 gaits x 3 phases) on a seeded 0.7 m/s B-SLIP trial
-//! (60 s at 100 Hz, full CoM channels), one core; and the library build.
+//! (60 s at 100 Hz, full CoM channels), one core; the `continuous`
+//! configuration (issue 19: 3 filters of one family gait re-targeted at
+//! every mid-stance, feet and phase from the data) over the same library
+//! with the walker's 0.7 m/s gait held out; and the library build.
 //! `cargo bench -p limbfuse-estimators --bench imm_bslip`
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -32,6 +35,25 @@ fn bench(c: &mut Criterion) {
     g.bench_function("18_filters", |b| {
         b.iter(|| {
             let mut e = ImmBslip::new(&templates, ImmBslipParams::full_com()).unwrap();
+            let mut acc = 0.0;
+            for r in &records {
+                acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);
+            }
+            black_box(acc)
+        })
+    });
+    let held_out: Vec<_> = templates
+        .iter()
+        .filter(|t| (t.speed - 0.7).abs() > 1e-9)
+        .copied()
+        .collect();
+    let continuous = ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    };
+    g.bench_function("continuous", |b| {
+        b.iter(|| {
+            let mut e = ImmContinuous::new(&held_out, continuous).unwrap();
             let mut acc = 0.0;
             for r in &records {
                 acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);

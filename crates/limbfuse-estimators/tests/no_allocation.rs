@@ -4,7 +4,9 @@
 
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
+use limbfuse_estimators::imm_bslip::{
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, TouchdownRule,
+};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
 use limbfuse_estimators::segment_kf::{
     AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
@@ -89,6 +91,10 @@ fn step_never_allocates() {
         .iter()
         .map(|p| Box::new(ImmBslip::new(&library, *p).unwrap()) as Box<dyn Estimator>)
         .collect();
+    // The continuous configuration (issue 19): re-targeting at every MS.
+    estimators.push(Box::new(
+        ImmContinuous::new(&library, ImmBslipParams::default()).unwrap(),
+    ));
     estimators.extend::<[Box<dyn Estimator>; 9]>([
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),

@@ -8,12 +8,17 @@
 //! rescale_height = 0.95    # CoM height at mid-stance, m (sec IV-B; --rescale-height)
 //! weights = "paper"        # or "recursive" (--imm-weights)
 //! touchdown = "height"     # or "step-clock", "mixed" (--imm-touchdown)
+//! configuration = "paper"  # or "continuous" (--imm-config)
+//! leg_length = 0.95        # trial body, m (--leg-length; else the trial metadata)
+//! mass = 70                # trial body, kg (--mass)
 //! ```
 
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmWeights, TouchdownRule};
+use limbfuse_estimators::imm_bslip::{
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, TouchdownRule,
+};
 use limbfuse_io::gait_library::GaitLibraryFile;
 use limbfuse_io::{TrialLayout, TrialMeta};
 use limbfuse_models::bslip::GaitTemplate;
@@ -32,6 +37,30 @@ struct ImmBslipFile {
     rescale_height: Option<f64>,
     weights: Option<String>,
     touchdown: Option<String>,
+    configuration: Option<String>,
+    leg_length: Option<f64>,
+    mass: Option<f64>,
+}
+
+/// Which `imm-bslip` estimator runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ImmConfig {
+    /// Paper 003's IMM over every (gait, phase) of the library (default).
+    #[default]
+    Paper,
+    /// One gait of the continuous family re-targeted to the measured speed,
+    /// phase from the leg lengths ([`ImmContinuous`]; issue 19).
+    Continuous,
+}
+
+impl ImmConfig {
+    /// `paper` or `continuous`.
+    pub const fn label(self) -> &'static str {
+        match self {
+            ImmConfig::Paper => "paper",
+            ImmConfig::Continuous => "continuous",
+        }
+    }
 }
 
 /// `imm-bslip` resolved: the library's templates (rescaled if asked) and
@@ -47,8 +76,18 @@ pub struct ImmSpec {
     pub kappa: Option<f64>,
     /// The weight rule.
     pub weights: ImmWeights,
-    /// The touchdown rule.
+    /// The touchdown rule (paper configuration).
     pub touchdown: TouchdownRule,
+    /// The configuration.
+    pub config: ImmConfig,
+    /// The trial body's leg length (m) and mass (kg) given as flags or in
+    /// the parameter file (else the trial metadata is read).
+    pub leg_length: Option<f64>,
+    /// See `leg_length`.
+    pub mass: Option<f64>,
+    /// Whether the templates were rescaled to a CoM height (then the body
+    /// is not fitted again).
+    pub height_rescaled: bool,
 }
 
 fn weights(flag: &'static str, text: &str) -> Result<ImmWeights, MethodError> {
@@ -75,6 +114,30 @@ fn touchdown(flag: &'static str, text: &str) -> Result<TouchdownRule, MethodErro
         expected: "`height`, `step-clock` or `mixed`",
         found: text.to_string(),
     })
+}
+
+fn config(flag: &'static str, text: &str) -> Result<ImmConfig, MethodError> {
+    [ImmConfig::Paper, ImmConfig::Continuous]
+        .into_iter()
+        .find(|c| c.label() == text)
+        .ok_or_else(|| MethodError::BadFlagValue {
+            flag,
+            expected: "`paper` or `continuous`",
+            found: text.to_string(),
+        })
+}
+
+/// The templates for the trial's body (rescaled by Froude similarity when
+/// the library was built for another body) and the message saying so.
+pub fn templates_for_trial(
+    spec: &ImmSpec,
+    meta: &TrialMeta,
+) -> Result<(Vec<GaitTemplate>, Option<String>), MethodError> {
+    if spec.height_rescaled {
+        return Ok((spec.templates.clone(), None));
+    }
+    let body = crate::imm_body::trial_body(spec.mass, spec.leg_length, meta)?;
+    crate::imm_body::fit_library(spec.templates.clone(), &body)
 }
 
 /// Reads a library file's templates, optionally rescaled to a CoM height
@@ -116,23 +179,67 @@ pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmS
         (None, Some(w)) => weights("weights", w)?,
         (None, None) => ImmWeights::Paper,
     };
+    let config = match (&flags.imm_config, &f.configuration) {
+        (Some(c), _) => config("--imm-config", c)?,
+        (None, Some(c)) => config("configuration", c)?,
+        (None, None) => ImmConfig::Paper,
+    };
+    if config == ImmConfig::Continuous && flags.imm_touchdown.is_some() {
+        return Err(MethodError::ImmParams(
+            "--imm-touchdown applies to the paper configuration only (continuous places feet \
+             from the data)"
+                .into(),
+        ));
+    }
     let touchdown = match (&flags.imm_touchdown, &f.touchdown) {
         (Some(w), _) => touchdown("--imm-touchdown", w)?,
         (None, Some(w)) => touchdown("touchdown", w)?,
         (None, None) => TouchdownRule::Height,
     };
+    // The continuous configuration's weights default to the standard IMM
+    // mode probability (docs/GAIT_IMM.md).
+    let weights = match (config, flags.imm_weights.is_some() || f.weights.is_some()) {
+        (ImmConfig::Continuous, false) => ImmWeights::Recursive,
+        _ => weights,
+    };
     Ok(ImmSpec {
         library,
+        height_rescaled: flags.rescale_height.or(f.rescale_height).is_some(),
         templates,
         kappa: flags.kappa.or(f.kappa),
         weights,
         touchdown,
+        config,
+        leg_length: flags.leg_length.or(f.leg_length),
+        mass: flags.mass.or(f.mass),
     })
 }
 
 /// The estimator for a trial: position-only defaults (eqs 17-18) when the
 /// trial has no CoM velocity channel, else eqs 15-16.
 pub fn build_imm(spec: &ImmSpec, layout: &TrialLayout) -> Result<ImmBslip, MethodError> {
+    let params = imm_params(spec, layout);
+    ImmBslip::new(&spec.templates, params).map_err(|e| MethodError::ImmParams(e.to_string()))
+}
+
+/// The estimator of `spec`'s configuration for a trial (metadata: the
+/// body; columns: the measurement model).
+pub fn build_for_trial(
+    spec: &ImmSpec,
+    meta: &TrialMeta,
+    layout: &TrialLayout,
+) -> Result<Box<dyn Estimator + Send>, MethodError> {
+    let (templates, _) = templates_for_trial(spec, meta)?;
+    let params = imm_params(spec, layout);
+    let err =
+        |e: limbfuse_estimators::imm_bslip::ImmBslipError| MethodError::ImmParams(e.to_string());
+    Ok(match spec.config {
+        ImmConfig::Paper => Box::new(ImmBslip::new(&templates, params).map_err(err)?),
+        ImmConfig::Continuous => Box::new(ImmContinuous::new(&templates, params).map_err(err)?),
+    })
+}
+
+fn imm_params(spec: &ImmSpec, layout: &TrialLayout) -> ImmBslipParams {
     let mut params = if layout.com_meas[3] || layout.com_meas[4] {
         ImmBslipParams::full_com()
     } else {
@@ -143,7 +250,7 @@ pub fn build_imm(spec: &ImmSpec, layout: &TrialLayout) -> Result<ImmBslip, Metho
     }
     params.weights = spec.weights;
     params.touchdown = spec.touchdown;
-    ImmBslip::new(&spec.templates, params).map_err(|e| MethodError::ImmParams(e.to_string()))
+    params
 }
 
 impl MethodFile for ImmBslipFile {
@@ -161,7 +268,7 @@ impl MethodDef for ImmBslipMethod {
         "imm-bslip",
         "paper 003: gait phase and speed from CoM measurements, IMM over a B-SLIP gait library (--library)",
         "com_meas_x/y/z (and com_meas_vx/vy when present)",
-        "library, kappa, rescale_height, weights, touchdown (file keys or --library, --kappa, ...)",
+        "library, kappa, rescale_height, weights, touchdown, configuration, leg_length, mass (file keys or --library, --kappa, --imm-config, ...)",
     )
     .needing(
         ChannelNeeds {
@@ -178,10 +285,10 @@ impl MethodDef for ImmBslipMethod {
 
     fn build(
         spec: &ImmSpec,
-        _: &TrialMeta,
+        meta: &TrialMeta,
         layout: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(build_imm(spec, layout)?))
+        build_for_trial(spec, meta, layout)
     }
 
     fn default_file() -> String {
@@ -200,7 +307,10 @@ pub fn default_file() -> String {
          # kappa = {}  # eq 14 gain, 1/m^2 (default {} with CoM velocity, {} position only)\n\
          # rescale_height = 0.95  # rescale every gait to this mid-stance CoM height, m\n\
          weights = \"{}\"  # \"paper\" (eq 8) or \"recursive\"\n\
-         touchdown = \"{}\"  # \"height\", \"step-clock\" or \"mixed\"\n",
+         touchdown = \"{}\"  # \"height\", \"step-clock\" or \"mixed\"\n\
+         configuration = \"paper\"  # or \"continuous\" (then weights default to \"recursive\" and touchdown is not used)\n\
+         # leg_length = 0.95  # trial body, m (else the trial metadata); a library for another body is rescaled\n\
+         # mass = 70  # trial body, kg\n",
         full.kappa,
         full.kappa,
         pos.kappa,

@@ -35,6 +35,7 @@ mod error;
 pub mod fes_methods;
 pub mod fes_params;
 pub mod gated;
+pub mod imm_body;
 pub mod imm_params;
 pub mod knee_params;
 pub mod method_def;

@@ -22,6 +22,12 @@ pub struct MethodFlags {
     pub imm_weights: Option<String>,
     /// imm-bslip: touchdown rule (`height`, `step-clock`, `mixed`).
     pub imm_touchdown: Option<String>,
+    /// imm-bslip: configuration (`paper`, `continuous`).
+    pub imm_config: Option<String>,
+    /// imm-bslip: the trial body's leg length (m), over its metadata.
+    pub leg_length: Option<f64>,
+    /// imm-bslip: the trial body's mass (kg), over its metadata.
+    pub mass: Option<f64>,
 }
 
 impl MethodFlags {
@@ -39,10 +45,13 @@ impl MethodFlags {
             || self.kappa.is_some()
             || self.rescale_height.is_some()
             || self.imm_weights.is_some()
-            || self.imm_touchdown.is_some();
+            || self.imm_touchdown.is_some()
+            || self.imm_config.is_some()
+            || self.leg_length.is_some()
+            || self.mass.is_some();
         if imm && method != MethodName::ImmBslip {
             return Err(MethodError::FlagNotForMethod {
-                flags: "--library, --kappa, --rescale-height, --imm-weights and --imm-touchdown",
+                flags: "--library, --kappa, --rescale-height, --imm-weights, --imm-touchdown, --imm-config, --leg-length and --mass",
                 owner: MethodName::ImmBslip,
                 method,
             });

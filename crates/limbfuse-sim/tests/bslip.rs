@@ -166,3 +166,56 @@ fn rescaled_gait_is_still_periodic() {
     assert!((o.step_length() - tpl.step_length * r * r).abs() < 1e-7);
     assert!(tpl.rescaled_to_height(f64::NAN).is_none());
 }
+
+/// Froude scaling (docs/GAIT_IMM.md, "Continuous gait family"): a gait found
+/// for the default body (80 kg, l0 1 m, g 9.81), rescaled to another body
+/// (70 kg, l0 0.95 m; and a 0.9 m leg under Mars gravity), is a periodic
+/// gait of that body's own dynamics, with the step's times, lengths and
+/// mean speed scaled as the dimensionless groups say. Keeping the default
+/// body's stiffness instead (what a library built for another body gives
+/// without rescaling) is not periodic: the test can fail.
+#[test]
+fn a_gait_rescaled_by_froude_similarity_is_periodic_for_the_other_body() {
+    let g = gait_at_start_speed();
+    let t = g.template(&body());
+    assert!(g.residual < 1e-8);
+    for other in [
+        BslipParams {
+            mass: 70.0,
+            rest_length: 0.95,
+            ..body()
+        },
+        BslipParams {
+            mass: 60.0,
+            rest_length: 0.9,
+            gravity: 3.71,
+            ..body()
+        },
+    ] {
+        let r = t.rescaled_to_body(&other).unwrap();
+        let sim = StepSimulator::new(r.body);
+        let o = sim.step(&r.gait).unwrap();
+        let err = periodicity_error(&r.gait, &o);
+        assert!(
+            err < 1e-8,
+            "rescaled to {other:?}: periodicity error {err:e}"
+        );
+        let s = other.rest_length / body().rest_length;
+        let time = (s * body().gravity / other.gravity).sqrt();
+        assert!((o.t_end - g.step.t_end * time).abs() < 1e-9);
+        assert!((o.t_touchdown - g.step.t_touchdown * time).abs() < 1e-9);
+        assert!((o.step_length() - g.step.step_length() * s).abs() < 1e-9);
+        assert!((o.mean_speed() - r.speed).abs() < 1e-6);
+        // The default body's stiffness with the other body's mass and leg.
+        let unscaled = limbfuse_models::bslip::GaitParameters {
+            stiffness: g.gait.stiffness,
+            ..r.gait
+        };
+        let sim = StepSimulator::new(unscaled.model(&other));
+        let bad = sim
+            .step(&unscaled)
+            .map(|o| periodicity_error(&unscaled, &o))
+            .unwrap_or(f64::INFINITY);
+        assert!(bad > 1e-4, "unscaled stiffness still periodic: {bad:e}");
+    }
+}

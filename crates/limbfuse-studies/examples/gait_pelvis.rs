@@ -2,11 +2,13 @@
 //! shared gaittoolbox trial as a CoM proxy, straight parts only,
 //! position-only measurements (eqs 17-18), a 0.6-1.0 m/s library rescaled
 //! to the pelvis height at mid-stance (sec IV-B).
-//! `cargo run --release -p limbfuse-studies --example gait_pelvis -- [DATA_DIR] [--touchdown height|step-clock|mixed]`
+//! `cargo run --release -p limbfuse-studies --example gait_pelvis -- [DATA_DIR] [--touchdown height|step-clock|mixed] [--continuous]`
+//! (`--continuous`: the issue-19 configuration, median speed estimate over
+//! the second half of each part).
 
 use clap::Parser;
 use limbfuse_core::{Estimator, Sample};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -105,6 +107,10 @@ fn main() {
                 touchdown: args.touchdown,
                 ..ImmBslipParams::position_only()
             };
+            if args.continuous {
+                continuous(&templates, &p[s..e], &local, measured, label, (s, e));
+                continue;
+            }
             let mut imm = ImmBslip::new(&templates, params).unwrap();
             let mut hist = vec![0usize; templates.len()];
             let (mut wmean, mut nw, mut n2) = (0.0, 0, 0);
@@ -137,4 +143,43 @@ fn main() {
             );
         }
     }
+}
+
+/// The continuous configuration on one straight part: median speed over
+/// the second half.
+fn continuous(
+    templates: &[limbfuse_models::bslip::GaitTemplate],
+    part: &[[f64; 3]],
+    local: &dyn Fn(&[f64; 3]) -> [f64; 3],
+    measured: f64,
+    label: &str,
+    (s, e): (usize, usize),
+) {
+    let fs = 100.0;
+    let params = ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::position_only()
+    };
+    let mut imm = ImmContinuous::new(templates, params).unwrap();
+    let mut speeds = Vec::new();
+    for (i, q) in part.iter().enumerate() {
+        let mut sample = Sample::empty(i as f64 / fs);
+        let l = local(q);
+        sample.com.pos = [Some(l[0]), Some(l[1]), Some(l[2])];
+        let est = imm.step(&sample).unwrap();
+        if i >= part.len() / 2 {
+            speeds.extend(est.speed);
+        }
+    }
+    speeds.sort_by(f64::total_cmp);
+    let median = speeds[speeds.len() / 2];
+    let (mid, last) = (part.len() / 2, part.len() - 1);
+    let second_half = (local(&part[last])[0] - local(&part[mid])[0]) / ((last - mid) as f64 / fs);
+    println!(
+        "part {:.2}-{:.2} s, {label}, continuous: measured pelvis speed {measured:.3} m/s (second half {second_half:.3}); second half: median speed estimate {median:.3} m/s (error {:+.3}; {:+.3} against the second half)",
+        s as f64 / fs,
+        e as f64 / fs,
+        median - measured,
+        median - second_half
+    );
 }

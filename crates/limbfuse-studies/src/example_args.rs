@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 11] = [
+pub const EXAMPLES: [&str; 12] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -17,6 +17,7 @@ pub const EXAMPLES: [&str; 11] = [
     "fes_thesis_protocol",
     "gait_pelvis",
     "imm_bslip_study",
+    "imm_continuous_study",
     "knee_study",
     "segment_error_budget",
     "segment_study",
@@ -57,6 +58,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
+        "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
@@ -200,7 +202,7 @@ pub struct FesStudiesArgs {
     pub hip_only: bool,
 }
 
-/// `gait_pelvis [DATA_DIR] [--touchdown RULE]`.
+/// `gait_pelvis [DATA_DIR] [--touchdown RULE] [--continuous]`.
 #[derive(Debug, Parser)]
 pub struct GaitPelvisArgs {
     /// The gaittoolbox trial directory.
@@ -209,6 +211,9 @@ pub struct GaitPelvisArgs {
     /// Touchdown rule: `height` (default), `step-clock` or `mixed`.
     #[arg(long, default_value = "height", value_parser = touchdown_rule)]
     pub touchdown: TouchdownRule,
+    /// Run the `continuous` configuration (issue 19) instead of the paper's.
+    #[arg(long)]
+    pub continuous: bool,
 }
 
 /// `imm_bslip_study [SEEDS] [--truth SPEED] [--weights W] [--touchdown R]
@@ -236,6 +241,23 @@ pub struct ImmBslipStudyArgs {
     /// Measurement rate (Hz).
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,
+}
+
+/// `imm_continuous_study [SEEDS] [--truth SPEED] [--rate HZ] [--data DIR]`.
+#[derive(Debug, Parser)]
+pub struct ImmContinuousStudyArgs {
+    /// Noise seeds 1..=SEEDS.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
+    /// The library gait (m/s, one of 0.4-0.9 by 0.1) simulated and held out.
+    #[arg(long, default_value_t = 0.7, value_parser = library_speed)]
+    pub truth: f64,
+    /// Measurement rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// The shared data directory.
+    #[arg(long, default_value = "../shared/data")]
+    pub data: String,
 }
 
 /// The gait speeds of the `imm_bslip_study` library (m/s).

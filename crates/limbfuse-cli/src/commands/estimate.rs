@@ -19,6 +19,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let reader = TrialReader::open(&a.trial)?;
     let mut est = methods::build_for(&spec, &reader)?;
+    methods::report_body(&spec, &reader)?;
     let n = run_to_file(
         est.as_mut(),
         reader,

@@ -26,6 +26,7 @@
 //! state turns non-finite gets weight zero and is re-seeded by mixing.
 #![allow(non_snake_case)]
 
+pub mod continuous;
 pub mod ekf;
 mod ensemble;
 mod feet;
@@ -43,6 +44,7 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample, Time
 use limbfuse_models::bslip::{GaitTemplate, State};
 use nalgebra::{Matrix6, Vector3};
 
+pub use continuous::ImmContinuous;
 use ekf::{propagate, update, Cov};
 use feet::{Feet, FootPlacement};
 pub use names::{ImmDiag, MAX_GAITS, SPEED_MEAN, WEIGHT_NAMES};
@@ -102,6 +104,9 @@ pub struct ImmBslip {
     last_t: Option<f64>,
     running: bool,
     ensemble: (State, Cov),
+    /// Feet set from outside ([`ImmContinuous`]) instead of by the
+    /// touchdown rule.
+    external_feet: bool,
 }
 
 impl ImmBslip {
@@ -195,6 +200,7 @@ impl ImmBslip {
             last_t: None,
             running: false,
             ensemble: (State::zeros(), Cov::zeros()),
+            external_feet: false,
         })
     }
 
@@ -254,8 +260,21 @@ impl ImmBslip {
         self.running = true;
     }
 
+    /// Every gait's feet: trailing `stance`, leading `leading` (both down;
+    /// [`ImmContinuous`]).
+    fn set_feet(&mut self, stance: [f64; 2], leading: [f64; 2]) {
+        for f in &mut self.feet {
+            f.stance = stance;
+            f.landed = Some(leading);
+            f.ss2 = None;
+        }
+    }
+
     /// Per gait, after the ensemble update: [`Feet::advance`].
     fn advance_feet(&mut self, now: f64, previous_vy: f64) {
+        if self.external_feet {
+            return;
+        }
         let x = self.ensemble.0;
         let placement = FootPlacement {
             rule: self.params.touchdown,

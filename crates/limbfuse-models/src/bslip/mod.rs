@@ -21,6 +21,7 @@
 
 mod dynamics;
 mod events;
+pub mod family;
 mod gait;
 mod template;
 

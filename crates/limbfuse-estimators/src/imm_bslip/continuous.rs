@@ -1,0 +1,285 @@
+//! `imm-bslip`, configuration `continuous` (issue 19 items 1-2; not in
+//! paper 003): the IMM over the three phase models of ONE gait of the
+//! continuous gait family, re-targeted to the walking speed measured step
+//! by step, with feet and phase placed by evidence from the data instead of
+//! the template's touchdown timing. docs/GAIT_IMM.md, "Configuration
+//! `continuous`".
+//!
+//! - **Feet from the data.** At each mid-stance (MS: the ensemble's
+//!   vertical velocity crossing zero downwards in SS2, located between the
+//!   two samples by linear interpolation) the stance foot is under the CoM
+//!   (`x_foot = x_CoM(MS)`, the B-SLIP apex; laterally at the gait's MS
+//!   offset), and the next foot is one measured step length ahead (the
+//!   last MS-to-MS advance; the family's step length before two MS are
+//!   seen) and one step width to the side.
+//! - **Phase from the leg lengths.** Feet land and lift at rest length
+//!   (B-SLIP), so with the feet known the phase is the set of legs shorter
+//!   than `l0` on the ensemble CoM: SS1 -> DS when the leading leg is
+//!   shorter than `l0` (touchdown), DS -> SS2 when the trailing leg is no
+//!   longer (lift-off), SS2 -> SS1 at MS. This is eq 14's physical
+//!   likelihood taken to its limit (`kappa -> infinity`) and does not use
+//!   the template's `t_touchdown` or touchdown height.
+//! - **Speed as a continuous quantity.** The walking speed is the CoM's
+//!   advance over the last stride (two MS-to-MS steps; one step until two
+//!   are seen; before that the mean ensemble `vx` since the start), and
+//!   at every MS the filters' gait is re-targeted to the family's gait at
+//!   that speed ([`gait_at_speed`]): stiffness, lateral offset, step width.
+
+extern crate alloc;
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample};
+use limbfuse_models::bslip::family::{gait_at_speed, speed_at_mid_stance_velocity};
+use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
+
+use super::{ImmBslip, ImmBslipError, ImmBslipParams};
+
+/// One located mid-stance: time and CoM `(x, z)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct MidStance {
+    t: f64,
+    x: f64,
+    z: f64,
+}
+
+/// Feet, phase and speed from the data (module docs).
+#[derive(Debug, Clone, Copy)]
+struct StepTracker {
+    /// Trailing (SS1 stance) side.
+    side: Side,
+    /// Trailing foot `(x, z)`.
+    stance: [f64; 2],
+    /// Leading foot `(x, z)`.
+    leading: [f64; 2],
+    phase: GaitPhase,
+    /// The last two located MS (newest first); the start is not one.
+    ms: [Option<MidStance>; 3],
+    /// Walking speed (m/s).
+    speed: f64,
+    /// Sum of ensemble `vx` and samples since the start (the speed before a
+    /// step is measured).
+    vx_sum: (f64, usize),
+    /// The family's gait the filters use.
+    gait: GaitTemplate,
+}
+
+impl StepTracker {
+    fn new(gait: GaitTemplate, side: Side) -> Self {
+        StepTracker {
+            side,
+            stance: [0.0; 2],
+            leading: [0.0; 2],
+            phase: GaitPhase::Ss1,
+            ms: [None; 3],
+            speed: gait.speed,
+            vx_sum: (0.0, 0),
+            gait,
+        }
+    }
+
+    /// Feet of a step starting at MS on `self.side` with the CoM at
+    /// `(x, z)`, the next foot `step_length` ahead.
+    fn place_feet(&mut self, x: f64, z: f64, step_length: f64) {
+        let s = self.side.sign();
+        self.stance = [x, z - s * self.gait.gait.lateral];
+        self.leading = [x + step_length, self.stance[1] + s * self.gait.step_width];
+        self.phase = GaitPhase::Ss1;
+    }
+
+    /// The measured step length, if two MS are known.
+    fn measured_step(&self) -> Option<f64> {
+        match (self.ms[0], self.ms[1]) {
+            (Some(a), Some(b)) => Some(a.x - b.x),
+            _ => None,
+        }
+    }
+
+    /// The CoM's advance over the last stride (or step) since located MS.
+    fn measured_speed(&self) -> Option<f64> {
+        let a = self.ms[0]?;
+        let b = self.ms[2].or(self.ms[1])?;
+        (a.t > b.t).then(|| (a.x - b.x) / (a.t - b.t))
+    }
+}
+
+/// `imm-bslip` with the continuous gait family and evidence-based phase
+/// (module docs).
+#[derive(Debug, Clone)]
+pub struct ImmContinuous {
+    inner: ImmBslip,
+    family: Vec<GaitTemplate>,
+    steps: StepTracker,
+    first_side: Side,
+    previous: Option<(f64, State)>,
+}
+
+impl ImmContinuous {
+    /// The estimator over `family` (one body; sorted here by speed).
+    pub fn new(family: &[GaitTemplate], params: ImmBslipParams) -> Result<Self, ImmBslipError> {
+        let mut family = family.to_vec();
+        family.sort_by(|a, b| a.speed.total_cmp(&b.speed));
+        let middle = *family
+            .get(family.len() / 2)
+            .ok_or(ImmBslipError::EmptyLibrary)?;
+        let mut inner = ImmBslip::new(core::slice::from_ref(&middle), params)?;
+        inner.external_feet = true;
+        Ok(ImmContinuous {
+            inner,
+            family,
+            steps: StepTracker::new(middle, params.first_side),
+            first_side: params.first_side,
+            previous: None,
+        })
+    }
+
+    /// The family's gait the filters use now.
+    pub fn current_gait(&self) -> &GaitTemplate {
+        &self.steps.gait
+    }
+
+    fn retarget(&mut self, speed: f64) {
+        if let Some(g) = gait_at_speed(&self.family, speed) {
+            self.steps.gait = g;
+            self.inner.templates[0] = g;
+        }
+    }
+
+    fn start(&mut self, now: f64, x: &State, measured_vx: Option<f64>) {
+        let middle = self.family[self.family.len() / 2].speed;
+        let speed = measured_vx
+            .and_then(|vx| speed_at_mid_stance_velocity(&self.family, vx))
+            .unwrap_or(middle);
+        let gait = gait_at_speed(&self.family, speed).unwrap_or(self.steps.gait);
+        self.steps = StepTracker::new(gait, self.first_side);
+        self.retarget(speed);
+        self.steps.place_feet(x[0], x[2], gait.step_length);
+        let _ = now;
+    }
+
+    /// After the ensemble update: phase by the leg lengths, MS and the
+    /// next step's feet, speed and re-targeting.
+    fn advance(&mut self, now: f64, x: &State) {
+        let l0 = self.steps.gait.body.rest_length;
+        let st = &mut self.steps;
+        st.vx_sum.0 += x[3];
+        st.vx_sum.1 += 1;
+        let trailing = leg_length(x, st.stance);
+        let leading = leg_length(x, st.leading);
+        if st.phase == GaitPhase::Ss1 && leading < l0 {
+            st.phase = GaitPhase::Ds;
+        }
+        if st.phase == GaitPhase::Ds && trailing >= l0 {
+            st.phase = GaitPhase::Ss2;
+        }
+        let Some((t_prev, x_prev)) = self.previous else {
+            return;
+        };
+        if st.phase != GaitPhase::Ss2 {
+            return;
+        }
+        let apex = x_prev[4] > 0.0 && x[4] <= 0.0;
+        let past = x[0] > st.leading[0] + 0.1 * l0;
+        if !(apex || past) {
+            return;
+        }
+        // MS between the two samples, where vy crosses zero.
+        let a = if apex {
+            x_prev[4] / (x_prev[4] - x[4])
+        } else {
+            1.0
+        };
+        let ms = MidStance {
+            t: t_prev + a * (now - t_prev),
+            x: x_prev[0] + a * (x[0] - x_prev[0]),
+            z: x_prev[2] + a * (x[2] - x_prev[2]),
+        };
+        st.ms = [Some(ms), st.ms[0], st.ms[1]];
+        if let Some(v) = st.measured_speed() {
+            st.speed = v;
+        }
+        let speed = st.speed;
+        st.side = st.side.other();
+        self.retarget(speed);
+        let st = &mut self.steps;
+        let length = st.measured_step().unwrap_or(st.gait.step_length);
+        st.place_feet(ms.x, ms.z, length);
+    }
+}
+
+impl Estimator for ImmContinuous {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn outputs(&self) -> Outputs {
+        self.inner.outputs()
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.inner.params;
+        writeln!(
+            out,
+            "configuration: continuous (gait family + leg-length phase)"
+        )?;
+        writeln!(out, "r: {:?}", p.r)?;
+        writeln!(out, "q: {:?}", p.q)?;
+        writeln!(out, "kappa: {}", p.kappa)?;
+        writeln!(out, "weights: {}", p.weights.label())?;
+        writeln!(out, "p_next_phase: {}", p.p_next_phase)?;
+        writeln!(out, "max_substep: {}", p.max_substep)?;
+        writeln!(out, "max_gap: {}", p.max_gap)?;
+        for (g, t) in self.family.iter().enumerate() {
+            writeln!(
+                out,
+                "family gait {g:02}: speed {:.3} m/s, step {:.3} x {:.3} m, l0 {:.3} m, m {:.1} kg, k {:.0} N/m",
+                t.speed,
+                t.step_length,
+                t.step_width,
+                t.body.rest_length,
+                t.body.mass,
+                t.body.stiffness
+            )?;
+        }
+        Ok(())
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        self.inner.diagnostic_names()
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.previous = None;
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let was_running = self.inner.running;
+        let gap = self
+            .previous
+            .is_some_and(|(t, _)| sample.t - t > self.inner.params.max_gap);
+        let mut e = self.inner.step(sample)?;
+        if !self.inner.running {
+            self.previous = None;
+            return Ok(e);
+        }
+        let x = self.inner.ensemble.0;
+        if !was_running || gap {
+            self.previous = None;
+            self.start(sample.t, &x, sample.com.values()[3]);
+        }
+        self.advance(sample.t, &x);
+        self.previous = Some((sample.t, x));
+        let st = &self.steps;
+        self.inner.set_feet(st.stance, st.leading);
+        e.phase = Some(st.phase);
+        e.speed = Some(if st.ms[1].is_some() {
+            st.speed
+        } else {
+            st.vx_sum.0 / st.vx_sum.1.max(1) as f64
+        });
+        Ok(e)
+    }
+}

@@ -1,0 +1,91 @@
+//! `imm-bslip`, configuration `continuous` (issue 19 items 1-2): with the
+//! walker's gait held out of a small family, the speed is estimated between
+//! the family's gaits and the phase from the leg lengths follows the
+//! reference; gaps restart it without NaN.
+
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights};
+use limbfuse_models::bslip::{BslipParams, GaitTemplate};
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+
+/// A 0.95 / 1.0 / 1.05 m/s library of the default body (one gait search
+/// and two continuation steps): the walker is the 1.0 m/s gait, the family
+/// the other two.
+fn walker_and_family() -> (GaitTemplate, Vec<GaitTemplate>) {
+    let body = BslipParams::default();
+    let lib = build_library(
+        &body,
+        &[0.95, 1.0, 1.05],
+        &SearchSettings::default(),
+        |_, _| {},
+    )
+    .unwrap();
+    let t: Vec<GaitTemplate> = lib.iter().map(|g| g.template(&body)).collect();
+    (t[1], vec![t[0], t[2]])
+}
+
+fn params() -> ImmBslipParams {
+    ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    }
+}
+
+#[test]
+fn speed_between_the_family_gaits_and_phase_from_the_leg_lengths() {
+    let (walker, family) = walker_and_family();
+    let records: Vec<Record> = simulate_trial(
+        &walker,
+        &BslipTrialConfig {
+            duration: 4.0,
+            ..Default::default()
+        },
+    );
+    let mut imm = ImmContinuous::new(&family, params()).unwrap();
+    let (mut ok, mut speeds) = (0, Vec::new());
+    for r in &records {
+        let e = imm.step(&r.sample).unwrap();
+        ok += usize::from(e.phase == r.reference.phase);
+        speeds.push(e.speed.unwrap());
+    }
+    let acc = ok as f64 / records.len() as f64;
+    speeds.sort_by(f64::total_cmp);
+    let median = speeds[speeds.len() / 2];
+    // The family's gaits are 0.05 m/s slower and faster than the walker: a
+    // grid estimate would be off by 0.05 m/s.
+    let grid = (family[0].speed - walker.speed).abs();
+    assert!(grid > 0.04, "family spacing {grid}");
+    assert!(
+        (median - walker.speed).abs() < 0.02,
+        "median speed {median}, walker {}",
+        walker.speed
+    );
+    assert!(acc > 0.9, "phase accuracy {acc}");
+    // Re-targeted between the two family gaits.
+    let g = imm.current_gait();
+    assert!(g.speed > family[0].speed && g.speed < family[1].speed);
+}
+
+#[test]
+fn a_gap_restarts_the_continuous_configuration_without_nan() {
+    let (walker, family) = walker_and_family();
+    let records = simulate_trial(
+        &walker,
+        &BslipTrialConfig {
+            duration: 2.0,
+            ..Default::default()
+        },
+    );
+    let mut imm = ImmContinuous::new(&family, params()).unwrap();
+    for (k, r) in records.iter().enumerate() {
+        if (80..120).contains(&k) {
+            continue; // a 0.4 s gap
+        }
+        let e = imm.step(&r.sample).unwrap();
+        assert!(e.speed.is_some_and(f64::is_finite));
+        assert!(e.com_pos.is_some_and(|p| p.iter().all(|v| v.is_finite())));
+    }
+    assert!(ImmContinuous::new(&[], params()).is_err());
+}

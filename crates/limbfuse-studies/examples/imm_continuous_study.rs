@@ -1,0 +1,183 @@
+//! Issue 19 items 1-2: `imm-bslip --imm-config continuous` (continuous gait
+//! family, speed measured and re-targeted, phase from the leg lengths).
+//! (1) Paper 003 sec IV-A: the `--truth` gait (default 0.7 m/s) simulated
+//! and held out of the 0.4-0.9 m/s library (default body), SEEDS noise
+//! seeds at `--rate` Hz: phase accuracy, median speed, CoM RMS, with the
+//! paper configuration beside it. (2) The shared independent B-SLIP trials
+//! (`DATA/independent-sim/bslip-*.csv`): a 0.4-1.0 m/s library built for
+//! the body in the trial's metadata, and one built for the default body
+//! rescaled automatically (Froude similarity); phase accuracy and median
+//! speed against `# speed_true`.
+//! `cargo run --release -p limbfuse-studies --example imm_continuous_study -- [SEEDS] [--truth V] [--rate HZ] [--data DIR]`
+
+use clap::Parser;
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
+use limbfuse_io::TrialReader;
+use limbfuse_methods::imm_body::{fit_library, trial_body};
+use limbfuse_models::bslip::{BslipParams, GaitTemplate};
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_studies::example_args::{ImmContinuousStudyArgs, IMM_STUDY_SPEEDS};
+
+/// Phase accuracy (%), median speed (m/s) and CoM position RMS (cm).
+fn run(est: &mut dyn Estimator, trial: &[Record]) -> (f64, f64, f64) {
+    let (mut ok, mut n, mut se) = (0usize, 0usize, 0.0);
+    let mut speeds = Vec::new();
+    for r in trial {
+        let e = est.step(&r.sample).unwrap();
+        if r.reference.phase.is_some() {
+            n += 1;
+            ok += usize::from(e.phase == r.reference.phase);
+        }
+        if let Some(s) = e.speed {
+            speeds.push(s);
+        }
+        if let (Some(a), Some(b)) = (e.com_pos, r.reference.com_pos) {
+            se += (a - b).norm_squared();
+        }
+    }
+    speeds.sort_by(f64::total_cmp);
+    let median = speeds.get(speeds.len() / 2).copied().unwrap_or(f64::NAN);
+    (
+        100.0 * ok as f64 / n.max(1) as f64,
+        median,
+        100.0 * (se / trial.len() as f64).sqrt(),
+    )
+}
+
+fn library(body: &BslipParams, speeds: &[f64]) -> Vec<GaitTemplate> {
+    build_library(body, speeds, &SearchSettings::default(), |_, _| {})
+        .unwrap()
+        .iter()
+        .map(|g| g.template(body))
+        .collect()
+}
+
+fn estimators(lib: &[GaitTemplate]) -> [(&'static str, Box<dyn Estimator>); 2] {
+    let continuous = ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    };
+    [
+        (
+            "continuous",
+            Box::new(ImmContinuous::new(lib, continuous).unwrap()),
+        ),
+        (
+            "paper",
+            Box::new(ImmBslip::new(lib, ImmBslipParams::full_com()).unwrap()),
+        ),
+    ]
+}
+
+fn main() {
+    let args = ImmContinuousStudyArgs::parse();
+    let body = BslipParams::default();
+    let templates = library(&body, &IMM_STUDY_SPEEDS);
+    let truth = *templates
+        .iter()
+        .find(|t| (t.speed - args.truth).abs() < 1e-9)
+        .unwrap();
+    let held_out: Vec<_> = templates
+        .iter()
+        .filter(|t| (t.speed - args.truth).abs() > 1e-9)
+        .copied()
+        .collect();
+    println!(
+        "(1) sec IV-A: {} m/s held out of {:?}, {} Hz, {} seeds",
+        args.truth, IMM_STUDY_SPEEDS, args.rate, args.seeds
+    );
+    for (label, _) in estimators(&held_out) {
+        let mut acc = Vec::new();
+        let mut speed_err = Vec::new();
+        let mut rms = Vec::new();
+        for seed in 1..=args.seeds {
+            let cfg = BslipTrialConfig {
+                duration: 4.0 * truth.step_time,
+                sample_rate: args.rate,
+                seed,
+                ..Default::default()
+            };
+            let trial = simulate_trial(&truth, &cfg);
+            let mut est = estimators(&held_out)
+                .into_iter()
+                .find(|(l, _)| *l == label)
+                .unwrap()
+                .1;
+            let (a, s, r) = run(est.as_mut(), &trial);
+            acc.push(a);
+            speed_err.push((s - truth.speed).abs());
+            rms.push(r);
+        }
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        println!(
+            "  {label:<10}: phase accuracy mean {:.1} % (min {:.1}), |median speed - truth| mean {:.3} m/s (max {:.3}), CoM RMS {:.2} cm",
+            mean(&acc),
+            min(&acc),
+            mean(&speed_err),
+            max(&speed_err),
+            mean(&rms)
+        );
+    }
+    let dir = std::path::Path::new(&args.data).join("independent-sim");
+    let mut files: Vec<_> = match std::fs::read_dir(&dir) {
+        Ok(d) => d
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("bslip-") && n.ends_with(".csv"))
+            })
+            .collect(),
+        Err(_) => {
+            println!("(2) skipped: {} not found", dir.display());
+            return;
+        }
+    };
+    files.sort();
+    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+    let default_lib = library(&body, &speeds);
+    println!("(2) independent B-SLIP trials, library {speeds:?} m/s");
+    for path in files {
+        let mut reader = TrialReader::open(&path).unwrap();
+        let meta = reader.meta().clone();
+        let mut trial = Vec::new();
+        while let Some(r) = reader.next_record().unwrap() {
+            trial.push(r);
+        }
+        let truth: f64 = meta.get("speed_true").unwrap().trim().parse().unwrap();
+        let tb = trial_body(None, None, &meta).unwrap();
+        let own_body = BslipParams {
+            mass: tb.mass.unwrap(),
+            rest_length: tb.leg_length.unwrap(),
+            gravity: tb.gravity,
+            ..body
+        };
+        let own = library(&own_body, &speeds);
+        let (rescaled, note) = fit_library(default_lib.clone(), &tb).unwrap();
+        println!(
+            "  {}: true speed {truth} m/s; body from {}: {} kg, l0 {} m",
+            path.display(),
+            tb.source,
+            own_body.mass,
+            own_body.rest_length
+        );
+        println!("    {}", note.unwrap_or_default());
+        for (lib_label, lib) in [
+            ("built for the trial body", &own),
+            ("default body, rescaled", &rescaled),
+        ] {
+            for (label, mut est) in estimators(lib) {
+                let (a, s, _) = run(est.as_mut(), &trial);
+                println!(
+                    "    {lib_label:<25} {label:<10}: phase accuracy {a:.1} %, median speed {s:.3} m/s (error {:+.3})",
+                    s - truth
+                );
+            }
+        }
+    }
+}
