@@ -372,9 +372,31 @@ pub struct WalkingArgs {
     /// Identical strides (no stride-to-stride variability).
     #[arg(long)]
     pub no_variability: bool,
+    /// Leg the sensors are on (the left leg moves as the mirror image of the right).
+    #[arg(long, value_enum, default_value_t = LegArg::Right)]
+    pub leg: LegArg,
+    /// Turn the walking path every this many seconds (the body turns about the vertical
+    /// through the hip while the gait goes on); default: walk straight.
+    #[arg(long, value_name = "SECONDS")]
+    pub turn_every: Option<f64>,
+    /// Heading change of each turn (deg; positive = to the left).
+    #[arg(long, default_value_t = 180.0, requires = "turn_every")]
+    pub turn_deg: f64,
+    /// Duration of each turn (s).
+    #[arg(long, default_value_t = 2.5, requires = "turn_every")]
+    pub turn_s: f64,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
     pub cap: LengthCap,
+}
+
+/// Which leg a simulated trial records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LegArg {
+    /// The right leg.
+    Right,
+    /// The left leg.
+    Left,
 }
 
 /// Supported import formats.
