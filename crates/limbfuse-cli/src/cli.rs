@@ -31,6 +31,9 @@ pub enum Command {
     Montecarlo(MonteCarloArgs),
     /// Rotate raw (arbitrarily mounted) sensor channels into their segment frames, from walking data.
     Align(AlignArgs),
+    /// Mirror a trial's raw sensor data across the sagittal plane: the same recording as the other leg
+    /// would give it (for checking alignment on both legs), optionally re-mounting every sensor at random.
+    Mirror(MirrorArgs),
     /// Resample a trial onto a uniform time base (e.g. 50 Hz, the rate of paper 001).
     Resample(ResampleArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
@@ -155,6 +158,19 @@ pub struct AlignArgs {
     /// default: the calibration segment at the start of TRIAL.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
+}
+
+/// Options of `mirror`.
+#[derive(Debug, Args)]
+pub struct MirrorArgs {
+    /// Trial with raw (unaligned) sensor channels.
+    pub trial: PathBuf,
+    /// Output trial (the other leg; `# leg:` flipped).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also turn every mirrored sensor by a uniformly random rotation drawn from this seed.
+    #[arg(long, value_name = "SEED")]
+    pub remount_seed: Option<u64>,
 }
 
 /// Alignment procedures of `align`.
