@@ -77,6 +77,8 @@ fn survey_spec(noise: bool, label: &str, spec: limbfuse_sim::ImuSpec) -> ([f64; 
     };
     let mut worst_between: [f64; 4] = [0.0; 4];
     let mut worst_truth: [f64; 4] = [0.0; 4];
+    let mut sum = [[0.0f64; 3]; 4];
+    let mut runs = [0.0f64; 4];
     println!("per run: segment axis error vs truth right/left, left vs mirror image of right (deg); leg detected (score)");
     for (seed, speed, turn) in [
         (0, 0.7, 180.0),
@@ -123,6 +125,8 @@ fn survey_spec(noise: bool, label: &str, spec: limbfuse_sim::ImuSpec) -> ([f64; 
             let (er, el, between) = (deg(&zr, &truth), deg(&zl, &truth), deg(&seg_l, &mirrored));
             worst_between[i] = worst_between[i].max(between);
             worst_truth[i] = worst_truth[i].max(er).max(el);
+            sum[i] = [sum[i][0] + er, sum[i][1] + el, sum[i][2] + between];
+            runs[i] += 1.0;
             line += &format!(" {} {er:.2}/{el:.2}/{between:.2}", s.name());
         }
         let (lr, ll) = (a_r.leg.unwrap(), a_l.leg.unwrap());
@@ -137,11 +141,15 @@ fn survey_spec(noise: bool, label: &str, spec: limbfuse_sim::ImuSpec) -> ([f64; 
         assert!(a_r.quiet.is_some());
     }
     for s in Segment::ALL {
+        let (i, n) = (s.index(), runs[s.index()]);
         println!(
-            "{label} {:5}: max axis error vs truth {:.2} deg, max left vs mirrored right {:.2} deg",
+            "{label} {:5}: axis error vs truth mean right {:.2} left {:.2}, max {:.2} deg; left vs mirrored right mean {:.2} max {:.2} deg ({n} runs)",
             s.name(),
-            worst_truth[s.index()],
-            worst_between[s.index()]
+            sum[i][0] / n,
+            sum[i][1] / n,
+            worst_truth[i],
+            sum[i][2] / n,
+            worst_between[i]
         );
     }
     (worst_truth, worst_between)
