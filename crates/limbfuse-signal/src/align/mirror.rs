@@ -22,7 +22,7 @@ use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 /// The record as the mirror-image (other) leg's sensors read it.
 pub fn mirror_record(r: &Record) -> Record {
-    let mut out = r.clone();
+    let mut out = *r;
     for imu in out.sample.imu.iter_mut() {
         imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
         imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
