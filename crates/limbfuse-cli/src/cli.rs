@@ -37,6 +37,9 @@ pub enum Command {
     Montecarlo(MonteCarloArgs),
     /// Rotate raw (arbitrarily mounted) sensor channels into their segment frames, from walking data.
     Align(AlignArgs),
+    /// Mirror a trial's raw sensor data across the sagittal plane: the same recording as the other leg
+    /// would give it (for checking alignment on both legs), optionally re-mounting every sensor at random.
+    Mirror(MirrorArgs),
     /// Resample a trial onto a uniform time base (e.g. 50 Hz, the rate of paper 001).
     Resample(ResampleArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
@@ -161,6 +164,19 @@ pub struct AlignArgs {
     /// default: the calibration segment at the start of TRIAL.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
+}
+
+/// Options of `mirror`.
+#[derive(Debug, Args)]
+pub struct MirrorArgs {
+    /// Trial with raw (unaligned) sensor channels.
+    pub trial: PathBuf,
+    /// Output trial (the other leg; `# leg:` flipped).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also turn every mirrored sensor by a uniformly random rotation drawn from this seed.
+    #[arg(long, value_name = "SEED")]
+    pub remount_seed: Option<u64>,
 }
 
 /// Alignment procedures of `align`.
@@ -378,9 +394,31 @@ pub struct WalkingArgs {
     /// Identical strides (no stride-to-stride variability).
     #[arg(long)]
     pub no_variability: bool,
+    /// Leg the sensors are on (the left leg moves as the mirror image of the right).
+    #[arg(long, value_enum, default_value_t = LegArg::Right)]
+    pub leg: LegArg,
+    /// Turn the walking path every this many seconds (the body turns about the vertical
+    /// through the hip while the gait goes on); default: walk straight.
+    #[arg(long, value_name = "SECONDS")]
+    pub turn_every: Option<f64>,
+    /// Heading change of each turn (deg; positive = to the left).
+    #[arg(long, default_value_t = 180.0, requires = "turn_every")]
+    pub turn_deg: f64,
+    /// Duration of each turn (s).
+    #[arg(long, default_value_t = 2.5, requires = "turn_every")]
+    pub turn_s: f64,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
     pub cap: LengthCap,
+}
+
+/// Which leg a simulated trial records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LegArg {
+    /// The right leg.
+    Right,
+    /// The left leg.
+    Left,
 }
 
 /// Supported import formats.

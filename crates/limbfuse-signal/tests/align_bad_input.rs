@@ -35,7 +35,7 @@ fn empty_and_imu_free_trials() {
 }
 
 #[test]
-fn standing_still_is_not_enough_motion() {
+fn standing_still_is_not_walking() {
     let cfg = WalkingConfig {
         duration_s: 5.0,
         motion: Motion::Stand,
@@ -45,16 +45,56 @@ fn standing_still_is_not_enough_motion() {
     let rec: Vec<Record> = WalkingSimulator::new(cfg).unwrap().collect();
     let e = estimate_alignment(&rec, &opts()).unwrap_err();
     assert!(
-        matches!(e, AlignError::TooLittleMotion { segment: Segment::Thigh, gyro_rms, .. } if gyro_rms > 0.0 && gyro_rms < 0.05),
+        matches!(e, AlignError::NoWalking { walking_s, needed_s } if walking_s == 0.0 && needed_s == 3.0),
         "{e:?}"
     );
     let msg = e.to_string();
     println!("{msg}");
     assert!(
+        msg.starts_with("no walking found: 0.0 s of stride-periodic leg motion"),
+        "{msg}"
+    );
+    // Nothing to align, `partial` or not.
+    let e = estimate_alignment(
+        &rec,
+        &AlignOptions {
+            partial: true,
+            ..opts()
+        },
+    )
+    .unwrap_err();
+    assert!(matches!(e, AlignError::NoWalking { .. }), "{e:?}");
+}
+
+/// Walking, but the thigh sensor never rotates (a sensor left on the table):
+/// the walking comes from the shank and foot, the thigh is refused by name.
+#[test]
+fn a_sensor_that_never_rotates_is_named() {
+    let mut rec = walk(10.0);
+    let still: Vec<Record> = WalkingSimulator::new(WalkingConfig {
+        duration_s: 10.0,
+        motion: Motion::Stand,
+        mounting: Mounting::Random,
+        ..Default::default()
+    })
+    .unwrap()
+    .collect();
+    let th = Segment::Thigh.index();
+    for (r, s) in rec.iter_mut().zip(&still) {
+        r.sample.imu[th] = s.sample.imu[th];
+    }
+    let e = estimate_alignment(&rec, &opts()).unwrap_err();
+    assert!(
+        matches!(e, AlignError::TooLittleMotion { segment: Segment::Thigh, gyro_rms, .. } if gyro_rms > 0.0 && gyro_rms < 0.05),
+        "{e:?}"
+    );
+    let msg = e.to_string();
+    assert!(
         msg.starts_with("thigh: not enough motion to identify the axis: gyro RMS"),
         "{msg}"
     );
-    // Partial: every leg sensor and the trunk (which needs the thigh) are listed.
+    // Partial: the thigh and the trunk (which needs the thigh) are listed,
+    // shank and foot aligned.
     let a = estimate_alignment(
         &rec,
         &AlignOptions {
@@ -63,18 +103,11 @@ fn standing_still_is_not_enough_motion() {
         },
     )
     .unwrap();
-    assert!(a.per_segment.iter().all(Option::is_none));
     let skipped: Vec<Segment> = a.skipped.iter().map(|(s, _)| *s).collect();
-    assert_eq!(
-        skipped,
-        [
-            Segment::Thigh,
-            Segment::Shank,
-            Segment::Foot,
-            Segment::Trunk
-        ]
-    );
-    assert!(a.skipped[3]
+    assert_eq!(skipped, [Segment::Thigh, Segment::Trunk]);
+    assert!(a.per_segment[Segment::Shank.index()].is_some());
+    assert!(a.per_segment[Segment::Foot.index()].is_some());
+    assert!(a.skipped[1]
         .1
         .to_string()
         .contains("needs an aligned thigh sensor (thigh: not enough motion"));

@@ -7,7 +7,10 @@ use std::path::PathBuf;
 
 use limbfuse_core::{Record, Segment};
 use limbfuse_io::import::{import_gaittoolbox_with, GaittoolboxOptions, ImportedTrial};
-use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
+use limbfuse_signal::align::mirror::{mirror_record, remount_rotations};
+use limbfuse_signal::align::{
+    apply_alignment, apply_rotations, estimate_alignment, AlignOptions, Alignment,
+};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 fn data_dir() -> Option<PathBuf> {
@@ -133,8 +136,8 @@ fn report(shift: i32, hinge: bool) -> Option<[(f64, f64); 4]> {
     let (trial, a, aligned) = run(shift, hinge)?;
     let parts = straight_parts(&trial);
     println!(
-        "IMU shift {shift} samples, hinge {hinge}: quiet period {:?}, walking samples {}, turning samples {}",
-        a.quiet, a.walking_samples, a.turning_samples
+        "IMU shift {shift} samples, hinge {hinge}: quiet period {:?}, walking samples {}, turning samples {}, not walking {}, leg {:?}",
+        a.quiet, a.walking_samples, a.turning_samples, a.not_walking_samples, a.leg
     );
     let mut out = [(0.0, 0.0); 4];
     for s in Segment::ALL {
@@ -156,12 +159,13 @@ fn report(shift: i32, hinge: bool) -> Option<[(f64, f64); 4]> {
         };
         println!(
             "  {:6} {:18} r(gyro_z, d ref/dt) {r:+.4}  z elevation {el:+.2} deg  z vs Xsens-world right {zdev:5.2} deg  \
-             aligned - ref {} deg (mean ref {} deg)  energy {:.3}  sign margin {:.3}  walking mean {:+.2} deg",
+             aligned - ref {} deg (mean ref {} deg)  energy {:.3} ratio {:?} sign margin {:.3}  walking mean {:+.2} deg",
             s.name(),
             sa.axis_method.label(),
             zero.map_or("n/a".into(), |z| format!("{z:+.2}")),
             mean_ref.map_or("n/a".into(), |z| format!("{z:+.2}")),
             sa.axis_energy_fraction,
+            sa.axis_ratio,
             sa.sign_margin,
             sa.walking_mean_angle_rad.to_degrees()
         );
@@ -200,4 +204,75 @@ fn gaittoolbox_alignment_recovers_the_sagittal_axes() {
     // The hinge variant, for the record (docs/ALIGNMENT.md).
     report(0, true);
     report(2, true);
+}
+
+/// The real trial as a LEFT leg (issue 14 item 1): every sensor's raw data
+/// mirrored across the sagittal plane (`mirror_record`: accelerometer polar,
+/// gyroscope axial) and re-mounted at a random rotation `Q`. The alignment
+/// must find the mirror image of the right leg's: `A_left = S A_right S Q^T`,
+/// so the left z axis in the re-mounted raw frame is `-Q S z_right`; the
+/// aligned rates correlate with the (unchanged) reference as on the right,
+/// and the leg is detected as left.
+#[test]
+fn mirrored_left_leg_gets_the_mirror_image_alignment() {
+    let Some(dir) = data_dir() else {
+        return;
+    };
+    let trial = import_gaittoolbox_with(&dir, &GaittoolboxOptions::default()).unwrap();
+    let parts = straight_parts(&trial);
+    let opts = AlignOptions::default();
+    let right = estimate_alignment(&trial.records, &opts).unwrap();
+    assert_eq!(right.leg.unwrap().leg, Some(limbfuse_core::Leg::Right));
+    let s = nalgebra::Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+    let mut worst = [0.0f64; 4];
+    for seed in [1, 2, 3] {
+        let q = remount_rotations(seed);
+        let left_rec: Vec<Record> = trial
+            .records
+            .iter()
+            .map(|r| apply_rotations(&mirror_record(r), &q.map(Some)))
+            .collect();
+        let left = estimate_alignment(&left_rec, &opts).unwrap();
+        let leg = left.leg.unwrap();
+        let aligned: Vec<Record> = left_rec.iter().map(|r| apply_alignment(r, &left)).collect();
+        let mut line = format!(
+            "mirrored left, remount seed {seed}: leg {:?} ({:+.3});",
+            leg.leg, leg.score
+        );
+        for seg in Segment::ALL {
+            let i = seg.index();
+            let zr: Vector3<f64> = right.per_segment[i]
+                .unwrap()
+                .rotation
+                .into_inner()
+                .row(2)
+                .transpose();
+            let zl: Vector3<f64> = left.per_segment[i]
+                .unwrap()
+                .rotation
+                .into_inner()
+                .row(2)
+                .transpose();
+            let expect = -(q[i].into_inner() * s * zr);
+            let err = zl.dot(&expect).clamp(-1.0, 1.0).acos().to_degrees();
+            worst[i] = worst[i].max(err);
+            let r = if seg == Segment::Trunk {
+                f64::NAN
+            } else {
+                rate_corr(&aligned, seg, &parts)
+            };
+            line += &format!(
+                " {} axis vs mirrored right {err:.3} deg r {r:+.4};",
+                seg.name()
+            );
+            if seg != Segment::Trunk {
+                assert!(r > [0.0, 0.93, 0.97, 0.96][i], "{}: r {r}", seg.name());
+            }
+        }
+        println!("{line}");
+        assert_eq!(leg.leg, Some(limbfuse_core::Leg::Left), "seed {seed}");
+    }
+    for (i, w) in worst.iter().enumerate() {
+        assert!(*w < 3.0, "segment {i}: {w} deg");
+    }
 }

@@ -94,7 +94,11 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
             let (rec, m) = sim(config(seed, speed, 30.0));
             let a = estimate_alignment(&rec, opts).unwrap();
             let e = errors(&rec, &m, &a);
-            let mut line = format!("  seed {seed} {speed} m/s:");
+            let mut line = format!(
+                "  seed {seed} {speed} m/s (leg {:?}, not walking {}):",
+                a.leg.map(|l| (l.leg, (l.score * 100.0).round() / 100.0)),
+                a.not_walking_samples
+            );
             for s in Segment::ALL {
                 let Some(x) = &e[s.index()] else {
                     assert!(
@@ -119,12 +123,17 @@ fn survey(opts: &AlignOptions, seeds: std::ops::Range<u64>, label: &str) -> [[f6
                 let sm = a.per_segment[s.index()].unwrap().sign_margin;
                 min_margin[s.index()] = min_margin[s.index()].min(sm);
                 line += &format!(
-                    " {} {:.2}/{:+.2}/{:.2}({:.2})",
+                    " {} {:.2}/{:+.2}/{:.2}({:.2}) ratio {:.2} margin {:.2}",
                     s.name(),
                     x.axis,
                     x.zero - x.mean_ref,
                     x.rate.0,
-                    x.rate.1
+                    x.rate.1,
+                    a.per_segment[s.index()]
+                        .unwrap()
+                        .axis_ratio
+                        .unwrap_or(f64::NAN),
+                    sm
                 );
             }
             println!("{line}");

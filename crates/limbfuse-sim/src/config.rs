@@ -219,6 +219,11 @@ pub struct WalkingConfig {
     /// misalignment, encoder offset or quantisation). Mounting rotations
     /// still apply.
     pub noise: bool,
+    /// The leg the sensors are on (the left leg is the mirror image of the
+    /// right, see [`crate::body_path`]).
+    pub leg: limbfuse_core::Leg,
+    /// Turns of the walking path; `None` = straight.
+    pub turns: Option<crate::body_path::Turns>,
 }
 
 impl Default for WalkingConfig {
@@ -240,6 +245,8 @@ impl Default for WalkingConfig {
             out_of_plane: true,
             variability: Some(Variability::default()),
             noise: true,
+            leg: limbfuse_core::Leg::Right,
+            turns: None,
         }
     }
 }
@@ -319,6 +326,23 @@ impl WalkingConfig {
             1e3,
             "[-1000, 1000] rad",
         )?;
+        if let Some(t) = self.turns {
+            positive("turns.duration_s", t.duration_s)?;
+            check(
+                "turns.every_s",
+                t.every_s,
+                t.duration_s * (1.0 + 1e-9),
+                1e9,
+                "(turns.duration_s, 1e9] s",
+            )?;
+            check(
+                "turns.angle_rad",
+                t.angle_rad,
+                -10.0 * core::f64::consts::PI,
+                10.0 * core::f64::consts::PI,
+                "[-10 pi, 10 pi] rad",
+            )?;
+        }
         if let Motion::Pose { phase } = self.motion {
             check("motion.phase", phase, -1e3, 1e3, "[-1000, 1000] rad")?;
         }

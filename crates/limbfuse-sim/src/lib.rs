@@ -12,6 +12,7 @@
 #![deny(missing_docs)]
 
 pub mod anthropometry;
+pub mod body_path;
 pub mod chain;
 pub mod config;
 pub mod encoder_model;
@@ -29,6 +30,7 @@ pub mod stance;
 pub mod variability;
 pub mod walking;
 
+pub use body_path::Turns;
 pub use config::{
     EncoderResample, EncoderSpec, ImuSpec, Motion, Mounting, SimError, TriadSpec, Variability,
     WalkingConfig,

@@ -60,7 +60,12 @@ pub struct WalkingSimulator {
     next_sample: u64,
     next_tick: u64,
     last_encoder: [f64; 3],
+    /// With turns: the turned hip path `H` every [`HIP_PATH_CHECKPOINT_S`].
+    hip_path: Vec<Vector3<f64>>,
 }
+
+/// Spacing (s) of the stored points of the turned hip path.
+const HIP_PATH_CHECKPOINT_S: f64 = 1.0;
 
 fn joints(seg: &[f64; 4]) -> [f64; 3] {
     [
@@ -124,7 +129,69 @@ impl WalkingSimulator {
             next_sample: 0,
             next_tick: 0,
             last_encoder: [0.0; 3],
-        })
+            hip_path: Vec::new(),
+        }
+        .with_hip_path())
+    }
+
+    /// Integrates the turned hip path `H` (Gauss-Legendre, IMU step) and stores it
+    /// every [`HIP_PATH_CHECKPOINT_S`]; nothing without turns.
+    fn with_hip_path(mut self) -> Self {
+        if self.cfg.turns.is_none() {
+            return self;
+        }
+        let end = self.cfg.duration_s;
+        let n = (end / HIP_PATH_CHECKPOINT_S).ceil() as usize + 1;
+        let mut h = crate::body_path::horizontal(&self.mirrored_kinematics(0.0).joints[0].p);
+        let mut out = Vec::with_capacity(n);
+        out.push(h);
+        for c in 1..n {
+            let t0 = (c - 1) as f64 * HIP_PATH_CHECKPOINT_S;
+            h += self.hip_path_step(t0, HIP_PATH_CHECKPOINT_S);
+            out.push(h);
+        }
+        self.hip_path = out;
+        self
+    }
+
+    /// `H(t0 + span) - H(t0)` by composite 5-point Gauss-Legendre
+    /// quadrature on steps of at most one IMU interval (error far below
+    /// what a second difference of positions resolves).
+    fn hip_path_step(&self, t0: f64, span: f64) -> Vector3<f64> {
+        const NODES: [(f64, f64); 5] = [
+            (0.0, 0.568_888_888_888_888_9),
+            (-0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+            (0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+            (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
+            (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+        ];
+        let Some(turns) = self.cfg.turns else {
+            return Vector3::zeros();
+        };
+        if span <= 0.0 {
+            return Vector3::zeros();
+        }
+        let m = (span * self.cfg.imu_rate_hz).ceil().max(1.0) as usize;
+        let step = span / m as f64;
+        let rate = |t: f64| {
+            crate::body_path::hip_path_rate(&self.mirrored_kinematics(t), turns.heading(t).v)
+        };
+        let mut sum = Vector3::zeros();
+        for i in 0..m {
+            let mid = t0 + (i as f64 + 0.5) * step;
+            for (x, w) in NODES {
+                sum += rate(mid + 0.5 * step * x) * (0.5 * step * w);
+            }
+        }
+        sum
+    }
+
+    /// The turned hip's horizontal position `H(t)` (zero-based checkpoints).
+    fn hip_path_at(&self, t: f64) -> Vector3<f64> {
+        let c = ((t / HIP_PATH_CHECKPOINT_S).floor().max(0.0) as usize)
+            .min(self.hip_path.len().saturating_sub(1));
+        let t0 = c as f64 * HIP_PATH_CHECKPOINT_S;
+        self.hip_path.get(c).copied().unwrap_or_default() + self.hip_path_step(t0, t - t0)
     }
 
     /// The configuration in use.
@@ -168,7 +235,37 @@ impl WalkingSimulator {
         self.model.hip.stride_length * self.clock.mean_frequency()
     }
 
+    /// Kinematics of the leg and trunk at `t` (the left leg mirrored, the
+    /// path turned, see [`crate::body_path`]). Positions under turns are
+    /// integrated (`with_positions`), else left relative to the unturned hip
+    /// (the sensor readings do not depend on them).
+    fn kinematics_at(&self, t: f64, with_positions: bool) -> (f64, LegKin, [f64; 4]) {
+        let (phase, mut k, seg) = self.base_kinematics(t);
+        crate::body_path::mirror_to(self.cfg.leg, &mut k);
+        if let Some(turns) = self.cfg.turns {
+            let path = if with_positions {
+                self.hip_path_at(t)
+            } else {
+                crate::body_path::horizontal(&k.joints[0].p)
+            };
+            crate::body_path::turn(&mut k, turns.heading(t), path);
+        }
+        (phase, k, seg)
+    }
+
     fn kinematics(&self, t: f64) -> (f64, LegKin, [f64; 4]) {
+        self.kinematics_at(t, true)
+    }
+
+    /// The leg's kinematics on the straight path (the left leg mirrored).
+    fn mirrored_kinematics(&self, t: f64) -> LegKin {
+        let mut k = self.base_kinematics(t).1;
+        crate::body_path::mirror_to(self.cfg.leg, &mut k);
+        k
+    }
+
+    /// Right-leg kinematics on the straight path.
+    fn base_kinematics(&self, t: f64) -> (f64, LegKin, [f64; 4]) {
         if self.cfg.motion == Motion::Stand {
             return (0.0, self.model.standing(), [0.0; 4]);
         }
@@ -266,7 +363,18 @@ impl WalkingSimulator {
         let mut put = |k: &str, v: String| out.push((k.to_string(), v));
         put("source", "limbfuse-sim walking".into());
         put("seed", c.seed.to_string());
-        put("leg", "right".into());
+        put("leg", c.leg.name().into());
+        if let Some(tr) = c.turns {
+            put(
+                "turns",
+                format!(
+                    "every_s={} duration_s={} angle_deg={}",
+                    tr.every_s,
+                    tr.duration_s,
+                    tr.angle_rad.to_degrees()
+                ),
+            );
+        }
         put("g", c.g.to_string());
         put("sample_rate_hz", c.imu_rate_hz.to_string());
         put("encoder_rate_hz", c.encoder_rate_hz.to_string());
@@ -369,7 +477,7 @@ impl Iterator for WalkingSimulator {
         }
         let t = self.next_sample as f64 / self.cfg.imu_rate_hz;
         self.next_sample += 1;
-        let (_, k, seg) = self.kinematics(t);
+        let (_, k, seg) = self.kinematics_at(t, false);
         let g = Vector3::new(0.0, self.cfg.g, 0.0);
         let mut sample = Sample::empty(t);
         for i in 0..4 {

@@ -112,11 +112,51 @@ fn specific_force_matches_numerical_second_derivative_of_position() {
         seed: 11,
         ..ideal(1.6)
     };
+    specific_force_and_rate_match_finite_differences(cfg, 0.137, 0.1493, 400);
+}
+
+/// The same on the mirrored left leg walking a path with turns both ways
+/// (`limbfuse_sim::body_path`): the turned positions are integrated, the
+/// readings analytic; the turns cover 2.5 of every 6 s of the sampled times.
+#[test]
+fn left_leg_with_turns_matches_finite_differences() {
+    for angle in [180f64, -120.0] {
+        let cfg = WalkingConfig {
+            mounting: Mounting::Random,
+            out_of_plane: true,
+            variability: Some(Variability::default()),
+            seed: 12,
+            leg: limbfuse_core::Leg::Left,
+            turns: Some(limbfuse_sim::Turns {
+                every_s: 6.0,
+                duration_s: 2.5,
+                angle_rad: angle.to_radians(),
+            }),
+            duration_s: 12.0,
+            ..ideal(1.2)
+        };
+        // Around the first turn (6.0-8.5 s) and the straight walking either side.
+        specific_force_and_rate_match_finite_differences(cfg, 5.51, 0.0931, 40);
+        let sim = WalkingSimulator::new(cfg).unwrap();
+        // Mid-turn the heading rate is 1.875 angle / duration (smoothstep peak).
+        let mid = sim.truth(7.25).frames[0].w.y;
+        let expect = 1.875 * angle.to_radians() / 2.5;
+        assert!((mid - expect).abs() < 0.6, "{mid} vs {expect}");
+        assert!(sim.truth(4.0).frames[0].w.y.abs() < 0.6);
+    }
+}
+
+fn specific_force_and_rate_match_finite_differences(
+    cfg: WalkingConfig,
+    t0: f64,
+    step: f64,
+    count: usize,
+) {
     let sim = WalkingSimulator::new(cfg).unwrap();
     let g = Vector3::new(0.0, 9.81, 0.0);
     let (mut worst_f, mut worst_w, mut peak_dyn): (f64, f64, f64) = (0.0, 0.0, 0.0);
-    for k in 0..400 {
-        let t = 0.137 + k as f64 * 0.1493;
+    for k in 0..count {
+        let t = t0 + k as f64 * step;
         let truth = sim.truth(t);
         for s in Segment::ALL {
             let i = s.index();
@@ -436,4 +476,36 @@ fn foot_slip_is_limited_to_double_support() {
         worst = worst.max(slip);
     }
     assert!(worst < 0.08, "{worst}");
+}
+
+/// The left leg's sensors read the mirror image of the right leg's: in the
+/// segment frame accelerometer `S f` (polar) and gyroscope `-S w` (axial),
+/// `S = diag(1, 1, -1)` (derivation in `limbfuse_sim::body_path`).
+#[test]
+fn left_leg_reads_the_mirror_image_of_the_right() {
+    let cfg = |leg| WalkingConfig {
+        mounting: Mounting::Random,
+        out_of_plane: true,
+        seed: 5,
+        leg,
+        ..ideal(1.0)
+    };
+    let right = WalkingSimulator::new(cfg(limbfuse_core::Leg::Right)).unwrap();
+    let left = WalkingSimulator::new(cfg(limbfuse_core::Leg::Left)).unwrap();
+    let s = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+    let mut worst: f64 = 0.0;
+    for k in 0..50 {
+        let t = 0.05 + 0.21 * k as f64;
+        let (r, l) = (right.truth(t), left.truth(t));
+        for i in 0..4 {
+            let m = right.imus()[i].mount;
+            assert_eq!(m, left.imus()[i].mount);
+            let mirror = m.transpose() * s * m;
+            worst = worst.max((l.specific_force[i] - mirror * r.specific_force[i]).norm());
+            worst = worst.max((l.gyro[i] + mirror * r.gyro[i]).norm());
+            assert!(r.gyro[i].norm() > 0.0);
+        }
+        assert_eq!(l.segment_angle, r.segment_angle);
+    }
+    assert!(worst < 1e-9, "{worst}");
 }

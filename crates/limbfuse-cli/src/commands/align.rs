@@ -1,9 +1,9 @@
 //! `limbfuse align TRIAL -o ALIGNED`: sensor-to-segment rotations from walking data.
 
 use anyhow::{bail, Context, Result};
-use limbfuse_core::{Record, Segment};
-use limbfuse_io::{TrialReader, TrialWriter};
-use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
+use limbfuse_core::{Leg, Record, Segment};
+use limbfuse_io::{TrialMeta, TrialReader, TrialWriter};
+use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
 
 use crate::cli::AlignArgs;
 
@@ -58,6 +58,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let alignment = estimate_alignment(&records, &opts)
         .with_context(|| format!("aligning {}", a.trial.display()))?;
     alignment.annotate(&mut meta);
+    let leg_line = leg_report(&mut meta, &alignment);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::new(&mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
@@ -77,12 +78,72 @@ pub fn run(a: &AlignArgs) -> Result<()> {
             println!("{k}: {v}");
         }
     }
+    print!("{}", confidence_table(&alignment));
+    println!("{leg_line}");
     eprintln!(
         "aligned {} samples -> {}",
         records.len(),
         a.output.display()
     );
     Ok(())
+}
+
+/// Per-sensor confidence: share of the gyro energy on the chosen axis,
+/// second/largest horizontal gyro energy (axis ratio), hinge residual, sign
+/// margin (docs/ALIGNMENT.md, "Confidence and refusals").
+fn confidence_table(a: &Alignment) -> String {
+    let mut t = format!(
+        "walking data: {} samples ({} turning, {} not walking left out)\n\
+         sensor  axis_energy  axis_ratio  hinge_res_rad_s  sign_margin\n",
+        a.walking_samples, a.turning_samples, a.not_walking_samples
+    );
+    for s in Segment::ALL {
+        if let Some(x) = &a.per_segment[s.index()] {
+            let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+            t += &format!(
+                "{:6}  {:11.3}  {:>10}  {:>15}  {:11.3}\n",
+                s.name(),
+                x.axis_energy_fraction,
+                opt(x.axis_ratio),
+                opt(x.hinge_residual),
+                x.sign_margin
+            );
+        }
+    }
+    t
+}
+
+/// The detected leg against the trial's `# leg:` line; a detected leg that
+/// differs replaces it (the declared one is kept as `leg_declared`).
+fn leg_report(meta: &mut TrialMeta, a: &Alignment) -> String {
+    let declared = meta.get("leg").map(str::to_string);
+    let Some(d) = a.leg else {
+        return "leg: not detected (no thigh or shank sensor aligned)".into();
+    };
+    let what = format!("score {:+.2}; right > 0, left < 0", d.score);
+    match (d.leg, declared.as_deref().and_then(Leg::parse)) {
+        (None, _) => format!(
+            "leg: undetermined from the data ({what}); trial says {}",
+            declared.as_deref().unwrap_or("nothing")
+        ),
+        (Some(l), Some(dl)) if l == dl => {
+            format!("leg: {} (detected, {what}; as the trial says)", l.name())
+        }
+        (Some(l), _) => {
+            let line = format!(
+                "leg: {} (detected, {what}); the trial says {}: `leg` set to {}, the declared value kept as `leg_declared`",
+                l.name(),
+                declared.as_deref().unwrap_or("nothing"),
+                l.name()
+            );
+            if let Some(dv) = declared {
+                meta.set("leg_declared", dv);
+                eprintln!("warning: {line}");
+            }
+            meta.set("leg", l.name());
+            line
+        }
+    }
 }
 
 #[cfg(test)]

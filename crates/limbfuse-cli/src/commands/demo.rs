@@ -31,6 +31,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         no_noise: false,
         no_out_of_plane: false,
         no_variability: false,
+        leg: crate::cli::LegArg::Right,
+        turn_every: None,
+        turn_deg: 180.0,
+        turn_s: 2.5,
         cap: a.cap,
     };
     let summary = super::simulate::write_walking(&sim)?;

@@ -12,6 +12,7 @@ mod gait;
 mod import;
 mod knee_demo;
 mod method_list;
+mod mirror;
 mod montecarlo;
 mod protocol;
 mod report;
@@ -44,6 +45,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Report(a) => report::run(&a),
         Command::Montecarlo(a) => montecarlo::run(&a),
         Command::Align(a) => align::run(&a),
+        Command::Mirror(a) => mirror::run(&a),
         Command::Resample(a) => resample::run(&a),
         Command::Tune(a) => tune::run(&a),
         Command::Methods => method_list::list(),

@@ -1,10 +1,12 @@
 //! `limbfuse simulate walking ... -o trial.csv`.
 
 use anyhow::Result;
+use limbfuse_core::Leg;
 use limbfuse_sim::config::{Mounting, WalkingConfig};
+use limbfuse_sim::Turns;
 use limbfuse_workflows::simulated_trials;
 
-use crate::cli::{MountingArg, WalkingArgs};
+use crate::cli::{LegArg, MountingArg, WalkingArgs};
 
 /// Resolves the flags into a validated simulator configuration.
 pub fn walking_config(a: &WalkingArgs) -> WalkingConfig {
@@ -24,6 +26,15 @@ pub fn walking_config(a: &WalkingArgs) -> WalkingConfig {
         } else {
             WalkingConfig::default().variability
         },
+        leg: match a.leg {
+            LegArg::Right => Leg::Right,
+            LegArg::Left => Leg::Left,
+        },
+        turns: a.turn_every.map(|every_s| Turns {
+            every_s,
+            duration_s: a.turn_s,
+            angle_rad: a.turn_deg.to_radians(),
+        }),
         ..WalkingConfig::default()
     }
 }

@@ -85,10 +85,13 @@ impl Alignment {
                 let hinge = a
                     .hinge_residual
                     .map_or("none".to_string(), |h| format!("{h:.4}"));
+                let ratio = a
+                    .axis_ratio
+                    .map_or("none".to_string(), |r| format!("{r:.4}"));
                 m.push((
                     format!("{name}_align_quality"),
                     format!(
-                        "axis_energy_fraction={:.4} axis_vs_principal_deg={:.2} hinge_residual_rad_s={hinge} sign_margin={:.3} walking_mean_deg={:.2}",
+                        "axis_energy_fraction={:.4} axis_ratio={ratio} axis_vs_principal_deg={:.2} hinge_residual_rad_s={hinge} sign_margin={:.3} walking_mean_deg={:.2}",
                         a.axis_energy_fraction,
                         a.axis_vs_principal_rad.to_degrees(),
                         a.sign_margin,
@@ -96,6 +99,27 @@ impl Alignment {
                     ),
                 ));
             }
+        }
+        m.push((
+            "align_walking".to_string(),
+            format!(
+                "walking_samples={} turning_samples={} not_walking_samples={}",
+                self.walking_samples, self.turning_samples, self.not_walking_samples
+            ),
+        ));
+        if let Some(l) = &self.leg {
+            let seg =
+                |s: Segment| l.per_segment[s.index()].map_or("none".into(), |v| format!("{v:+.3}"));
+            m.push((
+                "align_leg".to_string(),
+                format!(
+                    "{} score={:+.3} thigh={} shank={}",
+                    l.leg.map_or("undetermined", |g| g.name()),
+                    l.score,
+                    seg(Segment::Thigh),
+                    seg(Segment::Shank)
+                ),
+            ));
         }
         for (s, e) in &self.skipped {
             m.push((format!("{}_align_skipped", s.name()), e.to_string()));

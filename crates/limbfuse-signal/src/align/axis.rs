@@ -16,11 +16,13 @@ use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use super::series::{acc, gyr};
 
 /// Principal axis of the gyro samples: the unit eigenvector of `sum w w^T`
-/// with the largest eigenvalue, the fraction of the gyro energy about it and
-/// the gyro RMS (rad/s). `None` when there is no sample.
+/// with the largest eigenvalue, the fraction of the gyro energy about it,
+/// the gyro RMS (rad/s) and the ratio of the second to the largest
+/// eigenvalue (0: one clear axis, 1: two axes equally energetic, the axis
+/// undetermined). `None` when there is no sample.
 pub(crate) fn principal_axis(
     ws: impl Iterator<Item = Vector3<f64>>,
-) -> Option<(Vector3<f64>, f64, f64)> {
+) -> Option<(Vector3<f64>, f64, f64, f64)> {
     let mut c = Matrix3::zeros();
     let mut n = 0usize;
     for w in ws {
@@ -40,7 +42,14 @@ pub(crate) fn principal_axis(
     } else {
         0.0
     };
-    Some((v.normalize(), frac, rms))
+    let mut ev: Vec<f64> = eig.eigenvalues.iter().copied().collect();
+    ev.sort_by(|a, b| b.total_cmp(a));
+    let ratio = if ev[0] > 0.0 {
+        ev[1].max(0.0) / ev[0]
+    } else {
+        1.0
+    };
+    Some((v.normalize(), frac, rms, ratio))
 }
 
 /// Result of a hinge-chain fit.

@@ -6,6 +6,8 @@ use limbfuse_core::{Record, Segment};
 use nalgebra::{Rotation3, Vector3};
 
 use super::axis::principal_axis;
+use super::gait_window::walking_mask;
+use super::leg_side::detect_leg;
 use super::legs::{leg_axes, LegAxes};
 use super::series::{acc, gyr, quiet_window, turning_mask};
 use super::trunk::trunk_axis;
@@ -15,7 +17,7 @@ use super::{AlignError, AlignOptions, Alignment, AxisMethod, SensorAlignment, Ze
 use super::legs::LEG;
 
 fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
-    let checks: [(&'static str, f64, f64, f64, &'static str); 11] = [
+    let checks: [(&'static str, f64, f64, f64, &'static str); 17] = [
         (
             "quiet_gyro_max",
             o.quiet_gyro_max,
@@ -57,6 +59,24 @@ fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
         ("up_tau_s", o.up_tau_s, 0.0, 1e3, "(0, 1000] s"),
         ("zero_window_s", o.zero_window_s, 0.0, 1e6, "(0, 1e6] s"),
         ("trunk_min_corr", o.trunk_min_corr, -1e-300, 1.0, "[0, 1]"),
+        ("walk_window_s", o.walk_window_s, 0.0, 1e3, "(0, 1000] s"),
+        (
+            "walk_min_autocorr",
+            o.walk_min_autocorr,
+            -1.0,
+            1.0,
+            "(-1, 1]",
+        ),
+        ("min_walking_s", o.min_walking_s, -1e-300, 1e6, "[0, 1e6] s"),
+        ("max_axis_ratio", o.max_axis_ratio, 0.0, 1.0, "(0, 1]"),
+        (
+            "min_sign_margin",
+            o.min_sign_margin,
+            -1e-300,
+            10.0,
+            "[0, 10]",
+        ),
+        ("leg_min_score", o.leg_min_score, 0.0, 2.0, "(0, 2]"),
     ];
     for (name, value, lo, hi, range) in checks {
         if !(value.is_finite() && value > lo && value <= hi) {
@@ -134,9 +154,17 @@ pub fn estimate_alignment(
     };
     let half = (0.5 * opts.turn_window_s / dt).round() as usize;
     let turning = turning_mask(records, &present, half, opts.turn_max_rate);
+    let walking = walking_mask(records, &present, dt, opts);
     let moving: Vec<usize> = (0..n)
-        .filter(|&k| !turning[k] && !quiet.as_ref().is_some_and(|q| q.contains(&k)))
+        .filter(|&k| walking[k] && !turning[k] && !quiet.as_ref().is_some_and(|q| q.contains(&k)))
         .collect();
+    let walking_s = moving.len() as f64 * dt;
+    if walking_s < opts.min_walking_s {
+        return Err(AlignError::NoWalking {
+            walking_s,
+            needed_s: opts.min_walking_s,
+        });
+    }
 
     let mut fail: [Option<AlignError>; 4] = [None, None, None, None];
     for s in Segment::ALL {
@@ -156,6 +184,7 @@ pub fn estimate_alignment(
         method,
         hinge_res,
         sign_margin,
+        axis_ratio,
     } = leg_axes(records, &moving, &present, &mut fail, opts);
 
     // 3. In-plane zero of the leg sensors, then the trunk (through the thigh).
@@ -165,6 +194,7 @@ pub fn estimate_alignment(
             .map(|q| (records[q.start].sample.t, records[q.end - 1].sample.t)),
         walking_samples: moving.len(),
         turning_samples: turning.iter().filter(|&&t| t).count(),
+        not_walking_samples: walking.iter().filter(|&&w| !w).count(),
         ..Default::default()
     };
     let ctx = Ctx {
@@ -186,6 +216,7 @@ pub fn estimate_alignment(
                     axis_method: method[i],
                     zero_method,
                     axis_energy_fraction: ctx.energy_fraction(s, &z),
+                    axis_ratio: axis_ratio[i],
                     axis_vs_principal_rad: pca[i].map_or(0.0, |p| p.dot(&z).abs().min(1.0).acos()),
                     hinge_residual: hinge_res[i],
                     sign_margin: sign_margin[i],
@@ -198,6 +229,8 @@ pub fn estimate_alignment(
             Err(e) => fail[i] = Some(e),
         }
     }
+    let rot = out.per_segment.map(|a| a.map(|a| *a.rotation.matrix()));
+    out.leg = Some(detect_leg(records, &moving, &rot, opts.leg_min_score));
     let (tr, th) = (Segment::Trunk.index(), Segment::Thigh.index());
     if present[tr] && fail[tr].is_none() {
         match &out.per_segment[th] {
@@ -214,6 +247,7 @@ pub fn estimate_alignment(
                                 axis_method: AxisMethod::GravityHipLink,
                                 zero_method,
                                 axis_energy_fraction: ctx.energy_fraction(Segment::Trunk, &ta.z),
+                                axis_ratio: None,
                                 axis_vs_principal_rad: ctx
                                     .principal_deviation(Segment::Trunk, &ta.z),
                                 hinge_residual: None,
@@ -282,7 +316,7 @@ impl Ctx<'_> {
     /// Angle (rad) between `z` and the principal gyro axis.
     fn principal_deviation(&self, s: Segment, z: &Vector3<f64>) -> f64 {
         let ws = self.moving.iter().filter_map(|&k| gyr(self.records, s, k));
-        principal_axis(ws).map_or(0.0, |(p, _, _)| p.dot(z).abs().min(1.0).acos())
+        principal_axis(ws).map_or(0.0, |(p, _, _, _)| p.dot(z).abs().min(1.0).acos())
     }
 
     /// Rotation, zero method, walking mean angle and the aligned angle

@@ -21,6 +21,8 @@ pub(crate) struct LegAxes {
     pub method: [AxisMethod; 4],
     pub hinge_res: [Option<f64>; 4],
     pub sign_margin: [f64; 4],
+    /// Second / largest eigenvalue of the horizontal gyro energy.
+    pub axis_ratio: [Option<f64>; 4],
 }
 
 /// Finds the leg axes over the `moving` samples; a segment that fails gets
@@ -38,6 +40,7 @@ pub(crate) fn leg_axes(
     let mut pca: [Option<Vector3<f64>>; 4] = [None; 4];
     let mut method = [AxisMethod::Principal; 4];
     let mut hinge_res: [Option<f64>; 4] = [None; 4];
+    let mut axis_ratio: [Option<f64>; 4] = [None; 4];
     for s in LEG {
         let i = s.index();
         if !present[i] || fail[i].is_some() {
@@ -55,8 +58,18 @@ pub(crate) fn leg_axes(
             Some(up[k].map_or(w, |v| w - v * w.dot(&v)))
         });
         match principal_axis(ws) {
-            Some((v, _, rms)) if rms >= opts.min_gyro_rms => pca[i] = Some(v),
-            Some((_, _, rms)) => {
+            Some((_, _, rms, ratio)) if rms >= opts.min_gyro_rms && ratio > opts.max_axis_ratio => {
+                fail[i] = Some(AlignError::AxisUndetermined {
+                    segment: s,
+                    ratio,
+                    max: opts.max_axis_ratio,
+                })
+            }
+            Some((v, _, rms, ratio)) if rms >= opts.min_gyro_rms => {
+                pca[i] = Some(v);
+                axis_ratio[i] = Some(ratio);
+            }
+            Some((_, _, rms, _)) => {
                 fail[i] = Some(AlignError::TooLittleMotion {
                     segment: s,
                     gyro_rms: rms,
@@ -128,6 +141,13 @@ pub(crate) fn leg_axes(
     let (signs, margins) = choose_signs(&evidence, &rates, &times);
     for i in 0..4 {
         axes[i] = axes[i].map(|j| j * signs[i]);
+        if axes[i].is_some() && fail[i].is_none() && margins[i] < opts.min_sign_margin {
+            fail[i] = Some(AlignError::SignUndetermined {
+                segment: Segment::ALL[i],
+                margin: margins[i],
+                min: opts.min_sign_margin,
+            });
+        }
     }
 
     LegAxes {
@@ -136,5 +156,6 @@ pub(crate) fn leg_axes(
         method,
         hinge_res,
         sign_margin: margins,
+        axis_ratio,
     }
 }

@@ -23,7 +23,10 @@ use nalgebra::Rotation3;
 mod apply;
 mod axis;
 mod estimate;
+mod gait_window;
+mod leg_side;
 mod legs;
+pub mod mirror;
 mod series;
 mod sign;
 pub mod static_rotation;
@@ -32,6 +35,7 @@ mod zero;
 
 pub use apply::{apply_alignment, apply_rotations, rotations_from_metadata};
 pub use estimate::estimate_alignment;
+pub use leg_side::LegDetection;
 
 /// Parameters of [`estimate_alignment`]. `Default` gives the documented values.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,6 +86,19 @@ pub struct AlignOptions {
     /// Report segments that cannot be aligned in [`Alignment::skipped`]
     /// instead of failing.
     pub partial: bool,
+    /// Window (s) of the walking (stride periodicity) detection.
+    pub walk_window_s: f64,
+    /// Minimum stride-lag autocorrelation of the gyro norm for walking.
+    pub walk_min_autocorr: f64,
+    /// Minimum duration (s) of walking data (outside turns and quiet standing).
+    pub min_walking_s: f64,
+    /// Largest accepted ratio of the second to the largest eigenvalue of the
+    /// horizontal gyro energy of a leg sensor (above: axis undetermined).
+    pub max_axis_ratio: f64,
+    /// Smallest accepted sign margin of a leg sensor (below: sign undetermined).
+    pub min_sign_margin: f64,
+    /// Smallest |score| for which the leg (left/right) is reported as detected.
+    pub leg_min_score: f64,
 }
 
 impl Default for AlignOptions {
@@ -104,6 +121,12 @@ impl Default for AlignOptions {
             zero_window_s: 10.0,
             trunk_min_corr: 0.3,
             partial: false,
+            walk_window_s: 4.0,
+            walk_min_autocorr: 0.5,
+            min_walking_s: 3.0,
+            max_axis_ratio: 0.5,
+            min_sign_margin: 0.1,
+            leg_min_score: 0.2,
         }
     }
 }
@@ -169,6 +192,9 @@ pub struct SensorAlignment {
     pub zero_method: ZeroMethod,
     /// Fraction of the gyro energy (sum of squares) about the final z axis.
     pub axis_energy_fraction: f64,
+    /// Leg sensors: second / largest eigenvalue of the horizontal gyro
+    /// energy (0 = one clear axis, 1 = undetermined); `None` for the trunk.
+    pub axis_ratio: Option<f64>,
     /// Angle (rad) between the final axis and the principal gyro axis.
     pub axis_vs_principal_rad: f64,
     /// RMS hinge residual (rad/s) of the pairs this sensor took part in.
@@ -197,6 +223,10 @@ pub struct Alignment {
     pub walking_samples: usize,
     /// Samples left out as turning.
     pub turning_samples: usize,
+    /// Samples left out as not walking (no stride periodicity).
+    pub not_walking_samples: usize,
+    /// Which leg the sensors are on, detected from the data.
+    pub leg: Option<LegDetection>,
 }
 
 /// Why a trial (or one of its sensors) could not be aligned.
@@ -248,6 +278,34 @@ pub enum AlignError {
         gain: f64,
         /// Required |correlation|.
         needed: f64,
+    },
+    /// Too little walking data.
+    #[error("no walking found: {walking_s:.1} s of stride-periodic leg motion outside turns and quiet standing (need >= {needed_s} s); alignment needs straight walking")]
+    NoWalking {
+        /// Walking data found (s).
+        walking_s: f64,
+        /// Required (s).
+        needed_s: f64,
+    },
+    /// The sensor rotates about two axes about equally: no sagittal axis.
+    #[error("{}: axis undetermined: the sensor rotates about two horizontal axes about equally (second/largest energy {ratio:.2}, need <= {max}); is it on a walking leg?", .segment.name())]
+    AxisUndetermined {
+        /// The segment.
+        segment: Segment,
+        /// Second / largest eigenvalue of the horizontal gyro energy.
+        ratio: f64,
+        /// Largest accepted ratio.
+        max: f64,
+    },
+    /// The gait sign rules do not agree on the direction of the axis.
+    #[error("{}: the direction of the axis (left/right) is undetermined: sign margin {margin:.2} (need >= {min}); is this forward walking?", .segment.name())]
+    SignUndetermined {
+        /// The segment.
+        segment: Segment,
+        /// Sign margin found.
+        margin: f64,
+        /// Smallest accepted margin.
+        min: f64,
     },
     /// The medio-lateral axis is along gravity (the sensor cannot tell its
     /// sagittal plane).

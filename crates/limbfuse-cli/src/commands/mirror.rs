@@ -1,0 +1,67 @@
+//! `limbfuse mirror TRIAL -o OTHER_LEG [--remount-seed N]`: the recording as
+//! the mirror-image leg's sensors read it (docs/ALIGNMENT.md, "Both legs").
+
+use anyhow::{Context, Result};
+use limbfuse_core::{Leg, Record};
+use limbfuse_io::{TrialReader, TrialWriter};
+use limbfuse_signal::align::apply_rotations;
+use limbfuse_signal::align::mirror::{mirror_record, remount_rotations};
+
+use crate::cli::MirrorArgs;
+
+/// Reads the trial, mirrors (and re-mounts) every sensor, writes the result.
+pub fn run(a: &MirrorArgs) -> Result<()> {
+    let reader = TrialReader::open(&a.trial)?;
+    let mut meta = reader.meta().clone();
+    let layout = *reader.layout();
+    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let declared = meta.get("leg").map(str::to_string);
+    let leg = match declared.as_deref().map(Leg::parse) {
+        None => Leg::Right,
+        Some(Some(l)) => l,
+        Some(None) => anyhow::bail!(
+            "{}: metadata `leg`: expected right or left, found `{}`",
+            a.trial.display(),
+            declared.unwrap_or_default()
+        ),
+    };
+    let other = match leg {
+        Leg::Right => Leg::Left,
+        Leg::Left => Leg::Right,
+    };
+    meta.set("leg", other.name());
+    meta.set(
+        "mirrored",
+        format!(
+            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z)){}",
+            a.trial.display(),
+            leg.name(),
+            a.remount_seed
+                .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})"))
+        ),
+    );
+    let remount = a.remount_seed.map(|s| remount_rotations(s).map(Some));
+    let mut out = super::create_file(&a.output)?;
+    let mut w = TrialWriter::new(&mut out, &meta, layout)
+        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    for r in &records {
+        let m = mirror_record(r);
+        let m = match &remount {
+            Some(q) => apply_rotations(&m, q),
+            None => m,
+        };
+        w.write(&m)
+            .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    }
+    w.finish()
+        .with_context(|| format!("{}: cannot write", a.output.display()))?;
+    super::commit(out)?;
+    eprintln!(
+        "mirrored {} samples ({} leg -> {} leg) -> {}",
+        records.len(),
+        leg.name(),
+        other.name(),
+        a.output.display()
+    );
+    Ok(())
+}

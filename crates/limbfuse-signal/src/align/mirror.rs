@@ -1,0 +1,116 @@
+//! A left-leg trial from a right-leg one (and back): the mirror image of the
+//! recording across the sagittal plane, for checking alignment on both legs
+//! with one recording (`limbfuse mirror`).
+//!
+//! Mirroring is `S = diag(1, 1, -1)` in the sensor's own coordinates (any
+//! reflection is the sagittal reflection followed by a rotation, so the
+//! result is what *some* mounting of a sensor on the mirror-image leg
+//! reads). The accelerometer measures a polar vector, `f -> S f`; the
+//! gyroscope an axial one, `w -> -S w` (`[w]x = R^T dR/dt` and
+//! `S [w]x S = -[S w]x`); a device orientation `R` (sensor to world) becomes
+//! `S R S`, i.e. the quaternion `(w, x, y, z) -> (w, -x, -y, z)`. The
+//! sagittal angles (rotations about the medio-lateral axis), the joint
+//! angles, encoders and references are unchanged. Derivation with the
+//! simulator's left leg: `limbfuse_sim::body_path`.
+//!
+//! [`remount_rotations`] draws seeded uniformly random rotations (Shoemake's
+//! quaternion method, SplitMix64 numbers) to re-mount the mirrored sensors
+//! with [`super::apply_rotations`].
+
+use limbfuse_core::Record;
+use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
+
+/// The record as the mirror-image (other) leg's sensors read it.
+pub fn mirror_record(r: &Record) -> Record {
+    let mut out = *r;
+    for imu in out.sample.imu.iter_mut() {
+        imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
+        imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
+        imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
+    }
+    out
+}
+
+/// SplitMix64 step: a well-mixed 64-bit number from the state.
+fn splitmix(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Four uniformly random rotations (trunk, thigh, shank, foot) from `seed`
+/// (Shoemake 1992, "Uniform random rotations", Graphics Gems III).
+pub fn remount_rotations(seed: u64) -> [Rotation3<f64>; 4] {
+    let mut state = seed;
+    let mut uniform = || (splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64;
+    core::array::from_fn(|_| {
+        let (u1, u2, u3) = (uniform(), uniform(), uniform());
+        let tau = std::f64::consts::TAU;
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        let q = Quaternion::new(
+            b * (tau * u3).cos(),
+            a * (tau * u2).sin(),
+            a * (tau * u2).cos(),
+            b * (tau * u3).sin(),
+        );
+        UnitQuaternion::from_quaternion(q).to_rotation_matrix()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_core::{ImuSample, Sample};
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn mirroring_matches_the_mirrored_motion() {
+        // A sensor turning at w (sensor frame) with orientation R reads
+        // (R^T f, w). Its mirror image has orientation S R S and angular rate
+        // from d(S R S)/dt = S (dR/dt) S.
+        let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+        let w = Vector3::new(0.4, -1.2, 2.0);
+        let f = Vector3::new(1.0, 9.0, -2.0);
+        let h = 1e-6;
+        let skew = |v: &Vector3<f64>| v.cross_matrix();
+        let r_next = r * (Matrix3::identity() + skew(&w) * h);
+        let s = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+        let (rl, rl_next) = (s * r * s, s * r_next * s);
+        let wl_skew = rl.transpose() * (rl_next - rl) / h;
+        let wl = Vector3::new(wl_skew[(2, 1)], wl_skew[(0, 2)], wl_skew[(1, 0)]);
+        let fl = rl.transpose() * (s * (r * f));
+        let mut rec = Record {
+            sample: Sample::empty(0.0),
+            reference: Default::default(),
+        };
+        let q = UnitQuaternion::from_matrix(&r);
+        rec.sample.imu[1] = ImuSample {
+            acc: Some(f),
+            gyr: Some(w),
+            quat: Some([q.w, q.i, q.j, q.k]),
+        };
+        let m = mirror_record(&rec).sample.imu[1];
+        assert!((m.gyr.unwrap() - wl).norm() < 1e-5);
+        assert!((m.acc.unwrap() - fl).norm() < 1e-12);
+        let [qw, qx, qy, qz] = m.quat.unwrap();
+        let ql = UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz));
+        assert!((ql.to_rotation_matrix().into_inner() - rl).norm() < 1e-12);
+    }
+
+    #[test]
+    fn remount_rotations_are_seeded_and_spread() {
+        let a = remount_rotations(3);
+        assert_eq!(a, remount_rotations(3));
+        assert_ne!(a, remount_rotations(4));
+        // Mean of z axes over many draws ~ 0 (uniform on the sphere).
+        let mut m = Vector3::zeros();
+        for seed in 0..250 {
+            for r in remount_rotations(seed) {
+                m += r * Vector3::z();
+            }
+        }
+        assert!((m / 1000.0).norm() < 0.1, "{m}");
+    }
+}
