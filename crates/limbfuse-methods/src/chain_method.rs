@@ -56,13 +56,15 @@ struct ChainFile {
     encoder_noise: Option<f64>,
     trunk_jerk: Option<f64>,
     leg_jerk: Option<f64>,
-    hip_jerk: Option<f64>,
+    hip_acc_sd: Option<f64>,
+    hip_acc_tau: Option<f64>,
     gyro_bias_walk: Option<f64>,
     gyro_bias_initial: Option<f64>,
     hip_vertical_velocity: Option<f64>,
     hip_forward_velocity: Option<f64>,
     mean_speed_walk: Option<f64>,
     stance_velocity: Option<f64>,
+    stance_acceleration: Option<f64>,
     stance_gyro: Option<f64>,
     stance_acc: Option<f64>,
     stance_min_s: Option<f64>,
@@ -106,13 +108,15 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         encoder_noise: f.encoder_noise.unwrap_or(d.encoder_noise),
         trunk_jerk: f.trunk_jerk.unwrap_or(d.trunk_jerk),
         leg_jerk: f.leg_jerk.unwrap_or(d.leg_jerk),
-        hip_jerk: f.hip_jerk.unwrap_or(d.hip_jerk),
+        hip_acc_sd: f.hip_acc_sd.unwrap_or(d.hip_acc_sd),
+        hip_acc_tau: f.hip_acc_tau.unwrap_or(d.hip_acc_tau),
         gyro_bias_walk: f.gyro_bias_walk.unwrap_or(d.gyro_bias_walk),
         gyro_bias_initial: f.gyro_bias_initial.unwrap_or(d.gyro_bias_initial),
         hip_vertical_velocity: f.hip_vertical_velocity.unwrap_or(d.hip_vertical_velocity),
         hip_forward_velocity: f.hip_forward_velocity.unwrap_or(d.hip_forward_velocity),
         mean_speed_walk: f.mean_speed_walk.unwrap_or(d.mean_speed_walk),
         stance_velocity: f.stance_velocity.unwrap_or(d.stance_velocity),
+        stance_acceleration: f.stance_acceleration.unwrap_or(d.stance_acceleration),
         stance_gyro: f.stance_gyro.unwrap_or(d.stance_gyro),
         stance_acc: f.stance_acc.unwrap_or(d.stance_acc),
         stance_min_s: f.stance_min_s.unwrap_or(d.stance_min_s),
@@ -227,13 +231,15 @@ pub fn default_file() -> String {
          encoder_noise = {}  # encoder noise + quantisation, 1 sigma (rad)\n\
          trunk_jerk = {}  # trunk angular jerk intensity (rad^2/s^5)\n\
          leg_jerk = {}  # thigh/shank/foot angular jerk intensity (rad^2/s^5)\n\
-         hip_jerk = {}  # hip linear jerk intensity per axis (m^2/s^5)\n\
+         hip_acc_sd = {}  # hip acceleration per axis, stationary 1 sigma of its Gauss-Markov model (m/s^2)\n\
+         hip_acc_tau = {}  # hip acceleration correlation time (s)\n\
          gyro_bias_walk = {:e}  # gyro bias random walk (rad^2/s^3)\n\
          gyro_bias_initial = {}  # initial gyro bias, 1 sigma (rad/s)\n\
          hip_vertical_velocity = {}  # anchor: vertical hip velocity about 0, 1 sigma (m/s)\n\
          hip_forward_velocity = {}  # anchor: forward hip velocity about the mean speed, 1 sigma (m/s)\n\
          mean_speed_walk = {:e}  # mean forward speed random walk (m^2/s^3)\n\
          stance_velocity = {}  # anchor: ankle velocity while the foot is still, 1 sigma (m/s)\n\
+         stance_acceleration = {}  # anchor: ankle acceleration while the foot is still, 1 sigma (m/s^2)\n\
          stance_gyro = {}  # foot still: |gyro| below (rad/s)\n\
          stance_acc = {}  # foot still: | |acc| - g | below (m/s^2)\n\
          stance_min_s = {}  # foot still for at least (s)\n\
@@ -257,13 +263,15 @@ pub fn default_file() -> String {
         d.encoder_noise,
         d.trunk_jerk,
         d.leg_jerk,
-        d.hip_jerk,
+        d.hip_acc_sd,
+        d.hip_acc_tau,
         d.gyro_bias_walk,
         d.gyro_bias_initial,
         d.hip_vertical_velocity,
         d.hip_forward_velocity,
         d.mean_speed_walk,
         d.stance_velocity,
+        d.stance_acceleration,
         d.stance_gyro,
         d.stance_acc,
         d.stance_min_s,

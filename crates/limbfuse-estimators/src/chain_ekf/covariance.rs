@@ -27,30 +27,44 @@ pub struct ProcessNoise {
     pub angular_jerk: [f64; 4],
     /// Gyro bias random walk, rad^2/s^3.
     pub gyro_bias: f64,
-    /// Hip jerk per world axis, m^2/s^5.
+    /// Hip acceleration: white-noise intensity per world axis, m^2/s^5.
     pub hip_jerk: f64,
+    /// Hip acceleration: mean-reversion rate `beta = 1 / tau` (1/s) of its
+    /// Gauss-Markov model `a_h' = -beta a_h + w`.
+    pub hip_acc_rate: f64,
     /// Mean forward speed random walk, m^2/s^3.
     pub mean_speed: f64,
     /// Encoder offset random walk, rad^2/s.
     pub encoder_offset: f64,
 }
 
-/// `x <- Phi x` (constant angular acceleration per segment, constant hip
-/// acceleration over the step).
-pub fn predict_state(x: &mut StateVector, dt: f64) {
+/// The hip pair's transition `[[1, c], [0, e]]`: `e = exp(-beta T)`,
+/// `c = (1 - e) / beta` (`T` when `beta = 0`).
+fn hip_transition(dt: f64, beta: f64) -> (f64, f64) {
+    let e = libm::exp(-beta * dt);
+    let c = if beta * dt > 1e-9 { (1.0 - e) / beta } else { dt };
+    (c, e)
+}
+
+/// `x <- Phi x` (constant angular acceleration per segment over the step;
+/// Gauss-Markov hip acceleration).
+pub fn predict_state(x: &mut StateVector, dt: f64, q: &ProcessNoise) {
     let h2 = 0.5 * dt * dt;
     for i in 0..4 {
         x[theta(i)] += dt * x[omega(i)] + h2 * x[alpha(i)];
         x[omega(i)] += dt * x[alpha(i)];
     }
+    let (c, e) = hip_transition(dt, q.hip_acc_rate);
     for k in 0..2 {
-        x[hip_velocity(k)] += dt * x[hip_acceleration(k)];
+        x[hip_velocity(k)] += c * x[hip_acceleration(k)];
+        x[hip_acceleration(k)] *= e;
     }
 }
 
 /// Applies `Phi` to the rows of `P` (`P <- Phi P`).
-fn phi_rows(P: &mut Covariance, dt: f64) {
+fn phi_rows(P: &mut Covariance, dt: f64, beta: f64) {
     let h2 = 0.5 * dt * dt;
+    let (hc, he) = hip_transition(dt, beta);
     for c in 0..N {
         for i in 0..4 {
             let (t, w, a) = (P[(theta(i), c)], P[(omega(i), c)], P[(alpha(i), c)]);
@@ -59,14 +73,16 @@ fn phi_rows(P: &mut Covariance, dt: f64) {
         }
         for k in 0..2 {
             let a = P[(hip_acceleration(k), c)];
-            P[(hip_velocity(k), c)] += dt * a;
+            P[(hip_velocity(k), c)] += hc * a;
+            P[(hip_acceleration(k), c)] = he * a;
         }
     }
 }
 
 /// Applies `Phi^T` to the columns of `P` (`P <- P Phi^T`).
-fn phi_columns(P: &mut Covariance, dt: f64) {
+fn phi_columns(P: &mut Covariance, dt: f64, beta: f64) {
     let h2 = 0.5 * dt * dt;
+    let (hc, he) = hip_transition(dt, beta);
     for i in 0..4 {
         for r in 0..N {
             let (t, w, a) = (P[(r, theta(i))], P[(r, omega(i))], P[(r, alpha(i))]);
@@ -77,9 +93,30 @@ fn phi_columns(P: &mut Covariance, dt: f64) {
     for k in 0..2 {
         for r in 0..N {
             let a = P[(r, hip_acceleration(k))];
-            P[(r, hip_velocity(k))] += dt * a;
+            P[(r, hip_velocity(k))] += hc * a;
+            P[(r, hip_acceleration(k))] = he * a;
         }
     }
+}
+
+/// Discrete noise of the Gauss-Markov pair `v' = a`, `a' = -beta a + w`
+/// (intensity `q`), by integrating `Phi(s) [0, 1]^T q [0, 1] Phi(s)^T`:
+/// `Q22 = q (1 - e^2) / (2 beta)`, `Q12 = q (1 - e)^2 / (2 beta^2)`,
+/// `Q11 = q / beta^2 (T - 2 (1 - e) / beta + (1 - e^2) / (2 beta))`,
+/// `e = exp(-beta T)`; the white-jerk block of
+/// [`triple_integrator_noise`] when `beta T < 1e-4` (relative error
+/// `O(beta T)`; the closed form cancels there).
+pub fn gauss_markov_pair_noise(q: f64, dt: f64, beta: f64) -> [[f64; 2]; 2] {
+    if beta * dt < 1e-4 {
+        let b = triple_integrator_noise(q, dt);
+        return [[b[1][1], b[1][2]], [b[2][1], b[2][2]]];
+    }
+    let e = libm::exp(-beta * dt);
+    let b2 = beta * beta;
+    let q22 = q * (1.0 - e * e) / (2.0 * beta);
+    let q12 = q * (1.0 - e) * (1.0 - e) / (2.0 * b2);
+    let q11 = q / b2 * (dt - 2.0 * (1.0 - e) / beta + (1.0 - e * e) / (2.0 * beta));
+    [[q11, q12], [q12, q22]]
 }
 
 /// Discrete process noise of one integrator chain driven by white noise of
@@ -102,8 +139,8 @@ pub fn triple_integrator_noise(q: f64, dt: f64) -> [[f64; 3]; 3] {
 
 /// `P <- Phi P Phi^T + Qd` for a step of `dt` seconds.
 pub fn predict_covariance(P: &mut Covariance, dt: f64, q: &ProcessNoise) {
-    phi_rows(P, dt);
-    phi_columns(P, dt);
+    phi_rows(P, dt, q.hip_acc_rate);
+    phi_columns(P, dt, q.hip_acc_rate);
     for i in 0..4 {
         let b = triple_integrator_noise(q.angular_jerk[i], dt);
         let ix = [theta(i), omega(i), alpha(i)];
@@ -115,12 +152,12 @@ pub fn predict_covariance(P: &mut Covariance, dt: f64, q: &ProcessNoise) {
         let g = super::state::gyro_bias(i);
         P[(g, g)] += q.gyro_bias * dt;
     }
-    let b = triple_integrator_noise(q.hip_jerk, dt);
+    let b = gauss_markov_pair_noise(q.hip_jerk, dt, q.hip_acc_rate);
     for k in 0..2 {
         let ix = [hip_velocity(k), hip_acceleration(k)];
         for r in 0..2 {
             for c in 0..2 {
-                P[(ix[r], ix[c])] += b[r + 1][c + 1];
+                P[(ix[r], ix[c])] += b[r][c];
             }
         }
     }
@@ -206,6 +243,7 @@ mod tests {
             angular_jerk: [10.0, 200.0, 400.0, 900.0],
             gyro_bias: 1e-6,
             hip_jerk: 50.0,
+            hip_acc_rate: 7.0,
             mean_speed: 1e-3,
             encoder_offset: 1e-8,
         }
@@ -235,6 +273,7 @@ mod tests {
         }
         for k in 0..2 {
             A[(hip_velocity(k), hip_acceleration(k))] = 1.0;
+            A[(hip_acceleration(k), hip_acceleration(k))] = -q.hip_acc_rate;
             Qc[(hip_acceleration(k), hip_acceleration(k))] = q.hip_jerk;
         }
         let m = crate::chain_ekf::state::MEAN_SPEED;
@@ -260,8 +299,26 @@ mod tests {
         assert!((P - dense).amax() < 1e-12 * scale, "{}", (P - dense).amax());
         let x0 = StateVector::from_fn(|i, _| 0.1 * i as f64 - 0.7);
         let mut x = x0;
-        predict_state(&mut x, dt);
+        predict_state(&mut x, dt, &q);
         assert!((x - Phi * x0).amax() < 1e-14);
+    }
+
+    #[test]
+    fn gauss_markov_noise_tends_to_the_white_jerk_block_and_its_stationary_variance() {
+        let (q, dt) = (40.0, 0.01);
+        // beta T = 1e-3: the closed form, within O(beta T) of white jerk.
+        let gm = gauss_markov_pair_noise(q, dt, 0.1);
+        let wj = triple_integrator_noise(q, dt);
+        for r in 0..2 {
+            for c in 0..2 {
+                let rel = (gm[r][c] - wj[r + 1][c + 1]).abs() / wj[r + 1][c + 1].abs();
+                assert!(rel < 2e-3 && rel > 0.0, "{r}{c}: {rel}");
+            }
+        }
+        // Long steps: Q22 -> q / (2 beta), the stationary variance.
+        let beta = 5.0;
+        let long = gauss_markov_pair_noise(q, 100.0, beta);
+        assert!((long[1][1] - q / (2.0 * beta)).abs() < 1e-12);
     }
 
     #[test]
@@ -328,6 +385,7 @@ mod properties {
                 angular_jerk: [300.0, 1e4, 1e4, 1e4],
                 gyro_bias: 1e-7,
                 hip_jerk: 50.0,
+                hip_acc_rate: 7.0,
                 mean_speed: 1e-3,
                 encoder_offset: 1e-10,
             };

@@ -146,6 +146,29 @@ impl ChainGeometry {
     }
 }
 
+impl ChainGeometry {
+    /// World acceleration of the ankle joint and its Jacobian rows (eq C8):
+    /// `a_A = a_h + d_1 + d_2` (C1); a still foot has `a_A = 0`.
+    pub fn ankle_acceleration(&self, x: &StateVector) -> ([f64; 2], [SparseRow; 2]) {
+        let mut rows = [SparseRow::new(), SparseRow::new()];
+        let mut a = [x[hip_acceleration(0)], x[hip_acceleration(1)]];
+        for k in 0..2 {
+            rows[k].add(hip_acceleration(k), 1.0);
+        }
+        for j in 1..3 {
+            let (e, je) = link(x, j, self.link_length(j));
+            let (w, al) = (x[omega(j)], x[alpha(j)]);
+            for k in 0..2 {
+                a[k] += al * je[k] - w * w * e[k];
+                rows[k].add(theta(j), -al * e[k] - w * w * je[k]);
+                rows[k].add(omega(j), -2.0 * w * e[k]);
+                rows[k].add(alpha(j), je[k]);
+            }
+        }
+        (a, rows)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -226,6 +249,7 @@ mod tests {
     fn ankle_velocity_jacobian_matches_finite_differences() {
         let geo = geometry();
         check_jacobian(|x| geo.ankle_velocity(x), &state());
+        check_jacobian(|x| geo.ankle_acceleration(x), &state());
     }
 
     /// A planar motion with closed-form angles: `theta_i(t) = A_i sin(w_i t + p_i)`,
@@ -312,10 +336,17 @@ mod tests {
                 }
             }
             let (v, _) = geo.ankle_velocity(&x);
-            let (pp, pm) = (Motion::point(&geo, t + h, 4), Motion::point(&geo, t - h, 4));
+            let (a, _) = geo.ankle_acceleration(&x);
+            let (pp, p0, pm) = (
+                Motion::point(&geo, t + h, 4),
+                Motion::point(&geo, t, 4),
+                Motion::point(&geo, t - h, 4),
+            );
             for k in 0..2 {
                 let fd = (pp[k] - pm[k]) / (2.0 * h);
                 assert!((v[k] - fd).abs() < 1e-6, "ankle velocity {v:?} vs fd {fd}");
+                let fd2 = (pp[k] - 2.0 * p0[k] + pm[k]) / (h * h);
+                assert!((a[k] - fd2).abs() < 1e-4, "ankle acceleration {a:?} vs fd {fd2}");
             }
         }
     }

@@ -24,6 +24,7 @@ use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
+use alloc::boxed::Box;
 use nalgebra::Vector3;
 
 pub use covariance::ProcessNoise;
@@ -65,7 +66,7 @@ diagnostic_set! {
 /// Initial 1-sigma of the state after the start-up window.
 mod initial {
     /// Segment angles (rad): the start-up mean is good to a few degrees.
-    pub const ANGLE: f64 = 0.09;
+    pub const ANGLE: f64 = 0.5;
     /// Rates (rad/s) about the latest gyro reading.
     pub const RATE: f64 = 0.1;
     /// Angular accelerations (rad/s^2).
@@ -93,7 +94,16 @@ pub struct ChainEkf {
     last_xy_rate: [Option<([f64; 2], f64)>; 4],
     /// Time since which the foot has been still (`None`: moving).
     still_since: Option<f64>,
+    /// The start-up window's samples, replayed through the filter once the
+    /// window closes (allocated once, in [`ChainEkf::new`]).
+    window: Box<[Sample]>,
+    /// Samples held in `window`.
+    held: usize,
 }
+
+/// Most samples the start-up window holds: 2 s at up to 256 Hz; at higher
+/// rates the window closes when full.
+pub const STARTUP_CAPACITY: usize = 512;
 
 impl ChainEkf {
     /// A filter with these parameters and geometry, gravity `g` (m/s^2).
@@ -122,6 +132,8 @@ impl ChainEkf {
             p: Covariance::zeros(),
             last_xy_rate: [None; 4],
             still_since: None,
+            window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
+            held: 0,
         })
     }
 
@@ -145,19 +157,25 @@ impl ChainEkf {
         ProcessNoise {
             angular_jerk: [p.trunk_jerk, p.leg_jerk, p.leg_jerk, p.leg_jerk],
             gyro_bias: p.gyro_bias_walk,
-            hip_jerk: p.hip_jerk,
+            // Stationary variance q tau / 2 = hip_acc_sd^2.
+            hip_jerk: 2.0 * p.hip_acc_sd * p.hip_acc_sd / p.hip_acc_tau,
+            hip_acc_rate: 1.0 / p.hip_acc_tau,
             mean_speed: p.mean_speed_walk,
             encoder_offset: 1e-10,
         }
     }
 
-    /// Starts the filter from the start-up window's estimates.
+    /// Starts the filter at the window's first sample from the start-up
+    /// estimates (`theta_i = m_i` there: the gyro integral starts at 0) and
+    /// replays the window's samples through it, so that its convergence
+    /// transient lies inside the window.
     fn start(&mut self) {
+        let first = self.window[0];
         let mut x = StateVector::zeros();
         let mut d = [0.0; state::N];
         for i in 0..4 {
-            x[theta(i)] = self.startup.angle(i).unwrap_or(0.0);
-            x[omega(i)] = self.startup.rate(i).unwrap_or(0.0);
+            x[theta(i)] = self.startup.offset(i).unwrap_or(0.0);
+            x[omega(i)] = first.imu[i].gyr.map_or(0.0, |w| w.z);
             d[theta(i)] = initial::ANGLE;
             d[omega(i)] = initial::RATE;
             d[alpha(i)] = initial::ANGULAR_ACCELERATION;
@@ -175,6 +193,23 @@ impl ChainEkf {
         self.x = x;
         self.p = Covariance::from_diagonal(&nalgebra::SVector::from(d.map(|s| s * s)));
         self.running = true;
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.out_of_plane_rates(&first);
+        let mut previous = first.t;
+        for k in 1..self.held {
+            let sample = self.window[k];
+            self.filter_step(&sample, sample.t - previous);
+            previous = sample.t;
+        }
+        self.held = 0;
+    }
+
+    /// Records the gyro x/y rates of every sensor (for their derivative).
+    fn out_of_plane_rates(&mut self, sample: &Sample) {
+        for i in 0..4 {
+            self.out_of_plane(i, sample.imu[i].gyr, sample.t);
+        }
     }
 
     /// The non-sagittal rotation of segment `i`'s sensor (zero when off or
@@ -227,8 +262,8 @@ impl ChainEkf {
     /// One filter step after the start-up: predict, then every scalar row.
     /// Returns (stance applied, accelerometer rows rejected).
     fn filter_step(&mut self, sample: &Sample, dt: f64) -> (bool, u32) {
-        predict_state(&mut self.x, dt);
         let q = self.process_noise();
+        predict_state(&mut self.x, dt, &q);
         predict_covariance(&mut self.p, dt, &q);
         let p = self.params;
         let inf = f64::INFINITY;
@@ -282,6 +317,10 @@ impl ChainEkf {
                 let (v, rows) = self.geometry.ankle_velocity(&self.x);
                 self.apply(&rows[k], -v[k], p.stance_velocity, inf);
             }
+            for k in 0..2 {
+                let (a, rows) = self.geometry.ankle_acceleration(&self.x);
+                self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+            }
         }
         (stance, rejected)
     }
@@ -315,13 +354,15 @@ impl Estimator for ChainEkf {
         writeln!(out, "encoder_noise: {}", p.encoder_noise)?;
         writeln!(out, "trunk_jerk: {}", p.trunk_jerk)?;
         writeln!(out, "leg_jerk: {}", p.leg_jerk)?;
-        writeln!(out, "hip_jerk: {}", p.hip_jerk)?;
+        writeln!(out, "hip_acc_sd: {}", p.hip_acc_sd)?;
+        writeln!(out, "hip_acc_tau: {}", p.hip_acc_tau)?;
         writeln!(out, "gyro_bias_walk: {}", p.gyro_bias_walk)?;
         writeln!(out, "gyro_bias_initial: {}", p.gyro_bias_initial)?;
         writeln!(out, "hip_vertical_velocity: {}", p.hip_vertical_velocity)?;
         writeln!(out, "hip_forward_velocity: {}", p.hip_forward_velocity)?;
         writeln!(out, "mean_speed_walk: {}", p.mean_speed_walk)?;
         writeln!(out, "stance_velocity: {}", p.stance_velocity)?;
+        writeln!(out, "stance_acceleration: {}", p.stance_acceleration)?;
         writeln!(out, "stance_gyro: {}", p.stance_gyro)?;
         writeln!(out, "stance_acc: {}", p.stance_acc)?;
         writeln!(out, "stance_min_s: {}", p.stance_min_s)?;
@@ -332,16 +373,14 @@ impl Estimator for ChainEkf {
     }
 
     fn reset(&mut self) {
-        *self = ChainEkf {
-            time: TimeStep::new(),
-            startup: Startup::default(),
-            running: false,
-            x: StateVector::zeros(),
-            p: Covariance::zeros(),
-            last_xy_rate: [None; 4],
-            still_since: None,
-            ..self.clone()
-        };
+        self.time = TimeStep::new();
+        self.startup = Startup::default();
+        self.running = false;
+        self.x = StateVector::zeros();
+        self.p = Covariance::zeros();
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.held = 0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -352,25 +391,30 @@ impl Estimator for ChainEkf {
             (true, Some(dt)) => (stance, rejected) = self.filter_step(sample, dt),
             _ => {
                 self.startup.observe(sample, dt);
-                for i in 0..4 {
-                    self.out_of_plane(i, sample.imu[i].gyr, sample.t);
+                if self.held < self.window.len() {
+                    self.window[self.held] = *sample;
+                    self.held += 1;
                 }
                 let ready = (0..4).all(|i| self.startup.angle(i).is_some());
-                if ready && self.startup.elapsed(sample.t) >= self.params.startup_s {
+                let closed = self.startup.elapsed(sample.t) >= self.params.startup_s
+                    || self.held == self.window.len();
+                if ready && closed {
                     self.start();
+                } else if self.held == self.window.len() {
+                    // Full before every segment had an accelerometer reading:
+                    // start the window again.
+                    self.startup = Startup::default();
+                    self.held = 0;
                 }
             }
         }
+        // No estimate until the window closes (docs/CHAIN.md "Start-up").
         if self.running {
             for i in 0..4 {
                 est.segment[i] = Some(self.x[theta(i)]);
             }
-        } else {
-            for i in 0..4 {
-                est.segment[i] = self.startup.angle(i);
-            }
+            est.fill_joints_from_segments();
         }
-        est.fill_joints_from_segments();
         let mut d = est.diagnostics_mut::<ChainDiag>();
         d.flag(ChainDiag::Running, self.running);
         if self.running {

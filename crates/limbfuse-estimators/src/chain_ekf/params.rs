@@ -93,8 +93,11 @@ pub struct ChainParams {
     pub trunk_jerk: f64,
     /// Angular jerk intensity of thigh, shank and foot, rad^2/s^5.
     pub leg_jerk: f64,
-    /// Hip linear jerk intensity per axis, m^2/s^5.
-    pub hip_jerk: f64,
+    /// Hip acceleration per axis: stationary 1 sigma (m/s^2) of its
+    /// Gauss-Markov model.
+    pub hip_acc_sd: f64,
+    /// Hip acceleration: correlation time (s) of its Gauss-Markov model.
+    pub hip_acc_tau: f64,
     /// Gyro bias random walk intensity, rad^2/s^3.
     pub gyro_bias_walk: f64,
     /// Initial gyro bias, 1 sigma (rad/s).
@@ -107,6 +110,8 @@ pub struct ChainParams {
     pub mean_speed_walk: f64,
     /// Ankle velocity while the foot is still, 1 sigma (m/s) (anchor).
     pub stance_velocity: f64,
+    /// Ankle acceleration while the foot is still, 1 sigma (m/s^2) (anchor).
+    pub stance_acceleration: f64,
     /// Foot still: |gyro| below this (rad/s) ...
     pub stance_gyro: f64,
     /// ... and | |acc| - g | below this (m/s^2).
@@ -132,13 +137,15 @@ impl Default for ChainParams {
             encoder_noise: 0.2_f64.to_radians(),
             trunk_jerk: 300.0,
             leg_jerk: 1.0e4,
-            hip_jerk: 50.0,
+            hip_acc_sd: 2.0,
+            hip_acc_tau: 0.1,
             gyro_bias_walk: 1.0e-7,
             gyro_bias_initial: 0.5_f64.to_radians() * 2.0,
             hip_vertical_velocity: 0.2,
             hip_forward_velocity: 0.3,
             mean_speed_walk: 1.0e-3,
             stance_velocity: 0.05,
+            stance_acceleration: 0.5,
             stance_gyro: 0.6,
             stance_acc: 1.0,
             stance_min_s: 0.08,
@@ -160,13 +167,15 @@ impl ChainParams {
             ("encoder_noise", self.encoder_noise),
             ("trunk_jerk", self.trunk_jerk),
             ("leg_jerk", self.leg_jerk),
-            ("hip_jerk", self.hip_jerk),
+            ("hip_acc_sd", self.hip_acc_sd),
+            ("hip_acc_tau", self.hip_acc_tau),
             ("gyro_bias_walk", self.gyro_bias_walk),
             ("gyro_bias_initial", self.gyro_bias_initial),
             ("hip_vertical_velocity", self.hip_vertical_velocity),
             ("hip_forward_velocity", self.hip_forward_velocity),
             ("mean_speed_walk", self.mean_speed_walk),
             ("stance_velocity", self.stance_velocity),
+            ("stance_acceleration", self.stance_acceleration),
             ("stance_gyro", self.stance_gyro),
             ("stance_acc", self.stance_acc),
             ("stance_min_s", self.stance_min_s),

@@ -81,9 +81,9 @@ impl Startup {
         mean(&self.segment_sum[i]).map(|m| m + self.integral[i])
     }
 
-    /// Segment `i`'s latest gyro rate.
-    pub fn rate(&self, i: usize) -> Option<f64> {
-        self.last_rate[i]
+    /// Segment `i`'s offset `m_i`: its angle at the first sample.
+    pub fn offset(&self, i: usize) -> Option<f64> {
+        mean(&self.segment_sum[i])
     }
 
     /// Encoder `j`'s offset `enc_j - (theta_j - theta_{j+1})` (`None` without
