@@ -30,5 +30,10 @@ fn chain_steps_without_allocating() {
     }
     let after = allocations();
     assert!(sum.is_finite());
-    assert_eq!(after - before, 0, "chain allocated {} times", after - before);
+    assert_eq!(
+        after - before,
+        0,
+        "chain allocated {} times",
+        after - before
+    );
 }

@@ -186,7 +186,12 @@ mod tests {
 
     #[test]
     fn formatted_geometry_reads_back() {
-        let p = [[-0.1, 0.08, -0.09], [0.0, -0.2144, 0.08], [0.0, -0.2153, 0.05], [0.07, -0.005, 0.0]];
+        let p = [
+            [-0.1, 0.08, -0.09],
+            [0.0, -0.2144, 0.08],
+            [0.0, -0.2153, 0.05],
+            [0.07, -0.005, 0.0],
+        ];
         let back = parse_imu_mounts(&format_imu_mounts(&p)).unwrap();
         for i in 0..4 {
             let b = back[i].unwrap();
@@ -203,7 +208,10 @@ mod tests {
     #[test]
     fn bad_entries_name_the_key_and_the_problem() {
         let e = parse_imu_mounts("knee (0, 1)").unwrap_err().to_string();
-        assert!(e.contains("imu_mounts_m") && e.contains("unknown segment `knee`"), "{e}");
+        assert!(
+            e.contains("imu_mounts_m") && e.contains("unknown segment `knee`"),
+            "{e}"
+        );
         let e = parse_imu_mounts("thigh (0, x)").unwrap_err().to_string();
         assert!(e.contains("`x` is not a finite number"), "{e}");
         let e = parse_imu_mounts("thigh (0)").unwrap_err().to_string();

@@ -126,7 +126,9 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         out_of_plane: f.out_of_plane.unwrap_or(d.out_of_plane),
     };
     let path = file.map_or(Path::new("(defaults)"), |(_, p)| p);
-    params.validate().map_err(|e| invalid(path, e.to_string()))?;
+    params
+        .validate()
+        .map_err(|e| invalid(path, e.to_string()))?;
     let geometry = f.geometry.unwrap_or_default();
     resolve_geometry(&TrialMeta::new(), &geometry)
         .map_err(|e| invalid(path, format!("[geometry]: {e}")))?;
@@ -168,7 +170,12 @@ pub fn resolve_geometry(
     // Mid-segment defaults follow the lengths actually used.
     g.imu_position[1][1] = -0.5 * g.thigh_length;
     g.imu_position[2][1] = -0.5 * g.shank_length;
-    let from_file = [file.imu_trunk, file.imu_thigh, file.imu_shank, file.imu_foot];
+    let from_file = [
+        file.imu_trunk,
+        file.imu_thigh,
+        file.imu_shank,
+        file.imu_foot,
+    ];
     for i in 0..4 {
         if let Some(r) = body.imu_position[i].or(from_file[i]) {
             g.imu_position[i] = r;
@@ -207,7 +214,8 @@ impl MethodDef for ChainMethod {
         meta: &TrialMeta,
         _: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        let geometry = resolve_geometry(meta, &s.geometry).map_err(|e| MethodError::Chain(e.to_string()))?;
+        let geometry =
+            resolve_geometry(meta, &s.geometry).map_err(|e| MethodError::Chain(e.to_string()))?;
         let ekf = ChainEkf::new(s.params, geometry, meta.gravity())
             .map_err(|e| MethodError::Chain(e.to_string()))?;
         Ok(Box::new(ekf))
@@ -301,9 +309,13 @@ mod tests {
     #[test]
     fn unknown_keys_and_bad_values_are_errors() {
         let p = Path::new("c.toml");
-        let e = chain_settings(Some(("acc_nois = 1\n", p))).unwrap_err().to_string();
+        let e = chain_settings(Some(("acc_nois = 1\n", p)))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("c.toml"), "{e}");
-        let e = chain_settings(Some(("acc_noise = -1\n", p))).unwrap_err().to_string();
+        let e = chain_settings(Some(("acc_noise = -1\n", p)))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("acc_noise"), "{e}");
         let e = chain_settings(Some(("[geometry]\nthigh_length = 5.0\n", p)))
             .unwrap_err()
@@ -332,6 +344,9 @@ mod tests {
         let w = ChainGeometry::from_height(1.6);
         assert_eq!(g.imu_position[0], w.imu_position[0]);
         meta.set("imu_mounts_m", "foot (0.08)");
-        assert!(resolve_geometry(&meta, &file).unwrap_err().to_string().contains("imu_mounts_m"));
+        assert!(resolve_geometry(&meta, &file)
+            .unwrap_err()
+            .to_string()
+            .contains("imu_mounts_m"));
     }
 }

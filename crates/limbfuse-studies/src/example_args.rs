@@ -271,3 +271,11 @@ pub fn imm_weights(s: &str) -> Result<ImmWeights, String> {
         _ => Err(format!("unknown IMM weights `{s}` (paper, recursive)")),
     }
 }
+
+/// `chain_study [SEEDS]`.
+#[derive(Debug, Parser)]
+pub struct ChainStudyArgs {
+    /// Seeds 1..=SEEDS per speed.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
+}

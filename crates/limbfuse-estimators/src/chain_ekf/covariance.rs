@@ -42,7 +42,11 @@ pub struct ProcessNoise {
 /// `c = (1 - e) / beta` (`T` when `beta = 0`).
 fn hip_transition(dt: f64, beta: f64) -> (f64, f64) {
     let e = libm::exp(-beta * dt);
-    let c = if beta * dt > 1e-9 { (1.0 - e) / beta } else { dt };
+    let c = if beta * dt > 1e-9 {
+        (1.0 - e) / beta
+    } else {
+        dt
+    };
     (c, e)
 }
 
@@ -253,7 +257,9 @@ mod tests {
     fn spd(seed: u64) -> Covariance {
         let mut s = seed;
         let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         let L = Covariance::from_fn(|_, _| next());

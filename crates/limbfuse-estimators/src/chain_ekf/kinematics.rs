@@ -7,8 +7,8 @@
 //! hip joint, shank at the knee, foot at the ankle; the thigh's distal joint
 //! is at `e_1 = R(theta_1) (0, -L_1)`, the shank's at `e_2 = R(theta_2) (0, -L_2)`.
 
-use super::state::{alpha, hip_acceleration, hip_velocity, omega, theta, SparseRow};
 use super::covariance::StateVector;
+use super::state::{alpha, hip_acceleration, hip_velocity, omega, theta, SparseRow};
 
 /// Segment lengths and sensor positions (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -292,7 +292,12 @@ mod tests {
         /// World position of segment `s`'s sensor (or of the ankle for `s = 4`).
         fn point(geo: &ChainGeometry, t: f64, s: usize) -> [f64; 2] {
             let th: [f64; 4] = core::array::from_fn(|i| Self::angles(t)[i][0]);
-            let rot = |a: f64, v: [f64; 2]| [a.cos() * v[0] - a.sin() * v[1], a.sin() * v[0] + a.cos() * v[1]];
+            let rot = |a: f64, v: [f64; 2]| {
+                [
+                    a.cos() * v[0] - a.sin() * v[1],
+                    a.sin() * v[0] + a.cos() * v[1],
+                ]
+            };
             let mut o = Self::hip(t)[0];
             let lengths = [0.0, geo.thigh_length, geo.shank_length];
             for j in 1..s.min(3) {
@@ -332,7 +337,10 @@ mod tests {
                 ];
                 let (f, _) = geo.specific_force(&x, s, g, &OutOfPlane::default());
                 for k in 0..2 {
-                    assert!((f[k] - expected[k]).abs() < 1e-4, "t {t} s {s} k {k}: {f:?} vs {expected:?}");
+                    assert!(
+                        (f[k] - expected[k]).abs() < 1e-4,
+                        "t {t} s {s} k {k}: {f:?} vs {expected:?}"
+                    );
                 }
             }
             let (v, _) = geo.ankle_velocity(&x);
@@ -346,7 +354,10 @@ mod tests {
                 let fd = (pp[k] - pm[k]) / (2.0 * h);
                 assert!((v[k] - fd).abs() < 1e-6, "ankle velocity {v:?} vs fd {fd}");
                 let fd2 = (pp[k] - 2.0 * p0[k] + pm[k]) / (h * h);
-                assert!((a[k] - fd2).abs() < 1e-4, "ankle acceleration {a:?} vs fd {fd2}");
+                assert!(
+                    (a[k] - fd2).abs() < 1e-4,
+                    "ankle acceleration {a:?} vs fd {fd2}"
+                );
             }
         }
     }
@@ -371,6 +382,9 @@ mod tests {
         let om = Vector3::new(oop.rate[0], oop.rate[1], w);
         let al = Vector3::new(oop.rate_derivative[0], oop.rate_derivative[1], a);
         let expected = al.cross(&r) + om.cross(&om.cross(&r));
-        assert!((f[0] - expected.x).abs() < 1e-12 && (f[1] - expected.y).abs() < 1e-12, "{f:?} {expected}");
+        assert!(
+            (f[0] - expected.x).abs() < 1e-12 && (f[1] - expected.y).abs() < 1e-12,
+            "{f:?} {expected}"
+        );
     }
 }

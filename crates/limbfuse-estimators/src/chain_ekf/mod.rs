@@ -22,9 +22,9 @@ mod tests;
 
 use core::fmt;
 
+use alloc::boxed::Box;
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
-use alloc::boxed::Box;
 use nalgebra::Vector3;
 
 pub use covariance::ProcessNoise;
@@ -220,7 +220,10 @@ impl ChainEkf {
         };
         let rate = [g.x, g.y];
         let derivative = match self.last_xy_rate[i] {
-            Some((prev, tp)) if t > tp => [(rate[0] - prev[0]) / (t - tp), (rate[1] - prev[1]) / (t - tp)],
+            Some((prev, tp)) if t > tp => [
+                (rate[0] - prev[0]) / (t - tp),
+                (rate[1] - prev[1]) / (t - tp),
+            ],
             _ => [0.0, 0.0],
         };
         self.last_xy_rate[i] = Some((rate, t));
@@ -283,7 +286,8 @@ impl ChainEkf {
                     row.add(theta(j), 1.0);
                     row.add(theta(j + 1), -1.0);
                     row.add(encoder_offset(j), 1.0);
-                    let nu = e - (self.x[theta(j)] - self.x[theta(j + 1)] + self.x[encoder_offset(j)]);
+                    let nu =
+                        e - (self.x[theta(j)] - self.x[theta(j + 1)] + self.x[encoder_offset(j)]);
                     self.apply(&row, nu, p.encoder_noise, inf);
                 }
             }
@@ -291,7 +295,10 @@ impl ChainEkf {
         let mut rejected = 0;
         for i in 0..4 {
             let oop = self.out_of_plane(i, sample.imu[i].gyr, sample.t);
-            let Some(acc) = sample.imu[i].acc.filter(|a| a.x.is_finite() && a.y.is_finite()) else {
+            let Some(acc) = sample.imu[i]
+                .acc
+                .filter(|a| a.x.is_finite() && a.y.is_finite())
+            else {
                 continue;
             };
             for k in 0..2 {
@@ -345,7 +352,10 @@ impl Estimator for ChainEkf {
         writeln!(out, "model: planar chain EKF, 24 states (docs/CHAIN.md)")?;
         writeln!(out, "thigh_length: {}", g.thigh_length)?;
         writeln!(out, "shank_length: {}", g.shank_length)?;
-        for (name, r) in ["trunk", "thigh", "shank", "foot"].iter().zip(g.imu_position.iter()) {
+        for (name, r) in ["trunk", "thigh", "shank", "foot"]
+            .iter()
+            .zip(g.imu_position.iter())
+        {
             writeln!(out, "imu_position_{name}: {} {} {}", r[0], r[1], r[2])?;
         }
         writeln!(out, "g: {}", self.g)?;

@@ -222,7 +222,11 @@ mod tests {
         assert!(p.validate().unwrap_err().to_string().contains("acc_noise"));
         let mut g = ChainGeometry::default();
         g.shank_length = 3.0;
-        assert!(g.validate().unwrap_err().to_string().contains("shank_length"));
+        assert!(g
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("shank_length"));
     }
 
     #[test]

@@ -109,7 +109,11 @@ mod tests {
         for (i, imu) in s.imu.iter_mut().enumerate() {
             let th = c[i] + 0.4 * (w * t).sin();
             let disturbed = th + 0.2 * (3.0 * w * t + i as f64).sin();
-            imu.acc = Some(Vector3::new(9.81 * disturbed.sin(), 9.81 * disturbed.cos(), 0.0));
+            imu.acc = Some(Vector3::new(
+                9.81 * disturbed.sin(),
+                9.81 * disturbed.cos(),
+                0.0,
+            ));
             imu.gyr = Some(Vector3::new(0.0, 0.0, 0.4 * w * (w * t).cos()));
         }
         for j in 0..3 {

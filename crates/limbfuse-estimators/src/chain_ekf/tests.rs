@@ -13,7 +13,12 @@ fn run(cfg: WalkingConfig, params: ChainParams) -> [[f64; 3]; 4] {
     for r in sim {
         let e = ekf.step(&r.sample).unwrap();
         if r.sample.t < 5.0 {
-            assert_eq!(e.segment[0].is_some(), r.sample.t >= 2.0 - 1e-9, "t {}", r.sample.t);
+            assert_eq!(
+                e.segment[0].is_some(),
+                r.sample.t >= 2.0 - 1e-9,
+                "t {}",
+                r.sample.t
+            );
             continue;
         }
         n += 1.0;
@@ -26,7 +31,11 @@ fn run(cfg: WalkingConfig, params: ChainParams) -> [[f64; 3]; 4] {
     core::array::from_fn(|i| {
         let mean = sum[i] / n;
         let ms = sq[i] / n;
-        [ms.sqrt().to_degrees(), mean.to_degrees(), (ms - mean * mean).max(0.0).sqrt().to_degrees()]
+        [
+            ms.sqrt().to_degrees(),
+            mean.to_degrees(),
+            (ms - mean * mean).max(0.0).sqrt().to_degrees(),
+        ]
     })
 }
 
@@ -40,38 +49,35 @@ fn ideal_sensors_walking_tracks_the_truth() {
         ..Default::default()
     };
     let rmse = run(cfg, ChainParams::default());
-    eprintln!("rmse {rmse:?}");
-    assert!(rmse.iter().all(|r| r[0] < 1.0), "{rmse:?}");
+    // Measured 0.03-0.06 deg per segment.
+    assert!(rmse.iter().all(|r| r[0] < 0.15), "{rmse:?}");
 }
 
 #[test]
-#[ignore]
-fn sweep() {
+fn default_sensors_fast_walking_offset_free_error_is_small() {
     let cfg = WalkingConfig {
-        duration_s: 20.0,
-        speed_mps: 1.2,
-        noise: false,
-        out_of_plane: false,
+        duration_s: 15.0,
+        speed_mps: 1.6,
+        seed: 5,
         ..Default::default()
     };
-    let d = ChainParams::default();
-    let cases = [
-        ("default", d),
-        ("acc 0.1", ChainParams { acc_noise: 0.1, ..d }),
-        ("acc 1", ChainParams { acc_noise: 1.0, ..d }),
-        ("leg jerk 1e5", ChainParams { leg_jerk: 1e5, ..d }),
-        ("leg jerk 1e3", ChainParams { leg_jerk: 1e3, ..d }),
-        ("hip tau 1", ChainParams { hip_acc_tau: 1.0, ..d }),
-        ("no enc", ChainParams { use_encoders: false, ..d }),
-        ("stance 1000", ChainParams { stance_velocity: 1000.0, ..d }),
-        ("vy 1000", ChainParams { hip_vertical_velocity: 1000.0, ..d }),
-        ("vx 1000", ChainParams { hip_forward_velocity: 1000.0, ..d }),
-        ("gyro 0.002", ChainParams { gyro_noise: 0.002, ..d }),
-    ];
-    for (name, p) in cases {
-        let r = run(cfg, p);
-        let m: f64 = r.iter().map(|x| x[0]).sum::<f64>() / 4.0;
-        let of: f64 = r.iter().map(|x| x[2]).sum::<f64>() / 4.0;
-        eprintln!("{name:>14}: rmse {m:.3} offset-free {of:.3}  {:?}", r.map(|x| (x[1] * 100.0).round() / 100.0));
-    }
+    let rmse = run(cfg, ChainParams::default());
+    // Offset-free (the static accelerometer biases and mounting errors are
+    // constant): measured ~0.1-0.15 deg; the issue-14 target is 0.6 deg.
+    assert!(rmse.iter().all(|r| r[2] < 0.3), "{rmse:?}");
+}
+
+#[test]
+fn reset_starts_a_new_recording() {
+    let cfg = WalkingConfig {
+        duration_s: 3.0,
+        ..Default::default()
+    };
+    let recs: Vec<_> = WalkingSimulator::new(cfg).unwrap().collect();
+    let mut ekf = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), cfg.g).unwrap();
+    let first: Vec<_> = recs.iter().map(|r| ekf.step(&r.sample).unwrap()).collect();
+    ekf.reset();
+    let second: Vec<_> = recs.iter().map(|r| ekf.step(&r.sample).unwrap()).collect();
+    assert_eq!(first, second);
+    assert!(first[150].segment[0].is_none() && first[250].segment[0].is_some());
 }
