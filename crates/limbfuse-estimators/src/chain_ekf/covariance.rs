@@ -65,21 +65,37 @@ pub fn predict_state(x: &mut StateVector, dt: f64, q: &ProcessNoise) {
     }
 }
 
-/// Applies `Phi` to the rows of `P` (`P <- Phi P`).
+/// Applies `Phi` to the rows of `P` (`P <- Phi P`), one column slice at a
+/// time (column-major storage).
 fn phi_rows(P: &mut Covariance, dt: f64, beta: f64) {
     let h2 = 0.5 * dt * dt;
     let (hc, he) = hip_transition(dt, beta);
-    for c in 0..N {
+    for col in P.as_mut_slice().chunks_exact_mut(N) {
         for i in 0..4 {
-            let (t, w, a) = (P[(theta(i), c)], P[(omega(i), c)], P[(alpha(i), c)]);
-            P[(theta(i), c)] = t + dt * w + h2 * a;
-            P[(omega(i), c)] = w + dt * a;
+            let (t, w, a) = (col[theta(i)], col[omega(i)], col[alpha(i)]);
+            col[theta(i)] = t + dt * w + h2 * a;
+            col[omega(i)] = w + dt * a;
         }
         for k in 0..2 {
-            let a = P[(hip_acceleration(k), c)];
-            P[(hip_velocity(k), c)] += hc * a;
-            P[(hip_acceleration(k), c)] = he * a;
+            let a = col[hip_acceleration(k)];
+            col[hip_velocity(k)] += hc * a;
+            col[hip_acceleration(k)] = he * a;
         }
+    }
+}
+
+/// `column(target) += f * column(source)` of a column-major `N x N` slice.
+#[inline]
+fn add_column(p: &mut [f64], target: usize, source: usize, f: f64) {
+    let (src, dst) = if source < target {
+        let (lo, hi) = p.split_at_mut(target * N);
+        (&lo[source * N..source * N + N], &mut hi[..N])
+    } else {
+        let (lo, hi) = p.split_at_mut(source * N);
+        (&hi[..N], &mut lo[target * N..target * N + N])
+    };
+    for (d, s) in dst.iter_mut().zip(src.iter()) {
+        *d += f * s;
     }
 }
 
@@ -87,18 +103,18 @@ fn phi_rows(P: &mut Covariance, dt: f64, beta: f64) {
 fn phi_columns(P: &mut Covariance, dt: f64, beta: f64) {
     let h2 = 0.5 * dt * dt;
     let (hc, he) = hip_transition(dt, beta);
+    let p = P.as_mut_slice();
     for i in 0..4 {
-        for r in 0..N {
-            let (t, w, a) = (P[(r, theta(i))], P[(r, omega(i))], P[(r, alpha(i))]);
-            P[(r, theta(i))] = t + dt * w + h2 * a;
-            P[(r, omega(i))] = w + dt * a;
-        }
+        // theta uses the old omega column: update it before omega.
+        add_column(p, theta(i), omega(i), dt);
+        add_column(p, theta(i), alpha(i), h2);
+        add_column(p, omega(i), alpha(i), dt);
     }
     for k in 0..2 {
-        for r in 0..N {
-            let a = P[(r, hip_acceleration(k))];
-            P[(r, hip_velocity(k))] += hc * a;
-            P[(r, hip_acceleration(k))] = he * a;
+        add_column(p, hip_velocity(k), hip_acceleration(k), hc);
+        let a = hip_acceleration(k) * N;
+        for v in p[a..a + N].iter_mut() {
+            *v *= he;
         }
     }
 }
@@ -222,12 +238,18 @@ pub fn scalar_update(
     for (xi, k) in x.iter_mut().zip(K.iter()) {
         *xi += k * nu;
     }
-    for c in 0..N {
+    let p = P.as_mut_slice();
+    for (c, col) in p.chunks_exact_mut(N).enumerate() {
         let (kc, hc) = (K[c], h[c]);
-        for r_ in c..N {
-            let v = P[(r_, c)] - K[r_] * hc - h[r_] * kc + s * K[r_] * kc;
-            P[(r_, c)] = v;
-            P[(c, r_)] = v;
+        let skc = s * kc;
+        for ((v, kr), hr) in col[c..].iter_mut().zip(&K[c..]).zip(&h[c..]) {
+            *v += -kr * hc - hr * kc + kr * skc;
+        }
+    }
+    // Mirror the lower triangle (column c, rows > c) into the upper one.
+    for c in 0..N {
+        for r_ in c + 1..N {
+            p[r_ * N + c] = p[c * N + r_];
         }
     }
     ScalarUpdate {

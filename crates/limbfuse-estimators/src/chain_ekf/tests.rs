@@ -49,8 +49,8 @@ fn ideal_sensors_walking_tracks_the_truth() {
         ..Default::default()
     };
     let rmse = run(cfg, ChainParams::default());
-    // Measured 0.03-0.06 deg per segment.
-    assert!(rmse.iter().all(|r| r[0] < 0.15), "{rmse:?}");
+    // Measured 0.05-0.15 deg per segment (offset-free 0.04).
+    assert!(rmse.iter().all(|r| r[0] < 0.25 && r[2] < 0.08), "{rmse:?}");
 }
 
 #[test]
