@@ -176,9 +176,14 @@ pub fn resolve_geometry(
         file.imu_shank,
         file.imu_foot,
     ];
-    for i in 0..4 {
-        if let Some(r) = body.imu_position[i].or(from_file[i]) {
-            g.imu_position[i] = r;
+    for ((r, meta_r), file_r) in g
+        .imu_position
+        .iter_mut()
+        .zip(body.imu_position)
+        .zip(from_file)
+    {
+        if let Some(v) = meta_r.or(file_r) {
+            *r = v;
         }
     }
     g.validate()?;

@@ -228,7 +228,7 @@ pub fn scalar_update(
         variance: s,
         applied: false,
     };
-    if !(s > 0.0) || !nu.is_finite() || nu * nu > gate * gate * s {
+    if s.is_nan() || s <= 0.0 || !nu.is_finite() || nu * nu > gate * gate * s {
         return out;
     }
     let mut K = [0.0; N];

@@ -1,11 +1,13 @@
 //! Planar chain kinematics: the specific force each accelerometer reads and
 //! the ankle's velocity, as functions of the state, with their Jacobians
-//! (docs/CHAIN.md, "Measurement model", eqs C1-C7).
+//! (docs/CHAIN.md, "Measurement model", eqs C1-C8).
 //!
 //! Frames (SPEC section 1): world x forward, y up; `R(theta)` rotates a
 //! segment's frame into the world. Segment origins: trunk and thigh at the
 //! hip joint, shank at the knee, foot at the ankle; the thigh's distal joint
 //! is at `e_1 = R(theta_1) (0, -L_1)`, the shank's at `e_2 = R(theta_2) (0, -L_2)`.
+// The x/y components index several arrays at once (textbook form).
+#![allow(clippy::needless_range_loop)]
 
 use super::covariance::StateVector;
 use super::state::{alpha, hip_acceleration, hip_velocity, omega, theta, SparseRow};

@@ -196,7 +196,7 @@ impl ChainParams {
                 range: "0.1 to 30 s",
             });
         }
-        if !(self.acc_gate > 0.0) {
+        if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
             return Err(ChainParamsError::OutOfRange {
                 name: "acc_gate",
                 value: self.acc_gate,
@@ -220,8 +220,10 @@ mod tests {
             ..Default::default()
         };
         assert!(p.validate().unwrap_err().to_string().contains("acc_noise"));
-        let mut g = ChainGeometry::default();
-        g.shank_length = 3.0;
+        let g = ChainGeometry {
+            shank_length: 3.0,
+            ..Default::default()
+        };
         assert!(g
             .validate()
             .unwrap_err()

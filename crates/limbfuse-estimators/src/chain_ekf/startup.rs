@@ -123,6 +123,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn the_circular_mean_recovers_offsets_also_across_pi() {
         let c = [0.05, 0.3, -3.0, 3.1];
         let mut st = Startup::default();
