@@ -8,10 +8,11 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 11] = [
+pub const EXAMPLES: [&str; 12] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
+    "chain_study",
     "fes_figures",
     "fes_studies",
     "fes_thesis_protocol",
@@ -54,6 +55,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
         "baseline_study" | "fes_figures" | "fes_thesis_protocol" => parse::<NoArgs>(example, args),
+        "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
