@@ -21,6 +21,7 @@
 extern crate alloc;
 
 pub mod baseline;
+pub mod chain_ekf;
 pub mod fes;
 pub mod hinge_axis;
 pub mod imm_bslip;

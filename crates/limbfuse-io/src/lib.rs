@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod atomic_file;
+pub mod body_meta;
 mod cell_format;
 pub mod content_hash;
 pub mod error;

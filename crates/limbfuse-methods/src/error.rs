@@ -93,6 +93,9 @@ pub enum MethodError {
         /// What to do instead ("" or "; use ...").
         hint: &'static str,
     },
+    /// The `chain` method cannot be built for this trial (its geometry).
+    #[error("method `chain`: {0}")]
+    Chain(String),
     /// A library path in a parameter file that is not valid UTF-8 or empty.
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),

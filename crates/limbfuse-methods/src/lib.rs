@@ -30,6 +30,7 @@
 
 mod baseline_methods;
 mod build;
+pub mod chain_method;
 pub mod channels;
 mod error;
 pub mod fes_methods;

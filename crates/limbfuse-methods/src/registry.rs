@@ -10,6 +10,7 @@ use limbfuse_core::Estimator;
 use limbfuse_io::{TrialLayout, TrialMeta};
 
 use crate::baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
+use crate::chain_method::ChainMethod;
 use crate::fes_methods::{EkfMethod, RmxMethod, SdreMethod};
 use crate::imm_params::ImmBslipMethod;
 use crate::knee_params::KneeSelfAlignMethod;
@@ -101,6 +102,8 @@ registry! {
     Mjls => MjlsMethod,
     /// Paper 001: matricial global Kalman filter.
     Global => GlobalMethod,
+    /// Beyond the papers: kinematic-chain EKF of the four segment angles.
+    Chain => ChainMethod,
     /// Paper 002: self-aligning knee angle.
     KneeSelfAlign => KneeSelfAlignMethod,
     /// Paper 004: state-dependent Riccati equation filter.

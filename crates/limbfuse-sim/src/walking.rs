@@ -396,6 +396,24 @@ impl WalkingSimulator {
         );
         put("stride_length_m", format!("{:.6}", m.hip.stride_length));
         put("height_m", c.height_m.to_string());
+        // Geometry keys the `chain` method reads (docs/CHAIN.md "Geometry
+        // metadata"; parsed by limbfuse-io's body_meta).
+        let b = &m.body;
+        put(
+            "segment_lengths_m",
+            format!("thigh {:.4}; shank {:.4}", b.thigh, b.shank),
+        );
+        put(
+            "imu_mounts_m",
+            Segment::ALL
+                .iter()
+                .map(|seg| {
+                    let r = b.imu[seg.index()];
+                    format!("{} ({:+.4}, {:+.4}, {:+.4})", seg.name(), r.x, r.y, r.z)
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        );
         put("hip_gain", format!("{:.6}", m.hip_gain));
         put("hip_height_m", format!("{:.6}", m.placement.hip_height));
         put(

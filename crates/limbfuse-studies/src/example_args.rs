@@ -12,6 +12,7 @@ pub const EXAMPLES: [&str; 12] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
+    "chain_study",
     "fes_figures",
     "fes_studies",
     "fes_thesis_protocol",
@@ -55,6 +56,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
         "baseline_study" | "fes_figures" | "fes_thesis_protocol" => parse::<NoArgs>(example, args),
+        "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
@@ -292,4 +294,12 @@ pub fn imm_weights(s: &str) -> Result<ImmWeights, String> {
         "recursive" => Ok(ImmWeights::Recursive),
         _ => Err(format!("unknown IMM weights `{s}` (paper, recursive)")),
     }
+}
+
+/// `chain_study [SEEDS]`.
+#[derive(Debug, Parser)]
+pub struct ChainStudyArgs {
+    /// Seeds 1..=SEEDS per speed.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
 }

@@ -1,0 +1,444 @@
+//! `chain`: a planar kinematic-chain EKF of the four segment angles (beyond
+//! the papers; issue 14 item 2, docs/CHAIN.md).
+//!
+//! Instead of gating the accelerometers on `| |a| - g |` (papers 000/001),
+//! the filter predicts what each accelerometer reads from the chain's
+//! kinematics: the hip's linear acceleration, each segment's rate and
+//! angular acceleration, the sensor's position on its segment and gravity
+//! ([`kinematics`]). The common tilt of all segments, which the
+//! accelerometers alone cannot see, is anchored by the hip's velocity
+//! (vertical about 0, forward about a slowly varying mean speed) and by the
+//! ankle standing still while the foot is still ([`ChainEkf`] "anchors").
+//! Measurements are applied one scalar at a time with sparse rows
+//! ([`covariance`]). Allocation-free, `no_std`.
+
+pub mod covariance;
+pub mod kinematics;
+pub mod params;
+pub mod startup;
+pub mod state;
+#[cfg(test)]
+mod tests;
+
+use core::fmt;
+
+use alloc::boxed::Box;
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
+use nalgebra::Vector3;
+
+pub use covariance::ProcessNoise;
+use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
+pub use kinematics::{ChainGeometry, OutOfPlane};
+pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M};
+use startup::Startup;
+use state::{
+    alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
+    MEAN_SPEED,
+};
+
+diagnostic_set! {
+    /// The `diag_*` columns of `chain`.
+    pub enum ChainDiag {
+        /// 1 once the filter runs (0 during the start-up window).
+        Running = "running",
+        /// 1 when the foot is detected still and the ankle anchor applied.
+        Stance = "stance",
+        /// Estimated forward hip velocity (m/s).
+        HipVx = "hip_vx",
+        /// Estimated vertical hip velocity (m/s).
+        HipVy = "hip_vy",
+        /// Estimated mean forward speed (m/s).
+        MeanSpeed = "mean_speed",
+        /// Accelerometer rows skipped by the gate at this sample.
+        AccRejected = "acc_rejected",
+        /// 1-sigma of the trunk angle (rad).
+        SdTrunk = "sd_trunk",
+        /// 1-sigma of the thigh angle (rad).
+        SdThigh = "sd_thigh",
+        /// 1-sigma of the shank angle (rad).
+        SdShank = "sd_shank",
+        /// 1-sigma of the foot angle (rad).
+        SdFoot = "sd_foot",
+    }
+}
+
+/// Initial 1-sigma of the state after the start-up window.
+mod initial {
+    /// Segment angles (rad): the start-up mean is good to a few degrees.
+    pub const ANGLE: f64 = 0.5;
+    /// Rates (rad/s) about the latest gyro reading.
+    pub const RATE: f64 = 0.1;
+    /// Angular accelerations (rad/s^2).
+    pub const ANGULAR_ACCELERATION: f64 = 20.0;
+    /// Hip velocity and mean speed (m/s): walking speed is unknown.
+    pub const VELOCITY: f64 = 1.0;
+    /// Hip acceleration (m/s^2).
+    pub const ACCELERATION: f64 = 3.0;
+    /// Encoder offsets about the start-up estimate (rad).
+    pub const ENCODER_OFFSET: f64 = 0.05;
+}
+
+/// The chain EKF.
+#[derive(Debug, Clone)]
+pub struct ChainEkf {
+    params: ChainParams,
+    geometry: ChainGeometry,
+    g: f64,
+    time: TimeStep,
+    startup: Startup,
+    running: bool,
+    x: StateVector,
+    p: Covariance,
+    /// Previous gyro x/y per segment (for their derivative) and its time.
+    last_xy_rate: [Option<([f64; 2], f64)>; 4],
+    /// Time since which the foot has been still (`None`: moving).
+    still_since: Option<f64>,
+    /// The start-up window's samples, replayed through the filter once the
+    /// window closes (allocated once, in [`ChainEkf::new`]).
+    window: Box<[Sample]>,
+    /// Samples held in `window`.
+    held: usize,
+}
+
+/// Most samples the start-up window holds: 2 s at up to 256 Hz; at higher
+/// rates the window closes when full.
+pub const STARTUP_CAPACITY: usize = 512;
+
+impl ChainEkf {
+    /// A filter with these parameters and geometry, gravity `g` (m/s^2).
+    pub fn new(
+        params: ChainParams,
+        geometry: ChainGeometry,
+        g: f64,
+    ) -> Result<Self, ChainParamsError> {
+        params.validate()?;
+        geometry.validate()?;
+        if !(g.is_finite() && g > 0.0) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "g",
+                value: g,
+                range: "positive finite numbers",
+            });
+        }
+        Ok(ChainEkf {
+            params,
+            geometry,
+            g,
+            time: TimeStep::new(),
+            startup: Startup::default(),
+            running: false,
+            x: StateVector::zeros(),
+            p: Covariance::zeros(),
+            last_xy_rate: [None; 4],
+            still_since: None,
+            window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
+            held: 0,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &ChainParams {
+        &self.params
+    }
+
+    /// The geometry.
+    pub fn geometry(&self) -> &ChainGeometry {
+        &self.geometry
+    }
+
+    /// The state covariance (tests, diagnostics); zero before the filter runs.
+    pub fn covariance(&self) -> &Covariance {
+        &self.p
+    }
+
+    fn process_noise(&self) -> ProcessNoise {
+        let p = &self.params;
+        ProcessNoise {
+            angular_jerk: [p.trunk_jerk, p.leg_jerk, p.leg_jerk, p.leg_jerk],
+            gyro_bias: p.gyro_bias_walk,
+            // Stationary variance q tau / 2 = hip_acc_sd^2.
+            hip_jerk: 2.0 * p.hip_acc_sd * p.hip_acc_sd / p.hip_acc_tau,
+            hip_acc_rate: 1.0 / p.hip_acc_tau,
+            mean_speed: p.mean_speed_walk,
+            encoder_offset: 1e-10,
+        }
+    }
+
+    /// Starts the filter at the window's first sample from the start-up
+    /// estimates (`theta_i = m_i` there: the gyro integral starts at 0) and
+    /// replays the window's samples through it, so that its convergence
+    /// transient lies inside the window.
+    fn start(&mut self) {
+        let first = self.window[0];
+        let mut x = StateVector::zeros();
+        let mut d = [0.0; state::N];
+        for i in 0..4 {
+            x[theta(i)] = self.startup.offset(i).unwrap_or(0.0);
+            x[omega(i)] = first.imu[i].gyr.map_or(0.0, |w| w.z);
+            d[theta(i)] = initial::ANGLE;
+            d[omega(i)] = initial::RATE;
+            d[alpha(i)] = initial::ANGULAR_ACCELERATION;
+            d[gyro_bias(i)] = self.params.gyro_bias_initial;
+        }
+        for k in 0..2 {
+            d[hip_velocity(k)] = initial::VELOCITY;
+            d[hip_acceleration(k)] = initial::ACCELERATION;
+        }
+        d[MEAN_SPEED] = initial::VELOCITY;
+        for j in 0..3 {
+            x[encoder_offset(j)] = self.startup.encoder_offset(j).unwrap_or(0.0);
+            d[encoder_offset(j)] = initial::ENCODER_OFFSET;
+        }
+        self.x = x;
+        self.p = Covariance::from_diagonal(&nalgebra::SVector::from(d.map(|s| s * s)));
+        self.running = true;
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.out_of_plane_rates(&first);
+        let mut previous = first.t;
+        for k in 1..self.held {
+            let sample = self.window[k];
+            self.filter_step(&sample, sample.t - previous);
+            previous = sample.t;
+        }
+        self.held = 0;
+    }
+
+    /// Records the gyro x/y rates of every sensor (for their derivative).
+    fn out_of_plane_rates(&mut self, sample: &Sample) {
+        for i in 0..4 {
+            self.out_of_plane(i, sample.imu[i].gyr, sample.t);
+        }
+    }
+
+    /// The non-sagittal rotation of segment `i`'s sensor (zero when off or
+    /// without a gyro reading); remembers the reading for the next derivative.
+    fn out_of_plane(&mut self, i: usize, gyr: Option<Vector3<f64>>, t: f64) -> OutOfPlane {
+        let Some(g) = gyr else {
+            return OutOfPlane::default();
+        };
+        let rate = [g.x, g.y];
+        let derivative = match self.last_xy_rate[i] {
+            Some((prev, tp)) if t > tp => [
+                (rate[0] - prev[0]) / (t - tp),
+                (rate[1] - prev[1]) / (t - tp),
+            ],
+            _ => [0.0, 0.0],
+        };
+        self.last_xy_rate[i] = Some((rate, t));
+        if self.params.out_of_plane {
+            OutOfPlane {
+                rate,
+                rate_derivative: derivative,
+            }
+        } else {
+            OutOfPlane::default()
+        }
+    }
+
+    /// Applies one scalar row; returns whether it was applied.
+    fn apply(&mut self, row: &SparseRow, nu: f64, sigma: f64, gate: f64) -> bool {
+        scalar_update(&mut self.x, &mut self.p, row, nu, sigma * sigma, gate).applied
+    }
+
+    /// Whether the foot has been still (small rotation, specific force ~ g)
+    /// for at least `stance_min_s`: a single still sample also occurs in
+    /// swing, where the foot's rotation reverses.
+    fn foot_still(&mut self, sample: &Sample) -> bool {
+        let foot = &sample.imu[3];
+        let still = match (foot.gyr, foot.acc) {
+            (Some(w), Some(a)) => {
+                w.norm() < self.params.stance_gyro
+                    && (a.norm() - self.g).abs() < self.params.stance_acc
+            }
+            _ => false,
+        };
+        if !still {
+            self.still_since = None;
+            return false;
+        }
+        let since = *self.still_since.get_or_insert(sample.t);
+        sample.t - since >= self.params.stance_min_s
+    }
+
+    /// One filter step after the start-up: predict, then every scalar row.
+    /// Returns (stance applied, accelerometer rows rejected).
+    fn filter_step(&mut self, sample: &Sample, dt: f64) -> (bool, u32) {
+        let q = self.process_noise();
+        predict_state(&mut self.x, dt, &q);
+        predict_covariance(&mut self.p, dt, &q);
+        let p = self.params;
+        let inf = f64::INFINITY;
+        for i in 0..4 {
+            if let Some(w) = sample.imu[i].gyr.filter(|w| w.z.is_finite()) {
+                let mut row = SparseRow::new();
+                row.add(omega(i), 1.0);
+                row.add(gyro_bias(i), 1.0);
+                let nu = w.z - self.x[omega(i)] - self.x[gyro_bias(i)];
+                self.apply(&row, nu, p.gyro_noise, inf);
+            }
+        }
+        if p.use_encoders {
+            for j in 0..3 {
+                if let Some(e) = sample.encoder[j].filter(|e| e.is_finite()) {
+                    let mut row = SparseRow::new();
+                    row.add(theta(j), 1.0);
+                    row.add(theta(j + 1), -1.0);
+                    row.add(encoder_offset(j), 1.0);
+                    let nu =
+                        e - (self.x[theta(j)] - self.x[theta(j + 1)] + self.x[encoder_offset(j)]);
+                    self.apply(&row, nu, p.encoder_noise, inf);
+                }
+            }
+        }
+        let mut rejected = 0;
+        for i in 0..4 {
+            let oop = self.out_of_plane(i, sample.imu[i].gyr, sample.t);
+            let Some(acc) = sample.imu[i]
+                .acc
+                .filter(|a| a.x.is_finite() && a.y.is_finite())
+            else {
+                continue;
+            };
+            for k in 0..2 {
+                let (f, rows) = self.geometry.specific_force(&self.x, i, self.g, &oop);
+                if !self.apply(&rows[k], acc[k] - f[k], p.acc_noise, p.acc_gate) {
+                    rejected += 1;
+                }
+            }
+        }
+        // Anchors: vertical hip velocity about 0, forward about the mean speed.
+        let mut row = SparseRow::new();
+        row.add(hip_velocity(1), 1.0);
+        let nu = -self.x[hip_velocity(1)];
+        self.apply(&row, nu, p.hip_vertical_velocity, inf);
+        let mut row = SparseRow::new();
+        row.add(hip_velocity(0), 1.0);
+        row.add(MEAN_SPEED, -1.0);
+        let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
+        self.apply(&row, nu, p.hip_forward_velocity, inf);
+        let stance = self.foot_still(sample);
+        if stance {
+            for k in 0..2 {
+                let (v, rows) = self.geometry.ankle_velocity(&self.x);
+                self.apply(&rows[k], -v[k], p.stance_velocity, inf);
+            }
+            for k in 0..2 {
+                let (a, rows) = self.geometry.ankle_acceleration(&self.x);
+                self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+            }
+        }
+        (stance, rejected)
+    }
+}
+
+impl Estimator for ChainEkf {
+    fn name(&self) -> &'static str {
+        "chain"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs::ALL_ANGLES
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &ChainDiag::NAMES
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.params;
+        let g = &self.geometry;
+        writeln!(out, "model: planar chain EKF, 24 states (docs/CHAIN.md)")?;
+        writeln!(out, "thigh_length: {}", g.thigh_length)?;
+        writeln!(out, "shank_length: {}", g.shank_length)?;
+        for (name, r) in ["trunk", "thigh", "shank", "foot"]
+            .iter()
+            .zip(g.imu_position.iter())
+        {
+            writeln!(out, "imu_position_{name}: {} {} {}", r[0], r[1], r[2])?;
+        }
+        writeln!(out, "g: {}", self.g)?;
+        writeln!(out, "gyro_noise: {}", p.gyro_noise)?;
+        writeln!(out, "acc_noise: {}", p.acc_noise)?;
+        writeln!(out, "encoder_noise: {}", p.encoder_noise)?;
+        writeln!(out, "trunk_jerk: {}", p.trunk_jerk)?;
+        writeln!(out, "leg_jerk: {}", p.leg_jerk)?;
+        writeln!(out, "hip_acc_sd: {}", p.hip_acc_sd)?;
+        writeln!(out, "hip_acc_tau: {}", p.hip_acc_tau)?;
+        writeln!(out, "gyro_bias_walk: {}", p.gyro_bias_walk)?;
+        writeln!(out, "gyro_bias_initial: {}", p.gyro_bias_initial)?;
+        writeln!(out, "hip_vertical_velocity: {}", p.hip_vertical_velocity)?;
+        writeln!(out, "hip_forward_velocity: {}", p.hip_forward_velocity)?;
+        writeln!(out, "mean_speed_walk: {}", p.mean_speed_walk)?;
+        writeln!(out, "stance_velocity: {}", p.stance_velocity)?;
+        writeln!(out, "stance_acceleration: {}", p.stance_acceleration)?;
+        writeln!(out, "stance_gyro: {}", p.stance_gyro)?;
+        writeln!(out, "stance_acc: {}", p.stance_acc)?;
+        writeln!(out, "stance_min_s: {}", p.stance_min_s)?;
+        writeln!(out, "startup_s: {}", p.startup_s)?;
+        writeln!(out, "acc_gate: {}", p.acc_gate)?;
+        writeln!(out, "use_encoders: {}", p.use_encoders)?;
+        writeln!(out, "out_of_plane: {}", p.out_of_plane)
+    }
+
+    fn reset(&mut self) {
+        self.time = TimeStep::new();
+        self.startup = Startup::default();
+        self.running = false;
+        self.x = StateVector::zeros();
+        self.p = Covariance::zeros();
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.held = 0;
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let dt = self.time.advance(sample.t)?;
+        let mut est = Estimate::empty(sample.t);
+        let (mut stance, mut rejected) = (false, 0);
+        match (self.running, dt) {
+            (true, Some(dt)) => (stance, rejected) = self.filter_step(sample, dt),
+            _ => {
+                self.startup.observe(sample, dt);
+                if self.held < self.window.len() {
+                    self.window[self.held] = *sample;
+                    self.held += 1;
+                }
+                let ready = (0..4).all(|i| self.startup.angle(i).is_some());
+                let closed = self.startup.elapsed(sample.t) >= self.params.startup_s
+                    || self.held == self.window.len();
+                if ready && closed {
+                    self.start();
+                } else if self.held == self.window.len() {
+                    // Full before every segment had an accelerometer reading:
+                    // start the window again.
+                    self.startup = Startup::default();
+                    self.held = 0;
+                }
+            }
+        }
+        // No estimate until the window closes (docs/CHAIN.md "Start-up").
+        if self.running {
+            for i in 0..4 {
+                est.segment[i] = Some(self.x[theta(i)]);
+            }
+            est.fill_joints_from_segments();
+        }
+        let mut d = est.diagnostics_mut::<ChainDiag>();
+        d.flag(ChainDiag::Running, self.running);
+        if self.running {
+            d.flag(ChainDiag::Stance, stance);
+            d.value(ChainDiag::HipVx, self.x[hip_velocity(0)]);
+            d.value(ChainDiag::HipVy, self.x[hip_velocity(1)]);
+            d.value(ChainDiag::MeanSpeed, self.x[MEAN_SPEED]);
+            d.value(ChainDiag::AccRejected, rejected as f64);
+            let sd = |i: usize| libm::sqrt(self.p[(theta(i), theta(i))].max(0.0));
+            d.value(ChainDiag::SdTrunk, sd(0));
+            d.value(ChainDiag::SdThigh, sd(1));
+            d.value(ChainDiag::SdShank, sd(2));
+            d.value(ChainDiag::SdFoot, sd(3));
+        }
+        Ok(est)
+    }
+}

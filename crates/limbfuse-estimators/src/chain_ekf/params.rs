@@ -1,0 +1,240 @@
+//! Parameters of the chain EKF, their defaults and where they come from
+//! (docs/CHAIN.md, "Defaults").
+
+use super::kinematics::ChainGeometry;
+
+/// Body height of the anthropometric defaults when none is known (m): the
+/// height the walking simulator and Winter's tables are scaled to.
+pub const DEFAULT_HEIGHT_M: f64 = 1.75;
+
+impl ChainGeometry {
+    /// Segment lengths from body height `h` with Winter's ratios (D. A.
+    /// Winter, *Biomechanics and Motor Control of Human Movement*, 4th ed.,
+    /// Wiley 2009, Fig. 4.1: thigh 0.245 H, shank 0.246 H) and typical IMU
+    /// placements scaled by `h / 1.75`: trunk on the lower back over the
+    /// sacrum (0.10 m behind and 0.08 m above the hip joint centre), thigh
+    /// and shank at mid-segment on the segment axis, foot on the dorsum
+    /// (0.07 m in front of and 0.005 m below the ankle). Lateral offsets are
+    /// unknown and set to 0.
+    pub fn from_height(h: f64) -> Self {
+        let thigh = 0.245 * h;
+        let shank = 0.246 * h;
+        let s = h / 1.75;
+        ChainGeometry {
+            thigh_length: thigh,
+            shank_length: shank,
+            imu_position: [
+                [-0.10 * s, 0.08 * s, 0.0],
+                [0.0, -0.5 * thigh, 0.0],
+                [0.0, -0.5 * shank, 0.0],
+                [0.07 * s, -0.005 * s, 0.0],
+            ],
+        }
+    }
+
+    /// Checks lengths (0.1-1.5 m) and positions (within 1 m of the origin).
+    pub fn validate(&self) -> Result<(), ChainParamsError> {
+        for (name, v) in [
+            ("thigh_length", self.thigh_length),
+            ("shank_length", self.shank_length),
+        ] {
+            if !(v.is_finite() && (0.1..=1.5).contains(&v)) {
+                return Err(ChainParamsError::OutOfRange {
+                    name,
+                    value: v,
+                    range: "0.1 to 1.5 m",
+                });
+            }
+        }
+        for (i, r) in self.imu_position.iter().enumerate() {
+            if r.iter().any(|c| !(c.is_finite() && c.abs() <= 1.0)) {
+                return Err(ChainParamsError::OutOfRange {
+                    name: ["trunk imu", "thigh imu", "shank imu", "foot imu"][i],
+                    value: r.iter().fold(0.0, |m: f64, c| m.max(c.abs())),
+                    range: "-1 to 1 m per axis",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for ChainGeometry {
+    fn default() -> Self {
+        Self::from_height(DEFAULT_HEIGHT_M)
+    }
+}
+
+/// A parameter outside its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ChainParamsError {
+    /// `name` = `value` is outside `range`.
+    #[error("chain parameter `{name}` = {value} is outside {range}")]
+    OutOfRange {
+        /// Parameter name (the parameter-file key).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The accepted range, in words.
+        range: &'static str,
+    },
+}
+
+/// Noise levels, anchors and switches of the chain EKF.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChainParams {
+    /// Gyro z white noise + model error per sample, 1 sigma (rad/s).
+    pub gyro_noise: f64,
+    /// Accelerometer x/y noise + model error per sample, 1 sigma (m/s^2).
+    pub acc_noise: f64,
+    /// Encoder noise + quantisation, 1 sigma (rad).
+    pub encoder_noise: f64,
+    /// Angular jerk intensity of the trunk, rad^2/s^5.
+    pub trunk_jerk: f64,
+    /// Angular jerk intensity of thigh, shank and foot, rad^2/s^5.
+    pub leg_jerk: f64,
+    /// Hip acceleration per axis: stationary 1 sigma (m/s^2) of its
+    /// Gauss-Markov model.
+    pub hip_acc_sd: f64,
+    /// Hip acceleration: correlation time (s) of its Gauss-Markov model.
+    pub hip_acc_tau: f64,
+    /// Gyro bias random walk intensity, rad^2/s^3.
+    pub gyro_bias_walk: f64,
+    /// Initial gyro bias, 1 sigma (rad/s).
+    pub gyro_bias_initial: f64,
+    /// Vertical hip velocity about 0, 1 sigma (m/s) (anchor).
+    pub hip_vertical_velocity: f64,
+    /// Forward hip velocity about the mean speed, 1 sigma (m/s) (anchor).
+    pub hip_forward_velocity: f64,
+    /// Mean forward speed random walk intensity, m^2/s^3.
+    pub mean_speed_walk: f64,
+    /// Ankle velocity while the foot is still, 1 sigma (m/s) (anchor).
+    pub stance_velocity: f64,
+    /// Ankle acceleration while the foot is still, 1 sigma (m/s^2) (anchor).
+    pub stance_acceleration: f64,
+    /// Foot still: |gyro| below this (rad/s) ...
+    pub stance_gyro: f64,
+    /// ... and | |acc| - g | below this (m/s^2).
+    pub stance_acc: f64,
+    /// ... for at least this long (s) before the ankle anchor applies.
+    pub stance_min_s: f64,
+    /// Start-up window (s).
+    pub startup_s: f64,
+    /// Accelerometer rows with |innovation| above this many sigmas are
+    /// skipped (infinity: none).
+    pub acc_gate: f64,
+    /// Use the joint encoders when the trial has them.
+    pub use_encoders: bool,
+    /// Correct for the non-sagittal gyro components (eq C5).
+    pub out_of_plane: bool,
+}
+
+impl Default for ChainParams {
+    fn default() -> Self {
+        ChainParams {
+            gyro_noise: 0.02,
+            acc_noise: 0.3,
+            encoder_noise: 0.2_f64.to_radians(),
+            trunk_jerk: 300.0,
+            leg_jerk: 1.0e4,
+            hip_acc_sd: 2.0,
+            hip_acc_tau: 0.1,
+            gyro_bias_walk: 1.0e-7,
+            gyro_bias_initial: 0.5_f64.to_radians() * 2.0,
+            hip_vertical_velocity: 0.2,
+            hip_forward_velocity: 0.3,
+            mean_speed_walk: 1.0e-3,
+            stance_velocity: 0.05,
+            stance_acceleration: 0.5,
+            stance_gyro: 0.6,
+            stance_acc: 1.0,
+            stance_min_s: 0.08,
+            startup_s: 2.0,
+            acc_gate: f64::INFINITY,
+            use_encoders: true,
+            out_of_plane: true,
+        }
+    }
+}
+
+impl ChainParams {
+    /// Every value positive and finite (the gate may be infinite), the
+    /// start-up window 0.1-30 s.
+    pub fn validate(&self) -> Result<(), ChainParamsError> {
+        let positive = [
+            ("gyro_noise", self.gyro_noise),
+            ("acc_noise", self.acc_noise),
+            ("encoder_noise", self.encoder_noise),
+            ("trunk_jerk", self.trunk_jerk),
+            ("leg_jerk", self.leg_jerk),
+            ("hip_acc_sd", self.hip_acc_sd),
+            ("hip_acc_tau", self.hip_acc_tau),
+            ("gyro_bias_walk", self.gyro_bias_walk),
+            ("gyro_bias_initial", self.gyro_bias_initial),
+            ("hip_vertical_velocity", self.hip_vertical_velocity),
+            ("hip_forward_velocity", self.hip_forward_velocity),
+            ("mean_speed_walk", self.mean_speed_walk),
+            ("stance_velocity", self.stance_velocity),
+            ("stance_acceleration", self.stance_acceleration),
+            ("stance_gyro", self.stance_gyro),
+            ("stance_acc", self.stance_acc),
+            ("stance_min_s", self.stance_min_s),
+        ];
+        for (name, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(ChainParamsError::OutOfRange {
+                    name,
+                    value,
+                    range: "positive finite numbers",
+                });
+            }
+        }
+        if !(self.startup_s.is_finite() && (0.1..=30.0).contains(&self.startup_s)) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "startup_s",
+                value: self.startup_s,
+                range: "0.1 to 30 s",
+            });
+        }
+        if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
+            return Err(ChainParamsError::OutOfRange {
+                name: "acc_gate",
+                value: self.acc_gate,
+                range: "positive numbers (inf: no gate)",
+            });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_validate_and_bad_values_are_named() {
+        ChainParams::default().validate().unwrap();
+        ChainGeometry::default().validate().unwrap();
+        let p = ChainParams {
+            acc_noise: -1.0,
+            ..Default::default()
+        };
+        assert!(p.validate().unwrap_err().to_string().contains("acc_noise"));
+        let g = ChainGeometry {
+            shank_length: 3.0,
+            ..Default::default()
+        };
+        assert!(g
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("shank_length"));
+    }
+
+    #[test]
+    fn winter_lengths_scale_with_height() {
+        let g = ChainGeometry::from_height(1.80);
+        assert!((g.thigh_length - 0.441).abs() < 1e-12);
+        assert!((g.shank_length - 0.4428).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,225 @@
+//! Body geometry in trial metadata (limbfuse extension of SPEC section 2,
+//! docs/CHAIN.md "Geometry metadata"):
+//!
+//! ```text
+//! # imu_mounts_m: trunk (-0.100, +0.080, -0.090); thigh (0, -0.214, 0.08); shank (...); foot (...)
+//! # segment_lengths_m: thigh 0.429; shank 0.431
+//! # height_m: 1.75
+//! ```
+//!
+//! `imu_mounts_m` gives each IMU's position `(x, y[, z])` in metres in its
+//! segment's frame (x forward, y up, z right in upright standing; origins:
+//! trunk and thigh at the hip joint centre, shank at the knee, foot at the
+//! ankle); segments may be left out, `z` defaults to 0, and text after an
+//! entry's closing parenthesis is a comment. `segment_lengths_m` gives the
+//! hip-knee (`thigh`) and knee-ankle (`shank`) distances. `height_m` is the
+//! body height the anthropometric defaults scale with.
+
+use crate::TrialMeta;
+
+/// Metadata key of the IMU positions.
+pub const IMU_MOUNTS_KEY: &str = "imu_mounts_m";
+/// Metadata key of the segment lengths.
+pub const SEGMENT_LENGTHS_KEY: &str = "segment_lengths_m";
+/// Metadata key of the body height.
+pub const HEIGHT_KEY: &str = "height_m";
+
+const SEGMENTS: [&str; 4] = ["trunk", "thigh", "shank", "foot"];
+
+/// A geometry entry of the metadata that does not parse.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("metadata `# {key}: {value}`: {problem}")]
+pub struct BodyMetaError {
+    /// The key.
+    pub key: &'static str,
+    /// Its value.
+    pub value: String,
+    /// What is wrong, and what was expected.
+    pub problem: String,
+}
+
+/// The body geometry a trial's metadata states (each part optional).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyMeta {
+    /// IMU position per segment (trunk, thigh, shank, foot), metres.
+    pub imu_position: [Option<[f64; 3]>; 4],
+    /// Hip-knee distance (m).
+    pub thigh_length: Option<f64>,
+    /// Knee-ankle distance (m).
+    pub shank_length: Option<f64>,
+    /// Body height (m).
+    pub height: Option<f64>,
+}
+
+fn number(key: &'static str, value: &str, text: &str) -> Result<f64, BodyMetaError> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| BodyMetaError {
+            key,
+            value: value.to_string(),
+            problem: format!("`{}` is not a finite number", text.trim()),
+        })
+}
+
+fn segment_index(key: &'static str, value: &str, name: &str) -> Result<usize, BodyMetaError> {
+    SEGMENTS
+        .iter()
+        .position(|s| *s == name)
+        .ok_or_else(|| BodyMetaError {
+            key,
+            value: value.to_string(),
+            problem: format!("unknown segment `{name}` (expected trunk, thigh, shank or foot)"),
+        })
+}
+
+/// Parses an `imu_mounts_m` value.
+pub fn parse_imu_mounts(value: &str) -> Result<[Option<[f64; 3]>; 4], BodyMetaError> {
+    let key = IMU_MOUNTS_KEY;
+    let err = |problem: String| BodyMetaError {
+        key,
+        value: value.to_string(),
+        problem,
+    };
+    let mut out = [None; 4];
+    for entry in value.split(';').map(str::trim).filter(|e| !e.is_empty()) {
+        let (name, rest) = entry
+            .split_once('(')
+            .ok_or_else(|| err(format!("entry `{entry}`: expected `segment (x, y[, z])`")))?;
+        let i = segment_index(key, value, name.trim())?;
+        let (inside, _comment) = rest
+            .split_once(')')
+            .ok_or_else(|| err(format!("entry `{entry}`: missing `)`")))?;
+        let parts: Vec<&str> = inside.split(',').collect();
+        if !(2..=3).contains(&parts.len()) {
+            return Err(err(format!(
+                "entry `{entry}`: expected 2 or 3 coordinates, found {}",
+                parts.len()
+            )));
+        }
+        let mut r = [0.0; 3];
+        for (k, p) in parts.iter().enumerate() {
+            r[k] = number(key, value, p)?;
+        }
+        if out[i].replace(r).is_some() {
+            return Err(err(format!("segment `{}` given twice", SEGMENTS[i])));
+        }
+    }
+    Ok(out)
+}
+
+/// Formats IMU positions as an `imu_mounts_m` value (millimetre resolution).
+pub fn format_imu_mounts(positions: &[[f64; 3]; 4]) -> String {
+    SEGMENTS
+        .iter()
+        .zip(positions.iter())
+        .map(|(s, r)| format!("{s} ({:+.4}, {:+.4}, {:+.4})", r[0], r[1], r[2]))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Parses a `segment_lengths_m` value: `(thigh, shank)`.
+pub fn parse_segment_lengths(value: &str) -> Result<(Option<f64>, Option<f64>), BodyMetaError> {
+    let key = SEGMENT_LENGTHS_KEY;
+    let mut out = (None, None);
+    for entry in value.split(';').map(str::trim).filter(|e| !e.is_empty()) {
+        let mut words = entry.split_whitespace();
+        let (Some(name), Some(v), None) = (words.next(), words.next(), words.next()) else {
+            return Err(BodyMetaError {
+                key,
+                value: value.to_string(),
+                problem: format!("entry `{entry}`: expected `thigh LENGTH` or `shank LENGTH`"),
+            });
+        };
+        let v = number(key, value, v)?;
+        match segment_index(key, value, name)? {
+            1 => out.0 = Some(v),
+            2 => out.1 = Some(v),
+            _ => {
+                return Err(BodyMetaError {
+                    key,
+                    value: value.to_string(),
+                    problem: format!("`{name}`: only thigh and shank lengths are used"),
+                })
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Formats `(thigh, shank)` as a `segment_lengths_m` value.
+pub fn format_segment_lengths(thigh: f64, shank: f64) -> String {
+    format!("thigh {thigh:.4}; shank {shank:.4}")
+}
+
+impl TrialMeta {
+    /// The body geometry this trial's metadata states (docs/CHAIN.md).
+    pub fn body(&self) -> Result<BodyMeta, BodyMetaError> {
+        let mut b = BodyMeta::default();
+        if let Some(v) = self.get(IMU_MOUNTS_KEY) {
+            b.imu_position = parse_imu_mounts(v)?;
+        }
+        if let Some(v) = self.get(SEGMENT_LENGTHS_KEY) {
+            (b.thigh_length, b.shank_length) = parse_segment_lengths(v)?;
+        }
+        if let Some(v) = self.get(HEIGHT_KEY) {
+            b.height = Some(number(HEIGHT_KEY, v, v)?);
+        }
+        Ok(b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mounts_parse_with_two_or_three_coordinates_and_trailing_comments() {
+        let v = "trunk (-0.080, +0.100); thigh (+0.000, -0.215, 0.08); foot (+0.080, -0.010) in segment frames (origin ankle)";
+        let m = parse_imu_mounts(v).unwrap();
+        assert_eq!(m[0], Some([-0.08, 0.1, 0.0]));
+        assert_eq!(m[1], Some([0.0, -0.215, 0.08]));
+        assert_eq!(m[2], None);
+        assert_eq!(m[3], Some([0.08, -0.01, 0.0]));
+    }
+
+    #[test]
+    fn formatted_geometry_reads_back() {
+        let p = [
+            [-0.1, 0.08, -0.09],
+            [0.0, -0.2144, 0.08],
+            [0.0, -0.2153, 0.05],
+            [0.07, -0.005, 0.0],
+        ];
+        let back = parse_imu_mounts(&format_imu_mounts(&p)).unwrap();
+        for i in 0..4 {
+            let b = back[i].unwrap();
+            for k in 0..3 {
+                assert!((b[k] - p[i][k]).abs() < 5e-5);
+            }
+        }
+        assert_eq!(
+            parse_segment_lengths(&format_segment_lengths(0.42875, 0.4305)).unwrap(),
+            (Some(0.4288), Some(0.4305))
+        );
+    }
+
+    #[test]
+    fn bad_entries_name_the_key_and_the_problem() {
+        let e = parse_imu_mounts("knee (0, 1)").unwrap_err().to_string();
+        assert!(
+            e.contains("imu_mounts_m") && e.contains("unknown segment `knee`"),
+            "{e}"
+        );
+        let e = parse_imu_mounts("thigh (0, x)").unwrap_err().to_string();
+        assert!(e.contains("`x` is not a finite number"), "{e}");
+        let e = parse_imu_mounts("thigh (0)").unwrap_err().to_string();
+        assert!(e.contains("2 or 3 coordinates"), "{e}");
+        let e = parse_segment_lengths("thigh").unwrap_err().to_string();
+        assert!(e.contains("segment_lengths_m"), "{e}");
+        let mut meta = TrialMeta::new();
+        meta.set("height_m", "tall");
+        assert!(meta.body().unwrap_err().to_string().contains("height_m"));
+    }
+}
