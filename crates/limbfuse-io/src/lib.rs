@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod atomic_file;
+pub mod calibration;
 mod cell_format;
 pub mod content_hash;
 pub mod error;
@@ -21,6 +22,7 @@ pub mod trial_reader;
 pub mod trial_writer;
 
 pub use atomic_file::AtomicFile;
+pub use calibration::{Calibration, CalibrationFileError, ImuCalibration};
 pub use content_hash::{ContentHash, TrialFingerprint};
 pub use error::FileError;
 pub use estimate_file::{EstimateReader, EstimateWriter};

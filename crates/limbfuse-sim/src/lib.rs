@@ -12,6 +12,7 @@
 #![deny(missing_docs)]
 
 pub mod anthropometry;
+pub mod calibration_poses;
 pub mod chain;
 pub mod config;
 pub mod encoder_model;
@@ -34,5 +35,6 @@ pub use config::{
     WalkingConfig,
 };
 pub use knee_scenario::{KneeScenario, KneeSimulator, Remount};
-pub use walking::{Truth, WalkingSimulator};
+pub use calibration_poses::{PoseRecording, PoseRecordingConfig};
+pub use walking::{walking_sensors, Truth, WalkingSimulator};
 pub mod bslip;
