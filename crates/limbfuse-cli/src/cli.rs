@@ -23,6 +23,8 @@ pub enum Command {
     Simulate(SimulateCommand),
     /// Convert a real recording into a trial file.
     Import(ImportArgs),
+    /// Accelerometer bias/scale/cross-axis and gyro bias from a recording of static poses (docs/CALIBRATION.md).
+    Calibrate(crate::cli_calibration::CalibrateArgs),
     /// Run one estimator over a trial file.
     Estimate(EstimateArgs),
     /// Compare an estimate file with its trial's reference.
@@ -155,6 +157,9 @@ pub struct AlignArgs {
     /// default: the calibration segment at the start of TRIAL.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
+    /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels before alignment.
+    #[arg(long, conflicts_with = "joint_axis")]
+    pub imu_calibration: Option<PathBuf>,
 }
 
 /// Alignment procedures of `align`.
@@ -229,6 +234,8 @@ pub enum SimulateCommand {
     FixedHip(FixedHipArgs),
     /// B-SLIP walking on a periodic gait: CoM measurements (eq 15 noise) and phase_ref (paper 003).
     Bslip(BslipArgs),
+    /// A calibration recording (static poses and turns) of the four IMUs of `simulate walking` with the same seed.
+    Calibration(crate::cli_calibration::CalibrationSimArgs),
 }
 
 /// Options of `simulate knee`.
@@ -372,6 +379,9 @@ pub struct WalkingArgs {
     /// Identical strides (no stride-to-stride variability).
     #[arg(long)]
     pub no_variability: bool,
+    /// No mounting misalignment (the ~1 deg no calibration can observe); every other sensor error unchanged.
+    #[arg(long)]
+    pub no_misalignment: bool,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
     pub cap: LengthCap,
@@ -397,6 +407,9 @@ pub struct ImportArgs {
     /// Output trial file.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// IMU calibration (`limbfuse calibrate`) applied to the raw sensor channels.
+    #[arg(long, visible_alias = "imu-calibration")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Options of `estimate`.
@@ -438,6 +451,10 @@ pub struct EstimateArgs {
     /// placement mixed by the IMM from the phase weights).
     #[arg(long, value_name = "RULE")]
     pub imm_touchdown: Option<String>,
+    /// IMU calibration (`limbfuse calibrate`) applied to the trial's IMU channels before
+    /// estimation (rotated into the aligned frame for a trial `align` wrote).
+    #[arg(long, visible_alias = "imu-calibration")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Options of `evaluate`.

@@ -5,6 +5,7 @@
 
 mod bounds;
 mod cli;
+mod cli_calibration;
 mod commands;
 mod exit;
 mod methods;

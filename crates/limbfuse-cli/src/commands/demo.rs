@@ -29,6 +29,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         no_noise: false,
         no_out_of_plane: false,
         no_variability: false,
+        no_misalignment: false,
         cap: a.cap,
     };
     let summary = super::simulate::write_walking(&sim)?;

@@ -123,7 +123,7 @@ pub enum CalibrationError {
         limit: f64,
     },
     /// The poses do not fit one ellipsoid (a moving or mislabelled pose).
-    #[error("{sensor}: the poses do not fit one calibration: RMS residual {rms:.4} m/s^2 > {limit} m/s^2; worst pose {start:.2}-{end:.2} s ({worst:+.4} m/s^2): was the sensor moving, or its range exceeded?")]
+    #[error("{sensor}: the poses do not fit one calibration: RMS residual {rms:.4} m/s^2 > {limit} m/s^2; worst pose {start:.2}-{end:.2} s ({worst:+.4} m/s^2): was the sensor moving or saturated, or is the {model} model too small for it?")]
     Residual {
         /// Sensor.
         sensor: &'static str,
@@ -137,6 +137,8 @@ pub enum CalibrationError {
         end: f64,
         /// Its residual.
         worst: f64,
+        /// Model name.
+        model: &'static str,
     },
 }
 
@@ -243,6 +245,7 @@ fn calibrate_sensor(
             start: poses[k].span.0,
             end: poses[k].span.1,
             worst,
+            model: p.model.name(),
         });
     }
     let gyr_count: usize = poses.iter().map(|q| q.gyr_count).sum();
