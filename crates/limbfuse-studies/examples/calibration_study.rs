@@ -10,7 +10,9 @@
 
 use clap::Parser;
 use limbfuse_methods::segment_params::FilterMethod;
-use limbfuse_studies::calibration_study::{trial_at_50_hz, validation_rmse_deg, Sensors};
+use limbfuse_studies::calibration_study::{
+    resample_to_50_hz, trial, validation_rmse_deg, whole_trial_rmse_deg, Sensors,
+};
 use limbfuse_studies::example_args::CalibrationStudyArgs;
 use limbfuse_workflows::tuning::TuneConfig;
 use rayon::prelude::*;
@@ -27,29 +29,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         a.seeds
     );
     println!();
-    println!("| speed m/s | sensors | mjls mean | mjls worst | global mean | global worst |");
-    println!("|---|---|---|---|---|---|");
+    println!("Columns: paper-001 protocol (mjls, global: mean over seeds / worst seed), then the whole 100 Hz trial with default parameters (issue-3 protocol).");
+    println!();
+    println!("| speed m/s | sensors | 001 mjls | 001 mjls worst | 001 global | 001 global worst | whole mjls | whole global |");
+    println!("|---|---|---|---|---|---|---|---|");
     for &speed in &a.speeds {
         for sensors in Sensors::ALL {
-            let per_seed: Vec<[f64; 2]> = (1..=a.seeds)
+            let per_seed: Vec<[f64; 4]> = (1..=a.seeds)
                 .into_par_iter()
                 .map(|seed| {
-                    let r = trial_at_50_hz(seed, speed, sensors).map_err(|e| e.to_string())?;
-                    let m = validation_rmse_deg(&r, FilterMethod::Mjls, tune).map_err(|e| e.to_string())?;
-                    let g = validation_rmse_deg(&r, FilterMethod::Global, tune).map_err(|e| e.to_string())?;
-                    Ok([m, g])
+                    let err = |e: Box<dyn std::error::Error>| e.to_string();
+                    let full = trial(seed, speed, sensors).map_err(err)?;
+                    let [wm, wg] = whole_trial_rmse_deg(&full).map_err(err)?;
+                    let r = resample_to_50_hz(&full).map_err(err)?;
+                    let m = validation_rmse_deg(&r, FilterMethod::Mjls, tune).map_err(err)?;
+                    let g = validation_rmse_deg(&r, FilterMethod::Global, tune).map_err(err)?;
+                    Ok([m, g, wm, wg])
                 })
                 .collect::<Result<_, String>>()?;
             let n = per_seed.len() as f64;
             let mean = |i: usize| per_seed.iter().map(|r| r[i]).sum::<f64>() / n;
             let worst = |i: usize| per_seed.iter().map(|r| r[i]).fold(0.0, f64::max);
             println!(
-                "| {speed} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                "| {speed} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
                 sensors.label(),
                 mean(0),
                 worst(0),
                 mean(1),
-                worst(1)
+                worst(1),
+                mean(2),
+                mean(3)
             );
         }
     }

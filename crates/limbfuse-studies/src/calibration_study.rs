@@ -13,6 +13,7 @@
 use std::error::Error;
 
 use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::segment_kf::{GlobalKf, MarkovJumpKf};
 use limbfuse_eval::TimeWindow;
 use limbfuse_io::{Calibration, TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use limbfuse_methods::segment_params::{FilterMethod, FilterParams, Preset};
@@ -22,6 +23,8 @@ use limbfuse_sim::{PoseRecording, PoseRecordingConfig, WalkingConfig, WalkingSim
 use limbfuse_workflows::protocol::{multi_start, plan_intervals, StartPlan};
 use limbfuse_workflows::tune_validate::{tune_and_validate, TuneValidateConfig, Validation};
 use limbfuse_workflows::tuning::TuneConfig;
+
+use crate::baseline_study::mean_rmse_deg;
 
 /// Which sensors the walking trial has, and what is done to them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,24 +96,47 @@ pub fn calibrate_sensors(cfg: &WalkingConfig) -> Result<Calibration, Box<dyn Err
     )?)
 }
 
-/// The walking trial of `seed` (calibrated when `sensors` says so),
-/// resampled to 50 Hz as paper 001 did.
-pub fn trial_at_50_hz(seed: u64, speed: f64, sensors: Sensors) -> Result<Vec<Record>, Box<dyn Error>> {
+/// The walking trial of `seed` at the simulator's 100 Hz, calibrated when
+/// `sensors` says so.
+pub fn trial(seed: u64, speed: f64, sensors: Sensors) -> Result<Vec<Record>, Box<dyn Error>> {
     let cfg = walking_config(seed, speed, sensors);
     let cal = match sensors {
         Sensors::Calibrated | Sensors::CalibratedNoMisalignment => Some(calibrate_sensors(&cfg)?),
         _ => None,
     };
-    let mut meta = TrialMeta::trial_v1();
-    meta.set("sample_rate_hz", cfg.imu_rate_hz);
-    let mut buf = Vec::new();
-    {
-        let mut w = TrialWriter::new(&mut buf, &meta, TrialLayout::walking())?;
-        for mut r in WalkingSimulator::new(cfg)? {
+    Ok(WalkingSimulator::new(cfg)?
+        .map(|mut r| {
             if let Some(c) = &cal {
                 c.apply(&mut r);
             }
-            w.write(&r)?;
+            r
+        })
+        .collect())
+}
+
+/// Mean 4-segment RMSE (deg) of mjls and global with default parameters
+/// over the whole 100 Hz trial (the protocol of the issue-3 tables in
+/// docs/RESULTS.md).
+pub fn whole_trial_rmse_deg(records: &[Record]) -> Result<[f64; 2], Box<dyn Error>> {
+    let m = mean_rmse_deg(&mut MarkovJumpKf::default(), records)?;
+    let g = mean_rmse_deg(&mut GlobalKf::default(), records)?;
+    Ok([m[0], g[0]])
+}
+
+/// [`trial`] resampled to 50 Hz as paper 001 did.
+pub fn trial_at_50_hz(seed: u64, speed: f64, sensors: Sensors) -> Result<Vec<Record>, Box<dyn Error>> {
+    resample_to_50_hz(&trial(seed, speed, sensors)?)
+}
+
+/// Resamples 100 Hz walking records to 50 Hz (windowed sinc, as `limbfuse resample --rate 50`).
+pub fn resample_to_50_hz(records: &[Record]) -> Result<Vec<Record>, Box<dyn Error>> {
+    let mut meta = TrialMeta::trial_v1();
+    meta.set("sample_rate_hz", 100.0);
+    let mut buf = Vec::new();
+    {
+        let mut w = TrialWriter::new(&mut buf, &meta, TrialLayout::walking())?;
+        for r in records {
+            w.write(r)?;
         }
         w.finish()?;
     }
