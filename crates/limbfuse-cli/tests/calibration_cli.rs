@@ -56,12 +56,29 @@ fn calibrate_then_estimate_and_align_with_the_file() {
     let o = limbfuse(&["calibrate", "poses.csv", "-o", "cal.toml"], p);
     ok(&o);
     let text = std::fs::read_to_string(p.join("cal.toml")).unwrap();
-    for s in ["[sensors.trunk]", "[sensors.thigh]", "[sensors.shank]", "[sensors.foot]"] {
+    for s in [
+        "[sensors.trunk]",
+        "[sensors.thigh]",
+        "[sensors.shank]",
+        "[sensors.foot]",
+    ] {
         assert!(text.contains(s), "{text}");
     }
-    assert!(text.contains("format = \"limbfuse-imu-calibration/1\""), "{text}");
+    assert!(
+        text.contains("format = \"limbfuse-imu-calibration/1\""),
+        "{text}"
+    );
     ok(&limbfuse(
-        &["simulate", "walking", "--seed", "3", "--duration", "4", "-o", "walk.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--seed",
+            "3",
+            "--duration",
+            "4",
+            "-o",
+            "walk.csv",
+        ],
         p,
     ));
     let est = |trial: &str, out: &str, cal: bool| {
@@ -80,11 +97,22 @@ fn calibrate_then_estimate_and_align_with_the_file() {
     // align applies it to the raw channels and records it; a second
     // calibration of that trial is refused.
     ok(&limbfuse(
-        &["align", "walk.csv", "--imu-calibration", "cal.toml", "-o", "aligned.csv"],
+        &[
+            "align",
+            "walk.csv",
+            "--imu-calibration",
+            "cal.toml",
+            "-o",
+            "aligned.csv",
+        ],
         p,
     ));
     let aligned = std::fs::read_to_string(p.join("aligned.csv")).unwrap();
-    assert!(aligned.contains("# imu_calibration: cal.toml"), "{}", &aligned[..2000]);
+    assert!(
+        aligned.contains("# imu_calibration: cal.toml"),
+        "{}",
+        &aligned[..2000]
+    );
     let o = est("aligned.csv", "twice.csv", true);
     assert_user_error(&o, &["aligned.csv", "already calibrated"]);
 }
@@ -103,20 +131,49 @@ fn a_calibration_of_other_sensors_is_refused() {
         p,
     ));
     for args in [
-        &["estimate", "--method", "mjls", "walk.csv", "-o", "e.csv", "--calibration", "thigh.toml"][..],
-        &["align", "walk.csv", "-o", "a.csv", "--imu-calibration", "thigh.toml"][..],
+        &[
+            "estimate",
+            "--method",
+            "mjls",
+            "walk.csv",
+            "-o",
+            "e.csv",
+            "--calibration",
+            "thigh.toml",
+        ][..],
+        &[
+            "align",
+            "walk.csv",
+            "-o",
+            "a.csv",
+            "--imu-calibration",
+            "thigh.toml",
+        ][..],
     ] {
         let o = limbfuse(args, p);
         assert_user_error(
             &o,
-            &["thigh.toml", "calibrates the sensors thigh", "also has trunk, shank, foot"],
+            &[
+                "thigh.toml",
+                "calibrates the sensors thigh",
+                "also has trunk, shank, foot",
+            ],
         );
         assert!(!p.join("e.csv").exists() && !p.join("a.csv").exists());
     }
     // A file that is not a calibration: line and column.
     std::fs::write(p.join("bad.toml"), "format = \"limbfuse-imu-calibration/1\"\nmodel = \"full\"\ngravity = 9.81\n[sensors.knee]\n").unwrap();
     let o = limbfuse(
-        &["estimate", "--method", "mjls", "walk.csv", "-o", "e.csv", "--calibration", "bad.toml"],
+        &[
+            "estimate",
+            "--method",
+            "mjls",
+            "walk.csv",
+            "-o",
+            "e.csv",
+            "--calibration",
+            "bad.toml",
+        ],
         p,
     );
     assert_user_error(&o, &["bad.toml:4:", "knee"]);
@@ -131,11 +188,17 @@ fn pose_recordings_with_motion_or_too_few_poses_are_refused() {
         p,
     ));
     let o = limbfuse(&["calibrate", "walk.csv", "-o", "cal.toml"], p);
-    assert_user_error(&o, &["walk.csv", "trunk: no static pose", "moves throughout"]);
+    assert_user_error(
+        &o,
+        &["walk.csv", "trunk: no static pose", "moves throughout"],
+    );
     assert!(!p.join("cal.toml").exists());
     poses(p, "five.csv", &["--poses", "5"]);
     let o = limbfuse(&["calibrate", "five.csv", "-o", "cal.toml"], p);
-    assert_user_error(&o, &["five.csv", "5 distinct static poses", "needs at least 9"]);
+    assert_user_error(
+        &o,
+        &["five.csv", "5 distinct static poses", "needs at least 9"],
+    );
     // The reduced scale model needs 6 (the six faces).
     poses(p, "six.csv", &["--poses", "6"]);
     ok(&limbfuse(
@@ -144,7 +207,10 @@ fn pose_recordings_with_motion_or_too_few_poses_are_refused() {
     ));
     // The bias-only model takes five poses, but cannot absorb the sensors'
     // 0.5 % scale errors: the residual check refuses it.
-    let o = limbfuse(&["calibrate", "five.csv", "--model", "bias", "-o", "b.toml"], p);
+    let o = limbfuse(
+        &["calibrate", "five.csv", "--model", "bias", "-o", "b.toml"],
+        p,
+    );
     assert_user_error(&o, &["do not fit one calibration", "worst pose"]);
     // A wobbling pose among ten: rejected, named by its time span, the rest used.
     poses(p, "wobble.csv", &["--poses", "10", "--wobble-pose", "2"]);
@@ -158,7 +224,10 @@ fn pose_recordings_with_motion_or_too_few_poses_are_refused() {
         .and_then(|r| r.split('-').next())
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("no rejected thigh pose in: {e}"));
-    assert!((2.0..=3.5).contains(&start) && e.contains("not static"), "{e}");
+    assert!(
+        (2.0..=3.5).contains(&start) && e.contains("not static"),
+        "{e}"
+    );
     // Nine poses left: still enough; with the wobbling one among nine, too few.
     poses(p, "wobble9.csv", &["--poses", "9", "--wobble-pose", "9"]);
     let o = limbfuse(&["calibrate", "wobble9.csv", "-o", "w9.toml"], p);
@@ -192,18 +261,47 @@ fn import_applies_a_calibration_or_refuses_one_of_other_sensors() {
     )
     .unwrap();
     let o = limbfuse(
-        &["import", "--format", "knee-rig", trial, "-o", "t.csv", "--calibration", "trunk.toml"],
+        &[
+            "import",
+            "--format",
+            "knee-rig",
+            trial,
+            "-o",
+            "t.csv",
+            "--calibration",
+            "trunk.toml",
+        ],
         p,
     );
-    assert_user_error(&o, &["trunk.toml", "calibrates the sensors trunk", "also has thigh, shank"]);
+    assert_user_error(
+        &o,
+        &[
+            "trunk.toml",
+            "calibrates the sensors trunk",
+            "also has thigh, shank",
+        ],
+    );
     poses(p, "poses.csv", &["--poses", "9"]);
     ok(&limbfuse(&["calibrate", "poses.csv", "-o", "cal.toml"], p));
     let o = limbfuse(
-        &["import", "--format", "knee-rig", trial, "-o", "t.csv", "--calibration", "cal.toml"],
+        &[
+            "import",
+            "--format",
+            "knee-rig",
+            trial,
+            "-o",
+            "t.csv",
+            "--calibration",
+            "cal.toml",
+        ],
         p,
     );
     ok(&o);
-    assert!(stderr(&o).contains("also calibrates trunk, foot"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("also calibrates trunk, foot"),
+        "{}",
+        stderr(&o)
+    );
     let t = std::fs::read_to_string(p.join("t.csv")).unwrap();
     assert!(t.contains("# imu_calibration: cal.toml"));
 }

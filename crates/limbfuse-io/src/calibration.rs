@@ -276,7 +276,8 @@ impl Calibration {
 
     /// The file text (TOML, every number in its shortest round-trip form).
     pub fn to_toml(&self) -> String {
-        let [trunk, thigh, shank, foot] = self.sensors.each_ref().map(|s| s.as_ref().map(to_sensor));
+        let [trunk, thigh, shank, foot] =
+            self.sensors.each_ref().map(|s| s.as_ref().map(to_sensor));
         let file = FileToml {
             format: FORMAT.into(),
             model: self.model,
@@ -413,7 +414,10 @@ impl Calibration {
     }
 
     /// Refuses a trial whose metadata says it was calibrated already.
-    pub fn check_not_calibrated(meta: &TrialMeta, trial: &Path) -> Result<(), CalibrationFileError> {
+    pub fn check_not_calibrated(
+        meta: &TrialMeta,
+        trial: &Path,
+    ) -> Result<(), CalibrationFileError> {
         match meta.get(META_KEY) {
             Some(previous) => Err(CalibrationFileError::AlreadyCalibrated {
                 trial: trial.to_path_buf(),
@@ -494,14 +498,24 @@ mod tests {
 
     #[test]
     fn unknown_keys_and_bad_values_name_the_place() {
-        let text = sample().to_toml().replace("[sensors.thigh]", "[sensors.knee]");
-        let e = Calibration::from_toml(&text, Path::new("c.toml")).unwrap_err().to_string();
+        let text = sample()
+            .to_toml()
+            .replace("[sensors.thigh]", "[sensors.knee]");
+        let e = Calibration::from_toml(&text, Path::new("c.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("c.toml:") && e.contains("knee"), "{e}");
-        let text = sample().to_toml().replacen("acc_matrix = [[1.01", "acc_matrix = [[-1.01", 1);
-        let e = Calibration::from_toml(&text, Path::new("c.toml")).unwrap_err().to_string();
+        let text = sample()
+            .to_toml()
+            .replacen("acc_matrix = [[1.01", "acc_matrix = [[-1.01", 1);
+        let e = Calibration::from_toml(&text, Path::new("c.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("sensors.thigh.acc_matrix"), "{e}");
         let text = sample().to_toml().replace(FORMAT, "other/1");
-        let e = Calibration::from_toml(&text, Path::new("c.toml")).unwrap_err().to_string();
+        let e = Calibration::from_toml(&text, Path::new("c.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("`format`"), "{e}");
     }
 
@@ -520,10 +534,17 @@ mod tests {
     fn coverage_names_the_missing_sensors() {
         let c = sample();
         let e = c
-            .check_covers(&TrialLayout::walking(), Path::new("c.toml"), Path::new("t.csv"))
+            .check_covers(
+                &TrialLayout::walking(),
+                Path::new("c.toml"),
+                Path::new("t.csv"),
+            )
             .unwrap_err()
             .to_string();
-        assert!(e.contains("thigh, shank") && e.contains("trunk, foot"), "{e}");
+        assert!(
+            e.contains("thigh, shank") && e.contains("trunk, foot"),
+            "{e}"
+        );
         let mut layout = TrialLayout::default();
         layout.acc[1] = true;
         layout.gyr[1] = true;

@@ -68,7 +68,10 @@ fn recovers_the_simulated_biases_and_scales() {
             let gb = c.gyro_bias.unwrap();
             worst_gyro = worst_gyro.max((gb - gyro_bias[i]).amax());
             // The error is far below the bias it removes (20 mg turn-on sigma).
-            assert!(truth[i].acc.turn_on.amax() > 5.0 * e, "seed {seed} sensor {i}");
+            assert!(
+                truth[i].acc.turn_on.amax() > 5.0 * e,
+                "seed {seed} sensor {i}"
+            );
         }
     }
     println!(
@@ -78,10 +81,18 @@ fn recovers_the_simulated_biases_and_scales() {
         worst_gyro.to_degrees()
     );
     assert!(worst_bias <= 2.0 * MG, "bias error {} mg", worst_bias / MG);
-    assert!(worst_scale <= 0.002, "scale error {} %", worst_scale * 100.0);
+    assert!(
+        worst_scale <= 0.002,
+        "scale error {} %",
+        worst_scale * 100.0
+    );
     // Gyro bias: the mean of ~5000 samples of 0.05 deg/s white noise per
     // axis (and coning-free rest): well under 0.01 deg/s.
-    assert!(worst_gyro.to_degrees() <= 0.01, "gyro bias error {} deg/s", worst_gyro.to_degrees());
+    assert!(
+        worst_gyro.to_degrees() <= 0.01,
+        "gyro bias error {} deg/s",
+        worst_gyro.to_degrees()
+    );
 }
 
 #[test]
@@ -112,7 +123,15 @@ fn too_few_poses_and_a_moving_recording_are_refused() {
     });
     let e = calibrate(&records, &CalibrationParams::default()).unwrap_err();
     assert!(
-        matches!(e, CalibrationError::TooFewPoses { found: 6, distinct: 6, needed: 9, .. }),
+        matches!(
+            e,
+            CalibrationError::TooFewPoses {
+                found: 6,
+                distinct: 6,
+                needed: 9,
+                ..
+            }
+        ),
         "{e}"
     );
     // Six faces are enough for the 6-unknown model.

@@ -421,8 +421,15 @@ mod tests {
             let b = rec.board(t);
             assert!((w_fd - b.w).norm() < 1e-6 * (1.0 + b.w.norm()), "{k}");
             let a_fd = (p.w - m.w) / (2.0 * h);
-            assert!((a_fd - b.alpha).norm() < 1e-5 * (1.0 + b.alpha.norm()), "{k}");
-            assert!(b.w.norm() > 0.1, "a real rotation between poses {k}, {}", k + 1);
+            assert!(
+                (a_fd - b.alpha).norm() < 1e-5 * (1.0 + b.alpha.norm()),
+                "{k}"
+            );
+            assert!(
+                b.w.norm() > 0.1,
+                "a real rotation between poses {k}, {}",
+                k + 1
+            );
         }
     }
 

@@ -30,11 +30,11 @@ pub mod stance;
 pub mod variability;
 pub mod walking;
 
+pub use calibration_poses::{PoseRecording, PoseRecordingConfig};
 pub use config::{
     EncoderResample, EncoderSpec, ImuSpec, Motion, Mounting, SimError, TriadSpec, Variability,
     WalkingConfig,
 };
 pub use knee_scenario::{KneeScenario, KneeSimulator, Remount};
-pub use calibration_poses::{PoseRecording, PoseRecordingConfig};
 pub use walking::{walking_sensors, Truth, WalkingSimulator};
 pub mod bslip;

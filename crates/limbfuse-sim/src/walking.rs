@@ -66,15 +66,7 @@ fn setup_draws(cfg: &WalkingConfig, f0: f64, phi0: f64) -> SetupDraws {
     });
     let clock = Clock::new(&mut rng, f0, phi0, var.stride_time_cv);
     let modulation = Modulation::new(&mut rng, var.amplitude_cv);
-    let mut draw_imu = || {
-        Imu::draw(
-            &mut rng,
-            &cfg.imu,
-            cfg.mounting,
-            cfg.imu_rate_hz,
-            cfg.noise,
-        )
-    };
+    let mut draw_imu = || Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.imu_rate_hz, cfg.noise);
     let imus = [draw_imu(), draw_imu(), draw_imu(), draw_imu()];
     SetupDraws {
         rng,

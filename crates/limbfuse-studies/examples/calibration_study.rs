@@ -25,7 +25,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     println!(
         "paper-001 protocol (50 Hz, validation 30-50 s, 50 starts), {} parameters, seeds 1-{}",
-        if a.tune { "tuned on 10-30 s" } else { "default" },
+        if a.tune {
+            "tuned on 10-30 s"
+        } else {
+            "default"
+        },
         a.seeds
     );
     println!();

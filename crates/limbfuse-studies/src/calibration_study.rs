@@ -124,7 +124,11 @@ pub fn whole_trial_rmse_deg(records: &[Record]) -> Result<[f64; 2], Box<dyn Erro
 }
 
 /// [`trial`] resampled to 50 Hz as paper 001 did.
-pub fn trial_at_50_hz(seed: u64, speed: f64, sensors: Sensors) -> Result<Vec<Record>, Box<dyn Error>> {
+pub fn trial_at_50_hz(
+    seed: u64,
+    speed: f64,
+    sensors: Sensors,
+) -> Result<Vec<Record>, Box<dyn Error>> {
     resample_to_50_hz(&trial(seed, speed, sensors)?)
 }
 

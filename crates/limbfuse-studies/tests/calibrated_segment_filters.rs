@@ -44,13 +44,18 @@ fn calibration_removes_the_static_error_and_meets_the_targets_at_0_4_m_s() {
     let cal = means(Sensors::CalibratedNoMisalignment);
     let bound = means(Sensors::NoStaticAccelError);
     println!("[whole mjls, whole global, 001 mjls, 001 global], mean of seeds 1-{SEEDS}:");
-    println!("raw {raw:.3?}\ncalibrated, misalignment 0 {cal:.3?}\nno static accel error {bound:.3?}");
+    println!(
+        "raw {raw:.3?}\ncalibrated, misalignment 0 {cal:.3?}\nno static accel error {bound:.3?}"
+    );
     for k in 0..4 {
         // Share of the gain of error-free static accelerometers that the
         // calibration gets (what it cannot get: the rotation part of the
         // cross-axis terms, which no static calibration observes).
         let share = (raw[k] - cal[k]) / (raw[k] - bound[k]);
-        println!("column {k}: calibration gets {:.0} % of the gain", share * 100.0);
+        println!(
+            "column {k}: calibration gets {:.0} % of the gain",
+            share * 100.0
+        );
         assert!(share >= 0.8, "{k}: {raw:?} -> {cal:?}, bound {bound:?}");
     }
     assert!(cal[0] <= 1.0, "whole-trial mjls {:.3} deg > 1.0", cal[0]);

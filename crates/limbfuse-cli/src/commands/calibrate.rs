@@ -135,7 +135,10 @@ pub fn load_for_trial(
             "note: {} was aligned (`<segment>_align_quat`): the raw-frame calibration is rotated into the aligned frames",
             trial.display()
         );
-        Ok((cal.rotated(&rotations), "raw sensor frame, rotated with the alignment"))
+        Ok((
+            cal.rotated(&rotations),
+            "raw sensor frame, rotated with the alignment",
+        ))
     } else {
         Ok((cal, "raw sensor frame"))
     }
@@ -143,6 +146,8 @@ pub fn load_for_trial(
 
 /// File name of `path` for the metadata.
 pub fn file_name(path: &Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }

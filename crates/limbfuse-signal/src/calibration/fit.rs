@@ -214,7 +214,9 @@ mod tests {
     #[test]
     fn recovers_a_symmetric_sensor_exactly() {
         // Sensor y = S f + b0 with S symmetric: the fit returns C = S^-1, b = b0.
-        let s = Matrix3::new(1.01, 0.008, -0.004, 0.008, 0.995, 0.006, -0.004, 0.006, 1.004);
+        let s = Matrix3::new(
+            1.01, 0.008, -0.004, 0.008, 0.995, 0.006, -0.004, 0.006, 1.004,
+        );
         let b0 = Vector3::new(0.2, -0.15, 0.3);
         let poses: Vec<Vector3<f64>> = directions().iter().map(|d| s * (d * 9.81) + b0).collect();
         let r = fit(&poses, 9.81, CalibrationModel::Full);
@@ -222,7 +224,11 @@ mod tests {
         assert!((bias(&r.params) - b0).norm() < 1e-10, "{}", bias(&r.params));
         assert!((matrix(&r.params) - c_true).norm() < 1e-10);
         assert!(r.residual_rms < 1e-10);
-        assert!(r.min_normalised_eigenvalue > 0.05, "{}", r.min_normalised_eigenvalue);
+        assert!(
+            r.min_normalised_eigenvalue > 0.05,
+            "{}",
+            r.min_normalised_eigenvalue
+        );
     }
 
     #[test]
@@ -234,7 +240,11 @@ mod tests {
             })
             .collect();
         let r = fit(&poses, 9.81, CalibrationModel::Full);
-        assert!(r.min_normalised_eigenvalue < 1e-6, "{}", r.min_normalised_eigenvalue);
+        assert!(
+            r.min_normalised_eigenvalue < 1e-6,
+            "{}",
+            r.min_normalised_eigenvalue
+        );
     }
 
     #[test]

@@ -275,7 +275,10 @@ pub fn calibrate(
     check(params)?;
     let mut sensors: [Option<ImuCalibration>; 4] = Default::default();
     for seg in Segment::ALL {
-        if records.iter().any(|r| r.sample.imu[seg.index()].acc.is_some()) {
+        if records
+            .iter()
+            .any(|r| r.sample.imu[seg.index()].acc.is_some())
+        {
             sensors[seg.index()] = Some(calibrate_sensor(records, seg, params)?);
         }
     }

@@ -226,11 +226,17 @@ mod tests {
                 (Vector3::new(0.0, 9.81, 0.0), Vector3::zeros())
             } else if t < 5.0 {
                 let th = (t - 3.0) * 0.8;
-                (Vector3::new(9.81 * th.sin(), 9.81 * th.cos(), 0.0), Vector3::new(0.0, 0.0, 0.8))
+                (
+                    Vector3::new(9.81 * th.sin(), 9.81 * th.cos(), 0.0),
+                    Vector3::new(0.0, 0.0, 0.8),
+                )
             } else {
                 // Rocking: 0.3 m/s^2, 0.05 rad/s at 2 Hz.
                 let ph = (t * 4.0 * core::f64::consts::PI).sin();
-                (Vector3::new(9.81, 0.3 * ph, 0.0), Vector3::new(0.05 * ph, 0.0, 0.0))
+                (
+                    Vector3::new(9.81, 0.3 * ph, 0.0),
+                    Vector3::new(0.05 * ph, 0.0, 0.0),
+                )
             };
             r.push(rec(t, a, w));
         }
@@ -239,7 +245,10 @@ mod tests {
         assert!(poses[0].span.0 < 0.01 && poses[0].span.1 > 2.5, "{poses:?}");
         assert!((poses[0].acc - Vector3::new(0.0, 9.81, 0.0)).norm() < 1e-12);
         assert_eq!(rejected.len(), 1, "{rejected:?}");
-        assert!(rejected[0].span.0 > 5.0 && rejected[0].span.0 < 5.5, "{rejected:?}");
+        assert!(
+            rejected[0].span.0 > 5.0 && rejected[0].span.0 < 5.5,
+            "{rejected:?}"
+        );
         assert!(rejected[0].acc_std > 0.15, "{rejected:?}");
         assert!(rejected[0].describe(&p).contains("not static"));
     }
@@ -247,7 +256,13 @@ mod tests {
     #[test]
     fn moving_spread_matches_a_direct_computation() {
         let x: Vec<Vector3<f64>> = (0..50)
-            .map(|k| Vector3::new((k as f64).sin(), 9.8 + (k as f64 * 0.3).cos(), 0.1 * k as f64))
+            .map(|k| {
+                Vector3::new(
+                    (k as f64).sin(),
+                    9.8 + (k as f64 * 0.3).cos(),
+                    0.1 * k as f64,
+                )
+            })
             .collect();
         let m = Moving::new(&x);
         let (lo, hi) = (7, 31);
