@@ -157,7 +157,8 @@ pub struct AlignArgs {
     /// default: the calibration segment at the start of TRIAL.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
-    /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels before alignment.
+    /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels (and to a
+    /// static-rotation --calibration recording) before alignment.
     #[arg(long, conflicts_with = "joint_axis")]
     pub imu_calibration: Option<PathBuf>,
 }

@@ -12,6 +12,7 @@
 //!   starts, default parameters) is printed, with its floor: its 10 s runs
 //!   from fresh starts carry each filter's start-up, which no sensor
 //!   calibration removes (docs/RESULTS.md, "Accelerometer calibration").
+//!
 //! The study with tuning and more seeds: `examples/calibration_study.rs`.
 
 use limbfuse_methods::segment_params::FilterMethod;

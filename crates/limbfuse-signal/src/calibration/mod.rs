@@ -222,7 +222,8 @@ fn calibrate_sensor(
     }
     let means: Vec<Vector3<f64>> = poses.iter().map(|q| q.acc).collect();
     let r = fit::fit(&means, p.gravity, p.model);
-    if !(r.min_normalised_eigenvalue >= p.min_eigenvalue) {
+    let eig = r.min_normalised_eigenvalue;
+    if eig.is_nan() || eig < p.min_eigenvalue {
         return Err(CalibrationError::NotSpread {
             sensor,
             poses: poses.len(),
@@ -231,7 +232,7 @@ fn calibrate_sensor(
             limit: p.min_eigenvalue,
         });
     }
-    if !(r.residual_rms <= p.max_residual) {
+    if r.residual_rms.is_nan() || r.residual_rms > p.max_residual {
         let (k, worst) = means
             .iter()
             .map(|m| fit::residual(&r.params, m, p.gravity))
