@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+pub use crate::cli_simulate::*;
+
 /// Estimate lower-limb segment and joint angles from wearable IMUs and exoskeleton encoders.
 #[derive(Debug, Parser)]
 #[command(name = "limbfuse", version, about, long_about = None)]
@@ -27,6 +29,8 @@ pub enum Command {
     Simulate(SimulateCommand),
     /// Convert a real recording into a trial file.
     Import(ImportArgs),
+    /// Accelerometer bias/scale/cross-axis and gyro bias from a recording of static poses (docs/CALIBRATION.md).
+    Calibrate(crate::cli_calibration::CalibrateArgs),
     /// Run one estimator over a trial file.
     Estimate(EstimateArgs),
     /// Compare an estimate file with its trial's reference.
@@ -97,41 +101,6 @@ pub struct GaitLibraryBuildArgs {
     pub leg_length: f64,
 }
 
-/// Options of `simulate bslip`.
-#[derive(Debug, Args)]
-pub struct BslipArgs {
-    /// Gait speed (m/s): the gait of --library at this speed, or searched now.
-    #[arg(long, default_value_t = 0.7)]
-    pub speed: f64,
-    /// Gait library to take the gait from.
-    #[arg(long)]
-    pub library: Option<PathBuf>,
-    /// Duration (s); at most 86400 (24 h) without --force.
-    #[arg(long, default_value_t = 4.0)]
-    pub duration: f64,
-    /// Sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
-    pub rate: f64,
-    /// Random seed of the measurement noise.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Measure CoM position only (paper sec IV-B) instead of position + sagittal velocity.
-    #[arg(long)]
-    pub position_only: bool,
-    /// Body mass (kg) when searching the gait.
-    #[arg(long, default_value_t = 80.0)]
-    pub mass: f64,
-    /// Leg rest length (m) when searching the gait.
-    #[arg(long, default_value_t = 1.0)]
-    pub leg_length: f64,
-    /// Output trial file.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Lift the cap on the simulated length.
-    #[command(flatten)]
-    pub cap: LengthCap,
-}
-
 /// Options of `align`.
 #[derive(Debug, Args)]
 pub struct AlignArgs {
@@ -164,6 +133,10 @@ pub struct AlignArgs {
     /// default: the calibration segment at the start of TRIAL.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
+    /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels (and to a
+    /// static-rotation --calibration recording) before alignment.
+    #[arg(long, conflicts_with = "joint_axis")]
+    pub imu_calibration: Option<PathBuf>,
 }
 
 /// Options of `mirror`.
@@ -237,190 +210,6 @@ pub struct DemoArgs {
     pub cap: LengthCap,
 }
 
-/// Simulation scenarios.
-#[derive(Debug, Subcommand)]
-pub enum SimulateCommand {
-    /// Level walking: trunk, thigh, shank and foot IMUs plus hip, knee and ankle encoders.
-    Walking(WalkingArgs),
-    /// Walking with every IMU at a random orientation, the thigh and shank IMUs at random
-    /// positions, optionally a thigh-sensor re-mounting (paper 002).
-    Knee(KneeSimArgs),
-    /// Leg-extension machine with FES of the quadriceps (paper 004): thigh and shank IMUs, knee encoder, u_ke.
-    KneeFes(KneeFesArgs),
-    /// 2-DOF fixed-hip swing with FES and motors (paper 004): thigh and shank IMUs, encoders, u_*, tau_*_motor.
-    FixedHip(FixedHipArgs),
-    /// B-SLIP walking on a periodic gait: CoM measurements (eq 15 noise) and phase_ref (paper 003).
-    Bslip(BslipArgs),
-}
-
-/// Options of `simulate knee`.
-#[derive(Debug, Args)]
-pub struct KneeSimArgs {
-    /// Output trial file.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Walking speed (m/s), 0.4 to 1.8.
-    #[arg(long, default_value_t = 1.0)]
-    pub speed: f64,
-    /// Duration (s); at most 86400 (24 h) without --force.
-    #[arg(long, default_value_t = 60.0)]
-    pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
-    pub imu_rate: f64,
-    /// Random seed: same seed, same file, bit for bit.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Standard deviation (cm) of each sensor's forward/backward offset from its segment line.
-    #[arg(long, default_value_t = 0.0)]
-    pub ap_offset_sd_cm: f64,
-    /// Re-mount the thigh sensor at this time (s): turned about the thigh's long axis.
-    #[arg(long, value_name = "SECONDS")]
-    pub remount_at: Option<f64>,
-    /// Angle of the re-mounting (deg); paper 002: 50.
-    #[arg(long, default_value_t = 50.0, requires = "remount_at")]
-    pub remount_deg: f64,
-    /// Ideal sensors: no noise, bias, scale-factor error or misalignment.
-    #[arg(long)]
-    pub no_noise: bool,
-    /// Keep every segment in the sagittal plane.
-    #[arg(long)]
-    pub no_out_of_plane: bool,
-    /// Lift the cap on the simulated length.
-    #[command(flatten)]
-    pub cap: LengthCap,
-}
-
-/// Options of `simulate knee-fes`.
-#[derive(Debug, Args)]
-pub struct KneeFesArgs {
-    /// Output trial file.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Leg of Table 1 (P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6).
-    #[arg(long, default_value = "P1-L")]
-    pub subject: String,
-    /// Duration (s); at most 86400 (24 h) without --force.
-    #[arg(long, default_value_t = 30.0)]
-    pub duration: f64,
-    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
-    #[arg(long, alias = "rate", default_value_t = 100.0)]
-    pub imu_rate: f64,
-    /// Random seed: same seed, same file, bit for bit.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Ideal sensors.
-    #[arg(long)]
-    pub no_noise: bool,
-    /// Extra constant gyro drift on both gyros (deg/s).
-    #[arg(long, default_value_t = 0.0)]
-    pub gyro_drift: f64,
-    /// Truth without muscle activation dynamics (a = u, as the estimators assume).
-    #[arg(long)]
-    pub no_activation_dynamics: bool,
-    /// Sensor mounting (random: raw sensor frames, align with `align --procedure static-rotation`).
-    #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
-    pub mounting: MountingArg,
-    /// Also write the calibration recording (quiet standing + 4 hip rotations) of the same sensors.
-    #[arg(long)]
-    pub calibration: Option<PathBuf>,
-    /// Lift the cap on the simulated length.
-    #[command(flatten)]
-    pub cap: LengthCap,
-}
-
-/// Options of `simulate fixed-hip`.
-#[derive(Debug, Args)]
-pub struct FixedHipArgs {
-    /// Output trial file.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Duration (s); at most 86400 (24 h) without --force.
-    #[arg(long, default_value_t = 20.0)]
-    pub duration: f64,
-    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
-    #[arg(long, alias = "rate", default_value_t = 100.0)]
-    pub imu_rate: f64,
-    /// Random seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Ideal sensors.
-    #[arg(long)]
-    pub no_noise: bool,
-    /// Extra constant gyro drift on both gyros (deg/s).
-    #[arg(long, default_value_t = 0.0)]
-    pub gyro_drift: f64,
-    /// Lift the cap on the simulated length.
-    #[command(flatten)]
-    pub cap: LengthCap,
-}
-
-/// How simulated IMUs sit on their segments.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum MountingArg {
-    /// Aligned with the segment up to a small (~1 deg) misalignment.
-    Aligned,
-    /// Arbitrary random orientation (for alignment work).
-    Random,
-}
-
-/// Options of `simulate walking`.
-#[derive(Debug, Args)]
-pub struct WalkingArgs {
-    /// Output trial file.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Walking speed (m/s), 0.4 to 1.8.
-    #[arg(long, default_value_t = 1.0)]
-    pub speed: f64,
-    /// Duration (s); at most 86400 (24 h) without --force.
-    #[arg(long, default_value_t = 60.0)]
-    pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
-    pub imu_rate: f64,
-    /// Random seed: same seed, same file, bit for bit.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Sensor mounting.
-    #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
-    pub mounting: MountingArg,
-    /// Ideal sensors: no noise, bias, scale-factor error or misalignment.
-    #[arg(long)]
-    pub no_noise: bool,
-    /// Keep every segment in the sagittal plane.
-    #[arg(long)]
-    pub no_out_of_plane: bool,
-    /// Identical strides (no stride-to-stride variability).
-    #[arg(long)]
-    pub no_variability: bool,
-    /// Leg the sensors are on (the left leg moves as the mirror image of the right).
-    #[arg(long, value_enum, default_value_t = LegArg::Right)]
-    pub leg: LegArg,
-    /// Turn the walking path every this many seconds (the body turns about the vertical
-    /// through the hip while the gait goes on); default: walk straight.
-    #[arg(long, value_name = "SECONDS")]
-    pub turn_every: Option<f64>,
-    /// Heading change of each turn (deg; positive = to the left).
-    #[arg(long, default_value_t = 180.0, requires = "turn_every")]
-    pub turn_deg: f64,
-    /// Duration of each turn (s).
-    #[arg(long, default_value_t = 2.5, requires = "turn_every")]
-    pub turn_s: f64,
-    /// Lift the cap on the simulated length.
-    #[command(flatten)]
-    pub cap: LengthCap,
-}
-
-/// Which leg a simulated trial records.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum LegArg {
-    /// The right leg.
-    Right,
-    /// The left leg.
-    Left,
-}
-
 /// Supported import formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ImportFormat {
@@ -441,6 +230,9 @@ pub struct ImportArgs {
     /// Output trial file.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// IMU calibration (`limbfuse calibrate`) applied to the raw sensor channels.
+    #[arg(long, visible_alias = "imu-calibration")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Options of `estimate`.
@@ -494,6 +286,10 @@ pub struct EstimateArgs {
     /// imm-bslip: the trial body's mass (kg), over its metadata (`# body_mass_kg:`).
     #[arg(long, value_name = "KG")]
     pub mass: Option<f64>,
+    /// IMU calibration (`limbfuse calibrate`) applied to the trial's IMU channels before
+    /// estimation (rotated into the aligned frame for a trial `align` wrote).
+    #[arg(long, visible_alias = "imu-calibration")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Options of `evaluate`.

@@ -5,6 +5,8 @@
 
 mod bounds;
 mod cli;
+mod cli_calibration;
+mod cli_simulate;
 mod commands;
 mod exit;
 mod methods;

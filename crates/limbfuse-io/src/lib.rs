@@ -9,6 +9,7 @@
 
 pub mod atomic_file;
 pub mod body_meta;
+pub mod calibration;
 mod cell_format;
 pub mod content_hash;
 pub mod error;
@@ -22,6 +23,7 @@ pub mod trial_reader;
 pub mod trial_writer;
 
 pub use atomic_file::AtomicFile;
+pub use calibration::{Calibration, CalibrationFileError, ImuCalibration};
 pub use content_hash::{ContentHash, TrialFingerprint};
 pub use error::FileError;
 pub use estimate_file::{EstimateReader, EstimateWriter};

@@ -2,11 +2,13 @@
 //!
 //! Signal processing on recorded or simulated trials that is not file I/O:
 //! sensor-to-segment alignment ([`align`]), resampling onto a uniform time
-//! base ([`resample`]) and the signal conditioning of paper 004
-//! ([`conditioning`]). Files are read and written by `limbfuse-io`; this
+//! base ([`resample`]), the signal conditioning of paper 004
+//! ([`conditioning`]) and IMU calibration from static poses
+//! ([`calibration`]). Files are read and written by `limbfuse-io`; this
 //! crate works on its records and metadata.
 #![deny(missing_docs)]
 
 pub mod align;
+pub mod calibration;
 pub mod conditioning;
 pub mod resample;

@@ -179,8 +179,34 @@ impl Imu {
         rng: &mut R,
     ) -> (Vector3<f64>, Vector3<f64>) {
         let (wi, fi) = self.ideal(r_seg, w, f);
-        let g = self.gyro.measure(&wi, rng);
-        let a = self.acc.measure(&fi, rng);
+        self.measure(&wi, &fi, rng)
+    }
+
+    /// Measured (gyro, acc) of the sensor on its own, off any segment:
+    /// `r_sensor` is the sensor-to-world rotation (the mounting plays no
+    /// part), `w` and `f` world angular rate and specific force. Draws 12
+    /// normals when the noise is on.
+    #[inline]
+    pub fn read_unmounted<R: Rng>(
+        &mut self,
+        r_sensor: &Matrix3<f64>,
+        w: &Vector3<f64>,
+        f: &Vector3<f64>,
+        rng: &mut R,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let rt = r_sensor.transpose();
+        self.measure(&(rt * w), &(rt * f), rng)
+    }
+
+    #[inline]
+    fn measure<R: Rng>(
+        &mut self,
+        wi: &Vector3<f64>,
+        fi: &Vector3<f64>,
+        rng: &mut R,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let g = self.gyro.measure(wi, rng);
+        let a = self.acc.measure(fi, rng);
         (g, a)
     }
 

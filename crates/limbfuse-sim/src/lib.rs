@@ -13,6 +13,7 @@
 
 pub mod anthropometry;
 pub mod body_path;
+pub mod calibration_poses;
 pub mod chain;
 pub mod config;
 pub mod encoder_model;
@@ -31,10 +32,11 @@ pub mod variability;
 pub mod walking;
 
 pub use body_path::Turns;
+pub use calibration_poses::{PoseRecording, PoseRecordingConfig};
 pub use config::{
     EncoderResample, EncoderSpec, ImuSpec, Motion, Mounting, SimError, TriadSpec, Variability,
     WalkingConfig,
 };
 pub use knee_scenario::{KneeScenario, KneeSimulator, Remount};
-pub use walking::{Truth, WalkingSimulator};
+pub use walking::{walking_sensors, Truth, WalkingSimulator};
 pub mod bslip;

@@ -45,6 +45,55 @@ pub struct Truth {
     pub specific_force: [Vector3<f64>; 4],
 }
 
+/// The set-up draws in their fixed order (clock, amplitude modulation, the
+/// four IMUs); `rng` is left where the encoder offsets are drawn next.
+struct SetupDraws {
+    rng: ChaCha8Rng,
+    clock: Clock,
+    modulation: Modulation,
+    imus: [Imu; 4],
+}
+
+/// Every set-up draw of `cfg` up to the IMUs. The number of draws does not
+/// depend on the speed, the motion or the variability, so the sensors of a
+/// seed are the same whatever is simulated with them.
+fn setup_draws(cfg: &WalkingConfig, f0: f64, phi0: f64) -> SetupDraws {
+    let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
+    rng.set_stream(STREAM_SETUP);
+    let var = cfg.variability.unwrap_or(crate::config::Variability {
+        stride_time_cv: 0.0,
+        amplitude_cv: 0.0,
+    });
+    let clock = Clock::new(&mut rng, f0, phi0, var.stride_time_cv);
+    let modulation = Modulation::new(&mut rng, var.amplitude_cv);
+    let mut draw_imu = || Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.imu_rate_hz, cfg.noise);
+    let imus = [draw_imu(), draw_imu(), draw_imu(), draw_imu()];
+    SetupDraws {
+        rng,
+        clock,
+        modulation,
+        imus,
+    }
+}
+
+/// The four IMUs (trunk..foot: mounting, scale, cross-axis, turn-on and
+/// initial Gauss-Markov biases) that [`WalkingSimulator::new`] draws for
+/// `cfg`: the same sensors, draw for draw, for any speed or motion of the
+/// same seed, IMU specification, rate and noise switch (used by
+/// [`crate::calibration_poses`] to record a calibration of these sensors).
+pub fn walking_sensors(cfg: &WalkingConfig) -> Result<[Imu; 4], SimError> {
+    cfg.validate()?;
+    Ok(setup_draws(cfg, 0.0, 0.0).imus)
+}
+
+/// The ChaCha stream of the per-sample IMU noise of `seed` (the walking
+/// simulator's; a calibration recording of the same sensors uses it too).
+pub fn imu_noise_rng(seed: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(STREAM_IMU);
+    rng
+}
+
 /// Seeded walking simulator; iterate it for one [`Record`] per IMU sample.
 #[derive(Debug, Clone)]
 pub struct WalkingSimulator {
@@ -87,32 +136,19 @@ impl WalkingSimulator {
             reached: e.reached,
             wanted: e.wanted,
         })?;
-        let mut setup = ChaCha8Rng::seed_from_u64(cfg.seed);
-        setup.set_stream(STREAM_SETUP);
-        let var = cfg.variability.unwrap_or(crate::config::Variability {
-            stride_time_cv: 0.0,
-            amplitude_cv: 0.0,
-        });
         let (f0, phi0) = match cfg.motion {
             Motion::Walk => (law.stride_frequency(), cfg.start_phase),
             Motion::Stand => (0.0, 0.0),
             Motion::Pose { phase } => (0.0, phase),
         };
-        let clock = Clock::new(&mut setup, f0, phi0, var.stride_time_cv);
-        let modulation = Modulation::new(&mut setup, var.amplitude_cv);
-        let mut draw_imu = || {
-            Imu::draw(
-                &mut setup,
-                &cfg.imu,
-                cfg.mounting,
-                cfg.imu_rate_hz,
-                cfg.noise,
-            )
-        };
-        let imus = [draw_imu(), draw_imu(), draw_imu(), draw_imu()];
-        let encoders = Encoders::draw(&mut setup, &cfg.encoder, cfg.noise);
-        let mut imu_rng = ChaCha8Rng::seed_from_u64(cfg.seed);
-        imu_rng.set_stream(STREAM_IMU);
+        let SetupDraws {
+            mut rng,
+            clock,
+            modulation,
+            imus,
+        } = setup_draws(&cfg, f0, phi0);
+        let encoders = Encoders::draw(&mut rng, &cfg.encoder, cfg.noise);
+        let imu_rng = imu_noise_rng(cfg.seed);
         let mut enc_rng = ChaCha8Rng::seed_from_u64(cfg.seed);
         enc_rng.set_stream(STREAM_ENCODER);
         let n_samples = (cfg.duration_s * cfg.imu_rate_hz).round() as u64;

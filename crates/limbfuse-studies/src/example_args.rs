@@ -13,6 +13,7 @@ pub const EXAMPLES: [&str; 12] = [
     "accel_gate_study",
     "baseline_study",
     "chain_study",
+    "calibration_study",
     "fes_figures",
     "fes_studies",
     "fes_thesis_protocol",
@@ -63,6 +64,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
+        "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
@@ -87,6 +89,23 @@ pub struct SegmentErrorBudgetArgs {
     /// Seeds 1..=SEEDS per speed.
     #[arg(default_value_t = 10)]
     pub seeds: u64,
+}
+
+/// `calibration_study [SEEDS] [--speed S ...] [--tune] [--budget N]`.
+#[derive(Debug, Parser)]
+pub struct CalibrationStudyArgs {
+    /// Seeds 1..=SEEDS per speed.
+    #[arg(default_value_t = 10)]
+    pub seeds: u64,
+    /// Walking speeds (m/s); default 0.4 (paper 001's speed).
+    #[arg(long = "speed", default_values_t = vec![0.4])]
+    pub speeds: Vec<f64>,
+    /// Tune each filter on 10-30 s first (PSO, as `limbfuse tune`), then validate on 30-50 s.
+    #[arg(long)]
+    pub tune: bool,
+    /// Objective evaluations of the tuning (with --tune).
+    #[arg(long, default_value_t = 400)]
+    pub budget: usize,
 }
 
 /// `accel_accept_stats [FIRST] [LAST] [ideal]`.

@@ -11,7 +11,10 @@ use limbfuse_models::bslip::GaitTemplate;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_calibration, simulate_knee_fes, FesTrial, KneeFesConfig};
-use limbfuse_sim::{KneeScenario, KneeSimulator, WalkingConfig, WalkingSimulator};
+use limbfuse_sim::{
+    KneeScenario, KneeSimulator, PoseRecording, PoseRecordingConfig, WalkingConfig,
+    WalkingSimulator,
+};
 
 /// A simulated trial: metadata, columns and the records (a stream for the
 /// walking simulators, which never hold a trial in memory).
@@ -76,6 +79,27 @@ pub fn walking(
         meta: m,
         layout: TrialLayout::walking(),
         records: sim,
+    })
+}
+
+/// A calibration recording of the walking simulator's sensors (`simulate
+/// calibration`): raw sensor channels of the four IMUs, no reference.
+pub fn calibration_poses(
+    cfg: PoseRecordingConfig,
+) -> Result<SimulatedTrial<PoseRecording>, SimulatedTrialError> {
+    let rec = PoseRecording::new(cfg).map_err(|e| sim_err("calibration")(&e))?;
+    let mut m = meta("limbfuse simulate calibration", cfg.sensors.imu_rate_hz);
+    for (k, v) in rec.metadata() {
+        m.set(k, v);
+    }
+    Ok(SimulatedTrial {
+        meta: m,
+        layout: TrialLayout {
+            acc: [true; 4],
+            gyr: [true; 4],
+            ..TrialLayout::default()
+        },
+        records: rec,
     })
 }
 

@@ -54,7 +54,12 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     if !layout.gyr.iter().any(|&g| g) {
         bail!("{}: the trial has no gyroscope channels (`<segment>_gyr_x` ...), which alignment needs", a.trial.display());
     }
-    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    if let Some(path) = &a.imu_calibration {
+        let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;
+        records.iter_mut().for_each(|r| cal.apply(r));
+        cal.annotate(&mut meta, &super::calibrate::file_name(path), frame);
+    }
     let alignment = estimate_alignment(&records, &opts)
         .with_context(|| format!("aligning {}", a.trial.display()))?;
     alignment.annotate(&mut meta);

@@ -18,11 +18,25 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();
     let g = meta.gravity();
-    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let imu_cal = match &a.imu_calibration {
+        Some(path) => {
+            let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;
+            records.iter_mut().for_each(|r| cal.apply(r));
+            cal.annotate(&mut meta, &super::calibrate::file_name(path), frame);
+            Some(cal)
+        }
+        None => None,
+    };
     let (cal_records, cal_name) = match &a.calibration {
         Some(p) => {
             let r = TrialReader::open(p)?;
-            (r.collect::<Result<Vec<_>, _>>()?, p.display().to_string())
+            let mut rec = r.collect::<Result<Vec<_>, _>>()?;
+            // The same sensors, raw: the same IMU calibration.
+            if let Some(c) = &imu_cal {
+                rec.iter_mut().for_each(|r| c.apply(r));
+            }
+            (rec, p.display().to_string())
         }
         None => (records.clone(), a.trial.display().to_string()),
     };

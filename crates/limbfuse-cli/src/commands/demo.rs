@@ -35,6 +35,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         turn_every: None,
         turn_deg: 180.0,
         turn_s: 2.5,
+        no_misalignment: false,
         cap: a.cap,
     };
     let summary = super::simulate::write_walking(&sim)?;

@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::Estimator;
 use limbfuse_eval::{RejectionWatch, ResetWatch};
-use limbfuse_io::{EstimateWriter, TrialReader};
+use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
 
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
@@ -20,13 +20,20 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let reader = TrialReader::open(&a.trial)?;
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
-    let n = run_to_file(
+    let calibration = match &a.calibration {
+        Some(path) => Some(
+            super::calibrate::load_for_trial(path, &a.trial, reader.meta(), reader.layout())?.0,
+        ),
+        None => None,
+    };
+    let n = run_to_file_calibrated(
         est.as_mut(),
         reader,
         &a.output,
         spec.method().name(),
         &command_line(a),
         &mut [],
+        calibration.as_ref(),
     )?;
     eprintln!("{}: {n} samples -> {}", spec.method(), a.output.display());
     Ok(())
@@ -62,6 +69,10 @@ fn command_line(a: &EstimateArgs) -> String {
     );
     opt(&mut c, "imm-weights", a.imm_weights.clone());
     opt(&mut c, "imm-touchdown", a.imm_touchdown.clone());
+    opt(&mut c, "imm-config", a.imm_config.clone());
+    opt(&mut c, "leg-length", a.leg_length.map(|v| v.to_string()));
+    opt(&mut c, "mass", a.mass.map(|v| v.to_string()));
+    opt(&mut c, "calibration", a.calibration.as_deref().map(name));
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
 }
 
@@ -75,11 +86,25 @@ fn command_line(a: &EstimateArgs) -> String {
 /// trial is hashed as it is read) and appears only if the whole run succeeds.
 pub fn run_to_file(
     est: &mut dyn Estimator,
+    reader: TrialReader,
+    output: &Path,
+    label: &str,
+    command: &str,
+    extra: &mut [&mut dyn Observer],
+) -> Result<u64> {
+    run_to_file_calibrated(est, reader, output, label, command, extra, None)
+}
+
+/// [`run_to_file`] with an IMU calibration applied to every record read
+/// (docs/CALIBRATION.md).
+pub fn run_to_file_calibrated(
+    est: &mut dyn Estimator,
     mut reader: TrialReader,
     output: &Path,
     label: &str,
     command: &str,
     extra: &mut [&mut dyn Observer],
+    calibration: Option<&Calibration>,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
     let trial_name = trial.file_name().map_or_else(
@@ -101,7 +126,15 @@ pub fn run_to_file(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        runner::run(est, &mut reader, &mut observers)
+        let source = reader.by_ref().map(|r| {
+            r.map(|mut rec| {
+                if let Some(c) = calibration {
+                    c.apply(&mut rec);
+                }
+                rec
+            })
+        });
+        runner::run(est, source, &mut observers)
             .with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
     let hash = reader.content_hash().ok_or_else(|| {

@@ -8,10 +8,18 @@ use crate::cli::{ImportArgs, ImportFormat};
 
 /// Converts a recording into a trial file.
 pub fn run(a: &ImportArgs) -> Result<()> {
-    let trial = match a.format {
+    let mut trial = match a.format {
         ImportFormat::Gaittoolbox => import_gaittoolbox(&a.input)?,
         ImportFormat::KneeRig => import_knee_rig(&a.input)?,
     };
+    if let Some(path) = &a.calibration {
+        let (cal, frame) =
+            super::calibrate::load_for_trial(path, &a.input, &trial.meta, &trial.layout)?;
+        for r in trial.records.iter_mut() {
+            cal.apply(r);
+        }
+        cal.annotate(&mut trial.meta, &super::calibrate::file_name(path), frame);
+    }
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::new(&mut out, &trial.meta, trial.layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;

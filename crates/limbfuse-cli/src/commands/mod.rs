@@ -3,6 +3,7 @@
 mod align;
 mod align_joint_axis;
 mod align_static;
+mod calibrate;
 mod demo;
 mod demo_fes;
 mod estimate;
@@ -38,6 +39,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(SimulateCommand::KneeFes(a)) => fes::simulate_knee(&a),
         Command::Simulate(SimulateCommand::FixedHip(a)) => fes::simulate_hip(&a),
         Command::Simulate(SimulateCommand::Bslip(a)) => gait::simulate(&a),
+        Command::Simulate(SimulateCommand::Calibration(a)) => calibrate::simulate(&a),
+        Command::Calibrate(a) => calibrate::run(&a),
         Command::GaitLibrary(GaitLibraryCommand::Build(a)) => gait::library_build(&a),
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),

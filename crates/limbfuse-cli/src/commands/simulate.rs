@@ -10,7 +10,12 @@ use crate::cli::{LegArg, MountingArg, WalkingArgs};
 
 /// Resolves the flags into a validated simulator configuration.
 pub fn walking_config(a: &WalkingArgs) -> WalkingConfig {
+    let mut imu = WalkingConfig::default().imu;
+    if a.no_misalignment {
+        imu.misalignment_rad = 0.0;
+    }
     WalkingConfig {
+        imu,
         speed_mps: a.speed,
         duration_s: a.duration,
         imu_rate_hz: a.imu_rate,

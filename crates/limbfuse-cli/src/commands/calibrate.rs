@@ -1,0 +1,153 @@
+//! `limbfuse calibrate POSES.csv -o cal.toml`, `limbfuse simulate
+//! calibration`, and the `--calibration` of `import`, `align`, `estimate`
+//! (docs/CALIBRATION.md).
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use limbfuse_core::Record;
+use limbfuse_io::calibration::CalibrationModel;
+use limbfuse_io::{Calibration, TrialLayout, TrialMeta, TrialReader};
+use limbfuse_signal::align::rotations_from_metadata;
+use limbfuse_signal::calibration::{calibrate, CalibrationParams};
+use limbfuse_sim::{PoseRecordingConfig, WalkingConfig};
+use limbfuse_workflows::simulated_trials;
+
+use crate::cli_calibration::{CalibrateArgs, CalibrationSimArgs, ModelArg};
+
+/// `calibrate`: fits every sensor of the pose recording, writes the file.
+pub fn run(a: &CalibrateArgs) -> Result<()> {
+    let reader = TrialReader::open(&a.poses)?;
+    let gravity = a.gravity.unwrap_or_else(|| reader.meta().gravity());
+    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let params = CalibrationParams {
+        model: match a.model {
+            ModelArg::Full => CalibrationModel::Full,
+            ModelArg::Scale => CalibrationModel::Scale,
+            ModelArg::Bias => CalibrationModel::Bias,
+        },
+        gravity,
+        acc_std_max: a.acc_std_max,
+        gyro_std_max: a.gyro_std_max,
+        min_pose_s: a.min_pose,
+        ..CalibrationParams::default()
+    };
+    let mut cal = calibrate(&records, &params)
+        .with_context(|| format!("calibrating from {}", a.poses.display()))?;
+    cal.source = a
+        .poses
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned());
+    super::write_file(&a.output, cal.to_toml())?;
+    for (seg, c) in limbfuse_core::Segment::ALL.iter().zip(&cal.sensors) {
+        let Some(c) = c else { continue };
+        let b = c.acc_bias * (1000.0 / gravity);
+        let (poses, rms, rejected) = c.fit.as_ref().map_or((0, f64::NAN, &[][..]), |f| {
+            (f.poses, f.residual_rms, f.rejected.as_slice())
+        });
+        println!(
+            "{}: {poses} poses, residual {:.2} mg, acc bias [{:.2}, {:.2}, {:.2}] mg, scale [{:.4}, {:.4}, {:.4}]",
+            seg.name(),
+            rms * 1000.0 / gravity,
+            b.x,
+            b.y,
+            b.z,
+            c.acc_matrix[(0, 0)],
+            c.acc_matrix[(1, 1)],
+            c.acc_matrix[(2, 2)],
+        );
+        for r in rejected {
+            eprintln!("warning: {}: pose rejected: {r}", seg.name());
+        }
+    }
+    eprintln!(
+        "calibrated {} ({} model) -> {}",
+        cal.sensor_names(),
+        params.model.name(),
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// `simulate calibration`.
+pub fn simulate(a: &CalibrationSimArgs) -> Result<()> {
+    let cfg = PoseRecordingConfig {
+        sensors: WalkingConfig {
+            seed: a.seed,
+            imu_rate_hz: a.imu_rate,
+            noise: !a.no_noise,
+            ..WalkingConfig::default()
+        },
+        poses: a.poses,
+        hold_s: a.hold,
+        transition_s: a.transition,
+        lever_arm_m: a.lever_arm,
+        wobble_pose: a.wobble_pose.map(|k| k.wrapping_sub(1)),
+    };
+    if a.wobble_pose == Some(0) {
+        anyhow::bail!("--wobble-pose: poses are numbered from 1, found 0");
+    }
+    crate::bounds::simulated_trial(cfg.duration_s(), "--imu-rate", a.imu_rate, a.cap.force)?;
+    let trial = simulated_trials::calibration_poses(cfg)?;
+    let mut out = super::create_file(&a.output)?;
+    let n = simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    super::commit(out)?;
+    eprintln!(
+        "simulated a calibration recording: {} poses, {:.0} s, {n} samples (seed {}: the sensors of `simulate walking --seed {}`) -> {}",
+        a.poses,
+        cfg.duration_s(),
+        a.seed,
+        a.seed,
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// Reads the calibration file `path` for the trial `trial` (its metadata
+/// and layout): refuses a trial calibrated already and a file that does not
+/// cover every IMU of the trial; notes calibrated sensors the trial lacks.
+/// When the trial's channels were rotated by `align` (`<seg>_align_quat`),
+/// the calibration is rotated with them, so it still acts in the raw frame.
+/// Returns the calibration to apply and the frame it acts in (for the
+/// metadata).
+pub fn load_for_trial(
+    path: &Path,
+    trial: &Path,
+    meta: &TrialMeta,
+    layout: &TrialLayout,
+) -> Result<(Calibration, &'static str)> {
+    let cal = Calibration::read(path)?;
+    Calibration::check_not_calibrated(meta, trial)?;
+    let unused = cal.check_covers(layout, path, trial)?;
+    if !unused.is_empty() {
+        let names: Vec<&str> = unused.iter().map(|s| s.name()).collect();
+        eprintln!(
+            "note: {} also calibrates {}, which {} does not have",
+            path.display(),
+            names.join(", "),
+            trial.display()
+        );
+    }
+    let rotations = rotations_from_metadata(meta)
+        .with_context(|| format!("{}: reading the alignment rotations", trial.display()))?;
+    if rotations.iter().any(Option::is_some) {
+        eprintln!(
+            "note: {} was aligned (`<segment>_align_quat`): the raw-frame calibration is rotated into the aligned frames",
+            trial.display()
+        );
+        Ok((
+            cal.rotated(&rotations),
+            "raw sensor frame, rotated with the alignment",
+        ))
+    } else {
+        Ok((cal, "raw sensor frame"))
+    }
+}
+
+/// File name of `path` for the metadata.
+pub fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
