@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 12] = [
+pub const EXAMPLES: [&str; 14] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
