@@ -29,7 +29,7 @@ pub mod runner;
 pub use diagnostics::{DiagnosticSet, DiagnosticWriter};
 pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
-pub use limb::{Joint, Segment};
+pub use limb::{Joint, Segment, Side};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
 
 /// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.

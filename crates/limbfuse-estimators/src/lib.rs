@@ -14,8 +14,10 @@ extern crate alloc;
 
 pub mod baseline;
 pub mod fes;
+pub mod gait_events;
 pub mod hinge_axis;
 pub mod imm_bslip;
 pub mod inclination;
 pub mod knee_selfalign;
+pub mod lowback_speed;
 pub mod segment_kf;

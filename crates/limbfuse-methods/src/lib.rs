@@ -34,6 +34,7 @@ pub mod channels;
 mod error;
 pub mod fes_methods;
 pub mod fes_params;
+pub mod gait_methods;
 pub mod imm_params;
 pub mod knee_params;
 pub mod method_def;

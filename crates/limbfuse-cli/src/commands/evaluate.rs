@@ -17,6 +17,23 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
     };
     {
         let layout = *limbfuse_io::TrialReader::open(&a.trial)?.layout();
+        if !layout.has_angle_reference()
+            && (layout.contact_ref.iter().any(|&b| b) || layout.speed_ref)
+        {
+            // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
+            let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
+                &a.trial,
+                estimate,
+                a.allow_trial_mismatch,
+            )?;
+            warn(&ev.trial_check);
+            if a.json {
+                println!("{}", ev.to_json());
+            } else {
+                print!("{}", ev.to_text());
+            }
+            return Ok(());
+        }
         if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
             // A gait trial (paper 003): phase, CoM and speed errors.
             let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(
