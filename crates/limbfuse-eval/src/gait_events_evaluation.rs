@@ -190,6 +190,16 @@ fn steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
         .collect()
 }
 
+/// Times where a contact column goes from unknown to `to` or from `!to` to unknown.
+fn edge_steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
+    (1..v.len())
+        .filter(|&k| {
+            (v[k - 1].is_none() && v[k] == Some(to)) || (v[k - 1] == Some(!to) && v[k].is_none())
+        })
+        .map(|k| t[k])
+        .collect()
+}
+
 /// Row nearest to time `x` (t sorted).
 fn nearest_row(t: &[f64], x: f64) -> usize {
     let k = t.partition_point(|&v| v < x);
@@ -238,6 +248,10 @@ fn pair(reference: &[f64], estimated: &[f64]) -> Vec<(usize, usize)> {
 }
 
 struct SideEvents {
+    /// Reference events that cannot be scored: a contact that starts or
+    /// ends at the edge of the known reference (empty -> 1 or 1 -> empty).
+    /// An estimated event near one is neither paired nor extra.
+    unscored: Vec<f64>,
     reference: Vec<f64>,
     estimated: Vec<f64>,
     pairs: Vec<(usize, usize)>,
@@ -349,7 +363,9 @@ pub fn evaluate_gait_event_files(
             .collect();
         ref_ic.sort_by(f64::total_cmp);
         let est = c.ic_any.clone();
+        let unscored = (0..2).flat_map(|s| edge_steps(&c.t, &c.reference[s], true)).collect();
         let se = SideEvents {
+            unscored,
             pairs: pair(&ref_ic, &est),
             reference: ref_ic,
             estimated: est,
@@ -373,11 +389,13 @@ pub fn evaluate_gait_event_files(
         let ref_ic = steps(&c.t, &c.reference[s], true);
         let ref_fc = steps(&c.t, &c.reference[s], false);
         ic_sides.push(SideEvents {
+            unscored: edge_steps(&c.t, &c.reference[s], true),
             pairs: pair(&ref_ic, &est_ic),
             reference: ref_ic,
             estimated: est_ic,
         });
         fc_sides.push(SideEvents {
+            unscored: edge_steps(&c.t, &c.reference[s], false),
             pairs: pair(&ref_fc, &est_fc),
             reference: ref_fc,
             estimated: est_fc,

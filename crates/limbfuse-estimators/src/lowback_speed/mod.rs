@@ -150,6 +150,7 @@ pub struct LowbackSpeed {
     kernel: Vec<f64>,
     half: usize,
     dt: Option<f64>,
+    elapsed: f64,
     n: u64,
     rms_sq: f64,
     smoothed: [f64; 3],
@@ -169,6 +170,7 @@ impl LowbackSpeed {
             kernel: Vec::with_capacity(HISTORY),
             half: 0,
             dt: None,
+            elapsed: 0.0,
             n: 0,
             rms_sq: 0.0,
             smoothed: [0.0; 3],
@@ -259,8 +261,12 @@ impl Estimator for LowbackSpeed {
                 return Ok(e);
             }
         };
+        // Running mean over the samples so far, exponential once the time
+        // constant has passed (a first sample carrying a step's dynamic
+        // acceleration does not bias the first seconds).
+        self.elapsed = (self.elapsed + dt).min(self.params.gravity_time_constant);
         let g = self.gravity.get_or_insert(acc);
-        *g += (acc - *g) * (dt / self.params.gravity_time_constant).min(1.0);
+        *g += (acc - *g) * (dt / self.elapsed);
         let gn = g.norm();
         let a_v = if gn > 0.0 { acc.dot(g) / gn - gn } else { 0.0 };
         self.history[(self.n % HISTORY as u64) as usize] = a_v;
