@@ -44,6 +44,12 @@ fn gait_estimators_step_without_allocating() {
         }
         let after = allocations();
         assert!(n > 0, "{} estimated no speed", e.name());
-        assert_eq!(after - before, 0, "{} allocated {} times", e.name(), after - before);
+        assert_eq!(
+            after - before,
+            0,
+            "{} allocated {} times",
+            e.name(),
+            after - before
+        );
     }
 }

@@ -37,8 +37,11 @@ fn phase_error(t: f64, period: f64, offset: f64) -> f64 {
 fn foot_events_and_stride_length_match_the_simulated_walk() {
     for speed in [0.8, 1.3] {
         let (records, period, length) = trial(speed);
-        let mut e = GaitEvents::new(GaitEventsParams::default(), [None, Some(FootSource::OwnLeg)])
-            .unwrap();
+        let mut e = GaitEvents::new(
+            GaitEventsParams::default(),
+            [None, Some(FootSource::OwnLeg)],
+        )
+        .unwrap();
         let (mut ic, mut fc, mut lengths) = (vec![], vec![], vec![]);
         for r in &records {
             let est = e.step(&r.sample).unwrap();
@@ -47,22 +50,35 @@ fn foot_events_and_stride_length_match_the_simulated_walk() {
             lengths.extend(est.diagnostic(GaitDiag::StrideLengthRight));
         }
         let strides = (12.0 / period) as usize;
-        assert!(ic.len() + 2 >= strides, "{speed} m/s: {} contacts in {strides} strides", ic.len());
+        assert!(
+            ic.len() + 2 >= strides,
+            "{speed} m/s: {} contacts in {strides} strides",
+            ic.len()
+        );
         for &t in &ic {
             let err = phase_error(t, period, 0.0);
             // Measured: 28-35 ms early: the simulator's swing foot (normative
             // curves) reaches its maximal dorsiflexion before its heel strike.
-            assert!(err.abs() < 0.045, "{speed} m/s: initial contact at {t} s is {err} s off");
+            assert!(
+                err.abs() < 0.045,
+                "{speed} m/s: initial contact at {t} s is {err} s off"
+            );
         }
         for &t in &fc {
             let err = phase_error(t, period, 0.6 * period);
             // Measured: 48-53 ms early: the simulated push-off peak precedes the
             // toe off the simulator places at exactly 60 % of the stride.
-            assert!(err.abs() < 0.065, "{speed} m/s: final contact at {t} s is {err} s off");
+            assert!(
+                err.abs() < 0.065,
+                "{speed} m/s: final contact at {t} s is {err} s off"
+            );
         }
         assert!(lengths.len() + 3 >= strides);
         for l in &lengths {
-            assert!((l - length).abs() < 0.015 * length, "{speed} m/s: stride {l} m vs {length} m");
+            assert!(
+                (l - length).abs() < 0.015 * length,
+                "{speed} m/s: stride {l} m vs {length} m"
+            );
         }
     }
 }
@@ -78,11 +94,26 @@ fn lowback_finds_every_step() {
         ic.extend(e.step(&s).unwrap().diagnostic(LowbackDiag::Ic));
     }
     let steps = (2.0 * 12.0 / period) as usize;
-    assert!(ic.len() + 4 >= steps && ic.len() <= steps + 1, "{} contacts, {steps} steps", ic.len());
-    let offsets: Vec<f64> = ic.iter().map(|&t| phase_error(t, 0.5 * period, 0.0)).collect();
-    eprintln!("lowback IC offsets from heel strikes: {offsets:?}");
+    assert!(
+        ic.len() + 4 >= steps && ic.len() <= steps + 1,
+        "{} contacts, {steps} steps",
+        ic.len()
+    );
+    let offsets: Vec<f64> = ic
+        .iter()
+        .map(|&t| phase_error(t, 0.5 * period, 0.0))
+        .collect();
+    // Measured: 54-79 ms after the heel strikes (McCamley's landmark, the
+    // smoothed vertical-acceleration peak, lies in the double support).
+    assert!(
+        offsets.iter().all(|o| (0.0..0.1).contains(o)),
+        "{offsets:?}"
+    );
     for w in ic.windows(2) {
         let step = w[1] - w[0];
-        assert!((step - 0.5 * period).abs() < 0.1 * period, "step time {step} s, stride {period} s");
+        assert!(
+            (step - 0.5 * period).abs() < 0.1 * period,
+            "step time {step} s, stride {period} s"
+        );
     }
 }

@@ -25,7 +25,6 @@ use std::path::Path;
 
 use limbfuse_core::{GaitPhase, Side};
 use limbfuse_io::{EstimateReader, TrialReader};
-use serde_json::{json, Value};
 
 use crate::evaluation::EvalError;
 
@@ -275,7 +274,14 @@ fn timing(sides: &[SideEvents], c: &Columns, side_of: &[Option<usize>]) -> Event
             .estimated
             .iter()
             .enumerate()
-            .filter(|(j, &x)| !paired.contains(j) && known(s, nearest_row(&c.t, x)))
+            .filter(|(j, &x)| {
+                !paired.contains(j)
+                    && known(s, nearest_row(&c.t, x))
+                    && !se
+                        .unscored
+                        .iter()
+                        .any(|u| (u - x).abs() <= MATCH_TOLERANCE_S)
+            })
             .count();
         errors.extend(
             se.pairs
@@ -363,7 +369,9 @@ pub fn evaluate_gait_event_files(
             .collect();
         ref_ic.sort_by(f64::total_cmp);
         let est = c.ic_any.clone();
-        let unscored = (0..2).flat_map(|s| edge_steps(&c.t, &c.reference[s], true)).collect();
+        let unscored = (0..2)
+            .flat_map(|s| edge_steps(&c.t, &c.reference[s], true))
+            .collect();
         let se = SideEvents {
             unscored,
             pairs: pair(&ref_ic, &est),
@@ -497,83 +505,66 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
     }
 }
 
-impl EventTiming {
-    fn to_json(&self) -> Value {
-        json!({
-            "n_reference": self.n_reference,
-            "n_matched": self.n_matched,
-            "missed": self.missed,
-            "extra": self.extra,
-            "median_abs_ms": self.median_abs_ms,
-            "p95_abs_ms": self.p95_abs_ms,
-            "mean_ms": self.mean_ms,
-        })
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairing_is_one_to_one_and_nearest_first() {
+        // 1.01 pairs with 1.0 (the closest pair first), 1.12 with 1.3; 3.0 is beyond the tolerance.
+        let p = pair(&[1.0, 1.3], &[1.01, 1.12, 3.0]);
+        assert_eq!(p, vec![(0, 0), (1, 1)]);
+        assert!(pair(&[1.0], &[1.3]).is_empty());
     }
 
-    fn to_text(&self, name: &str) -> String {
-        let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
-        format!(
-            "{name:<16} {} of {} found, {} missed, {} extra; |error| median {} ms, p95 {} ms, mean error {} ms\n",
-            self.n_matched,
-            self.n_reference,
-            self.missed,
-            self.extra,
-            f(self.median_abs_ms),
-            f(self.p95_abs_ms),
-            f(self.mean_ms)
-        )
-    }
-}
-
-impl GaitEventEvaluation {
-    /// SPEC section 4's JSON object (no angle channels) plus the gait-event fields.
-    pub fn to_json(&self) -> Value {
-        json!({
-            "method": self.method,
-            "n_samples": self.n_samples,
-            "rmse_deg": {},
-            "mean_rmse_deg": null,
-            "max_abs_err_deg": {},
-            "corr": {},
-            "initial_contact": self.initial_contact.to_json(),
-            "final_contact": self.final_contact.as_ref().map(EventTiming::to_json),
-            "events_per_foot": self.per_foot,
-            "contact_accuracy_pct": self.contact_accuracy_pct,
-            "phase_accuracy_pct": self.phase_accuracy_pct,
-            "n_strides": self.n_strides,
-            "speed_mae_mps": self.speed_mae_mps,
-            "speed_bias_mps": self.speed_bias_mps,
-            "n_lengths": self.n_lengths,
-            "stride_length_error_pct": self.stride_length_error_pct,
-            "stride_length_mae_m": self.stride_length_mae_m,
-        })
-    }
-
-    /// A short text table.
-    pub fn to_text(&self) -> String {
-        let f = |v: Option<f64>, unit: &str, d: usize| {
-            v.map_or("-".to_string(), |v| format!("{v:.d$} {unit}"))
+    #[test]
+    fn reference_phase_splits_single_support_at_its_midpoint() {
+        let t: Vec<f64> = (0..10).map(f64::from).collect();
+        let both = Some(true);
+        let mut c = Columns {
+            t,
+            ..Default::default()
         };
-        let mut s = format!("method {} ({} samples)\n", self.method, self.n_samples);
-        s += &self.initial_contact.to_text("initial contact");
-        match &self.final_contact {
-            Some(fc) => s += &fc.to_text("final contact"),
-            None => s += "final contact    not estimated by this method\n",
-        }
-        if !self.per_foot {
-            s += "(initial contacts pooled over both feet: the method does not tell which foot)\n";
-        }
-        s += &format!(
-            "contact accuracy {}\nphase accuracy   {}\nstride speed     MAE {} (bias {}) over {} strides\nstride length    error {} (MAE {}) over {} strides\n",
-            f(self.contact_accuracy_pct, "%", 1),
-            f(self.phase_accuracy_pct, "%", 1),
-            f(self.speed_mae_mps, "m/s", 3),
-            f(self.speed_bias_mps, "m/s", 3),
-            self.n_strides,
-            f(self.stride_length_error_pct, "%", 2),
-            f(self.stride_length_mae_m, "m", 3),
-            self.n_lengths,
+        // rows: DS DS | left swing 2..6 (4 rows) | DS DS DS DS
+        c.reference[0] = vec![
+            both,
+            both,
+            Some(false),
+            Some(false),
+            Some(false),
+            Some(false),
+            both,
+            both,
+            both,
+            both,
+        ];
+        c.reference[1] = vec![both; 10];
+        let ph = reference_phase(&c);
+        use GaitPhase::*;
+        assert_eq!(
+            ph,
+            vec![
+                Some(Ds),
+                Some(Ds),
+                Some(Ss2),
+                Some(Ss2),
+                Some(Ss1),
+                Some(Ss1),
+                Some(Ds),
+                Some(Ds),
+                Some(Ds),
+                Some(Ds)
+            ]
         );
-        s
+    }
+
+    #[test]
+    fn contact_steps_and_edges() {
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        let v = [None, Some(true), Some(false), Some(true), Some(true), None];
+        assert_eq!(steps(&t, &v, true), vec![3.0]);
+        assert_eq!(steps(&t, &v, false), vec![2.0]);
+        assert_eq!(edge_steps(&t, &v, true), vec![1.0]);
+        assert_eq!(edge_steps(&t, &v, false), vec![5.0]);
     }
 }

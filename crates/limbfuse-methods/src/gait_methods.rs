@@ -115,7 +115,7 @@ impl MethodDef for GaitEventsMethod {
                     "foot_acc_x/y/z + foot_gyr_x/y/z (or foot_{}_acc/gyr_x/y/z for the other leg)",
                     layout.other_leg.name()
                 )],
-                hint: "; shank and lower-back IMUs are not foot IMUs (for a lower-back IMU use `lowback-speed` when available)",
+                hint: "; shank and lower-back IMUs are not foot IMUs (for a lower-back IMU use `lowback-speed`)",
             });
         }
         let mut p = *settings;
