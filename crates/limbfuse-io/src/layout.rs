@@ -29,9 +29,10 @@ pub struct TrialLayout {
     pub motor_torque: [bool; 3],
     /// CoM measurements `com_meas_x`..`com_meas_vz` (paper 003), per column.
     pub com_meas: [bool; 6],
-    /// The side of the other leg's IMUs (`S_left_...` or `S_right_...`):
-    /// the side not named by the trial's `# leg:` (left when it is absent).
-    pub other_leg: Side,
+    /// The side of the single-leg column names: the trial's `# leg:`
+    /// (right when absent, SPEC section 2); the other leg's IMUs are
+    /// `S_<other side>_...` ([`TrialLayout::other_leg`]).
+    pub leg: Side,
     /// `S_<other>_acc_x..z` per segment (two-leg recordings).
     pub other_acc: [bool; 4],
     /// `S_<other>_gyr_x..z` per segment (two-leg recordings).
@@ -71,6 +72,11 @@ impl TrialLayout {
         }
     }
 
+    /// The side of the other leg's IMU columns (`foot_left_...` for a right-leg trial).
+    pub fn other_leg(&self) -> Side {
+        self.leg.other()
+    }
+
     /// True when the trial has any IMU of the other leg.
     pub fn has_other_leg(&self) -> bool {
         self.other_acc
@@ -95,7 +101,7 @@ impl TrialLayout {
             }
         }
         for s in Segment::ALL {
-            let p = other_leg_prefix(s, self.other_leg);
+            let p = other_leg_prefix(s, self.other_leg());
             if self.other_acc[s.index()] {
                 c.extend(AXES.iter().map(|a| format!("{p}acc_{a}")));
             }

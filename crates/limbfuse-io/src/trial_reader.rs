@@ -137,10 +137,10 @@ impl TrialReader {
                 message: format!("metadata `# leg: {text}`: expected `left` or `right`"),
             })?,
         };
-        layout.other_leg = own_leg.other();
+        layout.leg = own_leg;
         for s in Segment::ALL {
             let i = s.index();
-            let p = other_leg_prefix(s, layout.other_leg);
+            let p = other_leg_prefix(s, layout.other_leg());
             plan.other_acc[i] = group(&table, &format!("{p}acc_"), AXES)?;
             plan.other_gyr[i] = group(&table, &format!("{p}gyr_"), AXES)?;
             layout.other_acc[i] = plan.other_acc[i].is_some();

@@ -99,13 +99,13 @@ impl MethodDef for GaitEventsMethod {
         layout: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
         let foot = Segment::Foot.index();
-        let own_side = layout.other_leg.other();
+        let own_side = layout.leg;
         let mut sources = [None; 2];
         if layout.acc[foot] && layout.gyr[foot] {
             sources[own_side.index()] = Some(FootSource::OwnLeg);
         }
         if layout.other_acc[foot] && layout.other_gyr[foot] {
-            sources[layout.other_leg.index()] = Some(FootSource::OtherLeg);
+            sources[layout.other_leg().index()] = Some(FootSource::OtherLeg);
         }
         if sources.iter().all(Option::is_none) {
             return Err(MethodError::MissingChannels {
@@ -113,7 +113,7 @@ impl MethodDef for GaitEventsMethod {
                 why: "detects gait events from foot IMUs (accelerometer and gyroscope)",
                 missing: vec![format!(
                     "foot_acc_x/y/z + foot_gyr_x/y/z (or foot_{}_acc/gyr_x/y/z for the other leg)",
-                    layout.other_leg.name()
+                    layout.other_leg().name()
                 )],
                 hint: "; shank and lower-back IMUs are not foot IMUs (for a lower-back IMU use `lowback-speed`)",
             });

@@ -182,7 +182,7 @@ impl LowbackSpeed {
 
     fn set_kernel(&mut self, dt: f64) {
         let sigma = self.params.wavelet_scale / core::f64::consts::SQRT_2;
-        let half = ((3.0 * sigma / dt).ceil() as usize).clamp(1, HISTORY / 4);
+        let half = (libm::ceil(3.0 * sigma / dt) as usize).clamp(1, HISTORY / 4);
         self.kernel.clear();
         let mut sum = 0.0;
         for j in 0..=2 * half {
