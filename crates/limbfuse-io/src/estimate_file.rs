@@ -320,8 +320,8 @@ impl EstimateReader {
             if let Some(c) = *col {
                 e.contact[side] = match row.number(c)? {
                     None => None,
-                    Some(v) if v == 0.0 => Some(false),
-                    Some(v) if v == 1.0 => Some(true),
+                    Some(0.0) => Some(false),
+                    Some(1.0) => Some(true),
                     Some(_) => {
                         return Err(row.cell_error(
                             c,

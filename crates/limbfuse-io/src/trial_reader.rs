@@ -219,8 +219,8 @@ impl TrialReader {
             if let Some(c) = plan.contact_ref[side] {
                 rec.reference.contact[side] = match row.number(c)? {
                     None => None,
-                    Some(v) if v == 0.0 => Some(false),
-                    Some(v) if v == 1.0 => Some(true),
+                    Some(0.0) => Some(false),
+                    Some(1.0) => Some(true),
                     Some(_) => {
                         return Err(row.cell_error(
                             c,
