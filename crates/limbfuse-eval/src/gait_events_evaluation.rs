@@ -413,8 +413,8 @@ pub fn evaluate_gait_event_files(
     ev.final_contact = Some(timing(&fc_sides, &c, &[Some(0), Some(1)]));
     accuracies(&c, &mut ev);
     let mut acc = Acc::default();
-    for s in 0..2 {
-        stride_errors_track(&c.strides[s], &ic_sides[s], &c, &mut acc);
+    for (strides, se) in c.strides.iter().zip(&ic_sides) {
+        stride_errors_track(strides, se, &c, &mut acc);
     }
     acc.finish(&mut ev);
     Ok(ev)
@@ -432,7 +432,7 @@ fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {
     }
     ev.contact_accuracy_pct = (n > 0).then(|| 100.0 * ok as f64 / n as f64);
     let (mut ok, mut n) = (0u64, 0u64);
-    for (a, b) in reference_phase(&c).iter().zip(&c.phase) {
+    for (a, b) in reference_phase(c).iter().zip(&c.phase) {
         if let (Some(a), Some(b)) = (a, b) {
             n += 1;
             ok += u64::from(a == b);
