@@ -21,6 +21,9 @@ pub struct Estimate {
     pub phase: Option<GaitPhase>,
     /// Walking speed (m/s) (paper 003).
     pub speed: Option<f64>,
+    /// Foot contact per side `[left, right]` (columns `contact_left`,
+    /// `contact_right`: 1 stance, 0 swing).
+    pub contact: [Option<bool>; 2],
     /// Centre-of-mass position (m) (paper 003), columns `com_x, com_y, com_z`.
     pub com_pos: Option<Vector3<f64>>,
     /// Centre-of-mass velocity (m/s), columns `com_vx, com_vy, com_vz`.
@@ -38,6 +41,7 @@ impl Estimate {
             joint: [None; 3],
             phase: None,
             speed: None,
+            contact: [None; 2],
             com_pos: None,
             com_vel: None,
             diag: [None; MAX_DIAG],

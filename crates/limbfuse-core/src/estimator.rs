@@ -51,6 +51,8 @@ pub struct Outputs {
     pub speed: bool,
     /// Centre-of-mass position and velocity (`com_x`..`com_vz`).
     pub com: bool,
+    /// Foot contact per side (`contact_left`, `contact_right`).
+    pub contact: bool,
 }
 
 impl Outputs {
@@ -61,6 +63,7 @@ impl Outputs {
         phase: false,
         speed: false,
         com: false,
+        contact: false,
     };
 }
 

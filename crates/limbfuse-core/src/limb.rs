@@ -126,3 +126,52 @@ impl Joint {
         segments[p.index()] - segments[d.index()]
     }
 }
+
+/// A body side (two-leg recordings: SPEC section 2's `# leg:` and `_left` /
+/// `_right` column names; `contact_left` / `contact_right`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum Side {
+    /// Left.
+    Left = 0,
+    /// Right (the single-leg names' default, SPEC section 2).
+    #[default]
+    Right = 1,
+}
+
+impl Side {
+    /// Both sides, left first (the order of [`crate::Estimate::contact`]).
+    pub const BOTH: [Side; 2] = [Side::Left, Side::Right];
+
+    /// `left` or `right`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+        }
+    }
+
+    /// Index 0 (left) or 1 (right).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The other side.
+    pub const fn other(self) -> Side {
+        match self {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+        }
+    }
+
+    /// Parses `left` / `right` (case-insensitive, surrounding blanks ignored).
+    pub fn parse(text: &str) -> Option<Side> {
+        let t = text.trim();
+        if t.eq_ignore_ascii_case("left") {
+            Some(Side::Left)
+        } else if t.eq_ignore_ascii_case("right") {
+            Some(Side::Right)
+        } else {
+            None
+        }
+    }
+}

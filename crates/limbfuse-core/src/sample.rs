@@ -92,6 +92,10 @@ pub struct Sample {
     pub t: f64,
     /// IMU readings per segment, indexed by [`Segment::index`].
     pub imu: [ImuSample; 4],
+    /// IMU readings of the other leg's segments (two-leg recordings, SPEC
+    /// section 2: `S_left_...` when the trial's `# leg:` is right, the
+    /// default), indexed by [`Segment::index`]; all empty in one-leg trials.
+    pub other_leg_imu: [ImuSample; 4],
     /// Joint encoders (rad) per joint, indexed by [`Joint::index`].
     pub encoder: [Option<f64>; 3],
     /// Model inputs (stimulation, motor torques).
@@ -165,6 +169,11 @@ pub struct Reference {
     pub com_vel: Option<Vector3<f64>>,
     /// Gait phase.
     pub phase: Option<GaitPhase>,
+    /// Foot contact per side `[left, right]` (`contact_left_ref`,
+    /// `contact_right_ref`): `true` from initial contact to final contact.
+    pub contact: [Option<bool>; 2],
+    /// Walking speed (m/s, `speed_ref`), per stride.
+    pub speed: Option<f64>,
 }
 
 impl Reference {

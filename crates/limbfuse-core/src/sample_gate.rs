@@ -103,7 +103,7 @@ impl SampleGate {
         let before = self.rejections.total();
         let r = self.ranges;
         let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
-        for imu in out.imu.iter_mut() {
+        for imu in out.imu.iter_mut().chain(out.other_leg_imu.iter_mut()) {
             if imu.gyr.is_some_and(|g| !within(&g, r.gyro_rad_s)) {
                 imu.gyr = None;
                 self.rejections.gyro += 1;
@@ -138,6 +138,7 @@ mod tests {
             imu.acc = Some(Vector3::new(2.0, 9.5, -0.3));
         }
         s.encoder = [Some(0.3), Some(1.2), Some(-0.2)];
+        s.other_leg_imu = s.imu;
         s
     }
 
@@ -165,12 +166,19 @@ mod tests {
         assert_eq!(out.encoder, [Some(0.3), None, Some(-0.2)]);
         let r = g.rejections();
         assert_eq!((r.gyro, r.acc, r.encoder, r.first_t), (1, 1, 1, Some(1.0)));
+        // The other leg's IMUs (two-leg gait-event trials) are screened too.
+        let mut two = walking_sample();
+        two.other_leg_imu[3].gyr = Some(Vector3::new(0.0, 0.0, -1e300));
+        let out = g.screen(&two);
+        assert_eq!(out.other_leg_imu[3].gyr, None);
+        assert_eq!(out.imu[3].gyr, two.imu[3].gyr);
+        assert_eq!(g.rejections().gyro, 2);
         // The first time stays the first.
         let mut later = s;
         later.t = 2.0;
         g.screen(&later);
         assert_eq!(g.rejections().first_t, Some(1.0));
-        assert_eq!(g.rejections().total(), 6);
+        assert_eq!(g.rejections().total(), 7);
     }
 
     #[test]

@@ -9,6 +9,8 @@
 pub mod channel_error;
 pub mod evaluation;
 pub mod gait_evaluation;
+pub mod gait_events_evaluation;
+pub mod gait_events_report;
 pub mod knee_errors;
 pub mod metrics;
 pub mod rejections;

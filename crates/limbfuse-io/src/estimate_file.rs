@@ -119,6 +119,9 @@ impl<W: Write> Observer for EstimateWriter<W> {
         if self.outputs.com {
             header.extend(COM_COLUMNS.iter().map(|c| c.to_string()));
         }
+        if self.outputs.contact {
+            header.extend(CONTACT_COLUMNS.iter().map(|c| c.to_string()));
+        }
         header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
         writeln!(self.out, "{}", header.join(","))?;
         Ok(())
@@ -149,6 +152,11 @@ impl<W: Write> Observer for EstimateWriter<W> {
             }
             for k in 0..3 {
                 push_cell(line, buf, e.com_vel.map(|v| v[k]));
+            }
+        }
+        if self.outputs.contact {
+            for c in e.contact {
+                push_cell(line, buf, c.map(|c| if c { 1.0 } else { 0.0 }));
             }
         }
         for d in &e.diag[..self.n_diag] {
@@ -185,6 +193,9 @@ impl<W: Write + Seek> EstimateWriter<W> {
     }
 }
 
+/// Foot-contact estimate columns (SPEC section 3), in [`Estimate::contact`] order (left, right).
+pub const CONTACT_COLUMNS: [&str; 2] = ["contact_left", "contact_right"];
+
 /// CoM estimate columns (SPEC section 3: `com_*` without `_ref`), position then velocity.
 pub const COM_COLUMNS: [&str; 6] = ["com_x", "com_y", "com_z", "com_vx", "com_vy", "com_vz"];
 
@@ -204,6 +215,7 @@ pub struct EstimateReader {
     phase: Option<usize>,
     speed: Option<usize>,
     com: [Option<usize>; 6],
+    contact: [Option<usize>; 2],
     diag: Vec<(String, usize)>,
     previous_t: Option<f64>,
 }
@@ -233,6 +245,7 @@ impl EstimateReader {
             phase: table.column("phase"),
             speed: table.column("speed"),
             com: COM_COLUMNS.map(|c| table.column(c)),
+            contact: CONTACT_COLUMNS.map(|c| table.column(c)),
             table,
             t,
             angle,
@@ -266,6 +279,11 @@ impl EstimateReader {
     /// Names of the diagnostic columns (without `diag_`), in [`Estimate::diag`] order.
     pub fn diagnostic_names(&self) -> impl Iterator<Item = &str> {
         self.diag.iter().map(|(n, _)| n.as_str())
+    }
+
+    /// True when the file has `contact_left` or `contact_right`.
+    pub fn has_contact(&self) -> bool {
+        self.contact.iter().any(Option::is_some)
     }
 
     /// Which angle channels the file holds.
@@ -315,6 +333,21 @@ impl EstimateReader {
         }
         if let [.., Some(x), Some(y), Some(z)] = com {
             e.com_vel = Some(nalgebra::Vector3::new(x, y, z));
+        }
+        for (side, col) in self.contact.iter().enumerate() {
+            if let Some(c) = *col {
+                e.contact[side] = match row.number(c)? {
+                    None => None,
+                    Some(0.0) => Some(false),
+                    Some(1.0) => Some(true),
+                    Some(_) => {
+                        return Err(row.cell_error(
+                            c,
+                            "a foot contact 1 (stance), 0 (swing) or an empty cell",
+                        ))
+                    }
+                };
+            }
         }
         for (k, (_, c)) in self.diag.iter().enumerate() {
             e.diag[k] = row.number(*c)?;

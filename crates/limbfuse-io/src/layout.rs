@@ -1,6 +1,6 @@
 //! Which channels a trial carries, and their column names (SPEC section 2).
 
-use limbfuse_core::{Joint, Segment};
+use limbfuse_core::{Joint, Segment, Side};
 
 /// The set of channels present in a trial (besides `t`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -29,6 +29,28 @@ pub struct TrialLayout {
     pub motor_torque: [bool; 3],
     /// CoM measurements `com_meas_x`..`com_meas_vz` (paper 003), per column.
     pub com_meas: [bool; 6],
+    /// The side of the single-leg column names: the trial's `# leg:`
+    /// (right when absent, SPEC section 2); the other leg's IMUs are
+    /// `S_<other side>_...` ([`TrialLayout::other_leg`]).
+    pub leg: Side,
+    /// `S_<other>_acc_x..z` per segment (two-leg recordings).
+    pub other_acc: [bool; 4],
+    /// `S_<other>_gyr_x..z` per segment (two-leg recordings).
+    pub other_gyr: [bool; 4],
+    /// `contact_left_ref`, `contact_right_ref` (indexed by [`Side::index`]).
+    pub contact_ref: [bool; 2],
+    /// `speed_ref`.
+    pub speed_ref: bool,
+}
+
+/// Column name of a gait-contact reference (`contact_left_ref`, `contact_right_ref`).
+pub fn contact_ref_column(side: Side) -> String {
+    format!("contact_{}_ref", side.name())
+}
+
+/// Column-name prefix of the other leg's IMU of segment `s` (`foot_left_`).
+pub fn other_leg_prefix(s: Segment, side: Side) -> String {
+    format!("{}_{}_", s.name(), side.name())
 }
 
 /// Axis suffixes of 3-vectors.
@@ -50,6 +72,19 @@ impl TrialLayout {
         }
     }
 
+    /// The side of the other leg's IMU columns (`foot_left_...` for a right-leg trial).
+    pub fn other_leg(&self) -> Side {
+        self.leg.other()
+    }
+
+    /// True when the trial has any IMU of the other leg.
+    pub fn has_other_leg(&self) -> bool {
+        self.other_acc
+            .iter()
+            .chain(self.other_gyr.iter())
+            .any(|&b| b)
+    }
+
     /// Column names in the canonical order used by writers (`t` first).
     pub fn column_names(&self) -> Vec<String> {
         let mut c = vec!["t".to_string()];
@@ -63,6 +98,15 @@ impl TrialLayout {
             }
             if self.quat[i] {
                 c.extend(QUAT.iter().map(|a| format!("{}_quat_{a}", s.name())));
+            }
+        }
+        for s in Segment::ALL {
+            let p = other_leg_prefix(s, self.other_leg());
+            if self.other_acc[s.index()] {
+                c.extend(AXES.iter().map(|a| format!("{p}acc_{a}")));
+            }
+            if self.other_gyr[s.index()] {
+                c.extend(AXES.iter().map(|a| format!("{p}gyr_{a}")));
             }
         }
         for j in Joint::ALL {
@@ -106,6 +150,14 @@ impl TrialLayout {
         }
         if self.phase_ref {
             c.push("phase_ref".into());
+        }
+        for side in Side::BOTH {
+            if self.contact_ref[side.index()] {
+                c.push(contact_ref_column(side));
+            }
+        }
+        if self.speed_ref {
+            c.push("speed_ref".into());
         }
         c
     }

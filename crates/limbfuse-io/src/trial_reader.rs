@@ -8,11 +8,11 @@ use std::io::Read;
 use std::path::Path;
 
 use limbfuse_core::sample::{GaitPhase, ModelInputs};
-use limbfuse_core::{Joint, Record, Segment};
+use limbfuse_core::{Joint, Record, Segment, Side};
 use nalgebra::Vector3;
 
 use crate::error::FileError;
-use crate::layout::{TrialLayout, AXES, QUAT};
+use crate::layout::{contact_ref_column, other_leg_prefix, TrialLayout, AXES, QUAT};
 use crate::meta::TrialMeta;
 use crate::table::{Row, TableReader};
 
@@ -32,6 +32,10 @@ struct ColumnPlan {
     com_vel: Option<[usize; 3]>,
     phase_ref: Option<usize>,
     com_meas: [Option<usize>; 6],
+    other_acc: [Option<[usize; 3]>; 4],
+    other_gyr: [Option<[usize; 3]>; 4],
+    contact_ref: [Option<usize>; 2],
+    speed_ref: Option<usize>,
 }
 
 /// Reads a trial file one [`Record`] at a time.
@@ -125,6 +129,29 @@ impl TrialReader {
             plan.com_meas[k] = table.column(name);
             layout.com_meas[k] = plan.com_meas[k].is_some();
         }
+        let own_leg = match table.meta().get("leg") {
+            None => Side::Right,
+            Some(text) => Side::parse(text).ok_or_else(|| FileError::Header {
+                path: table.path().to_path_buf(),
+                line: table.header_line(),
+                message: format!("metadata `# leg: {text}`: expected `left` or `right`"),
+            })?,
+        };
+        layout.leg = own_leg;
+        for s in Segment::ALL {
+            let i = s.index();
+            let p = other_leg_prefix(s, layout.other_leg());
+            plan.other_acc[i] = group(&table, &format!("{p}acc_"), AXES)?;
+            plan.other_gyr[i] = group(&table, &format!("{p}gyr_"), AXES)?;
+            layout.other_acc[i] = plan.other_acc[i].is_some();
+            layout.other_gyr[i] = plan.other_gyr[i].is_some();
+        }
+        for side in Side::BOTH {
+            plan.contact_ref[side.index()] = table.column(&contact_ref_column(side));
+            layout.contact_ref[side.index()] = plan.contact_ref[side.index()].is_some();
+        }
+        plan.speed_ref = table.column("speed_ref");
+        layout.speed_ref = plan.speed_ref.is_some();
         layout.com_pos = plan.com_pos.is_some();
         layout.com_vel = plan.com_vel.is_some();
         layout.phase_ref = plan.phase_ref.is_some();
@@ -184,6 +211,26 @@ impl TrialReader {
             };
             rec.reference.segment[i] = row.opt_number(plan.segment_ref[i])?;
         }
+        for i in 0..4 {
+            rec.sample.other_leg_imu[i].acc = vector(&row, plan.other_acc[i])?;
+            rec.sample.other_leg_imu[i].gyr = vector(&row, plan.other_gyr[i])?;
+        }
+        for side in 0..2 {
+            if let Some(c) = plan.contact_ref[side] {
+                rec.reference.contact[side] = match row.number(c)? {
+                    None => None,
+                    Some(0.0) => Some(false),
+                    Some(1.0) => Some(true),
+                    Some(_) => {
+                        return Err(row.cell_error(
+                            c,
+                            "a foot contact 1 (on the ground), 0 (swing) or an empty cell",
+                        ))
+                    }
+                };
+            }
+        }
+        rec.reference.speed = row.opt_number(plan.speed_ref)?;
         for i in 0..3 {
             rec.sample.encoder[i] = row.opt_number(plan.encoder[i])?;
             rec.sample.inputs.motor_torque[i] = row.opt_number(plan.motor[i])?;

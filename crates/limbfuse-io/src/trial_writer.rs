@@ -57,6 +57,19 @@ impl<W: Write> TrialWriter<W> {
                 }
             }
         }
+        for i in 0..4 {
+            let imu = &s.other_leg_imu[i];
+            if l.other_acc[i] {
+                for k in 0..3 {
+                    push_cell(line, buf, imu.acc.map(|v| v[k]));
+                }
+            }
+            if l.other_gyr[i] {
+                for k in 0..3 {
+                    push_cell(line, buf, imu.gyr.map(|v| v[k]));
+                }
+            }
+        }
         for i in 0..3 {
             if l.encoder[i] {
                 push_cell(line, buf, s.encoder[i]);
@@ -102,6 +115,18 @@ impl<W: Write> TrialWriter<W> {
             if let Some(p) = re.phase {
                 line.extend_from_slice(p.label().as_bytes());
             }
+        }
+        for side in 0..2 {
+            if l.contact_ref[side] {
+                push_cell(
+                    line,
+                    buf,
+                    re.contact[side].map(|c| if c { 1.0 } else { 0.0 }),
+                );
+            }
+        }
+        if l.speed_ref {
+            push_cell(line, buf, re.speed);
         }
         line.push(b'\n');
         self.out.write_all(line)

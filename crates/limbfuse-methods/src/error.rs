@@ -59,6 +59,9 @@ pub enum MethodError {
     /// An imm-bslip setting out of range.
     #[error("method `imm-bslip`: {0}")]
     ImmParams(String),
+    /// A gait-events setting out of range.
+    #[error("method `gait-events`: {0}")]
+    GaitParams(String),
     /// The gait library file cannot be used.
     #[error(transparent)]
     Library(#[from] LibraryFileError),

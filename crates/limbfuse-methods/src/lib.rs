@@ -35,6 +35,7 @@ pub mod channels;
 mod error;
 pub mod fes_methods;
 pub mod fes_params;
+pub mod gait_methods;
 pub mod gated;
 pub mod imm_body;
 pub mod imm_params;

@@ -12,6 +12,7 @@ use limbfuse_io::{TrialLayout, TrialMeta};
 use crate::baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
 use crate::chain_method::ChainMethod;
 use crate::fes_methods::{EkfMethod, RmxMethod, SdreMethod};
+use crate::gait_methods::{GaitEventsMethod, LowbackSpeedMethod};
 use crate::imm_params::ImmBslipMethod;
 use crate::knee_params::KneeSelfAlignMethod;
 use crate::method_def::{build_with, resolve_with, MethodDef, MethodInfo};
@@ -114,6 +115,10 @@ registry! {
     Rmx => RmxMethod,
     /// Paper 003: interacting multiple models over a B-SLIP gait library.
     ImmBslip => ImmBslipMethod,
+    /// Beyond the papers: gait events, phase, stride length and speed from foot IMUs.
+    GaitEvents => GaitEventsMethod,
+    /// Beyond the papers: initial contacts and walking speed from a lower-back IMU.
+    LowbackSpeed => LowbackSpeedMethod,
 }
 
 impl MethodSpec {

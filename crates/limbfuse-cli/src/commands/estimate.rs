@@ -14,6 +14,23 @@ use crate::exit::Internal;
 use crate::methods;
 use crate::progress::Progress;
 
+/// Whether any estimate carried a contact state or a walking speed.
+#[derive(Debug, Default)]
+struct GaitWatch {
+    found: bool,
+}
+
+impl Observer for GaitWatch {
+    fn observe(
+        &mut self,
+        _record: &limbfuse_core::Record,
+        e: &limbfuse_core::Estimate,
+    ) -> Result<(), runner::BoxError> {
+        self.found |= e.speed.is_some() || e.contact.iter().any(Option::is_some);
+        Ok(())
+    }
+}
+
 /// Runs one estimator over a trial file, streaming.
 pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
@@ -26,15 +43,29 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         ),
         None => None,
     };
+    let outputs = est.outputs();
+    // Gait methods (contacts, or a speed without a CoM model): a recording
+    // in which they find no gait is an error, not an empty estimate.
+    let gait_method = outputs.contact || (outputs.speed && !outputs.com);
+    let mut gait = GaitWatch::default();
     let n = run_to_file_calibrated(
         est.as_mut(),
         reader,
         &a.output,
         spec.method().name(),
         &command_line(a),
-        &mut [],
+        &mut [&mut gait],
         calibration.as_ref(),
     )?;
+    if gait_method && !gait.found {
+        let _ = std::fs::remove_file(&a.output);
+        anyhow::bail!(
+            "no gait found in {}: `{}` detected no foot contact and no walking speed in {n} samples \
+             (the recording has no walking, or the IMU is not where the method expects it); no estimate written",
+            a.trial.display(),
+            spec.method()
+        );
+    }
     eprintln!("{}: {n} samples -> {}", spec.method(), a.output.display());
     Ok(())
 }

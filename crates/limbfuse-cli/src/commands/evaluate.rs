@@ -5,6 +5,21 @@ use limbfuse_eval::{evaluate_files, EvalError, EvalOptions, TimeWindow, TrialChe
 
 use crate::cli::EvaluateArgs;
 
+/// Prints a gait evaluation (JSON or text) after the trial-check warning.
+fn print_gait(
+    json: bool,
+    check: &TrialCheck,
+    value: serde_json::Value,
+    text: impl FnOnce() -> String,
+) {
+    warn(check);
+    if json {
+        println!("{value}");
+    } else {
+        print!("{}", text());
+    }
+}
+
 /// Prints the errors of an estimate against its trial's reference.
 pub fn run(a: &EvaluateArgs) -> Result<()> {
     if a.method.is_some() || a.starts.is_some() {
@@ -18,19 +33,22 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
     let assumed_zero = {
         let reader = limbfuse_io::TrialReader::open(&a.trial)?;
         let layout = *reader.layout();
+        let (trial, mismatch) = (&a.trial, a.allow_trial_mismatch);
+        if !layout.has_angle_reference()
+            && (layout.contact_ref.iter().any(|&b| b) || layout.speed_ref)
+        {
+            // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
+            let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
+                trial, estimate, mismatch,
+            )?;
+            print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
+            return Ok(());
+        }
         if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
             // A gait trial (paper 003): phase, CoM and speed errors.
-            let ev = limbfuse_eval::gait_evaluation::evaluate_gait_files(
-                &a.trial,
-                estimate,
-                a.allow_trial_mismatch,
-            )?;
-            warn(&ev.trial_check);
-            if a.json {
-                println!("{}", ev.to_json());
-            } else {
-                print!("{}", ev.to_text());
-            }
+            let ev =
+                limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
+            print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
             return Ok(());
         }
         segments_zeroed_by_assumption(reader.meta())

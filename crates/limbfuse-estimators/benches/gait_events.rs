@@ -1,0 +1,58 @@
+//! Per-sample cost of `gait-events` (both feet) and `lowback-speed` on a
+//! seeded simulated walk (60 s at 100 Hz, the right foot's IMU also fed as
+//! the left one), one core.
+//! `cargo bench -p limbfuse-estimators --bench gait_events`
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use limbfuse_core::{Estimator, Record, Segment};
+use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
+use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
+use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+
+fn bench(c: &mut Criterion) {
+    let cfg = WalkingConfig {
+        duration_s: 60.0,
+        seed: 42,
+        ..WalkingConfig::default()
+    };
+    let foot = Segment::Foot.index();
+    let records: Vec<Record> = WalkingSimulator::new(cfg)
+        .unwrap()
+        .map(|mut r| {
+            r.sample.other_leg_imu[foot] = r.sample.imu[foot];
+            r
+        })
+        .collect();
+    let mut g = c.benchmark_group("gait_events_60s_100hz");
+    g.throughput(Throughput::Elements(records.len() as u64));
+    g.bench_function("two_feet", |b| {
+        b.iter(|| {
+            let mut e = GaitEvents::new(
+                GaitEventsParams::default(),
+                [Some(FootSource::OtherLeg), Some(FootSource::OwnLeg)],
+            )
+            .unwrap();
+            let mut acc = 0.0;
+            for r in &records {
+                acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);
+            }
+            black_box(acc)
+        })
+    });
+    g.bench_function("lowback_speed", |b| {
+        b.iter(|| {
+            let mut e = LowbackSpeed::new(LowbackParams::default());
+            let mut acc = 0.0;
+            for r in &records {
+                acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);
+            }
+            black_box(acc)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

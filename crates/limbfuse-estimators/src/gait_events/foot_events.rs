@@ -1,0 +1,217 @@
+//! Initial and final contact of one foot from its sagittal angular rate
+//! `w = d theta / dt` (positive toe-up), decided sample by sample.
+//!
+//! A walking stride of the foot is, in `w`: push-off (the heel rises, the
+//! foot rotates toe-down: a negative lobe) -> swing (toe-up: a large positive
+//! lobe) -> loading (after heel strike the ground moment rotates the foot
+//! toe-down to flat: a negative lobe) -> foot flat (`w` near zero).
+//!
+//! - **Final contact (toe off)** = the negative extremum of the push-off lobe
+//!   (Mariani et al. 2013, Gait & Posture 38(4), "toe-off ... minimum of the
+//!   pitch angular velocity" before swing; Rampp et al. 2015 use the same
+//!   landmark region): while the toe is on the ground, the plantarflexors
+//!   accelerate the foot's rotation about the toe; once the toe leaves, that
+//!   drive is gone and the rotation reverses. Located to sub-sample time by
+//!   a parabola through the extremum and its two neighbours. It is decided
+//!   when `w` then rises above `swing_rate` (the foot is in swing), so its
+//!   latency is the time from toe-off to that crossing.
+//! - **Initial contact** = the downward zero crossing of `w` that ends the
+//!   swing lobe: in terminal swing the foot is still turning toe-up; the
+//!   heel's ground contact is what reverses it (the loading lobe), so the
+//!   instant of maximal dorsiflexion is the contact. Located by linear
+//!   interpolation; decided one sample after it.
+//!
+//! The push-off extremum is taken from the latest negative lobe before the
+//! swing (a lobe starts when `w` turns negative), so the loading lobe of
+//! the previous contact is never mistaken for it.
+
+/// What the detector decided at one sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EventsAt {
+    /// Time (s) of an initial contact decided at this sample.
+    pub initial_contact: Option<f64>,
+    /// Time (s) of a final contact (toe off) decided at this sample.
+    pub final_contact: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum State {
+    /// Not started: waits for a rest of the foot.
+    Unknown,
+    /// Foot on the ground.
+    Stance,
+    /// Foot in the air.
+    Swing,
+}
+
+/// The extremum of the current negative lobe, with its neighbours.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Extremum {
+    t: f64,
+    value: f64,
+    before: f64,
+    after: Option<f64>,
+    dt: f64,
+}
+
+impl Extremum {
+    /// Parabolic sub-sample time of the extremum.
+    fn refined_time(&self) -> f64 {
+        let Some(after) = self.after else {
+            return self.t;
+        };
+        let den = self.before - 2.0 * self.value + after;
+        if den.abs() < 1e-12 {
+            return self.t;
+        }
+        let offset = 0.5 * (self.before - after) / den;
+        self.t + offset.clamp(-0.5, 0.5) * self.dt
+    }
+}
+
+/// Per-foot contact detector.
+#[derive(Debug, Clone)]
+pub struct FootEvents {
+    swing_rate: f64,
+    min_swing_time: f64,
+    state: State,
+    previous: Option<(f64, f64)>,
+    lobe_min: Option<Extremum>,
+    swing_start: f64,
+}
+
+impl FootEvents {
+    /// A detector: swing is confirmed when `w > swing_rate` (rad/s); an
+    /// initial contact needs at least `min_swing_time` (s) after the toe off.
+    pub fn new(swing_rate: f64, min_swing_time: f64) -> Self {
+        FootEvents {
+            swing_rate,
+            min_swing_time,
+            state: State::Unknown,
+            previous: None,
+            lobe_min: None,
+            swing_start: 0.0,
+        }
+    }
+
+    /// Forgets the state (dropout, sign change): waits for the next rest.
+    pub fn reset(&mut self) {
+        *self = FootEvents::new(self.swing_rate, self.min_swing_time);
+    }
+
+    /// Contact state: `Some(true)` in stance, `Some(false)` in swing, `None` before the start.
+    pub fn contact(&self) -> Option<bool> {
+        match self.state {
+            State::Unknown => None,
+            State::Stance => Some(true),
+            State::Swing => Some(false),
+        }
+    }
+
+    /// One sample at time `t` with step `dt`: sagittal rate `w` (rad/s), foot at rest or not.
+    pub fn update(&mut self, t: f64, dt: f64, w: f64, rest: bool) -> EventsAt {
+        let mut out = EventsAt::default();
+        let previous = self.previous.replace((t, w));
+        if let Some(m) = self.lobe_min.as_mut() {
+            if m.after.is_none() && m.t < t {
+                m.after = Some(w);
+            }
+        }
+        match self.state {
+            State::Unknown => {
+                if rest {
+                    self.state = State::Stance;
+                }
+            }
+            State::Stance => {
+                let w_prev = previous.map_or(0.0, |p| p.1);
+                if w < 0.0 {
+                    let new_lobe = w_prev >= 0.0 || self.lobe_min.is_none();
+                    let lower = self.lobe_min.is_none_or(|m| w < m.value);
+                    if new_lobe || lower {
+                        self.lobe_min = Some(Extremum {
+                            t,
+                            value: w,
+                            before: w_prev,
+                            after: None,
+                            dt,
+                        });
+                    }
+                }
+                if w > self.swing_rate {
+                    let t_fc = match self.lobe_min {
+                        Some(m) => m.refined_time(),
+                        None => t,
+                    };
+                    out.final_contact = Some(t_fc);
+                    self.swing_start = t_fc;
+                    self.state = State::Swing;
+                    self.lobe_min = None;
+                }
+            }
+            State::Swing => {
+                if let Some((t_prev, w_prev)) = previous {
+                    if w_prev > 0.0 && w <= 0.0 && t - self.swing_start >= self.min_swing_time {
+                        let t_ic = t_prev + (t - t_prev) * w_prev / (w_prev - w);
+                        out.initial_contact = Some(t_ic);
+                        self.state = State::Stance;
+                        self.lobe_min = Some(Extremum {
+                            t,
+                            value: w,
+                            before: w_prev,
+                            after: None,
+                            dt,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A synthetic stride in `w`: flat, push-off lobe (min at 0.30 s), swing
+    /// lobe (0.35-0.75 s), loading lobe, flat. Events at the lobe minimum and
+    /// the swing's downward zero crossing.
+    fn w_of(t: f64) -> f64 {
+        use core::f64::consts::PI;
+        if (0.2..0.35).contains(&t) {
+            // push-off: -4 sin over [0.2, 0.35], but skewed: min at 0.30
+            let u = if t < 0.30 {
+                (t - 0.2) / 0.10 * 0.5
+            } else {
+                0.5 + (t - 0.30) / 0.05 * 0.5
+            };
+            -4.0 * libm::sin(PI * u)
+        } else if (0.35..0.75).contains(&t) {
+            6.0 * libm::sin(PI * (t - 0.35) / 0.40)
+        } else if (0.75..0.85).contains(&t) {
+            -2.0 * libm::sin(PI * (t - 0.75) / 0.10)
+        } else {
+            0.0
+        }
+    }
+
+    #[test]
+    fn events_are_at_the_landmarks() {
+        let mut d = FootEvents::new(1.0, 0.15);
+        let dt = 1.0 / 500.0;
+        let (mut ic, mut fc) = (None, None);
+        for k in 0..600 {
+            let t = k as f64 * dt;
+            let w = w_of(t);
+            let e = d.update(t, dt, w, w == 0.0 && t < 0.2);
+            ic = ic.or(e.initial_contact);
+            fc = fc.or(e.final_contact);
+        }
+        let fc = fc.expect("toe off found");
+        let ic = ic.expect("initial contact found");
+        assert!((fc - 0.30).abs() < 1.5e-3, "toe off at {fc}");
+        assert!((ic - 0.75).abs() < 1e-3, "initial contact at {ic}");
+        assert_eq!(d.contact(), Some(true));
+    }
+}

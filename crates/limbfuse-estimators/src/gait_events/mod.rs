@@ -1,0 +1,441 @@
+//! Gait events, stance/swing, gait phase, stride length and walking speed
+//! from foot-mounted IMUs in raw (unaligned) sensor frames, one or both feet
+//! (`--method gait-events`, docs/GAIT_EVENTS.md).
+//!
+//! Per foot, each sample:
+//! 1. [`zero_velocity`]: is the foot at rest (SHOE, Skog et al. 2010)?
+//! 2. [`foot_axis`]: the medio-lateral axis (principal component of the
+//!    gyro while moving), signed by the walking direction that
+//!    [`strapdown`] found, so `w = d theta / dt` is positive toe-up.
+//! 3. [`foot_events`]: initial contact (end-of-swing zero crossing of `w`)
+//!    and final contact (push-off extremum of `w`), hence stance/swing.
+//! 4. [`strapdown`]: zero-velocity-update integration of each moving period;
+//!    a period that contains an initial contact is a stride, its length the
+//!    horizontal displacement, its time the interval between this and the
+//!    previous initial contact, its speed their ratio.
+//!
+//! Outputs: `contact_left`, `contact_right`, `phase` (SS1/DS/SS2 from both
+//! contacts: double support when both feet are down; single support is
+//! split at its predicted midpoint, the first half SS2 (after the other
+//! foot's lift-off), the second SS1 (before its touchdown), as in paper
+//! 003's B-SLIP), `speed` (the last stride's, held for `speed_hold`).
+//! Back-dated event times and per-stride values go to `diag_*` columns.
+//!
+//! Latency: an initial contact is decided one sample after it; a final
+//! contact when the foot's rate exceeds `swing_rate` (tens of ms, reported
+//! in docs/RESULTS.md); a stride length when the foot is flat again. The
+//! contact columns are causal (they switch when the event is decided).
+//! Allocation-free per sample.
+
+pub mod foot_axis;
+pub mod foot_events;
+pub mod strapdown;
+pub mod zero_velocity;
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{
+    diagnostic_set, Estimate, Estimator, EstimatorError, GaitPhase, ImuSample, Sample, Segment,
+    Side, TimeStep,
+};
+
+use foot_axis::FootAxis;
+use foot_events::FootEvents;
+use strapdown::StrideIntegrator;
+use zero_velocity::{Shoe, ShoeParams};
+
+diagnostic_set! {
+    /// Diagnostics of [`GaitEvents`].
+    pub enum GaitDiag {
+        /// Time (s) of a left initial contact decided at this sample.
+        IcLeft = "ic_left",
+        /// Time (s) of a left final contact (toe off) decided at this sample.
+        FcLeft = "fc_left",
+        /// Time (s) of a right initial contact decided at this sample.
+        IcRight = "ic_right",
+        /// Time (s) of a right final contact decided at this sample.
+        FcRight = "fc_right",
+        /// Left stride length (m), at the sample the stride is finished.
+        StrideLengthLeft = "stride_length_left",
+        /// Right stride length (m).
+        StrideLengthRight = "stride_length_right",
+        /// Left stride time (s, initial contact to initial contact).
+        StrideTimeLeft = "stride_time_left",
+        /// Right stride time (s).
+        StrideTimeRight = "stride_time_right",
+        /// 1 while the left foot is at rest (zero-velocity detector), else 0.
+        RestLeft = "rest_left",
+        /// 1 while the right foot is at rest, else 0.
+        RestRight = "rest_right",
+        /// Left foot sagittal rate `d theta / dt` (rad/s), once its axis sign is known.
+        RateLeft = "rate_left",
+        /// Right foot sagittal rate (rad/s).
+        RateRight = "rate_right",
+    }
+}
+
+/// Where a side's foot IMU is in a [`Sample`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FootSource {
+    /// `sample.imu[Foot]` (the trial's `# leg:`).
+    OwnLeg,
+    /// `sample.other_leg_imu[Foot]`.
+    OtherLeg,
+}
+
+/// Parameters (defaults and their sources: docs/GAIT_EVENTS.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaitEventsParams {
+    /// Zero-velocity detector (Skog et al. 2010 OpenShoe values).
+    pub shoe: ShoeParams,
+    /// Sagittal rate (rad/s) above which the foot is in swing: 1.0, well
+    /// below the mid-swing foot rate of walking (4-8 rad/s at 0.5-1.5 m/s).
+    pub swing_rate: f64,
+    /// Shortest swing (s) before an initial contact is accepted: 0.15
+    /// (walking swings last 0.35-0.5 s).
+    pub min_swing_time: f64,
+    /// Averaging time constant (s) of the medio-lateral axis: 10.
+    pub axis_time_constant: f64,
+    /// Longest moving period (s) integrated: 3.0 (a longer one is not a stride).
+    pub max_moving_time: f64,
+    /// Shortest horizontal displacement (m) that votes for the axis sign: 0.2.
+    pub min_vote_length: f64,
+    /// Shortest stride time (s): 0.4.
+    pub min_stride_time: f64,
+    /// Longest stride time (s): 3.0 (longer: not continuous walking).
+    pub max_stride_time: f64,
+    /// How long (s) a stride's speed is held as the `speed` output: 3.0.
+    pub speed_hold: f64,
+    /// Gravity (m/s^2), from the trial's metadata.
+    pub gravity: f64,
+}
+
+impl Default for GaitEventsParams {
+    fn default() -> Self {
+        GaitEventsParams {
+            shoe: ShoeParams::default(),
+            swing_rate: 1.0,
+            min_swing_time: 0.15,
+            axis_time_constant: 10.0,
+            max_moving_time: 3.0,
+            min_vote_length: 0.2,
+            min_stride_time: 0.4,
+            max_stride_time: 3.0,
+            speed_hold: 3.0,
+            gravity: limbfuse_core::STANDARD_GRAVITY,
+        }
+    }
+}
+
+/// One finished stride of one foot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stride {
+    /// Horizontal length (m).
+    pub length: f64,
+    /// Initial contact to initial contact (s).
+    pub time: f64,
+}
+
+/// What one foot gave at one sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct FootOutput {
+    contact: Option<bool>,
+    initial_contact: Option<f64>,
+    final_contact: Option<f64>,
+    stride: Option<Stride>,
+    rest: Option<bool>,
+    rate: Option<f64>,
+}
+
+/// The pipeline of one foot.
+#[derive(Debug, Clone)]
+struct FootTracker {
+    shoe: Shoe,
+    axis: FootAxis,
+    events: FootEvents,
+    integrator: StrideIntegrator,
+    sign: i32,
+    ics_in_segment: u32,
+    last_ic: Option<f64>,
+    ic_in_segment: Option<f64>,
+    stride_start_ic: Option<f64>,
+    last_fc: Option<f64>,
+    last_swing: Option<f64>,
+}
+
+impl FootTracker {
+    fn new(p: &GaitEventsParams) -> Self {
+        FootTracker {
+            shoe: Shoe::new(p.shoe),
+            axis: FootAxis::new(p.axis_time_constant),
+            events: FootEvents::new(p.swing_rate, p.min_swing_time),
+            integrator: StrideIntegrator::new(p.max_moving_time),
+            sign: 0,
+            ics_in_segment: 0,
+            last_ic: None,
+            ic_in_segment: None,
+            stride_start_ic: None,
+            last_fc: None,
+            last_swing: None,
+        }
+    }
+
+    fn dropout(&mut self) {
+        self.shoe.reset();
+        self.integrator.reset();
+        self.events.reset();
+        self.ic_in_segment = None;
+        self.ics_in_segment = 0;
+        self.last_ic = None;
+    }
+
+    fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
+        let (Some(acc), Some(gyr)) = (imu.acc, imu.gyr) else {
+            self.dropout();
+            return FootOutput::default();
+        };
+        let mut out = FootOutput::default();
+        let rest = self.shoe.update(&acc, &gyr, p.gravity);
+        out.rest = Some(rest);
+        if !rest {
+            self.axis.update(&gyr, dt);
+        }
+        let axis_sign = self.axis.sign();
+        if axis_sign != self.sign {
+            // The sign was decided or reversed: events from the other sign are void.
+            self.sign = axis_sign;
+            self.events.reset();
+            self.last_ic = None;
+            self.ic_in_segment = None;
+            self.ics_in_segment = 0;
+        }
+        if let Some(w) = self.axis.sagittal_rate(&gyr) {
+            out.rate = Some(w);
+            let e = self.events.update(t, dt, w, rest);
+            if let Some(t_fc) = e.final_contact {
+                self.last_fc = Some(t_fc);
+                out.final_contact = Some(t_fc);
+            }
+            if let Some(t_ic) = e.initial_contact {
+                if let Some(t_fc) = self.last_fc {
+                    self.last_swing = Some(t_ic - t_fc);
+                }
+                out.initial_contact = Some(t_ic);
+                self.stride_start_ic = self.last_ic;
+                self.ic_in_segment = Some(t_ic);
+                self.ics_in_segment += 1;
+                self.last_ic = Some(t_ic);
+            }
+        }
+        out.contact = self.events.contact();
+        if let Some(seg) = self.integrator.update(rest, &acc, &gyr, dt) {
+            let length = seg.horizontal_length();
+            if length >= p.min_vote_length {
+                self.axis
+                    .vote(&seg.forward_in_sensor.cross(&seg.up_in_sensor));
+            }
+            let one_contact = core::mem::take(&mut self.ics_in_segment) == 1;
+            if let (Some(end), Some(start)) = (self.ic_in_segment.take(), self.stride_start_ic) {
+                let time = end - start;
+                if one_contact && (p.min_stride_time..=p.max_stride_time).contains(&time) {
+                    out.stride = Some(Stride { length, time });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The gait-events estimator.
+#[derive(Debug, Clone)]
+pub struct GaitEvents {
+    params: GaitEventsParams,
+    sources: [Option<FootSource>; 2],
+    feet: [FootTracker; 2],
+    time: TimeStep,
+    speed: Option<(f64, f64)>,
+    strides: u64,
+}
+
+impl GaitEvents {
+    /// An estimator for the feet in `sources` (indexed by [`Side::index`]);
+    /// at least one must be present.
+    pub fn new(
+        params: GaitEventsParams,
+        sources: [Option<FootSource>; 2],
+    ) -> Result<Self, EstimatorError> {
+        if sources.iter().all(Option::is_none) {
+            return Err(EstimatorError::MissingChannel {
+                channel: "foot_acc_* and foot_gyr_* (or foot_left_*): gait-events needs a foot IMU",
+            });
+        }
+        Ok(GaitEvents {
+            params,
+            sources,
+            feet: [FootTracker::new(&params), FootTracker::new(&params)],
+            time: TimeStep::new(),
+            speed: None,
+            strides: 0,
+        })
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &GaitEventsParams {
+        &self.params
+    }
+
+    /// Strides found so far (both feet).
+    pub fn strides_found(&self) -> u64 {
+        self.strides
+    }
+
+    fn phase(&self, t: f64, contact: [Option<bool>; 2]) -> Option<GaitPhase> {
+        let (Some(l), Some(r)) = (contact[0], contact[1]) else {
+            return None;
+        };
+        let swing_side = match (l, r) {
+            (true, true) => return Some(GaitPhase::Ds),
+            (false, false) => return None,
+            (true, false) => Side::Right,
+            (false, true) => Side::Left,
+        };
+        let f = &self.feet[swing_side.index()];
+        let lift_off = f.last_fc?;
+        // Predicted single support = the swing foot's last swing duration.
+        let predicted = f.last_swing.unwrap_or(0.4);
+        Some(if t - lift_off < 0.5 * predicted {
+            GaitPhase::Ss2
+        } else {
+            GaitPhase::Ss1
+        })
+    }
+}
+
+impl Estimator for GaitEvents {
+    fn name(&self) -> &'static str {
+        "gait-events"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            phase: true,
+            speed: true,
+            contact: true,
+            ..Outputs::default()
+        }
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.params;
+        for side in Side::BOTH {
+            let src = match self.sources[side.index()] {
+                Some(FootSource::OwnLeg) => "foot_ (the trial's leg)",
+                Some(FootSource::OtherLeg) => "foot_<other side>_",
+                None => "none",
+            };
+            writeln!(out, "foot_{}: {src}", side.name())?;
+        }
+        writeln!(
+            out,
+            "shoe: window {} samples, sigma_acc {} m/s^2, sigma_gyr {} rad/s, gamma {}",
+            p.shoe.window, p.shoe.sigma_acc, p.shoe.sigma_gyr, p.shoe.gamma
+        )?;
+        writeln!(out, "swing_rate: {} rad/s", p.swing_rate)?;
+        writeln!(out, "min_swing_time: {} s", p.min_swing_time)?;
+        writeln!(out, "axis_time_constant: {} s", p.axis_time_constant)?;
+        writeln!(out, "max_moving_time: {} s", p.max_moving_time)?;
+        writeln!(out, "min_vote_length: {} m", p.min_vote_length)?;
+        writeln!(
+            out,
+            "stride_time: {} - {} s",
+            p.min_stride_time, p.max_stride_time
+        )?;
+        writeln!(out, "speed_hold: {} s", p.speed_hold)?;
+        writeln!(out, "gravity: {} m/s^2", p.gravity)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &GaitDiag::NAMES
+    }
+
+    fn reset(&mut self) {
+        *self = GaitEvents {
+            params: self.params,
+            sources: self.sources,
+            feet: [
+                FootTracker::new(&self.params),
+                FootTracker::new(&self.params),
+            ],
+            time: TimeStep::new(),
+            speed: None,
+            strides: 0,
+        };
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let t = sample.t;
+        let dt = self.time.advance(t)?;
+        let mut e = Estimate::empty(t);
+        let Some(dt) = dt else {
+            return Ok(e);
+        };
+        let foot = Segment::Foot.index();
+        let mut outs = [FootOutput::default(); 2];
+        for side in Side::BOTH {
+            let imu = match self.sources[side.index()] {
+                Some(FootSource::OwnLeg) => &sample.imu[foot],
+                Some(FootSource::OtherLeg) => &sample.other_leg_imu[foot],
+                None => continue,
+            };
+            if imu.acc.is_some_and(|a| !a.iter().all(|v| v.is_finite()))
+                || imu.gyr.is_some_and(|g| !g.iter().all(|v| v.is_finite()))
+            {
+                return Err(EstimatorError::NonFinite {
+                    channel: "foot IMU",
+                });
+            }
+            outs[side.index()] = self.feet[side.index()].step(&self.params, t, dt, imu);
+        }
+        for (side, o) in outs.iter().enumerate() {
+            e.contact[side] = o.contact;
+            if let Some(s) = o.stride {
+                self.strides += 1;
+                self.speed = Some((s.length / s.time, t));
+            }
+        }
+        e.phase = self.phase(t, e.contact);
+        e.speed = self
+            .speed
+            .filter(|(_, at)| t - at <= self.params.speed_hold)
+            .map(|(v, _)| v);
+        let mut d = e.diagnostics_mut::<GaitDiag>();
+        let keys = [
+            (
+                GaitDiag::IcLeft,
+                GaitDiag::FcLeft,
+                GaitDiag::StrideLengthLeft,
+                GaitDiag::StrideTimeLeft,
+                GaitDiag::RestLeft,
+                GaitDiag::RateLeft,
+            ),
+            (
+                GaitDiag::IcRight,
+                GaitDiag::FcRight,
+                GaitDiag::StrideLengthRight,
+                GaitDiag::StrideTimeRight,
+                GaitDiag::RestRight,
+                GaitDiag::RateRight,
+            ),
+        ];
+        for (o, (ic, fc, len, time, rest, rate)) in outs.iter().zip(keys) {
+            d.set(ic, o.initial_contact);
+            d.set(fc, o.final_contact);
+            d.set(len, o.stride.map(|s| s.length));
+            d.set(time, o.stride.map(|s| s.time));
+            d.set(rest, o.rest.map(|r| if r { 1.0 } else { 0.0 }));
+            d.set(rate, o.rate);
+        }
+        Ok(e)
+    }
+}

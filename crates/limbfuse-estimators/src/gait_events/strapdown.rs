@@ -1,0 +1,259 @@
+//! Zero-velocity-update strapdown integration of one foot stride (the
+//! foot-mounted INS of Foxlin 2005 in its per-stride form, as in Rampp et
+//! al. 2015 and Hannink et al. 2017): between two rest periods of the foot,
+//!
+//! 1. the initial attitude is the tilt that turns the mean specific force of
+//!    the rest period into the vertical (heading arbitrary: only the
+//!    horizontal length and the forward direction in the sensor frame are
+//!    used), gravity `g_rest` is that mean's norm (absorbs an accelerometer
+//!    scale error);
+//! 2. `R_{k+1} = R_k Exp(w_k dt)` (Rodrigues), `a_w = R a - (0, 0, g_rest)`,
+//!    `v_{k+1} = v_k + a_w dt`;
+//! 3. at the next rest the true velocity is zero, so the end velocity `v_N`
+//!    is drift; removing it linearly in time,
+//!    `v_c(tau) = v(tau) - v_N tau / T`, gives the displacement
+//!    `d = sum v_k dt - v_N / T sum tau_k dt`: two running sums, no buffer
+//!    (so the integrator neither allocates nor grows with the stride).
+//!
+//! The stride length is the horizontal norm of `d`.
+
+use nalgebra::{Matrix3, Vector3};
+
+/// Skew-symmetric (cross-product) matrix of `v`.
+fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0)
+}
+
+/// Rodrigues: the rotation matrix `Exp(r)` of rotation vector `r`.
+pub fn exp_so3(r: &Vector3<f64>) -> Matrix3<f64> {
+    let th = r.norm();
+    let k = skew(r);
+    if th < 1e-9 {
+        return Matrix3::identity() + k + 0.5 * k * k;
+    }
+    let (s, c) = (libm::sin(th), libm::cos(th));
+    Matrix3::identity() + (s / th) * k + ((1.0 - c) / (th * th)) * k * k
+}
+
+/// The rotation of smallest angle taking unit vector `u` to `+z`.
+pub fn tilt_to_vertical(u: &Vector3<f64>) -> Matrix3<f64> {
+    let z = Vector3::z();
+    let axis = u.cross(&z);
+    let s = axis.norm();
+    let c = u.dot(&z);
+    if s < 1e-12 {
+        return if c > 0.0 {
+            Matrix3::identity()
+        } else {
+            Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, -1.0))
+        };
+    }
+    exp_so3(&(axis * (libm::atan2(s, c) / s)))
+}
+
+/// One finished moving period of the foot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Drift-corrected displacement in the (level, arbitrary-heading) world frame (m).
+    pub displacement: Vector3<f64>,
+    /// The horizontal displacement direction expressed in the sensor frame at the end (unit, or zero).
+    pub forward_in_sensor: Vector3<f64>,
+    /// Vertical (up) expressed in the sensor frame at the end (unit).
+    pub up_in_sensor: Vector3<f64>,
+    /// Duration of the moving period (s).
+    pub duration: f64,
+}
+
+impl Segment {
+    /// Horizontal length (m).
+    pub fn horizontal_length(&self) -> f64 {
+        libm::hypot(self.displacement[0], self.displacement[1])
+    }
+}
+
+/// Streaming per-stride ZUPT integrator.
+#[derive(Debug, Clone)]
+pub struct StrideIntegrator {
+    rest_acc: Vector3<f64>,
+    rest_n: u32,
+    moving: bool,
+    r: Matrix3<f64>,
+    g_rest: f64,
+    v: Vector3<f64>,
+    s1: Vector3<f64>,
+    s2: f64,
+    tau: f64,
+    max_duration: f64,
+}
+
+impl StrideIntegrator {
+    /// An integrator that gives up on a moving period longer than `max_duration` (s).
+    pub fn new(max_duration: f64) -> Self {
+        StrideIntegrator {
+            rest_acc: Vector3::zeros(),
+            rest_n: 0,
+            moving: false,
+            r: Matrix3::identity(),
+            g_rest: 0.0,
+            v: Vector3::zeros(),
+            s1: Vector3::zeros(),
+            s2: 0.0,
+            tau: 0.0,
+            max_duration,
+        }
+    }
+
+    /// Forgets everything (dropout): the next moving period starts after a new rest.
+    pub fn reset(&mut self) {
+        *self = StrideIntegrator::new(self.max_duration);
+    }
+
+    /// True while integrating a moving period.
+    pub fn is_moving(&self) -> bool {
+        self.moving
+    }
+
+    /// One sample; returns the finished moving period when the foot comes to rest.
+    pub fn update(
+        &mut self,
+        rest: bool,
+        acc: &Vector3<f64>,
+        gyr: &Vector3<f64>,
+        dt: f64,
+    ) -> Option<Segment> {
+        if rest {
+            let finished = if self.moving {
+                self.moving = false;
+                self.rest_acc = Vector3::zeros();
+                self.rest_n = 0;
+                Some(self.finish())
+            } else {
+                None
+            };
+            self.rest_acc += acc;
+            self.rest_n += 1;
+            return finished;
+        }
+        if !self.moving {
+            if self.rest_n == 0 {
+                return None;
+            }
+            let mean = self.rest_acc / f64::from(self.rest_n);
+            let g = mean.norm();
+            if g <= 0.0 {
+                return None;
+            }
+            self.r = tilt_to_vertical(&(mean / g));
+            self.g_rest = g;
+            self.v = Vector3::zeros();
+            self.s1 = Vector3::zeros();
+            self.s2 = 0.0;
+            self.tau = 0.0;
+            self.moving = true;
+        }
+        self.r *= exp_so3(&(gyr * dt));
+        let a_w = self.r * acc - Vector3::new(0.0, 0.0, self.g_rest);
+        self.v += a_w * dt;
+        self.tau += dt;
+        self.s1 += self.v * dt;
+        self.s2 += self.tau * dt;
+        if self.tau > self.max_duration {
+            self.reset();
+        }
+        None
+    }
+
+    fn finish(&self) -> Segment {
+        let d = if self.tau > 0.0 {
+            self.s1 - self.v * (self.s2 / self.tau)
+        } else {
+            Vector3::zeros()
+        };
+        let h = Vector3::new(d[0], d[1], 0.0);
+        let hn = h.norm();
+        let rt = self.r.transpose();
+        Segment {
+            displacement: d,
+            forward_in_sensor: if hn > 0.0 {
+                rt * (h / hn)
+            } else {
+                Vector3::zeros()
+            },
+            up_in_sensor: rt * Vector3::z(),
+            duration: self.tau,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rodrigues_matches_a_small_step_product() {
+        let r = Vector3::new(0.3, -0.2, 0.5);
+        let mut m = Matrix3::identity();
+        let n = 20000;
+        for _ in 0..n {
+            m *= Matrix3::identity() + skew(&(r / n as f64));
+        }
+        assert!((exp_so3(&r) - m).norm() < 1e-4);
+    }
+
+    #[test]
+    fn tilt_turns_the_vector_to_vertical() {
+        let u = Vector3::new(0.3, 0.9, -0.2).normalize();
+        let r = tilt_to_vertical(&u);
+        assert!((r * u - Vector3::z()).norm() < 1e-12);
+        assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-12);
+    }
+
+    /// A sensor tilted by a fixed rotation moves 1.2 m forward with a
+    /// smooth velocity bump, without rotating: the integrated length is the
+    /// true one, and a constant accelerometer bias of 0.05 m/s^2 along the
+    /// motion (1.6 cm of position error over 0.8 s uncorrected) is removed
+    /// by the linear velocity correction (its velocity error is exactly
+    /// linear in time).
+    #[test]
+    fn a_known_translation_is_recovered() {
+        let tilt = exp_so3(&Vector3::new(0.4, -0.3, 0.2)); // sensor -> world
+        let g = 9.81;
+        let fs = 200.0;
+        let dt = 1.0 / fs;
+        let t_move = 0.8;
+        let length = 1.2;
+        for bias in [0.0, 0.05] {
+            let mut s = StrideIntegrator::new(5.0);
+            let up_sensor = tilt.transpose() * Vector3::z();
+            for _ in 0..20 {
+                s.update(true, &(up_sensor * g), &Vector3::zeros(), dt);
+            }
+            let n = (t_move * fs) as usize;
+            let mut seg = None;
+            for k in 1..=n + 1 {
+                let tau = k as f64 * dt;
+                // x(t) = L (t/T - sin(2 pi t / T) / (2 pi)): velocity zero at both ends.
+                let w = 2.0 * core::f64::consts::PI / t_move;
+                let ax = if k <= n {
+                    length * w * libm::sin(w * tau) / t_move
+                } else {
+                    0.0
+                };
+                let a_world = Vector3::new(ax + bias, 0.0, g);
+                let rest = k > n;
+                let out = s.update(rest, &(tilt.transpose() * a_world), &Vector3::zeros(), dt);
+                if out.is_some() {
+                    seg = out;
+                }
+            }
+            let seg = seg.expect("a finished segment");
+            let err = (seg.horizontal_length() - length).abs();
+            let limit = 2e-3;
+            assert!(
+                err < limit,
+                "bias {bias}: length {} (err {err})",
+                seg.horizontal_length()
+            );
+        }
+    }
+}

@@ -1,0 +1,364 @@
+//! Walking speed and initial contacts from one lower-back (trunk) IMU in a
+//! raw sensor frame (`--method lowback-speed`, docs/GAIT_EVENTS.md).
+//!
+//! 1. **Vertical acceleration.** Gravity's direction in the sensor frame is
+//!    the running mean of the specific force (exponential, time constant
+//!    `gravity_time_constant` = 2 s: four steps or more, so the step
+//!    oscillation averages out); `a_v = a . g_hat - ||mean||` (the mean's
+//!    norm, not 9.81: absorbs an accelerometer scale error).
+//! 2. **Initial contacts** (McCamley et al. 2012, Gait & Posture 36(2)): the
+//!    minima of the Gaussian-wavelet (`gaus1`) CWT of the integrated
+//!    vertical acceleration. Integrating by parts, that CWT at scale `s` is
+//!    `-s` times `a_v` smoothed by the Gaussian `exp(-(tau/s)^2)`, so the
+//!    contacts are the positive maxima of `a_v` smoothed by a Gaussian of
+//!    standard deviation `s / sqrt(2)`; `s` = 0.225 s, McCamley's scale of 9
+//!    samples at 40 Hz. The smoothing is an FIR truncated at 3 standard
+//!    deviations, so contacts are decided with a fixed latency of
+//!    `3 s / sqrt(2)` = 0.48 s. Maxima closer than `min_step_time` keep the
+//!    larger; a maximum counts only while walking (RMS of `a_v` over the
+//!    last 2 s above `walking_rms`).
+//! 3. **Step length** (Zijlstra & Hof 2003, Gait & Posture 18(2), eq. 1, the
+//!    inverted pendulum): `SL = K 2 sqrt(2 l h - h^2)` with `h` the vertical
+//!    excursion of the trunk over the step (initial contact to initial
+//!    contact): `a_v` integrated twice over the step, the velocity made
+//!    zero-mean and the position detrended linearly (a periodic step ends
+//!    where it starts), `h = max - min`. `l` is the leg length (parameter,
+//!    default 0.90 m: 0.530 x 1.70 m, the greater-trochanter height fraction
+//!    of Winter 2009 Table 4.1 for a 1.70 m adult), `K` = 1.25 Zijlstra &
+//!    Hof's correction factor for the under-estimate of the pendulum model.
+//! 4. **Speed**: a stride = two consecutive valid steps (0.25-1.5 s each);
+//!    its speed = `(SL_1 + SL_2) / (IC_3 - IC_1)`; `speed` holds the last one.
+//!
+//! Memory: a ring of the last [`HISTORY`] vertical accelerations, allocated
+//! at construction; nothing is allocated per sample.
+
+use core::fmt;
+
+use alloc::vec;
+use alloc::vec::Vec;
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{
+    diagnostic_set, Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep,
+};
+use nalgebra::Vector3;
+
+/// Samples of vertical acceleration kept (steps + smoothing latency): 4096,
+/// enough for 1.5 s steps plus the latency up to 1 kHz.
+pub const HISTORY: usize = 4096;
+
+diagnostic_set! {
+    /// Diagnostics of [`LowbackSpeed`].
+    pub enum LowbackDiag {
+        /// Time (s) of an initial contact (either foot) decided at this sample.
+        Ic = "ic",
+        /// Step length (m) of the step finished at this sample.
+        StepLength = "step_length",
+        /// Stride length (m): the last two steps.
+        StrideLength = "stride_length",
+        /// Stride time (s): initial contact to the second next.
+        StrideTime = "stride_time",
+        /// Vertical excursion `h` (m) of the step.
+        Excursion = "excursion",
+        /// Vertical acceleration `a_v` (m/s^2).
+        VerticalAcc = "vertical_acc",
+    }
+}
+
+/// Parameters (sources in the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LowbackParams {
+    /// Pendulum (leg) length `l` (m).
+    pub leg_length: f64,
+    /// Zijlstra & Hof's correction factor `K`.
+    pub correction: f64,
+    /// McCamley's wavelet scale `s` (s).
+    pub wavelet_scale: f64,
+    /// Gravity-direction time constant (s).
+    pub gravity_time_constant: f64,
+    /// Shortest step (s).
+    pub min_step_time: f64,
+    /// Longest step (s).
+    pub max_step_time: f64,
+    /// RMS vertical acceleration (m/s^2) over 2 s above which the subject walks: 0.3
+    /// (walking: 1-3 m/s^2, Moe-Nilssen 1998; quiet standing: below 0.1).
+    pub walking_rms: f64,
+    /// How long (s) a stride's speed stays the `speed` output.
+    pub speed_hold: f64,
+}
+
+impl Default for LowbackParams {
+    fn default() -> Self {
+        LowbackParams {
+            leg_length: 0.90,
+            correction: 1.25,
+            wavelet_scale: 0.225,
+            gravity_time_constant: 2.0,
+            min_step_time: 0.25,
+            max_step_time: 1.5,
+            walking_rms: 0.3,
+            speed_hold: 3.0,
+        }
+    }
+}
+
+/// Zijlstra & Hof 2003 eq. 1 (with the correction factor): step length
+/// from the vertical excursion `h` and the pendulum length `l`.
+pub fn pendulum_step_length(h: f64, l: f64, k: f64) -> f64 {
+    k * 2.0 * libm::sqrt((2.0 * l * h - h * h).max(0.0))
+}
+
+/// The vertical excursion of one step from its vertical accelerations
+/// (uniform step `dt`): velocity zero-mean, position linearly detrended.
+pub fn step_excursion(a_v: impl Iterator<Item = f64> + Clone, dt: f64) -> f64 {
+    let n = a_v.clone().count();
+    if n < 3 {
+        return 0.0;
+    }
+    let mut v = 0.0;
+    let mut v_sum = 0.0;
+    for a in a_v.clone() {
+        v += a * dt;
+        v_sum += v;
+    }
+    let v_mean = v_sum / n as f64;
+    // First pass: the position's end value (for the linear detrend).
+    let (mut v, mut p) = (0.0, 0.0);
+    for a in a_v.clone() {
+        v += a * dt;
+        p += (v - v_mean) * dt;
+    }
+    let p_end = p;
+    let (mut v, mut p) = (0.0, 0.0);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (k, a) in a_v.enumerate() {
+        v += a * dt;
+        p += (v - v_mean) * dt;
+        let q = p - p_end * (k + 1) as f64 / n as f64;
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    hi - lo
+}
+
+/// The lower-back speed estimator.
+#[derive(Debug, Clone)]
+pub struct LowbackSpeed {
+    params: LowbackParams,
+    time: TimeStep,
+    gravity: Option<Vector3<f64>>,
+    history: Vec<f64>,
+    kernel: Vec<f64>,
+    half: usize,
+    dt: Option<f64>,
+    elapsed: f64,
+    n: u64,
+    rms_sq: f64,
+    smoothed: [f64; 3],
+    last_ic: Option<(u64, f64, f64)>,
+    last_step: Option<(f64, f64)>,
+    speed: Option<(f64, f64)>,
+}
+
+impl LowbackSpeed {
+    /// A new estimator.
+    pub fn new(params: LowbackParams) -> Self {
+        LowbackSpeed {
+            params,
+            time: TimeStep::new(),
+            gravity: None,
+            history: vec![0.0; HISTORY],
+            kernel: Vec::with_capacity(HISTORY),
+            half: 0,
+            dt: None,
+            elapsed: 0.0,
+            n: 0,
+            rms_sq: 0.0,
+            smoothed: [0.0; 3],
+            last_ic: None,
+            last_step: None,
+            speed: None,
+        }
+    }
+
+    fn set_kernel(&mut self, dt: f64) {
+        let sigma = self.params.wavelet_scale / core::f64::consts::SQRT_2;
+        let half = (libm::ceil(3.0 * sigma / dt) as usize).clamp(1, HISTORY / 4);
+        self.kernel.clear();
+        let mut sum = 0.0;
+        for j in 0..=2 * half {
+            let x = (j as f64 - half as f64) * dt / sigma;
+            let w = libm::exp(-0.5 * x * x);
+            self.kernel.push(w);
+            sum += w;
+        }
+        for w in &mut self.kernel {
+            *w /= sum;
+        }
+        self.half = half;
+    }
+
+    fn at(&self, index: u64) -> f64 {
+        self.history[(index % HISTORY as u64) as usize]
+    }
+}
+
+impl Estimator for LowbackSpeed {
+    fn name(&self) -> &'static str {
+        "lowback-speed"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            speed: true,
+            ..Outputs::default()
+        }
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let p = &self.params;
+        writeln!(out, "leg_length: {} m", p.leg_length)?;
+        writeln!(out, "correction: {}", p.correction)?;
+        writeln!(out, "wavelet_scale: {} s", p.wavelet_scale)?;
+        writeln!(out, "gravity_time_constant: {} s", p.gravity_time_constant)?;
+        writeln!(
+            out,
+            "step_time: {} - {} s",
+            p.min_step_time, p.max_step_time
+        )?;
+        writeln!(out, "walking_rms: {} m/s^2", p.walking_rms)?;
+        writeln!(out, "speed_hold: {} s", p.speed_hold)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &LowbackDiag::NAMES
+    }
+
+    fn reset(&mut self) {
+        *self = LowbackSpeed::new(self.params);
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let t = sample.t;
+        let step = self.time.advance(t)?;
+        let mut e = Estimate::empty(t);
+        let Some(acc) = sample.imu[Segment::Trunk.index()].acc else {
+            return Ok(e);
+        };
+        if !acc.iter().all(|v| v.is_finite()) {
+            return Err(EstimatorError::NonFinite {
+                channel: "trunk_acc",
+            });
+        }
+        let dt = match (step, self.dt) {
+            (Some(dt), None) => {
+                self.set_kernel(dt);
+                self.dt = Some(dt);
+                dt
+            }
+            (_, Some(dt)) => dt,
+            (None, None) => {
+                self.gravity = Some(acc);
+                return Ok(e);
+            }
+        };
+        // Running mean over the samples so far, exponential once the time
+        // constant has passed (a first sample carrying a step's dynamic
+        // acceleration does not bias the first seconds).
+        self.elapsed = (self.elapsed + dt).min(self.params.gravity_time_constant);
+        let g = self.gravity.get_or_insert(acc);
+        *g += (acc - *g) * (dt / self.elapsed);
+        let gn = g.norm();
+        let a_v = if gn > 0.0 { acc.dot(g) / gn - gn } else { 0.0 };
+        self.history[(self.n % HISTORY as u64) as usize] = a_v;
+        let alpha = (dt / 2.0).min(1.0);
+        self.rms_sq += (a_v * a_v - self.rms_sq) * alpha;
+        self.n += 1;
+        let mut d = e.diagnostics_mut::<LowbackDiag>();
+        d.value(LowbackDiag::VerticalAcc, a_v);
+        let span = 2 * self.half as u64 + 1;
+        if self.n >= span {
+            // Smoothed value centred `half` samples back.
+            let start = self.n - span;
+            let s: f64 = (0..span)
+                .map(|j| self.kernel[j as usize] * self.at(start + j))
+                .sum();
+            self.smoothed = [self.smoothed[1], self.smoothed[2], s];
+            let centre = self.n - 1 - self.half as u64;
+            let walking = libm::sqrt(self.rms_sq) > self.params.walking_rms;
+            let [s0, s1, s2] = self.smoothed;
+            if self.n > span + 1 && walking && s1 > 0.0 && s1 > s0 && s1 >= s2 {
+                // A maximum at `centre - 1`.
+                let index = centre - 1;
+                let t_ic = t - (self.half + 1) as f64 * dt;
+                let p = &self.params;
+                let mut accept = true;
+                if let Some((i0, t0, s_prev)) = self.last_ic {
+                    let step_time = t_ic - t0;
+                    if step_time < p.min_step_time {
+                        // Too close: keep the larger maximum.
+                        accept = s1 > s_prev;
+                        if accept {
+                            self.last_ic = None;
+                        }
+                    } else if step_time <= p.max_step_time && index - i0 < HISTORY as u64 {
+                        let h = step_excursion((i0..index).map(|i| self.at(i)), dt);
+                        let sl = pendulum_step_length(h, p.leg_length, p.correction);
+                        d.value(LowbackDiag::StepLength, sl);
+                        d.value(LowbackDiag::Excursion, h);
+                        // The previous valid step ended at `t0`: the two make a stride.
+                        if let Some((sl_prev, t_start)) = self.last_step {
+                            let stride_time = t_ic - t_start;
+                            if stride_time <= 2.0 * p.max_step_time {
+                                d.value(LowbackDiag::StrideLength, sl_prev + sl);
+                                d.value(LowbackDiag::StrideTime, stride_time);
+                                self.speed = Some(((sl_prev + sl) / stride_time, t));
+                            }
+                        }
+                        self.last_step = Some((sl, t0));
+                    } else {
+                        self.last_step = None;
+                    }
+                }
+                if accept {
+                    d.value(LowbackDiag::Ic, t_ic);
+                    if self.last_ic.is_none() {
+                        self.last_step = None;
+                    }
+                    self.last_ic = Some((index, t_ic, s1));
+                }
+            }
+        }
+        e.speed = self
+            .speed
+            .filter(|(_, at)| t - at <= self.params.speed_hold)
+            .map(|(v, _)| v);
+        Ok(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pendulum_length_matches_the_geometry() {
+        // A pendulum of length l swept by half-angle phi rises h = l (1 - cos phi);
+        // the step (chord) is 2 l sin(phi).
+        let (l, phi) = (0.9_f64, 0.3_f64);
+        let h = l * (1.0 - phi.cos());
+        assert!((pendulum_step_length(h, l, 1.0) - 2.0 * l * phi.sin()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn excursion_of_a_sinusoid_is_its_peak_to_peak() {
+        // z = A cos(2 pi t / T) over one period: a_z = -A w^2 cos(w t), peak to peak 2A.
+        let (amp, period, n) = (0.02, 0.55, 550);
+        let dt = period / n as f64;
+        let w = 2.0 * core::f64::consts::PI / period;
+        let a: Vec<f64> = (0..n)
+            .map(|k| -amp * w * w * libm::cos(w * (k as f64 + 0.5) * dt))
+            .collect();
+        let h = step_excursion(a.iter().copied(), dt);
+        assert!((h - 2.0 * amp).abs() < 0.02 * 2.0 * amp, "h = {h}");
+    }
+}

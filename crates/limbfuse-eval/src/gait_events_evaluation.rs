@@ -1,0 +1,570 @@
+//! Evaluation of foot contacts, gait events, phase and walking speed
+//! against `contact_left_ref` / `contact_right_ref` / `speed_ref` (SPEC
+//! section 2's gait references; docs/GAIT_EVENTS.md "Evaluation").
+//!
+//! - **Events.** Reference initial contacts are the 0 -> 1 steps of a
+//!   contact reference, final contacts the 1 -> 0 steps (both cells known).
+//!   Estimated events are the back-dated times of the estimate's
+//!   `diag_ic_<side>` / `diag_fc_<side>` columns when it has them (methods
+//!   that decide events with latency), else the steps of its
+//!   `contact_<side>` column. Each reference event is paired with the
+//!   nearest unpaired estimated event of the same kind and side within
+//!   [`MATCH_TOLERANCE_S`]; unpaired reference events are missed, unpaired
+//!   estimated events at a time where the reference is known are extra.
+//! - **Contact / phase accuracy**: % of rows where both are known and equal.
+//!   The reference phase: DS when both feet are down; a single support is
+//!   SS2 in its first half (after the other foot's lift-off) and SS1 in its
+//!   second (paper 003's phases).
+//! - **Speed, per stride**: each estimated stride (`diag_stride_length_<side>`,
+//!   `diag_stride_time_<side>`, ending at that side's last initial contact)
+//!   against the mean `speed_ref` over its rows (all known); the stride
+//!   length against `speed_ref` x the reference stride time (the reference
+//!   contacts paired with the stride's two initial contacts).
+
+use std::path::Path;
+
+use limbfuse_core::{GaitPhase, Side};
+use limbfuse_io::{EstimateReader, TrialReader};
+
+use crate::evaluation::EvalError;
+
+/// Largest time difference (s) at which an estimated event can pair with a
+/// reference event: a quarter of a typical 1.0-1.2 s stride, under half the
+/// shortest interval between two events of one kind and foot.
+pub const MATCH_TOLERANCE_S: f64 = 0.25;
+
+/// Timing of one kind of event (both sides pooled).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EventTiming {
+    /// Reference events.
+    pub n_reference: usize,
+    /// Paired events.
+    pub n_matched: usize,
+    /// Reference events without an estimated one.
+    pub missed: usize,
+    /// Estimated events without a reference one, where the reference is known.
+    pub extra: usize,
+    /// Median |error| (ms).
+    pub median_abs_ms: Option<f64>,
+    /// 95th percentile |error| (ms).
+    pub p95_abs_ms: Option<f64>,
+    /// Mean signed error, estimate - reference (ms).
+    pub mean_ms: Option<f64>,
+}
+
+/// Everything [`evaluate_gait_event_files`] measures.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GaitEventEvaluation {
+    /// Method name.
+    pub method: String,
+    /// Samples compared.
+    pub n_samples: u64,
+    /// Initial contacts.
+    pub initial_contact: EventTiming,
+    /// Final contacts (toe off); `None` when the method does not estimate them.
+    pub final_contact: Option<EventTiming>,
+    /// Whether events were compared per foot (`false`: pooled over both feet,
+    /// for methods that do not tell which foot).
+    pub per_foot: bool,
+    /// % of rows (both sides pooled) where the contact equals the reference.
+    pub contact_accuracy_pct: Option<f64>,
+    /// % of rows where the phase equals the phase of the contact references.
+    pub phase_accuracy_pct: Option<f64>,
+    /// Strides with a complete speed reference.
+    pub n_strides: usize,
+    /// Mean |stride speed - reference| (m/s).
+    pub speed_mae_mps: Option<f64>,
+    /// Mean stride speed - reference (m/s).
+    pub speed_bias_mps: Option<f64>,
+    /// Strides with a reference length.
+    pub n_lengths: usize,
+    /// Mean |stride length error| / reference length (%).
+    pub stride_length_error_pct: Option<f64>,
+    /// Mean |stride length error| (m).
+    pub stride_length_mae_m: Option<f64>,
+    /// Whether the estimate file records this trial.
+    pub trial_check: crate::trial_check::TrialCheck,
+}
+
+#[derive(Default)]
+struct Columns {
+    t: Vec<f64>,
+    reference: [Vec<Option<bool>>; 2],
+    speed_ref: Vec<Option<f64>>,
+    contact: [Vec<Option<bool>>; 2],
+    phase: Vec<Option<GaitPhase>>,
+    ic: [Vec<f64>; 2],
+    fc: [Vec<f64>; 2],
+    /// (row, length, time) per side.
+    strides: [Vec<(usize, f64, f64)>; 2],
+    /// Initial contacts of either foot (`diag_ic`, methods that do not tell the side).
+    ic_any: Vec<f64>,
+    /// Strides of either foot (`diag_stride_length`, `diag_stride_time`).
+    strides_any: Vec<(usize, f64, f64)>,
+}
+
+fn diag_index(er: &EstimateReader, name: &str) -> Option<usize> {
+    er.diagnostic_names().position(|n| n == name)
+}
+
+fn read_columns(
+    trial: &Path,
+    estimate: &Path,
+    tr: &mut TrialReader,
+    er: &mut EstimateReader,
+) -> Result<(Columns, bool), EvalError> {
+    let mut c = Columns::default();
+    let key = |what: &str, side: Side| format!("{what}_{}", side.name());
+    let ic_col = Side::BOTH.map(|s| diag_index(er, &key("ic", s)));
+    let fc_col = Side::BOTH.map(|s| diag_index(er, &key("fc", s)));
+    let len_col = Side::BOTH.map(|s| diag_index(er, &key("stride_length", s)));
+    let time_col = Side::BOTH.map(|s| diag_index(er, &key("stride_time", s)));
+    let (ic_any_col, len_any_col, time_any_col) = (
+        diag_index(er, "ic"),
+        diag_index(er, "stride_length"),
+        diag_index(er, "stride_time"),
+    );
+    let has_event_columns = ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
+    let mut row = 0usize;
+    loop {
+        match (tr.next_record()?, er.next_estimate()?) {
+            (None, None) => break,
+            (Some(r), Some((line, e))) => {
+                if (r.sample.t - e.t).abs() > 1e-9 * r.sample.t.abs().max(1.0) {
+                    return Err(EvalError::TimeMismatch {
+                        estimate: estimate.display().to_string(),
+                        line,
+                        index: row as u64,
+                        t_estimate: e.t,
+                        t_trial: r.sample.t,
+                    });
+                }
+                c.t.push(r.sample.t);
+                c.speed_ref.push(r.reference.speed);
+                c.phase.push(e.phase);
+                if let Some(v) = ic_any_col.and_then(|k| e.diag[k]) {
+                    c.ic_any.push(v);
+                }
+                if let (Some(l), Some(tm)) = (
+                    len_any_col.and_then(|k| e.diag[k]),
+                    time_any_col.and_then(|k| e.diag[k]),
+                ) {
+                    c.strides_any.push((row, l, tm));
+                }
+                for s in 0..2 {
+                    c.reference[s].push(r.reference.contact[s]);
+                    c.contact[s].push(e.contact[s]);
+                    if let Some(v) = ic_col[s].and_then(|k| e.diag[k]) {
+                        c.ic[s].push(v);
+                    }
+                    if let Some(v) = fc_col[s].and_then(|k| e.diag[k]) {
+                        c.fc[s].push(v);
+                    }
+                    if let (Some(l), Some(tm)) = (
+                        len_col[s].and_then(|k| e.diag[k]),
+                        time_col[s].and_then(|k| e.diag[k]),
+                    ) {
+                        c.strides[s].push((row, l, tm));
+                    }
+                }
+            }
+            _ => {
+                return Err(EvalError::LengthMismatch(format!(
+                    "{} and {} have different numbers of samples (mismatch after {row})",
+                    trial.display(),
+                    estimate.display()
+                )))
+            }
+        }
+        row += 1;
+    }
+    Ok((c, has_event_columns))
+}
+
+/// Times of the `from -> to` steps of a contact column.
+fn steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
+    (1..v.len())
+        .filter(|&k| v[k - 1] == Some(!to) && v[k] == Some(to))
+        .map(|k| t[k])
+        .collect()
+}
+
+/// Times where a contact column goes from unknown to `to` or from `!to` to unknown.
+fn edge_steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
+    (1..v.len())
+        .filter(|&k| {
+            (v[k - 1].is_none() && v[k] == Some(to)) || (v[k - 1] == Some(!to) && v[k].is_none())
+        })
+        .map(|k| t[k])
+        .collect()
+}
+
+/// Row nearest to time `x` (t sorted).
+fn nearest_row(t: &[f64], x: f64) -> usize {
+    let k = t.partition_point(|&v| v < x);
+    if k == 0 {
+        0
+    } else if k >= t.len() {
+        t.len() - 1
+    } else if x - t[k - 1] <= t[k] - x {
+        k - 1
+    } else {
+        k
+    }
+}
+
+fn percentile(sorted: &[f64], p: f64) -> Option<f64> {
+    if sorted.is_empty() {
+        return None;
+    }
+    let pos = p / 100.0 * (sorted.len() - 1) as f64;
+    let (lo, hi) = (pos.floor() as usize, pos.ceil() as usize);
+    Some(sorted[lo] + (sorted[hi] - sorted[lo]) * (pos - lo as f64))
+}
+
+/// Pairs reference and estimated events; returns (ref index, est index) pairs.
+fn pair(reference: &[f64], estimated: &[f64]) -> Vec<(usize, usize)> {
+    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, &r) in reference.iter().enumerate() {
+        for (j, &e) in estimated.iter().enumerate() {
+            let d = (e - r).abs();
+            if d <= MATCH_TOLERANCE_S {
+                candidates.push((d, i, j));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut used_r, mut used_e) = (vec![false; reference.len()], vec![false; estimated.len()]);
+    let mut out = Vec::new();
+    for (_, i, j) in candidates {
+        if !used_r[i] && !used_e[j] {
+            used_r[i] = true;
+            used_e[j] = true;
+            out.push((i, j));
+        }
+    }
+    out
+}
+
+struct SideEvents {
+    /// Reference events that cannot be scored: a contact that starts or
+    /// ends at the edge of the known reference (empty -> 1 or 1 -> empty).
+    /// An estimated event near one is neither paired nor extra.
+    unscored: Vec<f64>,
+    reference: Vec<f64>,
+    estimated: Vec<f64>,
+    pairs: Vec<(usize, usize)>,
+}
+
+/// Timing over tracks; `side_of[i]`: the reference side of track `i`
+/// (`None`: either side).
+fn timing(sides: &[SideEvents], c: &Columns, side_of: &[Option<usize>]) -> EventTiming {
+    let mut errors = Vec::new();
+    let mut out = EventTiming::default();
+    let known = |s: Option<usize>, row: usize| match s {
+        Some(s) => c.reference[s][row].is_some(),
+        None => c.reference[0][row].is_some() || c.reference[1][row].is_some(),
+    };
+    for (se, &s) in sides.iter().zip(side_of) {
+        out.n_reference += se.reference.len();
+        out.n_matched += se.pairs.len();
+        out.missed += se.reference.len() - se.pairs.len();
+        let paired: Vec<usize> = se.pairs.iter().map(|p| p.1).collect();
+        out.extra += se
+            .estimated
+            .iter()
+            .enumerate()
+            .filter(|(j, &x)| {
+                !paired.contains(j)
+                    && known(s, nearest_row(&c.t, x))
+                    && !se
+                        .unscored
+                        .iter()
+                        .any(|u| (u - x).abs() <= MATCH_TOLERANCE_S)
+            })
+            .count();
+        errors.extend(
+            se.pairs
+                .iter()
+                .map(|&(i, j)| (se.estimated[j] - se.reference[i]) * 1e3),
+        );
+    }
+    if !errors.is_empty() {
+        out.mean_ms = Some(errors.iter().sum::<f64>() / errors.len() as f64);
+        let mut abs: Vec<f64> = errors.iter().map(|e| e.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        out.median_abs_ms = percentile(&abs, 50.0);
+        out.p95_abs_ms = percentile(&abs, 95.0);
+    }
+    out
+}
+
+/// Reference phase per row from the two contact references.
+fn reference_phase(c: &Columns) -> Vec<Option<GaitPhase>> {
+    let n = c.t.len();
+    let state: Vec<Option<(bool, bool)>> = (0..n)
+        .map(|k| c.reference[0][k].zip(c.reference[1][k]))
+        .collect();
+    let mut out = vec![None; n];
+    let mut k = 0;
+    while k < n {
+        match state[k] {
+            Some((true, true)) => {
+                out[k] = Some(GaitPhase::Ds);
+                k += 1;
+            }
+            Some((l, r)) if l != r => {
+                let start = k;
+                while k < n && state[k] == Some((l, r)) {
+                    k += 1;
+                }
+                // A single support is split at its midpoint only when it
+                // starts and ends with double support (known bounds).
+                let bounded = start > 0
+                    && state[start - 1] == Some((true, true))
+                    && k < n
+                    && state[k] == Some((true, true));
+                if bounded {
+                    let mid = 0.5 * (c.t[start] + c.t[k]);
+                    for (j, o) in out.iter_mut().enumerate().take(k).skip(start) {
+                        *o = Some(if c.t[j] < mid {
+                            GaitPhase::Ss2
+                        } else {
+                            GaitPhase::Ss1
+                        });
+                    }
+                }
+            }
+            _ => k += 1,
+        }
+    }
+    out
+}
+
+/// Compares a gait-events estimate with its trial's contact and speed references.
+pub fn evaluate_gait_event_files(
+    trial: &Path,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+) -> Result<GaitEventEvaluation, EvalError> {
+    let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
+    let mut tr = TrialReader::open(trial)?;
+    let mut er = EstimateReader::open(estimate)?;
+    let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
+    let method = er.method().to_string();
+    let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er)?;
+    let mut ev = GaitEventEvaluation {
+        method,
+        n_samples: c.t.len() as u64,
+        trial_check,
+        ..Default::default()
+    };
+    let mut ic_sides = Vec::new();
+    let mut fc_sides = Vec::new();
+    let pooled = !has_event_columns && !c.ic_any.is_empty();
+    ev.per_foot = !pooled;
+    if pooled {
+        let mut ref_ic: Vec<f64> = (0..2)
+            .flat_map(|s| steps(&c.t, &c.reference[s], true))
+            .collect();
+        ref_ic.sort_by(f64::total_cmp);
+        let est = c.ic_any.clone();
+        let unscored = (0..2)
+            .flat_map(|s| edge_steps(&c.t, &c.reference[s], true))
+            .collect();
+        let se = SideEvents {
+            unscored,
+            pairs: pair(&ref_ic, &est),
+            reference: ref_ic,
+            estimated: est,
+        };
+        ev.initial_contact = timing(core::slice::from_ref(&se), &c, &[None]);
+        accuracies(&c, &mut ev);
+        let mut acc = Acc::default();
+        stride_errors_track(&c.strides_any, &se, &c, &mut acc);
+        acc.finish(&mut ev);
+        return Ok(ev);
+    }
+    for s in 0..2 {
+        let (est_ic, est_fc) = if has_event_columns {
+            (c.ic[s].clone(), c.fc[s].clone())
+        } else {
+            (
+                steps(&c.t, &c.contact[s], true),
+                steps(&c.t, &c.contact[s], false),
+            )
+        };
+        let ref_ic = steps(&c.t, &c.reference[s], true);
+        let ref_fc = steps(&c.t, &c.reference[s], false);
+        ic_sides.push(SideEvents {
+            unscored: edge_steps(&c.t, &c.reference[s], true),
+            pairs: pair(&ref_ic, &est_ic),
+            reference: ref_ic,
+            estimated: est_ic,
+        });
+        fc_sides.push(SideEvents {
+            unscored: edge_steps(&c.t, &c.reference[s], false),
+            pairs: pair(&ref_fc, &est_fc),
+            reference: ref_fc,
+            estimated: est_fc,
+        });
+    }
+    ev.initial_contact = timing(&ic_sides, &c, &[Some(0), Some(1)]);
+    ev.final_contact = Some(timing(&fc_sides, &c, &[Some(0), Some(1)]));
+    accuracies(&c, &mut ev);
+    let mut acc = Acc::default();
+    for (strides, se) in c.strides.iter().zip(&ic_sides) {
+        stride_errors_track(strides, se, &c, &mut acc);
+    }
+    acc.finish(&mut ev);
+    Ok(ev)
+}
+
+fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {
+    let (mut ok, mut n) = (0u64, 0u64);
+    for s in 0..2 {
+        for (a, b) in c.reference[s].iter().zip(&c.contact[s]) {
+            if let (Some(a), Some(b)) = (a, b) {
+                n += 1;
+                ok += u64::from(a == b);
+            }
+        }
+    }
+    ev.contact_accuracy_pct = (n > 0).then(|| 100.0 * ok as f64 / n as f64);
+    let (mut ok, mut n) = (0u64, 0u64);
+    for (a, b) in reference_phase(c).iter().zip(&c.phase) {
+        if let (Some(a), Some(b)) = (a, b) {
+            n += 1;
+            ok += u64::from(a == b);
+        }
+    }
+    ev.phase_accuracy_pct = (n > 0).then(|| 100.0 * ok as f64 / n as f64);
+}
+
+/// Per-stride errors collected over tracks.
+#[derive(Debug, Default)]
+struct Acc {
+    speed_abs: Vec<f64>,
+    speed_signed: Vec<f64>,
+    len_abs: Vec<f64>,
+    len_rel: Vec<f64>,
+}
+
+impl Acc {
+    fn finish(&self, ev: &mut GaitEventEvaluation) {
+        let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+        ev.n_strides = self.speed_abs.len();
+        ev.speed_mae_mps = mean(&self.speed_abs);
+        ev.speed_bias_mps = mean(&self.speed_signed);
+        ev.n_lengths = self.len_abs.len();
+        ev.stride_length_mae_m = mean(&self.len_abs);
+        ev.stride_length_error_pct = mean(&self.len_rel);
+    }
+}
+
+/// The strides `(row, length, time)` of one track, ending at its initial contacts `se`.
+fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Columns, acc: &mut Acc) {
+    {
+        for &(row, length, time) in strides {
+            // The stride ends at this side's last estimated initial contact at or before `row`.
+            let t_row = c.t[row];
+            let Some(end_j) = se.estimated.iter().rposition(|&x| x <= t_row + 1e-9) else {
+                continue;
+            };
+            let end = se.estimated[end_j];
+            let start = end - time;
+            let (k0, k1) = (
+                c.t.partition_point(|&x| x < start),
+                c.t.partition_point(|&x| x < end),
+            );
+            if k1 <= k0 {
+                continue;
+            }
+            let refs: Option<Vec<f64>> = c.speed_ref[k0..k1].iter().copied().collect();
+            let Some(refs) = refs else { continue };
+            let v_ref = refs.iter().sum::<f64>() / refs.len() as f64;
+            let v = length / time;
+            acc.speed_abs.push((v - v_ref).abs());
+            acc.speed_signed.push(v - v_ref);
+            // Reference stride time from the reference contacts paired with both ends.
+            let start_j = se.estimated.iter().position(|&x| (x - start).abs() < 1e-6);
+            let ref_of = |j: usize| {
+                se.pairs
+                    .iter()
+                    .find(|p| p.1 == j)
+                    .map(|p| se.reference[p.0])
+            };
+            if let (Some(r1), Some(r0)) = (ref_of(end_j), start_j.and_then(ref_of)) {
+                let l_ref = v_ref * (r1 - r0);
+                if l_ref > 0.0 {
+                    acc.len_abs.push((length - l_ref).abs());
+                    acc.len_rel.push(100.0 * (length - l_ref).abs() / l_ref);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairing_is_one_to_one_and_nearest_first() {
+        // 1.01 pairs with 1.0 (the closest pair first), 1.12 with 1.3; 3.0 is beyond the tolerance.
+        let p = pair(&[1.0, 1.3], &[1.01, 1.12, 3.0]);
+        assert_eq!(p, vec![(0, 0), (1, 1)]);
+        assert!(pair(&[1.0], &[1.3]).is_empty());
+    }
+
+    #[test]
+    fn reference_phase_splits_single_support_at_its_midpoint() {
+        let t: Vec<f64> = (0..10).map(f64::from).collect();
+        let both = Some(true);
+        let mut c = Columns {
+            t,
+            ..Default::default()
+        };
+        // rows: DS DS | left swing 2..6 (4 rows) | DS DS DS DS
+        c.reference[0] = vec![
+            both,
+            both,
+            Some(false),
+            Some(false),
+            Some(false),
+            Some(false),
+            both,
+            both,
+            both,
+            both,
+        ];
+        c.reference[1] = vec![both; 10];
+        let ph = reference_phase(&c);
+        use GaitPhase::*;
+        assert_eq!(
+            ph,
+            vec![
+                Some(Ds),
+                Some(Ds),
+                Some(Ss2),
+                Some(Ss2),
+                Some(Ss1),
+                Some(Ss1),
+                Some(Ds),
+                Some(Ds),
+                Some(Ds),
+                Some(Ds)
+            ]
+        );
+    }
+
+    #[test]
+    fn contact_steps_and_edges() {
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        let v = [None, Some(true), Some(false), Some(true), Some(true), None];
+        assert_eq!(steps(&t, &v, true), vec![3.0]);
+        assert_eq!(steps(&t, &v, false), vec![2.0]);
+        assert_eq!(edge_steps(&t, &v, true), vec![1.0]);
+        assert_eq!(edge_steps(&t, &v, false), vec![5.0]);
+    }
+}

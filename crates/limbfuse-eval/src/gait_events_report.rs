@@ -1,0 +1,88 @@
+//! The text table and JSON object of a [`GaitEventEvaluation`].
+
+use serde_json::{json, Value};
+
+use crate::gait_events_evaluation::{EventTiming, GaitEventEvaluation};
+
+impl EventTiming {
+    /// The JSON object of one kind of event.
+    pub fn to_json(&self) -> Value {
+        json!({
+            "n_reference": self.n_reference,
+            "n_matched": self.n_matched,
+            "missed": self.missed,
+            "extra": self.extra,
+            "median_abs_ms": self.median_abs_ms,
+            "p95_abs_ms": self.p95_abs_ms,
+            "mean_ms": self.mean_ms,
+        })
+    }
+
+    /// One line of the text table.
+    pub fn to_text(&self, name: &str) -> String {
+        let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+        format!(
+            "{name:<16} {} of {} found, {} missed, {} extra; |error| median {} ms, p95 {} ms, mean error {} ms\n",
+            self.n_matched,
+            self.n_reference,
+            self.missed,
+            self.extra,
+            f(self.median_abs_ms),
+            f(self.p95_abs_ms),
+            f(self.mean_ms)
+        )
+    }
+}
+
+impl GaitEventEvaluation {
+    /// SPEC section 4's JSON object (no angle channels) plus the gait-event fields.
+    pub fn to_json(&self) -> Value {
+        json!({
+            "method": self.method,
+            "n_samples": self.n_samples,
+            "rmse_deg": {},
+            "mean_rmse_deg": null,
+            "max_abs_err_deg": {},
+            "corr": {},
+            "initial_contact": self.initial_contact.to_json(),
+            "final_contact": self.final_contact.as_ref().map(EventTiming::to_json),
+            "events_per_foot": self.per_foot,
+            "contact_accuracy_pct": self.contact_accuracy_pct,
+            "phase_accuracy_pct": self.phase_accuracy_pct,
+            "n_strides": self.n_strides,
+            "speed_mae_mps": self.speed_mae_mps,
+            "speed_bias_mps": self.speed_bias_mps,
+            "n_lengths": self.n_lengths,
+            "stride_length_error_pct": self.stride_length_error_pct,
+            "stride_length_mae_m": self.stride_length_mae_m,
+        })
+    }
+
+    /// A short text table.
+    pub fn to_text(&self) -> String {
+        let f = |v: Option<f64>, unit: &str, d: usize| {
+            v.map_or("-".to_string(), |v| format!("{v:.d$} {unit}"))
+        };
+        let mut s = format!("method {} ({} samples)\n", self.method, self.n_samples);
+        s += &self.initial_contact.to_text("initial contact");
+        match &self.final_contact {
+            Some(fc) => s += &fc.to_text("final contact"),
+            None => s += "final contact    not estimated by this method\n",
+        }
+        if !self.per_foot {
+            s += "(initial contacts pooled over both feet: the method does not tell which foot)\n";
+        }
+        s += &format!(
+            "contact accuracy {}\nphase accuracy   {}\nstride speed     MAE {} (bias {}) over {} strides\nstride length    error {} (MAE {}) over {} strides\n",
+            f(self.contact_accuracy_pct, "%", 1),
+            f(self.phase_accuracy_pct, "%", 1),
+            f(self.speed_mae_mps, "m/s", 3),
+            f(self.speed_bias_mps, "m/s", 3),
+            self.n_strides,
+            f(self.stride_length_error_pct, "%", 2),
+            f(self.stride_length_mae_m, "m", 3),
+            self.n_lengths,
+        );
+        s
+    }
+}

@@ -1,0 +1,263 @@
+//! `gait-events` as a method: its parameter file and which foot IMUs of a
+//! trial it uses (docs/GAIT_EVENTS.md).
+//!
+//! ```toml
+//! method = "gait-events"     # optional
+//! swing_rate = 1.0           # rad/s: foot sagittal rate that confirms swing
+//! min_swing_time = 0.15      # s: shortest swing before an initial contact
+//! shoe_window = 3            # samples: zero-velocity detector window (Skog 2010)
+//! shoe_gamma = 3e4           # zero-velocity detector threshold (Skog 2010)
+//! axis_time_constant = 10.0  # s: averaging of the medio-lateral axis
+//! speed_hold = 3.0           # s: how long a stride's speed is output
+//! ```
+
+use std::path::Path;
+
+use limbfuse_core::{Estimator, Segment};
+use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
+use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
+use limbfuse_io::{TrialLayout, TrialMeta};
+use serde::Deserialize;
+
+use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
+use crate::{MethodError, MethodFlags};
+
+/// A `gait-events` parameter file.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GaitEventsFile {
+    method: Option<String>,
+    swing_rate: Option<f64>,
+    min_swing_time: Option<f64>,
+    shoe_window: Option<usize>,
+    shoe_gamma: Option<f64>,
+    axis_time_constant: Option<f64>,
+    speed_hold: Option<f64>,
+}
+
+impl MethodFile for GaitEventsFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+fn positive(key: &'static str, v: Option<f64>, into: &mut f64) -> Result<(), MethodError> {
+    if let Some(v) = v {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(MethodError::GaitParams(format!(
+                "`{key}` = {v}: expected a positive number"
+            )));
+        }
+        *into = v;
+    }
+    Ok(())
+}
+
+/// `gait-events`.
+#[derive(Debug, Clone, Copy)]
+pub struct GaitEventsMethod;
+
+impl MethodDef for GaitEventsMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "gait-events",
+        "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT)",
+        "foot_acc/gyr (the trial's leg) and/or foot_<other side>_acc/gyr, raw sensor frames",
+        "swing_rate, min_swing_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold",
+    );
+    type Settings = GaitEventsParams;
+
+    fn resolve(
+        file: Option<(&str, &Path)>,
+        _flags: &MethodFlags,
+    ) -> Result<GaitEventsParams, MethodError> {
+        let f: GaitEventsFile = read_file::<Self, _>(file)?;
+        let mut p = GaitEventsParams::default();
+        positive("swing_rate", f.swing_rate, &mut p.swing_rate)?;
+        positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time)?;
+        positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma)?;
+        positive(
+            "axis_time_constant",
+            f.axis_time_constant,
+            &mut p.axis_time_constant,
+        )?;
+        positive("speed_hold", f.speed_hold, &mut p.speed_hold)?;
+        if let Some(w) = f.shoe_window {
+            if !(1..=limbfuse_estimators::gait_events::zero_velocity::MAX_WINDOW).contains(&w) {
+                return Err(MethodError::GaitParams(format!(
+                    "`shoe_window` = {w}: expected 1 to {} samples",
+                    limbfuse_estimators::gait_events::zero_velocity::MAX_WINDOW
+                )));
+            }
+            p.shoe.window = w;
+        }
+        Ok(p)
+    }
+
+    fn build(
+        settings: &GaitEventsParams,
+        meta: &TrialMeta,
+        layout: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        let foot = Segment::Foot.index();
+        let own_side = layout.leg;
+        let mut sources = [None; 2];
+        if layout.acc[foot] && layout.gyr[foot] {
+            sources[own_side.index()] = Some(FootSource::OwnLeg);
+        }
+        if layout.other_acc[foot] && layout.other_gyr[foot] {
+            sources[layout.other_leg().index()] = Some(FootSource::OtherLeg);
+        }
+        if sources.iter().all(Option::is_none) {
+            return Err(MethodError::MissingChannels {
+                method: Self::INFO.name,
+                why: "detects gait events from foot IMUs (accelerometer and gyroscope)",
+                missing: vec![format!(
+                    "foot_acc_x/y/z + foot_gyr_x/y/z (or foot_{}_acc/gyr_x/y/z for the other leg)",
+                    layout.other_leg().name()
+                )],
+                hint: "; shank and lower-back IMUs are not foot IMUs (for a lower-back IMU use `lowback-speed`)",
+            });
+        }
+        let mut p = *settings;
+        p.gravity = meta.gravity();
+        GaitEvents::new(p, sources)
+            .map(|e| Box::new(e) as Box<dyn Estimator + Send>)
+            .map_err(|e| MethodError::GaitParams(e.to_string()))
+    }
+
+    fn default_file() -> String {
+        let p = GaitEventsParams::default();
+        format!(
+            "# limbfuse gait-events parameters (docs/GAIT_EVENTS.md); every key optional.\n\
+             method = \"gait-events\"\n\
+             # Foot sagittal rate (rad/s) that confirms swing.\n\
+             swing_rate = {:?}\n\
+             # Shortest swing (s) before an initial contact is accepted.\n\
+             min_swing_time = {:?}\n\
+             # Zero-velocity detector (SHOE, Skog et al. 2010, OpenShoe values): window (samples) and threshold.\n\
+             shoe_window = {}\n\
+             shoe_gamma = {:?}\n\
+             # Averaging time constant (s) of the foot's medio-lateral axis.\n\
+             axis_time_constant = {:?}\n\
+             # How long (s) a stride's speed stays the `speed` output.\n\
+             speed_hold = {:?}\n",
+            p.swing_rate,
+            p.min_swing_time,
+            p.shoe.window,
+            p.shoe.gamma,
+            p.axis_time_constant,
+            p.speed_hold
+        )
+    }
+}
+
+/// A `lowback-speed` parameter file.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LowbackFile {
+    method: Option<String>,
+    leg_length: Option<f64>,
+    correction: Option<f64>,
+    wavelet_scale: Option<f64>,
+    walking_rms: Option<f64>,
+    speed_hold: Option<f64>,
+}
+
+impl MethodFile for LowbackFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+/// `lowback-speed` settings: the parameters, and whether the leg length was
+/// given (else the trial's `# leg_length:` metadata, else the default).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LowbackSettings {
+    /// The parameters.
+    pub params: LowbackParams,
+    /// `leg_length` came from the parameter file.
+    pub leg_length_given: bool,
+}
+
+/// `lowback-speed`.
+#[derive(Debug, Clone, Copy)]
+pub struct LowbackSpeedMethod;
+
+impl MethodDef for LowbackSpeedMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "lowback-speed",
+        "beyond the papers: initial contacts (McCamley 2012) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
+        "trunk_acc (lower back, raw sensor frame); leg length from the parameter file or `# leg_length:` (m)",
+        "leg_length, correction, wavelet_scale, walking_rms, speed_hold",
+    )
+    .needing(
+        crate::ChannelNeeds {
+            acc: [true, false, false, false],
+            gyr: [false; 4],
+            encoder: [false; 3],
+            com_position: false,
+        },
+        "estimates walking speed from a lower-back accelerometer",
+    );
+    type Settings = LowbackSettings;
+
+    fn resolve(
+        file: Option<(&str, &Path)>,
+        _flags: &MethodFlags,
+    ) -> Result<LowbackSettings, MethodError> {
+        let f: LowbackFile = read_file::<Self, _>(file)?;
+        let mut p = LowbackParams::default();
+        positive("leg_length", f.leg_length, &mut p.leg_length)?;
+        positive("correction", f.correction, &mut p.correction)?;
+        positive("wavelet_scale", f.wavelet_scale, &mut p.wavelet_scale)?;
+        positive("walking_rms", f.walking_rms, &mut p.walking_rms)?;
+        positive("speed_hold", f.speed_hold, &mut p.speed_hold)?;
+        Ok(LowbackSettings {
+            params: p,
+            leg_length_given: f.leg_length.is_some(),
+        })
+    }
+
+    fn build(
+        settings: &LowbackSettings,
+        meta: &TrialMeta,
+        _layout: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        let mut p = settings.params;
+        if !settings.leg_length_given {
+            if let Some(text) = meta.get("leg_length") {
+                let l: f64 = text
+                    .trim()
+                    .trim_end_matches('m')
+                    .trim()
+                    .parse()
+                    .map_err(|_| {
+                        MethodError::GaitParams(format!(
+                        "trial metadata `# leg_length: {text}`: expected a leg length in metres"
+                    ))
+                    })?;
+                positive("leg_length (trial metadata)", Some(l), &mut p.leg_length)?;
+            }
+        }
+        Ok(Box::new(LowbackSpeed::new(p)))
+    }
+
+    fn default_file() -> String {
+        let p = LowbackParams::default();
+        format!(
+            "# limbfuse lowback-speed parameters (docs/GAIT_EVENTS.md); every key optional.\n\
+             method = \"lowback-speed\"\n\
+             # Leg (pendulum) length, m (default: 0.530 x 1.70 m, Winter 2009; the trial's `# leg_length:` when absent here).\n\
+             leg_length = {:?}\n\
+             # Zijlstra & Hof 2003 correction factor K.\n\
+             correction = {:?}\n\
+             # McCamley 2012 wavelet scale, s (9 samples at 40 Hz).\n\
+             wavelet_scale = {:?}\n\
+             # RMS vertical acceleration (m/s^2) over 2 s above which the subject walks.\n\
+             walking_rms = {:?}\n\
+             # How long (s) a stride's speed stays the `speed` output.\n\
+             speed_hold = {:?}\n",
+            p.leg_length, p.correction, p.wavelet_scale, p.walking_rms, p.speed_hold
+        )
+    }
+}
