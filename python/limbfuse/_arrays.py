@@ -113,5 +113,5 @@ def split_header(lines: Sequence[str]) -> Tuple[dict, dict]:
         k, sep, v = line.partition(":")
         if sep:
             entries[k.strip()] = v.strip()
-    params = {k: v for k, v in entries.items() if k not in ("method", "trial", "trial_hash")}
+    params = {k: v for k, v in entries.items() if k not in ("method", "trial", "trial_hash", "command")}
     return entries, params
