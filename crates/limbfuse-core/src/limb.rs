@@ -42,45 +42,10 @@ impl Segment {
 /// aligned frame is the same for both legs (SPEC section 1: z to the
 /// subject's right); a left leg's motion is the mirror image of a right
 /// leg's across the sagittal plane.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Leg {
-    /// The right leg (the default when a trial does not say).
-    #[default]
-    Right,
-    /// The left leg.
-    Left,
-}
-
-impl Leg {
-    /// `right` or `left`, as in the `# leg:` metadata line.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Leg::Right => "right",
-            Leg::Left => "left",
-        }
-    }
-
-    /// Parses `right` / `left` (case-insensitive, surrounding blanks ignored).
-    pub fn parse(s: &str) -> Option<Leg> {
-        let s = s.trim();
-        if s.eq_ignore_ascii_case("right") {
-            Some(Leg::Right)
-        } else if s.eq_ignore_ascii_case("left") {
-            Some(Leg::Left)
-        } else {
-            None
-        }
-    }
-
-    /// +1 for the right leg, -1 for the left: the sign of the leg's lateral
-    /// (z) side.
-    pub const fn lateral_sign(self) -> f64 {
-        match self {
-            Leg::Right => 1.0,
-            Leg::Left => -1.0,
-        }
-    }
-}
+///
+/// The same concept as [`Side`] (issue 14's alignment and issue 19's
+/// two-leg recordings met here): one type under two names.
+pub type Leg = Side;
 
 /// A joint between two adjacent segments.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -153,6 +118,15 @@ impl Side {
     /// Index 0 (left) or 1 (right).
     pub const fn index(self) -> usize {
         self as usize
+    }
+
+    /// +1 for the right leg, -1 for the left: the sign of the leg's lateral
+    /// (z) side.
+    pub const fn lateral_sign(self) -> f64 {
+        match self {
+            Side::Right => 1.0,
+            Side::Left => -1.0,
+        }
     }
 
     /// The other side.
