@@ -144,7 +144,8 @@ def estimate(
             (``limbfuse params --method NAME``) or a dict of the same keys.
         **options: the method's ``limbfuse estimate`` flags: ``window``,
             ``order`` (knee-selfalign), ``library``, ``kappa``,
-            ``rescale_height``, ``imm_weights``, ``imm_touchdown`` (imm-bslip).
+            ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
+            ``leg_length``, ``mass`` (imm-bslip).
 
     Raises:
         LimbfuseError: unknown method, bad parameter, a channel the method

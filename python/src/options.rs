@@ -154,6 +154,9 @@ pub fn method_spec(
         rescale_height: o.f64("rescale_height")?,
         imm_weights: o.string("imm_weights")?,
         imm_touchdown: o.string("imm_touchdown")?,
+        imm_config: o.string("imm_config")?,
+        leg_length: o.f64("leg_length")?,
+        mass: o.f64("mass")?,
     };
     o.finish()?;
     let params = params.filter(|p| !p.is_none());
