@@ -165,6 +165,8 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
                 || n.starts_with("diag_")
                 || AngleChannel::ALL.iter().any(|c| c.name() == n)
                 || COM_COLUMNS.contains(&n)
+                || n == "contact_left"
+                || n == "contact_right"
         };
         let names: Vec<String> = header_names.iter().filter(|n| known(n)).cloned().collect();
         let has_phase = header_names.iter().any(|n| n == PHASE);
@@ -182,6 +184,8 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
                         .iter()
                         .position(|m| m == d)
                         .and_then(|k| e.diag[k])
+                } else if n == "contact_left" || n == "contact_right" {
+                    e.contact[usize::from(n == "contact_right")].map(|c| if c { 1.0 } else { 0.0 })
                 } else if let Some(k) = COM_COLUMNS.iter().position(|c| c == n) {
                     if k < 3 {
                         e.com_pos.map(|p| p[k])

@@ -55,6 +55,9 @@ impl EstimateColumns {
         if outputs.com {
             names.extend(COM_COLUMNS.iter().map(|c| c.to_string()));
         }
+        if outputs.contact {
+            names.extend(CONTACT.iter().map(|c| c.to_string()));
+        }
         names.extend(diag[..n_diag].iter().map(|n| format!("diag_{n}")));
         let mut header = vec![format!("method: {}", est.name())];
         let mut params = String::new();
@@ -100,6 +103,11 @@ impl EstimateColumns {
                 put(e.com_vel.map(|v| v[k]));
             }
         }
+        if self.outputs.contact {
+            for c in e.contact {
+                put(c.map(|c| if c { 1.0 } else { 0.0 }));
+            }
+        }
         for d in &e.diag[..self.n_diag] {
             put(*d);
         }
@@ -135,6 +143,9 @@ impl Observer for EstimateColumns {
     }
 }
 
+/// Foot-contact columns (SPEC section 3 additions, docs/GAIT_EVENTS.md), in
+/// `Estimate::contact` order.
+const CONTACT: [&str; 2] = ["contact_left", "contact_right"];
 /// Estimate columns borrowed from Python (the `Estimate` class).
 #[derive(Debug)]
 pub struct EstimateView<'a> {
@@ -143,6 +154,7 @@ pub struct EstimateView<'a> {
     angle: [Option<&'a [f64]>; 7],
     speed: Option<&'a [f64]>,
     com: [Option<&'a [f64]>; 6],
+    contact: [Option<&'a [f64]>; 2],
     /// Diagnostic names (without `diag_`) and values.
     pub diag: Vec<(String, &'a [f64])>,
     phase: Option<Vec<Option<GaitPhase>>>,
@@ -161,6 +173,7 @@ impl<'a> EstimateView<'a> {
             angle: [None; 7],
             speed: None,
             com: [None; 6],
+            contact: [None; 2],
             diag: Vec::new(),
             phase: None,
         };
@@ -178,6 +191,8 @@ impl<'a> EstimateView<'a> {
                 v.speed = Some(values);
             } else if let Some(k) = COM_COLUMNS.iter().position(|c| *c == name) {
                 v.com[k] = Some(values);
+            } else if let Some(k) = CONTACT.iter().position(|c| *c == name) {
+                v.contact[k] = Some(values);
             } else if let Some(d) = name.strip_prefix("diag_") {
                 if v.diag.len() == MAX_DIAG {
                     return Err(format!("more than {MAX_DIAG} diagnostic columns"));
@@ -185,7 +200,7 @@ impl<'a> EstimateView<'a> {
                 v.diag.push((d.to_string(), values));
             } else {
                 return Err(format!(
-                    "unknown estimate column `{name}` (expected trunk, thigh, shank, foot, hip, knee, ankle, phase, speed, com_x..com_vz or diag_NAME)"
+                    "unknown estimate column `{name}` (expected trunk, thigh, shank, foot, hip, knee, ankle, phase, speed, com_x..com_vz, contact_left, contact_right or diag_NAME)"
                 ));
             }
         }
@@ -219,6 +234,9 @@ impl<'a> EstimateView<'a> {
         if let [.., Some(x), Some(y), Some(z)] = com {
             e.com_vel = Some(Vector3::new(x, y, z));
         }
+        for (k, c) in self.contact.iter().enumerate() {
+            e.contact[k] = opt(*c).map(|x| x >= 0.5);
+        }
         for (k, (_, v)) in self.diag.iter().enumerate() {
             e.diag[k] = opt(Some(v));
         }
@@ -243,6 +261,11 @@ impl<'a> EstimateView<'a> {
         }
         for (k, c) in COM_COLUMNS.iter().enumerate() {
             if self.com[k].is_some() {
+                names.push(c.to_string());
+            }
+        }
+        for (k, c) in CONTACT.iter().enumerate() {
+            if self.contact[k].is_some() {
                 names.push(c.to_string());
             }
         }
@@ -271,7 +294,12 @@ impl<'a> EstimateView<'a> {
                 line.extend_from_slice(ph.label().as_bytes());
             }
         }
-        for c in self.speed.iter().chain(self.com.iter().flatten()) {
+        for c in self
+            .speed
+            .iter()
+            .chain(self.com.iter().flatten())
+            .chain(self.contact.iter().flatten())
+        {
             cell(line, c[i], false);
         }
         for (_, c) in &self.diag {
