@@ -19,7 +19,7 @@ q align --hinge raw.csv -o aligned-hinge.csv
 q simulate knee --duration 30 --seed 3 -o knee.csv
 q simulate knee-fes --subject P2-R --duration 10 -o fes.csv
 q simulate fixed-hip --duration 8 -o hip.csv
-for m in gyro-integration accel-inclination local mjls global; do
+for m in gyro-integration accel-inclination local mjls global chain; do
   q estimate --method $m walk.csv -o $m.csv
   q estimate --method $m aligned.csv -o al-$m.csv
   "$BIN" evaluate walk.csv $m.csv --json > ev-$m.json 2>/dev/null
