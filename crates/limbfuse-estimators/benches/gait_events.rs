@@ -1,17 +1,31 @@
 //! Per-sample cost of `gait-events` (both feet) and `lowback-speed` on a
 //! seeded simulated walk (60 s at 100 Hz, the right foot's IMU also fed as
-//! the left one), one core.
+//! the left one), one core. Two groups: wall time, and the thread's CPU
+//! time (`..._cpu`), which time-slicing on a shared machine does not inflate.
 //! `cargo bench -p limbfuse-estimators --bench gait_events`
 
 use std::hint::black_box;
 
+use criterion::measurement::Measurement;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
 use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-fn bench(c: &mut Criterion) {
+#[path = "support/thread_cpu_time.rs"]
+mod thread_cpu_time;
+use thread_cpu_time::ThreadCpuTime;
+
+fn bench_wall(c: &mut Criterion) {
+    bench(c, "gait_events_60s_100hz");
+}
+
+fn bench_cpu(c: &mut Criterion<ThreadCpuTime>) {
+    bench(c, "gait_events_60s_100hz_cpu");
+}
+
+fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     let cfg = WalkingConfig {
         duration_s: 60.0,
         seed: 42,
@@ -25,7 +39,7 @@ fn bench(c: &mut Criterion) {
             r
         })
         .collect();
-    let mut g = c.benchmark_group("gait_events_60s_100hz");
+    let mut g = c.benchmark_group(group);
     g.throughput(Throughput::Elements(records.len() as u64));
     g.bench_function("two_feet", |b| {
         b.iter(|| {
@@ -54,5 +68,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+criterion_group!(wall, bench_wall);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(ThreadCpuTime);
+    targets = bench_cpu
+}
+criterion_main!(wall, cpu);
