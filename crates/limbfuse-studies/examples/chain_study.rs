@@ -1,5 +1,5 @@
 //! `chain` on limbfuse's own walking simulator (issue 14, for docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-studies --example chain_study -- [SEEDS]`
+//! `cargo run --release -p limbfuse-studies --example chain_study -- [SEEDS] [--calibrated]`
 //!
 //! 60 s trials with the default (uncalibrated) sensors at 0.4, 0.7, 1.0,
 //! 1.3 and 1.6 m/s, seeds 1..=N (default 10); the geometry comes from the
@@ -8,6 +8,12 @@
 //! absolute and offset-free (each segment's mean error removed), mean over
 //! seeds and the worst seed. The filter gives no estimate during its 2 s
 //! start-up window; those samples are not scored.
+//!
+//! `--calibrated`: the mounting misalignment is set to zero and each
+//! trial's accelerometers are calibrated from the simulated pose recording
+//! of the same sensors, as `limbfuse simulate walking --no-misalignment`,
+//! `limbfuse simulate calibration`, `limbfuse calibrate` and
+//! `--calibration` do (issue 14: <= 0.6 deg absolute).
 
 use std::convert::Infallible;
 
@@ -19,23 +25,25 @@ use limbfuse_estimators::chain_ekf::{ChainEkf, ChainParams};
 use limbfuse_eval::{AngleMetrics, EvalOptions};
 use limbfuse_io::TrialMeta;
 use limbfuse_methods::chain_method::{resolve_geometry, GeometryFile};
-use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_sim::WalkingSimulator;
+use limbfuse_studies::calibration_study::{trial, walking_config, Sensors};
 use limbfuse_studies::example_args::ChainStudyArgs;
 use rayon::prelude::*;
 
 /// Mean 4-segment RMSE (deg): absolute and offset-free.
-fn one_trial(speed: f64, seed: u64) -> [f64; 2] {
-    let cfg = WalkingConfig {
-        speed_mps: speed,
-        seed,
-        ..WalkingConfig::default()
+fn one_trial(speed: f64, seed: u64, calibrated: bool) -> [f64; 2] {
+    let sensors = if calibrated {
+        Sensors::CalibratedNoMisalignment
+    } else {
+        Sensors::Raw
     };
+    let cfg = walking_config(seed, speed, sensors);
     let sim = WalkingSimulator::new(cfg).expect("valid config");
     let mut meta = TrialMeta::new();
     for (k, v) in sim.metadata() {
         meta.set(k, v);
     }
-    let records: Vec<Record> = sim.collect();
+    let records: Vec<Record> = trial(seed, speed, sensors).expect("simulated, calibrated");
     let geometry = resolve_geometry(&meta, &GeometryFile::default()).expect("simulator metadata");
     let mut ekf =
         ChainEkf::new(ChainParams::default(), geometry, meta.gravity()).expect("defaults");
@@ -70,7 +78,8 @@ fn one_trial(speed: f64, seed: u64) -> [f64; 2] {
 }
 
 fn main() {
-    let n = ChainStudyArgs::parse().seeds;
+    let args = ChainStudyArgs::parse();
+    let n = args.seeds;
     println!(
         "| speed m/s | seeds | absolute mean / worst | offset-free mean / worst (worst seed) |"
     );
@@ -78,7 +87,7 @@ fn main() {
     for speed in [0.4, 0.7, 1.0, 1.3, 1.6] {
         let runs: Vec<(u64, [f64; 2])> = (1..=n)
             .into_par_iter()
-            .map(|seed| (seed, one_trial(speed, seed)))
+            .map(|seed| (seed, one_trial(speed, seed, args.calibrated)))
             .collect();
         let mean = |k: usize| runs.iter().map(|(_, r)| r[k]).sum::<f64>() / runs.len() as f64;
         let worst = |k: usize| {

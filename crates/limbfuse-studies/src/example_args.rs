@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 14] = [
+pub const EXAMPLES: [&str; 15] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -23,6 +23,7 @@ pub const EXAMPLES: [&str; 14] = [
     "knee_study",
     "segment_error_budget",
     "segment_study",
+    "segment_validation",
 ];
 
 /// Why the arguments of an example command are not runnable.
@@ -66,6 +67,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
+        "segment_validation" => parse::<SegmentValidationArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
 }
@@ -315,10 +317,26 @@ pub fn imm_weights(s: &str) -> Result<ImmWeights, String> {
     }
 }
 
-/// `chain_study [SEEDS]`.
+/// `segment_validation [--seeds N] [DATA_DIR]`.
+#[derive(Debug, Parser)]
+pub struct SegmentValidationArgs {
+    /// Seeds 1..=N per speed of limbfuse's simulator.
+    #[arg(long, default_value_t = 10)]
+    pub seeds: u64,
+    /// The shared data folder (gaittoolbox-s02-walk, independent-sim).
+    #[arg(default_value = "../shared/data")]
+    pub data_dir: String,
+}
+
+/// `chain_study [SEEDS] [--calibrated]`.
 #[derive(Debug, Parser)]
 pub struct ChainStudyArgs {
     /// Seeds 1..=SEEDS per speed.
     #[arg(default_value_t = 10)]
     pub seeds: u64,
+    /// Calibrate each trial's accelerometers from the simulated pose
+    /// recording of the same sensors (`limbfuse calibrate`), with the
+    /// mounting misalignment set to zero (issue 14's calibrated case).
+    #[arg(long)]
+    pub calibrated: bool,
 }
