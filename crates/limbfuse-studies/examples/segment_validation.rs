@@ -59,7 +59,7 @@ fn score(method: MethodName, trial: &Trial, options: &[EvalOptions]) -> Option<V
     let mut est = build(&spec, &trial.meta, &trial.layout).ok()?;
     let mut metrics: Vec<AngleMetrics> = options
         .iter()
-        .map(|o| AngleMetrics::new(method.name(), o.clone()))
+        .map(|o| AngleMetrics::new(method.name(), *o))
         .collect();
     let mut observers: Vec<&mut dyn Observer> =
         metrics.iter_mut().map(|m| m as &mut dyn Observer).collect();
@@ -134,7 +134,7 @@ fn file_trial(path: &Path) -> Option<Trial> {
     }
     Some(Trial {
         meta: reader.meta().clone(),
-        layout: reader.layout().clone(),
+        layout: *reader.layout(),
         records,
     })
 }

@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 15] = [
+pub const EXAMPLES: [&str; 16] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -24,6 +24,7 @@ pub const EXAMPLES: [&str; 15] = [
     "segment_error_budget",
     "segment_study",
     "segment_validation",
+    "soak",
 ];
 
 /// Why the arguments of an example command are not runnable.
@@ -68,6 +69,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
+        "soak" => parse::<SoakArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
 }
@@ -326,6 +328,38 @@ pub struct SegmentValidationArgs {
     /// The shared data folder (gaittoolbox-s02-walk, independent-sim).
     #[arg(default_value = "../shared/data")]
     pub data_dir: String,
+}
+
+/// `soak [--hours H] [--methods LIST]`.
+#[derive(Debug, Parser)]
+pub struct SoakArgs {
+    /// Simulated hours per estimator.
+    #[arg(long, default_value_t = 24.0)]
+    pub hours: f64,
+    /// Estimators, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "local,mjls,global,chain,knee-selfalign",
+        value_parser = method_name
+    )]
+    pub methods: Vec<limbfuse_methods::MethodName>,
+    /// One glitch every this many seconds (`inf`: a clean run).
+    #[arg(long, default_value_t = 30.0)]
+    pub glitch_every: f64,
+    /// The glitches injected in turn, comma-separated (gyro-huge, acc-huge,
+    /// saturated-burst, gap, encoder-huge).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "gyro-huge,acc-huge,saturated-burst,gap,encoder-huge",
+        value_parser = crate::soak::Glitch::parse
+    )]
+    pub glitches: Vec<crate::soak::Glitch>,
+}
+
+fn method_name(s: &str) -> Result<limbfuse_methods::MethodName, String> {
+    limbfuse_methods::MethodName::parse(s).map_err(|e| e.to_string())
 }
 
 /// `chain_study [SEEDS] [--calibrated]`.

@@ -14,3 +14,4 @@ pub mod fes_plot;
 pub mod fes_study;
 pub mod knee_study;
 pub mod results_commands;
+pub mod soak;
