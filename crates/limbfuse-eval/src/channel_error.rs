@@ -1,6 +1,16 @@
 //! Streaming error statistics of one channel: memory does not grow with the
 //! number of samples.
 
+/// `x` wrapped to `[-pi, pi)`.
+fn wrap_angle(x: f64) -> f64 {
+    use core::f64::consts::PI;
+    if (-PI..PI).contains(&x) {
+        x
+    } else {
+        (x + PI).rem_euclid(2.0 * PI) - PI
+    }
+}
+
 /// Accumulates `(estimate, reference)` pairs of one channel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ChannelError {
@@ -16,9 +26,12 @@ pub struct ChannelError {
 }
 
 impl ChannelError {
-    /// Adds one pair (`estimate`, `reference`).
+    /// Adds one pair (`estimate`, `reference`) of angles (rad). The error is
+    /// taken on the circle, `estimate - reference` wrapped to `[-pi, pi)`:
+    /// an estimate that is right but one turn away (a filter whose angle
+    /// state ran past +-pi) has no error, and no error exceeds half a turn.
     pub fn push(&mut self, estimate: f64, reference: f64) {
-        let e = estimate - reference;
+        let e = wrap_angle(estimate - reference);
         self.n += 1;
         self.sum_e += e;
         self.sum_e2 += e * e;
@@ -104,5 +117,23 @@ mod tests {
         assert!(c.rmse_offset_free().unwrap() < 1e-7);
         assert!((c.correlation().unwrap() - 1.0).abs() < 1e-12);
         assert_eq!(ChannelError::default().rmse(), None);
+    }
+
+    #[test]
+    fn errors_are_taken_on_the_circle() {
+        use core::f64::consts::PI;
+        let mut c = ChannelError::default();
+        // One turn away: no error; across +-pi: the short way round.
+        c.push(0.3 + 2.0 * PI, 0.3);
+        c.push(PI - 0.01, -PI + 0.01);
+        c.push(-0.1 - 4.0 * PI, 0.0);
+        let e = [0.0, -0.02, -0.1];
+        let rmse = (e.iter().map(|x| x * x).sum::<f64>() / 3.0).sqrt();
+        assert!((c.rmse().unwrap() - rmse).abs() < 1e-12, "{:?}", c.rmse());
+        assert!((c.max_abs_error().unwrap() - 0.1).abs() < 1e-12);
+        // Small errors are untouched, bit for bit.
+        let mut d = ChannelError::default();
+        d.push(0.123, 0.1);
+        assert_eq!(d.mean_error(), Some(0.123 - 0.1));
     }
 }
