@@ -1,6 +1,6 @@
 //! Soak run of the real-time estimators (issue 18 item 4, for
 //! docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-studies --example soak -- [--hours H] [--methods LIST]`
+//! `cargo run --release -p limbfuse-studies --example soak -- [--hours H] [--methods LIST] [--glitches LIST] [--glitch-every S] [--chunk-s S]`
 //!
 //! Each estimator over H hours (default 24: 8.64 M samples) of simulated
 //! 100 Hz data with one glitch every 30 s (cycling: a 1e300 gyro cell, a
@@ -22,7 +22,7 @@ fn main() {
             method: *method,
             duration_s: args.hours * 3600.0,
             seed: 1,
-            chunk_s: 3600.0_f64.min(args.hours * 3600.0),
+            chunk_s: args.chunk_s.min(args.hours * 3600.0),
             glitch_every_s: args.glitch_every,
             glitches,
         };
@@ -37,7 +37,7 @@ fn main() {
             "## {method}: {} samples, {} glitches",
             report.samples, report.glitches
         );
-        println!("| hour ends (s) | RMSE deg | missing | non-finite | CPU ns/step | RSS kB |");
+        println!("| chunk ends (s) | RMSE deg | missing | non-finite | CPU ns/step | RSS kB |");
         println!("|---|---|---|---|---|---|");
         for c in &report.chunks {
             println!(

@@ -347,6 +347,9 @@ pub struct SoakArgs {
     /// One glitch every this many seconds (`inf`: a clean run).
     #[arg(long, default_value_t = 30.0)]
     pub glitch_every: f64,
+    /// Length of one reported chunk (s).
+    #[arg(long, default_value_t = 3600.0)]
+    pub chunk_s: f64,
     /// The glitches injected in turn, comma-separated (gyro-huge, acc-huge,
     /// saturated-burst, gap, encoder-huge).
     #[arg(
