@@ -28,7 +28,7 @@ pub struct EstimateWriter<W: Write> {
     outputs: Outputs,
     n_diag: usize,
     line: Vec<u8>,
-    buf: ryu::Buffer,
+    buf: zmij::Buffer,
     /// The trial's file name, for the `# trial:` header line.
     trial: Option<String>,
     /// Byte offset of the `# trial_hash:` value, once the header is written.
@@ -51,7 +51,7 @@ impl<W: Write> EstimateWriter<W> {
             outputs: Outputs::default(),
             n_diag: 0,
             line: Vec::with_capacity(512),
-            buf: ryu::Buffer::new(),
+            buf: zmij::Buffer::new(),
             trial: None,
             hash_offset: None,
             command: None,

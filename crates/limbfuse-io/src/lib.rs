@@ -11,6 +11,7 @@ pub mod atomic_file;
 pub mod body_meta;
 pub mod calibration;
 mod cell_format;
+mod csv_lines;
 pub mod content_hash;
 pub mod error;
 pub mod estimate_file;
