@@ -14,22 +14,38 @@ pub(crate) fn push_cell(out: &mut Vec<u8>, buf: &mut zmij::Buffer, value: Option
     push_value(out, buf, value);
 }
 
+/// Integers below this magnitude are written by `itoa` + `.0` (exact:
+/// every integer below 2^53 is a double, and its shortest round-trip
+/// decimal is itself; `ryu` wrote them so for magnitudes below 1e16).
+const INTEGER_FAST_PATH: f64 = 1e15;
+
 /// Appends the cell for `value` (no separator).
 #[inline]
 pub(crate) fn push_value(out: &mut Vec<u8>, buf: &mut zmij::Buffer, value: Option<f64>) {
-    if let Some(v) = value {
-        if v.is_finite() {
-            let text = buf.format_finite(v).as_bytes();
-            // `zmij` writes a positive exponent as `e+16`, `ryu` as `e16`:
-            // keep the files as they were.
-            match memchr::memchr(b'+', text) {
-                Some(plus) => {
-                    out.extend_from_slice(&text[..plus]);
-                    out.extend_from_slice(&text[plus + 1..]);
-                }
-                None => out.extend_from_slice(text),
-            }
+    let Some(v) = value else { return };
+    if !v.is_finite() {
+        return;
+    }
+    if v.abs() < INTEGER_FAST_PATH && v == v.trunc() {
+        // Flags, counts and zeros: common in diagnostics.
+        if v.is_sign_negative() {
+            out.push(b'-');
         }
+        out.extend_from_slice(itoa::Buffer::new().format(v.abs() as u64).as_bytes());
+        out.extend_from_slice(b".0");
+        return;
+    }
+    let text = buf.format_finite(v).as_bytes();
+    // `zmij` writes a positive exponent as `e+16`, `ryu` as `e16`: keep the
+    // files as they were. An exponent has at most 3 digits, so a `+` is in
+    // the last 5 bytes.
+    let tail = text.len().saturating_sub(5);
+    match text[tail..].iter().position(|&b| b == b'+') {
+        Some(k) => {
+            out.extend_from_slice(&text[..tail + k]);
+            out.extend_from_slice(&text[tail + k + 1..]);
+        }
+        None => out.extend_from_slice(text),
     }
 }
 
@@ -82,6 +98,15 @@ mod tests {
             prop_assert_eq!(parse_number(text.as_bytes()).map(f64::to_bits), Some(bits));
         }
 
+        /// Integers (the fast path and around its bound), the same way.
+        #[test]
+        fn integers_are_written_as_ryu_did(k in -(1i64 << 53)..(1i64 << 53), shift in 0u32..12) {
+            let v = (k >> shift) as f64;
+            prop_assert_eq!(written(v), ryu::Buffer::new().format_finite(v).to_string());
+            let w = v * 1e3;
+            prop_assert_eq!(written(w), ryu::Buffer::new().format_finite(w).to_string());
+        }
+
         /// Values of the sizes sensors and filters write, the same way.
         #[test]
         fn everyday_values_are_written_as_ryu_did(m in -1e6f64..1e6, e in -12i32..12) {
@@ -96,6 +121,16 @@ mod tests {
             let std_value = s.parse::<f64>().ok().map(f64::to_bits);
             prop_assert_eq!(parse_number(s.as_bytes()).map(f64::to_bits), std_value, "{}", s);
         }
+    }
+
+    #[test]
+    fn zeros_flags_and_bounds_are_written_as_ryu_did() {
+        for v in [
+            0.0, -0.0, 1.0, -1.0, 2.0, 100.0, 1e15, -1e15, 1e15 - 1.0, 1e16, 9.5, -0.5, 1e-7,
+        ] {
+            assert_eq!(written(v), ryu::Buffer::new().format_finite(v), "{v}");
+        }
+        assert_eq!(written(-0.0), "-0.0");
     }
 
     #[test]

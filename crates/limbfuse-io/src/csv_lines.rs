@@ -12,7 +12,7 @@
 use std::io::{self, Read};
 use std::ops::Range;
 
-use memchr::{memchr, memchr_iter};
+use memchr::{memchr, memchr2_iter};
 
 /// Longest line accepted: a bound on the memory one row may take (a file
 /// without line breaks is not read whole into memory).
@@ -129,27 +129,26 @@ fn trimmed(bytes: &[u8], mut start: usize, mut end: usize) -> (u32, u32) {
     (start as u32, end as u32)
 }
 
-/// True when `line` holds only white space (a blank line, skipped).
-pub(crate) fn is_blank(line: &[u8]) -> bool {
-    line.iter().all(u8::is_ascii_whitespace)
+/// True when the cells are one empty cell (a blank line, skipped).
+pub(crate) fn is_blank(cells: &[(u32, u32)]) -> bool {
+    matches!(cells, [(a, b)] if a == b)
 }
 
-/// True when `line` needs the quoted path ([`split_quoted`]).
+/// Splits a line at its commas into trimmed cell bounds; returns false
+/// (cells unspecified) when the line holds a `"`: it needs [`split_quoted`].
 #[inline]
-pub(crate) fn has_quote(line: &[u8]) -> bool {
-    memchr(b'"', line).is_some()
-}
-
-/// Splits an unquoted line at its commas into trimmed cell bounds.
-#[inline]
-pub(crate) fn split_plain(line: &[u8], cells: &mut Vec<(u32, u32)>) {
+pub(crate) fn split_plain(line: &[u8], cells: &mut Vec<(u32, u32)>) -> bool {
     cells.clear();
     let mut start = 0;
-    for comma in memchr_iter(b',', line) {
-        cells.push(trimmed(line, start, comma));
-        start = comma + 1;
+    for at in memchr2_iter(b',', b'"', line) {
+        if line[at] == b'"' {
+            return false;
+        }
+        cells.push(trimmed(line, start, at));
+        start = at + 1;
     }
     cells.push(trimmed(line, start, line.len()));
+    true
 }
 
 /// Splits a record that may hold quoted cells, writing the cell texts
@@ -200,7 +199,7 @@ mod tests {
 
     fn plain(line: &str) -> Vec<String> {
         let mut cells = Vec::new();
-        split_plain(line.as_bytes(), &mut cells);
+        assert!(split_plain(line.as_bytes(), &mut cells));
         cells
             .iter()
             .map(|&(a, b)| line[a as usize..b as usize].to_string())
@@ -260,7 +259,8 @@ mod tests {
                 .iter()
                 .map(|c| String::from_utf8(c.to_vec()).unwrap())
                 .collect();
-            let got = if has_quote(line.as_bytes()) {
+            let got = if line.contains('"') {
+                assert!(!split_plain(line.as_bytes(), &mut Vec::new()));
                 quoted(line).unwrap()
             } else {
                 plain(line)

@@ -179,11 +179,10 @@ impl TableReader {
             self.lines_read += 1;
             let first_line = self.lines_read;
             let line = self.lines.bytes(range.clone());
-            if !csv_lines::has_quote(line) {
-                if csv_lines::is_blank(line) {
+            if csv_lines::split_plain(line, &mut self.cells) {
+                if csv_lines::is_blank(&self.cells) {
                     continue;
                 }
-                csv_lines::split_plain(line, &mut self.cells);
                 return Ok(Some((first_line, Cells::Line(range))));
             }
             self.record.clear();
@@ -202,6 +201,9 @@ impl TableReader {
                 }
                 self.record.push(b'\n');
                 self.record.extend_from_slice(self.lines.bytes(next));
+            }
+            if csv_lines::is_blank(&self.cells) {
+                continue;
             }
             return Ok(Some((first_line, Cells::Quoted)));
         }
