@@ -97,7 +97,11 @@ fn a_growing_trial_is_estimated_row_by_row_through_a_pipe() {
         stdin.flush().unwrap();
         sent += burst;
         wait_for_rows(&mut out, sent);
-        assert_eq!(table_lines(&out.join("\n")).len(), sent + 1, "no row before its input");
+        assert_eq!(
+            table_lines(&out.join("\n")).len(),
+            sent + 1,
+            "no row before its input"
+        );
     }
     drop(stdin);
     let status = child.wait().unwrap();
@@ -116,14 +120,20 @@ fn a_growing_trial_is_estimated_row_by_row_through_a_pipe() {
     assert_eq!(header_value(&streamed, "trial_hash"), Some("streamed"));
     // The hash the header could not hold is on stderr: the file's.
     let file_hash = header_value(&from_file, "trial_hash").unwrap();
-    assert!(stderr.contains(&format!("content hash {file_hash}")), "{stderr}");
+    assert!(
+        stderr.contains(&format!("content hash {file_hash}")),
+        "{stderr}"
+    );
 
     // `evaluate` accepts a streamed estimate, with a warning that it cannot be checked.
     std::fs::write(dir.path().join("streamed.csv"), &streamed).unwrap();
     let ev = limbfuse(&["evaluate", "trial.csv", "streamed.csv"], dir.path());
     assert_ok(&ev);
     let e = String::from_utf8_lossy(&ev.stderr);
-    assert!(e.contains("streamed") && e.contains("cannot be checked"), "{e}");
+    assert!(
+        e.contains("streamed") && e.contains("cannot be checked"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -20,13 +20,43 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, Record, Sample};
 use limbfuse_io::EstimateWriter;
 
 const DIAG_NAMES: [&str; 37] = [
-    "mode", "rho_min", "upd_trunk", "upd_thigh", "upd_shank", "upd_foot", "upd_hip", "upd_knee",
-    "upd_ankle", "missing_inputs", "rho_trunk", "rho_thigh", "rho_shank", "rho_foot", "bias_trunk",
-    "bias_thigh", "bias_shank", "bias_foot", "sd_trunk", "sd_thigh", "sd_shank", "sd_foot",
-    "share_own_trunk", "share_own_thigh", "share_own_shank", "share_own_foot",
-    "share_other_trunk", "share_other_thigh", "share_other_shank", "share_other_foot",
-    "share_joint_trunk", "share_joint_thigh", "share_joint_shank", "share_joint_foot",
-    "rejected_gyro", "rejected_acc", "rejected_encoder",
+    "mode",
+    "rho_min",
+    "upd_trunk",
+    "upd_thigh",
+    "upd_shank",
+    "upd_foot",
+    "upd_hip",
+    "upd_knee",
+    "upd_ankle",
+    "missing_inputs",
+    "rho_trunk",
+    "rho_thigh",
+    "rho_shank",
+    "rho_foot",
+    "bias_trunk",
+    "bias_thigh",
+    "bias_shank",
+    "bias_foot",
+    "sd_trunk",
+    "sd_thigh",
+    "sd_shank",
+    "sd_foot",
+    "share_own_trunk",
+    "share_own_thigh",
+    "share_own_shank",
+    "share_own_foot",
+    "share_other_trunk",
+    "share_other_thigh",
+    "share_other_shank",
+    "share_other_foot",
+    "share_joint_trunk",
+    "share_joint_thigh",
+    "share_joint_shank",
+    "share_joint_foot",
+    "rejected_gyro",
+    "rejected_acc",
+    "rejected_encoder",
 ];
 
 /// Stands in for the estimator in the header (name, outputs, diagnostics).
@@ -110,7 +140,9 @@ fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     let mut g = c.benchmark_group("estimate_csv");
     g.sample_size(10);
     g.throughput(Throughput::Bytes(bytes as u64));
-    g.bench_function("write_60k_rows", |b| b.iter(|| black_box(write_all(&est, &mut out))));
+    g.bench_function("write_60k_rows", |b| {
+        b.iter(|| black_box(write_all(&est, &mut out)))
+    });
     g.finish();
 }
 

@@ -45,12 +45,8 @@ fn records(n: usize) -> Vec<Record> {
 /// the kernel's page faults of a fresh 38 MB buffer are not timed).
 fn trial_bytes<'a>(records: &[Record], out: &'a mut Vec<u8>) -> &'a mut Vec<u8> {
     out.clear();
-    let mut w = TrialWriter::new(
-        out,
-        &TrialMeta::trial_v1(),
-        TrialLayout::walking(),
-    )
-    .expect("in-memory write");
+    let mut w = TrialWriter::new(out, &TrialMeta::trial_v1(), TrialLayout::walking())
+        .expect("in-memory write");
     for r in records {
         w.write(r).expect("in-memory write");
     }
@@ -69,11 +65,8 @@ fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     g.throughput(Throughput::Bytes(bytes.len() as u64));
     g.bench_function("read_60k_rows", |b| {
         b.iter(|| {
-            let r = TrialReader::from_reader(
-                Path::new("bench.csv"),
-                Box::new(bytes),
-            )
-            .expect("valid");
+            let r =
+                TrialReader::from_reader(Path::new("bench.csv"), Box::new(bytes)).expect("valid");
             let mut acc = 0.0;
             for rec in r {
                 acc += rec.expect("valid").sample.t;

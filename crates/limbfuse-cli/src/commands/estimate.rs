@@ -273,16 +273,21 @@ fn run_observed<W: std::io::Write>(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        let source = reader.by_ref().map(|r| {
-            r.map(|mut rec| {
-                if let Some(c) = calibration {
-                    c.apply(&mut rec);
-                }
-                rec
-            })
-        });
-        runner::run(est, source, &mut observers)
-            .with_context(|| format!("estimating {} with {label}", trial.display()))?
+        let summary = match calibration {
+            // Records are large: without a calibration they go to the
+            // runner without a mapping step that would move each once more.
+            None => runner::run(est, reader.by_ref(), &mut observers),
+            Some(c) => {
+                let source = reader.by_ref().map(|r| {
+                    r.map(|mut rec| {
+                        c.apply(&mut rec);
+                        rec
+                    })
+                });
+                runner::run(est, source, &mut observers)
+            }
+        };
+        summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
     Ok(RunReport {
         n_samples: summary.n_samples,
