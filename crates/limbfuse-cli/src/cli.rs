@@ -241,9 +241,10 @@ pub struct EstimateArgs {
     /// Estimation method (`limbfuse methods` describes each).
     #[arg(long, help = crate::methods::method_flag_help("Estimation method"))]
     pub method: String,
-    /// Trial file.
+    /// Trial file (`-`: standard input, read as rows arrive).
     pub trial: PathBuf,
-    /// Output estimate file.
+    /// Output estimate file (`-`: standard output, each estimate written as
+    /// soon as its row is read; the header then says `# trial_hash: streamed`).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Parameter overrides (TOML).

@@ -11,6 +11,7 @@ mod commands;
 mod exit;
 mod methods;
 mod progress;
+mod stdio;
 
 use std::process::ExitCode;
 

@@ -9,6 +9,7 @@
 use std::fmt;
 use std::path::Path;
 
+use limbfuse_io::content_hash::STREAMED_HASH;
 use limbfuse_io::{ContentHash, EstimateReader};
 
 use crate::evaluation::EvalError;
@@ -27,6 +28,15 @@ pub enum TrialCheck {
         /// The estimate file.
         estimate: String,
     },
+    /// The estimate was streamed as it was made (`# trial_hash: streamed`:
+    /// its header was written before its trial had been read to the end):
+    /// accepted, with a warning.
+    Streamed {
+        /// The estimate file.
+        estimate: String,
+        /// Its `# trial:` entry.
+        recorded_trial: String,
+    },
     /// The estimate records another trial; evaluated because the caller
     /// allowed it.
     MismatchAllowed(TrialMismatch),
@@ -41,6 +51,14 @@ impl TrialCheck {
                 "{estimate}: the estimate file does not record the trial it was made from \
                  (no `# trial_hash:` line; written by an older limbfuse), so it cannot be \
                  checked against the trial"
+            )),
+            TrialCheck::Streamed {
+                estimate,
+                recorded_trial,
+            } => Some(format!(
+                "{estimate}: the estimate was streamed from `{recorded_trial}` as it was made \
+                 (`# trial_hash: streamed`: its header was written before the trial ended), \
+                 so it cannot be checked against the trial"
             )),
             TrialCheck::MismatchAllowed(m) => Some(format!("{m} (evaluated anyway, as asked)")),
         }
@@ -85,6 +103,12 @@ pub fn check_trial(
     let Some(recorded) = er.recorded_trial_hash() else {
         return Ok(TrialCheck::NotRecorded { estimate });
     };
+    if recorded.trim() == STREAMED_HASH {
+        return Ok(TrialCheck::Streamed {
+            estimate,
+            recorded_trial: er.recorded_trial().unwrap_or("?").to_string(),
+        });
+    }
     if ContentHash::parse(recorded) == Some(trial_hash) {
         return Ok(TrialCheck::Matches);
     }

@@ -21,6 +21,10 @@ use crate::error::FileError;
 pub const TRIAL_KEY: &str = "trial";
 /// Estimate-file metadata key of the trial's [`ContentHash`].
 pub const TRIAL_HASH_KEY: &str = "trial_hash";
+/// The `# trial_hash:` value of an estimate streamed as it was made (to
+/// standard output): its header was written before the trial's end, so the
+/// hash was not known (docs/STREAMING.md).
+pub const STREAMED_HASH: &str = "streamed";
 
 /// The XXH3-64 hash of a file's bytes; written `xxh3:` + 16 hex digits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -109,18 +109,4 @@ impl FileError {
             expected: expected.into(),
         }
     }
-
-    pub(crate) fn csv(path: &Path, line_offset: u64, e: csv::Error) -> Self {
-        let line = e
-            .position()
-            .map_or(line_offset + 1, |p| line_offset + p.line());
-        match e.into_kind() {
-            csv::ErrorKind::Io(source) => FileError::Io {
-                path: path.to_path_buf(),
-                source,
-            },
-            csv::ErrorKind::Utf8 { .. } => FileError::at(path, line, "UTF-8 text"),
-            other => FileError::at(path, line, format!("well-formed CSV ({other:?})")),
-        }
-    }
 }

@@ -17,7 +17,7 @@ use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 
 use crate::cell_format::{push_cell, push_value};
-use crate::content_hash::{ContentHash, TRIAL_HASH_KEY, TRIAL_KEY};
+use crate::content_hash::{ContentHash, STREAMED_HASH, TRIAL_HASH_KEY, TRIAL_KEY};
 use crate::error::FileError;
 use crate::meta::TrialMeta;
 use crate::table::TableReader;
@@ -28,11 +28,13 @@ pub struct EstimateWriter<W: Write> {
     outputs: Outputs,
     n_diag: usize,
     line: Vec<u8>,
-    buf: ryu::Buffer,
+    buf: zmij::Buffer,
     /// The trial's file name, for the `# trial:` header line.
     trial: Option<String>,
     /// Byte offset of the `# trial_hash:` value, once the header is written.
     hash_offset: Option<u64>,
+    /// The header says `# trial_hash: streamed` (no hash to stamp).
+    streamed: bool,
     /// The command that made the file, for the `# command:` header line.
     command: Option<String>,
 }
@@ -51,9 +53,10 @@ impl<W: Write> EstimateWriter<W> {
             outputs: Outputs::default(),
             n_diag: 0,
             line: Vec::with_capacity(512),
-            buf: ryu::Buffer::new(),
+            buf: zmij::Buffer::new(),
             trial: None,
             hash_offset: None,
+            streamed: false,
             command: None,
         }
     }
@@ -65,6 +68,16 @@ impl<W: Write> EstimateWriter<W> {
     pub fn recording_trial(mut self, name: impl Into<String>) -> Self {
         let name: String = name.into();
         self.trial = Some(name.replace(['\n', '\r'], " "));
+        self
+    }
+
+    /// Records the trial of an estimate written as it is made, to an output
+    /// that cannot be rewritten (standard output): `# trial: NAME` and
+    /// `# trial_hash: streamed` ([`STREAMED_HASH`]), since the hash is
+    /// known only at the trial's end.
+    pub fn streaming_trial(mut self, name: impl Into<String>) -> Self {
+        self = self.recording_trial(name);
+        self.streamed = true;
         self
     }
 
@@ -96,8 +109,12 @@ impl<W: Write> Observer for EstimateWriter<W> {
         }
         if let Some(name) = &self.trial {
             head.push_str(&format!("# {TRIAL_KEY}: {name}\n# {TRIAL_HASH_KEY}: "));
-            self.hash_offset = Some(head.len() as u64);
-            head.push_str(HASH_PLACEHOLDER);
+            if self.streamed {
+                head.push_str(STREAMED_HASH);
+            } else {
+                self.hash_offset = Some(head.len() as u64);
+                head.push_str(HASH_PLACEHOLDER);
+            }
             head.push('\n');
         }
         self.out.write_all(head.as_bytes())?;

@@ -12,6 +12,7 @@ pub mod body_meta;
 pub mod calibration;
 mod cell_format;
 pub mod content_hash;
+mod csv_lines;
 pub mod error;
 pub mod estimate_file;
 pub mod gait_library;

@@ -6,10 +6,12 @@
 //! file, the 1-based line and, for cells, the 1-based column and its name.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, Read};
+use std::io::Read;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use crate::content_hash::{ContentHash, HashHandle, HashingReader};
+use crate::csv_lines::{self, LineError, LineSource};
 use crate::error::FileError;
 use crate::meta::TrialMeta;
 
@@ -18,10 +20,16 @@ pub struct TableReader {
     path: PathBuf,
     meta: TrialMeta,
     header: Vec<String>,
-    csv: csv::Reader<Box<dyn Read + Send>>,
-    /// Number of physical lines before the header (comment lines).
-    line_offset: u64,
-    record: csv::ByteRecord,
+    lines: LineSource,
+    /// 1-based line number of the header row.
+    header_line: u64,
+    /// Physical lines read so far.
+    lines_read: u64,
+    /// Cell bounds of the current row (in the line, or in `quoted` text).
+    cells: Vec<(u32, u32)>,
+    /// A record with quotes: its raw lines, and its cell texts unquoted.
+    record: Vec<u8>,
+    quoted: Vec<u8>,
     /// Hash of the bytes read so far.
     hash: HashHandle,
 }
@@ -40,8 +48,17 @@ impl std::fmt::Debug for TableReader {
 pub struct Row<'a> {
     path: &'a Path,
     header: &'a [String],
-    record: &'a csv::ByteRecord,
+    text: &'a [u8],
+    cells: &'a [(u32, u32)],
     line: u64,
+}
+
+/// Where the cells of the current record are.
+enum Cells {
+    /// In the line, in the reader's buffer.
+    Line(Range<usize>),
+    /// In the unquoted text of a quoted record.
+    Quoted,
 }
 
 impl TableReader {
@@ -54,56 +71,92 @@ impl TableReader {
     /// Reads a table from any byte source; `path` is used in error messages.
     pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
         let (source, hash) = HashingReader::new(source);
-        let mut buf = BufReader::with_capacity(1 << 16, source);
-        let mut meta = TrialMeta::new();
-        let mut line_offset = 0u64;
-        loop {
-            let peek = buf.fill_buf().map_err(|e| FileError::io(path, e))?;
-            if peek.first() != Some(&b'#') {
+        let mut table = TableReader {
+            path: path.to_path_buf(),
+            meta: TrialMeta::new(),
+            header: Vec::new(),
+            lines: LineSource::new(Box::new(source)),
+            header_line: 0,
+            lines_read: 0,
+            cells: Vec::new(),
+            record: Vec::new(),
+            quoted: Vec::new(),
+            hash,
+        };
+        table.read_comments()?;
+        table.read_header()?;
+        Ok(table)
+    }
+
+    fn line_error(&self, e: LineError) -> FileError {
+        match e {
+            LineError::Io(e) => FileError::io(&self.path, e),
+            LineError::TooLong => FileError::at(
+                &self.path,
+                self.lines_read + 1,
+                format!(
+                    "a line of at most {} MiB (no line break found)",
+                    csv_lines::MAX_LINE_BYTES >> 20
+                ),
+            ),
+        }
+    }
+
+    /// The leading `# key: value` lines.
+    fn read_comments(&mut self) -> Result<(), FileError> {
+        while self.lines.peek().map_err(|e| self.line_error(e))? == Some(b'#') {
+            let Some(line) = self.lines.next_line().map_err(|e| self.line_error(e))? else {
                 break;
-            }
-            let mut line = String::new();
-            buf.read_line(&mut line).map_err(|e| match e.kind() {
-                std::io::ErrorKind::InvalidData => {
-                    FileError::at(path, line_offset + 1, "a UTF-8 comment line")
-                }
-                _ => FileError::io(path, e),
-            })?;
-            line_offset += 1;
-            let body = line.trim_start_matches('#').trim();
+            };
+            self.lines_read += 1;
+            let text = std::str::from_utf8(self.lines.bytes(line))
+                .map_err(|_| FileError::at(&self.path, self.lines_read, "a UTF-8 comment line"))?;
+            let body = text.trim_start_matches('#').trim();
             if let Some((k, v)) = body.split_once(':') {
-                meta.set(k.trim(), v.trim());
+                self.meta.set(k.trim(), v.trim());
             }
         }
-        let mut csv = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .flexible(true)
-            .trim(csv::Trim::All)
-            .from_reader(Box::new(buf) as Box<dyn Read + Send>);
-        let mut header_rec = csv::StringRecord::new();
-        let got = csv
-            .read_record(&mut header_rec)
-            .map_err(|e| FileError::csv(path, line_offset, e))?;
-        let header_line = line_offset + 1;
-        if !got || header_rec.iter().all(|c| c.is_empty()) {
+        Ok(())
+    }
+
+    /// The header row: the first non-blank line after the comments.
+    fn read_header(&mut self) -> Result<(), FileError> {
+        let expected_at = self.lines_read + 1;
+        let Some((line, cells)) = self.next_record()? else {
             return Err(FileError::Empty {
-                path: path.to_path_buf(),
-                line: header_line,
+                path: self.path.clone(),
+                line: expected_at,
+            });
+        };
+        self.header_line = line;
+        let text = match cells {
+            Cells::Line(r) => self.lines.bytes(r),
+            Cells::Quoted => &self.quoted,
+        };
+        let mut header = Vec::with_capacity(self.cells.len());
+        for &(a, b) in &self.cells {
+            let name = std::str::from_utf8(&text[a as usize..b as usize])
+                .map_err(|_| FileError::at(&self.path, line, "UTF-8 text"))?;
+            header.push(name.trim().to_string());
+        }
+        if header.iter().all(String::is_empty) {
+            return Err(FileError::Empty {
+                path: self.path.clone(),
+                line,
             });
         }
-        let header: Vec<String> = header_rec.iter().map(str::to_string).collect();
         for (i, name) in header.iter().enumerate() {
             if name.is_empty() {
                 return Err(FileError::Header {
-                    path: path.to_path_buf(),
-                    line: header_line,
+                    path: self.path.clone(),
+                    line,
                     message: format!("column {} has an empty name", i + 1),
                 });
             }
             if let Some(j) = header[..i].iter().position(|n| n == name) {
                 return Err(FileError::Header {
-                    path: path.to_path_buf(),
-                    line: header_line,
+                    path: self.path.clone(),
+                    line,
                     message: format!(
                         "duplicate column `{name}` (columns {} and {})",
                         j + 1,
@@ -112,15 +165,48 @@ impl TableReader {
                 });
             }
         }
-        Ok(TableReader {
-            path: path.to_path_buf(),
-            meta,
-            header,
-            csv,
-            line_offset,
-            record: csv::ByteRecord::new(),
-            hash,
-        })
+        self.header = header;
+        Ok(())
+    }
+
+    /// The next non-blank record split into `self.cells`, with the line it
+    /// starts on; `None` at the end.
+    fn next_record(&mut self) -> Result<Option<(u64, Cells)>, FileError> {
+        loop {
+            let Some(range) = self.lines.next_line().map_err(|e| self.line_error(e))? else {
+                return Ok(None);
+            };
+            self.lines_read += 1;
+            let first_line = self.lines_read;
+            let line = self.lines.bytes(range.clone());
+            if csv_lines::split_plain(line, &mut self.cells) {
+                if csv_lines::is_blank(&self.cells) {
+                    continue;
+                }
+                return Ok(Some((first_line, Cells::Line(range))));
+            }
+            self.record.clear();
+            self.record.extend_from_slice(line);
+            while !csv_lines::split_quoted(&self.record, &mut self.quoted, &mut self.cells) {
+                let Some(next) = self.lines.next_line().map_err(|e| self.line_error(e))? else {
+                    return Err(FileError::at(
+                        &self.path,
+                        first_line,
+                        "a closing `\"` for the quoted cell opened on this line",
+                    ));
+                };
+                self.lines_read += 1;
+                if self.record.len() > csv_lines::MAX_LINE_BYTES {
+                    return Err(self.line_error(LineError::TooLong));
+                }
+                self.record.push(b'\n');
+                self.record.extend_from_slice(self.lines.bytes(next));
+            }
+            if csv_lines::is_blank(&self.cells) {
+                continue;
+            }
+            return Ok(Some((first_line, Cells::Quoted)));
+        }
     }
 
     /// The file path used in messages.
@@ -146,7 +232,7 @@ impl TableReader {
 
     /// 1-based line number of the header row.
     pub fn header_line(&self) -> u64 {
-        self.line_offset + 1
+        self.header_line
     }
 
     /// 0-based index of the required time column `t`.
@@ -165,33 +251,28 @@ impl TableReader {
 
     /// Reads the next row; `Ok(None)` at the end. Blank lines are skipped.
     pub fn next_row(&mut self) -> Result<Option<Row<'_>>, FileError> {
-        loop {
-            let got = self
-                .csv
-                .read_byte_record(&mut self.record)
-                .map_err(|e| FileError::csv(&self.path, self.line_offset, e))?;
-            if !got {
-                return Ok(None);
-            }
-            let line = self.line_offset + self.record.position().map_or(0, |p| p.line());
-            if self.record.len() == 1 && self.record[0].is_empty() {
-                continue;
-            }
-            if self.record.len() != self.header.len() {
-                return Err(FileError::RowLength {
-                    path: self.path.clone(),
-                    line,
-                    expected: self.header.len(),
-                    found: self.record.len(),
-                });
-            }
-            return Ok(Some(Row {
-                path: &self.path,
-                header: &self.header,
-                record: &self.record,
+        let Some((line, cells)) = self.next_record()? else {
+            return Ok(None);
+        };
+        if self.cells.len() != self.header.len() {
+            return Err(FileError::RowLength {
+                path: self.path.clone(),
                 line,
-            }));
+                expected: self.header.len(),
+                found: self.cells.len(),
+            });
         }
+        let text = match cells {
+            Cells::Line(r) => self.lines.bytes(r),
+            Cells::Quoted => &self.quoted,
+        };
+        Ok(Some(Row {
+            path: &self.path,
+            header: &self.header,
+            text,
+            cells: &self.cells,
+            line,
+        }))
     }
 }
 
@@ -208,7 +289,8 @@ impl Row<'_> {
 
     /// Raw text of column `col` (0-based).
     pub fn text(&self, col: usize) -> &[u8] {
-        &self.record[col]
+        let (a, b) = self.cells[col];
+        &self.text[a as usize..b as usize]
     }
 
     /// An error about column `col` of this row.
@@ -219,19 +301,17 @@ impl Row<'_> {
             column: col + 1,
             name: self.header[col].clone(),
             expected,
-            found: String::from_utf8_lossy(&self.record[col]).into_owned(),
+            found: String::from_utf8_lossy(self.text(col)).into_owned(),
         }
     }
 
     /// The finite number in column `col`, `None` when the cell is empty.
     pub fn number(&self, col: usize) -> Result<Option<f64>, FileError> {
-        let raw = &self.record[col];
+        let raw = self.text(col);
         if raw.is_empty() {
             return Ok(None);
         }
-        let v = std::str::from_utf8(raw)
-            .ok()
-            .and_then(|s| s.parse::<f64>().ok())
+        let v = crate::cell_format::parse_number(raw)
             .ok_or_else(|| self.cell_error(col, "a number or an empty cell"))?;
         if !v.is_finite() {
             return Err(self.cell_error(col, "a finite number (NaN and inf are not allowed; leave the cell empty for a missing value)"));

@@ -13,7 +13,7 @@ pub struct TrialWriter<W: Write> {
     out: W,
     layout: TrialLayout,
     line: Vec<u8>,
-    buf: ryu::Buffer,
+    buf: zmij::Buffer,
 }
 
 impl<W: Write> TrialWriter<W> {
@@ -28,7 +28,7 @@ impl<W: Write> TrialWriter<W> {
             out,
             layout,
             line: Vec::with_capacity(1024),
-            buf: ryu::Buffer::new(),
+            buf: zmij::Buffer::new(),
         })
     }
 

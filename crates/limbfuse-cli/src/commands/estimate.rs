@@ -13,6 +13,7 @@ use crate::cli::EstimateArgs;
 use crate::exit::Internal;
 use crate::methods;
 use crate::progress::Progress;
+use crate::stdio::{self, FlushingStdin, SharedStdout};
 
 /// Whether any estimate carried a contact state or a walking speed.
 #[derive(Debug, Default)]
@@ -31,15 +32,26 @@ impl Observer for GaitWatch {
     }
 }
 
-/// Runs one estimator over a trial file, streaming.
+/// Runs one estimator over a trial file, streaming; `-` as the trial reads
+/// standard input, `-` as the output writes standard output as rows arrive
+/// (docs/STREAMING.md).
 pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
-    let reader = TrialReader::open(&a.trial)?;
+    let stdout = stdio::is_stdio(&a.output).then(SharedStdout::new);
+    let reader = if stdio::is_stdio(&a.trial) {
+        TrialReader::from_reader(
+            Path::new(stdio::STDIN_LABEL),
+            Box::new(FlushingStdin::new(stdout.clone())),
+        )?
+    } else {
+        TrialReader::open(&a.trial)?
+    };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
     let calibration = match &a.calibration {
         Some(path) => Some(
-            super::calibrate::load_for_trial(path, &a.trial, reader.meta(), reader.layout())?.0,
+            super::calibrate::load_for_trial(path, reader.path(), reader.meta(), reader.layout())?
+                .0,
         ),
         None => None,
     };
@@ -48,25 +60,47 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     // in which they find no gait is an error, not an empty estimate.
     let gait_method = outputs.contact || (outputs.speed && !outputs.com);
     let mut gait = GaitWatch::default();
-    let n = run_to_file_calibrated(
-        est.as_mut(),
-        reader,
-        &a.output,
-        spec.method().name(),
-        &command_line(a),
-        &mut [&mut gait],
-        calibration.as_ref(),
-    )?;
+    let label = spec.method().name();
+    let n = match stdout {
+        Some(out) => run_to_stdout(
+            est.as_mut(),
+            reader,
+            out,
+            label,
+            &command_line(a),
+            &mut [&mut gait],
+            calibration.as_ref(),
+        )?,
+        None => run_to_file_calibrated(
+            est.as_mut(),
+            reader,
+            &a.output,
+            label,
+            &command_line(a),
+            &mut [&mut gait],
+            calibration.as_ref(),
+        )?,
+    };
+    let written = if stdio::is_stdio(&a.output) {
+        "standard output".to_string()
+    } else {
+        a.output.display().to_string()
+    };
     if gait_method && !gait.found {
-        let _ = std::fs::remove_file(&a.output);
+        let kept = if stdio::is_stdio(&a.output) {
+            "the estimate written to standard output holds none"
+        } else {
+            let _ = std::fs::remove_file(&a.output);
+            "no estimate written"
+        };
         anyhow::bail!(
             "no gait found in {}: `{}` detected no foot contact and no walking speed in {n} samples \
-             (the recording has no walking, or the IMU is not where the method expects it); no estimate written",
+             (the recording has no walking, or the IMU is not where the method expects it); {kept}",
             a.trial.display(),
             spec.method()
         );
     }
-    eprintln!("{}: {n} samples -> {}", spec.method(), a.output.display());
+    eprintln!("{}: {n} samples -> {written}", spec.method());
     Ok(())
 }
 
@@ -138,36 +172,10 @@ pub fn run_to_file_calibrated(
     calibration: Option<&Calibration>,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
-    let trial_name = trial.file_name().map_or_else(
-        || trial.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
     let mut writer = EstimateWriter::new(super::create_file(output)?)
-        .recording_trial(trial_name)
+        .recording_trial(file_name(&trial))
         .recording_command(command);
-    let mut progress = Progress::new(label);
-    let mut resets = ResetWatch::default();
-    let mut rejections = RejectionWatch::default();
-    let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(4 + extra.len());
-        observers.push(&mut writer);
-        observers.push(&mut progress);
-        observers.push(&mut resets);
-        observers.push(&mut rejections);
-        for o in extra.iter_mut() {
-            observers.push(&mut **o);
-        }
-        let source = reader.by_ref().map(|r| {
-            r.map(|mut rec| {
-                if let Some(c) = calibration {
-                    c.apply(&mut rec);
-                }
-                rec
-            })
-        });
-        runner::run(est, source, &mut observers)
-            .with_context(|| format!("estimating {} with {label}", trial.display()))?
-    };
+    let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     let hash = reader.content_hash().ok_or_else(|| {
         Internal(format!(
             "{}: the trial was not read to its end",
@@ -177,12 +185,113 @@ pub fn run_to_file_calibrated(
     let write_err = || format!("{}: cannot write the output file", output.display());
     writer.stamp_trial_hash(hash).with_context(write_err)?;
     super::commit(writer.into_inner().with_context(write_err)?)?;
-    super::warn_resets(
-        &format!("{label} on {}", trial.display()),
-        resets.resets().as_ref(),
-    );
-    if let Some(r) = rejections.rejected() {
-        eprintln!("warning: {label} on {}: {r}", trial.display());
+    run.warn(label, &trial);
+    Ok(run.n_samples)
+}
+
+/// [`run_to_file_calibrated`] writing to standard output as the rows
+/// arrive. The header cannot hold the trial's hash (it is written before
+/// the trial ends): it says `# trial_hash: streamed`, and the hash goes to
+/// stderr at the end.
+fn run_to_stdout(
+    est: &mut dyn Estimator,
+    mut reader: TrialReader,
+    output: SharedStdout,
+    label: &str,
+    command: &str,
+    extra: &mut [&mut dyn Observer],
+    calibration: Option<&Calibration>,
+) -> Result<u64> {
+    let trial = reader.path().to_path_buf();
+    let mut writer = EstimateWriter::new(output)
+        .streaming_trial(file_name(&trial))
+        .recording_command(command);
+    let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
+    writer
+        .into_inner()
+        .context("standard output: cannot write the estimate")?;
+    if let Some(hash) = reader.content_hash() {
+        eprintln!(
+            "note: {} has the content hash {hash} (not in the streamed estimate's header, \
+             which was written before the trial ended)",
+            trial.display()
+        );
     }
-    Ok(summary.n_samples)
+    run.warn(label, &trial);
+    Ok(run.n_samples)
+}
+
+/// The file name of `path` (its display form if it has none).
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// What a run found besides its estimates.
+struct RunReport {
+    n_samples: u64,
+    resets: ResetWatch,
+    rejections: RejectionWatch,
+}
+
+impl RunReport {
+    /// Warns on stderr when the estimator restarted during the run (issue
+    /// 16) or sensor readings were rejected as out of range (issue 18).
+    fn warn(&self, label: &str, trial: &Path) {
+        super::warn_resets(
+            &format!("{label} on {}", trial.display()),
+            self.resets.resets().as_ref(),
+        );
+        if let Some(r) = self.rejections.rejected() {
+            eprintln!("warning: {label} on {}: {r}", trial.display());
+        }
+    }
+}
+
+/// Runs `est` over every record of `reader` (calibrated if asked) into
+/// `writer`, with a progress bar and the `extra` observers.
+fn run_observed<W: std::io::Write>(
+    est: &mut dyn Estimator,
+    reader: &mut TrialReader,
+    writer: &mut EstimateWriter<W>,
+    label: &str,
+    extra: &mut [&mut dyn Observer],
+    calibration: Option<&Calibration>,
+) -> Result<RunReport> {
+    let trial = reader.path().to_path_buf();
+    let mut progress = Progress::new(label);
+    let mut resets = ResetWatch::default();
+    let mut rejections = RejectionWatch::default();
+    let summary = {
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(4 + extra.len());
+        observers.push(writer);
+        observers.push(&mut progress);
+        observers.push(&mut resets);
+        observers.push(&mut rejections);
+        for o in extra.iter_mut() {
+            observers.push(&mut **o);
+        }
+        let summary = match calibration {
+            // Records are large: without a calibration they go to the
+            // runner without a mapping step that would move each once more.
+            None => runner::run(est, reader.by_ref(), &mut observers),
+            Some(c) => {
+                let source = reader.by_ref().map(|r| {
+                    r.map(|mut rec| {
+                        c.apply(&mut rec);
+                        rec
+                    })
+                });
+                runner::run(est, source, &mut observers)
+            }
+        };
+        summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
+    };
+    Ok(RunReport {
+        n_samples: summary.n_samples,
+        resets,
+        rejections,
+    })
 }

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""End-to-end comparison (issue 18, "Done when"): what a Python user would
+write to do the job of `limbfuse estimate --method mjls` (pandas
+`read_csv`, a filterpy `KalmanFilter` of the size of mjls stepped over every
+sample, `to_csv`), timed side by side with the limbfuse binary on the same
+trial, interleaved, in one run.
+
+Usage (docs/PERFORMANCE.md):
+    python3 -m venv target/pyvenv && target/pyvenv/bin/pip install pandas filterpy
+    target/release/limbfuse simulate walking --duration 1200 --seed 1 -o target/walk1200.csv
+    target/pyvenv/bin/python scripts/python_comparison.py target/release/limbfuse target/walk1200.csv
+
+The Python filter has the size of mjls (8 states: angle and gyro bias of
+trunk, thigh, shank and foot; 7 measurement rows: 4 accelerometer
+inclinations and 3 encoder joint angles, `filterpy.kalman.KalmanFilter`
+with `dim_x=8, dim_z=7, dim_u=4`); the inclinations are computed
+vectorised with numpy before the loop, as a careful user would. It writes
+t, 7 angles and 8 standard deviations (16 columns); limbfuse writes its
+45 (angles and 37 diagnostics), so the Python side writes less.
+
+Reported per tool: the median over the repeats of wall time and CPU time
+(the machine may be shared: CPU time is what one core spent). Python's
+times cover read_csv -> filter -> to_csv (not the interpreter start nor the
+imports, which are reported apart); limbfuse's cover the whole process.
+"""
+
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+T_IMPORT = time.perf_counter()
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+from filterpy.kalman import KalmanFilter  # noqa: E402
+
+IMPORT_SECONDS = time.perf_counter() - T_IMPORT
+
+SEGMENTS = ["trunk", "thigh", "shank", "foot"]
+JOINTS = ["hip", "knee", "ankle"]
+
+
+def python_estimate(trial, out):
+    """read_csv -> 8-state KF over every sample -> to_csv."""
+    df = pd.read_csv(trial, comment="#")
+    t = df["t"].to_numpy()
+    gyro = np.stack([df[f"{s}_gyr_z"].to_numpy() for s in SEGMENTS], axis=1)
+    incl = np.stack(
+        [np.arctan2(df[f"{s}_acc_x"].to_numpy(), df[f"{s}_acc_y"].to_numpy()) for s in SEGMENTS],
+        axis=1,
+    )
+    enc = np.stack([df[f"{j}_enc"].to_numpy() for j in JOINTS], axis=1)
+    z_all = np.concatenate([incl, enc], axis=1)
+
+    kf = KalmanFilter(dim_x=8, dim_z=7, dim_u=4)
+    H = np.zeros((7, 8))
+    for i in range(4):
+        H[i, 2 * i] = 1.0
+    for j in range(3):  # joint = distal segment - proximal segment
+        H[4 + j, 2 * (j + 1)] = 1.0
+        H[4 + j, 2 * j] = -1.0
+    kf.H = H
+    kf.R = np.diag([0.2**2] * 4 + [0.005**2] * 3)
+    kf.P = np.eye(8) * 0.05**2
+    kf.x = np.zeros((8, 1))
+    for i in range(4):
+        kf.x[2 * i, 0] = incl[0, i]
+    # A uniform time base (checked): F, B and Q are set once, as a user
+    # with a 100 Hz recording would (cheaper than rebuilding them per step).
+    dts = np.diff(t)
+    dt = float(np.median(dts))
+    assert np.allclose(dts, dt, rtol=1e-6), "the script assumes a uniform time base"
+    F = np.eye(8)
+    B = np.zeros((8, 4))
+    for i in range(4):
+        F[2 * i, 2 * i + 1] = -dt
+        B[2 * i, i] = dt
+    kf.F, kf.B = F, B
+    kf.Q = np.diag([(0.01 * dt) ** 2, (1e-4 * dt) ** 2] * 4)
+    n = len(t)
+    angles = np.empty((n, 4))
+    sds = np.empty((n, 8))
+    for k in range(n):
+        kf.predict(u=gyro[k].reshape(4, 1))
+        kf.update(z_all[k].reshape(7, 1))
+        angles[k] = kf.x[0::2, 0]
+        sds[k] = np.sqrt(np.diag(kf.P))
+    out_df = pd.DataFrame({"t": t})
+    for i, s in enumerate(SEGMENTS):
+        out_df[s] = angles[:, i]
+    for j, name in enumerate(JOINTS):
+        out_df[name] = angles[:, j + 1] - angles[:, j]
+    for i in range(8):
+        out_df[f"diag_sd_{i}"] = sds[:, i]
+    out_df.to_csv(out, index=False)
+    return n
+
+
+def timed_python(trial, out):
+    w0, c0 = time.perf_counter(), time.process_time()
+    n = python_estimate(trial, out)
+    return time.perf_counter() - w0, time.process_time() - c0, n
+
+
+def timed_limbfuse(binary, trial, out):
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    w0 = time.perf_counter()
+    subprocess.run(
+        [binary, "-q", "estimate", "--method", "mjls", trial, "-o", out],
+        check=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    wall = time.perf_counter() - w0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return wall, cpu
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    binary, trial = sys.argv[1], sys.argv[2]
+    repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 3
+    size = os.path.getsize(trial)
+    py_wall, py_cpu, lf_wall, lf_cpu = [], [], [], []
+    with tempfile.TemporaryDirectory() as d:
+        py_out, lf_out = os.path.join(d, "py.csv"), os.path.join(d, "lf.csv")
+        for _ in range(repeats):
+            w, c = timed_limbfuse(binary, trial, lf_out)
+            lf_wall.append(w)
+            lf_cpu.append(c)
+            w, c, n = timed_python(trial, py_out)
+            py_wall.append(w)
+            py_cpu.append(c)
+        py_size, lf_size = os.path.getsize(py_out), os.path.getsize(lf_out)
+    med = statistics.median
+    print(f"trial: {trial} ({size / 1e6:.1f} MB, {n} samples); load average {os.getloadavg()}")
+    print(f"python imports (not counted): {IMPORT_SECONDS:.2f} s")
+    print(f"python  (pandas + filterpy): wall {med(py_wall):.2f} s, cpu {med(py_cpu):.2f} s, "
+          f"output {py_size / 1e6:.1f} MB")
+    print(f"limbfuse estimate mjls     : wall {med(lf_wall):.3f} s, cpu {med(lf_cpu):.3f} s, "
+          f"output {lf_size / 1e6:.1f} MB")
+    print(f"speed-up: wall {med(py_wall) / med(lf_wall):.1f}x, cpu {med(py_cpu) / med(lf_cpu):.1f}x "
+          f"(medians of {repeats})")
+
+
+if __name__ == "__main__":
+    main()
