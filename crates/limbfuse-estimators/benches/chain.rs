@@ -12,9 +12,10 @@ use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::chain_ekf::{ChainEkf, ChainGeometry, ChainParams};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-#[path = "support/thread_cpu_time.rs"]
-mod thread_cpu_time;
-use thread_cpu_time::ThreadCpuTime;
+// One measurement for every crate's benches (it lives with limbfuse-io's).
+#[path = "../../limbfuse-io/benches/support/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::ThreadCpuTime;
 
 fn bench_wall(c: &mut Criterion) {
     bench(c, "chain_60s_100hz");

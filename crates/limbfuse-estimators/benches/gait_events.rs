@@ -13,9 +13,10 @@ use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams}
 use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-#[path = "support/thread_cpu_time.rs"]
-mod thread_cpu_time;
-use thread_cpu_time::ThreadCpuTime;
+// One measurement for every crate's benches (it lives with limbfuse-io's).
+#[path = "../../limbfuse-io/benches/support/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::ThreadCpuTime;
 
 fn bench_wall(c: &mut Criterion) {
     bench(c, "gait_events_60s_100hz");
