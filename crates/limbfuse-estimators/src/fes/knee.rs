@@ -91,7 +91,7 @@ impl Plant<2, 2, 1> for KneePlant {
     type Model = KneeFesModel;
     type Diag = KneeFesDiag;
     const RATE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::ShankRate];
-    const COVARIANCE_DIAG: [KneeFesDiag; 2] = [KneeFesDiag::P11, KneeFesDiag::P22];
+    const COVARIANCE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::P11, KneeFesDiag::P22];
     const RESETS_DIAG: KneeFesDiag = KneeFesDiag::Resets;
 
     fn model(&self) -> &KneeFesModel {
