@@ -57,87 +57,90 @@ pub struct ExtendedKneePlant<const N: usize> {
 /// `sdre` / `ekf` on the extended knee model with `N` states.
 pub type ExtendedKneeFilter<const N: usize> = FesFilter<ExtendedKneePlant<N>, N, 2, 1>;
 
-/// Process-noise and initial-covariance defaults of the optional states
-/// (docs/FES_ESTIMATION.md, "Defaults from physics").
+/// Tuning defaults of the extended knee and kinematic filters, each from a
+/// stated physical error (docs/FES_ESTIMATION.md, "Defaults from physics").
+/// Sensor figures: the consumer-MEMS budget of docs/SIMULATOR.md (Bosch
+/// BMI270 / TDK ICM-42688-P data sheets).
 pub mod extended_defaults {
-    /// Relative error of the identified muscle torque the unknown-torque
-    /// state is sized for (issue 16: identified parameters are off by
+    /// Relative error of the identified muscle and passive torques the
+    /// filter is sized for (issue 16: identified parameters are off by
     /// 10-30 %; the lower end, the higher ones are the stress test).
     pub const TORQUE_ERROR: f64 = 0.1;
-    /// Time over which that torque error builds up (s): the 1.5 s ramps of a
-    /// stimulation pulse, rounded to 1 s.
+    /// Time over which a persistent torque error builds up (s): the 1.5 s
+    /// ramps of a stimulation pulse, rounded to 1 s.
     pub const TORQUE_ERROR_TIME_S: f64 = 1.0;
-    /// Gyro turn-on bias of a consumer MEMS gyro, 1 sigma (rad/s; about
-    /// 0.6 deg/s: e.g. Bosch BMI160 datasheet, zero-rate offset +-3 deg/s
-    /// over temperature, typical far less).
-    pub const GYRO_BIAS_SIGMA: f64 = 0.01;
-    /// Accelerometer offset of a consumer MEMS accelerometer, 1 sigma
-    /// (m/s^2; BMI160: +-40 mg zero-g offset, 0.4 m/s^2 worst case).
-    pub const ACC_BIAS_SIGMA: f64 = 0.1;
+    /// Correlation time of the torque error left as white noise on the rate
+    /// row (s): one 100 Hz sample.
+    pub const WHITE_TORQUE_TIME_S: f64 = 0.01;
+    /// Gyro turn-on bias, 1 sigma (rad/s): 0.5 deg/s.
+    pub const GYRO_BIAS_SIGMA: f64 = 0.5 * core::f64::consts::PI / 180.0;
+    /// Accelerometer turn-on bias, 1 sigma (m/s^2): 20 mg.
+    pub const ACC_BIAS_SIGMA: f64 = 0.02 * 9.81;
     /// Bias instability as a random-walk intensity, gyro ((rad/s)^2/s): the
-    /// bias may wander by `sqrt(q t)` = 1e-3 rad/s in 100 s.
+    /// bias may wander by `sqrt(q t)` = 1e-3 rad/s in 100 s (the budget's
+    /// 0.03 deg/s in-run drift is 5e-4 rad/s).
     pub const GYRO_BIAS_Q: f64 = 1e-8;
-    /// Accelerometer bias random walk ((m/s^2)^2/s): 1e-2 m/s^2 in 100 s.
+    /// Accelerometer bias random walk ((m/s^2)^2/s): 1e-2 m/s^2 (1 mg) in 100 s.
     pub const ACC_BIAS_Q: f64 = 1e-6;
     /// Activation process noise (1/s): recruitment varies by about 1 % of
     /// full activation per second.
     pub const ACTIVATION_Q: f64 = 1e-4;
+    /// Gyro measurement intensity `S_g` ((rad/s)^2 s): the budget's
+    /// scale-factor and cross-axis errors (about 1 % of a 1 rad/s rate, 0.01
+    /// rad/s) taken as white over one 10 ms sample: `0.01^2 * 0.01`. (The
+    /// white noise alone, 0.007 deg/s/sqrt(Hz), is 1.5e-8.)
+    pub const S_GYRO: f64 = 1e-6;
+    /// Accelerometer measurement intensity `S_a` ((m/s^2)^2 s): 1 deg of
+    /// mounting misalignment (0.17 m/s^2 of g) plus 1 % cross-axis (0.1
+    /// m/s^2), about 0.3 m/s^2, white over one 10 ms sample: `0.3^2 * 0.01`.
+    pub const S_ACC: f64 = 1e-3;
 }
 
-/// Default tuning of the extended knee filter: the thesis-model tuning
-/// ([`knee_default_tuning`]) on `x1, x2`, and for each optional state a
-/// process noise and initial covariance from physics
-/// ([`extended_defaults`]). The unknown torque's `q_d = (e T_g / t_e)^2 t_e`
-/// where `T_g = m g l_c` is the largest gravity torque the muscle has to
-/// hold (shank horizontal), `e` = [`extended_defaults::TORQUE_ERROR`] and
-/// `t_e` = [`extended_defaults::TORQUE_ERROR_TIME_S`]: a random walk that
-/// reaches the torque error of a 10 % parameter error in one pulse ramp.
+/// Default tuning of the extended knee filter, every entry from a stated
+/// physical error ([`extended_defaults`]; `e` =
+/// [`extended_defaults::TORQUE_ERROR`], `T_g = m g l_c` the largest gravity
+/// torque the muscle has to hold, `alpha = 1/J`):
+/// * `q_1 = 1e-8`: `x1' = x2` is exact (a floor keeps `P` positive);
+/// * `q_2 = (alpha e T_g)^2 t_w`: the torque error as white noise over one
+///   sample `t_w`;
+/// * unknown torque `q_d = (e T_g)^2 / t_e`, `p0_d = (e T_g)^2`: a random
+///   walk reaching that torque error within one pulse ramp `t_e`;
+/// * activation and sensor biases: the constants of [`extended_defaults`];
+/// * `S` from the sensor error budget, `a` as the thesis filters (1 for
+///   `sdre`, 0 for `ekf`).
 pub fn extended_knee_default_tuning<const N: usize>(
     model: &ExtendedKneeModel<N>,
     lin: Linearisation,
 ) -> ContinuousTuning<N, 2> {
     use extended_defaults::*;
     let base = knee_default_tuning(lin);
-    let mut q = SVector::<f64, N>::zeros();
-    let mut p0 = SVector::<f64, N>::zeros();
-    for i in 0..2 {
-        q[i] = base.q[i];
-        p0[i] = base.p0[i];
-    }
-    let l = &model.layout;
     let p = &model.base.p;
     let torque = TORQUE_ERROR * p.mass * p.g * p.l_c;
-    let set = |q: &mut SVector<f64, N>, p0: &mut SVector<f64, N>, i: Option<usize>, qi, pi| {
+    let rate = torque / p.inertia;
+    let mut q = SVector::<f64, N>::zeros();
+    let mut p0 = SVector::<f64, N>::zeros();
+    q[0] = 1e-8;
+    q[1] = rate * rate * WHITE_TORQUE_TIME_S;
+    p0[0] = base.p0[0];
+    p0[1] = base.p0[1];
+    let l = &model.layout;
+    let mut set = |i: Option<usize>, qi: f64, pi: f64| {
         if let Some(i) = i {
             q[i] = qi;
             p0[i] = pi;
         }
     };
-    set(&mut q, &mut p0, l.activation, ACTIVATION_Q, 1e-4);
+    set(l.activation, ACTIVATION_Q, 1e-4);
     set(
-        &mut q,
-        &mut p0,
         l.disturbance,
         torque * torque / TORQUE_ERROR_TIME_S,
         torque * torque,
     );
-    set(
-        &mut q,
-        &mut p0,
-        l.gyro_bias,
-        GYRO_BIAS_Q,
-        GYRO_BIAS_SIGMA * GYRO_BIAS_SIGMA,
-    );
-    set(
-        &mut q,
-        &mut p0,
-        l.acc_bias,
-        ACC_BIAS_Q,
-        ACC_BIAS_SIGMA * ACC_BIAS_SIGMA,
-    );
+    set(l.gyro_bias, GYRO_BIAS_Q, GYRO_BIAS_SIGMA * GYRO_BIAS_SIGMA);
+    set(l.acc_bias, ACC_BIAS_Q, ACC_BIAS_SIGMA * ACC_BIAS_SIGMA);
     ContinuousTuning {
         q,
-        s: base.s,
+        s: SVector::<f64, 2>::new(S_GYRO, S_ACC),
         a: base.a,
         p0,
         max_substep: base.max_substep,
@@ -333,8 +336,8 @@ pub const KINEMATIC_JERK: f64 = 5.0;
 
 /// Default tuning of `knee-kinematic`: angular jerk white noise of
 /// intensity `q_3 = KINEMATIC_JERK^2 * 0.1 s` (a jerk of that size held for
-/// 0.1 s), bias states as the extended knee model's
-/// ([`extended_defaults`]), the knee filters' `S`.
+/// 0.1 s), bias states and `S` as the extended knee model's
+/// ([`extended_defaults`]: same sensors, same trust).
 pub fn kinematic_default_tuning() -> ContinuousTuning<5, 2> {
     use extended_defaults::*;
     let base = knee_default_tuning(Linearisation::Jacobian);
@@ -346,7 +349,7 @@ pub fn kinematic_default_tuning() -> ContinuousTuning<5, 2> {
             GYRO_BIAS_Q,
             ACC_BIAS_Q,
         ]),
-        s: base.s,
+        s: SVector::<f64, 2>::new(S_GYRO, S_ACC),
         a: 0.0,
         p0: SVector::<f64, 5>::from_row_slice(&[
             1e-2,
