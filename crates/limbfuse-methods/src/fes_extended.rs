@@ -29,7 +29,7 @@ use limbfuse_models::{
 };
 use serde::Deserialize;
 
-use crate::fes_params::{apply_tuning, set_knee_param, FesBuildError};
+use crate::fes_params::{apply_tuning, number, set_knee_param, FesBuildError};
 
 /// `[states]`: the optional states of the knee model.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -143,20 +143,14 @@ pub fn knee_model_from_file(
             });
         }
     }
-    let thigh = match meta.get("thigh_angle_rad") {
-        Some(v) => v
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| FesBuildError::NotANumber {
-                source_name: "metadata".into(),
-                key: "thigh_angle_rad".into(),
-                value: v.to_string(),
-            })?,
-        None => core::f64::consts::FRAC_PI_2,
-    };
+    let thigh = meta_number(meta, "thigh_angle_rad", core::f64::consts::FRAC_PI_2)?;
     Ok((p, thigh))
+}
+
+/// Metadata value `key` as a finite number, `default` when absent.
+fn meta_number(meta: &TrialMeta, key: &str, default: f64) -> Result<f64, FesBuildError> {
+    meta.get(key)
+        .map_or(Ok(default), |v| number("metadata", key, v))
 }
 
 fn extended<const N: usize>(
@@ -204,27 +198,12 @@ pub fn build_kinematic(
     tuning: &[(&'static str, Vec<f64>)],
     path: &Path,
 ) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
-    let num = |key: &str, default: f64| -> Result<f64, FesBuildError> {
-        match meta.get(key) {
-            None => Ok(default),
-            Some(v) => v
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| FesBuildError::NotANumber {
-                    source_name: "metadata".into(),
-                    key: key.to_string(),
-                    value: v.to_string(),
-                }),
-        }
-    };
-    let model = KinematicKneeModel::new(num("param.g", 9.81)?, r)?;
+    let model = KinematicKneeModel::new(meta_number(meta, "param.g", 9.81)?, r)?;
     let mut t = kinematic_default_tuning();
     apply_tuning(&mut t, tuning, path)?;
     let plant = KinematicKneePlant {
         model,
-        thigh_angle: num("thigh_angle_rad", core::f64::consts::FRAC_PI_2)?,
+        thigh_angle: meta_number(meta, "thigh_angle_rad", core::f64::consts::FRAC_PI_2)?,
     };
     Ok(Box::new(FesFilter::new(plant, Linearisation::Jacobian, t)))
 }

@@ -134,7 +134,8 @@ pub enum FesModel {
     FixedHip(FixedHipParams),
 }
 
-fn number(source: &str, key: &str, v: &str) -> Result<f64, FesBuildError> {
+/// `v` as a finite number, or the error naming `source` and `key`.
+pub(crate) fn number(source: &str, key: &str, v: &str) -> Result<f64, FesBuildError> {
     v.trim()
         .parse::<f64>()
         .ok()

@@ -12,7 +12,7 @@ use nalgebra::SVector;
 
 use super::continuous::{ContinuousTuning, FilterState, Linearisation};
 use super::filter::{FesFilter, Plant};
-use super::knee::knee_default_tuning;
+use super::knee::{describe_knee_params, knee_default_tuning};
 
 diagnostic_set! {
     /// Diagnostics of the extended knee `sdre` / `ekf`
@@ -227,14 +227,7 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
     fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
         let m = &self.model;
         let p = &m.base.p;
-        writeln!(out, "thigh_angle_rad: {}", self.thigh_angle)?;
-        writeln!(out, "inertia: {}", p.inertia)?;
-        writeln!(out, "mass: {}", p.mass)?;
-        writeln!(out, "l_c: {}", p.l_c)?;
-        writeln!(out, "g: {}", p.g)?;
-        writeln!(out, "phi0: {}", p.phi0)?;
-        writeln!(out, "d: {:?}", p.d)?;
-        writeln!(out, "c: {:?}", p.c)?;
+        describe_knee_params(p, self.thigh_angle, out)?;
         let o = &m.options;
         if o.activation {
             writeln!(
@@ -328,6 +321,9 @@ pub struct KinematicKneePlant {
 /// `knee-kinematic`: the extended Kalman-Bucy filter on the kinematic model.
 pub type KinematicKneeFilter = FesFilter<KinematicKneePlant, 5, 2, 0>;
 
+/// The method name `knee-kinematic` reports ([`Plant::method_name`]).
+pub const KINEMATIC_METHOD: &str = "knee-kinematic";
+
 /// Largest angular jerk of the shank the default tuning allows for
 /// (rad/s^3): a 60 deg extension over a 1.5 s cosine ramp has peak jerk
 /// `(pi/3)/2 (pi/1.5)^3` = 4.8 rad/s^3 (the limbfuse and independent
@@ -389,7 +385,7 @@ impl Plant<5, 2, 0> for KinematicKneePlant {
     }
 
     fn method_name(&self) -> Option<&'static str> {
-        Some("knee-kinematic")
+        Some(KINEMATIC_METHOD)
     }
 
     fn measurement_names(&self) -> [&'static str; 2] {
