@@ -1,13 +1,22 @@
 //! Per-sample cost of the paper 004 estimators on seeded simulated trials
 //! (100 Hz, default sensors, default tuning), one core: `sdre`/`ekf` on the
-//! 2-state knee model and the 4-state fixed-hip model, and `rmx`.
+//! 2-state knee model and the 4-state fixed-hip model, and `rmx`; issue 16:
+//! the extended knee model (activation + gyro/acc bias states + lever arm,
+//! 5 states; every state, 6) and `knee-kinematic` (5 states), default
+//! physics tuning.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
-use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_estimators::fes::{
+    ExtendedKneeFilter, FixedHipFilter, KinematicKneeFilter, KneeFesFilter, Linearisation,
+    RotationMatrixKnee,
+};
+use limbfuse_models::{
+    ExtendedKneeModel, FixedHipModel, FixedHipParams, KinematicKneeModel, KneeFesModel,
+    KneeFesParams, KneeStateOptions, KneeSubject,
+};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
@@ -61,6 +70,48 @@ fn bench(c: &mut Criterion) {
     });
     run(&mut g, "ekf-fixed-hip-4state", &hip, &|| {
         Box::new(FixedHipFilter::ekf(hm))
+    });
+    let bias = KneeStateOptions {
+        activation: true,
+        disturbance: false,
+        gyro_bias: true,
+        acc_bias: true,
+    };
+    let all = KneeStateOptions {
+        disturbance: true,
+        ..bias
+    };
+    let m5 = ExtendedKneeModel::<5>::new(km, bias, 0.2).expect("5 states");
+    let m6 = ExtendedKneeModel::<6>::new(km, all, 0.2).expect("6 states");
+    run(&mut g, "sdre-knee-act-bias-5state", &knee, &|| {
+        Box::new(ExtendedKneeFilter::with_default_tuning(
+            m5,
+            Linearisation::Sdc,
+        ))
+    });
+    run(&mut g, "ekf-knee-act-bias-5state", &knee, &|| {
+        Box::new(ExtendedKneeFilter::with_default_tuning(
+            m5,
+            Linearisation::Jacobian,
+        ))
+    });
+    run(&mut g, "sdre-knee-all-6state", &knee, &|| {
+        Box::new(ExtendedKneeFilter::with_default_tuning(
+            m6,
+            Linearisation::Sdc,
+        ))
+    });
+    run(&mut g, "ekf-knee-all-6state", &knee, &|| {
+        Box::new(ExtendedKneeFilter::with_default_tuning(
+            m6,
+            Linearisation::Jacobian,
+        ))
+    });
+    run(&mut g, "knee-kinematic-5state", &knee, &|| {
+        Box::new(KinematicKneeFilter::kinematic(
+            KinematicKneeModel::new(9.81, 0.2).expect("g"),
+            core::f64::consts::FRAC_PI_2,
+        ))
     });
     g.finish();
 }

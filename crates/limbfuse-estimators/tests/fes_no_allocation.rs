@@ -3,8 +3,14 @@
 //! the global counter sees no other test's allocations).
 
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::fes::{FixedHipFilter, KneeFesFilter, RotationMatrixKnee};
-use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_estimators::fes::{
+    ExtendedKneeFilter, FixedHipFilter, KinematicKneeFilter, KneeFesFilter, Linearisation,
+    RotationMatrixKnee,
+};
+use limbfuse_models::{
+    ExtendedKneeModel, FixedHipModel, FixedHipParams, KinematicKneeModel, KneeFesModel,
+    KneeFesParams, KneeStateOptions, KneeSubject,
+};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
@@ -42,12 +48,40 @@ fn fes_estimators_step_without_allocating() {
     );
     let km = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
     let hm = FixedHipModel::new(FixedHipParams::default()).unwrap();
+    let all = KneeStateOptions {
+        activation: true,
+        disturbance: true,
+        gyro_bias: true,
+        acc_bias: true,
+    };
     let mut cases: Vec<(Box<dyn Estimator>, &[Record])> = vec![
         (Box::new(KneeFesFilter::sdre(km)), &knee),
         (Box::new(KneeFesFilter::ekf(km)), &knee),
         (Box::new(RotationMatrixKnee::new()), &knee),
         (Box::new(FixedHipFilter::sdre(hm)), &hip),
         (Box::new(FixedHipFilter::ekf(hm)), &hip),
+        // Issue 16: every optional state and the lever arm; the kinematic baseline.
+        (
+            Box::new(ExtendedKneeFilter::with_default_tuning(
+                ExtendedKneeModel::<6>::new(km, all, 0.2).unwrap(),
+                Linearisation::Sdc,
+            )),
+            &knee,
+        ),
+        (
+            Box::new(ExtendedKneeFilter::with_default_tuning(
+                ExtendedKneeModel::<6>::new(km, all, 0.2).unwrap(),
+                Linearisation::Jacobian,
+            )),
+            &knee,
+        ),
+        (
+            Box::new(KinematicKneeFilter::kinematic(
+                KinematicKneeModel::new(9.81, 0.2).unwrap(),
+                core::f64::consts::FRAC_PI_2,
+            )),
+            &knee,
+        ),
     ];
     for (e, recs) in cases.iter_mut() {
         let before = allocations();

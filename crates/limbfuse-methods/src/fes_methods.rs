@@ -1,4 +1,5 @@
-//! The paper-004 estimators as methods: `sdre`, `ekf`, `rmx`. The model
+//! The paper-004 estimators as methods: `sdre`, `ekf`, `rmx`, and the
+//! model-free baseline `knee-kinematic` (issue 16). The model
 //! comes from the trial's metadata; the parameter file
 //! ([`crate::fes_params`]) overrides it and the tuning.
 
@@ -7,7 +8,8 @@ use std::path::Path;
 use limbfuse_core::Estimator;
 use limbfuse_io::{TrialLayout, TrialMeta};
 
-use crate::fes_params::{build_fes_estimator, default_file, FesMethod, FesParamsFile};
+use crate::fes_default_file::default_file;
+use crate::fes_params::{build_fes_estimator, FesMethod, FesParamsFile};
 use crate::method_def::{MethodDef, MethodInfo};
 use crate::name::check_file_method;
 use crate::{ChannelNeeds, MethodError, MethodFlags};
@@ -110,4 +112,18 @@ fes_method!(
         ChannelNeeds::imus([false, true, true, false]),
         "needs the thigh and shank IMUs (their relative orientation is the knee)",
     )
+);
+
+fes_method!(
+    /// `knee-kinematic`: model-free EKF of the shank with gyro and
+    /// accelerometer bias states, the baseline a knee model must beat.
+    KneeKinematicMethod,
+    FesMethod::KneeKinematic,
+    MethodInfo::new(
+        "knee-kinematic",
+        "beyond the papers: model-free knee EKF (shank angle, rate, acceleration, gyro and accelerometer biases) on a fixed-thigh FES trial",
+        "shank IMU (the thigh is the seat's, `# thigh_angle_rad:`, default horizontal)",
+        "[measurement] shank_imu_m, [tuning] q, s, p0, max_substep (5 states)",
+    )
+    .needing(SHANK_IMU, "needs the shank IMU")
 );

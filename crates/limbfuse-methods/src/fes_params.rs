@@ -34,11 +34,15 @@ use limbfuse_estimators::fes::{
 };
 use limbfuse_io::{TrialLayout, TrialMeta};
 use limbfuse_models::{
-    FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject, ModelError,
+    FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeStateOptions, KneeSubject,
+    ModelError,
 };
 use nalgebra::SVector;
 use serde::Deserialize;
 
+use crate::fes_extended::{
+    build_extended_knee, build_kinematic, knee_model_from_file, MeasurementFile, StatesFile,
+};
 use crate::segment_params::ParamsFileError;
 use crate::MethodName;
 
@@ -51,9 +55,32 @@ pub enum FesBuildError {
         /// Method name.
         method: MethodName,
     },
-    /// `# model:` names an unknown model.
-    #[error("unknown model `{0}` in the trial metadata; known: knee-fes, fixed-hip")]
-    UnknownModel(String),
+    /// `# model:` names no limbfuse model and the parameter file does not
+    /// give a whole knee model in its place.
+    #[error("the trial's `# model:` line is `{found}`, which is not a limbfuse model (knee-fes, fixed-hip); to run it, give the whole knee-fes model in the parameter file's [model] table (--params), which then stands for it (missing keys: {missing})")]
+    UnknownModel {
+        /// The metadata value.
+        found: String,
+        /// `[model]` keys the parameter file lacks for the rule.
+        missing: String,
+    },
+    /// No `# model:` line and the parameter file's `[model]` is incomplete.
+    #[error("the trial has no `# model:` metadata line and the parameter file's [model] does not give the whole knee-fes model (missing keys: {missing})")]
+    NoModelInFile {
+        /// `[model]` keys the parameter file lacks.
+        missing: String,
+    },
+    /// The extended knee model cannot be built.
+    #[error(transparent)]
+    Extended(#[from] limbfuse_models::ExtendedKneeError),
+    /// An option that applies to another model or method.
+    #[error("{path}: {what}")]
+    NotApplicable {
+        /// The parameter file.
+        path: String,
+        /// What does not apply, and to what it does.
+        what: String,
+    },
     /// `# subject:` names an unknown leg.
     #[error("unknown subject `{0}`; known: P1-L, P1-R, P2-L, P2-R, P3-L, P3-R")]
     UnknownSubject(String),
@@ -107,7 +134,8 @@ pub enum FesModel {
     FixedHip(FixedHipParams),
 }
 
-fn number(source: &str, key: &str, v: &str) -> Result<f64, FesBuildError> {
+/// `v` as a finite number, or the error naming `source` and `key`.
+pub(crate) fn number(source: &str, key: &str, v: &str) -> Result<f64, FesBuildError> {
     v.trim()
         .parse::<f64>()
         .ok()
@@ -183,7 +211,12 @@ impl FesModel {
                 FesModel::Knee(KneeFesParams::subject(s), thigh)
             }
             "fixed-hip" => FesModel::FixedHip(FixedHipParams::default()),
-            other => return Err(FesBuildError::UnknownModel(other.to_string())),
+            other => {
+                return Err(FesBuildError::UnknownModel {
+                    found: other.to_string(),
+                    missing: "all".to_string(),
+                })
+            }
         };
         for (k, v) in meta.entries() {
             if let Some(key) = k.strip_prefix("param.") {
@@ -250,6 +283,8 @@ pub enum FesMethod {
     Ekf,
     /// `rmx`: relative orientation of two Mahony filters.
     Rmx,
+    /// `knee-kinematic`: model-free EKF with sensor-bias states (issue 16).
+    KneeKinematic,
 }
 
 impl FesMethod {
@@ -259,6 +294,7 @@ impl FesMethod {
             FesMethod::Sdre => MethodName::Sdre,
             FesMethod::Ekf => MethodName::Ekf,
             FesMethod::Rmx => MethodName::Rmx,
+            FesMethod::KneeKinematic => MethodName::KneeKinematic,
         }
     }
 
@@ -268,6 +304,7 @@ impl FesMethod {
             MethodName::Sdre => Some(FesMethod::Sdre),
             MethodName::Ekf => Some(FesMethod::Ekf),
             MethodName::Rmx => Some(FesMethod::Rmx),
+            MethodName::KneeKinematic => Some(FesMethod::KneeKinematic),
             _ => None,
         }
     }
@@ -329,6 +366,12 @@ pub struct FesParamsFile {
     /// Gains of `rmx`.
     #[serde(default)]
     pub rmx: RmxFile,
+    /// Optional states of the knee model (issue 16; `sdre` / `ekf`).
+    #[serde(default)]
+    pub states: StatesFile,
+    /// Shank accelerometer lever arm (`sdre` / `ekf` / `knee-kinematic`).
+    #[serde(default)]
+    pub measurement: MeasurementFile,
     /// The file the values came from (`-` for none), for messages.
     #[serde(skip)]
     pub path: PathBuf,
@@ -371,7 +414,8 @@ impl FesParamsFile {
     }
 }
 
-fn apply_tuning<const N: usize, const M: usize>(
+/// Applies `[tuning]` overrides to `t` (lengths and ranges checked).
+pub(crate) fn apply_tuning<const N: usize, const M: usize>(
     t: &mut ContinuousTuning<N, M>,
     o: &[(&'static str, Vec<f64>)],
     path: &Path,
@@ -449,17 +493,53 @@ pub fn build_fes_estimator(
             }
             return Ok(Box::new(RotationMatrixKnee::with_gains(g)));
         }
+        FesMethod::KneeKinematic => {
+            let r = file.measurement.radius(path)?;
+            return build_kinematic(meta, r, &file.tuning_entries(), path);
+        }
         FesMethod::Sdre => Linearisation::Sdc,
         FesMethod::Ekf => Linearisation::Jacobian,
     };
-    let mut model = FesModel::from_meta(meta, method.method())?;
+    let mut model = match FesModel::from_meta(meta, method.method()) {
+        Ok(m) => m,
+        // A free-text or absent `# model:` line: the parameter file may give
+        // the whole knee model instead (docs/FES_ESTIMATION.md).
+        Err(FesBuildError::NoModel { .. }) => {
+            let (p, thigh) = knee_model_from_file(&file.model, meta, None)?;
+            FesModel::Knee(p, thigh)
+        }
+        Err(FesBuildError::UnknownModel { found, .. }) => {
+            let (p, thigh) = knee_model_from_file(&file.model, meta, Some(&found))?;
+            FesModel::Knee(p, thigh)
+        }
+        Err(e) => return Err(e),
+    };
     let source = path.display().to_string();
     for (k, v) in &file.model {
         model.set(&source, k, *v)?;
     }
     model.check_layout(layout)?;
     let tuning = file.tuning_entries();
+    let opts = file.states.options();
+    let radius = file.measurement.radius(path)?;
+    let extended = opts != KneeStateOptions::default() || file.measurement.shank_imu_m.is_some();
+    if extended {
+        if let FesModel::FixedHip(_) = model {
+            return Err(FesBuildError::NotApplicable {
+                path: source,
+                what: "[states] and [measurement] apply to the knee-fes model only (the fixed-hip model has no optional states)".into(),
+            });
+        }
+    }
     Ok(match model {
+        FesModel::Knee(p, thigh) if extended => build_extended_knee(
+            KneeFesModel::new(p)?,
+            thigh,
+            (opts, radius),
+            lin,
+            &tuning,
+            path,
+        )?,
         FesModel::Knee(p, thigh) => {
             let mut t = knee_default_tuning(lin);
             apply_tuning(&mut t, &tuning, path)?;
@@ -479,60 +559,4 @@ pub fn build_fes_estimator(
             ))
         }
     })
-}
-
-/// The default parameter file of `sdre`, `ekf` or `rmx`, commented
-/// (`limbfuse params --method NAME`). The model and the default tuning come
-/// from the trial's `# model:` metadata, so they are listed as comments.
-pub fn default_file(method: MethodName) -> String {
-    use std::fmt::Write as _;
-    let mut s = format!(
-        "# limbfuse {method} parameters (paper 004; docs/FES_ESTIMATION.md).\n\
-         # The model comes from the trial's `# model:` / `# subject:` / `# param.*` lines;\n\
-         # every key below overrides it.\n\
-         method = \"{method}\"\n\n"
-    );
-    if method == MethodName::Rmx {
-        let g = MahonyGains::default();
-        let _ = write!(
-            s,
-            "[rmx]  # Mahony gains\nkp = {:?}  # 1/s\nki = {:?}  # 1/s^2\n",
-            g.kp, g.ki
-        );
-        return s;
-    }
-    let lin = if method == MethodName::Sdre {
-        Linearisation::Sdc
-    } else {
-        Linearisation::Jacobian
-    };
-    let knee = knee_default_tuning(lin);
-    let hip = fixed_hip_default_tuning(lin);
-    let list = |v: &[f64]| {
-        v.iter()
-            .map(|x| format!("{x:?}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let _ = writeln!(
-        s,
-        "[model]  # e.g. inertia = 0.45 (knee-fes keys: inertia, mass, l_c, g, phi0, theta_eq, t_a, d1-d6, c0-c3, i_threshold_ma, i_saturation_ma)\n"
-    );
-    let _ = writeln!(
-        s,
-        "[tuning]  # defaults per model; uncomment to override\n\
-         # knee-fes:  q = [{}]  s = [{}]  a = {:?}  p0 = [{}]  max_substep = {:?}\n\
-         # fixed-hip: q = [{}]  s = [{}]  a = {:?}  p0 = [{}]  max_substep = {:?}",
-        list(knee.q.as_slice()),
-        list(knee.s.as_slice()),
-        knee.a,
-        list(knee.p0.as_slice()),
-        knee.max_substep,
-        list(hip.q.as_slice()),
-        list(hip.s.as_slice()),
-        hip.a,
-        list(hip.p0.as_slice()),
-        hip.max_substep,
-    );
-    s
 }

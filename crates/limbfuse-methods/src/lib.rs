@@ -33,6 +33,8 @@ mod build;
 pub mod chain_method;
 pub mod channels;
 mod error;
+pub mod fes_default_file;
+pub mod fes_extended;
 pub mod fes_methods;
 pub mod fes_params;
 pub mod gait_methods;

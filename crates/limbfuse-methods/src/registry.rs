@@ -11,7 +11,7 @@ use limbfuse_io::{TrialLayout, TrialMeta};
 
 use crate::baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
 use crate::chain_method::ChainMethod;
-use crate::fes_methods::{EkfMethod, RmxMethod, SdreMethod};
+use crate::fes_methods::{EkfMethod, KneeKinematicMethod, RmxMethod, SdreMethod};
 use crate::gait_methods::{GaitEventsMethod, LowbackSpeedMethod};
 use crate::imm_params::ImmBslipMethod;
 use crate::knee_params::KneeSelfAlignMethod;
@@ -113,6 +113,8 @@ registry! {
     Ekf => EkfMethod,
     /// Paper 004: rotation-matrix (Mahony) knee.
     Rmx => RmxMethod,
+    /// Beyond the papers: model-free knee EKF with sensor-bias states.
+    KneeKinematic => KneeKinematicMethod,
     /// Paper 003: interacting multiple models over a B-SLIP gait library.
     ImmBslip => ImmBslipMethod,
     /// Beyond the papers: gait events, phase, stride length and speed from foot IMUs.

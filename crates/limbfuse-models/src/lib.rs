@@ -12,11 +12,17 @@
 
 pub mod error;
 pub mod fes_knee;
+pub mod fes_knee_extended;
 pub mod fixed_hip;
+pub mod kinematic_knee;
 pub mod sdc;
 
 pub use error::ModelError;
 pub use fes_knee::{KneeFesModel, KneeFesParams, KneeSubject};
+pub use fes_knee_extended::{
+    ExtendedKneeError, ExtendedKneeModel, KneeStateLayout, KneeStateOptions,
+};
 pub use fixed_hip::{FixedHipModel, FixedHipParams};
+pub use kinematic_knee::KinematicKneeModel;
 pub use sdc::SdcModel;
 pub mod bslip;

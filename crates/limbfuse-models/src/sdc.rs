@@ -26,6 +26,30 @@ pub trait SdcModel<const N: usize, const M: usize, const U: usize> {
     fn jacobian_f(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> SMatrix<f64, N, N>;
     /// Jacobian `dh/dx` (for the EKF).
     fn jacobian_h(&self, x: &SVector<f64, N>) -> SMatrix<f64, M, N>;
+
+    /// The measurement when it also depends on the input, `h(x, u)` (an
+    /// accelerometer away from the joint feels the angular acceleration,
+    /// which the input drives). Default: `h(x)`.
+    fn h_with_input(&self, x: &SVector<f64, N>, _u: &SVector<f64, U>) -> SVector<f64, M> {
+        self.h(x)
+    }
+
+    /// The input-dependent part `D(x, u)` of the SDC measurement form
+    /// `h(x, u) = C(x) x + D(x, u)` (the measurement analogue of
+    /// [`SdcModel::input_term`]). Default: zero (`h = C(x) x`).
+    fn sdc_measurement_input(&self, _x: &SVector<f64, N>, _u: &SVector<f64, U>) -> SVector<f64, M> {
+        SVector::zeros()
+    }
+
+    /// Jacobian `dh(x, u)/dx` of [`SdcModel::h_with_input`]. Default:
+    /// [`SdcModel::jacobian_h`].
+    fn jacobian_h_with_input(
+        &self,
+        x: &SVector<f64, N>,
+        _u: &SVector<f64, U>,
+    ) -> SMatrix<f64, M, N> {
+        self.jacobian_h(x)
+    }
 }
 
 /// `sin(x) / x`, equal to 1 at 0 and accurate near it (Taylor series below 1e-4).

@@ -204,3 +204,144 @@ fn subjects_parse_and_have_a_passive_equilibrium_near_theta_eq() {
     assert_eq!(KneeSubject::parse("p3l"), Some(KneeSubject::P3L));
     assert_eq!(KneeSubject::parse("P7-L"), None);
 }
+
+/// Extended knee model (issue 16) with the options of bits 0-3 of `mask`
+/// (activation, disturbance, gyro bias, acc bias), as a 6-state model with
+/// the unused states left out: `check` runs on each `N` separately.
+mod extended {
+    use super::*;
+    use limbfuse_models::{ExtendedKneeModel, KneeStateOptions};
+
+    pub fn options(mask: u8) -> KneeStateOptions {
+        KneeStateOptions {
+            activation: mask & 1 != 0,
+            disturbance: mask & 2 != 0,
+            gyro_bias: mask & 4 != 0,
+            acc_bias: mask & 8 != 0,
+        }
+    }
+
+    /// Checks SDC exactness (`A x + B u = f`, `C x + D = h(x, u)`) and the
+    /// Jacobians of `f` and `h(x, u)` against central differences.
+    fn check<const N: usize>(
+        i: usize,
+        mask: u8,
+        r: f64,
+        head: [f64; 2],
+        extra: [f64; 4],
+        u: f64,
+        angle_only_sdc: bool,
+    ) -> Result<(), TestCaseError> {
+        let m = ExtendedKneeModel::<N>::new(knee(i), options(mask), r).unwrap();
+        let mut x = SVector::<f64, N>::zeros();
+        x[0] = head[0];
+        x[1] = head[1];
+        for k in 2..N {
+            x[k] = extra[k - 2];
+        }
+        let uu = SVector::<f64, 1>::new(u);
+        let f = m.f(&x, &uu);
+        let sdc = m.sdc_a(&x) * x + m.input_term(&x, &uu);
+        prop_assert!(close(&sdc, &f, 1e-13), "A x + B u = {sdc:?}, f = {f:?}");
+        let h = m.h_with_input(&x, &uu);
+        let ch = m.sdc_c(&x) * x + m.sdc_measurement_input(&x, &uu);
+        prop_assert!(close(&ch, &h, 1e-13), "C x + D = {ch:?}, h = {h:?}");
+        if angle_only_sdc {
+            return Ok(()); // tiny angles: the Jacobian test uses ordinary ones
+        }
+        let fd = fd_jacobian(|x| m.f(x, &uu), &x);
+        let an = m.jacobian_f(&x, &uu);
+        prop_assert!(close(&an, &fd, 1e-6), "{an:?} vs {fd:?}");
+        let fdh = fd_jacobian(|x| m.h_with_input(x, &uu), &x);
+        let anh = m.jacobian_h_with_input(&x, &uu);
+        prop_assert!(close(&anh, &fdh, 1e-6), "{anh:?} vs {fdh:?}");
+        Ok(())
+    }
+
+    pub fn check_mask(
+        i: usize,
+        mask: u8,
+        r: f64,
+        head: [f64; 2],
+        extra: [f64; 4],
+        u: f64,
+        tiny: bool,
+    ) -> Result<(), TestCaseError> {
+        match options(mask).states() {
+            2 => check::<2>(i, mask, r, head, extra, u, tiny),
+            3 => check::<3>(i, mask, r, head, extra, u, tiny),
+            4 => check::<4>(i, mask, r, head, extra, u, tiny),
+            5 => check::<5>(i, mask, r, head, extra, u, tiny),
+            _ => check::<6>(i, mask, r, head, extra, u, tiny),
+        }
+    }
+}
+
+proptest! {
+    #[test]
+    fn extended_knee_sdc_reproduces_f_and_h(
+        i in 0usize..6, mask in 0u8..16, r in prop_oneof![Just(0.0), 0.0..0.4f64],
+        x1 in angle(), x2 in -4.0..4.0f64,
+        extra in (0.0..1.0f64, -20.0..20.0f64, -0.1..0.1f64, -0.5..0.5f64), u in 0.0..1.0f64,
+    ) {
+        extended::check_mask(i, mask, r, [x1, x2], [extra.0, extra.1, extra.2, extra.3], u, true)?;
+    }
+
+    #[test]
+    fn extended_knee_jacobians_match_finite_differences(
+        i in 0usize..6, mask in 0u8..16, r in 0.0..0.4f64,
+        x1 in -0.3..1.5f64, x2 in -3.0..3.0f64,
+        extra in (0.0..1.0f64, -20.0..20.0f64, -0.1..0.1f64, -0.5..0.5f64), u in 0.0..1.0f64,
+    ) {
+        extended::check_mask(i, mask, r, [x1, x2], [extra.0, extra.1, extra.2, extra.3], u, false)?;
+    }
+}
+
+#[test]
+fn extended_knee_without_options_is_the_thesis_model() {
+    use limbfuse_models::ExtendedKneeModel;
+    for i in 0..6 {
+        let m = knee(i);
+        let e = ExtendedKneeModel::<2>::new(m, extended::options(0), 0.0).unwrap();
+        let x = SVector::<f64, 2>::new(0.7, -0.3);
+        let u = SVector::<f64, 1>::new(0.4);
+        assert_eq!(e.f(&x, &u), m.f(&x, &u));
+        assert_eq!(e.h_with_input(&x, &u), m.h(&x));
+        assert_eq!(e.jacobian_f(&x, &u), m.jacobian_f(&x, &u));
+    }
+}
+
+#[test]
+fn activation_state_follows_eq_first_order_lag() {
+    // a' = (u - a) / T_a, independently: P2-R T_a = 1.0 s, u = 0.6, a = 0.2 -> 0.4 /s.
+    use limbfuse_models::ExtendedKneeModel;
+    let m = ExtendedKneeModel::<3>::new(knee(3), extended::options(1), 0.0).unwrap();
+    let x = SVector::<f64, 3>::new(0.5, 0.0, 0.2);
+    let f = m.f(&x, &SVector::<f64, 1>::new(0.6));
+    assert!((f[2] - 0.4).abs() < 1e-15, "{}", f[2]);
+    // The torque uses the state, not the input: with a = 0 the FES torque vanishes.
+    let x0 = SVector::<f64, 3>::new(0.5, 0.0, 0.0);
+    let base = knee(3);
+    let f0 = m.f(&x0, &SVector::<f64, 1>::new(0.9));
+    let passive = base.f(
+        &SVector::<f64, 2>::new(0.5, 0.0),
+        &SVector::<f64, 1>::zeros(),
+    );
+    assert_eq!(f0[1], passive[1]);
+}
+
+proptest! {
+    #[test]
+    fn kinematic_knee_sdc_and_jacobians(
+        x1 in angle(), x2 in -4.0..4.0f64, x3 in -20.0..20.0f64, bg in -0.1..0.1f64, ba in -0.5..0.5f64,
+        r in 0.0..0.4f64,
+    ) {
+        let m = limbfuse_models::KinematicKneeModel::new(9.81, r).unwrap();
+        let x = SVector::<f64, 5>::from_row_slice(&[x1, x2, x3, bg, ba]);
+        let u = SVector::<f64, 0>::zeros();
+        prop_assert!(close(&(m.sdc_a(&x) * x + m.input_term(&x, &u)), &m.f(&x, &u), 1e-14));
+        prop_assert!(close(&(m.sdc_c(&x) * x), &m.h(&x), 1e-14));
+        prop_assert!(close(&m.jacobian_f(&x, &u), &fd_jacobian(|x| m.f(x, &u), &x), 1e-7));
+        prop_assert!(close(&m.jacobian_h(&x), &fd_jacobian(|x| m.h(x), &x), 1e-7));
+    }
+}

@@ -8,13 +8,14 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 16] = [
+pub const EXAMPLES: [&str; 17] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
     "calibration_study",
     "chain_study",
     "fes_figures",
+    "fes_model_study",
     "fes_studies",
     "fes_thesis_protocol",
     "gait_pelvis",
@@ -58,7 +59,9 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
     match example {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
-        "baseline_study" | "fes_figures" | "fes_thesis_protocol" => parse::<NoArgs>(example, args),
+        "baseline_study" | "fes_figures" | "fes_model_study" | "fes_thesis_protocol" => {
+            parse::<NoArgs>(example, args)
+        }
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
@@ -75,7 +78,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
 }
 
 /// Examples that take no arguments (`baseline_study`, `fes_figures`,
-/// `fes_thesis_protocol`).
+/// `fes_model_study`, `fes_thesis_protocol`).
 #[derive(Debug, Parser)]
 pub struct NoArgs {}
 

@@ -78,14 +78,14 @@ where
             let am = model.sdc_a(x);
             let cm = model.sdc_c(x);
             let drift = am * x + model.input_term(x, u);
-            let innov = y - cm * x;
+            let innov = y - (cm * x + model.sdc_measurement_input(x, u));
             (am, cm, drift, innov)
         }
         Linearisation::Jacobian => (
             model.jacobian_f(x, u),
-            model.jacobian_h(x),
+            model.jacobian_h_with_input(x, u),
             model.f(x, u),
-            y - model.h(x),
+            y - model.h_with_input(x, u),
         ),
     };
     let pct = p * cm.transpose();
@@ -136,7 +136,10 @@ where
 {
     let (am, cm) = match lin {
         Linearisation::Sdc => (model.sdc_a(&st.x), model.sdc_c(&st.x)),
-        Linearisation::Jacobian => (model.jacobian_f(&st.x, u), model.jacobian_h(&st.x)),
+        Linearisation::Jacobian => (
+            model.jacobian_f(&st.x, u),
+            model.jacobian_h_with_input(&st.x, u),
+        ),
     };
     let mut k = st.p * cm.transpose();
     for (j, w) in s_inv.iter().enumerate() {

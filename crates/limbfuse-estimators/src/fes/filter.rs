@@ -41,9 +41,29 @@ pub trait Plant<const N: usize, const M: usize, const U: usize> {
     /// Keys of the rate states `x[N/2..N]` (paper 004's `dq`), in state order.
     const RATE_DIAG: &'static [Self::Diag];
     /// Keys of the Riccati-solution diagonal `P_ii` (eq 4.16), in state order.
-    const COVARIANCE_DIAG: [Self::Diag; N];
+    const COVARIANCE_DIAG: &'static [Self::Diag];
     /// Key of the number of restarts after a non-finite state.
     const RESETS_DIAG: Self::Diag;
+
+    /// Method name when the plant is not a paper-004 model (`None`: the
+    /// filter reports `sdre` or `ekf` from its linearisation).
+    fn method_name(&self) -> Option<&'static str> {
+        None
+    }
+
+    /// Writes the diagnostics of state `st` after `resets` restarts.
+    /// Default: [`Plant::RATE_DIAG`] from `x[N/2..N]`, [`Plant::COVARIANCE_DIAG`]
+    /// from `P_ii`, [`Plant::RESETS_DIAG`].
+    fn write_diagnostics(&self, st: &FilterState<N>, resets: u32, e: &mut Estimate) {
+        let mut d = e.diagnostics_mut::<Self::Diag>();
+        for (key, i) in Self::RATE_DIAG.iter().zip(N / 2..N) {
+            d.value(*key, st.x[i]);
+        }
+        for (i, key) in Self::COVARIANCE_DIAG.iter().enumerate() {
+            d.value(*key, st.p[(i, i)]);
+        }
+        d.value(Self::RESETS_DIAG, f64::from(resets));
+    }
 }
 
 /// The continuous-time estimator of paper 004 on plant `P`: `sdre` with
@@ -133,6 +153,9 @@ where
     P: Plant<N, M, U>,
 {
     fn name(&self) -> &'static str {
+        if let Some(name) = self.plant.method_name() {
+            return name;
+        }
         match self.lin {
             Linearisation::Sdc => "sdre",
             Linearisation::Jacobian => "ekf",
@@ -232,14 +255,7 @@ where
             .ok_or(EstimatorError::Numerical("no state"))?;
         let mut e = Estimate::empty(s.t);
         self.plant.fill(&st.x, &mut e);
-        let mut d = e.diagnostics_mut::<P::Diag>();
-        for (key, i) in P::RATE_DIAG.iter().zip(N / 2..N) {
-            d.value(*key, st.x[i]);
-        }
-        for (i, key) in P::COVARIANCE_DIAG.into_iter().enumerate() {
-            d.value(key, st.p[(i, i)]);
-        }
-        d.value(P::RESETS_DIAG, f64::from(self.resets));
+        self.plant.write_diagnostics(st, self.resets, &mut e);
         Ok(e)
     }
 }

@@ -84,7 +84,7 @@ impl Plant<4, 4, 6> for FixedHipPlant {
     type Model = FixedHipModel;
     type Diag = FixedHipDiag;
     const RATE_DIAG: &'static [FixedHipDiag] = &[FixedHipDiag::ThighRate, FixedHipDiag::ShankRate];
-    const COVARIANCE_DIAG: [FixedHipDiag; 4] = [
+    const COVARIANCE_DIAG: &'static [FixedHipDiag] = &[
         FixedHipDiag::P11,
         FixedHipDiag::P22,
         FixedHipDiag::P33,

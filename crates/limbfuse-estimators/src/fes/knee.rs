@@ -91,7 +91,7 @@ impl Plant<2, 2, 1> for KneePlant {
     type Model = KneeFesModel;
     type Diag = KneeFesDiag;
     const RATE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::ShankRate];
-    const COVARIANCE_DIAG: [KneeFesDiag; 2] = [KneeFesDiag::P11, KneeFesDiag::P22];
+    const COVARIANCE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::P11, KneeFesDiag::P22];
     const RESETS_DIAG: KneeFesDiag = KneeFesDiag::Resets;
 
     fn model(&self) -> &KneeFesModel {
@@ -144,17 +144,26 @@ impl Plant<2, 2, 1> for KneePlant {
     }
 
     fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        let p = &self.model.p;
-        writeln!(out, "thigh_angle_rad: {}", self.thigh_angle)?;
-        writeln!(out, "inertia: {}", p.inertia)?;
-        writeln!(out, "mass: {}", p.mass)?;
-        writeln!(out, "l_c: {}", p.l_c)?;
-        writeln!(out, "g: {}", p.g)?;
-        writeln!(out, "phi0: {}", p.phi0)?;
-        writeln!(out, "d: {:?}", p.d)?;
-        writeln!(out, "c: {:?}", p.c)?;
+        describe_knee_params(&self.model.p, self.thigh_angle, out)?;
         writeln!(out, "activation: a_ke = u_ke (thesis section 4.1.1)")
     }
+}
+
+/// Writes the seat's thigh angle and the knee model's parameters as
+/// `key: value` lines (shared by the thesis and the extended knee plants).
+pub fn describe_knee_params(
+    p: &limbfuse_models::KneeFesParams,
+    thigh_angle: f64,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    writeln!(out, "thigh_angle_rad: {thigh_angle}")?;
+    writeln!(out, "inertia: {}", p.inertia)?;
+    writeln!(out, "mass: {}", p.mass)?;
+    writeln!(out, "l_c: {}", p.l_c)?;
+    writeln!(out, "g: {}", p.g)?;
+    writeln!(out, "phi0: {}", p.phi0)?;
+    writeln!(out, "d: {:?}", p.d)?;
+    writeln!(out, "c: {:?}", p.c)
 }
 
 /// Input vector of the knee model.

@@ -7,6 +7,9 @@
 //!   over a [`filter::Plant`] (a model plus the channel mapping).
 //! * [`knee`]: the leg-extension plant (2 states), [`fixed_hip`]: the
 //!   fixed-hip plant (4 states).
+//! * [`knee_extended`]: the knee model with optional activation,
+//!   unknown-torque and sensor-bias states (issue 16), and the model-free
+//!   kinematic shank plant of `knee-kinematic`.
 //! * [`rmx`]: the rotation-matrix baseline (relative orientation of the two
 //!   IMUs, each from a Mahony complementary filter or device quaternions).
 //!
@@ -16,6 +19,7 @@ pub mod continuous;
 pub mod filter;
 pub mod fixed_hip;
 pub mod knee;
+pub mod knee_extended;
 pub mod mahony;
 pub mod rmx;
 
@@ -23,4 +27,8 @@ pub use continuous::{ContinuousTuning, Linearisation};
 pub use filter::{FesFilter, Plant};
 pub use fixed_hip::{FixedHipDiag, FixedHipFilter, FixedHipPlant};
 pub use knee::{KneeFesDiag, KneeFesFilter, KneePlant};
+pub use knee_extended::{
+    ExtendedKneeDiag, ExtendedKneeFilter, ExtendedKneePlant, KinematicKneeDiag,
+    KinematicKneeFilter, KinematicKneePlant,
+};
 pub use rmx::{OrientationSource, RmxDiag, RotationMatrixKnee};
