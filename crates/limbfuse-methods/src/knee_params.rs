@@ -5,8 +5,11 @@
 //! window = 500                # s_w, samples (--window)
 //! order = 6                   # parameter-EKF iterations per window (--order)
 //! zero = "sensor-positions"   # or "paper-c": which sensor pose is 0 deg
-//! sign_commit = 0.5           # sign confidence at which the axis-sign pair is kept
+//! sign_commit = 0.9           # sign confidence at which the axis-sign pair is kept
 //! sign_floor = 0.00061        # spread of the sign evidence that noise alone gives
+//! acc_max_spread = 0.0152     # accelerometer angle trusted up to this spread about the gyro angle
+//! acc_min_motion = 0.0152     # ... in windows where the gyro angle spreads at least this much
+//! highpass_hz = 0.02          # drift removal while the accelerometer angle is not trusted
 //! ```
 
 use std::path::Path;
@@ -39,6 +42,9 @@ struct KneeSelfAlignFile {
     zero: Option<ZeroName>,
     sign_commit: Option<f64>,
     sign_floor: Option<f64>,
+    acc_max_spread: Option<f64>,
+    acc_min_motion: Option<f64>,
+    highpass_hz: Option<f64>,
 }
 
 /// The parameters of a parameter file's text (or the paper defaults for
@@ -59,6 +65,9 @@ pub fn knee_params(
         },
         sign_commit: f.sign_commit.unwrap_or(d.sign_commit),
         sign_floor: f.sign_floor.unwrap_or(d.sign_floor),
+        acc_max_spread: f.acc_max_spread.unwrap_or(d.acc_max_spread),
+        acc_min_motion: f.acc_min_motion.unwrap_or(d.acc_min_motion),
+        highpass_hz: f.highpass_hz.unwrap_or(d.highpass_hz),
         ..d
     };
     p.validate()?;
@@ -80,7 +89,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, zero, sign_commit, sign_floor (file keys or --window/--order)",
+        "window, order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -118,12 +127,18 @@ pub fn default_file() -> String {
          order = {}  # parameter-EKF iterations per window (1 to 100); --order overrides\n\
          zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n\
          sign_commit = {}  # sign confidence (0 to 1) at which the axis-sign pair is kept (limbfuse)\n\
-         sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n",
+         sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n\
+         acc_max_spread = {}  # accelerometer angle trusted up to this spread about the gyro angle (0 to 1; limbfuse)\n\
+         acc_min_motion = {}  # ... judged only in windows whose gyro angle spreads at least this (0 to 1; limbfuse)\n\
+         highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n",
         d.window,
         d.order,
         d.zero.name(),
         d.sign_commit,
-        d.sign_floor
+        d.sign_floor,
+        d.acc_max_spread,
+        d.acc_min_motion,
+        d.highpass_hz
     )
 }
 
