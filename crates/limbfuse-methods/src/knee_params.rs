@@ -14,6 +14,7 @@
 
 use std::path::Path;
 
+use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
 
@@ -140,6 +141,79 @@ pub fn default_file() -> String {
         d.acc_min_motion,
         d.highpass_hz
     )
+}
+
+/// A `knee-gyro-axis` parameter file.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KneeGyroAxisFile {
+    method: Option<String>,
+    window: Option<usize>,
+    order: Option<usize>,
+    corner_hz: Option<f64>,
+}
+
+impl MethodFile for KneeGyroAxisFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+/// `knee-gyro-axis` (issue 15, beyond the papers): the knee angle from the
+/// relative gyro rate about the axes `knee-selfalign` identifies.
+#[derive(Debug, Clone, Copy)]
+pub struct KneeGyroAxisMethod;
+
+impl MethodDef for KneeGyroAxisMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "knee-gyro-axis",
+        "knee angle from the relative gyro rate about the identified knee axes, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
+        "raw thigh and shank IMUs (any mounting)",
+        "window, order, corner_hz (file keys or --window/--order)",
+    )
+    .needing(
+        ChannelNeeds::imus([false, true, true, false]),
+        "needs the thigh and shank accelerometers and gyroscopes (the knee axes come from both gyros, the inclination from both accelerometers)",
+    );
+    type Settings = KneeGyroAxisParams;
+
+    fn resolve(
+        file: Option<(&str, &Path)>,
+        flags: &MethodFlags,
+    ) -> Result<KneeGyroAxisParams, MethodError> {
+        let f: KneeGyroAxisFile = read_file::<KneeGyroAxisMethod, _>(file)?;
+        let d = KneeGyroAxisParams::default();
+        let p = KneeGyroAxisParams {
+            axes: KneeSelfAlignParams {
+                window: flags.window.or(f.window).unwrap_or(d.axes.window),
+                order: flags.order.or(f.order).unwrap_or(d.axes.order),
+                ..d.axes
+            },
+            corner_hz: f.corner_hz.unwrap_or(d.corner_hz),
+        };
+        p.validate()?;
+        Ok(p)
+    }
+
+    fn build(
+        p: &KneeGyroAxisParams,
+        _: &TrialMeta,
+        _: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        Ok(Box::new(KneeGyroAxis::new(*p)?))
+    }
+
+    fn default_file() -> String {
+        let d = KneeGyroAxisParams::default();
+        format!(
+            "# limbfuse knee-gyro-axis parameters (issue 15; docs/KNEE_SELFALIGN.md).\n\
+             method = \"knee-gyro-axis\"\n\
+             window = {}  # s_w of the axis identification, samples; --window overrides\n\
+             order = {}  # parameter-EKF iterations per window; --order overrides\n\
+             corner_hz = {}  # drift-removal corner frequency (Hz, 0 to 10)\n",
+            d.axes.window, d.axes.order, d.corner_hz
+        )
+    }
 }
 
 #[cfg(test)]

@@ -308,6 +308,17 @@ impl KneeSelfAlign {
         Some(())
     }
 
+    /// Windows completed so far.
+    pub fn windows(&self) -> usize {
+        self.windows
+    }
+
+    /// Sign confidence of the last identified window (`diag_sign_confidence`)
+    /// and whether the relative sign is committed.
+    pub fn sign_state(&self) -> (f64, bool) {
+        (self.sign_confidence, self.sign_committed)
+    }
+
     /// The current joint geometry (`None` until a window was identified).
     pub fn geometry(&self) -> Option<&Geometry> {
         self.geometry.as_ref()
