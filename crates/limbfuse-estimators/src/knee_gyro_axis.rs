@@ -37,7 +37,7 @@ use limbfuse_core::{
 };
 use nalgebra::Vector3;
 
-use crate::knee_selfalign::angle::{accel_angle, gyro_angle_rate, wrap, PlaneBasis};
+use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};
 use crate::knee_selfalign::{KneeParamError, KneeSelfAlign, KneeSelfAlignParams};
 
 diagnostic_set! {
@@ -62,6 +62,17 @@ diagnostic_set! {
         Windows = "windows",
     }
 }
+
+/// Time constant (s) of the smoothing of `alpha_inc - alpha_gyro` before
+/// the observability test: one stride of walking at a normal cadence
+/// (~1.1 s, Perry, *Gait Analysis*, 1992, ch. 1), over which the segments'
+/// own accelerations in the specific force largely average out while a
+/// meaningless inclination keeps its slow errors.
+const STRIDE_S: f64 = 1.0;
+
+/// Samples by which the accelerometer angle trails (the five-point rate
+/// derivative of `Gamma`).
+const LAG: usize = crate::knee_selfalign::position::DERIVATIVE_LATENCY;
 
 /// Parameters of [`KneeGyroAxis`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,6 +126,10 @@ impl Circular {
         self.c += c;
         self.n += 1;
     }
+    /// Circular mean (rad).
+    fn mean(&self) -> f64 {
+        libm::atan2(self.s, self.c)
+    }
     /// 1 - mean resultant length (0 all equal, 1 uniform); 1 when empty.
     fn spread(&self) -> f64 {
         if self.n == 0 {
@@ -139,6 +154,10 @@ pub struct KneeGyroAxis {
     diff: Circular,
     motion: Circular,
     last_spread: f64,
+    smoothed: Option<(f64, f64)>,
+    recent_alpha: [Option<f64>; LAG + 1],
+    z: f64,
+    start_pending: bool,
 }
 
 impl KneeGyroAxis {
@@ -158,6 +177,10 @@ impl KneeGyroAxis {
             diff: Circular::default(),
             motion: Circular::default(),
             last_spread: 1.0,
+            smoothed: None,
+            recent_alpha: [None; LAG + 1],
+            z: 0.0,
+            start_pending: false,
         })
     }
 
@@ -181,6 +204,12 @@ impl KneeGyroAxis {
             if spread > p.acc_max_spread {
                 self.use_inclination = false;
             } else if self.motion.spread() >= p.acc_min_motion {
+                if !self.use_inclination {
+                    // From the high-pass to the inclination: start at the
+                    // window's mean offset instead of converging to it
+                    // with the 8 s time constant.
+                    self.x = self.diff.mean();
+                }
                 self.use_inclination = true;
             }
         }
@@ -196,6 +225,10 @@ impl KneeGyroAxis {
         self.diff = Circular::default();
         self.motion = Circular::default();
         self.last_spread = 1.0;
+        self.smoothed = None;
+        self.recent_alpha = [None; LAG + 1];
+        self.z = 0.0;
+        self.start_pending = false;
     }
 }
 
@@ -244,7 +277,13 @@ impl Estimator for KneeGyroAxis {
                 .axes
                 .is_some_and(|a| a[0].dot(&g.axis[0]) >= 0.0 && a[1].dot(&g.axis[1]) >= 0.0);
             if !same_sides {
+                // New axes (or new sides): the integral starts afresh, with
+                // the inner estimator's verdict on the accelerometer angle
+                // of the window that identified them; the correction starts
+                // at the first difference.
                 self.restart();
+                self.use_inclination = self.inner.acc_trusted();
+                self.start_pending = true;
             }
             self.axes = Some(g.axis);
             let thigh = sample.imu(Segment::Thigh);
@@ -261,19 +300,43 @@ impl Estimator for KneeGyroAxis {
             if rate.is_some() {
                 self.last_rate = rate;
             }
-            if let (Some(at), Some(as_), Some(b)) =
-                (thigh.acc, shank.acc, g.bases(self.params.axes.zero))
-            {
-                alpha_inc = inclination(&at, &as_, &b);
-            }
-            if let Some(a) = alpha_inc {
-                self.diff.add(wrap(a - self.alpha));
+            // The accelerometer angle is that of the sample LAG steps back:
+            // compare it with the gyro angle of that sample.
+            self.recent_alpha.rotate_left(1);
+            self.recent_alpha[LAG] = Some(self.alpha);
+            alpha_inc = self.inner.lagged_accel_angle();
+            let lagged = self.recent_alpha[0].zip(alpha_inc).map(|(g, a)| a - g);
+            if let Some(d) = lagged {
+                // The difference, smoothed over about one stride (as a unit
+                // vector, so that it may cross +-pi), is what the test sees.
+                let (s, c) = libm::sincos(d);
+                let k1 = 1.0 - libm::exp(-dt.unwrap_or(0.0) / STRIDE_S);
+                let (ls, lc) = match self.smoothed {
+                    Some((ls, lc)) => (ls + k1 * (s - ls), lc + k1 * (c - lc)),
+                    None => (s, c),
+                };
+                self.smoothed = Some((ls, lc));
+                self.diff.add(libm::atan2(ls, lc));
                 self.motion.add(self.alpha);
             }
             let k = 1.0
                 - libm::exp(-core::f64::consts::TAU * self.params.corner_hz * dt.unwrap_or(0.0));
-            match (self.use_inclination, alpha_inc) {
-                (true, Some(a)) => self.x += k * wrap(a - self.alpha - self.x),
+            if let (true, Some(d)) = (self.start_pending, lagged) {
+                self.x = if self.use_inclination { d } else { 0.0 };
+                self.start_pending = false;
+            }
+            match (self.use_inclination, lagged) {
+                (true, Some(d)) => {
+                    // Second-order (PI) complementary filter, critically
+                    // damped at omega_n = 2 pi f_c: the integral state z
+                    // takes up a relative gyro bias, which a first-order
+                    // filter would leave as a lag of b tau.
+                    let dt = dt.unwrap_or(0.0);
+                    let w = core::f64::consts::TAU * self.params.corner_hz;
+                    let e = wrap(d - self.x);
+                    self.z += w * w * e * dt;
+                    self.x += (2.0 * w * e + self.z) * dt;
+                }
                 (true, None) => {}
                 (false, _) => self.x += k * (-self.alpha - self.x),
             }
@@ -294,11 +357,6 @@ impl Estimator for KneeGyroAxis {
         }
         Ok(est)
     }
-}
-
-/// The inclination angle: eq 5 on the raw specific forces (no `Gamma`).
-fn inclination(a_t: &Vector3<f64>, a_s: &Vector3<f64>, b: &[PlaneBasis; 2]) -> Option<f64> {
-    accel_angle(a_t, a_s, &b[0], &b[1])
 }
 
 #[cfg(test)]

@@ -308,6 +308,11 @@ impl KneeSelfAlign {
         Some(())
     }
 
+    /// Whether the accelerometer angle is trusted now (`diag_acc_trusted`).
+    pub fn acc_trusted(&self) -> bool {
+        self.acc_trusted
+    }
+
     /// Windows completed so far.
     pub fn windows(&self) -> usize {
         self.windows
@@ -396,9 +401,10 @@ impl KneeSelfAlign {
         }
     }
 
-    /// Accelerometer angle of the sample two steps back (the rate derivative
-    /// needs two samples after it).
-    fn lagged_accel_angle(&self) -> Option<f64> {
+    /// Accelerometer angle (eqs 5-7) of the sample
+    /// [`position::DERIVATIVE_LATENCY`] steps back (the rate derivative needs
+    /// two samples after it), with the current geometry.
+    pub fn lagged_accel_angle(&self) -> Option<f64> {
         let (g, b) = (self.geometry.as_ref()?, self.bases.as_ref()?);
         let [kt, ks] = self.recent.kinematics(2)?;
         let at = kt.joint_acceleration(&g.position[0]);
