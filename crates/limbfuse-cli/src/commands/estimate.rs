@@ -9,6 +9,9 @@ use limbfuse_core::Estimator;
 use limbfuse_eval::{RejectionWatch, ResetWatch};
 use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
 
+use limbfuse_methods::MethodSpec;
+
+use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
 use crate::methods;
@@ -48,15 +51,40 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     // in which they find no gait is an error, not an empty estimate.
     let gait_method = outputs.contact || (outputs.speed && !outputs.com);
     let mut gait = GaitWatch::default();
-    let n = run_to_file_calibrated(
-        est.as_mut(),
-        reader,
-        &a.output,
-        spec.method().name(),
-        &command_line(a),
-        &mut [&mut gait],
-        calibration.as_ref(),
-    )?;
+    let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
+    let n = {
+        let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
+        if let Some(k) = knee.as_mut() {
+            extra.push(k);
+        }
+        run_to_file_calibrated(
+            est.as_mut(),
+            reader,
+            &a.output,
+            spec.method().name(),
+            &command_line(a),
+            &mut extra,
+            calibration.as_ref(),
+        )?
+    };
+    if let Some(k) = &knee {
+        let window = match &spec {
+            MethodSpec::KneeSelfAlign(p) => p.window,
+            MethodSpec::KneeGyroAxis(p) => p.axes.window,
+            _ => 0,
+        };
+        match k.verdict(window) {
+            Ok(line) => eprintln!("{}: {line}", spec.method()),
+            Err(why) => {
+                let _ = std::fs::remove_file(&a.output);
+                anyhow::bail!(
+                    "{}: `{}`: {why}; no estimate written",
+                    a.trial.display(),
+                    spec.method()
+                );
+            }
+        }
+    }
     if gait_method && !gait.found {
         let _ = std::fs::remove_file(&a.output);
         anyhow::bail!(
