@@ -43,7 +43,7 @@ fn methods_lists_every_method() {
 /// The trial each method runs on in this test.
 fn trial_for(m: MethodName) -> &'static str {
     match m {
-        MethodName::KneeSelfAlign => "knee.csv",
+        MethodName::KneeSelfAlign | MethodName::KneeGyroAxis => "knee.csv",
         MethodName::Sdre | MethodName::Ekf | MethodName::Rmx => "fes.csv",
         _ => "walk.csv",
     }

@@ -11,6 +11,7 @@
 //! | [`knee_selfalign`] | 002 | self-aligning knee angle (joint axes and positions identified online) |
 //! | [`fes`] | 004 | SDRE, EKF and rotation-matrix (RMX) estimators on the FES knee and fixed-hip models |
 //! | [`imm_bslip`] | 003 | interacting multiple models over a B-SLIP gait library (gait phase, speed) |
+//! | [`knee_gyro_axis`] | - | knee angle from the relative gyro rate about the identified axes (cross-check of 002) |
 //! | [`baseline`] | - | honest baselines: [`baseline::GyroIntegration`], [`baseline::AccelInclination`] |
 //!
 //! [`hinge_axis`] is the hinge-axis solver shared by the knee estimator and
@@ -27,6 +28,7 @@ pub mod gait_events;
 pub mod hinge_axis;
 pub mod imm_bslip;
 pub mod inclination;
+pub mod knee_gyro_axis;
 pub mod knee_selfalign;
 pub mod lowback_speed;
 pub mod segment_kf;

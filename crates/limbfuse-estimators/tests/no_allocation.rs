@@ -7,6 +7,7 @@ use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::imm_bslip::{
     ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, TouchdownRule,
 };
+use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
 use limbfuse_estimators::segment_kf::{
     AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
@@ -95,7 +96,7 @@ fn step_never_allocates() {
     estimators.push(Box::new(
         ImmContinuous::new(&library, ImmBslipParams::default()).unwrap(),
     ));
-    estimators.extend::<[Box<dyn Estimator>; 9]>([
+    estimators.extend::<[Box<dyn Estimator>; 10]>([
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),
         Box::new(LocalKf::default()),
@@ -124,6 +125,7 @@ fn step_never_allocates() {
         ),
         // Window re-estimates (every 500 samples) run inside `step` too.
         Box::new(KneeSelfAlign::default()),
+        Box::new(KneeGyroAxis::new(KneeGyroAxisParams::default()).unwrap()),
     ]);
     for e in estimators.iter_mut() {
         let before = allocations();

@@ -5,12 +5,16 @@
 //! window = 500                # s_w, samples (--window)
 //! order = 6                   # parameter-EKF iterations per window (--order)
 //! zero = "sensor-positions"   # or "paper-c": which sensor pose is 0 deg
-//! sign_commit = 0.5           # sign confidence at which the axis-sign pair is kept
+//! sign_commit = 0.9           # sign confidence at which the axis-sign pair is kept
 //! sign_floor = 0.00061        # spread of the sign evidence that noise alone gives
+//! acc_max_spread = 0.0152     # accelerometer angle trusted up to this spread about the gyro angle
+//! acc_min_motion = 0.0152     # ... in windows where the gyro angle spreads at least this much
+//! highpass_hz = 0.02          # drift removal while the accelerometer angle is not trusted
 //! ```
 
 use std::path::Path;
 
+use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
 
@@ -39,6 +43,9 @@ struct KneeSelfAlignFile {
     zero: Option<ZeroName>,
     sign_commit: Option<f64>,
     sign_floor: Option<f64>,
+    acc_max_spread: Option<f64>,
+    acc_min_motion: Option<f64>,
+    highpass_hz: Option<f64>,
 }
 
 /// The parameters of a parameter file's text (or the paper defaults for
@@ -59,6 +66,9 @@ pub fn knee_params(
         },
         sign_commit: f.sign_commit.unwrap_or(d.sign_commit),
         sign_floor: f.sign_floor.unwrap_or(d.sign_floor),
+        acc_max_spread: f.acc_max_spread.unwrap_or(d.acc_max_spread),
+        acc_min_motion: f.acc_min_motion.unwrap_or(d.acc_min_motion),
+        highpass_hz: f.highpass_hz.unwrap_or(d.highpass_hz),
         ..d
     };
     p.validate()?;
@@ -80,7 +90,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, zero, sign_commit, sign_floor (file keys or --window/--order)",
+        "window, order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -118,13 +128,92 @@ pub fn default_file() -> String {
          order = {}  # parameter-EKF iterations per window (1 to 100); --order overrides\n\
          zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n\
          sign_commit = {}  # sign confidence (0 to 1) at which the axis-sign pair is kept (limbfuse)\n\
-         sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n",
+         sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n\
+         acc_max_spread = {}  # accelerometer angle trusted up to this spread about the gyro angle (0 to 1; limbfuse)\n\
+         acc_min_motion = {}  # ... judged only in windows whose gyro angle spreads at least this (0 to 1; limbfuse)\n\
+         highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n",
         d.window,
         d.order,
         d.zero.name(),
         d.sign_commit,
-        d.sign_floor
+        d.sign_floor,
+        d.acc_max_spread,
+        d.acc_min_motion,
+        d.highpass_hz
     )
+}
+
+/// A `knee-gyro-axis` parameter file.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KneeGyroAxisFile {
+    method: Option<String>,
+    window: Option<usize>,
+    order: Option<usize>,
+    corner_hz: Option<f64>,
+}
+
+impl MethodFile for KneeGyroAxisFile {
+    fn method(&self) -> Option<&str> {
+        self.method.as_deref()
+    }
+}
+
+/// `knee-gyro-axis` (issue 15, beyond the papers): the knee angle from the
+/// relative gyro rate about the axes `knee-selfalign` identifies.
+#[derive(Debug, Clone, Copy)]
+pub struct KneeGyroAxisMethod;
+
+impl MethodDef for KneeGyroAxisMethod {
+    const INFO: MethodInfo = MethodInfo::new(
+        "knee-gyro-axis",
+        "knee angle from the relative gyro rate about the identified knee axes, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
+        "raw thigh and shank IMUs (any mounting)",
+        "window, order, corner_hz (file keys or --window/--order)",
+    )
+    .needing(
+        ChannelNeeds::imus([false, true, true, false]),
+        "needs the thigh and shank accelerometers and gyroscopes (the knee axes come from both gyros, the inclination from both accelerometers)",
+    );
+    type Settings = KneeGyroAxisParams;
+
+    fn resolve(
+        file: Option<(&str, &Path)>,
+        flags: &MethodFlags,
+    ) -> Result<KneeGyroAxisParams, MethodError> {
+        let f: KneeGyroAxisFile = read_file::<KneeGyroAxisMethod, _>(file)?;
+        let d = KneeGyroAxisParams::default();
+        let p = KneeGyroAxisParams {
+            axes: KneeSelfAlignParams {
+                window: flags.window.or(f.window).unwrap_or(d.axes.window),
+                order: flags.order.or(f.order).unwrap_or(d.axes.order),
+                ..d.axes
+            },
+            corner_hz: f.corner_hz.unwrap_or(d.corner_hz),
+        };
+        p.validate()?;
+        Ok(p)
+    }
+
+    fn build(
+        p: &KneeGyroAxisParams,
+        _: &TrialMeta,
+        _: &TrialLayout,
+    ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+        Ok(Box::new(KneeGyroAxis::new(*p)?))
+    }
+
+    fn default_file() -> String {
+        let d = KneeGyroAxisParams::default();
+        format!(
+            "# limbfuse knee-gyro-axis parameters (issue 15; docs/KNEE_SELFALIGN.md).\n\
+             method = \"knee-gyro-axis\"\n\
+             window = {}  # s_w of the axis identification, samples; --window overrides\n\
+             order = {}  # parameter-EKF iterations per window; --order overrides\n\
+             corner_hz = {}  # drift-removal corner frequency (Hz, 0 to 10)\n",
+            d.axes.window, d.axes.order, d.corner_hz
+        )
+    }
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use crate::chain_method::ChainMethod;
 use crate::fes_methods::{EkfMethod, KneeKinematicMethod, RmxMethod, SdreMethod};
 use crate::gait_methods::{GaitEventsMethod, LowbackSpeedMethod};
 use crate::imm_params::ImmBslipMethod;
-use crate::knee_params::KneeSelfAlignMethod;
+use crate::knee_params::{KneeGyroAxisMethod, KneeSelfAlignMethod};
 use crate::method_def::{build_with, resolve_with, MethodDef, MethodInfo};
 use crate::segment_methods::{GlobalMethod, LocalMethod, MjlsMethod};
 use crate::{MethodError, MethodFlags};
@@ -107,6 +107,8 @@ registry! {
     Chain => ChainMethod,
     /// Paper 002: self-aligning knee angle.
     KneeSelfAlign => KneeSelfAlignMethod,
+    /// Beyond the papers: knee angle from the relative gyro rate about the identified axes.
+    KneeGyroAxis => KneeGyroAxisMethod,
     /// Paper 004: state-dependent Riccati equation filter.
     Sdre => SdreMethod,
     /// Paper 004: extended Kalman(-Bucy) filter.

@@ -34,7 +34,7 @@ impl MethodFlags {
     /// Checks that every flag given belongs to `method`.
     pub fn check_applies_to(&self, method: MethodName) -> Result<(), MethodError> {
         let knee = self.window.is_some() || self.order.is_some();
-        if knee && method != MethodName::KneeSelfAlign {
+        if knee && !matches!(method, MethodName::KneeSelfAlign | MethodName::KneeGyroAxis) {
             return Err(MethodError::FlagNotForMethod {
                 flags: "--window and --order",
                 owner: MethodName::KneeSelfAlign,

@@ -9,6 +9,9 @@ use limbfuse_core::Estimator;
 use limbfuse_eval::{RejectionWatch, ResetWatch};
 use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
 
+use limbfuse_methods::MethodSpec;
+
+use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
 use crate::methods;
@@ -60,27 +63,54 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     // in which they find no gait is an error, not an empty estimate.
     let gait_method = outputs.contact || (outputs.speed && !outputs.com);
     let mut gait = GaitWatch::default();
+    let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let label = spec.method().name();
-    let n = match stdout {
-        Some(out) => run_to_stdout(
-            est.as_mut(),
-            reader,
-            out,
-            label,
-            &command_line(a),
-            &mut [&mut gait],
-            calibration.as_ref(),
-        )?,
-        None => run_to_file_calibrated(
-            est.as_mut(),
-            reader,
-            &a.output,
-            label,
-            &command_line(a),
-            &mut [&mut gait],
-            calibration.as_ref(),
-        )?,
+    let n = {
+        let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
+        if let Some(k) = knee.as_mut() {
+            extra.push(k);
+        }
+        match stdout {
+            Some(out) => run_to_stdout(
+                est.as_mut(),
+                reader,
+                out,
+                label,
+                &command_line(a),
+                &mut extra,
+                calibration.as_ref(),
+            )?,
+            None => run_to_file_calibrated(
+                est.as_mut(),
+                reader,
+                &a.output,
+                label,
+                &command_line(a),
+                &mut extra,
+                calibration.as_ref(),
+            )?,
+        }
     };
+    if let Some(k) = &knee {
+        let window = match &spec {
+            MethodSpec::KneeSelfAlign(p) => p.window,
+            MethodSpec::KneeGyroAxis(p) => p.axes.window,
+            _ => 0,
+        };
+        match k.verdict(window) {
+            Ok(line) => eprintln!("{}: {line}", spec.method()),
+            Err(why) => {
+                if !stdio::is_stdio(&a.output) {
+                    let _ = std::fs::remove_file(&a.output);
+                }
+                anyhow::bail!(
+                    "{}: `{}`: {why}; no estimate written",
+                    a.trial.display(),
+                    spec.method()
+                );
+            }
+        }
+    }
     let written = if stdio::is_stdio(&a.output) {
         "standard output".to_string()
     } else {

@@ -109,6 +109,10 @@ diagnostic_set! {
         SignConfidence = "sign_confidence",
         /// 1 once the relative axis sign is committed (kept from then on), else 0.
         SignCommitted = "sign_committed",
+        /// 1 when the last identified window's accelerometer angle follows the
+        /// gyro angle (`acc_gyro_spread <= acc_max_spread`) and corrects it
+        /// (Algorithm 1); 0 when the angle is the high-passed gyro angle.
+        AccTrusted = "acc_trusted",
     }
 }
 
@@ -183,6 +187,16 @@ impl Fuser {
             Fuser::RateBias(k) => k.update(z),
         }
     }
+    /// The high-pass used instead of [`Fuser::update`] while the
+    /// accelerometer angle is not trusted: the correction `x` relaxes towards
+    /// `-alpha_gyro` with gain `k` per sample, so `alpha_gyro + x` is
+    /// `alpha_gyro` high-passed (first order, `k = 1 - exp(-2 pi f_c dt)`).
+    fn leak(&mut self, alpha_gyro: f64, k: f64) {
+        match self {
+            Fuser::Paper(f) => f.x += k * (-alpha_gyro - f.x),
+            Fuser::RateBias(f) => f.x[0] += k * (-alpha_gyro - f.x[0]),
+        }
+    }
     /// Correction added to the gyro angle, its variance, the rate bias.
     fn state(&self) -> (f64, f64, Option<f64>) {
         match self {
@@ -214,6 +228,7 @@ pub struct KneeSelfAlign {
     spread: f64,
     sign_confidence: f64,
     sign_committed: bool,
+    acc_trusted: bool,
     fixed: bool,
 }
 
@@ -258,6 +273,7 @@ impl KneeSelfAlign {
             spread: 1.0,
             sign_confidence: 0.0,
             sign_committed: false,
+            acc_trusted: true,
             fixed: false,
         }
     }
@@ -292,6 +308,22 @@ impl KneeSelfAlign {
         Some(())
     }
 
+    /// Whether the accelerometer angle is trusted now (`diag_acc_trusted`).
+    pub fn acc_trusted(&self) -> bool {
+        self.acc_trusted
+    }
+
+    /// Windows completed so far.
+    pub fn windows(&self) -> usize {
+        self.windows
+    }
+
+    /// Sign confidence of the last identified window (`diag_sign_confidence`)
+    /// and whether the relative sign is committed.
+    pub fn sign_state(&self) -> (f64, bool) {
+        (self.sign_confidence, self.sign_committed)
+    }
+
     /// The current joint geometry (`None` until a window was identified).
     pub fn geometry(&self) -> Option<&Geometry> {
         self.geometry.as_ref()
@@ -323,6 +355,7 @@ impl KneeSelfAlign {
                 information,
                 spread,
                 sign_confidence,
+                acc_trusted,
             } => {
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     // A new pair of sides (first window, or an uncommitted
@@ -345,7 +378,14 @@ impl KneeSelfAlign {
                     self.information = information;
                     self.spread = spread;
                     self.sign_confidence = sign_confidence;
-                    if sign_confidence >= self.params.sign_commit {
+                    // A still window is no evidence: the first window then
+                    // starts untrusted (the high-pass), later ones keep the
+                    // previous state.
+                    self.acc_trusted = match acc_trusted {
+                        Some(v) => v,
+                        None => !new_sides && self.acc_trusted,
+                    };
+                    if acc_trusted == Some(true) && sign_confidence >= self.params.sign_commit {
                         self.sign_committed = true;
                     }
                 } else {
@@ -361,9 +401,10 @@ impl KneeSelfAlign {
         }
     }
 
-    /// Accelerometer angle of the sample two steps back (the rate derivative
-    /// needs two samples after it).
-    fn lagged_accel_angle(&self) -> Option<f64> {
+    /// Accelerometer angle (eqs 5-7) of the sample
+    /// [`position::DERIVATIVE_LATENCY`] steps back (the rate derivative needs
+    /// two samples after it), with the current geometry.
+    pub fn lagged_accel_angle(&self) -> Option<f64> {
         let (g, b) = (self.geometry.as_ref()?, self.bases.as_ref()?);
         let [kt, ks] = self.recent.kinematics(2)?;
         let at = kt.joint_acceleration(&g.position[0]);
@@ -412,6 +453,7 @@ impl Estimator for KneeSelfAlign {
         self.spread = 1.0;
         self.sign_confidence = 0.0;
         self.sign_committed = false;
+        self.acc_trusted = true;
         self.fixed = false;
     }
 
@@ -460,7 +502,11 @@ impl Estimator for KneeSelfAlign {
         if self.geometry.is_some() {
             self.kf.predict(dt.unwrap_or(0.0));
             alpha_acc = self.lagged_accel_angle();
-            if let (Some(a), Some(gyro)) = (alpha_acc, self.recent_gyro_angle[2]) {
+            if !self.acc_trusted {
+                let dt = dt.unwrap_or(0.0);
+                let k = 1.0 - libm::exp(-core::f64::consts::TAU * self.params.highpass_hz * dt);
+                self.kf.leak(self.alpha_gyro, k);
+            } else if let (Some(a), Some(gyro)) = (alpha_acc, self.recent_gyro_angle[2]) {
                 self.kf.update(a - gyro);
             }
             // An angle: reported in (-pi, pi] (the gyro integral itself is
@@ -496,6 +542,7 @@ impl Estimator for KneeSelfAlign {
             d.value(KneeDiag::SignConfidence, self.sign_confidence);
         }
         d.flag(KneeDiag::SignCommitted, self.sign_committed);
+        d.flag(KneeDiag::AccTrusted, self.acc_trusted);
         d.value(KneeDiag::Information, self.information);
         d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
         Ok(est)

@@ -115,11 +115,39 @@ pub struct KneeSelfAlignParams {
     /// difference wobbling by +-2 deg (a limbfuse extension).
     pub sign_floor: f64,
     /// The relative axis sign is committed (kept by continuity from then on)
-    /// after the first window whose sign confidence reaches this value; until
-    /// then every window chooses the pair afresh and `diag_sign_confidence`
-    /// says how sure it is. Default 0.5: the wrong pair's spread at least
-    /// twice the right one's, above the floor (a limbfuse extension).
+    /// after the first window with a trusted accelerometer angle whose sign
+    /// confidence reaches this value; until then a window switches the pair
+    /// only on such evidence, and `diag_sign_confidence` says how sure it
+    /// is. Default 0.9: the wrong pair's spread at least ten times the right
+    /// one's, above the floor. With joint accelerations the wrong pair's
+    /// spread follows the turning of the joint-centre acceleration (tens of
+    /// degrees: 0.1-0.7 measured on the shared walks) and the right one's
+    /// the sensor noise (1e-4 to 2e-4): confidence 0.99-1.00. With gravity
+    /// alone the pairs are indistinguishable and the confidence is noise:
+    /// up to 0.73 measured on knee-rig windows (issue 15; 0.5 before, which
+    /// such windows passed). A limbfuse extension.
     pub sign_commit: f64,
+    /// The accelerometer angle of a window is trusted (as sign evidence,
+    /// for the zero and in Algorithm 1) only when the circular spread of
+    /// `alpha_acc - integral(alpha_gyro')` over the window is at most this.
+    /// Default `1 - cos(10 deg)` = 0.0152, the spread of a difference that
+    /// scatters by about 14 deg RMS (`1 - cos(x)` ~ `x^2 / 2`). Measured
+    /// (issue 15): 0.0001-0.0002 on the shared independent-simulator walks
+    /// and on limbfuse's simulator, 0.1-0.8 on the gaittoolbox trial and the
+    /// knee rig, where the accelerometer angle is meaningless (a limbfuse
+    /// extension).
+    pub acc_max_spread: f64,
+    /// A window's agreement is evidence only when the knee moved: the
+    /// circular spread of the gyro angle over the window must be at least
+    /// this (a still window agrees trivially). Default `1 - cos(10 deg)`, the
+    /// same scale as `acc_max_spread` (a limbfuse extension).
+    pub acc_min_motion: f64,
+    /// Corner frequency (Hz) of the first-order high-pass that removes the
+    /// gyro angle's drift while the accelerometer angle is not trusted
+    /// (instead of Algorithm 1's correction). Default 0.02 Hz (time constant
+    /// 8 s): a 0.5 deg/s relative gyro bias then leaves 4 deg, and a 1 Hz
+    /// gait cycle keeps 99.98 % of its amplitude (a limbfuse extension).
+    pub highpass_hz: f64,
 }
 
 impl Default for KneeSelfAlignParams {
@@ -137,7 +165,10 @@ impl Default for KneeSelfAlignParams {
             min_valid_fraction: 0.5,
             min_information: 1e-3,
             sign_floor: 1.0 - libm::cos(2f64.to_radians()),
-            sign_commit: 0.5,
+            sign_commit: 0.9,
+            acc_max_spread: 1.0 - libm::cos(10f64.to_radians()),
+            acc_min_motion: 1.0 - libm::cos(10f64.to_radians()),
+            highpass_hz: 0.02,
         }
     }
 }
@@ -212,7 +243,10 @@ impl KneeSelfAlignParams {
             "[0, 1e6]",
         )?;
         check("sign_floor", self.sign_floor, 0.0, 1.0, "[0, 1]")?;
-        check("sign_commit", self.sign_commit, 0.0, 1.0, "[0, 1]")
+        check("sign_commit", self.sign_commit, 0.0, 1.0, "[0, 1]")?;
+        check("acc_max_spread", self.acc_max_spread, 0.0, 1.0, "[0, 1]")?;
+        check("acc_min_motion", self.acc_min_motion, 0.0, 1.0, "[0, 1]")?;
+        positive("highpass_hz", self.highpass_hz)
     }
 
     /// Writes the parameters as `key: value` lines.
@@ -245,6 +279,11 @@ impl KneeSelfAlignParams {
             out,
             "sign: floor={} commit={}",
             self.sign_floor, self.sign_commit
+        )?;
+        writeln!(
+            out,
+            "accelerometer angle trusted when spread <= {} and motion >= {}; else high-pass at {} Hz",
+            self.acc_max_spread, self.acc_min_motion, self.highpass_hz
         )?;
         writeln!(
             out,

@@ -50,12 +50,26 @@ impl Circular {
     }
 }
 
-/// Over the window: spread of `alpha_acc - integral(gyro rate)` (small when
-/// both angles agree up to a constant) and circular mean of `alpha_acc`.
-pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64)> {
+/// What the accelerometer angle and the gyro angle show over one window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Agreement {
+    /// Circular spread of `alpha_acc - integral(gyro rate)`: small when both
+    /// angles agree up to a constant.
+    pub spread: f64,
+    /// Circular mean of `alpha_acc` (rad).
+    pub level: f64,
+    /// Circular spread of `integral(gyro rate)` itself: how much the knee
+    /// moved (the agreement is evidence only when this is not small).
+    pub motion: f64,
+}
+
+/// [`Agreement`] over the window; `None` when the accelerometer angle is
+/// never defined.
+pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<Agreement> {
     let bases = g.bases(zero)?;
     let mut diff = Circular::default();
     let mut level = Circular::default();
+    let mut motion = Circular::default();
     let mut integral = 0.0;
     let mut last: Option<(f64, f64)> = None;
     for i in 0..ring.len() {
@@ -74,10 +88,67 @@ pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<(f64, f64
             if let Some(a) = accel_angle(&at, &as_, &bases[0], &bases[1]) {
                 diff.add(wrap(a - integral));
                 level.add(a);
+                motion.add(integral);
             }
         }
     }
-    (diff.n > 0).then(|| (diff.spread(), level.mean()))
+    (diff.n > 0).then(|| Agreement {
+        spread: diff.spread(),
+        level: level.mean(),
+        motion: motion.spread(),
+    })
+}
+
+/// Second and third central moments (rad^2, rad^3) of the gyro angle
+/// `integral(g_T . j_T - g_S . j_S)` over the window: the evidence for the
+/// axis signs when the accelerometer angle cannot give it (a limbfuse rule,
+/// issue 15; priors from the anatomy of the leg, not measurements of the
+/// joint):
+/// - *relative sign*: with both axes on the same side eq 4 integrates the
+///   knee angle `theta_T - theta_S`, with one flipped the sum `theta_T +
+///   theta_S`. Thigh and shank swing mostly together (in walking the thigh
+///   covers ~45 deg, the shank ~75 deg, the knee ~60 deg: Winter,
+///   *Biomechanics and Motor Control of Human Movement*, 4th ed., 2009,
+///   appendix A), so their difference varies less than their sum: the pair
+///   with the smaller variance is taken.
+/// - *flexion side*: the knee stops at full extension and flexes away from
+///   it (to ~60 deg in the swing of walking, ~20 deg in stance: Perry, *Gait
+///   Analysis*, 1992, ch. 5), so the angle's excursions from its mean are
+///   longer towards flexion and the third moment is positive with the axes
+///   on the flexion-positive side. A motion that spends most of its time
+///   flexed gives the other sign.
+pub fn gyro_angle_moments(ring: &Ring, g: &Geometry) -> (f64, f64) {
+    let integral = |f: &mut dyn FnMut(f64)| {
+        let (mut acc, mut last): (f64, Option<(f64, f64)>) = (0.0, None);
+        for i in 0..ring.len() {
+            let s = ring.get(i);
+            if !s.gyr_ok {
+                continue;
+            }
+            let rate = gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]);
+            if let Some((t0, r0)) = last {
+                acc += 0.5 * (rate + r0) * (s.t - t0);
+            }
+            last = Some((s.t, rate));
+            f(acc);
+        }
+    };
+    let (mut sum, mut n) = (0.0, 0usize);
+    integral(&mut |a| {
+        sum += a;
+        n += 1;
+    });
+    if n == 0 {
+        return (0.0, 0.0);
+    }
+    let mean = sum / n as f64;
+    let (mut m2, mut m3) = (0.0, 0.0);
+    integral(&mut |a| {
+        let d = a - mean;
+        m2 += d * d;
+        m3 += d * d * d;
+    });
+    (m2 / n as f64, m3 / n as f64)
 }
 
 /// Confidence (-1..1) that the pair with spread `chosen` is right rather
@@ -119,6 +190,26 @@ pub struct SignChoice {
     pub confidence: f64,
     /// Circular mean of the accelerometer angle with it (rad).
     pub level: f64,
+    /// Circular spread of the gyro angle over the window (how much the knee
+    /// moved).
+    pub motion: f64,
+}
+
+impl SignChoice {
+    /// Whether the window says the accelerometer angle is usable:
+    /// `Some(true)` when it follows the gyro angle (`spread <= max_spread`)
+    /// while the knee moved (`motion >= min_motion`),
+    /// `Some(false)` when it does not follow it, `None` when the knee hardly
+    /// moved (a still window agrees trivially: no evidence).
+    pub fn acc_trusted(&self, max_spread: f64, min_motion: f64) -> Option<bool> {
+        if self.spread > max_spread {
+            Some(false)
+        } else if self.motion >= min_motion {
+            Some(true)
+        } else {
+            None
+        }
+    }
 }
 
 /// Scores both relative pairs `(j_T, j_S)` and `(j_T, -j_S)`; returns the
@@ -140,7 +231,7 @@ pub fn score_pairs(
     let pick_same = match keep {
         Some(k) => k,
         None => match (a, b) {
-            (Some(a), Some(b)) => a.0 <= b.0,
+            (Some(a), Some(b)) => a.spread <= b.spread,
             (Some(_), None) => true,
             (None, Some(_)) => false,
             (None, None) => return None,
@@ -151,16 +242,22 @@ pub fn score_pairs(
     } else {
         (flipped, b, a)
     };
-    let (spread, level) = mine.unwrap_or((1.0, 0.0));
+    let m = mine.unwrap_or(Agreement {
+        spread: 1.0,
+        level: 0.0,
+        motion: 0.0,
+    });
+    let spread = m.spread;
     let c = match theirs {
-        Some(t) => confidence(spread, t.0, floor),
+        Some(t) => confidence(spread, t.spread, floor),
         None => 0.0,
     };
     Some(SignChoice {
         geometry: g,
         spread,
         confidence: c,
-        level,
+        level: m.level,
+        motion: m.motion,
     })
 }
 

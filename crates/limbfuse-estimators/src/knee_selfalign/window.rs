@@ -15,7 +15,7 @@ use super::params::{AngleZero, KneeSelfAlignParams};
 use super::position::{
     central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
 };
-use super::sign::score_pairs;
+use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
@@ -241,6 +241,11 @@ pub enum WindowOutcome {
         /// Confidence (-1..1) in the relative axis sign,
         /// [`super::sign::confidence`].
         sign_confidence: f64,
+        /// Whether the accelerometer angle follows the gyro angle in this
+        /// window ([`SignChoice::acc_trusted`]; `None`: the knee hardly
+        /// moved, no evidence): only then may it decide signs, the zero and
+        /// correct the angle (Algorithm 1).
+        acc_trusted: Option<bool>,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -261,13 +266,14 @@ pub enum WindowOutcome {
 /// the positions, then the sign rules and the correction along the axes.
 ///
 /// Signs (SPEC section 6; [`super::sign`]): `e_j` and `e_o` do not depend
-/// on the axis signs. Until the relative sign is `committed` the shank axis
-/// is flipped if that makes the accelerometer angle follow the integrated
-/// gyro angle better (both axes must point to the same side for eqs 4 and 5
-/// to describe the same rotation); then both are flipped, with the
-/// sensor-position zero, if the mean angle is negative (the knee flexes to
-/// positive angles, SPEC section 1). Once committed, each axis keeps the
-/// side of its `previous` axis.
+/// on the axis signs. In the first window the shank axis is flipped if that
+/// makes the accelerometer angle follow the integrated gyro angle better
+/// (both axes must point to the same side for eqs 4 and 5 to describe the
+/// same rotation); then both are flipped if the knee would flex to negative
+/// angles (SPEC section 1; [`flexion_side`]). In later windows each axis
+/// keeps the side of its `previous` axis, unless the relative sign is not
+/// `committed` and the window's trusted accelerometer angle prefers the
+/// other pair with at least `sign_commit` confidence.
 pub fn identify(
     ring: &Ring,
     previous: Option<&Geometry>,
@@ -326,36 +332,84 @@ pub fn identify(
     let (j_t, j_s) = axes_of_state(&j.x);
     let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
-    let identified = |c: super::sign::SignChoice| WindowOutcome::Identified {
+    let identified = |c: SignChoice| WindowOutcome::Identified {
         geometry: c.geometry,
         rms_axis: j.rms_after,
         rms_position: o.rms_after,
         information,
         spread: c.spread,
         sign_confidence: c.confidence,
+        acc_trusted: c.acc_trusted(p.acc_max_spread, p.acc_min_motion),
     };
-    if let (Some(prev), true) = (previous, committed) {
-        // Continuity: a sensor does not turn its axis to the other side
-        // between two windows (a re-mounting by less than 90 deg keeps
-        // j_new . j_old > 0), so each axis keeps the side it had.
-        let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
-        let jj = [side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1])];
-        return match score_pairs(ring, jj, [o_t, o_s], p.zero, p.sign_floor, Some(true)) {
-            Some(c) => identified(c),
-            None => WindowOutcome::TooFewSamples { usable: 0 },
+    let o = [o_t, o_s];
+    let score = |j, keep| score_pairs(ring, j, o, p.zero, p.sign_floor, keep);
+    let Some(prev) = previous else {
+        // First window: the pair the trusted accelerometer angle prefers
+        // with at least `sign_commit` confidence, else the pair whose gyro
+        // angle varies less ([`gyro_angle_moments`]); then the flexion side.
+        let (Some(same), Some(flipped)) = (
+            score([j_t, j_s], Some(true)),
+            score([j_t, j_s], Some(false)),
+        ) else {
+            return WindowOutcome::TooFewSamples { usable: 0 };
         };
-    }
-    let Some(mut c) = score_pairs(ring, [j_t, j_s], [o_t, o_s], p.zero, p.sign_floor, None) else {
+        let decisive = |c: &SignChoice| {
+            c.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true)
+                && c.confidence >= p.sign_commit
+        };
+        let pick = if decisive(&same) {
+            same
+        } else if decisive(&flipped) {
+            flipped
+        } else {
+            let var = |c: &SignChoice| gyro_angle_moments(ring, &c.geometry).0;
+            if var(&same) <= var(&flipped) {
+                same
+            } else {
+                flipped
+            }
+        };
+        return identified(flexion_side(ring, pick, p));
+    };
+    // Continuity: a sensor does not turn its axis to the other side between
+    // two windows (a re-mounting by less than 90 deg keeps j_new . j_old >
+    // 0), so each axis keeps the side it had ...
+    let side = |j: Vector3<f64>, old: &Vector3<f64>| if j.dot(old) < 0.0 { -j } else { j };
+    let jj = [side(j_t, &prev.axis[0]), side(j_s, &prev.axis[1])];
+    let Some(keep) = score(jj, Some(true)) else {
         return WindowOutcome::TooFewSamples { usable: 0 };
     };
-    let flip = match p.zero {
-        AngleZero::SensorPositions => c.level < 0.0,
-        AngleZero::PaperC => false,
+    // ... unless the relative sign is not committed yet and this window's
+    // trusted accelerometer angle says the other pair is right with at least
+    // the commit confidence (issue 15: switching on weak evidence restarted
+    // eq 4's integral every window on the gaittoolbox trial and the knee rig).
+    if !committed && keep.confidence <= -p.sign_commit {
+        if let Some(other) = score(jj, Some(false)) {
+            if other.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
+                return identified(flexion_side(ring, other, p));
+            }
+        }
+    }
+    identified(keep)
+}
+
+/// Both axes flipped if the knee would flex to negative angles (SPEC
+/// section 1): from the circular mean of the accelerometer angle when it is
+/// trusted and the zero is the sensor positions, else from the skewness of
+/// the gyro angle ([`gyro_angle_moments`]).
+fn flexion_side(ring: &Ring, mut c: SignChoice, p: &KneeSelfAlignParams) -> SignChoice {
+    let flip = if c.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
+        match p.zero {
+            AngleZero::SensorPositions => c.level < 0.0,
+            AngleZero::PaperC => false,
+        }
+    } else {
+        gyro_angle_moments(ring, &c.geometry).1 < 0.0
     };
     if flip {
         c.geometry.axis = [-c.geometry.axis[0], -c.geometry.axis[1]];
     }
-    identified(c)
+    c
 }
 
 /// Starting positions of Algorithm 2: the lower-cost (`sum e_o^2`) of the

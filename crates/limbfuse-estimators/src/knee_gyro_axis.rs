@@ -1,0 +1,396 @@
+//! Knee angle from the relative gyro rate about the identified joint axes
+//! (`knee-gyro-axis`, issue 15 item 4; beyond the papers): a second,
+//! independent estimate to cross-check `knee-selfalign` (paper 002).
+//!
+//! The axes `j_T`, `j_S` and their signs are those `knee-selfalign`
+//! identifies (an inner [`KneeSelfAlign`]: Algorithm 2 on `e_j`, the sign
+//! rules of [`crate::knee_selfalign::sign`]). The angle is *not* paper 002's:
+//!
+//! - `alpha_gyro = integral(g_T . j_T - g_S . j_S) dt` (eq 4, trapezoidal);
+//! - drift removal by a first-order complementary filter with corner
+//!   `f_c` (default 0.02 Hz, time constant `1 / (2 pi f_c)` = 8 s), towards
+//!   the **inclination angle** `alpha_inc = atan2(u_T x u_S, u_T . u_S)` of
+//!   the raw specific forces projected into each sensor's joint plane (eq 5
+//!   with `Gamma` left out: at low frequency the specific force is gravity,
+//!   so `alpha_inc` is the difference of the segments' inclinations about the
+//!   joint axis), or, where that inclination is not observable, towards 0,
+//!   which makes the output the gyro angle high-passed at `f_c`:
+//!   `x <- x + k (wrap(alpha_inc - alpha_gyro) - x)` or `x <- x + k (-alpha_gyro
+//!   - x)`, `k = 1 - exp(-2 pi f_c dt)`, output `wrap(alpha_gyro + x)`.
+//!
+//! Observability is judged per window of the inner estimator (`s_w`
+//! samples): the inclination is used in the next window when over the last
+//! one `alpha_inc - alpha_gyro` had a circular spread of at most
+//! `acc_max_spread` while `alpha_gyro` itself spread at least
+//! `acc_min_motion` (the same test as `knee-selfalign`'s, without the
+//! sensor positions). It fails when the joint axis is near vertical (no
+//! gravity in the joint plane: the knee rig), when the accelerometers are
+//! far off, or when the knee is not a hinge (the gaittoolbox trial). With
+//! the high-pass the zero is the mean angle: compare offset-free.
+//! Details and measured figures: `docs/KNEE_SELFALIGN.md`.
+
+use core::fmt;
+
+use limbfuse_core::estimator::Outputs;
+use limbfuse_core::{
+    diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep,
+};
+use nalgebra::Vector3;
+
+use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};
+use crate::knee_selfalign::{KneeParamError, KneeSelfAlign, KneeSelfAlignParams};
+
+diagnostic_set! {
+    /// Diagnostics of [`KneeGyroAxis`].
+    pub enum KneeGyroDiag {
+        /// 1 once the axes are identified (the knee angle is output), else 0.
+        Identified = "identified",
+        /// 1 while the inclination angle removes the drift, 0 while the
+        /// high-pass does.
+        InclinationUsed = "inclination_used",
+        /// Integrated relative gyro rate about the axes (rad).
+        AlphaGyro = "alpha_gyro",
+        /// Inclination angle of this sample (rad).
+        AlphaInc = "alpha_inc",
+        /// Correction added to `alpha_gyro` (rad).
+        Correction = "correction",
+        /// Circular spread of `alpha_inc - alpha_gyro` over the last window.
+        IncGyroSpread = "inc_gyro_spread",
+        /// Sign confidence of the axes (from the inner `knee-selfalign`).
+        SignConfidence = "sign_confidence",
+        /// Windows completed.
+        Windows = "windows",
+    }
+}
+
+/// Time constant (s) of the smoothing of `alpha_inc - alpha_gyro` before
+/// the observability test: one stride of walking at a normal cadence
+/// (~1.1 s, Perry, *Gait Analysis*, 1992, ch. 1), over which the segments'
+/// own accelerations in the specific force largely average out while a
+/// meaningless inclination keeps its slow errors.
+const STRIDE_S: f64 = 1.0;
+
+/// Samples by which the accelerometer angle trails (the five-point rate
+/// derivative of `Gamma`).
+const LAG: usize = crate::knee_selfalign::position::DERIVATIVE_LATENCY;
+
+/// Parameters of [`KneeGyroAxis`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KneeGyroAxisParams {
+    /// The axis identification (window, order, sign rules; the fusion
+    /// settings of `knee-selfalign` are not used for the angle).
+    pub axes: KneeSelfAlignParams,
+    /// Corner frequency `f_c` of the drift removal (Hz). Default 0.02 Hz:
+    /// time constant 8 s; a 1 Hz gait cycle keeps 99.98 % of its amplitude
+    /// and a 0.5 deg/s relative gyro bias leaves 4 deg.
+    pub corner_hz: f64,
+}
+
+impl Default for KneeGyroAxisParams {
+    fn default() -> Self {
+        KneeGyroAxisParams {
+            axes: KneeSelfAlignParams::default(),
+            corner_hz: 0.02,
+        }
+    }
+}
+
+impl KneeGyroAxisParams {
+    /// Checks every value; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), KneeParamError> {
+        self.axes.validate()?;
+        if self.corner_hz.is_finite() && self.corner_hz > 0.0 && self.corner_hz <= 10.0 {
+            Ok(())
+        } else {
+            Err(KneeParamError {
+                name: "corner_hz",
+                value: self.corner_hz,
+                range: "(0, 10] Hz",
+            })
+        }
+    }
+}
+
+/// Circular statistics of angles fed one by one.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Circular {
+    c: f64,
+    s: f64,
+    n: usize,
+}
+
+impl Circular {
+    fn add(&mut self, a: f64) {
+        let (s, c) = libm::sincos(a);
+        self.s += s;
+        self.c += c;
+        self.n += 1;
+    }
+    /// Circular mean (rad).
+    fn mean(&self) -> f64 {
+        libm::atan2(self.s, self.c)
+    }
+    /// 1 - mean resultant length (0 all equal, 1 uniform); 1 when empty.
+    fn spread(&self) -> f64 {
+        if self.n == 0 {
+            return 1.0;
+        }
+        1.0 - libm::hypot(self.s, self.c) / self.n as f64
+    }
+}
+
+/// The knee angle from the relative gyro rate about the identified axes.
+#[derive(Debug, Clone)]
+pub struct KneeGyroAxis {
+    params: KneeGyroAxisParams,
+    inner: KneeSelfAlign,
+    time: TimeStep,
+    axes: Option<[Vector3<f64>; 2]>,
+    alpha: f64,
+    last_rate: Option<f64>,
+    x: f64,
+    use_inclination: bool,
+    windows: usize,
+    diff: Circular,
+    motion: Circular,
+    last_spread: f64,
+    smoothed: Option<(f64, f64)>,
+    recent_alpha: [Option<f64>; LAG + 1],
+    z: f64,
+    start_pending: bool,
+}
+
+impl KneeGyroAxis {
+    /// A validated estimator (allocates the inner window once, here).
+    pub fn new(params: KneeGyroAxisParams) -> Result<Self, KneeParamError> {
+        params.validate()?;
+        Ok(KneeGyroAxis {
+            params,
+            inner: KneeSelfAlign::new(params.axes)?,
+            time: TimeStep::new(),
+            axes: None,
+            alpha: 0.0,
+            last_rate: None,
+            x: 0.0,
+            use_inclination: false,
+            windows: 0,
+            diff: Circular::default(),
+            motion: Circular::default(),
+            last_spread: 1.0,
+            smoothed: None,
+            recent_alpha: [None; LAG + 1],
+            z: 0.0,
+            start_pending: false,
+        })
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &KneeGyroAxisParams {
+        &self.params
+    }
+
+    /// The inner axis identification.
+    pub fn axes_estimator(&self) -> &KneeSelfAlign {
+        &self.inner
+    }
+
+    /// Decides, at the end of an inner window, whether the next window uses
+    /// the inclination (see the module documentation).
+    fn end_window(&mut self) {
+        let p = &self.params.axes;
+        if self.diff.n > 0 {
+            let spread = self.diff.spread();
+            self.last_spread = spread;
+            if spread > p.acc_max_spread {
+                self.use_inclination = false;
+            } else if self.motion.spread() >= p.acc_min_motion {
+                if !self.use_inclination {
+                    // From the high-pass to the inclination: start at the
+                    // window's mean offset instead of converging to it
+                    // with the 8 s time constant.
+                    self.x = self.diff.mean();
+                }
+                self.use_inclination = true;
+            }
+        }
+        self.diff = Circular::default();
+        self.motion = Circular::default();
+    }
+
+    fn restart(&mut self) {
+        self.alpha = 0.0;
+        self.last_rate = None;
+        self.x = 0.0;
+        self.use_inclination = false;
+        self.diff = Circular::default();
+        self.motion = Circular::default();
+        self.last_spread = 1.0;
+        self.smoothed = None;
+        self.recent_alpha = [None; LAG + 1];
+        self.z = 0.0;
+        self.start_pending = false;
+    }
+}
+
+impl Estimator for KneeGyroAxis {
+    fn name(&self) -> &'static str {
+        "knee-gyro-axis"
+    }
+
+    fn outputs(&self) -> Outputs {
+        Outputs {
+            joint: [false, true, false],
+            ..Outputs::default()
+        }
+    }
+
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        writeln!(out, "inputs: raw thigh and shank IMUs (any mounting)")?;
+        writeln!(out, "corner_hz: {}", self.params.corner_hz)?;
+        writeln!(out, "axes (knee-selfalign identification):")?;
+        self.params.axes.describe(out)
+    }
+
+    fn diagnostic_names(&self) -> &[&'static str] {
+        &KneeGyroDiag::NAMES
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.time.reset();
+        self.axes = None;
+        self.windows = 0;
+        self.restart();
+    }
+
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        self.inner.step(sample)?;
+        let dt = self.time.advance(sample.t)?;
+        if self.inner.windows() != self.windows {
+            self.windows = self.inner.windows();
+            self.end_window();
+        }
+        let mut est = Estimate::empty(sample.t);
+        let mut alpha_inc = None;
+        if let Some(g) = self.inner.geometry().copied() {
+            let same_sides = self
+                .axes
+                .is_some_and(|a| a[0].dot(&g.axis[0]) >= 0.0 && a[1].dot(&g.axis[1]) >= 0.0);
+            if !same_sides {
+                // New axes (or new sides): the integral starts afresh, with
+                // the inner estimator's verdict on the accelerometer angle
+                // of the window that identified them; the correction starts
+                // at the first difference.
+                self.restart();
+                self.use_inclination = self.inner.acc_trusted();
+                self.start_pending = true;
+            }
+            self.axes = Some(g.axis);
+            let thigh = sample.imu(Segment::Thigh);
+            let shank = sample.imu(Segment::Shank);
+            let rate = match (thigh.gyr, shank.gyr) {
+                (Some(gt), Some(gs)) => Some(gyro_angle_rate(&gt, &gs, &g.axis[0], &g.axis[1])),
+                _ => None,
+            };
+            let r1 = rate.or(self.last_rate);
+            let r0 = self.last_rate.or(r1);
+            if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
+                self.alpha += 0.5 * (r0 + r1) * dt;
+            }
+            if rate.is_some() {
+                self.last_rate = rate;
+            }
+            // The accelerometer angle is that of the sample LAG steps back:
+            // compare it with the gyro angle of that sample.
+            self.recent_alpha.rotate_left(1);
+            self.recent_alpha[LAG] = Some(self.alpha);
+            alpha_inc = self.inner.lagged_accel_angle();
+            let lagged = self.recent_alpha[0].zip(alpha_inc).map(|(g, a)| a - g);
+            if let Some(d) = lagged {
+                // The difference, smoothed over about one stride (as a unit
+                // vector, so that it may cross +-pi), is what the test sees.
+                let (s, c) = libm::sincos(d);
+                let k1 = 1.0 - libm::exp(-dt.unwrap_or(0.0) / STRIDE_S);
+                let (ls, lc) = match self.smoothed {
+                    Some((ls, lc)) => (ls + k1 * (s - ls), lc + k1 * (c - lc)),
+                    None => (s, c),
+                };
+                self.smoothed = Some((ls, lc));
+                self.diff.add(libm::atan2(ls, lc));
+                self.motion.add(self.alpha);
+            }
+            let k = 1.0
+                - libm::exp(-core::f64::consts::TAU * self.params.corner_hz * dt.unwrap_or(0.0));
+            if let (true, Some(d)) = (self.start_pending, lagged) {
+                self.x = if self.use_inclination { d } else { 0.0 };
+                self.start_pending = false;
+            }
+            match (self.use_inclination, lagged) {
+                (true, Some(d)) => {
+                    // Second-order (PI) complementary filter, critically
+                    // damped at omega_n = 2 pi f_c: the integral state z
+                    // takes up a relative gyro bias, which a first-order
+                    // filter would leave as a lag of b tau.
+                    let dt = dt.unwrap_or(0.0);
+                    let w = core::f64::consts::TAU * self.params.corner_hz;
+                    let e = wrap(d - self.x);
+                    self.z += w * w * e * dt;
+                    self.x += (2.0 * w * e + self.z) * dt;
+                }
+                (true, None) => {}
+                (false, _) => self.x += k * (-self.alpha - self.x),
+            }
+            est.joint[Joint::Knee.index()] = Some(wrap(self.alpha + self.x));
+        }
+        let (confidence, _) = self.inner.sign_state();
+        let identified = self.axes.is_some();
+        let mut d = est.diagnostics_mut::<KneeGyroDiag>();
+        d.flag(KneeGyroDiag::Identified, identified);
+        d.value(KneeGyroDiag::Windows, self.windows as f64);
+        if identified {
+            d.flag(KneeGyroDiag::InclinationUsed, self.use_inclination);
+            d.value(KneeGyroDiag::AlphaGyro, self.alpha);
+            d.set(KneeGyroDiag::AlphaInc, alpha_inc);
+            d.value(KneeGyroDiag::Correction, self.x);
+            d.value(KneeGyroDiag::IncGyroSpread, self.last_spread);
+            d.value(KneeGyroDiag::SignConfidence, confidence);
+        }
+        Ok(est)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn high_pass_gain_matches_the_first_order_filter() {
+        // A constant rate b: the high-passed integral of a ramp settles at
+        // -b tau (the step response of s / (s + 1/tau) to b / s^2).
+        let mut x = 0.0;
+        let (dt, fc, b) = (0.01, 0.02, 0.1);
+        let tau = 1.0 / (core::f64::consts::TAU * fc);
+        let k = 1.0 - libm::exp(-dt / tau);
+        let mut alpha = 0.0;
+        for _ in 0..(100.0 * tau / dt) as usize {
+            alpha += b * dt;
+            x += k * (-alpha - x);
+        }
+        let out = alpha + x;
+        assert!(
+            (out - b * tau).abs() < 0.01 * b * tau,
+            "{out} vs {}",
+            b * tau
+        );
+    }
+
+    #[test]
+    fn bad_corner_is_named() {
+        let e = KneeGyroAxis::new(KneeGyroAxisParams {
+            corner_hz: 0.0,
+            ..Default::default()
+        })
+        .unwrap_err();
+        assert_eq!(e.name, "corner_hz");
+    }
+}
