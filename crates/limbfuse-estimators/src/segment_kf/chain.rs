@@ -256,16 +256,23 @@ impl Chain {
         let mut rate = [None; 4];
         for (i, imu) in sample.imu.iter().enumerate() {
             if let Some(acc) = imu.acc {
-                if acc.iter().all(|v| v.is_finite()) {
+                // (a norm that overflows, e.g. 1e300 on an axis, is no reading:
+                // found by tests/issue_18_fuzz.rs as an infinite `rho` diagnostic)
+                let r = reliability(&acc, g);
+                if acc.iter().all(|v| v.is_finite()) && r.is_finite() {
                     accs[i] = Some(acc);
-                    rho[i] = Some(reliability(&acc, g));
+                    rho[i] = Some(r);
                 }
             }
             rate[i] = imu.gyr.and_then(|w| finite(w.z));
         }
         let mut encoder = [None; 3];
         for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {
-            *e = s.and_then(finite);
+            // A joint angle beyond a full turn is no reading (found by
+            // tests/issue_18_fuzz.rs: -1e308 started the chain at infinity).
+            *e = s
+                .and_then(finite)
+                .filter(|v| v.abs() <= core::f64::consts::TAU);
         }
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         if let (Some(_), Some(dt)) = (self.encoder_start, dt) {
