@@ -133,7 +133,10 @@ impl VectorTrack {
         }
         if let (Some(alpha), Some((w, t0))) = (max_accel, self.last_ok) {
             let bound = alpha * (t - t0) + limits.gyro_noise_rad_s;
-            let jumped: [bool; 3] = core::array::from_fn(|k| !((v[k] - w[k]).abs() <= bound));
+            let jumped: [bool; 3] = core::array::from_fn(|k| {
+                let d = (v[k] - w[k]).abs();
+                d.is_nan() || d > bound
+            });
             if jumped.iter().any(|&j| j) {
                 self.rejected = core::array::from_fn(|k| jumped[k].then_some(v[k]));
                 return Some(Implausible::Jump);

@@ -37,7 +37,11 @@ fn step() -> impl Strategy<Value = f64> {
     ]
 }
 
-fn sample() -> impl Strategy<Value = (f64, [Option<Vector3<f64>>; 8], [Option<f64>; 3])> {
+/// One fuzzed row: time step, four accelerometers then four gyroscopes,
+/// three encoders.
+type Row = (f64, [Option<Vector3<f64>>; 8], [Option<f64>; 3]);
+
+fn sample() -> impl Strategy<Value = Row> {
     (
         step(),
         prop::array::uniform8(vec3()),
@@ -61,7 +65,7 @@ fn symmetric_psd(p: &SMatrix<f64, 8, 8>) -> bool {
 fn run_filter<F: Estimator>(
     f: &mut F,
     cov: impl Fn(&F) -> SMatrix<f64, 8, 8>,
-    rows: &[(f64, [Option<Vector3<f64>>; 8], [Option<f64>; 3])],
+    rows: &[Row],
     gate: bool,
 ) -> Result<(), TestCaseError> {
     let mut g = SampleGate::new(SensorRanges::default());

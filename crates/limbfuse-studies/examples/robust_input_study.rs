@@ -110,7 +110,7 @@ fn main() {
         let reader = TrialReader::open(&path)
             .unwrap_or_else(|e| panic!("{}: {e} (run from the repository root)", path.display()));
         let meta = reader.meta().clone();
-        let layout = reader.layout().clone();
+        let layout = *reader.layout();
         let records: Vec<Record> = reader.map(|r| r.expect("valid trial")).collect();
         for method in methods {
             let clean = mean_rmse(method, &meta, &layout, &records);
