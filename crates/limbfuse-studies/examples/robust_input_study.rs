@@ -98,8 +98,12 @@ fn main() {
         "walk-v1.2-s301.csv",
         "walk-v1.6-s302.csv",
     ];
-    let methods =
-        ["mjls", "chain", "global", "local"].map(|m| MethodName::parse(m).expect("known"));
+    let methods = [
+        MethodName::Mjls,
+        MethodName::Chain,
+        MethodName::Global,
+        MethodName::Local,
+    ];
     println!(
         "| trial | method | clean RMSE deg | {:.0} % IMU cells missing: mean over {} seeds (worst) | increase |",
         args.missing_pct, args.seeds
