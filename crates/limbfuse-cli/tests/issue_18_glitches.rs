@@ -96,11 +96,11 @@ fn issue_18_one_glitched_cell_does_not_ruin_the_rest_of_the_trial() {
             let err = String::from_utf8_lossy(&o.stderr);
             if trial == "glitch" {
                 assert!(
-                    err.contains("1 gyroscope, 1 accelerometer and 0 encoder reading(s) were outside the sensors' range (first at t = 8 s)"),
+                    err.contains("1 gyroscope, 1 accelerometer and 0 encoder reading(s) were rejected (first at t = 8 s)"),
                     "{err}"
                 );
             } else {
-                assert!(!err.contains("outside the sensors' range"), "{err}");
+                assert!(!err.contains("were rejected"), "{err}");
             }
         }
         for seg in ["thigh", "shank"] {
@@ -157,4 +157,138 @@ fn issue_18_sensor_range_comes_from_the_trial_metadata_and_a_bad_one_is_an_error
         "{err}"
     );
     assert!(!p.join("b.csv").exists());
+}
+
+/// The shared independent walking trial, or `None` (with a message) when
+/// `../shared/data` is absent.
+fn independent_walk() -> Option<std::path::PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| {
+            std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    let f = dir.join("independent-sim/walk-v1.2-s301.csv");
+    if f.is_file() {
+        Some(f)
+    } else {
+        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
+        None
+    }
+}
+
+/// The four segment RMSEs (deg) of `limbfuse evaluate trial estimate`.
+fn segment_rmse(dir: &Path, trial: &str, estimate: &str) -> [f64; 4] {
+    let o = limbfuse(&["evaluate", trial, estimate], dir);
+    assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    ["trunk", "thigh", "shank", "foot"].map(|seg| {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(seg))
+            .unwrap_or_else(|| panic!("no {seg} row in {text}"));
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    })
+}
+
+/// Issue 18 done-when: one 1e300 gyro cell, one -1e308 accelerometer cell,
+/// a burst of 50 saturated gyro samples (2000 deg/s on the thigh's z axis
+/// while x and y move on) and a stuck thigh gyroscope (its three axes
+/// frozen for 2 s) each leave every segment's RMSE within 0.5 deg of the
+/// clean run's, for local, mjls, global and chain, and the rejections are
+/// reported. Before the plausibility checks the saturated burst cost the
+/// thigh 750-800 deg of RMSE (the filters integrated 35 rad/s for 0.5 s).
+#[test]
+fn issue_18_glitches_within_range_saturation_and_a_stuck_gyro_leave_the_rmse() {
+    let Some(walk) = independent_walk() else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::copy(&walk, p.join("clean.csv")).unwrap();
+    // rows after the header; the trial is 100 Hz
+    corrupt(
+        p,
+        "clean.csv",
+        "gyro1e300.csv",
+        &[(2000, "thigh_gyr_z", "1e300")],
+    );
+    corrupt(
+        p,
+        "clean.csv",
+        "acc1e308.csv",
+        &[(3000, "shank_acc_x", "-1e308")],
+    );
+    let saturated: Vec<(usize, &str, &str)> = (2500..2550)
+        .map(|r| (r, "thigh_gyr_z", "34.906585"))
+        .collect();
+    corrupt(p, "clean.csv", "saturated.csv", &saturated);
+    let text = std::fs::read_to_string(p.join("clean.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| l.starts_with("t,")).unwrap();
+    let cols: Vec<&str> = lines[header].split(',').collect();
+    let frozen: Vec<String> = ["thigh_gyr_x", "thigh_gyr_y", "thigh_gyr_z"]
+        .iter()
+        .map(|c| {
+            let k = cols.iter().position(|x| x == c).unwrap();
+            lines[header + 1 + 4000]
+                .split(',')
+                .nth(k)
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    let mut stuck = Vec::new();
+    for r in 4000..4200 {
+        for (c, v) in ["thigh_gyr_x", "thigh_gyr_y", "thigh_gyr_z"]
+            .iter()
+            .zip(&frozen)
+        {
+            stuck.push((r, *c, v.as_str()));
+        }
+    }
+    corrupt(p, "clean.csv", "stuck.csv", &stuck);
+    // (trial, gyroscope readings that must be rejected, accelerometer ones)
+    let cases = [
+        ("gyro1e300", 1, 0),
+        ("acc1e308", 0, 1),
+        ("saturated", 50, 0),
+        ("stuck", 190, 0),
+    ];
+    for method in ["local", "mjls", "global", "chain"] {
+        let est = |trial: &str| {
+            let o = limbfuse(
+                &[
+                    "estimate",
+                    "--method",
+                    method,
+                    &format!("{trial}.csv"),
+                    "-o",
+                    &format!("{trial}-{method}.csv"),
+                ],
+                p,
+            );
+            assert_ok(&o);
+            String::from_utf8_lossy(&o.stderr).to_string()
+        };
+        let err = est("clean");
+        assert!(!err.contains("were rejected"), "{method} clean: {err}");
+        let clean = segment_rmse(p, "clean.csv", &format!("clean-{method}.csv"));
+        for (trial, gyro, acc) in cases {
+            let err = est(trial);
+            // (mjls's encoder gate may refuse a row while the thigh is
+            // carried by the chain: the encoder count is not fixed here)
+            let reported = format!("{gyro} gyroscope, {acc} accelerometer and ");
+            assert!(
+                err.contains(&reported) && err.contains("were rejected"),
+                "{method} {trial}: {err}"
+            );
+            let rmse = segment_rmse(p, &format!("{trial}.csv"), &format!("{trial}-{method}.csv"));
+            for (k, (a, b)) in clean.iter().zip(&rmse).enumerate() {
+                assert!(
+                    (b - a).abs() <= 0.5,
+                    "{method} {trial} segment {k}: RMSE {b} deg vs clean {a} deg"
+                );
+            }
+        }
+    }
 }

@@ -85,6 +85,14 @@ pub trait Estimator {
         &[]
     }
 
+    /// Readings this estimator's own checks rejected so far (cumulative),
+    /// as `[gyroscope, accelerometer, encoder]`: rows refused by an
+    /// innovation gate (issue 18). The method layer adds them to its
+    /// `rejected_*` diagnostics. Default: none.
+    fn rejected_readings(&self) -> [u64; 3] {
+        [0; 3]
+    }
+
     /// Forgets all state; the next sample starts a new recording.
     fn reset(&mut self);
 

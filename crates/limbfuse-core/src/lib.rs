@@ -21,6 +21,7 @@ pub mod estimator;
 pub mod expm;
 pub mod kalman;
 pub mod limb;
+pub mod plausibility;
 pub mod sample;
 pub mod sample_gate;
 
@@ -31,6 +32,7 @@ pub use diagnostics::{DiagnosticSet, DiagnosticWriter};
 pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
 pub use limb::{Joint, Leg, Segment, Side};
+pub use plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
 pub use sample_gate::{Rejections, SampleGate, SensorRanges};
 

@@ -13,7 +13,14 @@
 //! The whole 3-axis vector of a sensor is dropped when any of its axes is out
 //! of range: the other axes of a corrupted packet are not to be trusted
 //! either.
+//!
+//! Readings within range then pass the plausibility checks of
+//! [`crate::plausibility`]: a gyroscope jump faster than a human segment
+//! can accelerate, the repeats of a value so rejected (a saturated burst),
+//! and a stuck sensor (a vector repeated exactly for 0.1 s or more). They
+//! too become missing and are counted, by kind and by reason.
 
+use crate::plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 use crate::sample::Sample;
 
 /// The largest readings a sensor can produce, per kind.
@@ -54,6 +61,11 @@ pub struct Rejections {
     pub acc: u64,
     /// Encoder readings.
     pub encoder: u64,
+    /// Of all those, the ones rejected as non-physical jumps (or repeats of
+    /// a rejected jump, a saturated burst) within range.
+    pub jumps: u64,
+    /// Of all those, the ones rejected as a stuck sensor.
+    pub stuck: u64,
     /// Time of the first sample with a rejected reading (s).
     pub first_t: Option<f64>,
 }
@@ -65,20 +77,38 @@ impl Rejections {
     }
 }
 
-/// Screens samples against [`SensorRanges`]; see the module documentation.
+/// Screens samples against [`SensorRanges`] and [`PlausibilityLimits`]; see
+/// the module documentation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SampleGate {
     ranges: SensorRanges,
+    limits: PlausibilityLimits,
     rejections: Rejections,
+    /// Gyroscope then accelerometer history of the eight IMUs (this leg's
+    /// four, then the other leg's).
+    tracks: [[VectorTrack; 2]; 8],
 }
 
 impl SampleGate {
-    /// A gate with these ranges and nothing rejected yet.
+    /// A gate with these ranges, the default [`PlausibilityLimits`] and
+    /// nothing rejected yet.
     pub fn new(ranges: SensorRanges) -> Self {
+        Self::with_limits(ranges, PlausibilityLimits::default())
+    }
+
+    /// A gate with these ranges and plausibility limits.
+    pub fn with_limits(ranges: SensorRanges, limits: PlausibilityLimits) -> Self {
         SampleGate {
             ranges,
+            limits,
             rejections: Rejections::default(),
+            tracks: [[VectorTrack::default(); 2]; 8],
         }
+    }
+
+    /// The plausibility limits in use.
+    pub fn limits(&self) -> &PlausibilityLimits {
+        &self.limits
     }
 
     /// The ranges in use.
@@ -91,38 +121,65 @@ impl SampleGate {
         &self.rejections
     }
 
-    /// Forgets the counts.
+    /// Forgets the counts and the sensors' history.
     pub fn reset(&mut self) {
         self.rejections = Rejections::default();
+        self.tracks = [[VectorTrack::default(); 2]; 8];
     }
 
-    /// `sample` with every out-of-range or non-finite sensor reading made
-    /// missing; the count of rejections grows by what was removed.
+    /// `sample` with every out-of-range, non-finite or implausible sensor
+    /// reading made missing; the count of rejections grows by what was
+    /// removed.
     pub fn screen(&mut self, sample: &Sample) -> Sample {
         let mut out = *sample;
         let before = self.rejections.total();
         let r = self.ranges;
+        let lim = self.limits;
+        let t = sample.t;
         let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
-        for imu in out.imu.iter_mut().chain(out.other_leg_imu.iter_mut()) {
-            if imu.gyr.is_some_and(|g| !within(&g, r.gyro_rad_s)) {
-                imu.gyr = None;
-                self.rejections.gyro += 1;
+        let rej = &mut self.rejections;
+        let imus = out.imu.iter_mut().chain(out.other_leg_imu.iter_mut());
+        for (k, (imu, track)) in imus.zip(self.tracks.iter_mut()).enumerate() {
+            let alpha = lim.angular_accel_rad_s2[k % 4];
+            if let Some(g) = imu.gyr {
+                if !within(&g, r.gyro_rad_s) {
+                    imu.gyr = None;
+                    rej.gyro += 1;
+                } else if let Some(why) = track[0].check(&g, t, Some(alpha), &lim) {
+                    imu.gyr = None;
+                    rej.gyro += 1;
+                    tally(rej, why);
+                }
             }
-            if imu.acc.is_some_and(|a| !within(&a, r.acc_m_s2)) {
-                imu.acc = None;
-                self.rejections.acc += 1;
+            if let Some(a) = imu.acc {
+                if !within(&a, r.acc_m_s2) {
+                    imu.acc = None;
+                    rej.acc += 1;
+                } else if let Some(why) = track[1].check(&a, t, None, &lim) {
+                    imu.acc = None;
+                    rej.acc += 1;
+                    tally(rej, why);
+                }
             }
         }
         for e in out.encoder.iter_mut() {
             if e.is_some_and(|x| !x.is_finite() || x.abs() > r.encoder_rad) {
                 *e = None;
-                self.rejections.encoder += 1;
+                rej.encoder += 1;
             }
         }
         if self.rejections.total() > before && self.rejections.first_t.is_none() {
             self.rejections.first_t = Some(sample.t);
         }
         out
+    }
+}
+
+/// Counts a plausibility rejection by its reason.
+fn tally(rej: &mut Rejections, why: Implausible) {
+    match why {
+        Implausible::Jump => rej.jumps += 1,
+        Implausible::Stuck => rej.stuck += 1,
     }
 }
 

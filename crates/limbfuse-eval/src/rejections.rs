@@ -27,9 +27,10 @@ impl fmt::Display for Rejected {
         let [g, a, e] = self.counts;
         write!(
             f,
-            "{g} gyroscope, {a} accelerometer and {e} encoder reading(s) were outside the sensors' range \
-             (first at t = {} s) and were treated as missing (the trial's `# gyro_range_rad_s:` and \
-             `# acc_range_m_s2:` set the range; docs/OUTPUTS.md)",
+            "{g} gyroscope, {a} accelerometer and {e} encoder reading(s) were rejected \
+             (first at t = {} s): outside the sensors' range, a non-physical jump, a stuck sensor or an \
+             innovation beyond the filter's chi-square gate; they were treated as missing (the trial's \
+             `# gyro_range_rad_s:` and `# acc_range_m_s2:` set the range; docs/ROBUST_INPUT.md)",
             self.first_t
         )
     }

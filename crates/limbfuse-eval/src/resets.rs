@@ -39,8 +39,9 @@ impl fmt::Display for Resets {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "the estimator restarted {} time{} after a non-finite state ({} of {} samples, first at t = {} s); \
-             the estimate after a restart is the restart value (accelerometer inclination), not a filter output",
+            "the estimator restarted {} time{} after a non-finite or diverged state or a gap in the data \
+             ({} of {} samples, first at t = {} s); the estimate after a restart starts again from the \
+             next valid data (accelerometer inclination), not from the filter's past",
             self.count,
             if self.count == 1 { "" } else { "s" },
             self.samples,

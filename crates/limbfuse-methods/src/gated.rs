@@ -2,7 +2,11 @@
 //! [`SampleGate`] (issue 18 item 1): readings outside the sensors' physical
 //! range become missing readings, counted in three cumulative diagnostics
 //! appended to the estimator's own, `rejected_gyro`, `rejected_acc` and
-//! `rejected_encoder` (`diag_rejected_*` columns).
+//! `rejected_encoder` (`diag_rejected_*` columns). The gate also rejects
+//! non-physical jumps, saturated bursts and stuck sensors
+//! ([`limbfuse_core::plausibility`]); the counts include the readings the
+//! estimator's own innovation gate refused
+//! ([`Estimator::rejected_readings`]).
 
 use std::fmt;
 
@@ -97,6 +101,12 @@ impl Estimator for GatedEstimator {
         &self.names
     }
 
+    fn rejected_readings(&self) -> [u64; 3] {
+        let r = self.gate.rejections();
+        let [g, a, n] = self.inner.rejected_readings();
+        [r.gyro + g, r.acc + a, r.encoder + n]
+    }
+
     fn reset(&mut self) {
         self.inner.reset();
         self.gate.reset();
@@ -106,10 +116,10 @@ impl Estimator for GatedEstimator {
         let screened = self.gate.screen(sample);
         let mut e = self.inner.step(&screened)?;
         if let Some(i) = self.first {
-            let r = self.gate.rejections();
-            e.diag[i] = Some(r.gyro as f64);
-            e.diag[i + 1] = Some(r.acc as f64);
-            e.diag[i + 2] = Some(r.encoder as f64);
+            let [g, a, n] = self.rejected_readings();
+            e.diag[i] = Some(g as f64);
+            e.diag[i + 1] = Some(a as f64);
+            e.diag[i + 2] = Some(n as f64);
         }
         Ok(e)
     }

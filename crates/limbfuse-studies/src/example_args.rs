@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 17] = [
+pub const EXAMPLES: [&str; 18] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -22,6 +22,7 @@ pub const EXAMPLES: [&str; 17] = [
     "imm_bslip_study",
     "imm_continuous_study",
     "knee_study",
+    "robust_input_study",
     "segment_error_budget",
     "segment_study",
     "segment_validation",
@@ -68,6 +69,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
+        "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
@@ -379,4 +381,19 @@ pub struct ChainStudyArgs {
     /// mounting misalignment set to zero (issue 14's calibrated case).
     #[arg(long)]
     pub calibrated: bool,
+}
+
+/// `robust_input_study [--seeds N] [--missing-pct P] [--data DIR]`.
+#[derive(Debug, Parser)]
+#[command(name = "robust_input_study")]
+pub struct RobustInputStudyArgs {
+    /// Masking seeds 1..=N per trial.
+    #[arg(long, default_value_t = 5)]
+    pub seeds: u64,
+    /// Share of the IMU cells made missing (percent).
+    #[arg(long, default_value_t = 20.0)]
+    pub missing_pct: f64,
+    /// The shared data directory.
+    #[arg(long, default_value = "../shared/data")]
+    pub data: String,
 }

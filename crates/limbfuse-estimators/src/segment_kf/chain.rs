@@ -10,14 +10,27 @@
 //!   rate = gyro reading + b), propagated by `d b_hat / dt = -b_hat / tau`
 //!   (000 eq 6);
 //! * the error state `x` = [dtheta, db] per segment and its covariance `P`.
+//!
+//! Robustness beyond the papers (issue 18, docs/ROBUST_INPUT.md; the
+//! constants and their sources are in [`super::robust`]): a chi-square
+//! innovation gate on the encoder rows, a held gyro rate that decays and
+//! grows uncertain over a dropout, rates borrowed through the encoders
+//! (filters with encoder rows), a restart after a long time gap, after
+//! encoder rows refused for [`GATE_LOCKOUT_S`], and a per-segment restart
+//! after a divergence (non-finite state or an angle variance beyond
+//! `pi^2`); restarts are counted (`resets`).
 #![allow(non_snake_case)]
 
 use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep};
-use nalgebra::{SMatrix, SVector, Vector3};
+use nalgebra::{SVector, Vector3};
 
 use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
+use super::robust::{
+    borrow_rates, held_rate_variance, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
+    HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
+};
 use super::structured::{self, all_finite, ChainRow, Gain};
 use crate::inclination::accel_inclination;
 
@@ -86,6 +99,19 @@ pub(crate) struct Chain {
     /// Encoder standard deviations when the filter starts the whole chain
     /// from one accelerometer and the encoders ([`Chain::with_encoder_start`]).
     encoder_start: Option<[f64; 3]>,
+    /// How long each gyro rate has been missing (s).
+    rate_gap: [f64; 4],
+    /// Encoders of the previous sample (for rates borrowed through them).
+    last_encoder: [Option<f64>; 3],
+    /// Time of the current sample (s).
+    now: f64,
+    /// Since when each joint's encoder row has been refused every time it
+    /// was offered (s).
+    encoders_gated_since: [Option<f64>; 3],
+    /// Encoder rows the innovation gate rejected.
+    gated_encoder: u64,
+    /// Restarts after a long time gap or a divergence.
+    resets: u64,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -115,6 +141,12 @@ impl Chain {
             disc: Discretizer::new(&common.segments, common.discretization),
             common,
             encoder_start: None,
+            rate_gap: [0.0; 4],
+            last_encoder: [None; 3],
+            now: 0.0,
+            encoders_gated_since: [None; 3],
+            gated_encoder: 0,
+            resets: 0,
         }
     }
 
@@ -153,30 +185,106 @@ impl Chain {
         self.encoder_start = start;
     }
 
+    /// Starts every segment afresh from the next data, keeping the time and
+    /// the counts (a restart, counted in `resets`).
+    fn restart(&mut self) {
+        let (time, now, gated, resets) = (self.time, self.now, self.gated_encoder, self.resets);
+        self.reset();
+        self.time = time;
+        self.now = now;
+        self.gated_encoder = gated;
+        self.resets = resets + 1;
+    }
+
+    /// Encoder rows rejected by the innovation gate so far.
+    pub fn gated_encoders(&self) -> u64 {
+        self.gated_encoder
+    }
+
+    /// Restarts so far (long gaps, divergences).
+    pub fn resets(&self) -> u64 {
+        self.resets
+    }
+
+    /// Restarts segment `i` from its next accelerometer reading when its
+    /// state is no longer a usable estimate: a non-finite angle, bias or
+    /// variance, or an angle variance beyond `pi^2` (the angle is unknown to
+    /// more than half a turn). The other segments keep their state.
+    fn restart_diverged(&mut self) {
+        for i in 0..4 {
+            let (a, b) = (angle_state(i), bias_state(i));
+            let ok = self.angle_g[i].is_finite()
+                && self.bias_hat[i].is_finite()
+                && self.P[(a, a)].is_finite()
+                && self.P[(b, b)].is_finite()
+                && self.P[(a, a)] <= core::f64::consts::PI * core::f64::consts::PI;
+            if self.init[i] && !ok {
+                self.restart_segment(i);
+            }
+        }
+    }
+
+    /// Forgets segment `i` (its next accelerometer reading starts it again,
+    /// [`Chain::begin`]) and counts a restart.
+    fn restart_segment(&mut self, i: usize) {
+        let (a, b) = (angle_state(i), bias_state(i));
+        self.init[i] = false;
+        self.angle_g[i] = 0.0;
+        self.bias_hat[i] = -self.common.initial_gyro_bias[i];
+        self.x[a] = 0.0;
+        self.x[b] = 0.0;
+        for k in 0..8 {
+            for s in [a, b] {
+                self.P[(s, k)] = 0.0;
+                self.P[(k, s)] = 0.0;
+            }
+        }
+        self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma;
+        self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
+        self.rate_gap[i] = 0.0;
+        self.resets += 1;
+    }
+
     /// Advances time, integrates the gyros, predicts the covariance,
     /// initialises new segments and returns the cleaned measurements.
     pub fn begin(&mut self, sample: &Sample) -> Result<Inputs, EstimatorError> {
         let dt = self.time.advance(sample.t)?;
+        self.now = sample.t;
         let g = self.common.gravity;
         let mut accs = [None; 4];
         let mut rho = [None; 4];
         let mut rate = [None; 4];
         for (i, imu) in sample.imu.iter().enumerate() {
             if let Some(acc) = imu.acc {
-                if acc.iter().all(|v| v.is_finite()) {
+                // (a norm that overflows, e.g. 1e300 on an axis, is no reading:
+                // found by tests/issue_18_fuzz.rs as an infinite `rho` diagnostic)
+                let r = reliability(&acc, g);
+                if acc.iter().all(|v| v.is_finite()) && r.is_finite() {
                     accs[i] = Some(acc);
-                    rho[i] = Some(reliability(&acc, g));
+                    rho[i] = Some(r);
                 }
             }
             rate[i] = imu.gyr.and_then(|w| finite(w.z));
         }
         let mut encoder = [None; 3];
         for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {
-            *e = s.and_then(finite);
+            // A joint angle beyond a full turn is no reading (found by
+            // tests/issue_18_fuzz.rs: -1e308 started the chain at infinity).
+            *e = s
+                .and_then(finite)
+                .filter(|v| v.abs() <= core::f64::consts::TAU);
         }
-        if let Some(dt) = dt {
-            self.predict(dt, &rate);
+        let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
+        if let (Some(_), Some(dt)) = (self.encoder_start, dt) {
+            borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
         }
+        self.last_encoder = encoder;
+        match dt {
+            Some(dt) if dt > LONG_GAP_S && self.init.iter().any(|&i| i) => self.restart(),
+            Some(dt) => self.predict(dt, &rate),
+            None => {}
+        }
+        self.restart_diverged();
         let usable = self.init;
         if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
             (self.encoder_start, self.init, encoder)
@@ -202,7 +310,7 @@ impl Chain {
             acc: accs,
             rho,
             encoder,
-            rate_missing: rate.iter().filter(|r| r.is_none()).count() as u8,
+            rate_missing,
             usable,
         })
     }
@@ -288,9 +396,13 @@ impl Chain {
             if !self.init[i] {
                 continue;
             }
-            // Zero-order hold over a gyro dropout; zero if none was ever seen.
-            let r1 = rate.or(self.last_rate[i]).unwrap_or(0.0);
-            let r0 = self.last_rate[i].unwrap_or(r1);
+            // Over a gyro dropout the last rate is held, decaying towards
+            // zero (HELD_RATE_CORRELATION_S); zero if none was ever seen.
+            let tau = self.rate_gap[i];
+            let held =
+                |t: f64| self.last_rate[i].map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S));
+            let r1 = rate.or(held(tau + dt)).unwrap_or(0.0);
+            let r0 = held(tau).unwrap_or(r1);
             let phi = &blocks.phi[i];
             // theta_g += int omega dt + int b_hat dt, b_hat(t) = b_hat e^(-t/tau):
             // the second integral is Phi[a, b] * b_hat (exact or Euler, as Phi).
@@ -298,11 +410,24 @@ impl Chain {
             self.bias_hat[i] *= phi[(1, 1)];
         }
         structured::predict_blocks(&mut self.x, &mut self.P, &blocks.phi, &blocks.qd);
+        for (i, rate) in rate.iter().enumerate() {
+            if rate.is_some() || !self.init[i] {
+                self.rate_gap[i] = 0.0;
+                continue;
+            }
+            // The held rate grows uncertain over a gyro dropout.
+            let before = held_rate_variance(self.rate_gap[i]);
+            self.rate_gap[i] += dt;
+            let a = angle_state(i);
+            let grown = self.P[(a, a)] + held_rate_variance(self.rate_gap[i]) - before;
+            self.P[(a, a)] = grown.min(HELD_RATE_VARIANCE_CAP.max(self.P[(a, a)]));
+        }
         if !(all_finite(self.x.as_slice()) && all_finite(self.P.as_slice())) {
             // Only reachable with absurd steps or parameters: restart the
             // uncertainty instead of propagating non-finite values.
             self.fold_error_state();
             self.P = Self::p0(&self.common);
+            self.resets += 1;
         }
     }
 
@@ -338,15 +463,44 @@ impl Chain {
     }
 
     /// Measurement update with innovations `innov` (already wrapped) on the
-    /// active `rows`, measurement variances `r` (diagonal `R`). Returns the
-    /// update (gain, innovation) when one was made.
+    /// active `rows`, measurement variances `r` (diagonal `R`). The rows
+    /// marked in `encoder` pass the innovation gate
+    /// ([`INNOVATION_GATE_CHI2`]) first: a failing row is made inactive in
+    /// `active` and counted. Returns the update (gain, innovation) when one
+    /// was made.
     pub fn update<const M: usize>(
         &mut self,
         innov: &SVector<f64, M>,
         rows: &[ChainRow; M],
         r: &[f64; M],
-        active: &[bool; M],
+        active: &mut [bool; M],
+        encoder: &[bool; M],
     ) -> Option<Gain<M>> {
+        let mut locked_out = false;
+        for k in 0..M {
+            if !(active[k] && encoder[k]) {
+                continue;
+            }
+            let row = rows[k];
+            let p = |s: usize, t: usize| self.P[(angle_state(s), angle_state(t))];
+            let hph = match row.minus {
+                Some(m) => p(row.plus, row.plus) + p(m, m) - 2.0 * p(row.plus, m),
+                None => p(row.plus, row.plus),
+            };
+            let nis = innov[k] * innov[k] / (hph + r[k]);
+            let since = &mut self.encoders_gated_since[row.plus.min(2)];
+            if nis <= INNOVATION_GATE_CHI2 {
+                *since = None;
+            } else {
+                active[k] = false;
+                self.gated_encoder += 1;
+                locked_out |= self.now - *since.get_or_insert(self.now) >= GATE_LOCKOUT_S;
+            }
+        }
+        if locked_out {
+            self.restart();
+            return None;
+        }
         if !active.iter().any(|&a| a) {
             return None;
         }
@@ -390,73 +544,5 @@ impl Chain {
         }
         est.fill_joints_from_segments();
         est
-    }
-}
-
-/// Breakdown of each segment's angle correction by source, as in 001
-/// Fig. 6: the correction of segment `s` is `sum_j K[2s, j] e_j`; the share
-/// of row `j` is `|K[2s, j] e_j| / sum_j |K[2s, j] e_j|`, summed over the
-/// segment's own accelerometer row, the other segments' accelerometer rows
-/// and the joint rows (encoders or accelerometer differences). `None` for a
-/// segment whose correction is exactly zero.
-#[inline]
-pub fn gain_shares<const M: usize>(
-    K: &SMatrix<f64, 8, M>,
-    innovation: &SVector<f64, M>,
-    kinds: &[RowKind; M],
-) -> [[Option<f64>; 3]; 4] {
-    let mut out = [[None; 3]; 4];
-    for (s, o) in out.iter_mut().enumerate() {
-        let mut parts = [0.0; 3];
-        for j in 0..M {
-            let c = libm::fabs(K[(angle_state(s), j)] * innovation[j]);
-            let k = match kinds[j] {
-                RowKind::Imu(i) if i == s => 0,
-                RowKind::Imu(_) => 1,
-                RowKind::Joint => 2,
-            };
-            parts[k] += c;
-        }
-        let total = parts[0] + parts[1] + parts[2];
-        if total > 0.0 && total.is_finite() {
-            *o = [
-                Some(parts[0] / total),
-                Some(parts[1] / total),
-                Some(parts[2] / total),
-            ];
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod gain_share_tests {
-    use super::*;
-
-    /// 001 Fig. 6 breakdown on a hand-built gain: rows = [IMU trunk,
-    /// IMU thigh, joint]. Trunk correction parts: |0.5 * 0.2| = 0.1 (own),
-    /// |0.1 * -0.5| = 0.05 (other), |0.25 * 0.2| = 0.05 (joint) -> 0.5 /
-    /// 0.25 / 0.25. Thigh: |0.2 * 0.2| = 0.04 (other), |0.4 * -0.5| = 0.2
-    /// (own), 0 (joint) -> own 0.2/0.24, other 0.04/0.24. Shank and foot have
-    /// no gain: `None`.
-    #[test]
-    fn shares_match_a_hand_computed_breakdown() {
-        let mut K = SMatrix::<f64, 8, 3>::zeros();
-        K[(angle_state(0), 0)] = 0.5;
-        K[(angle_state(0), 1)] = 0.1;
-        K[(angle_state(0), 2)] = 0.25;
-        K[(angle_state(1), 0)] = 0.2;
-        K[(angle_state(1), 1)] = 0.4;
-        // bias rows never count
-        K[(bias_state(0), 0)] = 9.0;
-        let e = SVector::<f64, 3>::new(0.2, -0.5, 0.2);
-        let kinds = [RowKind::Imu(0), RowKind::Imu(1), RowKind::Joint];
-        let s = gain_shares(&K, &e, &kinds);
-        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-15;
-        assert!(close(s[0][0], 0.5) && close(s[0][1], 0.25) && close(s[0][2], 0.25));
-        assert!(close(s[1][0], 0.2 / 0.24) && close(s[1][1], 0.04 / 0.24));
-        assert!(close(s[1][2], 0.0));
-        assert_eq!(s[2], [None; 3]);
-        assert_eq!(s[3], [None; 3]);
     }
 }

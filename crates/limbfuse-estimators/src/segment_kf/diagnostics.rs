@@ -63,6 +63,9 @@ diagnostic_set! {
         ShareJointShank = "share_joint_shank",
         /// Share of the foot correction from the joint rows.
         ShareJointFoot = "share_joint_foot",
+        /// Restarts so far (cumulative): after a time gap longer than
+        /// [`super::robust::LONG_GAP_S`] or a diverged segment (issue 18).
+        Resets = "resets",
     }
 }
 
@@ -142,4 +145,5 @@ pub(crate) fn write_segment_diagnostics<K>(
             w.set((*key).into(), s[kind]);
         }
     }
+    w.value(SegmentDiag::Resets.into(), chain.resets() as f64);
 }

@@ -20,9 +20,10 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, RowKind};
+use super::chain::{wrap, Chain, RowKind};
 use super::criteria::{count_reliable, psi, upsilon, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
+use super::gain_shares::gain_shares;
 use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
 
@@ -232,6 +233,10 @@ impl Estimator for GlobalKf {
         &GlobalDiag::NAMES
     }
 
+    fn rejected_readings(&self) -> [u64; 3] {
+        [0, 0, self.chain.gated_encoders()]
+    }
+
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
@@ -270,16 +275,20 @@ impl Estimator for GlobalKf {
             }
         }
         let r: [f64; 7] = core::array::from_fn(|k| self.R[(k, k)]);
-        let (updated, shares) = match self.chain.update(&innov, &GLOBAL_ROWS, &r, &active) {
-            Some(u) => {
-                self.last_gain = u.K;
-                (active, gain_shares(&u.K, &u.innovation, &KINDS))
-            }
-            None => {
-                self.last_gain = SMatrix::zeros();
-                ([false; 7], [[None; 3]; 4])
-            }
-        };
+        let (updated, shares) =
+            match self
+                .chain
+                .update(&innov, &GLOBAL_ROWS, &r, &mut active, &[false; 7])
+            {
+                Some(u) => {
+                    self.last_gain = u.K;
+                    (active, gain_shares(&u.K, &u.innovation, &KINDS))
+                }
+                None => {
+                    self.last_gain = SMatrix::zeros();
+                    ([false; 7], [[None; 3]; 4])
+                }
+            };
         let mut est = self.chain.estimate(sample.t);
         let mut d = est.diagnostics_mut::<GlobalDiag>();
         d.value(GlobalDiag::NReliable, count_reliable(&reliable) as f64);

@@ -20,9 +20,10 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, RowKind};
+use super::chain::{wrap, Chain, RowKind};
 use super::criteria::{count_reliable, psi, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
+use super::gain_shares::gain_shares;
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 
@@ -183,6 +184,10 @@ impl Estimator for LocalKf {
         &LocalDiag::NAMES
     }
 
+    fn rejected_readings(&self) -> [u64; 3] {
+        [0, 0, self.chain.gated_encoders()]
+    }
+
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
@@ -212,16 +217,20 @@ impl Estimator for LocalKf {
             self.R[(2, 2)],
             self.R[(3, 3)],
         ];
-        let (updated, shares) = match self.chain.update(&innov, &LOCAL_ROWS, &r, &active) {
-            Some(u) => {
-                self.last_gain = u.K;
-                (active, gain_shares(&u.K, &u.innovation, &KINDS))
-            }
-            None => {
-                self.last_gain = SMatrix::zeros();
-                ([false; 4], [[None; 3]; 4])
-            }
-        };
+        let (updated, shares) =
+            match self
+                .chain
+                .update(&innov, &LOCAL_ROWS, &r, &mut active, &[false; 4])
+            {
+                Some(u) => {
+                    self.last_gain = u.K;
+                    (active, gain_shares(&u.K, &u.innovation, &KINDS))
+                }
+                None => {
+                    self.last_gain = SMatrix::zeros();
+                    ([false; 4], [[None; 3]; 4])
+                }
+            };
         let mut est = self.chain.estimate(sample.t);
         let mut d = est.diagnostics_mut::<LocalDiag>();
         d.value(LocalDiag::NReliable, count_reliable(&reliable) as f64);

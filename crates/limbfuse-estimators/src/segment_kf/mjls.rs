@@ -21,9 +21,10 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{gain_shares, wrap, Chain, RowKind};
+use super::chain::{wrap, Chain, RowKind};
 use super::criteria::{mjls_select, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
+use super::gain_shares::gain_shares;
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 
@@ -232,6 +233,10 @@ impl Estimator for MarkovJumpKf {
         &MjlsDiag::NAMES
     }
 
+    fn rejected_readings(&self) -> [u64; 3] {
+        [0, 0, self.chain.gated_encoders()]
+    }
+
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
@@ -286,16 +291,20 @@ impl Estimator for MarkovJumpKf {
             RowKind::Joint,
             RowKind::Joint,
         ];
-        let (updated, shares) = match self.chain.update(&innov, &rows, &r, &active) {
-            Some(u) => {
-                self.last_gain = u.K;
-                (active, gain_shares(&u.K, &u.innovation, &kinds))
-            }
-            None => {
-                self.last_gain = SMatrix::zeros();
-                ([false; 4], [[None; 3]; 4])
-            }
-        };
+        let (updated, shares) =
+            match self
+                .chain
+                .update(&innov, &rows, &r, &mut active, &[false, true, true, true])
+            {
+                Some(u) => {
+                    self.last_gain = u.K;
+                    (active, gain_shares(&u.K, &u.innovation, &kinds))
+                }
+                None => {
+                    self.last_gain = SMatrix::zeros();
+                    ([false; 4], [[None; 3]; 4])
+                }
+            };
         let mut est = self.chain.estimate(sample.t);
         let mut d = est.diagnostics_mut::<MjlsDiag>();
         d.value(MjlsDiag::Mode, sel.code());

@@ -32,18 +32,21 @@
 mod chain;
 pub mod criteria;
 mod diagnostics;
+mod gain_shares;
 pub mod global;
 pub mod local;
 pub mod mjls;
 pub mod model;
 pub mod params;
+pub mod robust;
 pub mod structured;
 
-pub use chain::{gain_shares, RowKind};
+pub use chain::RowKind;
 pub use criteria::{
     mjls_select, psi, reliability, reliable_flags, upsilon, AccelGate, AccelGateState, MjlsMode,
 };
 pub use diagnostics::SegmentDiag;
+pub use gain_shares::gain_shares;
 pub use global::{GlobalDiag, GlobalKf, GlobalKfParams};
 pub use local::{LocalDiag, LocalKf, LocalKfParams};
 pub use mjls::{MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable};

@@ -1,0 +1,227 @@
+//! Readings that are within a sensor's range but cannot be a measurement
+//! of a human limb (issue 18 item 1): a gyroscope jump faster than any
+//! segment can accelerate, a repeat of a value just rejected (a saturated
+//! burst: a clipped sensor repeats its full-scale value), and a stuck
+//! sensor (one vector repeated exactly for [`PlausibilityLimits::stuck_s`]).
+//! [`crate::SampleGate`] applies these checks after the range check.
+//!
+//! # Angular-acceleration bound (gyroscope jumps)
+//!
+//! A segment's angular acceleration is bounded by the largest joint torque
+//! over the segment's moment of inertia, `alpha = tau / I`. The knee
+//! extensors, the strongest actuators of the shank, give `tau` about 300 N m
+//! (isokinetic peak torques of strong adults); the shank plus foot about the
+//! knee of an 80 kg body has `I` about 0.43 kg m^2 (D. A. Winter,
+//! *Biomechanics and Motor Control of Human Movement*, 4th ed., 2009, Table
+//! 4.1: shank 0.0465 M, radius of gyration 0.528 L about the knee; foot
+//! 0.0145 M about 0.45 m from the knee), so `alpha` is about 700 rad/s^2;
+//! the thigh and trunk, heavier for similar torques, stay below that. The
+//! foot about the ankle is light (Winter: 0.0145 M, radius of gyration
+//! 0.690 L about the ankle, `I` about 0.037 kg m^2) while the plantar
+//! flexors give about 250 N m: about 7000 rad/s^2. The bounds used,
+//! [`PlausibilityLimits::default`], are 2000 rad/s^2 for trunk, thigh and
+//! shank (about three times the shank's torque bound, for impacts and
+//! vibration, which sensor-to-sensor differences also show: the shared real
+//! 100 Hz shank recording peaks at 421 rad/s^2 sample to sample) and
+//! 10 000 rad/s^2 for the foot (the shared real 204.8 Hz foot recording
+//! peaks at 3170 rad/s^2). Every axis of a gyroscope may change by at most
+//! `alpha * (t - t_last) + 1 rad/s` from the last accepted reading (the
+//! 1 rad/s covers noise and quantisation of any MEMS gyroscope, whose white
+//! noise is of order 0.01 rad/s). At 100 Hz a thigh or shank jump beyond
+//! 21 rad/s in one sample is rejected: a saturating glitch (to the 35 rad/s
+//! full scale of a 2000 deg/s gyroscope) is caught; a foot glitch mostly is
+//! not (101 rad/s per sample is allowed), which is the price of not
+//! rejecting real foot impacts.
+//!
+//! The bound grows with the time since the last accepted reading, so a
+//! genuine change wrongly rejected is accepted again within
+//! `|jump| / alpha` (under 40 ms for any in-range jump of the thigh).
+//!
+//! Accelerometers get no jump bound: heel-strike and running impacts change
+//! the specific force by several g within a few milliseconds, so any jerk
+//! bound loose enough for them catches nothing. An accelerometer glitch
+//! within range is far from `g` and fails the segment filters' reliability
+//! test `rho < zeta`, and their innovation gate (docs/ROBUST_INPUT.md).
+//!
+//! # Stuck sensor
+//!
+//! A real IMU's noise (tens of LSB of white noise on each of three axes for
+//! the consumer and Xsens sensors of docs/SENSOR_NOISE.md) makes an exact
+//! repeat of a whole 3-axis vector rare: even with the noise at one LSB, so
+//! that one axis repeats with probability at most 1/2, nine repeats of the
+//! vector in a row have probability `(1/8)^9`, under 1e-8. A vector (gyro or
+//! accelerometer) repeated exactly, bit for bit, over at least
+//! [`PlausibilityLimits::stuck_min_samples`] samples spanning at least
+//! [`PlausibilityLimits::stuck_s`] is a stuck sensor (a frozen bus, a dead
+//! driver); it and every further repeat are rejected. Encoders are not
+//! checked: a joint at rest repeats its encoder count exactly.
+
+use nalgebra::Vector3;
+
+/// Bounds of the plausibility checks; see the module documentation for the
+/// sources.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlausibilityLimits {
+    /// Largest angular acceleration per segment (rad/s^2): trunk, thigh,
+    /// shank, foot (index [`crate::Segment::index`]).
+    pub angular_accel_rad_s2: [f64; 4],
+    /// Allowance added to every gyroscope step bound for noise and
+    /// quantisation (rad/s).
+    pub gyro_noise_rad_s: f64,
+    /// Shortest time a vector must repeat exactly to be a stuck sensor (s).
+    pub stuck_s: f64,
+    /// Fewest identical consecutive vectors that make a stuck sensor.
+    pub stuck_min_samples: u32,
+}
+
+impl Default for PlausibilityLimits {
+    fn default() -> Self {
+        PlausibilityLimits {
+            angular_accel_rad_s2: [2000.0, 2000.0, 2000.0, 10_000.0],
+            gyro_noise_rad_s: 1.0,
+            stuck_s: 0.1,
+            stuck_min_samples: 10,
+        }
+    }
+}
+
+/// Why a reading was rejected after the range check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Implausible {
+    /// A jump faster than the angular-acceleration bound, or a repeat of a
+    /// value so rejected (a saturated burst).
+    Jump,
+    /// An exact repeat lasting [`PlausibilityLimits::stuck_s`] or more.
+    Stuck,
+}
+
+/// What one 3-axis sensor has shown recently.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct VectorTrack {
+    /// Last accepted reading and its time.
+    last_ok: Option<(Vector3<f64>, f64)>,
+    /// Axis values of the last reading rejected as a jump, on the axes that
+    /// jumped (a repeat of one of them, on its axis, is rejected too: a
+    /// saturated axis repeats its clip value while the others move).
+    rejected: [Option<f64>; 3],
+    /// The value now repeating, since when, and how many times in a row.
+    run: Option<(Vector3<f64>, f64, u32)>,
+}
+
+impl VectorTrack {
+    /// Checks reading `v` at time `t`; `max_accel` is the jump bound
+    /// (rad/s^2, `None`: no jump check). An accepted reading becomes the
+    /// reference of the next check.
+    pub fn check(
+        &mut self,
+        v: &Vector3<f64>,
+        t: f64,
+        max_accel: Option<f64>,
+        limits: &PlausibilityLimits,
+    ) -> Option<Implausible> {
+        let run = match self.run {
+            Some((value, since, n)) if value == *v => (value, since, n.saturating_add(1)),
+            _ => (*v, t, 1),
+        };
+        self.run = Some(run);
+        // (1 ns of slack: 0.61 - 0.51 is 0.0999... in binary floating point)
+        if run.2 >= limits.stuck_min_samples && t - run.1 >= limits.stuck_s - 1e-9 {
+            return Some(Implausible::Stuck);
+        }
+        if v.iter().zip(&self.rejected).any(|(x, r)| *r == Some(*x)) {
+            return Some(Implausible::Jump);
+        }
+        if let (Some(alpha), Some((w, t0))) = (max_accel, self.last_ok) {
+            let bound = alpha * (t - t0) + limits.gyro_noise_rad_s;
+            let jumped: [bool; 3] = core::array::from_fn(|k| {
+                let d = (v[k] - w[k]).abs();
+                d.is_nan() || d > bound
+            });
+            if jumped.iter().any(|&j| j) {
+                self.rejected = core::array::from_fn(|k| jumped[k].then_some(v[k]));
+                return Some(Implausible::Jump);
+            }
+        }
+        self.last_ok = Some((*v, t));
+        self.rejected = [None; 3];
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(z: f64) -> Vector3<f64> {
+        Vector3::new(0.01 * z.sin(), -0.02 * z.cos(), z)
+    }
+
+    #[test]
+    fn a_saturated_burst_is_rejected_from_its_onset_to_its_end() {
+        let lim = PlausibilityLimits::default();
+        let mut tr = VectorTrack::default();
+        let alpha = Some(lim.angular_accel_rad_s2[1]);
+        let mut rejected = Vec::new();
+        for k in 0..200 {
+            let t = k as f64 * 0.01;
+            // walking-like thigh rate, with 50 samples saturated on z while
+            // x and y keep moving
+            let mut w = v(3.0 * (t * 6.0).sin());
+            if (50..100).contains(&k) {
+                w.z = 34.9;
+            }
+            if tr.check(&w, t, alpha, &lim).is_some() {
+                rejected.push(k);
+            }
+        }
+        assert_eq!(rejected, (50..100).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn the_jump_bound_is_alpha_times_elapsed_time_plus_the_noise_allowance() {
+        let lim = PlausibilityLimits::default();
+        let mut tr = VectorTrack::default();
+        let a = Some(2000.0);
+        assert_eq!(tr.check(&v(0.0), 0.0, a, &lim), None);
+        // 2000 * 0.01 + 1 = 21 rad/s allowed
+        assert_eq!(tr.check(&v(20.9), 0.01, a, &lim), None);
+        assert_eq!(tr.check(&v(-0.05), 0.02, a, &lim), None);
+        assert_eq!(tr.check(&v(21.0), 0.03, a, &lim), Some(Implausible::Jump));
+        // 20 ms after the last accepted reading: 41 rad/s allowed, a new value passes
+        assert_eq!(tr.check(&v(21.5), 0.04, a, &lim), None);
+        // without a bound, no jump is checked
+        let mut free = VectorTrack::default();
+        assert_eq!(free.check(&v(0.0), 0.0, None, &lim), None);
+        assert_eq!(free.check(&v(1e3), 0.01, None, &lim), None);
+    }
+
+    #[test]
+    fn a_stuck_vector_is_rejected_after_the_stated_time_and_count() {
+        let lim = PlausibilityLimits::default();
+        let mut tr = VectorTrack::default();
+        let stuck = Vector3::new(1.5, 9.0, 0.25);
+        let mut first = None;
+        for k in 0..300 {
+            let t = k as f64 * 0.01;
+            if tr.check(&stuck, t, None, &lim).is_some() && first.is_none() {
+                first = Some(k);
+            }
+        }
+        // the 11th identical sample spans 0.1 s (and is the 10th or later)
+        assert_eq!(first, Some(10));
+        // one differing axis breaks the run (the run restarts after it)
+        let mut tr = VectorTrack::default();
+        for k in 0..300 {
+            let mut s = stuck;
+            s.x += if k % 50 == 0 { 1e-9 } else { 0.0 };
+            let r = tr.check(&s, k as f64 * 0.01, None, &lim);
+            assert_eq!(r.is_some(), k % 50 >= 11, "sample {k}");
+        }
+        // at 1 kHz the time, not the count, decides
+        let mut tr = VectorTrack::default();
+        let first = (0..1000)
+            .find(|&k| tr.check(&stuck, k as f64 * 1e-3, None, &lim).is_some())
+            .unwrap();
+        assert_eq!(first, 100);
+    }
+}

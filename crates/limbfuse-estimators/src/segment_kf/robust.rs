@@ -1,0 +1,155 @@
+//! Robust-input constants and helpers of the segment filters (issue 18,
+//! docs/ROBUST_INPUT.md): the encoder innovation gate, long time gaps, the
+//! held gyro rate over a dropout, and rates borrowed through the encoders.
+//! None of this is in papers 000/001; on data without gaps, dropouts or
+//! glitches the filters' outputs are the papers' (the gate does not fire on
+//! the clean trials of `scripts/refactor-check.sh`).
+
+use super::chain::wrap;
+
+/// Chi-square threshold of the innovation gate on encoder rows: a row whose
+/// normalised innovation squared `e^2 / (h P h^T + r)` exceeds it is not
+/// applied (it counts as a missing reading). 23.93 is the `1 - 1e-6`
+/// quantile of the chi-square distribution with one degree of freedom (a
+/// 4.89-sigma innovation): a consistent filter refuses one good row in a
+/// million.
+///
+/// Accelerometer-inclination rows are not gated: a walking foot or shank
+/// whose specific force has the norm of `g` (so it passes `rho < zeta`) can
+/// still point 55-85 deg away from the segment's angle, so a chi-square gate
+/// on those rows refuses readings of clean trials (4 to 77 per 20-60 s
+/// trial, measured; docs/ROBUST_INPUT.md) and changes the papers' outputs
+/// both ways. An accelerometer glitch within range is in practice far from
+/// `g` and fails `rho < zeta` anyway.
+pub const INNOVATION_GATE_CHI2: f64 = 23.928;
+
+/// A time step longer than this (s) is a gap in the recording: no rate held
+/// over it means anything (it is longer than a stride, 1 s at a typical
+/// 1 Hz stride frequency, Perry & Burnfield 2010), so the filter restarts
+/// from the data after it.
+pub const LONG_GAP_S: f64 = 1.0;
+
+/// Typical sagittal angular-acceleration amplitude of a walking segment
+/// (rad/s^2): a shank swinging +-35 deg (0.61 rad) at a 1 Hz stride
+/// frequency, `(2 pi f)^2 A` (amplitudes: D. A. Winter, *Biomechanics and
+/// Motor Control of Human Movement*, 2009, normal-cadence gait data).
+pub const HELD_RATE_ACCEL: f64 = 24.0;
+
+/// Typical sagittal angular-rate amplitude of a walking segment (rad/s):
+/// the same swing, `2 pi f A`.
+pub const HELD_RATE_SD: f64 = 3.8;
+
+/// Correlation time (s) of a walking segment's angular rate, `1 / (2 pi f)`
+/// at a 1 Hz stride frequency: over a gyro dropout the held rate decays
+/// towards the rate's mean over a stride, zero, with this time constant
+/// (the best prediction of an oscillating rate long after its last reading
+/// is its mean; holding the last value for seconds integrates it into
+/// tens of degrees).
+pub const HELD_RATE_CORRELATION_S: f64 = 0.16;
+
+/// A segment filter that refuses an encoder row every time it is offered
+/// for this long (s) restarts from the next data: either the filter has
+/// diverged (its chain disagrees with a good encoder; the gate alone would
+/// lock the correction out for good), or the encoder has changed for good
+/// (re-zeroed, slipped), and then the restart adopts it; either way it is
+/// counted in `resets` and reported. Longer than any impact transient
+/// (tens of ms); half a stride at 1 Hz.
+pub const GATE_LOCKOUT_S: f64 = 0.5;
+
+/// Variance (rad^2) of the angle error built up by holding the last gyro
+/// rate over a dropout of `tau` seconds: the held rate departs from the true
+/// one by about `HELD_RATE_ACCEL * tau`, at most `HELD_RATE_SD`, and the
+/// angle error is that rate error times `tau`. Not in the papers (which hold
+/// the rate without saying how uncertain it becomes); it lets the encoder
+/// and accelerometer rows take over a segment whose gyro is gone.
+pub fn held_rate_variance(tau: f64) -> f64 {
+    let sd = (HELD_RATE_ACCEL * tau).min(HELD_RATE_SD) * tau;
+    sd * sd
+}
+
+/// Largest angle variance the held-rate growth reaches (rad^2): an angle
+/// known to +-90 deg is as unknown as the filter needs it to be.
+pub(crate) const HELD_RATE_VARIANCE_CAP: f64 =
+    core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2;
+
+/// Fills each missing gyro rate from a neighbour's rate and the encoder
+/// between them (SPEC section 1: joint `j` is `theta_j - theta_(j+1)`, so
+/// `omega_(j+1) = omega_j - d enc_j / dt` and `omega_j = omega_(j+1) + d
+/// enc_j / dt`), the encoder rate taken over the last step from two
+/// consecutive readings. Distal first, then proximal, so a rate can pass
+/// along the chain. Not in the papers: a segment whose gyro is gone
+/// borrows its motion from the chain instead of holding a stale rate.
+pub(crate) fn borrow_rates(
+    rate: &mut [Option<f64>; 4],
+    encoder: &[Option<f64>; 3],
+    last_encoder: &[Option<f64>; 3],
+    dt: f64,
+) {
+    let enc_rate = |j: usize| match (encoder[j], last_encoder[j]) {
+        (Some(e), Some(l)) => Some(wrap(e - l) / dt),
+        _ => None,
+    };
+    for i in 1..4 {
+        if let (None, Some(w), Some(d)) = (rate[i], rate[i - 1], enc_rate(i - 1)) {
+            rate[i] = Some(w - d);
+        }
+    }
+    for i in (0..3).rev() {
+        if let (None, Some(w), Some(d)) = (rate[i], rate[i + 1], enc_rate(i)) {
+            rate[i] = Some(w + d);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Independent value: `(min(a tau, s) tau)^2` by hand.
+    #[test]
+    fn held_rate_variance_grows_with_the_dropout_then_with_its_square() {
+        assert_eq!(held_rate_variance(0.0), 0.0);
+        // 0.1 s: rate error 2.4 rad/s, angle error 0.24 rad
+        assert!((held_rate_variance(0.1) - 0.24f64.powi(2)).abs() < 1e-15);
+        // 1 s: the rate error is capped at 3.8 rad/s
+        assert!((held_rate_variance(1.0) - 3.8f64.powi(2)).abs() < 1e-12);
+    }
+
+    /// A four-segment chain moving as sines: the rate borrowed for a
+    /// missing segment from its neighbour and the encoder between them
+    /// matches the segment's true rate to the encoder's finite-difference
+    /// error, `O(dt)`.
+    #[test]
+    fn borrowed_rates_match_the_true_rates_of_a_moving_chain() {
+        let theta = |i: usize, t: f64| 0.3 * (6.0 * t + i as f64).sin() + 0.1 * i as f64;
+        let omega = |i: usize, t: f64| 1.8 * (6.0 * t + i as f64).cos();
+        let enc = |j: usize, t: f64| Some(theta(j, t) - theta(j + 1, t));
+        let dt = 0.01;
+        let t = 0.37;
+        let now = [enc(0, t), enc(1, t), enc(2, t)];
+        let before = [enc(0, t - dt), enc(1, t - dt), enc(2, t - dt)];
+        for missing in 0..4 {
+            let mut rate: [Option<f64>; 4] = core::array::from_fn(|i| Some(omega(i, t)));
+            rate[missing] = None;
+            borrow_rates(&mut rate, &now, &before, dt);
+            let got = rate[missing].expect("borrowed");
+            // backward difference: error about |theta''| dt / 2 <= 0.1 rad/s
+            let want = omega(missing, t);
+            assert!(
+                (got - want).abs() < 0.1,
+                "segment {missing}: {got} vs {want}"
+            );
+            assert!((got - want).abs() > 0.0);
+        }
+        // two missing in a row: the rate passes along the chain
+        let mut rate = [Some(omega(0, t)), None, None, Some(omega(3, t))];
+        borrow_rates(&mut rate, &now, &before, dt);
+        for (i, r) in rate.iter().enumerate() {
+            assert!((r.unwrap() - omega(i, t)).abs() < 0.2);
+        }
+        // no encoder history: nothing to borrow
+        let mut rate = [Some(1.0), None, Some(1.0), Some(1.0)];
+        borrow_rates(&mut rate, &now, &[None; 3], dt);
+        assert_eq!(rate[1], None);
+    }
+}

@@ -1,0 +1,134 @@
+//! Missing IMU data (issue 18 item 2, for docs/RESULTS.md):
+//! `cargo run --release -p limbfuse-studies --example robust_input_study -- [--seeds N] [--missing-pct P]`
+//!
+//! On the three shared independent walking trials
+//! (`independent-sim/walk-*.csv`), each IMU cell (the 24 accelerometer and
+//! gyroscope columns) is made missing with probability `P` (default 20 %),
+//! independently, with seeds 1..=N; a vector with a missing axis is missing
+//! as a whole, as the trial reader makes it. Per method: the mean 4-segment
+//! RMSE of the clean trial, the mean over seeds of the masked trials', and
+//! the relative increase. The estimators are built as `limbfuse estimate`
+//! builds them (`limbfuse_methods::build`, behind the sensor gate).
+
+use std::convert::Infallible;
+use std::path::Path;
+
+use clap::Parser;
+use limbfuse_core::runner::{run, Observer};
+use limbfuse_core::sample::AngleChannel;
+use limbfuse_core::{Record, Segment};
+use limbfuse_eval::{AngleMetrics, EvalOptions};
+use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
+use limbfuse_methods::{build, MethodName, MethodSpec};
+use limbfuse_studies::example_args::RobustInputStudyArgs;
+use rayon::prelude::*;
+
+/// SplitMix64: a small seeded generator (reproducible bit for bit).
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `records` with each IMU cell missing with probability `p` (a vector with
+/// any missing axis becomes missing).
+fn mask(records: &[Record], p: f64, seed: u64) -> Vec<Record> {
+    let mut rng = SplitMix(seed.wrapping_mul(0x2545_F491_4F6C_DD1D));
+    records
+        .iter()
+        .map(|r| {
+            let mut r = *r;
+            for imu in r.sample.imu.iter_mut() {
+                // draw all six cells so the pattern does not depend on the data
+                let acc_gone = (0..3).fold(false, |g, _| rng.uniform() < p || g);
+                let gyr_gone = (0..3).fold(false, |g, _| rng.uniform() < p || g);
+                if acc_gone {
+                    imu.acc = None;
+                }
+                if gyr_gone {
+                    imu.gyr = None;
+                }
+            }
+            r
+        })
+        .collect()
+}
+
+/// Mean 4-segment RMSE (deg) of `method` over `records`.
+fn mean_rmse(
+    method: MethodName,
+    meta: &TrialMeta,
+    layout: &TrialLayout,
+    records: &[Record],
+) -> f64 {
+    let spec = MethodSpec::defaults(method).expect("defaults");
+    let mut est = build(&spec, meta, layout).expect("builds");
+    let mut m = AngleMetrics::new(method.name(), EvalOptions::default());
+    let observers: &mut [&mut dyn Observer] = &mut [&mut m];
+    run(
+        est.as_mut(),
+        records.iter().map(|r| Ok::<_, Infallible>(*r)),
+        observers,
+    )
+    .expect("runs");
+    let ev = m.evaluation();
+    Segment::ALL
+        .iter()
+        .map(|s| {
+            ev.rmse(AngleChannel::Segment(*s))
+                .expect("scored")
+                .to_degrees()
+        })
+        .sum::<f64>()
+        / 4.0
+}
+
+fn main() {
+    let args = RobustInputStudyArgs::parse();
+    let p = args.missing_pct / 100.0;
+    let dir = Path::new(&args.data).join("independent-sim");
+    let trials = [
+        "walk-v0.7-s300.csv",
+        "walk-v1.2-s301.csv",
+        "walk-v1.6-s302.csv",
+    ];
+    let methods = [
+        MethodName::Mjls,
+        MethodName::Chain,
+        MethodName::Global,
+        MethodName::Local,
+    ];
+    println!(
+        "| trial | method | clean RMSE deg | {:.0} % IMU cells missing: mean over {} seeds (worst) | increase |",
+        args.missing_pct, args.seeds
+    );
+    println!("|---|---|---|---|---|");
+    for t in trials {
+        let path = dir.join(t);
+        let reader = TrialReader::open(&path)
+            .unwrap_or_else(|e| panic!("{}: {e} (run from the repository root)", path.display()));
+        let meta = reader.meta().clone();
+        let layout = *reader.layout();
+        let records: Vec<Record> = reader.map(|r| r.expect("valid trial")).collect();
+        for method in methods {
+            let clean = mean_rmse(method, &meta, &layout, &records);
+            let masked: Vec<f64> = (1..=args.seeds)
+                .into_par_iter()
+                .map(|seed| mean_rmse(method, &meta, &layout, &mask(&records, p, seed)))
+                .collect();
+            let mean = masked.iter().sum::<f64>() / masked.len() as f64;
+            let worst = masked.iter().cloned().fold(f64::MIN, f64::max);
+            println!(
+                "| {t} | {} | {clean:.2} | {mean:.2} ({worst:.2}) | {:+.0} % |",
+                method.name(),
+                100.0 * (mean / clean - 1.0)
+            );
+        }
+    }
+}
