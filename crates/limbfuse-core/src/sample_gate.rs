@@ -12,7 +12,10 @@
 //!
 //! The whole 3-axis vector of a sensor is dropped when any of its axes is out
 //! of range: the other axes of a corrupted packet are not to be trusted
-//! either.
+//! either. Likewise when any axis is clipped, at or beyond
+//! [`CLIPPED_FRACTION`] of the sensor's full scale: a saturated sensor
+//! reports its full scale whatever the true rate, so the reading carries no
+//! measurement (issue 18: found by the soak run, docs/RESULTS.md "Soak").
 //!
 //! Readings within range then pass the plausibility checks of
 //! [`crate::plausibility`]: a gyroscope jump faster than a human segment
@@ -40,14 +43,33 @@ pub struct SensorRanges {
     /// Largest joint-encoder angle magnitude (rad): no human joint turns
     /// further than half a turn from its zero.
     pub encoder_rad: f64,
+    /// Gyroscope full scale (rad/s). A reading with any axis at or beyond
+    /// [`CLIPPED_FRACTION`] of it is clipped: the sensor saturated and the
+    /// true rate is unknown, so the vector is rejected from its first
+    /// sample (a saturated foot gyroscope is otherwise caught only as a
+    /// stuck sensor, after 0.1 s, during which integrating a full-scale rate
+    /// costs tens of degrees). `None`: no clipping check.
+    pub gyro_full_scale_rad_s: Option<f64>,
+    /// Accelerometer full scale (m/s^2), clipped likewise.
+    pub acc_full_scale_m_s2: Option<f64>,
 }
+
+/// Fraction of a full scale from which a reading counts as clipped (the
+/// rule `knee-selfalign` applies to its gyroscopes, docs/KNEE_SELFALIGN.md).
+pub const CLIPPED_FRACTION: f64 = 0.999;
 
 impl Default for SensorRanges {
     fn default() -> Self {
+        let gyro_fs = 2000.0 * core::f64::consts::PI / 180.0;
+        let acc_fs = 16.0 * 9.80665;
         SensorRanges {
+            // Written as before the full scales were fields (bit-identical
+            // ranges in estimate headers).
             gyro_rad_s: 1.15 * 2000.0 * core::f64::consts::PI / 180.0,
             acc_m_s2: 1.15 * 16.0 * 9.80665,
             encoder_rad: core::f64::consts::PI,
+            gyro_full_scale_rad_s: Some(gyro_fs),
+            acc_full_scale_m_s2: Some(acc_fs),
         }
     }
 }
@@ -66,6 +88,8 @@ pub struct Rejections {
     pub jumps: u64,
     /// Of all those, the ones rejected as a stuck sensor.
     pub stuck: u64,
+    /// Of all those, the ones rejected as clipped (at the full scale).
+    pub clipped: u64,
     /// Time of the first sample with a rejected reading (s).
     pub first_t: Option<f64>,
 }
@@ -137,6 +161,9 @@ impl SampleGate {
         let lim = self.limits;
         let t = sample.t;
         let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
+        let clipped = |v: &nalgebra::Vector3<f64>, fs: Option<f64>| {
+            fs.is_some_and(|fs| v.iter().any(|x| x.abs() >= CLIPPED_FRACTION * fs))
+        };
         let rej = &mut self.rejections;
         let imus = out.imu.iter_mut().chain(out.other_leg_imu.iter_mut());
         for (k, (imu, track)) in imus.zip(self.tracks.iter_mut()).enumerate() {
@@ -145,6 +172,10 @@ impl SampleGate {
                 if !within(&g, r.gyro_rad_s) {
                     imu.gyr = None;
                     rej.gyro += 1;
+                } else if clipped(&g, r.gyro_full_scale_rad_s) {
+                    imu.gyr = None;
+                    rej.gyro += 1;
+                    rej.clipped += 1;
                 } else if let Some(why) = track[0].check(&g, t, Some(alpha), &lim) {
                     imu.gyr = None;
                     rej.gyro += 1;
@@ -155,6 +186,10 @@ impl SampleGate {
                 if !within(&a, r.acc_m_s2) {
                     imu.acc = None;
                     rej.acc += 1;
+                } else if clipped(&a, r.acc_full_scale_m_s2) {
+                    imu.acc = None;
+                    rej.acc += 1;
+                    rej.clipped += 1;
                 } else if let Some(why) = track[1].check(&a, t, None, &lim) {
                     imu.acc = None;
                     rej.acc += 1;
@@ -244,6 +279,8 @@ mod tests {
             gyro_rad_s: 10.0,
             acc_m_s2: 50.0,
             encoder_rad: 1.0,
+            gyro_full_scale_rad_s: None,
+            acc_full_scale_m_s2: None,
         };
         let mut g = SampleGate::new(ranges);
         let mut s = walking_sample();
@@ -254,6 +291,31 @@ mod tests {
         assert!(out.imu[0].gyr.is_some());
         assert!(out.imu[0].acc.is_none());
         assert_eq!(out.encoder, [Some(1.0), Some(-1.0), None]);
+    }
+
+    #[test]
+    fn issue_18_a_clipped_reading_is_rejected_from_its_first_sample() {
+        let mut g = SampleGate::new(SensorRanges::default());
+        let fs = 2000f64.to_radians();
+        // A foot gyroscope saturating at full scale: within the range (and
+        // within the foot's jump bound), but clipped.
+        let mut s = walking_sample();
+        s.imu[3].gyr = Some(Vector3::new(fs, 3.0, -fs));
+        let out = g.screen(&s);
+        assert_eq!(out.imu[3].gyr, None);
+        assert_eq!(out.imu[2].gyr, s.imu[2].gyr);
+        let r = *g.rejections();
+        assert_eq!((r.gyro, r.clipped), (1, 1));
+        // Just below 99.9 % of full scale passes; the accelerometer clips
+        // at its own full scale.
+        let mut t = walking_sample();
+        t.t = 2.0;
+        t.imu[0].gyr = Some(Vector3::new(0.998 * fs, 0.0, 0.0));
+        t.imu[0].acc = Some(Vector3::new(0.0, 16.0 * 9.80665, 0.0));
+        let out = g.screen(&t);
+        assert_eq!(out.imu[0].gyr, t.imu[0].gyr);
+        assert_eq!(out.imu[0].acc, None);
+        assert_eq!(g.rejections().clipped, 2);
     }
 
     #[test]
