@@ -25,6 +25,9 @@ impl std::error::Error for Internal {}
 
 /// Prints the error chain as one paragraph and returns its exit status.
 pub fn report(e: &anyhow::Error) -> ExitCode {
+    if closed_pipe(e) {
+        return ExitCode::SUCCESS;
+    }
     let mut msg = String::from("error: ");
     for (i, cause) in e.chain().enumerate() {
         let text = cause.to_string();
@@ -45,6 +48,14 @@ pub fn report(e: &anyhow::Error) -> ExitCode {
     }
 }
 
+/// Whether `e` is a write to standard output whose reader went away.
+fn closed_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 /// Replaces Rust's panic backtrace by a short internal-error message and exit status 2.
 pub fn install_panic_hook() {
     std::panic::set_hook(Box::new(|info| {
@@ -58,6 +69,11 @@ pub fn install_panic_hook() {
             .map(|s| s.to_string())
             .or_else(|| info.payload().downcast_ref::<String>().cloned())
             .unwrap_or_default();
+        // `limbfuse evaluate ... | head`: the reader closed the pipe. Not a
+        // bug and not a user error: stop quietly, as Unix tools do.
+        if payload.starts_with("failed printing to stdout") && payload.contains("Broken pipe") {
+            std::process::exit(0);
+        }
         eprintln!("internal error: {payload}{loc} (this is a limbfuse bug; please report it)");
         std::process::exit(INTERNAL_ERROR as i32);
     }));
