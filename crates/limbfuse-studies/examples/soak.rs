@@ -52,12 +52,16 @@ fn main() {
         }
         let first = report.chunks.first().expect("at least one chunk");
         let last = report.chunks.last().expect("at least one chunk");
+        let q = |x: f64| report.step_times.quantile_ns(x).unwrap_or(f64::NAN);
         println!(
-            "summary {method}: RMSE median {:.3} / max {:.3} deg; CPU per step first {:.0} / last {:.0} ns; RSS first {} / last {} kB\n",
+            "summary {method}: RMSE median {:.3} / max {:.3} deg; CPU per step first {:.0} / last {:.0} ns (p50 {:.0}, p99 {:.0}, p99.9 {:.0} ns); RSS first {} / last {} kB\n",
             report.median_rmse_deg(),
             report.max_rmse_deg(),
             first.step_ns,
             last.step_ns,
+            q(0.5),
+            q(0.99),
+            q(0.999),
             first.rss_kb.map_or("-".into(), |v| v.to_string()),
             last.rss_kb.map_or("-".into(), |v| v.to_string()),
         );

@@ -153,11 +153,57 @@ pub struct SoakChunk {
     pub rss_kb: Option<u64>,
 }
 
+/// Per-step CPU times of a run, in 10 ns bins up to 1 ms (longer steps
+/// land in the last bin).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StepTimes {
+    bins: Vec<u64>,
+    n: u64,
+}
+
+impl StepTimes {
+    const BIN_NS: u64 = 10;
+    const BINS: usize = 100_000;
+
+    fn new() -> Self {
+        StepTimes {
+            bins: vec![0; Self::BINS],
+            n: 0,
+        }
+    }
+
+    fn push(&mut self, ns: u64) {
+        let k = ((ns / Self::BIN_NS) as usize).min(Self::BINS - 1);
+        self.bins[k] += 1;
+        self.n += 1;
+    }
+
+    /// The `q`-quantile (0..1) of the per-step CPU time (ns, upper edge of
+    /// its 10 ns bin); `None` without steps.
+    pub fn quantile_ns(&self, q: f64) -> Option<f64> {
+        if self.n == 0 {
+            return None;
+        }
+        let target = (q * self.n as f64).ceil().max(1.0) as u64;
+        let mut seen = 0;
+        for (k, c) in self.bins.iter().enumerate() {
+            seen += c;
+            if seen >= target {
+                return Some(((k as u64 + 1) * Self::BIN_NS) as f64);
+            }
+        }
+        None
+    }
+}
+
 /// A whole soak run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SoakReport {
     /// Per chunk, in time order.
     pub chunks: Vec<SoakChunk>,
+    /// Per-step CPU times over the whole run (each includes one read of the
+    /// thread clock, some tens of ns).
+    pub step_times: StepTimes,
     /// Glitches injected.
     pub glitches: u64,
     /// Samples processed.
@@ -271,6 +317,7 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
     let channels = if knee { 1 } else { 4 };
     let mut report = SoakReport {
         chunks: Vec::new(),
+        step_times: StepTimes::new(),
         glitches: 0,
         samples: 0,
     };
@@ -293,7 +340,9 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
         }
         let c0 = thread_cpu_ns();
         let e = est.step(&r.sample)?;
-        acc.cpu_ns += thread_cpu_ns().saturating_sub(c0);
+        let dt_ns = thread_cpu_ns().saturating_sub(c0);
+        acc.cpu_ns += dt_ns;
+        report.step_times.push(dt_ns);
         acc.steps += 1;
         report.samples += 1;
         if knee {
@@ -314,4 +363,24 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
         report.chunks.push(acc.close(last_t, channels));
     }
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_of_the_step_time_histogram() {
+        let mut h = StepTimes::new();
+        assert_eq!(h.quantile_ns(0.99), None);
+        // 1..=100 x 100 ns: the 99th percentile is 9900 ns, its bin's upper
+        // edge 9910; the median 5000 -> 5010.
+        for k in 1..=100 {
+            h.push(k * 100);
+        }
+        assert_eq!(h.quantile_ns(0.99), Some(9910.0));
+        assert_eq!(h.quantile_ns(0.5), Some(5010.0));
+        h.push(10_000_000);
+        assert_eq!(h.quantile_ns(1.0), Some(1_000_000.0));
+    }
 }
