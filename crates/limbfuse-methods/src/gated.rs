@@ -31,22 +31,13 @@ pub const ACC_RANGE_KEY: &str = "acc_range_m_s2";
 /// [`SensorRanges::default`] otherwise.
 pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
     let mut r = SensorRanges::default();
-    for (key, slot, full_scale) in [
-        (
-            GYRO_RANGE_KEY,
-            &mut r.gyro_rad_s,
-            &mut r.gyro_full_scale_rad_s,
-        ),
-        (ACC_RANGE_KEY, &mut r.acc_m_s2, &mut r.acc_full_scale_m_s2),
+    for (key, slot) in [
+        (GYRO_RANGE_KEY, &mut r.gyro_rad_s),
+        (ACC_RANGE_KEY, &mut r.acc_m_s2),
     ] {
         if let Some(text) = meta.get(key) {
             match text.trim().parse::<f64>() {
-                // The trial's value is its sensors' full scale: readings
-                // beyond it are out of range, readings at it are clipped.
-                Ok(v) if v.is_finite() && v > 0.0 => {
-                    *slot = v;
-                    *full_scale = Some(v);
-                }
+                Ok(v) if v.is_finite() && v > 0.0 => *slot = v,
                 _ => {
                     return Err(MethodError::SensorRange {
                         key,
@@ -55,6 +46,11 @@ pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
                 }
             }
         }
+    }
+    // The trial's gyroscope range is its full scale: readings beyond it are
+    // out of range, readings at it are clipped.
+    if meta.get(GYRO_RANGE_KEY).is_some() {
+        r.gyro_full_scale_rad_s = Some(r.gyro_rad_s);
     }
     Ok(r)
 }
