@@ -38,6 +38,7 @@ use limbfuse_core::{
 use nalgebra::Vector3;
 
 use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};
+use crate::knee_selfalign::sign::Circular;
 use crate::knee_selfalign::{KneeParamError, KneeSelfAlign, KneeSelfAlignParams};
 
 diagnostic_set! {
@@ -111,34 +112,6 @@ impl KneeGyroAxisParams {
     }
 }
 
-/// Circular statistics of angles fed one by one.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct Circular {
-    c: f64,
-    s: f64,
-    n: usize,
-}
-
-impl Circular {
-    fn add(&mut self, a: f64) {
-        let (s, c) = libm::sincos(a);
-        self.s += s;
-        self.c += c;
-        self.n += 1;
-    }
-    /// Circular mean (rad).
-    fn mean(&self) -> f64 {
-        libm::atan2(self.s, self.c)
-    }
-    /// 1 - mean resultant length (0 all equal, 1 uniform); 1 when empty.
-    fn spread(&self) -> f64 {
-        if self.n == 0 {
-            return 1.0;
-        }
-        1.0 - libm::hypot(self.s, self.c) / self.n as f64
-    }
-}
-
 /// The knee angle from the relative gyro rate about the identified axes.
 #[derive(Debug, Clone)]
 pub struct KneeGyroAxis {
@@ -198,7 +171,7 @@ impl KneeGyroAxis {
     /// the inclination (see the module documentation).
     fn end_window(&mut self) {
         let p = &self.params.axes;
-        if self.diff.n > 0 {
+        if self.diff.count() > 0 {
             let spread = self.diff.spread();
             self.last_spread = spread;
             if spread > p.acc_max_spread {

@@ -23,26 +23,31 @@ use super::params::AngleZero;
 use super::position::correct_along_axes;
 use super::window::{Geometry, Ring};
 
-/// Circular mean and spread of angles fed one by one.
-#[derive(Default)]
-struct Circular {
+/// Circular mean and spread of angles fed one by one (also used by
+/// `knee_gyro_axis`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Circular {
     c: f64,
     s: f64,
     n: usize,
 }
 
 impl Circular {
-    fn add(&mut self, a: f64) {
+    pub(crate) fn add(&mut self, a: f64) {
         let (s, c) = libm::sincos(a);
         self.s += s;
         self.c += c;
         self.n += 1;
     }
-    fn mean(&self) -> f64 {
+    /// Angles fed so far.
+    pub(crate) fn count(&self) -> usize {
+        self.n
+    }
+    pub(crate) fn mean(&self) -> f64 {
         libm::atan2(self.s, self.c)
     }
-    /// 1 - mean resultant length (0 = all equal, 1 = uniform).
-    fn spread(&self) -> f64 {
+    /// 1 - mean resultant length (0 = all equal, 1 = uniform); 1 when empty.
+    pub(crate) fn spread(&self) -> f64 {
         if self.n == 0 {
             return 1.0;
         }
