@@ -6,6 +6,14 @@
 //! the output path. Dropped without a commit (an error, a panic unwinding),
 //! the temporary file is removed and an existing output file is left as it
 //! was: a failed run never leaves a partial output behind.
+//!
+//! An output path that already exists and is not a regular file (`/dev/null`,
+//! `/dev/stdout`, a named pipe) is written in place: renaming a temporary
+//! file over it would replace the device with a regular file (as root,
+//! `-o /dev/null` then breaks every later program that reads `/dev/null`:
+//! the cause of the cargo "failed to run `rustc` to learn about
+//! target-specific information" CI failures, see
+//! `writing_to_a_fifo_keeps_it_a_fifo`).
 
 use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -17,14 +25,45 @@ use tempfile::NamedTempFile;
 #[derive(Debug)]
 pub struct AtomicFile {
     path: PathBuf,
-    out: BufWriter<NamedTempFile>,
+    out: Target,
 }
+
+/// Where the bytes go until [`AtomicFile::commit`].
+#[derive(Debug)]
+enum Target {
+    /// A temporary file renamed over the output on commit.
+    Temporary(BufWriter<NamedTempFile>),
+    /// An existing non-regular file (device, FIFO), written in place.
+    InPlace(BufWriter<std::fs::File>),
+}
+
+impl Target {
+    fn writer(&mut self) -> &mut dyn WriteSeek {
+        match self {
+            Target::Temporary(w) => w,
+            Target::InPlace(w) => w,
+        }
+    }
+}
+
+/// [`Write`] + [`Seek`], for [`Target::writer`].
+trait WriteSeek: Write + Seek {}
+impl<T: Write + Seek> WriteSeek for T {}
 
 impl AtomicFile {
     /// Starts writing `path`: creates `.NAME.XXXXXX.tmp` in its directory.
     /// `path` itself is not touched until [`AtomicFile::commit`]. Errors are
     /// plain I/O errors: callers name `path` in their own error type.
     pub fn create(path: &Path) -> std::io::Result<Self> {
+        if let Ok(meta) = std::fs::metadata(path) {
+            if !meta.is_file() && !meta.is_dir() {
+                let f = std::fs::OpenOptions::new().write(true).open(path)?;
+                return Ok(AtomicFile {
+                    path: path.to_path_buf(),
+                    out: Target::InPlace(BufWriter::with_capacity(1 << 16, f)),
+                });
+            }
+        }
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
@@ -50,7 +89,7 @@ impl AtomicFile {
         let tmp = builder.tempfile_in(dir)?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
-            out: BufWriter::with_capacity(1 << 16, tmp),
+            out: Target::Temporary(BufWriter::with_capacity(1 << 16, tmp)),
         })
     }
 
@@ -67,30 +106,36 @@ impl AtomicFile {
     }
 
     /// Flushes the data and renames the temporary file over the output path.
+    /// An in-place output (device, FIFO) is only flushed.
     pub fn commit(self) -> std::io::Result<()> {
-        let tmp = self.out.into_inner().map_err(|e| e.into_error())?;
-        tmp.persist(&self.path).map_err(|e| e.error)?;
+        match self.out {
+            Target::Temporary(w) => {
+                let tmp = w.into_inner().map_err(|e| e.into_error())?;
+                tmp.persist(&self.path).map_err(|e| e.error)?;
+            }
+            Target::InPlace(mut w) => w.flush()?,
+        }
         Ok(())
     }
 }
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.out.write(buf)
+        self.out.writer().write(buf)
     }
 
     fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
-        self.out.write_all(buf)
+        self.out.writer().write_all(buf)
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
-        self.out.flush()
+        self.out.writer().flush()
     }
 }
 
 impl Seek for AtomicFile {
     fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
-        self.out.seek(pos)
+        self.out.writer().seek(pos)
     }
 }
 
@@ -138,5 +183,33 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         assert!(AtomicFile::create(&dir.path().join("no/such/dir/a.csv")).is_err());
         assert!(AtomicFile::create(Path::new("/")).is_err());
+    }
+
+    /// Regression test for the CI runs that failed with cargo's "failed to
+    /// run `rustc` to learn about target-specific information": an earlier
+    /// `limbfuse ... -o /dev/null` had renamed a regular file over
+    /// `/dev/null`, whose content rustc then read as source. A FIFO stands in
+    /// for the device here (renaming over it is as wrong and harmless to test).
+    #[cfg(unix)]
+    #[test]
+    fn writing_to_a_fifo_keeps_it_a_fifo() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        AtomicFile::write(&fifo, "t\n1\n").unwrap();
+        let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+        assert!(
+            kind.is_fifo(),
+            "the output path is no longer a FIFO: {kind:?}"
+        );
+        assert_eq!(reader.join().unwrap(), "t\n1\n");
+        assert_eq!(listing(dir.path()), vec!["pipe"]);
     }
 }
