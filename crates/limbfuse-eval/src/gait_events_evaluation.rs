@@ -19,13 +19,15 @@
 //!   `diag_stride_time_<side>`, ending at that side's last initial contact)
 //!   against the mean `speed_ref` over its rows (all known); the stride
 //!   length against `speed_ref` x the reference stride time (the reference
-//!   contacts paired with the stride's two initial contacts).
+//!   contacts paired with the stride's two initial contacts). The same with
+//!   the estimate blended as `speed_ref` is: [`crate::blended_stride_speed`].
 
 use std::path::Path;
 
 use limbfuse_core::{GaitPhase, Side};
 use limbfuse_io::{EstimateReader, TrialReader};
 
+use crate::blended_stride_speed::{blended_stride_speed, BlendedStrideSpeed, TrackStride};
 use crate::evaluation::EvalError;
 
 /// Largest time difference (s) at which an estimated event can pair with a
@@ -82,6 +84,9 @@ pub struct GaitEventEvaluation {
     pub stride_length_error_pct: Option<f64>,
     /// Mean |stride length error| (m).
     pub stride_length_mae_m: Option<f64>,
+    /// Stride speed and length with the estimate blended as the reference is
+    /// ([`crate::blended_stride_speed`]).
+    pub blended: BlendedStrideSpeed,
     /// Whether the estimate file records this trial.
     pub trial_check: crate::trial_check::TrialCheck,
 }
@@ -383,6 +388,7 @@ pub fn evaluate_gait_event_files(
         let mut acc = Acc::default();
         stride_errors_track(&c.strides_any, &se, &c, &mut acc);
         acc.finish(&mut ev);
+        ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
         return Ok(ev);
     }
     for s in 0..2 {
@@ -417,6 +423,7 @@ pub fn evaluate_gait_event_files(
         stride_errors_track(strides, se, &c, &mut acc);
     }
     acc.finish(&mut ev);
+    ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
     Ok(ev)
 }
 
@@ -448,6 +455,8 @@ struct Acc {
     speed_signed: Vec<f64>,
     len_abs: Vec<f64>,
     len_rel: Vec<f64>,
+    /// Every estimated stride located on its track (for the blended comparison).
+    strides: Vec<TrackStride>,
 }
 
 impl Acc {
@@ -473,6 +482,24 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
             };
             let end = se.estimated[end_j];
             let start = end - time;
+            // Reference stride time from the reference contacts paired with both ends.
+            let start_j = se.estimated.iter().position(|&x| (x - start).abs() < 1e-6);
+            let ref_of = |j: usize| {
+                se.pairs
+                    .iter()
+                    .find(|p| p.1 == j)
+                    .map(|p| se.reference[p.0])
+            };
+            let reference_time = match (ref_of(end_j), start_j.and_then(ref_of)) {
+                (Some(r1), Some(r0)) => Some(r1 - r0),
+                _ => None,
+            };
+            acc.strides.push(TrackStride {
+                start,
+                end,
+                length,
+                reference_time,
+            });
             let (k0, k1) = (
                 c.t.partition_point(|&x| x < start),
                 c.t.partition_point(|&x| x < end),
@@ -486,16 +513,8 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
             let v = length / time;
             acc.speed_abs.push((v - v_ref).abs());
             acc.speed_signed.push(v - v_ref);
-            // Reference stride time from the reference contacts paired with both ends.
-            let start_j = se.estimated.iter().position(|&x| (x - start).abs() < 1e-6);
-            let ref_of = |j: usize| {
-                se.pairs
-                    .iter()
-                    .find(|p| p.1 == j)
-                    .map(|p| se.reference[p.0])
-            };
-            if let (Some(r1), Some(r0)) = (ref_of(end_j), start_j.and_then(ref_of)) {
-                let l_ref = v_ref * (r1 - r0);
+            if let Some(tr) = reference_time {
+                let l_ref = v_ref * tr;
                 if l_ref > 0.0 {
                     acc.len_abs.push((length - l_ref).abs());
                     acc.len_rel.push(100.0 * (length - l_ref).abs() / l_ref);

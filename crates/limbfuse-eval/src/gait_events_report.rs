@@ -55,6 +55,14 @@ impl GaitEventEvaluation {
             "n_lengths": self.n_lengths,
             "stride_length_error_pct": self.stride_length_error_pct,
             "stride_length_mae_m": self.stride_length_mae_m,
+            "blended": {
+                "n_strides": self.blended.n_strides,
+                "speed_mae_mps": self.blended.speed_mae_mps,
+                "speed_bias_mps": self.blended.speed_bias_mps,
+                "n_lengths": self.blended.n_lengths,
+                "stride_length_error_pct": self.blended.stride_length_error_pct,
+                "stride_length_mae_m": self.blended.stride_length_mae_m,
+            },
         })
     }
 
@@ -82,6 +90,16 @@ impl GaitEventEvaluation {
             f(self.stride_length_error_pct, "%", 2),
             f(self.stride_length_mae_m, "m", 3),
             self.n_lengths,
+        );
+        let b = &self.blended;
+        s += &format!(
+            "blended strides speed MAE {} (bias {}) over {} strides; length error {} (MAE {}) over {} (estimate blended as speed_ref is)\n",
+            f(b.speed_mae_mps, "m/s", 3),
+            f(b.speed_bias_mps, "m/s", 3),
+            b.n_strides,
+            f(b.stride_length_error_pct, "%", 2),
+            f(b.stride_length_mae_m, "m", 3),
+            b.n_lengths,
         );
         s
     }

@@ -6,6 +6,7 @@
 //! and JSON forms of the result (SPEC section 4, `evaluate`).
 #![deny(missing_docs)]
 
+pub mod blended_stride_speed;
 pub mod channel_error;
 pub mod evaluation;
 pub mod gait_evaluation;
