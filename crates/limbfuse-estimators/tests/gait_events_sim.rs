@@ -117,3 +117,55 @@ fn lowback_finds_every_step() {
         );
     }
 }
+
+/// Issue 19 item 3, shank IMUs: the right shank alone (foot IMU removed)
+/// at 0.8 and 1.3 m/s. Events are the valleys of the shank rate around the
+/// mid-swing peak (Aminian et al. 2002, Salarian et al. 2004).
+#[test]
+fn shank_events_match_the_simulated_walk() {
+    for speed in [0.8, 1.3] {
+        let (records, period, _) = trial(speed);
+        let mut e = GaitEvents::new(
+            GaitEventsParams::default(),
+            [None, Some(FootSource::OwnShank)],
+        )
+        .unwrap();
+        let (mut ic, mut fc) = (vec![], vec![]);
+        for r in &records {
+            let mut s = r.sample;
+            s.imu[Segment::Foot.index()] = Default::default();
+            let est = e.step(&s).unwrap();
+            ic.extend(est.diagnostic(GaitDiag::IcRight));
+            fc.extend(est.diagnostic(GaitDiag::FcRight));
+            assert!(est.diagnostic(GaitDiag::StrideLengthRight).is_none());
+        }
+        let strides = (12.0 / period) as usize;
+        let ic_err: Vec<f64> = ic.iter().map(|&t| phase_error(t, period, 0.0)).collect();
+        let fc_err: Vec<f64> = fc
+            .iter()
+            .map(|&t| phase_error(t, period, 0.6 * period))
+            .collect();
+        // The first 2 s settle the axis sign (about two strides).
+        assert!(
+            ic.len() + 3 >= strides,
+            "{speed} m/s: {} contacts",
+            ic.len()
+        );
+        assert!(
+            fc.len() + 3 >= strides,
+            "{speed} m/s: {} toe offs",
+            fc.len()
+        );
+        // Measured: initial contacts 24-30 ms early (the foot's landmark: 28-35
+        // ms, the simulator's segments peak before its heel strike), toe offs
+        // 62-79 ms early (the foot's: 48-53 ms).
+        assert!(
+            ic_err.iter().all(|e| (-0.04..-0.015).contains(e)),
+            "{speed} m/s: {ic_err:?}"
+        );
+        assert!(
+            fc_err.iter().all(|e| (-0.09..-0.05).contains(e)),
+            "{speed} m/s: {fc_err:?}"
+        );
+    }
+}

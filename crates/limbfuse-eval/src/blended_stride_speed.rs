@@ -105,9 +105,8 @@ pub fn blended_stride_speed(
             length.push((l_est - l_ref, l_ref));
         }
     }
-    let mean = |v: &mut dyn Iterator<Item = f64>, n: usize| {
-        (n > 0).then(|| v.sum::<f64>() / n as f64)
-    };
+    let mean =
+        |v: &mut dyn Iterator<Item = f64>, n: usize| (n > 0).then(|| v.sum::<f64>() / n as f64);
     BlendedStrideSpeed {
         n_strides: speed.len(),
         speed_mae_mps: mean(&mut speed.iter().map(|e| e.abs()), speed.len()),
@@ -146,8 +145,10 @@ mod tests {
                 .collect()
         };
         // Reference: rows covered by one left and one right stride.
-        let speed_ref: Vec<Option<f64>> =
-            t.iter().map(|&x| (0.5..4.5).contains(&x).then_some(1.2)).collect();
+        let speed_ref: Vec<Option<f64>> = t
+            .iter()
+            .map(|&x| (0.5..4.5).contains(&x).then_some(1.2))
+            .collect();
         let b = blended_stride_speed(&t, &speed_ref, &make(0.0));
         assert_eq!(b.n_strides, 7, "{b:?}");
         assert!(b.speed_mae_mps.unwrap() < 1e-9, "{b:?}");

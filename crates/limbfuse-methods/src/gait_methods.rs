@@ -9,11 +9,14 @@
 //! shoe_gamma = 3e4           # zero-velocity detector threshold (Skog 2010)
 //! axis_time_constant = 10.0  # s: averaging of the medio-lateral axis
 //! speed_hold = 3.0           # s: how long a stride's speed is output
+//! leg_imu = "auto"           # "auto" (foot IMU, else shank IMU), "foot" or "shank"
+//! shank_contact = "zero-crossing"  # shank initial contact: "zero-crossing" or "valley"
 //! ```
 
 use std::path::Path;
 
 use limbfuse_core::{Estimator, Segment};
+use limbfuse_estimators::gait_events::shank_events::ShankContact;
 use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
 use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
 use limbfuse_io::{TrialLayout, TrialMeta};
@@ -33,6 +36,8 @@ struct GaitEventsFile {
     shoe_gamma: Option<f64>,
     axis_time_constant: Option<f64>,
     speed_hold: Option<f64>,
+    leg_imu: Option<String>,
+    shank_contact: Option<String>,
 }
 
 impl MethodFile for GaitEventsFile {
@@ -53,6 +58,27 @@ fn positive(key: &'static str, v: Option<f64>, into: &mut f64) -> Result<(), Met
     Ok(())
 }
 
+/// Which IMU of each leg `gait-events` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LegImu {
+    /// The foot IMU where the leg has one, else its shank IMU.
+    #[default]
+    Auto,
+    /// Foot IMUs only.
+    Foot,
+    /// Shank IMUs only (events, no stride length or speed).
+    Shank,
+}
+
+/// `gait-events` settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaitEventsSettings {
+    /// The estimator's parameters.
+    pub params: GaitEventsParams,
+    /// Which IMU of each leg is used.
+    pub leg_imu: LegImu,
+}
+
 /// `gait-events`.
 #[derive(Debug, Clone, Copy)]
 pub struct GaitEventsMethod;
@@ -60,17 +86,27 @@ pub struct GaitEventsMethod;
 impl MethodDef for GaitEventsMethod {
     const INFO: MethodInfo = MethodInfo::new(
         "gait-events",
-        "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT)",
-        "foot_acc/gyr (the trial's leg) and/or foot_<other side>_acc/gyr, raw sensor frames",
-        "swing_rate, min_swing_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold",
+        "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT); events from shank IMUs",
+        "per leg foot_acc/gyr (foot_<other side>_ for the other leg), else shank_gyr; raw sensor frames",
+        "swing_rate, min_swing_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
     );
-    type Settings = GaitEventsParams;
+    type Settings = GaitEventsSettings;
 
     fn resolve(
         file: Option<(&str, &Path)>,
         _flags: &MethodFlags,
-    ) -> Result<GaitEventsParams, MethodError> {
+    ) -> Result<GaitEventsSettings, MethodError> {
         let f: GaitEventsFile = read_file::<Self, _>(file)?;
+        let leg_imu = match f.leg_imu.as_deref() {
+            None | Some("auto") => LegImu::Auto,
+            Some("foot") => LegImu::Foot,
+            Some("shank") => LegImu::Shank,
+            Some(other) => {
+                return Err(MethodError::GaitParams(format!(
+                    "`leg_imu` = \"{other}\": expected \"auto\", \"foot\" or \"shank\""
+                )))
+            }
+        };
         let mut p = GaitEventsParams::default();
         positive("swing_rate", f.swing_rate, &mut p.swing_rate)?;
         positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time)?;
@@ -90,35 +126,63 @@ impl MethodDef for GaitEventsMethod {
             }
             p.shoe.window = w;
         }
-        Ok(p)
+        p.shank_contact = match f.shank_contact.as_deref() {
+            None | Some("zero-crossing") => ShankContact::ZeroCrossing,
+            Some("valley") => ShankContact::Valley,
+            Some(other) => {
+                return Err(MethodError::GaitParams(format!(
+                    "`shank_contact` = \"{other}\": expected \"zero-crossing\" or \"valley\""
+                )))
+            }
+        };
+        Ok(GaitEventsSettings { params: p, leg_imu })
     }
 
     fn build(
-        settings: &GaitEventsParams,
+        settings: &GaitEventsSettings,
         meta: &TrialMeta,
         layout: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        let foot = Segment::Foot.index();
-        let own_side = layout.leg;
+        let (foot, shank) = (Segment::Foot.index(), Segment::Shank.index());
+        let (use_foot, use_shank) = match settings.leg_imu {
+            LegImu::Auto => (true, true),
+            LegImu::Foot => (true, false),
+            LegImu::Shank => (false, true),
+        };
         let mut sources = [None; 2];
-        if layout.acc[foot] && layout.gyr[foot] {
-            sources[own_side.index()] = Some(FootSource::OwnLeg);
+        let own = layout.leg.index();
+        let other = layout.other_leg().index();
+        if use_foot && layout.acc[foot] && layout.gyr[foot] {
+            sources[own] = Some(FootSource::OwnLeg);
+        } else if use_shank && layout.gyr[shank] {
+            sources[own] = Some(FootSource::OwnShank);
         }
-        if layout.other_acc[foot] && layout.other_gyr[foot] {
-            sources[layout.other_leg().index()] = Some(FootSource::OtherLeg);
+        if use_foot && layout.other_acc[foot] && layout.other_gyr[foot] {
+            sources[other] = Some(FootSource::OtherLeg);
+        } else if use_shank && layout.other_gyr[shank] {
+            sources[other] = Some(FootSource::OtherShank);
         }
         if sources.iter().all(Option::is_none) {
+            let o = layout.other_leg().name();
+            let missing = match settings.leg_imu {
+                LegImu::Auto => format!(
+                    "foot_acc_x/y/z + foot_gyr_x/y/z, or shank_gyr_x/y/z (foot_{o}_ / shank_{o}_ for the other leg)"
+                ),
+                LegImu::Foot => format!(
+                    "foot_acc_x/y/z + foot_gyr_x/y/z (or foot_{o}_acc/gyr_x/y/z for the other leg; `leg_imu = \"foot\"`)"
+                ),
+                LegImu::Shank => format!(
+                    "shank_gyr_x/y/z (or shank_{o}_gyr_x/y/z for the other leg; `leg_imu = \"shank\"`)"
+                ),
+            };
             return Err(MethodError::MissingChannels {
                 method: Self::INFO.name,
-                why: "detects gait events from foot IMUs (accelerometer and gyroscope)",
-                missing: vec![format!(
-                    "foot_acc_x/y/z + foot_gyr_x/y/z (or foot_{}_acc/gyr_x/y/z for the other leg)",
-                    layout.other_leg().name()
-                )],
-                hint: "; shank and lower-back IMUs are not foot IMUs (for a lower-back IMU use `lowback-speed`)",
+                why: "detects gait events from foot IMUs (accelerometer and gyroscope) or shank gyroscopes",
+                missing: vec![missing],
+                hint: "; a lower-back IMU is neither (use `lowback-speed`)",
             });
         }
-        let mut p = *settings;
+        let mut p = settings.params;
         p.gravity = meta.gravity();
         GaitEvents::new(p, sources)
             .map(|e| Box::new(e) as Box<dyn Estimator + Send>)
@@ -130,6 +194,10 @@ impl MethodDef for GaitEventsMethod {
         format!(
             "# limbfuse gait-events parameters (docs/GAIT_EVENTS.md); every key optional.\n\
              method = \"gait-events\"\n\
+             # Which IMU of each leg: \"auto\" (its foot IMU, else its shank gyroscope), \"foot\" or \"shank\".\n\
+             leg_imu = \"auto\"\n\
+             # Shank initial contact: \"zero-crossing\" (end of the swing lobe) or \"valley\" (Aminian 2002 / Salarian 2004 minimum after mid-swing).\n\
+             shank_contact = \"zero-crossing\"\n\
              # Foot sagittal rate (rad/s) that confirms swing.\n\
              swing_rate = {:?}\n\
              # Shortest swing (s) before an initial contact is accepted.\n\

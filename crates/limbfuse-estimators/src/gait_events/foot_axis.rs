@@ -68,6 +68,12 @@ impl FootAxis {
         self.sign_score.signum()
     }
 
+    /// The tracked axis before signing (unit; its sign is arbitrary but
+    /// never reversed by the tracking).
+    pub fn unsigned_axis(&self) -> Vector3<f64> {
+        self.axis
+    }
+
     /// The signed axis (pointing right), once a stride has decided it.
     pub fn right_axis(&self) -> Option<Vector3<f64>> {
         match self.sign_score.signum() {

@@ -29,6 +29,7 @@
 
 pub mod foot_axis;
 pub mod foot_events;
+pub mod shank_events;
 pub mod strapdown;
 pub mod zero_velocity;
 
@@ -42,6 +43,7 @@ use limbfuse_core::{
 
 use foot_axis::FootAxis;
 use foot_events::FootEvents;
+use shank_events::{ShankAxis, ShankContact, ShankEvents};
 use strapdown::StrideIntegrator;
 use zero_velocity::{Shoe, ShoeParams};
 
@@ -75,13 +77,41 @@ diagnostic_set! {
     }
 }
 
-/// Where a side's foot IMU is in a [`Sample`].
+/// Where a side's IMU is in a [`Sample`]: a foot IMU (events, stride
+/// length, speed) or, for a leg without one, a shank IMU (events only,
+/// [`shank_events`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FootSource {
     /// `sample.imu[Foot]` (the trial's `# leg:`).
     OwnLeg,
     /// `sample.other_leg_imu[Foot]`.
     OtherLeg,
+    /// `sample.imu[Shank]` (the trial's leg, no foot IMU).
+    OwnShank,
+    /// `sample.other_leg_imu[Shank]`.
+    OtherShank,
+}
+
+impl FootSource {
+    /// The IMU this source names.
+    fn imu(self, sample: &Sample) -> &ImuSample {
+        match self {
+            FootSource::OwnLeg => &sample.imu[Segment::Foot.index()],
+            FootSource::OtherLeg => &sample.other_leg_imu[Segment::Foot.index()],
+            FootSource::OwnShank => &sample.imu[Segment::Shank.index()],
+            FootSource::OtherShank => &sample.other_leg_imu[Segment::Shank.index()],
+        }
+    }
+
+    /// How `describe_parameters` names it.
+    fn describe(self) -> &'static str {
+        match self {
+            FootSource::OwnLeg => "foot_ (the trial's leg)",
+            FootSource::OtherLeg => "foot_<other side>_",
+            FootSource::OwnShank => "shank_ (the trial's leg; events only)",
+            FootSource::OtherShank => "shank_<other side>_ (events only)",
+        }
+    }
 }
 
 /// Parameters (defaults and their sources: docs/GAIT_EVENTS.md).
@@ -109,6 +139,8 @@ pub struct GaitEventsParams {
     pub speed_hold: f64,
     /// Gravity (m/s^2), from the trial's metadata.
     pub gravity: f64,
+    /// Initial-contact landmark of a shank IMU ([`shank_events`]).
+    pub shank_contact: ShankContact,
 }
 
 impl Default for GaitEventsParams {
@@ -124,6 +156,7 @@ impl Default for GaitEventsParams {
             max_stride_time: 3.0,
             speed_hold: 3.0,
             gravity: limbfuse_core::STANDARD_GRAVITY,
+            shank_contact: ShankContact::ZeroCrossing,
         }
     }
 }
@@ -247,12 +280,97 @@ impl FootTracker {
     }
 }
 
+/// The pipeline of one leg with a shank IMU only: events, no strides.
+#[derive(Debug, Clone)]
+struct ShankTracker {
+    axis: ShankAxis,
+    events: ShankEvents,
+    sign: i32,
+    last_fc: Option<f64>,
+    last_swing: Option<f64>,
+}
+
+impl ShankTracker {
+    fn new(p: &GaitEventsParams) -> Self {
+        ShankTracker {
+            axis: ShankAxis::new(p.axis_time_constant),
+            events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
+            sign: 0,
+            last_fc: None,
+            last_swing: None,
+        }
+    }
+
+    fn step(&mut self, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
+        let Some(gyr) = imu.gyr else {
+            self.events.reset();
+            return FootOutput::default();
+        };
+        let mut out = FootOutput::default();
+        self.axis.update(&gyr, dt);
+        let sign = self.axis.sign();
+        if sign != self.sign {
+            self.sign = sign;
+            self.events.reset();
+        }
+        if let Some(w) = self.axis.sagittal_rate(&gyr) {
+            out.rate = Some(w);
+            let e = self.events.update(t, w);
+            if let Some(t_fc) = e.final_contact {
+                self.last_fc = Some(t_fc);
+                out.final_contact = Some(t_fc);
+            }
+            if let Some(t_ic) = e.initial_contact {
+                if let Some(t_fc) = self.last_fc {
+                    self.last_swing = Some(t_ic - t_fc);
+                }
+                out.initial_contact = Some(t_ic);
+            }
+        }
+        out.contact = self.events.contact();
+        out
+    }
+}
+
+/// One side's pipeline.
+#[derive(Debug, Clone)]
+enum LegTracker {
+    Foot(FootTracker),
+    Shank(ShankTracker),
+}
+
+impl LegTracker {
+    fn new(p: &GaitEventsParams, source: Option<FootSource>) -> Self {
+        match source {
+            Some(FootSource::OwnShank | FootSource::OtherShank) => {
+                LegTracker::Shank(ShankTracker::new(p))
+            }
+            _ => LegTracker::Foot(FootTracker::new(p)),
+        }
+    }
+
+    fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
+        match self {
+            LegTracker::Foot(f) => f.step(p, t, dt, imu),
+            LegTracker::Shank(s) => s.step(t, dt, imu),
+        }
+    }
+
+    /// Last toe off and last swing duration (s).
+    fn swing(&self) -> (Option<f64>, Option<f64>) {
+        match self {
+            LegTracker::Foot(f) => (f.last_fc, f.last_swing),
+            LegTracker::Shank(s) => (s.last_fc, s.last_swing),
+        }
+    }
+}
+
 /// The gait-events estimator.
 #[derive(Debug, Clone)]
 pub struct GaitEvents {
     params: GaitEventsParams,
     sources: [Option<FootSource>; 2],
-    feet: [FootTracker; 2],
+    feet: [LegTracker; 2],
     time: TimeStep,
     speed: Option<(f64, f64)>,
     strides: u64,
@@ -267,13 +385,16 @@ impl GaitEvents {
     ) -> Result<Self, EstimatorError> {
         if sources.iter().all(Option::is_none) {
             return Err(EstimatorError::MissingChannel {
-                channel: "foot_acc_* and foot_gyr_* (or foot_left_*): gait-events needs a foot IMU",
+                channel: "foot_acc_* and foot_gyr_* (or foot_left_*, or shank_gyr_*): gait-events needs a foot or shank IMU",
             });
         }
         Ok(GaitEvents {
             params,
             sources,
-            feet: [FootTracker::new(&params), FootTracker::new(&params)],
+            feet: [
+                LegTracker::new(&params, sources[0]),
+                LegTracker::new(&params, sources[1]),
+            ],
             time: TimeStep::new(),
             speed: None,
             strides: 0,
@@ -300,10 +421,10 @@ impl GaitEvents {
             (true, false) => Side::Right,
             (false, true) => Side::Left,
         };
-        let f = &self.feet[swing_side.index()];
-        let lift_off = f.last_fc?;
+        let (lift_off, last_swing) = self.feet[swing_side.index()].swing();
+        let lift_off = lift_off?;
         // Predicted single support = the swing foot's last swing duration.
-        let predicted = f.last_swing.unwrap_or(0.4);
+        let predicted = last_swing.unwrap_or(0.4);
         Some(if t - lift_off < 0.5 * predicted {
             GaitPhase::Ss2
         } else {
@@ -329,11 +450,7 @@ impl Estimator for GaitEvents {
     fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
         let p = &self.params;
         for side in Side::BOTH {
-            let src = match self.sources[side.index()] {
-                Some(FootSource::OwnLeg) => "foot_ (the trial's leg)",
-                Some(FootSource::OtherLeg) => "foot_<other side>_",
-                None => "none",
-            };
+            let src = self.sources[side.index()].map_or("none", FootSource::describe);
             writeln!(out, "foot_{}: {src}", side.name())?;
         }
         writeln!(
@@ -352,6 +469,14 @@ impl Estimator for GaitEvents {
             p.min_stride_time, p.max_stride_time
         )?;
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
+        if self
+            .sources
+            .iter()
+            .flatten()
+            .any(|s| matches!(s, FootSource::OwnShank | FootSource::OtherShank))
+        {
+            writeln!(out, "shank_contact: {:?}", p.shank_contact)?;
+        }
         writeln!(out, "gravity: {} m/s^2", p.gravity)
     }
 
@@ -364,8 +489,8 @@ impl Estimator for GaitEvents {
             params: self.params,
             sources: self.sources,
             feet: [
-                FootTracker::new(&self.params),
-                FootTracker::new(&self.params),
+                LegTracker::new(&self.params, self.sources[0]),
+                LegTracker::new(&self.params, self.sources[1]),
             ],
             time: TimeStep::new(),
             speed: None,
@@ -380,19 +505,17 @@ impl Estimator for GaitEvents {
         let Some(dt) = dt else {
             return Ok(e);
         };
-        let foot = Segment::Foot.index();
         let mut outs = [FootOutput::default(); 2];
         for side in Side::BOTH {
-            let imu = match self.sources[side.index()] {
-                Some(FootSource::OwnLeg) => &sample.imu[foot],
-                Some(FootSource::OtherLeg) => &sample.other_leg_imu[foot],
-                None => continue,
+            let Some(source) = self.sources[side.index()] else {
+                continue;
             };
+            let imu = source.imu(sample);
             if imu.acc.is_some_and(|a| !a.iter().all(|v| v.is_finite()))
                 || imu.gyr.is_some_and(|g| !g.iter().all(|v| v.is_finite()))
             {
                 return Err(EstimatorError::NonFinite {
-                    channel: "foot IMU",
+                    channel: "foot or shank IMU",
                 });
             }
             outs[side.index()] = self.feet[side.index()].step(&self.params, t, dt, imu);
