@@ -18,7 +18,7 @@ use std::path::Path;
 use limbfuse_core::{Estimator, Segment};
 use limbfuse_estimators::gait_events::shank_events::ShankContact;
 use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
-use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
+use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed, LEG_LENGTH_PER_HEIGHT};
 use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
@@ -238,7 +238,8 @@ impl MethodFile for LowbackFile {
 }
 
 /// `lowback-speed` settings: the parameters, and whether the leg length was
-/// given (else the trial's `# leg_length:` metadata, else the default).
+/// given (else the trial's `# leg_length:` metadata, else 0.530 x its
+/// `# height_m:`, else the default).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LowbackSettings {
     /// The parameters.
@@ -305,6 +306,14 @@ impl MethodDef for LowbackSpeedMethod {
                     ))
                     })?;
                 positive("leg_length (trial metadata)", Some(l), &mut p.leg_length)?;
+            } else if let Some(h) = meta
+                .body()
+                .map_err(|e| MethodError::GaitParams(e.to_string()))?
+                .height
+            {
+                // Anthropometry: the greater-trochanter height of a body of height `h`.
+                positive("height_m (trial metadata)", Some(h), &mut p.leg_length)?;
+                p.leg_length *= LEG_LENGTH_PER_HEIGHT;
             }
         }
         Ok(Box::new(LowbackSpeed::new(p)))
@@ -315,7 +324,7 @@ impl MethodDef for LowbackSpeedMethod {
         format!(
             "# limbfuse lowback-speed parameters (docs/GAIT_EVENTS.md); every key optional.\n\
              method = \"lowback-speed\"\n\
-             # Leg (pendulum) length, m (default: 0.530 x 1.70 m, Winter 2009; the trial's `# leg_length:` when absent here).\n\
+             # Leg (pendulum) length, m (default: 0.530 x 1.70 m, Winter 2009; when absent here: the trial's `# leg_length:`, else 0.530 x its `# height_m:`).\n\
              leg_length = {:?}\n\
              # Zijlstra & Hof 2003 correction factor K.\n\
              correction = {:?}\n\
@@ -327,5 +336,67 @@ impl MethodDef for LowbackSpeedMethod {
              speed_hold = {:?}\n",
             p.leg_length, p.correction, p.wavelet_scale, p.walking_rms, p.speed_hold
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
+        let settings = LowbackSpeedMethod::resolve(
+            file.map(|f| (f, Path::new("p.toml"))),
+            &MethodFlags::default(),
+        )
+        .unwrap();
+        let est = LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()).unwrap();
+        let mut s = String::new();
+        est.describe_parameters(&mut s).unwrap();
+        s.lines()
+            .find(|l| l.starts_with("leg_length"))
+            .unwrap()
+            .to_string()
+    }
+
+    /// The pendulum length: the parameter file, else `# leg_length:`, else
+    /// 0.530 x `# height_m:` (Winter 2009), else 0.90 m.
+    #[test]
+    fn leg_length_from_the_body_height() {
+        let mut meta = TrialMeta::new();
+        assert_eq!(leg_length_line(&meta, None), "leg_length: 0.9 m");
+        meta.set("height_m", "1.6");
+        assert_eq!(leg_length_line(&meta, None), "leg_length: 0.848 m");
+        meta.set("leg_length", "0.8");
+        assert_eq!(leg_length_line(&meta, None), "leg_length: 0.8 m");
+        assert_eq!(
+            leg_length_line(&meta, Some("leg_length = 0.95\n")),
+            "leg_length: 0.95 m"
+        );
+        let mut bad = TrialMeta::new();
+        bad.set("height_m", "tall");
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap();
+        assert!(err.to_string().contains("height_m"), "{err}");
+    }
+
+    #[test]
+    fn leg_imu_and_shank_contact_settings_are_checked() {
+        let r = |text: &str| {
+            GaitEventsMethod::resolve(Some((text, Path::new("p.toml"))), &MethodFlags::default())
+        };
+        assert_eq!(r("leg_imu = \"shank\"\n").unwrap().leg_imu, LegImu::Shank);
+        assert_eq!(
+            r("shank_contact = \"valley\"\n")
+                .unwrap()
+                .params
+                .shank_contact,
+            ShankContact::Valley
+        );
+        let e = r("leg_imu = \"knee\"\n").unwrap_err().to_string();
+        assert!(e.contains("leg_imu") && e.contains("knee"), "{e}");
+        let e = r("shank_contact = \"peak\"\n").unwrap_err().to_string();
+        assert!(e.contains("shank_contact"), "{e}");
     }
 }

@@ -42,6 +42,12 @@ use limbfuse_core::{
 };
 use nalgebra::Vector3;
 
+/// Leg (greater-trochanter) height as a fraction of body height: 0.530
+/// (Winter 2009, *Biomechanics and Motor Control of Human Movement*, 4th
+/// ed., Table 4.1 / fig. 4.1), the pendulum length when only the body
+/// height is known.
+pub const LEG_LENGTH_PER_HEIGHT: f64 = 0.530;
+
 /// Samples of vertical acceleration kept (steps + smoothing latency): 4096,
 /// enough for 1.5 s steps plus the latency up to 1 kHz.
 pub const HISTORY: usize = 4096;
