@@ -56,9 +56,10 @@ fn f(v: &serde_json::Value, path: &[&str]) -> f64 {
 
 /// Issue 19 targets on the shared two-foot walk: contacts within 20 ms
 /// (median) / 40 ms (p95), none missed; measured 4.6 / 12.6 ms (initial),
-/// 5.8 / 11.2 ms (final). Stride speed and length are held to their
-/// measured 0.037 m/s and 2.8 % (the 0.03 m/s and 2.5 % targets are not
-/// met, docs/RESULTS.md).
+/// 5.8 / 11.2 ms (final). Stride speed and length, each stride against
+/// the blended reference, are held to their measured 0.037 m/s and 2.8 %;
+/// compared like with like (blended) they meet the 0.03 m/s and 2.5 %
+/// targets (docs/RESULTS.md).
 #[test]
 fn foot_recording_meets_the_event_targets() {
     let Some(data) = data_dir() else { return };
@@ -79,6 +80,11 @@ fn foot_recording_meets_the_event_targets() {
     assert!(f(&v, &["final_contact", "extra"]) <= 1.0, "{v}");
     assert!(f(&v, &["speed_mae_mps"]) < 0.04, "{v}");
     assert!(f(&v, &["stride_length_error_pct"]) < 3.0, "{v}");
+    // Like with like (the estimate blended as speed_ref is): measured
+    // 0.026 m/s and 2.18 %, the issue's targets 0.03 m/s and 2.5 %.
+    assert!(f(&v, &["blended", "speed_mae_mps"]) <= 0.03, "{v}");
+    assert!(f(&v, &["blended", "stride_length_error_pct"]) <= 2.5, "{v}");
+    assert!(f(&v, &["blended", "n_strides"]) >= 50.0, "{v}");
     assert!(f(&v, &["n_strides"]) >= 50.0, "{v}");
     assert!(f(&v, &["phase_accuracy_pct"]) > 90.0, "{v}");
 }
@@ -184,7 +190,7 @@ fn diag_values(path: &Path, name: &str) -> Vec<f64> {
 /// foot and shank IMUs, 100 Hz, no event reference): the shank's events
 /// against the foot IMU's (whose landmarks are within 5 ms of motion capture
 /// on the gaitmap recording). Measured: initial contacts (zero crossing)
-/// -3 to +12 ms from the foot's, with the literature's valley +52 to +62 ms;
+/// -5 to +7 ms from the foot's, with the literature's valley +51 to +62 ms;
 /// toe offs +20 to +41 ms (valley before mid-swing). Every foot event paired.
 #[test]
 fn issue_19_shank_events_agree_with_the_foot_imu() {
@@ -264,7 +270,7 @@ fn issue_19_shank_events_agree_with_the_foot_imu() {
     let valley = offsets(&foot_ic, &valley_ic);
     let fc = offsets(&foot_fc, &shank_fc);
     println!("IC zero crossing {ic:?}\nIC valley {valley:?}\nFC {fc:?}");
-    assert!(ic.iter().all(|x| x.abs() <= 0.015), "{ic:?}");
+    assert!(ic.iter().all(|x| x.abs() <= 0.01), "{ic:?}");
     assert!(
         valley.iter().all(|x| (0.045..=0.07).contains(x)),
         "{valley:?}"

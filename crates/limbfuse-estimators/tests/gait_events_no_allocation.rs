@@ -34,6 +34,14 @@ fn gait_estimators_step_without_allocating() {
             )
             .unwrap(),
         ),
+        // A foot IMU on the left, a shank IMU on the right (issue 19 item 3).
+        Box::new(
+            GaitEvents::new(
+                GaitEventsParams::default(),
+                [Some(FootSource::OtherLeg), Some(FootSource::OwnShank)],
+            )
+            .unwrap(),
+        ),
         Box::new(LowbackSpeed::new(LowbackParams::default())),
     ];
     for e in cases.iter_mut() {
