@@ -34,21 +34,41 @@ pub struct TrackStride {
     pub reference_time: Option<f64>,
 }
 
-/// The blended comparison's figures.
+/// Stride speed and length errors (each stride against the blended
+/// reference, or blended as in this module).
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct BlendedStrideSpeed {
-    /// Strides compared (every row of the stride has a reference and an estimate).
+pub struct StrideFigures {
+    /// Strides compared (every row of the stride has a reference).
     pub n_strides: usize,
-    /// Mean |blended estimate - reference| (m/s).
+    /// Mean |speed error| (m/s).
     pub speed_mae_mps: Option<f64>,
-    /// Mean blended estimate - reference (m/s).
+    /// Mean speed error, estimate - reference (m/s).
     pub speed_bias_mps: Option<f64>,
-    /// Strides with a reference stride time.
+    /// Strides with a reference length.
     pub n_lengths: usize,
-    /// Mean |blended length error| / reference length (%).
+    /// Mean |length error| / reference length (%).
     pub stride_length_error_pct: Option<f64>,
-    /// Mean |blended length error| (m).
+    /// Mean |length error| (m).
     pub stride_length_mae_m: Option<f64>,
+}
+
+impl StrideFigures {
+    /// The figures of signed speed errors and `(signed length error, reference length)` pairs.
+    pub fn from_errors(speed: &[f64], length: &[(f64, f64)]) -> Self {
+        let mean =
+            |v: &mut dyn Iterator<Item = f64>, n: usize| (n > 0).then(|| v.sum::<f64>() / n as f64);
+        StrideFigures {
+            n_strides: speed.len(),
+            speed_mae_mps: mean(&mut speed.iter().map(|e| e.abs()), speed.len()),
+            speed_bias_mps: mean(&mut speed.iter().copied(), speed.len()),
+            n_lengths: length.len(),
+            stride_length_error_pct: mean(
+                &mut length.iter().map(|(e, l)| 100.0 * e.abs() / l),
+                length.len(),
+            ),
+            stride_length_mae_m: mean(&mut length.iter().map(|(e, _)| e.abs()), length.len()),
+        }
+    }
 }
 
 /// First row at or after `x` (t sorted).
@@ -61,7 +81,7 @@ pub fn blended_stride_speed(
     t: &[f64],
     speed_ref: &[Option<f64>],
     strides: &[TrackStride],
-) -> BlendedStrideSpeed {
+) -> StrideFigures {
     let n = t.len();
     let (mut sum, mut count) = (vec![0.0; n], vec![0u32; n]);
     for s in strides {
@@ -105,19 +125,7 @@ pub fn blended_stride_speed(
             length.push((l_est - l_ref, l_ref));
         }
     }
-    let mean =
-        |v: &mut dyn Iterator<Item = f64>, n: usize| (n > 0).then(|| v.sum::<f64>() / n as f64);
-    BlendedStrideSpeed {
-        n_strides: speed.len(),
-        speed_mae_mps: mean(&mut speed.iter().map(|e| e.abs()), speed.len()),
-        speed_bias_mps: mean(&mut speed.iter().copied(), speed.len()),
-        n_lengths: length.len(),
-        stride_length_error_pct: mean(
-            &mut length.iter().map(|(e, l)| 100.0 * e.abs() / l),
-            length.len(),
-        ),
-        stride_length_mae_m: mean(&mut length.iter().map(|(e, _)| e.abs()), length.len()),
-    }
+    StrideFigures::from_errors(&speed, &length)
 }
 
 #[cfg(test)]

@@ -27,7 +27,7 @@ use std::path::Path;
 use limbfuse_core::{GaitPhase, Side};
 use limbfuse_io::{EstimateReader, TrialReader};
 
-use crate::blended_stride_speed::{blended_stride_speed, BlendedStrideSpeed, TrackStride};
+use crate::blended_stride_speed::{blended_stride_speed, StrideFigures, TrackStride};
 use crate::evaluation::EvalError;
 
 /// Largest time difference (s) at which an estimated event can pair with a
@@ -72,21 +72,12 @@ pub struct GaitEventEvaluation {
     pub contact_accuracy_pct: Option<f64>,
     /// % of rows where the phase equals the phase of the contact references.
     pub phase_accuracy_pct: Option<f64>,
-    /// Strides with a complete speed reference.
-    pub n_strides: usize,
-    /// Mean |stride speed - reference| (m/s).
-    pub speed_mae_mps: Option<f64>,
-    /// Mean stride speed - reference (m/s).
-    pub speed_bias_mps: Option<f64>,
-    /// Strides with a reference length.
-    pub n_lengths: usize,
-    /// Mean |stride length error| / reference length (%).
-    pub stride_length_error_pct: Option<f64>,
-    /// Mean |stride length error| (m).
-    pub stride_length_mae_m: Option<f64>,
+    /// Stride speed and length, each estimated stride against the mean
+    /// `speed_ref` over its rows.
+    pub per_stride: StrideFigures,
     /// Stride speed and length with the estimate blended as the reference is
     /// ([`crate::blended_stride_speed`]).
-    pub blended: BlendedStrideSpeed,
+    pub blended: StrideFigures,
     /// Whether the estimate file records this trial.
     pub trial_check: crate::trial_check::TrialCheck,
 }
@@ -451,23 +442,17 @@ fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {
 /// Per-stride errors collected over tracks.
 #[derive(Debug, Default)]
 struct Acc {
-    speed_abs: Vec<f64>,
-    speed_signed: Vec<f64>,
-    len_abs: Vec<f64>,
-    len_rel: Vec<f64>,
+    /// Signed speed errors (m/s).
+    speed: Vec<f64>,
+    /// (signed length error, reference length) (m).
+    length: Vec<(f64, f64)>,
     /// Every estimated stride located on its track (for the blended comparison).
     strides: Vec<TrackStride>,
 }
 
 impl Acc {
     fn finish(&self, ev: &mut GaitEventEvaluation) {
-        let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
-        ev.n_strides = self.speed_abs.len();
-        ev.speed_mae_mps = mean(&self.speed_abs);
-        ev.speed_bias_mps = mean(&self.speed_signed);
-        ev.n_lengths = self.len_abs.len();
-        ev.stride_length_mae_m = mean(&self.len_abs);
-        ev.stride_length_error_pct = mean(&self.len_rel);
+        ev.per_stride = StrideFigures::from_errors(&self.speed, &self.length);
     }
 }
 
@@ -511,13 +496,11 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
             let Some(refs) = refs else { continue };
             let v_ref = refs.iter().sum::<f64>() / refs.len() as f64;
             let v = length / time;
-            acc.speed_abs.push((v - v_ref).abs());
-            acc.speed_signed.push(v - v_ref);
+            acc.speed.push(v - v_ref);
             if let Some(tr) = reference_time {
                 let l_ref = v_ref * tr;
                 if l_ref > 0.0 {
-                    acc.len_abs.push((length - l_ref).abs());
-                    acc.len_rel.push(100.0 * (length - l_ref).abs() / l_ref);
+                    acc.length.push((length - l_ref, l_ref));
                 }
             }
         }

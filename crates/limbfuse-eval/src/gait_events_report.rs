@@ -2,7 +2,22 @@
 
 use serde_json::{json, Value};
 
+use crate::blended_stride_speed::StrideFigures;
 use crate::gait_events_evaluation::{EventTiming, GaitEventEvaluation};
+
+impl StrideFigures {
+    /// The JSON fields.
+    pub fn to_json(&self) -> Value {
+        json!({
+            "n_strides": self.n_strides,
+            "speed_mae_mps": self.speed_mae_mps,
+            "speed_bias_mps": self.speed_bias_mps,
+            "n_lengths": self.n_lengths,
+            "stride_length_error_pct": self.stride_length_error_pct,
+            "stride_length_mae_m": self.stride_length_mae_m,
+        })
+    }
+}
 
 impl EventTiming {
     /// The JSON object of one kind of event.
@@ -37,7 +52,7 @@ impl EventTiming {
 impl GaitEventEvaluation {
     /// SPEC section 4's JSON object (no angle channels) plus the gait-event fields.
     pub fn to_json(&self) -> Value {
-        json!({
+        let mut v = json!({
             "method": self.method,
             "n_samples": self.n_samples,
             "rmse_deg": {},
@@ -49,21 +64,13 @@ impl GaitEventEvaluation {
             "events_per_foot": self.per_foot,
             "contact_accuracy_pct": self.contact_accuracy_pct,
             "phase_accuracy_pct": self.phase_accuracy_pct,
-            "n_strides": self.n_strides,
-            "speed_mae_mps": self.speed_mae_mps,
-            "speed_bias_mps": self.speed_bias_mps,
-            "n_lengths": self.n_lengths,
-            "stride_length_error_pct": self.stride_length_error_pct,
-            "stride_length_mae_m": self.stride_length_mae_m,
-            "blended": {
-                "n_strides": self.blended.n_strides,
-                "speed_mae_mps": self.blended.speed_mae_mps,
-                "speed_bias_mps": self.blended.speed_bias_mps,
-                "n_lengths": self.blended.n_lengths,
-                "stride_length_error_pct": self.blended.stride_length_error_pct,
-                "stride_length_mae_m": self.blended.stride_length_mae_m,
-            },
-        })
+            "blended": self.blended.to_json(),
+        });
+        if let (Value::Object(top), Value::Object(per_stride)) = (&mut v, self.per_stride.to_json())
+        {
+            top.extend(per_stride);
+        }
+        v
     }
 
     /// A short text table.
@@ -84,12 +91,12 @@ impl GaitEventEvaluation {
             "contact accuracy {}\nphase accuracy   {}\nstride speed     MAE {} (bias {}) over {} strides\nstride length    error {} (MAE {}) over {} strides\n",
             f(self.contact_accuracy_pct, "%", 1),
             f(self.phase_accuracy_pct, "%", 1),
-            f(self.speed_mae_mps, "m/s", 3),
-            f(self.speed_bias_mps, "m/s", 3),
-            self.n_strides,
-            f(self.stride_length_error_pct, "%", 2),
-            f(self.stride_length_mae_m, "m", 3),
-            self.n_lengths,
+            f(self.per_stride.speed_mae_mps, "m/s", 3),
+            f(self.per_stride.speed_bias_mps, "m/s", 3),
+            self.per_stride.n_strides,
+            f(self.per_stride.stride_length_error_pct, "%", 2),
+            f(self.per_stride.stride_length_mae_m, "m", 3),
+            self.per_stride.n_lengths,
         );
         let b = &self.blended;
         s += &format!(

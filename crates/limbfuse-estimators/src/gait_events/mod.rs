@@ -181,6 +181,29 @@ struct FootOutput {
     rate: Option<f64>,
 }
 
+/// A leg's last toe off and last swing duration (for the phase).
+#[derive(Debug, Clone, Copy, Default)]
+struct SwingTimes {
+    last_fc: Option<f64>,
+    last_swing: Option<f64>,
+}
+
+impl SwingTimes {
+    /// Records one sample's events, and copies them to `out`.
+    fn record(&mut self, e: foot_events::EventsAt, out: &mut FootOutput) {
+        if let Some(t_fc) = e.final_contact {
+            self.last_fc = Some(t_fc);
+            out.final_contact = Some(t_fc);
+        }
+        if let Some(t_ic) = e.initial_contact {
+            if let Some(t_fc) = self.last_fc {
+                self.last_swing = Some(t_ic - t_fc);
+            }
+            out.initial_contact = Some(t_ic);
+        }
+    }
+}
+
 /// The pipeline of one foot.
 #[derive(Debug, Clone)]
 struct FootTracker {
@@ -193,8 +216,7 @@ struct FootTracker {
     last_ic: Option<f64>,
     ic_in_segment: Option<f64>,
     stride_start_ic: Option<f64>,
-    last_fc: Option<f64>,
-    last_swing: Option<f64>,
+    swing: SwingTimes,
 }
 
 impl FootTracker {
@@ -209,8 +231,7 @@ impl FootTracker {
             last_ic: None,
             ic_in_segment: None,
             stride_start_ic: None,
-            last_fc: None,
-            last_swing: None,
+            swing: SwingTimes::default(),
         }
     }
 
@@ -246,15 +267,8 @@ impl FootTracker {
         if let Some(w) = self.axis.sagittal_rate(&gyr) {
             out.rate = Some(w);
             let e = self.events.update(t, dt, w, rest);
-            if let Some(t_fc) = e.final_contact {
-                self.last_fc = Some(t_fc);
-                out.final_contact = Some(t_fc);
-            }
+            self.swing.record(e, &mut out);
             if let Some(t_ic) = e.initial_contact {
-                if let Some(t_fc) = self.last_fc {
-                    self.last_swing = Some(t_ic - t_fc);
-                }
-                out.initial_contact = Some(t_ic);
                 self.stride_start_ic = self.last_ic;
                 self.ic_in_segment = Some(t_ic);
                 self.ics_in_segment += 1;
@@ -286,8 +300,7 @@ struct ShankTracker {
     axis: ShankAxis,
     events: ShankEvents,
     sign: i32,
-    last_fc: Option<f64>,
-    last_swing: Option<f64>,
+    swing: SwingTimes,
 }
 
 impl ShankTracker {
@@ -296,8 +309,7 @@ impl ShankTracker {
             axis: ShankAxis::new(p.axis_time_constant),
             events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
             sign: 0,
-            last_fc: None,
-            last_swing: None,
+            swing: SwingTimes::default(),
         }
     }
 
@@ -316,24 +328,17 @@ impl ShankTracker {
         if let Some(w) = self.axis.sagittal_rate(&gyr) {
             out.rate = Some(w);
             let e = self.events.update(t, w);
-            if let Some(t_fc) = e.final_contact {
-                self.last_fc = Some(t_fc);
-                out.final_contact = Some(t_fc);
-            }
-            if let Some(t_ic) = e.initial_contact {
-                if let Some(t_fc) = self.last_fc {
-                    self.last_swing = Some(t_ic - t_fc);
-                }
-                out.initial_contact = Some(t_ic);
-            }
+            self.swing.record(e, &mut out);
         }
         out.contact = self.events.contact();
         out
     }
 }
 
-/// One side's pipeline.
+/// One side's pipeline (two per estimator, made once: the foot variant's
+/// size costs nothing, and kept inline it needs no allocation).
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
 enum LegTracker {
     Foot(FootTracker),
     Shank(ShankTracker),
@@ -359,8 +364,8 @@ impl LegTracker {
     /// Last toe off and last swing duration (s).
     fn swing(&self) -> (Option<f64>, Option<f64>) {
         match self {
-            LegTracker::Foot(f) => (f.last_fc, f.last_swing),
-            LegTracker::Shank(s) => (s.last_fc, s.last_swing),
+            LegTracker::Foot(f) => (f.swing.last_fc, f.swing.last_swing),
+            LegTracker::Shank(s) => (s.swing.last_fc, s.swing.last_swing),
         }
     }
 }
