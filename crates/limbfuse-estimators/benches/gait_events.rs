@@ -1,4 +1,4 @@
-//! Per-sample cost of `gait-events` (both feet) and `lowback-speed` on a
+//! Per-sample cost of `gait-events` (both feet; both shanks) and `lowback-speed` on a
 //! seeded simulated walk (60 s at 100 Hz, the right foot's IMU also fed as
 //! the left one), one core. Two groups: wall time, and the thread's CPU
 //! time (`..._cpu`), which time-slicing on a shared machine does not inflate.
@@ -54,6 +54,30 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
                 acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);
             }
             black_box(acc)
+        })
+    });
+    // Issue 19 item 3: both legs from shank IMUs (events only).
+    let shank = Segment::Shank.index();
+    let shank_records: Vec<Record> = records
+        .iter()
+        .map(|r| {
+            let mut r = *r;
+            r.sample.other_leg_imu[shank] = r.sample.imu[shank];
+            r
+        })
+        .collect();
+    g.bench_function("two_shanks", |b| {
+        b.iter(|| {
+            let mut e = GaitEvents::new(
+                GaitEventsParams::default(),
+                [Some(FootSource::OtherShank), Some(FootSource::OwnShank)],
+            )
+            .unwrap();
+            let mut n = 0usize;
+            for r in &shank_records {
+                n += usize::from(e.step(&r.sample).unwrap().contact[1].is_some());
+            }
+            black_box(n)
         })
     });
     g.bench_function("lowback_speed", |b| {

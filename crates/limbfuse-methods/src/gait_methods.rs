@@ -324,8 +324,9 @@ impl MethodDef for LowbackSpeedMethod {
         format!(
             "# limbfuse lowback-speed parameters (docs/GAIT_EVENTS.md); every key optional.\n\
              method = \"lowback-speed\"\n\
-             # Leg (pendulum) length, m (default: 0.530 x 1.70 m, Winter 2009; when absent here: the trial's `# leg_length:`, else 0.530 x its `# height_m:`).\n\
-             leg_length = {:?}\n\
+             # Leg (pendulum) length, m. Left unset, it is the trial's `# leg_length:`, else 0.530 x its\n\
+             # `# height_m:`, else {:?} (0.530 x 1.70 m, Winter 2009 Table 4.1): uncomment to override them.\n\
+             # leg_length = {:?}\n\
              # Zijlstra & Hof 2003 correction factor K.\n\
              correction = {:?}\n\
              # McCamley 2012 wavelet scale, s (9 samples at 40 Hz).\n\
@@ -334,7 +335,12 @@ impl MethodDef for LowbackSpeedMethod {
              walking_rms = {:?}\n\
              # How long (s) a stride's speed stays the `speed` output.\n\
              speed_hold = {:?}\n",
-            p.leg_length, p.correction, p.wavelet_scale, p.walking_rms, p.speed_hold
+            p.leg_length,
+            p.leg_length,
+            p.correction,
+            p.wavelet_scale,
+            p.walking_rms,
+            p.speed_hold
         )
     }
 }
