@@ -30,7 +30,7 @@ use nalgebra::Vector3;
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
-pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M};
+pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
 use startup::Startup;
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
@@ -358,6 +358,12 @@ impl Estimator for ChainEkf {
         {
             writeln!(out, "imu_position_{name}: {} {} {}", r[0], r[1], r[2])?;
         }
+        let psi = g.frame_offset.map(f64::to_degrees);
+        writeln!(
+            out,
+            "frame_offset_deg: {} {} {} {}",
+            psi[0], psi[1], psi[2], psi[3]
+        )?;
         writeln!(out, "g: {}", self.g)?;
         writeln!(out, "gyro_noise: {}", p.gyro_noise)?;
         writeln!(out, "acc_noise: {}", p.acc_noise)?;

@@ -7,6 +7,18 @@ use super::kinematics::ChainGeometry;
 /// height the walking simulator and Winter's tables are scaled to.
 pub const DEFAULT_HEIGHT_M: f64 = 1.75;
 
+/// Mean segment angle over a walking stride (deg; trunk, thigh, shank,
+/// foot), from the normative curves limbfuse's walking simulator is built on
+/// (J. Perry & J. M. Burnfield, *Gait Analysis*, 2nd ed., 2010; M. P. Kadaba
+/// et al., J. Orthop. Res. 8:383-392, 1990; Winter 2009; docs/SIMULATOR.md),
+/// measured there at 0.6-1.5 m/s: trunk -1.6..-2.5, thigh +7.0..+7.8, shank
+/// -15.5..-16.5, foot -14.8..-16.6 (docs/ALIGNMENT.md, "mean segment
+/// angles over walking"). `align`'s mean-inclination zero sets these means
+/// to its target instead, which turns each sensor frame away from its
+/// segment's anatomical frame by `target - mean`
+/// ([`ChainGeometry::frame_offset`]).
+pub const WALKING_MEAN_ANGLE_DEG: [f64; 4] = [-2.0, 7.0, -16.0, -16.0];
+
 impl ChainGeometry {
     /// Segment lengths from body height `h` with Winter's ratios (D. A.
     /// Winter, *Biomechanics and Motor Control of Human Movement*, 4th ed.,
@@ -29,6 +41,7 @@ impl ChainGeometry {
                 [0.0, -0.5 * shank, 0.0],
                 [0.07 * s, -0.005 * s, 0.0],
             ],
+            frame_offset: [0.0; 4],
         }
     }
 
@@ -52,6 +65,20 @@ impl ChainGeometry {
                     name: ["trunk imu", "thigh imu", "shank imu", "foot imu"][i],
                     value: r.iter().fold(0.0, |m: f64, c| m.max(c.abs())),
                     range: "-1 to 1 m per axis",
+                });
+            }
+        }
+        for (i, &psi) in self.frame_offset.iter().enumerate() {
+            if !(psi.is_finite() && psi.abs() <= core::f64::consts::PI) {
+                return Err(ChainParamsError::OutOfRange {
+                    name: [
+                        "trunk frame offset",
+                        "thigh frame offset",
+                        "shank frame offset",
+                        "foot frame offset",
+                    ][i],
+                    value: psi,
+                    range: "-pi to pi rad",
                 });
             }
         }
