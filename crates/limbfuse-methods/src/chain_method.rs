@@ -77,6 +77,9 @@ struct ChainFile {
     acc_gate: Option<f64>,
     use_encoders: Option<bool>,
     out_of_plane: Option<bool>,
+    turn_tau_s: Option<f64>,
+    turn_rate_min: Option<f64>,
+    turn_angle_noise: Option<f64>,
     geometry: Option<GeometryFile>,
 }
 
@@ -129,6 +132,9 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         acc_gate: f.acc_gate.unwrap_or(d.acc_gate),
         use_encoders: f.use_encoders.unwrap_or(d.use_encoders),
         out_of_plane: f.out_of_plane.unwrap_or(d.out_of_plane),
+        turn_tau_s: f.turn_tau_s.unwrap_or(d.turn_tau_s),
+        turn_rate_min: f.turn_rate_min.unwrap_or(d.turn_rate_min),
+        turn_angle_noise: f.turn_angle_noise.unwrap_or(d.turn_angle_noise),
     };
     let path = file.map_or(Path::new("(defaults)"), |(_, p)| p);
     params
@@ -289,6 +295,9 @@ pub fn default_file() -> String {
          acc_gate = inf  # skip accelerometer rows beyond this many sigmas (inf: never)\n\
          use_encoders = {}  # use hip/knee/ankle encoders when present\n\
          out_of_plane = {}  # correct for non-sagittal gyro components\n\
+         turn_tau_s = {}  # turning: low-pass time constant of the rate about the vertical (s)\n\
+         turn_rate_min = {}  # turning: low-passed rate about the vertical above this is a turn (rad/s)\n\
+         turn_angle_noise = {}  # turning: angle 1-sigma added per sqrt(rad) turned (rad; 0: off)\n\
          \n\
          # Geometry: the trial's metadata wins (imu_mounts_m, segment_lengths_m, height_m);\n\
          # these keys fill what it lacks; the rest comes from Winter's proportions.\n\
@@ -321,6 +330,9 @@ pub fn default_file() -> String {
         d.startup_s,
         d.use_encoders,
         d.out_of_plane,
+        d.turn_tau_s,
+        d.turn_rate_min,
+        d.turn_angle_noise,
         g.thigh_length,
         g.shank_length,
         v(g.imu_position[0]),

@@ -154,6 +154,15 @@ pub struct ChainParams {
     pub use_encoders: bool,
     /// Correct for the non-sagittal gyro components (eq C5).
     pub out_of_plane: bool,
+    /// Turning: time constant (s) of the low-pass of the rate about the
+    /// vertical (mean over the sensors), `Omega`.
+    pub turn_tau_s: f64,
+    /// Turning: `|Omega|` above this (rad/s) is a turn.
+    pub turn_rate_min: f64,
+    /// Turning: angle variance added per radian turned beyond
+    /// `turn_rate_min`, as a 1-sigma per sqrt(rad) (rad): the planar model
+    /// does not hold in a turn (0: off).
+    pub turn_angle_noise: f64,
 }
 
 impl Default for ChainParams {
@@ -180,6 +189,9 @@ impl Default for ChainParams {
             acc_gate: f64::INFINITY,
             use_encoders: true,
             out_of_plane: true,
+            turn_tau_s: 0.5,
+            turn_rate_min: 0.6,
+            turn_angle_noise: 0.05,
         }
     }
 }
@@ -206,6 +218,8 @@ impl ChainParams {
             ("stance_gyro", self.stance_gyro),
             ("stance_acc", self.stance_acc),
             ("stance_min_s", self.stance_min_s),
+            ("turn_tau_s", self.turn_tau_s),
+            ("turn_rate_min", self.turn_rate_min),
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
@@ -221,6 +235,13 @@ impl ChainParams {
                 name: "startup_s",
                 value: self.startup_s,
                 range: "0.1 to 30 s",
+            });
+        }
+        if !(self.turn_angle_noise.is_finite() && self.turn_angle_noise >= 0.0) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "turn_angle_noise",
+                value: self.turn_angle_noise,
+                range: "0 or positive finite numbers",
             });
         }
         if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
