@@ -103,7 +103,8 @@ pub struct ChainEkf {
     turn_rate: f64,
 }
 
-/// Most samples the start-up window holds: 2 s at up to 256 Hz; at higher
+/// Most samples the start-up window holds: 2 s at up to 256 Hz (the
+/// default 1 s at up to 512 Hz); at higher
 /// rates the window closes when full.
 pub const STARTUP_CAPACITY: usize = 512;
 

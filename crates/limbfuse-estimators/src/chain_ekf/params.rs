@@ -185,7 +185,7 @@ impl Default for ChainParams {
             stance_gyro: 0.6,
             stance_acc: 1.0,
             stance_min_s: 0.08,
-            startup_s: 2.0,
+            startup_s: 1.0,
             acc_gate: f64::INFINITY,
             use_encoders: true,
             out_of_plane: true,

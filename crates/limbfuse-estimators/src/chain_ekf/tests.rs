@@ -39,7 +39,7 @@ fn run_turned(
         if r.sample.t < 5.0 {
             assert_eq!(
                 e.segment[0].is_some(),
-                r.sample.t >= 2.0 - 1e-9,
+                r.sample.t >= 1.0 - 1e-9,
                 "t {}",
                 r.sample.t
             );
@@ -103,7 +103,7 @@ fn reset_starts_a_new_recording() {
     ekf.reset();
     let second: Vec<_> = recs.iter().map(|r| ekf.step(&r.sample).unwrap()).collect();
     assert_eq!(first, second);
-    assert!(first[150].segment[0].is_none() && first[250].segment[0].is_some());
+    assert!(first[50].segment[0].is_none() && first[150].segment[0].is_some());
 }
 
 /// Mean over the four segments of the offset-free RMSE (deg).
