@@ -18,7 +18,9 @@
 use std::path::Path;
 
 use limbfuse_core::Estimator;
-use limbfuse_estimators::chain_ekf::{ChainEkf, ChainGeometry, ChainParams, DEFAULT_HEIGHT_M};
+use limbfuse_estimators::chain_ekf::{
+    ChainEkf, ChainGeometry, ChainParams, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG,
+};
 use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
@@ -44,6 +46,9 @@ pub struct GeometryFile {
     pub imu_shank: Option<[f64; 3]>,
     /// Foot IMU position (m), foot frame from the ankle.
     pub imu_foot: Option<[f64; 3]>,
+    /// Sensor-frame angle relative to the anatomical frame per segment
+    /// (trunk, thigh, shank, foot), deg (`ChainGeometry::frame_offset`).
+    pub frame_offset_deg: Option<[f64; 4]>,
 }
 
 /// A `chain` parameter file.
@@ -72,6 +77,9 @@ struct ChainFile {
     acc_gate: Option<f64>,
     use_encoders: Option<bool>,
     out_of_plane: Option<bool>,
+    turn_tau_s: Option<f64>,
+    turn_rate_min: Option<f64>,
+    turn_angle_noise: Option<f64>,
     geometry: Option<GeometryFile>,
 }
 
@@ -124,6 +132,9 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         acc_gate: f.acc_gate.unwrap_or(d.acc_gate),
         use_encoders: f.use_encoders.unwrap_or(d.use_encoders),
         out_of_plane: f.out_of_plane.unwrap_or(d.out_of_plane),
+        turn_tau_s: f.turn_tau_s.unwrap_or(d.turn_tau_s),
+        turn_rate_min: f.turn_rate_min.unwrap_or(d.turn_rate_min),
+        turn_angle_noise: f.turn_angle_noise.unwrap_or(d.turn_angle_noise),
     };
     let path = file.map_or(Path::new("(defaults)"), |(_, p)| p);
     params
@@ -186,8 +197,32 @@ pub fn resolve_geometry(
             *r = v;
         }
     }
+    g.frame_offset = match file.frame_offset_deg {
+        Some(d) => d.map(f64::to_radians),
+        None => frame_offset_from_alignment(meta),
+    };
     g.validate()?;
     Ok(g)
+}
+
+/// Each sensor frame's angle to its segment's anatomical frame implied by
+/// the trial's alignment metadata (`<seg>_align_zero`, written by `limbfuse
+/// align`): `mean-inclination target X deg` puts the frame at the walking
+/// mean, so `psi = X - WALKING_MEAN_ANGLE_DEG` (issue 14: on the real
+/// gaittoolbox trial the shank frame is 16 deg from the knee-ankle line);
+/// a quiet-standing zero, no metadata or an unreadable value: 0.
+pub fn frame_offset_from_alignment(meta: &TrialMeta) -> [f64; 4] {
+    core::array::from_fn(|i| {
+        let key = format!("{}_align_zero", ["trunk", "thigh", "shank", "foot"][i]);
+        meta.get(&key)
+            .and_then(|v| v.strip_prefix("mean-inclination target "))
+            .and_then(|v| v.strip_suffix(" deg"))
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|x| x.is_finite())
+            .map_or(0.0, |target| {
+                (target - WALKING_MEAN_ANGLE_DEG[i]).to_radians()
+            })
+    })
 }
 
 /// `chain`.
@@ -260,6 +295,9 @@ pub fn default_file() -> String {
          acc_gate = inf  # skip accelerometer rows beyond this many sigmas (inf: never)\n\
          use_encoders = {}  # use hip/knee/ankle encoders when present\n\
          out_of_plane = {}  # correct for non-sagittal gyro components\n\
+         turn_tau_s = {}  # turning: low-pass time constant of the rate about the vertical (s)\n\
+         turn_rate_min = {}  # turning: low-passed rate about the vertical above this is a turn (rad/s)\n\
+         turn_angle_noise = {}  # turning: angle 1-sigma added per sqrt(rad) turned (rad; 0: off)\n\
          \n\
          # Geometry: the trial's metadata wins (imu_mounts_m, segment_lengths_m, height_m);\n\
          # these keys fill what it lacks; the rest comes from Winter's proportions.\n\
@@ -270,7 +308,8 @@ pub fn default_file() -> String {
          # imu_trunk = {}\n\
          # imu_thigh = {}\n\
          # imu_shank = {}\n\
-         # imu_foot = {}\n",
+         # imu_foot = {}\n\
+         # frame_offset_deg = [0, 0, 0, 0]  # sensor frame vs anatomical frame per segment; default: from align's metadata (docs/CHAIN.md)\n",
         d.gyro_noise,
         d.acc_noise,
         d.encoder_noise,
@@ -291,6 +330,9 @@ pub fn default_file() -> String {
         d.startup_s,
         d.use_encoders,
         d.out_of_plane,
+        d.turn_tau_s,
+        d.turn_rate_min,
+        d.turn_angle_noise,
         g.thigh_length,
         g.shank_length,
         v(g.imu_position[0]),
@@ -353,5 +395,32 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("imu_mounts_m"));
+    }
+
+    #[test]
+    fn issue_14_frame_offsets_follow_the_alignment_zero() {
+        let mut meta = TrialMeta::new();
+        let none = resolve_geometry(&meta, &GeometryFile::default()).unwrap();
+        assert_eq!(none.frame_offset, [0.0; 4]);
+        meta.set("thigh_align_zero", "mean-inclination target 0.000 deg");
+        meta.set("shank_align_zero", "mean-inclination target -10.000 deg");
+        meta.set("foot_align_zero", "quiet-standing 1.000..2.990 s");
+        let g = resolve_geometry(&meta, &GeometryFile::default()).unwrap();
+        let deg = g.frame_offset.map(f64::to_degrees);
+        assert!((deg[1] + 7.0).abs() < 1e-9, "{deg:?}");
+        assert!((deg[2] - 6.0).abs() < 1e-9, "{deg:?}");
+        assert_eq!((deg[0], deg[3]), (0.0, 0.0));
+        let file = GeometryFile {
+            frame_offset_deg: Some([0.0, 1.0, 2.0, 3.0]),
+            ..Default::default()
+        };
+        let g = resolve_geometry(&meta, &file).unwrap();
+        assert!((g.frame_offset[3].to_degrees() - 3.0).abs() < 1e-12);
+        let bad = GeometryFile {
+            frame_offset_deg: Some([0.0, 400.0, 0.0, 0.0]),
+            ..Default::default()
+        };
+        let e = resolve_geometry(&meta, &bad).unwrap_err().to_string();
+        assert!(e.contains("thigh frame offset"), "{e}");
     }
 }

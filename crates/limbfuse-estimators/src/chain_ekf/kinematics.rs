@@ -22,6 +22,14 @@ pub struct ChainGeometry {
     /// Each IMU's position `r_i = (x, y, z)` in its segment frame, from the
     /// segment's origin (trunk and thigh: hip joint; shank: knee; foot: ankle).
     pub imu_position: [[f64; 3]; 4],
+    /// Each sensor frame's angle `psi_i` (rad) relative to its segment's
+    /// anatomical frame (the one whose -y axis is the link to the distal
+    /// joint and in which `imu_position` is given): `theta_i` (the state, the
+    /// sensor frame's angle) is `theta_anatomical + psi_i`. Zero for a
+    /// quiet-standing zero or a known mounting; `align`'s mean-inclination
+    /// zero puts the sensor frame at the segment's walking mean angle
+    /// (docs/CHAIN.md, "Frame offsets").
+    pub frame_offset: [f64; 4],
 }
 
 /// The non-sagittal rotation of one sensor, taken from its gyro's x and y
@@ -46,14 +54,26 @@ fn to_segment(s: f64, c: f64, u: [f64; 2]) -> [f64; 2] {
     [c * u[0] + s * u[1], -s * u[0] + c * u[1]]
 }
 
-/// `e_j = R(theta_j) (0, -L_j)` and `J e_j`, `J = [[0, -1], [1, 0]]`.
+/// `e_j = R(theta_j - psi_j) (0, -L_j)` and `J e_j`, `J = [[0, -1], [1, 0]]`.
 #[inline]
-fn link(x: &StateVector, j: usize, length: f64) -> ([f64; 2], [f64; 2]) {
-    let (s, c) = sin_cos(x[theta(j)]);
+fn link(x: &StateVector, j: usize, length: f64, psi: f64) -> ([f64; 2], [f64; 2]) {
+    let (s, c) = sin_cos(x[theta(j)] - psi);
     ([length * s, -length * c], [length * c, length * s])
 }
 
 impl ChainGeometry {
+    /// Sensor `s`'s position in its sensor frame: `R(-psi_s) r_s` (z unchanged).
+    #[inline]
+    pub fn sensor_position(&self, s: usize) -> [f64; 3] {
+        let r = self.imu_position[s];
+        let psi = self.frame_offset[s];
+        if psi == 0.0 {
+            return r;
+        }
+        let (sn, cs) = sin_cos(psi);
+        [cs * r[0] + sn * r[1], -sn * r[0] + cs * r[1], r[2]]
+    }
+
     /// `L_j` of the links that carry a distal origin (1: thigh, 2: shank).
     fn link_length(&self, j: usize) -> f64 {
         if j == 1 {
@@ -80,7 +100,7 @@ impl ChainGeometry {
         let mut u = [x[hip_acceleration(0)], x[hip_acceleration(1)] + g];
         let (sn, cs) = sin_cos(x[theta(s)]);
         for j in 1..s {
-            let (e, je) = link(x, j, self.link_length(j));
+            let (e, je) = link(x, j, self.link_length(j), self.frame_offset[j]);
             let (w, a) = (x[omega(j)], x[alpha(j)]);
             u[0] += a * je[0] - w * w * e[0];
             u[1] += a * je[1] - w * w * e[1];
@@ -98,7 +118,7 @@ impl ChainGeometry {
             }
         }
         let v = to_segment(sn, cs, u);
-        let r = self.imu_position[s];
+        let r = self.sensor_position(s);
         let (w, a) = (x[omega(s)], x[alpha(s)]);
         let [gx, gy] = oop.rate;
         let [dgx, dgy] = oop.rate_derivative;
@@ -136,7 +156,7 @@ impl ChainGeometry {
             rows[k].add(hip_velocity(k), 1.0);
         }
         for j in 1..3 {
-            let (e, je) = link(x, j, self.link_length(j));
+            let (e, je) = link(x, j, self.link_length(j), self.frame_offset[j]);
             let w = x[omega(j)];
             for k in 0..2 {
                 v[k] += w * je[k];
@@ -158,7 +178,7 @@ impl ChainGeometry {
             rows[k].add(hip_acceleration(k), 1.0);
         }
         for j in 1..3 {
-            let (e, je) = link(x, j, self.link_length(j));
+            let (e, je) = link(x, j, self.link_length(j), self.frame_offset[j]);
             let (w, al) = (x[omega(j)], x[alpha(j)]);
             for k in 0..2 {
                 a[k] += al * je[k] - w * w * e[k];
@@ -186,6 +206,7 @@ mod tests {
                 [0.02, -0.2, 0.05],
                 [0.07, -0.005, 0.01],
             ],
+            frame_offset: [0.03, -0.05, 0.2, 0.15],
         }
     }
 
@@ -291,7 +312,8 @@ mod tests {
             }
             x
         }
-        /// World position of segment `s`'s sensor (or of the ankle for `s = 4`).
+        /// World position of segment `s`'s sensor (or of the ankle for `s = 4`):
+        /// links and positions in the anatomical frames, at `theta_i - psi_i`.
         fn point(geo: &ChainGeometry, t: f64, s: usize) -> [f64; 2] {
             let th: [f64; 4] = core::array::from_fn(|i| Self::angles(t)[i][0]);
             let rot = |a: f64, v: [f64; 2]| {
@@ -303,14 +325,14 @@ mod tests {
             let mut o = Self::hip(t)[0];
             let lengths = [0.0, geo.thigh_length, geo.shank_length];
             for j in 1..s.min(3) {
-                let e = rot(th[j], [0.0, -lengths[j]]);
+                let e = rot(th[j] - geo.frame_offset[j], [0.0, -lengths[j]]);
                 o = [o[0] + e[0], o[1] + e[1]];
             }
             if s == 4 {
                 return o;
             }
             let r = geo.imu_position[s];
-            let p = rot(th[s], [r[0], r[1]]);
+            let p = rot(th[s] - geo.frame_offset[s], [r[0], r[1]]);
             [o[0] + p[0], o[1] + p[1]]
         }
     }
@@ -380,7 +402,7 @@ mod tests {
             rate_derivative: [6.0, 9.0],
         };
         let (f, _) = geo.specific_force(&x, s, 9.81, &oop);
-        let r = Vector3::from(geo.imu_position[s]);
+        let r = Vector3::from(geo.sensor_position(s));
         let om = Vector3::new(oop.rate[0], oop.rate[1], w);
         let al = Vector3::new(oop.rate_derivative[0], oop.rate_derivative[1], a);
         let expected = al.cross(&r) + om.cross(&om.cross(&r));

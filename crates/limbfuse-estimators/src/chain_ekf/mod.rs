@@ -30,7 +30,7 @@ use nalgebra::Vector3;
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
-pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M};
+pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
 use startup::Startup;
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
@@ -99,9 +99,12 @@ pub struct ChainEkf {
     window: Box<[Sample]>,
     /// Samples held in `window`.
     held: usize,
+    /// Low-passed rate about the vertical (rad/s), `Omega` (turning).
+    turn_rate: f64,
 }
 
-/// Most samples the start-up window holds: 2 s at up to 256 Hz; at higher
+/// Most samples the start-up window holds: 2 s at up to 256 Hz (the
+/// default 1 s at up to 512 Hz); at higher
 /// rates the window closes when full.
 pub const STARTUP_CAPACITY: usize = 512;
 
@@ -134,6 +137,7 @@ impl ChainEkf {
             still_since: None,
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
             held: 0,
+            turn_rate: 0.0,
         })
     }
 
@@ -195,6 +199,7 @@ impl ChainEkf {
         self.running = true;
         self.last_xy_rate = [None; 4];
         self.still_since = None;
+        self.turn_rate = 0.0;
         self.out_of_plane_rates(&first);
         let mut previous = first.t;
         for k in 1..self.held {
@@ -237,6 +242,40 @@ impl ChainEkf {
         }
     }
 
+    /// Turning (docs/CHAIN.md, "Turns"): updates `Omega`, the mean over the
+    /// sensors of the rate about the vertical, `w_x sin theta_i + w_y cos
+    /// theta_i` (the world's up in sensor `i`'s frame is `R(theta_i)^T (0,
+    /// 1)`), low-passed with `turn_tau_s` (the stride-periodic yaw of pelvis
+    /// and legs averages out, a turn does not). Beyond `turn_rate_min` the
+    /// planar model does not hold: every angle's variance grows by
+    /// `turn_angle_noise^2 (|Omega| - turn_rate_min) dt`, so that the
+    /// accelerometers re-anchor the angles quickly once the turn ends.
+    fn turning(&mut self, sample: &Sample, dt: f64) {
+        let p = self.params;
+        let (mut sum, mut n) = (0.0, 0.0);
+        for i in 0..4 {
+            if let Some(w) = sample.imu[i]
+                .gyr
+                .filter(|w| w.x.is_finite() && w.y.is_finite())
+            {
+                let (s, c) = (libm::sin(self.x[theta(i)]), libm::cos(self.x[theta(i)]));
+                sum += w.x * s + w.y * c;
+                n += 1.0;
+            }
+        }
+        if n > 0.0 {
+            let a = (dt / p.turn_tau_s).min(1.0);
+            self.turn_rate += a * (sum / n - self.turn_rate);
+        }
+        let excess = libm::fabs(self.turn_rate) - p.turn_rate_min;
+        if excess > 0.0 && p.turn_angle_noise > 0.0 {
+            let q = p.turn_angle_noise * p.turn_angle_noise * excess * dt;
+            for i in 0..4 {
+                self.p[(theta(i), theta(i))] += q;
+            }
+        }
+    }
+
     /// Applies one scalar row; returns whether it was applied.
     fn apply(&mut self, row: &SparseRow, nu: f64, sigma: f64, gate: f64) -> bool {
         scalar_update(&mut self.x, &mut self.p, row, nu, sigma * sigma, gate).applied
@@ -268,6 +307,7 @@ impl ChainEkf {
         let q = self.process_noise();
         predict_state(&mut self.x, dt, &q);
         predict_covariance(&mut self.p, dt, &q);
+        self.turning(sample, dt);
         let p = self.params;
         let inf = f64::INFINITY;
         for i in 0..4 {
@@ -358,6 +398,12 @@ impl Estimator for ChainEkf {
         {
             writeln!(out, "imu_position_{name}: {} {} {}", r[0], r[1], r[2])?;
         }
+        let psi = g.frame_offset.map(f64::to_degrees);
+        writeln!(
+            out,
+            "frame_offset_deg: {} {} {} {}",
+            psi[0], psi[1], psi[2], psi[3]
+        )?;
         writeln!(out, "g: {}", self.g)?;
         writeln!(out, "gyro_noise: {}", p.gyro_noise)?;
         writeln!(out, "acc_noise: {}", p.acc_noise)?;
@@ -379,7 +425,10 @@ impl Estimator for ChainEkf {
         writeln!(out, "startup_s: {}", p.startup_s)?;
         writeln!(out, "acc_gate: {}", p.acc_gate)?;
         writeln!(out, "use_encoders: {}", p.use_encoders)?;
-        writeln!(out, "out_of_plane: {}", p.out_of_plane)
+        writeln!(out, "out_of_plane: {}", p.out_of_plane)?;
+        writeln!(out, "turn_tau_s: {}", p.turn_tau_s)?;
+        writeln!(out, "turn_rate_min: {}", p.turn_rate_min)?;
+        writeln!(out, "turn_angle_noise: {}", p.turn_angle_noise)
     }
 
     fn reset(&mut self) {
@@ -391,6 +440,7 @@ impl Estimator for ChainEkf {
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.held = 0;
+        self.turn_rate = 0.0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {

@@ -7,6 +7,18 @@ use super::kinematics::ChainGeometry;
 /// height the walking simulator and Winter's tables are scaled to.
 pub const DEFAULT_HEIGHT_M: f64 = 1.75;
 
+/// Mean segment angle over a walking stride (deg; trunk, thigh, shank,
+/// foot), from the normative curves limbfuse's walking simulator is built on
+/// (J. Perry & J. M. Burnfield, *Gait Analysis*, 2nd ed., 2010; M. P. Kadaba
+/// et al., J. Orthop. Res. 8:383-392, 1990; Winter 2009; docs/SIMULATOR.md),
+/// measured there at 0.6-1.5 m/s: trunk -1.6..-2.5, thigh +7.0..+7.8, shank
+/// -15.5..-16.5, foot -14.8..-16.6 (docs/ALIGNMENT.md, "mean segment
+/// angles over walking"). `align`'s mean-inclination zero sets these means
+/// to its target instead, which turns each sensor frame away from its
+/// segment's anatomical frame by `target - mean`
+/// ([`ChainGeometry::frame_offset`]).
+pub const WALKING_MEAN_ANGLE_DEG: [f64; 4] = [-2.0, 7.0, -16.0, -16.0];
+
 impl ChainGeometry {
     /// Segment lengths from body height `h` with Winter's ratios (D. A.
     /// Winter, *Biomechanics and Motor Control of Human Movement*, 4th ed.,
@@ -29,6 +41,7 @@ impl ChainGeometry {
                 [0.0, -0.5 * shank, 0.0],
                 [0.07 * s, -0.005 * s, 0.0],
             ],
+            frame_offset: [0.0; 4],
         }
     }
 
@@ -52,6 +65,20 @@ impl ChainGeometry {
                     name: ["trunk imu", "thigh imu", "shank imu", "foot imu"][i],
                     value: r.iter().fold(0.0, |m: f64, c| m.max(c.abs())),
                     range: "-1 to 1 m per axis",
+                });
+            }
+        }
+        for (i, &psi) in self.frame_offset.iter().enumerate() {
+            if !(psi.is_finite() && psi.abs() <= core::f64::consts::PI) {
+                return Err(ChainParamsError::OutOfRange {
+                    name: [
+                        "trunk frame offset",
+                        "thigh frame offset",
+                        "shank frame offset",
+                        "foot frame offset",
+                    ][i],
+                    value: psi,
+                    range: "-pi to pi rad",
                 });
             }
         }
@@ -127,6 +154,15 @@ pub struct ChainParams {
     pub use_encoders: bool,
     /// Correct for the non-sagittal gyro components (eq C5).
     pub out_of_plane: bool,
+    /// Turning: time constant (s) of the low-pass of the rate about the
+    /// vertical (mean over the sensors), `Omega`.
+    pub turn_tau_s: f64,
+    /// Turning: `|Omega|` above this (rad/s) is a turn.
+    pub turn_rate_min: f64,
+    /// Turning: angle variance added per radian turned beyond
+    /// `turn_rate_min`, as a 1-sigma per sqrt(rad) (rad): the planar model
+    /// does not hold in a turn (0: off).
+    pub turn_angle_noise: f64,
 }
 
 impl Default for ChainParams {
@@ -149,10 +185,13 @@ impl Default for ChainParams {
             stance_gyro: 0.6,
             stance_acc: 1.0,
             stance_min_s: 0.08,
-            startup_s: 2.0,
+            startup_s: 1.0,
             acc_gate: f64::INFINITY,
             use_encoders: true,
             out_of_plane: true,
+            turn_tau_s: 0.5,
+            turn_rate_min: 0.6,
+            turn_angle_noise: 0.05,
         }
     }
 }
@@ -179,6 +218,8 @@ impl ChainParams {
             ("stance_gyro", self.stance_gyro),
             ("stance_acc", self.stance_acc),
             ("stance_min_s", self.stance_min_s),
+            ("turn_tau_s", self.turn_tau_s),
+            ("turn_rate_min", self.turn_rate_min),
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
@@ -194,6 +235,13 @@ impl ChainParams {
                 name: "startup_s",
                 value: self.startup_s,
                 range: "0.1 to 30 s",
+            });
+        }
+        if !(self.turn_angle_noise.is_finite() && self.turn_angle_noise >= 0.0) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "turn_angle_noise",
+                value: self.turn_angle_noise,
+                range: "0 or positive finite numbers",
             });
         }
         if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
