@@ -96,6 +96,32 @@ pub mod extended_defaults {
     pub const S_ACC: f64 = 1e-3;
 }
 
+/// The prescribed-stability shift of each state of the extended knee model
+/// ([`ContinuousTuning::a_states`]): `a` on `x1, x2`; on the activation at
+/// most half its own decay rate, `min(a, 1 / (2 T_a))`, so that the shifted
+/// mode still decays; none on the unknown torque and the biases (random
+/// walks). Why: with the leg at rest the torque balance and the
+/// accelerometer are two equations for the angle, the activation, the
+/// unknown torque and the accelerometer bias, so those states are not
+/// observable at rest; a shift `a` on a mode that is unobservable and not
+/// faster than `a` makes `(A + a I, C)` undetectable and its `P` grows as
+/// `e^{2 (a - rate) t}` (issue 16: `sdre` with these states diverged, `P`
+/// of the unknown torque 1.4 -> 170 N^2 m^2 in the first 3 s of rest).
+pub fn extended_shift<const N: usize>(model: &ExtendedKneeModel<N>, a: f64) -> SVector<f64, N> {
+    let mut l = SVector::<f64, N>::repeat(a);
+    if let Some(i) = model.layout.activation {
+        l[i] = a.min(0.5 / model.base.p.t_a);
+    }
+    if let Some(i) = model.layout.disturbance {
+        l[i] = 0.0;
+        l[0] = 0.0;
+        if let Some(b) = model.layout.acc_bias {
+            l[b] = 0.0;
+        }
+    }
+    l
+}
+
 /// Default tuning of the extended knee filter, every entry from a stated
 /// physical error ([`extended_defaults`]; `e` =
 /// [`extended_defaults::TORQUE_ERROR`], `T_g = m g l_c` the largest gravity
@@ -107,7 +133,13 @@ pub mod extended_defaults {
 ///   walk reaching that torque error within one pulse ramp `t_e`;
 /// * activation and sensor biases: the constants of [`extended_defaults`];
 /// * `S` from the sensor error budget, `a` as the thesis filters (1 for
-///   `sdre`, 0 for `ekf`).
+///   `sdre`, 0 for `ekf`), applied to `x1, x2` only
+///   ([`ContinuousTuning::shifted_states`] = 2): with the leg at rest the
+///   activation, the unknown torque and the accelerometer bias are not
+///   observable from the resting angle alone (one measurement, the torque
+///   balance, for the angle and two of them), so with the shift on them
+///   `(A + a I, C)` is not detectable and their `P` grew as `e^{2t}` (issue
+///   16: the diverging `sdre` with these states).
 pub fn extended_knee_default_tuning<const N: usize>(
     model: &ExtendedKneeModel<N>,
     lin: Linearisation,
@@ -138,12 +170,14 @@ pub fn extended_knee_default_tuning<const N: usize>(
     );
     set(l.gyro_bias, GYRO_BIAS_Q, GYRO_BIAS_SIGMA * GYRO_BIAS_SIGMA);
     set(l.acc_bias, ACC_BIAS_Q, ACC_BIAS_SIGMA * ACC_BIAS_SIGMA);
+    let shift = extended_shift(model, base.a);
     ContinuousTuning {
         q,
         s: SVector::<f64, 2>::new(S_GYRO, S_ACC),
         a: base.a,
         p0,
         max_substep: base.max_substep,
+        a_states: Some(shift),
     }
 }
 
@@ -355,6 +389,7 @@ pub fn kinematic_default_tuning() -> ContinuousTuning<5, 2> {
             ACC_BIAS_SIGMA * ACC_BIAS_SIGMA,
         ]),
         max_substep: base.max_substep,
+        a_states: None,
     }
 }
 
