@@ -123,6 +123,46 @@ where
     FilterState { x: dx, p: dp }
 }
 
+/// The two parts of eq 4.14's state derivative at one instant: the model's
+/// prediction (`A(x) x + B(x) u`, or `f(x, u)` for the Jacobian form) and
+/// the measurement correction `K (y - h)` (missing measurements weigh 0);
+/// their sum is the `x` part of [`derivative`]. Third: the diagonal of
+/// `K C` (1/s), the rate at which the measurements pull each state.
+pub fn update_parts<Mdl, const N: usize, const M: usize, const U: usize>(
+    model: &Mdl,
+    lin: Linearisation,
+    st: &FilterState<N>,
+    y: &SVector<f64, M>,
+    u: &SVector<f64, U>,
+    s_inv: &SVector<f64, M>,
+) -> (SVector<f64, N>, SVector<f64, N>, SVector<f64, N>)
+where
+    Mdl: SdcModel<N, M, U>,
+{
+    let x = &st.x;
+    let (cm, prediction, mut innov) = match lin {
+        Linearisation::Sdc => {
+            let cm = model.sdc_c(x);
+            let pred = model.sdc_a(x) * x + model.input_term(x, u);
+            let innov = y - (cm * x + model.sdc_measurement_input(x, u));
+            (cm, pred, innov)
+        }
+        Linearisation::Jacobian => (
+            model.jacobian_h_with_input(x, u),
+            model.f(x, u),
+            y - model.h_with_input(x, u),
+        ),
+    };
+    let mut k = st.p * cm.transpose();
+    for (j, w) in s_inv.iter().enumerate() {
+        k.column_mut(j).scale_mut(*w);
+        if *w == 0.0 {
+            innov[j] = 0.0;
+        }
+    }
+    (prediction, k * innov, (k * cm).diagonal())
+}
+
 /// RK4 is stable on the real axis for `h |lambda| < 2.78`; sub-steps keep
 /// `h |lambda|` (bounded by [`stiffness`], which includes the Riccati
 /// equation's factor 2) at most 2.

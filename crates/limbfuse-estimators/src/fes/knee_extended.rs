@@ -42,6 +42,19 @@ diagnostic_set! {
         PAccBias = "p_acc_bias",
         /// Restarts after a non-finite state.
         Resets = "resets",
+        /// The model's share of the update of the shank rate at the sample
+        /// time, `|f_2| / (|f_2| + |(K (y - h))_2|)` with `f_2` the model's
+        /// angular acceleration and `(K (y - h))_2` the measurement
+        /// correction of eq 4.14: 1 = the rate moves as the model predicts,
+        /// 0 = the measurements alone move it (empty when both are 0).
+        ModelShare = "model_share",
+        /// The model's weight in the shank rate over one sample,
+        /// `exp(-(K C)_22 dt)`: the fraction of the model's rate prediction
+        /// that survives one sample interval `dt` of measurement updates
+        /// (1 = the model's prediction stands, 0 = the gyro replaces it;
+        /// `1 / (K C)_22` is the time constant with which the measurements
+        /// pull the rate). The thesis default tuning gives about `e^-100`.
+        ModelWeight = "model_weight",
     }
 }
 
@@ -295,6 +308,24 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
             d.set(cov, i.map(|i| st.p[(i, i)]));
         }
         d.value(D::Resets, f64::from(resets));
+    }
+
+    const UPDATE_PARTS: bool = true;
+
+    fn write_update_parts(
+        &self,
+        (prediction, correction, pull): (&SVector<f64, N>, &SVector<f64, N>, &SVector<f64, N>),
+        dt: Option<f64>,
+        e: &mut Estimate,
+    ) {
+        let (m, c) = (libm::fabs(prediction[1]), libm::fabs(correction[1]));
+        let share = (m + c > 0.0).then(|| m / (m + c));
+        let mut d = e.diagnostics_mut::<ExtendedKneeDiag>();
+        d.set(ExtendedKneeDiag::ModelShare, share);
+        d.set(
+            ExtendedKneeDiag::ModelWeight,
+            dt.map(|dt| libm::exp(-pull[1] * dt)),
+        );
     }
 }
 
