@@ -10,7 +10,8 @@
 //! * `sdre` / `ekf` with the activation state only ((b) inverted: the
 //!   estimator gets the plant's activation dynamics);
 //! * `ekf` with activation + biases + lever arm, and with every state
-//!   (+ unknown torque), and `sdre` with every state.
+//!   (+ unknown torque), and `sdre` with every state and with activation
+//!   + biases + lever arm.
 //!
 //! (c): every model parameter of the estimator perturbed by a uniform
 //! factor in `1 +- e` (e = 10 %, 30 %; 24 seeded draws each, leg = draw mod
@@ -35,7 +36,7 @@ use limbfuse_studies::example_args::NoArgs;
 use rayon::prelude::*;
 
 const R: f64 = 0.2;
-const NAMES: [&str; 10] = [
+const NAMES: [&str; 11] = [
     "rmx",
     "knee-kinematic",
     "sdre",
@@ -46,6 +47,7 @@ const NAMES: [&str; 10] = [
     "ekf+act+bias+r",
     "ekf+all+r",
     "sdre+all+r",
+    "sdre+act+bias+r",
 ];
 
 /// Knee RMSE (deg) after t = 1 s; infinity on a restart, an error or a
@@ -114,6 +116,7 @@ fn filters(m: KneeFesModel) -> Vec<Box<dyn Estimator>> {
         ext::<5>(m, opts(true, false, true), R, J),
         ext::<6>(m, opts(true, true, true), R, J),
         ext::<6>(m, opts(true, true, true), R, S),
+        ext::<5>(m, opts(true, false, true), R, S),
     ]
 }
 
@@ -215,6 +218,7 @@ fn main() {
         "ekf+act+bias+r",
         "ekf+all+r",
         "sdre+all+r",
+        "sdre+act+bias+r",
     ];
     for e in [0.1, 0.3] {
         let runs: Vec<Vec<f64>> = (0..24u64)
@@ -229,10 +233,10 @@ fn main() {
                 let recs = simulate_knee_fes(&cfg).expect("trial").records;
                 let p = perturbed(KneeFesParams::subject(subject), e, draw);
                 let Ok(m) = KneeFesModel::new(p) else {
-                    return vec![f64::INFINITY; 5];
+                    return vec![f64::INFINITY; 6];
                 };
                 let mut fs = filters(m);
-                [0usize, 1, 7, 8, 9]
+                [0usize, 1, 7, 8, 9, 10]
                     .iter()
                     .map(|&j| rmse(fs[j].as_mut(), &recs))
                     .collect()
