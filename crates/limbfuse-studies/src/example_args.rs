@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 18] = [
+pub const EXAMPLES: [&str; 19] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -18,6 +18,7 @@ pub const EXAMPLES: [&str; 18] = [
     "fes_model_study",
     "fes_studies",
     "fes_thesis_protocol",
+    "fes_tune_cv",
     "gait_pelvis",
     "imm_bslip_study",
     "imm_continuous_study",

@@ -110,16 +110,20 @@ pub mod extended_defaults {
 }
 
 /// The prescribed-stability shift of each state of the extended knee model
-/// ([`ContinuousTuning::a_states`]): `a` on `x1, x2`; on the activation at
-/// most half its own decay rate, `min(a, 1 / (2 T_a))`, so that the shifted
-/// mode still decays; none on the unknown torque and the biases (random
-/// walks). Why: with the leg at rest the torque balance and the
-/// accelerometer are two equations for the angle, the activation, the
-/// unknown torque and the accelerometer bias, so those states are not
-/// observable at rest; a shift `a` on a mode that is unobservable and not
-/// faster than `a` makes `(A + a I, C)` undetectable and its `P` grows as
+/// ([`ContinuousTuning::a_states`], ours). With the leg at rest (`u_ke = 0`,
+/// `x2 = 0`) the torque balance and the accelerometer are two equations for
+/// the angle, the activation, the unknown torque `d` and the accelerometer
+/// bias. A shift `a` on a mode that is unobservable and decays slower than
+/// `a` makes `(A + a I, C)` undetectable, and its `P` grows as
 /// `e^{2 (a - rate) t}` (issue 16: `sdre` with these states diverged, `P`
-/// of the unknown torque 1.4 -> 170 N^2 m^2 in the first 3 s of rest).
+/// of `d` 1.4 -> 170 N^2 m^2 in the first 3 s of rest). Hence:
+/// * `a` on `x1, x2` and the gyro bias (observable at rest);
+/// * on the activation, which decays on its own at `1 / T_a`, at most half
+///   that rate: `min(a, 1 / (2 T_a))`;
+/// * on the accelerometer bias `a` when there is no `d` (the torque balance
+///   then fixes the angle, the accelerometer the bias);
+/// * with `d`: 0 on `d`, `x1` and the accelerometer bias (the torque balance
+///   only fixes `d`, and angle and bias share one measurement).
 pub fn extended_shift<const N: usize>(model: &ExtendedKneeModel<N>, a: f64) -> SVector<f64, N> {
     let mut l = SVector::<f64, N>::repeat(a);
     if let Some(i) = model.layout.activation {
@@ -146,21 +150,27 @@ pub fn extended_shift<const N: usize>(model: &ExtendedKneeModel<N>, a: f64) -> S
 ///   walk reaching that torque error within one pulse ramp `t_e`;
 /// * activation and sensor biases: the constants of [`extended_defaults`];
 /// * `S` from the sensor error budget, `a` as the thesis filters (1 for
-///   `sdre`, 0 for `ekf`), applied to `x1, x2` only
-///   ([`ContinuousTuning::shifted_states`] = 2): with the leg at rest the
-///   activation, the unknown torque and the accelerometer bias are not
-///   observable from the resting angle alone (one measurement, the torque
-///   balance, for the angle and two of them), so with the shift on them
-///   `(A + a I, C)` is not detectable and their `P` grew as `e^{2t}` (issue
-///   16: the diverging `sdre` with these states).
+///   `sdre`, 0 for `ekf`), per state as [`extended_shift`] says.
 pub fn extended_knee_default_tuning<const N: usize>(
     model: &ExtendedKneeModel<N>,
     lin: Linearisation,
 ) -> ContinuousTuning<N, 2> {
+    extended_knee_tuning(model, lin, extended_defaults::TORQUE_ERROR)
+}
+
+/// [`extended_knee_default_tuning`] for a relative torque error `e` other
+/// than the default's: `q_2`, `q_d` and `p0_d` scale with `e^2`, the rest
+/// stays. `e` is the one knob "how much I trust my model": the filter
+/// admits a torque error of `e m g l_c` (docs/FES_ESTIMATION.md).
+pub fn extended_knee_tuning<const N: usize>(
+    model: &ExtendedKneeModel<N>,
+    lin: Linearisation,
+    torque_error: f64,
+) -> ContinuousTuning<N, 2> {
     use extended_defaults::*;
     let base = knee_default_tuning(lin);
     let p = &model.base.p;
-    let torque = TORQUE_ERROR * p.mass * p.g * p.l_c;
+    let torque = torque_error * p.mass * p.g * p.l_c;
     let rate = torque / p.inertia;
     let mut q = SVector::<f64, N>::zeros();
     let mut p0 = SVector::<f64, N>::zeros();
