@@ -291,7 +291,8 @@ fn issue_16_sdre_with_bias_and_torque_states_stays_bounded() {
                 }
             }
             let rmse = (s / n.max(1) as f64).sqrt().to_degrees();
-            if !(rmse <= LIMIT_DEG) || !(worst_growth <= P_GROWTH) {
+            let ok = rmse.is_finite() && rmse <= LIMIT_DEG && worst_growth <= P_GROWTH;
+            if !ok {
                 failures.push(format!(
                     "{} {name}: knee RMSE {rmse:.3} deg, worst P growth {worst_growth:.1}",
                     subject.label()

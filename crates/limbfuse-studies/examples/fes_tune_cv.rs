@@ -74,6 +74,10 @@ fn rmse(w: &WindowErrors) -> f64 {
 
 const NAMES: [&str; 3] = ["sdre+act+bias+r", "ekf+act+bias+r", "ekf+all+r"];
 
+/// One leg and filter: leg, filter index, chosen `e`, CV RMSE, test RMSE
+/// with the chosen `e`, test RMSE with the default.
+type Row = (KneeSubject, usize, f64, f64, f64, f64);
+
 fn main() {
     let _ = NoArgs::parse();
     for (case, spread) in [("exact model", 0.0), ("parameters +-30 %", 0.3)] {
@@ -82,7 +86,7 @@ fn main() {
             "{:<6} {:<16} {:>7} {:>8} {:>10} {:>12}",
             "leg", "filter", "e", "CV RMSE", "test (e)", "test (e=0.1)"
         );
-        let rows: Vec<(KneeSubject, usize, f64, f64, f64, f64)> = KneeSubject::ALL
+        let rows: Vec<Row> = KneeSubject::ALL
             .par_iter()
             .flat_map(|&subject| {
                 let leg = subject.index() as u64;
@@ -137,9 +141,7 @@ fn main() {
         }
         for (cfg, name) in NAMES.iter().enumerate() {
             let r: Vec<_> = rows.iter().filter(|r| r.1 == cfg).collect();
-            let mean = |f: fn(&&(KneeSubject, usize, f64, f64, f64, f64)) -> f64| {
-                r.iter().map(f).sum::<f64>() / r.len() as f64
-            };
+            let mean = |f: fn(&&Row) -> f64| r.iter().map(f).sum::<f64>() / r.len() as f64;
             println!(
                 "{case}, {name}: mean test RMSE {:.3} deg with the CV choice, {:.3} deg with e = 0.1 (mean CV RMSE {:.3})",
                 mean(|r| r.4),
