@@ -61,9 +61,11 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
     match example {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
-        "baseline_study" | "fes_figures" | "fes_model_study" | "fes_thesis_protocol" => {
-            parse::<NoArgs>(example, args)
-        }
+        "baseline_study"
+        | "fes_figures"
+        | "fes_model_study"
+        | "fes_thesis_protocol"
+        | "fes_tune_cv" => parse::<NoArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
