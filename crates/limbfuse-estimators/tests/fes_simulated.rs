@@ -80,3 +80,72 @@ fn missing_stimulation_channel_is_a_clear_error() {
     assert_eq!(e, EstimatorError::MissingChannel { channel: "u_ke" });
     assert!(e.to_string().contains("u_ke"));
 }
+
+/// Issue 16 ("show the model's share of the update"): the extended knee
+/// filter's `model_weight` (`exp(-(K C)_22 dt)`, the part of the model's
+/// rate prediction left after one sample of measurement updates) tells a
+/// tuning that switches the model off from one that uses it, and
+/// `model_share` is a fraction. Same model (no optional state, no lever
+/// arm), P1-L seed 3: with the thesis default `Q = diag(1e-4, 1e3)`,
+/// `S = diag(1e-5, 1e-2)` the median weight is about `e^-100` (measured
+/// 4e-44 on the 18 trials of docs/RESULTS.md); with the physics default
+/// (`q_2` from a 10 % torque error) about 0.08.
+#[test]
+fn issue_16_model_weight_separates_model_trusting_tunings() {
+    use limbfuse_estimators::fes::{
+        ContinuousTuning, ExtendedKneeFilter, ExtendedKneePlant, FesFilter, Linearisation,
+    };
+    use limbfuse_models::{ExtendedKneeModel, KneeStateOptions};
+    use nalgebra::Vector2;
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        subject: KneeSubject::P1L,
+        seed: 3,
+        duration_s: 6.0,
+        cycles: 1,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let model = ExtendedKneeModel::<2>::new(m, KneeStateOptions::default(), 0.0).unwrap();
+    let thesis = ContinuousTuning {
+        q: Vector2::new(1e-4, 1e3),
+        s: Vector2::new(1e-5, 1e-2),
+        a: 0.0,
+        p0: Vector2::new(1e-2, 1e-2),
+        max_substep: 1e-2,
+        a_states: None,
+    };
+    let median_weight = |f: &mut dyn Estimator| {
+        let names = f.diagnostic_names();
+        let (w, s) = (
+            names.iter().position(|n| *n == "model_weight").unwrap(),
+            names.iter().position(|n| *n == "model_share").unwrap(),
+        );
+        let mut v = Vec::new();
+        for r in &tr.records {
+            let est = f.step(&r.sample).unwrap();
+            if let Some(share) = est.diag[s] {
+                assert!((0.0..=1.0).contains(&share), "model_share {share}");
+            }
+            if r.sample.t >= 1.0 {
+                v.push(est.diag[w].unwrap());
+            }
+        }
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let off = median_weight(&mut FesFilter::new(
+        ExtendedKneePlant::new(model),
+        Linearisation::Jacobian,
+        thesis,
+    ));
+    let on = median_weight(&mut ExtendedKneeFilter::with_default_tuning(
+        model,
+        Linearisation::Jacobian,
+    ));
+    assert!(off < 1e-20, "thesis tuning: median model_weight {off:e}");
+    assert!(
+        on > 0.02 && on < 0.5,
+        "physics tuning: median model_weight {on}"
+    );
+}

@@ -19,7 +19,8 @@ use std::path::Path;
 
 use limbfuse_core::Estimator;
 use limbfuse_estimators::fes::knee_extended::{
-    extended_knee_default_tuning, kinematic_default_tuning, ExtendedKneePlant, KinematicKneePlant,
+    extended_knee_default_tuning, extended_shift, kinematic_default_tuning, ExtendedKneePlant,
+    KinematicKneePlant,
 };
 use limbfuse_estimators::fes::{FesFilter, Linearisation};
 use limbfuse_io::TrialMeta;
@@ -165,6 +166,8 @@ fn extended<const N: usize>(
     let model = ExtendedKneeModel::<N>::new(base, opts, r)?;
     let mut t = extended_knee_default_tuning(&model, lin);
     apply_tuning(&mut t, tuning, path)?;
+    // The per-state shift follows a `[tuning] a` override.
+    t.a_states = Some(extended_shift(&model, t.a));
     let mut plant = ExtendedKneePlant::new(model);
     plant.thigh_angle = thigh;
     Ok(Box::new(FesFilter::new(plant, lin, t)))

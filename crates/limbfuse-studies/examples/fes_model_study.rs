@@ -10,7 +10,8 @@
 //! * `sdre` / `ekf` with the activation state only ((b) inverted: the
 //!   estimator gets the plant's activation dynamics);
 //! * `ekf` with activation + biases + lever arm, and with every state
-//!   (+ unknown torque), and `sdre` with every state.
+//!   (+ unknown torque), and `sdre` with every state and with activation
+//!   + biases + lever arm.
 //!
 //! (c): every model parameter of the estimator perturbed by a uniform
 //! factor in `1 +- e` (e = 10 %, 30 %; 24 seeded draws each, leg = draw mod
@@ -32,10 +33,11 @@ use limbfuse_models::{
 };
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 use limbfuse_studies::example_args::NoArgs;
+use limbfuse_studies::fes_pulse_cv::perturbed;
 use rayon::prelude::*;
 
 const R: f64 = 0.2;
-const NAMES: [&str; 10] = [
+const NAMES: [&str; 11] = [
     "rmx",
     "knee-kinematic",
     "sdre",
@@ -46,6 +48,7 @@ const NAMES: [&str; 10] = [
     "ekf+act+bias+r",
     "ekf+all+r",
     "sdre+all+r",
+    "sdre+act+bias+r",
 ];
 
 /// Knee RMSE (deg) after t = 1 s; infinity on a restart, an error or a
@@ -114,39 +117,12 @@ fn filters(m: KneeFesModel) -> Vec<Box<dyn Estimator>> {
         ext::<5>(m, opts(true, false, true), R, J),
         ext::<6>(m, opts(true, true, true), R, J),
         ext::<6>(m, opts(true, true, true), R, S),
+        ext::<5>(m, opts(true, false, true), R, S),
     ]
 }
 
 fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
-}
-
-/// A uniform number in [-1, 1) from a 64-bit LCG (Knuth's MMIX constants).
-fn uniform(state: &mut u64) -> f64 {
-    *state = state
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    ((*state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-}
-
-/// `p` with every model parameter scaled by `1 + e u`, `u` uniform in [-1, 1).
-fn perturbed(p: KneeFesParams, e: f64, seed: u64) -> KneeFesParams {
-    let mut st = seed.wrapping_mul(0x9E3779B97F4A7C15) ^ 0xD1B54A32D192ED03;
-    let mut f = |x: f64| x * (1.0 + e * uniform(&mut st));
-    let mut q = p;
-    q.inertia = f(p.inertia);
-    q.mass = f(p.mass);
-    q.l_c = f(p.l_c);
-    q.phi0 = f(p.phi0);
-    q.theta_eq = f(p.theta_eq);
-    q.t_a = f(p.t_a);
-    for k in 0..6 {
-        q.d[k] = f(p.d[k]);
-    }
-    for k in 0..4 {
-        q.c[k] = f(p.c[k]);
-    }
-    q
 }
 
 fn main() {
@@ -215,6 +191,7 @@ fn main() {
         "ekf+act+bias+r",
         "ekf+all+r",
         "sdre+all+r",
+        "sdre+act+bias+r",
     ];
     for e in [0.1, 0.3] {
         let runs: Vec<Vec<f64>> = (0..24u64)
@@ -229,10 +206,10 @@ fn main() {
                 let recs = simulate_knee_fes(&cfg).expect("trial").records;
                 let p = perturbed(KneeFesParams::subject(subject), e, draw);
                 let Ok(m) = KneeFesModel::new(p) else {
-                    return vec![f64::INFINITY; 5];
+                    return vec![f64::INFINITY; 6];
                 };
                 let mut fs = filters(m);
-                [0usize, 1, 7, 8, 9]
+                [0usize, 1, 7, 8, 9, 10]
                     .iter()
                     .map(|&j| rmse(fs[j].as_mut(), &recs))
                     .collect()

@@ -76,6 +76,7 @@ fn filter(
             a: stability_gain(lin),
             p0: Vector2::new(1e-2, 1e-2),
             max_substep: 2e-3,
+            a_states: None,
         },
     )
 }
@@ -137,6 +138,7 @@ fn fixed_hip() {
                 a: stability_gain(lin),
                 p0: Vector4::repeat(1e-2),
                 max_substep: 2e-3,
+                a_states: None,
             },
         )
     };

@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 18] = [
+pub const EXAMPLES: [&str; 19] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -18,6 +18,7 @@ pub const EXAMPLES: [&str; 18] = [
     "fes_model_study",
     "fes_studies",
     "fes_thesis_protocol",
+    "fes_tune_cv",
     "gait_pelvis",
     "imm_bslip_study",
     "imm_continuous_study",
@@ -60,9 +61,11 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
     match example {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
-        "baseline_study" | "fes_figures" | "fes_model_study" | "fes_thesis_protocol" => {
-            parse::<NoArgs>(example, args)
-        }
+        "baseline_study"
+        | "fes_figures"
+        | "fes_model_study"
+        | "fes_thesis_protocol"
+        | "fes_tune_cv" => parse::<NoArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),

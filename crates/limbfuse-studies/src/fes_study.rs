@@ -95,6 +95,7 @@ pub fn knee_tuning(lin: Linearisation, sg: f64, sa: f64, q: f64) -> ContinuousTu
         a: stability_gain(lin),
         p0: Vector2::new(1e-2, 1e-2),
         max_substep: 2e-3,
+        a_states: None,
     }
 }
 
@@ -106,6 +107,7 @@ pub fn hip_tuning(lin: Linearisation, sg: f64, sa: f64, q: f64) -> ContinuousTun
         a: stability_gain(lin),
         p0: Vector4::repeat(1e-2),
         max_substep: 2e-3,
+        a_states: None,
     }
 }
 

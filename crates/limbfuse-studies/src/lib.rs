@@ -11,6 +11,7 @@ pub mod baseline_study;
 pub mod calibration_study;
 pub mod example_args;
 pub mod fes_plot;
+pub mod fes_pulse_cv;
 pub mod fes_study;
 pub mod knee_study;
 pub mod results_commands;

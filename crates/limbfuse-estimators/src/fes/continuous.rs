@@ -44,6 +44,13 @@ pub struct ContinuousTuning<const N: usize, const M: usize> {
     pub p0: SVector<f64, N>,
     /// Longest RK4 sub-step (s); an interval is split into equal sub-steps no longer than this.
     pub max_substep: f64,
+    /// Per-state prescribed-stability shift `L = diag(a_states)`: eq 4.16's
+    /// `2 a P` becomes `L P + P L`; `None`: `a` on every state (eq 4.16 as
+    /// printed). Ours (issue 16): a state that is not observable at rest
+    /// (the extended knee model's unknown torque and sensor biases, the
+    /// activation when `a >= 1 / T_a`) makes `(A + a I, C)` undetectable,
+    /// and its `P` then grows as `e^{2 a t}` while the leg rests.
+    pub a_states: Option<SVector<f64, N>>,
 }
 
 /// State `x` and Riccati solution `P`.
@@ -66,7 +73,7 @@ pub fn derivative<Mdl, const N: usize, const M: usize, const U: usize>(
     u: &SVector<f64, U>,
     s_inv: &SVector<f64, M>,
     q: &SVector<f64, N>,
-    a: f64,
+    (a, a_states): (f64, Option<&SVector<f64, N>>),
 ) -> FilterState<N>
 where
     Mdl: SdcModel<N, M, U>,
@@ -102,10 +109,58 @@ where
     let dx = dx_model + k * innov;
     let ap = am * p;
     let mut dp = ap + ap.transpose() + p * (2.0 * a) - k * pct.transpose();
+    if let Some(l) = a_states {
+        // `L P + P L` instead of `2 a P`.
+        for i in 0..N {
+            for j in 0..N {
+                dp[(i, j)] += (l[i] + l[j] - 2.0 * a) * p[(i, j)];
+            }
+        }
+    }
     for i in 0..N {
         dp[(i, i)] += q[i];
     }
     FilterState { x: dx, p: dp }
+}
+
+/// The two parts of eq 4.14's state derivative at one instant: the model's
+/// prediction (`A(x) x + B(x) u`, or `f(x, u)` for the Jacobian form) and
+/// the measurement correction `K (y - h)` (missing measurements weigh 0);
+/// their sum is the `x` part of [`derivative`]. Third: the diagonal of
+/// `K C` (1/s), the rate at which the measurements pull each state.
+pub fn update_parts<Mdl, const N: usize, const M: usize, const U: usize>(
+    model: &Mdl,
+    lin: Linearisation,
+    st: &FilterState<N>,
+    y: &SVector<f64, M>,
+    u: &SVector<f64, U>,
+    s_inv: &SVector<f64, M>,
+) -> (SVector<f64, N>, SVector<f64, N>, SVector<f64, N>)
+where
+    Mdl: SdcModel<N, M, U>,
+{
+    let x = &st.x;
+    let (cm, prediction, mut innov) = match lin {
+        Linearisation::Sdc => {
+            let cm = model.sdc_c(x);
+            let pred = model.sdc_a(x) * x + model.input_term(x, u);
+            let innov = y - (cm * x + model.sdc_measurement_input(x, u));
+            (cm, pred, innov)
+        }
+        Linearisation::Jacobian => (
+            model.jacobian_h_with_input(x, u),
+            model.f(x, u),
+            y - model.h_with_input(x, u),
+        ),
+    };
+    let mut k = st.p * cm.transpose();
+    for (j, w) in s_inv.iter().enumerate() {
+        k.column_mut(j).scale_mut(*w);
+        if *w == 0.0 {
+            innov[j] = 0.0;
+        }
+    }
+    (prediction, k * innov, (k * cm).diagonal())
 }
 
 /// RK4 is stable on the real axis for `h |lambda| < 2.78`; sub-steps keep
@@ -202,7 +257,7 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     // One RK4 sub-step of length `h` from `st` (slope `k1` at its start), its
     // middle and end at the fractions `sm`, `s1` of the interval.
     let step = |st: &mut FilterState<N>, k1: &FilterState<N>, (sm, s1): (f64, f64), h: f64| {
-        let (q, a) = (&tuning.q, tuning.a);
+        let (q, a) = (&tuning.q, (tuning.a, tuning.a_states.as_ref()));
         let (ym, yb, um, ub) = (lerp_y(sm), lerp_y(s1), lerp_u(sm), lerp_u(s1));
         let k2 = derivative(model, lin, &add(st, k1, h / 2.0), &ym, &um, s_inv, q, a);
         let k3 = derivative(model, lin, &add(st, &k2, h / 2.0), &ym, &um, s_inv, q, a);
@@ -220,7 +275,7 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
             &lerp_u(s0),
             s_inv,
             &tuning.q,
-            tuning.a,
+            (tuning.a, tuning.a_states.as_ref()),
         )
     };
     // Equal sub-steps sized at the start of the interval.
@@ -336,6 +391,7 @@ mod tests {
             a: 0.0,
             p0: Vector2::new(1.0, 1.0),
             max_substep: 1e-3,
+            a_states: None,
         };
         for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
             let mut st = FilterState {
@@ -385,6 +441,7 @@ mod tests {
             a: 0.0,
             p0: Vector2::new(1e-2, 1e-2),
             max_substep: 1e-2,
+            a_states: None,
         };
         for lin in [Linearisation::Sdc, Linearisation::Jacobian] {
             let mut st = FilterState {
@@ -436,6 +493,7 @@ mod tests {
             a,
             p0: Vector2::new(1.0, 1.0),
             max_substep: 1e-3,
+            a_states: None,
         };
         let mut st = FilterState {
             x: Vector2::zeros(),
@@ -482,5 +540,34 @@ mod tests {
             );
         }
         assert!((st0.p - p).amax() > 1e-2);
+        // A per-state shift equal to `a` everywhere is eq 4.16 as printed;
+        // zero everywhere is `a = 0`.
+        for (l, want) in [(a, p), (0.0, st0.p)] {
+            let mut st1 = FilterState {
+                x: Vector2::zeros(),
+                p: Matrix2::identity(),
+            };
+            let t1 = ContinuousTuning {
+                a_states: Some(Vector2::repeat(l)),
+                ..tuning
+            };
+            for _ in 0..3000 {
+                propagate(
+                    &m,
+                    Linearisation::Sdc,
+                    &mut st1,
+                    0.01,
+                    (&z, &z),
+                    (&z, &z),
+                    &Vector1::new(1.0 / r),
+                    &t1,
+                );
+            }
+            assert!(
+                (st1.p - want).amax() < 1e-12,
+                "L = {l}: {} vs {want}",
+                st1.p
+            );
+        }
     }
 }

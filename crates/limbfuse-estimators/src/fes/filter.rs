@@ -9,7 +9,7 @@ use limbfuse_core::{DiagnosticSet, Estimate, Estimator, EstimatorError, Sample, 
 use limbfuse_models::SdcModel;
 use nalgebra::{SMatrix, SVector};
 
-use super::continuous::{propagate, ContinuousTuning, FilterState, Linearisation};
+use super::continuous::{propagate, update_parts, ContinuousTuning, FilterState, Linearisation};
 
 /// A model together with how a trial feeds it.
 pub trait Plant<const N: usize, const M: usize, const U: usize> {
@@ -49,6 +49,23 @@ pub trait Plant<const N: usize, const M: usize, const U: usize> {
     /// filter reports `sdre` or `ekf` from its linearisation).
     fn method_name(&self) -> Option<&'static str> {
         None
+    }
+
+    /// Whether [`Plant::write_update_parts`] is called (it costs one more
+    /// evaluation of the model per sample); off for the thesis plants.
+    const UPDATE_PARTS: bool = false;
+
+    /// Writes diagnostics of the parts of the state derivative at the
+    /// sample time ([`super::continuous::update_parts`]: the model's
+    /// prediction, the measurement correction, the diagonal of `K C`), `dt`
+    /// the sample interval (`None` at the first sample). Called only when
+    /// [`Plant::UPDATE_PARTS`].
+    fn write_update_parts(
+        &self,
+        _parts: (&SVector<f64, N>, &SVector<f64, N>, &SVector<f64, N>),
+        _dt: Option<f64>,
+        _e: &mut Estimate,
+    ) {
     }
 
     /// Writes the diagnostics of state `st` after `resets` restarts.
@@ -256,6 +273,17 @@ where
         let mut e = Estimate::empty(s.t);
         self.plant.fill(&st.x, &mut e);
         self.plant.write_diagnostics(st, self.resets, &mut e);
+        if P::UPDATE_PARTS {
+            let mut w = weight;
+            for (i, seen) in self.y_seen.iter().enumerate() {
+                if !seen {
+                    w[i] = 0.0;
+                }
+            }
+            let (pred, corr, pull) = update_parts(self.plant.model(), self.lin, st, &y, &u, &w);
+            self.plant
+                .write_update_parts((&pred, &corr, &pull), dt, &mut e);
+        }
         Ok(e)
     }
 }

@@ -37,6 +37,7 @@ pub fn fixed_hip_default_tuning(lin: Linearisation) -> ContinuousTuning<4, 4> {
         },
         p0: Vector4::new(1e-2, 1e-2, 1e-2, 1e-2),
         max_substep: 2e-3,
+        a_states: None,
     }
 }
 

@@ -50,6 +50,7 @@ pub fn knee_default_tuning(lin: Linearisation) -> ContinuousTuning<2, 2> {
         },
         p0: Vector2::new(1e-2, 1e-2),
         max_substep: 1e-2,
+        a_states: None,
     }
 }
 

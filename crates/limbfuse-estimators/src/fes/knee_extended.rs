@@ -42,6 +42,19 @@ diagnostic_set! {
         PAccBias = "p_acc_bias",
         /// Restarts after a non-finite state.
         Resets = "resets",
+        /// The model's share of the update of the shank rate at the sample
+        /// time, `|f_2| / (|f_2| + |(K (y - h))_2|)` with `f_2` the model's
+        /// angular acceleration and `(K (y - h))_2` the measurement
+        /// correction of eq 4.14: 1 = the rate moves as the model predicts,
+        /// 0 = the measurements alone move it (empty when both are 0).
+        ModelShare = "model_share",
+        /// The model's weight in the shank rate over one sample,
+        /// `exp(-(K C)_22 dt)`: the fraction of the model's rate prediction
+        /// that survives one sample interval `dt` of measurement updates
+        /// (1 = the model's prediction stands, 0 = the gyro replaces it;
+        /// `1 / (K C)_22` is the time constant with which the measurements
+        /// pull the rate). The thesis default tuning gives about `e^-100`.
+        ModelWeight = "model_weight",
     }
 }
 
@@ -96,6 +109,36 @@ pub mod extended_defaults {
     pub const S_ACC: f64 = 1e-3;
 }
 
+/// The prescribed-stability shift of each state of the extended knee model
+/// ([`ContinuousTuning::a_states`], ours). With the leg at rest (`u_ke = 0`,
+/// `x2 = 0`) the torque balance and the accelerometer are two equations for
+/// the angle, the activation, the unknown torque `d` and the accelerometer
+/// bias. A shift `a` on a mode that is unobservable and decays slower than
+/// `a` makes `(A + a I, C)` undetectable, and its `P` grows as
+/// `e^{2 (a - rate) t}` (issue 16: `sdre` with these states diverged, `P`
+/// of `d` 1.4 -> 170 N^2 m^2 in the first 3 s of rest). Hence:
+/// * `a` on `x1, x2` and the gyro bias (observable at rest);
+/// * on the activation, which decays on its own at `1 / T_a`, at most half
+///   that rate: `min(a, 1 / (2 T_a))`;
+/// * on the accelerometer bias `a` when there is no `d` (the torque balance
+///   then fixes the angle, the accelerometer the bias);
+/// * with `d`: 0 on `d`, `x1` and the accelerometer bias (the torque balance
+///   only fixes `d`, and angle and bias share one measurement).
+pub fn extended_shift<const N: usize>(model: &ExtendedKneeModel<N>, a: f64) -> SVector<f64, N> {
+    let mut l = SVector::<f64, N>::repeat(a);
+    if let Some(i) = model.layout.activation {
+        l[i] = a.min(0.5 / model.base.p.t_a);
+    }
+    if let Some(i) = model.layout.disturbance {
+        l[i] = 0.0;
+        l[0] = 0.0;
+        if let Some(b) = model.layout.acc_bias {
+            l[b] = 0.0;
+        }
+    }
+    l
+}
+
 /// Default tuning of the extended knee filter, every entry from a stated
 /// physical error ([`extended_defaults`]; `e` =
 /// [`extended_defaults::TORQUE_ERROR`], `T_g = m g l_c` the largest gravity
@@ -107,15 +150,27 @@ pub mod extended_defaults {
 ///   walk reaching that torque error within one pulse ramp `t_e`;
 /// * activation and sensor biases: the constants of [`extended_defaults`];
 /// * `S` from the sensor error budget, `a` as the thesis filters (1 for
-///   `sdre`, 0 for `ekf`).
+///   `sdre`, 0 for `ekf`), per state as [`extended_shift`] says.
 pub fn extended_knee_default_tuning<const N: usize>(
     model: &ExtendedKneeModel<N>,
     lin: Linearisation,
 ) -> ContinuousTuning<N, 2> {
+    extended_knee_tuning(model, lin, extended_defaults::TORQUE_ERROR)
+}
+
+/// [`extended_knee_default_tuning`] for a relative torque error `e` other
+/// than the default's: `q_2`, `q_d` and `p0_d` scale with `e^2`, the rest
+/// stays. `e` is the one knob "how much I trust my model": the filter
+/// admits a torque error of `e m g l_c` (docs/FES_ESTIMATION.md).
+pub fn extended_knee_tuning<const N: usize>(
+    model: &ExtendedKneeModel<N>,
+    lin: Linearisation,
+    torque_error: f64,
+) -> ContinuousTuning<N, 2> {
     use extended_defaults::*;
     let base = knee_default_tuning(lin);
     let p = &model.base.p;
-    let torque = TORQUE_ERROR * p.mass * p.g * p.l_c;
+    let torque = torque_error * p.mass * p.g * p.l_c;
     let rate = torque / p.inertia;
     let mut q = SVector::<f64, N>::zeros();
     let mut p0 = SVector::<f64, N>::zeros();
@@ -138,12 +193,14 @@ pub fn extended_knee_default_tuning<const N: usize>(
     );
     set(l.gyro_bias, GYRO_BIAS_Q, GYRO_BIAS_SIGMA * GYRO_BIAS_SIGMA);
     set(l.acc_bias, ACC_BIAS_Q, ACC_BIAS_SIGMA * ACC_BIAS_SIGMA);
+    let shift = extended_shift(model, base.a);
     ContinuousTuning {
         q,
         s: SVector::<f64, 2>::new(S_GYRO, S_ACC),
         a: base.a,
         p0,
         max_substep: base.max_substep,
+        a_states: Some(shift),
     }
 }
 
@@ -262,6 +319,24 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
         }
         d.value(D::Resets, f64::from(resets));
     }
+
+    const UPDATE_PARTS: bool = true;
+
+    fn write_update_parts(
+        &self,
+        (prediction, correction, pull): (&SVector<f64, N>, &SVector<f64, N>, &SVector<f64, N>),
+        dt: Option<f64>,
+        e: &mut Estimate,
+    ) {
+        let (m, c) = (libm::fabs(prediction[1]), libm::fabs(correction[1]));
+        let share = (m + c > 0.0).then(|| m / (m + c));
+        let mut d = e.diagnostics_mut::<ExtendedKneeDiag>();
+        d.set(ExtendedKneeDiag::ModelShare, share);
+        d.set(
+            ExtendedKneeDiag::ModelWeight,
+            dt.map(|dt| libm::exp(-pull[1] * dt)),
+        );
+    }
 }
 
 impl<const N: usize> ExtendedKneeFilter<N> {
@@ -355,6 +430,7 @@ pub fn kinematic_default_tuning() -> ContinuousTuning<5, 2> {
             ACC_BIAS_SIGMA * ACC_BIAS_SIGMA,
         ]),
         max_substep: base.max_substep,
+        a_states: None,
     }
 }
 
