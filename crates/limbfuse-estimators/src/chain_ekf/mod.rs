@@ -32,6 +32,7 @@ use covariance::{predict_covariance, predict_state, scalar_update, Covariance, S
 pub use kinematics::{ChainGeometry, OutOfPlane};
 pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M};
 use startup::Startup;
+use crate::segment_kf::robust::HELD_RATE_SD;
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
     MEAN_SPEED,
@@ -79,6 +80,12 @@ mod initial {
     pub const ENCODER_OFFSET: f64 = 0.05;
 }
 
+/// Typical angular acceleration of the foot at heel-off (rad/s^2), for the
+/// stance anchor applied without a foot gyro reading.
+const FOOT_ANGULAR_ACCELERATION: f64 = 50.0;
+/// Distance from the ankle to the pivot of a foot rolling off (m).
+const FOOT_PIVOT_M: f64 = 0.15;
+
 /// The chain EKF.
 #[derive(Debug, Clone)]
 pub struct ChainEkf {
@@ -94,6 +101,8 @@ pub struct ChainEkf {
     last_xy_rate: [Option<([f64; 2], f64)>; 4],
     /// Time since which the foot has been still (`None`: moving).
     still_since: Option<f64>,
+    /// Time of the last sample with a foot gyro reading.
+    last_foot_gyro: Option<f64>,
     /// The start-up window's samples, replayed through the filter once the
     /// window closes (allocated once, in [`ChainEkf::new`]).
     window: Box<[Sample]>,
@@ -132,6 +141,7 @@ impl ChainEkf {
             p: Covariance::zeros(),
             last_xy_rate: [None; 4],
             still_since: None,
+            last_foot_gyro: None,
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
             held: 0,
         })
@@ -175,9 +185,14 @@ impl ChainEkf {
         let mut d = [0.0; state::N];
         for i in 0..4 {
             x[theta(i)] = self.startup.offset(i).unwrap_or(0.0);
-            x[omega(i)] = first.imu[i].gyr.map_or(0.0, |w| w.z);
             d[theta(i)] = initial::ANGLE;
-            d[omega(i)] = initial::RATE;
+            // Without a first gyro reading the rate is unknown to a walking
+            // segment's rate amplitude (ours, issue 18 item 2; 0.1 rad/s
+            // about 0 started a moving segment a degree off).
+            (x[omega(i)], d[omega(i)]) = match first.imu[i].gyr.map(|w| w.z) {
+                Some(w) if w.is_finite() => (w, initial::RATE),
+                _ => (0.0, HELD_RATE_SD),
+            };
             d[alpha(i)] = initial::ANGULAR_ACCELERATION;
             d[gyro_bias(i)] = self.params.gyro_bias_initial;
         }
@@ -195,6 +210,7 @@ impl ChainEkf {
         self.running = true;
         self.last_xy_rate = [None; 4];
         self.still_since = None;
+        self.last_foot_gyro = None;
         self.out_of_plane_rates(&first);
         let mut previous = first.t;
         for k in 1..self.held {
@@ -245,21 +261,36 @@ impl ChainEkf {
     /// Whether the foot has been still (small rotation, specific force ~ g)
     /// for at least `stance_min_s`: a single still sample also occurs in
     /// swing, where the foot's rotation reverses.
-    fn foot_still(&mut self, sample: &Sample) -> bool {
+    ///
+    /// Missing foot readings (ours, issue 18 item 2): a reading that is
+    /// there must pass its own test; a sample without either vector neither
+    /// confirms nor ends the stillness, so that random dropouts do not cut
+    /// every stance into pieces shorter than `stance_min_s` (with half the
+    /// foot's vectors missing, eight readings in a row are rarely
+    /// complete). The anchor is only applied while a foot reading was seen
+    /// within the last `stance_min_s`.
+    fn foot_still(&mut self, sample: &Sample) -> Option<f64> {
         let foot = &sample.imu[3];
-        let still = match (foot.gyr, foot.acc) {
-            (Some(w), Some(a)) => {
-                w.norm() < self.params.stance_gyro
-                    && (a.norm() - self.g).abs() < self.params.stance_acc
+        let acc_still = foot
+            .acc
+            .map(|a| (a.norm() - self.g).abs() < self.params.stance_acc);
+        let Some(w) = foot.gyr else {
+            // No rotation reading: a moving accelerometer ends the
+            // stillness, otherwise it goes on while a gyro reading is recent.
+            let age = self.last_foot_gyro.map(|t| sample.t - t);
+            if acc_still == Some(false) || !age.is_some_and(|a| a <= self.params.stance_min_s) {
+                self.still_since = None;
             }
-            _ => false,
+            let since = self.still_since?;
+            return (sample.t - since >= self.params.stance_min_s).then_some(age.unwrap_or(0.0));
         };
-        if !still {
+        self.last_foot_gyro = Some(sample.t);
+        if !(w.norm() < self.params.stance_gyro && acc_still.unwrap_or(true)) {
             self.still_since = None;
-            return false;
+            return None;
         }
         let since = *self.still_since.get_or_insert(sample.t);
-        sample.t - since >= self.params.stance_min_s
+        (sample.t - since >= self.params.stance_min_s).then_some(0.0)
     }
 
     /// One filter step after the start-up: predict, then every scalar row.
@@ -319,17 +350,20 @@ impl ChainEkf {
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
         let stance = self.foot_still(sample);
-        if stance {
+        if let Some(age) = stance {
+            let grow = FOOT_ANGULAR_ACCELERATION * FOOT_PIVOT_M;
             for k in 0..2 {
                 let (v, rows) = self.geometry.ankle_velocity(&self.x);
-                self.apply(&rows[k], -v[k], p.stance_velocity, inf);
+                self.apply(&rows[k], -v[k], p.stance_velocity + grow * age, inf);
             }
-            for k in 0..2 {
-                let (a, rows) = self.geometry.ankle_acceleration(&self.x);
-                self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+            if age >= 0.0 {
+                for k in 0..2 {
+                    let (a, rows) = self.geometry.ankle_acceleration(&self.x);
+                    self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+                }
             }
         }
-        (stance, rejected)
+        (stance.is_some(), rejected)
     }
 }
 
@@ -390,6 +424,7 @@ impl Estimator for ChainEkf {
         self.p = Covariance::zeros();
         self.last_xy_rate = [None; 4];
         self.still_since = None;
+        self.last_foot_gyro = None;
         self.held = 0;
     }
 
