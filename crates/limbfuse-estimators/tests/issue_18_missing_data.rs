@@ -102,7 +102,10 @@ fn issue_18_mjls_follows_the_leg_through_the_encoders_in_a_gap_of_every_imu() {
     for s in [Segment::Thigh, Segment::Shank, Segment::Foot] {
         let (d, b) = (during(s), before(s));
         println!("{s:?}: RMSE {b:.2} deg before the gap, {d:.2} during it");
-        assert!(d < b + 3.0, "{s:?}: {d:.2} deg during the gap ({b:.2} before)");
+        assert!(
+            d < b + 3.0,
+            "{s:?}: {d:.2} deg during the gap ({b:.2} before)"
+        );
     }
 }
 
@@ -131,7 +134,10 @@ fn issue_18_knee_selfalign_reanchors_after_a_gap() {
     println!("knee RMSE {before:.2} deg before the gap, {after:.2} deg 1-6 s after it");
     // measured 1.4 -> 3.9 deg (the accelerometer angle's noise while the
     // fusion re-converges); before the fix tens of degrees
-    assert!(after < before + 4.0, "{after:.2} deg after ({before:.2} before)");
+    assert!(
+        after < before + 4.0,
+        "{after:.2} deg after ({before:.2} before)"
+    );
 }
 
 /// Chain: the stance anchor with the foot's vectors missing at random.
@@ -162,16 +168,16 @@ fn issue_18_chain_stance_survives_random_foot_dropouts() {
             ChainEkf::new(ChainParams::default(), ChainGeometry::default(), 9.81).unwrap();
         let out = run(&mut ekf, records);
         let k = ChainDiag::Stance.index();
-        out.iter()
-            .filter(|(e, _)| e.diag[k] == Some(1.0))
-            .count() as f64
-            / out.len() as f64
+        out.iter().filter(|(e, _)| e.diag[k] == Some(1.0)).count() as f64 / out.len() as f64
     };
     let (c, m) = (stance(&clean), stance(&masked));
     println!("stance anchor applied on {c:.3} of the clean samples, {m:.3} with dropouts");
     assert!(c > 0.1, "clean stance share {c}");
     // with a gyro reading on half the samples the anchor applies on about half
-    assert!(m > 0.35 * c, "stance share {m:.3} with dropouts vs {c:.3} clean");
+    assert!(
+        m > 0.35 * c,
+        "stance share {m:.3} with dropouts vs {c:.3} clean"
+    );
 }
 
 /// Chain start-up without the first sample's gyro readings: the filter

@@ -27,12 +27,12 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
 use nalgebra::Vector3;
 
+use crate::segment_kf::robust::HELD_RATE_SD;
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
 pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M};
 use startup::Startup;
-use crate::segment_kf::robust::HELD_RATE_SD;
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
     MEAN_SPEED,

@@ -290,7 +290,11 @@ impl Chain {
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.own_gap;
         for (g, r) in self.own_gap.iter_mut().zip(rate.iter()) {
-            *g = if r.is_some() { 0.0 } else { *g + dt.unwrap_or(0.0) };
+            *g = if r.is_some() {
+                0.0
+            } else {
+                *g + dt.unwrap_or(0.0)
+            };
         }
         if let Some(dt) = dt {
             // mean square of each gyro rate over the last second or so
