@@ -58,17 +58,17 @@ impl Startup {
             borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
         }
         self.last_encoder = encoder;
-        for i in 0..4 {
+        for (i, rate) in rate.into_iter().enumerate() {
             let imu = &sample.imu[i];
             if let Some(dt) = dt {
-                let r1 = rate[i].or(self.last_rate[i]);
+                let r1 = rate.or(self.last_rate[i]);
                 let r0 = self.last_rate[i].or(r1);
                 if let (Some(r0), Some(r1)) = (r0, r1) {
                     self.integral[i] += 0.5 * (r0 + r1) * dt;
                 }
             }
-            if rate[i].is_some() {
-                self.last_rate[i] = rate[i];
+            if rate.is_some() {
+                self.last_rate[i] = rate;
             }
             if let Some(acc) = imu.acc {
                 add(

@@ -28,7 +28,7 @@ use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
 use super::robust::{
-    borrow_rates, held_rate_variance, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
+    held_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
@@ -101,13 +101,8 @@ pub(crate) struct Chain {
     encoder_start: Option<[f64; 3]>,
     /// How long each gyro rate has been missing (s).
     rate_gap: [f64; 4],
-    /// How long each segment's own gyro rate has been missing (s; rates
-    /// borrowed meanwhile do not end it).
-    own_gap: [f64; 4],
-    /// Running mean square of each segment's gyro rate (time constant
-    /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
-    /// every gyro is gone.
-    rate_power: [Option<f64>; 4],
+    /// Own-gyro dropouts and rate power (rates held or borrowed).
+    dropouts: RateDropouts,
     /// Encoders of the previous sample (for rates borrowed through them).
     last_encoder: [Option<f64>; 3],
     /// Time of the current sample (s).
@@ -120,10 +115,6 @@ pub(crate) struct Chain {
     /// Restarts after a long time gap or a divergence.
     resets: u64,
 }
-
-/// Time constant (s) of the running mean square of the gyro rates: a
-/// stride at 1 Hz.
-const RATE_POWER_S: f64 = 1.0;
 
 fn finite(v: f64) -> Option<f64> {
     if v.is_finite() {
@@ -153,8 +144,7 @@ impl Chain {
             common,
             encoder_start: None,
             rate_gap: [0.0; 4],
-            rate_power: [None; 4],
-            own_gap: [0.0; 4],
+            dropouts: RateDropouts::default(),
             last_encoder: [None; 3],
             now: 0.0,
             encoders_gated_since: [None; 3],
@@ -288,66 +278,23 @@ impl Chain {
                 .filter(|v| v.abs() <= core::f64::consts::TAU);
         }
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
-        let own_gap_before = self.own_gap;
-        for (g, r) in self.own_gap.iter_mut().zip(rate.iter()) {
-            *g = if r.is_some() {
-                0.0
-            } else {
-                *g + dt.unwrap_or(0.0)
-            };
-        }
-        if let Some(dt) = dt {
-            // mean square of each gyro rate over the last second or so
-            let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
-            for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
-                if let Some(r) = r {
-                    *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
-                }
-            }
-        }
+        let own_gap_before = self.dropouts.observe(&rate, dt);
         if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
-            // A rate missing only briefly is held (decaying) rather than
-            // borrowed while the held rate's angle variance stays below that
-            // of a borrowed one, two encoder readings `2 sigma_e^2` (an
-            // encoder difference puts its noise into the integrated angle);
-            // a held rate also lends itself to its neighbours.
+            let held: [Option<f64>; 4] = core::array::from_fn(|i| {
+                self.init[i]
+                    .then(|| self.held_rate(i, self.rate_gap[i] + dt))
+                    .flatten()
+            });
             let sigma_e = sigma.iter().fold(0.0f64, |m, s| m.max(*s));
-            let mut held_now = [false; 4];
-            for i in 0..4 {
-                let tau = self.rate_gap[i] + dt;
-                if rate[i].is_none()
-                    && self.init[i]
-                    && held_rate_variance(own_gap_before[i] + dt) < 2.0 * sigma_e * sigma_e
-                {
-                    rate[i] = self.held_rate(i, tau);
-                    held_now[i] = rate[i].is_some();
-                }
-            }
-            // Every gyro gone for longer (a gap of the whole IMU bus): the
-            // stillest segment (smallest mean square rate) is the chain's
-            // anchor with its held rate, the others follow it through the
-            // encoders.
-            if rate.iter().all(|r| r.is_none()) {
-                let anchor = (0..4)
-                    .filter(|&i| self.init[i])
-                    .filter_map(|i| {
-                        let r = self.held_rate(i, self.rate_gap[i] + dt)?;
-                        Some((i, r, self.rate_power[i]?))
-                    })
-                    .min_by(|a, b| a.2.total_cmp(&b.2));
-                if let Some((i, r, _)) = anchor {
-                    rate[i] = Some(r);
-                    held_now[i] = true;
-                }
-            }
-            borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
-            // Held rates stay missing: `predict` holds them the same way and
-            // grows their variance.
-            for i in 0..4 {
-                if held_now[i] {
-                    rate[i] = None;
-                }
-            }
+            let ctx = FillContext {
+                held: &held,
+                own_gap_before: &own_gap_before,
+                encoder: &encoder,
+                last_encoder: &self.last_encoder,
+                sigma_e,
+                dt,
+            };
+            self.dropouts.fill(&mut rate, &ctx);
         }
         self.last_encoder = encoder;
         match dt {
