@@ -27,7 +27,7 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
 use nalgebra::Vector3;
 
-use crate::segment_kf::robust::HELD_RATE_SD;
+use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
@@ -219,6 +219,17 @@ impl ChainEkf {
             previous = sample.t;
         }
         self.held = 0;
+    }
+
+    /// Begins the start-up window again (after a long gap or a divergence):
+    /// no estimate until it closes, `diag_running` = 0 meanwhile.
+    fn restart_startup(&mut self) {
+        self.running = false;
+        self.startup = Startup::default();
+        self.held = 0;
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.last_foot_gyro = None;
     }
 
     /// Records the gyro x/y rates of every sensor (for their derivative).
@@ -429,7 +440,17 @@ impl Estimator for ChainEkf {
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
-        let dt = self.time.advance(sample.t)?;
+        let mut dt = self.time.advance(sample.t)?;
+        if dt.is_some_and(|d| d > LONG_GAP_S) {
+            // A gap in the recording longer than a stride (ours, issue 18
+            // item 2, as the segment filters): no prediction over it means
+            // anything (a 2 s step made the covariance indefinite, found by
+            // tests/issue_18_fuzz_chain_knee.rs), so the start-up window
+            // begins again at this sample (`diag_running` = 0, no estimate
+            // until it closes).
+            self.restart_startup();
+            dt = None;
+        }
         let mut est = Estimate::empty(sample.t);
         let (mut stance, mut rejected) = (false, 0);
         match (self.running, dt) {
@@ -452,6 +473,14 @@ impl Estimator for ChainEkf {
                     self.held = 0;
                 }
             }
+        }
+        if self.running
+            && !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
+        {
+            // Diverged (readings no gate screened, e.g. 1e300 offered to the
+            // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
+            // again from the next samples.
+            self.restart_startup();
         }
         // No estimate until the window closes (docs/CHAIN.md "Start-up").
         if self.running {
