@@ -25,7 +25,7 @@ const BOUNDED: [Glitch; 4] = [
 /// per method with a bound: measured 2026-12-02 (seed 1) mjls 2.174 ->
 /// 2.488 (+0.31; before the fix 5.797) and knee-selfalign 0.797 -> 6.067
 /// (+5.27; before 18.602). The other methods are not bounded (not fixed:
-/// local/global +3.7, chain +1.6).
+/// local/global +3.7, chain +1.5).
 fn gap_cost(m: MethodName) -> Option<f64> {
     match m {
         MethodName::Mjls => Some(0.5),

@@ -367,7 +367,10 @@ impl ChainEkf {
                 let (v, rows) = self.geometry.ankle_velocity(&self.x);
                 self.apply(&rows[k], -v[k], p.stance_velocity + grow * age, inf);
             }
-            if age >= 0.0 {
+            // The acceleration anchor only with a still gyro reading now: at
+            // heel-off the ankle's acceleration jumps at once (alpha r ~ 7.5
+            // m/s^2 against a sigma of 0.5), so no growth with age bounds it.
+            if age == 0.0 {
                 for k in 0..2 {
                     let (a, rows) = self.geometry.ankle_acceleration(&self.x);
                     self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
