@@ -1,5 +1,6 @@
 //! Missing IMU data (issue 18 item 2, for docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-studies --example robust_input_study -- [--seeds N] [--missing-pct P]`
+//! `cargo run --release -p limbfuse-studies --example robust_input_study -- [--seeds N] [--missing-pct P]
+//! [--cells both|acc|gyr] [--per-segment] [--methods mjls,chain]`
 //!
 //! On the three shared independent walking trials
 //! (`independent-sim/walk-*.csv`), each IMU cell (the 24 accelerometer and
@@ -20,7 +21,7 @@ use limbfuse_core::{Record, Segment};
 use limbfuse_eval::{AngleMetrics, EvalOptions};
 use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
 use limbfuse_methods::{build, MethodName, MethodSpec};
-use limbfuse_studies::example_args::RobustInputStudyArgs;
+use limbfuse_studies::example_args::{MaskedCells, RobustInputStudyArgs};
 use rayon::prelude::*;
 
 /// SplitMix64: a small seeded generator (reproducible bit for bit).
@@ -36,9 +37,9 @@ impl SplitMix {
     }
 }
 
-/// `records` with each IMU cell missing with probability `p` (a vector with
-/// any missing axis becomes missing).
-fn mask(records: &[Record], p: f64, seed: u64) -> Vec<Record> {
+/// `records` with each IMU cell of the `cells` kind missing with
+/// probability `p` (a vector with any missing axis becomes missing).
+fn mask(records: &[Record], p: f64, seed: u64, cells: MaskedCells) -> Vec<Record> {
     let mut rng = SplitMix(seed.wrapping_mul(0x2545_F491_4F6C_DD1D));
     records
         .iter()
@@ -48,10 +49,10 @@ fn mask(records: &[Record], p: f64, seed: u64) -> Vec<Record> {
                 // draw all six cells so the pattern does not depend on the data
                 let acc_gone = (0..3).fold(false, |g, _| rng.uniform() < p || g);
                 let gyr_gone = (0..3).fold(false, |g, _| rng.uniform() < p || g);
-                if acc_gone {
+                if acc_gone && cells != MaskedCells::Gyr {
                     imu.acc = None;
                 }
-                if gyr_gone {
+                if gyr_gone && cells != MaskedCells::Acc {
                     imu.gyr = None;
                 }
             }
@@ -60,13 +61,13 @@ fn mask(records: &[Record], p: f64, seed: u64) -> Vec<Record> {
         .collect()
 }
 
-/// Mean 4-segment RMSE (deg) of `method` over `records`.
-fn mean_rmse(
+/// RMSE (deg) of each segment (trunk, thigh, shank, foot) of `method` over `records`.
+fn segment_rmse(
     method: MethodName,
     meta: &TrialMeta,
     layout: &TrialLayout,
     records: &[Record],
-) -> f64 {
+) -> [f64; 4] {
     let spec = MethodSpec::defaults(method).expect("defaults");
     let mut est = build(&spec, meta, layout).expect("builds");
     let mut m = AngleMetrics::new(method.name(), EvalOptions::default());
@@ -78,15 +79,19 @@ fn mean_rmse(
     )
     .expect("runs");
     let ev = m.evaluation();
-    Segment::ALL
-        .iter()
-        .map(|s| {
-            ev.rmse(AngleChannel::Segment(*s))
-                .expect("scored")
-                .to_degrees()
-        })
-        .sum::<f64>()
-        / 4.0
+    Segment::ALL.map(|s| {
+        ev.rmse(AngleChannel::Segment(s))
+            .expect("scored")
+            .to_degrees()
+    })
+}
+
+fn mean4(v: &[f64; 4]) -> f64 {
+    v.iter().sum::<f64>() / 4.0
+}
+
+fn segments(v: &[f64; 4]) -> String {
+    format!("{:.2} / {:.2} / {:.2} / {:.2}", v[0], v[1], v[2], v[3])
 }
 
 fn main() {
@@ -98,17 +103,31 @@ fn main() {
         "walk-v1.2-s301.csv",
         "walk-v1.6-s302.csv",
     ];
-    let methods = [
-        MethodName::Mjls,
-        MethodName::Chain,
-        MethodName::Global,
-        MethodName::Local,
-    ];
+    let methods = if args.methods.is_empty() {
+        vec![
+            MethodName::Mjls,
+            MethodName::Chain,
+            MethodName::Global,
+            MethodName::Local,
+        ]
+    } else {
+        args.methods.clone()
+    };
     println!(
-        "| trial | method | clean RMSE deg | {:.0} % IMU cells missing: mean over {} seeds (worst) | increase |",
-        args.missing_pct, args.seeds
+        "| trial | method | clean RMSE deg | {:.0} % IMU cells ({:?}) missing: mean over {} seeds (worst) | increase |{}",
+        args.missing_pct,
+        args.cells,
+        args.seeds,
+        if args.per_segment {
+            " clean trunk / thigh / shank / foot | masked, mean over seeds |"
+        } else {
+            ""
+        }
     );
-    println!("|---|---|---|---|---|");
+    println!(
+        "|---|---|---|---|---|{}",
+        if args.per_segment { "---|---|" } else { "" }
+    );
     for t in trials {
         let path = dir.join(t);
         let reader = TrialReader::open(&path)
@@ -116,16 +135,29 @@ fn main() {
         let meta = reader.meta().clone();
         let layout = *reader.layout();
         let records: Vec<Record> = reader.map(|r| r.expect("valid trial")).collect();
-        for method in methods {
-            let clean = mean_rmse(method, &meta, &layout, &records);
-            let masked: Vec<f64> = (1..=args.seeds)
+        for &method in &methods {
+            let clean_seg = segment_rmse(method, &meta, &layout, &records);
+            let clean = mean4(&clean_seg);
+            let masked_seg: Vec<[f64; 4]> = (1..=args.seeds)
                 .into_par_iter()
-                .map(|seed| mean_rmse(method, &meta, &layout, &mask(&records, p, seed)))
+                .map(|seed| {
+                    let masked = mask(&records, p, seed, args.cells);
+                    segment_rmse(method, &meta, &layout, &masked)
+                })
                 .collect();
+            let masked: Vec<f64> = masked_seg.iter().map(mean4).collect();
             let mean = masked.iter().sum::<f64>() / masked.len() as f64;
             let worst = masked.iter().cloned().fold(f64::MIN, f64::max);
+            let per_segment = if args.per_segment {
+                let n = masked_seg.len() as f64;
+                let m: [f64; 4] =
+                    core::array::from_fn(|k| masked_seg.iter().map(|s| s[k]).sum::<f64>() / n);
+                format!(" {} | {} |", segments(&clean_seg), segments(&m))
+            } else {
+                String::new()
+            };
             println!(
-                "| {t} | {} | {clean:.2} | {mean:.2} ({worst:.2}) | {:+.0} % |",
+                "| {t} | {} | {clean:.2} | {mean:.2} ({worst:.2}) | {:+.0} % |{per_segment}",
                 method.name(),
                 100.0 * (mean / clean - 1.0)
             );

@@ -50,6 +50,20 @@ fn main() {
                 c.rss_kb.map_or("-".into(), |v| v.to_string())
             );
         }
+        let phase = |p: usize| {
+            report.phase_rmse_deg[p]
+                .iter()
+                .map(|v| v.map_or("-".into(), |v| format!("{v:.2}")))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        };
+        println!(
+            "RMSE deg per channel (segments trunk / thigh / shank / foot, or the knee): during glitches {}; first {} s after {}; elsewhere {}",
+            phase(0),
+            limbfuse_studies::soak::AFTER_S,
+            phase(1),
+            phase(2)
+        );
         let first = report.chunks.first().expect("at least one chunk");
         let last = report.chunks.last().expect("at least one chunk");
         let q = |x: f64| report.step_times.quantile_ns(x).unwrap_or(f64::NAN);

@@ -399,4 +399,24 @@ pub struct RobustInputStudyArgs {
     /// The shared data directory.
     #[arg(long, default_value = "../shared/data")]
     pub data: String,
+    /// Which IMU vectors are masked: `both` (default), `acc` or `gyr`.
+    #[arg(long, value_enum, default_value_t = MaskedCells::Both)]
+    pub cells: MaskedCells,
+    /// Print the RMSE of each segment (trunk / thigh / shank / foot) too.
+    #[arg(long)]
+    pub per_segment: bool,
+    /// Only these methods (default: mjls, chain, global, local).
+    #[arg(long, value_delimiter = ',', value_parser = method_name)]
+    pub methods: Vec<limbfuse_methods::MethodName>,
+}
+
+/// The IMU vectors `robust_input_study` masks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MaskedCells {
+    /// Accelerometer and gyroscope cells.
+    Both,
+    /// Accelerometer cells only.
+    Acc,
+    /// Gyroscope cells only.
+    Gyr,
 }

@@ -208,6 +208,51 @@ pub struct SoakReport {
     pub glitches: u64,
     /// Samples processed.
     pub samples: u64,
+    /// Where the error is made, over the whole run: per [`Phase`] and
+    /// scored channel (segments trunk..foot, or the knee), the RMSE (deg).
+    pub phase_rmse_deg: [[Option<f64>; 4]; 3],
+}
+
+/// When a sample lies relative to the glitches (for [`SoakReport::phase_rmse_deg`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// While a glitch is applied (a gap: the missing second).
+    During = 0,
+    /// Within [`AFTER_S`] after a glitch ends (the recovery).
+    After = 1,
+    /// Everything else.
+    Elsewhere = 2,
+}
+
+/// The recovery span after a glitch scored as [`Phase::After`] (s).
+pub const AFTER_S: f64 = 5.0;
+
+/// Running squared errors per phase and channel.
+#[derive(Default)]
+struct PhaseAccumulator {
+    sq: [[f64; 4]; 3],
+    n: [[u64; 4]; 3],
+}
+
+impl PhaseAccumulator {
+    fn push(&mut self, phase: Phase, k: usize, est: Option<f64>, truth: Option<f64>) {
+        if let (Some(e), Some(t)) = (est, truth) {
+            if e.is_finite() {
+                let d = wrap(e - t);
+                self.sq[phase as usize][k] += d * d;
+                self.n[phase as usize][k] += 1;
+            }
+        }
+    }
+
+    fn rmse_deg(&self) -> [[Option<f64>; 4]; 3] {
+        core::array::from_fn(|p| {
+            core::array::from_fn(|k| {
+                (self.n[p][k] > 0)
+                    .then(|| (self.sq[p][k] / self.n[p][k] as f64).sqrt().to_degrees())
+            })
+        })
+    }
 }
 
 impl SoakReport {
@@ -320,7 +365,10 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
         step_times: StepTimes::new(),
         glitches: 0,
         samples: 0,
+        phase_rmse_deg: [[None; 4]; 3],
     };
+    let mut phases = PhaseAccumulator::default();
+    let mut glitch_ended: Option<f64> = None;
     let mut acc = ChunkAccumulator::default();
     let mut chunk_end = cfg.chunk_s;
     let mut next_glitch = cfg.glitch_every_s;
@@ -334,10 +382,18 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
             report.glitches += 1;
             next_glitch += cfg.glitch_every_s;
         }
-        if let Some((g, left)) = active {
+        let phase = if let Some((g, left)) = active {
             g.apply(&mut r);
             active = (left > 1).then_some((g, left - 1));
-        }
+            if active.is_none() {
+                glitch_ended = Some(t);
+            }
+            Phase::During
+        } else if glitch_ended.is_some_and(|e| t - e <= AFTER_S) {
+            Phase::After
+        } else {
+            Phase::Elsewhere
+        };
         let c0 = thread_cpu_ns();
         let e = est.step(&r.sample)?;
         let dt_ns = thread_cpu_ns().saturating_sub(c0);
@@ -347,9 +403,11 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
         report.samples += 1;
         if knee {
             acc.push(0, e.joint[1], r.reference.joint[1]);
+            phases.push(phase, 0, e.joint[1], r.reference.joint[1]);
         } else {
             for k in 0..4 {
                 acc.push(k, e.segment[k], r.reference.segment[k]);
+                phases.push(phase, k, e.segment[k], r.reference.segment[k]);
             }
         }
         last_t = t;
@@ -362,6 +420,7 @@ pub fn soak(cfg: &SoakConfig) -> Result<SoakReport, Box<dyn Error>> {
     if acc.steps > 0 {
         report.chunks.push(acc.close(last_t, channels));
     }
+    report.phase_rmse_deg = phases.rmse_deg();
     Ok(report)
 }
 

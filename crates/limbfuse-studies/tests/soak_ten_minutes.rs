@@ -4,9 +4,11 @@
 //! against the same stream without glitches. The glitches of the issue's
 //! criterion (a 1e300 gyro cell, a -1e308 accelerometer cell, a saturated
 //! burst) and a 1e9 encoder reading must cost at most 0.5 deg of mean RMSE;
-//! 1 s gaps of every IMU (issue 18 item 2, not met: docs/RESULTS.md) are run
-//! too and must leave every output finite. One test, so that the
-//! resident-memory figures are not those of other tests running beside it.
+//! 1 s gaps of every IMU (issue 18 item 2, docs/RESULTS.md) are run too and
+//! must leave every output finite; for `mjls` and `knee-selfalign`, whose
+//! gap handling was fixed, their cost is bounded as measured (`GAP_COST`).
+//! One test, so that the resident-memory figures are not those of other
+//! tests running beside it.
 
 use limbfuse_methods::MethodName;
 use limbfuse_studies::soak::{soak, Glitch, SoakConfig, SoakReport};
@@ -18,6 +20,19 @@ const BOUNDED: [Glitch; 4] = [
     Glitch::SaturatedBurst,
     Glitch::EncoderHuge,
 ];
+
+/// Largest cost (deg of mean RMSE) of a 1 s gap of every IMU every 30 s,
+/// per method with a bound: measured 2026-12-02 (seed 1) mjls 2.174 ->
+/// 2.488 (+0.31; before the fix 5.797) and knee-selfalign 0.797 -> 6.067
+/// (+5.27; before 18.602). The other methods are not bounded (not fixed:
+/// local/global +3.7, chain +1.5).
+fn gap_cost(m: MethodName) -> Option<f64> {
+    match m {
+        MethodName::Mjls => Some(0.5),
+        MethodName::KneeSelfAlign => Some(6.0),
+        _ => None,
+    }
+}
 
 /// 10 minutes, reported per minute.
 fn run(method: MethodName, glitches: &'static [Glitch], every: f64) -> SoakReport {
@@ -85,6 +100,14 @@ fn issue_18_soak_ten_minutes_with_glitches_and_gaps() {
         // RMSE (issue 18's glitch criterion), and no minute may be lost.
         if g > c + 0.5 {
             failures.push(format!("{m}: mean RMSE {c:.3} -> {g:.3} deg with glitches"));
+        }
+        if let Some(bound) = gap_cost(m) {
+            let gap = mean_rmse(&gaps);
+            if gap > c + bound {
+                failures.push(format!(
+                    "{m}: mean RMSE {c:.3} -> {gap:.3} deg with 1 s gaps (bound +{bound})"
+                ));
+            }
         }
         let clean_worst = clean.max_rmse_deg();
         if worst > 2.0 * clean_worst + 1.0 {

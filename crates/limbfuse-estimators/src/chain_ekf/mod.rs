@@ -27,6 +27,7 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
 use nalgebra::Vector3;
 
+use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
@@ -79,6 +80,12 @@ mod initial {
     pub const ENCODER_OFFSET: f64 = 0.05;
 }
 
+/// Typical angular acceleration of the foot at heel-off (rad/s^2), for the
+/// stance anchor applied without a foot gyro reading.
+const FOOT_ANGULAR_ACCELERATION: f64 = 50.0;
+/// Distance from the ankle to the pivot of a foot rolling off (m).
+const FOOT_PIVOT_M: f64 = 0.15;
+
 /// The chain EKF.
 #[derive(Debug, Clone)]
 pub struct ChainEkf {
@@ -94,6 +101,8 @@ pub struct ChainEkf {
     last_xy_rate: [Option<([f64; 2], f64)>; 4],
     /// Time since which the foot has been still (`None`: moving).
     still_since: Option<f64>,
+    /// Time of the last sample with a foot gyro reading.
+    last_foot_gyro: Option<f64>,
     /// The start-up window's samples, replayed through the filter once the
     /// window closes (allocated once, in [`ChainEkf::new`]).
     window: Box<[Sample]>,
@@ -135,6 +144,7 @@ impl ChainEkf {
             p: Covariance::zeros(),
             last_xy_rate: [None; 4],
             still_since: None,
+            last_foot_gyro: None,
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
             held: 0,
             turn_rate: 0.0,
@@ -179,9 +189,14 @@ impl ChainEkf {
         let mut d = [0.0; state::N];
         for i in 0..4 {
             x[theta(i)] = self.startup.offset(i).unwrap_or(0.0);
-            x[omega(i)] = first.imu[i].gyr.map_or(0.0, |w| w.z);
             d[theta(i)] = initial::ANGLE;
-            d[omega(i)] = initial::RATE;
+            // Without a first gyro reading the rate is unknown to a walking
+            // segment's rate amplitude (ours, issue 18 item 2; 0.1 rad/s
+            // about 0 started a moving segment a degree off).
+            (x[omega(i)], d[omega(i)]) = match first.imu[i].gyr.map(|w| w.z) {
+                Some(w) if w.is_finite() => (w, initial::RATE),
+                _ => (0.0, HELD_RATE_SD),
+            };
             d[alpha(i)] = initial::ANGULAR_ACCELERATION;
             d[gyro_bias(i)] = self.params.gyro_bias_initial;
         }
@@ -200,6 +215,7 @@ impl ChainEkf {
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.turn_rate = 0.0;
+        self.last_foot_gyro = None;
         self.out_of_plane_rates(&first);
         let mut previous = first.t;
         for k in 1..self.held {
@@ -208,6 +224,17 @@ impl ChainEkf {
             previous = sample.t;
         }
         self.held = 0;
+    }
+
+    /// Begins the start-up window again (after a long gap or a divergence):
+    /// no estimate until it closes, `diag_running` = 0 meanwhile.
+    fn restart_startup(&mut self) {
+        self.running = false;
+        self.startup = Startup::default();
+        self.held = 0;
+        self.last_xy_rate = [None; 4];
+        self.still_since = None;
+        self.last_foot_gyro = None;
     }
 
     /// Records the gyro x/y rates of every sensor (for their derivative).
@@ -284,21 +311,36 @@ impl ChainEkf {
     /// Whether the foot has been still (small rotation, specific force ~ g)
     /// for at least `stance_min_s`: a single still sample also occurs in
     /// swing, where the foot's rotation reverses.
-    fn foot_still(&mut self, sample: &Sample) -> bool {
+    ///
+    /// Missing foot readings (ours, issue 18 item 2): a reading that is
+    /// there must pass its own test; a sample without either vector neither
+    /// confirms nor ends the stillness, so that random dropouts do not cut
+    /// every stance into pieces shorter than `stance_min_s` (with half the
+    /// foot's vectors missing, eight readings in a row are rarely
+    /// complete). The anchor is only applied while a foot reading was seen
+    /// within the last `stance_min_s`.
+    fn foot_still(&mut self, sample: &Sample) -> Option<f64> {
         let foot = &sample.imu[3];
-        let still = match (foot.gyr, foot.acc) {
-            (Some(w), Some(a)) => {
-                w.norm() < self.params.stance_gyro
-                    && (a.norm() - self.g).abs() < self.params.stance_acc
+        let acc_still = foot
+            .acc
+            .map(|a| (a.norm() - self.g).abs() < self.params.stance_acc);
+        let Some(w) = foot.gyr else {
+            // No rotation reading: a moving accelerometer ends the
+            // stillness, otherwise it goes on while a gyro reading is recent.
+            let age = self.last_foot_gyro.map(|t| sample.t - t);
+            if acc_still == Some(false) || !age.is_some_and(|a| a <= self.params.stance_min_s) {
+                self.still_since = None;
             }
-            _ => false,
+            let since = self.still_since?;
+            return (sample.t - since >= self.params.stance_min_s).then_some(age.unwrap_or(0.0));
         };
-        if !still {
+        self.last_foot_gyro = Some(sample.t);
+        if !(w.norm() < self.params.stance_gyro && acc_still.unwrap_or(true)) {
             self.still_since = None;
-            return false;
+            return None;
         }
         let since = *self.still_since.get_or_insert(sample.t);
-        sample.t - since >= self.params.stance_min_s
+        (sample.t - since >= self.params.stance_min_s).then_some(0.0)
     }
 
     /// One filter step after the start-up: predict, then every scalar row.
@@ -359,17 +401,23 @@ impl ChainEkf {
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
         let stance = self.foot_still(sample);
-        if stance {
+        if let Some(age) = stance {
+            let grow = FOOT_ANGULAR_ACCELERATION * FOOT_PIVOT_M;
             for k in 0..2 {
                 let (v, rows) = self.geometry.ankle_velocity(&self.x);
-                self.apply(&rows[k], -v[k], p.stance_velocity, inf);
+                self.apply(&rows[k], -v[k], p.stance_velocity + grow * age, inf);
             }
-            for k in 0..2 {
-                let (a, rows) = self.geometry.ankle_acceleration(&self.x);
-                self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+            // The acceleration anchor only with a still gyro reading now: at
+            // heel-off the ankle's acceleration jumps at once (alpha r ~ 7.5
+            // m/s^2 against a sigma of 0.5), so no growth with age bounds it.
+            if age == 0.0 {
+                for k in 0..2 {
+                    let (a, rows) = self.geometry.ankle_acceleration(&self.x);
+                    self.apply(&rows[k], -a[k], p.stance_acceleration, inf);
+                }
             }
         }
-        (stance, rejected)
+        (stance.is_some(), rejected)
     }
 }
 
@@ -439,12 +487,23 @@ impl Estimator for ChainEkf {
         self.p = Covariance::zeros();
         self.last_xy_rate = [None; 4];
         self.still_since = None;
+        self.last_foot_gyro = None;
         self.held = 0;
         self.turn_rate = 0.0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
-        let dt = self.time.advance(sample.t)?;
+        let mut dt = self.time.advance(sample.t)?;
+        if dt.is_some_and(|d| d > LONG_GAP_S) {
+            // A gap in the recording longer than a stride (ours, issue 18
+            // item 2, as the segment filters): no prediction over it means
+            // anything (a 2 s step made the covariance indefinite, found by
+            // tests/issue_18_fuzz_chain_knee.rs), so the start-up window
+            // begins again at this sample (`diag_running` = 0, no estimate
+            // until it closes).
+            self.restart_startup();
+            dt = None;
+        }
         let mut est = Estimate::empty(sample.t);
         let (mut stance, mut rejected) = (false, 0);
         match (self.running, dt) {
@@ -467,6 +526,14 @@ impl Estimator for ChainEkf {
                     self.held = 0;
                 }
             }
+        }
+        if self.running
+            && !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
+        {
+            // Diverged (readings no gate screened, e.g. 1e300 offered to the
+            // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
+            // again from the next samples.
+            self.restart_startup();
         }
         // No estimate until the window closes (docs/CHAIN.md "Start-up").
         if self.running {

@@ -13,6 +13,7 @@
 use limbfuse_core::Sample;
 
 use crate::inclination::accel_inclination;
+use crate::segment_kf::robust::borrow_rates;
 
 /// Running sums of the start-up window.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -24,6 +25,8 @@ pub struct Startup {
     segment_sum: [[f64; 2]; 4],
     /// Sum of `(sin, cos)` of `enc_j - (I_a - I_b)`, per joint.
     encoder_sum: [[f64; 2]; 3],
+    /// The previous sample's encoders (rates borrowed through them).
+    last_encoder: [Option<f64>; 3],
 }
 
 fn add(sum: &mut [f64; 2], angle: f64) {
@@ -37,13 +40,26 @@ fn mean(sum: &[f64; 2]) -> Option<f64> {
 
 impl Startup {
     /// Adds one sample (`dt` = `None` for the first).
+    ///
+    /// A missing gyro rate is borrowed from a neighbour's rate and the
+    /// encoder between them (`omega_(j+1) = omega_j - d enc_j / dt`, as the
+    /// segment filters do, docs/ROBUST_INPUT.md; ours, issue 18 item 2);
+    /// failing that the last rate is held. Holding it alone over random
+    /// dropouts made the integral, and so the started angles, wrong by up
+    /// to a degree with 20 % of the IMU cells missing.
     pub fn observe(&mut self, sample: &Sample, dt: Option<f64>) {
         if self.start.is_none() {
             self.start = Some(sample.t);
         }
-        for i in 0..4 {
+        let mut rate: [Option<f64>; 4] =
+            core::array::from_fn(|i| sample.imu[i].gyr.map(|g| g.z).filter(|r| r.is_finite()));
+        let encoder = sample.encoder.map(|e| e.filter(|v| v.is_finite()));
+        if let Some(dt) = dt {
+            borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
+        }
+        self.last_encoder = encoder;
+        for (i, rate) in rate.into_iter().enumerate() {
             let imu = &sample.imu[i];
-            let rate = imu.gyr.map(|g| g.z);
             if let Some(dt) = dt {
                 let r1 = rate.or(self.last_rate[i]);
                 let r0 = self.last_rate[i].or(r1);

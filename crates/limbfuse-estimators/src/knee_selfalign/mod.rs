@@ -35,6 +35,9 @@ use limbfuse_core::{
 };
 use nalgebra::Vector3;
 
+use crate::segment_kf::robust::{
+    held_rate_variance, HELD_RATE_CORRELATION_S, HELD_RATE_VARIANCE_CAP,
+};
 use angle::{accel_angle, gyro_angle_rate, ComplementaryKf, PlaneBasis, RateBiasKf};
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 pub use window::Geometry;
@@ -113,6 +116,11 @@ diagnostic_set! {
         /// gyro angle (`acc_gyro_spread <= acc_max_spread`) and corrects it
         /// (Algorithm 1); 0 when the angle is the high-passed gyro angle.
         AccTrusted = "acc_trusted",
+        /// How long the gyro knee rate has been missing (s; 0 with both
+        /// gyros present). Over such a gap the held rate decays and the
+        /// fusion's variance grows (ours, issue 18 item 2), so the first
+        /// accelerometer angles after it re-anchor the knee angle.
+        GyroGap = "gyro_gap",
     }
 }
 
@@ -197,6 +205,15 @@ impl Fuser {
             Fuser::RateBias(f) => f.x[0] += k * (-alpha_gyro - f.x[0]),
         }
     }
+    /// Adds `dv` (rad^2) to the variance of the correction, capped at
+    /// `cap` (a gyro angle that became uncertain over a dropout).
+    fn inflate(&mut self, dv: f64, cap: f64) {
+        let p = match self {
+            Fuser::Paper(k) => &mut k.p,
+            Fuser::RateBias(k) => &mut k.p[0][0],
+        };
+        *p = (*p + dv).min(cap.max(*p));
+    }
     /// Correction added to the gyro angle, its variance, the rate bias.
     fn state(&self) -> (f64, f64, Option<f64>) {
         match self {
@@ -219,6 +236,8 @@ pub struct KneeSelfAlign {
     bases: Option<[PlaneBasis; 2]>,
     alpha_gyro: f64,
     last_rate: Option<f64>,
+    /// How long the gyro knee rate has been missing (s).
+    gyro_gap: f64,
     kf: Fuser,
     windows: usize,
     status: WindowStatus,
@@ -264,6 +283,7 @@ impl KneeSelfAlign {
             bases: None,
             alpha_gyro: 0.0,
             last_rate: None,
+            gyro_gap: 0.0,
             kf: Fuser::new(&params),
             windows: 0,
             status: WindowStatus::NoWindowYet,
@@ -444,6 +464,7 @@ impl Estimator for KneeSelfAlign {
         self.bases = None;
         self.alpha_gyro = 0.0;
         self.last_rate = None;
+        self.gyro_gap = 0.0;
         self.kf = Fuser::new(&self.params);
         self.windows = 0;
         self.status = WindowStatus::NoWindowYet;
@@ -481,19 +502,32 @@ impl Estimator for KneeSelfAlign {
         }
         let mut est = Estimate::empty(sample.t);
         let mut alpha_acc = None;
+        let mut gap_growth = 0.0;
         if let Some(g) = self.geometry {
-            // Eq 4, trapezoidal; a missing gyro sample holds the last rate.
+            // Eq 4, trapezoidal. A missing gyro sample holds the last rate,
+            // decaying towards zero over the dropout (ours, issue 18 item 2,
+            // as the segment filters: HELD_RATE_CORRELATION_S).
             let rate = match (thigh.gyr, shank.gyr) {
                 (Some(gt), Some(gs)) => Some(gyro_angle_rate(&gt, &gs, &g.axis[0], &g.axis[1])),
                 _ => None,
             };
-            let r1 = rate.or(self.last_rate);
-            let r0 = self.last_rate.or(r1);
+            let gap = self.gyro_gap;
+            let held = |t: f64| {
+                self.last_rate
+                    .map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S))
+            };
+            let step = dt.unwrap_or(0.0);
+            let r1 = rate.or(held(gap + step));
+            let r0 = held(gap).or(r1);
             if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
                 self.alpha_gyro += 0.5 * (r0 + r1) * dt;
             }
             if rate.is_some() {
                 self.last_rate = rate;
+                self.gyro_gap = 0.0;
+            } else {
+                self.gyro_gap += step;
+                gap_growth = held_rate_variance(self.gyro_gap) - held_rate_variance(gap);
             }
         }
         self.recent.push(slot);
@@ -501,6 +535,9 @@ impl Estimator for KneeSelfAlign {
         self.recent_gyro_angle[4] = self.geometry.map(|_| self.alpha_gyro);
         if self.geometry.is_some() {
             self.kf.predict(dt.unwrap_or(0.0));
+            // The held rate's angle error: the accelerometer angle takes over
+            // after a gap (docs/ROBUST_INPUT.md).
+            self.kf.inflate(gap_growth, HELD_RATE_VARIANCE_CAP);
             alpha_acc = self.lagged_accel_angle();
             if !self.acc_trusted {
                 let dt = dt.unwrap_or(0.0);
@@ -543,6 +580,7 @@ impl Estimator for KneeSelfAlign {
         }
         d.flag(KneeDiag::SignCommitted, self.sign_committed);
         d.flag(KneeDiag::AccTrusted, self.acc_trusted);
+        d.value(KneeDiag::GyroGap, self.gyro_gap);
         d.value(KneeDiag::Information, self.information);
         d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
         Ok(est)

@@ -28,7 +28,7 @@ use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
 use super::robust::{
-    borrow_rates, held_rate_variance, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
+    held_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
@@ -101,6 +101,8 @@ pub(crate) struct Chain {
     encoder_start: Option<[f64; 3]>,
     /// How long each gyro rate has been missing (s).
     rate_gap: [f64; 4],
+    /// Own-gyro dropouts and rate power (rates held or borrowed).
+    dropouts: RateDropouts,
     /// Encoders of the previous sample (for rates borrowed through them).
     last_encoder: [Option<f64>; 3],
     /// Time of the current sample (s).
@@ -142,6 +144,7 @@ impl Chain {
             common,
             encoder_start: None,
             rate_gap: [0.0; 4],
+            dropouts: RateDropouts::default(),
             last_encoder: [None; 3],
             now: 0.0,
             encoders_gated_since: [None; 3],
@@ -275,8 +278,23 @@ impl Chain {
                 .filter(|v| v.abs() <= core::f64::consts::TAU);
         }
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
-        if let (Some(_), Some(dt)) = (self.encoder_start, dt) {
-            borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
+        let own_gap_before = self.dropouts.observe(&rate, dt);
+        if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
+            let held: [Option<f64>; 4] = core::array::from_fn(|i| {
+                self.init[i]
+                    .then(|| self.held_rate(i, self.rate_gap[i] + dt))
+                    .flatten()
+            });
+            let sigma_e = sigma.iter().fold(0.0f64, |m, s| m.max(*s));
+            let ctx = FillContext {
+                held: &held,
+                own_gap_before: &own_gap_before,
+                encoder: &encoder,
+                last_encoder: &self.last_encoder,
+                sigma_e,
+                dt,
+            };
+            self.dropouts.fill(&mut rate, &ctx);
         }
         self.last_encoder = encoder;
         match dt {
@@ -390,7 +408,15 @@ impl Chain {
         self.init = [true; 4];
     }
 
+    /// Segment `i`'s last gyro rate held over a dropout of `tau` seconds,
+    /// decaying towards zero (HELD_RATE_CORRELATION_S); `None` if no rate
+    /// was ever seen.
+    fn held_rate(&self, i: usize, tau: f64) -> Option<f64> {
+        self.last_rate[i].map(|r| r * libm::exp(-tau / HELD_RATE_CORRELATION_S))
+    }
+
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
+        let last_rate = self.last_rate;
         let blocks = self.disc.blocks(dt);
         for (i, rate) in rate.iter().enumerate() {
             if !self.init[i] {
@@ -399,8 +425,7 @@ impl Chain {
             // Over a gyro dropout the last rate is held, decaying towards
             // zero (HELD_RATE_CORRELATION_S); zero if none was ever seen.
             let tau = self.rate_gap[i];
-            let held =
-                |t: f64| self.last_rate[i].map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S));
+            let held = |t: f64| last_rate[i].map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S));
             let r1 = rate.or(held(tau + dt)).unwrap_or(0.0);
             let r0 = held(tau).unwrap_or(r1);
             let phi = &blocks.phi[i];

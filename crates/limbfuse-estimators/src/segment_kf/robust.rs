@@ -101,6 +101,102 @@ pub(crate) fn borrow_rates(
     }
 }
 
+/// Time constant (s) of the running mean square of the gyro rates: a
+/// stride at 1 Hz.
+const RATE_POWER_S: f64 = 1.0;
+
+/// What [`RateDropouts::fill`] needs of the filter at one sample.
+pub(crate) struct FillContext<'a> {
+    /// Each initialised segment's last rate held (decaying) to this sample.
+    pub held: &'a [Option<f64>; 4],
+    /// How long each own gyro rate had been missing before this sample (s).
+    pub own_gap_before: &'a [f64; 4],
+    /// This sample's encoders.
+    pub encoder: &'a [Option<f64>; 3],
+    /// The previous sample's encoders.
+    pub last_encoder: &'a [Option<f64>; 3],
+    /// The filter's encoder noise (rad).
+    pub sigma_e: f64,
+    /// Time step (s).
+    pub dt: f64,
+}
+
+/// Gyro dropouts of the filters with encoder rows (`mjls`; ours, issue 18
+/// item 2, docs/ROBUST_INPUT.md): how long each segment's own rate has been
+/// missing and each rate's running mean square.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct RateDropouts {
+    /// How long each segment's own gyro rate has been missing (s; rates
+    /// borrowed meanwhile do not end it).
+    own_gap: [f64; 4],
+    /// Running mean square of each segment's gyro rate (time constant
+    /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
+    /// every gyro is gone.
+    rate_power: [Option<f64>; 4],
+}
+
+impl RateDropouts {
+    /// Records which own rates this sample has; returns how long each had
+    /// been missing before it.
+    pub fn observe(&mut self, rate: &[Option<f64>; 4], dt: Option<f64>) -> [f64; 4] {
+        let before = self.own_gap;
+        let step = dt.unwrap_or(0.0);
+        for (g, r) in self.own_gap.iter_mut().zip(rate.iter()) {
+            *g = if r.is_some() { 0.0 } else { *g + step };
+        }
+        if let Some(dt) = dt {
+            let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
+            for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
+                if let Some(r) = r {
+                    *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
+                }
+            }
+        }
+        before
+    }
+
+    /// Fills missing rates for the integration:
+    /// * a rate missing only briefly is held (decaying) rather than
+    ///   borrowed while the held rate's angle variance stays below that of
+    ///   a borrowed one, two encoder readings `2 sigma_e^2` (an encoder
+    ///   difference puts its noise into the integrated angle at every
+    ///   switch between own and borrowed rate); a held rate also lends
+    ///   itself to its neighbours;
+    /// * with every gyro gone for longer (a gap of the whole IMU bus) the
+    ///   stillest segment (smallest mean square rate) anchors the chain
+    ///   with its held rate;
+    /// * the others borrow through the encoders ([`borrow_rates`]).
+    ///
+    /// Held rates are left missing in `rate`: the filter's prediction holds
+    /// them the same way and grows their variance.
+    pub fn fill(&self, rate: &mut [Option<f64>; 4], c: &FillContext) {
+        let mut held_now = [false; 4];
+        for i in 0..4 {
+            let brief =
+                held_rate_variance(c.own_gap_before[i] + c.dt) < 2.0 * c.sigma_e * c.sigma_e;
+            if rate[i].is_none() && brief {
+                rate[i] = c.held[i];
+                held_now[i] = rate[i].is_some();
+            }
+        }
+        if rate.iter().all(|r| r.is_none()) {
+            let anchor = (0..4)
+                .filter_map(|i| Some((i, c.held[i]?, self.rate_power[i]?)))
+                .min_by(|a, b| a.2.total_cmp(&b.2));
+            if let Some((i, r, _)) = anchor {
+                rate[i] = Some(r);
+                held_now[i] = true;
+            }
+        }
+        borrow_rates(rate, c.encoder, c.last_encoder, c.dt);
+        for (r, h) in rate.iter_mut().zip(held_now) {
+            if h {
+                *r = None;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
