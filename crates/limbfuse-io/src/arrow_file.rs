@@ -23,7 +23,7 @@ use std::io::{self, BufReader, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-use arrow_array::builder::StringBuilder;
+use arrow_array::builder::{ArrayBuilder, StringBuilder};
 use arrow_array::cast::AsArray;
 use arrow_array::types::{
     Float32Type, Float64Type, Int16Type, Int32Type, Int64Type, Int8Type, UInt16Type, UInt32Type,
@@ -290,30 +290,21 @@ pub(crate) enum ColumnKind {
     Label,
 }
 
-/// A column of the batch being written. Numbers go to a plain vector
-/// and a validity vector (one store each per cell, no capacity growth
-/// inside a batch); the batch's arrays take the vectors over.
-enum ColumnBuilder {
-    Number { values: Vec<f64>, valid: Vec<bool> },
-    Label(StringBuilder),
-}
-
-impl ColumnBuilder {
-    fn number() -> Self {
-        ColumnBuilder::Number {
-            values: Vec::with_capacity(BATCH_ROWS),
-            valid: Vec::with_capacity(BATCH_ROWS),
-        }
-    }
-}
-
 /// Writes a table's rows into an Arrow IPC file, batch by batch.
+///
+/// A row's number cells are staged row-major, one store each, a missing
+/// value as NaN (a non-finite value is written missing, as in CSV, so NaN
+/// is free to mean missing); [`ArrowSink::end_row`] of the batch's last row
+/// transposes them into the columns. Label cells go to a text builder per
+/// label column.
 pub(crate) struct ArrowSink<W: Write> {
     writer: FileWriter<W>,
     schema: Arc<Schema>,
-    builders: Vec<ColumnBuilder>,
-    /// Next column of the row being written.
-    col: usize,
+    kinds: Vec<ColumnKind>,
+    /// Number cells of the batch, row-major (label columns hold NaN).
+    cells: Vec<f64>,
+    /// Per column: its text builder, for a label column.
+    labels: Vec<Option<StringBuilder>>,
     rows: usize,
 }
 
@@ -325,28 +316,25 @@ fn io_error(e: ArrowError) -> io::Error {
 }
 
 impl<W: Write> CellSink for ArrowSink<W> {
-    /// The next cell of the row: a number (`None`: null). A label column
-    /// gets the number's shortest text.
+    /// The next cell of the row: a number (`None`: null).
     #[inline]
     fn number(&mut self, v: Option<f64>) {
-        let v = v.filter(|v| v.is_finite());
-        match &mut self.builders[self.col] {
-            ColumnBuilder::Number { values, valid } => {
-                values.push(v.unwrap_or(0.0));
-                valid.push(v.is_some());
-            }
-            ColumnBuilder::Label(b) => b.append_option(v.map(|v| v.to_string())),
-        }
-        self.col += 1;
+        self.cells.push(match v {
+            Some(v) if v.is_finite() => v,
+            _ => f64::NAN,
+        });
     }
 
-    /// The next cell of the row: a label (`None`: null).
+    /// The next cell of the row: a label (`None`: null). In a number
+    /// column, the label's number.
     fn label(&mut self, v: Option<&str>) {
-        if let ColumnBuilder::Label(b) = &mut self.builders[self.col] {
-            b.append_option(v);
-            self.col += 1;
-        } else {
-            self.number(v.and_then(|t| t.parse().ok()));
+        let col = self.cells.len() - self.rows * self.kinds.len();
+        match self.labels.get_mut(col) {
+            Some(Some(b)) => {
+                b.append_option(v);
+                self.cells.push(f64::NAN);
+            }
+            _ => self.number(v.and_then(|t| t.trim().parse().ok())),
         }
     }
 }
@@ -373,29 +361,32 @@ impl<W: Write> ArrowSink<W> {
         metadata.insert(KEY_ORDER.to_string(), order.join("\n"));
         let schema = Arc::new(Schema::new_with_metadata(fields, metadata));
         let writer = FileWriter::try_new(out, &schema).map_err(io_error)?;
-        let builders = columns
+        let kinds: Vec<ColumnKind> = columns.iter().map(|(_, k)| *k).collect();
+        let labels = kinds
             .iter()
-            .map(|(_, kind)| match kind {
-                ColumnKind::Number => ColumnBuilder::number(),
-                ColumnKind::Label => ColumnBuilder::Label(StringBuilder::new()),
-            })
+            .map(|k| (*k == ColumnKind::Label).then(StringBuilder::new))
             .collect();
         Ok(ArrowSink {
             writer,
             schema,
-            builders,
-            col: 0,
+            cells: Vec::with_capacity(BATCH_ROWS * kinds.len()),
+            kinds,
+            labels,
             rows: 0,
         })
     }
 
     /// Ends the row (a short row is padded with nulls); writes a full batch.
     pub(crate) fn end_row(&mut self) -> io::Result<()> {
-        while self.col < self.builders.len() {
-            self.number(None);
-        }
-        self.col = 0;
+        let n = self.kinds.len();
         self.rows += 1;
+        // A row written short (not done by limbfuse's writers) or long.
+        self.cells.resize(self.rows * n, f64::NAN);
+        for b in self.labels.iter_mut().flatten() {
+            while b.len() < self.rows {
+                b.append_null();
+            }
+        }
         if self.rows == BATCH_ROWS {
             self.write_batch()?;
         }
@@ -406,21 +397,29 @@ impl<W: Write> ArrowSink<W> {
         if self.rows == 0 {
             return Ok(());
         }
+        let n = self.kinds.len();
+        let cells = &self.cells;
         let columns: Vec<ArrayRef> = self
-            .builders
+            .labels
             .iter_mut()
-            .map(|b| match b {
-                ColumnBuilder::Number { values, valid } => {
-                    let nulls = valid
-                        .contains(&false)
-                        .then(|| NullBuffer::from(valid.as_slice()));
-                    valid.clear();
-                    let values = std::mem::replace(values, Vec::with_capacity(BATCH_ROWS));
+            .enumerate()
+            .map(|(c, label)| match label {
+                Some(b) => Arc::new(b.finish()) as ArrayRef,
+                None => {
+                    let column = cells[c..].iter().step_by(n);
+                    let values: Vec<f64> = column
+                        .clone()
+                        .map(|&v| if v.is_nan() { 0.0 } else { v })
+                        .collect();
+                    let nulls = column
+                        .clone()
+                        .any(|v| v.is_nan())
+                        .then(|| NullBuffer::from_iter(column.map(|v| !v.is_nan())));
                     Arc::new(Float64Array::new(ScalarBuffer::from(values), nulls)) as ArrayRef
                 }
-                ColumnBuilder::Label(b) => Arc::new(b.finish()) as ArrayRef,
             })
             .collect();
+        self.cells.clear();
         let batch = RecordBatch::try_new(self.schema.clone(), columns).map_err(io_error)?;
         self.writer.write(&batch).map_err(io_error)?;
         self.rows = 0;
