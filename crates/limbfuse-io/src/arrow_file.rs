@@ -398,23 +398,26 @@ impl<W: Write> ArrowSink<W> {
             return Ok(());
         }
         let n = self.kinds.len();
-        let cells = &self.cells;
-        let columns: Vec<ArrayRef> = self
-            .labels
-            .iter_mut()
-            .enumerate()
-            .map(|(c, label)| match label {
+        // One sequential pass over the staged rows into the columns.
+        let mut columns: Vec<Vec<f64>> = (0..n).map(|_| Vec::with_capacity(self.rows)).collect();
+        for row in self.cells.chunks_exact(n) {
+            for (column, &v) in columns.iter_mut().zip(row) {
+                column.push(v);
+            }
+        }
+        let columns: Vec<ArrayRef> = columns
+            .into_iter()
+            .zip(self.labels.iter_mut())
+            .map(|(mut values, label)| match label {
                 Some(b) => Arc::new(b.finish()) as ArrayRef,
                 None => {
-                    let column = cells[c..].iter().step_by(n);
-                    let values: Vec<f64> = column
-                        .clone()
-                        .map(|&v| if v.is_nan() { 0.0 } else { v })
-                        .collect();
-                    let nulls = column
-                        .clone()
+                    let nulls = values
+                        .iter()
                         .any(|v| v.is_nan())
-                        .then(|| NullBuffer::from_iter(column.map(|v| !v.is_nan())));
+                        .then(|| NullBuffer::from_iter(values.iter().map(|v| !v.is_nan())));
+                    for v in values.iter_mut().filter(|v| v.is_nan()) {
+                        *v = 0.0;
+                    }
                     Arc::new(Float64Array::new(ScalarBuffer::from(values), nulls)) as ArrayRef
                 }
             })
