@@ -23,7 +23,14 @@ fn ok(o: Output) -> String {
 fn simulate(dir: &Path, seed: &str, out: &str) {
     ok(limbfuse(
         &[
-            "simulate", "walking", "--duration", "8", "--seed", seed, "-o", out,
+            "simulate",
+            "walking",
+            "--duration",
+            "8",
+            "--seed",
+            seed,
+            "-o",
+            out,
         ],
         dir,
     ));
@@ -35,9 +42,18 @@ fn issue_18_arrow_trials_and_estimates_evaluate_as_csv_does() {
     let d = dir.path();
     simulate(d, "4", "w.csv");
     simulate(d, "4", "w.arrow");
-    ok(limbfuse(&["estimate", "--method", "mjls", "w.csv", "-o", "e.csv"], d));
-    ok(limbfuse(&["estimate", "--method", "mjls", "w.arrow", "-o", "e.arrow"], d));
-    ok(limbfuse(&["estimate", "--method", "mjls", "w.arrow", "-o", "e2.csv"], d));
+    ok(limbfuse(
+        &["estimate", "--method", "mjls", "w.csv", "-o", "e.csv"],
+        d,
+    ));
+    ok(limbfuse(
+        &["estimate", "--method", "mjls", "w.arrow", "-o", "e.arrow"],
+        d,
+    ));
+    ok(limbfuse(
+        &["estimate", "--method", "mjls", "w.arrow", "-o", "e2.csv"],
+        d,
+    ));
     // The Arrow trial gives the CSV trial's estimate, cell for cell.
     let rows = |name: &str| -> Vec<String> {
         std::fs::read_to_string(d.join(name))
@@ -71,14 +87,30 @@ fn issue_18_an_arrow_estimate_of_another_trial_is_refused() {
     let d = dir.path();
     simulate(d, "4", "a.arrow");
     simulate(d, "5", "b.arrow");
-    ok(limbfuse(&["estimate", "--method", "local", "a.arrow", "-o", "ea.arrow"], d));
+    ok(limbfuse(
+        &["estimate", "--method", "local", "a.arrow", "-o", "ea.arrow"],
+        d,
+    ));
     let o = limbfuse(&["evaluate", "b.arrow", "ea.arrow"], d);
     let e = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{e}");
-    assert!(e.contains("another trial") && !e.contains("panicked"), "{e}");
+    assert!(
+        e.contains("another trial") && !e.contains("panicked"),
+        "{e}"
+    );
     // A CSV file named .arrow: exit 1, the file named, no output left.
     std::fs::write(d.join("fake.arrow"), "t,hip_enc\n0,1\n").unwrap();
-    let o = limbfuse(&["estimate", "--method", "mjls", "fake.arrow", "-o", "x.arrow"], d);
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "mjls",
+            "fake.arrow",
+            "-o",
+            "x.arrow",
+        ],
+        d,
+    );
     let e = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.contains("fake.arrow") && e.contains("Arrow IPC"), "{e}");

@@ -50,9 +50,11 @@ pub const KEY_ORDER: &str = "limbfuse_key_order";
 /// True when `path` names an Arrow IPC file (`.arrow`, `.feather`, `.ipc`,
 /// any case): the readers and writers choose the format by this.
 pub fn is_arrow_path(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| ["arrow", "feather", "ipc"].iter().any(|x| e.eq_ignore_ascii_case(x)))
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["arrow", "feather", "ipc"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    })
 }
 
 fn arrow_error(path: &Path, e: ArrowError) -> FileError {
@@ -341,7 +343,11 @@ impl<W: Write> CellSink for ArrowSink<W> {
 
 impl<W: Write> ArrowSink<W> {
     /// Writes the schema (columns `columns`, metadata `meta`) to `out`.
-    pub(crate) fn new(out: W, columns: &[(String, ColumnKind)], meta: &TrialMeta) -> io::Result<Self> {
+    pub(crate) fn new(
+        out: W,
+        columns: &[(String, ColumnKind)],
+        meta: &TrialMeta,
+    ) -> io::Result<Self> {
         let fields: Vec<Field> = columns
             .iter()
             .map(|(name, kind)| {

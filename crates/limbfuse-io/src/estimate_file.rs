@@ -219,7 +219,10 @@ impl<W: Write> Observer for EstimateWriter<W> {
         let line = &mut self.line;
         line.clear();
         write_estimate(line, &self.outputs, self.n_diag, e);
-        let out = self.out.as_mut().ok_or("the estimate writer has no output")?;
+        let out = self
+            .out
+            .as_mut()
+            .ok_or("the estimate writer has no output")?;
         out.write_all(line.finish())?;
         Ok(())
     }
@@ -233,7 +236,12 @@ impl<W: Write> Observer for EstimateWriter<W> {
 }
 
 /// The cells of `e` in the column order of the header ([`Observer::start`]).
-fn write_estimate<S: CellSink + ?Sized>(line: &mut S, outputs: &Outputs, n_diag: usize, e: &Estimate) {
+fn write_estimate<S: CellSink + ?Sized>(
+    line: &mut S,
+    outputs: &Outputs,
+    n_diag: usize,
+    e: &Estimate,
+) {
     line.number(Some(e.t));
     for c in AngleChannel::ALL {
         if output_has(outputs, c) {

@@ -64,7 +64,12 @@ impl<W: Write> TrialWriter<W> {
 
     /// [`TrialWriter::arrow`] when `path` names an Arrow file
     /// ([`arrow_file::is_arrow_path`]), else [`TrialWriter::new`] (CSV).
-    pub fn for_path(path: &Path, out: W, meta: &TrialMeta, layout: TrialLayout) -> io::Result<Self> {
+    pub fn for_path(
+        path: &Path,
+        out: W,
+        meta: &TrialMeta,
+        layout: TrialLayout,
+    ) -> io::Result<Self> {
         if arrow_file::is_arrow_path(path) {
             Self::arrow(out, meta, layout)
         } else {
@@ -102,8 +107,8 @@ impl<W: Write> TrialWriter<W> {
 
 /// The cells of `r` in the column order of `l` ([`TrialLayout::column_names`]).
 fn write_record<S: CellSink + ?Sized>(line: &mut S, l: &TrialLayout, r: &Record) {
-let (s, re) = (&r.sample, &r.reference);
-line.number(Some(s.t));
+    let (s, re) = (&r.sample, &r.reference);
+    line.number(Some(s.t));
     for i in 0..4 {
         let imu = &s.imu[i];
         if l.acc[i] {

@@ -235,7 +235,10 @@ fn issue_18_bad_arrow_files_are_errors_with_row_and_column() {
         ],
     );
     let e = first_error(&nan);
-    assert!(e.contains("nan.arrow:2: column 2 (`hip_enc`)") && e.contains("finite"), "{e}");
+    assert!(
+        e.contains("nan.arrow:2: column 2 (`hip_enc`)") && e.contains("finite"),
+        "{e}"
+    );
 
     let text = dir.path().join("text.arrow");
     write_batch(
@@ -250,7 +253,10 @@ fn issue_18_bad_arrow_files_are_errors_with_row_and_column() {
         ],
     );
     let e = first_error(&text);
-    assert!(e.contains("text.arrow:1: column 2 (`hip_enc`)") && e.contains("`ten`"), "{e}");
+    assert!(
+        e.contains("text.arrow:1: column 2 (`hip_enc`)") && e.contains("`ten`"),
+        "{e}"
+    );
 
     let back = dir.path().join("back.arrow");
     write_batch(
