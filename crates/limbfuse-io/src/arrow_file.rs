@@ -285,7 +285,7 @@ pub(crate) fn row_count(path: &Path) -> Result<u64, FileError> {
 
 /// What a column of a table being written holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum ColumnKind {
+enum ColumnKind {
     /// Numbers (`Float64`).
     Number,
     /// Labels (`Utf8`).
@@ -342,12 +342,25 @@ impl<W: Write> CellSink for ArrowSink<W> {
 }
 
 impl<W: Write> ArrowSink<W> {
-    /// Writes the schema (columns `columns`, metadata `meta`) to `out`.
+    /// Writes the schema to `out`: the columns `names`, all numbers but the
+    /// one named `label` (text), and the metadata `meta`.
     pub(crate) fn new(
         out: W,
-        columns: &[(String, ColumnKind)],
+        names: Vec<String>,
+        label: &str,
         meta: &TrialMeta,
     ) -> io::Result<Self> {
+        let columns: Vec<(String, ColumnKind)> = names
+            .into_iter()
+            .map(|name| {
+                let kind = if name == label {
+                    ColumnKind::Label
+                } else {
+                    ColumnKind::Number
+                };
+                (name, kind)
+            })
+            .collect();
         let fields: Vec<Field> = columns
             .iter()
             .map(|(name, kind)| {

@@ -20,7 +20,7 @@ use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 
-use crate::arrow_file::{self, ArrowSink, ColumnKind};
+use crate::arrow_file::{self, ArrowSink};
 use crate::cell_sink::{CellSink, CsvLine};
 use crate::content_hash::{ContentHash, STREAMED_HASH, TRIAL_HASH_KEY, TRIAL_KEY};
 use crate::error::FileError;
@@ -189,19 +189,8 @@ impl<W: Write> Observer for EstimateWriter<W> {
         }
         header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
         if self.arrow {
-            let columns: Vec<(String, ColumnKind)> = header
-                .into_iter()
-                .map(|name| {
-                    let kind = if name == "phase" {
-                        ColumnKind::Label
-                    } else {
-                        ColumnKind::Number
-                    };
-                    (name, kind)
-                })
-                .collect();
             let out = self.out.take().ok_or("the estimate writer has no output")?;
-            self.sink = Some(Box::new(ArrowSink::new(out, &columns, &meta)?));
+            self.sink = Some(Box::new(ArrowSink::new(out, header, "phase", &meta)?));
             return Ok(());
         }
         let out = self.csv_out()?;

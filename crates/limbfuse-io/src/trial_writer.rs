@@ -6,7 +6,7 @@ use std::path::Path;
 
 use limbfuse_core::Record;
 
-use crate::arrow_file::{self, ArrowSink, ColumnKind};
+use crate::arrow_file::{self, ArrowSink};
 use crate::cell_format::write_comments;
 use crate::cell_sink::{CellSink, CsvLine};
 use crate::layout::TrialLayout;
@@ -43,19 +43,7 @@ impl<W: Write> TrialWriter<W> {
     /// Writes the schema of an Arrow IPC trial file for `layout`, with
     /// `meta` as its metadata (docs/ARROW.md).
     pub fn arrow(out: W, meta: &TrialMeta, layout: TrialLayout) -> io::Result<Self> {
-        let columns: Vec<(String, ColumnKind)> = layout
-            .column_names()
-            .into_iter()
-            .map(|name| {
-                let kind = if name == "phase_ref" {
-                    ColumnKind::Label
-                } else {
-                    ColumnKind::Number
-                };
-                (name, kind)
-            })
-            .collect();
-        let sink = ArrowSink::new(out, &columns, meta)?;
+        let sink = ArrowSink::new(out, layout.column_names(), "phase_ref", meta)?;
         Ok(TrialWriter {
             layout,
             out: Output::Arrow(Box::new(sink)),
