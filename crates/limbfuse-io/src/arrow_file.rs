@@ -67,6 +67,22 @@ fn arrow_error(path: &Path, e: ArrowError) -> FileError {
     FileError::at(path, 0, format!("a readable Arrow IPC file: {text}{hint}"))
 }
 
+/// Runs an arrow-rs reading step, turning a panic into an error: arrow-rs
+/// validates what it reads, but some corrupted files still make it panic
+/// (found by `tests/issue_18_arrow_files.rs`, a flipped byte in a batch
+/// body: `arrow-buffer` asserts a slice bound), and bad input must be an
+/// error naming the file.
+fn guarded<T>(path: &Path, step: impl FnOnce() -> Result<T, ArrowError>) -> Result<T, FileError> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)) {
+        Ok(r) => r.map_err(|e| arrow_error(path, e)),
+        Err(_) => Err(FileError::at(
+            path,
+            0,
+            "a readable Arrow IPC file: the Arrow reader failed on its contents (the file is corrupt)",
+        )),
+    }
+}
+
 /// Metadata in order: the schema's (ordered by [`KEY_ORDER`] where given),
 /// then the footer's.
 fn ordered_meta(schema: &Metadata, footer: &HashMap<String, String>) -> TrialMeta {
@@ -125,7 +141,7 @@ impl ArrowSource {
     /// Opens `path` and reads its schema and footer.
     pub(crate) fn open(path: &Path) -> Result<(Self, ArrowHead), FileError> {
         let file = File::open(path).map_err(|e| FileError::io(path, e))?;
-        let reader = FileReader::try_new_buffered(file, None).map_err(|e| arrow_error(path, e))?;
+        let reader = guarded(path, || FileReader::try_new_buffered(file, None))?;
         let schema = reader.schema();
         let mut header = Vec::with_capacity(schema.fields().len());
         for f in schema.fields() {
@@ -172,10 +188,10 @@ impl ArrowSource {
     /// Moves to the next row; its 1-based row number, `None` at the end.
     pub(crate) fn advance(&mut self, path: &Path) -> Result<Option<u64>, FileError> {
         while self.row >= self.batch_rows {
-            let Some(batch) = self.reader.next() else {
+            let reader = &mut self.reader;
+            let Some(batch) = guarded(path, || reader.next().transpose())? else {
                 return Ok(None);
             };
-            let batch = batch.map_err(|e| arrow_error(path, e))?;
             self.rows_before += self.batch_rows as u64;
             self.batch_rows = batch.num_rows();
             self.row = 0;
@@ -275,10 +291,10 @@ fn view(c: &ArrayRef) -> ColumnView {
 /// The number of rows of an Arrow IPC file (reads every batch).
 pub(crate) fn row_count(path: &Path) -> Result<u64, FileError> {
     let file = File::open(path).map_err(|e| FileError::io(path, e))?;
-    let reader = FileReader::try_new_buffered(file, None).map_err(|e| arrow_error(path, e))?;
+    let mut reader = guarded(path, || FileReader::try_new_buffered(file, None))?;
     let mut rows = 0u64;
-    for batch in reader {
-        rows += batch.map_err(|e| arrow_error(path, e))?.num_rows() as u64;
+    while let Some(batch) = guarded(path, || reader.next().transpose())? {
+        rows += batch.num_rows() as u64;
     }
     Ok(rows)
 }

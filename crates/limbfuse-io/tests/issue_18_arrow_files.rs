@@ -293,3 +293,32 @@ fn issue_18_bad_arrow_files_are_errors_with_row_and_column() {
     std::fs::write(&cut, "t,hip_enc\n0,1\n").unwrap();
     assert!(first_error(&cut).contains("Arrow IPC file"));
 }
+
+/// Every single-byte corruption of a small Arrow trial reads to records or
+/// to an error naming the file: never a panic (arrow-ipc validates the
+/// flatbuffers and the arrays it reads).
+#[test]
+fn issue_18_corrupted_arrow_bytes_are_errors_not_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.arrow");
+    write_trial(&good, &records(20));
+    let bytes = std::fs::read(&good).unwrap();
+    let bad = dir.path().join("bad.arrow");
+    for (k, at) in (0..bytes.len()).step_by(7).enumerate() {
+        let mut b = bytes.clone();
+        b[at] ^= [0xff, 0x80, 0x01, 0x7f][k % 4];
+        std::fs::write(&bad, &b).unwrap();
+        let outcome = std::panic::catch_unwind(|| match TrialReader::open(&bad) {
+            Err(e) => Err(e.to_string()),
+            Ok(r) => r
+                .collect::<Result<Vec<_>, _>>()
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
+        });
+        match outcome {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => assert!(e.contains("bad.arrow"), "byte {at}: {e}"),
+            Err(_) => panic!("byte {at}: reading panicked"),
+        }
+    }
+}
