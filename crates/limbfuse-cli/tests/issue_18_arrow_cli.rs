@@ -116,3 +116,43 @@ fn issue_18_an_arrow_estimate_of_another_trial_is_refused() {
     assert!(e.contains("fake.arrow") && e.contains("Arrow IPC"), "{e}");
     assert!(!d.join("x.arrow").exists());
 }
+
+/// A corrupted Arrow trial is a user error (exit 1) or reads, never an
+/// internal error: arrow-rs panics on some corrupted batches (limbfuse-io
+/// catches them and names the file; the CLI's panic hook lets them unwind).
+/// The window holds the first batch's message of this 2 s trial, where a
+/// flipped byte made arrow-rs panic before the fix (e.g. bytes 7067, 7141).
+#[test]
+fn issue_18_a_corrupted_arrow_trial_is_a_user_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "2",
+            "--seed",
+            "1",
+            "-o",
+            "c.arrow",
+        ],
+        d,
+    ));
+    let bytes = std::fs::read(d.join("c.arrow")).unwrap();
+    let mut caught = 0;
+    for at in (6900..7300.min(bytes.len())).step_by(2) {
+        let mut b = bytes.clone();
+        b[at] ^= 0xff;
+        std::fs::write(d.join("cc.arrow"), &b).unwrap();
+        let o = limbfuse(
+            &["estimate", "--method", "mjls", "cc.arrow", "-o", "e.csv"],
+            d,
+        );
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "byte {at}: {e}");
+        assert!(!e.contains("internal error"), "byte {at}: {e}");
+        caught += usize::from(e.contains("the file is corrupt"));
+    }
+    eprintln!("{caught} corrupted files on which arrow-rs panicked were reported as user errors");
+}

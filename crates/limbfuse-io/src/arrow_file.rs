@@ -17,6 +17,7 @@
 //! default for Feather) are read, ZSTD ones are refused with a message.
 //! In errors, the "line" of an Arrow file is the 1-based row number.
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{self, BufReader, Write};
@@ -67,13 +68,27 @@ fn arrow_error(path: &Path, e: ArrowError) -> FileError {
     FileError::at(path, 0, format!("a readable Arrow IPC file: {text}{hint}"))
 }
 
+thread_local! {
+    static GUARDED_READ: Cell<bool> = const { Cell::new(false) };
+}
+
+/// True while this thread runs an arrow-rs reading step whose panic is
+/// caught and reported as a [`FileError`]: a process-wide panic hook (the
+/// CLI's) should then return quietly and let the panic unwind to it.
+pub fn in_guarded_read() -> bool {
+    GUARDED_READ.with(Cell::get)
+}
+
 /// Runs an arrow-rs reading step, turning a panic into an error: arrow-rs
 /// validates what it reads, but some corrupted files still make it panic
 /// (found by `tests/issue_18_arrow_files.rs`, a flipped byte in a batch
 /// body: `arrow-buffer` asserts a slice bound), and bad input must be an
 /// error naming the file.
 fn guarded<T>(path: &Path, step: impl FnOnce() -> Result<T, ArrowError>) -> Result<T, FileError> {
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(step)) {
+    GUARDED_READ.with(|g| g.set(true));
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(step));
+    GUARDED_READ.with(|g| g.set(false));
+    match outcome {
         Ok(r) => r.map_err(|e| arrow_error(path, e)),
         Err(_) => Err(FileError::at(
             path,
