@@ -6,9 +6,19 @@ sample, `to_csv`), timed side by side with the limbfuse binary on the same
 trial, interleaved, in one run.
 
 Usage (docs/PERFORMANCE.md):
-    python3 -m venv target/pyvenv && target/pyvenv/bin/pip install pandas filterpy
+    python3 -m venv target/pyvenv && target/pyvenv/bin/pip install pandas filterpy pyarrow
     target/release/limbfuse simulate walking --duration 1200 --seed 1 -o target/walk1200.csv
-    target/pyvenv/bin/python scripts/python_comparison.py target/release/limbfuse target/walk1200.csv
+    target/release/limbfuse simulate walking --duration 1200 --seed 1 -o target/walk1200.arrow
+    target/pyvenv/bin/python scripts/python_comparison.py target/release/limbfuse \
+        target/walk1200.csv 3 target/walk1200.arrow
+
+With the optional Arrow trial (the same trial as an Arrow IPC file,
+docs/ARROW.md; needs pyarrow), two more pairs are timed in the same loop:
+limbfuse reading and writing Arrow (`.arrow` in, `.arrow` out), and the
+Python script reading and writing Feather (`pd.read_feather`,
+`DataFrame.to_feather`, the same Arrow IPC format), so that the binary
+format is compared with both the CSV script and the script given the same
+binary format.
 
 The Python filter has the size of mjls (8 states: angle and gyro bias of
 trunk, thigh, shank and foot; 7 measurement rows: 4 accelerometer
@@ -43,9 +53,9 @@ SEGMENTS = ["trunk", "thigh", "shank", "foot"]
 JOINTS = ["hip", "knee", "ankle"]
 
 
-def python_estimate(trial, out):
-    """read_csv -> 8-state KF over every sample -> to_csv."""
-    df = pd.read_csv(trial, comment="#")
+def python_estimate(trial, out, feather=False):
+    """read_csv -> 8-state KF over every sample -> to_csv (or Feather both ends)."""
+    df = pd.read_feather(trial) if feather else pd.read_csv(trial, comment="#")
     t = df["t"].to_numpy()
     gyro = np.stack([df[f"{s}_gyr_z"].to_numpy() for s in SEGMENTS], axis=1)
     incl = np.stack(
@@ -95,13 +105,16 @@ def python_estimate(trial, out):
         out_df[name] = angles[:, j + 1] - angles[:, j]
     for i in range(8):
         out_df[f"diag_sd_{i}"] = sds[:, i]
-    out_df.to_csv(out, index=False)
+    if feather:
+        out_df.to_feather(out)
+    else:
+        out_df.to_csv(out, index=False)
     return n
 
 
-def timed_python(trial, out):
+def timed_python(trial, out, feather=False):
     w0, c0 = time.perf_counter(), time.process_time()
-    n = python_estimate(trial, out)
+    n = python_estimate(trial, out, feather)
     return time.perf_counter() - w0, time.process_time() - c0, n
 
 
@@ -125,27 +138,62 @@ def main():
         sys.exit(__doc__)
     binary, trial = sys.argv[1], sys.argv[2]
     repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 3
+    arrow = sys.argv[4] if len(sys.argv) > 4 else None
     size = os.path.getsize(trial)
-    py_wall, py_cpu, lf_wall, lf_cpu = [], [], [], []
+    times = {k: ([], []) for k in ["py", "lf", "py_feather", "lf_arrow"]}
+
+    def add(key, wall, cpu):
+        times[key][0].append(wall)
+        times[key][1].append(cpu)
+
+    sizes = {}
     with tempfile.TemporaryDirectory() as d:
-        py_out, lf_out = os.path.join(d, "py.csv"), os.path.join(d, "lf.csv")
+        out = {
+            "py": os.path.join(d, "py.csv"),
+            "lf": os.path.join(d, "lf.csv"),
+            "py_feather": os.path.join(d, "py.feather"),
+            "lf_arrow": os.path.join(d, "lf.arrow"),
+        }
         for _ in range(repeats):
-            w, c = timed_limbfuse(binary, trial, lf_out)
-            lf_wall.append(w)
-            lf_cpu.append(c)
-            w, c, n = timed_python(trial, py_out)
-            py_wall.append(w)
-            py_cpu.append(c)
-        py_size, lf_size = os.path.getsize(py_out), os.path.getsize(lf_out)
+            add("lf", *timed_limbfuse(binary, trial, out["lf"]))
+            w, c, n = timed_python(trial, out["py"])
+            add("py", w, c)
+            if arrow:
+                add("lf_arrow", *timed_limbfuse(binary, arrow, out["lf_arrow"]))
+                w, c, _ = timed_python(arrow, out["py_feather"], feather=True)
+                add("py_feather", w, c)
+        for k, p in out.items():
+            if os.path.exists(p):
+                sizes[k] = os.path.getsize(p)
     med = statistics.median
+
+    def wall(k):
+        return med(times[k][0])
+
+    def cpu(k):
+        return med(times[k][1])
+
     print(f"trial: {trial} ({size / 1e6:.1f} MB, {n} samples); load average {os.getloadavg()}")
+    if arrow:
+        print(f"arrow trial: {arrow} ({os.path.getsize(arrow) / 1e6:.1f} MB)")
     print(f"python imports (not counted): {IMPORT_SECONDS:.2f} s")
-    print(f"python  (pandas + filterpy): wall {med(py_wall):.2f} s, cpu {med(py_cpu):.2f} s, "
-          f"output {py_size / 1e6:.1f} MB")
-    print(f"limbfuse estimate mjls     : wall {med(lf_wall):.3f} s, cpu {med(lf_cpu):.3f} s, "
-          f"output {lf_size / 1e6:.1f} MB")
-    print(f"speed-up: wall {med(py_wall) / med(lf_wall):.1f}x, cpu {med(py_cpu) / med(lf_cpu):.1f}x "
-          f"(medians of {repeats})")
+    labels = {
+        "py": "python  (pandas csv + filterpy)",
+        "py_feather": "python  (pandas feather + filterpy)",
+        "lf": "limbfuse estimate mjls, csv",
+        "lf_arrow": "limbfuse estimate mjls, arrow",
+    }
+    for k, label in labels.items():
+        if times[k][0]:
+            print(f"{label:36}: wall {wall(k):.3f} s, cpu {cpu(k):.3f} s, "
+                  f"output {sizes[k] / 1e6:.1f} MB")
+    pairs = [("py", "lf", "csv vs csv")]
+    if arrow:
+        pairs += [("py", "lf_arrow", "python csv vs limbfuse arrow"),
+                  ("py_feather", "lf_arrow", "python feather vs limbfuse arrow")]
+    for p, l, what in pairs:
+        print(f"speed-up, {what}: wall {wall(p) / wall(l):.1f}x, cpu {cpu(p) / cpu(l):.1f}x "
+              f"(medians of {repeats})")
 
 
 if __name__ == "__main__":

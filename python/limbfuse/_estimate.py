@@ -118,8 +118,15 @@ class Estimate:
         return df
 
     def write(self, path: PathLike) -> None:
-        """Writes the estimate file; for an estimate of a trial read from a
-        file, the same bytes as ``limbfuse estimate -o``."""
+        """Writes the estimate file (CSV); for an estimate of a trial read
+        from a file, the same bytes as ``limbfuse estimate -o``. An Arrow
+        name (``.arrow``, ``.feather``, ``.ipc``) is refused: the CLI writes
+        those (docs/ARROW.md), or ``to_pandas().to_feather(path)``."""
+        if os.path.splitext(os.fspath(path))[1].lower() in (".arrow", ".feather", ".ipc"):
+            raise _native.LimbfuseError(
+                f"{os.fspath(path)}: Estimate.write writes CSV files; for an Arrow file use "
+                "`limbfuse estimate ... -o NAME.arrow` or `estimate.to_pandas().to_feather(path)`"
+            )
         _native.write_estimate(os.fspath(path), self._native())
 
     def __len__(self) -> int:

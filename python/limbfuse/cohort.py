@@ -61,6 +61,26 @@ def evaluate_trial(
     return rows_of(path, ev)
 
 
+def evaluate_trials(
+    paths: Sequence[str],
+    method: str,
+    params: Any = None,
+    options: Optional[Mapping[str, Any]] = None,
+    eval_options: Optional[Mapping[str, Any]] = None,
+) -> List[Dict[str, Any]]:
+    """One task over several trials, in order: their rows."""
+    return [row for p in paths for row in evaluate_trial(p, method, params, options, eval_options)]
+
+
+def chunks(paths: Sequence[str], slots: int) -> List[List[str]]:
+    """The trials in consecutive chunks, about four per worker slot: a
+    scheduler's cost per task (in the tens of milliseconds for a
+    distributed task) is paid per chunk, not per trial, while every slot
+    still gets several tasks to balance uneven trials."""
+    size = max(1, -(-len(paths) // (4 * max(1, slots))))
+    return [list(paths[i : i + size]) for i in range(0, len(paths), size)]
+
+
 def rows_of(path: str, ev: Mapping[str, Any]) -> List[Dict[str, Any]]:
     """The rows of one ``evaluate`` result (one per evaluated channel)."""
     rows = []
@@ -104,8 +124,9 @@ def run(
     paths = trial_paths(paths_or_glob)
     p = os.fspath(params) if isinstance(params, os.PathLike) else params
     if client is not None:
+        parts = chunks(paths, sum(client.nthreads().values()))
         futures = client.map(
-            evaluate_trial, paths, method=method, params=p, options=options,
+            evaluate_trials, parts, method=method, params=p, options=options,
             eval_options=eval_options, pure=False,
         )
         if progress:
@@ -115,8 +136,8 @@ def run(
         results = client.gather(futures)
     else:
         tasks = [
-            dask.delayed(evaluate_trial, pure=False)(path, method, p, options, eval_options)
-            for path in paths
+            dask.delayed(evaluate_trials, pure=False)(part, method, p, options, eval_options)
+            for part in chunks(paths, os.cpu_count() or 1)
         ]
         if progress:
             from dask.diagnostics import ProgressBar

@@ -123,7 +123,8 @@ fn gait(
     let ep = dir.path().join("estimate.csv");
     {
         let mut f = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io)?);
-        let mut w = TrialWriter::new(&mut f, &trial.meta(), *cols.layout()).map_err(io)?;
+        let mut w =
+            TrialWriter::for_path(&tp, &mut f, &trial.meta(), *cols.layout()).map_err(io)?;
         for r in cols.records() {
             w.write(&r).map_err(io)?;
         }

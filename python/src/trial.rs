@@ -138,7 +138,8 @@ fn write_trial(py: Python<'_>, path: PathBuf, trial: TrialArgs<'_>) -> PyResult<
         py.detach(|| {
             let mut file = AtomicFile::create(&path).map_err(err)?;
             {
-                let mut w = TrialWriter::new(&mut file, &meta, *cols.layout()).map_err(err)?;
+                let mut w =
+                    TrialWriter::for_path(&path, &mut file, &meta, *cols.layout()).map_err(err)?;
                 for r in cols.records() {
                     w.write(&r).map_err(err)?;
                 }

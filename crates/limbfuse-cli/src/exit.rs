@@ -59,6 +59,11 @@ fn closed_pipe(e: &anyhow::Error) -> bool {
 /// Replaces Rust's panic backtrace by a short internal-error message and exit status 2.
 pub fn install_panic_hook() {
     std::panic::set_hook(Box::new(|info| {
+        // arrow-rs failing on a corrupted Arrow file: limbfuse-io catches
+        // the panic and reports the file as a user error.
+        if limbfuse_io::arrow_file::in_guarded_read() {
+            return;
+        }
         let loc = info
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))

@@ -114,6 +114,22 @@ impl<R: Read> Read for HashingReader<R> {
     }
 }
 
+/// The [`ContentHash`] of the file at `path` (read once, in blocks).
+pub fn of_file(path: &Path) -> Result<ContentHash, FileError> {
+    let mut file = std::fs::File::open(path).map_err(|e| FileError::io(path, e))?;
+    let mut hasher = Xxh3::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        match file.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => hasher.update(&buf[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(FileError::io(path, e)),
+        }
+    }
+    Ok(ContentHash(hasher.digest()))
+}
+
 /// A file's content hash and the number of data rows of the limbfuse table
 /// it holds, from one pass over its bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -127,8 +143,15 @@ pub struct TrialFingerprint {
 }
 
 impl TrialFingerprint {
-    /// Reads `path` once.
+    /// Reads `path` once (an Arrow file, [`crate::arrow_file::is_arrow_path`]:
+    /// hashes its bytes and counts the rows of its batches).
     pub fn of_file(path: &Path) -> Result<Self, FileError> {
+        if crate::arrow_file::is_arrow_path(path) {
+            return Ok(TrialFingerprint {
+                hash: of_file(path)?,
+                data_rows: crate::arrow_file::row_count(path)?,
+            });
+        }
         let mut file = std::fs::File::open(path).map_err(|e| FileError::io(path, e))?;
         Self::of_reader(&mut file).map_err(|e| FileError::io(path, e))
     }

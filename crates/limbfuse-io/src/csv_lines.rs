@@ -47,6 +47,17 @@ impl LineSource {
         }
     }
 
+    /// A source with no lines (for a table that is not CSV).
+    pub(crate) fn none() -> Self {
+        LineSource {
+            source: Box::new(io::empty()),
+            buf: Vec::new(),
+            start: 0,
+            end: 0,
+            at_end: true,
+        }
+    }
+
     /// The bytes of a line returned by [`LineSource::next_line`], valid
     /// until the next call.
     pub(crate) fn bytes(&self, line: Range<usize>) -> &[u8] {

@@ -7,6 +7,10 @@
 //! `# trial_hash: xxh3:HEX` (the trial file's [`ContentHash`]), then `t`, the
 //! estimated quantities (`trunk`, ..., `ankle`, `phase`, `speed`) and the
 //! method's diagnostics with a `diag_` prefix.
+//!
+//! [`EstimateWriter::for_path`] writes an Arrow IPC file instead for a path
+//! ending in `.arrow`/`.feather` (`crate::arrow_file`: the same columns;
+//! the header entries as schema metadata, the trial hash in the footer).
 
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
@@ -16,7 +20,8 @@ use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 
-use crate::cell_format::{push_cell, push_value};
+use crate::arrow_file::{self, ArrowSink};
+use crate::cell_sink::{CellSink, CsvLine};
 use crate::content_hash::{ContentHash, STREAMED_HASH, TRIAL_HASH_KEY, TRIAL_KEY};
 use crate::error::FileError;
 use crate::meta::TrialMeta;
@@ -24,11 +29,15 @@ use crate::table::TableReader;
 
 /// Writes every estimate of a run to an estimate file.
 pub struct EstimateWriter<W: Write> {
-    out: W,
+    /// The output (CSV; an Arrow file's until its schema is written).
+    out: Option<W>,
+    /// Write an Arrow IPC file.
+    arrow: bool,
+    /// The Arrow file, once the run has started.
+    sink: Option<Box<ArrowSink<W>>>,
     outputs: Outputs,
     n_diag: usize,
-    line: Vec<u8>,
-    buf: zmij::Buffer,
+    line: CsvLine,
     /// The trial's file name, for the `# trial:` header line.
     trial: Option<String>,
     /// Byte offset of the `# trial_hash:` value, once the header is written.
@@ -49,15 +58,33 @@ impl<W: Write> EstimateWriter<W> {
     /// A writer that writes its header when the run starts.
     pub fn new(out: W) -> Self {
         EstimateWriter {
-            out,
+            out: Some(out),
+            arrow: false,
+            sink: None,
             outputs: Outputs::default(),
             n_diag: 0,
-            line: Vec::with_capacity(512),
-            buf: zmij::Buffer::new(),
+            line: CsvLine::with_capacity(512),
             trial: None,
             hash_offset: None,
             streamed: false,
             command: None,
+        }
+    }
+
+    /// A writer of an Arrow IPC estimate file (docs/ARROW.md).
+    pub fn arrow(out: W) -> Self {
+        let mut w = Self::new(out);
+        w.arrow = true;
+        w
+    }
+
+    /// [`EstimateWriter::arrow`] when `path` names an Arrow file
+    /// ([`arrow_file::is_arrow_path`]), else [`EstimateWriter::new`] (CSV).
+    pub fn for_path(path: &Path, out: W) -> Self {
+        if arrow_file::is_arrow_path(path) {
+            Self::arrow(out)
+        } else {
+            Self::new(out)
         }
     }
 
@@ -89,35 +116,56 @@ impl<W: Write> EstimateWriter<W> {
         self
     }
 
-    /// Flushes and returns the underlying writer.
+    /// Flushes (an Arrow file: writes its last batch and footer) and
+    /// returns the underlying writer.
     pub fn into_inner(mut self) -> std::io::Result<W> {
-        self.out.flush()?;
-        Ok(self.out)
+        if let Some(sink) = self.sink.take() {
+            return sink.finish();
+        }
+        let mut out = self
+            .out
+            .take()
+            .ok_or_else(|| std::io::Error::other("the estimate writer has no output"))?;
+        out.flush()?;
+        Ok(out)
+    }
+
+    fn csv_out(&mut self) -> std::io::Result<&mut W> {
+        self.out
+            .as_mut()
+            .ok_or_else(|| std::io::Error::other("the estimate writer has no output"))
     }
 }
 
 impl<W: Write> Observer for EstimateWriter<W> {
     fn start(&mut self, estimator: &dyn Estimator) -> Result<(), BoxError> {
+        let mut meta = TrialMeta::new();
+        meta.set("method", estimator.name());
         let mut head = format!("# method: {}\n", estimator.name());
         let mut params = String::new();
         estimator.describe_parameters(&mut params)?;
         for l in params.lines().filter(|l| !l.trim().is_empty()) {
             head.push_str(&format!("# {l}\n"));
+            if let Some((k, v)) = l.split_once(':') {
+                meta.set(k.trim(), v.trim());
+            }
         }
         if let Some(c) = &self.command {
             head.push_str(&format!("# {COMMAND_KEY}: {c}\n"));
+            meta.set(COMMAND_KEY, c);
         }
         if let Some(name) = &self.trial {
+            meta.set(TRIAL_KEY, name);
             head.push_str(&format!("# {TRIAL_KEY}: {name}\n# {TRIAL_HASH_KEY}: "));
             if self.streamed {
                 head.push_str(STREAMED_HASH);
+                meta.set(TRIAL_HASH_KEY, STREAMED_HASH);
             } else {
                 self.hash_offset = Some(head.len() as u64);
                 head.push_str(HASH_PLACEHOLDER);
             }
             head.push('\n');
         }
-        self.out.write_all(head.as_bytes())?;
         self.outputs = estimator.outputs();
         let names = estimator.diagnostic_names();
         self.n_diag = names.len().min(MAX_DIAG);
@@ -140,53 +188,76 @@ impl<W: Write> Observer for EstimateWriter<W> {
             header.extend(CONTACT_COLUMNS.iter().map(|c| c.to_string()));
         }
         header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
-        writeln!(self.out, "{}", header.join(","))?;
+        if self.arrow {
+            let out = self.out.take().ok_or("the estimate writer has no output")?;
+            self.sink = Some(Box::new(ArrowSink::new(out, header, "phase", &meta)?));
+            return Ok(());
+        }
+        let out = self.csv_out()?;
+        out.write_all(head.as_bytes())?;
+        writeln!(out, "{}", header.join(","))?;
         Ok(())
     }
 
     fn observe(&mut self, _record: &Record, e: &Estimate) -> Result<(), BoxError> {
+        if let Some(sink) = &mut self.sink {
+            write_estimate(sink.as_mut(), &self.outputs, self.n_diag, e);
+            sink.end_row()?;
+            return Ok(());
+        }
         let line = &mut self.line;
-        let buf = &mut self.buf;
         line.clear();
-        push_value(line, buf, Some(e.t));
-        for c in AngleChannel::ALL {
-            if output_has(&self.outputs, c) {
-                push_cell(line, buf, e.angle(c));
-            }
-        }
-        if self.outputs.phase {
-            line.push(b',');
-            if let Some(p) = e.phase {
-                line.extend_from_slice(p.label().as_bytes());
-            }
-        }
-        if self.outputs.speed {
-            push_cell(line, buf, e.speed);
-        }
-        if self.outputs.com {
-            for k in 0..3 {
-                push_cell(line, buf, e.com_pos.map(|v| v[k]));
-            }
-            for k in 0..3 {
-                push_cell(line, buf, e.com_vel.map(|v| v[k]));
-            }
-        }
-        if self.outputs.contact {
-            for c in e.contact {
-                push_cell(line, buf, c.map(|c| if c { 1.0 } else { 0.0 }));
-            }
-        }
-        for d in &e.diag[..self.n_diag] {
-            push_cell(line, buf, *d);
-        }
-        line.push(b'\n');
-        self.out.write_all(line)?;
+        write_estimate(line, &self.outputs, self.n_diag, e);
+        let out = self
+            .out
+            .as_mut()
+            .ok_or("the estimate writer has no output")?;
+        out.write_all(line.finish())?;
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), BoxError> {
-        self.out.flush()?;
+        if let Some(out) = &mut self.out {
+            out.flush()?;
+        }
         Ok(())
+    }
+}
+
+/// The cells of `e` in the column order of the header ([`Observer::start`]).
+fn write_estimate<S: CellSink + ?Sized>(
+    line: &mut S,
+    outputs: &Outputs,
+    n_diag: usize,
+    e: &Estimate,
+) {
+    line.number(Some(e.t));
+    for c in AngleChannel::ALL {
+        if output_has(outputs, c) {
+            line.number(e.angle(c));
+        }
+    }
+    if outputs.phase {
+        line.label(e.phase.map(|p| p.label()));
+    }
+    if outputs.speed {
+        line.number(e.speed);
+    }
+    if outputs.com {
+        for k in 0..3 {
+            line.number(e.com_pos.map(|v| v[k]));
+        }
+        for k in 0..3 {
+            line.number(e.com_vel.map(|v| v[k]));
+        }
+    }
+    if outputs.contact {
+        for c in e.contact {
+            line.number(c.map(|c| if c { 1.0 } else { 0.0 }));
+        }
+    }
+    for d in &e.diag[..n_diag] {
+        line.number(*d);
     }
 }
 
@@ -194,7 +265,18 @@ impl<W: Write + Seek> EstimateWriter<W> {
     /// Writes the trial's hash into the `# trial_hash:` line of the header
     /// (after the run; needs [`EstimateWriter::recording_trial`] and a
     /// started run). `out` must have been empty when the writer was made.
+    ///
+    /// An Arrow file gets the hash as a footer metadata entry instead.
     pub fn stamp_trial_hash(&mut self, hash: ContentHash) -> std::io::Result<()> {
+        if let Some(sink) = &mut self.sink {
+            if self.trial.is_none() {
+                return Err(std::io::Error::other(
+                    "no trial to stamp a hash for: the writer does not record its trial",
+                ));
+            }
+            sink.footer_entry(TRIAL_HASH_KEY, &hash.to_string());
+            return Ok(());
+        }
         let Some(offset) = self.hash_offset else {
             return Err(std::io::Error::other(
                 "no `# trial_hash:` line to stamp: the writer does not record its trial or the run did not start",
@@ -202,10 +284,11 @@ impl<W: Write + Seek> EstimateWriter<W> {
         };
         let text = hash.to_string();
         debug_assert_eq!(text.len(), HASH_PLACEHOLDER.len());
-        self.out.flush()?;
-        self.out.seek(SeekFrom::Start(offset))?;
-        self.out.write_all(text.as_bytes())?;
-        self.out.seek(SeekFrom::End(0))?;
+        let out = self.csv_out()?;
+        out.flush()?;
+        out.seek(SeekFrom::Start(offset))?;
+        out.write_all(text.as_bytes())?;
+        out.seek(SeekFrom::End(0))?;
         Ok(())
     }
 }

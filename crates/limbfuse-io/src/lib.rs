@@ -7,10 +7,12 @@
 //! conditioning) lives in `limbfuse-signal`.
 #![deny(missing_docs)]
 
+pub mod arrow_file;
 pub mod atomic_file;
 pub mod body_meta;
 pub mod calibration;
 mod cell_format;
+mod cell_sink;
 pub mod content_hash;
 mod csv_lines;
 pub mod error;

@@ -4,12 +4,17 @@
 //!
 //! Memory use is one row, whatever the file length. Every error names the
 //! file, the 1-based line and, for cells, the 1-based column and its name.
+//!
+//! A path ending in `.arrow` or `.feather` is read as an Arrow IPC file
+//! holding the same table (`crate::arrow_file`; one record batch in
+//! memory; the "line" of its rows is the 1-based row number).
 
 use std::fs::File;
 use std::io::Read;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use crate::arrow_file::{self, ArrowSource};
 use crate::content_hash::{ContentHash, HashHandle, HashingReader};
 use crate::csv_lines::{self, LineError, LineSource};
 use crate::error::FileError;
@@ -32,6 +37,9 @@ pub struct TableReader {
     quoted: Vec<u8>,
     /// Hash of the bytes read so far.
     hash: HashHandle,
+    /// The rows of an Arrow IPC file (then `lines` is empty), and the
+    /// file's hash once its last row has been read.
+    arrow: Option<(ArrowSource, Option<ContentHash>)>,
 }
 
 impl std::fmt::Debug for TableReader {
@@ -44,13 +52,23 @@ impl std::fmt::Debug for TableReader {
 }
 
 /// One data row, borrowed from the reader until the next call.
-#[derive(Debug)]
 pub struct Row<'a> {
     path: &'a Path,
     header: &'a [String],
     text: &'a [u8],
     cells: &'a [(u32, u32)],
     line: u64,
+    /// The row of an Arrow file (then `text` and `cells` are empty).
+    arrow: Option<&'a ArrowSource>,
+}
+
+impl std::fmt::Debug for Row<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Row")
+            .field("path", &self.path)
+            .field("line", &self.line)
+            .finish()
+    }
 }
 
 /// Where the cells of the current record are.
@@ -62,10 +80,33 @@ enum Cells {
 }
 
 impl TableReader {
-    /// Opens `path` and reads its comments and header.
+    /// Opens `path` and reads its comments and header (its schema, for an
+    /// Arrow file: [`arrow_file::is_arrow_path`]).
     pub fn open(path: &Path) -> Result<Self, FileError> {
+        if arrow_file::is_arrow_path(path) {
+            return Self::open_arrow(path);
+        }
         let file = File::open(path).map_err(|e| FileError::io(path, e))?;
         Self::from_reader(path, Box::new(file))
+    }
+
+    fn open_arrow(path: &Path) -> Result<Self, FileError> {
+        let (source, head) = ArrowSource::open(path)?;
+        let table = TableReader {
+            path: path.to_path_buf(),
+            meta: head.meta,
+            header: head.header,
+            lines: LineSource::none(),
+            header_line: 0,
+            lines_read: 0,
+            cells: Vec::new(),
+            record: Vec::new(),
+            quoted: Vec::new(),
+            hash: HashHandle::default(),
+            arrow: Some((source, None)),
+        };
+        table.check_header(0)?;
+        Ok(table)
     }
 
     /// Reads a table from any byte source; `path` is used in error messages.
@@ -82,6 +123,7 @@ impl TableReader {
             record: Vec::new(),
             quoted: Vec::new(),
             hash,
+            arrow: None,
         };
         table.read_comments()?;
         table.read_header()?;
@@ -139,6 +181,13 @@ impl TableReader {
                 .map_err(|_| FileError::at(&self.path, line, "UTF-8 text"))?;
             header.push(name.trim().to_string());
         }
+        self.header = header;
+        self.check_header(line)
+    }
+
+    /// Names present, none empty, none twice.
+    fn check_header(&self, line: u64) -> Result<(), FileError> {
+        let header = &self.header;
         if header.iter().all(String::is_empty) {
             return Err(FileError::Empty {
                 path: self.path.clone(),
@@ -165,7 +214,6 @@ impl TableReader {
                 });
             }
         }
-        self.header = header;
         Ok(())
     }
 
@@ -217,7 +265,10 @@ impl TableReader {
     /// The hash of the whole source once every row has been read
     /// ([`TableReader::next_row`] returned `Ok(None)`); `None` before.
     pub fn content_hash(&self) -> Option<ContentHash> {
-        self.hash.finished()
+        match &self.arrow {
+            Some((_, hash)) => *hash,
+            None => self.hash.finished(),
+        }
     }
 
     /// Metadata from the leading comment lines.
@@ -251,6 +302,22 @@ impl TableReader {
 
     /// Reads the next row; `Ok(None)` at the end. Blank lines are skipped.
     pub fn next_row(&mut self) -> Result<Option<Row<'_>>, FileError> {
+        if let Some((source, hash)) = &mut self.arrow {
+            let Some(line) = source.advance(&self.path)? else {
+                if hash.is_none() {
+                    *hash = Some(crate::content_hash::of_file(&self.path)?);
+                }
+                return Ok(None);
+            };
+            return Ok(Some(Row {
+                path: &self.path,
+                header: &self.header,
+                text: &[],
+                cells: &[],
+                line,
+                arrow: self.arrow.as_ref().map(|(s, _)| s),
+            }));
+        }
         let Some((line, cells)) = self.next_record()? else {
             return Ok(None);
         };
@@ -272,6 +339,7 @@ impl TableReader {
             text,
             cells: &self.cells,
             line,
+            arrow: None,
         }))
     }
 }
@@ -289,6 +357,9 @@ impl Row<'_> {
 
     /// Raw text of column `col` (0-based).
     pub fn text(&self, col: usize) -> &[u8] {
+        if let Some(source) = self.arrow {
+            return source.text(col);
+        }
         let (a, b) = self.cells[col];
         &self.text[a as usize..b as usize]
     }
@@ -301,12 +372,24 @@ impl Row<'_> {
             column: col + 1,
             name: self.header[col].clone(),
             expected,
-            found: String::from_utf8_lossy(self.text(col)).into_owned(),
+            found: match self.arrow {
+                Some(source) => source.found(col),
+                None => String::from_utf8_lossy(self.text(col)).into_owned(),
+            },
         }
     }
 
     /// The finite number in column `col`, `None` when the cell is empty.
     pub fn number(&self, col: usize) -> Result<Option<f64>, FileError> {
+        if let Some(source) = self.arrow {
+            let v = source
+                .number(col)
+                .map_err(|()| self.cell_error(col, "a number or an empty cell"))?;
+            return match v {
+                Some(v) if !v.is_finite() => Err(self.cell_error(col, "a finite number (NaN and inf are not allowed; leave the cell empty (null) for a missing value)")),
+                v => Ok(v),
+            };
+        }
         let raw = self.text(col);
         if raw.is_empty() {
             return Ok(None);

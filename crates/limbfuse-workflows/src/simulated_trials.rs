@@ -233,7 +233,7 @@ pub fn write_trial<W: Write, R: IntoIterator<Item = Record>>(
         path: path.to_path_buf(),
         source,
     };
-    let mut w = TrialWriter::new(out, &trial.meta, trial.layout).map_err(err)?;
+    let mut w = TrialWriter::for_path(path, out, &trial.meta, trial.layout).map_err(err)?;
     let mut n = 0;
     for r in trial.records {
         w.write(&r).map_err(err)?;

@@ -65,7 +65,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     alignment.annotate(&mut meta);
     let leg_line = leg_report(&mut meta, &alignment);
     let mut out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(&mut out, &meta, layout)
+    let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         w.write(&apply_alignment(r, &alignment))

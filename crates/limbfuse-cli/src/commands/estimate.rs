@@ -202,7 +202,7 @@ pub fn run_to_file_calibrated(
     calibration: Option<&Calibration>,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
-    let mut writer = EstimateWriter::new(super::create_file(output)?)
+    let mut writer = EstimateWriter::for_path(output, super::create_file(output)?)
         .recording_trial(file_name(&trial))
         .recording_command(command);
     let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;

@@ -21,7 +21,7 @@ pub fn run(a: &ImportArgs) -> Result<()> {
         cal.annotate(&mut trial.meta, &super::calibrate::file_name(path), frame);
     }
     let mut out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(&mut out, &trial.meta, trial.layout)
+    let mut w = TrialWriter::for_path(&a.output, &mut out, &trial.meta, trial.layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &trial.records {
         w.write(r)

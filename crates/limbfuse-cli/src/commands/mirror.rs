@@ -42,7 +42,7 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
     );
     let remount = a.remount_seed.map(|s| remount_rotations(s).map(Some));
     let mut out = super::create_file(&a.output)?;
-    let mut w = TrialWriter::new(&mut out, &meta, layout)
+    let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         let m = mirror_record(r);

@@ -426,8 +426,18 @@ impl Chain {
             // zero (HELD_RATE_CORRELATION_S); zero if none was ever seen.
             let tau = self.rate_gap[i];
             let held = |t: f64| last_rate[i].map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S));
-            let r1 = rate.or(held(tau + dt)).unwrap_or(0.0);
-            let r0 = held(tau).unwrap_or(r1);
+            // The decay is evaluated only over a dropout: with a rate and no
+            // gap (`tau == 0`, where `exp(-0) == 1` exactly) the held rate is
+            // the last rate itself, so this is the same arithmetic.
+            let r1 = match rate {
+                Some(r) => *r,
+                None => held(tau + dt).unwrap_or(0.0),
+            };
+            let r0 = if tau == 0.0 {
+                last_rate[i].unwrap_or(r1)
+            } else {
+                held(tau).unwrap_or(r1)
+            };
             let phi = &blocks.phi[i];
             // theta_g += int omega dt + int b_hat dt, b_hat(t) = b_hat e^(-t/tau):
             // the second integral is Phi[a, b] * b_hat (exact or Euler, as Phi).

@@ -226,7 +226,8 @@ pub fn resample_file(
         source: e,
     };
     let mut file = limbfuse_io::AtomicFile::create(output).map_err(io_err)?;
-    let mut w = TrialWriter::new(&mut file, &trial.meta, trial.layout).map_err(io_err)?;
+    let mut w =
+        TrialWriter::for_path(output, &mut file, &trial.meta, trial.layout).map_err(io_err)?;
     for r in &trial.records {
         w.write(r).map_err(io_err)?;
     }
