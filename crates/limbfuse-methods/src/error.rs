@@ -59,9 +59,16 @@ pub enum MethodError {
     /// An imm-bslip setting out of range.
     #[error("method `imm-bslip`: {0}")]
     ImmParams(String),
-    /// A gait-events setting out of range.
-    #[error("method `gait-events`: {0}")]
-    GaitParams(String),
+    /// A `gait-events` or `lowback-speed` setting out of range (from the
+    /// trial's metadata; a parameter file's value is a
+    /// [`ParamsFileError::Invalid`] naming the file).
+    #[error("method `{method}`: {message}")]
+    GaitParams {
+        /// The method's name.
+        method: &'static str,
+        /// What is wrong (names the key and what was expected).
+        message: String,
+    },
     /// The gait library file cannot be used.
     #[error(transparent)]
     Library(#[from] LibraryFileError),

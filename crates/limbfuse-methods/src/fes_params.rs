@@ -396,6 +396,15 @@ impl FesParamsFile {
                 message: format!("[model] `{k}` must be a finite number, found {v}"),
             });
         }
+        // Mahony gains (issue 18 fuzzing: `kp = nan` gave a NaN knee angle).
+        for (k, v) in [("kp", f.rmx.kp), ("ki", f.rmx.ki)] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(ParamsFileError::Invalid {
+                    path: path.to_path_buf(),
+                    message: format!("[rmx] `{k}` must be a finite number >= 0, found {v}"),
+                });
+            }
+        }
         Ok(f)
     }
 

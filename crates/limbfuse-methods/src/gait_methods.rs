@@ -23,6 +23,7 @@ use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
+use crate::params_toml::ParamsFileError;
 use crate::{MethodError, MethodFlags};
 
 /// A `gait-events` parameter file.
@@ -46,16 +47,27 @@ impl MethodFile for GaitEventsFile {
     }
 }
 
-fn positive(key: &'static str, v: Option<f64>, into: &mut f64) -> Result<(), MethodError> {
+fn positive(key: &'static str, v: Option<f64>, into: &mut f64) -> Result<(), String> {
     if let Some(v) = v {
         if !(v.is_finite() && v > 0.0) {
-            return Err(MethodError::GaitParams(format!(
-                "`{key}` = {v}: expected a positive number"
-            )));
+            return Err(format!("`{key}` = {v}: expected a positive number"));
         }
         *into = v;
     }
     Ok(())
+}
+
+/// A bad value of `method`'s parameter file (naming the file when there is
+/// one) or of the trial's metadata.
+fn bad_value(file: Option<(&str, &Path)>, method: &'static str, message: String) -> MethodError {
+    match file {
+        Some((_, path)) => ParamsFileError::Invalid {
+            path: path.to_path_buf(),
+            message: format!("method `{method}`: {message}"),
+        }
+        .into(),
+        None => MethodError::GaitParams { method, message },
+    }
 }
 
 /// Which IMU of each leg `gait-events` uses.
@@ -97,29 +109,31 @@ impl MethodDef for GaitEventsMethod {
         _flags: &MethodFlags,
     ) -> Result<GaitEventsSettings, MethodError> {
         let f: GaitEventsFile = read_file::<Self, _>(file)?;
+        let bad = |message: String| bad_value(file, Self::INFO.name, message);
         let leg_imu = match f.leg_imu.as_deref() {
             None | Some("auto") => LegImu::Auto,
             Some("foot") => LegImu::Foot,
             Some("shank") => LegImu::Shank,
             Some(other) => {
-                return Err(MethodError::GaitParams(format!(
+                return Err(bad(format!(
                     "`leg_imu` = \"{other}\": expected \"auto\", \"foot\" or \"shank\""
                 )))
             }
         };
         let mut p = GaitEventsParams::default();
-        positive("swing_rate", f.swing_rate, &mut p.swing_rate)?;
-        positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time)?;
-        positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma)?;
+        positive("swing_rate", f.swing_rate, &mut p.swing_rate).map_err(&bad)?;
+        positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time).map_err(&bad)?;
+        positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma).map_err(&bad)?;
         positive(
             "axis_time_constant",
             f.axis_time_constant,
             &mut p.axis_time_constant,
-        )?;
-        positive("speed_hold", f.speed_hold, &mut p.speed_hold)?;
+        )
+        .map_err(&bad)?;
+        positive("speed_hold", f.speed_hold, &mut p.speed_hold).map_err(&bad)?;
         if let Some(w) = f.shoe_window {
             if !(1..=limbfuse_estimators::gait_events::zero_velocity::MAX_WINDOW).contains(&w) {
-                return Err(MethodError::GaitParams(format!(
+                return Err(bad(format!(
                     "`shoe_window` = {w}: expected 1 to {} samples",
                     limbfuse_estimators::gait_events::zero_velocity::MAX_WINDOW
                 )));
@@ -130,7 +144,7 @@ impl MethodDef for GaitEventsMethod {
             None | Some("zero-crossing") => ShankContact::ZeroCrossing,
             Some("valley") => ShankContact::Valley,
             Some(other) => {
-                return Err(MethodError::GaitParams(format!(
+                return Err(bad(format!(
                     "`shank_contact` = \"{other}\": expected \"zero-crossing\" or \"valley\""
                 )))
             }
@@ -186,7 +200,10 @@ impl MethodDef for GaitEventsMethod {
         p.gravity = meta.gravity();
         GaitEvents::new(p, sources)
             .map(|e| Box::new(e) as Box<dyn Estimator + Send>)
-            .map_err(|e| MethodError::GaitParams(e.to_string()))
+            .map_err(|e| MethodError::GaitParams {
+                method: Self::INFO.name,
+                message: e.to_string(),
+            })
     }
 
     fn default_file() -> String {
@@ -275,12 +292,13 @@ impl MethodDef for LowbackSpeedMethod {
         _flags: &MethodFlags,
     ) -> Result<LowbackSettings, MethodError> {
         let f: LowbackFile = read_file::<Self, _>(file)?;
+        let bad = |message: String| bad_value(file, Self::INFO.name, message);
         let mut p = LowbackParams::default();
-        positive("leg_length", f.leg_length, &mut p.leg_length)?;
-        positive("correction", f.correction, &mut p.correction)?;
-        positive("wavelet_scale", f.wavelet_scale, &mut p.wavelet_scale)?;
-        positive("walking_rms", f.walking_rms, &mut p.walking_rms)?;
-        positive("speed_hold", f.speed_hold, &mut p.speed_hold)?;
+        positive("leg_length", f.leg_length, &mut p.leg_length).map_err(&bad)?;
+        positive("correction", f.correction, &mut p.correction).map_err(&bad)?;
+        positive("wavelet_scale", f.wavelet_scale, &mut p.wavelet_scale).map_err(&bad)?;
+        positive("walking_rms", f.walking_rms, &mut p.walking_rms).map_err(&bad)?;
+        positive("speed_hold", f.speed_hold, &mut p.speed_hold).map_err(&bad)?;
         Ok(LowbackSettings {
             params: p,
             leg_length_given: f.leg_length.is_some(),
@@ -300,19 +318,33 @@ impl MethodDef for LowbackSpeedMethod {
                     .trim_end_matches('m')
                     .trim()
                     .parse()
-                    .map_err(|_| {
-                        MethodError::GaitParams(format!(
-                        "trial metadata `# leg_length: {text}`: expected a leg length in metres"
-                    ))
+                    .map_err(|_| MethodError::GaitParams {
+                        method: Self::INFO.name,
+                        message: format!(
+                            "trial metadata `# leg_length: {text}`: expected a leg length in metres"
+                        ),
                     })?;
-                positive("leg_length (trial metadata)", Some(l), &mut p.leg_length)?;
+                positive("leg_length (trial metadata)", Some(l), &mut p.leg_length).map_err(
+                    |message| MethodError::GaitParams {
+                        method: Self::INFO.name,
+                        message,
+                    },
+                )?;
             } else if let Some(h) = meta
                 .body()
-                .map_err(|e| MethodError::GaitParams(e.to_string()))?
+                .map_err(|e| MethodError::GaitParams {
+                    method: Self::INFO.name,
+                    message: e.to_string(),
+                })?
                 .height
             {
                 // Anthropometry: the greater-trochanter height of a body of height `h`.
-                positive("height_m (trial metadata)", Some(h), &mut p.leg_length)?;
+                positive("height_m (trial metadata)", Some(h), &mut p.leg_length).map_err(
+                    |message| MethodError::GaitParams {
+                        method: Self::INFO.name,
+                        message,
+                    },
+                )?;
                 p.leg_length *= LEG_LENGTH_PER_HEIGHT;
             }
         }

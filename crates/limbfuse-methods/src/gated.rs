@@ -7,6 +7,12 @@
 //! ([`limbfuse_core::plausibility`]); the counts include the readings the
 //! estimator's own innovation gate refused
 //! ([`Estimator::rejected_readings`]).
+//!
+//! The gate is also the last line of the "finite or missing" contract: an
+//! output the estimator left non-finite (a divergence its own checks did not
+//! catch, e.g. `rmx` with a Mahony gain of 1e308) is written missing and the
+//! estimator is reset, so that it starts afresh from the next sample
+//! (docs/ROBUST_INPUT.md).
 
 use std::fmt;
 
@@ -120,6 +126,10 @@ impl Estimator for GatedEstimator {
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
         let screened = self.gate.screen(sample);
         let mut e = self.inner.step(&screened)?;
+        if !outputs_finite(&e) {
+            blank_non_finite(&mut e);
+            self.inner.reset();
+        }
         if let Some(i) = self.first {
             let [g, a, n] = self.rejected_readings();
             e.diag[i] = Some(g as f64);
@@ -127,5 +137,37 @@ impl Estimator for GatedEstimator {
             e.diag[i + 2] = Some(n as f64);
         }
         Ok(e)
+    }
+}
+
+/// Whether every angle, speed and centre-of-mass output is finite or missing.
+fn outputs_finite(e: &Estimate) -> bool {
+    let ok = |v: &Option<f64>| v.is_none_or(f64::is_finite);
+    let ok3 =
+        |v: &Option<nalgebra::Vector3<f64>>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
+    e.segment.iter().all(ok)
+        && e.joint.iter().all(ok)
+        && ok(&e.speed)
+        && ok3(&e.com_pos)
+        && ok3(&e.com_vel)
+}
+
+/// Makes every non-finite output and diagnostic missing.
+fn blank_non_finite(e: &mut Estimate) {
+    let blank = |v: &mut Option<f64>| {
+        if v.is_some_and(|x| !x.is_finite()) {
+            *v = None;
+        }
+    };
+    e.segment
+        .iter_mut()
+        .chain(e.joint.iter_mut())
+        .chain(e.diag.iter_mut())
+        .for_each(blank);
+    blank(&mut e.speed);
+    for v in [&mut e.com_pos, &mut e.com_vel] {
+        if v.is_some_and(|v| v.iter().any(|x| !x.is_finite())) {
+            *v = None;
+        }
     }
 }

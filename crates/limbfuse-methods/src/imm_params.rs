@@ -159,6 +159,15 @@ pub fn load_templates(path: &Path, height: Option<f64>) -> Result<Vec<GaitTempla
 /// override the file.
 pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmSpec, MethodError> {
     let f: ImmBslipFile = read_file::<ImmBslipMethod, _>(file)?;
+    if let (Some((_, path)), Some(l)) = (file, &f.library) {
+        if l.as_os_str().is_empty() {
+            return Err(crate::params_toml::ParamsFileError::Invalid {
+                path: path.to_path_buf(),
+                message: "`library` is empty: expected the path of a gait-library file".into(),
+            }
+            .into());
+        }
+    }
     let in_file = |p: &PathBuf| match file {
         Some((_, path)) => path.parent().unwrap_or(Path::new("")).join(p),
         None => p.clone(),
