@@ -177,7 +177,7 @@ fn step_all(
     let spec = MethodSpec::from_parts(method, None, &flags).map_err(|e| e.to_string())?;
     let mut est = build(&spec, &trial.meta, &trial.layout).map_err(|e| e.to_string())?;
     let n = trial.records.len();
-    let mut rows: Vec<Sample> = trial.records.iter().map(|r| r.sample.clone()).collect();
+    let mut rows: Vec<Sample> = trial.records.iter().map(|r| r.sample).collect();
     for &(at, cell, value) in edits {
         corrupt(
             &mut rows[at as usize * n / (u16::MAX as usize + 1)],
