@@ -52,6 +52,44 @@ pub(crate) fn principal_axis(
     Some((v.normalize(), frac, rms, ratio))
 }
 
+/// Combines the principal axis of the horizontal gyro `z_h` (the rate about
+/// the accelerometer-tracked vertical removed) with the principal axis of
+/// the full gyro signal `z_g` (no accelerometer involved).
+///
+/// The two err in different ways. `z_h` inherits the accelerometer bias:
+/// a bias `b_z` along the medio-lateral axis tilts the tracked vertical
+/// toward it by `b_z / g`, and the projection turns that into the same tilt
+/// of the axis (it cannot be told from a tilted axis by any accelerometer
+/// reading). `z_g` is free of it but is pulled toward the vertical by a rate
+/// about the vertical that correlates with the sagittal rate (real legs:
+/// RMS 1.1 rad/s about the vertical on straight walking, `z_g` 8-38 deg
+/// from `z_h` on the gaittoolbox trial). When the two agree within the
+/// largest tilt an accelerometer bias can cause (`d0`), the difference can
+/// be the bias alone and `z_g` is taken; beyond `2 d0` it cannot, and `z_h`
+/// is taken; in between the weight of `z_g` falls linearly (continuous in
+/// the data). Returns the unit axis (with the sign of `z_h`) and the weight
+/// of `z_g`. `d0 = 0` gives `z_h`.
+pub(crate) fn gyro_only_blend(
+    z_h: &Vector3<f64>,
+    z_g: &Vector3<f64>,
+    d0: f64,
+) -> (Vector3<f64>, f64) {
+    let z_g = if z_g.dot(z_h) < 0.0 { -z_g } else { *z_g };
+    let d = z_g.dot(z_h).min(1.0).acos();
+    let weight = if d0 > 0.0 {
+        (2.0 - d / d0).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if weight == 0.0 {
+        return (*z_h, 0.0);
+    }
+    match (z_h * (1.0 - weight) + z_g * weight).try_normalize(1e-12) {
+        Some(z) => (z, weight),
+        None => (*z_h, 0.0),
+    }
+}
+
 /// Result of a hinge-chain fit.
 pub(crate) struct HingeFit {
     /// Fitted axis per segment (only segments in a pair are `Some`).
