@@ -194,3 +194,38 @@ pub(crate) fn up_track(records: &[Record], seg: Segment, tau: f64) -> Vec<Option
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::gyro_only_blend;
+    use nalgebra::Vector3;
+
+    /// Issue 14: the gyro-only axis is taken in full within `d0` of the
+    /// horizontal one, not at all beyond `2 d0`, linearly in between, and
+    /// its sign never matters.
+    #[test]
+    fn issue_14_gyro_only_blend_weights() {
+        let d0 = 3f64.to_radians();
+        let z_h = Vector3::z();
+        let at = |deg: f64| Vector3::new(deg.to_radians().sin(), 0.0, deg.to_radians().cos());
+        let angle = |a: &Vector3<f64>, b: &Vector3<f64>| a.dot(b).min(1.0).acos().to_degrees();
+        for (deg, weight) in [(0.0, 1.0), (2.9, 1.0), (4.5, 0.5), (6.1, 0.0), (40.0, 0.0)] {
+            for sign in [1.0, -1.0] {
+                let (z, w) = gyro_only_blend(&z_h, &(at(deg) * sign), d0);
+                assert!((w - weight).abs() < 1e-9, "{deg} deg: weight {w}");
+                assert!((z.norm() - 1.0).abs() < 1e-12 && z.dot(&z_h) > 0.0);
+                if weight == 1.0 {
+                    assert!(angle(&z, &at(deg)) < 1e-9, "{deg} deg");
+                }
+                if weight == 0.0 {
+                    assert_eq!(z, z_h);
+                }
+            }
+        }
+        // Half weight: the axis lies half-way between the two.
+        let (z, _) = gyro_only_blend(&z_h, &at(4.5), d0);
+        assert!((angle(&z, &z_h) - 2.25).abs() < 1e-3);
+        // d0 = 0: the horizontal axis alone.
+        assert_eq!(gyro_only_blend(&z_h, &at(1.0), 0.0), (z_h, 0.0));
+    }
+}
