@@ -233,6 +233,25 @@ fn bad_options_and_metadata() {
         ),
         "{e:?}"
     );
+    for bad in [-0.01, f64::NAN, 1.0] {
+        let e = estimate_alignment(
+            &walk(1.0),
+            &AlignOptions {
+                gyro_axis_max_tilt_rad: bad,
+                ..opts()
+            },
+        );
+        assert!(
+            matches!(
+                e,
+                Err(AlignError::BadOption {
+                    name: "gyro_axis_max_tilt_rad",
+                    ..
+                })
+            ),
+            "{bad}: {e:?}"
+        );
+    }
     let mut meta = TrialMeta::new();
     meta.set("thigh_align_quat", "1 0 0");
     let e = rotations_from_metadata(&meta).unwrap_err();
