@@ -233,6 +233,25 @@ fn bad_options_and_metadata() {
         ),
         "{e:?}"
     );
+    for bad in [-0.01, f64::NAN, 1.0] {
+        let e = estimate_alignment(
+            &walk(1.0),
+            &AlignOptions {
+                gyro_axis_max_tilt_rad: bad,
+                ..opts()
+            },
+        );
+        assert!(
+            matches!(
+                e,
+                Err(AlignError::BadOption {
+                    name: "gyro_axis_max_tilt_rad",
+                    ..
+                })
+            ),
+            "{bad}: {e:?}"
+        );
+    }
     let mut meta = TrialMeta::new();
     meta.set("thigh_align_quat", "1 0 0");
     let e = rotations_from_metadata(&meta).unwrap_err();
@@ -246,4 +265,57 @@ fn bad_options_and_metadata() {
     meta.set("thigh_align_quat", "1 0 0 0");
     let r = rotations_from_metadata(&meta).unwrap();
     assert!(r[1].is_some() && r[0].is_none());
+}
+
+/// Issue 14 (leg detection, `leg_side.rs`): the leg is detected from the
+/// aligned thigh and shank gyros sample by sample; a trial whose thigh gyro
+/// has missing cells, or that has no shank sensor, or whose thigh could not
+/// be aligned, must give a detection (or "undetermined"), never a panic.
+#[test]
+fn issue_14_leg_side_with_missing_gyro_cells_and_an_absent_sensor() {
+    let (th, sh) = (Segment::Thigh.index(), Segment::Shank.index());
+    // Thigh gyro missing in two samples of five, shank gyro in every seventh.
+    let mut rec = walk(15.0);
+    for (k, r) in rec.iter_mut().enumerate() {
+        if k % 5 < 2 {
+            r.sample.imu[th].gyr = None;
+        }
+        if k % 7 == 3 {
+            r.sample.imu[sh].gyr = None;
+        }
+    }
+    let a = estimate_alignment(&rec, &opts()).unwrap();
+    let leg = a.leg.unwrap();
+    println!("missing gyro cells: leg {:?} ({:+.2})", leg.leg, leg.score);
+    assert_eq!(leg.leg, Some(limbfuse_core::Leg::Right));
+    // No shank sensor at all: detected from the thigh alone.
+    let mut no_shank = walk(15.0);
+    for r in &mut no_shank {
+        r.sample.imu[sh] = Default::default();
+    }
+    let a = estimate_alignment(&no_shank, &opts()).unwrap();
+    assert!(a.per_segment[sh].is_none());
+    let leg = a.leg.unwrap();
+    println!("no shank: leg {:?} ({:+.2})", leg.leg, leg.score);
+    assert!(leg.per_segment[sh].is_none() && leg.per_segment[th].is_some());
+    // A thigh that never rotates is skipped (`partial`); the shank alone
+    // decides, and the thigh's readings are not used.
+    let mut still_thigh = walk(15.0);
+    let g = still_thigh[0].sample.imu[th].acc;
+    for r in &mut still_thigh {
+        r.sample.imu[th].gyr = Some(Vector3::zeros());
+        r.sample.imu[th].acc = g;
+    }
+    let a = estimate_alignment(
+        &still_thigh,
+        &AlignOptions {
+            partial: true,
+            ..opts()
+        },
+    )
+    .unwrap();
+    assert!(a.per_segment[th].is_none());
+    let leg = a.leg.unwrap();
+    println!("thigh skipped: leg {:?} ({:+.2})", leg.leg, leg.score);
+    assert!(leg.per_segment[th].is_none() && leg.per_segment[sh].is_some());
 }

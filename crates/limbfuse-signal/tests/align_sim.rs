@@ -290,12 +290,17 @@ fn quiet_standing_sets_the_zero() {
             assert!(e.zero.abs() < 3.0, "{}: {:.2}", s.name(), e.zero);
             assert!((sa.walking_mean_angle_rad.to_degrees() - e.mean_ref).abs() < 4.0);
         }
-        // Aligned standing accelerometer reads about (0, g, 0).
+        // Aligned standing accelerometer reads about (0, g, 0). Its z
+        // component is the standing elevation of the functional (walking)
+        // axis: with the gyro-only axis (issue 14, `gyro_axis_max_tilt_rad`)
+        // the simulated foot reads 0.81-1.04 m/s^2 (4.7-6.1 deg: the foot's
+        // out-of-plane motion tilts where it rotates; 0.36-0.57 with the
+        // horizontal axis alone), every other sensor <= 0.55.
         let r = apply_alignment(&rec[100], &a);
         for imu in r.sample.imu {
             let f = imu.acc.unwrap();
             assert!(
-                f.x.abs() < 0.5 && (f.y - 9.81).abs() < 0.5 && f.z.abs() < 0.6,
+                f.x.abs() < 0.5 && (f.y - 9.81).abs() < 0.5 && f.z.abs() < 1.1,
                 "{f:?}"
             );
         }

@@ -95,23 +95,25 @@ pub fn run(a: &AlignArgs) -> Result<()> {
 
 /// Per-sensor confidence: share of the gyro energy on the chosen axis,
 /// second/largest horizontal gyro energy (axis ratio), hinge residual, sign
-/// margin (docs/ALIGNMENT.md, "Confidence and refusals").
+/// margin, weight of the gyro-only axis (docs/ALIGNMENT.md, "Confidence and
+/// refusals").
 fn confidence_table(a: &Alignment) -> String {
     let mut t = format!(
         "walking data: {} samples ({} turning, {} not walking left out)\n\
-         sensor  axis_energy  axis_ratio  hinge_res_rad_s  sign_margin\n",
+         sensor  axis_energy  axis_ratio  hinge_res_rad_s  sign_margin  gyro_only\n",
         a.walking_samples, a.turning_samples, a.not_walking_samples
     );
     for s in Segment::ALL {
         if let Some(x) = &a.per_segment[s.index()] {
             let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
             t += &format!(
-                "{:6}  {:11.3}  {:>10}  {:>15}  {:11.3}\n",
+                "{:6}  {:11.3}  {:>10}  {:>15}  {:11.3}  {:9.2}\n",
                 s.name(),
                 x.axis_energy_fraction,
                 opt(x.axis_ratio),
                 opt(x.hinge_residual),
-                x.sign_margin
+                x.sign_margin,
+                x.gyro_only_weight
             );
         }
     }

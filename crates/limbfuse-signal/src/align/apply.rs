@@ -91,11 +91,12 @@ impl Alignment {
                 m.push((
                     format!("{name}_align_quality"),
                     format!(
-                        "axis_energy_fraction={:.4} axis_ratio={ratio} axis_vs_principal_deg={:.2} hinge_residual_rad_s={hinge} sign_margin={:.3} walking_mean_deg={:.2}",
+                        "axis_energy_fraction={:.4} axis_ratio={ratio} axis_vs_principal_deg={:.2} hinge_residual_rad_s={hinge} sign_margin={:.3} walking_mean_deg={:.2} gyro_only_weight={:.2}",
                         a.axis_energy_fraction,
                         a.axis_vs_principal_rad.to_degrees(),
                         a.sign_margin,
-                        a.walking_mean_angle_rad.to_degrees()
+                        a.walking_mean_angle_rad.to_degrees(),
+                        a.gyro_only_weight
                     ),
                 ));
             }

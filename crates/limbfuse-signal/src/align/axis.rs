@@ -52,6 +52,44 @@ pub(crate) fn principal_axis(
     Some((v.normalize(), frac, rms, ratio))
 }
 
+/// Combines the principal axis of the horizontal gyro `z_h` (the rate about
+/// the accelerometer-tracked vertical removed) with the principal axis of
+/// the full gyro signal `z_g` (no accelerometer involved).
+///
+/// The two err in different ways. `z_h` inherits the accelerometer bias:
+/// a bias `b_z` along the medio-lateral axis tilts the tracked vertical
+/// toward it by `b_z / g`, and the projection turns that into the same tilt
+/// of the axis (it cannot be told from a tilted axis by any accelerometer
+/// reading). `z_g` is free of it but is pulled toward the vertical by a rate
+/// about the vertical that correlates with the sagittal rate (real legs:
+/// RMS 1.1 rad/s about the vertical on straight walking, `z_g` 8-38 deg
+/// from `z_h` on the gaittoolbox trial). When the two agree within the
+/// largest tilt an accelerometer bias can cause (`d0`), the difference can
+/// be the bias alone and `z_g` is taken; beyond `2 d0` it cannot, and `z_h`
+/// is taken; in between the weight of `z_g` falls linearly (continuous in
+/// the data). Returns the unit axis (with the sign of `z_h`) and the weight
+/// of `z_g`. `d0 = 0` gives `z_h`.
+pub(crate) fn gyro_only_blend(
+    z_h: &Vector3<f64>,
+    z_g: &Vector3<f64>,
+    d0: f64,
+) -> (Vector3<f64>, f64) {
+    let z_g = if z_g.dot(z_h) < 0.0 { -z_g } else { *z_g };
+    let d = z_g.dot(z_h).min(1.0).acos();
+    let weight = if d0 > 0.0 {
+        (2.0 - d / d0).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if weight == 0.0 {
+        return (*z_h, 0.0);
+    }
+    match (z_h * (1.0 - weight) + z_g * weight).try_normalize(1e-12) {
+        Some(z) => (z, weight),
+        None => (*z_h, 0.0),
+    }
+}
+
 /// Result of a hinge-chain fit.
 pub(crate) struct HingeFit {
     /// Fitted axis per segment (only segments in a pair are `Some`).
@@ -155,4 +193,39 @@ pub(crate) fn up_track(records: &[Record], seg: Segment, tau: f64) -> Vec<Option
             v
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gyro_only_blend;
+    use nalgebra::Vector3;
+
+    /// Issue 14: the gyro-only axis is taken in full within `d0` of the
+    /// horizontal one, not at all beyond `2 d0`, linearly in between, and
+    /// its sign never matters.
+    #[test]
+    fn issue_14_gyro_only_blend_weights() {
+        let d0 = 3f64.to_radians();
+        let z_h = Vector3::z();
+        let at = |deg: f64| Vector3::new(deg.to_radians().sin(), 0.0, deg.to_radians().cos());
+        let angle = |a: &Vector3<f64>, b: &Vector3<f64>| a.dot(b).min(1.0).acos().to_degrees();
+        for (deg, weight) in [(0.0, 1.0), (2.9, 1.0), (4.5, 0.5), (6.1, 0.0), (40.0, 0.0)] {
+            for sign in [1.0, -1.0] {
+                let (z, w) = gyro_only_blend(&z_h, &(at(deg) * sign), d0);
+                assert!((w - weight).abs() < 1e-9, "{deg} deg: weight {w}");
+                assert!((z.norm() - 1.0).abs() < 1e-12 && z.dot(&z_h) > 0.0);
+                if weight == 1.0 {
+                    assert!(angle(&z, &at(deg)) < 1e-9, "{deg} deg");
+                }
+                if weight == 0.0 {
+                    assert_eq!(z, z_h);
+                }
+            }
+        }
+        // Half weight: the axis lies half-way between the two.
+        let (z, _) = gyro_only_blend(&z_h, &at(4.5), d0);
+        assert!((angle(&z, &z_h) - 2.25).abs() < 1e-3);
+        // d0 = 0: the horizontal axis alone.
+        assert_eq!(gyro_only_blend(&z_h, &at(1.0), 0.0), (z_h, 0.0));
+    }
 }

@@ -17,7 +17,7 @@ use super::{AlignError, AlignOptions, Alignment, AxisMethod, SensorAlignment, Ze
 use super::legs::LEG;
 
 fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
-    let checks: [(&'static str, f64, f64, f64, &'static str); 17] = [
+    let checks: [(&'static str, f64, f64, f64, &'static str); 18] = [
         (
             "quiet_gyro_max",
             o.quiet_gyro_max,
@@ -57,6 +57,13 @@ fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
         ),
         ("turn_window_s", o.turn_window_s, 0.0, 100.0, "(0, 100] s"),
         ("up_tau_s", o.up_tau_s, 0.0, 1e3, "(0, 1000] s"),
+        (
+            "gyro_axis_max_tilt_rad",
+            o.gyro_axis_max_tilt_rad,
+            -1e-300,
+            0.5,
+            "[0, 0.5] rad",
+        ),
         ("zero_window_s", o.zero_window_s, 0.0, 1e6, "(0, 1e6] s"),
         ("trunk_min_corr", o.trunk_min_corr, -1e-300, 1.0, "[0, 1]"),
         ("walk_window_s", o.walk_window_s, 0.0, 1e3, "(0, 1000] s"),
@@ -185,6 +192,7 @@ pub fn estimate_alignment(
         hinge_res,
         sign_margin,
         axis_ratio,
+        gyro_only,
     } = leg_axes(records, &moving, &present, &mut fail, opts);
 
     // 3. In-plane zero of the leg sensors, then the trunk (through the thigh).
@@ -218,6 +226,7 @@ pub fn estimate_alignment(
                     axis_energy_fraction: ctx.energy_fraction(s, &z),
                     axis_ratio: axis_ratio[i],
                     axis_vs_principal_rad: pca[i].map_or(0.0, |p| p.dot(&z).abs().min(1.0).acos()),
+                    gyro_only_weight: gyro_only[i],
                     hinge_residual: hinge_res[i],
                     sign_margin: sign_margin[i],
                     walking_mean_angle_rad: mean,
@@ -250,6 +259,7 @@ pub fn estimate_alignment(
                                 axis_ratio: None,
                                 axis_vs_principal_rad: ctx
                                     .principal_deviation(Segment::Trunk, &ta.z),
+                                gyro_only_weight: 0.0,
                                 hinge_residual: None,
                                 sign_margin: ta.corr,
                                 walking_mean_angle_rad: mean,

@@ -87,10 +87,14 @@ pub(crate) fn detect_leg(
     if used.is_empty() || moving.len() < 100 {
         return none;
     }
+    // Aligned gyro of a used sensor; `None` where its rotation or its gyro
+    // reading is missing (such samples are left out below, so no reading
+    // is ever assumed).
+    let aligned = |s: Segment, k: usize| Some(rot[s.index()]? * gyr(records, s, k)?);
     let idx: Vec<usize> = moving
         .iter()
         .copied()
-        .filter(|&k| used.iter().all(|&s| gyr(records, s, k).is_some()))
+        .filter(|&k| used.iter().all(|&s| aligned(s, k).is_some()))
         .collect();
     if idx.len() < 100 {
         return none;
@@ -98,16 +102,23 @@ pub(crate) fn detect_leg(
     let times: Vec<f64> = idx.iter().map(|&k| records[k].sample.t).collect();
     let dt = (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64;
     let half = ((1.0 / dt).round() as usize).max(1);
-    let aligned = |s: Segment, k: usize| rot[s.index()].unwrap() * gyr(records, s, k).unwrap();
     let stance: Vec<f64> = idx
         .iter()
         .map(|&k| {
-            let sum: f64 = used.iter().map(|&s| aligned(s, k).z).sum();
+            let sum: f64 = used
+                .iter()
+                .filter_map(|&s| aligned(s, k))
+                .map(|w| w.z)
+                .sum();
             -sum.signum()
         })
         .collect();
     for &s in &used {
-        let roll: Vec<f64> = idx.iter().map(|&k| aligned(s, k).x).collect();
+        let roll: Vec<f64> = idx
+            .iter()
+            .filter_map(|&k| aligned(s, k))
+            .map(|w| w.x)
+            .collect();
         let frontal = high_passed_integral(&roll, &times, half);
         let c = correlation(&frontal, &stance);
         none.per_segment[s.index()] = Some(c);

@@ -5,7 +5,7 @@
 use limbfuse_core::{Record, Segment};
 use nalgebra::Vector3;
 
-use super::axis::{hinge_fit, principal_axis, up_track};
+use super::axis::{gyro_only_blend, hinge_fit, principal_axis, up_track};
 use super::series::gyr;
 use super::sign::{choose_signs, peak_score, Evidence};
 use super::{AlignError, AlignOptions, AxisMethod};
@@ -23,6 +23,9 @@ pub(crate) struct LegAxes {
     pub sign_margin: [f64; 4],
     /// Second / largest eigenvalue of the horizontal gyro energy.
     pub axis_ratio: [Option<f64>; 4],
+    /// Weight of the gyro-only principal axis in the axis (0: the
+    /// horizontal one alone, 1: the gyro-only one), see [`gyro_only_blend`].
+    pub gyro_only: [f64; 4],
 }
 
 /// Finds the leg axes over the `moving` samples; a segment that fails gets
@@ -41,6 +44,7 @@ pub(crate) fn leg_axes(
     let mut method = [AxisMethod::Principal; 4];
     let mut hinge_res: [Option<f64>; 4] = [None; 4];
     let mut axis_ratio: [Option<f64>; 4] = [None; 4];
+    let mut gyro_only = [0.0; 4];
     for s in LEG {
         let i = s.index();
         if !present[i] || fail[i].is_some() {
@@ -66,7 +70,15 @@ pub(crate) fn leg_axes(
                 })
             }
             Some((v, _, rms, ratio)) if rms >= opts.min_gyro_rms => {
-                pca[i] = Some(v);
+                let raw = moving.iter().filter_map(|&k| gyr(records, s, k));
+                let (z, weight) = match principal_axis(raw) {
+                    Some((r, ..)) if opts.horizontal => {
+                        gyro_only_blend(&v, &r, opts.gyro_axis_max_tilt_rad)
+                    }
+                    _ => (v, 0.0),
+                };
+                pca[i] = Some(z);
+                gyro_only[i] = weight;
                 axis_ratio[i] = Some(ratio);
             }
             Some((_, _, rms, _)) => {
@@ -157,5 +169,6 @@ pub(crate) fn leg_axes(
         hinge_res,
         sign_margin: margins,
         axis_ratio,
+        gyro_only,
     }
 }

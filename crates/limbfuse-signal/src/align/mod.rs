@@ -66,6 +66,14 @@ pub struct AlignOptions {
     /// Principal axis of the *horizontal* part of the leg gyro signals (the
     /// rate about the tracked vertical removed) instead of the full signal.
     pub horizontal: bool,
+    /// Largest axis tilt (rad) an accelerometer bias can cause through the
+    /// tracked vertical: the gyro-only principal axis is used when it is
+    /// within this of the horizontal one, blended out up to twice this
+    /// (`docs/ALIGNMENT.md`). Default `atan(60 mg / 1 g)` = 3.43 deg: three
+    /// times the 20 mg typical zero-g offset of consumer MEMS accelerometers
+    /// (BMI270 data sheet BST-BMI270-DS000; ICM-42688-P DS-000347). 0: the
+    /// horizontal axis alone (the behaviour before).
+    pub gyro_axis_max_tilt_rad: f64,
     /// Time constant (s) of the accelerometer correction of the tracked
     /// vertical (complementary filter).
     pub up_tau_s: f64,
@@ -114,6 +122,7 @@ impl Default for AlignOptions {
             turn_window_s: 1.0,
             min_gyro_rms: 0.2,
             horizontal: true,
+            gyro_axis_max_tilt_rad: 0.06f64.atan(),
             up_tau_s: 1.0,
             hinge: false,
             max_hinge_deviation_rad: 20f64.to_radians(),
@@ -197,6 +206,10 @@ pub struct SensorAlignment {
     pub axis_ratio: Option<f64>,
     /// Angle (rad) between the final axis and the principal gyro axis.
     pub axis_vs_principal_rad: f64,
+    /// Leg sensors: weight (0..1) of the gyro-only principal axis in the
+    /// axis, against the principal axis of the horizontal gyro (see
+    /// [`AlignOptions::gyro_axis_max_tilt_rad`]); 0 for the trunk.
+    pub gyro_only_weight: f64,
     /// RMS hinge residual (rad/s) of the pairs this sensor took part in.
     pub hinge_residual: Option<f64>,
     /// Sign evidence: score margin of the chosen sign over the flipped one
