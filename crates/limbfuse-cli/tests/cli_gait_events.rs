@@ -122,7 +122,8 @@ fn issue_19_lowback_course_turning_strides_have_no_speed() {
     let n = f(&v, &["n_strides"]);
     assert!((12.0..=22.0).contains(&n), "{v}");
     assert!(f(&v, &["speed_mae_mps"]) <= 0.14, "{v}");
-    assert!(f(&v, &["initial_contact", "median_abs_ms"]) <= 30.0, "{v}");
+    // 30 ms up to rounding (10 ms samples; 35 ms with the former scale).
+    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 30.5, "{v}");
 }
 
 fn write(dir: &Path, name: &str, header: &str, row: impl Fn(usize) -> String, n: usize) {
