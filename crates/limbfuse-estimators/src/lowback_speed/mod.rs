@@ -14,7 +14,7 @@
 //!    standard deviation `s / sqrt(2)`. `s` = 0.16 s: McCamley's 1.25 Hz
 //!    pseudo-frequency for `gaus1`, whose centre frequency is 0.2 (MATLAB
 //!    `centfrq('gaus1')`, PyWavelets `central_frequency('gaus1')`), so
-//!    `s = 0.2 / 1.25 Hz`. (Until issue 19's gait2 work the default was
+//!    `s = 0.2 / 1.25 Hz` (scikit-digital-health's reading of McCamley too). (Until issue 19's gait2 work the default was
 //!    0.225 s, the 9 samples at 40 Hz of Paraschiv-Ionescu et al. 2020's
 //!    `gaus2` variant, i.e. that wavelet's scale applied to `gaus1`.) The
 //!    smoothing is an FIR truncated at 3 standard deviations, so contacts
