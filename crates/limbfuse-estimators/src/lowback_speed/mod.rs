@@ -14,14 +14,14 @@
 //!    standard deviation `s / sqrt(2)`. `s` = 0.16 s: McCamley's 1.25 Hz
 //!    pseudo-frequency for `gaus1`, whose centre frequency is 0.2 (MATLAB
 //!    `centfrq('gaus1')`, PyWavelets `central_frequency('gaus1')`), so
-//!    `s = 0.2 / 1.25 Hz` (scikit-digital-health's reading of McCamley too). (Until issue 19's gait2 work the default was
-//!    0.225 s, the 9 samples at 40 Hz of Paraschiv-Ionescu et al. 2020's
-//!    `gaus2` variant, i.e. that wavelet's scale applied to `gaus1`.) The
-//!    smoothing is an FIR truncated at 3 standard deviations, so contacts
-//!    are decided with a fixed latency of `3 s / sqrt(2)` = 0.34 s. Maxima
-//!    closer than `min_step_time` keep the
-//!    larger; a maximum counts only while walking (RMS of `a_v` over the
-//!    last 2 s above `walking_rms`).
+//!    `s = 0.2 / 1.25 Hz` (scikit-digital-health's reading of McCamley
+//!    too). Until issue 19's `gait2` work the default was 0.225 s, the 9
+//!    samples at 40 Hz of Paraschiv-Ionescu et al. 2020's `gaus2` variant,
+//!    i.e. that wavelet's scale applied to `gaus1`. The smoothing is an FIR
+//!    truncated at 3 standard deviations, so contacts are decided with a
+//!    fixed latency of `3 s / sqrt(2)` = 0.34 s. Maxima closer than
+//!    `min_step_time` keep the larger; a maximum counts only while walking
+//!    (RMS of `a_v` over the last 2 s above `walking_rms`).
 //! 3. **Step length** (Zijlstra & Hof 2003, Gait & Posture 18(2), eq. 1, the
 //!    inverted pendulum): `SL = K 2 sqrt(2 l h - h^2)` with `h` the vertical
 //!    excursion of the trunk over the step (initial contact to initial
@@ -44,8 +44,8 @@
 //!    unknown (no `speed`, no stride length; `stride_turn_rate` says why).
 //!    Without a trunk gyroscope no turn is detected.
 //!
-//! Memory: a ring of the last [`HISTORY`] vertical accelerations, allocated
-//! at construction; nothing is allocated per sample.
+//! Memory: rings of the last [`HISTORY`] vertical accelerations and
+//! headings, allocated at construction; nothing is allocated per sample.
 
 use core::fmt;
 
