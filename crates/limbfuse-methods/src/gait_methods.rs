@@ -246,6 +246,7 @@ struct LowbackFile {
     wavelet_scale: Option<f64>,
     walking_rms: Option<f64>,
     speed_hold: Option<f64>,
+    turn_rate: Option<f64>,
 }
 
 impl MethodFile for LowbackFile {
@@ -274,7 +275,7 @@ impl MethodDef for LowbackSpeedMethod {
         "lowback-speed",
         "beyond the papers: initial contacts (McCamley 2012) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
         "trunk_acc (lower back, raw sensor frame); leg length from the parameter file or `# leg_length:` (m)",
-        "leg_length, correction, wavelet_scale, walking_rms, speed_hold",
+        "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate",
     )
     .needing(
         crate::ChannelNeeds {
@@ -299,6 +300,12 @@ impl MethodDef for LowbackSpeedMethod {
         positive("wavelet_scale", f.wavelet_scale, &mut p.wavelet_scale).map_err(&bad)?;
         positive("walking_rms", f.walking_rms, &mut p.walking_rms).map_err(&bad)?;
         positive("speed_hold", f.speed_hold, &mut p.speed_hold).map_err(&bad)?;
+        // The file says deg/s (El-Gohary's unit); the estimator takes rad/s.
+        let mut turn_rate_deg = 0.0;
+        positive("turn_rate", f.turn_rate, &mut turn_rate_deg).map_err(&bad)?;
+        if f.turn_rate.is_some() {
+            p.turn_rate = turn_rate_deg.to_radians();
+        }
         Ok(LowbackSettings {
             params: p,
             leg_length_given: f.leg_length.is_some(),
@@ -361,18 +368,22 @@ impl MethodDef for LowbackSpeedMethod {
              # leg_length = {:?}\n\
              # Zijlstra & Hof 2003 correction factor K.\n\
              correction = {:?}\n\
-             # McCamley 2012 wavelet scale, s (9 samples at 40 Hz).\n\
+             # McCamley 2012 wavelet scale, s (gaus1 at his 1.25 Hz: 0.2 / 1.25 Hz).\n\
              wavelet_scale = {:?}\n\
              # RMS vertical acceleration (m/s^2) over 2 s above which the subject walks.\n\
              walking_rms = {:?}\n\
              # How long (s) a stride's speed stays the `speed` output.\n\
-             speed_hold = {:?}\n",
+             speed_hold = {:?}\n\
+             # Mean heading rate (deg/s) above which a stride is a turn, its speed unknown\n\
+             # (El-Gohary et al. 2014's turn-peak threshold).\n\
+             turn_rate = {:?}\n",
             p.leg_length,
             p.leg_length,
             p.correction,
             p.wavelet_scale,
             p.walking_rms,
-            p.speed_hold
+            p.speed_hold,
+            p.turn_rate.to_degrees()
         )
     }
 }

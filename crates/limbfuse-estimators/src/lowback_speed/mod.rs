@@ -11,12 +11,17 @@
 //!    vertical acceleration. Integrating by parts, that CWT at scale `s` is
 //!    `-s` times `a_v` smoothed by the Gaussian `exp(-(tau/s)^2)`, so the
 //!    contacts are the positive maxima of `a_v` smoothed by a Gaussian of
-//!    standard deviation `s / sqrt(2)`; `s` = 0.225 s, McCamley's scale of 9
-//!    samples at 40 Hz. The smoothing is an FIR truncated at 3 standard
-//!    deviations, so contacts are decided with a fixed latency of
-//!    `3 s / sqrt(2)` = 0.48 s. Maxima closer than `min_step_time` keep the
-//!    larger; a maximum counts only while walking (RMS of `a_v` over the
-//!    last 2 s above `walking_rms`).
+//!    standard deviation `s / sqrt(2)`. `s` = 0.16 s: McCamley's 1.25 Hz
+//!    pseudo-frequency for `gaus1`, whose centre frequency is 0.2 (MATLAB
+//!    `centfrq('gaus1')`, PyWavelets `central_frequency('gaus1')`), so
+//!    `s = 0.2 / 1.25 Hz` (scikit-digital-health's reading of McCamley
+//!    too). Until issue 19's `gait2` work the default was 0.225 s, the 9
+//!    samples at 40 Hz of Paraschiv-Ionescu et al. 2020's `gaus2` variant,
+//!    i.e. that wavelet's scale applied to `gaus1`. The smoothing is an FIR
+//!    truncated at 3 standard deviations, so contacts are decided with a
+//!    fixed latency of `3 s / sqrt(2)` = 0.34 s. Maxima closer than
+//!    `min_step_time` keep the larger; a maximum counts only while walking
+//!    (RMS of `a_v` over the last 2 s above `walking_rms`).
 //! 3. **Step length** (Zijlstra & Hof 2003, Gait & Posture 18(2), eq. 1, the
 //!    inverted pendulum): `SL = K 2 sqrt(2 l h - h^2)` with `h` the vertical
 //!    excursion of the trunk over the step (initial contact to initial
@@ -28,9 +33,19 @@
 //!    Hof's correction factor for the under-estimate of the pendulum model.
 //! 4. **Speed**: a stride = two consecutive valid steps (0.25-1.5 s each);
 //!    its speed = `(SL_1 + SL_2) / (IC_3 - IC_1)`; `speed` holds the last one.
+//! 5. **Turns** (ours, beyond Zijlstra & Hof, whose model is for straight
+//!    walking): the heading rate is the gyroscope's component along the
+//!    gravity direction of step 1, `w_v = w . g_hat`; a stride whose mean
+//!    heading rate `|psi(IC_3) - psi(IC_1)| / (IC_3 - IC_1)` exceeds
+//!    `turn_rate` (15 deg/s: the turn-peak threshold of El-Gohary et al.
+//!    2014, Sensors 14(1), as in mobgap's `TdElGohary`) is a turning stride:
+//!    the pendulum step length does not hold there (pivot steps keep the
+//!    trunk's vertical excursion but move the feet little), so its speed is
+//!    unknown (no `speed`, no stride length; `stride_turn_rate` says why).
+//!    Without a trunk gyroscope no turn is detected.
 //!
-//! Memory: a ring of the last [`HISTORY`] vertical accelerations, allocated
-//! at construction; nothing is allocated per sample.
+//! Memory: rings of the last [`HISTORY`] vertical accelerations and
+//! headings, allocated at construction; nothing is allocated per sample.
 
 use core::fmt;
 
@@ -67,6 +82,9 @@ diagnostic_set! {
         Excursion = "excursion",
         /// Vertical acceleration `a_v` (m/s^2).
         VerticalAcc = "vertical_acc",
+        /// Mean heading rate (rad/s, signed) over the stride finished at
+        /// this sample, turning or not.
+        StrideTurnRate = "stride_turn_rate",
     }
 }
 
@@ -90,6 +108,9 @@ pub struct LowbackParams {
     pub walking_rms: f64,
     /// How long (s) a stride's speed stays the `speed` output.
     pub speed_hold: f64,
+    /// Mean heading rate (rad/s) above which a stride is a turn (speed
+    /// unknown): 15 deg/s (El-Gohary et al. 2014).
+    pub turn_rate: f64,
 }
 
 impl Default for LowbackParams {
@@ -97,12 +118,13 @@ impl Default for LowbackParams {
         LowbackParams {
             leg_length: 0.90,
             correction: 1.25,
-            wavelet_scale: 0.225,
+            wavelet_scale: 0.16,
             gravity_time_constant: 2.0,
             min_step_time: 0.25,
             max_step_time: 1.5,
             walking_rms: 0.3,
             speed_hold: 3.0,
+            turn_rate: 15.0_f64.to_radians(),
         }
     }
 }
@@ -153,6 +175,8 @@ pub struct LowbackSpeed {
     time: TimeStep,
     gravity: Option<Vector3<f64>>,
     history: Vec<f64>,
+    heading: Vec<f64>,
+    psi: f64,
     kernel: Vec<f64>,
     half: usize,
     dt: Option<f64>,
@@ -161,7 +185,7 @@ pub struct LowbackSpeed {
     rms_sq: f64,
     smoothed: [f64; 3],
     last_ic: Option<(u64, f64, f64)>,
-    last_step: Option<(f64, f64)>,
+    last_step: Option<(f64, f64, u64)>,
     speed: Option<(f64, f64)>,
 }
 
@@ -173,6 +197,8 @@ impl LowbackSpeed {
             time: TimeStep::new(),
             gravity: None,
             history: vec![0.0; HISTORY],
+            heading: vec![0.0; HISTORY],
+            psi: 0.0,
             kernel: Vec::with_capacity(HISTORY),
             half: 0,
             dt: None,
@@ -206,6 +232,10 @@ impl LowbackSpeed {
     fn at(&self, index: u64) -> f64 {
         self.history[(index % HISTORY as u64) as usize]
     }
+
+    fn heading_at(&self, index: u64) -> f64 {
+        self.heading[(index % HISTORY as u64) as usize]
+    }
 }
 
 impl Estimator for LowbackSpeed {
@@ -232,7 +262,8 @@ impl Estimator for LowbackSpeed {
             p.min_step_time, p.max_step_time
         )?;
         writeln!(out, "walking_rms: {} m/s^2", p.walking_rms)?;
-        writeln!(out, "speed_hold: {} s", p.speed_hold)
+        writeln!(out, "speed_hold: {} s", p.speed_hold)?;
+        writeln!(out, "turn_rate: {} deg/s", p.turn_rate.to_degrees())
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
@@ -275,7 +306,17 @@ impl Estimator for LowbackSpeed {
         *g += (acc - *g) * (dt / self.elapsed);
         let gn = g.norm();
         let a_v = if gn > 0.0 { acc.dot(g) / gn - gn } else { 0.0 };
-        self.history[(self.n % HISTORY as u64) as usize] = a_v;
+        // Heading (rad): the rate about the gravity direction, integrated;
+        // a missing or non-finite gyro sample adds nothing.
+        if let Some(w) = sample.imu[Segment::Trunk.index()].gyr {
+            let w_v = if gn > 0.0 { w.dot(g) / gn } else { 0.0 };
+            if w_v.is_finite() {
+                self.psi += w_v * dt;
+            }
+        }
+        let slot = (self.n % HISTORY as u64) as usize;
+        self.history[slot] = a_v;
+        self.heading[slot] = self.psi;
         let alpha = (dt / 2.0).min(1.0);
         self.rms_sq += (a_v * a_v - self.rms_sq) * alpha;
         self.n += 1;
@@ -312,15 +353,24 @@ impl Estimator for LowbackSpeed {
                         d.value(LowbackDiag::StepLength, sl);
                         d.value(LowbackDiag::Excursion, h);
                         // The previous valid step ended at `t0`: the two make a stride.
-                        if let Some((sl_prev, t_start)) = self.last_step {
+                        if let Some((sl_prev, t_start, i_start)) = self.last_step {
                             let stride_time = t_ic - t_start;
-                            if stride_time <= 2.0 * p.max_step_time {
-                                d.value(LowbackDiag::StrideLength, sl_prev + sl);
-                                d.value(LowbackDiag::StrideTime, stride_time);
-                                self.speed = Some(((sl_prev + sl) / stride_time, t));
+                            if stride_time <= 2.0 * p.max_step_time
+                                && index - i_start < HISTORY as u64
+                            {
+                                let turn_rate = (self.heading_at(index) - self.heading_at(i_start))
+                                    / stride_time;
+                                d.value(LowbackDiag::StrideTurnRate, turn_rate);
+                                if turn_rate.abs() <= p.turn_rate {
+                                    d.value(LowbackDiag::StrideLength, sl_prev + sl);
+                                    d.value(LowbackDiag::StrideTime, stride_time);
+                                    self.speed = Some(((sl_prev + sl) / stride_time, t));
+                                } else {
+                                    self.speed = None;
+                                }
                             }
                         }
-                        self.last_step = Some((sl, t0));
+                        self.last_step = Some((sl, t0, i0));
                     } else {
                         self.last_step = None;
                     }
