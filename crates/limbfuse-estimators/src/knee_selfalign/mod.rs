@@ -12,6 +12,7 @@
 //! | [`param_ekf`] | Algorithm 2 (information form: linear in the window length) |
 //! | [`angle`] | eq 4, eqs 5-7 (signed `atan2`: SPEC 6), Algorithm 1 |
 //! | [`window`] | Algorithm 3's window, the sign rules of SPEC 6 |
+//! | [`upright`] | ours (issue 15): the upright-leg axis prior for knees eq 2 does not fit |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
 //! `sample.imu[shank]`, any sensor orientation and position). Output: the
@@ -25,6 +26,7 @@ pub mod param_ekf;
 pub mod params;
 pub mod position;
 pub mod sign;
+pub mod upright;
 pub mod window;
 
 use core::fmt;

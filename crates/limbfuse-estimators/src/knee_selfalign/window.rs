@@ -16,6 +16,7 @@ use super::position::{
     central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
 };
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
+use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
@@ -330,6 +331,15 @@ pub fn identify(
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
     };
     let (j_t, j_s) = axes_of_state(&j.x);
+    // Ours (issue 15): the upright-leg prior where eq 2's hinge does not fit.
+    let [j_t, j_s] = match p
+        .axis_prior
+        .map(|u| upright_axes(ring, [j_t, j_s], j.rms_after, &u))
+    {
+        Some(UprightAxes::Prior(jj)) => jj,
+        Some(UprightAxes::NoFlexion) => previous.map_or([j_t, j_s], |g| g.axis),
+        None | Some(UprightAxes::Hinge) => [j_t, j_s],
+    };
     let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
     let identified = |c: SignChoice| WindowOutcome::Identified {
