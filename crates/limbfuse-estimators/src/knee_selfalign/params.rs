@@ -254,7 +254,13 @@ impl KneeSelfAlignParams {
         check("acc_max_spread", self.acc_max_spread, 0.0, 1.0, "[0, 1]")?;
         check("acc_min_motion", self.acc_min_motion, 0.0, 1.0, "[0, 1]")?;
         if let Some(u) = self.axis_prior {
-            check("upright_min_hinge_ratio", u.min_hinge_ratio, 0.0, 1e6, "[0, 1e6]")?;
+            check(
+                "upright_min_hinge_ratio",
+                u.min_hinge_ratio,
+                0.0,
+                1e6,
+                "[0, 1e6]",
+            )?;
             check(
                 "upright_min_perpendicular_fraction",
                 u.min_perpendicular_fraction,

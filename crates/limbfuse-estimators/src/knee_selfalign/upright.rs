@@ -105,6 +105,18 @@ pub enum UprightAxes {
     NoFlexion,
 }
 
+impl UprightAxes {
+    /// Where the window's axes came from, as `diag_axis_source`: 0 eq 2, 1
+    /// the upright prior, 2 the previous window's (no flexion in this one).
+    pub const fn code(&self) -> f64 {
+        match self {
+            UprightAxes::Hinge => 0.0,
+            UprightAxes::Prior(_) => 1.0,
+            UprightAxes::NoFlexion => 2.0,
+        }
+    }
+}
+
 /// Applies the upright-leg prior to a window whose eq-2 axes are `hinge`,
 /// with RMS `e_j` `rms_e_j` (rad/s) at them.
 pub fn upright_axes(
@@ -152,7 +164,10 @@ mod tests {
             let w = libm::sin(k as f64 * 0.05);
             r.push(Slot {
                 t: k as f64 * 0.01,
-                gyr: [Vector3::new(0.0, axial * w, w), Vector3::new(0.0, 0.0, 2.0 * w)],
+                gyr: [
+                    Vector3::new(0.0, axial * w, w),
+                    Vector3::new(0.0, 0.0, 2.0 * w),
+                ],
                 acc: [Vector3::new(0.0, 9.81, 0.0); 2],
                 gyr_ok: true,
                 acc_ok: true,
