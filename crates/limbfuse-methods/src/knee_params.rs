@@ -271,4 +271,16 @@ mod tests {
         .unwrap();
         assert_eq!(p, KneeSelfAlignParams::default());
     }
+
+    #[test]
+    fn axis_prior_keys() {
+        let path = Path::new("k.toml");
+        let flags = MethodFlags::default();
+        let p = knee_params(Some(("axis_prior = \"none\"\n", path)), &flags).unwrap();
+        assert_eq!(p.axis_prior, None);
+        let p = knee_params(Some(("upright_min_hinge_ratio = 0.2\n", path)), &flags).unwrap();
+        assert_eq!(p.axis_prior.map(|u| u.min_hinge_ratio), Some(0.2));
+        let e = knee_params(Some(("upright_min_hinge_ratio = -1\n", path)), &flags).unwrap_err();
+        assert!(e.to_string().contains("upright_min_hinge_ratio"), "{e}");
+    }
 }
