@@ -130,7 +130,7 @@ pub fn upright_axes(
         return UprightAxes::Hinge;
     }
     let rms_rate = libm::sqrt(s.rate_sq / (2 * s.n_gyr) as f64);
-    if !(rms_e_j >= prior.min_hinge_ratio * rms_rate) {
+    if rms_e_j.is_nan() || rms_e_j < prior.min_hinge_ratio * rms_rate {
         return UprightAxes::Hinge;
     }
     let mut out = [Vector3::zeros(); 2];
@@ -140,7 +140,8 @@ pub fn upright_axes(
         };
         let gg = &s.gg[seg];
         let along = (a.transpose() * gg * a)[0];
-        if !(gg.trace() - along >= prior.min_perpendicular_fraction * gg.trace()) {
+        let perpendicular = gg.trace() - along;
+        if perpendicular.is_nan() || perpendicular < prior.min_perpendicular_fraction * gg.trace() {
             return UprightAxes::NoFlexion;
         }
         let p = Matrix3::identity() - a * a.transpose();
