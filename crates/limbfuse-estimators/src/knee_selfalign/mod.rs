@@ -312,12 +312,8 @@ impl KneeSelfAlign {
     /// Status of the last window, its usable samples, the RMS residuals
     /// `[e_j, e_o]` and the information of the axes.
     pub fn last_window(&self) -> (WindowStatus, usize, [f64; 2], f64) {
-        (
-            self.status,
-            self.usable,
-            [self.rms[0], self.rms[1]],
-            self.information,
-        )
+        let [e_j, e_o, _] = self.rms;
+        (self.status, self.usable, [e_j, e_o], self.information)
     }
 
     /// Uses `geometry` from now on and stops identifying windows, until
