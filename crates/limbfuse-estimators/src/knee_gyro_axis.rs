@@ -23,7 +23,8 @@
 //! one `alpha_inc - alpha_gyro` had a circular spread of at most
 //! `acc_max_spread` while `alpha_gyro` itself spread at least
 //! `acc_min_motion` (the same test as `knee-selfalign`'s, without the
-//! sensor positions). It fails when the joint axis is near vertical (no
+//! sensor positions) and `knee-selfalign`'s own test passed on that window
+//! (its accelerometer angle, with the joint acceleration, is trusted). It fails when the joint axis is near vertical (no
 //! gravity in the joint plane: the knee rig), when the accelerometers are
 //! far off, or when the knee is not a hinge (the gaittoolbox trial). With
 //! the high-pass the zero is the mean angle: compare offset-free.
@@ -174,7 +175,12 @@ impl KneeGyroAxis {
         if self.diff.count() > 0 {
             let spread = self.diff.spread();
             self.last_spread = spread;
-            if spread > p.acc_max_spread {
+            // The inclination leaves out the joint acceleration: it is used
+            // only where the full accelerometer angle (eq 5 with `Gamma`) of
+            // the inner estimator follows the gyro angle too. On the
+            // gaittoolbox turn window the one-stride smoothing hid a
+            // difference swinging by ~100 deg per stride (issue 15).
+            if spread > p.acc_max_spread || !self.inner.acc_trusted() {
                 self.use_inclination = false;
             } else if self.motion.spread() >= p.acc_min_motion {
                 if !self.use_inclination {

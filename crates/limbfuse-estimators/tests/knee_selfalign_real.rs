@@ -74,7 +74,17 @@ fn paired(
     span: (f64, f64),
     lag: usize,
 ) -> (Vec<f64>, Vec<f64>) {
-    let mut est = KneeSelfAlign::new(params).unwrap();
+    paired_with(records, &mut KneeSelfAlign::new(params).unwrap(), span, lag)
+}
+
+/// [`paired`] for any knee estimator (reset first).
+fn paired_with(
+    records: &[Record],
+    est: &mut dyn Estimator,
+    span: (f64, f64),
+    lag: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    est.reset();
     let k = Joint::Knee.index();
     let out: Vec<Option<f64>> = records
         .iter()
@@ -230,4 +240,86 @@ fn knee_gyro_axis_on_rig_trial_5() {
     let c = pearson(&e, &r);
     println!("knee-gyro-axis Trial_05: corr {c:.4}");
     assert!(c.abs() >= 0.95, "{c}");
+}
+
+/// Offset-free RMSE (deg), correlation and lag of `est` on the gaittoolbox
+/// trial's straight part 2 (4.4-8.72 s), the lag of 0..=2 samples with the
+/// smallest RMSE (the Xsens streams trail the Vicon by ~2 samples).
+fn gaittoolbox_part_2(records: &[Record], est: &mut dyn Estimator) -> (f64, f64, usize) {
+    (0..=2)
+        .map(|lag| {
+            let (e, r) = paired_with(records, est, (4.4, 8.72), lag);
+            let n = e.len() as f64;
+            let d: Vec<f64> = e.iter().zip(&r).map(|(a, b)| a - b).collect();
+            let m = d.iter().sum::<f64>() / n;
+            let rmse = (d.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n)
+                .sqrt()
+                .to_degrees();
+            (rmse, pearson(&e, &r), lag)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap()
+}
+
+/// Issue 15, gaittoolbox target (offset-free RMSE <= 4 deg on the straight
+/// passes, lag <= 2 samples). Eq 2's hinge leaves 0.55 rad/s RMS on this
+/// knee and its axes absorb the thigh's rotation about its long axis (42 %
+/// of the thigh gyro's energy): 4.985 deg before, with paper 002's axes
+/// (`axis_prior: None`, still printed). The upright-leg prior (ours,
+/// `knee_selfalign::upright`) takes each axis as the dominant rotation
+/// perpendicular to the segment's mean specific force, and keeps the
+/// previous axes over the turn: 3.31 deg.
+#[test]
+fn issue_15_gaittoolbox_upright_axis_prior_within_4_deg() {
+    let Some(dir) = data_dir() else { return };
+    let records = import_gaittoolbox(&dir.join("gaittoolbox-s02-walk"))
+        .unwrap()
+        .records;
+    let p = KneeSelfAlignParams {
+        window: 300,
+        ..Default::default()
+    };
+    let paper = gaittoolbox_part_2(
+        &records,
+        &mut KneeSelfAlign::new(KneeSelfAlignParams {
+            axis_prior: None,
+            ..p
+        })
+        .unwrap(),
+    );
+    let ours = gaittoolbox_part_2(&records, &mut KneeSelfAlign::new(p).unwrap());
+    println!(
+        "gaittoolbox part 2, offset-free RMSE / corr / lag: eq 2 alone {:.3} deg / {:.4} / {}, upright prior {:.3} deg / {:.4} / {}",
+        paper.0, paper.1, paper.2, ours.0, ours.1, ours.2
+    );
+    assert!(ours.0 <= 4.0, "{ours:?}");
+    assert!(ours.1 > 0.98, "{ours:?}");
+}
+
+/// Issue 15: `knee-gyro-axis` on the gaittoolbox trial with the upright
+/// prior. Its own trust test (the inclination minus the gyro angle, smoothed
+/// over a stride) passed by chance on the turn window and pulled the angle
+/// to an inclination swinging ~100 deg per stride against the gyro angle
+/// (63.9 deg on part 2); the inclination is now used only where
+/// `knee-selfalign` trusts its full accelerometer angle too.
+#[test]
+fn issue_15_knee_gyro_axis_gaittoolbox_within_4_deg() {
+    let Some(dir) = data_dir() else { return };
+    let records = import_gaittoolbox(&dir.join("gaittoolbox-s02-walk"))
+        .unwrap()
+        .records;
+    let mut est = KneeGyroAxis::new(KneeGyroAxisParams {
+        axes: KneeSelfAlignParams {
+            window: 300,
+            ..Default::default()
+        },
+        ..Default::default()
+    })
+    .unwrap();
+    let best = gaittoolbox_part_2(&records, &mut est);
+    println!(
+        "knee-gyro-axis gaittoolbox part 2: offset-free RMSE {:.3} deg, corr {:.4}, lag {}",
+        best.0, best.1, best.2
+    );
+    assert!(best.0 <= 4.0, "{best:?}");
 }

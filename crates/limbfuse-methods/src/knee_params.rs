@@ -10,11 +10,14 @@
 //! acc_max_spread = 0.0152     # accelerometer angle trusted up to this spread about the gyro angle
 //! acc_min_motion = 0.0152     # ... in windows where the gyro angle spreads at least this much
 //! highpass_hz = 0.02          # drift removal while the accelerometer angle is not trusted
+//! axis_prior = "upright"      # or "none": paper 002's eq 2 alone
+//! upright_min_hinge_ratio = 0.15  # the prior applies where RMS e_j >= this x RMS rate
 //! ```
 
 use std::path::Path;
 
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
+use limbfuse_estimators::knee_selfalign::upright::UprightPrior;
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
 
@@ -33,6 +36,15 @@ enum ZeroName {
     PaperC,
 }
 
+/// The axis criterion, as written in a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+enum AxisPriorName {
+    #[serde(rename = "upright")]
+    Upright,
+    #[serde(rename = "none")]
+    None,
+}
+
 /// A `knee-selfalign` parameter file.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -46,6 +58,8 @@ struct KneeSelfAlignFile {
     acc_max_spread: Option<f64>,
     acc_min_motion: Option<f64>,
     highpass_hz: Option<f64>,
+    axis_prior: Option<AxisPriorName>,
+    upright_min_hinge_ratio: Option<f64>,
 }
 
 /// The parameters of a parameter file's text (or the paper defaults for
@@ -69,6 +83,16 @@ pub fn knee_params(
         acc_max_spread: f.acc_max_spread.unwrap_or(d.acc_max_spread),
         acc_min_motion: f.acc_min_motion.unwrap_or(d.acc_min_motion),
         highpass_hz: f.highpass_hz.unwrap_or(d.highpass_hz),
+        axis_prior: match f.axis_prior {
+            Some(AxisPriorName::None) => None,
+            None | Some(AxisPriorName::Upright) => {
+                let u = d.axis_prior.unwrap_or_default();
+                Some(UprightPrior {
+                    min_hinge_ratio: f.upright_min_hinge_ratio.unwrap_or(u.min_hinge_ratio),
+                    ..u
+                })
+            }
+        },
         ..d
     };
     p.validate()?;
@@ -90,7 +114,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz (file keys or --window/--order)",
+        "window, order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -131,7 +155,9 @@ pub fn default_file() -> String {
          sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n\
          acc_max_spread = {}  # accelerometer angle trusted up to this spread about the gyro angle (0 to 1; limbfuse)\n\
          acc_min_motion = {}  # ... judged only in windows whose gyro angle spreads at least this (0 to 1; limbfuse)\n\
-         highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n",
+         highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n\
+         axis_prior = \"upright\"  # \"upright\" (limbfuse, issue 15) or \"none\" (paper 002: eq 2 alone)\n\
+         upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n",
         d.window,
         d.order,
         d.zero.name(),
@@ -139,7 +165,8 @@ pub fn default_file() -> String {
         d.sign_floor,
         d.acc_max_spread,
         d.acc_min_motion,
-        d.highpass_hz
+        d.highpass_hz,
+        d.axis_prior.unwrap_or_default().min_hinge_ratio
     )
 }
 
@@ -243,5 +270,17 @@ mod tests {
         )
         .unwrap();
         assert_eq!(p, KneeSelfAlignParams::default());
+    }
+
+    #[test]
+    fn axis_prior_keys() {
+        let path = Path::new("k.toml");
+        let flags = MethodFlags::default();
+        let p = knee_params(Some(("axis_prior = \"none\"\n", path)), &flags).unwrap();
+        assert_eq!(p.axis_prior, None);
+        let p = knee_params(Some(("upright_min_hinge_ratio = 0.2\n", path)), &flags).unwrap();
+        assert_eq!(p.axis_prior.map(|u| u.min_hinge_ratio), Some(0.2));
+        let e = knee_params(Some(("upright_min_hinge_ratio = -1\n", path)), &flags).unwrap_err();
+        assert!(e.to_string().contains("upright_min_hinge_ratio"), "{e}");
     }
 }

@@ -12,6 +12,7 @@
 //! | [`param_ekf`] | Algorithm 2 (information form: linear in the window length) |
 //! | [`angle`] | eq 4, eqs 5-7 (signed `atan2`: SPEC 6), Algorithm 1 |
 //! | [`window`] | Algorithm 3's window, the sign rules of SPEC 6 |
+//! | [`upright`] | ours (issue 15): the upright-leg axis prior for knees eq 2 does not fit |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
 //! `sample.imu[shank]`, any sensor orientation and position). Output: the
@@ -25,6 +26,7 @@ pub mod param_ekf;
 pub mod params;
 pub mod position;
 pub mod sign;
+pub mod upright;
 pub mod window;
 
 use core::fmt;
@@ -121,6 +123,9 @@ diagnostic_set! {
         /// fusion's variance grows (ours, issue 18 item 2), so the first
         /// accelerometer angles after it re-anchor the knee angle.
         GyroGap = "gyro_gap",
+        /// Where the last identified window's axes came from (ours, issue 15):
+        /// 0 eq 2, 1 the upright-leg prior, 2 kept from the window before.
+        AxisSource = "axis_source",
     }
 }
 
@@ -242,7 +247,8 @@ pub struct KneeSelfAlign {
     windows: usize,
     status: WindowStatus,
     usable: usize,
-    rms: [f64; 2],
+    /// RMS `e_j`, RMS `e_o`, axis source code of the last identified window.
+    rms: [f64; 3],
     information: f64,
     spread: f64,
     sign_confidence: f64,
@@ -288,7 +294,7 @@ impl KneeSelfAlign {
             windows: 0,
             status: WindowStatus::NoWindowYet,
             usable: 0,
-            rms: [0.0; 2],
+            rms: [0.0; 3],
             information: 0.0,
             spread: 1.0,
             sign_confidence: 0.0,
@@ -306,7 +312,8 @@ impl KneeSelfAlign {
     /// Status of the last window, its usable samples, the RMS residuals
     /// `[e_j, e_o]` and the information of the axes.
     pub fn last_window(&self) -> (WindowStatus, usize, [f64; 2], f64) {
-        (self.status, self.usable, self.rms, self.information)
+        let [e_j, e_o, _] = self.rms;
+        (self.status, self.usable, [e_j, e_o], self.information)
     }
 
     /// Uses `geometry` from now on and stops identifying windows, until
@@ -376,6 +383,7 @@ impl KneeSelfAlign {
                 spread,
                 sign_confidence,
                 acc_trusted,
+                axis_source,
             } => {
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     // A new pair of sides (first window, or an uncommitted
@@ -394,7 +402,7 @@ impl KneeSelfAlign {
                     self.geometry = Some(geometry);
                     self.bases = Some(bases);
                     self.status = WindowStatus::Identified;
-                    self.rms = [rms_axis, rms_position];
+                    self.rms = [rms_axis, rms_position, axis_source];
                     self.information = information;
                     self.spread = spread;
                     self.sign_confidence = sign_confidence;
@@ -469,7 +477,7 @@ impl Estimator for KneeSelfAlign {
         self.windows = 0;
         self.status = WindowStatus::NoWindowYet;
         self.usable = 0;
-        self.rms = [0.0; 2];
+        self.rms = [0.0; 3];
         self.information = 0.0;
         self.spread = 1.0;
         self.sign_confidence = 0.0;
@@ -575,6 +583,7 @@ impl Estimator for KneeSelfAlign {
             }
             d.value(KneeDiag::RmsEJ, self.rms[0]);
             d.value(KneeDiag::RmsEO, self.rms[1]);
+            d.value(KneeDiag::AxisSource, self.rms[2]);
             d.value(KneeDiag::AccGyroSpread, self.spread);
             d.value(KneeDiag::SignConfidence, self.sign_confidence);
         }

@@ -3,6 +3,7 @@
 use core::fmt;
 
 use super::param_ekf::ParamEkfNoise;
+use super::upright::UprightPrior;
 
 /// Which direction in each joint plane is the zero of the accelerometer
 /// angle (the `x_i` of eq 6).
@@ -148,6 +149,11 @@ pub struct KneeSelfAlignParams {
     /// 8 s): a 0.5 deg/s relative gyro bias then leaves 4 deg, and a 1 Hz
     /// gait cycle keeps 99.98 % of its amplitude (a limbfuse extension).
     pub highpass_hz: f64,
+    /// Axis criterion: `None` is paper 002's eq 2 alone (Algorithm 2);
+    /// `Some` (default) replaces eq 2's axes by the upright-leg prior
+    /// ([`super::upright`]) in windows where the hinge does not explain the
+    /// gyros and the legs are upright (a limbfuse extension, issue 15).
+    pub axis_prior: Option<UprightPrior>,
 }
 
 impl Default for KneeSelfAlignParams {
@@ -169,6 +175,7 @@ impl Default for KneeSelfAlignParams {
             acc_max_spread: 1.0 - libm::cos(10f64.to_radians()),
             acc_min_motion: 1.0 - libm::cos(10f64.to_radians()),
             highpass_hz: 0.02,
+            axis_prior: Some(UprightPrior::default()),
         }
     }
 }
@@ -246,6 +253,22 @@ impl KneeSelfAlignParams {
         check("sign_commit", self.sign_commit, 0.0, 1.0, "[0, 1]")?;
         check("acc_max_spread", self.acc_max_spread, 0.0, 1.0, "[0, 1]")?;
         check("acc_min_motion", self.acc_min_motion, 0.0, 1.0, "[0, 1]")?;
+        if let Some(u) = self.axis_prior {
+            check(
+                "upright_min_hinge_ratio",
+                u.min_hinge_ratio,
+                0.0,
+                1e6,
+                "[0, 1e6]",
+            )?;
+            check(
+                "upright_min_perpendicular_fraction",
+                u.min_perpendicular_fraction,
+                0.0,
+                1.0,
+                "[0, 1]",
+            )?;
+        }
         positive("highpass_hz", self.highpass_hz)
     }
 
@@ -285,6 +308,14 @@ impl KneeSelfAlignParams {
             "accelerometer angle trusted when spread <= {} and motion >= {}; else high-pass at {} Hz",
             self.acc_max_spread, self.acc_min_motion, self.highpass_hz
         )?;
+        match self.axis_prior {
+            None => writeln!(out, "axis_prior: none (paper 002 eq 2 alone)")?,
+            Some(u) => writeln!(
+                out,
+                "axis_prior: upright (min_hinge_ratio={} min_perpendicular_fraction={})",
+                u.min_hinge_ratio, u.min_perpendicular_fraction
+            )?,
+        }
         writeln!(
             out,
             "gyro_derivative: five-point symmetric, latency 2 samples"

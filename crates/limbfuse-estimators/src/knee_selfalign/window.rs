@@ -16,6 +16,7 @@ use super::position::{
     central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
 };
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
+use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
 /// Both IMUs' readings at one sample.
@@ -246,6 +247,9 @@ pub enum WindowOutcome {
         /// moved, no evidence): only then may it decide signs, the zero and
         /// correct the angle (Algorithm 1).
         acc_trusted: Option<bool>,
+        /// [`UprightAxes::code`]: 0 eq 2's axes, 1 the upright prior's, 2
+        /// the previous window's.
+        axis_source: f64,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -330,6 +334,15 @@ pub fn identify(
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
     };
     let (j_t, j_s) = axes_of_state(&j.x);
+    // Ours (issue 15): the upright-leg prior where eq 2's hinge does not fit.
+    let source = p.axis_prior.map_or(UprightAxes::Hinge, |u| {
+        upright_axes(ring, [j_t, j_s], j.rms_after, &u)
+    });
+    let [j_t, j_s] = match source {
+        UprightAxes::Prior(jj) => jj,
+        UprightAxes::NoFlexion => previous.map_or([j_t, j_s], |g| g.axis),
+        UprightAxes::Hinge => [j_t, j_s],
+    };
     let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
     let identified = |c: SignChoice| WindowOutcome::Identified {
@@ -340,6 +353,7 @@ pub fn identify(
         spread: c.spread,
         sign_confidence: c.confidence,
         acc_trusted: c.acc_trusted(p.acc_max_spread, p.acc_min_motion),
+        axis_source: source.code(),
     };
     let o = [o_t, o_s];
     let score = |j, keep| score_pairs(ring, j, o, p.zero, p.sign_floor, keep);
