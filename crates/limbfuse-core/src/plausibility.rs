@@ -55,6 +55,21 @@
 //! [`PlausibilityLimits::stuck_s`] is a stuck sensor (a frozen bus, a dead
 //! driver); it and every further repeat are rejected. Encoders are not
 //! checked: a joint at rest repeats its encoder count exactly.
+//!
+//! That argument fails for an accelerometer recorded coarser than its
+//! noise: the shared knee rig's files hold the specific force to 0.01 g, and
+//! a still segment's vector repeats bit for bit for seconds (74 % of the
+//! thigh's samples repeat their predecessor; runs up to 8 s). A repeated
+//! specific force is only wrong when the sensor turns, since turning it
+//! across gravity changes the reading by about `g` times the angle. So an
+//! accelerometer repeat is a stuck sensor only (i) when its IMU's gyroscope,
+//! over the repeat, shows it turning across the repeated vector by more than
+//! [`PlausibilityLimits::stuck_acc_turn_m_s2`] of predicted change (counting
+//! rates above [`PlausibilityLimits::stuck_acc_rate_floor_rad_s`] only, so
+//! that a gyroscope bias does not add up), (ii) when that gyroscope is
+//! itself stuck (a frozen IMU), or (iii) when the IMU has given no gyroscope
+//! reading during the repeat (no evidence either way: the repeat rule
+//! alone). [`crate::SampleGate`] applies (i)-(iii).
 
 use nalgebra::Vector3;
 
@@ -72,6 +87,18 @@ pub struct PlausibilityLimits {
     pub stuck_s: f64,
     /// Fewest identical consecutive vectors that make a stuck sensor.
     pub stuck_min_samples: u32,
+    /// Change of the specific force (m/s^2) that the gyroscope-measured
+    /// turn of an IMU must predict over an accelerometer repeat before the
+    /// repeat counts as stuck: 0.5 m/s^2, five steps of the coarsest
+    /// recording resolution known to us (0.01 g, the knee rig) and a turn of
+    /// about 3 deg across gravity.
+    pub stuck_acc_turn_m_s2: f64,
+    /// Rates across the repeated specific force below this (rad/s) do not
+    /// count towards [`PlausibilityLimits::stuck_acc_turn_m_s2`]: 0.1 rad/s
+    /// (5.7 deg/s), over ten times the turn-on bias of uncalibrated
+    /// consumer MEMS gyroscopes (0.5 deg/s, 1 sigma, BMI270 and
+    /// ICM-42688-P data sheets; docs/SIMULATOR.md).
+    pub stuck_acc_rate_floor_rad_s: f64,
 }
 
 impl Default for PlausibilityLimits {
@@ -81,6 +108,8 @@ impl Default for PlausibilityLimits {
             gyro_noise_rad_s: 1.0,
             stuck_s: 0.1,
             stuck_min_samples: 10,
+            stuck_acc_turn_m_s2: 0.5,
+            stuck_acc_rate_floor_rad_s: 0.1,
         }
     }
 }
@@ -109,6 +138,12 @@ pub struct VectorTrack {
 }
 
 impl VectorTrack {
+    /// How many times in a row the last reading checked has been repeated
+    /// (1: it differs from the one before).
+    pub fn repeats(&self) -> u32 {
+        self.run.map_or(0, |r| r.2)
+    }
+
     /// Checks reading `v` at time `t`; `max_accel` is the jump bound
     /// (rad/s^2, `None`: no jump check). An accepted reading becomes the
     /// reference of the next check.

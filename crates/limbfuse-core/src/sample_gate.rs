@@ -26,8 +26,10 @@
 //! Readings within range then pass the plausibility checks of
 //! [`crate::plausibility`]: a gyroscope jump faster than a human segment
 //! can accelerate, the repeats of a value so rejected (a saturated burst),
-//! and a stuck sensor (a vector repeated exactly for 0.1 s or more). They
-//! too become missing and are counted, by kind and by reason.
+//! and a stuck sensor (a vector repeated exactly for 0.1 s or more; an
+//! accelerometer's repeat only while its IMU turns, its gyroscope is frozen
+//! too, or it has none). They too become missing and are counted, by kind
+//! and by reason.
 
 use crate::plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 use crate::sample::Sample;
@@ -113,6 +115,56 @@ pub struct SampleGate {
     /// Gyroscope then accelerometer history of the eight IMUs (this leg's
     /// four, then the other leg's).
     tracks: [[VectorTrack; 2]; 8],
+    /// Per IMU, the turn seen by its gyroscope over its accelerometer's
+    /// current repeat ([`crate::plausibility`], "Stuck sensor").
+    acc_turns: [AccRepeatTurn; 8],
+    /// Time of the last sample screened.
+    last_t: Option<f64>,
+}
+
+/// What an IMU's gyroscope showed while its accelerometer repeated one
+/// vector.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct AccRepeatTurn {
+    /// Predicted change of the specific force (m/s^2): the integral of
+    /// `|w x a|` over the samples whose rate across `a` exceeds the floor.
+    change: f64,
+    /// A gyroscope reading was accepted during the repeat.
+    gyro_seen: bool,
+}
+
+impl AccRepeatTurn {
+    /// Adds one sample: accelerometer reading `a`, the accepted gyroscope
+    /// reading `w` (if any), `dt` since the previous sample; a repeat
+    /// count of 1 starts a new repeat.
+    fn add(
+        &mut self,
+        repeats: u32,
+        a: &nalgebra::Vector3<f64>,
+        w: Option<&nalgebra::Vector3<f64>>,
+        dt: f64,
+        lim: &PlausibilityLimits,
+    ) {
+        if repeats <= 1 {
+            *self = AccRepeatTurn::default();
+        }
+        let Some(w) = w else { return };
+        self.gyro_seen = true;
+        let norm = a.norm();
+        if norm > 0.0 && dt.is_finite() && dt > 0.0 {
+            // rate across the specific force's direction
+            let across = w.cross(a).norm() / norm;
+            if across > lim.stuck_acc_rate_floor_rad_s {
+                self.change += across * norm * dt;
+            }
+        }
+    }
+
+    /// Whether an accelerometer repeat long enough to be stuck is one: the
+    /// IMU turned, its gyroscope is frozen too, or no gyroscope says.
+    fn confirms_stuck(&self, gyro_stuck: bool, lim: &PlausibilityLimits) -> bool {
+        gyro_stuck || !self.gyro_seen || self.change > lim.stuck_acc_turn_m_s2
+    }
 }
 
 impl SampleGate {
@@ -129,6 +181,8 @@ impl SampleGate {
             limits,
             rejections: Rejections::default(),
             tracks: [[VectorTrack::default(); 2]; 8],
+            acc_turns: [AccRepeatTurn::default(); 8],
+            last_t: None,
         }
     }
 
@@ -151,6 +205,8 @@ impl SampleGate {
     pub fn reset(&mut self) {
         self.rejections = Rejections::default();
         self.tracks = [[VectorTrack::default(); 2]; 8];
+        self.acc_turns = [AccRepeatTurn::default(); 8];
+        self.last_t = None;
     }
 
     /// `sample` with every out-of-range, non-finite or implausible sensor
@@ -166,10 +222,14 @@ impl SampleGate {
         let clipped = |v: &nalgebra::Vector3<f64>, fs: Option<f64>| {
             fs.is_some_and(|fs| v.iter().any(|x| x.abs() >= CLIPPED_FRACTION * fs))
         };
+        let dt = self.last_t.map_or(f64::NAN, |t0| t - t0);
+        self.last_t = Some(t);
         let rej = &mut self.rejections;
         let imus = out.imu.iter_mut().chain(out.other_leg_imu.iter_mut());
-        for (k, (imu, track)) in imus.zip(self.tracks.iter_mut()).enumerate() {
+        let per_imu = self.tracks.iter_mut().zip(self.acc_turns.iter_mut());
+        for (k, (imu, (track, turn))) in imus.zip(per_imu).enumerate() {
             let alpha = lim.angular_accel_rad_s2[k % 4];
+            let mut gyro_stuck = false;
             if let Some(g) = imu.gyr {
                 if !within(&g, r.gyro_rad_s) {
                     imu.gyr = None;
@@ -181,6 +241,7 @@ impl SampleGate {
                 } else if let Some(why) = track[0].check(&g, t, Some(alpha), &lim) {
                     imu.gyr = None;
                     rej.gyro += 1;
+                    gyro_stuck = why == Implausible::Stuck;
                     tally(rej, why);
                 }
             }
@@ -188,10 +249,17 @@ impl SampleGate {
                 if !within(&a, r.acc_m_s2) {
                     imu.acc = None;
                     rej.acc += 1;
-                } else if let Some(why) = track[1].check(&a, t, None, &lim) {
-                    imu.acc = None;
-                    rej.acc += 1;
-                    tally(rej, why);
+                } else {
+                    let why = track[1].check(&a, t, None, &lim);
+                    turn.add(track[1].repeats(), &a, imu.gyr.as_ref(), dt, &lim);
+                    let why = why.filter(|w| {
+                        *w != Implausible::Stuck || turn.confirms_stuck(gyro_stuck, &lim)
+                    });
+                    if let Some(why) = why {
+                        imu.acc = None;
+                        rej.acc += 1;
+                        tally(rej, why);
+                    }
                 }
             }
         }
@@ -321,5 +389,88 @@ mod tests {
         // 2000 deg/s = 34.9 rad/s; 16 g = 156.9 m/s^2; each + 15 %.
         assert!((r.gyro_rad_s - 40.142).abs() < 1e-3, "{}", r.gyro_rad_s);
         assert!((r.acc_m_s2 - 180.442).abs() < 1e-3, "{}", r.acc_m_s2);
+    }
+
+    /// The thigh accelerometer's vector rejected at each of `n` samples at
+    /// 100 Hz: the accelerometer reads `acc(k)`, the gyroscope `gyr(k)`.
+    fn acc_rejected(
+        n: usize,
+        acc: impl Fn(usize) -> Vector3<f64>,
+        gyr: impl Fn(usize) -> Option<Vector3<f64>>,
+    ) -> Vec<bool> {
+        let mut gate = SampleGate::new(SensorRanges::default());
+        (0..n)
+            .map(|k| {
+                let mut s = Sample::empty(k as f64 * 0.01);
+                s.imu[1].acc = Some(acc(k));
+                s.imu[1].gyr = gyr(k);
+                gate.screen(&s).imu[1].acc.is_none()
+            })
+            .collect()
+    }
+
+    /// A gyroscope reading with white noise of about 0.01 rad/s and a
+    /// 1.5 deg/s bias: a still segment.
+    fn still_gyro(k: usize) -> Option<Vector3<f64>> {
+        let n = |j: usize| 0.01 * (((k * 7 + j * 13) % 11) as f64 / 5.0 - 1.0);
+        Some(Vector3::new(0.026 + n(0), n(1), -0.02 + n(2)))
+    }
+
+    #[test]
+    fn issue_18_a_still_accelerometer_recorded_at_0_01_g_is_not_stuck() {
+        // The knee rig's files: 0.01 g steps, a still segment repeats its
+        // vector for seconds while its gyroscope shows noise and bias.
+        let q = 0.0981;
+        let rig = Vector3::new(12.0 * q, 100.0 * q, -3.0 * q);
+        let r = acc_rejected(500, |_| rig, still_gyro);
+        assert!(r.iter().all(|&x| !x), "{r:?}");
+        // Turning about the specific force itself (about the vertical)
+        // changes nothing it measures.
+        let about_g = |k: usize| Some(rig.normalize() * (2.0 + (k as f64).sin()));
+        assert!(acc_rejected(500, |_| rig, about_g).iter().all(|&x| !x));
+    }
+
+    #[test]
+    fn issue_18_a_frozen_accelerometer_on_a_turning_segment_is_stuck() {
+        // Walking: the thigh turns at ~2 rad/s about z; its accelerometer
+        // freezes from sample 100 on.
+        let frozen = Vector3::new(2.0, 9.5, -0.3);
+        let acc = |k: usize| {
+            if k >= 100 {
+                frozen
+            } else {
+                Vector3::new(2.0 + 0.01 * k as f64, 9.5, -0.3)
+            }
+        };
+        let gyr = |k: usize| Some(Vector3::new(0.1, 0.0, 2.0 * (k as f64 * 0.06).sin() + 2.5));
+        let r = acc_rejected(300, acc, gyr);
+        let first = r.iter().position(|&x| x);
+        // the repeat rule's 0.1 s (sample 110), the turn long exceeded
+        assert_eq!(first, Some(110));
+        assert!(r[110..].iter().all(|&x| x));
+    }
+
+    #[test]
+    fn issue_18_a_frozen_imu_and_an_imu_without_gyroscope_keep_the_repeat_rule() {
+        let frozen = Vector3::new(2.0, 9.5, -0.3);
+        // the whole IMU frozen: its gyroscope repeats too
+        let w = Vector3::new(0.3, -0.1, 1.2);
+        let r = acc_rejected(200, |_| frozen, |_| Some(w));
+        assert_eq!(r.iter().position(|&x| x), Some(10));
+        // no gyroscope: no evidence of stillness, the repeat alone decides
+        let r = acc_rejected(200, |_| frozen, |_| None);
+        assert_eq!(r.iter().position(|&x| x), Some(10));
+        // a gyroscope that stays still, then turns: rejected once the turn
+        // predicts 0.5 m/s^2 of change (0.5 rad/s across g: ~0.1 s)
+        let gyr = |k: usize| {
+            if k < 100 {
+                still_gyro(k)
+            } else {
+                Some(Vector3::new(0.0, 0.0, 0.5))
+            }
+        };
+        let r = acc_rejected(300, |_| frozen, gyr);
+        let first = r.iter().position(|&x| x).expect("rejected once turning");
+        assert!((105..=115).contains(&first), "{first}");
     }
 }
