@@ -81,6 +81,73 @@ fn missing_stimulation_channel_is_a_clear_error() {
     assert!(e.to_string().contains("u_ke"));
 }
 
+/// Issue 16 item 5 (brief fes2): a missing stimulation value is held for
+/// at most `MAX_INPUT_HOLD_S` (0.1 s) and counted in `held_inputs`; a
+/// longer gap is refused with an error naming the channel. P1-L, 100 Hz:
+/// `u_ke` blank on samples 100-104 (held, counted 5, estimates finite and
+/// equal to those of a trial whose cells hold the last value), then blank
+/// from sample 200 on: samples 200-209 are within 0.1 s of sample 199's
+/// value, sample 210 (0.11 s) is refused.
+#[test]
+fn issue_16_missing_stimulation_is_held_then_refused() {
+    use limbfuse_estimators::fes::filter::MAX_INPUT_HOLD_S;
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        duration_s: 3.0,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    for mut f in [KneeFesFilter::sdre(m), KneeFesFilter::ekf(m)] {
+        let mut held_copy = KneeFesFilter::sdre(m);
+        if f.name() == "ekf" {
+            held_copy = KneeFesFilter::ekf(m);
+        }
+        let names = f.diagnostic_names();
+        let col = names.iter().position(|n| *n == "held_inputs").unwrap();
+        let mut last_u = None;
+        for (k, r) in tr.records.iter().enumerate() {
+            let mut s = r.sample;
+            let mut filled = r.sample;
+            if (100..105).contains(&k) || k >= 200 {
+                s.inputs.stim[0] = None;
+                filled.inputs.stim[0] = last_u;
+            } else {
+                last_u = s.inputs.stim[0];
+            }
+            if k < 210 {
+                let e = f.step(&s).unwrap();
+                let want = held_copy.step(&filled).unwrap();
+                assert_eq!(e.joint, want.joint, "sample {k}");
+                let held = e.diag[col].unwrap();
+                let expect = match k {
+                    0..=99 => 0.0,
+                    100..=104 => (k - 99) as f64,
+                    105..=199 => 5.0,
+                    _ => (k - 194) as f64,
+                };
+                assert_eq!(held, expect, "sample {k}");
+                assert!(e.joint[1].unwrap().is_finite());
+            } else {
+                let err = f.step(&s).unwrap_err();
+                match err {
+                    EstimatorError::InputGap {
+                        channel,
+                        missing_s,
+                        limit_s,
+                    } => {
+                        assert_eq!(channel, "u_ke");
+                        assert!((missing_s - 0.11).abs() < 1e-9, "{missing_s}");
+                        assert_eq!(limit_s, MAX_INPUT_HOLD_S);
+                    }
+                    other => panic!("{other:?}"),
+                }
+                assert!(err.to_string().contains("u_ke"), "{err}");
+                break;
+            }
+        }
+    }
+}
+
 /// Issue 16 ("show the model's share of the update"): the extended knee
 /// filter's `model_weight` (`exp(-(K C)_22 dt)`, the part of the model's
 /// rate prediction left after one sample of measurement updates) tells a
