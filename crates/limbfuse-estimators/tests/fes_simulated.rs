@@ -216,3 +216,48 @@ fn issue_16_model_weight_separates_model_trusting_tunings() {
         "physics tuning: median model_weight {on}"
     );
 }
+
+/// Issue 16 item 1 (brief fes2): the sub-steps sized by the
+/// Collatz-Wielandt stiffness bound stay accurate. The 5-state `sdre` and
+/// `ekf` (activation, gyro and accelerometer bias, 0.2 m lever arm,
+/// physics tuning) with the default sub-steps against the same filter with
+/// `max_substep` 25 microseconds (400 sub-steps per sample, converged):
+/// measured max |delta knee| 1.3e-3 deg on P1-L seed 42 over 30 s
+/// (docs/FES_ESTIMATION.md "Estimator"); the bound fails this when it lets
+/// a sub-step past RK4's stability limit.
+#[test]
+fn issue_16_bounded_substeps_match_a_converged_solution() {
+    use limbfuse_estimators::fes::{ExtendedKneeFilter, ExtendedKneePlant, FesFilter};
+    use limbfuse_models::{ExtendedKneeModel, KneeStateOptions};
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        seed: 42,
+        duration_s: 4.0,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let opts = KneeStateOptions {
+        activation: true,
+        disturbance: false,
+        gyro_bias: true,
+        acc_bias: true,
+    };
+    let model = ExtendedKneeModel::<5>::new(m, opts, 0.2).unwrap();
+    for lin in [
+        limbfuse_estimators::fes::Linearisation::Sdc,
+        limbfuse_estimators::fes::Linearisation::Jacobian,
+    ] {
+        let mut fast = ExtendedKneeFilter::with_default_tuning(model, lin);
+        let mut fine_tuning = *fast.tuning();
+        fine_tuning.max_substep = 2.5e-5;
+        let mut fine = FesFilter::new(ExtendedKneePlant::new(model), lin, fine_tuning);
+        let mut worst: f64 = 0.0;
+        for r in &tr.records {
+            let a = fast.step(&r.sample).unwrap().joint[1].unwrap();
+            let b = fine.step(&r.sample).unwrap().joint[1].unwrap();
+            worst = worst.max((a - b).abs().to_degrees());
+        }
+        eprintln!("{lin:?}: max |delta knee| {worst:e} deg");
+        assert!(worst < 2e-3, "{lin:?}: {worst} deg");
+    }
+}
