@@ -175,7 +175,7 @@ where
                 // Dropout: hold the last input, for at most MAX_INPUT_HOLD_S.
                 None => {
                     let missing_s = s.t - self.u_time[i];
-                    if !(missing_s <= MAX_INPUT_HOLD_S * (1.0 + 1e-9)) {
+                    if missing_s > MAX_INPUT_HOLD_S * (1.0 + 1e-9) {
                         return Err(EstimatorError::InputGap {
                             channel: names[i],
                             missing_s,
