@@ -38,7 +38,7 @@ pub enum EstimatorError {
     Numerical(&'static str),
     /// An input channel (e.g. the stimulation `u_ke`) has been missing for
     /// longer than the estimator holds its last value.
-    #[error("channel {channel} has been missing for {missing_s} s, longer than the {limit_s} s this method holds its last value")]
+    #[error("channel {channel} has been missing for {missing_s:.3} s, longer than the {limit_s} s this method holds its last value")]
     InputGap {
         /// Channel name.
         channel: &'static str,
