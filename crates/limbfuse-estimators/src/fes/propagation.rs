@@ -147,7 +147,9 @@ pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
     }
     let n = libm::ceil(dt / tuning.max_substep)
         .max(libm::ceil(dt * stiff0 / RK4_STABLE_STEP))
-        .max(libm::ceil(dt * riccati_rate(st, &k1) / RICCATI_RELATIVE_STEP))
+        .max(libm::ceil(
+            dt * riccati_rate(st, &k1) / RICCATI_RELATIVE_STEP,
+        ))
         .clamp(1.0, MAX_SUBSTEPS as f64);
     let h = dt / n;
     let count = n as usize;
