@@ -332,7 +332,13 @@ fn issue_16_stimulation_gap_is_held_then_refused() {
             .iter()
             .position(|h| *h == "diag_held_inputs")
             .unwrap();
-        let last = lines.last().unwrap().split(',').nth(c).unwrap().to_string();
+        let last = lines
+            .next_back()
+            .unwrap()
+            .split(',')
+            .nth(c)
+            .unwrap()
+            .to_string();
         assert_eq!(last.parse::<f64>().unwrap(), 5.0, "{m}");
         user_error(
             &limbfuse(&["estimate", "--method", m, "long.csv", "-o", "e.csv"], p),
