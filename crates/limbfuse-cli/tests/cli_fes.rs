@@ -282,3 +282,67 @@ fn issue_16_estimate_and_evaluate_warn_on_resets() {
         }
     }
 }
+
+/// Issue 16 item 5 (brief fes2): a trial whose `u_ke` cells are blank for
+/// 0.05 s is estimated with the last value held (`diag_held_inputs` counts
+/// the 5 samples); blank for 0.2 s, `sdre` and `ekf` exit 1 naming `u_ke`
+/// and the 0.1 s hold.
+#[test]
+fn issue_16_stimulation_gap_is_held_then_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &["simulate", "knee-fes", "-o", "k.csv", "--duration", "4"],
+        p,
+    ));
+    let text = std::fs::read_to_string(p.join("k.csv")).unwrap();
+    let blank = |rows: std::ops::Range<usize>| {
+        let mut out = String::new();
+        let mut col = None;
+        let mut row = 0;
+        for line in text.lines() {
+            if line.starts_with('#') {
+                out.push_str(line);
+            } else if col.is_none() {
+                col = line.split(',').position(|c| c == "u_ke");
+                out.push_str(line);
+            } else {
+                let mut cells: Vec<&str> = line.split(',').collect();
+                if rows.contains(&row) {
+                    cells[col.unwrap()] = "";
+                }
+                out.push_str(&cells.join(","));
+                row += 1;
+            }
+            out.push('\n');
+        }
+        out
+    };
+    std::fs::write(p.join("short.csv"), blank(150..155)).unwrap();
+    std::fs::write(p.join("long.csv"), blank(150..170)).unwrap();
+    for m in ["sdre", "ekf"] {
+        ok(&limbfuse(
+            &["estimate", "--method", m, "short.csv", "-o", "e.csv"],
+            p,
+        ));
+        let e = std::fs::read_to_string(p.join("e.csv")).unwrap();
+        let mut lines = e.lines().filter(|l| !l.starts_with('#'));
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let c = header
+            .iter()
+            .position(|h| *h == "diag_held_inputs")
+            .unwrap();
+        let last = lines
+            .next_back()
+            .unwrap()
+            .split(',')
+            .nth(c)
+            .unwrap()
+            .to_string();
+        assert_eq!(last.parse::<f64>().unwrap(), 5.0, "{m}");
+        user_error(
+            &limbfuse(&["estimate", "--method", m, "long.csv", "-o", "e.csv"], p),
+            &["u_ke", "0.1 s"],
+        );
+    }
+}

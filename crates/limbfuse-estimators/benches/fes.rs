@@ -3,10 +3,13 @@
 //! 2-state knee model and the 4-state fixed-hip model, and `rmx`; issue 16:
 //! the extended knee model (activation + gyro/acc bias states + lever arm,
 //! 5 states; every state, 6) and `knee-kinematic` (5 states), default
-//! physics tuning.
+//! physics tuning. Two groups: `fes_100hz` (wall time) and `fes_100hz_cpu`
+//! (the benchmark thread's CPU time, `limbfuse-io/benches/support/cpu_time.rs`:
+//! the figure to quote on a loaded machine).
 
 use std::hint::black_box;
 
+use criterion::measurement::Measurement;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::fes::{
@@ -20,8 +23,12 @@ use limbfuse_models::{
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
-fn run(
-    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+#[path = "../../limbfuse-io/benches/support/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::ThreadCpuTime;
+
+fn run<Ms: Measurement>(
+    g: &mut criterion::BenchmarkGroup<'_, Ms>,
     name: &str,
     recs: &[Record],
     make: &dyn Fn() -> Box<dyn Estimator>,
@@ -39,7 +46,15 @@ fn run(
     });
 }
 
-fn bench(c: &mut Criterion) {
+fn bench_wall(c: &mut Criterion) {
+    bench(c, "fes_100hz");
+}
+
+fn bench_cpu(c: &mut Criterion<ThreadCpuTime>) {
+    bench(c, "fes_100hz_cpu");
+}
+
+fn bench<Ms: Measurement>(c: &mut Criterion<Ms>, group: &str) {
     let knee = simulate_knee_fes(&KneeFesConfig {
         seed: 42,
         ..KneeFesConfig::default()
@@ -54,7 +69,7 @@ fn bench(c: &mut Criterion) {
     .records;
     let km = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).expect("preset");
     let hm = FixedHipModel::new(FixedHipParams::default()).expect("defaults");
-    let mut g = c.benchmark_group("fes_100hz");
+    let mut g = c.benchmark_group(group);
     g.sample_size(20);
     run(&mut g, "sdre-knee-2state", &knee, &|| {
         Box::new(KneeFesFilter::sdre(km))
@@ -116,5 +131,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+criterion_group!(wall, bench_wall);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(ThreadCpuTime);
+    targets = bench_cpu
+}
+criterion_main!(wall, cpu);

@@ -81,6 +81,73 @@ fn missing_stimulation_channel_is_a_clear_error() {
     assert!(e.to_string().contains("u_ke"));
 }
 
+/// Issue 16 item 5 (brief fes2): a missing stimulation value is held for
+/// at most `MAX_INPUT_HOLD_S` (0.1 s) and counted in `held_inputs`; a
+/// longer gap is refused with an error naming the channel. P1-L, 100 Hz:
+/// `u_ke` blank on samples 100-104 (held, counted 5, estimates finite and
+/// equal to those of a trial whose cells hold the last value), then blank
+/// from sample 200 on: samples 200-209 are within 0.1 s of sample 199's
+/// value, sample 210 (0.11 s) is refused.
+#[test]
+fn issue_16_missing_stimulation_is_held_then_refused() {
+    use limbfuse_estimators::fes::filter::MAX_INPUT_HOLD_S;
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        duration_s: 3.0,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    for mut f in [KneeFesFilter::sdre(m), KneeFesFilter::ekf(m)] {
+        let mut held_copy = KneeFesFilter::sdre(m);
+        if f.name() == "ekf" {
+            held_copy = KneeFesFilter::ekf(m);
+        }
+        let names = f.diagnostic_names();
+        let col = names.iter().position(|n| *n == "held_inputs").unwrap();
+        let mut last_u = None;
+        for (k, r) in tr.records.iter().enumerate() {
+            let mut s = r.sample;
+            let mut filled = r.sample;
+            if (100..105).contains(&k) || k >= 200 {
+                s.inputs.stim[0] = None;
+                filled.inputs.stim[0] = last_u;
+            } else {
+                last_u = s.inputs.stim[0];
+            }
+            if k < 210 {
+                let e = f.step(&s).unwrap();
+                let want = held_copy.step(&filled).unwrap();
+                assert_eq!(e.joint, want.joint, "sample {k}");
+                let held = e.diag[col].unwrap();
+                let expect = match k {
+                    0..=99 => 0.0,
+                    100..=104 => (k - 99) as f64,
+                    105..=199 => 5.0,
+                    _ => (k - 194) as f64,
+                };
+                assert_eq!(held, expect, "sample {k}");
+                assert!(e.joint[1].unwrap().is_finite());
+            } else {
+                let err = f.step(&s).unwrap_err();
+                match err {
+                    EstimatorError::InputGap {
+                        channel,
+                        missing_s,
+                        limit_s,
+                    } => {
+                        assert_eq!(channel, "u_ke");
+                        assert!((missing_s - 0.11).abs() < 1e-9, "{missing_s}");
+                        assert_eq!(limit_s, MAX_INPUT_HOLD_S);
+                    }
+                    other => panic!("{other:?}"),
+                }
+                assert!(err.to_string().contains("u_ke"), "{err}");
+                break;
+            }
+        }
+    }
+}
+
 /// Issue 16 ("show the model's share of the update"): the extended knee
 /// filter's `model_weight` (`exp(-(K C)_22 dt)`, the part of the model's
 /// rate prediction left after one sample of measurement updates) tells a
@@ -148,4 +215,50 @@ fn issue_16_model_weight_separates_model_trusting_tunings() {
         on > 0.02 && on < 0.5,
         "physics tuning: median model_weight {on}"
     );
+}
+
+/// Issue 16 item 1 (brief fes2): the sub-steps sized by the
+/// Collatz-Wielandt stiffness bound and the Riccati relative-rate limit
+/// stay accurate. The 5-state `sdre` and `ekf` (activation, gyro and
+/// accelerometer bias, 0.2 m lever arm, physics tuning) with the default
+/// sub-steps against the same filter with `max_substep` 0.1 ms (100
+/// sub-steps per sample; 4e-6 deg from 25 microseconds): measured max
+/// |delta knee| 2.2e-5 (sdre) and 2.9e-5 deg (ekf), P1-L seed 42, 4 s.
+/// Without the relative-rate limit the first interval's transient from
+/// `p0` alone left 1.3e-3 deg.
+#[test]
+fn issue_16_bounded_substeps_match_a_converged_solution() {
+    use limbfuse_estimators::fes::{ExtendedKneeFilter, ExtendedKneePlant, FesFilter};
+    use limbfuse_models::{ExtendedKneeModel, KneeStateOptions};
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        seed: 42,
+        duration_s: 4.0,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P1L)).unwrap();
+    let opts = KneeStateOptions {
+        activation: true,
+        disturbance: false,
+        gyro_bias: true,
+        acc_bias: true,
+    };
+    let model = ExtendedKneeModel::<5>::new(m, opts, 0.2).unwrap();
+    for lin in [
+        limbfuse_estimators::fes::Linearisation::Sdc,
+        limbfuse_estimators::fes::Linearisation::Jacobian,
+    ] {
+        let mut fast = ExtendedKneeFilter::with_default_tuning(model, lin);
+        let mut fine_tuning = *fast.tuning();
+        fine_tuning.max_substep = 1e-4;
+        let mut fine = FesFilter::new(ExtendedKneePlant::new(model), lin, fine_tuning);
+        let mut worst: f64 = 0.0;
+        for r in &tr.records {
+            let a = fast.step(&r.sample).unwrap().joint[1].unwrap();
+            let b = fine.step(&r.sample).unwrap().joint[1].unwrap();
+            worst = worst.max((a - b).abs().to_degrees());
+        }
+        eprintln!("{lin:?}: max |delta knee| {worst:e} deg");
+        assert!(worst < 5e-5, "{lin:?}: {worst} deg");
+    }
 }

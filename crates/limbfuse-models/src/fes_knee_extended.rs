@@ -38,7 +38,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::error::{finite, ModelError};
 use crate::fes_knee::KneeFesModel;
-use crate::sdc::{sinc, SdcModel};
+use crate::sdc::{sinc, Linearised, SdcModel};
 
 /// Which optional states the extended knee model carries.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -125,6 +125,9 @@ pub struct ExtendedKneeModel<const N: usize> {
     pub layout: KneeStateLayout,
     /// Shank accelerometer distance below the knee `r` (m); 0: thesis.
     pub imu_radius: f64,
+    /// `(T_p, dT_p/dphi)` at `(pi/2, 0)` (eq 4.2), derived once from
+    /// `base` (the constant of `B(x) u` and the secant's limit).
+    rest_passive: (f64, f64),
 }
 
 impl<const N: usize> ExtendedKneeModel<N> {
@@ -141,11 +144,13 @@ impl<const N: usize> ExtendedKneeModel<N> {
             });
         }
         finite("imu_radius", imu_radius)?;
+        let rest = base.passive_torque(core::f64::consts::FRAC_PI_2, 0.0);
         Ok(ExtendedKneeModel {
             base,
             options,
             layout: KneeStateLayout::new(options),
             imu_radius,
+            rest_passive: (rest.0, rest.1),
         })
     }
 
@@ -186,16 +191,41 @@ impl<const N: usize> ExtendedKneeModel<N> {
         row
     }
 
+    /// `x2'` and row 2 of `df/dx` from one evaluation of the torques
+    /// (the same arithmetic as [`Self::accel`] and [`Self::accel_jacobian`]).
+    fn accel_with_jacobian(
+        &self,
+        x: &SVector<f64, N>,
+        u: &SVector<f64, 1>,
+    ) -> (f64, SMatrix<f64, 1, N>) {
+        let m = &self.base;
+        let phi = KneeFesModel::phi(x[0]);
+        let a = self.activation(x, u);
+        let (tp, p_phi, p_rate) = m.passive_torque(phi, -x[1]);
+        let (tke, f_phi, f_rate) = m.fes_torque(phi, -x[1], a);
+        let accel = -m.beta() * libm::sin(x[0])
+            + m.alpha() * ((tp + tke) + self.state(x, self.layout.disturbance));
+        let mut row = SMatrix::<f64, 1, N>::zeros();
+        row[0] = -m.beta() * libm::cos(x[0]) - m.alpha() * (p_phi + f_phi);
+        row[1] = -m.alpha() * (p_rate + f_rate);
+        if let Some(i) = self.layout.activation {
+            row[i] = m.alpha() * m.fes_torque(phi, -x[1], 1.0).0;
+        }
+        if let Some(i) = self.layout.disturbance {
+            row[i] = m.alpha();
+        }
+        (accel, row)
+    }
+
     /// Secant slope of the static passive torque about `x1 = 0`:
     /// `(T_p(pi/2 - x1, 0) - T_p(pi/2, 0)) / x1`, its limit
     /// `-dT_p/dphi (pi/2)` below `|x1| < 1e-8`.
     pub fn passive_secant(&self, x1: f64) -> f64 {
-        let m = &self.base;
-        let half_pi = core::f64::consts::FRAC_PI_2;
         if libm::fabs(x1) < 1e-8 {
-            return -m.passive_torque(half_pi, 0.0).1;
+            return -self.rest_passive.1;
         }
-        (m.passive_torque(half_pi - x1, 0.0).0 - m.passive_torque(half_pi, 0.0).0) / x1
+        let half_pi = core::f64::consts::FRAC_PI_2;
+        (self.base.passive_torque(half_pi - x1, 0.0).0 - self.rest_passive.0) / x1
     }
 
     /// Row 2 of the SDC `A(x)` and of `B(x) u`. Unlike the thesis's eq 4.12,
@@ -210,7 +240,7 @@ impl<const N: usize> ExtendedKneeModel<N> {
         let mut row = SMatrix::<f64, 1, N>::zeros();
         row[0] = -m.beta() * sinc(x[0]) + m.alpha() * self.passive_secant(x[0]);
         row[1] = -m.alpha() * m.p.d[1];
-        let mut input = m.passive_torque(core::f64::consts::FRAC_PI_2, 0.0).0;
+        let mut input = self.rest_passive.0;
         match self.layout.activation {
             Some(i) => row[i] = m.alpha() * m.fes_torque(phi, -x[1], 1.0).0,
             None => input += m.fes_torque(phi, -x[1], u[0]).0,
@@ -325,6 +355,64 @@ impl<const N: usize> SdcModel<N, 2, 1> for ExtendedKneeModel<N> {
             }
         }
         j
+    }
+
+    /// [`Self::sdc_a`], [`Self::sdc_c`], [`Self::input_term`] and
+    /// [`Self::sdc_measurement_input`] from one evaluation of row 2.
+    fn sdc_terms(&self, x: &SVector<f64, N>, u: &SVector<f64, 1>) -> Linearised<N, 2> {
+        let (row, input) = self.accel_sdc(x, u);
+        let mut a = SMatrix::<f64, N, N>::zeros();
+        a[(0, 1)] = 1.0;
+        a.set_row(1, &row);
+        let mut b = SVector::<f64, N>::zeros();
+        b[1] = input;
+        if let Some(i) = self.layout.activation {
+            a[(i, i)] = -1.0 / self.base.p.t_a;
+            b[i] = u[0] / self.base.p.t_a;
+        }
+        let mut c = SMatrix::<f64, 2, N>::zeros();
+        c[(0, 1)] = 1.0;
+        c.set_row(1, &(row * self.imu_radius));
+        c[(1, 0)] += self.base.p.g * sinc(x[0]);
+        if let Some(i) = self.layout.gyro_bias {
+            c[(0, i)] = 1.0;
+        }
+        if let Some(i) = self.layout.acc_bias {
+            c[(1, i)] = 1.0;
+        }
+        let d = SVector::<f64, 2>::new(0.0, self.imu_radius * input);
+        Linearised {
+            drift: a * x + b,
+            y_hat: c * x + d,
+            a,
+            c,
+        }
+    }
+
+    /// [`Self::jacobian_f`], [`Self::jacobian_h_with_input`], [`Self::f`]
+    /// and [`Self::h_with_input`] from one evaluation of the torques.
+    fn jacobian_terms(&self, x: &SVector<f64, N>, u: &SVector<f64, 1>) -> Linearised<N, 2> {
+        let (accel, row) = self.accel_with_jacobian(x, u);
+        let mut a = SMatrix::<f64, N, N>::zeros();
+        a[(0, 1)] = 1.0;
+        a.set_row(1, &row);
+        let mut drift = SVector::<f64, N>::zeros();
+        drift[0] = x[1];
+        drift[1] = accel;
+        if let Some(i) = self.layout.activation {
+            a[(i, i)] = -1.0 / self.base.p.t_a;
+            drift[i] = (u[0] - x[i]) / self.base.p.t_a;
+        }
+        let mut c = self.jacobian_h(x);
+        let mut y_hat = self.h(x);
+        if self.imu_radius != 0.0 {
+            let r_row = row * self.imu_radius;
+            for k in 0..N {
+                c[(1, k)] += r_row[k];
+            }
+            y_hat[1] += self.imu_radius * accel;
+        }
+        Linearised { a, c, drift, y_hat }
     }
 }
 

@@ -24,5 +24,5 @@ pub use fes_knee_extended::{
 };
 pub use fixed_hip::{FixedHipModel, FixedHipParams};
 pub use kinematic_knee::KinematicKneeModel;
-pub use sdc::SdcModel;
+pub use sdc::{Linearised, SdcModel};
 pub mod bslip;

@@ -50,6 +50,46 @@ pub trait SdcModel<const N: usize, const M: usize, const U: usize> {
     ) -> SMatrix<f64, M, N> {
         self.jacobian_h(x)
     }
+
+    /// The SDC form at `(x, u)` in one evaluation: `A(x)`, `C(x)`,
+    /// `A(x) x + B(x) u` and `C(x) x + D(x, u)` (what eqs 4.14-4.16 need at
+    /// one instant). Default: the four methods above; a model whose
+    /// coefficients share work overrides it with the same arithmetic.
+    fn sdc_terms(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> Linearised<N, M> {
+        let a = self.sdc_a(x);
+        let c = self.sdc_c(x);
+        Linearised {
+            drift: a * x + self.input_term(x, u),
+            y_hat: c * x + self.sdc_measurement_input(x, u),
+            a,
+            c,
+        }
+    }
+
+    /// The Jacobian form at `(x, u)` in one evaluation: `df/dx`,
+    /// `dh(x, u)/dx`, `f(x, u)` and `h(x, u)`. Default: the methods above.
+    fn jacobian_terms(&self, x: &SVector<f64, N>, u: &SVector<f64, U>) -> Linearised<N, M> {
+        Linearised {
+            a: self.jacobian_f(x, u),
+            c: self.jacobian_h_with_input(x, u),
+            drift: self.f(x, u),
+            y_hat: self.h_with_input(x, u),
+        }
+    }
+}
+
+/// A model linearised at one instant ([`SdcModel::sdc_terms`],
+/// [`SdcModel::jacobian_terms`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Linearised<const N: usize, const M: usize> {
+    /// State matrix: `A(x)` or `df/dx`.
+    pub a: SMatrix<f64, N, N>,
+    /// Measurement matrix: `C(x)` or `dh/dx`.
+    pub c: SMatrix<f64, M, N>,
+    /// The model's state derivative `f(x, u)` (SDC: `A(x) x + B(x) u`).
+    pub drift: SVector<f64, N>,
+    /// The predicted measurement `h(x, u)` (SDC: `C(x) x + D(x, u)`).
+    pub y_hat: SVector<f64, M>,
 }
 
 /// `sin(x) / x`, equal to 1 at 0 and accurate near it (Taylor series below 1e-4).

@@ -246,6 +246,18 @@ mod extended {
         let h = m.h_with_input(&x, &uu);
         let ch = m.sdc_c(&x) * x + m.sdc_measurement_input(&x, &uu);
         prop_assert!(close(&ch, &h, 1e-13), "C x + D = {ch:?}, h = {h:?}");
+        // The one-evaluation forms the estimators use are the same
+        // arithmetic as the separate methods, bit for bit.
+        let t = m.sdc_terms(&x, &uu);
+        prop_assert_eq!(t.a, m.sdc_a(&x));
+        prop_assert_eq!(t.c, m.sdc_c(&x));
+        prop_assert_eq!(t.drift, sdc);
+        prop_assert_eq!(t.y_hat, ch);
+        let j = m.jacobian_terms(&x, &uu);
+        prop_assert_eq!(j.a, m.jacobian_f(&x, &uu));
+        prop_assert_eq!(j.c, m.jacobian_h_with_input(&x, &uu));
+        prop_assert_eq!(j.drift, f);
+        prop_assert_eq!(j.y_hat, h);
         if angle_only_sdc {
             return Ok(()); // tiny angles: the Jacobian test uses ordinary ones
         }

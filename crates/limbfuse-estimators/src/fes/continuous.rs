@@ -19,7 +19,7 @@
 //! linearly (first-order hold), so the estimate at `t_k` uses data up to
 //! `t_k` only.
 
-use limbfuse_models::SdcModel;
+use limbfuse_models::{Linearised, SdcModel};
 use nalgebra::{SMatrix, SVector};
 
 /// How the Riccati equation and the state equation linearise the model.
@@ -62,6 +62,23 @@ pub struct FilterState<const N: usize> {
     pub p: SMatrix<f64, N, N>,
 }
 
+/// The model linearised at `(x, u)` as `lin` says, in one evaluation.
+#[inline]
+fn linearise<Mdl, const N: usize, const M: usize, const U: usize>(
+    model: &Mdl,
+    lin: Linearisation,
+    x: &SVector<f64, N>,
+    u: &SVector<f64, U>,
+) -> Linearised<N, M>
+where
+    Mdl: SdcModel<N, M, U>,
+{
+    match lin {
+        Linearisation::Sdc => model.sdc_terms(x, u),
+        Linearisation::Jacobian => model.jacobian_terms(x, u),
+    }
+}
+
 /// Right-hand side of eqs 4.14 and 4.16 at one instant.
 #[allow(clippy::too_many_arguments)]
 #[inline]
@@ -73,28 +90,41 @@ pub fn derivative<Mdl, const N: usize, const M: usize, const U: usize>(
     u: &SVector<f64, U>,
     s_inv: &SVector<f64, M>,
     q: &SVector<f64, N>,
-    (a, a_states): (f64, Option<&SVector<f64, N>>),
+    a: (f64, Option<&SVector<f64, N>>),
 ) -> FilterState<N>
 where
     Mdl: SdcModel<N, M, U>,
 {
-    let x = &st.x;
+    derivative_and_stiffness(model, lin, st, y, u, s_inv, q, a, None).0
+}
+
+/// [`derivative`], and with `bound = Some(enough)` also [`stiffness_bound`]
+/// of the error dynamics `A - K C` at the same instant (from the same `A`,
+/// `C`, `K`), tightened only until it is at most `enough`; NaN with `None`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn derivative_and_stiffness<Mdl, const N: usize, const M: usize, const U: usize>(
+    model: &Mdl,
+    lin: Linearisation,
+    st: &FilterState<N>,
+    y: &SVector<f64, M>,
+    u: &SVector<f64, U>,
+    s_inv: &SVector<f64, M>,
+    q: &SVector<f64, N>,
+    (a, a_states): (f64, Option<&SVector<f64, N>>),
+    bound: Option<f64>,
+) -> (FilterState<N>, f64)
+where
+    Mdl: SdcModel<N, M, U>,
+{
     let p = &st.p;
-    let (am, cm, dx_model, innovation) = match lin {
-        Linearisation::Sdc => {
-            let am = model.sdc_a(x);
-            let cm = model.sdc_c(x);
-            let drift = am * x + model.input_term(x, u);
-            let innov = y - (cm * x + model.sdc_measurement_input(x, u));
-            (am, cm, drift, innov)
-        }
-        Linearisation::Jacobian => (
-            model.jacobian_f(x, u),
-            model.jacobian_h_with_input(x, u),
-            model.f(x, u),
-            y - model.h_with_input(x, u),
-        ),
-    };
+    let Linearised {
+        a: am,
+        c: cm,
+        drift: dx_model,
+        y_hat,
+    } = linearise(model, lin, &st.x, u);
+    let innovation = y - y_hat;
     let pct = p * cm.transpose();
     let mut k = pct;
     for (j, w) in s_inv.iter().enumerate() {
@@ -120,7 +150,11 @@ where
     for i in 0..N {
         dp[(i, i)] += q[i];
     }
-    FilterState { x: dx, p: dp }
+    let stiff = match bound {
+        Some(enough) => stiffness_bound_until(&(am - k * cm), enough),
+        None => f64::NAN,
+    };
+    (FilterState { x: dx, p: dp }, stiff)
 }
 
 /// The two parts of eq 4.14's state derivative at one instant: the model's
@@ -139,20 +173,8 @@ pub fn update_parts<Mdl, const N: usize, const M: usize, const U: usize>(
 where
     Mdl: SdcModel<N, M, U>,
 {
-    let x = &st.x;
-    let (cm, prediction, mut innov) = match lin {
-        Linearisation::Sdc => {
-            let cm = model.sdc_c(x);
-            let pred = model.sdc_a(x) * x + model.input_term(x, u);
-            let innov = y - (cm * x + model.sdc_measurement_input(x, u));
-            (cm, pred, innov)
-        }
-        Linearisation::Jacobian => (
-            model.jacobian_h_with_input(x, u),
-            model.f(x, u),
-            y - model.h_with_input(x, u),
-        ),
-    };
+    let lz = linearise(model, lin, &st.x, u);
+    let (cm, prediction, mut innov) = (lz.c, lz.drift, y - lz.y_hat);
     let mut k = st.p * cm.transpose();
     for (j, w) in s_inv.iter().enumerate() {
         k.column_mut(j).scale_mut(*w);
@@ -163,179 +185,8 @@ where
     (prediction, k * innov, (k * cm).diagonal())
 }
 
-/// RK4 is stable on the real axis for `h |lambda| < 2.78`; sub-steps keep
-/// `h |lambda|` (bounded by [`stiffness`], which includes the Riccati
-/// equation's factor 2) at most 2.
-const RK4_STABLE_STEP: f64 = 2.0;
-/// Upper bound on sub-steps per interval (bounds the work per sample).
-const MAX_SUBSTEPS: usize = 400;
-/// Halvings of a trial sub-step while its predicted end is stiffer than
-/// the step allows (see [`propagate`]).
-const MAX_STEP_CUTS: usize = 24;
-
-/// A bound on the fastest rate of the error dynamics at state `st`: the
-/// infinity norm of `A - K C` (Gershgorin), with `A`, `C` as linearised by
-/// `lin`, times 2 (the Riccati equation's rates are at most twice it; the
-/// prescribed-stability shift `2a` is left out, small against the margin
-/// between [`RK4_STABLE_STEP`] and RK4's real-axis limit 2.78). Non-finite
-/// when `st` is.
-fn stiffness<Mdl, const N: usize, const M: usize, const U: usize>(
-    model: &Mdl,
-    lin: Linearisation,
-    st: &FilterState<N>,
-    u: &SVector<f64, U>,
-    s_inv: &SVector<f64, M>,
-) -> f64
-where
-    Mdl: SdcModel<N, M, U>,
-{
-    let (am, cm) = match lin {
-        Linearisation::Sdc => (model.sdc_a(&st.x), model.sdc_c(&st.x)),
-        Linearisation::Jacobian => (
-            model.jacobian_f(&st.x, u),
-            model.jacobian_h_with_input(&st.x, u),
-        ),
-    };
-    let mut k = st.p * cm.transpose();
-    for (j, w) in s_inv.iter().enumerate() {
-        k.column_mut(j).scale_mut(*w);
-    }
-    let m = am - k * cm;
-    let mut worst: f64 = 0.0;
-    for r in 0..N {
-        let row: f64 = m.row(r).iter().map(|v| libm::fabs(*v)).sum();
-        // `f64::max` would drop a NaN row; keep it so the caller sees it.
-        worst = if row.is_nan() || row > worst {
-            row
-        } else {
-            worst
-        };
-    }
-    2.0 * worst
-}
-
-/// Propagates `st` over `dt` with RK4 sub-steps, `y`/`u` interpolated from
-/// `(y0, u0)` at the start to `(y1, u1)` at the end (first-order hold).
-///
-/// The interval is split into equal sub-steps at most `max_substep` long
-/// and short enough that `h * stiffness <= 2` at the start of the interval.
-/// Before each sub-step the stiffness is checked again at the sub-step's
-/// explicit-Euler predicted end; when it is too stiff there, the rest of
-/// the interval is integrated with sub-steps chosen one at a time, halved
-/// until their predicted end passes the same test. The check matters when
-/// the Riccati solution is far from its steady state: from
-/// `P_22 = p0 = 0.01` the knee filters' default tuning (`q_2 = 1e3`,
-/// `s_1 = 1e-5`) drives `P_22` to `sqrt(q_2 s_1) = 0.1` within about 1e-4 s,
-/// and the gain `K = P C^T S^-1` (eq 4.15) with it, so a step sized at the
-/// start of the interval was ten times too long for RK4 (issue 16: a
-/// non-finite state and a restart at every sample). When `P` shrinks (the
-/// fixed hip) the equal sub-steps are kept. The work per sample is bounded:
-/// at most [`MAX_SUBSTEPS`] sub-steps, the last ones spreading what is left
-/// evenly (a divergence then shows as a restart).
-#[allow(clippy::too_many_arguments)]
-pub fn propagate<Mdl, const N: usize, const M: usize, const U: usize>(
-    model: &Mdl,
-    lin: Linearisation,
-    st: &mut FilterState<N>,
-    dt: f64,
-    (y0, y1): (&SVector<f64, M>, &SVector<f64, M>),
-    (u0, u1): (&SVector<f64, U>, &SVector<f64, U>),
-    s_inv: &SVector<f64, M>,
-    tuning: &ContinuousTuning<N, M>,
-) where
-    Mdl: SdcModel<N, M, U>,
-{
-    if dt.is_nan() || dt <= 0.0 {
-        return;
-    }
-    let lerp_y = |s: f64| y0 + (y1 - y0) * s;
-    let lerp_u = |s: f64| u0 + (u1 - u0) * s;
-    let stable = |st: &FilterState<N>, u: &SVector<f64, U>, h: f64| {
-        let k = stiffness(model, lin, st, u, s_inv);
-        k.is_finite() && h * k <= RK4_STABLE_STEP
-    };
-    // One RK4 sub-step of length `h` from `st` (slope `k1` at its start), its
-    // middle and end at the fractions `sm`, `s1` of the interval.
-    let step = |st: &mut FilterState<N>, k1: &FilterState<N>, (sm, s1): (f64, f64), h: f64| {
-        let (q, a) = (&tuning.q, (tuning.a, tuning.a_states.as_ref()));
-        let (ym, yb, um, ub) = (lerp_y(sm), lerp_y(s1), lerp_u(sm), lerp_u(s1));
-        let k2 = derivative(model, lin, &add(st, k1, h / 2.0), &ym, &um, s_inv, q, a);
-        let k3 = derivative(model, lin, &add(st, &k2, h / 2.0), &ym, &um, s_inv, q, a);
-        let k4 = derivative(model, lin, &add(st, &k3, h), &yb, &ub, s_inv, q, a);
-        st.x += (k1.x + (k2.x + k3.x) * 2.0 + k4.x) * (h / 6.0);
-        st.p += (k1.p + (k2.p + k3.p) * 2.0 + k4.p) * (h / 6.0);
-        st.p = (st.p + st.p.transpose()) * 0.5;
-    };
-    let k1_at = |st: &FilterState<N>, s0: f64| {
-        derivative(
-            model,
-            lin,
-            st,
-            &lerp_y(s0),
-            &lerp_u(s0),
-            s_inv,
-            &tuning.q,
-            (tuning.a, tuning.a_states.as_ref()),
-        )
-    };
-    // Equal sub-steps sized at the start of the interval.
-    let n = libm::ceil(dt / tuning.max_substep)
-        .max(libm::ceil(
-            dt * stiffness(model, lin, st, u0, s_inv) / RK4_STABLE_STEP,
-        ))
-        .clamp(1.0, MAX_SUBSTEPS as f64);
-    let h = dt / n;
-    let mut done = 0;
-    while done < n as usize {
-        let (s0, s1) = (done as f64 / n, (done as f64 + 1.0) / n);
-        let k1 = k1_at(st, s0);
-        if !stable(&add(st, &k1, h), &lerp_u(s1), h) {
-            break;
-        }
-        step(st, &k1, ((done as f64 + 0.5) / n, s1), h);
-        done += 1;
-    }
-    if done == n as usize {
-        return;
-    }
-    // Stiffer than at the start: sub-steps chosen one at a time.
-    let mut t = dt * done as f64 / n;
-    for i in done..MAX_SUBSTEPS {
-        let remaining = dt - t;
-        let s0 = t / dt;
-        let k0 = stiffness(model, lin, st, &lerp_u(s0), s_inv);
-        if !k0.is_finite() {
-            return; // already diverged: the caller sees the non-finite state
-        }
-        let k1 = k1_at(st, s0);
-        let mut h = tuning.max_substep.min(remaining);
-        if k0 > 0.0 {
-            h = h.min(RK4_STABLE_STEP / k0);
-        }
-        for _ in 0..MAX_STEP_CUTS {
-            if stable(&add(st, &k1, h), &lerp_u((t + h) / dt), h) {
-                break;
-            }
-            h *= 0.5;
-        }
-        // At most MAX_SUBSTEPS sub-steps: spread what is left over those left.
-        h = h.max(remaining / (MAX_SUBSTEPS - i) as f64);
-        if h >= remaining * (1.0 - 1e-9) {
-            step(st, &k1, ((t + remaining / 2.0) / dt, 1.0), remaining);
-            return;
-        }
-        step(st, &k1, ((t + h / 2.0) / dt, (t + h) / dt), h);
-        t += h;
-    }
-}
-
-/// `a + c k` for state and Riccati solution.
-fn add<const N: usize>(a: &FilterState<N>, k: &FilterState<N>, c: f64) -> FilterState<N> {
-    FilterState {
-        x: a.x + k.x * c,
-        p: a.p + k.p * c,
-    }
-}
+use super::propagation::stiffness_bound_until;
+pub use super::propagation::{propagate, stiffness_bound};
 
 #[cfg(test)]
 mod tests {

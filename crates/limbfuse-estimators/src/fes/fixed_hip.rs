@@ -78,6 +78,9 @@ diagnostic_set! {
         P44 = "p44",
         /// Restarts after a non-finite state.
         Resets = "resets",
+        /// Samples whose input was missing and held (cumulative; at most
+        /// `MAX_INPUT_HOLD_S` = 0.1 s per gap, docs/FES_ESTIMATION.md).
+        HeldInputs = "held_inputs",
     }
 }
 
@@ -92,6 +95,7 @@ impl Plant<4, 4, 6> for FixedHipPlant {
         FixedHipDiag::P44,
     ];
     const RESETS_DIAG: FixedHipDiag = FixedHipDiag::Resets;
+    const HELD_INPUTS_DIAG: Option<FixedHipDiag> = Some(FixedHipDiag::HeldInputs);
 
     fn model(&self) -> &FixedHipModel {
         &self.model

@@ -85,6 +85,9 @@ diagnostic_set! {
         P22 = "p22",
         /// Restarts after a non-finite state.
         Resets = "resets",
+        /// Samples whose input was missing and held (cumulative; at most
+        /// `MAX_INPUT_HOLD_S` = 0.1 s per gap, docs/FES_ESTIMATION.md).
+        HeldInputs = "held_inputs",
     }
 }
 
@@ -94,6 +97,7 @@ impl Plant<2, 2, 1> for KneePlant {
     const RATE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::ShankRate];
     const COVARIANCE_DIAG: &'static [KneeFesDiag] = &[KneeFesDiag::P11, KneeFesDiag::P22];
     const RESETS_DIAG: KneeFesDiag = KneeFesDiag::Resets;
+    const HELD_INPUTS_DIAG: Option<KneeFesDiag> = Some(KneeFesDiag::HeldInputs);
 
     fn model(&self) -> &KneeFesModel {
         &self.model

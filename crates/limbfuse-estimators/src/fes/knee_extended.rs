@@ -42,6 +42,9 @@ diagnostic_set! {
         PAccBias = "p_acc_bias",
         /// Restarts after a non-finite state.
         Resets = "resets",
+        /// Samples whose input was missing and held (cumulative; at most
+        /// `MAX_INPUT_HOLD_S` = 0.1 s per gap, docs/FES_ESTIMATION.md).
+        HeldInputs = "held_inputs",
         /// The model's share of the update of the shank rate at the sample
         /// time, `|f_2| / (|f_2| + |(K (y - h))_2|)` with `f_2` the model's
         /// angular acceleration and `(K (y - h))_2` the measurement
@@ -236,6 +239,7 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
     const RATE_DIAG: &'static [ExtendedKneeDiag] = &[];
     const COVARIANCE_DIAG: &'static [ExtendedKneeDiag] = &[];
     const RESETS_DIAG: ExtendedKneeDiag = ExtendedKneeDiag::Resets;
+    const HELD_INPUTS_DIAG: Option<ExtendedKneeDiag> = Some(ExtendedKneeDiag::HeldInputs);
 
     fn model(&self) -> &ExtendedKneeModel<N> {
         &self.model

@@ -2,7 +2,8 @@
 //!
 //! * [`continuous`]: the continuous-time estimator of eqs 4.14-4.16 (state
 //!   and Riccati equation integrated together by RK4 between samples), with
-//!   SDC matrices (`sdre`) or Jacobians (`ekf`).
+//!   SDC matrices (`sdre`) or Jacobians (`ekf`); [`propagation`]: its RK4
+//!   sub-stepping between samples and the stiffness bound that sizes it.
 //! * [`filter`]: [`filter::FesFilter`], the [`limbfuse_core::Estimator`]
 //!   over a [`filter::Plant`] (a model plus the channel mapping).
 //! * [`knee`]: the leg-extension plant (2 states), [`fixed_hip`]: the
@@ -21,6 +22,7 @@ pub mod fixed_hip;
 pub mod knee;
 pub mod knee_extended;
 pub mod mahony;
+pub mod propagation;
 pub mod rmx;
 
 pub use continuous::{ContinuousTuning, Linearisation};
