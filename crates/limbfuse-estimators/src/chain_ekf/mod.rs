@@ -86,6 +86,17 @@ const FOOT_ANGULAR_ACCELERATION: f64 = 50.0;
 /// Distance from the ankle to the pivot of a foot rolling off (m).
 const FOOT_PIVOT_M: f64 = 0.15;
 
+/// A segment rate (rad/s) beyond which the chain's state has diverged:
+/// twice the widest gyroscope range the sample gate accepts by default
+/// (`SensorRanges::default`: 2000 deg/s + 15 % = 40 rad/s, the Xsens MTw /
+/// Bosch BMI270 full scale), far beyond any segment's rate in gait (the
+/// foot peaks near 15 rad/s in walking and running; Winter 2009). Found by
+/// `issue_18_chain_with_steps_up_to_half_a_second`: readings far from the
+/// model over 0.5 s steps drove a rate to ~3e4 rad/s, and the accelerometer
+/// rows linearised there (entries ~1e8) lost the covariance's positive
+/// semi-definiteness to round-off. Ours, beyond docs/CHAIN.md's model.
+pub const DIVERGED_RATE_RAD_S: f64 = 80.0;
+
 /// The chain EKF.
 #[derive(Debug, Clone)]
 pub struct ChainEkf {
@@ -230,11 +241,21 @@ impl ChainEkf {
     /// no estimate until it closes, `diag_running` = 0 meanwhile.
     fn restart_startup(&mut self) {
         self.running = false;
+        self.x = StateVector::zeros();
+        self.p = Covariance::zeros();
         self.startup = Startup::default();
         self.held = 0;
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.last_foot_gyro = None;
+    }
+
+    /// Whether the state is no estimate any more: a state or covariance
+    /// entry that is not finite, or a segment rate beyond
+    /// [`DIVERGED_RATE_RAD_S`] (issue 18 item 3, ours).
+    fn diverged(&self) -> bool {
+        !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
+            || (0..4).any(|i| libm::fabs(self.x[omega(i)]) > DIVERGED_RATE_RAD_S)
     }
 
     /// Records the gyro x/y rates of every sensor (for their derivative).
@@ -527,9 +548,7 @@ impl Estimator for ChainEkf {
                 }
             }
         }
-        if self.running
-            && !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
-        {
+        if self.running && self.diverged() {
             // Diverged (readings no gate screened, e.g. 1e300 offered to the
             // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
             // again from the next samples.
@@ -559,3 +578,4 @@ impl Estimator for ChainEkf {
         Ok(est)
     }
 }
+
