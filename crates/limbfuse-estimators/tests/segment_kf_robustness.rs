@@ -291,9 +291,17 @@ fn held_rate_over_gyro_dropouts_decays_as_a_second_order_process() {
             }
             // the held value after tau = (k - 19) * 0.01 s without a reading
             // (critically damped second-order prediction, slope 0 before the
-            // dropout: r e^(-tau / tau_c) (1 + tau / tau_c))
+            // dropout, r e^(-tau / tau_c) (1 + tau / tau_c), up to tau_c / 4,
+            // then a first-order decay)
             let tau = (k - 19) as f64 * 0.01;
-            let r1 = rate.unwrap_or(0.2 * (-tau / tau_c).exp() * (1.0 + tau / tau_c));
+            let second = |t: f64| 0.2 * (-t / tau_c).exp() * (1.0 + t / tau_c);
+            let h = 0.25 * tau_c;
+            let held = if tau <= h {
+                second(tau)
+            } else {
+                second(h) * (-(tau - h) / tau_c).exp()
+            };
+            let r1 = rate.unwrap_or(held);
             if k > 0 {
                 theta += 0.5 * (prev + r1) * 0.01;
             }

@@ -93,10 +93,28 @@ pub fn predicted_rate_transition(tau: f64) -> (f64, f64) {
     (e * (1.0 + s * tau), tau * e)
 }
 
+/// Longest dropout (s) over which the rate is extrapolated with the
+/// second-order model ([`predicted_rate_transition`]): a quarter of
+/// [`HELD_RATE_CORRELATION_S`], a quarter radian of the stride's phase at
+/// 1 Hz, over which a sinusoidal rate departs from its linear extrapolation
+/// by about 3 % of its amplitude (`1 - cos 0.25`). Beyond it the rate
+/// decays from the value reached with the first-order time constant
+/// [`HELD_RATE_CORRELATION_S`] as before: the slope of a trunk rate
+/// oscillating at twice the stride frequency, integrated over a 1 s gap of
+/// every IMU, turned the chain that `mjls` anchors on the trunk by 5 deg
+/// (thigh RMSE over the gap 5.0 deg, 3.0 with this horizon;
+/// tests/issue_18_missing_data.rs).
+pub const SLOPE_HORIZON_S: f64 = 0.25 * HELD_RATE_CORRELATION_S;
+
 /// The rate predicted `tau` seconds after the last reading `r` whose
-/// derivative was `r_dot` ([`predicted_rate_transition`]; `r_dot` clipped
-/// to [`PREDICTED_RATE_DERIVATIVE_MAX`]).
+/// derivative was `r_dot`: [`predicted_rate_transition`] up to
+/// [`SLOPE_HORIZON_S`], then a first-order decay (`r_dot` clipped to
+/// [`PREDICTED_RATE_DERIVATIVE_MAX`]).
 pub fn predicted_rate(r: f64, r_dot: f64, tau: f64) -> f64 {
+    if tau > SLOPE_HORIZON_S {
+        let at = predicted_rate(r, r_dot, SLOPE_HORIZON_S);
+        return at * libm::exp(-(tau - SLOPE_HORIZON_S) / HELD_RATE_CORRELATION_S);
+    }
     let (p11, p12) = predicted_rate_transition(tau);
     let d = r_dot.clamp(-PREDICTED_RATE_DERIVATIVE_MAX, PREDICTED_RATE_DERIVATIVE_MAX);
     p11 * r + p12 * d
