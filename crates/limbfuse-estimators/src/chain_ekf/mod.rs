@@ -339,7 +339,12 @@ impl ChainEkf {
     /// every stance into pieces shorter than `stance_min_s` (with half the
     /// foot's vectors missing, eight readings in a row are rarely
     /// complete). The anchor is only applied while a foot reading was seen
-    /// within the last `stance_min_s`.
+    /// within the last `stance_min_s`. Without a reading, the chain's own
+    /// foot rate `omega_3` stands in for it when it is still to within two
+    /// sigma (`|omega_3| + 2 sd < stance_gyro`): the sample counts as a still
+    /// reading, so the ankle acceleration anchor applies too (ours, issue
+    /// 18 item 2; 20 % of the cells missing on the independent walks: +76 ->
+    /// +52 % RMSE at 1.6 m/s, +28 -> +14 % at 1.2 m/s).
     fn foot_still(&mut self, sample: &Sample) -> Option<f64> {
         let foot = &sample.imu[3];
         let acc_still = foot
@@ -353,7 +358,16 @@ impl ChainEkf {
                 self.still_since = None;
             }
             let since = self.still_since?;
-            return (sample.t - since >= self.params.stance_min_s).then_some(age.unwrap_or(0.0));
+            // The chain's own estimate of the foot's rate stands in for the
+            // missing reading: still to within two sigma, the stance goes on
+            // as if a still reading had come (the acceleration anchor too).
+            let (w, var) = (self.x[omega(3)], self.p[(omega(3), omega(3))]);
+            let age = if libm::fabs(w) + 2.0 * libm::sqrt(var.max(0.0)) < self.params.stance_gyro {
+                0.0
+            } else {
+                age.unwrap_or(0.0)
+            };
+            return (sample.t - since >= self.params.stance_min_s).then_some(age);
         };
         self.last_foot_gyro = Some(sample.t);
         if !(w.norm() < self.params.stance_gyro && acc_still.unwrap_or(true)) {
@@ -578,4 +592,3 @@ impl Estimator for ChainEkf {
         Ok(est)
     }
 }
-

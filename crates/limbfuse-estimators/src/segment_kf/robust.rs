@@ -116,7 +116,10 @@ pub fn predicted_rate(r: f64, r_dot: f64, tau: f64) -> f64 {
         return at * libm::exp(-(tau - SLOPE_HORIZON_S) / HELD_RATE_CORRELATION_S);
     }
     let (p11, p12) = predicted_rate_transition(tau);
-    let d = r_dot.clamp(-PREDICTED_RATE_DERIVATIVE_MAX, PREDICTED_RATE_DERIVATIVE_MAX);
+    let d = r_dot.clamp(
+        -PREDICTED_RATE_DERIVATIVE_MAX,
+        PREDICTED_RATE_DERIVATIVE_MAX,
+    );
     p11 * r + p12 * d
 }
 
