@@ -97,6 +97,14 @@ const FOOT_PIVOT_M: f64 = 0.15;
 /// semi-definiteness to round-off. Ours, beyond docs/CHAIN.md's model.
 pub const DIVERGED_RATE_RAD_S: f64 = 80.0;
 
+/// Sagittal rate amplitude of the trunk in walking (rad/s): pitch +-2.5 deg
+/// at twice the stride frequency (Winter 2009, normal-cadence trunk
+/// kinematics), `0.044 rad * TRUNK_PITCH_OMEGA`.
+const TRUNK_RATE_AMPLITUDE: f64 = 0.55;
+/// Angular frequency of the trunk's pitch oscillation (rad/s): twice a 1 Hz
+/// stride.
+const TRUNK_PITCH_OMEGA: f64 = 4.0 * core::f64::consts::PI;
+
 /// The chain EKF.
 #[derive(Debug, Clone)]
 pub struct ChainEkf {
@@ -435,6 +443,20 @@ impl ChainEkf {
         row.add(MEAN_SPEED, -1.0);
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
+        if sample.imu.iter().all(|m| m.gyr.is_none() && m.acc.is_none()) {
+            // A gap of every IMU (ours, issue 18): only the encoders remain,
+            // which fix the relative angles; the trunk's rate and angular
+            // acceleration are held about zero within their walking
+            // amplitudes, so the chain does not turn as a whole.
+            let mut row = SparseRow::new();
+            row.add(omega(0), 1.0);
+            let nu = -self.x[omega(0)];
+            self.apply(&row, nu, TRUNK_RATE_AMPLITUDE, inf);
+            let mut row = SparseRow::new();
+            row.add(alpha(0), 1.0);
+            let nu = -self.x[alpha(0)];
+            self.apply(&row, nu, TRUNK_RATE_AMPLITUDE * TRUNK_PITCH_OMEGA, inf);
+        }
         let stance = self.foot_still(sample);
         if let Some(age) = stance {
             let grow = FOOT_ANGULAR_ACCELERATION * FOOT_PIVOT_M;
