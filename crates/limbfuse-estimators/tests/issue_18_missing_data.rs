@@ -316,3 +316,31 @@ fn issue_18_chain_confirms_a_still_foot_from_its_own_rate() {
     // without the stand-in +10.7 % (0.403)
     assert!(m < 1.085 * c, "{m:.3} deg with dropouts vs {c:.3} clean");
 }
+
+/// A 1 s gap of every IMU (encoders present): `chain` extrapolated its
+/// rates and angular accelerations, so the whole chain turned (17 deg RMSE
+/// over the gaps in the 10-minute soak). Now the trunk's rate and angular
+/// acceleration are held about zero within their walking amplitudes and
+/// the encoders carry the legs.
+#[test]
+fn issue_18_chain_holds_the_trunk_in_a_gap_of_every_imu() {
+    let mut records = walking(12.0, 5);
+    gap(&mut records, 8.0, 9.0);
+    let mut ekf = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), 9.81).unwrap();
+    let out = run(&mut ekf, &records);
+    let score = |s: Segment, from: f64, to: f64| {
+        rmse(
+            &out,
+            |t| (from..to).contains(&t),
+            |e, r| err(e.segment[s.index()], r.reference.segment[s.index()]),
+        )
+    };
+    for s in Segment::ALL {
+        let (d, b) = (score(s, 8.0, 9.0), score(s, 5.0, 8.0));
+        println!("{s:?}: RMSE {b:.2} deg before the gap, {d:.2} during it");
+        assert!(
+            d < b + 3.0,
+            "{s:?}: {d:.2} deg during the gap ({b:.2} before)"
+        );
+    }
+}

@@ -443,7 +443,11 @@ impl ChainEkf {
         row.add(MEAN_SPEED, -1.0);
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
-        if sample.imu.iter().all(|m| m.gyr.is_none() && m.acc.is_none()) {
+        if sample
+            .imu
+            .iter()
+            .all(|m| m.gyr.is_none() && m.acc.is_none())
+        {
             // A gap of every IMU (ours, issue 18): only the encoders remain,
             // which fix the relative angles; the trunk's rate and angular
             // acceleration are held about zero within their walking
