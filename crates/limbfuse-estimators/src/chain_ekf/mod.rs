@@ -370,11 +370,8 @@ impl ChainEkf {
             // missing reading: still to within two sigma, the stance goes on
             // as if a still reading had come (the acceleration anchor too).
             let (w, var) = (self.x[omega(3)], self.p[(omega(3), omega(3))]);
-            let age = if libm::fabs(w) + 2.0 * libm::sqrt(var.max(0.0)) < self.params.stance_gyro {
-                0.0
-            } else {
-                age.unwrap_or(0.0)
-            };
+            let still = libm::fabs(w) + 2.0 * libm::sqrt(var.max(0.0)) < self.params.stance_gyro;
+            let age = if still { 0.0 } else { age.unwrap_or(0.0) };
             return (sample.t - since >= self.params.stance_min_s).then_some(age);
         };
         self.last_foot_gyro = Some(sample.t);
