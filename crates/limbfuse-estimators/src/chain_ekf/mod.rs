@@ -14,6 +14,7 @@
 
 pub mod covariance;
 pub mod kinematics;
+pub mod missing_data;
 pub mod params;
 pub mod startup;
 pub mod state;
@@ -31,6 +32,7 @@ use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
+pub use missing_data::DIVERGED_RATE_RAD_S;
 pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
 use startup::Startup;
 use state::{
@@ -85,25 +87,6 @@ mod initial {
 const FOOT_ANGULAR_ACCELERATION: f64 = 50.0;
 /// Distance from the ankle to the pivot of a foot rolling off (m).
 const FOOT_PIVOT_M: f64 = 0.15;
-
-/// A segment rate (rad/s) beyond which the chain's state has diverged:
-/// twice the widest gyroscope range the sample gate accepts by default
-/// (`SensorRanges::default`: 2000 deg/s + 15 % = 40 rad/s, the Xsens MTw /
-/// Bosch BMI270 full scale), far beyond any segment's rate in gait (the
-/// foot peaks near 15 rad/s in walking and running; Winter 2009). Found by
-/// `issue_18_chain_with_steps_up_to_half_a_second`: readings far from the
-/// model over 0.5 s steps drove a rate to ~3e4 rad/s, and the accelerometer
-/// rows linearised there (entries ~1e8) lost the covariance's positive
-/// semi-definiteness to round-off. Ours, beyond docs/CHAIN.md's model.
-pub const DIVERGED_RATE_RAD_S: f64 = 80.0;
-
-/// Sagittal rate amplitude of the trunk in walking (rad/s): pitch +-2.5 deg
-/// at twice the stride frequency (Winter 2009, normal-cadence trunk
-/// kinematics), `0.044 rad * TRUNK_PITCH_OMEGA`.
-const TRUNK_RATE_AMPLITUDE: f64 = 0.55;
-/// Angular frequency of the trunk's pitch oscillation (rad/s): twice a 1 Hz
-/// stride.
-const TRUNK_PITCH_OMEGA: f64 = 4.0 * core::f64::consts::PI;
 
 /// The chain EKF.
 #[derive(Debug, Clone)]
@@ -445,18 +428,7 @@ impl ChainEkf {
             .iter()
             .all(|m| m.gyr.is_none() && m.acc.is_none())
         {
-            // A gap of every IMU (ours, issue 18): only the encoders remain,
-            // which fix the relative angles; the trunk's rate and angular
-            // acceleration are held about zero within their walking
-            // amplitudes, so the chain does not turn as a whole.
-            let mut row = SparseRow::new();
-            row.add(omega(0), 1.0);
-            let nu = -self.x[omega(0)];
-            self.apply(&row, nu, TRUNK_RATE_AMPLITUDE, inf);
-            let mut row = SparseRow::new();
-            row.add(alpha(0), 1.0);
-            let nu = -self.x[alpha(0)];
-            self.apply(&row, nu, TRUNK_RATE_AMPLITUDE * TRUNK_PITCH_OMEGA, inf);
+            missing_data::hold_trunk(&mut self.x, &mut self.p);
         }
         let stance = self.foot_still(sample);
         if let Some(age) = stance {
