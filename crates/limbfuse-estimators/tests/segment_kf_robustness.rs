@@ -260,10 +260,11 @@ fn first_sample_initialises_from_the_accelerometer_without_update() {
 }
 
 #[test]
-fn held_rate_over_gyro_dropouts_decays_with_the_correlation_time() {
+fn held_rate_over_gyro_dropouts_decays_as_a_second_order_process() {
     // No accelerometer update can happen (zeta tiny, rho = 0.5), so each
     // angle is the pure trapezoidal integral of the rate; over the dropout
-    // the last rate is held decaying as exp(-tau / HELD_RATE_CORRELATION_S)
+    // the rate is predicted by a critically damped second-order model with
+    // the correlation time HELD_RATE_CORRELATION_S
     // (issue 18, docs/ROBUST_INPUT.md; the papers hold it constant).
     let tau_c = limbfuse_estimators::segment_kf::robust::HELD_RATE_CORRELATION_S;
     let mut c = CommonParams::default();
@@ -289,7 +290,18 @@ fn held_rate_over_gyro_dropouts_decays_with_the_correlation_time() {
                 imu.gyr = rate.map(|r| Vector3::new(0.0, 0.0, r));
             }
             // the held value after tau = (k - 19) * 0.01 s without a reading
-            let r1 = rate.unwrap_or(0.2 * (-((k - 19) as f64) * 0.01 / tau_c).exp());
+            // (critically damped second-order prediction, slope 0 before the
+            // dropout, r e^(-tau / tau_c) (1 + tau / tau_c), up to tau_c / 4,
+            // then a first-order decay)
+            let tau = (k - 19) as f64 * 0.01;
+            let second = |t: f64| 0.2 * (-t / tau_c).exp() * (1.0 + t / tau_c);
+            let h = 0.25 * tau_c;
+            let held = if tau <= h {
+                second(tau)
+            } else {
+                second(h) * (-(tau - h) / tau_c).exp()
+            };
+            let r1 = rate.unwrap_or(held);
             if k > 0 {
                 theta += 0.5 * (prev + r1) * 0.01;
             }

@@ -14,6 +14,7 @@
 
 pub mod covariance;
 pub mod kinematics;
+pub mod missing_data;
 pub mod params;
 pub mod startup;
 pub mod state;
@@ -31,6 +32,7 @@ use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
+pub use missing_data::DIVERGED_RATE_RAD_S;
 pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
 use startup::Startup;
 use state::{
@@ -230,11 +232,21 @@ impl ChainEkf {
     /// no estimate until it closes, `diag_running` = 0 meanwhile.
     fn restart_startup(&mut self) {
         self.running = false;
+        self.x = StateVector::zeros();
+        self.p = Covariance::zeros();
         self.startup = Startup::default();
         self.held = 0;
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.last_foot_gyro = None;
+    }
+
+    /// Whether the state is no estimate any more: a state or covariance
+    /// entry that is not finite, or a segment rate beyond
+    /// [`DIVERGED_RATE_RAD_S`] (issue 18 item 3, ours).
+    fn diverged(&self) -> bool {
+        !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
+            || (0..4).any(|i| libm::fabs(self.x[omega(i)]) > DIVERGED_RATE_RAD_S)
     }
 
     /// Records the gyro x/y rates of every sensor (for their derivative).
@@ -318,7 +330,12 @@ impl ChainEkf {
     /// every stance into pieces shorter than `stance_min_s` (with half the
     /// foot's vectors missing, eight readings in a row are rarely
     /// complete). The anchor is only applied while a foot reading was seen
-    /// within the last `stance_min_s`.
+    /// within the last `stance_min_s`. Without a reading, the chain's own
+    /// foot rate `omega_3` stands in for it when it is still to within two
+    /// sigma (`|omega_3| + 2 sd < stance_gyro`): the sample counts as a still
+    /// reading, so the ankle acceleration anchor applies too (ours, issue
+    /// 18 item 2; 20 % of the cells missing on the independent walks: +76 ->
+    /// +52 % RMSE at 1.6 m/s, +28 -> +14 % at 1.2 m/s).
     fn foot_still(&mut self, sample: &Sample) -> Option<f64> {
         let foot = &sample.imu[3];
         let acc_still = foot
@@ -332,7 +349,13 @@ impl ChainEkf {
                 self.still_since = None;
             }
             let since = self.still_since?;
-            return (sample.t - since >= self.params.stance_min_s).then_some(age.unwrap_or(0.0));
+            // The chain's own estimate of the foot's rate stands in for the
+            // missing reading: still to within two sigma, the stance goes on
+            // as if a still reading had come (the acceleration anchor too).
+            let (w, var) = (self.x[omega(3)], self.p[(omega(3), omega(3))]);
+            let still = libm::fabs(w) + 2.0 * libm::sqrt(var.max(0.0)) < self.params.stance_gyro;
+            let age = if still { 0.0 } else { age.unwrap_or(0.0) };
+            return (sample.t - since >= self.params.stance_min_s).then_some(age);
         };
         self.last_foot_gyro = Some(sample.t);
         if !(w.norm() < self.params.stance_gyro && acc_still.unwrap_or(true)) {
@@ -400,6 +423,13 @@ impl ChainEkf {
         row.add(MEAN_SPEED, -1.0);
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
+        if sample
+            .imu
+            .iter()
+            .all(|m| m.gyr.is_none() && m.acc.is_none())
+        {
+            missing_data::hold_trunk(&mut self.x, &mut self.p);
+        }
         let stance = self.foot_still(sample);
         if let Some(age) = stance {
             let grow = FOOT_ANGULAR_ACCELERATION * FOOT_PIVOT_M;
@@ -527,9 +557,7 @@ impl Estimator for ChainEkf {
                 }
             }
         }
-        if self.running
-            && !(self.x.iter().all(|v| v.is_finite()) && self.p.iter().all(|v| v.is_finite()))
-        {
+        if self.running && self.diverged() {
             // Diverged (readings no gate screened, e.g. 1e300 offered to the
             // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
             // again from the next samples.

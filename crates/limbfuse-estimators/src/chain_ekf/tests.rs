@@ -164,3 +164,40 @@ fn issue_14_turns_widen_the_angles_so_the_accelerometers_reanchor_them() {
     std::println!("turns: offset-free mean {with:.3} deg (without the turn noise {without:.3})");
     assert!(with < 0.9 * without, "with {with} without {without}");
 }
+
+/// Issue 18 item 3: a segment rate beyond any gyroscope's range is a
+/// divergence: the start-up window begins again, the covariance is zeroed
+/// (no estimate, `diag_running` 0) and the filter starts afresh.
+#[test]
+fn issue_18_a_rate_beyond_any_gyroscope_restarts_the_startup() {
+    let cfg = WalkingConfig {
+        duration_s: 3.0,
+        ..Default::default()
+    };
+    let records: Vec<_> = WalkingSimulator::new(cfg).unwrap().collect();
+    let mut ekf = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), cfg.g).unwrap();
+    let mut k = 0;
+    while !ekf.running {
+        ekf.step(&records[k].sample).unwrap();
+        k += 1;
+    }
+    // a sample without readings (rows would pull the rate back)
+    let next = Sample::empty(records[k].sample.t);
+    ekf.x[omega(2)] = 1.5 * DIVERGED_RATE_RAD_S;
+    let e = ekf.step(&next).unwrap();
+    assert!(e.segment.iter().all(|s| s.is_none()));
+    assert_eq!(ekf.covariance(), &Covariance::zeros());
+    // just below the bound: an estimate, not a restart
+    let mut ekf2 = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), cfg.g).unwrap();
+    for r in &records[..k] {
+        ekf2.step(&r.sample).unwrap();
+    }
+    ekf2.x[omega(2)] = 0.5 * DIVERGED_RATE_RAD_S;
+    assert!(ekf2.step(&next).unwrap().segment[2].is_some());
+    // the window closes again after `startup_s`
+    let restarted = records[k + 1..]
+        .iter()
+        .map(|r| ekf.step(&r.sample).unwrap())
+        .position(|e| e.segment[0].is_some());
+    assert!(restarted.is_some());
+}

@@ -28,7 +28,7 @@ use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
 use super::robust::{
-    held_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S, HELD_RATE_CORRELATION_S,
+    predicted_rate, predicted_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
@@ -94,6 +94,9 @@ pub(crate) struct Chain {
     angle_g: [f64; 4],
     bias_hat: [f64; 4],
     last_rate: [Option<f64>; 4],
+    /// Derivative of each rate between its last two readings (rad/s^2)
+    /// and the time of the last reading, for [`predicted_rate`].
+    last_rate_slope: [(f64, f64); 4],
     init: [bool; 4],
     disc: Discretizer,
     /// Encoder standard deviations when the filter starts the whole chain
@@ -139,6 +142,7 @@ impl Chain {
             angle_g: [0.0; 4],
             bias_hat: Self::bias0(&common),
             last_rate: [None; 4],
+            last_rate_slope: [(0.0, 0.0); 4],
             init: [false; 4],
             disc: Discretizer::new(&common.segments, common.discretization),
             common,
@@ -320,8 +324,14 @@ impl Chain {
                     self.initialise(i, accel_inclination(&a), r);
                 }
             }
-            if rate[i].is_some() {
-                self.last_rate[i] = rate[i];
+            if let Some(r) = rate[i] {
+                let (_, t_last) = self.last_rate_slope[i];
+                let slope = match self.last_rate[i] {
+                    Some(l) if sample.t > t_last => (r - l) / (sample.t - t_last),
+                    _ => 0.0,
+                };
+                self.last_rate_slope[i] = (slope, sample.t);
+                self.last_rate[i] = Some(r);
             }
         }
         Ok(Inputs {
@@ -408,24 +418,27 @@ impl Chain {
         self.init = [true; 4];
     }
 
-    /// Segment `i`'s last gyro rate held over a dropout of `tau` seconds,
-    /// decaying towards zero (HELD_RATE_CORRELATION_S); `None` if no rate
-    /// was ever seen.
+    /// Segment `i`'s rate predicted over a dropout of `tau` seconds from
+    /// its last gyro reading and that reading's slope ([`predicted_rate`]);
+    /// `None` if no rate was ever seen.
     fn held_rate(&self, i: usize, tau: f64) -> Option<f64> {
-        self.last_rate[i].map(|r| r * libm::exp(-tau / HELD_RATE_CORRELATION_S))
+        let slope = self.last_rate_slope[i].0;
+        self.last_rate[i].map(|r| predicted_rate(r, slope, tau))
     }
 
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
         let last_rate = self.last_rate;
+        let slope = self.last_rate_slope;
         let blocks = self.disc.blocks(dt);
         for (i, rate) in rate.iter().enumerate() {
             if !self.init[i] {
                 continue;
             }
-            // Over a gyro dropout the last rate is held, decaying towards
-            // zero (HELD_RATE_CORRELATION_S); zero if none was ever seen.
+            // Over a gyro dropout the rate is predicted from the last reading
+            // and its slope, tending to zero after a stride
+            // (`predicted_rate`); zero if none was ever seen.
             let tau = self.rate_gap[i];
-            let held = |t: f64| last_rate[i].map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S));
+            let held = |t: f64| last_rate[i].map(|r| predicted_rate(r, slope[i].0, t));
             // The decay is evaluated only over a dropout: with a rate and no
             // gap (`tau == 0`, where `exp(-0) == 1` exactly) the held rate is
             // the last rate itself, so this is the same arithmetic.
@@ -451,10 +464,10 @@ impl Chain {
                 continue;
             }
             // The held rate grows uncertain over a gyro dropout.
-            let before = held_rate_variance(self.rate_gap[i]);
+            let before = predicted_rate_variance(self.rate_gap[i]);
             self.rate_gap[i] += dt;
             let a = angle_state(i);
-            let grown = self.P[(a, a)] + held_rate_variance(self.rate_gap[i]) - before;
+            let grown = self.P[(a, a)] + predicted_rate_variance(self.rate_gap[i]) - before;
             self.P[(a, a)] = grown.min(HELD_RATE_VARIANCE_CAP.max(self.P[(a, a)]));
         }
         if !(all_finite(self.x.as_slice()) && all_finite(self.P.as_slice())) {

@@ -1,0 +1,43 @@
+//! Missing data and divergence in the chain EKF beyond docs/CHAIN.md's
+//! model (ours, issue 18; docs/ROBUST_INPUT.md section 2b): the rate bound
+//! that marks a diverged state, and the trunk hold over a gap of every IMU.
+
+use super::covariance::{scalar_update, Covariance, StateVector};
+use super::state::{alpha, omega, SparseRow};
+
+/// A segment rate (rad/s) beyond which the chain's state has diverged:
+/// twice the widest gyroscope range the sample gate accepts by default
+/// (`SensorRanges::default`: 2000 deg/s + 15 % = 40 rad/s, the Xsens MTw /
+/// Bosch BMI270 full scale), far beyond any segment's rate in gait (the
+/// foot peaks near 15 rad/s in walking and running; Winter 2009). Found by
+/// `issue_18_chain_with_steps_up_to_half_a_second`: readings far from the
+/// model over 0.5 s steps drove a rate to ~3e4 rad/s, and the accelerometer
+/// rows linearised there (entries ~1e8) lost the covariance's positive
+/// semi-definiteness to round-off. Ours, beyond docs/CHAIN.md's model.
+pub const DIVERGED_RATE_RAD_S: f64 = 80.0;
+
+/// Sagittal rate amplitude of the trunk in walking (rad/s): pitch +-2.5 deg
+/// at twice the stride frequency (Winter 2009, normal-cadence trunk
+/// kinematics), `0.044 rad * TRUNK_PITCH_OMEGA`.
+pub const TRUNK_RATE_AMPLITUDE: f64 = 0.55;
+/// Angular frequency of the trunk's pitch oscillation (rad/s): twice a 1 Hz
+/// stride.
+pub const TRUNK_PITCH_OMEGA: f64 = 4.0 * core::f64::consts::PI;
+
+/// A sample without any IMU reading (only the encoders, which fix the
+/// relative angles): the trunk's rate and angular acceleration are held
+/// about zero within their walking amplitudes ([`TRUNK_RATE_AMPLITUDE`],
+/// `TRUNK_RATE_AMPLITUDE * TRUNK_PITCH_OMEGA`), so the chain does not
+/// extrapolate a turn of the whole body through the gap.
+pub fn hold_trunk(x: &mut StateVector, p: &mut Covariance) {
+    let sigma = [
+        TRUNK_RATE_AMPLITUDE,
+        TRUNK_RATE_AMPLITUDE * TRUNK_PITCH_OMEGA,
+    ];
+    for (k, state) in [omega(0), alpha(0)].into_iter().enumerate() {
+        let mut row = SparseRow::new();
+        row.add(state, 1.0);
+        let nu = -x[state];
+        scalar_update(x, p, &row, nu, sigma[k] * sigma[k], f64::INFINITY);
+    }
+}
