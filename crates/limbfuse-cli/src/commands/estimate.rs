@@ -11,7 +11,6 @@ use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
 
-use super::estimate_pipeline;
 use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
@@ -206,15 +205,7 @@ pub fn run_to_file_calibrated(
     let mut writer = EstimateWriter::for_path(output, super::create_file(output)?)
         .recording_trial(file_name(&trial))
         .recording_command(command);
-    let run = run_observed(
-        est,
-        &mut reader,
-        &mut writer,
-        label,
-        extra,
-        calibration,
-        true,
-    )?;
+    let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     let hash = reader.content_hash().ok_or_else(|| {
         Internal(format!(
             "{}: the trial was not read to its end",
@@ -245,15 +236,7 @@ fn run_to_stdout(
     let mut writer = EstimateWriter::new(output)
         .streaming_trial(file_name(&trial))
         .recording_command(command);
-    let run = run_observed(
-        est,
-        &mut reader,
-        &mut writer,
-        label,
-        extra,
-        calibration,
-        false,
-    )?;
+    let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     writer
         .into_inner()
         .context("standard output: cannot write the estimate")?;
@@ -298,16 +281,14 @@ impl RunReport {
 }
 
 /// Runs `est` over every record of `reader` (calibrated if asked) into
-/// `writer`, with a progress bar and the `extra` observers; `pipelined`
-/// parses and writes on threads of their own (`estimate_pipeline`).
-fn run_observed<W: std::io::Write + Send>(
+/// `writer`, with a progress bar and the `extra` observers.
+fn run_observed<W: std::io::Write>(
     est: &mut dyn Estimator,
     reader: &mut TrialReader,
     writer: &mut EstimateWriter<W>,
     label: &str,
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
-    pipelined: bool,
 ) -> Result<RunReport> {
     let trial = reader.path().to_path_buf();
     let mut progress = Progress::new(label);
@@ -315,34 +296,25 @@ fn run_observed<W: std::io::Write + Send>(
     let mut rejections = RejectionWatch::default();
     let summary = {
         let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(4 + extra.len());
+        observers.push(writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
         observers.push(&mut rejections);
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        let summary = if pipelined {
-            let prepare = |rec: &mut limbfuse_core::Record| {
-                if let Some(c) = calibration {
-                    c.apply(rec);
-                }
-            };
-            estimate_pipeline::run(est, reader, writer, &mut observers, &prepare)
-        } else {
-            observers.insert(0, writer);
-            match calibration {
-                // Records are large: without a calibration they go to the
-                // runner without a mapping step that would move each once more.
-                None => runner::run(est, reader.by_ref(), &mut observers),
-                Some(c) => {
-                    let source = reader.by_ref().map(|r| {
-                        r.map(|mut rec| {
-                            c.apply(&mut rec);
-                            rec
-                        })
-                    });
-                    runner::run(est, source, &mut observers)
-                }
+        let summary = match calibration {
+            // Records are large: without a calibration they go to the
+            // runner without a mapping step that would move each once more.
+            None => runner::run(est, reader.by_ref(), &mut observers),
+            Some(c) => {
+                let source = reader.by_ref().map(|r| {
+                    r.map(|mut rec| {
+                        c.apply(&mut rec);
+                        rec
+                    })
+                });
+                runner::run(est, source, &mut observers)
             }
         };
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?

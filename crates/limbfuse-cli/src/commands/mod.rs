@@ -7,7 +7,6 @@ mod calibrate;
 mod demo;
 mod demo_fes;
 mod estimate;
-mod estimate_pipeline;
 mod evaluate;
 mod fes;
 mod gait;
