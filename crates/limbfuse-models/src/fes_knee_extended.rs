@@ -174,21 +174,7 @@ impl<const N: usize> ExtendedKneeModel<N> {
 
     /// Row 2 of `df/dx`.
     fn accel_jacobian(&self, x: &SVector<f64, N>, u: &SVector<f64, 1>) -> SMatrix<f64, 1, N> {
-        let m = &self.base;
-        let phi = KneeFesModel::phi(x[0]);
-        let a = self.activation(x, u);
-        let (_, p_phi, p_rate) = m.passive_torque(phi, -x[1]);
-        let (_, f_phi, f_rate) = m.fes_torque(phi, -x[1], a);
-        let mut row = SMatrix::<f64, 1, N>::zeros();
-        row[0] = -m.beta() * libm::cos(x[0]) - m.alpha() * (p_phi + f_phi);
-        row[1] = -m.alpha() * (p_rate + f_rate);
-        if let Some(i) = self.layout.activation {
-            row[i] = m.alpha() * m.fes_torque(phi, -x[1], 1.0).0;
-        }
-        if let Some(i) = self.layout.disturbance {
-            row[i] = m.alpha();
-        }
-        row
+        self.accel_with_jacobian(x, u).1
     }
 
     /// `x2'` and row 2 of `df/dx` from one evaluation of the torques
