@@ -387,12 +387,15 @@ pub struct ResampleArgs {
 /// Options of `tune`.
 #[derive(Debug, Args)]
 pub struct TuneArgs {
-    /// Segment filter to tune: local, mjls or global.
+    /// Filter to tune: local, mjls or global (noise parameters, paper 001
+    /// protocol), or sdre / ekf (the extended knee model's torque error, by
+    /// leave-one-pulse-out cross-validation; needs --params).
     #[arg(long)]
     pub method: String,
-    /// Trial file with segment reference angles.
+    /// Trial file with reference angles (sdre/ekf: a pre-trial with
+    /// `knee_ref` and stimulation pulses).
     pub trial: PathBuf,
-    /// Tuning window START:END (s).
+    /// Tuning window START:END (s) (sdre/ekf: the part of the pre-trial used).
     #[arg(long, default_value = "0:20")]
     pub window: String,
     /// Validation window START:END (s), or `none`; default: the block of the
@@ -417,7 +420,8 @@ pub struct TuneArgs {
     /// Length (s) of each run from a starting point (default: half the window).
     #[arg(long, value_name = "SECONDS")]
     pub length: Option<f64>,
-    /// Start from this parameter file instead of a preset.
+    /// Start from this parameter file instead of a preset (sdre/ekf: the
+    /// knee model's file with [states]; the tuned file is a copy of it).
     #[arg(long, conflicts_with = "preset")]
     pub params: Option<PathBuf>,
     /// Start from this preset: default or paper-2014.

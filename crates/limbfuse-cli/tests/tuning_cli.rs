@@ -183,7 +183,7 @@ fn bad_input_exits_1_with_a_message() {
             ],
             d,
         ),
-        &["tune supports local, mjls and global"],
+        &["tune supports local, mjls, global, sdre and ekf"],
     );
     user_error(
         &limbfuse(

@@ -84,7 +84,10 @@ pub fn default_file(method: MethodName) -> String {
          # gyro_bias = true    # shank gyro z bias (rad/s)\n\
          # acc_bias = true     # shank accelerometer x bias (m/s^2)\n\
          # With states, [tuning] q and p0 have one value per state: x1, x2, then the\n\
-         # enabled ones in this order (defaults from physics: docs/FES_ESTIMATION.md).\n\n\
+         # enabled ones in this order (defaults from physics: docs/FES_ESTIMATION.md).\n\
+         # With states, [tuning] torque_error = 0.1 sets how much the filter trusts the\n\
+         # model (it admits a torque error of e m g l_c); `limbfuse tune --method sdre`\n\
+         # chooses it on a pre-trial.\n\n\
          [measurement]\n\
          # shank_imu_m = 0.2  # accelerometer below the knee (m): acc_x = g sin x1 + r x1''; default 0 (thesis)"
     );

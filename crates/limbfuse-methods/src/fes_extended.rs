@@ -19,8 +19,8 @@ use std::path::Path;
 
 use limbfuse_core::Estimator;
 use limbfuse_estimators::fes::knee_extended::{
-    extended_knee_default_tuning, extended_shift, kinematic_default_tuning, ExtendedKneePlant,
-    KinematicKneePlant,
+    extended_knee_default_tuning, extended_knee_tuning, extended_shift, kinematic_default_tuning,
+    ExtendedKneePlant, KinematicKneePlant,
 };
 use limbfuse_estimators::fes::{FesFilter, Linearisation};
 use limbfuse_io::TrialMeta;
@@ -30,7 +30,7 @@ use limbfuse_models::{
 };
 use serde::Deserialize;
 
-use crate::fes_params::{apply_tuning, number, set_knee_param, FesBuildError};
+use crate::fes_params::{apply_tuning, number, set_knee_param, FesBuildError, FesParamsFile};
 
 /// `[states]`: the optional states of the knee model.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -159,12 +159,15 @@ fn extended<const N: usize>(
     thigh: f64,
     opts: KneeStateOptions,
     r: f64,
-    lin: Linearisation,
+    (lin, torque_error): (Linearisation, Option<f64>),
     tuning: &[(&'static str, Vec<f64>)],
     path: &Path,
 ) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
     let model = ExtendedKneeModel::<N>::new(base, opts, r)?;
-    let mut t = extended_knee_default_tuning(&model, lin);
+    let mut t = match torque_error {
+        Some(e) => extended_knee_tuning(&model, lin, e),
+        None => extended_knee_default_tuning(&model, lin),
+    };
     apply_tuning(&mut t, tuning, path)?;
     // The per-state shift follows a `[tuning] a` override.
     t.a_states = Some(extended_shift(&model, t.a));
@@ -173,14 +176,35 @@ fn extended<const N: usize>(
     Ok(Box::new(FesFilter::new(plant, lin, t)))
 }
 
+impl FesParamsFile {
+    /// The same file with `[tuning] torque_error = e` (`limbfuse tune`).
+    pub fn with_torque_error(mut self, e: f64) -> Self {
+        self.tuning.torque_error = Some(e);
+        self
+    }
+
+    /// `[tuning] torque_error`, if the file sets it.
+    pub fn torque_error(&self) -> Option<f64> {
+        self.tuning.torque_error
+    }
+
+    /// Whether `sdre` / `ekf` run the extended knee model with this file
+    /// (`[states]` or `[measurement]` given).
+    pub fn is_extended(&self) -> bool {
+        self.states.options() != KneeStateOptions::default()
+            || self.measurement.shank_imu_m.is_some()
+    }
+}
+
 /// `sdre` / `ekf` on the extended knee model with `opts` and the lever arm
 /// `r`, with the `[tuning]` overrides (one value per state of the extended
-/// model, in its state order).
+/// model, in its state order) applied to the tuning of the relative torque
+/// error `torque_error` (default: `extended_defaults::TORQUE_ERROR`).
 pub fn build_extended_knee(
     base: KneeFesModel,
     thigh: f64,
     (opts, r): (KneeStateOptions, f64),
-    lin: Linearisation,
+    lin: (Linearisation, Option<f64>),
     tuning: &[(&'static str, Vec<f64>)],
     path: &Path,
 ) -> Result<Box<dyn Estimator + Send>, FesBuildError> {

@@ -34,8 +34,7 @@ use limbfuse_estimators::fes::{
 };
 use limbfuse_io::{TrialLayout, TrialMeta};
 use limbfuse_models::{
-    FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeStateOptions, KneeSubject,
-    ModelError,
+    FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject, ModelError,
 };
 use nalgebra::SVector;
 use serde::Deserialize;
@@ -337,6 +336,11 @@ pub struct FesTuningFile {
     a: Option<Numbers>,
     p0: Option<Numbers>,
     max_substep: Option<Numbers>,
+    /// Relative torque error `e` of the extended knee model's default
+    /// tuning (the filter admits a torque error of `e m g l_c`;
+    /// docs/FES_ESTIMATION.md): what `limbfuse tune --method sdre|ekf`
+    /// chooses. Extended knee model only.
+    pub(crate) torque_error: Option<f64>,
 }
 
 /// `[rmx]` of an FES parameter file: the Mahony gains.
@@ -394,6 +398,16 @@ impl FesParamsFile {
             return Err(ParamsFileError::Invalid {
                 path: path.to_path_buf(),
                 message: format!("[model] `{k}` must be a finite number, found {v}"),
+            });
+        }
+        if let Some(e) = f
+            .tuning
+            .torque_error
+            .filter(|e| !(e.is_finite() && *e > 0.0))
+        {
+            return Err(ParamsFileError::Invalid {
+                path: path.to_path_buf(),
+                message: format!("[tuning] `torque_error` must be a finite number > 0, found {e}"),
             });
         }
         // Mahony gains (issue 18 fuzzing: `kp = nan` gave a NaN knee angle).
@@ -531,7 +545,13 @@ pub fn build_fes_estimator(
     let tuning = file.tuning_entries();
     let opts = file.states.options();
     let radius = file.measurement.radius(path)?;
-    let extended = opts != KneeStateOptions::default() || file.measurement.shank_imu_m.is_some();
+    let extended = file.is_extended();
+    if !extended && file.tuning.torque_error.is_some() {
+        return Err(FesBuildError::NotApplicable {
+            path: source,
+            what: "[tuning] torque_error applies to the extended knee model only (a file with [states] or [measurement])".into(),
+        });
+    }
     if extended {
         if let FesModel::FixedHip(_) = model {
             return Err(FesBuildError::NotApplicable {
@@ -545,7 +565,7 @@ pub fn build_fes_estimator(
             KneeFesModel::new(p)?,
             thigh,
             (opts, radius),
-            lin,
+            (lin, file.tuning.torque_error),
             &tuning,
             path,
         )?,

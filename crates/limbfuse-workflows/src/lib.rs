@@ -10,6 +10,7 @@
 //! ([`gait_library`]).
 #![deny(missing_docs)]
 
+pub mod fes_pulse_cv;
 pub mod gait_library;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;

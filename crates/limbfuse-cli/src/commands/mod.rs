@@ -22,6 +22,7 @@ mod resample;
 mod simulate;
 mod simulate_knee;
 mod tune;
+mod tune_fes;
 
 use std::path::Path;
 

@@ -1,4 +1,5 @@
-//! `limbfuse tune --method local|mjls|global TRIAL --window 0:20 -o params.toml`.
+//! `limbfuse tune --method local|mjls|global TRIAL --window 0:20 -o params.toml`
+//! (`sdre`/`ekf`: `tune_fes`).
 
 use anyhow::{anyhow, bail, Context, Result};
 use limbfuse_eval::TimeWindow;
@@ -15,9 +16,12 @@ use crate::cli::TuneArgs;
 /// Tunes the noise parameters and writes them as a parameter file.
 pub fn run(a: &TuneArgs) -> Result<()> {
     let name = MethodName::parse(&a.method)?;
+    if matches!(name, MethodName::Sdre | MethodName::Ekf) {
+        return super::tune_fes::run(a, name);
+    }
     let Some(method) = FilterMethod::from_method(name) else {
         bail!(
-            "tune: method `{name}` has no tunable noise parameters; tune supports local, mjls and global"
+            "tune: method `{name}` has no tunable noise parameters; tune supports local, mjls, global, sdre and ekf"
         );
     };
     let start = match &a.params {
