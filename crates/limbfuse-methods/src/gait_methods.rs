@@ -247,6 +247,8 @@ struct LowbackFile {
     walking_rms: Option<f64>,
     speed_hold: Option<f64>,
     turn_rate: Option<f64>,
+    withhold_after_turn: Option<bool>,
+    gravity_follows_gyro: Option<bool>,
 }
 
 impl MethodFile for LowbackFile {
@@ -275,7 +277,7 @@ impl MethodDef for LowbackSpeedMethod {
         "lowback-speed",
         "beyond the papers: initial contacts (McCamley 2012) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
         "trunk_acc (lower back, raw sensor frame); leg length from the parameter file or `# leg_length:` (m)",
-        "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate",
+        "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate, withhold_after_turn, gravity_follows_gyro",
     )
     .needing(
         crate::ChannelNeeds {
@@ -305,6 +307,12 @@ impl MethodDef for LowbackSpeedMethod {
         positive("turn_rate", f.turn_rate, &mut turn_rate_deg).map_err(&bad)?;
         if f.turn_rate.is_some() {
             p.turn_rate = turn_rate_deg.to_radians();
+        }
+        if let Some(b) = f.withhold_after_turn {
+            p.withhold_after_turn = b;
+        }
+        if let Some(b) = f.gravity_follows_gyro {
+            p.gravity_follows_gyro = b;
         }
         Ok(LowbackSettings {
             params: p,
@@ -376,14 +384,20 @@ impl MethodDef for LowbackSpeedMethod {
              speed_hold = {:?}\n\
              # Mean heading rate (deg/s) above which a stride is a turn, its speed unknown\n\
              # (El-Gohary et al. 2014's turn-peak threshold).\n\
-             turn_rate = {:?}\n",
+             turn_rate = {:?}\n\
+             # The stride after a turning stride (its first step turned) has no speed either.\n\
+             withhold_after_turn = {:?}\n\
+             # The gravity mean is rotated with the trunk gyroscope (follows posture changes).\n\
+             gravity_follows_gyro = {:?}\n",
             p.leg_length,
             p.leg_length,
             p.correction,
             p.wavelet_scale,
             p.walking_rms,
             p.speed_hold,
-            p.turn_rate.to_degrees()
+            p.turn_rate.to_degrees(),
+            p.withhold_after_turn,
+            p.gravity_follows_gyro
         )
     }
 }

@@ -1,11 +1,20 @@
 //! Walking speed and initial contacts from one lower-back (trunk) IMU in a
 //! raw sensor frame (`--method lowback-speed`, docs/GAIT_EVENTS.md).
 //!
-//! 1. **Vertical acceleration.** Gravity's direction in the sensor frame is
-//!    the running mean of the specific force (exponential, time constant
+//! 1. **Vertical acceleration.** Gravity in the sensor frame is the running
+//!    mean of the specific force (exponential, time constant
 //!    `gravity_time_constant` = 2 s: four steps or more, so the step
-//!    oscillation averages out); `a_v = a . g_hat - ||mean||` (the mean's
-//!    norm, not 9.81: absorbs an accelerometer scale error).
+//!    oscillation averages out), carried along by the trunk gyroscope: before
+//!    each update the mean is rotated by the sample's rotation `-w dt`, so it
+//!    is a mean in a frame that does not turn with the trunk
+//!    (`gravity_follows_gyro`, issue 19). Without the rotation the mean lags
+//!    a posture change by its time constant: after standing up the HA001
+//!    course's sensor tilts by 12 deg and the plain mean is 5-9 deg off for
+//!    the first strides, which leaks forward acceleration into `a_v` (step
+//!    mean `a_v` +0.3 to +0.6 m/s^2 where it is about 0) and shrinks the
+//!    first strides' excursion. `a_v = a . g_hat - ||mean||` (the mean's
+//!    norm, not 9.81: absorbs an accelerometer scale error). Without a
+//!    trunk gyroscope the mean is not rotated.
 //! 2. **Initial contacts** (McCamley et al. 2012, Gait & Posture 36(2)): the
 //!    minima of the Gaussian-wavelet (`gaus1`) CWT of the integrated
 //!    vertical acceleration. Integrating by parts, that CWT at scale `s` is
@@ -42,7 +51,14 @@
 //!    the pendulum step length does not hold there (pivot steps keep the
 //!    trunk's vertical excursion but move the feet little), so its speed is
 //!    unknown (no `speed`, no stride length; `stride_turn_rate` says why).
-//!    Without a trunk gyroscope no turn is detected.
+//!    The stride after a turning stride has no speed either
+//!    (`withhold_after_turn`, issue 19): its first step is the turning
+//!    stride's second, so the stride turns for part of its duration while its
+//!    own mean heading rate may stay below `turn_rate` (measured on the
+//!    HA001 course: +0.16 to +0.31 m/s on such strides). Decided when the
+//!    stride ends, like the turn itself (causal); the stride *before* a turn
+//!    would need the next step and is kept. Without a trunk gyroscope no turn
+//!    is detected.
 //!
 //! Memory: rings of the last [`HISTORY`] vertical accelerations and
 //! headings, allocated at construction; nothing is allocated per sample.
@@ -55,7 +71,7 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{
     diagnostic_set, Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep,
 };
-use nalgebra::Vector3;
+use nalgebra::{Rotation3, Vector3};
 
 /// Leg (greater-trochanter) height as a fraction of body height: 0.530
 /// (Winter 2009, *Biomechanics and Motor Control of Human Movement*, 4th
@@ -85,6 +101,10 @@ diagnostic_set! {
         /// Mean heading rate (rad/s, signed) over the stride finished at
         /// this sample, turning or not.
         StrideTurnRate = "stride_turn_rate",
+        /// Why the stride finished at this sample has no speed: 1 = it
+        /// turns (`turn_rate`), 2 = the stride before it turned
+        /// (`withhold_after_turn`).
+        StrideWithheld = "stride_withheld",
     }
 }
 
@@ -111,6 +131,10 @@ pub struct LowbackParams {
     /// Mean heading rate (rad/s) above which a stride is a turn (speed
     /// unknown): 15 deg/s (El-Gohary et al. 2014).
     pub turn_rate: f64,
+    /// The stride after a turning stride has no speed either.
+    pub withhold_after_turn: bool,
+    /// The gravity mean is rotated with the trunk gyroscope.
+    pub gravity_follows_gyro: bool,
 }
 
 impl Default for LowbackParams {
@@ -125,6 +149,8 @@ impl Default for LowbackParams {
             walking_rms: 0.3,
             speed_hold: 3.0,
             turn_rate: 15.0_f64.to_radians(),
+            withhold_after_turn: true,
+            gravity_follows_gyro: true,
         }
     }
 }
@@ -186,6 +212,7 @@ pub struct LowbackSpeed {
     smoothed: [f64; 3],
     last_ic: Option<(u64, f64, f64)>,
     last_step: Option<(f64, f64, u64)>,
+    last_stride_turned: bool,
     speed: Option<(f64, f64)>,
 }
 
@@ -208,6 +235,7 @@ impl LowbackSpeed {
             smoothed: [0.0; 3],
             last_ic: None,
             last_step: None,
+            last_stride_turned: false,
             speed: None,
         }
     }
@@ -263,7 +291,9 @@ impl Estimator for LowbackSpeed {
         )?;
         writeln!(out, "walking_rms: {} m/s^2", p.walking_rms)?;
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
-        writeln!(out, "turn_rate: {} deg/s", p.turn_rate.to_degrees())
+        writeln!(out, "turn_rate: {} deg/s", p.turn_rate.to_degrees())?;
+        writeln!(out, "withhold_after_turn: {}", p.withhold_after_turn)?;
+        writeln!(out, "gravity_follows_gyro: {}", p.gravity_follows_gyro)
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
@@ -302,16 +332,25 @@ impl Estimator for LowbackSpeed {
         // constant has passed (a first sample carrying a step's dynamic
         // acceleration does not bias the first seconds).
         self.elapsed = (self.elapsed + dt).min(self.params.gravity_time_constant);
+        let gyr = sample.imu[Segment::Trunk.index()]
+            .gyr
+            .filter(|w| w.iter().all(|v| v.is_finite()));
         let g = self.gravity.get_or_insert(acc);
+        if self.params.gravity_follows_gyro {
+            if let Some(w) = gyr {
+                // The sensor turned by `w dt`: gravity, fixed in the world,
+                // turned by the opposite rotation in the sensor frame.
+                *g = Rotation3::new(-w * dt) * *g;
+            }
+        }
         *g += (acc - *g) * (dt / self.elapsed);
         let gn = g.norm();
         let a_v = if gn > 0.0 { acc.dot(g) / gn - gn } else { 0.0 };
         // Heading (rad): the rate about the gravity direction, integrated;
         // a missing or non-finite gyro sample adds nothing.
-        if let Some(w) = sample.imu[Segment::Trunk.index()].gyr {
-            let w_v = if gn > 0.0 { w.dot(g) / gn } else { 0.0 };
-            if w_v.is_finite() {
-                self.psi += w_v * dt;
+        if let Some(w) = gyr {
+            if gn > 0.0 {
+                self.psi += w.dot(g) / gn * dt;
             }
         }
         let slot = (self.n % HISTORY as u64) as usize;
@@ -353,6 +392,7 @@ impl Estimator for LowbackSpeed {
                         d.value(LowbackDiag::StepLength, sl);
                         d.value(LowbackDiag::Excursion, h);
                         // The previous valid step ended at `t0`: the two make a stride.
+                        let mut turned = false;
                         if let Some((sl_prev, t_start, i_start)) = self.last_step {
                             let stride_time = t_ic - t_start;
                             if stride_time <= 2.0 * p.max_step_time
@@ -361,24 +401,31 @@ impl Estimator for LowbackSpeed {
                                 let turn_rate = (self.heading_at(index) - self.heading_at(i_start))
                                     / stride_time;
                                 d.value(LowbackDiag::StrideTurnRate, turn_rate);
-                                if turn_rate.abs() <= p.turn_rate {
+                                turned = turn_rate.abs() > p.turn_rate;
+                                let after_turn = p.withhold_after_turn && self.last_stride_turned;
+                                if turned || after_turn {
+                                    let why = if turned { 1.0 } else { 2.0 };
+                                    d.value(LowbackDiag::StrideWithheld, why);
+                                    self.speed = None;
+                                } else {
                                     d.value(LowbackDiag::StrideLength, sl_prev + sl);
                                     d.value(LowbackDiag::StrideTime, stride_time);
                                     self.speed = Some(((sl_prev + sl) / stride_time, t));
-                                } else {
-                                    self.speed = None;
                                 }
                             }
                         }
+                        self.last_stride_turned = turned;
                         self.last_step = Some((sl, t0, i0));
                     } else {
                         self.last_step = None;
+                        self.last_stride_turned = false;
                     }
                 }
                 if accept {
                     d.value(LowbackDiag::Ic, t_ic);
                     if self.last_ic.is_none() {
                         self.last_step = None;
+                        self.last_stride_turned = false;
                     }
                     self.last_ic = Some((index, t_ic, s1));
                 }
