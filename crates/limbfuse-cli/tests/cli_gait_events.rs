@@ -90,7 +90,7 @@ fn foot_recording_meets_the_event_targets() {
 }
 
 /// HA001 straight walk: contacts found, 40 ms median (target: within 40),
-/// stride speed MAE 0.056 m/s (target 0.06).
+/// stride speed MAE 0.054 m/s (target 0.06).
 #[test]
 fn lowback_straight_walk() {
     let Some(data) = data_dir() else { return };
@@ -101,15 +101,17 @@ fn lowback_straight_walk() {
         d.path(),
     );
     assert_eq!(f(&v, &["initial_contact", "missed"]), 0.0, "{v}");
-    assert!(f(&v, &["initial_contact", "median_abs_ms"]) <= 40.0, "{v}");
+    // 40 ms up to rounding (10 ms samples).
+    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 40.5, "{v}");
     assert!(f(&v, &["speed_mae_mps"]) <= 0.06, "{v}");
     assert!(v["final_contact"].is_null());
 }
 
 /// Issue 19, lower-back speed on the daily-living course (HA001 test11):
-/// turning strides (mean heading rate above 15 deg/s) report no speed.
-/// Measured: 17 of 40 strides keep a speed, MAE 0.136 m/s (0.176 over all
-/// 40 without the turn rule); contacts 30 ms median.
+/// turning strides (mean heading rate above 15 deg/s) and the strides after
+/// them report no speed. Measured: 13 of 41 strides keep a speed, MAE
+/// 0.133 m/s (0.179 over all 41 without the turn rule); contacts 35 ms
+/// median (30 ms with the plain gravity mean).
 #[test]
 fn issue_19_lowback_course_turning_strides_have_no_speed() {
     let Some(data) = data_dir() else { return };
@@ -120,10 +122,73 @@ fn issue_19_lowback_course_turning_strides_have_no_speed() {
         d.path(),
     );
     let n = f(&v, &["n_strides"]);
-    assert!((12.0..=22.0).contains(&n), "{v}");
+    assert!((10.0..=22.0).contains(&n), "{v}");
     assert!(f(&v, &["speed_mae_mps"]) <= 0.14, "{v}");
-    // 30 ms up to rounding (10 ms samples; 35 ms with the former scale).
-    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 30.5, "{v}");
+    // The issue's 40 ms up to rounding (10 ms samples).
+    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 40.5, "{v}");
+}
+
+/// The data rows of a limbfuse CSV file, by column name (empty = `None`).
+fn columns(path: &Path, names: &[&str]) -> Vec<Vec<Option<f64>>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| header.iter().position(|h| h == n).expect(n))
+        .collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            index.iter().map(|&i| cells[i].parse().ok()).collect()
+        })
+        .collect()
+}
+
+/// Issue 19, lower-back speed, first stride of a bout on the HA001 course:
+/// the first stride with a speed and a reference (6.42-7.70 s, after the
+/// subject stands up) was 0.25 m/s slow with the plain 2 s gravity mean
+/// (which lagged the standing-up tilt by 5-9 deg); with the mean rotated
+/// by the gyroscope it is 0.01 m/s slow. Held within 0.06 m/s.
+#[test]
+fn issue_19_lowback_course_first_stride_after_standing_up() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let trial = data.join("mobgap-lowerback/HA001-test11-trial1.csv");
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            trial.to_str().unwrap(),
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let reference = columns(&trial, &["t", "speed_ref"]);
+    let est = columns(
+        &d.path().join("e.csv"),
+        &["diag_ic", "diag_stride_length", "diag_stride_time"],
+    );
+    let first = est.iter().find_map(|row| {
+        let (end, length, time) = (row[0]?, row[1]?, row[2]?);
+        let refs: Option<Vec<f64>> = reference
+            .iter()
+            .filter(|r| r[0].is_some_and(|t| t >= end - time - 1e-9 && t < end - 1e-9))
+            .map(|r| r[1])
+            .collect();
+        let refs = refs.filter(|r| !r.is_empty())?;
+        Some((
+            end,
+            length / time,
+            refs.iter().sum::<f64>() / refs.len() as f64,
+        ))
+    });
+    let (end, v, v_ref) = first.expect("a stride with a reference");
+    assert!((7.6..7.8).contains(&end), "first stride ends at {end} s");
+    assert!((v - v_ref).abs() < 0.06, "{v} m/s vs {v_ref} m/s");
 }
 
 fn write(dir: &Path, name: &str, header: &str, row: impl Fn(usize) -> String, n: usize) {
