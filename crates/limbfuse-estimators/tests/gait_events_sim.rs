@@ -181,12 +181,7 @@ fn shank_events_match_the_simulated_walk() {
 fn issue_19_lowback_turning_strides_have_no_speed() {
     let (records, _, _) = trial(1.3);
     let trunk = Segment::Trunk.index();
-    // The sensor's gravity direction: the mean specific force of the walk.
-    let mut g = nalgebra::Vector3::zeros();
-    for r in &records {
-        g += r.sample.imu[trunk].acc.unwrap();
-    }
-    let g_hat = g.normalize();
+    let g_hat = mean_trunk_acc(&records).normalize();
     for (deg_s, turning) in [(5.0_f64, false), (30.0, true)] {
         let mut e = LowbackSpeed::new(LowbackParams::default());
         let (mut strides, mut rates, mut speeds) = (0, vec![], 0);
@@ -216,6 +211,15 @@ fn issue_19_lowback_turning_strides_have_no_speed() {
             assert!(speeds > 0);
         }
     }
+}
+
+/// The mean trunk specific force of a walk: gravity in the sensor frame.
+fn mean_trunk_acc(records: &[Record]) -> nalgebra::Vector3<f64> {
+    let trunk = Segment::Trunk.index();
+    records
+        .iter()
+        .map(|r| r.sample.imu[trunk].acc.unwrap())
+        .sum()
 }
 
 /// Stride speeds `(end time, speed)` and withheld strides `(end time,
@@ -248,8 +252,8 @@ fn lowback_strides(
 }
 
 /// Issue 19 (lower-back speed, strides leaving a turn): the simulated
-/// straight walk at 1.3 m/s with a 40 deg/s turn for one stride (5 s to 5 s
-/// + one stride) added to the trunk gyro about gravity. The strides that
+/// straight walk at 1.3 m/s with a 40 deg/s turn for one stride (from 5 s,
+/// one stride long) added to the trunk gyro about gravity. The strides that
 /// turn (mean heading rate above 15 deg/s) are withheld (reason 1) and so
 /// is the stride after the last of them (reason 2: its first step turned);
 /// with `withhold_after_turn = false` that stride has a speed (the rule's
@@ -257,12 +261,7 @@ fn lowback_strides(
 #[test]
 fn issue_19_lowback_stride_after_a_turn_has_no_speed() {
     let (records, period, _) = trial(1.3);
-    let trunk = Segment::Trunk.index();
-    let mut g = nalgebra::Vector3::zeros();
-    for r in &records {
-        g += r.sample.imu[trunk].acc.unwrap();
-    }
-    let g_hat = g.normalize();
+    let g_hat = mean_trunk_acc(&records).normalize();
     let turn = |t: f64, imu: &mut limbfuse_core::ImuSample| {
         if (5.0..5.0 + period).contains(&t) {
             imu.gyr = imu.gyr.map(|w| w + g_hat * 40f64.to_radians());
@@ -301,11 +300,7 @@ fn issue_19_lowback_stride_after_a_turn_has_no_speed() {
 #[test]
 fn issue_19_lowback_gravity_follows_a_posture_change() {
     let (records, _, _) = trial(1.3);
-    let trunk = Segment::Trunk.index();
-    let mut g = nalgebra::Vector3::zeros();
-    for r in &records {
-        g += r.sample.imu[trunk].acc.unwrap();
-    }
+    let g = mean_trunk_acc(&records);
     // A horizontal axis of the sensor frame.
     let axis = g.cross(&nalgebra::Vector3::x()).normalize();
     let (t0, ramp, tilt) = (5.0, 0.5, 12f64.to_radians());
