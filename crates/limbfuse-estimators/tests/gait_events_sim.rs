@@ -104,8 +104,9 @@ fn lowback_finds_every_step() {
         .map(|&t| phase_error(t, 0.5 * period, 0.0))
         .collect();
     // Measured: 57-70 ms after the heel strikes with McCamley's 0.16 s
-    // scale and the gravity rotated by the gyroscope (56-69 ms without) (54-79 ms with the former 0.225 s; McCamley's landmark, the
-    // smoothed vertical-acceleration peak, lies in the double support).
+    // scale and the gravity rotated by the gyroscope (56-69 ms without;
+    // 54-79 ms with the former 0.225 s; McCamley's landmark, the smoothed
+    // vertical-acceleration peak, lies in the double support).
     println!("contacts after the heel strikes: {offsets:?} s");
     assert!(
         offsets.iter().all(|o| (0.0..0.1).contains(o)),
