@@ -370,9 +370,11 @@ pub struct FesParamsFile {
     /// Gains of `rmx`.
     #[serde(default)]
     pub rmx: RmxFile,
-    /// Optional states of the knee model (issue 16; `sdre` / `ekf`).
+    /// Optional states of the knee model (issue 16; `sdre` / `ekf`);
+    /// `None` when the file has no `[states]` table (then `[model] t_a`
+    /// decides: [`FesParamsFile::state_options`]).
     #[serde(default)]
-    pub states: StatesFile,
+    pub states: Option<StatesFile>,
     /// Shank accelerometer lever arm (`sdre` / `ekf` / `knee-kinematic`).
     #[serde(default)]
     pub measurement: MeasurementFile,
@@ -543,8 +545,7 @@ pub fn build_fes_estimator(
     }
     model.check_layout(layout)?;
     let tuning = file.tuning_entries();
-    let opts = file.states.options();
-    let radius = file.measurement.radius(path)?;
+    let opts = file.state_options();
     let extended = file.is_extended();
     if !extended && file.tuning.torque_error.is_some() {
         return Err(FesBuildError::NotApplicable {
@@ -564,7 +565,7 @@ pub fn build_fes_estimator(
         FesModel::Knee(p, thigh) if extended => build_extended_knee(
             KneeFesModel::new(p)?,
             thigh,
-            (opts, radius),
+            (opts, file.lever_arm(meta)?),
             (lin, file.tuning.torque_error),
             &tuning,
             path,
