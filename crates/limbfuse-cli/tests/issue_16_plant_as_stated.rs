@@ -193,3 +193,67 @@ fn issue_16_lever_arm_source_is_reported() {
         "{e}"
     );
 }
+
+/// Issue 16 item 1 on the fixed hip: `[states] activation = true` runs the
+/// four activation states; a `[model]` that states `t_a` without
+/// `[states]` does too (and says so); the knee's other states and
+/// `[measurement]` are refused. Before: every `[states]` on the fixed hip
+/// was refused.
+#[test]
+fn issue_16_fixed_hip_activation_states_from_the_file() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &[
+            "simulate",
+            "fixed-hip",
+            "--duration",
+            "4",
+            "--activation-t-a",
+            "0.25",
+            "-o",
+            "h.csv",
+        ],
+        p,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let trial = std::fs::read_to_string(p.join("h.csv")).unwrap();
+    assert!(trial.contains("# param.t_a: 0.25"), "{}", &trial[..600]);
+    std::fs::write(p.join("act.toml"), "[states]\nactivation = true\n").unwrap();
+    std::fs::write(p.join("ta.toml"), "[model]\nt_a = 0.25\n").unwrap();
+    for (file, note) in [("act.toml", false), ("ta.toml", true)] {
+        for m in ["sdre", "ekf"] {
+            let (err, header, _) = run(m, "h.csv", Some(file), p);
+            assert!(
+                header.contains("# activation: states a_hf, a_he, a_kf, a_ke"),
+                "{m} {file}: {header}"
+            );
+            assert_eq!(
+                err.contains("the fixed hip's four activation states"),
+                note,
+                "{m} {file}: {err}"
+            );
+        }
+    }
+    // Without a file: the thesis estimator.
+    let (_, header, _) = run("sdre", "h.csv", None, p);
+    assert!(!header.contains("activation"), "{header}");
+    for (name, text) in [
+        (
+            "bias.toml",
+            "[states]\nactivation = true\ngyro_bias = true\n",
+        ),
+        ("r.toml", "[measurement]\nshank_imu_m = 0.2\n"),
+    ] {
+        std::fs::write(p.join(name), text).unwrap();
+        let o = limbfuse(
+            &[
+                "estimate", "--method", "ekf", "h.csv", "-o", "x.csv", "--params", name,
+            ],
+            p,
+        );
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{name}: {e}");
+        assert!(e.contains("knee-fes model only"), "{name}: {e}");
+    }
+}

@@ -260,6 +260,13 @@ impl FesParamsFile {
         if self.states.is_some() || !self.model.contains_key("t_a") {
             return Ok(None);
         }
+        if meta.get("model").map(str::trim) == Some("fixed-hip") {
+            return Ok(Some(format!(
+                "{method}: [model] states t_a and the file has no [states]: the fixed hip's four \
+                 activation states (the plant as stated; `[states]` with `activation = false` gives \
+                 the thesis estimator)"
+            )));
+        }
         let arm = self.lever_arm(meta)?;
         Ok(Some(format!(
             "{method}: [model] states t_a and the file has no [states]: activation, gyro bias and \
