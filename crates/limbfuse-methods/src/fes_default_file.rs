@@ -78,7 +78,7 @@ pub fn default_file(method: MethodName) -> String {
     );
     let _ = writeln!(
         s,
-        "\n[states]  # knee-fes only (issue 16); each adds a state, default false; without this\n\
+        "\n[states]  # issue 16; each adds a state, default false (fixed-hip: activation only); without this\n\
          # table, a [model] that states t_a gets activation, gyro_bias and acc_bias (the plant\n\
          # as stated; `activation = false` here gives the thesis estimator)\n\
          # activation = true   # a_ke' = (u_ke - a_ke) / T_a, T_a = [model] t_a\n\
