@@ -157,6 +157,11 @@ pub struct FixedHipArgs {
     /// Extra constant gyro drift on both gyros (deg/s).
     #[arg(long, default_value_t = 0.0)]
     pub gyro_drift: f64,
+    /// Muscle activation dynamics in the truth, `a' = (u - a) / T_a` for the
+    /// four muscles, with this T_a (s; issue 16); default: none (activation
+    /// equals stimulation, the thesis model).
+    #[arg(long, value_name = "T_A")]
+    pub activation_t_a: Option<f64>,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
     pub cap: LengthCap,

@@ -211,7 +211,13 @@ fn free_text_model_line_runs_with_a_complete_model_file() {
         trial.push('\n');
     }
     std::fs::write(p.join("free.csv"), &trial).unwrap();
-    std::fs::write(p.join("model.toml"), &model).unwrap();
+    // `[states]` stated: the thesis estimator (a file stating `t_a` without
+    // `[states]` gets the activation and bias states, issue 16).
+    std::fs::write(
+        p.join("model.toml"),
+        format!("{model}[states]\nactivation = false\n"),
+    )
+    .unwrap();
     let knee = knee_rmse("sdre", "free.csv", Some("model.toml"), p);
     let same = knee_rmse("sdre", "k.csv", None, p);
     assert_eq!(knee, same, "the file's model is the trial's own");
@@ -258,19 +264,24 @@ fn shared_fes() -> Option<PathBuf> {
 }
 
 /// The two shared independent FES trials run as shipped with their own
-/// parameter files (before issue 16 item 3: "unknown model").
+/// parameter files (before issue 16 item 3: "unknown model"), and (issue
+/// 16, default no worse than rmx) the default configuration of such a file
+/// (it states `t_a`: activation and bias states, anthropometric lever arm)
+/// is no worse than `rmx` on each. Before the plant-as-stated default:
+/// P2-R sdre 0.853, ekf 1.475 deg against rmx 0.744.
 #[test]
-fn shared_independent_fes_trials_run_as_shipped() {
+fn issue_16_shared_trials_default_no_worse_than_rmx() {
     let Some(dir) = shared_fes() else { return };
     let d = tempfile::tempdir().unwrap();
     for t in ["fes-P2-R-s900", "fes-P3-L-s901"] {
         let trial = dir.join(format!("{t}.csv"));
         let params = dir.join(format!("{t}.toml"));
         let (trial, params) = (trial.to_str().unwrap(), params.to_str().unwrap());
+        let rmx = knee_rmse("rmx", trial, None, d.path());
         for m in ["sdre", "ekf"] {
             let knee = knee_rmse(m, trial, Some(params), d.path());
-            eprintln!("{t} {m}: knee {knee:.3} deg");
-            assert!(knee < 2.0, "{t} {m}: {knee}");
+            eprintln!("{t} {m}: knee {knee:.3} deg, rmx {rmx:.3}");
+            assert!(knee <= rmx, "{t} {m}: {knee} > rmx {rmx}");
         }
     }
 }

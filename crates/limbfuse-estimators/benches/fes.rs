@@ -3,7 +3,8 @@
 //! 2-state knee model and the 4-state fixed-hip model, and `rmx`; issue 16:
 //! the extended knee model (activation + gyro/acc bias states + lever arm,
 //! 5 states; every state, 6) and `knee-kinematic` (5 states), default
-//! physics tuning. Two groups: `fes_100hz` (wall time) and `fes_100hz_cpu`
+//! physics tuning; the fixed hip with its four activation states (8).
+//! Two groups: `fes_100hz` (wall time) and `fes_100hz_cpu`
 //! (the benchmark thread's CPU time, `limbfuse-io/benches/support/cpu_time.rs`:
 //! the figure to quote on a loaded machine).
 
@@ -13,12 +14,12 @@ use criterion::measurement::Measurement;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::fes::{
-    ExtendedKneeFilter, FixedHipFilter, KinematicKneeFilter, KneeFesFilter, Linearisation,
-    RotationMatrixKnee,
+    ExtendedKneeFilter, FixedHipActivationFilter, FixedHipFilter, KinematicKneeFilter,
+    KneeFesFilter, Linearisation, RotationMatrixKnee,
 };
 use limbfuse_models::{
-    ExtendedKneeModel, FixedHipModel, FixedHipParams, KinematicKneeModel, KneeFesModel,
-    KneeFesParams, KneeStateOptions, KneeSubject,
+    ExtendedKneeModel, FixedHipActivationModel, FixedHipModel, FixedHipParams, KinematicKneeModel,
+    KneeFesModel, KneeFesParams, KneeStateOptions, KneeSubject,
 };
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
@@ -85,6 +86,28 @@ fn bench<Ms: Measurement>(c: &mut Criterion<Ms>, group: &str) {
     });
     run(&mut g, "ekf-fixed-hip-4state", &hip, &|| {
         Box::new(FixedHipFilter::ekf(hm))
+    });
+    // Issue 16: the fixed hip with its four activation states (8 states),
+    // on a trial whose plant has activation dynamics (T_a = 0.25 s).
+    let hip_act = simulate_fixed_hip(&FixedHipConfig {
+        seed: 42,
+        activation_t_a: Some(0.25),
+        ..FixedHipConfig::default()
+    })
+    .expect("valid config")
+    .records;
+    let ha = FixedHipActivationModel::new(hm, 0.25).expect("T_a > 0");
+    run(&mut g, "sdre-fixed-hip-act-8state", &hip_act, &|| {
+        Box::new(FixedHipActivationFilter::with_default_tuning(
+            ha,
+            Linearisation::Sdc,
+        ))
+    });
+    run(&mut g, "ekf-fixed-hip-act-8state", &hip_act, &|| {
+        Box::new(FixedHipActivationFilter::with_default_tuning(
+            ha,
+            Linearisation::Jacobian,
+        ))
     });
     let bias = KneeStateOptions {
         activation: true,

@@ -4,12 +4,12 @@
 
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::fes::{
-    ExtendedKneeFilter, FixedHipFilter, KinematicKneeFilter, KneeFesFilter, Linearisation,
-    RotationMatrixKnee,
+    ExtendedKneeFilter, FixedHipActivationFilter, FixedHipFilter, KinematicKneeFilter,
+    KneeFesFilter, Linearisation, RotationMatrixKnee,
 };
 use limbfuse_models::{
-    ExtendedKneeModel, FixedHipModel, FixedHipParams, KinematicKneeModel, KneeFesModel,
-    KneeFesParams, KneeStateOptions, KneeSubject,
+    ExtendedKneeModel, FixedHipActivationModel, FixedHipModel, FixedHipParams, KinematicKneeModel,
+    KneeFesModel, KneeFesParams, KneeStateOptions, KneeSubject,
 };
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
@@ -60,6 +60,21 @@ fn fes_estimators_step_without_allocating() {
         (Box::new(RotationMatrixKnee::new()), &knee),
         (Box::new(FixedHipFilter::sdre(hm)), &hip),
         (Box::new(FixedHipFilter::ekf(hm)), &hip),
+        // Issue 16: the fixed hip with its four activation states.
+        (
+            Box::new(FixedHipActivationFilter::with_default_tuning(
+                FixedHipActivationModel::new(hm, 0.25).unwrap(),
+                Linearisation::Sdc,
+            )),
+            &hip,
+        ),
+        (
+            Box::new(FixedHipActivationFilter::with_default_tuning(
+                FixedHipActivationModel::new(hm, 0.25).unwrap(),
+                Linearisation::Jacobian,
+            )),
+            &hip,
+        ),
         // Issue 16: every optional state and the lever arm; the kinematic baseline.
         (
             Box::new(ExtendedKneeFilter::with_default_tuning(

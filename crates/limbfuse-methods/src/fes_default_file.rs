@@ -78,7 +78,9 @@ pub fn default_file(method: MethodName) -> String {
     );
     let _ = writeln!(
         s,
-        "\n[states]  # knee-fes only (issue 16); each adds a state, default false\n\
+        "\n[states]  # issue 16; each adds a state, default false (fixed-hip: activation only); without this\n\
+         # table, a [model] that states t_a gets activation, gyro_bias and acc_bias (the plant\n\
+         # as stated; `activation = false` here gives the thesis estimator)\n\
          # activation = true   # a_ke' = (u_ke - a_ke) / T_a, T_a = [model] t_a\n\
          # disturbance = true  # unknown knee torque (N m), random walk\n\
          # gyro_bias = true    # shank gyro z bias (rad/s)\n\
@@ -89,7 +91,8 @@ pub fn default_file(method: MethodName) -> String {
          # model (it admits a torque error of e m g l_c); `limbfuse tune --method sdre`\n\
          # chooses it on a pre-trial.\n\n\
          [measurement]\n\
-         # shank_imu_m = 0.2  # accelerometer below the knee (m): acc_x = g sin x1 + r x1''; default 0 (thesis)"
+         # shank_imu_m = 0.2  # accelerometer below the knee (m): acc_x = g sin x1 + r x1''; default 0 (thesis);\n\
+         # with t_a and no [states]: the trial's # shank_imu_m, else 0.5 x 0.246 x height (Winter 2009)"
     );
     s
 }

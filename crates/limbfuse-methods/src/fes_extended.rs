@@ -1,13 +1,15 @@
 //! Issue 16 options of the knee-FES parameter file and their builders:
 //!
 //! ```toml
-//! [states]            # sdre / ekf on knee-fes: optional states (default all false)
+//! [states]            # sdre / ekf on knee-fes: optional states (absent keys false;
+//!                     # no table and [model] t_a given: activation, gyro_bias, acc_bias)
 //! activation = true   # a_ke' = (u_ke - a_ke) / T_a ([model] t_a)
 //! disturbance = true  # unknown knee torque, a random walk
 //! gyro_bias = true    # shank gyro z bias
 //! acc_bias = true     # shank accelerometer x bias
 //! [measurement]
-//! shank_imu_m = 0.2   # accelerometer below the knee: adds r x2'' (default 0, thesis)
+//! shank_imu_m = 0.2   # accelerometer below the knee: adds r x2'' (default 0, thesis;
+//!                     # t_a and no [states]: the trial's, else mid-shank)
 //! ```
 //!
 //! and the `knee-kinematic` estimator (model-free, same bias states), and
@@ -18,11 +20,13 @@
 use std::path::Path;
 
 use limbfuse_core::Estimator;
+use limbfuse_estimators::chain_ekf::DEFAULT_HEIGHT_M;
 use limbfuse_estimators::fes::knee_extended::{
     extended_knee_default_tuning, extended_knee_tuning, extended_shift, kinematic_default_tuning,
     ExtendedKneePlant, KinematicKneePlant,
 };
 use limbfuse_estimators::fes::{FesFilter, Linearisation};
+use limbfuse_io::body_meta::HEIGHT_KEY;
 use limbfuse_io::TrialMeta;
 use limbfuse_models::{
     ExtendedKneeModel, KinematicKneeModel, KneeFesModel, KneeFesParams, KneeStateOptions,
@@ -72,7 +76,7 @@ impl MeasurementFile {
     pub fn radius(&self, path: &Path) -> Result<f64, FesBuildError> {
         match self.shank_imu_m {
             None => Ok(0.0),
-            Some(r) if r.is_finite() && (0.0..=1.0).contains(&r) => Ok(r),
+            Some(r) if lever_arm_in_range(r) => Ok(r),
             Some(r) => Err(FesBuildError::File {
                 path: path.to_path_buf(),
                 message: format!(
@@ -81,6 +85,43 @@ impl MeasurementFile {
             }),
         }
     }
+}
+
+fn lever_arm_in_range(r: f64) -> bool {
+    r.is_finite() && (0.0..=1.0).contains(&r)
+}
+
+/// Shank length as a fraction of body height (knee to ankle, 0.246 H;
+/// D. A. Winter, Biomechanics and Motor Control of Human Movement, 4th ed.,
+/// 2009, Table 4.1 / Fig. 4.1).
+pub const SHANK_LENGTH_PER_HEIGHT: f64 = 0.246;
+
+/// The states a file that states `[model] t_a` and has no `[states]` gets
+/// (the plant as stated: activation dynamics, and the turn-on biases of
+/// every MEMS IMU; docs/FES_ESTIMATION.md "Default when the file states
+/// T_a").
+pub const PLANT_AS_STATED: KneeStateOptions = KneeStateOptions {
+    activation: true,
+    disturbance: false,
+    gyro_bias: true,
+    acc_bias: true,
+};
+
+/// The shank accelerometer's lever arm and where it came from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeverArm {
+    /// Distance below the knee (m).
+    pub radius: f64,
+    /// Where the value came from, for the estimate's header and stderr.
+    pub source: &'static str,
+}
+
+impl LeverArm {
+    /// The lever arm of the thesis's measurement (`acc_x = g sin x1`).
+    pub const THESIS: LeverArm = LeverArm {
+        radius: 0.0,
+        source: "",
+    };
 }
 
 /// Every `[model]` key of the knee-fes model (what a parameter file must
@@ -157,8 +198,7 @@ fn meta_number(meta: &TrialMeta, key: &str, default: f64) -> Result<f64, FesBuil
 fn extended<const N: usize>(
     base: KneeFesModel,
     thigh: f64,
-    opts: KneeStateOptions,
-    r: f64,
+    (opts, LeverArm { radius: r, source }): (KneeStateOptions, LeverArm),
     (lin, torque_error): (Linearisation, Option<f64>),
     tuning: &[(&'static str, Vec<f64>)],
     path: &Path,
@@ -173,6 +213,7 @@ fn extended<const N: usize>(
     t.a_states = Some(extended_shift(&model, t.a));
     let mut plant = ExtendedKneePlant::new(model);
     plant.thigh_angle = thigh;
+    plant.imu_radius_source = source;
     Ok(Box::new(FesFilter::new(plant, lin, t)))
 }
 
@@ -188,32 +229,126 @@ impl FesParamsFile {
         self.tuning.torque_error
     }
 
+    /// The knee model's optional states: `[states]` as stated when the
+    /// file has the table (absent keys off); without it, a file whose
+    /// `[model]` states `t_a` describes a plant with activation dynamics,
+    /// and gets [`PLANT_AS_STATED`]; otherwise none (the thesis model).
+    pub fn state_options(&self) -> KneeStateOptions {
+        match self.states {
+            Some(s) => s.options(),
+            None if self.model.contains_key("t_a") => PLANT_AS_STATED,
+            None => KneeStateOptions::default(),
+        }
+    }
+
     /// Whether `sdre` / `ekf` run the extended knee model with this file
-    /// (`[states]` or `[measurement]` given).
+    /// (optional states, see [`FesParamsFile::state_options`], or
+    /// `[measurement]` given).
     pub fn is_extended(&self) -> bool {
-        self.states.options() != KneeStateOptions::default()
+        self.state_options() != KneeStateOptions::default()
             || self.measurement.shank_imu_m.is_some()
+    }
+
+    /// What `sdre` / `ekf` say on stderr for the plant-as-stated default
+    /// (`[model] t_a`, no `[states]`): the states it adds and the lever
+    /// arm's source; `None` otherwise (the file says what it runs).
+    pub fn plant_as_stated_note(
+        &self,
+        method: crate::MethodName,
+        meta: &TrialMeta,
+    ) -> Result<Option<String>, FesBuildError> {
+        if self.states.is_some() || !self.model.contains_key("t_a") {
+            return Ok(None);
+        }
+        if meta.get("model").map(str::trim) == Some("fixed-hip") {
+            return Ok(Some(format!(
+                "{method}: [model] states t_a and the file has no [states]: the fixed hip's four \
+                 activation states (the plant as stated; `[states]` with `activation = false` gives \
+                 the thesis estimator)"
+            )));
+        }
+        let arm = self.lever_arm(meta)?;
+        Ok(Some(format!(
+            "{method}: [model] states t_a and the file has no [states]: activation, gyro bias and \
+             accelerometer bias states (the plant as stated; `[states]` with `activation = false` \
+             gives the thesis estimator); shank accelerometer {:.4} m below the knee ({})",
+            arm.radius, arm.source
+        )))
+    }
+
+    /// The shank accelerometer's lever arm of the extended knee model:
+    /// `[measurement] shank_imu_m` if the file states it; else, for the
+    /// plant-as-stated default (`t_a` and no `[states]`), the trial's
+    /// `# shank_imu_m:` metadata, else mid-shank for the trial's `#
+    /// height_m:` (default 1.75 m): `0.5 x 0.246 H` (Winter 2009); else 0
+    /// (an explicit `[states]` without `[measurement]`: the thesis's
+    /// measurement).
+    pub fn lever_arm(&self, meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
+        if self.measurement.shank_imu_m.is_some() {
+            return Ok(LeverArm {
+                radius: self.measurement.radius(&self.path)?,
+                source: "parameter file [measurement] shank_imu_m",
+            });
+        }
+        if self.states.is_some() || !self.model.contains_key("t_a") {
+            return Ok(LeverArm::THESIS);
+        }
+        if let Some(v) = meta.get("shank_imu_m") {
+            let r = number("metadata", "shank_imu_m", v)?;
+            if !lever_arm_in_range(r) {
+                return Err(FesBuildError::NotApplicable {
+                    path: "trial metadata".into(),
+                    what: format!("`# shank_imu_m: {v}`: expected the shank accelerometer's distance below the knee in metres, in [0, 1]"),
+                });
+            }
+            return Ok(LeverArm {
+                radius: r,
+                source: "trial metadata # shank_imu_m",
+            });
+        }
+        let (height, source) = match meta.get(HEIGHT_KEY) {
+            Some(v) => (
+                number("metadata", HEIGHT_KEY, v)?,
+                "anthropometric default: mid-shank, 0.5 x 0.246 x # height_m, Winter 2009 Table 4.1",
+            ),
+            None => (
+                DEFAULT_HEIGHT_M,
+                "anthropometric default: mid-shank, 0.5 x 0.246 x 1.75 m, Winter 2009 Table 4.1; the trial states neither # shank_imu_m nor # height_m",
+            ),
+        };
+        if !(1.0..=2.5).contains(&height) {
+            return Err(FesBuildError::NotApplicable {
+                path: "trial metadata".into(),
+                what: format!(
+                    "`# {HEIGHT_KEY}: {height}`: expected a body height in metres, in [1, 2.5]"
+                ),
+            });
+        }
+        Ok(LeverArm {
+            radius: 0.5 * SHANK_LENGTH_PER_HEIGHT * height,
+            source,
+        })
     }
 }
 
-/// `sdre` / `ekf` on the extended knee model with `opts` and the lever arm
-/// `r`, with the `[tuning]` overrides (one value per state of the extended
+/// `sdre` / `ekf` on the extended knee model with `opts` and the lever arm,
+/// with the `[tuning]` overrides (one value per state of the extended
 /// model, in its state order) applied to the tuning of the relative torque
 /// error `torque_error` (default: `extended_defaults::TORQUE_ERROR`).
 pub fn build_extended_knee(
     base: KneeFesModel,
     thigh: f64,
-    (opts, r): (KneeStateOptions, f64),
+    states: (KneeStateOptions, LeverArm),
     lin: (Linearisation, Option<f64>),
     tuning: &[(&'static str, Vec<f64>)],
     path: &Path,
 ) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
-    match opts.states() {
-        2 => extended::<2>(base, thigh, opts, r, lin, tuning, path),
-        3 => extended::<3>(base, thigh, opts, r, lin, tuning, path),
-        4 => extended::<4>(base, thigh, opts, r, lin, tuning, path),
-        5 => extended::<5>(base, thigh, opts, r, lin, tuning, path),
-        _ => extended::<6>(base, thigh, opts, r, lin, tuning, path),
+    match states.0.states() {
+        2 => extended::<2>(base, thigh, states, lin, tuning, path),
+        3 => extended::<3>(base, thigh, states, lin, tuning, path),
+        4 => extended::<4>(base, thigh, states, lin, tuning, path),
+        5 => extended::<5>(base, thigh, states, lin, tuning, path),
+        _ => extended::<6>(base, thigh, states, lin, tuning, path),
     }
 }
 

@@ -26,15 +26,13 @@ use std::path::{Path, PathBuf};
 
 use limbfuse_core::Estimator;
 use limbfuse_estimators::fes::continuous::ContinuousTuning;
-use limbfuse_estimators::fes::fixed_hip::fixed_hip_default_tuning;
 use limbfuse_estimators::fes::knee::knee_default_tuning;
 use limbfuse_estimators::fes::mahony::MahonyGains;
-use limbfuse_estimators::fes::{
-    FesFilter, FixedHipPlant, KneePlant, Linearisation, RotationMatrixKnee,
-};
+use limbfuse_estimators::fes::{FesFilter, KneePlant, Linearisation, RotationMatrixKnee};
 use limbfuse_io::{TrialLayout, TrialMeta};
 use limbfuse_models::{
     FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject, ModelError,
+    FIXED_HIP_T_A,
 };
 use nalgebra::SVector;
 use serde::Deserialize;
@@ -42,6 +40,7 @@ use serde::Deserialize;
 use crate::fes_extended::{
     build_extended_knee, build_kinematic, knee_model_from_file, MeasurementFile, StatesFile,
 };
+use crate::fes_fixed_hip::{build_fixed_hip, set_hip_param};
 use crate::segment_params::ParamsFileError;
 use crate::MethodName;
 
@@ -129,8 +128,9 @@ pub enum FesBuildError {
 pub enum FesModel {
     /// Leg-extension machine (2 states); thigh angle of the seat (rad).
     Knee(KneeFesParams, f64),
-    /// Fixed hip (4 states).
-    FixedHip(FixedHipParams),
+    /// Fixed hip (4 states) and its activation time constant `T_a` (s;
+    /// used when the activation states are on, issue 16).
+    FixedHip(FixedHipParams, f64),
 }
 
 /// `v` as a finite number, or the error naming `source` and `key`.
@@ -167,33 +167,6 @@ pub fn set_knee_param(p: &mut KneeFesParams, key: &str, v: f64) -> bool {
     true
 }
 
-/// Sets one fixed-hip parameter by name; `false` for an unknown name.
-pub fn set_hip_param(p: &mut FixedHipParams, key: &str, v: f64) -> bool {
-    match key {
-        "thigh_mass" => p.thigh_mass = v,
-        "thigh_length" => p.thigh_length = v,
-        "thigh_com" => p.thigh_com = v,
-        "thigh_inertia" => p.thigh_inertia = v,
-        "leg_mass" => p.leg_mass = v,
-        "leg_com" => p.leg_com = v,
-        "leg_inertia" => p.leg_inertia = v,
-        "g" => p.g = v,
-        "hip_stiffness" => p.hip_stiffness = v,
-        "hip_damping" => p.hip_damping = v,
-        "knee_phi0" => p.knee_phi0 = v,
-        "force_velocity" => p.force_velocity = v,
-        "knee_d1" | "knee_d2" | "knee_d3" | "knee_d4" | "knee_d5" | "knee_d6" => {
-            p.knee_d[(key.as_bytes()[6] - b'1') as usize] = v;
-        }
-        "t_hf" => p.muscle_peak[0] = v,
-        "t_he" => p.muscle_peak[1] = v,
-        "t_kf" => p.muscle_peak[2] = v,
-        "t_ke" => p.muscle_peak[3] = v,
-        _ => return false,
-    }
-    true
-}
-
 impl FesModel {
     /// The model of a trial's metadata (preset + `param.*` overrides).
     pub fn from_meta(meta: &TrialMeta, method: MethodName) -> Result<Self, FesBuildError> {
@@ -209,7 +182,7 @@ impl FesModel {
                 };
                 FesModel::Knee(KneeFesParams::subject(s), thigh)
             }
-            "fixed-hip" => FesModel::FixedHip(FixedHipParams::default()),
+            "fixed-hip" => FesModel::FixedHip(FixedHipParams::default(), FIXED_HIP_T_A),
             other => {
                 return Err(FesBuildError::UnknownModel {
                     found: other.to_string(),
@@ -229,7 +202,7 @@ impl FesModel {
     pub fn set(&mut self, source: &str, key: &str, v: f64) -> Result<(), FesBuildError> {
         let (ok, model) = match self {
             FesModel::Knee(p, _) => (set_knee_param(p, key, v), "knee-fes"),
-            FesModel::FixedHip(p) => (set_hip_param(p, key, v), "fixed-hip"),
+            FesModel::FixedHip(p, t_a) => (set_hip_param(p, t_a, key, v), "fixed-hip"),
         };
         if ok {
             Ok(())
@@ -246,7 +219,7 @@ impl FesModel {
     pub fn name(&self) -> &'static str {
         match self {
             FesModel::Knee(..) => "knee-fes",
-            FesModel::FixedHip(_) => "fixed-hip",
+            FesModel::FixedHip(..) => "fixed-hip",
         }
     }
 
@@ -255,7 +228,7 @@ impl FesModel {
         let model = self.name();
         let need: &[(bool, &'static str)] = match self {
             FesModel::Knee(..) => &[(layout.stim[0], "u_ke")],
-            FesModel::FixedHip(_) => &[
+            FesModel::FixedHip(..) => &[
                 (layout.stim[3], "u_hf"),
                 (layout.stim[2], "u_he"),
                 (layout.stim[1], "u_kf"),
@@ -370,9 +343,11 @@ pub struct FesParamsFile {
     /// Gains of `rmx`.
     #[serde(default)]
     pub rmx: RmxFile,
-    /// Optional states of the knee model (issue 16; `sdre` / `ekf`).
+    /// Optional states of the knee model (issue 16; `sdre` / `ekf`);
+    /// `None` when the file has no `[states]` table (then `[model] t_a`
+    /// decides: [`FesParamsFile::state_options`]).
     #[serde(default)]
-    pub states: StatesFile,
+    pub states: Option<StatesFile>,
     /// Shank accelerometer lever arm (`sdre` / `ekf` / `knee-kinematic`).
     #[serde(default)]
     pub measurement: MeasurementFile,
@@ -543,28 +518,22 @@ pub fn build_fes_estimator(
     }
     model.check_layout(layout)?;
     let tuning = file.tuning_entries();
-    let opts = file.states.options();
-    let radius = file.measurement.radius(path)?;
+    let opts = file.state_options();
     let extended = file.is_extended();
-    if !extended && file.tuning.torque_error.is_some() {
+    if !extended && file.tuning.torque_error.is_some() && matches!(model, FesModel::Knee(..)) {
         return Err(FesBuildError::NotApplicable {
             path: source,
             what: "[tuning] torque_error applies to the extended knee model only (a file with [states] or [measurement])".into(),
         });
     }
-    if extended {
-        if let FesModel::FixedHip(_) = model {
-            return Err(FesBuildError::NotApplicable {
-                path: source,
-                what: "[states] and [measurement] apply to the knee-fes model only (the fixed-hip model has no optional states)".into(),
-            });
-        }
-    }
     Ok(match model {
+        FesModel::FixedHip(p, t_a) => {
+            build_fixed_hip(FixedHipModel::new(p)?, t_a, file, lin, &tuning)?
+        }
         FesModel::Knee(p, thigh) if extended => build_extended_knee(
             KneeFesModel::new(p)?,
             thigh,
-            (opts, radius),
+            (opts, file.lever_arm(meta)?),
             (lin, file.tuning.torque_error),
             &tuning,
             path,
@@ -575,17 +544,6 @@ pub fn build_fes_estimator(
             let mut plant = KneePlant::new(KneeFesModel::new(p)?);
             plant.thigh_angle = thigh;
             Box::new(FesFilter::new(plant, lin, t))
-        }
-        FesModel::FixedHip(p) => {
-            let mut t = fixed_hip_default_tuning(lin);
-            apply_tuning(&mut t, &tuning, path)?;
-            Box::new(FesFilter::new(
-                FixedHipPlant {
-                    model: FixedHipModel::new(p)?,
-                },
-                lin,
-                t,
-            ))
         }
     })
 }

@@ -35,6 +35,7 @@ pub mod channels;
 mod error;
 pub mod fes_default_file;
 pub mod fes_extended;
+pub mod fes_fixed_hip;
 pub mod fes_methods;
 pub mod fes_params;
 pub mod gait_methods;

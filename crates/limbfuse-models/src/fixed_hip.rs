@@ -247,6 +247,22 @@ impl FixedHipModel {
         )
     }
 
+    /// The generalised torque per unit muscle input: column `i` of the
+    /// returned matrix is `dQ/du_i` for `u = [u_hf, u_he, u_kf, u_ke]`
+    /// (the force-velocity-scaled peak torques; `Q` is affine in them).
+    pub fn muscle_torque_matrix(&self, x: &Vector4<f64>) -> SMatrix<f64, 2, 4> {
+        let p = &self.p;
+        let cv = p.force_velocity;
+        let [t_hf, t_he, t_kf, t_ke] = p.muscle_peak;
+        let v_k = x[3] - x[2];
+        let hf = t_hf * (1.0 - cv * x[2]);
+        let he = -t_he * (1.0 + cv * x[2]);
+        let kf = -t_kf * (1.0 + cv * v_k);
+        let ke = t_ke * (1.0 - cv * v_k);
+        // Q = (tau_h - tau_k, tau_k).
+        SMatrix::<f64, 2, 4>::new(hf, he, -kf, -ke, 0.0, 0.0, kf, ke)
+    }
+
     /// Generalised torque `Q = T_pa + T = (tau_h - tau_k, tau_k)`.
     pub fn generalised_torque(&self, x: &Vector4<f64>, u: &SVector<f64, 6>) -> Vector2<f64> {
         let (th, tk) = self.joint_torques(x, u);

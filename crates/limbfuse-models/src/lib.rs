@@ -14,6 +14,7 @@ pub mod error;
 pub mod fes_knee;
 pub mod fes_knee_extended;
 pub mod fixed_hip;
+pub mod fixed_hip_activation;
 pub mod kinematic_knee;
 pub mod sdc;
 
@@ -23,6 +24,7 @@ pub use fes_knee_extended::{
     ExtendedKneeError, ExtendedKneeModel, KneeStateLayout, KneeStateOptions,
 };
 pub use fixed_hip::{FixedHipModel, FixedHipParams};
+pub use fixed_hip_activation::{FixedHipActivationModel, FIXED_HIP_T_A};
 pub use kinematic_knee::KinematicKneeModel;
 pub use sdc::{Linearised, SdcModel};
 pub mod bslip;

@@ -12,6 +12,11 @@
 //!   the desired acceleration needs minus what FES and the passive tissues
 //!   give, plus PD on the errors with 8 s^-2 and 4 s^-1), so FES and motors
 //!   share the torque as in a hybrid neuroprosthesis.
+//! * Muscle activation (optional, `activation_t_a`; issue 16): the four
+//!   activations follow `a' = (u - a) / T_a` from `a = u(0)` and drive the
+//!   muscle torques in place of the stimulation
+//!   (`limbfuse_models::fixed_hip_activation`); off by default (the
+//!   thesis's `a = u`).
 //! * Truth: RK4 at 1 kHz. Sensors as in the knee simulator: IMUs at mid
 //!   thigh and mid shank with tangential, centripetal and (for the shank)
 //!   knee acceleration, MEMS errors, optional constant gyro drift.
@@ -21,7 +26,7 @@
 //!   `knee_ref = q1 - q2`.
 
 use limbfuse_core::{Record, Reference, Sample, Segment};
-use limbfuse_models::{FixedHipModel, FixedHipParams, SdcModel};
+use limbfuse_models::{FixedHipActivationModel, FixedHipModel, FixedHipParams, SdcModel};
 use nalgebra::{SVector, Vector2, Vector3, Vector4};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -54,6 +59,9 @@ pub struct FixedHipConfig {
     pub period_s: f64,
     /// Extra constant gyro drift on both gyros' z axis (rad/s).
     pub gyro_drift: f64,
+    /// Muscle activation dynamics in the truth with this `T_a` (s); `None`:
+    /// activation equals stimulation (the thesis model).
+    pub activation_t_a: Option<f64>,
 }
 
 impl Default for FixedHipConfig {
@@ -68,6 +76,7 @@ impl Default for FixedHipConfig {
             encoder: EncoderSpec::default(),
             period_s: 2.0,
             gyro_drift: 0.0,
+            activation_t_a: None,
         }
     }
 }
@@ -106,11 +115,11 @@ fn stimulation(t: f64, period: f64) -> [f64; 4] {
 }
 
 /// Motor torques `(tau_hip, tau_knee)`: the inverse-dynamics torque of the
-/// desired acceleration minus what FES and the passive tissues already
-/// provide (the controller knows the model), plus a PD law.
-fn motor(model: &FixedHipModel, x: &Vector4<f64>, t: f64, period: f64) -> (f64, f64) {
+/// desired acceleration minus what FES (muscle drive `s`: the stimulation,
+/// or the activations) and the passive tissues already provide (the
+/// controller knows the model), plus a PD law.
+fn motor(model: &FixedHipModel, x: &Vector4<f64>, t: f64, period: f64, s: [f64; 4]) -> (f64, f64) {
     let (qd, vd, ad) = desired(t, period);
-    let s = stimulation(t, period);
     let no_motor = SVector::<f64, 6>::from_row_slice(&[s[0], s[1], s[2], s[3], 0.0, 0.0]);
     let (kp, kd) = (80.0, 8.0);
     let e = Vector2::new(qd[0] - x[0], qd[1] - x[1]);
@@ -130,6 +139,10 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
     in_range("period_s", cfg.period_s, 0.5, 20.0, "[0.5, 20]")?;
     in_range("gyro_drift", cfg.gyro_drift, -1.0, 1.0, "[-1, 1] rad/s")?;
     let model = FixedHipModel::new(cfg.params)?;
+    let act = match cfg.activation_t_a {
+        Some(t_a) => Some(FixedHipActivationModel::new(model, t_a)?),
+        None => None,
+    };
     let p = cfg.params;
     let g = p.g;
     let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
@@ -161,26 +174,46 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
     };
     let (q0, v0, _) = desired(0.0, cfg.period_s);
     let mut x = Vector4::new(q0[0], q0[1], v0[0], v0[1]);
+    // Activations (used when `act` is set), starting at the stimulation.
+    let mut a = stimulation(0.0, cfg.period_s);
+    let drive = |a: &[f64; 4], t: f64| match act {
+        Some(_) => *a,
+        None => stimulation(t, cfg.period_s),
+    };
     let mut records = Vec::with_capacity(n);
-    let mut held = motor(&model, &x, 0.0, cfg.period_s);
+    let mut held = motor(&model, &x, 0.0, cfg.period_s, drive(&a, 0.0));
     for k in 0..n {
         let t = k as f64 * dt;
         if k > 0 {
             for j in 0..sub {
                 let tj = t - dt + j as f64 * h;
                 let xv = x;
-                held = motor(&model, &xv, tj, cfg.period_s);
+                held = motor(&model, &xv, tj, cfg.period_s, drive(&a, tj));
+                if let Some(am) = &act {
+                    let f = |ti: f64, s: &[f64; 8]| -> [f64; 8] {
+                        let xs = SVector::<f64, 8>::from_row_slice(s);
+                        let d = am.f(&xs, &inputs(&x, ti, held));
+                        core::array::from_fn(|i| d[i])
+                    };
+                    let s0 = [x[0], x[1], x[2], x[3], a[0], a[1], a[2], a[3]];
+                    let r = rk4(&f, tj, &s0, h);
+                    x = Vector4::new(r[0], r[1], r[2], r[3]);
+                    a = [r[4], r[5], r[6], r[7]];
+                    continue;
+                }
                 let f = |ti: f64, s: &[f64; 4]| -> [f64; 4] {
                     let xs = Vector4::new(s[0], s[1], s[2], s[3]);
                     let d = model.f(&xs, &inputs(&xs, ti, held));
                     [d[0], d[1], d[2], d[3]]
                 };
-                let a = rk4(&f, tj, &[x[0], x[1], x[2], x[3]], h);
-                x = Vector4::new(a[0], a[1], a[2], a[3]);
+                let r = rk4(&f, tj, &[x[0], x[1], x[2], x[3]], h);
+                x = Vector4::new(r[0], r[1], r[2], r[3]);
             }
         }
         let u = inputs(&x, t, held);
-        let acc = model.accelerations(&x, &u);
+        let m = drive(&a, t);
+        let muscles = SVector::<f64, 6>::from_row_slice(&[m[0], m[1], m[2], m[3], u[4], u[5]]);
+        let acc = model.accelerations(&x, &muscles);
         let thigh = PlanarSegment {
             angle: x[0],
             rate: x[2],
@@ -232,6 +265,10 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
         ("period_s".to_string(), cfg.period_s.to_string()),
         ("gyro_drift_rad_s".to_string(), cfg.gyro_drift.to_string()),
     ];
+    if let Some(t_a) = cfg.activation_t_a {
+        metadata.push(("activation_dynamics".to_string(), "true".to_string()));
+        metadata.push(("param.t_a".to_string(), t_a.to_string()));
+    }
     metadata.extend(fixed_hip_param_metadata(&p));
     Ok(FesTrial { records, metadata })
 }

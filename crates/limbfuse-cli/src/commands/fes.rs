@@ -70,6 +70,7 @@ pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
         seed: a.seed,
         noise: !a.no_noise,
         gyro_drift: a.gyro_drift.to_radians(),
+        activation_t_a: a.activation_t_a,
         ..FixedHipConfig::default()
     };
     let trial = simulated_trials::fixed_hip(&cfg)?;

@@ -121,58 +121,90 @@ impl Plant<4, 4, 6> for FixedHipPlant {
     }
 
     fn measurement(&self, s: &Sample) -> [Option<f64>; 4] {
-        let th = s.imu(Segment::Thigh);
-        let sh = s.imu(Segment::Shank);
-        [
-            th.gyr.map(|g| g.z),
-            sh.gyr.map(|g| g.z),
-            th.acc.map(|a| a.x),
-            sh.acc.map(|a| a.x),
-        ]
+        hip_measurement(s)
     }
 
     fn input(&self, s: &Sample) -> [Option<f64>; 6] {
-        // ModelInputs::stim order is [u_ke, u_kf, u_he, u_hf].
-        let st = &s.inputs.stim;
-        let m = &s.inputs.motor_torque;
-        [st[3], st[2], st[1], st[0], m[0], m[1]]
+        hip_input(s)
     }
 
     fn initial_state(&self, s: &Sample) -> SVector<f64, 4> {
-        let incl = |seg: Segment| {
-            let imu = s.imu(seg);
-            (
-                imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(0.0),
-                imu.gyr.map(|g| g.z).unwrap_or(0.0),
-            )
-        };
-        let (t, tr) = incl(Segment::Thigh);
-        let (sh, sr) = incl(Segment::Shank);
-        Vector4::new(t, sh, tr, sr)
+        hip_initial_state(s)
     }
 
     fn outputs(&self) -> Outputs {
-        Outputs {
-            segment: [false, true, true, false],
-            joint: [true, true, false],
-            ..Outputs::default()
-        }
+        HIP_OUTPUTS
     }
 
     fn fill(&self, x: &SVector<f64, 4>, e: &mut Estimate) {
-        e.set_segment(Segment::Thigh, x[0]);
-        e.set_segment(Segment::Shank, x[1]);
-        e.joint[0] = Some(-x[0]);
-        e.joint[1] = Some(x[0] - x[1]);
+        hip_fill(x[0], x[1], e);
     }
 
     fn describe(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        let p = &self.model.p;
-        writeln!(out, "trunk: fixed upright (hip = -thigh)")?;
-        writeln!(out, "thigh_mass: {}", p.thigh_mass)?;
-        writeln!(out, "thigh_length: {}", p.thigh_length)?;
-        writeln!(out, "leg_mass: {}", p.leg_mass)?;
-        writeln!(out, "g: {}", p.g)?;
-        writeln!(out, "muscle_peak_hf_he_kf_ke: {:?}", p.muscle_peak)
+        describe_hip(&self.model, out)
     }
+}
+
+/// The fixed hip's measurement rows of a sample (thigh and shank `gyr_z`,
+/// `acc_x`).
+pub(crate) fn hip_measurement(s: &Sample) -> [Option<f64>; 4] {
+    let th = s.imu(Segment::Thigh);
+    let sh = s.imu(Segment::Shank);
+    [
+        th.gyr.map(|g| g.z),
+        sh.gyr.map(|g| g.z),
+        th.acc.map(|a| a.x),
+        sh.acc.map(|a| a.x),
+    ]
+}
+
+/// The fixed hip's inputs `[u_hf, u_he, u_kf, u_ke, tau_hip, tau_knee]`.
+pub(crate) fn hip_input(s: &Sample) -> [Option<f64>; 6] {
+    // ModelInputs::stim order is [u_ke, u_kf, u_he, u_hf].
+    let st = &s.inputs.stim;
+    let m = &s.inputs.motor_torque;
+    [st[3], st[2], st[1], st[0], m[0], m[1]]
+}
+
+/// Thigh and shank angle and rate from the first sample.
+pub(crate) fn hip_initial_state(s: &Sample) -> SVector<f64, 4> {
+    let incl = |seg: Segment| {
+        let imu = s.imu(seg);
+        (
+            imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(0.0),
+            imu.gyr.map(|g| g.z).unwrap_or(0.0),
+        )
+    };
+    let (t, tr) = incl(Segment::Thigh);
+    let (sh, sr) = incl(Segment::Shank);
+    Vector4::new(t, sh, tr, sr)
+}
+
+/// What the fixed-hip plants fill: thigh, shank, hip, knee.
+pub(crate) const HIP_OUTPUTS: Outputs = Outputs {
+    segment: [false, true, true, false],
+    joint: [true, true, false],
+    phase: false,
+    speed: false,
+    com: false,
+    contact: false,
+};
+
+/// Writes thigh `q1` and shank `q2` (absolute) and hip `-q1`, knee `q1 - q2`.
+pub(crate) fn hip_fill(q1: f64, q2: f64, e: &mut Estimate) {
+    e.set_segment(Segment::Thigh, q1);
+    e.set_segment(Segment::Shank, q2);
+    e.joint[0] = Some(-q1);
+    e.joint[1] = Some(q1 - q2);
+}
+
+/// The fixed-hip parameters of the estimate header.
+pub(crate) fn describe_hip(m: &FixedHipModel, out: &mut dyn fmt::Write) -> fmt::Result {
+    let p = &m.p;
+    writeln!(out, "trunk: fixed upright (hip = -thigh)")?;
+    writeln!(out, "thigh_mass: {}", p.thigh_mass)?;
+    writeln!(out, "thigh_length: {}", p.thigh_length)?;
+    writeln!(out, "leg_mass: {}", p.leg_mass)?;
+    writeln!(out, "g: {}", p.g)?;
+    writeln!(out, "muscle_peak_hf_he_kf_ke: {:?}", p.muscle_peak)
 }

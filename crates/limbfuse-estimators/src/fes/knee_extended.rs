@@ -68,6 +68,9 @@ pub struct ExtendedKneePlant<const N: usize> {
     pub model: ExtendedKneeModel<N>,
     /// Absolute thigh angle (rad); the seat holds the thigh horizontal: pi/2.
     pub thigh_angle: f64,
+    /// Where the lever arm `model.imu_radius` came from (written to the
+    /// estimate's header as `shank_imu_m_source` when not empty).
+    pub imu_radius_source: &'static str,
 }
 
 /// `sdre` / `ekf` on the extended knee model with `N` states.
@@ -302,7 +305,11 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
         writeln!(out, "torque_disturbance_state: {}", o.disturbance)?;
         writeln!(out, "gyro_bias_state: {}", o.gyro_bias)?;
         writeln!(out, "acc_bias_state: {}", o.acc_bias)?;
-        writeln!(out, "shank_imu_m: {}", m.imu_radius)
+        writeln!(out, "shank_imu_m: {}", m.imu_radius)?;
+        if !self.imu_radius_source.is_empty() {
+            writeln!(out, "shank_imu_m_source: {}", self.imu_radius_source)?;
+        }
+        Ok(())
     }
 
     fn write_diagnostics(&self, st: &FilterState<N>, resets: u32, e: &mut Estimate) {
@@ -361,6 +368,7 @@ impl<const N: usize> ExtendedKneePlant<N> {
         ExtendedKneePlant {
             model,
             thigh_angle: core::f64::consts::FRAC_PI_2,
+            imu_radius_source: "",
         }
     }
 

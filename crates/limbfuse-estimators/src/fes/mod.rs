@@ -7,7 +7,8 @@
 //! * [`filter`]: [`filter::FesFilter`], the [`limbfuse_core::Estimator`]
 //!   over a [`filter::Plant`] (a model plus the channel mapping).
 //! * [`knee`]: the leg-extension plant (2 states), [`fixed_hip`]: the
-//!   fixed-hip plant (4 states).
+//!   fixed-hip plant (4 states); [`fixed_hip_activation`]: the fixed hip
+//!   with the four muscle activations as states (8, issue 16).
 //! * [`knee_extended`]: the knee model with optional activation,
 //!   unknown-torque and sensor-bias states (issue 16), and the model-free
 //!   kinematic shank plant of `knee-kinematic`.
@@ -19,6 +20,7 @@
 pub mod continuous;
 pub mod filter;
 pub mod fixed_hip;
+pub mod fixed_hip_activation;
 pub mod knee;
 pub mod knee_extended;
 pub mod mahony;
@@ -28,6 +30,9 @@ pub mod rmx;
 pub use continuous::{ContinuousTuning, Linearisation};
 pub use filter::{FesFilter, Plant};
 pub use fixed_hip::{FixedHipDiag, FixedHipFilter, FixedHipPlant};
+pub use fixed_hip_activation::{
+    FixedHipActivationDiag, FixedHipActivationFilter, FixedHipActivationPlant,
+};
 pub use knee::{KneeFesDiag, KneeFesFilter, KneePlant};
 pub use knee_extended::{
     ExtendedKneeDiag, ExtendedKneeFilter, ExtendedKneePlant, KinematicKneeDiag,
