@@ -113,10 +113,10 @@ fn issue_18_the_in_plane_accelerometer_axes_are_used_without_the_lateral_one() {
     }
 }
 
-/// The chain with only gyro z and accelerometer y on some samples and only
-/// accelerometer x on others: each present axis is its own row, so the
-/// estimate stays close to the complete trial's. Before the fix those
-/// samples had no IMU reading at all.
+/// The chain with only gyro z and accelerometer x, y on even samples and
+/// only accelerometer y on odd ones: each present axis is its own row, so
+/// the estimate stays close to the complete trial's. Before the fix no
+/// sample had an IMU reading at all.
 #[test]
 fn issue_18_chain_uses_each_present_axis() {
     let clean = walking(12.0, 9);
@@ -126,10 +126,10 @@ fn issue_18_chain_uses_each_present_axis() {
             let (w, a) = (imu.gyr_axes(), imu.acc_axes());
             if k % 2 == 0 {
                 imu.set_gyr_axes([None, None, w[2]]);
-                imu.set_acc_axes([None, a[1], None]);
+                imu.set_acc_axes([a[0], a[1], None]);
             } else {
                 imu.set_gyr_axes([None, None, None]);
-                imu.set_acc_axes([a[0], None, None]);
+                imu.set_acc_axes([None, a[1], None]);
             }
         }
     }
