@@ -207,7 +207,11 @@ impl VectorTrack {
         }
         if let (Some(alpha), Some((w, t0))) = (max_accel, self.last_ok) {
             let bound = alpha * (t - t0) + limits.gyro_noise_rad_s;
-            if present().any(|(k, x)| !((x - w[k]).abs() <= bound)) {
+            let jumped = |k: usize, x: f64| {
+                let d = (x - w[k]).abs();
+                d.is_nan() || d > bound
+            };
+            if present().any(|(k, x)| jumped(k, x)) {
                 return Some(Implausible::Jump);
             }
         }
