@@ -124,7 +124,7 @@ fn issue_18_chain_uses_each_present_axis() {
     for (k, r) in partial.iter_mut().enumerate() {
         for imu in r.sample.imu.iter_mut() {
             let (w, a) = (imu.gyr_axes(), imu.acc_axes());
-            if k % 2 == 0 {
+            if k.is_multiple_of(2) {
                 imu.set_gyr_axes([None, None, w[2]]);
                 imu.set_acc_axes([a[0], a[1], None]);
             } else {

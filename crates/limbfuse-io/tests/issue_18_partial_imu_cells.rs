@@ -44,7 +44,7 @@ fn records() -> Vec<Record> {
             r.sample.t = t;
             for (i, imu) in r.sample.imu.iter_mut().enumerate() {
                 let x = (t * (1.0 + i as f64)).sin();
-                let cell = |axis: usize, v: f64| ((k + axis + i) % 5 != 0).then_some(v);
+                let cell = |axis: usize, v: f64| (!(k + axis + i).is_multiple_of(5)).then_some(v);
                 imu.set_acc_axes([cell(0, x), cell(1, 9.81 + x), cell(2, -x / 3.0)]);
                 imu.set_gyr_axes([cell(2, 0.1 * x), cell(3, x * x), cell(4, 2.0 * x)]);
             }
