@@ -181,6 +181,42 @@ impl VectorTrack {
         self.rejected = [None; 3];
         None
     }
+
+    /// The jump checks of [`VectorTrack::check`] on the present axes of an
+    /// incomplete vector (issue 18 item 2): a present axis repeating a
+    /// rejected jump's value, or beyond the jump bound from the last
+    /// accepted complete vector, is implausible. An incomplete vector is not
+    /// remembered (the bound of the other axes would start from a time at
+    /// which they were not read) and takes no part in the stuck check (a
+    /// stuck vector is a repeat of all three axes).
+    pub fn check_axes(
+        &self,
+        cells: &[Option<f64>; 3],
+        t: f64,
+        max_accel: Option<f64>,
+        limits: &PlausibilityLimits,
+    ) -> Option<Implausible> {
+        let present = || {
+            cells
+                .iter()
+                .enumerate()
+                .filter_map(|(k, c)| Some((k, (*c)?)))
+        };
+        if present().any(|(k, x)| self.rejected[k] == Some(x)) {
+            return Some(Implausible::Jump);
+        }
+        if let (Some(alpha), Some((w, t0))) = (max_accel, self.last_ok) {
+            let bound = alpha * (t - t0) + limits.gyro_noise_rad_s;
+            let jumped = |k: usize, x: f64| {
+                let d = (x - w[k]).abs();
+                d.is_nan() || d > bound
+            };
+            if present().any(|(k, x)| jumped(k, x)) {
+                return Some(Implausible::Jump);
+            }
+        }
+        None
+    }
 }
 
 #[cfg(test)]

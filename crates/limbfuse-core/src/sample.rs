@@ -9,6 +9,14 @@ use nalgebra::Vector3;
 use crate::limb::{Joint, Segment};
 
 /// One IMU's readings at one instant, in the sensor frame.
+///
+/// A vector is either complete (`acc`/`gyr`, every consumer reads these) or
+/// incomplete: then `acc`/`gyr` is `None` and the axes that are there are in
+/// `acc_partial`/`gyr_partial` (issue 18 item 2: one dropped cell of a file
+/// no longer loses the other two). The partial fields are all `None` when
+/// the vector is complete or wholly missing, so setting `acc = None` on a
+/// complete vector still drops the whole sensor. Estimators that need only
+/// some axes read them with [`ImuSample::acc_axis`] / [`ImuSample::gyr_axis`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ImuSample {
     /// Specific force (m/s^2); `None` when any axis is missing.
@@ -17,12 +25,75 @@ pub struct ImuSample {
     pub gyr: Option<Vector3<f64>>,
     /// Device orientation quaternion `[w, x, y, z]`, when the device provides one.
     pub quat: Option<[f64; 4]>,
+    /// The present axes (x, y, z) of an incomplete specific-force vector
+    /// (`acc` is `None`); all `None` otherwise.
+    pub acc_partial: [Option<f64>; 3],
+    /// The present axes (x, y, z) of an incomplete angular-rate vector
+    /// (`gyr` is `None`); all `None` otherwise.
+    pub gyr_partial: [Option<f64>; 3],
+}
+
+/// The complete vector of three cells, or `None` and the cells that are there.
+fn split_cells(cells: [Option<f64>; 3]) -> (Option<Vector3<f64>>, [Option<f64>; 3]) {
+    match cells {
+        [Some(x), Some(y), Some(z)] => (Some(Vector3::new(x, y, z)), [None; 3]),
+        partial => (None, partial),
+    }
 }
 
 impl ImuSample {
-    /// True when neither accelerometer nor gyroscope nor quaternion is present.
+    /// True when neither accelerometer nor gyroscope (not even one axis) nor
+    /// quaternion is present.
     pub fn is_empty(&self) -> bool {
-        self.acc.is_none() && self.gyr.is_none() && self.quat.is_none()
+        !self.has_inertial_cells() && self.quat.is_none()
+    }
+
+    /// True when any accelerometer or gyroscope axis is present.
+    pub fn has_inertial_cells(&self) -> bool {
+        self.acc.is_some()
+            || self.gyr.is_some()
+            || self.acc_partial.iter().any(Option::is_some)
+            || self.gyr_partial.iter().any(Option::is_some)
+    }
+
+    /// Specific-force axis `k` (0 = x, 1 = y, 2 = z), complete vector or not.
+    #[inline]
+    pub fn acc_axis(&self, k: usize) -> Option<f64> {
+        match self.acc {
+            Some(v) => Some(v[k]),
+            None => self.acc_partial[k],
+        }
+    }
+
+    /// Angular-rate axis `k` (0 = x, 1 = y, 2 = z), complete vector or not.
+    #[inline]
+    pub fn gyr_axis(&self, k: usize) -> Option<f64> {
+        match self.gyr {
+            Some(v) => Some(v[k]),
+            None => self.gyr_partial[k],
+        }
+    }
+
+    /// The three specific-force cells.
+    pub fn acc_axes(&self) -> [Option<f64>; 3] {
+        core::array::from_fn(|k| self.acc_axis(k))
+    }
+
+    /// The three angular-rate cells.
+    pub fn gyr_axes(&self) -> [Option<f64>; 3] {
+        core::array::from_fn(|k| self.gyr_axis(k))
+    }
+
+    /// Sets the specific force from its three cells: `acc` when all are
+    /// there, else `acc_partial`.
+    pub fn set_acc_axes(&mut self, cells: [Option<f64>; 3]) {
+        (self.acc, self.acc_partial) = split_cells(cells);
+    }
+
+    /// Sets the angular rate from its three cells: `gyr` when all are
+    /// there, else `gyr_partial`.
+    pub fn set_gyr_axes(&mut self, cells: [Option<f64>; 3]) {
+        (self.gyr, self.gyr_partial) = split_cells(cells);
     }
 }
 
@@ -223,4 +294,27 @@ pub struct Record {
     pub sample: Sample,
     /// What was true (all `None` when the trial has no reference).
     pub reference: Reference,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn issue_18_an_incomplete_vector_keeps_its_present_axes() {
+        let mut imu = ImuSample::default();
+        imu.set_gyr_axes([None, Some(0.5), Some(2.0)]);
+        assert_eq!(imu.gyr, None);
+        assert_eq!(imu.gyr_axes(), [None, Some(0.5), Some(2.0)]);
+        assert!(imu.has_inertial_cells() && !imu.is_empty());
+        imu.set_gyr_axes([Some(1.0), Some(0.5), Some(2.0)]);
+        assert_eq!(imu.gyr, Some(Vector3::new(1.0, 0.5, 2.0)));
+        assert_eq!(imu.gyr_partial, [None; 3]);
+        assert_eq!(imu.gyr_axis(0), Some(1.0));
+        // dropping a complete vector drops the sensor
+        imu.gyr = None;
+        assert!(imu.is_empty());
+        imu.set_acc_axes([None; 3]);
+        assert_eq!((imu.acc, imu.acc_partial), (None, [None; 3]));
+    }
 }

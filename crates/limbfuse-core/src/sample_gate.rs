@@ -30,6 +30,15 @@
 //! accelerometer's repeat only while its IMU turns, its gyroscope is frozen
 //! too, or it has none). They too become missing and are counted, by kind
 //! and by reason.
+//!
+//! An incomplete vector (some axes missing in the file: `acc_partial`,
+//! `gyr_partial` of [`crate::sample::ImuSample`]; issue 18 item 2) gets the
+//! same range and clipping checks per present cell (one bad cell drops the
+//! vector's other present cells too) and, for gyroscopes, the jump check
+//! per present axis against the last accepted complete vector. It takes no
+//! part in the stuck check (a stuck sensor repeats all three axes) and is
+//! not remembered as the last accepted vector. A rejected incomplete vector
+//! counts as one rejected reading of its kind.
 
 use crate::plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 use crate::sample::Sample;
@@ -245,6 +254,26 @@ impl SampleGate {
                     tally(rej, why);
                 }
             }
+            if imu.gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
+                let cells = &imu.gyr_partial;
+                let out = !cells_within(cells, r.gyro_rad_s);
+                let clip = !out && cells_clipped(cells, r.gyro_full_scale_rad_s);
+                let why = (!out && !clip)
+                    .then(|| track[0].check_axes(cells, t, Some(alpha), &lim))
+                    .flatten();
+                if out || clip || why.is_some() {
+                    imu.gyr_partial = [None; 3];
+                    rej.gyro += 1;
+                    rej.clipped += u64::from(clip);
+                    if let Some(why) = why {
+                        tally(rej, why);
+                    }
+                }
+            }
+            if imu.acc.is_none() && !cells_within(&imu.acc_partial, r.acc_m_s2) {
+                imu.acc_partial = [None; 3];
+                rej.acc += 1;
+            }
             if let Some(a) = imu.acc {
                 if !within(&a, r.acc_m_s2) {
                     imu.acc = None;
@@ -276,6 +305,24 @@ impl SampleGate {
     }
 }
 
+/// Whether every present cell of an incomplete vector is finite and within
+/// `limit` (a packet with one bad cell is dropped whole, as a complete
+/// vector is).
+fn cells_within(cells: &[Option<f64>; 3], limit: f64) -> bool {
+    cells.iter().flatten().all(|x| x.abs() <= limit)
+}
+
+/// Whether any present cell is at or beyond [`CLIPPED_FRACTION`] of the
+/// full scale `fs`.
+fn cells_clipped(cells: &[Option<f64>; 3], fs: Option<f64>) -> bool {
+    fs.is_some_and(|fs| {
+        cells
+            .iter()
+            .flatten()
+            .any(|x| x.abs() >= CLIPPED_FRACTION * fs)
+    })
+}
+
 /// Counts a plausibility rejection by its reason.
 fn tally(rej: &mut Rejections, why: Implausible) {
     match why {
@@ -298,6 +345,42 @@ mod tests {
         s.encoder = [Some(0.3), Some(1.2), Some(-0.2)];
         s.other_leg_imu = s.imu;
         s
+    }
+
+    #[test]
+    fn issue_18_incomplete_vectors_are_screened_per_cell() {
+        let mut g = SampleGate::new(SensorRanges::default());
+        let s = walking_sample();
+        assert_eq!(g.screen(&s), s);
+        let mut p = walking_sample();
+        p.t = 1.01;
+        p.imu[0].gyr = None;
+        p.imu[0].gyr_partial = [None, None, Some(3.1)];
+        p.imu[1].acc = None;
+        p.imu[1].acc_partial = [Some(2.0), Some(9.4), None];
+        // plausible partial vectors pass unchanged
+        assert_eq!(g.screen(&p), p);
+        assert_eq!(g.rejections().total(), 0);
+        p.t = 1.02;
+        p.imu[0].gyr_partial = [Some(0.1), None, Some(1e300)];
+        p.imu[1].acc_partial = [Some(f64::NAN), Some(9.4), None];
+        p.imu[2].gyr = None;
+        p.imu[2].gyr_partial = [None, None, Some(34.9)]; // clipped
+        p.imu[3].gyr = None;
+        p.imu[3].gyr_partial = [None, Some(-0.2), Some(3.0 + 15.0)]; // a jump (foot: 101 rad/s allowed)
+        let out = g.screen(&p);
+        assert_eq!(out.imu[0].gyr_partial, [None; 3]);
+        assert_eq!(out.imu[1].acc_partial, [None; 3]);
+        assert_eq!(out.imu[2].gyr_partial, [None; 3]);
+        assert_eq!(out.imu[3].gyr_partial, p.imu[3].gyr_partial);
+        let r = *g.rejections();
+        assert_eq!((r.gyro, r.acc, r.clipped, r.jumps), (2, 1, 1, 0));
+        p.t = 1.03;
+        p.imu[1].gyr = None;
+        p.imu[1].gyr_partial = [None, None, Some(3.0 + 25.0)]; // thigh: beyond 21 rad/s in 10 ms
+        let out = g.screen(&p);
+        assert_eq!(out.imu[1].gyr_partial, [None; 3]);
+        assert_eq!(g.rejections().jumps, 1);
     }
 
     #[test]

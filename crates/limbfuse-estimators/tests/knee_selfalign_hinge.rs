@@ -91,6 +91,7 @@ fn noise_free_hinge_axes_within_1_deg_positions_within_1_cm() {
                 acc: Some(f),
                 gyr: Some(w),
                 quat: None,
+                ..Default::default()
             };
         }
         let e = est.step(&s).unwrap();

@@ -203,8 +203,8 @@ impl TrialReader {
         let mut rec = Record::default();
         rec.sample.t = t;
         for i in 0..4 {
-            rec.sample.imu[i].acc = vector(&row, plan.acc[i])?;
-            rec.sample.imu[i].gyr = vector(&row, plan.gyr[i])?;
+            rec.sample.imu[i].set_acc_axes(cells(&row, plan.acc[i])?);
+            rec.sample.imu[i].set_gyr_axes(cells(&row, plan.gyr[i])?);
             rec.sample.imu[i].quat = match plan.quat[i] {
                 Some(cols) => numbers(&row, cols)?,
                 None => None,
@@ -212,8 +212,8 @@ impl TrialReader {
             rec.reference.segment[i] = row.opt_number(plan.segment_ref[i])?;
         }
         for i in 0..4 {
-            rec.sample.other_leg_imu[i].acc = vector(&row, plan.other_acc[i])?;
-            rec.sample.other_leg_imu[i].gyr = vector(&row, plan.other_gyr[i])?;
+            rec.sample.other_leg_imu[i].set_acc_axes(cells(&row, plan.other_acc[i])?);
+            rec.sample.other_leg_imu[i].set_gyr_axes(cells(&row, plan.other_gyr[i])?);
         }
         for side in 0..2 {
             if let Some(c) = plan.contact_ref[side] {
@@ -271,6 +271,18 @@ fn numbers<const K: usize>(row: &Row<'_>, cols: [usize; K]) -> Result<Option<[f6
         }
     }
     Ok(complete.then_some(out))
+}
+
+/// The three cells of an IMU vector, each present or not (a vector with
+/// a missing axis keeps its other axes: issue 18 item 2).
+fn cells(row: &Row<'_>, cols: Option<[usize; 3]>) -> Result<[Option<f64>; 3], FileError> {
+    let mut out = [None; 3];
+    if let Some(c) = cols {
+        for (o, c) in out.iter_mut().zip(c) {
+            *o = row.number(c)?;
+        }
+    }
+    Ok(out)
 }
 
 fn vector(row: &Row<'_>, cols: Option<[usize; 3]>) -> Result<Option<Vector3<f64>>, FileError> {

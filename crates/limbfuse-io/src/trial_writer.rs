@@ -101,12 +101,12 @@ fn write_record<S: CellSink + ?Sized>(line: &mut S, l: &TrialLayout, r: &Record)
         let imu = &s.imu[i];
         if l.acc[i] {
             for k in 0..3 {
-                line.number(imu.acc.map(|v| v[k]));
+                line.number(imu.acc_axis(k));
             }
         }
         if l.gyr[i] {
             for k in 0..3 {
-                line.number(imu.gyr.map(|v| v[k]));
+                line.number(imu.gyr_axis(k));
             }
         }
         if l.quat[i] {
@@ -119,12 +119,12 @@ fn write_record<S: CellSink + ?Sized>(line: &mut S, l: &TrialLayout, r: &Record)
         let imu = &s.other_leg_imu[i];
         if l.other_acc[i] {
             for k in 0..3 {
-                line.number(imu.acc.map(|v| v[k]));
+                line.number(imu.acc_axis(k));
             }
         }
         if l.other_gyr[i] {
             for k in 0..3 {
-                line.number(imu.gyr.map(|v| v[k]));
+                line.number(imu.gyr_axis(k));
             }
         }
     }

@@ -358,6 +358,7 @@ impl Iterator for PoseRecording {
                 acc: Some(a),
                 gyr: Some(w),
                 quat: None,
+                ..Default::default()
             };
         }
         Some(Record {

@@ -541,6 +541,7 @@ impl Iterator for WalkingSimulator {
                 acc: Some(a),
                 gyr: Some(w),
                 quat: None,
+                ..Default::default()
             };
         }
         let joint = joints(&seg);

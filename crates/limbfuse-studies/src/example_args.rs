@@ -408,6 +408,10 @@ pub struct RobustInputStudyArgs {
     /// Only these methods (default: mjls, chain, global, local).
     #[arg(long, value_delimiter = ',', value_parser = method_name)]
     pub methods: Vec<limbfuse_methods::MethodName>,
+    /// A vector with a missing cell goes missing as a whole (the trial
+    /// reader before issue 18 item 2); default: its present axes stay.
+    #[arg(long)]
+    pub whole_vectors: bool,
 }
 
 /// The IMU vectors `robust_input_study` masks.

@@ -16,6 +16,7 @@ pub mod covariance;
 pub mod kinematics;
 pub mod missing_data;
 pub mod params;
+pub mod stance;
 pub mod startup;
 pub mod state;
 #[cfg(test)]
@@ -25,8 +26,8 @@ use core::fmt;
 
 use alloc::boxed::Box;
 use limbfuse_core::estimator::Outputs;
+use limbfuse_core::sample::ImuSample;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample, TimeStep};
-use nalgebra::Vector3;
 
 use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
@@ -195,7 +196,7 @@ impl ChainEkf {
             // Without a first gyro reading the rate is unknown to a walking
             // segment's rate amplitude (ours, issue 18 item 2; 0.1 rad/s
             // about 0 started a moving segment a degree off).
-            (x[omega(i)], d[omega(i)]) = match first.imu[i].gyr.map(|w| w.z) {
+            (x[omega(i)], d[omega(i)]) = match first.imu[i].gyr_axis(2) {
                 Some(w) if w.is_finite() => (w, initial::RATE),
                 _ => (0.0, HELD_RATE_SD),
             };
@@ -252,17 +253,18 @@ impl ChainEkf {
     /// Records the gyro x/y rates of every sensor (for their derivative).
     fn out_of_plane_rates(&mut self, sample: &Sample) {
         for i in 0..4 {
-            self.out_of_plane(i, sample.imu[i].gyr, sample.t);
+            self.out_of_plane(i, &sample.imu[i], sample.t);
         }
     }
 
     /// The non-sagittal rotation of segment `i`'s sensor (zero when off or
-    /// without a gyro reading); remembers the reading for the next derivative.
-    fn out_of_plane(&mut self, i: usize, gyr: Option<Vector3<f64>>, t: f64) -> OutOfPlane {
-        let Some(g) = gyr else {
+    /// without gyro x and y readings, which an incomplete vector without z
+    /// may still hold); remembers the reading for the next derivative.
+    fn out_of_plane(&mut self, i: usize, imu: &ImuSample, t: f64) -> OutOfPlane {
+        let (Some(x), Some(y)) = (imu.gyr_axis(0), imu.gyr_axis(1)) else {
             return OutOfPlane::default();
         };
-        let rate = [g.x, g.y];
+        let rate = [x, y];
         let derivative = match self.last_xy_rate[i] {
             Some((prev, tp)) if t > tp => [
                 (rate[0] - prev[0]) / (t - tp),
@@ -293,12 +295,13 @@ impl ChainEkf {
         let p = self.params;
         let (mut sum, mut n) = (0.0, 0.0);
         for i in 0..4 {
-            if let Some(w) = sample.imu[i]
-                .gyr
-                .filter(|w| w.x.is_finite() && w.y.is_finite())
-            {
+            let imu = &sample.imu[i];
+            if let (Some(wx), Some(wy)) = (imu.gyr_axis(0), imu.gyr_axis(1)) {
+                if !(wx.is_finite() && wy.is_finite()) {
+                    continue;
+                }
                 let (s, c) = (libm::sin(self.x[theta(i)]), libm::cos(self.x[theta(i)]));
-                sum += w.x * s + w.y * c;
+                sum += wx * s + wy * c;
                 n += 1.0;
             }
         }
@@ -320,52 +323,6 @@ impl ChainEkf {
         scalar_update(&mut self.x, &mut self.p, row, nu, sigma * sigma, gate).applied
     }
 
-    /// Whether the foot has been still (small rotation, specific force ~ g)
-    /// for at least `stance_min_s`: a single still sample also occurs in
-    /// swing, where the foot's rotation reverses.
-    ///
-    /// Missing foot readings (ours, issue 18 item 2): a reading that is
-    /// there must pass its own test; a sample without either vector neither
-    /// confirms nor ends the stillness, so that random dropouts do not cut
-    /// every stance into pieces shorter than `stance_min_s` (with half the
-    /// foot's vectors missing, eight readings in a row are rarely
-    /// complete). The anchor is only applied while a foot reading was seen
-    /// within the last `stance_min_s`. Without a reading, the chain's own
-    /// foot rate `omega_3` stands in for it when it is still to within two
-    /// sigma (`|omega_3| + 2 sd < stance_gyro`): the sample counts as a still
-    /// reading, so the ankle acceleration anchor applies too (ours, issue
-    /// 18 item 2; 20 % of the cells missing on the independent walks: +76 ->
-    /// +52 % RMSE at 1.6 m/s, +28 -> +14 % at 1.2 m/s).
-    fn foot_still(&mut self, sample: &Sample) -> Option<f64> {
-        let foot = &sample.imu[3];
-        let acc_still = foot
-            .acc
-            .map(|a| (a.norm() - self.g).abs() < self.params.stance_acc);
-        let Some(w) = foot.gyr else {
-            // No rotation reading: a moving accelerometer ends the
-            // stillness, otherwise it goes on while a gyro reading is recent.
-            let age = self.last_foot_gyro.map(|t| sample.t - t);
-            if acc_still == Some(false) || !age.is_some_and(|a| a <= self.params.stance_min_s) {
-                self.still_since = None;
-            }
-            let since = self.still_since?;
-            // The chain's own estimate of the foot's rate stands in for the
-            // missing reading: still to within two sigma, the stance goes on
-            // as if a still reading had come (the acceleration anchor too).
-            let (w, var) = (self.x[omega(3)], self.p[(omega(3), omega(3))]);
-            let still = libm::fabs(w) + 2.0 * libm::sqrt(var.max(0.0)) < self.params.stance_gyro;
-            let age = if still { 0.0 } else { age.unwrap_or(0.0) };
-            return (sample.t - since >= self.params.stance_min_s).then_some(age);
-        };
-        self.last_foot_gyro = Some(sample.t);
-        if !(w.norm() < self.params.stance_gyro && acc_still.unwrap_or(true)) {
-            self.still_since = None;
-            return None;
-        }
-        let since = *self.still_since.get_or_insert(sample.t);
-        (sample.t - since >= self.params.stance_min_s).then_some(0.0)
-    }
-
     /// One filter step after the start-up: predict, then every scalar row.
     /// Returns (stance applied, accelerometer rows rejected).
     fn filter_step(&mut self, sample: &Sample, dt: f64) -> (bool, u32) {
@@ -376,11 +333,12 @@ impl ChainEkf {
         let p = self.params;
         let inf = f64::INFINITY;
         for i in 0..4 {
-            if let Some(w) = sample.imu[i].gyr.filter(|w| w.z.is_finite()) {
+            // gyro z, also of an incomplete vector (issue 18 item 2)
+            if let Some(wz) = sample.imu[i].gyr_axis(2).filter(|w| w.is_finite()) {
                 let mut row = SparseRow::new();
                 row.add(omega(i), 1.0);
                 row.add(gyro_bias(i), 1.0);
-                let nu = w.z - self.x[omega(i)] - self.x[gyro_bias(i)];
+                let nu = wz - self.x[omega(i)] - self.x[gyro_bias(i)];
                 self.apply(&row, nu, p.gyro_noise, inf);
             }
         }
@@ -399,16 +357,18 @@ impl ChainEkf {
         }
         let mut rejected = 0;
         for i in 0..4 {
-            let oop = self.out_of_plane(i, sample.imu[i].gyr, sample.t);
-            let Some(acc) = sample.imu[i]
-                .acc
-                .filter(|a| a.x.is_finite() && a.y.is_finite())
-            else {
-                continue;
-            };
+            let imu = &sample.imu[i];
+            let oop = self.out_of_plane(i, imu, sample.t);
+            // Each in-plane axis that is there is its own row (issue 18 item
+            // 2: an incomplete vector's x or y too). A complete vector with
+            // a non-finite in-plane axis is not used at all.
+            let complete_ok = imu.acc.is_none_or(|a| a.x.is_finite() && a.y.is_finite());
             for k in 0..2 {
+                let Some(a) = imu.acc_axis(k).filter(|a| a.is_finite() && complete_ok) else {
+                    continue;
+                };
                 let (f, rows) = self.geometry.specific_force(&self.x, i, self.g, &oop);
-                if !self.apply(&rows[k], acc[k] - f[k], p.acc_noise, p.acc_gate) {
+                if !self.apply(&rows[k], a - f[k], p.acc_noise, p.acc_gate) {
                     rejected += 1;
                 }
             }
@@ -423,11 +383,7 @@ impl ChainEkf {
         row.add(MEAN_SPEED, -1.0);
         let nu = -(self.x[hip_velocity(0)] - self.x[MEAN_SPEED]);
         self.apply(&row, nu, p.hip_forward_velocity, inf);
-        if sample
-            .imu
-            .iter()
-            .all(|m| m.gyr.is_none() && m.acc.is_none())
-        {
+        if !sample.imu.iter().any(ImuSample::has_inertial_cells) {
             missing_data::hold_trunk(&mut self.x, &mut self.p);
         }
         let stance = self.foot_still(sample);

@@ -12,7 +12,7 @@
 
 use limbfuse_core::Sample;
 
-use crate::inclination::accel_inclination;
+use crate::inclination::{accel_inclination, sagittal_specific_force};
 use crate::segment_kf::robust::borrow_rates;
 
 /// Running sums of the start-up window.
@@ -52,7 +52,7 @@ impl Startup {
             self.start = Some(sample.t);
         }
         let mut rate: [Option<f64>; 4] =
-            core::array::from_fn(|i| sample.imu[i].gyr.map(|g| g.z).filter(|r| r.is_finite()));
+            core::array::from_fn(|i| sample.imu[i].gyr_axis(2).filter(|r| r.is_finite()));
         let encoder = sample.encoder.map(|e| e.filter(|v| v.is_finite()));
         if let Some(dt) = dt {
             borrow_rates(&mut rate, &encoder, &self.last_encoder, dt);
@@ -70,7 +70,7 @@ impl Startup {
             if rate.is_some() {
                 self.last_rate[i] = rate;
             }
-            if let Some(acc) = imu.acc {
+            if let Some(acc) = sagittal_specific_force(imu) {
                 add(
                     &mut self.segment_sum[i],
                     accel_inclination(&acc) - self.integral[i],

@@ -32,7 +32,7 @@ use super::robust::{
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
-use crate::inclination::accel_inclination;
+use crate::inclination::{accel_inclination, sagittal_specific_force};
 
 /// What the filters read from one sample, after cleaning.
 #[derive(Debug, Clone, Copy)]
@@ -262,7 +262,7 @@ impl Chain {
         let mut rho = [None; 4];
         let mut rate = [None; 4];
         for (i, imu) in sample.imu.iter().enumerate() {
-            if let Some(acc) = imu.acc {
+            if let Some(acc) = sagittal_specific_force(imu) {
                 // (a norm that overflows, e.g. 1e300 on an axis, is no reading:
                 // found by tests/issue_18_fuzz.rs as an infinite `rho` diagnostic)
                 let r = reliability(&acc, g);
@@ -271,7 +271,8 @@ impl Chain {
                     rho[i] = Some(r);
                 }
             }
-            rate[i] = imu.gyr.and_then(|w| finite(w.z));
+            // the sagittal rate, also from an incomplete vector (issue 18)
+            rate[i] = imu.gyr_axis(2).and_then(finite);
         }
         let mut encoder = [None; 3];
         for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {

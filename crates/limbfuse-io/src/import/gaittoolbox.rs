@@ -266,6 +266,7 @@ pub fn import_gaittoolbox_with(
                 acc: acc[k].map(Vector3::from),
                 gyr: gyr[k].map(Vector3::from),
                 quat: q,
+                ..Default::default()
             });
         }
         imus.push(samples);

@@ -22,6 +22,12 @@ pub fn apply_rotations(record: &Record, rotations: &[Option<Rotation3<f64>>; 4])
         let Some(r) = r else { continue };
         imu.acc = imu.acc.map(|v| r * v);
         imu.gyr = imu.gyr.map(|v| r * v);
+        if imu.acc.is_none() {
+            imu.set_acc_axes(rotate_cells(r, &imu.acc_partial));
+        }
+        if imu.gyr.is_none() {
+            imu.set_gyr_axes(rotate_cells(r, &imu.gyr_partial));
+        }
         imu.quat = imu.quat.map(|[w, x, y, z]| {
             let q = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
             let q = q * UnitQuaternion::from_rotation_matrix(&r.inverse());
@@ -29,6 +35,32 @@ pub fn apply_rotations(record: &Record, rotations: &[Option<Rotation3<f64>>; 4])
         });
     }
     out
+}
+
+/// A rotation entry at or below this magnitude is an exact zero that
+/// round-off left behind (an axis permutation built from a quaternion
+/// leaves ~1e-16): the input axis it weights may be missing. Its term is at
+/// most 1e-6 times the input's range, 2e-4 m/s^2 at 16 g and 4e-5 rad/s at
+/// 2000 deg/s, below any MEMS IMU's per-sample noise (~1e-2 m/s^2, ~5e-3
+/// rad/s at 100 Hz).
+pub const NEGLIGIBLE_WEIGHT: f64 = 1e-6;
+
+/// `R v` of an incomplete vector (issue 18 item 2): output axis `k` is
+/// there only when every input axis it depends on with a weight beyond
+/// [`NEGLIGIBLE_WEIGHT`] is there (a rotation that mixes axes needs them
+/// all); its value is the sum over those axes.
+pub fn rotate_cells(r: &Rotation3<f64>, cells: &[Option<f64>; 3]) -> [Option<f64>; 3] {
+    let m = r.matrix();
+    core::array::from_fn(|k| {
+        (0..3).try_fold(0.0, |sum, j| {
+            let w = m[(k, j)];
+            if w.abs() <= NEGLIGIBLE_WEIGHT {
+                Some(sum + cells[j].map_or(0.0, |v| w * v))
+            } else {
+                cells[j].map(|v| sum + w * v)
+            }
+        })
+    })
 }
 
 /// `w x y z` of a rotation (w first, w >= 0).
@@ -164,4 +196,34 @@ pub fn rotations_from_metadata(
         out[s.index()] = Some(UnitQuaternion::from_quaternion(q).to_rotation_matrix());
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn issue_18_a_rotated_incomplete_vector_keeps_the_axes_it_can() {
+        // 90 deg about z: x' = -y, y' = x, z' = z (entries ~1e-16 elsewhere)
+        let r = Rotation3::from_axis_angle(&Vector3::z_axis(), core::f64::consts::FRAC_PI_2);
+        let out = rotate_cells(&r, &[Some(1.0), None, Some(3.0)]);
+        assert_eq!(out[0], None);
+        assert!((out[1].unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(out[2], Some(3.0));
+        // 30 deg about z mixes x and y: without y, neither x' nor y'
+        let r = Rotation3::from_axis_angle(&Vector3::z_axis(), 0.5);
+        assert_eq!(
+            rotate_cells(&r, &[Some(1.0), None, Some(3.0)]),
+            [None, None, Some(3.0)]
+        );
+        // applied to a record: a complete vector as before, an incomplete one per axis
+        let mut rec = Record::default();
+        rec.sample.imu[1].set_gyr_axes([None, Some(2.0), Some(0.5)]);
+        rec.sample.imu[2].acc = Some(Vector3::new(1.0, 2.0, 3.0));
+        let rot = [None, Some(r), Some(r), None];
+        let out = apply_rotations(&rec, &rot);
+        assert_eq!(out.sample.imu[1].gyr_axes(), [None, None, Some(0.5)]);
+        assert_eq!(out.sample.imu[2].acc, Some(r * Vector3::new(1.0, 2.0, 3.0)));
+    }
 }

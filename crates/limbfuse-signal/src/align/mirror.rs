@@ -26,6 +26,11 @@ pub fn mirror_record(r: &Record) -> Record {
     for imu in out.sample.imu.iter_mut() {
         imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
         imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
+        // incomplete vectors: each axis maps to itself (issue 18 item 2)
+        let [ax, ay, az] = imu.acc_partial;
+        imu.acc_partial = [ax, ay, az.map(|z| -z)];
+        let [wx, wy, wz] = imu.gyr_partial;
+        imu.gyr_partial = [wx.map(|x| -x), wy.map(|y| -y), wz];
         imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
     }
     out
@@ -90,6 +95,7 @@ mod tests {
             acc: Some(f),
             gyr: Some(w),
             quat: Some([q.w, q.i, q.j, q.k]),
+            ..Default::default()
         };
         let m = mirror_record(&rec).sample.imu[1];
         assert!((m.gyr.unwrap() - wl).norm() < 1e-5);

@@ -209,6 +209,7 @@ mod tests {
             acc: Some(a),
             gyr: Some(w),
             quat: None,
+            ..Default::default()
         };
         Record {
             sample: s,

@@ -43,8 +43,8 @@ impl Slot {
     fn get(self, r: &Record) -> Option<f64> {
         let (s, re) = (&r.sample, &r.reference);
         match self {
-            Slot::Acc(i, k) => s.imu[i].acc.map(|v| v[k]),
-            Slot::Gyr(i, k) => s.imu[i].gyr.map(|v| v[k]),
+            Slot::Acc(i, k) => s.imu[i].acc_axis(k),
+            Slot::Gyr(i, k) => s.imu[i].gyr_axis(k),
             Slot::Encoder(j) => s.encoder[j],
             Slot::Stim(k) => s.inputs.stim[k],
             Slot::Motor(j) => s.inputs.motor_torque[j],
@@ -164,8 +164,9 @@ pub fn resample_trial(
     let vec3 = |v: [Option<f64>; 3]| Some(Vector3::new(v[0]?, v[1]?, v[2]?));
     for (k, r) in records.iter_mut().enumerate() {
         for i in 0..4 {
-            r.sample.imu[i].acc = vec3(acc[k][i]);
-            r.sample.imu[i].gyr = vec3(gyr[k][i]);
+            // per axis: an incomplete vector keeps its axes (issue 18)
+            r.sample.imu[i].set_acc_axes(acc[k][i]);
+            r.sample.imu[i].set_gyr_axes(gyr[k][i]);
         }
         r.reference.com_pos = vec3(com[k][0]);
         r.reference.com_vel = vec3(com[k][1]);
