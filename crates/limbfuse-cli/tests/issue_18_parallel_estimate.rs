@@ -67,11 +67,7 @@ fn issue_18_parallel_estimate_equals_the_streamed_one() {
             d.path(),
         );
         assert_eq!(file.status.code(), Some(0), "{method}");
-        let piped = limbfuse_stdin(
-            &["estimate", "--method", method, "-", "-o", "-"],
-            d.path(),
-            "t.csv",
-        );
+        let piped = limbfuse_stdin(&["estimate", "--method", method, "-", "-o", "-"], d.path(), "t.csv");
         assert_eq!(piped.status.code(), Some(0), "{method}");
         let written = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
         let streamed = String::from_utf8(piped.stdout).unwrap();
@@ -112,11 +108,7 @@ fn issue_18_parallel_estimate_fails_on_a_late_malformed_row_like_the_streamed_on
         &["estimate", "--method", "mjls", "bad.csv", "-o", "e.csv"],
         d.path(),
     );
-    let piped = limbfuse_stdin(
-        &["estimate", "--method", "mjls", "-", "-o", "-"],
-        d.path(),
-        "bad.csv",
-    );
+    let piped = limbfuse_stdin(&["estimate", "--method", "mjls", "-", "-o", "-"], d.path(), "bad.csv");
     assert_eq!(file.status.code(), Some(1));
     assert_eq!(piped.status.code(), Some(1));
     let (fe, pe) = (

@@ -92,13 +92,7 @@ impl CellRows {
 }
 
 /// Formats rows of `width` cells as CSV lines into `text` (emptied first).
-fn format_rows(
-    values: &[f64],
-    width: usize,
-    is_label: &[bool],
-    labels: &[String],
-    text: &mut Vec<u8>,
-) {
+fn format_rows(values: &[f64], width: usize, is_label: &[bool], labels: &[String], text: &mut Vec<u8>) {
     text.clear();
     let mut buf = zmij::Buffer::new();
     for row in values.chunks_exact(width) {

@@ -72,15 +72,6 @@ impl fmt::Debug for HashHandle {
 }
 
 impl HashHandle {
-    /// Forgets that the source was read to its end (a reader that read
-    /// ahead hands the rest over to another, which must reach the end
-    /// itself before the hash counts as finished).
-    pub(crate) fn reopen(&self) {
-        if let Ok(mut s) = self.0.lock() {
-            s.at_end = false;
-        }
-    }
-
     /// The hash of every byte read, once the reader has reached the end of
     /// its source; `None` before (a partial hash identifies nothing).
     pub fn finished(&self) -> Option<ContentHash> {

@@ -260,9 +260,6 @@ impl RowBlocks {
     fn hand_over(&mut self, at: usize, lines_read: u64) -> Next<'static> {
         let rest = Cursor::new(self.buf[at..self.valid].to_vec());
         self.chunks.clear();
-        // The file may have been read to its end already: the hash is
-        // final only when the streaming reader gets there.
-        self.hash.reopen();
         let source: Box<dyn Read + Send> = match self.file.take() {
             Some(file) => Box::new(rest.chain(file)),
             None => Box::new(rest),
@@ -424,7 +421,10 @@ fn phase_code(raw: &[u8]) -> Option<f64> {
         return Some(f64::NAN);
     }
     let phase = GaitPhase::from_label(std::str::from_utf8(raw).ok()?)?;
-    PHASES.iter().position(|&p| p == phase).map(|k| k as f64)
+    PHASES
+        .iter()
+        .position(|&p| p == phase)
+        .map(|k| k as f64)
 }
 
 /// One parsed row.

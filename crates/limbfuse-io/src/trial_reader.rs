@@ -14,8 +14,8 @@ use nalgebra::Vector3;
 use crate::error::FileError;
 use crate::layout::{contact_ref_column, other_leg_prefix, TrialLayout, AXES, QUAT};
 use crate::meta::TrialMeta;
-use crate::row_blocks::{Next, RowBlocks};
 use crate::table::{Row, TableReader};
+use crate::row_blocks::{Next, RowBlocks};
 
 /// Column indices of every known channel.
 #[derive(Debug, Clone, Default)]
@@ -352,9 +352,9 @@ impl RowCells for Row<'_> {
         let label = std::str::from_utf8(text)
             .ok()
             .and_then(GaitPhase::from_label);
-        Ok(Some(label.ok_or_else(|| {
-            Row::cell_error(self, col, PHASE_EXPECTED)
-        })?))
+        Ok(Some(
+            label.ok_or_else(|| Row::cell_error(self, col, PHASE_EXPECTED))?,
+        ))
     }
     fn cell_error(&self, col: usize, expected: &'static str) -> FileError {
         Row::cell_error(self, col, expected)
@@ -429,10 +429,7 @@ fn numbers<C: RowCells, const K: usize>(
     Ok(complete.then_some(out))
 }
 
-fn vector<C: RowCells>(
-    row: &C,
-    cols: Option<[usize; 3]>,
-) -> Result<Option<Vector3<f64>>, FileError> {
+fn vector<C: RowCells>(row: &C, cols: Option<[usize; 3]>) -> Result<Option<Vector3<f64>>, FileError> {
     match cols {
         Some(c) => Ok(numbers(row, c)?.map(Vector3::from)),
         None => Ok(None),
