@@ -93,7 +93,7 @@ impl<W: Write> EstimateWriter<W> {
             Self::arrow(out)
         } else {
             let mut w = Self::new(out);
-            w.rows = Some(CellRows::new(crate::row_blocks::threads()));
+            w.rows = Some(CellRows::new(crate::whole_file::threads()));
             w
         }
     }

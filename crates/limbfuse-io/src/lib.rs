@@ -22,10 +22,10 @@ pub mod gait_library;
 pub mod import;
 pub mod layout;
 pub mod meta;
-mod row_blocks;
 pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;
+mod whole_file;
 
 pub use atomic_file::AtomicFile;
 pub use calibration::{Calibration, CalibrationFileError, ImuCalibration};

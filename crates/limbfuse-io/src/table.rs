@@ -130,21 +130,6 @@ impl TableReader {
         Ok(table)
     }
 
-    /// Continues reading rows from `source`, which starts at the line
-    /// after `lines_read` (the header was read from another source), with
-    /// the content hash of the whole file in `hash`
-    /// (`crate::row_blocks` hands a file over this way).
-    pub(crate) fn resume(
-        &mut self,
-        source: Box<dyn Read + Send>,
-        lines_read: u64,
-        hash: HashHandle,
-    ) {
-        self.lines = LineSource::new(source);
-        self.lines_read = lines_read;
-        self.hash = hash;
-    }
-
     fn line_error(&self, e: LineError) -> FileError {
         match e {
             LineError::Io(e) => FileError::io(&self.path, e),

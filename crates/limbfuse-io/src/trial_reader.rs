@@ -15,7 +15,7 @@ use crate::error::FileError;
 use crate::layout::{contact_ref_column, other_leg_prefix, TrialLayout, AXES, QUAT};
 use crate::meta::TrialMeta;
 use crate::table::{Row, TableReader};
-use crate::row_blocks::{Next, RowBlocks};
+use crate::whole_file::ParsedRows;
 
 /// Column indices of every known channel.
 #[derive(Debug, Clone, Default)]
@@ -97,9 +97,8 @@ pub struct TrialReader {
     layout: TrialLayout,
     previous_t: Option<f64>,
     rows: u64,
-    /// The rows of a file parsed in blocks ([`TrialReader::open_parallel`]),
-    /// until the end or the streaming reader takes over.
-    blocks: Option<RowBlocks>,
+    /// The rows of a file read whole ([`TrialReader::open_whole`]).
+    parsed: Option<ParsedRows>,
 }
 
 /// Finds a group of columns `prefix + suffix`; all or none must exist.
@@ -139,23 +138,24 @@ impl TrialReader {
         Self::from_table(TableReader::open(path)?)
     }
 
-    /// Opens a trial file to be parsed in blocks of 1 MiB on every core
-    /// (`crate::row_blocks`); the records, errors and content hash are those
-    /// of [`TrialReader::open`] (which reads an Arrow file, and takes over
-    /// at the first row the block parser does not take: see there). Memory:
-    /// one block and its numbers. Not for standard input, which is read
-    /// row by row as it arrives.
-    pub fn open_parallel(path: &Path) -> Result<Self, FileError> {
-        let Some((table, blocks)) = crate::row_blocks::open(path) else {
+    /// Opens a trial file and reads it whole, parsing its rows on every
+    /// core (`crate::whole_file`); the records, errors and content hash are
+    /// those of [`TrialReader::open`], which is used instead for an Arrow
+    /// file, a file larger than 1 GiB, a file with quoted cells or one with
+    /// an error (so that the error is found and reported as it always was).
+    /// Holds the file's numbers in memory (8 bytes per cell read); not for
+    /// standard input, which must stay streamed.
+    pub fn open_whole(path: &Path) -> Result<Self, FileError> {
+        let Some(whole) = crate::whole_file::load(path) else {
             return Self::open(path);
         };
-        let n_columns = table.header().len();
+        let (table, body) = whole.into_parts();
         let Ok(mut reader) = Self::from_table(table) else {
             return Self::open(path);
         };
-        match blocks.plan(&reader.plan, n_columns) {
-            Some(blocks) => {
-                reader.blocks = Some(blocks);
+        match body.parse(&reader.plan, reader.table.header().len()) {
+            Some(rows) => {
+                reader.parsed = Some(rows);
                 Ok(reader)
             }
             None => Self::open(path),
@@ -238,7 +238,7 @@ impl TrialReader {
             layout,
             previous_t: None,
             rows: 0,
-            blocks: None,
+            parsed: None,
         })
     }
 
@@ -260,35 +260,23 @@ impl TrialReader {
     /// The content hash of the trial file, hashed as it was read; `Some`
     /// once every record has been read (the estimate file records it).
     pub fn content_hash(&self) -> Option<crate::ContentHash> {
+        if let Some(rows) = &self.parsed {
+            return rows.content_hash();
+        }
         self.table.content_hash()
     }
 
     /// Reads the next record; `Ok(None)` at the end of the file. A file with
     /// a header and no rows is an error ([`FileError::NoRows`]).
     pub fn next_record(&mut self) -> Result<Option<Record>, FileError> {
-        if let Some(blocks) = &mut self.blocks {
-            match blocks.next_row(self.table.path(), self.table.header())? {
-                Next::Row(row) => {
-                    let rec = build_record(&self.plan, &row, self.previous_t)?;
-                    self.previous_t = Some(rec.sample.t);
-                    self.rows += 1;
-                    return Ok(Some(rec));
-                }
-                Next::End => {
-                    let (lines_read, hash) = blocks.lines_read_and_hash();
-                    self.blocks = None;
-                    self.table
-                        .resume(Box::new(std::io::empty()), lines_read, hash);
-                }
-                Next::Stream {
-                    source,
-                    lines_read,
-                    hash,
-                } => {
-                    self.blocks = None;
-                    self.table.resume(source, lines_read, hash);
-                }
-            }
+        if let Some(rows) = &mut self.parsed {
+            let Some(row) = rows.next_row(self.table.path(), self.table.header()) else {
+                return Ok(None);
+            };
+            let rec = build_record(&self.plan, &row, self.previous_t)?;
+            self.previous_t = Some(rec.sample.t);
+            self.rows += 1;
+            return Ok(Some(rec));
         }
         let header_line = self.table.header_line();
         let Some(row) = self.table.next_row()? else {
@@ -308,7 +296,7 @@ impl TrialReader {
 }
 
 /// The cells a record is built from: a row of the file ([`Row`]), or the
-/// row's numbers parsed ahead (`crate::row_blocks`).
+/// row's numbers parsed ahead (`crate::whole_file`).
 pub(crate) trait RowCells {
     /// The finite number in column `col`, `None` when the cell is empty.
     fn number(&self, col: usize) -> Result<Option<f64>, FileError>;
