@@ -21,7 +21,6 @@ use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 
 use crate::arrow_file::{self, ArrowSink};
-use crate::cell_rows::{CellRows, BLOCK_ROWS};
 use crate::cell_sink::{CellSink, CsvLine};
 use crate::content_hash::{ContentHash, STREAMED_HASH, TRIAL_HASH_KEY, TRIAL_KEY};
 use crate::error::FileError;
@@ -39,9 +38,6 @@ pub struct EstimateWriter<W: Write> {
     outputs: Outputs,
     n_diag: usize,
     line: CsvLine,
-    /// Rows collected to be formatted on every core (a CSV file output;
-    /// `None`: each row is written as it arrives).
-    rows: Option<CellRows>,
     /// The trial's file name, for the `# trial:` header line.
     trial: Option<String>,
     /// Byte offset of the `# trial_hash:` value, once the header is written.
@@ -68,7 +64,6 @@ impl<W: Write> EstimateWriter<W> {
             outputs: Outputs::default(),
             n_diag: 0,
             line: CsvLine::with_capacity(512),
-            rows: None,
             trial: None,
             hash_offset: None,
             streamed: false,
@@ -84,26 +79,13 @@ impl<W: Write> EstimateWriter<W> {
     }
 
     /// [`EstimateWriter::arrow`] when `path` names an Arrow file
-    /// ([`arrow_file::is_arrow_path`]), else a CSV file writer that
-    /// formats its rows in blocks of 16384 on every core (the same bytes as
-    /// [`EstimateWriter::new`], which writes each row as it arrives: use
-    /// that for a stream).
+    /// ([`arrow_file::is_arrow_path`]), else [`EstimateWriter::new`] (CSV).
     pub fn for_path(path: &Path, out: W) -> Self {
         if arrow_file::is_arrow_path(path) {
             Self::arrow(out)
         } else {
-            let mut w = Self::new(out);
-            w.rows = Some(CellRows::new(crate::whole_file::threads()));
-            w
+            Self::new(out)
         }
-    }
-
-    /// Writes the rows collected so far.
-    fn write_rows(&mut self) -> std::io::Result<()> {
-        if let (Some(rows), Some(out)) = (&mut self.rows, &mut self.out) {
-            rows.write_to(out)?;
-        }
-        Ok(())
     }
 
     /// Records the trial in the header: `# trial: NAME` and a
@@ -140,7 +122,6 @@ impl<W: Write> EstimateWriter<W> {
         if let Some(sink) = self.sink.take() {
             return sink.finish();
         }
-        self.write_rows()?;
         let mut out = self
             .out
             .take()
@@ -224,14 +205,6 @@ impl<W: Write> Observer for EstimateWriter<W> {
             sink.end_row()?;
             return Ok(());
         }
-        if let Some(rows) = &mut self.rows {
-            write_estimate(rows, &self.outputs, self.n_diag, e);
-            rows.end_row();
-            if rows.len() >= BLOCK_ROWS {
-                self.write_rows()?;
-            }
-            return Ok(());
-        }
         let line = &mut self.line;
         line.clear();
         write_estimate(line, &self.outputs, self.n_diag, e);
@@ -244,7 +217,6 @@ impl<W: Write> Observer for EstimateWriter<W> {
     }
 
     fn finish(&mut self) -> Result<(), BoxError> {
-        self.write_rows()?;
         if let Some(out) = &mut self.out {
             out.flush()?;
         }
@@ -312,7 +284,6 @@ impl<W: Write + Seek> EstimateWriter<W> {
         };
         let text = hash.to_string();
         debug_assert_eq!(text.len(), HASH_PLACEHOLDER.len());
-        self.write_rows()?;
         let out = self.csv_out()?;
         out.flush()?;
         out.seek(SeekFrom::Start(offset))?;

@@ -12,7 +12,6 @@ pub mod atomic_file;
 pub mod body_meta;
 pub mod calibration;
 mod cell_format;
-mod cell_rows;
 mod cell_sink;
 pub mod content_hash;
 mod csv_lines;
@@ -25,7 +24,6 @@ pub mod meta;
 pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;
-mod whole_file;
 
 pub use atomic_file::AtomicFile;
 pub use calibration::{Calibration, CalibrationFileError, ImuCalibration};

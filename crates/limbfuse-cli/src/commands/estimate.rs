@@ -47,7 +47,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             Box::new(FlushingStdin::new(stdout.clone())),
         )?
     } else {
-        TrialReader::open_whole(&a.trial)?
+        TrialReader::open(&a.trial)?
     };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
