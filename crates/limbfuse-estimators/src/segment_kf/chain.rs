@@ -32,6 +32,7 @@ use super::robust::{
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
+use super::window_start::WindowStart;
 use crate::inclination::accel_inclination;
 
 /// What the filters read from one sample, after cleaning.
@@ -64,9 +65,7 @@ impl Inputs {
         };
         acc + rate_missing + enc
     }
-}
 
-impl Inputs {
     /// Accelerometer inclination `atan2(acc_x, acc_y)` of segment `i`
     /// (computed on demand: most samples use few of the four).
     #[inline]
@@ -117,14 +116,12 @@ pub(crate) struct Chain {
     gated_encoder: u64,
     /// Restarts after a long time gap or a divergence.
     resets: u64,
+    /// The start-up window while it is open (`startup_s` > 0).
+    window: Option<WindowStart>,
 }
 
 fn finite(v: f64) -> Option<f64> {
-    if v.is_finite() {
-        Some(v)
-    } else {
-        None
-    }
+    v.is_finite().then_some(v)
 }
 
 /// Wraps an angle difference to [-pi, pi].
@@ -154,6 +151,7 @@ impl Chain {
             encoders_gated_since: [None; 3],
             gated_encoder: 0,
             resets: 0,
+            window: (common.startup_s > 0.0).then(WindowStart::default),
         }
     }
 
@@ -231,8 +229,7 @@ impl Chain {
         }
     }
 
-    /// Forgets segment `i` (its next accelerometer reading starts it again,
-    /// [`Chain::begin`]) and counts a restart.
+    /// Forgets segment `i` (its next accelerometer reading restarts it) and counts a restart.
     fn restart_segment(&mut self, i: usize) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.init[i] = false;
@@ -308,8 +305,17 @@ impl Chain {
         }
         self.restart_diverged();
         let usable = self.init;
-        if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
-            (self.encoder_start, self.init, encoder)
+        if let Some(w) = self.window.as_mut() {
+            if let Some(theta) = w.observe(sample, dt, self.common.startup_s) {
+                self.window = None; // closed: all four start at the window's angles
+                for (i, th) in theta.into_iter().enumerate() {
+                    self.initialise(i, th, 0.0);
+                }
+            }
+        }
+        let waiting = self.window.is_some();
+        if let (false, Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
+            (waiting, self.encoder_start, self.init, encoder)
         {
             let best = (0..4)
                 .filter_map(|i| Some((i, rho[i]?, accel_inclination(&accs[i]?))))
@@ -319,7 +325,7 @@ impl Chain {
             }
         }
         for i in 0..4 {
-            if !self.init[i] {
+            if !self.init[i] && !waiting {
                 if let (Some(a), Some(r)) = (accs[i], rho[i]) {
                     self.initialise(i, accel_inclination(&a), r);
                 }
@@ -418,9 +424,8 @@ impl Chain {
         self.init = [true; 4];
     }
 
-    /// Segment `i`'s rate predicted over a dropout of `tau` seconds from
-    /// its last gyro reading and that reading's slope ([`predicted_rate`]);
-    /// `None` if no rate was ever seen.
+    /// Segment `i`'s rate predicted over a dropout of `tau` s from its last
+    /// reading and slope ([`predicted_rate`]); `None` if none was seen.
     fn held_rate(&self, i: usize, tau: f64) -> Option<f64> {
         let slope = self.last_rate_slope[i].0;
         self.last_rate[i].map(|r| predicted_rate(r, slope, tau))
@@ -439,9 +444,8 @@ impl Chain {
             // (`predicted_rate`); zero if none was ever seen.
             let tau = self.rate_gap[i];
             let held = |t: f64| last_rate[i].map(|r| predicted_rate(r, slope[i].0, t));
-            // The decay is evaluated only over a dropout: with a rate and no
-            // gap (`tau == 0`, where `exp(-0) == 1` exactly) the held rate is
-            // the last rate itself, so this is the same arithmetic.
+            // The decay is evaluated only over a dropout (`tau == 0`: the
+            // held rate is the last rate itself, the same arithmetic).
             let r1 = match rate {
                 Some(r) => *r,
                 None => held(tau + dt).unwrap_or(0.0),
