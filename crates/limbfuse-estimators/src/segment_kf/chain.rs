@@ -32,7 +32,6 @@ use super::robust::{
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::structured::{self, all_finite, ChainRow, Gain};
-use super::window_start::WindowStart;
 use crate::inclination::accel_inclination;
 
 /// What the filters read from one sample, after cleaning.
@@ -116,8 +115,8 @@ pub(crate) struct Chain {
     gated_encoder: u64,
     /// Restarts after a long time gap or a divergence.
     resets: u64,
-    /// The start-up window while it is open (`startup_s` > 0).
-    window: Option<WindowStart>,
+    /// Time of the first sample since the (re)start (for `startup_s`).
+    first_t: Option<f64>,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -151,7 +150,7 @@ impl Chain {
             encoders_gated_since: [None; 3],
             gated_encoder: 0,
             resets: 0,
-            window: (common.startup_s > 0.0).then(WindowStart::default),
+            first_t: None,
         }
     }
 
@@ -305,17 +304,9 @@ impl Chain {
         }
         self.restart_diverged();
         let usable = self.init;
-        if let Some(w) = self.window.as_mut() {
-            if let Some(theta) = w.observe(sample, dt, self.common.startup_s) {
-                self.window = None; // closed: all four start at the window's angles
-                for (i, th) in theta.into_iter().enumerate() {
-                    self.initialise(i, th, 0.0);
-                }
-            }
-        }
-        let waiting = self.window.is_some();
-        if let (false, Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
-            (waiting, self.encoder_start, self.init, encoder)
+        self.first_t.get_or_insert(sample.t);
+        if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
+            (self.encoder_start, self.init, encoder)
         {
             let best = (0..4)
                 .filter_map(|i| Some((i, rho[i]?, accel_inclination(&accs[i]?))))
@@ -325,7 +316,7 @@ impl Chain {
             }
         }
         for i in 0..4 {
-            if !self.init[i] && !waiting {
+            if !self.init[i] {
                 if let (Some(a), Some(r)) = (accs[i], rho[i]) {
                     self.initialise(i, accel_inclination(&a), r);
                 }
@@ -587,10 +578,15 @@ impl Chain {
 
     /// An estimate with the segment angles (initialised segments only) and
     /// the joint angles as their differences.
+    /// None during the run-in (`startup_s`) after a (re)start.
     pub fn estimate(&self, t: f64) -> Estimate {
         let mut est = Estimate::empty(t);
+        let w = self.common.startup_s;
+        let settled = self
+            .first_t
+            .is_none_or(|t0| t - t0 >= w - 1e-9 * w.max(1.0));
         for i in 0..4 {
-            if self.init[i] {
+            if self.init[i] && settled {
                 est.segment[i] = Some(self.angle(i));
             }
         }

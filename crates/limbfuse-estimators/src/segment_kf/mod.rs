@@ -40,7 +40,6 @@ pub mod model;
 pub mod params;
 pub mod robust;
 pub mod structured;
-mod window_start;
 
 pub use chain::RowKind;
 pub use criteria::{

@@ -251,12 +251,13 @@ pub struct CommonParams {
     /// by default ([`AccelGate::OFF`]): the papers' test alone. See
     /// [`AccelGate`] and `docs/SEGMENT_FILTERS.md`.
     pub accel_gate: AccelGate,
-    /// Start-up window (s); 0 (default) = the papers' start, each segment
-    /// at its first accelerometer inclination. When > 0 (ours, issue 14;
-    /// papers 000/001 do not say how their filters start): no estimate for
-    /// this long, then every segment starts at the circular mean of
-    /// (inclination - integrated gyro) over the window plus the integral,
-    /// as `chain` starts (docs/SEGMENT_FILTERS.md, "Start-up window").
+    /// Run-in (s) after a (re)start during which the filter emits no
+    /// estimate; 0 (default) = the papers' filters, which output from their
+    /// first sample. The filter itself runs exactly as without it (each
+    /// segment started at its first accelerometer inclination): only its
+    /// convergence transient is withheld, as `chain` withholds its start-up
+    /// window (ours, issue 14; papers 000/001 do not say how their filters
+    /// start; docs/SEGMENT_FILTERS.md, "Run-in").
     pub startup_s: f64,
 }
 
