@@ -168,5 +168,8 @@ fn issue_14_run_in_key_applies_to_every_method_and_is_checked() {
         assert!(!to_toml(&FilterParams::preset(m, Preset::Default), &[]).contains("startup_s"));
     }
     let e = parse("startup_s = -1", FilterMethod::Local).unwrap_err();
-    assert!(e.contains("`startup_s` = -1") && e.contains("0 (off) to 30 s"), "{e}");
+    assert!(
+        e.contains("`startup_s` = -1") && e.contains("0 (off) to 30 s"),
+        "{e}"
+    );
 }
