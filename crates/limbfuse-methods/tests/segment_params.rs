@@ -74,6 +74,7 @@ fn written_file_reads_back_to_the_same_parameters() {
             p.common_mut().accel_gate.hold_s = 0.01;
             if preset == Preset::Paper2014 {
                 p.common_mut().accel_gate.max_rate = 0.7;
+                p.common_mut().startup_s = 1.0 / 3.0;
             }
             let path = d.path().join(format!("{}.toml", m.name()));
             save_params(&path, &p, &["tuned by a test".into()]).unwrap();
@@ -154,6 +155,21 @@ fn accelerometer_gate_keys_apply_to_every_method_and_are_checked() {
     let e = parse("accel_max_rate = 0", FilterMethod::Global).unwrap_err();
     assert!(
         e.contains("`accel_max_rate` = 0") && e.contains("infinity = off"),
+        "{e}"
+    );
+}
+
+#[test]
+fn issue_14_run_in_key_applies_to_every_method_and_is_checked() {
+    for m in FilterMethod::ALL {
+        assert_eq!(parse("startup_s = 2", m).unwrap().common().startup_s, 2.0);
+        assert_eq!(parse("", m).unwrap().common().startup_s, 0.0);
+        // written only when on: a file of the papers' filters is unchanged
+        assert!(!to_toml(&FilterParams::preset(m, Preset::Default), &[]).contains("startup_s"));
+    }
+    let e = parse("startup_s = -1", FilterMethod::Local).unwrap_err();
+    assert!(
+        e.contains("`startup_s` = -1") && e.contains("0 (off) to 30 s"),
         "{e}"
     );
 }

@@ -1,6 +1,6 @@
 //! Segment filters on calibrated accelerometers, paper-001 protocol
 //! (issue 14 item 3; docs/CALIBRATION.md, docs/RESULTS.md):
-//! `cargo run --release -p limbfuse-studies --example calibration_study -- [SEEDS] [--speed S] [--tune]`
+//! `cargo run --release -p limbfuse-studies --example calibration_study -- [SEEDS] [--speed S] [--tune] [--startup S]`
 //!
 //! Per seed and speed, for each sensor variant of
 //! [`limbfuse_studies::calibration_study::Sensors`]: the walking trial (60 s)
@@ -32,6 +32,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         a.seeds
     );
+    if a.startup > 0.0 {
+        println!(
+            "run-in startup_s = {} s: the first {} s of each run are not estimated",
+            a.startup, a.startup
+        );
+    }
     println!();
     println!("Columns: paper-001 protocol (mjls, global: mean over seeds / worst seed), then the whole 100 Hz trial with default parameters (issue-3 protocol).");
     println!();
@@ -46,8 +52,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let full = trial(seed, speed, sensors).map_err(err)?;
                     let [wm, wg] = whole_trial_rmse_deg(&full).map_err(err)?;
                     let r = resample_to_50_hz(&full).map_err(err)?;
-                    let m = validation_rmse_deg(&r, FilterMethod::Mjls, tune).map_err(err)?;
-                    let g = validation_rmse_deg(&r, FilterMethod::Global, tune).map_err(err)?;
+                    let m = validation_rmse_deg(&r, FilterMethod::Mjls, tune, a.startup)
+                        .map_err(err)?;
+                    let g = validation_rmse_deg(&r, FilterMethod::Global, tune, a.startup)
+                        .map_err(err)?;
                     Ok([m, g, wm, wg])
                 })
                 .collect::<Result<_, String>>()?;

@@ -8,7 +8,8 @@
 //! the validation block 30-50 s from 50 starting points (fresh filter per
 //! start, 10 s runs, mean of the 4 segment RMSEs averaged over the starts),
 //! with the default parameters or, optionally, parameters tuned on the
-//! block 10-30 s first (PSO, `limbfuse tune`).
+//! block 10-30 s first (PSO, `limbfuse tune`); optionally with the filters'
+//! run-in `startup_s` (no estimate for the first seconds of each run).
 
 use std::error::Error;
 
@@ -159,13 +160,16 @@ fn window(a: f64, b: f64) -> TimeWindow {
 }
 
 /// Mean 4-segment RMSE (deg) of `method` on the validation block 30-50 s
-/// from 50 starts; parameters: the default preset, or tuned on 10-30 s.
+/// from 50 starts; parameters: the default preset with the run-in
+/// `startup_s` (0 = the papers' filters), or that tuned on 10-30 s.
 pub fn validation_rmse_deg(
     records: &[Record],
     method: FilterMethod,
     tune: Option<TuneConfig>,
+    startup_s: f64,
 ) -> Result<f64, Box<dyn Error>> {
-    let start = FilterParams::preset(method, Preset::Default);
+    let mut start = FilterParams::preset(method, Preset::Default);
+    start.common_mut().startup_s = startup_s;
     let plan = |w| StartPlan {
         window: w,
         starts: 50,

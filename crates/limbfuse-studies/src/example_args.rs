@@ -103,7 +103,7 @@ pub struct SegmentErrorBudgetArgs {
     pub seeds: u64,
 }
 
-/// `calibration_study [SEEDS] [--speed S ...] [--tune] [--budget N]`.
+/// `calibration_study [SEEDS] [--speed S ...] [--tune] [--budget N] [--startup S]`.
 #[derive(Debug, Parser)]
 pub struct CalibrationStudyArgs {
     /// Seeds 1..=SEEDS per speed.
@@ -118,6 +118,10 @@ pub struct CalibrationStudyArgs {
     /// Objective evaluations of the tuning (with --tune).
     #[arg(long, default_value_t = 400)]
     pub budget: usize,
+    /// The filters' run-in `startup_s` (s): no estimate for this long after
+    /// each start; 0 (default) = the papers' filters.
+    #[arg(long, default_value_t = 0.0)]
+    pub startup: f64,
 }
 
 /// `accel_accept_stats [FIRST] [LAST] [ideal]`.

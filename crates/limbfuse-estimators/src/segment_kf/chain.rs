@@ -64,9 +64,7 @@ impl Inputs {
         };
         acc + rate_missing + enc
     }
-}
 
-impl Inputs {
     /// Accelerometer inclination `atan2(acc_x, acc_y)` of segment `i`
     /// (computed on demand: most samples use few of the four).
     #[inline]
@@ -117,14 +115,12 @@ pub(crate) struct Chain {
     gated_encoder: u64,
     /// Restarts after a long time gap or a divergence.
     resets: u64,
+    /// Time of the first sample since the (re)start (for `startup_s`).
+    first_t: Option<f64>,
 }
 
 fn finite(v: f64) -> Option<f64> {
-    if v.is_finite() {
-        Some(v)
-    } else {
-        None
-    }
+    v.is_finite().then_some(v)
 }
 
 /// Wraps an angle difference to [-pi, pi].
@@ -154,6 +150,7 @@ impl Chain {
             encoders_gated_since: [None; 3],
             gated_encoder: 0,
             resets: 0,
+            first_t: None,
         }
     }
 
@@ -231,8 +228,7 @@ impl Chain {
         }
     }
 
-    /// Forgets segment `i` (its next accelerometer reading starts it again,
-    /// [`Chain::begin`]) and counts a restart.
+    /// Forgets segment `i` (its next accelerometer reading restarts it) and counts a restart.
     fn restart_segment(&mut self, i: usize) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.init[i] = false;
@@ -309,6 +305,7 @@ impl Chain {
         }
         self.restart_diverged();
         let usable = self.init;
+        self.first_t.get_or_insert(sample.t);
         if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
             (self.encoder_start, self.init, encoder)
         {
@@ -419,9 +416,8 @@ impl Chain {
         self.init = [true; 4];
     }
 
-    /// Segment `i`'s rate predicted over a dropout of `tau` seconds from
-    /// its last gyro reading and that reading's slope ([`predicted_rate`]);
-    /// `None` if no rate was ever seen.
+    /// Segment `i`'s rate predicted over a dropout of `tau` s from its last
+    /// reading and slope ([`predicted_rate`]); `None` if none was seen.
     fn held_rate(&self, i: usize, tau: f64) -> Option<f64> {
         let slope = self.last_rate_slope[i].0;
         self.last_rate[i].map(|r| predicted_rate(r, slope, tau))
@@ -440,9 +436,8 @@ impl Chain {
             // (`predicted_rate`); zero if none was ever seen.
             let tau = self.rate_gap[i];
             let held = |t: f64| last_rate[i].map(|r| predicted_rate(r, slope[i].0, t));
-            // The decay is evaluated only over a dropout: with a rate and no
-            // gap (`tau == 0`, where `exp(-0) == 1` exactly) the held rate is
-            // the last rate itself, so this is the same arithmetic.
+            // The decay is evaluated only over a dropout (`tau == 0`: the
+            // held rate is the last rate itself, the same arithmetic).
             let r1 = match rate {
                 Some(r) => *r,
                 None => held(tau + dt).unwrap_or(0.0),
@@ -584,10 +579,15 @@ impl Chain {
 
     /// An estimate with the segment angles (initialised segments only) and
     /// the joint angles as their differences.
+    /// None during the run-in (`startup_s`) after a (re)start.
     pub fn estimate(&self, t: f64) -> Estimate {
         let mut est = Estimate::empty(t);
+        let w = self.common.startup_s;
+        let settled = self
+            .first_t
+            .is_none_or(|t0| t - t0 >= w - 1e-9 * w.max(1.0));
         for i in 0..4 {
-            if self.init[i] {
+            if self.init[i] && settled {
                 est.segment[i] = Some(self.angle(i));
             }
         }

@@ -251,6 +251,14 @@ pub struct CommonParams {
     /// by default ([`AccelGate::OFF`]): the papers' test alone. See
     /// [`AccelGate`] and `docs/SEGMENT_FILTERS.md`.
     pub accel_gate: AccelGate,
+    /// Run-in (s) after a (re)start during which the filter emits no
+    /// estimate; 0 (default) = the papers' filters, which output from their
+    /// first sample. The filter itself runs exactly as without it (each
+    /// segment started at its first accelerometer inclination): only its
+    /// convergence transient is withheld, as `chain` withholds its start-up
+    /// window (ours, issue 14; papers 000/001 do not say how their filters
+    /// start; docs/SEGMENT_FILTERS.md, "Run-in").
+    pub startup_s: f64,
 }
 
 impl Default for CommonParams {
@@ -270,6 +278,7 @@ impl Default for CommonParams {
             discretization: Discretization::Exact,
             covariance_update: CovarianceUpdate::Joseph,
             accel_gate: AccelGate::OFF,
+            startup_s: 0.0,
         }
     }
 }
@@ -341,6 +350,9 @@ impl CommonParams {
                 "must be > 0 (infinity = off)",
             ));
         }
+        if !(self.startup_s.is_finite() && (0.0..=30.0).contains(&self.startup_s)) {
+            return Err(ParamError::new("startup_s", "must be 0 (off) to 30 s"));
+        }
         Ok(())
     }
 
@@ -370,6 +382,9 @@ impl CommonParams {
             let g = &self.accel_gate;
             writeln!(out, "accel_gate.hold_s: {}", g.hold_s)?;
             writeln!(out, "accel_gate.max_rate: {}", g.max_rate)?;
+        }
+        if self.startup_s > 0.0 {
+            writeln!(out, "startup_s: {}", self.startup_s)?;
         }
         for seg in Segment::ALL {
             let s = &self.segments[seg.index()];

@@ -10,6 +10,7 @@
 //! loop_mode = "closed"       # or "open"
 //! encoder_sigma = 0.01       # rad; one number or [hip, knee, ankle]
 //! accel_hold_s = 0.01        # s; quasi-static duration test, 0 = off
+//! startup_s = 2              # s; start-up window, 0 = off (the papers' start)
 //!
 //! [segments.all]             # applied to the four segments first
 //! zeta = 0.5                 # m/s^2
@@ -262,6 +263,7 @@ struct RawFile {
     covariance_update: Option<RawCovariance>,
     accel_hold_s: Option<f64>,
     accel_max_rate: Option<f64>,
+    startup_s: Option<f64>,
     min_reliable: Option<i64>,
     encoder_sigma: Option<toml::Value>,
     when_unreliable: Option<RawWhenUnreliable>,
@@ -306,6 +308,7 @@ fn unit_of(key: &str) -> &'static str {
         "min_reliable" => "count s of the criterion Psi_s",
         "accel_hold_s" => "quasi-static duration of rho < zeta, s (0 = off)",
         "accel_max_rate" => "angular-rate bound of the accelerometer test, rad/s (inf = off)",
+        "startup_s" => "start-up window, s (0 = off: the papers' start)",
         "encoder_sigma" => "encoder standard deviation, rad",
         "relative_sigma" => "relative-row standard deviation, rad",
         _ => "",
@@ -450,6 +453,9 @@ pub fn parse_params(
         a.set("accel_max_rate", v, |p| {
             p.common_mut().accel_gate.max_rate = v
         })?;
+    }
+    if let Some(v) = raw.startup_s {
+        a.set("startup_s", v, |p| p.common_mut().startup_s = v)?;
     }
     if let Some(segs) = &raw.segments {
         if let Some(s) = &segs.all {

@@ -74,6 +74,10 @@ pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
         "accel_max_rate = {}  # rad/s, inf = off",
         lit(c.accel_gate.max_rate)
     );
+    if c.startup_s > 0.0 {
+        // (written only when on: files of the papers' start stay as they were)
+        let _ = writeln!(s, "startup_s = {}  # s, 0 = off", lit(c.startup_s));
+    }
     let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
     match params {
         FilterParams::Local(p) => {
