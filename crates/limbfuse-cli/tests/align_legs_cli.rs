@@ -3,15 +3,10 @@
 //! walking and a sensor that never rotates are refused by name, exit 1.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()

@@ -2,16 +2,10 @@
 //! with sdre, ekf, rmx; bad input (missing stimulation channel, unphysical
 //! parameters, no model metadata) exits 1 with a clear message.
 
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn user_error(o: &Output, needles: &[&str]) {
     let e = String::from_utf8_lossy(&o.stderr);

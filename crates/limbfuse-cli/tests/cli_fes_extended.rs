@@ -5,15 +5,10 @@
 //! skipped with a message when `../shared/data` is absent), and bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn user_error(o: &Output, needles: &[&str]) {
     let e = String::from_utf8_lossy(&o.stderr);

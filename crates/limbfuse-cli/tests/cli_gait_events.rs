@@ -3,15 +3,9 @@
 //! bad input (no foot IMU, no walking).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn data_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("LIMBFUSE_DATA")

@@ -3,18 +3,12 @@
 //! that reads back to the defaults (bit-identical estimates), and a key that
 //! does not belong to the method is an error naming file, line and key.
 
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use limbfuse_methods::MethodName;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn ok(o: &Output) -> String {
     let e = String::from_utf8_lossy(&o.stderr).into_owned();

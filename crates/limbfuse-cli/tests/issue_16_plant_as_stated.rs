@@ -9,15 +9,9 @@
 //! `t_a` file ran the thesis model and printed no source).
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 /// Runs `method` on `trial` with `params`; returns (stderr, estimate
 /// header lines without `# command:`, estimate rows).

@@ -1,16 +1,10 @@
 //! Issue 17 item 6: what a new user stumbled on, following the README from
 //! a fresh clone. One test per stumble that is behaviour.
 
-use std::path::Path;
 use std::process::{Command, Output};
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

@@ -3,15 +3,10 @@
 //! leaves no partial output file behind.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -4,15 +4,10 @@
 //! for the rest of the trial, and nothing was reported.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn assert_ok(o: &Output) {
     assert_eq!(

@@ -6,17 +6,12 @@
 //! trial.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod support;
+use support::limbfuse;
 
 const METHODS: [&str; 2] = ["knee-selfalign", "knee-gyro-axis"];
-
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
 
 fn user_error(o: &Output, needle: &str) {
     let e = String::from_utf8_lossy(&o.stderr);

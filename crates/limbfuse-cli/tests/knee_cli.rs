@@ -1,16 +1,10 @@
 //! `limbfuse simulate knee`, `estimate --method knee-selfalign` and
 //! `evaluate` end to end (paper 002), and the flags' validation.
 
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn ok(o: &Output) -> String {
     assert_eq!(

@@ -106,18 +106,11 @@ impl Plant<4, 4, 6> for FixedHipPlant {
     }
 
     fn measurement_names(&self) -> [&'static str; 4] {
-        ["thigh_gyr_z", "shank_gyr_z", "thigh_acc_x", "shank_acc_x"]
+        HIP_MEASUREMENT_NAMES
     }
 
     fn input_names(&self) -> [&'static str; 6] {
-        [
-            "u_hf",
-            "u_he",
-            "u_kf",
-            "u_ke",
-            "tau_hip_motor",
-            "tau_knee_motor",
-        ]
+        HIP_INPUT_NAMES
     }
 
     fn measurement(&self, s: &Sample) -> [Option<f64>; 4] {
@@ -147,6 +140,21 @@ impl Plant<4, 4, 6> for FixedHipPlant {
 
 /// The fixed hip's measurement rows of a sample (thigh and shank `gyr_z`,
 /// `acc_x`).
+/// The fixed-hip filters' measurement channels, in the order of
+/// [`hip_measurement`].
+pub(crate) const HIP_MEASUREMENT_NAMES: [&str; 4] =
+    ["thigh_gyr_z", "shank_gyr_z", "thigh_acc_x", "shank_acc_x"];
+
+/// The fixed-hip filters' input channels, in the order of [`hip_input`].
+pub(crate) const HIP_INPUT_NAMES: [&str; 6] = [
+    "u_hf",
+    "u_he",
+    "u_kf",
+    "u_ke",
+    "tau_hip_motor",
+    "tau_knee_motor",
+];
+
 pub(crate) fn hip_measurement(s: &Sample) -> [Option<f64>; 4] {
     let th = s.imu(Segment::Thigh);
     let sh = s.imu(Segment::Shank);

@@ -13,7 +13,7 @@ use super::continuous::{ContinuousTuning, FilterState, Linearisation};
 use super::filter::{FesFilter, Plant};
 use super::fixed_hip::{
     describe_hip, fixed_hip_default_tuning, hip_fill, hip_initial_state, hip_input,
-    hip_measurement, HIP_OUTPUTS,
+    hip_measurement, HIP_INPUT_NAMES, HIP_MEASUREMENT_NAMES, HIP_OUTPUTS,
 };
 use super::knee_extended::extended_defaults::ACTIVATION_Q;
 
@@ -130,18 +130,11 @@ impl Plant<8, 4, 6> for FixedHipActivationPlant {
     }
 
     fn measurement_names(&self) -> [&'static str; 4] {
-        ["thigh_gyr_z", "shank_gyr_z", "thigh_acc_x", "shank_acc_x"]
+        HIP_MEASUREMENT_NAMES
     }
 
     fn input_names(&self) -> [&'static str; 6] {
-        [
-            "u_hf",
-            "u_he",
-            "u_kf",
-            "u_ke",
-            "tau_hip_motor",
-            "tau_knee_motor",
-        ]
+        HIP_INPUT_NAMES
     }
 
     fn measurement(&self, s: &Sample) -> [Option<f64>; 4] {
