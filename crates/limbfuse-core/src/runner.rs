@@ -7,7 +7,9 @@
 use std::error::Error;
 
 use crate::estimate::Estimate;
-use crate::estimator::{Estimator, EstimatorError};
+use std::collections::VecDeque;
+
+use crate::estimator::{Estimator, EstimatorError, OfflineEstimator};
 use crate::sample::Record;
 
 /// A boxed error from a sample source or an observer.
@@ -82,6 +84,61 @@ where
             o.observe(&record, &estimate).map_err(RunError::Observer)?;
         }
         n += 1;
+    }
+    for o in observers.iter_mut() {
+        o.finish().map_err(RunError::Observer)?;
+    }
+    Ok(RunSummary { n_samples: n })
+}
+
+/// Runs an offline `estimator` (a smoother) over `source`: each record is
+/// held until its estimate is final and then handed to the observers with
+/// it, in order. Memory is the records and state the estimator holds back
+/// (bounded by its own settings, e.g. a smoother's block and overlap).
+pub fn run_offline<I, E>(
+    estimator: &mut dyn OfflineEstimator,
+    source: I,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunSummary, RunError>
+where
+    I: IntoIterator<Item = Result<Record, E>>,
+    E: Into<BoxError>,
+{
+    for o in observers.iter_mut() {
+        o.start(estimator.header()).map_err(RunError::Observer)?;
+    }
+    let mut held: VecDeque<Record> = VecDeque::new();
+    let mut n = 0u64;
+    let emit = |estimate: Estimate,
+                held: &mut VecDeque<Record>,
+                observers: &mut [&mut dyn Observer]|
+     -> Result<(), RunError> {
+        let record = held.pop_front().ok_or_else(|| {
+            RunError::Observer("offline estimator: more estimates than samples".into())
+        })?;
+        for o in observers.iter_mut() {
+            o.observe(&record, &estimate).map_err(RunError::Observer)?;
+        }
+        Ok(())
+    };
+    for item in source {
+        let record = item.map_err(|e| RunError::Source(e.into()))?;
+        estimator
+            .push(&record.sample)
+            .map_err(|source| RunError::Estimator {
+                index: n,
+                t: record.sample.t,
+                source,
+            })?;
+        held.push_back(record);
+        n += 1;
+        while let Some(e) = estimator.pop() {
+            emit(e, &mut held, observers)?;
+        }
+    }
+    estimator.finish();
+    while let Some(e) = estimator.pop() {
+        emit(e, &mut held, observers)?;
     }
     for o in observers.iter_mut() {
         o.finish().map_err(RunError::Observer)?;
