@@ -123,6 +123,7 @@ impl OfflineEstimator for SmoothedChain {
             for i in 0..4 {
                 e.segment[i] = Some(s.angle(i));
             }
+            e.joint = [None; 3];
             e.fill_joints_from_segments();
             let mut d = e.diagnostics_mut::<ChainDiag>();
             d.value(ChainDiag::HipVx, s.x[hip_velocity(0)]);
