@@ -201,7 +201,10 @@ fn rts_equals_the_batch_solution_of_a_linear_gaussian_model() {
         }
         assert!((next.0 - out[k]).amax() == 0.0, "step {k}");
     }
-    println!("batch vs RTS: max mean difference {:.1e}, max covariance difference {:.1e}", worst.0, worst.1);
+    println!(
+        "batch vs RTS: max mean difference {:.1e}, max covariance difference {:.1e}",
+        worst.0, worst.1
+    );
     assert!(worst.0 < 1e-9 && worst.1 < 1e-9, "{worst:?}");
 }
 
