@@ -147,3 +147,34 @@ fn smoothing_other_methods_is_refused() {
     .to_string();
     assert!(e.contains("global") && e.contains("--smooth"), "{e}");
 }
+
+#[test]
+fn the_smoother_does_not_cross_a_gap_that_restarts_the_filter() {
+    // 20 s of walking with 3 s removed at 8-11 s: the filter restarts
+    // (start-up window again) after the gap.
+    let (meta, recs) = trial(1.0, 3, 20.0);
+    let recs: Vec<Record> = recs
+        .into_iter()
+        .filter(|r| !(8.0..11.0).contains(&r.sample.t))
+        .collect();
+    let (filtered, smoothed) = run(&meta, &recs, SmootherSettings::default());
+    assert_eq!(filtered.len(), smoothed.len());
+    let last_before = recs.iter().rposition(|r| r.sample.t < 8.0).unwrap();
+    for (k, (f, s)) in filtered.iter().zip(&smoothed).enumerate() {
+        // Estimated exactly where the filter estimated.
+        assert_eq!(f.segment[1].is_some(), s.segment[1].is_some(), "row {k}");
+    }
+    // The last step before the gap ends a backward pass: filtered = smoothed.
+    assert_eq!(filtered[last_before].segment, smoothed[last_before].segment);
+    // Earlier steps are smoothed, and so are steps after the restart.
+    assert_ne!(
+        filtered[last_before - 50].segment,
+        smoothed[last_before - 50].segment
+    );
+    let after = recs.iter().position(|r| r.sample.t > 13.0).unwrap();
+    assert!(smoothed[after].segment[1].is_some());
+    assert_ne!(filtered[after].segment, smoothed[after].segment);
+    // Nothing estimated in the restarted start-up window.
+    let first_after = last_before + 1;
+    assert!(smoothed[first_after].segment[1].is_none());
+}
