@@ -291,6 +291,10 @@ pub struct EstimateArgs {
     /// estimation (rotated into the aligned frame for a trial `align` wrote).
     #[arg(long, visible_alias = "imu-calibration")]
     pub calibration: Option<PathBuf>,
+    /// chain: smooth offline (Rauch-Tung-Striebel over 10 s blocks with 2 s
+    /// look-ahead; every estimate uses the samples after it too; docs/CHAIN.md).
+    #[arg(long)]
+    pub smooth: bool,
 }
 
 /// Options of `evaluate`.

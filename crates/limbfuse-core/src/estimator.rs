@@ -112,6 +112,24 @@ pub trait Estimator {
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError>;
 }
 
+/// An offline estimator (e.g. a smoother): the estimate of a sample may use
+/// samples after it, so estimates come out later than their samples, in
+/// order, one per sample pushed ([`crate::runner::run_offline`]).
+pub trait OfflineEstimator {
+    /// The estimator as the estimate file's header describes it (name,
+    /// outputs, parameters, diagnostic names).
+    fn header(&self) -> &dyn Estimator;
+
+    /// Takes the next sample.
+    fn push(&mut self, sample: &Sample) -> Result<(), EstimatorError>;
+
+    /// The next estimate, in sample order, once it is final.
+    fn pop(&mut self) -> Option<Estimate>;
+
+    /// No more samples: every estimate still held becomes final.
+    fn finish(&mut self);
+}
+
 /// Tracks timestamps and yields the step `dt` of each new sample.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct TimeStep {

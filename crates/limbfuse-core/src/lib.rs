@@ -30,7 +30,7 @@ pub mod runner;
 
 pub use diagnostics::{DiagnosticSet, DiagnosticWriter};
 pub use estimate::{Estimate, MAX_DIAG};
-pub use estimator::{Estimator, EstimatorError, Outputs, TimeStep};
+pub use estimator::{Estimator, EstimatorError, OfflineEstimator, Outputs, TimeStep};
 pub use limb::{Joint, Leg, Segment, Side};
 pub use plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};

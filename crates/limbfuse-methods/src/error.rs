@@ -106,6 +106,9 @@ pub enum MethodError {
     /// The `chain` method cannot be built for this trial (its geometry).
     #[error("method `chain`: {0}")]
     Chain(String),
+    /// `--smooth` asked of a method without an offline smoother.
+    #[error("method `{0}` has no offline smoother (`--smooth` applies to `chain`)")]
+    NoSmoother(&'static str),
     /// A library path in a parameter file that is not valid UTF-8 or empty.
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),

@@ -62,8 +62,8 @@ pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
 }
 
 /// An estimator behind a [`SampleGate`].
-pub struct GatedEstimator {
-    inner: Box<dyn Estimator + Send>,
+pub struct GatedEstimator<E: Estimator + ?Sized = dyn Estimator + Send> {
+    inner: Box<E>,
     gate: SampleGate,
     /// The inner estimator's diagnostic names, then [`REJECTION_DIAGNOSTICS`]
     /// (when they fit in [`MAX_DIAG`]).
@@ -72,9 +72,9 @@ pub struct GatedEstimator {
     first: Option<usize>,
 }
 
-impl GatedEstimator {
+impl<E: Estimator + ?Sized> GatedEstimator<E> {
     /// `inner` behind a gate with `ranges`.
-    pub fn new(inner: Box<dyn Estimator + Send>, ranges: SensorRanges) -> Self {
+    pub fn new(inner: Box<E>, ranges: SensorRanges) -> Self {
         let mut names: Vec<&'static str> = inner.diagnostic_names().to_vec();
         let first = (names.len() + REJECTION_DIAGNOSTICS.len() <= MAX_DIAG).then_some(names.len());
         if first.is_some() {
@@ -87,9 +87,14 @@ impl GatedEstimator {
             first,
         }
     }
+
+    /// The estimator behind the gate.
+    pub fn inner(&self) -> &E {
+        &self.inner
+    }
 }
 
-impl Estimator for GatedEstimator {
+impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     fn name(&self) -> &'static str {
         self.inner.name()
     }

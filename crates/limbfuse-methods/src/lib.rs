@@ -49,6 +49,7 @@ pub mod params_toml;
 pub mod registry;
 pub mod segment_methods;
 pub mod segment_params;
+pub mod smoothed_chain;
 mod spec;
 
 pub use baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};

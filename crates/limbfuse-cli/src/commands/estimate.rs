@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer};
-use limbfuse_core::Estimator;
+use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{RejectionWatch, ResetWatch};
 use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
 
@@ -49,6 +49,19 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     } else {
         TrialReader::open(&a.trial)?
     };
+    let mut smoothed = if a.smooth {
+        Some(
+            limbfuse_methods::smoothed_chain::build_smoothed(
+                &spec,
+                reader.meta(),
+                reader.layout(),
+                Default::default(),
+            )
+            .with_context(|| reader.path().display().to_string())?,
+        )
+    } else {
+        None
+    };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
     let calibration = match &a.calibration {
@@ -70,9 +83,13 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         if let Some(k) = knee.as_mut() {
             extra.push(k);
         }
+        let engine = match smoothed.as_mut() {
+            Some(s) => Engine::Offline(s),
+            None => Engine::Online(est.as_mut()),
+        };
         match stdout {
             Some(out) => run_to_stdout(
-                est.as_mut(),
+                engine,
                 reader,
                 out,
                 label,
@@ -81,7 +98,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                 calibration.as_ref(),
             )?,
             None => run_to_file_calibrated(
-                est.as_mut(),
+                engine,
                 reader,
                 &a.output,
                 label,
@@ -168,6 +185,9 @@ fn command_line(a: &EstimateArgs) -> String {
     opt(&mut c, "leg-length", a.leg_length.map(|v| v.to_string()));
     opt(&mut c, "mass", a.mass.map(|v| v.to_string()));
     opt(&mut c, "calibration", a.calibration.as_deref().map(name));
+    if a.smooth {
+        c += " --smooth";
+    }
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
 }
 
@@ -187,13 +207,21 @@ pub fn run_to_file(
     command: &str,
     extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
-    run_to_file_calibrated(est, reader, output, label, command, extra, None)
+    run_to_file_calibrated(
+        Engine::Online(est),
+        reader,
+        output,
+        label,
+        command,
+        extra,
+        None,
+    )
 }
 
 /// [`run_to_file`] with an IMU calibration applied to every record read
 /// (docs/CALIBRATION.md).
 pub fn run_to_file_calibrated(
-    est: &mut dyn Estimator,
+    est: Engine<'_>,
     mut reader: TrialReader,
     output: &Path,
     label: &str,
@@ -224,7 +252,7 @@ pub fn run_to_file_calibrated(
 /// the trial ends): it says `# trial_hash: streamed`, and the hash goes to
 /// stderr at the end.
 fn run_to_stdout(
-    est: &mut dyn Estimator,
+    est: Engine<'_>,
     mut reader: TrialReader,
     output: SharedStdout,
     label: &str,
@@ -259,6 +287,15 @@ fn file_name(path: &Path) -> String {
     )
 }
 
+/// The estimator of a run: real-time (one estimate per sample, at once) or
+/// offline (`--smooth`: estimates final once later samples were seen).
+pub enum Engine<'a> {
+    /// A streaming estimator.
+    Online(&'a mut dyn Estimator),
+    /// An offline estimator (a smoother).
+    Offline(&'a mut dyn OfflineEstimator),
+}
+
 /// What a run found besides its estimates.
 struct RunReport {
     n_samples: u64,
@@ -283,7 +320,7 @@ impl RunReport {
 /// Runs `est` over every record of `reader` (calibrated if asked) into
 /// `writer`, with a progress bar and the `extra` observers.
 fn run_observed<W: std::io::Write>(
-    est: &mut dyn Estimator,
+    est: Engine<'_>,
     reader: &mut TrialReader,
     writer: &mut EstimateWriter<W>,
     label: &str,
@@ -303,18 +340,24 @@ fn run_observed<W: std::io::Write>(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
-        let summary = match calibration {
+        let summary = match (calibration, est) {
             // Records are large: without a calibration they go to the
             // runner without a mapping step that would move each once more.
-            None => runner::run(est, reader.by_ref(), &mut observers),
-            Some(c) => {
+            (None, Engine::Online(est)) => runner::run(est, reader.by_ref(), &mut observers),
+            (None, Engine::Offline(est)) => {
+                runner::run_offline(est, reader.by_ref(), &mut observers)
+            }
+            (Some(c), est) => {
                 let source = reader.by_ref().map(|r| {
                     r.map(|mut rec| {
                         c.apply(&mut rec);
                         rec
                     })
                 });
-                runner::run(est, source, &mut observers)
+                match est {
+                    Engine::Online(est) => runner::run(est, source, &mut observers),
+                    Engine::Offline(est) => runner::run_offline(est, source, &mut observers),
+                }
             }
         };
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?

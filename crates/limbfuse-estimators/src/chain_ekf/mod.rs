@@ -16,6 +16,7 @@ pub mod covariance;
 pub mod kinematics;
 pub mod missing_data;
 pub mod params;
+pub mod smoother;
 pub mod stance;
 pub mod startup;
 pub mod state;
@@ -113,6 +114,31 @@ pub struct ChainEkf {
     held: usize,
     /// Low-passed rate about the vertical (rad/s), `Omega` (turning).
     turn_rate: f64,
+    /// How the last step's state follows from the one before (for the
+    /// offline smoother, [`smoother`]).
+    link: Link,
+    /// The angle variance the turn widening added in the running step.
+    widening: f64,
+}
+
+/// How a step's filtered state follows from the previous step's (what an
+/// offline smoother needs to go backwards over it, [`smoother`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Link {
+    /// No state: start-up window, after a long gap or a divergence.
+    #[default]
+    None,
+    /// The filter (re)started at this step: no link to the step before.
+    Start,
+    /// Predicted from the previous step's state over `dt` seconds, the turn
+    /// widening adding `widening` (rad^2) to every angle's variance, then
+    /// updated.
+    Continue {
+        /// Step (s).
+        dt: f64,
+        /// Added angle variance (rad^2).
+        widening: f64,
+    },
 }
 
 /// Most samples the start-up window holds: 2 s at up to 256 Hz (the
@@ -151,6 +177,8 @@ impl ChainEkf {
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
             held: 0,
             turn_rate: 0.0,
+            link: Link::None,
+            widening: 0.0,
         })
     }
 
@@ -169,7 +197,18 @@ impl ChainEkf {
         &self.p
     }
 
-    fn process_noise(&self) -> ProcessNoise {
+    /// The filtered state (zero before the filter runs).
+    pub fn state(&self) -> &StateVector {
+        &self.x
+    }
+
+    /// How the last step's state follows from the one before.
+    pub fn link(&self) -> Link {
+        self.link
+    }
+
+    /// The process noise of the prediction (from the parameters).
+    pub fn process_noise(&self) -> ProcessNoise {
         let p = &self.params;
         ProcessNoise {
             angular_jerk: [p.trunk_jerk, p.leg_jerk, p.leg_jerk, p.leg_jerk],
@@ -310,8 +349,10 @@ impl ChainEkf {
             self.turn_rate += a * (sum / n - self.turn_rate);
         }
         let excess = libm::fabs(self.turn_rate) - p.turn_rate_min;
+        self.widening = 0.0;
         if excess > 0.0 && p.turn_angle_noise > 0.0 {
             let q = p.turn_angle_noise * p.turn_angle_noise * excess * dt;
+            self.widening = q;
             for i in 0..4 {
                 self.p[(theta(i), theta(i))] += q;
             }
@@ -476,6 +517,8 @@ impl Estimator for ChainEkf {
         self.last_foot_gyro = None;
         self.held = 0;
         self.turn_rate = 0.0;
+        self.link = Link::None;
+        self.widening = 0.0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -492,8 +535,15 @@ impl Estimator for ChainEkf {
         }
         let mut est = Estimate::empty(sample.t);
         let (mut stance, mut rejected) = (false, 0);
+        self.link = Link::None;
         match (self.running, dt) {
-            (true, Some(dt)) => (stance, rejected) = self.filter_step(sample, dt),
+            (true, Some(dt)) => {
+                (stance, rejected) = self.filter_step(sample, dt);
+                self.link = Link::Continue {
+                    dt,
+                    widening: self.widening,
+                };
+            }
             _ => {
                 self.startup.observe(sample, dt);
                 if self.held < self.window.len() {
@@ -505,6 +555,7 @@ impl Estimator for ChainEkf {
                     || self.held == self.window.len();
                 if ready && closed {
                     self.start();
+                    self.link = Link::Start;
                 } else if self.held == self.window.len() {
                     // Full before every segment had an accelerometer reading:
                     // start the window again.
@@ -518,6 +569,7 @@ impl Estimator for ChainEkf {
             // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
             // again from the next samples.
             self.restart_startup();
+            self.link = Link::None;
         }
         // No estimate until the window closes (docs/CHAIN.md "Start-up").
         if self.running {
