@@ -79,6 +79,15 @@ use nalgebra::{Rotation3, Vector3};
 /// height is known.
 pub const LEG_LENGTH_PER_HEIGHT: f64 = 0.530;
 
+/// Zijlstra & Hof's model scaled for the *sensor height* as the pendulum
+/// length: the Mobilise-D stride-length algorithm (Soltani et al. 2021, IEEE
+/// TNSRE 29:1955-1964; mobgap `SlZijlstra`, `step_length_scaling_factor_ms_ms`
+/// = 4.587 / 4, its default) takes `l` = the height of the lower-back sensor
+/// above the ground (`LBh`) and this factor, fitted with that `l`. Used when
+/// the trial gives `# sensor_height_m:`; with a leg (trochanter) length the
+/// factor is Zijlstra & Hof's 1.25, fitted with theirs.
+pub const SENSOR_HEIGHT_CORRECTION: f64 = 4.587 / 4.0;
+
 /// Samples of vertical acceleration kept (steps + smoothing latency): 4096,
 /// enough for 1.5 s steps plus the latency up to 1 kHz.
 pub const HISTORY: usize = 4096;
