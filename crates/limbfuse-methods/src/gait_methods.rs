@@ -341,19 +341,19 @@ impl MethodDef for LowbackSpeedMethod {
             if let Some(h) = metadata_metres(meta, "sensor_height_m", "a sensor height")? {
                 // The lower-back literature's pendulum: the sensor's height,
                 // with the factor fitted for it (Soltani et al. 2021).
-                positive("sensor_height_m (trial metadata)", Some(h), &mut p.leg_length)
-                    .map_err(gait_error)?;
+                positive(
+                    "sensor_height_m (trial metadata)",
+                    Some(h),
+                    &mut p.leg_length,
+                )
+                .map_err(gait_error)?;
                 if !settings.correction_given {
                     p.correction = SENSOR_HEIGHT_CORRECTION;
                 }
             } else if let Some(l) = metadata_metres(meta, "leg_length", "a leg length")? {
                 positive("leg_length (trial metadata)", Some(l), &mut p.leg_length)
                     .map_err(gait_error)?;
-            } else if let Some(h) = meta
-                .body()
-                .map_err(|e| gait_error(e.to_string()))?
-                .height
-            {
+            } else if let Some(h) = meta.body().map_err(|e| gait_error(e.to_string()))?.height {
                 // Anthropometry: the greater-trochanter height of a body of height `h`.
                 positive("height_m (trial metadata)", Some(h), &mut p.leg_length)
                     .map_err(gait_error)?;
@@ -403,11 +403,7 @@ impl MethodDef for LowbackSpeedMethod {
 /// A length (m) from the trial metadata `# key: value` (an optional `m`
 /// unit), `None` when the key is absent; an unparseable value is an error
 /// naming the key and the value.
-fn metadata_metres(
-    meta: &TrialMeta,
-    key: &str,
-    what: &str,
-) -> Result<Option<f64>, MethodError> {
+fn metadata_metres(meta: &TrialMeta, key: &str, what: &str) -> Result<Option<f64>, MethodError> {
     let Some(text) = meta.get(key) else {
         return Ok(None);
     };
@@ -467,6 +463,53 @@ mod tests {
             .err()
             .unwrap();
         assert!(err.to_string().contains("height_m"), "{err}");
+    }
+
+    /// Issue 19 (`lowback4`): `# sensor_height_m:` is the pendulum length with
+    /// the Mobilise-D factor 4.587 / 4; it comes before `# leg_length:`; the
+    /// parameter file's `leg_length` or `correction` wins; a bad value names
+    /// the key. Fails without the fix (the key was ignored: 0.9 m, K 1.25).
+    #[test]
+    fn issue_19_lowback_sensor_height_metadata_sets_the_pendulum_pair() {
+        let line = |meta: &TrialMeta, file: Option<&str>, key: &str| {
+            let settings = LowbackSpeedMethod::resolve(
+                file.map(|f| (f, Path::new("p.toml"))),
+                &MethodFlags::default(),
+            )
+            .unwrap();
+            let est = LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()).unwrap();
+            let mut s = String::new();
+            est.describe_parameters(&mut s).unwrap();
+            s.lines().find(|l| l.starts_with(key)).unwrap().to_string()
+        };
+        let mut meta = TrialMeta::new();
+        meta.set("leg_length", "0.8");
+        meta.set("sensor_height_m", "0.964 m");
+        assert_eq!(line(&meta, None, "leg_length"), "leg_length: 0.964 m");
+        assert_eq!(line(&meta, None, "correction"), "correction: 1.14675");
+        let file = Some("correction = 1.3\n");
+        assert_eq!(line(&meta, file, "leg_length"), "leg_length: 0.964 m");
+        assert_eq!(line(&meta, file, "correction"), "correction: 1.3");
+        let file = Some("leg_length = 0.95\n");
+        assert_eq!(line(&meta, file, "leg_length"), "leg_length: 0.95 m");
+        assert_eq!(line(&meta, file, "correction"), "correction: 1.25");
+        let mut bad = TrialMeta::new();
+        bad.set("sensor_height_m", "waist");
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.contains("sensor_height_m") && err.contains("waist"),
+            "{err}"
+        );
+        bad.set("sensor_height_m", "-1");
+        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("sensor_height_m"), "{err}");
     }
 
     #[test]

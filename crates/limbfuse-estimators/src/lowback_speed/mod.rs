@@ -40,6 +40,9 @@
 //!    default 0.90 m: 0.530 x 1.70 m, the greater-trochanter height fraction
 //!    of Winter 2009 Table 4.1 for a 1.70 m adult), `K` = 1.25 Zijlstra &
 //!    Hof's correction factor for the under-estimate of the pendulum model.
+//!    With the lower-back sensor's height as `l` (the Mobilise-D reading,
+//!    trial metadata `# sensor_height_m:`), `K` is
+//!    [`SENSOR_HEIGHT_CORRECTION`], the factor fitted with that length.
 //! 4. **Speed**: a stride = two consecutive valid steps (0.25-1.5 s each);
 //!    its speed = `(SL_1 + SL_2) / (IC_3 - IC_1)`; `speed` holds the last one.
 //! 5. **Turns** (ours, beyond Zijlstra & Hof, whose model is for straight
