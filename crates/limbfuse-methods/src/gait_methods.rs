@@ -422,7 +422,9 @@ fn metadata_metres(meta: &TrialMeta, key: &str, what: &str) -> Result<Option<f64
 mod tests {
     use super::*;
 
-    fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
+    /// The `key: value` line the estimator built from `meta` and the
+    /// parameter file describes.
+    fn parameter_line(meta: &TrialMeta, file: Option<&str>, key: &str) -> String {
         let settings = LowbackSpeedMethod::resolve(
             file.map(|f| (f, Path::new("p.toml"))),
             &MethodFlags::default(),
@@ -431,10 +433,11 @@ mod tests {
         let est = LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()).unwrap();
         let mut s = String::new();
         est.describe_parameters(&mut s).unwrap();
-        s.lines()
-            .find(|l| l.starts_with("leg_length"))
-            .unwrap()
-            .to_string()
+        s.lines().find(|l| l.starts_with(key)).unwrap().to_string()
+    }
+
+    fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
+        parameter_line(meta, file, "leg_length")
     }
 
     /// The pendulum length: the parameter file, else `# leg_length:`, else
@@ -471,17 +474,7 @@ mod tests {
     /// the key. Fails without the fix (the key was ignored: 0.9 m, K 1.25).
     #[test]
     fn issue_19_lowback_sensor_height_metadata_sets_the_pendulum_pair() {
-        let line = |meta: &TrialMeta, file: Option<&str>, key: &str| {
-            let settings = LowbackSpeedMethod::resolve(
-                file.map(|f| (f, Path::new("p.toml"))),
-                &MethodFlags::default(),
-            )
-            .unwrap();
-            let est = LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()).unwrap();
-            let mut s = String::new();
-            est.describe_parameters(&mut s).unwrap();
-            s.lines().find(|l| l.starts_with(key)).unwrap().to_string()
-        };
+        let line = parameter_line;
         let mut meta = TrialMeta::new();
         meta.set("leg_length", "0.8");
         meta.set("sensor_height_m", "0.964 m");
