@@ -18,7 +18,9 @@ use std::path::Path;
 use limbfuse_core::{Estimator, Segment};
 use limbfuse_estimators::gait_events::shank_events::ShankContact;
 use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams};
-use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed, LEG_LENGTH_PER_HEIGHT};
+use limbfuse_estimators::lowback_speed::{
+    LowbackParams, LowbackSpeed, LEG_LENGTH_PER_HEIGHT, SENSOR_HEIGHT_CORRECTION,
+};
 use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
@@ -257,15 +259,19 @@ impl MethodFile for LowbackFile {
     }
 }
 
-/// `lowback-speed` settings: the parameters, and whether the leg length was
-/// given (else the trial's `# leg_length:` metadata, else 0.530 x its
-/// `# height_m:`, else the default).
+/// `lowback-speed` settings: the parameters, and whether the pendulum length
+/// and the correction factor were given (else the trial's
+/// `# sensor_height_m:` with the Mobilise-D factor, else its `# leg_length:`,
+/// else 0.530 x its `# height_m:`, else the default, with Zijlstra & Hof's
+/// factor).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LowbackSettings {
     /// The parameters.
     pub params: LowbackParams,
     /// `leg_length` came from the parameter file.
     pub leg_length_given: bool,
+    /// `correction` came from the parameter file.
+    pub correction_given: bool,
 }
 
 /// `lowback-speed`.
@@ -276,7 +282,7 @@ impl MethodDef for LowbackSpeedMethod {
     const INFO: MethodInfo = MethodInfo::new(
         "lowback-speed",
         "beyond the papers: initial contacts (McCamley 2012) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
-        "trunk_acc (lower back, raw sensor frame); leg length from the parameter file or `# leg_length:` (m)",
+        "trunk_acc (lower back, raw sensor frame); pendulum length from the parameter file, `# sensor_height_m:`, `# leg_length:` or `# height_m:` (m)",
         "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate, withhold_after_turn, gravity_follows_gyro",
     )
     .needing(
@@ -317,6 +323,7 @@ impl MethodDef for LowbackSpeedMethod {
         Ok(LowbackSettings {
             params: p,
             leg_length_given: f.leg_length.is_some(),
+            correction_given: f.correction.is_some(),
         })
     }
 
@@ -326,40 +333,30 @@ impl MethodDef for LowbackSpeedMethod {
         _layout: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
         let mut p = settings.params;
+        let gait_error = |message: String| MethodError::GaitParams {
+            method: Self::INFO.name,
+            message,
+        };
         if !settings.leg_length_given {
-            if let Some(text) = meta.get("leg_length") {
-                let l: f64 = text
-                    .trim()
-                    .trim_end_matches('m')
-                    .trim()
-                    .parse()
-                    .map_err(|_| MethodError::GaitParams {
-                        method: Self::INFO.name,
-                        message: format!(
-                            "trial metadata `# leg_length: {text}`: expected a leg length in metres"
-                        ),
-                    })?;
-                positive("leg_length (trial metadata)", Some(l), &mut p.leg_length).map_err(
-                    |message| MethodError::GaitParams {
-                        method: Self::INFO.name,
-                        message,
-                    },
-                )?;
-            } else if let Some(h) = meta
-                .body()
-                .map_err(|e| MethodError::GaitParams {
-                    method: Self::INFO.name,
-                    message: e.to_string(),
-                })?
-                .height
-            {
+            if let Some(h) = metadata_metres(meta, "sensor_height_m", "a sensor height")? {
+                // The lower-back literature's pendulum: the sensor's height,
+                // with the factor fitted for it (Soltani et al. 2021).
+                positive(
+                    "sensor_height_m (trial metadata)",
+                    Some(h),
+                    &mut p.leg_length,
+                )
+                .map_err(gait_error)?;
+                if !settings.correction_given {
+                    p.correction = SENSOR_HEIGHT_CORRECTION;
+                }
+            } else if let Some(l) = metadata_metres(meta, "leg_length", "a leg length")? {
+                positive("leg_length (trial metadata)", Some(l), &mut p.leg_length)
+                    .map_err(gait_error)?;
+            } else if let Some(h) = meta.body().map_err(|e| gait_error(e.to_string()))?.height {
                 // Anthropometry: the greater-trochanter height of a body of height `h`.
-                positive("height_m (trial metadata)", Some(h), &mut p.leg_length).map_err(
-                    |message| MethodError::GaitParams {
-                        method: Self::INFO.name,
-                        message,
-                    },
-                )?;
+                positive("height_m (trial metadata)", Some(h), &mut p.leg_length)
+                    .map_err(gait_error)?;
                 p.leg_length *= LEG_LENGTH_PER_HEIGHT;
             }
         }
@@ -371,11 +368,12 @@ impl MethodDef for LowbackSpeedMethod {
         format!(
             "# limbfuse lowback-speed parameters (docs/GAIT_EVENTS.md); every key optional.\n\
              method = \"lowback-speed\"\n\
-             # Leg (pendulum) length, m. Left unset, it is the trial's `# leg_length:`, else 0.530 x its\n\
-             # `# height_m:`, else {:?} (0.530 x 1.70 m, Winter 2009 Table 4.1): uncomment to override them.\n\
+             # Pendulum length, m. Left unset, it is the trial's `# sensor_height_m:` (lower-back sensor\n\
+             # above the ground; then correction = 4.587 / 4, Mobilise-D), else its `# leg_length:`, else\n\
+             # 0.530 x its `# height_m:`, else {:?} (0.530 x 1.70 m, Winter 2009 Table 4.1).\n\
              # leg_length = {:?}\n\
-             # Zijlstra & Hof 2003 correction factor K.\n\
-             correction = {:?}\n\
+             # Zijlstra & Hof 2003 correction factor K (left unset with `# sensor_height_m:`: 4.587 / 4).\n\
+             # correction = {:?}\n\
              # McCamley 2012 wavelet scale, s (gaus1 at his 1.25 Hz: 0.2 / 1.25 Hz).\n\
              wavelet_scale = {:?}\n\
              # RMS vertical acceleration (m/s^2) over 2 s above which the subject walks.\n\
@@ -402,11 +400,31 @@ impl MethodDef for LowbackSpeedMethod {
     }
 }
 
+/// A length (m) from the trial metadata `# key: value` (an optional `m`
+/// unit), `None` when the key is absent; an unparseable value is an error
+/// naming the key and the value.
+fn metadata_metres(meta: &TrialMeta, key: &str, what: &str) -> Result<Option<f64>, MethodError> {
+    let Some(text) = meta.get(key) else {
+        return Ok(None);
+    };
+    text.trim()
+        .trim_end_matches('m')
+        .trim()
+        .parse()
+        .map(Some)
+        .map_err(|_| MethodError::GaitParams {
+            method: LowbackSpeedMethod::INFO.name,
+            message: format!("trial metadata `# {key}: {text}`: expected {what} in metres"),
+        })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
+    /// The `key: value` line the estimator built from `meta` and the
+    /// parameter file describes.
+    fn parameter_line(meta: &TrialMeta, file: Option<&str>, key: &str) -> String {
         let settings = LowbackSpeedMethod::resolve(
             file.map(|f| (f, Path::new("p.toml"))),
             &MethodFlags::default(),
@@ -415,10 +433,11 @@ mod tests {
         let est = LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()).unwrap();
         let mut s = String::new();
         est.describe_parameters(&mut s).unwrap();
-        s.lines()
-            .find(|l| l.starts_with("leg_length"))
-            .unwrap()
-            .to_string()
+        s.lines().find(|l| l.starts_with(key)).unwrap().to_string()
+    }
+
+    fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
+        parameter_line(meta, file, "leg_length")
     }
 
     /// The pendulum length: the parameter file, else `# leg_length:`, else
@@ -447,6 +466,43 @@ mod tests {
             .err()
             .unwrap();
         assert!(err.to_string().contains("height_m"), "{err}");
+    }
+
+    /// Issue 19 (`lowback4`): `# sensor_height_m:` is the pendulum length with
+    /// the Mobilise-D factor 4.587 / 4; it comes before `# leg_length:`; the
+    /// parameter file's `leg_length` or `correction` wins; a bad value names
+    /// the key. Fails without the fix (the key was ignored: 0.9 m, K 1.25).
+    #[test]
+    fn issue_19_lowback_sensor_height_metadata_sets_the_pendulum_pair() {
+        let line = parameter_line;
+        let mut meta = TrialMeta::new();
+        meta.set("leg_length", "0.8");
+        meta.set("sensor_height_m", "0.964 m");
+        assert_eq!(line(&meta, None, "leg_length"), "leg_length: 0.964 m");
+        assert_eq!(line(&meta, None, "correction"), "correction: 1.14675");
+        let file = Some("correction = 1.3\n");
+        assert_eq!(line(&meta, file, "leg_length"), "leg_length: 0.964 m");
+        assert_eq!(line(&meta, file, "correction"), "correction: 1.3");
+        let file = Some("leg_length = 0.95\n");
+        assert_eq!(line(&meta, file, "leg_length"), "leg_length: 0.95 m");
+        assert_eq!(line(&meta, file, "correction"), "correction: 1.25");
+        let mut bad = TrialMeta::new();
+        bad.set("sensor_height_m", "waist");
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.contains("sensor_height_m") && err.contains("waist"),
+            "{err}"
+        );
+        bad.set("sensor_height_m", "-1");
+        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("sensor_height_m"), "{err}");
     }
 
     #[test]

@@ -40,6 +40,9 @@
 //!    default 0.90 m: 0.530 x 1.70 m, the greater-trochanter height fraction
 //!    of Winter 2009 Table 4.1 for a 1.70 m adult), `K` = 1.25 Zijlstra &
 //!    Hof's correction factor for the under-estimate of the pendulum model.
+//!    With the lower-back sensor's height as `l` (the Mobilise-D reading,
+//!    trial metadata `# sensor_height_m:`), `K` is
+//!    [`SENSOR_HEIGHT_CORRECTION`], the factor fitted with that length.
 //! 4. **Speed**: a stride = two consecutive valid steps (0.25-1.5 s each);
 //!    its speed = `(SL_1 + SL_2) / (IC_3 - IC_1)`; `speed` holds the last one.
 //! 5. **Turns** (ours, beyond Zijlstra & Hof, whose model is for straight
@@ -78,6 +81,15 @@ use nalgebra::{Rotation3, Vector3};
 /// ed., Table 4.1 / fig. 4.1), the pendulum length when only the body
 /// height is known.
 pub const LEG_LENGTH_PER_HEIGHT: f64 = 0.530;
+
+/// Zijlstra & Hof's model scaled for the *sensor height* as the pendulum
+/// length: the Mobilise-D stride-length algorithm (Soltani et al. 2021, IEEE
+/// TNSRE 29:1955-1964; mobgap `SlZijlstra`, `step_length_scaling_factor_ms_ms`
+/// = 4.587 / 4, its default) takes `l` = the height of the lower-back sensor
+/// above the ground (`LBh`) and this factor, fitted with that `l`. Used when
+/// the trial gives `# sensor_height_m:`; with a leg (trochanter) length the
+/// factor is Zijlstra & Hof's 1.25, fitted with theirs.
+pub const SENSOR_HEIGHT_CORRECTION: f64 = 4.587 / 4.0;
 
 /// Samples of vertical acceleration kept (steps + smoothing latency): 4096,
 /// enough for 1.5 s steps plus the latency up to 1 kHz.
