@@ -193,7 +193,9 @@ impl MultiStartResult {
 
     /// The SPEC section 4 JSON object of `evaluate`, with the protocol's
     /// fields: `starts`, `interval_s` (length), `start_times_s`,
-    /// `mean_rmse_spread_deg` (std over starts), `window_s`.
+    /// `mean_rmse_spread_deg` (std over starts), `window_s`,
+    /// `segment_coverage` (segment samples scored / with a reference,
+    /// [`crate::coverage`]).
     pub fn to_json(&self) -> Value {
         let deg = |v: Option<f64>| json!(v.map(f64::to_degrees));
         let (mut rmse, mut max_abs, mut corr) = (Map::new(), Map::new(), Map::new());
@@ -223,6 +225,7 @@ impl MultiStartResult {
             "start_times_s": self.intervals.iter().map(|(a, _)| *a).collect::<Vec<_>>(),
             "window_s": [self.intervals.first().map(|i| i.0), self.intervals.last().map(|i| i.1)],
             "mean_rmse_spread_deg": deg(self.mean_rmse_spread()),
+            "segment_coverage": self.segment_coverage(),
             "offset_free": self.runs.first().is_some_and(|e| e.offset_free),
             "accel_reliability_pct": ar,
             "accel_global_reliability_pct": agr,
@@ -267,6 +270,12 @@ impl MultiStartResult {
                 s += &format!(" (std over starting points {:.3} deg)", sd.to_degrees());
             }
             s += "\n";
+        }
+        if let Some(c) = self.segment_coverage() {
+            s += &format!(
+                "segment samples scored: {:.1} % of those with a reference\n",
+                100.0 * c
+            );
         }
         s
     }
