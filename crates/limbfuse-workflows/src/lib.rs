@@ -2,7 +2,8 @@
 //!
 //! What a study or a command does with estimators, above the method layer
 //! and the metrics, so that the CLI and the Python package call the same
-//! code: paper 001's multi-start protocol ([`protocol`]), noise tuning
+//! code: paper 001's multi-start protocol ([`protocol`]) and which samples
+//! it scored ([`coverage`]), noise tuning
 //! ([`tuning`]) and the tune-then-validate loop of `limbfuse tune`
 //! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
 //! [`monte_carlo_plot`]), simulated trials with their metadata and columns
@@ -10,6 +11,7 @@
 //! ([`gait_library`]).
 #![deny(missing_docs)]
 
+pub mod coverage;
 pub mod fes_pulse_cv;
 pub mod gait_library;
 pub mod monte_carlo;

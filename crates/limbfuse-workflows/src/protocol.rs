@@ -130,6 +130,10 @@ pub struct MultiStartResult {
     pub intervals: Vec<(f64, f64)>,
     /// One evaluation per interval, in start order.
     pub runs: Vec<Evaluation>,
+    /// Per interval, the samples inside it that have a reference, per
+    /// channel in [`AngleChannel::ALL`] order: what a run could have
+    /// scored ([`crate::coverage`]).
+    pub reference_samples: Vec<[u64; 7]>,
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
@@ -189,7 +193,9 @@ impl MultiStartResult {
 
     /// The SPEC section 4 JSON object of `evaluate`, with the protocol's
     /// fields: `starts`, `interval_s` (length), `start_times_s`,
-    /// `mean_rmse_spread_deg` (std over starts), `window_s`.
+    /// `mean_rmse_spread_deg` (std over starts), `window_s`,
+    /// `segment_coverage` (segment samples scored / with a reference,
+    /// [`crate::coverage`]).
     pub fn to_json(&self) -> Value {
         let deg = |v: Option<f64>| json!(v.map(f64::to_degrees));
         let (mut rmse, mut max_abs, mut corr) = (Map::new(), Map::new(), Map::new());
@@ -219,6 +225,7 @@ impl MultiStartResult {
             "start_times_s": self.intervals.iter().map(|(a, _)| *a).collect::<Vec<_>>(),
             "window_s": [self.intervals.first().map(|i| i.0), self.intervals.last().map(|i| i.1)],
             "mean_rmse_spread_deg": deg(self.mean_rmse_spread()),
+            "segment_coverage": self.segment_coverage(),
             "offset_free": self.runs.first().is_some_and(|e| e.offset_free),
             "accel_reliability_pct": ar,
             "accel_global_reliability_pct": agr,
@@ -264,6 +271,12 @@ impl MultiStartResult {
             }
             s += "\n";
         }
+        if let Some(c) = self.segment_coverage() {
+            s += &format!(
+                "segment samples scored: {:.1} % of those with a reference\n",
+                100.0 * c
+            );
+        }
         s
     }
 }
@@ -283,18 +296,25 @@ pub fn multi_start(
     if intervals.is_empty() {
         return Err(ProtocolError::Config("no starting point".into()));
     }
-    let runs: Vec<Evaluation> = intervals
+    let runs: Vec<(Evaluation, [u64; 7])> = intervals
         .par_iter()
         .map(|&(s, e)| {
             let recs = slice_interval(records, s, e);
+            let window = TimeWindow {
+                start: Some(s),
+                end: Some(e),
+            };
+            let mut refs = [0u64; 7];
+            for r in recs.iter().filter(|r| window.contains(r.sample.t)) {
+                for (n, c) in refs.iter_mut().zip(AngleChannel::ALL) {
+                    *n += u64::from(r.reference.angle(c).is_some());
+                }
+            }
             let mut est = make().map_err(ProtocolError::Filter)?;
             let mut m = AngleMetrics::new(
                 est.name(),
                 EvalOptions {
-                    window: TimeWindow {
-                        start: Some(s),
-                        end: Some(e),
-                    },
+                    window,
                     offset_free,
                     ..EvalOptions::default()
                 },
@@ -306,14 +326,16 @@ pub fn multi_start(
                 observers,
             )
             .map_err(|err| ProtocolError::Filter(format!("start at {s} s: {err}")))?;
-            Ok(m.evaluation())
+            Ok((m.evaluation(), refs))
         })
         .collect::<Result<_, ProtocolError>>()?;
+    let (runs, reference_samples): (Vec<Evaluation>, Vec<[u64; 7]>) = runs.into_iter().unzip();
     let method = runs.first().map(|e| e.method.clone()).unwrap_or_default();
     Ok(MultiStartResult {
         method,
         intervals: intervals.to_vec(),
         runs,
+        reference_samples,
     })
 }
 

@@ -6,12 +6,12 @@
 use std::fmt::Write as _;
 
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_core::{Estimator, Record, Segment};
+use limbfuse_core::{Record, Segment};
 use limbfuse_eval::TimeWindow;
 use limbfuse_methods::segment_params::FilterParams;
 
-use crate::protocol::{multi_start, plan_intervals, MultiStartResult, ProtocolError, StartPlan};
-use crate::tuning::{tune, SearchSpace, TuneConfig, TuneError};
+use crate::protocol::{plan_intervals, MultiStartResult, ProtocolError, StartPlan};
+use crate::tuning::{measure_params, tune, SearchSpace, TuneConfig, TuneError};
 
 /// Which validation window.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,13 +78,9 @@ fn measure(
     p: &FilterParams,
     records: &[Record],
     iv: &[(f64, f64)],
-) -> Result<MultiStartResult, ProtocolError> {
-    let make = || {
-        p.build()
-            .map(|f| f as Box<dyn Estimator>)
-            .map_err(|e| e.to_string())
-    };
-    multi_start(&make, records, iv, false)
+) -> Result<MultiStartResult, TuneValidateError> {
+    measure_params(p, records, iv)?
+        .ok_or_else(|| TuneError::Config("parameters: invalid".into()).into())
 }
 
 fn following_block(tuning: &[(f64, f64)], t_last: f64) -> Option<TimeWindow> {
@@ -164,6 +160,12 @@ fn deg(m: Option<&MultiStartResult>) -> String {
         .map_or("-".to_string(), |v| format!("{:.3}", v.to_degrees()))
 }
 
+/// Segment-angle coverage in percent (scored / with a reference).
+fn pct(m: Option<&MultiStartResult>) -> String {
+    m.and_then(MultiStartResult::segment_coverage)
+        .map_or("-".to_string(), |v| format!("{:.1}", 100.0 * v))
+}
+
 impl TuneValidateReport {
     /// Provenance lines for the parameter file (`optimiser`, windows and
     /// the errors before and after); the caller adds how it was invoked.
@@ -175,25 +177,31 @@ impl TuneValidateReport {
                 self.dims, self.evaluations
             ),
             format!(
-                "tuning window {}: mean segment RMSE {} -> {} deg",
+                "tuning window {}: mean segment RMSE {} -> {} deg, segment samples scored {} -> {} %",
                 span(&self.tuning),
                 deg(Some(tb)),
-                deg(Some(ta))
+                deg(Some(ta)),
+                pct(Some(tb)),
+                pct(Some(ta))
             ),
         ];
         if let (Some(iv), Some([vb, va])) = (&self.validation, &self.validation_before_after) {
             h.push(format!(
-                "validation window {}: mean segment RMSE {} -> {} deg",
+                "validation window {}: mean segment RMSE {} -> {} deg, segment samples scored {} -> {} %",
                 span(iv),
                 deg(Some(vb)),
-                deg(Some(va))
+                deg(Some(va)),
+                pct(Some(vb)),
+                pct(Some(va))
             ));
         }
         h
     }
 
     /// The RMSE table (deg, mean over starting points): one row per
-    /// segment and the mean; columns start/tuned on each window.
+    /// segment and the mean, then the share of segment samples with a
+    /// reference that were scored (`scored %`, [`crate::coverage`]);
+    /// columns start/tuned on each window.
     pub fn table(&self) -> String {
         let v = self.validation_before_after.as_ref();
         let cols = [
@@ -227,6 +235,15 @@ impl TuneValidateReport {
                 cell(cols[3], c)
             );
         }
+        let _ = writeln!(
+            s,
+            "{:<10}{:>12}{:>12}{:>14}{:>14}",
+            "scored %",
+            pct(cols[0]),
+            pct(cols[1]),
+            pct(cols[2]),
+            pct(cols[3])
+        );
         s
     }
 }

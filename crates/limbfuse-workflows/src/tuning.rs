@@ -12,7 +12,12 @@
 //!
 //! **Objective**: the mean RMSE of the four segment angles (degrees),
 //! averaged over the starting points of [`crate::protocol`] (paper 001 uses
-//! 50 starting points in the optimisation stage too).
+//! 50 starting points in the optimisation stage too), on the samples the
+//! starting parameters score: a candidate that scores fewer samples of a
+//! channel in some run than the start did (a filter that keeps restarting
+//! and so keeps restarting its run-in `startup_s`) has failed, cost `inf`,
+//! instead of being averaged over the few samples it did estimate
+//! ([`crate::coverage`], issue 14).
 //!
 //! **Optimiser**: particle swarm optimisation from the `argmin` crate
 //! (argmin-rs, maintained, pure Rust; `ParticleSwarm` with the standard
@@ -38,7 +43,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::protocol::multi_start;
+use crate::coverage::ScoredFloor;
+use crate::protocol::{multi_start, MultiStartResult};
 use limbfuse_methods::segment_params::FilterParams;
 
 /// Half-width (decades) of the search range of the noise parameters.
@@ -243,15 +249,15 @@ pub enum TuneError {
     Failed(String),
 }
 
-/// Mean segment RMSE (deg) of `params` over the intervals; `inf` when no
-/// segment could be evaluated or the parameters are invalid.
-pub fn objective_deg(
+/// The multi-start result of `params` over the intervals; `None` when the
+/// parameters are invalid.
+pub fn measure_params(
     params: &FilterParams,
     records: &[Record],
     intervals: &[(f64, f64)],
-) -> Result<f64, TuneError> {
+) -> Result<Option<MultiStartResult>, TuneError> {
     if params.validate().is_err() {
-        return Ok(f64::INFINITY);
+        return Ok(None);
     }
     let make = || {
         params
@@ -259,18 +265,42 @@ pub fn objective_deg(
             .map(|f| f as Box<dyn limbfuse_core::Estimator>)
             .map_err(|e| e.to_string())
     };
-    let r = multi_start(&make, records, intervals, false)
-        .map_err(|e| TuneError::Failed(e.to_string()))?;
-    Ok(r.mean_rmse()
+    multi_start(&make, records, intervals, false)
+        .map(Some)
+        .map_err(|e| TuneError::Failed(e.to_string()))
+}
+
+/// Mean segment RMSE (deg) of `params` over the intervals; `inf` when no
+/// segment could be evaluated, the parameters are invalid, or some run
+/// scored fewer samples of a channel than `floor` asks (see the module docs).
+pub fn objective_deg(
+    params: &FilterParams,
+    records: &[Record],
+    intervals: &[(f64, f64)],
+    floor: &ScoredFloor,
+) -> Result<f64, TuneError> {
+    let Some(r) = measure_params(params, records, intervals)? else {
+        return Ok(f64::INFINITY);
+    };
+    Ok(cost_deg(&r, floor))
+}
+
+/// The objective of a measured result (see [`objective_deg`]).
+fn cost_deg(r: &MultiStartResult, floor: &ScoredFloor) -> f64 {
+    if floor.first_shortfall(r).is_some() {
+        return f64::INFINITY;
+    }
+    r.mean_rmse()
         .map(f64::to_degrees)
         .filter(|v| v.is_finite())
-        .unwrap_or(f64::INFINITY))
+        .unwrap_or(f64::INFINITY)
 }
 
 struct Problem<'a> {
     space: &'a SearchSpace,
     records: &'a [Record],
     intervals: &'a [(f64, f64)],
+    floor: &'a ScoredFloor,
     on_eval: &'a (dyn Fn() + Sync),
 }
 
@@ -279,8 +309,13 @@ impl CostFunction for Problem<'_> {
     type Output = f64;
 
     fn cost(&self, x: &Vec<f64>) -> Result<f64, ArgminError> {
-        let c = objective_deg(&self.space.params_at(x), self.records, self.intervals)
-            .map_err(|e| ArgminError::msg(e.to_string()))?;
+        let c = objective_deg(
+            &self.space.params_at(x),
+            self.records,
+            self.intervals,
+            self.floor,
+        )
+        .map_err(|e| ArgminError::msg(e.to_string()))?;
         (self.on_eval)();
         Ok(c)
     }
@@ -314,10 +349,18 @@ pub fn tune(
         .map_err(|e| TuneError::Config(format!("starting parameters: {e}")))?;
     let space = SearchSpace::around(start);
     let history = Arc::new(Mutex::new(Vec::new()));
+    // The start is measured first: what it scores is the floor every
+    // candidate must score (module docs).
+    let start_result = measure_params(&space.params_at(&space.x0), records, intervals)?
+        .ok_or_else(|| TuneError::Config("starting parameters: invalid".into()))?;
+    let floor = ScoredFloor::of(&start_result);
+    let start_cost = cost_deg(&start_result, &floor);
+    on_eval();
     let problem = Problem {
         space: &space,
         records,
         intervals,
+        floor: &floor,
         on_eval,
     };
     // Initial swarm: the starting point and particles - 1 uniform draws.
@@ -336,12 +379,14 @@ pub fn tune(
         positions.push(p);
         velocities.push(v);
     }
-    let costs: Vec<f64> = positions
-        .par_iter()
-        .map(|x| problem.cost(x))
-        .collect::<Result<_, _>>()
-        .map_err(|e| TuneError::Failed(e.to_string()))?;
-    let start_cost = costs[0];
+    let mut costs = vec![start_cost];
+    costs.extend(
+        positions[1..]
+            .par_iter()
+            .map(|x| problem.cost(x))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| TuneError::Failed(e.to_string()))?,
+    );
     if !start_cost.is_finite() {
         return Err(TuneError::Failed(
             "the trial window gives no segment-angle error to minimise (no reference or no estimate)".into(),

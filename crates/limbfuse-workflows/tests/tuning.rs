@@ -9,6 +9,7 @@ use limbfuse_core::Record;
 use limbfuse_eval::TimeWindow;
 use limbfuse_methods::segment_params::{parse_params, to_toml, FilterMethod, FilterParams, Preset};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
+use limbfuse_workflows::coverage::ScoredFloor;
 use limbfuse_workflows::protocol::{plan_intervals, slice_interval, StartPlan};
 use limbfuse_workflows::tuning::{objective_deg, tune, SearchSpace, TuneConfig};
 
@@ -41,10 +42,10 @@ fn tuning_reduces_the_rmse_on_the_tuning_window_deterministically() {
     };
     for method in [FilterMethod::Local, FilterMethod::Mjls] {
         let start = FilterParams::preset(method, Preset::Default);
-        let before = objective_deg(&start, records, &intervals).unwrap();
+        let before = objective_deg(&start, records, &intervals, &ScoredFloor::none()).unwrap();
         let r = tune(&start, records, &intervals, &cfg, &|| {}).unwrap();
         assert_eq!(r.start_cost_deg, before);
-        let after = objective_deg(&r.params, records, &intervals).unwrap();
+        let after = objective_deg(&r.params, records, &intervals, &ScoredFloor::none()).unwrap();
         assert_eq!(after, r.best_cost_deg);
         // The swarm keeps the starting point as a particle, so the tuned cost
         // can never be worse; it must be strictly better. (The size of the
