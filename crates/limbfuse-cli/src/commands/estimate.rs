@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use limbfuse_core::runner::{self, Observer};
+use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::Estimator;
 use limbfuse_eval::{RejectionWatch, ResetWatch};
 use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
@@ -280,6 +280,24 @@ impl RunReport {
     }
 }
 
+/// The records of a trial with an IMU calibration applied to each.
+struct Calibrated<'a> {
+    reader: &'a mut TrialReader,
+    calibration: &'a Calibration,
+}
+
+impl RecordSource for Calibrated<'_> {
+    type Error = limbfuse_io::FileError;
+
+    fn read_into(&mut self, record: &mut limbfuse_core::Record) -> Result<bool, Self::Error> {
+        let more = self.reader.read_into(record)?;
+        if more {
+            self.calibration.apply(record);
+        }
+        Ok(more)
+    }
+}
+
 /// Runs `est` over every record of `reader` (calibrated if asked) into
 /// `writer`, with a progress bar and the `extra` observers.
 fn run_observed<W: std::io::Write>(
@@ -303,19 +321,18 @@ fn run_observed<W: std::io::Write>(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
+        // Records are large: the reader parses each straight into the
+        // runner's one record, calibrated in place.
         let summary = match calibration {
-            // Records are large: without a calibration they go to the
-            // runner without a mapping step that would move each once more.
-            None => runner::run(est, reader.by_ref(), &mut observers),
-            Some(c) => {
-                let source = reader.by_ref().map(|r| {
-                    r.map(|mut rec| {
-                        c.apply(&mut rec);
-                        rec
-                    })
-                });
-                runner::run(est, source, &mut observers)
-            }
+            None => runner::run_from(est, reader, &mut observers),
+            Some(calibration) => runner::run_from(
+                est,
+                &mut Calibrated {
+                    reader,
+                    calibration,
+                },
+                &mut observers,
+            ),
         };
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
