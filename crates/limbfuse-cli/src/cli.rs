@@ -291,6 +291,11 @@ pub struct EstimateArgs {
     /// estimation (rotated into the aligned frame for a trial `align` wrote).
     #[arg(long, visible_alias = "imu-calibration")]
     pub calibration: Option<PathBuf>,
+    /// Diagnostic columns to write: `all` (default), `none`, or names
+    /// separated by commas (`limbfuse methods NAME` lists a method's), e.g.
+    /// `sd_thigh,sd_shank`.
+    #[arg(long, value_name = "all|none|NAMES")]
+    pub diagnostics: Option<String>,
 }
 
 /// Options of `evaluate`.

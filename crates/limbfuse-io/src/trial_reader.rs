@@ -165,6 +165,23 @@ impl TrialReader {
         })
     }
 
+    /// Stops reading the reference columns (`*_ref`, `com_*`, `phase_ref`,
+    /// `contact_*_ref`, `speed_ref`): the records' references stay empty
+    /// and those cells are neither parsed nor checked (a row must still
+    /// have every cell). For a run that does not look at the truth
+    /// (`estimate`: about a fifth of a simulated trial's cells); the
+    /// [`TrialReader::layout`] still lists them, and `evaluate` reads them.
+    pub fn skip_references(&mut self) {
+        let p = &mut self.plan;
+        p.segment_ref = [None; 4];
+        p.joint_ref = [None; 3];
+        p.com_pos = None;
+        p.com_vel = None;
+        p.phase_ref = None;
+        p.contact_ref = [None; 2];
+        p.speed_ref = None;
+    }
+
     /// Metadata from the file's comment lines.
     pub fn meta(&self) -> &TrialMeta {
         self.table.meta()

@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::Estimator;
 use limbfuse_eval::{RejectionWatch, ResetWatch};
-use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
+use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
 
@@ -41,7 +41,7 @@ impl Observer for GaitWatch {
 pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let stdout = stdio::is_stdio(&a.output).then(SharedStdout::new);
-    let reader = if stdio::is_stdio(&a.trial) {
+    let mut reader = if stdio::is_stdio(&a.trial) {
         TrialReader::from_reader(
             Path::new(stdio::STDIN_LABEL),
             Box::new(FlushingStdin::new(stdout.clone())),
@@ -51,6 +51,14 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
+    let diagnostics = match &a.diagnostics {
+        Some(text) => DiagnosticColumns::parse(text)?,
+        None => DiagnosticColumns::All,
+    };
+    // Checked before the run, so that a wrong name leaves no output behind.
+    diagnostics.resolve(est.name(), est.diagnostic_names())?;
+    // No estimator looks at the truth: its cells are not parsed.
+    reader.skip_references();
     let calibration = match &a.calibration {
         Some(path) => Some(
             super::calibrate::load_for_trial(path, reader.path(), reader.meta(), reader.layout())?
@@ -79,6 +87,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                 &command_line(a),
                 &mut extra,
                 calibration.as_ref(),
+                diagnostics,
             )?,
             None => run_to_file_calibrated(
                 est.as_mut(),
@@ -88,6 +97,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                 &command_line(a),
                 &mut extra,
                 calibration.as_ref(),
+                diagnostics,
             )?,
         }
     };
@@ -168,6 +178,7 @@ fn command_line(a: &EstimateArgs) -> String {
     opt(&mut c, "leg-length", a.leg_length.map(|v| v.to_string()));
     opt(&mut c, "mass", a.mass.map(|v| v.to_string()));
     opt(&mut c, "calibration", a.calibration.as_deref().map(name));
+    opt(&mut c, "diagnostics", a.diagnostics.clone());
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
 }
 
@@ -187,11 +198,13 @@ pub fn run_to_file(
     command: &str,
     extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
-    run_to_file_calibrated(est, reader, output, label, command, extra, None)
+    let all = DiagnosticColumns::All;
+    run_to_file_calibrated(est, reader, output, label, command, extra, None, all)
 }
 
 /// [`run_to_file`] with an IMU calibration applied to every record read
-/// (docs/CALIBRATION.md).
+/// (docs/CALIBRATION.md), writing the `diagnostics` asked for.
+#[allow(clippy::too_many_arguments)]
 pub fn run_to_file_calibrated(
     est: &mut dyn Estimator,
     mut reader: TrialReader,
@@ -200,11 +213,13 @@ pub fn run_to_file_calibrated(
     command: &str,
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
+    diagnostics: DiagnosticColumns,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::for_path(output, super::create_file(output)?)
         .recording_trial(file_name(&trial))
-        .recording_command(command);
+        .recording_command(command)
+        .with_diagnostics(diagnostics);
     let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     let hash = reader.content_hash().ok_or_else(|| {
         Internal(format!(
@@ -223,6 +238,7 @@ pub fn run_to_file_calibrated(
 /// arrive. The header cannot hold the trial's hash (it is written before
 /// the trial ends): it says `# trial_hash: streamed`, and the hash goes to
 /// stderr at the end.
+#[allow(clippy::too_many_arguments)]
 fn run_to_stdout(
     est: &mut dyn Estimator,
     mut reader: TrialReader,
@@ -231,11 +247,13 @@ fn run_to_stdout(
     command: &str,
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
+    diagnostics: DiagnosticColumns,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::new(output)
         .streaming_trial(file_name(&trial))
-        .recording_command(command);
+        .recording_command(command)
+        .with_diagnostics(diagnostics);
     let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     writer
         .into_inner()
