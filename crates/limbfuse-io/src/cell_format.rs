@@ -63,14 +63,7 @@ pub(crate) fn push_value(out: &mut Vec<u8>, buf: &mut zmij::Buffer, value: Optio
 #[inline]
 fn push_short(out: &mut Vec<u8>, text: &[u8]) {
     let n = text.len();
-    if n < 4 {
-        // `0`, `1`: byte by byte (a `Vec::push` loop is not turned into `memcpy`).
-        for &b in text {
-            out.push(b);
-        }
-        return;
-    }
-    if n > 32 {
+    if !(4..=32).contains(&n) {
         out.extend_from_slice(text);
         return;
     }
