@@ -21,6 +21,12 @@ fn ok(o: Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// A seeded simulated walking trial `w.csv` of `seconds`.
+fn simulate(d: &Path, seconds: &str) {
+    let args = ["simulate", "walking", "--duration", seconds, "--seed", "3"];
+    ok(limbfuse(&[&args[..], &["-o", "w.csv"]].concat(), d));
+}
+
 fn header(d: &Path, name: &str) -> Vec<String> {
     let text = std::fs::read_to_string(d.join(name)).unwrap();
     let line = text.lines().find(|l| !l.starts_with('#')).unwrap();
@@ -46,19 +52,7 @@ const ANGLES: [&str; 8] = [
 fn issue_18_diagnostics_option_selects_columns_and_evaluates_alike() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    ok(limbfuse(
-        &[
-            "simulate",
-            "walking",
-            "--duration",
-            "8",
-            "--seed",
-            "3",
-            "-o",
-            "w.csv",
-        ],
-        d,
-    ));
+    simulate(d, "8");
     let est = |extra: &[&str], out: &str| {
         let mut args = vec!["estimate", "--method", "mjls"];
         args.extend_from_slice(extra);
@@ -127,19 +121,7 @@ fn issue_18_diagnostics_option_selects_columns_and_evaluates_alike() {
 fn issue_18_diagnostics_option_refuses_an_unknown_name_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    ok(limbfuse(
-        &[
-            "simulate",
-            "walking",
-            "--duration",
-            "2",
-            "--seed",
-            "3",
-            "-o",
-            "w.csv",
-        ],
-        d,
-    ));
+    simulate(d, "2");
     for (value, needle) in [
         ("sd_knee", "`sd_knee` is not a diagnostic of `mjls`"),
         ("mode,,sd_thigh", "--diagnostics `mode,,sd_thigh`"),
