@@ -26,7 +26,7 @@ inclinations and 3 encoder joint angles, `filterpy.kalman.KalmanFilter`
 with `dim_x=8, dim_z=7, dim_u=4`); the inclinations are computed
 vectorised with numpy before the loop, as a careful user would. It writes
 t, 7 angles and 8 standard deviations (16 columns); limbfuse writes its
-45 by default (angles and 37 diagnostics), so the Python side writes less.
+46 by default (t, 7 angles and 38 diagnostics), so the Python side writes less.
 Each limbfuse run is therefore timed twice: with its default columns, and
 like for like with `--diagnostics` naming 8 diagnostics (the 4 angle
 standard deviations and the 4 gyro bias estimates), i.e. the same 16
