@@ -26,7 +26,11 @@ inclinations and 3 encoder joint angles, `filterpy.kalman.KalmanFilter`
 with `dim_x=8, dim_z=7, dim_u=4`); the inclinations are computed
 vectorised with numpy before the loop, as a careful user would. It writes
 t, 7 angles and 8 standard deviations (16 columns); limbfuse writes its
-45 (angles and 37 diagnostics), so the Python side writes less.
+46 by default (t, 7 angles and 38 diagnostics), so the Python side writes less.
+Each limbfuse run is therefore timed twice: with its default columns, and
+like for like with `--diagnostics` naming 8 diagnostics (the 4 angle
+standard deviations and the 4 gyro bias estimates), i.e. the same 16
+columns as the Python script (`like` in the report).
 
 Reported per tool: the median over the repeats of wall time and CPU time
 (the machine may be shared: CPU time is what one core spent). Python's
@@ -50,6 +54,10 @@ from filterpy.kalman import KalmanFilter  # noqa: E402
 IMPORT_SECONDS = time.perf_counter() - T_IMPORT
 
 SEGMENTS = ["trunk", "thigh", "shank", "foot"]
+# limbfuse's 16 columns like the Python script's: t, 7 angles, 8 diagnostics.
+LIKE_FOR_LIKE = ["--diagnostics", ",".join(
+    [f"sd_{s}" for s in ["trunk", "thigh", "shank", "foot"]]
+    + [f"bias_{s}" for s in ["trunk", "thigh", "shank", "foot"]])]
 JOINTS = ["hip", "knee", "ankle"]
 
 
@@ -118,11 +126,11 @@ def timed_python(trial, out, feather=False):
     return time.perf_counter() - w0, time.process_time() - c0, n
 
 
-def timed_limbfuse(binary, trial, out):
+def timed_limbfuse(binary, trial, out, extra=()):
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     w0 = time.perf_counter()
     subprocess.run(
-        [binary, "-q", "estimate", "--method", "mjls", trial, "-o", out],
+        [binary, "-q", "estimate", "--method", "mjls", *extra, trial, "-o", out],
         check=True,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -140,7 +148,8 @@ def main():
     repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 3
     arrow = sys.argv[4] if len(sys.argv) > 4 else None
     size = os.path.getsize(trial)
-    times = {k: ([], []) for k in ["py", "lf", "py_feather", "lf_arrow"]}
+    keys = ["py", "lf", "lf_like", "py_feather", "lf_arrow", "lf_arrow_like"]
+    times = {k: ([], []) for k in keys}
 
     def add(key, wall, cpu):
         times[key][0].append(wall)
@@ -151,15 +160,20 @@ def main():
         out = {
             "py": os.path.join(d, "py.csv"),
             "lf": os.path.join(d, "lf.csv"),
+            "lf_like": os.path.join(d, "lf_like.csv"),
             "py_feather": os.path.join(d, "py.feather"),
             "lf_arrow": os.path.join(d, "lf.arrow"),
+            "lf_arrow_like": os.path.join(d, "lf_like.arrow"),
         }
         for _ in range(repeats):
             add("lf", *timed_limbfuse(binary, trial, out["lf"]))
+            add("lf_like", *timed_limbfuse(binary, trial, out["lf_like"], LIKE_FOR_LIKE))
             w, c, n = timed_python(trial, out["py"])
             add("py", w, c)
             if arrow:
                 add("lf_arrow", *timed_limbfuse(binary, arrow, out["lf_arrow"]))
+                add("lf_arrow_like",
+                    *timed_limbfuse(binary, arrow, out["lf_arrow_like"], LIKE_FOR_LIKE))
                 w, c, _ = timed_python(arrow, out["py_feather"], feather=True)
                 add("py_feather", w, c)
         for k, p in out.items():
@@ -181,16 +195,21 @@ def main():
         "py": "python  (pandas csv + filterpy)",
         "py_feather": "python  (pandas feather + filterpy)",
         "lf": "limbfuse estimate mjls, csv",
+        "lf_like": "limbfuse, csv, like for like",
         "lf_arrow": "limbfuse estimate mjls, arrow",
+        "lf_arrow_like": "limbfuse, arrow, like for like",
     }
     for k, label in labels.items():
         if times[k][0]:
             print(f"{label:36}: wall {wall(k):.3f} s, cpu {cpu(k):.3f} s, "
                   f"output {sizes[k] / 1e6:.1f} MB")
-    pairs = [("py", "lf", "csv vs csv")]
+    pairs = [("py", "lf", "csv vs csv"), ("py", "lf_like", "csv vs csv, like for like")]
     if arrow:
         pairs += [("py", "lf_arrow", "python csv vs limbfuse arrow"),
-                  ("py_feather", "lf_arrow", "python feather vs limbfuse arrow")]
+                  ("py", "lf_arrow_like", "python csv vs limbfuse arrow, like for like"),
+                  ("py_feather", "lf_arrow", "python feather vs limbfuse arrow"),
+                  ("py_feather", "lf_arrow_like",
+                   "python feather vs limbfuse arrow, like for like")]
     for p, l, what in pairs:
         print(f"speed-up, {what}: wall {wall(p) / wall(l):.1f}x, cpu {cpu(p) / cpu(l):.1f}x "
               f"(medians of {repeats})")

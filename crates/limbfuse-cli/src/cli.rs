@@ -295,6 +295,11 @@ pub struct EstimateArgs {
     /// look-ahead; every estimate uses the samples after it too; docs/CHAIN.md).
     #[arg(long)]
     pub smooth: bool,
+    /// Diagnostic columns to write: `all` (default), `none`, or names
+    /// separated by commas (`limbfuse methods NAME` lists a method's), e.g.
+    /// `sd_thigh,sd_shank`.
+    #[arg(long, value_name = "all|none|NAMES")]
+    pub diagnostics: Option<String>,
 }
 
 /// Options of `evaluate`.

@@ -4,15 +4,10 @@
 //! `--smooth` with another method is a user error (exit 1).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn limbfuse(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_limbfuse"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod support;
+use support::limbfuse;
 
 fn ok(o: &Output) {
     let e = String::from_utf8_lossy(&o.stderr);

@@ -57,6 +57,38 @@ pub struct RunSummary {
     pub n_samples: u64,
 }
 
+/// A source of records that overwrites a caller-owned [`Record`] with each
+/// new one, so that the runner moves no record per sample (a trial reader
+/// parses straight into the runner's record).
+pub trait RecordSource {
+    /// Why a record could not be read.
+    type Error: Into<BoxError>;
+    /// Overwrites `record` with the next record; `Ok(false)` at the end
+    /// (then `record` holds no meaningful value).
+    fn read_into(&mut self, record: &mut Record) -> Result<bool, Self::Error>;
+}
+
+/// Any iterator of records as a [`RecordSource`] (each record is moved once).
+struct RecordIter<I>(I);
+
+impl<I, E> RecordSource for RecordIter<I>
+where
+    I: Iterator<Item = Result<Record, E>>,
+    E: Into<BoxError>,
+{
+    type Error = E;
+
+    fn read_into(&mut self, record: &mut Record) -> Result<bool, E> {
+        match self.0.next() {
+            None => Ok(false),
+            Some(r) => {
+                *record = r?;
+                Ok(true)
+            }
+        }
+    }
+}
+
 /// Runs `estimator` over `source`, streaming: memory use does not grow with the trial length.
 pub fn run<I, E>(
     estimator: &mut dyn Estimator,
@@ -67,14 +99,28 @@ where
     I: IntoIterator<Item = Result<Record, E>>,
     E: Into<BoxError>,
 {
+    run_from(estimator, &mut RecordIter(source.into_iter()), observers)
+}
+
+/// [`run`] over a [`RecordSource`]: one record and one estimate are reused
+/// for the whole run ([`Estimator::step_into`]), nothing is moved per sample.
+pub fn run_from<S: RecordSource + ?Sized>(
+    estimator: &mut dyn Estimator,
+    source: &mut S,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunSummary, RunError> {
     for o in observers.iter_mut() {
         o.start(estimator).map_err(RunError::Observer)?;
     }
     let mut n = 0u64;
-    for item in source {
-        let record = item.map_err(|e| RunError::Source(e.into()))?;
-        let estimate = estimator
-            .step(&record.sample)
+    let mut record = Record::default();
+    let mut estimate = Estimate::empty(0.0);
+    while source
+        .read_into(&mut record)
+        .map_err(|e| RunError::Source(e.into()))?
+    {
+        estimator
+            .step_into(&record.sample, &mut estimate)
             .map_err(|source| RunError::Estimator {
                 index: n,
                 t: record.sample.t,

@@ -74,6 +74,19 @@ fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
             black_box(acc)
         })
     });
+    // The runner's path (issue 18): every row parsed into one record.
+    g.bench_function("read_into_60k_rows", |b| {
+        b.iter(|| {
+            let mut r =
+                TrialReader::from_reader(Path::new("bench.csv"), Box::new(bytes)).expect("valid");
+            let mut rec = Record::default();
+            let mut acc = 0.0;
+            while r.read_into(&mut rec).expect("valid") {
+                acc += rec.sample.t;
+            }
+            black_box(acc)
+        })
+    });
     g.bench_function("write_60k_rows", |b| {
         b.iter(|| black_box(trial_bytes(&records, &mut out).len()))
     });

@@ -34,7 +34,8 @@ pub(crate) fn push_value(out: &mut Vec<u8>, buf: &mut zmij::Buffer, value: Optio
         if v.is_sign_negative() {
             out.push(b'-');
         }
-        out.extend_from_slice(
+        push_short(
+            out,
             itoa::Buffer::new()
                 .format(integer.unsigned_abs())
                 .as_bytes(),
@@ -52,8 +53,35 @@ pub(crate) fn push_value(out: &mut Vec<u8>, buf: &mut zmij::Buffer, value: Optio
             out.extend_from_slice(&text[..tail + k]);
             out.extend_from_slice(&text[tail + k + 1..]);
         }
-        None => out.extend_from_slice(text),
+        None => push_short(out, text),
     }
+}
+
+/// Appends the text of one number (at most 24 bytes from `zmij`, 20 from
+/// `itoa`) with fixed-size copies: `extend_from_slice` of a length known
+/// only at run time calls `memcpy`, which was ~6 % of an `estimate` run.
+#[inline]
+fn push_short(out: &mut Vec<u8>, text: &[u8]) {
+    let n = text.len();
+    if !(4..=32).contains(&n) {
+        out.extend_from_slice(text);
+        return;
+    }
+    let at = out.len();
+    out.extend_from_slice(&[0u8; 32]);
+    let dst = &mut out[at..at + n];
+    // Two overlapping copies of a fixed size cover any length in their range.
+    if n >= 16 {
+        dst[..16].copy_from_slice(&text[..16]);
+        dst[n - 16..].copy_from_slice(&text[n - 16..]);
+    } else if n >= 8 {
+        dst[..8].copy_from_slice(&text[..8]);
+        dst[n - 8..].copy_from_slice(&text[n - 8..]);
+    } else {
+        dst[..4].copy_from_slice(&text[..4]);
+        dst[n - 4..].copy_from_slice(&text[n - 4..]);
+    }
+    out.truncate(at + n);
 }
 
 /// Writes `# key: value` lines.

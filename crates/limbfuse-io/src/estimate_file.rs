@@ -23,6 +23,7 @@ use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 use crate::arrow_file::{self, ArrowSink};
 use crate::cell_sink::{CellSink, CsvLine};
 use crate::content_hash::{ContentHash, STREAMED_HASH, TRIAL_HASH_KEY, TRIAL_KEY};
+use crate::diagnostic_columns::DiagnosticColumns;
 use crate::error::FileError;
 use crate::meta::TrialMeta;
 use crate::table::TableReader;
@@ -36,7 +37,10 @@ pub struct EstimateWriter<W: Write> {
     /// The Arrow file, once the run has started.
     sink: Option<Box<ArrowSink<W>>>,
     outputs: Outputs,
-    n_diag: usize,
+    /// The diagnostics asked for, and their indices in `Estimate::diag`
+    /// once the run has started.
+    diagnostics: DiagnosticColumns,
+    diag_columns: Vec<usize>,
     line: CsvLine,
     /// The trial's file name, for the `# trial:` header line.
     trial: Option<String>,
@@ -62,7 +66,8 @@ impl<W: Write> EstimateWriter<W> {
             arrow: false,
             sink: None,
             outputs: Outputs::default(),
-            n_diag: 0,
+            diagnostics: DiagnosticColumns::All,
+            diag_columns: Vec::new(),
             line: CsvLine::with_capacity(512),
             trial: None,
             hash_offset: None,
@@ -113,6 +118,13 @@ impl<W: Write> EstimateWriter<W> {
     pub fn recording_command(mut self, command: impl Into<String>) -> Self {
         let command: String = command.into();
         self.command = Some(command.replace(['\n', '\r'], " "));
+        self
+    }
+
+    /// Writes only the diagnostics `columns` selects (default: all); the
+    /// run fails at its start if it names one the estimator does not have.
+    pub fn with_diagnostics(mut self, columns: DiagnosticColumns) -> Self {
+        self.diagnostics = columns;
         self
     }
 
@@ -168,7 +180,7 @@ impl<W: Write> Observer for EstimateWriter<W> {
         }
         self.outputs = estimator.outputs();
         let names = estimator.diagnostic_names();
-        self.n_diag = names.len().min(MAX_DIAG);
+        self.diag_columns = self.diagnostics.resolve(estimator.name(), names)?;
         let mut header = vec!["t".to_string()];
         for c in AngleChannel::ALL {
             if output_has(&self.outputs, c) {
@@ -187,7 +199,11 @@ impl<W: Write> Observer for EstimateWriter<W> {
         if self.outputs.contact {
             header.extend(CONTACT_COLUMNS.iter().map(|c| c.to_string()));
         }
-        header.extend(names[..self.n_diag].iter().map(|n| format!("diag_{n}")));
+        header.extend(
+            self.diag_columns
+                .iter()
+                .map(|&i| format!("diag_{}", names[i])),
+        );
         if self.arrow {
             let out = self.out.take().ok_or("the estimate writer has no output")?;
             self.sink = Some(Box::new(ArrowSink::new(out, header, "phase", &meta)?));
@@ -201,13 +217,13 @@ impl<W: Write> Observer for EstimateWriter<W> {
 
     fn observe(&mut self, _record: &Record, e: &Estimate) -> Result<(), BoxError> {
         if let Some(sink) = &mut self.sink {
-            write_estimate(sink.as_mut(), &self.outputs, self.n_diag, e);
+            write_estimate(sink.as_mut(), &self.outputs, &self.diag_columns, e);
             sink.end_row()?;
             return Ok(());
         }
         let line = &mut self.line;
         line.clear();
-        write_estimate(line, &self.outputs, self.n_diag, e);
+        write_estimate(line, &self.outputs, &self.diag_columns, e);
         let out = self
             .out
             .as_mut()
@@ -228,7 +244,7 @@ impl<W: Write> Observer for EstimateWriter<W> {
 fn write_estimate<S: CellSink + ?Sized>(
     line: &mut S,
     outputs: &Outputs,
-    n_diag: usize,
+    diag_columns: &[usize],
     e: &Estimate,
 ) {
     line.number(Some(e.t));
@@ -256,8 +272,8 @@ fn write_estimate<S: CellSink + ?Sized>(
             line.number(c.map(|c| if c { 1.0 } else { 0.0 }));
         }
     }
-    for d in &e.diag[..n_diag] {
-        line.number(*d);
+    for &i in diag_columns {
+        line.number(e.diag[i]);
     }
 }
 

@@ -7,6 +7,7 @@
 use std::io::Read;
 use std::path::Path;
 
+use limbfuse_core::runner::RecordSource;
 use limbfuse_core::sample::{GaitPhase, ModelInputs};
 use limbfuse_core::{Joint, Record, Segment, Side};
 use nalgebra::Vector3;
@@ -164,6 +165,23 @@ impl TrialReader {
         })
     }
 
+    /// Stops reading the reference columns (`*_ref`, `com_*`, `phase_ref`,
+    /// `contact_*_ref`, `speed_ref`): the records' references stay empty
+    /// and those cells are neither parsed nor checked (a row must still
+    /// have every cell). For a run that does not look at the truth
+    /// (`estimate`: about a fifth of a simulated trial's cells); the
+    /// [`TrialReader::layout`] still lists them, and `evaluate` reads them.
+    pub fn skip_references(&mut self) {
+        let p = &mut self.plan;
+        p.segment_ref = [None; 4];
+        p.joint_ref = [None; 3];
+        p.com_pos = None;
+        p.com_vel = None;
+        p.phase_ref = None;
+        p.contact_ref = [None; 2];
+        p.speed_ref = None;
+    }
+
     /// Metadata from the file's comment lines.
     pub fn meta(&self) -> &TrialMeta {
         self.table.meta()
@@ -188,6 +206,14 @@ impl TrialReader {
     /// Reads the next record; `Ok(None)` at the end of the file. A file with
     /// a header and no rows is an error ([`FileError::NoRows`]).
     pub fn next_record(&mut self) -> Result<Option<Record>, FileError> {
+        let mut rec = Record::default();
+        Ok(self.read_into(&mut rec)?.then_some(rec))
+    }
+
+    /// [`TrialReader::next_record`] parsed straight into `rec` (every field
+    /// overwritten): `Ok(false)` at the end of the file. The runner reads a
+    /// whole trial into one record this way ([`RecordSource`]).
+    pub fn read_into(&mut self, rec: &mut Record) -> Result<bool, FileError> {
         let header_line = self.table.header_line();
         let Some(row) = self.table.next_row()? else {
             if self.rows == 0 {
@@ -196,11 +222,10 @@ impl TrialReader {
                     line: header_line + 1,
                 });
             }
-            return Ok(None);
+            return Ok(false);
         };
         let plan = &self.plan;
         let t = row.time(plan.t, self.previous_t)?;
-        let mut rec = Record::default();
         rec.sample.t = t;
         for i in 0..4 {
             rec.sample.imu[i].set_acc_axes(cells(&row, plan.acc[i])?);
@@ -212,12 +237,15 @@ impl TrialReader {
             rec.reference.segment[i] = row.opt_number(plan.segment_ref[i])?;
         }
         for i in 0..4 {
-            rec.sample.other_leg_imu[i].set_acc_axes(cells(&row, plan.other_acc[i])?);
-            rec.sample.other_leg_imu[i].set_gyr_axes(cells(&row, plan.other_gyr[i])?);
+            let other = &mut rec.sample.other_leg_imu[i];
+            other.set_acc_axes(cells(&row, plan.other_acc[i])?);
+            other.set_gyr_axes(cells(&row, plan.other_gyr[i])?);
+            other.quat = None;
         }
         for side in 0..2 {
-            if let Some(c) = plan.contact_ref[side] {
-                rec.reference.contact[side] = match row.number(c)? {
+            rec.reference.contact[side] = match plan.contact_ref[side] {
+                None => None,
+                Some(c) => match row.number(c)? {
                     None => None,
                     Some(0.0) => Some(false),
                     Some(1.0) => Some(true),
@@ -227,8 +255,8 @@ impl TrialReader {
                             "a foot contact 1 (on the ground), 0 (swing) or an empty cell",
                         ))
                     }
-                };
-            }
+                },
+            };
         }
         rec.reference.speed = row.opt_number(plan.speed_ref)?;
         for i in 0..3 {
@@ -244,6 +272,7 @@ impl TrialReader {
         }
         rec.reference.com_pos = vector(&row, plan.com_pos)?;
         rec.reference.com_vel = vector(&row, plan.com_vel)?;
+        rec.reference.phase = None;
         if let Some(c) = plan.phase_ref {
             let text = row.text(c);
             if !text.is_empty() {
@@ -257,7 +286,15 @@ impl TrialReader {
         }
         self.previous_t = Some(t);
         self.rows += 1;
-        Ok(Some(rec))
+        Ok(true)
+    }
+}
+
+impl RecordSource for TrialReader {
+    type Error = FileError;
+
+    fn read_into(&mut self, record: &mut Record) -> Result<bool, FileError> {
+        TrialReader::read_into(self, record)
     }
 }
 

@@ -129,10 +129,16 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let mut e = Estimate::empty(sample.t);
+        self.step_into(sample, &mut e)?;
+        Ok(e)
+    }
+
+    fn step_into(&mut self, sample: &Sample, e: &mut Estimate) -> Result<(), EstimatorError> {
         let screened = self.gate.screen(sample);
-        let mut e = self.inner.step(&screened)?;
-        if !outputs_finite(&e) {
-            blank_non_finite(&mut e);
+        self.inner.step_into(&screened, e)?;
+        if !outputs_finite(e) {
+            blank_non_finite(e);
             self.inner.reset();
         }
         if let Some(i) = self.first {
@@ -141,7 +147,7 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
             e.diag[i + 1] = Some(a as f64);
             e.diag[i + 2] = Some(n as f64);
         }
-        Ok(e)
+        Ok(())
     }
 }
 

@@ -4,10 +4,10 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use limbfuse_core::runner::{self, Observer};
+use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{RejectionWatch, ResetWatch};
-use limbfuse_io::{Calibration, EstimateWriter, TrialReader};
+use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
 
@@ -41,7 +41,7 @@ impl Observer for GaitWatch {
 pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let stdout = stdio::is_stdio(&a.output).then(SharedStdout::new);
-    let reader = if stdio::is_stdio(&a.trial) {
+    let mut reader = if stdio::is_stdio(&a.trial) {
         TrialReader::from_reader(
             Path::new(stdio::STDIN_LABEL),
             Box::new(FlushingStdin::new(stdout.clone())),
@@ -64,6 +64,14 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
+    let diagnostics = match &a.diagnostics {
+        Some(text) => DiagnosticColumns::parse(text)?,
+        None => DiagnosticColumns::All,
+    };
+    // Checked before the run, so that a wrong name leaves no output behind.
+    diagnostics.resolve(est.name(), est.diagnostic_names())?;
+    // No estimator looks at the truth: its cells are not parsed.
+    reader.skip_references();
     let calibration = match &a.calibration {
         Some(path) => Some(
             super::calibrate::load_for_trial(path, reader.path(), reader.meta(), reader.layout())?
@@ -96,6 +104,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                 &command_line(a),
                 &mut extra,
                 calibration.as_ref(),
+                diagnostics,
             )?,
             None => run_to_file_calibrated(
                 engine,
@@ -105,6 +114,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                 &command_line(a),
                 &mut extra,
                 calibration.as_ref(),
+                diagnostics,
             )?,
         }
     };
@@ -188,6 +198,7 @@ fn command_line(a: &EstimateArgs) -> String {
     if a.smooth {
         c += " --smooth";
     }
+    opt(&mut c, "diagnostics", a.diagnostics.clone());
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
 }
 
@@ -207,6 +218,7 @@ pub fn run_to_file(
     command: &str,
     extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
+    let all = DiagnosticColumns::All;
     run_to_file_calibrated(
         Engine::Online(est),
         reader,
@@ -215,11 +227,13 @@ pub fn run_to_file(
         command,
         extra,
         None,
+        all,
     )
 }
 
 /// [`run_to_file`] with an IMU calibration applied to every record read
-/// (docs/CALIBRATION.md).
+/// (docs/CALIBRATION.md), writing the `diagnostics` asked for.
+#[allow(clippy::too_many_arguments)]
 pub fn run_to_file_calibrated(
     est: Engine<'_>,
     mut reader: TrialReader,
@@ -228,11 +242,13 @@ pub fn run_to_file_calibrated(
     command: &str,
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
+    diagnostics: DiagnosticColumns,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::for_path(output, super::create_file(output)?)
         .recording_trial(file_name(&trial))
-        .recording_command(command);
+        .recording_command(command)
+        .with_diagnostics(diagnostics);
     let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     let hash = reader.content_hash().ok_or_else(|| {
         Internal(format!(
@@ -251,6 +267,7 @@ pub fn run_to_file_calibrated(
 /// arrive. The header cannot hold the trial's hash (it is written before
 /// the trial ends): it says `# trial_hash: streamed`, and the hash goes to
 /// stderr at the end.
+#[allow(clippy::too_many_arguments)]
 fn run_to_stdout(
     est: Engine<'_>,
     mut reader: TrialReader,
@@ -259,11 +276,13 @@ fn run_to_stdout(
     command: &str,
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
+    diagnostics: DiagnosticColumns,
 ) -> Result<u64> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::new(output)
         .streaming_trial(file_name(&trial))
-        .recording_command(command);
+        .recording_command(command)
+        .with_diagnostics(diagnostics);
     let run = run_observed(est, &mut reader, &mut writer, label, extra, calibration)?;
     writer
         .into_inner()
@@ -317,6 +336,24 @@ impl RunReport {
     }
 }
 
+/// The records of a trial with an IMU calibration applied to each.
+struct Calibrated<'a> {
+    reader: &'a mut TrialReader,
+    calibration: &'a Calibration,
+}
+
+impl RecordSource for Calibrated<'_> {
+    type Error = limbfuse_io::FileError;
+
+    fn read_into(&mut self, record: &mut limbfuse_core::Record) -> Result<bool, Self::Error> {
+        let more = self.reader.read_into(record)?;
+        if more {
+            self.calibration.apply(record);
+        }
+        Ok(more)
+    }
+}
+
 /// Runs `est` over every record of `reader` (calibrated if asked) into
 /// `writer`, with a progress bar and the `extra` observers.
 fn run_observed<W: std::io::Write>(
@@ -340,24 +377,29 @@ fn run_observed<W: std::io::Write>(
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
+        // Records are large: the reader parses each straight into the
+        // runner's one record, calibrated in place.
         let summary = match (calibration, est) {
-            // Records are large: without a calibration they go to the
-            // runner without a mapping step that would move each once more.
-            (None, Engine::Online(est)) => runner::run(est, reader.by_ref(), &mut observers),
+            (None, Engine::Online(est)) => runner::run_from(est, reader, &mut observers),
+            (Some(calibration), Engine::Online(est)) => runner::run_from(
+                est,
+                &mut Calibrated {
+                    reader,
+                    calibration,
+                },
+                &mut observers,
+            ),
             (None, Engine::Offline(est)) => {
                 runner::run_offline(est, reader.by_ref(), &mut observers)
             }
-            (Some(c), est) => {
+            (Some(c), Engine::Offline(est)) => {
                 let source = reader.by_ref().map(|r| {
                     r.map(|mut rec| {
                         c.apply(&mut rec);
                         rec
                     })
                 });
-                match est {
-                    Engine::Online(est) => runner::run(est, source, &mut observers),
-                    Engine::Offline(est) => runner::run_offline(est, source, &mut observers),
-                }
+                runner::run_offline(est, source, &mut observers)
             }
         };
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?

@@ -577,11 +577,11 @@ impl Chain {
         self.x = SVector::zeros();
     }
 
-    /// An estimate with the segment angles (initialised segments only) and
-    /// the joint angles as their differences.
-    /// None during the run-in (`startup_s`) after a (re)start.
-    pub fn estimate(&self, t: f64) -> Estimate {
-        let mut est = Estimate::empty(t);
+    /// Overwrites `est` with an estimate at `t`: the segment angles
+    /// (initialised segments only) and the joint angles as their
+    /// differences; none during the run-in (`startup_s`) after a (re)start.
+    pub fn estimate_into(&self, t: f64, est: &mut Estimate) {
+        *est = Estimate::empty(t);
         let w = self.common.startup_s;
         let settled = self
             .first_t
@@ -592,6 +592,5 @@ impl Chain {
             }
         }
         est.fill_joints_from_segments();
-        est
     }
 }

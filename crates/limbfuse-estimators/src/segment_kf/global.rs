@@ -289,7 +289,8 @@ impl Estimator for GlobalKf {
                     ([false; 7], [[None; 3]; 4])
                 }
             };
-        let mut est = self.chain.estimate(sample.t);
+        let mut est = Estimate::empty(sample.t);
+        self.chain.estimate_into(sample.t, &mut est);
         let mut d = est.diagnostics_mut::<GlobalDiag>();
         d.value(GlobalDiag::NReliable, count_reliable(&reliable) as f64);
         d.flag(GlobalDiag::Psi, psi_ok);

@@ -231,7 +231,8 @@ impl Estimator for LocalKf {
                     ([false; 4], [[None; 3]; 4])
                 }
             };
-        let mut est = self.chain.estimate(sample.t);
+        let mut est = Estimate::empty(sample.t);
+        self.chain.estimate_into(sample.t, &mut est);
         let mut d = est.diagnostics_mut::<LocalDiag>();
         d.value(LocalDiag::NReliable, count_reliable(&reliable) as f64);
         d.flag(LocalDiag::Psi, psi_ok);

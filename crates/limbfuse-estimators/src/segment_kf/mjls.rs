@@ -244,6 +244,12 @@ impl Estimator for MarkovJumpKf {
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        let mut est = Estimate::empty(sample.t);
+        self.step_into(sample, &mut est)?;
+        Ok(est)
+    }
+
+    fn step_into(&mut self, sample: &Sample, est: &mut Estimate) -> Result<(), EstimatorError> {
         let inp = self.chain.begin(sample)?;
         let zeta = self.params.common.zetas();
         let gate = self.params.common.accel_gate;
@@ -305,7 +311,7 @@ impl Estimator for MarkovJumpKf {
                     ([false; 4], [[None; 3]; 4])
                 }
             };
-        let mut est = self.chain.estimate(sample.t);
+        self.chain.estimate_into(sample.t, est);
         let mut d = est.diagnostics_mut::<MjlsDiag>();
         d.value(MjlsDiag::Mode, sel.code());
         d.set(MjlsDiag::RhoMin, sel.rho_min);
@@ -316,6 +322,6 @@ impl Estimator for MarkovJumpKf {
             d.flag(key, *u);
         }
         write_segment_diagnostics(&mut d, &self.chain, &inp, true, &shares);
-        Ok(est)
+        Ok(())
     }
 }
