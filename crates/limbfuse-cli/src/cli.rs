@@ -296,7 +296,7 @@ pub struct EstimateArgs {
     #[arg(long)]
     pub smooth: bool,
     /// Diagnostic columns to write: `all` (default), `none`, or names
-    /// separated by commas (`limbfuse methods NAME` lists a method's), e.g.
+    /// separated by commas (`limbfuse methods NAME` lists a method's), for example
     /// `sd_thigh,sd_shank`.
     #[arg(long, value_name = "all|none|NAMES")]
     pub diagnostics: Option<String>,
