@@ -65,10 +65,22 @@ fn problem(seed: u64, steps: usize) -> (StateVector, Covariance, Vec<StepData>) 
 }
 
 /// Sequential filter, then the smoother's backward pass; per step x_s.
-fn filter_and_smooth(m0: &StateVector, p0: &Covariance, data: &[StepData]) -> Vec<StateVector> {
+/// Filters `data` from (`m0`, `p0`) with the chain's own prediction and
+/// scalar updates, pushing every step (time `k * step_s`) into a smoother
+/// with `settings`; returns everything it emits, in order. With
+/// `max_held`, also checks that the smoother never holds more steps.
+fn filter_through_smoother(
+    m0: &StateVector,
+    p0: &Covariance,
+    data: &[StepData],
+    settings: SmootherSettings,
+    step_s: f64,
+    max_held: Option<usize>,
+) -> Vec<(usize, Option<Smoothed>)> {
     let q = noise();
-    let mut smoother = RtsSmoother::new(q, SmootherSettings::WHOLE_TRIAL);
+    let mut smoother = RtsSmoother::new(q, settings);
     let (mut x, mut p) = (*m0, *p0);
+    let mut out = Vec::new();
     for (k, d) in data.iter().enumerate() {
         let link = if k == 0 {
             Link::Start
@@ -83,10 +95,20 @@ fn filter_and_smooth(m0: &StateVector, p0: &Covariance, data: &[StepData]) -> Ve
             let nu = z - row.entries().map(|(i, v)| v * x[i]).sum::<f64>();
             scalar_update(&mut x, &mut p, row, nu, *r, f64::INFINITY);
         }
-        smoother.push(k as f64 * 0.01, link, &x, &p, k);
+        smoother.push(k as f64 * step_s, link, &x, &p, k);
+        if let Some(max) = max_held {
+            assert!(smoother.held() <= max);
+        }
+        out.extend(core::iter::from_fn(|| smoother.pop()));
     }
     smoother.finish();
-    core::iter::from_fn(|| smoother.pop())
+    out.extend(core::iter::from_fn(|| smoother.pop()));
+    out
+}
+
+fn filter_and_smooth(m0: &StateVector, p0: &Covariance, data: &[StepData]) -> Vec<StateVector> {
+    filter_through_smoother(m0, p0, data, SmootherSettings::WHOLE_TRIAL, 0.01, None)
+        .into_iter()
         .map(|(_, s)| s.unwrap().x)
         .collect()
 }
@@ -250,32 +272,8 @@ fn the_backward_pass_does_not_cross_a_restart() {
 #[test]
 fn blocks_with_an_overlap_longer_than_the_trial_equal_the_whole_trial() {
     let (m0, p0, data) = problem(11, 30);
-    let q = noise();
     let run = |settings: SmootherSettings| {
-        let mut s = RtsSmoother::new(q, settings);
-        let (mut x, mut p) = (m0, p0);
-        let mut out = Vec::new();
-        for (k, d) in data.iter().enumerate() {
-            let link = if k == 0 {
-                Link::Start
-            } else {
-                (x, p) = predict(&x, &p, d.dt, d.widening, &q);
-                Link::Continue {
-                    dt: d.dt,
-                    widening: d.widening,
-                }
-            };
-            for (row, z, r) in &d.rows {
-                let nu = z - row.entries().map(|(i, v)| v * x[i]).sum::<f64>();
-                scalar_update(&mut x, &mut p, row, nu, *r, f64::INFINITY);
-            }
-            s.push(k as f64, link, &x, &p, k);
-            assert!(s.held() <= 30);
-            out.extend(core::iter::from_fn(|| s.pop()));
-        }
-        s.finish();
-        out.extend(core::iter::from_fn(|| s.pop()));
-        out
+        filter_through_smoother(&m0, &p0, &data, settings, 1.0, Some(30))
     };
     let whole = run(SmootherSettings::WHOLE_TRIAL);
     let blocks = run(SmootherSettings {
