@@ -48,12 +48,19 @@ pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Esti
 }
 
 /// imm-bslip: says on stderr when the library was rescaled to the trial's
-/// body (issue 19); sdre / ekf: the states and the lever arm a file that
+/// body (issue 19); lowback-speed: where the pendulum length came from; sdre / ekf: the states and the lever arm a file that
 /// states `t_a` without `[states]` gets (issue 16).
 pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
     if let MethodSpec::Sdre(f) | MethodSpec::Ekf(f) = spec {
         let note = f
             .plant_as_stated_note(spec.method(), reader.meta())
+            .with_context(|| reader.path().display().to_string())?;
+        if let Some(note) = note {
+            eprintln!("{note}");
+        }
+    }
+    if let MethodSpec::LowbackSpeed(s) = spec {
+        let note = limbfuse_methods::lowback_method::pendulum_note(s, reader.meta())
             .with_context(|| reader.path().display().to_string())?;
         if let Some(note) = note {
             eprintln!("{note}");

@@ -84,7 +84,8 @@ fn foot_recording_meets_the_event_targets() {
 }
 
 /// HA001 straight walk: contacts found, 40 ms median (target: within 40),
-/// stride speed MAE 0.054 m/s (target 0.06).
+/// stride speed MAE 0.027 m/s with the sensor height of the file's
+/// `# subject:` line (0.054 before it was read; target 0.06).
 #[test]
 fn lowback_straight_walk() {
     let Some(data) = data_dir() else { return };
@@ -104,8 +105,9 @@ fn lowback_straight_walk() {
 /// Issue 19, lower-back speed on the daily-living course (HA001 test11):
 /// turning strides (mean heading rate above 15 deg/s) and the strides after
 /// them report no speed. Measured: 13 of 41 strides keep a speed, MAE
-/// 0.133 m/s (0.179 over all 41 without the turn rule); contacts 35 ms
-/// median (30 ms with the plain gravity mean).
+/// 0.088 m/s with the sensor height of the file's `# subject:` line (0.133
+/// with the default pendulum; 0.179 over all 41 without the turn rule);
+/// contacts 35 ms median (30 ms with the plain gravity mean).
 #[test]
 fn issue_19_lowback_course_turning_strides_have_no_speed() {
     let Some(data) = data_dir() else { return };
@@ -117,7 +119,7 @@ fn issue_19_lowback_course_turning_strides_have_no_speed() {
     );
     let n = f(&v, &["n_strides"]);
     assert!((10.0..=22.0).contains(&n), "{v}");
-    assert!(f(&v, &["speed_mae_mps"]) <= 0.14, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) <= 0.10, "{v}");
     // The issue's 40 ms up to rounding (10 ms samples).
     assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 40.5, "{v}");
 }
@@ -189,9 +191,10 @@ fn issue_19_lowback_course_first_stride_after_standing_up() {
 /// uses is the sensor's height above the ground (Soltani et al. 2021, the
 /// Mobilise-D `SlZijlstra`: `l` = sensor height, factor 4.587 / 4). A trial
 /// with `# sensor_height_m:` gets that pair. The HA001 files state the
-/// sensor height (96.4 cm) only in free text; with the line added, measured
-/// stride speed MAE 0.027 / 0.024 m/s on the straight walks and 0.088 on
-/// the course (defaults, no metadata: 0.054 / 0.065 / 0.133).
+/// sensor height (96.4 cm) only in free text (`# subject: ..., sensor
+/// height 96.4 cm`), which is read too: as shipped and with the line
+/// added, measured stride speed MAE 0.027 / 0.024 m/s on the straight walks
+/// and 0.088 on the course (default pendulum: 0.054 / 0.065 / 0.133).
 #[test]
 fn issue_19_lowback_sensor_height_is_the_pendulum_length() {
     let Some(data) = data_dir() else { return };
@@ -201,14 +204,17 @@ fn issue_19_lowback_sensor_height_is_the_pendulum_length() {
         ("HA001-test5-trial2.csv", 0.06),
         ("HA001-test11-trial1.csv", 0.10),
     ] {
-        let text = std::fs::read_to_string(data.join("mobgap-lowerback").join(name)).unwrap();
+        let shipped = data.join("mobgap-lowerback").join(name);
+        let text = std::fs::read_to_string(&shipped).unwrap();
         let trial = d.path().join(name);
         std::fs::write(&trial, format!("# sensor_height_m: 0.964\n{text}")).unwrap();
-        let v = evaluate_json("lowback-speed", &trial, d.path());
-        let header = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
-        assert!(header.contains("# leg_length: 0.964 m"), "{name}");
-        assert!(header.contains("# correction: 1.14675"), "{name}");
-        assert!(f(&v, &["speed_mae_mps"]) <= limit, "{name}: {v}");
+        for trial in [&trial, &shipped] {
+            let v = evaluate_json("lowback-speed", trial, d.path());
+            let header = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
+            assert!(header.contains("# leg_length: 0.964 m"), "{name}");
+            assert!(header.contains("# correction: 1.14675"), "{name}");
+            assert!(f(&v, &["speed_mae_mps"]) <= limit, "{name}: {v}");
+        }
     }
 }
 

@@ -24,6 +24,11 @@ pub const SEGMENT_LENGTHS_KEY: &str = "segment_lengths_m";
 /// Metadata key of the body height.
 pub const HEIGHT_KEY: &str = "height_m";
 
+/// Metadata key of the free-text description of the subject (SPEC
+/// section 2 keeps unknown keys; limbfuse reads lengths from it as a last
+/// resort, [`subject_length`]).
+pub const SUBJECT_KEY: &str = "subject";
+
 const SEGMENTS: [&str; 4] = ["trunk", "thigh", "shank", "foot"];
 
 /// A geometry entry of the metadata that does not parse.
@@ -153,6 +158,42 @@ pub fn format_segment_lengths(thigh: f64, shank: f64) -> String {
     format!("thigh {thigh:.4}; shank {shank:.4}")
 }
 
+/// A length stated in free text as `LABEL NUMBER UNIT` (unit `m`, `cm` or
+/// `mm`; case-insensitive), in metres: the text is cut into clauses at
+/// `,` `;` `(` `)`, and the clause must start with `label`, so that
+/// `height` does not match `sensor height 96.4 cm`. `None` when no clause
+/// states it or the number is not finite and positive.
+pub fn free_text_length(text: &str, label: &str) -> Option<f64> {
+    let label = label.to_ascii_lowercase();
+    text.split([',', ';', '(', ')']).find_map(|clause| {
+        let clause = clause.trim().to_ascii_lowercase();
+        let rest = clause.strip_prefix(label.as_str())?;
+        if !rest.starts_with(char::is_whitespace) {
+            return None;
+        }
+        let rest = rest.trim_start();
+        let end = rest
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(rest.len());
+        // The unit as a decimal exponent, so that `96.4 cm` is the f64
+        // nearest 0.964 (one correctly rounded parse, no division).
+        let exponent = match rest[end..].split_whitespace().next()? {
+            "m" => 0,
+            "cm" => -2,
+            "mm" => -3,
+            _ => return None,
+        };
+        let value: f64 = format!("{}e{exponent}", &rest[..end]).parse().ok()?;
+        Some(value).filter(|v| v.is_finite() && *v > 0.0)
+    })
+}
+
+/// A length the trial's `# subject:` line states ([`free_text_length`]).
+pub fn subject_length(meta: &TrialMeta, label: &str) -> Option<f64> {
+    meta.get(SUBJECT_KEY)
+        .and_then(|text| free_text_length(text, label))
+}
+
 impl TrialMeta {
     /// The body geometry this trial's metadata states (docs/CHAIN.md).
     pub fn body(&self) -> Result<BodyMeta, BodyMetaError> {
@@ -203,6 +244,31 @@ mod tests {
             parse_segment_lengths(&format_segment_lengths(0.42875, 0.4305)).unwrap(),
             (Some(0.4288), Some(0.4305))
         );
+    }
+
+    /// The HA001 files of `mobgap-lowerback` state the body and sensor
+    /// heights only in their `# subject:` line.
+    #[test]
+    fn lengths_in_free_text_are_read_by_their_clause() {
+        let text =
+            "healthy adult (HA/001), height 159 cm, weight 73 kg, sensor height 96.4 cm; Test5";
+        assert_eq!(free_text_length(text, "height"), Some(1.59));
+        assert_eq!(free_text_length(text, "sensor height"), Some(0.964));
+        assert_eq!(free_text_length("Height 1.75 m", "height"), Some(1.75));
+        assert_eq!(
+            free_text_length("sensor height 964mm", "sensor height"),
+            Some(0.964)
+        );
+        assert_eq!(free_text_length("sensor height 96.4 cm", "height"), None);
+        assert_eq!(free_text_length("heights 159 cm", "height"), None);
+        assert_eq!(free_text_length("height 159 inches", "height"), None);
+        assert_eq!(free_text_length("height unknown", "height"), None);
+        assert_eq!(free_text_length("height 0 cm", "height"), None);
+        assert_eq!(free_text_length("height", "height"), None);
+        let mut meta = TrialMeta::new();
+        assert_eq!(subject_length(&meta, "height"), None);
+        meta.set(SUBJECT_KEY, "adult, height 180 cm");
+        assert_eq!(subject_length(&meta, "height"), Some(1.8));
     }
 
     #[test]
