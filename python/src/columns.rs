@@ -13,6 +13,8 @@ use limbfuse_io::layout::{AXES, QUAT};
 use limbfuse_io::TrialLayout;
 use nalgebra::Vector3;
 
+use crate::column_records::RecordPlan;
+
 /// One numeric trial column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Channel {
@@ -260,23 +262,19 @@ impl<'a> TrialColumns<'a> {
         self.t.len()
     }
 
-    /// The record of sample `i`.
-    pub fn record(&self, i: usize) -> Record {
-        let mut r = Record::default();
-        r.sample.t = self.t[i];
-        for (c, v) in &self.columns {
-            c.set(&mut r, v[i]);
-        }
-        normalise(&mut r);
-        if let Some(p) = &self.phase {
-            r.reference.phase = p[i];
-        }
-        r
+    /// Where each record field comes from (resolved once for a run).
+    pub fn plan(&self) -> RecordPlan<'_> {
+        RecordPlan::new(self.t, &self.columns, self.phase.as_deref())
     }
 
     /// Every record, in order.
     pub fn records(&self) -> impl Iterator<Item = Record> + '_ {
-        (0..self.len()).map(|i| self.record(i))
+        let plan = self.plan();
+        (0..self.len()).map(move |i| {
+            let mut r = Record::default();
+            plan.fill(i, &mut r);
+            r
+        })
     }
 }
 

@@ -1,7 +1,6 @@
 //! `estimate` (a method over an in-memory trial, the GIL released),
 //! `read_estimate` and `write_estimate` (SPEC section 3 files).
 
-use std::convert::Infallible;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -16,6 +15,7 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::column_records::ColumnRecords;
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -86,9 +86,10 @@ fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
 
 pub(crate) fn estimate_tuple(
     py: Python<'_>,
-    cols: EstimateColumns,
+    mut cols: EstimateColumns,
     resets: Option<String>,
 ) -> EstimateTuple<'_> {
+    cols.flush();
     let order = file_order(&cols.names, cols.phase.is_some());
     let mut values = cols.values.into_iter();
     let t = values.next().unwrap_or_default();
@@ -130,11 +131,8 @@ fn estimate<'py>(
         let mut resets = ResetWatch::default();
         let run = py.detach(|| {
             let mut observers: [&mut dyn Observer; 2] = [&mut out, &mut resets];
-            runner::run(
-                est.as_mut(),
-                cols.records().map(Ok::<_, Infallible>),
-                &mut observers,
-            )
+            let mut records = ColumnRecords::new(cols.plan().without_references());
+            runner::run_from(est.as_mut(), &mut records, &mut observers)
         });
         run.map_err(|e| {
             user_msg(format!(

@@ -3,7 +3,6 @@
 //! `run` takes arrays and releases the GIL.
 
 use std::collections::HashMap;
-use std::convert::Infallible;
 use std::sync::Mutex;
 
 use limbfuse_core::runner::{self, Observer};
@@ -13,6 +12,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
+use crate::column_records::ColumnRecords;
 use crate::columns::{Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
 use crate::estimate_columns::EstimateColumns;
@@ -202,7 +202,8 @@ impl NativeFilter {
             let est = self.estimator();
             py.detach(|| {
                 let mut observers: [&mut dyn Observer; 1] = [&mut out];
-                runner::run(est, cols.records().map(Ok::<_, Infallible>), &mut observers)
+                let mut records = ColumnRecords::new(cols.plan().without_references());
+                runner::run_from(est, &mut records, &mut observers)
             })
             .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             Ok(crate::estimate::estimate_tuple(py, out, None))
