@@ -88,21 +88,24 @@ pub(crate) fn estimate_tuple(
     py: Python<'_>,
     mut cols: EstimateColumns,
     resets: Option<String>,
-) -> EstimateTuple<'_> {
+) -> PyResult<EstimateTuple<'_>> {
     cols.flush();
     let order = file_order(&cols.names, cols.phase.is_some());
-    let mut values = cols.values.into_iter();
-    let t = values.next().unwrap_or_default();
-    let arrays = values.map(|v| PyArray1::from_vec(py, v)).collect();
-    (
+    let mut arrays = std::mem::take(&mut cols.values).into_numpy(py)?;
+    let t = if arrays.is_empty() {
+        PyArray1::zeros(py, 0, false)
+    } else {
+        arrays.remove(0)
+    };
+    Ok((
         cols.header,
         order,
-        PyArray1::from_vec(py, t),
+        t,
         cols.names[1..].to_vec(),
         arrays,
         cols.phase,
         resets,
-    )
+    ))
 }
 
 /// Runs `method` over the trial, in memory, with the GIL released.
@@ -144,7 +147,7 @@ fn estimate<'py>(
         let warning = resets
             .resets()
             .map(|r| format!("{} on {label}: {r}", spec.method()));
-        Ok(estimate_tuple(py, out, warning))
+        estimate_tuple(py, out, warning)
     })
 }
 

@@ -10,6 +10,8 @@ use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use nalgebra::Vector3;
 
+use crate::column_block::ColumnBlock;
+
 /// The column of the estimated gait phase (text cells).
 pub const PHASE: &str = "phase";
 
@@ -40,8 +42,8 @@ pub struct EstimateColumns {
     staged: usize,
     /// Numeric column names (without `phase`), in file order.
     pub names: Vec<String>,
-    /// One vector per name.
-    pub values: Vec<Vec<f64>>,
+    /// One column per name.
+    pub values: ColumnBlock,
     /// The `phase` cells, when the method estimates the phase.
     pub phase: Option<Vec<Option<&'static str>>>,
     /// `# key: value` lines of the file header (without `# `).
@@ -88,7 +90,7 @@ impl EstimateColumns {
             },
             stage: vec![0.0; STAGED_ROWS.min(n.max(1)) * names.len()],
             staged: 0,
-            values: (0..names.len()).map(|_| Vec::with_capacity(n)).collect(),
+            values: ColumnBlock::new(names.len(), n),
             names,
             phase: outputs.phase.then(|| Vec::with_capacity(n)),
             header,
@@ -113,11 +115,7 @@ impl EstimateColumns {
 
     /// Moves the staged estimates into the columns.
     pub fn flush(&mut self) {
-        let (width, staged) = (self.names.len(), self.staged);
-        let stage = &self.stage;
-        for (k, col) in self.values.iter_mut().enumerate() {
-            col.extend((0..staged).map(|r| stage[r * width + k]));
-        }
+        self.values.append_rows(&self.stage, self.staged);
         self.staged = 0;
     }
 

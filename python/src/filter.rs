@@ -206,7 +206,7 @@ impl NativeFilter {
                 runner::run_from(est, &mut records, &mut observers)
             })
             .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
-            Ok(crate::estimate::estimate_tuple(py, out, None))
+            crate::estimate::estimate_tuple(py, out, None)
         })
     }
 }
