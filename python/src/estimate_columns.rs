@@ -144,6 +144,14 @@ struct RowFormat {
 impl RowFormat {
     /// Writes `e`'s values into `row` (one per column, in order).
     fn write(&self, e: &Estimate, row: &mut [f64]) {
+        let n_diag = self.n_diag.min(row.len());
+        let (row, diag) = row.split_at_mut(row.len() - n_diag);
+        for (cell, d) in diag.iter_mut().zip(&e.diag) {
+            *cell = match d {
+                Some(x) if x.is_finite() => *x,
+                _ => f64::NAN,
+            };
+        }
         let mut cells = row.iter_mut();
         let mut put = |v: Option<f64>| {
             if let Some(c) = cells.next() {
@@ -169,9 +177,6 @@ impl RowFormat {
             for c in e.contact {
                 put(c.map(|c| if c { 1.0 } else { 0.0 }));
             }
-        }
-        for d in &e.diag[..self.n_diag] {
-            put(*d);
         }
     }
 }
