@@ -166,6 +166,25 @@ def test_issue_17_long_estimate_equals_filter_run_in_chunks():
         assert np.array_equal(bits(est.channels[k]), b), k
 
 
+def test_issue_17_filter_step_absent_axis_is_missing(walking_trial):
+    # `step`: a channel left out of the dict is missing, as None is: one
+    # absent axis makes the whole 3-axis vector missing (it used to be read
+    # as 0.0, with the other two axes kept).
+    names = list(walking_trial.channels)
+    assert "thigh_acc_y" in names
+    absent, none = Filter.for_trial(walking_trial, "mjls"), Filter.for_trial(walking_trial, "mjls")
+    for i in range(40):
+        sample = {"t": float(walking_trial.t[i])}
+        sample.update({n: float(walking_trial.channels[n][i]) for n in names})
+        if i >= 20:
+            del sample["thigh_acc_y"]
+        a = absent.step(sample)
+        if i >= 20:
+            sample["thigh_acc_y"] = None
+        b = none.step(sample)
+        assert a == b, i
+
+
 def test_filter_bad_input(walking_trial):
     with pytest.raises(LimbfuseError, match="unknown method"):
         Filter("kalman", channels=["thigh_gyr_x"])
