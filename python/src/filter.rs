@@ -73,7 +73,11 @@ impl NativeFilter {
                 .map_err(|e| user_msg(chain_message(&e)))?;
             let template = EstimateColumns::for_estimator(est.as_ref(), 0)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
-            let slots = channels.iter().filter_map(|c| Channel::parse(c)).collect();
+            let slots = channels
+                .iter()
+                .map(|c| Channel::parse(c))
+                .collect::<Option<Vec<_>>>()
+                .ok_or_else(|| user_msg("unknown channel"))?;
             let index = channels
                 .iter()
                 .enumerate()
