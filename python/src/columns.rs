@@ -4,14 +4,17 @@
 //! Inside the extension a missing cell is NaN: the Python layer refuses NaN
 //! in the arrays a user gives (missing samples are masked) and fills the
 //! masked cells with NaN before calling in. A 3-axis vector or a quaternion
-//! is present in a record only when all its components are, as in
-//! `limbfuse_io::TrialReader`.
+//! is present in a record only when all its components are
+//! ([`crate::column_records`]); unlike `limbfuse_io::TrialReader`, which
+//! keeps the present axes of an incomplete vector (issue 18), the package
+//! drops the whole vector.
 
 use limbfuse_core::sample::{ComMeasurement, GaitPhase, ModelInputs};
 use limbfuse_core::{Joint, Record, Segment};
 use limbfuse_io::layout::{AXES, QUAT};
 use limbfuse_io::TrialLayout;
-use nalgebra::Vector3;
+
+use crate::column_records::RecordPlan;
 
 /// One numeric trial column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -108,28 +111,6 @@ impl Channel {
         }
     }
 
-    /// Writes `v` (NaN = missing) into `r`; vectors are completed by
-    /// [`normalise`].
-    fn set(self, r: &mut Record, v: f64) {
-        let (s, re) = (&mut r.sample, &mut r.reference);
-        let vec3 = |o: &mut Option<Vector3<f64>>, k: usize| {
-            o.get_or_insert_with(Vector3::zeros)[k] = v;
-        };
-        match self {
-            Channel::Acc(i, k) => vec3(&mut s.imu[i].acc, k),
-            Channel::Gyr(i, k) => vec3(&mut s.imu[i].gyr, k),
-            Channel::Quat(i, k) => s.imu[i].quat.get_or_insert([0.0; 4])[k] = v,
-            Channel::Encoder(j) => s.encoder[j] = Some(v),
-            Channel::Stim(k) => s.inputs.stim[k] = Some(v),
-            Channel::Motor(j) => s.inputs.motor_torque[j] = Some(v),
-            Channel::ComMeas(k) => s.com.set(k, Some(v)),
-            Channel::SegmentRef(i) => re.segment[i] = Some(v),
-            Channel::JointRef(j) => re.joint[j] = Some(v),
-            Channel::ComPos(k) => vec3(&mut re.com_pos, k),
-            Channel::ComVel(k) => vec3(&mut re.com_vel, k),
-        }
-    }
-
     /// Marks the channel present in `layout`.
     fn mark(self, l: &mut TrialLayout) {
         match self {
@@ -146,38 +127,6 @@ impl Channel {
             Channel::ComVel(_) => l.com_vel = true,
         }
     }
-}
-
-/// Turns every value holding a NaN (a missing cell) into `None`; a vector
-/// with one missing component is missing.
-fn normalise(r: &mut Record) {
-    fn scalar(o: &mut Option<f64>) {
-        if o.is_some_and(f64::is_nan) {
-            *o = None;
-        }
-    }
-    fn vector(o: &mut Option<Vector3<f64>>) {
-        if o.is_some_and(|v| v.iter().any(|x| x.is_nan())) {
-            *o = None;
-        }
-    }
-    let (s, re) = (&mut r.sample, &mut r.reference);
-    for imu in &mut s.imu {
-        vector(&mut imu.acc);
-        vector(&mut imu.gyr);
-        if imu.quat.is_some_and(|q| q.iter().any(|x| x.is_nan())) {
-            imu.quat = None;
-        }
-    }
-    s.encoder.iter_mut().for_each(scalar);
-    s.inputs.stim.iter_mut().for_each(scalar);
-    s.inputs.motor_torque.iter_mut().for_each(scalar);
-    s.com.pos.iter_mut().for_each(scalar);
-    s.com.vel.iter_mut().for_each(scalar);
-    re.segment.iter_mut().for_each(scalar);
-    re.joint.iter_mut().for_each(scalar);
-    vector(&mut re.com_pos);
-    vector(&mut re.com_vel);
 }
 
 /// A trial held as columns borrowed from numpy arrays.
@@ -260,23 +209,19 @@ impl<'a> TrialColumns<'a> {
         self.t.len()
     }
 
-    /// The record of sample `i`.
-    pub fn record(&self, i: usize) -> Record {
-        let mut r = Record::default();
-        r.sample.t = self.t[i];
-        for (c, v) in &self.columns {
-            c.set(&mut r, v[i]);
-        }
-        normalise(&mut r);
-        if let Some(p) = &self.phase {
-            r.reference.phase = p[i];
-        }
-        r
+    /// Where each record field comes from (resolved once for a run).
+    pub fn plan(&self) -> RecordPlan<'_> {
+        RecordPlan::new(self.t, &self.columns, self.phase.as_deref())
     }
 
     /// Every record, in order.
     pub fn records(&self) -> impl Iterator<Item = Record> + '_ {
-        (0..self.len()).map(|i| self.record(i))
+        let plan = self.plan();
+        (0..self.len()).map(move |i| {
+            let mut r = Record::default();
+            plan.fill(i, &mut r);
+            r
+        })
     }
 }
 
@@ -387,15 +332,4 @@ impl OwnedColumns {
         }
         cols
     }
-}
-
-/// Writes `v` (NaN = missing) into channel `c` of `r`; call
-/// [`normalise_record`] once every channel is set.
-pub fn set_value(r: &mut Record, c: Channel, v: f64) {
-    c.set(r, v);
-}
-
-/// Turns the NaN placeholders of [`set_value`] into missing values.
-pub fn normalise_record(r: &mut Record) {
-    normalise(r);
 }

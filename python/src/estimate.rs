@@ -1,7 +1,6 @@
 //! `estimate` (a method over an in-memory trial, the GIL released),
 //! `read_estimate` and `write_estimate` (SPEC section 3 files).
 
-use std::convert::Infallible;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -16,6 +15,7 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::column_records::ColumnRecords;
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -86,22 +86,26 @@ fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
 
 pub(crate) fn estimate_tuple(
     py: Python<'_>,
-    cols: EstimateColumns,
+    mut cols: EstimateColumns,
     resets: Option<String>,
-) -> EstimateTuple<'_> {
+) -> PyResult<EstimateTuple<'_>> {
+    cols.flush();
     let order = file_order(&cols.names, cols.phase.is_some());
-    let mut values = cols.values.into_iter();
-    let t = values.next().unwrap_or_default();
-    let arrays = values.map(|v| PyArray1::from_vec(py, v)).collect();
-    (
+    let mut arrays = std::mem::take(&mut cols.values).into_numpy(py)?;
+    let t = if arrays.is_empty() {
+        PyArray1::zeros(py, 0, false)
+    } else {
+        arrays.remove(0)
+    };
+    Ok((
         cols.header,
         order,
-        PyArray1::from_vec(py, t),
+        t,
         cols.names[1..].to_vec(),
         arrays,
         cols.phase,
         resets,
-    )
+    ))
 }
 
 /// Runs `method` over the trial, in memory, with the GIL released.
@@ -130,11 +134,8 @@ fn estimate<'py>(
         let mut resets = ResetWatch::default();
         let run = py.detach(|| {
             let mut observers: [&mut dyn Observer; 2] = [&mut out, &mut resets];
-            runner::run(
-                est.as_mut(),
-                cols.records().map(Ok::<_, Infallible>),
-                &mut observers,
-            )
+            let mut records = ColumnRecords::new(cols.plan().without_references());
+            runner::run_from(est.as_mut(), &mut records, &mut observers)
         });
         run.map_err(|e| {
             user_msg(format!(
@@ -146,7 +147,7 @@ fn estimate<'py>(
         let warning = resets
             .resets()
             .map(|r| format!("{} on {label}: {r}", spec.method()));
-        Ok(estimate_tuple(py, out, warning))
+        estimate_tuple(py, out, warning)
     })
 }
 

@@ -10,6 +10,8 @@ use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use nalgebra::Vector3;
 
+use crate::column_block::ColumnBlock;
+
 /// The column of the estimated gait phase (text cells).
 pub const PHASE: &str = "phase";
 
@@ -20,16 +22,28 @@ fn has(o: &Outputs, c: AngleChannel) -> bool {
     }
 }
 
+/// Estimates staged row by row before they are written to the columns: a
+/// block of rows (row-major, in cache) is transposed into the columns at
+/// once, so that each column is written sequentially rather than one
+/// value per column per sample.
+const STAGED_ROWS: usize = 256;
+
 /// A run's estimates as columns (NaN = missing or non-finite, written as
 /// an empty cell by the estimate writer too).
+///
+/// [`EstimateColumns::push`] stages each estimate; the columns hold every
+/// estimate after [`EstimateColumns::flush`] (which the runner's
+/// [`Observer::finish`] calls).
 #[derive(Debug, Default)]
 pub struct EstimateColumns {
-    outputs: Outputs,
-    n_diag: usize,
+    format: RowFormat,
+    /// Staged rows, `names.len()` values each.
+    stage: Vec<f64>,
+    staged: usize,
     /// Numeric column names (without `phase`), in file order.
     pub names: Vec<String>,
-    /// One vector per name.
-    pub values: Vec<Vec<f64>>,
+    /// One column per name.
+    pub values: ColumnBlock,
     /// The `phase` cells, when the method estimates the phase.
     pub phase: Option<Vec<Option<&'static str>>>,
     /// `# key: value` lines of the file header (without `# `).
@@ -43,12 +57,12 @@ impl EstimateColumns {
         let outputs = est.outputs();
         let diag = est.diagnostic_names();
         let n_diag = diag.len().min(MAX_DIAG);
+        let angles: Vec<AngleChannel> = AngleChannel::ALL
+            .into_iter()
+            .filter(|c| has(&outputs, *c))
+            .collect();
         let mut names = vec!["t".to_string()];
-        for c in AngleChannel::ALL {
-            if has(&outputs, c) {
-                names.push(c.name().into());
-            }
-        }
+        names.extend(angles.iter().map(|c| c.name().to_string()));
         if outputs.speed {
             names.push("speed".into());
         }
@@ -69,28 +83,84 @@ impl EstimateColumns {
                 .map(str::to_string),
         );
         Ok(EstimateColumns {
-            outputs,
-            n_diag,
-            values: (0..names.len()).map(|_| Vec::with_capacity(n)).collect(),
+            format: RowFormat {
+                outputs,
+                n_diag,
+                angles,
+            },
+            stage: vec![0.0; STAGED_ROWS.min(n.max(1)) * names.len()],
+            staged: 0,
+            values: ColumnBlock::new(names.len(), n),
             names,
             phase: outputs.phase.then(|| Vec::with_capacity(n)),
             header,
         })
     }
 
-    /// Appends one estimate.
+    /// Appends one estimate (staged: see [`EstimateColumns::flush`]).
     pub fn push(&mut self, e: &Estimate) {
-        let mut cols = self.values.iter_mut();
+        let width = self.names.len();
+        if (self.staged + 1) * width > self.stage.len() {
+            self.flush();
+        }
+        let at = self.staged * width;
+        if let Some(row) = self.stage.get_mut(at..at + width) {
+            self.format.write(e, row);
+            self.staged += 1;
+        }
+        if let Some(p) = &mut self.phase {
+            p.push(e.phase.map(GaitPhase::label));
+        }
+    }
+
+    /// Moves the staged estimates into the columns.
+    pub fn flush(&mut self) {
+        self.values.append_rows(&self.stage, self.staged);
+        self.staged = 0;
+    }
+
+    /// One estimate as (name, value) pairs, `phase` in its file position.
+    pub fn row(&self, e: &Estimate) -> Vec<(String, Option<f64>)> {
+        let mut row = vec![f64::NAN; self.names.len()];
+        self.format.write(e, &mut row);
+        self.names
+            .iter()
+            .cloned()
+            .zip(row)
+            .map(|(n, v)| (n, Some(v).filter(|x| !x.is_nan())))
+            .collect()
+    }
+}
+
+/// Which values of an estimate a row holds, in file order.
+#[derive(Debug, Default)]
+struct RowFormat {
+    outputs: Outputs,
+    n_diag: usize,
+    /// The angle channels the method outputs, in file order.
+    angles: Vec<AngleChannel>,
+}
+
+impl RowFormat {
+    /// Writes `e`'s values into `row` (one per column, in order).
+    fn write(&self, e: &Estimate, row: &mut [f64]) {
+        let n_diag = self.n_diag.min(row.len());
+        let (row, diag) = row.split_at_mut(row.len() - n_diag);
+        for (cell, d) in diag.iter_mut().zip(&e.diag) {
+            *cell = match d {
+                Some(x) if x.is_finite() => *x,
+                _ => f64::NAN,
+            };
+        }
+        let mut cells = row.iter_mut();
         let mut put = |v: Option<f64>| {
-            if let Some(c) = cols.next() {
-                c.push(v.filter(|x| x.is_finite()).unwrap_or(f64::NAN));
+            if let Some(c) = cells.next() {
+                *c = v.filter(|x| x.is_finite()).unwrap_or(f64::NAN);
             }
         };
         put(Some(e.t));
-        for c in AngleChannel::ALL {
-            if has(&self.outputs, c) {
-                put(e.angle(c));
-            }
+        for c in &self.angles {
+            put(e.angle(*c));
         }
         if self.outputs.speed {
             put(e.speed);
@@ -108,37 +178,17 @@ impl EstimateColumns {
                 put(c.map(|c| if c { 1.0 } else { 0.0 }));
             }
         }
-        for d in &e.diag[..self.n_diag] {
-            put(*d);
-        }
-        if let Some(p) = &mut self.phase {
-            p.push(e.phase.map(GaitPhase::label));
-        }
-    }
-
-    /// One estimate as (name, value) pairs, `phase` in its file position.
-    pub fn row(&self, e: &Estimate) -> Vec<(String, Option<f64>)> {
-        let mut one = EstimateColumns {
-            outputs: self.outputs,
-            n_diag: self.n_diag,
-            names: Vec::new(),
-            values: vec![Vec::with_capacity(1); self.names.len()],
-            phase: None,
-            header: Vec::new(),
-        };
-        one.push(e);
-        self.names
-            .iter()
-            .cloned()
-            .zip(one.values.iter().map(|v| v[0]))
-            .map(|(n, v)| (n, Some(v).filter(|x| !x.is_nan())))
-            .collect()
     }
 }
 
 impl Observer for EstimateColumns {
     fn observe(&mut self, _record: &Record, estimate: &Estimate) -> Result<(), BoxError> {
         self.push(estimate);
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), BoxError> {
+        self.flush();
         Ok(())
     }
 }

@@ -71,8 +71,7 @@ fn evaluate(
         py.detach(|| {
             let mut metrics = AngleMetrics::new(method, options);
             metrics.set_diagnostic_names(view.diag.iter().map(|(n, _)| n.as_str()));
-            for i in 0..cols.len() {
-                let r = cols.record(i);
+            for (i, r) in cols.records().enumerate() {
                 let e = view.estimate(i);
                 let tol = 1e-9 * r.sample.t.abs().max(1.0);
                 if (r.sample.t - e.t).abs() > tol {

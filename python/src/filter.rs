@@ -3,7 +3,6 @@
 //! `run` takes arrays and releases the GIL.
 
 use std::collections::HashMap;
-use std::convert::Infallible;
 use std::sync::Mutex;
 
 use limbfuse_core::runner::{self, Observer};
@@ -13,6 +12,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
+use crate::column_records::{ColumnRecords, RecordPlan};
 use crate::columns::{Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
 use crate::estimate_columns::EstimateColumns;
@@ -27,7 +27,10 @@ pub struct NativeFilter {
     est: Mutex<Box<dyn Estimator + Send>>,
     method: String,
     channels: Vec<String>,
-    index: HashMap<String, Channel>,
+    /// The channel of each name of `channels`, in order.
+    slots: Vec<Channel>,
+    /// The position of each name in `channels`.
+    index: HashMap<String, usize>,
     template: EstimateColumns,
 }
 
@@ -70,14 +73,21 @@ impl NativeFilter {
                 .map_err(|e| user_msg(chain_message(&e)))?;
             let template = EstimateColumns::for_estimator(est.as_ref(), 0)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+            let slots = channels
+                .iter()
+                .map(|c| Channel::parse(c))
+                .collect::<Option<Vec<_>>>()
+                .ok_or_else(|| user_msg("unknown channel"))?;
             let index = channels
                 .iter()
-                .filter_map(|c| Channel::parse(c).map(|k| (c.clone(), k)))
+                .enumerate()
+                .map(|(k, c)| (c.clone(), k))
                 .collect();
             Ok(NativeFilter {
                 est: Mutex::new(est),
                 method: spec.method().to_string(),
                 channels,
+                slots,
                 index,
                 template,
             })
@@ -112,7 +122,8 @@ impl NativeFilter {
         sample: &Bound<'py, PyDict>,
     ) -> PyResult<Bound<'py, PyDict>> {
         guarded(|| {
-            let mut r = Record::default();
+            // NaN = missing (an absent channel too), as in trial columns.
+            let mut values = vec![f64::NAN; self.slots.len()];
             let mut t = None;
             for (k, v) in sample.iter() {
                 let key: String = k
@@ -140,17 +151,24 @@ impl NativeFilter {
                     t = value;
                     continue;
                 }
-                let Some(c) = self.index.get(&key) else {
+                let Some(&k) = self.index.get(&key) else {
                     return Err(user_msg(format!(
                         "sample: `{key}` is not one of the filter's channels ({})",
                         self.channels.join(", ")
                     )));
                 };
-                crate::columns::set_value(&mut r, *c, value.unwrap_or(f64::NAN));
+                values[k] = value.unwrap_or(f64::NAN);
             }
             let t = t.ok_or_else(|| user_msg("sample: `t` (time in s) is required"))?;
-            r.sample.t = t;
-            crate::columns::normalise_record(&mut r);
+            let time = [t];
+            let columns: Vec<(Channel, &[f64])> = self
+                .slots
+                .iter()
+                .zip(&values)
+                .map(|(c, v)| (*c, std::slice::from_ref(v)))
+                .collect();
+            let mut r = Record::default();
+            RecordPlan::new(&time, &columns, None).fill(0, &mut r);
             let e = self
                 .estimator()
                 .step(&r.sample)
@@ -202,10 +220,11 @@ impl NativeFilter {
             let est = self.estimator();
             py.detach(|| {
                 let mut observers: [&mut dyn Observer; 1] = [&mut out];
-                runner::run(est, cols.records().map(Ok::<_, Infallible>), &mut observers)
+                let mut records = ColumnRecords::new(cols.plan().without_references());
+                runner::run_from(est, &mut records, &mut observers)
             })
             .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
-            Ok(crate::estimate::estimate_tuple(py, out, None))
+            crate::estimate::estimate_tuple(py, out, None)
         })
     }
 }

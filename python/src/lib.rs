@@ -18,6 +18,8 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+mod column_block;
+mod column_records;
 mod columns;
 mod estimate;
 mod estimate_columns;

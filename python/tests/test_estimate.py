@@ -138,6 +138,53 @@ def test_filter_step_and_run_equal_estimate(walking_trial):
         assert np.array_equal(bits(run.channels[k]), bits(ref.channels[k])), k
 
 
+def test_issue_17_long_estimate_equals_filter_run_in_chunks():
+    # A trial long enough for `estimate`'s output block to take the huge-page
+    # path (>= 4 MiB: 300 s x 41 columns x 8 bytes = 9.8 MB), and not a
+    # multiple of the 256-row staging block; `Filter.run` over chunks of
+    # 7 001 samples (2.2 MB each, normal pages) must give the same bits.
+    trial = limbfuse.simulate("walking", duration=300.0, seed=5)
+    n = len(trial)
+    assert n % 256 != 0
+    est = limbfuse.estimate(trial, "mjls")
+    f = Filter.for_trial(trial, "mjls")
+    parts = []
+    for a in range(0, n, 7001):
+        chunk = {k: v[a : a + 7001] for k, v in trial.channels.items()}
+        parts.append(f.run({"t": trial.t[a : a + 7001], **chunk}))
+    assert np.array_equal(bits(est.t), bits(trial.t))
+    assert len(est) == n and est.channels.keys() == parts[0].channels.keys()
+    for k, v in est.channels.items():
+        assert v.shape == (n,)
+        whole = np.concatenate([bits(p.channels[k]) for p in parts])
+        assert np.array_equal(bits(v), whole), k
+    # The columns are views of one block: writing one changes no other.
+    thigh = np.ma.getdata(est.channels["thigh"])
+    before = {k: bits(v).copy() for k, v in est.channels.items() if k != "thigh"}
+    thigh[:] = 0.0
+    for k, b in before.items():
+        assert np.array_equal(bits(est.channels[k]), b), k
+
+
+def test_issue_17_filter_step_absent_axis_is_missing(walking_trial):
+    # `step`: a channel left out of the dict is missing, as None is: one
+    # absent axis makes the whole 3-axis vector missing (it used to be read
+    # as 0.0, with the other two axes kept).
+    names = list(walking_trial.channels)
+    assert "thigh_acc_y" in names
+    absent, none = Filter.for_trial(walking_trial, "mjls"), Filter.for_trial(walking_trial, "mjls")
+    for i in range(40):
+        sample = {"t": float(walking_trial.t[i])}
+        sample.update({n: float(walking_trial.channels[n][i]) for n in names})
+        if i >= 20:
+            del sample["thigh_acc_y"]
+        a = absent.step(sample)
+        if i >= 20:
+            sample["thigh_acc_y"] = None
+        b = none.step(sample)
+        assert a == b, i
+
+
 def test_filter_bad_input(walking_trial):
     with pytest.raises(LimbfuseError, match="unknown method"):
         Filter("kalman", channels=["thigh_gyr_x"])
