@@ -4,8 +4,8 @@
 use anyhow::{Context, Result};
 use limbfuse_core::{Leg, Record};
 use limbfuse_io::{TrialReader, TrialWriter};
-use limbfuse_signal::align::apply_rotations;
 use limbfuse_signal::align::mirror::{mirror_record, remount_rotations_both_legs};
+use limbfuse_signal::recording_variants::remount_both_legs;
 
 use crate::cli::MirrorArgs;
 
@@ -43,23 +43,14 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
                 .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})"))
         ),
     );
-    let remount = a
-        .remount_seed
-        .map(|s| remount_rotations_both_legs(s))
-        .map(|(own, other)| (own.map(Some), other.map(Some)));
+    let remount = a.remount_seed.map(remount_rotations_both_legs);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         let m = mirror_record(r);
         let m = match &remount {
-            Some((own, other)) => {
-                let mut out = apply_rotations(&m, own);
-                let mut other_leg = m;
-                other_leg.sample.imu = m.sample.other_leg_imu;
-                out.sample.other_leg_imu = apply_rotations(&other_leg, other).sample.imu;
-                out
-            }
+            Some((own, other)) => remount_both_legs(&m, own, other),
             None => m,
         };
         w.write(&m)

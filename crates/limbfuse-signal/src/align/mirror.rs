@@ -55,7 +55,7 @@ fn mirror_imu(imu: &mut ImuSample) {
 }
 
 /// SplitMix64 step: a well-mixed 64-bit number from the state.
-fn splitmix(state: &mut u64) -> u64 {
+pub(crate) fn splitmix(state: &mut u64) -> u64 {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
