@@ -61,12 +61,33 @@ fn run(mut est: impl Estimator, records: &[Record]) -> Vec<Estimate> {
         .collect()
 }
 
+/// One rotation per IMU of a leg (trunk, thigh, shank, foot).
+type Mounting = [Rotation3<f64>; 4];
+
 /// Every seeded random re-mounting and every quarter / half turn, the same
 /// rotation on each sensor of both legs for the axis turns.
-fn mountings() -> Vec<([Rotation3<f64>; 4], [Rotation3<f64>; 4])> {
+fn mountings() -> Vec<(Mounting, Mounting)> {
     let mut m: Vec<_> = (1..=3).map(remount_rotations_both_legs).collect();
     m.extend(axis_turns().iter().map(|&q| ([q; 4], [q; 4])));
     m
+}
+
+/// The estimator from `make` answers every re-mounting of `rec` as `base`
+/// (within 1e-6).
+fn same_on_every_mounting<E: Estimator>(rec: &[Record], base: &[Estimate], make: impl Fn() -> E) {
+    for (k, (own, other)) in mountings().iter().enumerate() {
+        let moved: Vec<_> = rec
+            .iter()
+            .map(|r| remount_both_legs(r, own, other))
+            .collect();
+        assert_same(
+            base,
+            &run(make(), &moved),
+            false,
+            1e-6,
+            &format!("mounting {k}"),
+        );
+    }
 }
 
 fn gait_events(own: Side) -> GaitEvents {
@@ -138,14 +159,7 @@ fn gait_events_same_answer_on_remounted_feet() {
         mountings().len(),
         summary(&base)
     );
-    for (k, (own, other)) in mountings().iter().enumerate() {
-        let moved: Vec<_> = rec
-            .iter()
-            .map(|r| remount_both_legs(r, own, other))
-            .collect();
-        let est = run(gait_events(Side::Right), &moved);
-        assert_same(&base, &est, false, 1e-6, &format!("mounting {k}"));
-    }
+    same_on_every_mounting(&rec, &base, || gait_events(Side::Right));
     let mut late = rec.clone();
     shift_time(&mut late, 1000.0);
     let est = run(gait_events(Side::Right), &late);
@@ -275,14 +289,7 @@ fn lowback_speed_same_answer_on_remounted_sensor() {
         mountings().len(),
         summary(&base)
     );
-    for (k, (own, other)) in mountings().iter().enumerate() {
-        let moved: Vec<_> = rec
-            .iter()
-            .map(|r| remount_both_legs(r, own, other))
-            .collect();
-        let est = run(LowbackSpeed::new(LowbackParams::default()), &moved);
-        assert_same(&base, &est, false, 1e-6, &format!("mounting {k}"));
-    }
+    same_on_every_mounting(&rec, &base, || LowbackSpeed::new(LowbackParams::default()));
 }
 
 /// RMSE (deg) of the knee from `from_s` after the first sample.
