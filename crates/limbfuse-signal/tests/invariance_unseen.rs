@@ -231,9 +231,10 @@ fn issue_19_mirror_two_leg_recording() {
 }
 
 /// Issue 19: `resample` dropped the other leg's IMU columns, the contact and
-/// speed references (and CoM measurements): a two-foot walk at another rate
-/// could not be evaluated. Contacts are resampled to the nearest sample
-/// (0 or 1, no 0.5), the rest like the other channels.
+/// speed references and the CoM measurements: a two-foot walk at another
+/// rate could not be evaluated, a B-SLIP trial lost `imm-bslip`'s input.
+/// Contacts are resampled to the nearest sample (0 or 1, no 0.5), the rest
+/// like the other channels.
 #[test]
 fn issue_19_resample_keeps_two_leg_channels_and_gait_references() {
     let Some(dir) = data_dir() else { return };
@@ -265,7 +266,19 @@ fn issue_19_resample_keeps_two_leg_channels_and_gait_references() {
             count(&rec, side),
             "initial contacts, side {side}"
         );
-    }
+    } // The CoM measurements of paper 003's trials (`imm-bslip` reads them).
+    let path = dir.join("independent-sim/bslip-v0.85-s21.csv");
+    let out = resample_trial(
+        TrialReader::open(&path).unwrap(),
+        &ResampleOptions::new(50.0),
+    )
+    .unwrap();
+    let kept = out
+        .records
+        .iter()
+        .filter(|x| x.sample.com.vel[0].is_some())
+        .count();
+    assert!(kept > out.records.len() / 2, "com_meas_vx on {kept} rows");
 }
 
 /// `lowback-speed` (one lower-back IMU, raw frame): the same contacts and
