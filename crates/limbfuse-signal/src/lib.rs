@@ -6,8 +6,8 @@
 //! ([`conditioning`]) and IMU calibration from static poses
 //! ([`calibration`]), and the variants of a recording (re-mounted
 //! sensors, shifted or jittered clocks) used to audit that methods answer
-//! them the same way ([`recording_variants`]). Files are read and written by `limbfuse-io`; this
-//! crate works on its records and metadata.
+//! them the same way ([`recording_variants`]). Files are read and written
+//! by `limbfuse-io`; this crate works on its records and metadata.
 #![deny(missing_docs)]
 
 pub mod align;

@@ -9,7 +9,7 @@ use limbfuse_core::Record;
 use nalgebra::{Rotation3, Vector3};
 
 use crate::align::apply_rotations;
-use crate::align::mirror::splitmix;
+use crate::align::mirror::uniform01;
 
 /// The record as sensors turned by fixed rotations read it: `own` for this
 /// leg's trunk, thigh, shank and foot IMUs, `other` for the other leg's
@@ -58,7 +58,6 @@ pub fn shift_time(records: &mut [Record], offset: f64) {
 pub fn jitter_times(records: &mut [Record], max_s: f64, seed: u64) {
     let mut state = seed;
     for r in records {
-        let u = (splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64;
-        r.sample.t += max_s * (2.0 * u - 1.0);
+        r.sample.t += max_s * (2.0 * uniform01(&mut state) - 1.0);
     }
 }

@@ -54,8 +54,13 @@ fn mirror_imu(imu: &mut ImuSample) {
     imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
 }
 
+/// A uniformly distributed number in `[0, 1)` from the SplitMix64 stream.
+pub(crate) fn uniform01(state: &mut u64) -> f64 {
+    (splitmix(state) >> 11) as f64 / (1u64 << 53) as f64
+}
+
 /// SplitMix64 step: a well-mixed 64-bit number from the state.
-pub(crate) fn splitmix(state: &mut u64) -> u64 {
+fn splitmix(state: &mut u64) -> u64 {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -80,7 +85,7 @@ pub fn remount_rotations_both_legs(seed: u64) -> ([Rotation3<f64>; 4], [Rotation
 }
 
 fn draw_rotations(state: &mut u64) -> [Rotation3<f64>; 4] {
-    let mut uniform = || (splitmix(state) >> 11) as f64 / (1u64 << 53) as f64;
+    let mut uniform = || uniform01(state);
     core::array::from_fn(|_| {
         let (u1, u2, u3) = (uniform(), uniform(), uniform());
         let tau = std::f64::consts::TAU;
