@@ -184,3 +184,60 @@ fn a_sensor_that_never_rotates_is_refused_by_name() {
         "{out}"
     );
 }
+
+/// Issue 19 (invariance audit): `mirror` on a two-leg recording wrote
+/// `# leg: left` but kept the other leg's columns as `foot_left_...`, left
+/// them unmirrored and the contact references on their sides, so the
+/// mirrored two-foot walk read back with one foot and no events. Now the
+/// other leg's columns are `foot_right_...`, mirrored like the recorded
+/// leg's, and `contact_right_ref` becomes `contact_left_ref`.
+#[test]
+fn issue_19_mirror_names_the_other_legs_columns() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let mut csv = String::from("# leg: right\nt");
+    for s in ["foot", "foot_left"] {
+        for q in ["acc", "gyr"] {
+            for a in ["x", "y", "z"] {
+                csv += &format!(",{s}_{q}_{a}");
+            }
+        }
+    }
+    csv += ",contact_left_ref,contact_right_ref\n";
+    for k in 0..4 {
+        csv += &format!(
+            "{:.2},1,2,3,0.1,0.2,0.3,4,5,6,0.4,0.5,0.6,0,1\n",
+            k as f64 * 0.01
+        );
+    }
+    std::fs::write(p.join("two.csv"), csv).unwrap();
+    ok(&limbfuse(&["mirror", "two.csv", "-o", "m.csv"], p));
+    let m = std::fs::read_to_string(p.join("m.csv")).unwrap();
+    assert!(m.contains("# leg: left\n"), "{m}");
+    let header = m.lines().find(|l| !l.starts_with('#')).unwrap();
+    assert!(
+        header.contains("foot_right_acc_x") && !header.contains("foot_left_"),
+        "{header}"
+    );
+    let cols: Vec<&str> = header.split(',').collect();
+    let row: Vec<&str> = m
+        .lines()
+        .rfind(|l| !l.starts_with('#'))
+        .unwrap()
+        .split(',')
+        .collect();
+    let cell = |name: &str| -> f64 {
+        let i = cols.iter().position(|c| *c == name).unwrap();
+        row[i].parse().unwrap()
+    };
+    // acc (x, y, -z), gyro (-x, -y, z) on both legs
+    assert_eq!((cell("foot_acc_z"), cell("foot_gyr_x")), (-3.0, -0.1));
+    assert_eq!(
+        (cell("foot_right_acc_z"), cell("foot_right_gyr_y")),
+        (-6.0, -0.5)
+    );
+    assert_eq!(
+        (cell("contact_left_ref"), cell("contact_right_ref")),
+        (1.0, 0.0)
+    );
+}

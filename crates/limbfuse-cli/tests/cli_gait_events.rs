@@ -445,3 +445,40 @@ fn standing_still_is_no_gait_found() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no gait found"));
 }
+
+/// Issue 19 (invariance audit): a one-foot recording that carries both
+/// feet's contact references (the gaitmap walk with the right shoe's
+/// columns removed) counted the unmeasured right foot's 29 initial
+/// contacts as missed (27 of 56 found). A foot with no IMU in the trial and
+/// nothing in the estimate is not scored now: 27 of 27, as on the full walk.
+#[test]
+fn issue_19_one_foot_recording_scores_only_that_foot() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(data.join("gaitmap-foot-walk/trial.csv")).unwrap();
+    let mut keep: Vec<usize> = Vec::new();
+    let mut out = String::new();
+    for line in src.lines() {
+        if line.starts_with('#') {
+            out += line;
+        } else {
+            let cells: Vec<&str> = line.split(',').collect();
+            if keep.is_empty() {
+                keep = (0..cells.len())
+                    .filter(|&i| {
+                        !cells[i].starts_with("foot_") || cells[i].starts_with("foot_left_")
+                    })
+                    .collect();
+            }
+            out += &keep.iter().map(|&i| cells[i]).collect::<Vec<_>>().join(",");
+        }
+        out += "\n";
+    }
+    let path = d.path().join("left-shoe.csv");
+    std::fs::write(&path, out).unwrap();
+    let v = evaluate_json("gait-events", &path, d.path());
+    for kind in ["initial_contact", "final_contact"] {
+        assert_eq!(f(&v, &[kind, "missed"]), 0.0, "{v}");
+        assert_eq!(f(&v, &[kind, "n_reference"]), 27.0, "{v}");
+    }
+}

@@ -10,7 +10,9 @@
 //!   `contact_<side>` column. Each reference event is paired with the
 //!   nearest unpaired estimated event of the same kind and side within
 //!   [`MATCH_TOLERANCE_S`]; unpaired reference events are missed, unpaired
-//!   estimated events at a time where the reference is known are extra.
+//!   estimated events at a time where the reference is known are extra. A
+//!   foot the trial has no IMU for and the estimate says nothing about is
+//!   not scored ([`crate::scored_feet`]).
 //! - **Contact / phase accuracy**: % of rows where both are known and equal.
 //!   The reference phase: DS when both feet are down; a single support is
 //!   SS2 in its first half (after the other foot's lift-off) and SS1 in its
@@ -348,6 +350,7 @@ pub fn evaluate_gait_event_files(
     let mut er = EstimateReader::open(estimate)?;
     let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
     let method = er.method().to_string();
+    let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
     let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er)?;
     let mut ev = GaitEventEvaluation {
         method,
@@ -382,7 +385,11 @@ pub fn evaluate_gait_event_files(
         ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
         return Ok(ev);
     }
-    for s in 0..2 {
+    let estimated = [0, 1].map(|s| {
+        c.contact[s].iter().any(Option::is_some) || !c.ic[s].is_empty() || !c.fc[s].is_empty()
+    });
+    let sides = crate::scored_feet::scored_sides(with_imu, estimated);
+    for &s in &sides {
         let (est_ic, est_fc) = if has_event_columns {
             (c.ic[s].clone(), c.fc[s].clone())
         } else {
@@ -406,12 +413,13 @@ pub fn evaluate_gait_event_files(
             estimated: est_fc,
         });
     }
-    ev.initial_contact = timing(&ic_sides, &c, &[Some(0), Some(1)]);
-    ev.final_contact = Some(timing(&fc_sides, &c, &[Some(0), Some(1)]));
+    let side_of: Vec<Option<usize>> = sides.iter().map(|&s| Some(s)).collect();
+    ev.initial_contact = timing(&ic_sides, &c, &side_of);
+    ev.final_contact = Some(timing(&fc_sides, &c, &side_of));
     accuracies(&c, &mut ev);
     let mut acc = Acc::default();
-    for (strides, se) in c.strides.iter().zip(&ic_sides) {
-        stride_errors_track(strides, se, &c, &mut acc);
+    for (&s, se) in sides.iter().zip(&ic_sides) {
+        stride_errors_track(&c.strides[s], se, &c, &mut acc);
     }
     acc.finish(&mut ev);
     ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);

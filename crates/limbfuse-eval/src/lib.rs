@@ -16,6 +16,7 @@ pub mod knee_errors;
 pub mod metrics;
 pub mod rejections;
 pub mod resets;
+pub mod scored_feet;
 pub mod stats;
 pub mod sync_lag;
 pub mod trial_check;

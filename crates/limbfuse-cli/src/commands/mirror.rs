@@ -4,8 +4,8 @@
 use anyhow::{Context, Result};
 use limbfuse_core::{Leg, Record};
 use limbfuse_io::{TrialReader, TrialWriter};
-use limbfuse_signal::align::apply_rotations;
-use limbfuse_signal::align::mirror::{mirror_record, remount_rotations};
+use limbfuse_signal::align::mirror::{mirror_record, remount_rotations_both_legs};
+use limbfuse_signal::recording_variants::remount_both_legs;
 
 use crate::cli::MirrorArgs;
 
@@ -13,7 +13,7 @@ use crate::cli::MirrorArgs;
 pub fn run(a: &MirrorArgs) -> Result<()> {
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
-    let layout = *reader.layout();
+    let mut layout = *reader.layout();
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     let declared = meta.get("leg").map(str::to_string);
     let leg = match declared.as_deref().map(Leg::parse) {
@@ -30,24 +30,27 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
         Leg::Left => Leg::Right,
     };
     meta.set("leg", other.name());
+    // Two-leg recordings: the other leg's columns are named after the
+    // recorded leg now (`foot_right_...` on a mirrored right-leg trial).
+    layout.leg = other;
     meta.set(
         "mirrored",
         format!(
-            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z)){}",
+            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z); two legs: both mirrored, contact references swapped){}",
             a.trial.display(),
             leg.name(),
             a.remount_seed
                 .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})"))
         ),
     );
-    let remount = a.remount_seed.map(|s| remount_rotations(s).map(Some));
+    let remount = a.remount_seed.map(remount_rotations_both_legs);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
         let m = mirror_record(r);
         let m = match &remount {
-            Some(q) => apply_rotations(&m, q),
+            Some((own, other)) => remount_both_legs(&m, own, other),
             None => m,
         };
         w.write(&m)

@@ -12,9 +12,7 @@ use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::position::{
-    central_derivative, position_residual, uniform_step, Kinematics, LiftedStart,
-};
+use super::position::{position_residual, rate_derivative, Kinematics, LiftedStart};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
 use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
@@ -87,7 +85,8 @@ impl Ring {
 
     /// Thigh and shank kinematics (with the five-point rate derivative) at
     /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros,
-    /// sample `i` complete accelerometers, and the times are equally spaced.
+    /// sample `i` complete accelerometers, and the times are equally spaced
+    /// or jittered without a gap ([`rate_derivative`]).
     pub fn kinematics(&self, i: usize) -> Option<[Kinematics; 2]> {
         if i < 2 || i + 2 >= self.len || !self.get(i).acc_ok {
             return None;
@@ -96,12 +95,16 @@ impl Ring {
         if !w.iter().all(|s| s.gyr_ok) {
             return None;
         }
-        let dt = uniform_step(&w.map(|s| s.t))?;
+        let t = w.map(|s| s.t);
+        let gyr_dot = [
+            rate_derivative(&t, &w.map(|x| x.gyr[0]))?,
+            rate_derivative(&t, &w.map(|x| x.gyr[1]))?,
+        ];
         let s = w[2];
         Some(core::array::from_fn(|seg| Kinematics {
             acc: s.acc[seg],
             gyr: s.gyr[seg],
-            gyr_dot: central_derivative(&w.map(|x| x.gyr[seg]), dt),
+            gyr_dot: gyr_dot[seg],
         }))
     }
 }

@@ -17,23 +17,46 @@
 //! quaternion method, SplitMix64 numbers) to re-mount the mirrored sensors
 //! with [`super::apply_rotations`].
 
-use limbfuse_core::Record;
+use limbfuse_core::{ImuSample, Record};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 /// The record as the mirror-image (other) leg's sensors read it.
+///
+/// Two-leg recordings: both legs' sensors are mirrored (the other leg's
+/// IMUs too), and the foot-contact references swap sides, since the
+/// mirror image of the right foot is a left foot (`contact_right_ref`
+/// becomes `contact_left_ref`). The trial's `# leg:` and its column names
+/// follow (`limbfuse mirror`). Until issue 19's invariance audit the other
+/// leg was left as recorded and the references unswapped, so a mirrored
+/// two-foot walk lost every event (`issue_19_mirror_two_leg_recording`).
 pub fn mirror_record(r: &Record) -> Record {
     let mut out = *r;
-    for imu in out.sample.imu.iter_mut() {
-        imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
-        imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
-        // incomplete vectors: each axis maps to itself (issue 18 item 2)
-        let [ax, ay, az] = imu.acc_partial;
-        imu.acc_partial = [ax, ay, az.map(|z| -z)];
-        let [wx, wy, wz] = imu.gyr_partial;
-        imu.gyr_partial = [wx.map(|x| -x), wy.map(|y| -y), wz];
-        imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
+    for imu in out
+        .sample
+        .imu
+        .iter_mut()
+        .chain(out.sample.other_leg_imu.iter_mut())
+    {
+        mirror_imu(imu);
     }
+    out.reference.contact.swap(0, 1);
     out
+}
+
+fn mirror_imu(imu: &mut ImuSample) {
+    imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
+    imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
+    // incomplete vectors: each axis maps to itself (issue 18 item 2)
+    let [ax, ay, az] = imu.acc_partial;
+    imu.acc_partial = [ax, ay, az.map(|z| -z)];
+    let [wx, wy, wz] = imu.gyr_partial;
+    imu.gyr_partial = [wx.map(|x| -x), wy.map(|y| -y), wz];
+    imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
+}
+
+/// A uniformly distributed number in `[0, 1)` from the SplitMix64 stream.
+pub(crate) fn uniform01(state: &mut u64) -> f64 {
+    (splitmix(state) >> 11) as f64 / (1u64 << 53) as f64
 }
 
 /// SplitMix64 step: a well-mixed 64-bit number from the state.
@@ -48,8 +71,21 @@ fn splitmix(state: &mut u64) -> u64 {
 /// Four uniformly random rotations (trunk, thigh, shank, foot) from `seed`
 /// (Shoemake 1992, "Uniform random rotations", Graphics Gems III).
 pub fn remount_rotations(seed: u64) -> [Rotation3<f64>; 4] {
+    remount_rotations_both_legs(seed).0
+}
+
+/// Eight uniformly random rotations from `seed`: this leg's four (those of
+/// [`remount_rotations`]) and the other leg's four (two-leg recordings),
+/// drawn next from the same stream.
+pub fn remount_rotations_both_legs(seed: u64) -> ([Rotation3<f64>; 4], [Rotation3<f64>; 4]) {
     let mut state = seed;
-    let mut uniform = || (splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64;
+    let own = draw_rotations(&mut state);
+    let other = draw_rotations(&mut state);
+    (own, other)
+}
+
+fn draw_rotations(state: &mut u64) -> [Rotation3<f64>; 4] {
+    let mut uniform = || uniform01(state);
     core::array::from_fn(|_| {
         let (u1, u2, u3) = (uniform(), uniform(), uniform());
         let tau = std::f64::consts::TAU;

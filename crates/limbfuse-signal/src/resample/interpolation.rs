@@ -111,6 +111,16 @@ pub(super) fn resample_phase(
     grid: &[f64],
     period_out: f64,
 ) -> Vec<Option<GaitPhase>> {
+    nearest(t, ph, grid, period_out)
+}
+
+/// Any channel: the nearest present sample (no value between two samples).
+pub(super) fn nearest<T: Copy>(
+    t: &[f64],
+    ph: &[T],
+    grid: &[f64],
+    period_out: f64,
+) -> Vec<Option<T>> {
     let p = nominal_period(t);
     grid.iter()
         .map(|&tg| match bracket(t, tg, p, period_out) {

@@ -21,6 +21,10 @@
 //!   (`[t - T/2, t + T/2]`, end points weighted 1/2); with no sample in that
 //!   period the output is missing. Measured response: `docs/TUNING.md` and
 //!   the tests in `tests/resample.rs`.
+//!   The other leg's IMU channels (two-leg recordings) are IMU channels.
+//! - **Gait contact references** (`contact_left_ref`, `contact_right_ref`):
+//!   the nearest present sample (as gait phase labels below), so they stay 0
+//!   or 1; empty cells (unknown) stay empty under the gap rules.
 //! - **Everything else** (encoders, references, model inputs, CoM; IMU
 //!   channels when the input rate is not above the output rate): linear
 //!   interpolation between the two present samples around `t`, unless they
@@ -90,6 +94,9 @@ pub enum ChannelMethod {
     Decimate(AntiAlias),
     /// Linear interpolation.
     Linear,
+    /// The nearest present sample (labels and 0/1 flags, such as the gait
+    /// contact references: an interpolated 0.5 is no contact state).
+    Nearest,
 }
 
 /// Options of [`resample_trial`].
@@ -184,6 +191,7 @@ pub fn resample_series(
     let anti_alias = match method {
         ChannelMethod::Decimate(a) => a,
         ChannelMethod::Linear => AntiAlias::None,
+        ChannelMethod::Nearest => return interpolation::nearest(&s.t, &s.v, grid, period_out),
     };
     let Some(p_in) = interpolation::nominal_period(&s.t) else {
         return interpolation::linear(s, grid, period_out);

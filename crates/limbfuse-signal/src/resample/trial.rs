@@ -37,6 +37,11 @@ enum Slot {
     JointRef(usize),
     ComPos(usize),
     ComVel(usize),
+    OtherAcc(usize, usize),
+    OtherGyr(usize, usize),
+    ContactRef(usize),
+    SpeedRef,
+    ComMeas(usize),
 }
 
 impl Slot {
@@ -52,12 +57,20 @@ impl Slot {
             Slot::JointRef(j) => re.joint[j],
             Slot::ComPos(k) => re.com_pos.map(|v| v[k]),
             Slot::ComVel(k) => re.com_vel.map(|v| v[k]),
+            Slot::OtherAcc(i, k) => s.other_leg_imu[i].acc_axis(k),
+            Slot::OtherGyr(i, k) => s.other_leg_imu[i].gyr_axis(k),
+            Slot::ContactRef(side) => re.contact[side].map(|c| if c { 1.0 } else { 0.0 }),
+            Slot::SpeedRef => re.speed,
+            Slot::ComMeas(k) => s.com.values()[k],
         }
     }
 
     fn method(self, anti_alias: AntiAlias) -> ChannelMethod {
         match self {
-            Slot::Acc(..) | Slot::Gyr(..) => ChannelMethod::Decimate(anti_alias),
+            Slot::Acc(..) | Slot::Gyr(..) | Slot::OtherAcc(..) | Slot::OtherGyr(..) => {
+                ChannelMethod::Decimate(anti_alias)
+            }
+            Slot::ContactRef(_) => ChannelMethod::Nearest,
             _ => ChannelMethod::Linear,
         }
     }
@@ -77,6 +90,25 @@ fn slots(l: &TrialLayout) -> Vec<Slot> {
         }
         if l.stim[i] {
             v.push(Slot::Stim(i));
+        }
+        if l.other_acc[i] {
+            v.extend((0..3).map(|k| Slot::OtherAcc(i, k)));
+        }
+        if l.other_gyr[i] {
+            v.extend((0..3).map(|k| Slot::OtherGyr(i, k)));
+        }
+    }
+    for side in 0..2 {
+        if l.contact_ref[side] {
+            v.push(Slot::ContactRef(side));
+        }
+    }
+    if l.speed_ref {
+        v.push(Slot::SpeedRef);
+    }
+    for k in 0..6 {
+        if l.com_meas[k] {
+            v.push(Slot::ComMeas(k));
         }
     }
     for j in 0..3 {
@@ -144,6 +176,8 @@ pub fn resample_trial(
     let mut acc = vec![[[None; 3]; 4]; grid.len()];
     let mut gyr = vec![[[None; 3]; 4]; grid.len()];
     let mut com = vec![[[None; 3]; 2]; grid.len()];
+    let mut other_acc = vec![[[None; 3]; 4]; grid.len()];
+    let mut other_gyr = vec![[[None; 3]; 4]; grid.len()];
     for (s, &slot) in series.iter().zip(&slots) {
         let out = resample_series(s, &grid, opts.rate_hz, slot.method(opts.anti_alias));
         for (k, v) in out.into_iter().enumerate() {
@@ -158,6 +192,11 @@ pub fn resample_trial(
                 Slot::JointRef(j) => r.reference.joint[j] = v,
                 Slot::ComPos(a) => com[k][0][a] = v,
                 Slot::ComVel(a) => com[k][1][a] = v,
+                Slot::OtherAcc(i, a) => other_acc[k][i][a] = v,
+                Slot::OtherGyr(i, a) => other_gyr[k][i][a] = v,
+                Slot::ContactRef(side) => r.reference.contact[side] = v.map(|c| c >= 0.5),
+                Slot::SpeedRef => r.reference.speed = v,
+                Slot::ComMeas(a) => r.sample.com.set(a, v),
             }
         }
     }
@@ -167,6 +206,8 @@ pub fn resample_trial(
             // per axis: an incomplete vector keeps its axes (issue 18)
             r.sample.imu[i].set_acc_axes(acc[k][i]);
             r.sample.imu[i].set_gyr_axes(gyr[k][i]);
+            r.sample.other_leg_imu[i].set_acc_axes(other_acc[k][i]);
+            r.sample.other_leg_imu[i].set_gyr_axes(other_gyr[k][i]);
         }
         r.reference.com_pos = vec3(com[k][0]);
         r.reference.com_vel = vec3(com[k][1]);
