@@ -98,14 +98,10 @@ pub(crate) fn write_comments<'a, W: Write>(
 }
 
 /// The number written in `cell` (`None` when it is not one). Accepts what
-/// `str::parse::<f64>` accepts and gives the same value: plain decimals
-/// (what limbfuse writes) are read by [`crate::plain_decimal`], other forms
-/// by `fast-float2`, anything it refuses goes through `std`.
+/// `str::parse::<f64>` accepts and gives the same value: `fast-float2`
+/// parses the common forms, anything it refuses goes through `std`.
 #[inline]
 pub(crate) fn parse_number(cell: &[u8]) -> Option<f64> {
-    if let Some(v) = crate::plain_decimal::parse(cell) {
-        return Some(v);
-    }
     match fast_float2::parse::<f64, _>(cell) {
         Ok(v) => Some(v),
         Err(_) => std::str::from_utf8(cell).ok()?.parse::<f64>().ok(),

@@ -22,7 +22,6 @@ pub mod gait_library;
 pub mod import;
 pub mod layout;
 pub mod meta;
-mod plain_decimal;
 pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;
