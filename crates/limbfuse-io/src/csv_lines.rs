@@ -12,7 +12,7 @@
 use std::io::{self, Read};
 use std::ops::Range;
 
-use memchr::{memchr, memchr2_iter};
+use memchr::memchr;
 
 /// Longest line accepted: a bound on the memory one row may take (a file
 /// without line breaks is not read whole into memory).
@@ -147,19 +147,94 @@ pub(crate) fn is_blank(cells: &[(u32, u32)]) -> bool {
 
 /// Splits a line at its commas into trimmed cell bounds; returns false
 /// (cells unspecified) when the line holds a `"`: it needs [`split_quoted`].
+///
+/// The line is scanned 32 bytes at a time into bit masks of its commas and
+/// quotes ([`separator_masks`]), so a cell costs a few instructions, not a
+/// search call (`memchr2` per cell was ~7 % of an `estimate` run).
 #[inline]
 pub(crate) fn split_plain(line: &[u8], cells: &mut Vec<(u32, u32)>) -> bool {
     cells.clear();
     let mut start = 0;
-    for at in memchr2_iter(b',', b'"', line) {
-        if line[at] == b'"' {
+    let mut base = 0;
+    let mut blocks = line.chunks_exact(BLOCK);
+    for block in blocks.by_ref() {
+        let block: &[u8; BLOCK] = block.try_into().unwrap_or(&[0; BLOCK]);
+        let (commas, quotes) = separator_masks(block);
+        if quotes != 0 {
             return false;
         }
-        cells.push(trimmed(line, start, at));
-        start = at + 1;
+        start = push_cells(line, base, commas, start, cells);
+        base += BLOCK;
+    }
+    let rest = blocks.remainder();
+    if !rest.is_empty() {
+        // Zero padding holds no comma and no quote.
+        let mut block = [0u8; BLOCK];
+        block[..rest.len()].copy_from_slice(rest);
+        let (commas, quotes) = separator_masks(&block);
+        if quotes != 0 {
+            return false;
+        }
+        start = push_cells(line, base, commas, start, cells);
     }
     cells.push(trimmed(line, start, line.len()));
     true
+}
+
+/// Bytes scanned at once by [`split_plain`].
+const BLOCK: usize = 32;
+
+/// Pushes the cell ending at each comma of `commas` (bit `i`: a comma at
+/// `base + i`); returns where the next cell starts.
+#[inline]
+fn push_cells(
+    line: &[u8],
+    base: usize,
+    mut commas: u32,
+    mut start: usize,
+    cells: &mut Vec<(u32, u32)>,
+) -> usize {
+    while commas != 0 {
+        let at = base + commas.trailing_zeros() as usize;
+        cells.push(trimmed(line, start, at));
+        start = at + 1;
+        commas &= commas - 1;
+    }
+    start
+}
+
+/// Bit masks of the commas and of the quotes in `block` (bit `i` for byte `i`).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn separator_masks(block: &[u8; BLOCK]) -> (u32, u32) {
+    use std::arch::x86_64::{
+        __m128i, _mm_cmpeq_epi8, _mm_loadu_si128, _mm_movemask_epi8, _mm_set1_epi8,
+    };
+    // SAFETY: SSE2 is part of every x86-64 CPU (the target's baseline), and
+    // both unaligned loads read 16 bytes inside the 32-byte array.
+    unsafe {
+        let lo = _mm_loadu_si128(block.as_ptr().cast::<__m128i>());
+        let hi = _mm_loadu_si128(block.as_ptr().add(16).cast::<__m128i>());
+        let comma = _mm_set1_epi8(b',' as i8);
+        let quote = _mm_set1_epi8(b'"' as i8);
+        let mask = |v, c| _mm_movemask_epi8(_mm_cmpeq_epi8(v, c)) as u32 & 0xFFFF;
+        (
+            mask(lo, comma) | (mask(hi, comma) << 16),
+            mask(lo, quote) | (mask(hi, quote) << 16),
+        )
+    }
+}
+
+/// Bit masks of the commas and of the quotes in `block` (bit `i` for byte `i`).
+#[cfg(not(target_arch = "x86_64"))]
+#[inline]
+fn separator_masks(block: &[u8; BLOCK]) -> (u32, u32) {
+    let (mut commas, mut quotes) = (0u32, 0u32);
+    for (i, &b) in block.iter().enumerate() {
+        commas |= u32::from(b == b',') << i;
+        quotes |= u32::from(b == b'"') << i;
+    }
+    (commas, quotes)
 }
 
 /// Splits a record that may hold quoted cells, writing the cell texts
@@ -232,6 +307,31 @@ mod tests {
         assert_eq!(plain("t, a ,b\r"), ["t", "a", "b"]);
         assert_eq!(plain(",,"), ["", "", ""]);
         assert_eq!(plain(""), [""]);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(5_000))]
+
+        /// Lines of any length (across the 32-byte blocks and their tail):
+        /// the same cells as splitting at every comma and trimming; a line
+        /// with a quote anywhere is handed to the quoted path.
+        #[test]
+        fn block_scan_splits_as_a_plain_split_does(line in "[a1, \\t\"\\.]{0,100}") {
+            let mut cells = Vec::new();
+            let plain = split_plain(line.as_bytes(), &mut cells);
+            proptest::prop_assert_eq!(plain, !line.contains('"'));
+            if plain {
+                let got: Vec<&str> = cells
+                    .iter()
+                    .map(|&(a, b)| &line[a as usize..b as usize])
+                    .collect();
+                let want: Vec<&str> = line
+                    .split(',')
+                    .map(|c| c.trim_matches(|ch: char| ch.is_ascii_whitespace()))
+                    .collect();
+                proptest::prop_assert_eq!(got, want);
+            }
+        }
     }
 
     #[test]

@@ -402,6 +402,34 @@ impl Row<'_> {
         Ok(Some(v))
     }
 
+    /// The numbers of the columns `cols` into `out[col]`, each as
+    /// [`Row::number`] reads it, in the order of `cols`: the first cell that
+    /// is neither a finite number nor empty is the error, the same one
+    /// [`Row::number`] gives. One loop for a whole row: the record reader's
+    /// path (one call and one `Result` per cell before: ~5 % of reading).
+    pub fn numbers_into(&self, cols: &[usize], out: &mut [Option<f64>]) -> Result<(), FileError> {
+        if self.arrow.is_some() {
+            for &c in cols {
+                out[c] = self.number(c)?;
+            }
+            return Ok(());
+        }
+        for &c in cols {
+            let (a, b) = self.cells[c];
+            let raw = &self.text[a as usize..b as usize];
+            out[c] = if raw.is_empty() {
+                None
+            } else {
+                match crate::cell_format::parse_number(raw) {
+                    Some(v) if v.is_finite() => Some(v),
+                    // Not a finite number: the error of `number`.
+                    _ => self.number(c)?,
+                }
+            };
+        }
+        Ok(())
+    }
+
     /// The time in column `col`: present, finite, and after `previous`.
     pub fn time(&self, col: usize, previous: Option<f64>) -> Result<f64, FileError> {
         let t = self

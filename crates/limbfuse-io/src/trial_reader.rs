@@ -15,7 +15,7 @@ use nalgebra::Vector3;
 use crate::error::FileError;
 use crate::layout::{contact_ref_column, other_leg_prefix, TrialLayout, AXES, QUAT};
 use crate::meta::TrialMeta;
-use crate::table::{Row, TableReader};
+use crate::table::TableReader;
 
 /// Column indices of every known channel.
 #[derive(Debug, Clone, Default)]
@@ -39,6 +39,38 @@ struct ColumnPlan {
     speed_ref: Option<usize>,
 }
 
+impl ColumnPlan {
+    /// The numeric columns a record reads (all but `t` and the phase
+    /// label), in the order [`TrialReader::read_into`] used to parse them
+    /// one by one, so that a row's first bad cell is the same one.
+    fn number_columns(&self) -> Vec<usize> {
+        let mut cols = Vec::new();
+        let flat = |g: Option<[usize; 3]>| g.into_iter().flatten();
+        for i in 0..4 {
+            cols.extend(flat(self.acc[i]));
+            cols.extend(flat(self.gyr[i]));
+            cols.extend(self.quat[i].into_iter().flatten());
+            cols.extend(self.segment_ref[i]);
+        }
+        for i in 0..4 {
+            cols.extend(flat(self.other_acc[i]));
+            cols.extend(flat(self.other_gyr[i]));
+        }
+        cols.extend(self.contact_ref.iter().flatten());
+        cols.extend(self.speed_ref);
+        for i in 0..3 {
+            cols.extend(self.encoder[i]);
+            cols.extend(self.motor[i]);
+            cols.extend(self.joint_ref[i]);
+        }
+        cols.extend(self.stim.iter().flatten());
+        cols.extend(self.com_meas.iter().flatten());
+        cols.extend(flat(self.com_pos));
+        cols.extend(flat(self.com_vel));
+        cols
+    }
+}
+
 /// Reads a trial file one [`Record`] at a time.
 #[derive(Debug)]
 pub struct TrialReader {
@@ -47,6 +79,9 @@ pub struct TrialReader {
     layout: TrialLayout,
     previous_t: Option<f64>,
     rows: u64,
+    /// [`ColumnPlan::number_columns`], and the current row's values by column.
+    number_columns: Vec<usize>,
+    values: Vec<Option<f64>>,
 }
 
 /// Finds a group of columns `prefix + suffix`; all or none must exist.
@@ -156,12 +191,16 @@ impl TrialReader {
         layout.com_pos = plan.com_pos.is_some();
         layout.com_vel = plan.com_vel.is_some();
         layout.phase_ref = plan.phase_ref.is_some();
+        let number_columns = plan.number_columns();
+        let values = vec![None; table.header().len()];
         Ok(TrialReader {
             table,
             plan,
             layout,
             previous_t: None,
             rows: 0,
+            number_columns,
+            values,
         })
     }
 
@@ -180,6 +219,7 @@ impl TrialReader {
         p.phase_ref = None;
         p.contact_ref = [None; 2];
         p.speed_ref = None;
+        self.number_columns = self.plan.number_columns();
     }
 
     /// Metadata from the file's comment lines.
@@ -226,26 +266,27 @@ impl TrialReader {
         };
         let plan = &self.plan;
         let t = row.time(plan.t, self.previous_t)?;
+        row.numbers_into(&self.number_columns, &mut self.values)?;
+        let v = &self.values;
+        let opt = |c: Option<usize>| c.and_then(|c| v[c]);
+        let axes = |g: Option<[usize; 3]>| g.map_or([None; 3], |g| g.map(|c| v[c]));
         rec.sample.t = t;
         for i in 0..4 {
-            rec.sample.imu[i].set_acc_axes(cells(&row, plan.acc[i])?);
-            rec.sample.imu[i].set_gyr_axes(cells(&row, plan.gyr[i])?);
-            rec.sample.imu[i].quat = match plan.quat[i] {
-                Some(cols) => numbers(&row, cols)?,
-                None => None,
-            };
-            rec.reference.segment[i] = row.opt_number(plan.segment_ref[i])?;
+            rec.sample.imu[i].set_acc_axes(axes(plan.acc[i]));
+            rec.sample.imu[i].set_gyr_axes(axes(plan.gyr[i]));
+            rec.sample.imu[i].quat = plan.quat[i].and_then(|g| all(v, g));
+            rec.reference.segment[i] = opt(plan.segment_ref[i]);
         }
         for i in 0..4 {
             let other = &mut rec.sample.other_leg_imu[i];
-            other.set_acc_axes(cells(&row, plan.other_acc[i])?);
-            other.set_gyr_axes(cells(&row, plan.other_gyr[i])?);
+            other.set_acc_axes(axes(plan.other_acc[i]));
+            other.set_gyr_axes(axes(plan.other_gyr[i]));
             other.quat = None;
         }
         for side in 0..2 {
             rec.reference.contact[side] = match plan.contact_ref[side] {
                 None => None,
-                Some(c) => match row.number(c)? {
+                Some(c) => match v[c] {
                     None => None,
                     Some(0.0) => Some(false),
                     Some(1.0) => Some(true),
@@ -258,20 +299,20 @@ impl TrialReader {
                 },
             };
         }
-        rec.reference.speed = row.opt_number(plan.speed_ref)?;
+        rec.reference.speed = opt(plan.speed_ref);
         for i in 0..3 {
-            rec.sample.encoder[i] = row.opt_number(plan.encoder[i])?;
-            rec.sample.inputs.motor_torque[i] = row.opt_number(plan.motor[i])?;
-            rec.reference.joint[i] = row.opt_number(plan.joint_ref[i])?;
+            rec.sample.encoder[i] = opt(plan.encoder[i]);
+            rec.sample.inputs.motor_torque[i] = opt(plan.motor[i]);
+            rec.reference.joint[i] = opt(plan.joint_ref[i]);
         }
         for k in 0..4 {
-            rec.sample.inputs.stim[k] = row.opt_number(plan.stim[k])?;
+            rec.sample.inputs.stim[k] = opt(plan.stim[k]);
         }
         for k in 0..6 {
-            rec.sample.com.set(k, row.opt_number(plan.com_meas[k])?);
+            rec.sample.com.set(k, opt(plan.com_meas[k]));
         }
-        rec.reference.com_pos = vector(&row, plan.com_pos)?;
-        rec.reference.com_vel = vector(&row, plan.com_vel)?;
+        rec.reference.com_pos = plan.com_pos.and_then(|g| all(v, g)).map(Vector3::from);
+        rec.reference.com_vel = plan.com_vel.and_then(|g| all(v, g)).map(Vector3::from);
         rec.reference.phase = None;
         if let Some(c) = plan.phase_ref {
             let text = row.text(c);
@@ -298,35 +339,13 @@ impl RecordSource for TrialReader {
     }
 }
 
-fn numbers<const K: usize>(row: &Row<'_>, cols: [usize; K]) -> Result<Option<[f64; K]>, FileError> {
+/// The values of a group of columns when every one is present.
+fn all<const K: usize>(values: &[Option<f64>], cols: [usize; K]) -> Option<[f64; K]> {
     let mut out = [0.0; K];
-    let mut complete = true;
     for (o, c) in out.iter_mut().zip(cols) {
-        match row.number(c)? {
-            Some(v) => *o = v,
-            None => complete = false,
-        }
+        *o = values[c]?;
     }
-    Ok(complete.then_some(out))
-}
-
-/// The three cells of an IMU vector, each present or not (a vector with
-/// a missing axis keeps its other axes: issue 18 item 2).
-fn cells(row: &Row<'_>, cols: Option<[usize; 3]>) -> Result<[Option<f64>; 3], FileError> {
-    let mut out = [None; 3];
-    if let Some(c) = cols {
-        for (o, c) in out.iter_mut().zip(c) {
-            *o = row.number(c)?;
-        }
-    }
-    Ok(out)
-}
-
-fn vector(row: &Row<'_>, cols: Option<[usize; 3]>) -> Result<Option<Vector3<f64>>, FileError> {
-    match cols {
-        Some(c) => Ok(numbers(row, c)?.map(Vector3::from)),
-        None => Ok(None),
-    }
+    Some(out)
 }
 
 impl Iterator for TrialReader {

@@ -135,3 +135,17 @@ fn invalid_utf8_is_an_error_not_a_panic() {
     let m = r.next_record().unwrap_err().to_string();
     assert!(m.starts_with("bad.csv:2: column 2 (`knee_enc`)"), "{m}");
 }
+
+/// A row with several bad cells: the error is the first one in the order
+/// the reader takes the channels (IMUs before encoders, whatever the
+/// column order), the same when a row is parsed in one loop
+/// (`Row::numbers_into`) as when it was parsed cell by cell.
+#[test]
+fn several_bad_cells_report_the_first_in_reading_order() {
+    let m = message("t,knee_enc,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\n0,x,1,y,3\n");
+    assert!(m.starts_with("bad.csv:2: column 4 (`thigh_gyr_y`)"), "{m}");
+    let m = message("t,knee_enc,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\n0,x,1,2,3\n");
+    assert!(m.starts_with("bad.csv:2: column 2 (`knee_enc`)"), "{m}");
+    let m = message("knee_enc,t,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\nx,,1,y,3\n");
+    assert!(m.starts_with("bad.csv:2: column 2 (`t`)"), "{m}");
+}
