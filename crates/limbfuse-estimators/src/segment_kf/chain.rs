@@ -123,10 +123,17 @@ fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-/// Wraps an angle difference to [-pi, pi].
+/// Wraps an angle difference to [-pi, pi]: `remainder(a, 2 pi)`, which is
+/// `a` itself, exactly, for `|a| <= pi` (the quotient rounds to 0, ties to
+/// even; `TAU` is exactly twice `PI` in binary), so the library call is
+/// made only beyond.
 #[inline]
 pub(crate) fn wrap(a: f64) -> f64 {
-    libm::remainder(a, core::f64::consts::TAU)
+    if libm::fabs(a) <= core::f64::consts::PI {
+        a
+    } else {
+        libm::remainder(a, core::f64::consts::TAU)
+    }
 }
 
 impl Chain {
@@ -281,8 +288,10 @@ impl Chain {
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.dropouts.observe(&rate, dt);
         if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
+            // Only a missing rate is ever replaced by its held value (an
+            // `exp` per segment saved at every sample with all gyros present).
             let held: [Option<f64>; 4] = core::array::from_fn(|i| {
-                self.init[i]
+                (self.init[i] && rate[i].is_none())
                     .then(|| self.held_rate(i, self.rate_gap[i] + dt))
                     .flatten()
             });

@@ -161,14 +161,19 @@ pub(crate) fn borrow_rates(
         (Some(e), Some(l)) => Some(wrap(e - l) / dt),
         _ => None,
     };
+    // (the encoder rate is formed only for a missing rate)
     for i in 1..4 {
-        if let (None, Some(w), Some(d)) = (rate[i], rate[i - 1], enc_rate(i - 1)) {
-            rate[i] = Some(w - d);
+        if rate[i].is_none() {
+            if let (Some(w), Some(d)) = (rate[i - 1], enc_rate(i - 1)) {
+                rate[i] = Some(w - d);
+            }
         }
     }
     for i in (0..3).rev() {
-        if let (None, Some(w), Some(d)) = (rate[i], rate[i + 1], enc_rate(i)) {
-            rate[i] = Some(w + d);
+        if rate[i].is_none() {
+            if let (Some(w), Some(d)) = (rate[i + 1], enc_rate(i)) {
+                rate[i] = Some(w + d);
+            }
         }
     }
 }
@@ -179,7 +184,9 @@ const RATE_POWER_S: f64 = 1.0;
 
 /// What [`RateDropouts::fill`] needs of the filter at one sample.
 pub(crate) struct FillContext<'a> {
-    /// Each initialised segment's last rate held (decaying) to this sample.
+    /// Each initialised segment's last rate held (decaying) to this sample,
+    /// for the segments whose rate this sample misses (the only ones
+    /// [`RateDropouts::fill`] reads; `None` for the others).
     pub held: &'a [Option<f64>; 4],
     /// How long each own gyro rate had been missing before this sample (s).
     pub own_gap_before: &'a [f64; 4],
@@ -205,6 +212,10 @@ pub(crate) struct RateDropouts {
     /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
     /// every gyro is gone.
     rate_power: [Option<f64>; 4],
+    /// The step of the last [`RateDropouts::observe`] and its smoothing
+    /// weight `1 - exp(-dt / RATE_POWER_S)`, reused while the step repeats
+    /// bit for bit (the default, a zero step and zero weight, is exact too).
+    weight_of: (f64, f64),
 }
 
 impl RateDropouts {
@@ -217,7 +228,10 @@ impl RateDropouts {
             *g = if r.is_some() { 0.0 } else { *g + step };
         }
         if let Some(dt) = dt {
-            let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
+            if dt.to_bits() != self.weight_of.0.to_bits() {
+                self.weight_of = (dt, 1.0 - libm::exp(-dt / RATE_POWER_S));
+            }
+            let k = self.weight_of.1;
             for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
                 if let Some(r) = r {
                     *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
@@ -244,9 +258,12 @@ impl RateDropouts {
     pub fn fill(&self, rate: &mut [Option<f64>; 4], c: &FillContext) {
         let mut held_now = [false; 4];
         for i in 0..4 {
+            if rate[i].is_some() {
+                continue;
+            }
             let brief =
                 predicted_rate_variance(c.own_gap_before[i] + c.dt) < 2.0 * c.sigma_e * c.sigma_e;
-            if rate[i].is_none() && brief {
+            if brief {
                 rate[i] = c.held[i];
                 held_now[i] = rate[i].is_some();
             }
