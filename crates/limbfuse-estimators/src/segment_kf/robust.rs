@@ -212,10 +212,27 @@ pub(crate) struct RateDropouts {
     /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
     /// every gyro is gone.
     rate_power: [Option<f64>; 4],
-    /// The step of the last [`RateDropouts::observe`] and its smoothing
-    /// weight `1 - exp(-dt / RATE_POWER_S)`, reused while the step repeats
-    /// bit for bit (the default, a zero step and zero weight, is exact too).
-    weight_of: (f64, f64),
+    /// The smoothing weights `1 - exp(-dt / RATE_POWER_S)` of the last few
+    /// distinct steps, reused when a step repeats bit for bit: timestamps
+    /// such as `k * 0.01` give steps that differ in their last bits, a few
+    /// distinct values in turn (the default, a zero step with weight zero,
+    /// is exact too).
+    weights: [(f64, f64); 4],
+    /// The entry of `weights` replaced next.
+    next_weight: usize,
+}
+
+impl RateDropouts {
+    /// `1 - exp(-dt / RATE_POWER_S)`, from the cache when `dt` repeats.
+    fn weight(&mut self, dt: f64) -> f64 {
+        if let Some(&(_, k)) = self.weights.iter().find(|w| w.0.to_bits() == dt.to_bits()) {
+            return k;
+        }
+        let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
+        self.weights[self.next_weight] = (dt, k);
+        self.next_weight = (self.next_weight + 1) % self.weights.len();
+        k
+    }
 }
 
 impl RateDropouts {
@@ -228,10 +245,7 @@ impl RateDropouts {
             *g = if r.is_some() { 0.0 } else { *g + step };
         }
         if let Some(dt) = dt {
-            if dt.to_bits() != self.weight_of.0.to_bits() {
-                self.weight_of = (dt, 1.0 - libm::exp(-dt / RATE_POWER_S));
-            }
-            let k = self.weight_of.1;
+            let k = self.weight(dt);
             for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
                 if let Some(r) = r {
                     *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
