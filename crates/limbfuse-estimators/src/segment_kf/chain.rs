@@ -73,16 +73,6 @@ impl Inputs {
     }
 }
 
-/// How a measurement row relates to the segments (for the gain breakdown
-/// of 001 Fig. 6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RowKind {
-    /// An accelerometer-inclination row of segment `i`.
-    Imu(usize),
-    /// A joint row: encoder (MJLS) or accelerometer difference (global).
-    Joint,
-}
-
 #[derive(Debug, Clone)]
 pub(crate) struct Chain {
     pub common: CommonParams,
@@ -124,12 +114,11 @@ fn finite(v: f64) -> Option<f64> {
 }
 
 /// Wraps an angle difference to [-pi, pi]: `remainder(a, 2 pi)`, which is
-/// `a` itself, exactly, for `|a| <= pi` (the quotient rounds to 0, ties to
-/// even; `TAU` is exactly twice `PI` in binary), so the library call is
-/// made only beyond.
+/// `a` itself for `|a| <= pi` (quotient 0, ties to even), so called only beyond.
 #[inline]
 pub(crate) fn wrap(a: f64) -> f64 {
-    if libm::fabs(a) <= core::f64::consts::PI {
+    let inside = libm::fabs(a) <= core::f64::consts::PI;
+    if inside {
         a
     } else {
         libm::remainder(a, core::f64::consts::TAU)
@@ -288,8 +277,7 @@ impl Chain {
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.dropouts.observe(&rate, dt);
         if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
-            // Only a missing rate is ever replaced by its held value (an
-            // `exp` per segment saved at every sample with all gyros present).
+            // (only a missing rate is replaced by its held value: no `exp` else)
             let held: [Option<f64>; 4] = core::array::from_fn(|i| {
                 (self.init[i] && rate[i].is_none())
                     .then(|| self.held_rate(i, self.rate_gap[i] + dt))

@@ -303,6 +303,46 @@ impl RateDropouts {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use core::f64::consts::{PI, TAU};
+
+    /// The fast path of `wrap` returns `remainder(a, 2 pi)` bit for bit:
+    /// at and next to +-pi, at zero of both signs, beyond a turn, NaN.
+    #[test]
+    fn wrap_equals_the_remainder_bit_for_bit() {
+        let below = f64::from_bits(PI.to_bits() - 1);
+        let above = f64::from_bits(PI.to_bits() + 1);
+        let mut values = vec![
+            0.0, -0.0, PI, -PI, below, -below, above, -above, TAU, 7.0, -40.0,
+        ];
+        values.extend((0..2000).map(|k| (k as f64 - 1000.0) * 0.00731));
+        for a in values {
+            let want = libm::remainder(a, TAU);
+            assert_eq!(wrap(a).to_bits(), want.to_bits(), "{a}");
+        }
+        assert!(wrap(f64::NAN).is_nan());
+    }
+
+    /// The cached smoothing weight is the one computed afresh, bit for bit,
+    /// for steps that jitter in their last bits and for more distinct steps
+    /// than the cache holds (entries replaced in turn).
+    #[test]
+    fn rate_power_weight_from_the_cache_equals_the_computed_one() {
+        let mut d = RateDropouts::default();
+        let steps = [
+            0.01,
+            0.010000000000000009,
+            0.009999999999999787,
+            0.0,
+            0.02,
+            0.005,
+            1e-9,
+        ];
+        for k in 0..200 {
+            let dt = steps[(k * 7 + k / 3) % steps.len()];
+            let want = 1.0 - libm::exp(-dt / RATE_POWER_S);
+            assert_eq!(d.weight(dt).to_bits(), want.to_bits(), "dt {dt}");
+        }
+    }
 
     /// Independent value: `(min(a tau, s) tau)^2` by hand.
     #[test]
