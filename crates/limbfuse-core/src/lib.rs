@@ -24,6 +24,7 @@ pub mod limb;
 pub mod plausibility;
 pub mod sample;
 pub mod sample_gate;
+pub mod screening;
 
 #[cfg(feature = "std")]
 pub mod runner;
@@ -35,6 +36,7 @@ pub use limb::{Joint, Leg, Segment, Side};
 pub use plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
 pub use sample_gate::{Rejections, SampleGate, SensorRanges};
+pub use screening::Screening;
 
 /// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.
 pub const STANDARD_GRAVITY: f64 = 9.81;

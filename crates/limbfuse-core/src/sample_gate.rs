@@ -42,6 +42,7 @@
 
 use crate::plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 use crate::sample::Sample;
+use crate::screening::Screening;
 
 /// The largest readings a sensor can produce, per kind.
 ///
@@ -220,9 +221,21 @@ impl SampleGate {
 
     /// `sample` with every out-of-range, non-finite or implausible sensor
     /// reading made missing; the count of rejections grows by what was
-    /// removed.
+    /// removed. The same as [`SampleGate::check`] then [`Screening::apply`]
+    /// on a copy.
     pub fn screen(&mut self, sample: &Sample) -> Sample {
+        let screening = self.check(sample);
         let mut out = *sample;
+        screening.apply(&mut out);
+        out
+    }
+
+    /// Checks `sample` as [`SampleGate::screen`] does (counting and
+    /// remembering alike) and says which readings to make missing, without
+    /// copying the sample: most samples need no change
+    /// ([`Screening::is_clean`]).
+    pub fn check(&mut self, sample: &Sample) -> Screening {
+        let mut out = Screening::default();
         let before = self.rejections.total();
         let r = self.ranges;
         let lim = self.limits;
@@ -234,35 +247,41 @@ impl SampleGate {
         let dt = self.last_t.map_or(f64::NAN, |t0| t - t0);
         self.last_t = Some(t);
         let rej = &mut self.rejections;
-        let imus = out.imu.iter_mut().chain(out.other_leg_imu.iter_mut());
+        let imus = sample.imu.iter().chain(sample.other_leg_imu.iter());
         let per_imu = self.tracks.iter_mut().zip(self.acc_turns.iter_mut());
         for (k, (imu, (track, turn))) in imus.zip(per_imu).enumerate() {
+            let bit = 1u8 << k;
             let alpha = lim.angular_accel_rad_s2[k % 4];
             let mut gyro_stuck = false;
+            // the gyroscope vector as screened so far
+            let mut gyr = imu.gyr;
             if let Some(g) = imu.gyr {
                 if !within(&g, r.gyro_rad_s) {
-                    imu.gyr = None;
+                    gyr = None;
                     rej.gyro += 1;
                 } else if clipped(&g, r.gyro_full_scale_rad_s) {
-                    imu.gyr = None;
+                    gyr = None;
                     rej.gyro += 1;
                     rej.clipped += 1;
                 } else if let Some(why) = track[0].check(&g, t, Some(alpha), &lim) {
-                    imu.gyr = None;
+                    gyr = None;
                     rej.gyro += 1;
                     gyro_stuck = why == Implausible::Stuck;
                     tally(rej, why);
                 }
+                if gyr.is_none() {
+                    out.gyr |= bit;
+                }
             }
-            if imu.gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
+            if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
                 let cells = &imu.gyr_partial;
-                let out = !cells_within(cells, r.gyro_rad_s);
-                let clip = !out && cells_clipped(cells, r.gyro_full_scale_rad_s);
-                let why = (!out && !clip)
+                let out_of_range = !cells_within(cells, r.gyro_rad_s);
+                let clip = !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s);
+                let why = (!out_of_range && !clip)
                     .then(|| track[0].check_axes(cells, t, Some(alpha), &lim))
                     .flatten();
-                if out || clip || why.is_some() {
-                    imu.gyr_partial = [None; 3];
+                if out_of_range || clip || why.is_some() {
+                    out.gyr_partial |= bit;
                     rej.gyro += 1;
                     rej.clipped += u64::from(clip);
                     if let Some(why) = why {
@@ -271,30 +290,30 @@ impl SampleGate {
                 }
             }
             if imu.acc.is_none() && !cells_within(&imu.acc_partial, r.acc_m_s2) {
-                imu.acc_partial = [None; 3];
+                out.acc_partial |= bit;
                 rej.acc += 1;
             }
             if let Some(a) = imu.acc {
                 if !within(&a, r.acc_m_s2) {
-                    imu.acc = None;
+                    out.acc |= bit;
                     rej.acc += 1;
                 } else {
                     let why = track[1].check(&a, t, None, &lim);
-                    turn.add(track[1].repeats(), &a, imu.gyr.as_ref(), dt, &lim);
+                    turn.add(track[1].repeats(), &a, gyr.as_ref(), dt, &lim);
                     let why = why.filter(|w| {
                         *w != Implausible::Stuck || turn.confirms_stuck(gyro_stuck, &lim)
                     });
                     if let Some(why) = why {
-                        imu.acc = None;
+                        out.acc |= bit;
                         rej.acc += 1;
                         tally(rej, why);
                     }
                 }
             }
         }
-        for e in out.encoder.iter_mut() {
+        for (j, e) in sample.encoder.iter().enumerate() {
             if e.is_some_and(|x| !x.is_finite() || x.abs() > r.encoder_rad) {
-                *e = None;
+                out.encoder |= 1 << j;
                 rej.encoder += 1;
             }
         }

@@ -135,8 +135,15 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     }
 
     fn step_into(&mut self, sample: &Sample, e: &mut Estimate) -> Result<(), EstimatorError> {
-        let screened = self.gate.screen(sample);
-        self.inner.step_into(&screened, e)?;
+        // Most samples pass the gate unchanged: no copy of the sample then.
+        let screening = self.gate.check(sample);
+        if screening.is_clean() {
+            self.inner.step_into(sample, e)?;
+        } else {
+            let mut screened = *sample;
+            screening.apply(&mut screened);
+            self.inner.step_into(&screened, e)?;
+        }
         if !outputs_finite(e) {
             blank_non_finite(e);
             self.inner.reset();

@@ -73,16 +73,6 @@ impl Inputs {
     }
 }
 
-/// How a measurement row relates to the segments (for the gain breakdown
-/// of 001 Fig. 6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RowKind {
-    /// An accelerometer-inclination row of segment `i`.
-    Imu(usize),
-    /// A joint row: encoder (MJLS) or accelerometer difference (global).
-    Joint,
-}
-
 #[derive(Debug, Clone)]
 pub(crate) struct Chain {
     pub common: CommonParams,
@@ -123,10 +113,16 @@ fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-/// Wraps an angle difference to [-pi, pi].
+/// Wraps an angle difference to [-pi, pi]: `remainder(a, 2 pi)`, which is
+/// `a` itself for `|a| <= pi` (quotient 0, ties to even), so called only beyond.
 #[inline]
 pub(crate) fn wrap(a: f64) -> f64 {
-    libm::remainder(a, core::f64::consts::TAU)
+    let inside = libm::fabs(a) <= core::f64::consts::PI;
+    if inside {
+        a
+    } else {
+        libm::remainder(a, core::f64::consts::TAU)
+    }
 }
 
 impl Chain {
@@ -281,8 +277,9 @@ impl Chain {
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.dropouts.observe(&rate, dt);
         if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
+            // (only a missing rate is replaced by its held value: no `exp` else)
             let held: [Option<f64>; 4] = core::array::from_fn(|i| {
-                self.init[i]
+                (self.init[i] && rate[i].is_none())
                     .then(|| self.held_rate(i, self.rate_gap[i] + dt))
                     .flatten()
             });

@@ -4,8 +4,17 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::RowKind;
 use super::model::angle_state;
+
+/// How a measurement row relates to the segments (for the gain breakdown
+/// of 001 Fig. 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowKind {
+    /// An accelerometer-inclination row of segment `i`.
+    Imu(usize),
+    /// A joint row: encoder (MJLS) or accelerometer difference (global).
+    Joint,
+}
 
 /// Breakdown of each segment's angle correction by source, as in 001
 /// Fig. 6: the correction of segment `s` is `sum_j K[2s, j] e_j`; the share

@@ -20,10 +20,10 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{wrap, Chain, RowKind};
+use super::chain::{wrap, Chain};
 use super::criteria::{count_reliable, psi, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::gain_shares;
+use super::gain_shares::{gain_shares, RowKind};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 

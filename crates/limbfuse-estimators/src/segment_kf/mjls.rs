@@ -21,10 +21,10 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample};
 use nalgebra::{SMatrix, SVector};
 
-use super::chain::{wrap, Chain, RowKind};
+use super::chain::{wrap, Chain};
 use super::criteria::{mjls_select, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::gain_shares;
+use super::gain_shares::{gain_shares, RowKind};
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 

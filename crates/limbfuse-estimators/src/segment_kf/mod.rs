@@ -41,12 +41,11 @@ pub mod params;
 pub mod robust;
 pub mod structured;
 
-pub use chain::RowKind;
 pub use criteria::{
     mjls_select, psi, reliability, reliable_flags, upsilon, AccelGate, AccelGateState, MjlsMode,
 };
 pub use diagnostics::SegmentDiag;
-pub use gain_shares::gain_shares;
+pub use gain_shares::{gain_shares, RowKind};
 pub use global::{GlobalDiag, GlobalKf, GlobalKfParams};
 pub use local::{LocalDiag, LocalKf, LocalKfParams};
 pub use mjls::{MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable};

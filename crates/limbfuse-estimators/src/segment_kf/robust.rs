@@ -161,14 +161,19 @@ pub(crate) fn borrow_rates(
         (Some(e), Some(l)) => Some(wrap(e - l) / dt),
         _ => None,
     };
+    // (the encoder rate is formed only for a missing rate)
     for i in 1..4 {
-        if let (None, Some(w), Some(d)) = (rate[i], rate[i - 1], enc_rate(i - 1)) {
-            rate[i] = Some(w - d);
+        if rate[i].is_none() {
+            if let (Some(w), Some(d)) = (rate[i - 1], enc_rate(i - 1)) {
+                rate[i] = Some(w - d);
+            }
         }
     }
     for i in (0..3).rev() {
-        if let (None, Some(w), Some(d)) = (rate[i], rate[i + 1], enc_rate(i)) {
-            rate[i] = Some(w + d);
+        if rate[i].is_none() {
+            if let (Some(w), Some(d)) = (rate[i + 1], enc_rate(i)) {
+                rate[i] = Some(w + d);
+            }
         }
     }
 }
@@ -179,7 +184,9 @@ const RATE_POWER_S: f64 = 1.0;
 
 /// What [`RateDropouts::fill`] needs of the filter at one sample.
 pub(crate) struct FillContext<'a> {
-    /// Each initialised segment's last rate held (decaying) to this sample.
+    /// Each initialised segment's last rate held (decaying) to this sample,
+    /// for the segments whose rate this sample misses (the only ones
+    /// [`RateDropouts::fill`] reads; `None` for the others).
     pub held: &'a [Option<f64>; 4],
     /// How long each own gyro rate had been missing before this sample (s).
     pub own_gap_before: &'a [f64; 4],
@@ -205,6 +212,27 @@ pub(crate) struct RateDropouts {
     /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
     /// every gyro is gone.
     rate_power: [Option<f64>; 4],
+    /// The smoothing weights `1 - exp(-dt / RATE_POWER_S)` of the last few
+    /// distinct steps, reused when a step repeats bit for bit: timestamps
+    /// such as `k * 0.01` give steps that differ in their last bits, a few
+    /// distinct values in turn (the default, a zero step with weight zero,
+    /// is exact too).
+    weights: [(f64, f64); 4],
+    /// The entry of `weights` replaced next.
+    next_weight: usize,
+}
+
+impl RateDropouts {
+    /// `1 - exp(-dt / RATE_POWER_S)`, from the cache when `dt` repeats.
+    fn weight(&mut self, dt: f64) -> f64 {
+        if let Some(&(_, k)) = self.weights.iter().find(|w| w.0.to_bits() == dt.to_bits()) {
+            return k;
+        }
+        let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
+        self.weights[self.next_weight] = (dt, k);
+        self.next_weight = (self.next_weight + 1) % self.weights.len();
+        k
+    }
 }
 
 impl RateDropouts {
@@ -217,7 +245,7 @@ impl RateDropouts {
             *g = if r.is_some() { 0.0 } else { *g + step };
         }
         if let Some(dt) = dt {
-            let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
+            let k = self.weight(dt);
             for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
                 if let Some(r) = r {
                     *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
@@ -244,9 +272,12 @@ impl RateDropouts {
     pub fn fill(&self, rate: &mut [Option<f64>; 4], c: &FillContext) {
         let mut held_now = [false; 4];
         for i in 0..4 {
+            if rate[i].is_some() {
+                continue;
+            }
             let brief =
                 predicted_rate_variance(c.own_gap_before[i] + c.dt) < 2.0 * c.sigma_e * c.sigma_e;
-            if rate[i].is_none() && brief {
+            if brief {
                 rate[i] = c.held[i];
                 held_now[i] = rate[i].is_some();
             }
@@ -272,6 +303,46 @@ impl RateDropouts {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use core::f64::consts::{PI, TAU};
+
+    /// The fast path of `wrap` returns `remainder(a, 2 pi)` bit for bit:
+    /// at and next to +-pi, at zero of both signs, beyond a turn, NaN.
+    #[test]
+    fn wrap_equals_the_remainder_bit_for_bit() {
+        let below = f64::from_bits(PI.to_bits() - 1);
+        let above = f64::from_bits(PI.to_bits() + 1);
+        let mut values = vec![
+            0.0, -0.0, PI, -PI, below, -below, above, -above, TAU, 7.0, -40.0,
+        ];
+        values.extend((0..2000).map(|k| (k as f64 - 1000.0) * 0.00731));
+        for a in values {
+            let want = libm::remainder(a, TAU);
+            assert_eq!(wrap(a).to_bits(), want.to_bits(), "{a}");
+        }
+        assert!(wrap(f64::NAN).is_nan());
+    }
+
+    /// The cached smoothing weight is the one computed afresh, bit for bit,
+    /// for steps that jitter in their last bits and for more distinct steps
+    /// than the cache holds (entries replaced in turn).
+    #[test]
+    fn rate_power_weight_from_the_cache_equals_the_computed_one() {
+        let mut d = RateDropouts::default();
+        let steps = [
+            0.01,
+            0.010000000000000009,
+            0.009999999999999787,
+            0.0,
+            0.02,
+            0.005,
+            1e-9,
+        ];
+        for k in 0..200 {
+            let dt = steps[(k * 7 + k / 3) % steps.len()];
+            let want = 1.0 - libm::exp(-dt / RATE_POWER_S);
+            assert_eq!(d.weight(dt).to_bits(), want.to_bits(), "dt {dt}");
+        }
+    }
 
     /// Independent value: `(min(a tau, s) tau)^2` by hand.
     #[test]

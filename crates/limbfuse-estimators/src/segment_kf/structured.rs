@@ -409,12 +409,19 @@ fn update_masked<const M: usize>(
 
 /// Whether every value is finite. Tests the exponent bits (all ones for
 /// infinities and NaN) with integer operations, which, unlike a
-/// floating-point reduction, the compiler may reorder and vectorise.
+/// floating-point reduction, the compiler may reorder and vectorise: the
+/// exponent field plus one unit of it reaches the sign bit only when the
+/// field is all ones, so an OR of these sums has the sign bit set exactly
+/// when some value is not finite (a 64-bit add, AND and OR per value, which
+/// SSE2 has; a 64-bit equality test, the form before, it has not).
 #[inline]
 pub fn all_finite(v: &[f64]) -> bool {
     const EXP: u64 = 0x7ff0_0000_0000_0000;
+    const EXP_UNIT: u64 = 1 << 52;
+    const SIGN: u64 = 1 << 63;
     v.iter()
-        .fold(0u64, |acc, v| acc | u64::from(v.to_bits() & EXP == EXP))
+        .fold(0u64, |acc, v| acc | ((v.to_bits() & EXP) + EXP_UNIT))
+        & SIGN
         == 0
 }
 
@@ -559,5 +566,23 @@ mod tests {
         assert!(!all_finite(&[0.0, f64::NAN]));
         assert!(!all_finite(&[f64::INFINITY, 1.0]));
         assert!(!all_finite(&[1.0, f64::NEG_INFINITY]));
+        // the extremes of the finite range, negative NaN, an empty slice
+        assert!(all_finite(&[
+            f64::MAX,
+            f64::MIN,
+            f64::MIN_POSITIVE,
+            5e-324,
+            -0.0
+        ]));
+        assert!(!all_finite(&[-f64::NAN, 1.0, 2.0, 3.0, 4.0]));
+        assert!(all_finite(&[]));
+        // every position of a longer slice (the vectorised fold)
+        for k in 0..72 {
+            let mut v = [1.5f64; 72];
+            v[k] = f64::INFINITY;
+            assert!(!all_finite(&v), "{k}");
+            v[k] = f64::NAN;
+            assert!(!all_finite(&v), "{k}");
+        }
     }
 }
