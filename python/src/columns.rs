@@ -341,7 +341,7 @@ fn unknown_column(name: &str, other: Side) -> String {
     }
     let other_foot = other_leg_prefix(Segment::Foot, other);
     format!(
-        "unknown channel `{name}`: trial channels are named as in SPEC section 2 (e.g. `thigh_gyr_x`, `knee_enc`, `thigh_ref`, `u_ke`, `com_meas_x`, `contact_left_ref`, `speed_ref`; the other leg's IMUs `{other_foot}gyr_x`, ... as the trial's `leg` metadata is {})",
+        "unknown channel `{name}`: trial channels are named as in SPEC section 2 (e.g. `thigh_gyr_x`, `knee_enc`, `thigh_ref`, `u_ke`, `com_meas_x`, `contact_left_ref`, `speed_ref`; the other leg's IMUs `{other_foot}gyr_x`, ... in a trial of the {} leg: `leg` metadata, right when absent)",
         other.other().name()
     )
 }
