@@ -71,8 +71,8 @@ fn axes(c: &[Column<'_>; 3], i: usize) -> [Option<f64>; 3] {
 #[inline]
 fn contact(c: Column<'_>, i: usize) -> Option<bool> {
     match scalar(c, i)? {
-        v if v == 1.0 => Some(true),
-        v if v == 0.0 => Some(false),
+        1.0 => Some(true),
+        0.0 => Some(false),
         _ => None,
     }
 }
