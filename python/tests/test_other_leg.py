@@ -142,3 +142,37 @@ def test_issue_17_other_leg_columns_follow_the_leg_metadata(tmp_path):
         Trial(t, gyr)
     with pytest.raises(LimbfuseError, match="incomplete channel group: channel `foot_left_acc_z`"):
         Trial(t, {"foot_left_acc_x": np.zeros(5), "foot_left_acc_y": np.zeros(5)})
+
+
+def test_issue_17_left_leg_trial_and_filter_equal_the_cli(cli, two_foot_walk, tmp_path):
+    # The walk as a left-leg trial: the single-leg columns are the left
+    # foot, the other leg's the right foot (`foot_right_...`).
+    tr = limbfuse.read_trial(two_foot_walk)
+    ch = {}
+    for name, a in tr.channels.items():
+        if name.startswith("foot_left_"):
+            ch["foot_" + name[len("foot_left_"):]] = a
+        elif name.startswith("foot_"):
+            ch["foot_right_" + name[len("foot_"):]] = a
+        else:
+            ch[name] = a
+    left = Trial(tr.t, ch, {**tr.meta, "leg": "left"})
+    p = tmp_path / "left.csv"
+    left.write(p)
+    est = same_estimate_file(cli, tmp_path, p, "gait-events")
+    for side in ("left", "right"):
+        assert np.ma.count(est.channels[f"contact_{side}"]) > 0, side
+    # Filter.run and Filter.step read the same channels (the filter's `leg`).
+    f = limbfuse.Filter.for_trial(left, "gait-events")
+    run = f.run({"t": left.t, **left.channels})
+    assert list(run.channels) == list(est.channels)
+    for name in est.channels:
+        assert np.array_equal(bits(run.channels[name]), bits(est.channels[name])), name
+    f.reset()
+    names = list(left.channels)
+    stepped = []
+    for i in range(len(left)):
+        sample = {n: (None if left.channels[n][i] is np.ma.masked else float(left.channels[n][i])) for n in names}
+        stepped.append(f.step({"t": float(left.t[i]), **sample})["contact_left"])
+    want = [None if c is np.ma.masked else bool(c) for c in est.channels["contact_left"]]
+    assert [None if c is None else bool(c) for c in stepped] == want
