@@ -19,7 +19,7 @@
 
 use limbfuse_core::sample::{ComMeasurement, GaitPhase, ModelInputs};
 use limbfuse_core::{Joint, Record, Segment, Side};
-use limbfuse_io::layout::{contact_ref_column, other_leg_prefix, AXES, QUAT};
+use limbfuse_io::layout::{contact_ref_column, other_leg_prefix, AXES, QUAT, SPEED_REF};
 use limbfuse_io::{TrialLayout, TrialMeta};
 
 use crate::column_records::RecordPlan;
@@ -64,8 +64,6 @@ pub const PHASE_REF: &str = "phase_ref";
 
 const COM_POS: [&str; 3] = ["com_x", "com_y", "com_z"];
 const COM_VEL: [&str; 3] = ["com_vx", "com_vy", "com_vz"];
-/// The column of the walking-speed reference.
-const SPEED_REF: &str = "speed_ref";
 
 /// The side of a trial's single-leg columns: its `# leg:` (`left` or
 /// `right`), right when absent (SPEC section 2, as `TrialReader` reads it).
