@@ -36,6 +36,9 @@ class Filter:
     ) -> None:
         p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
         names = [str(c) for c in channels]
+        # `run` checks its arrays as a trial with this metadata (the `leg`
+        # names the other leg's channels).
+        self._meta = {str(k): str(v) for k, v in (meta or {}).items()}
         self._native = _native.NativeFilter(
             method,
             names,
@@ -76,7 +79,7 @@ class Filter:
         released; returns the estimates as an ``Estimate``."""
         if "t" not in arrays:
             raise _native.LimbfuseError("run: the arrays need `t` (time in seconds)")
-        data = Trial(arrays["t"], {k: v for k, v in arrays.items() if k != "t"})
+        data = Trial(arrays["t"], {k: v for k, v in arrays.items() if k != "t"}, self._meta)
         _, t, names, filled, _, _ = data._native()
         return Estimate._from_native(self._native.run(t, names, filled))
 

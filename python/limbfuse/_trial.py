@@ -25,8 +25,10 @@ class Trial:
     Attributes:
         t: time (s), float64, strictly increasing.
         channels: read-only mapping of SPEC column name (``thigh_gyr_x``,
-            ``knee_enc``, ``thigh_ref``, ...) to a float64 array; an array
-            with missing samples is a ``numpy.ma.MaskedArray``.
+            ``knee_enc``, ``thigh_ref``, the other leg's ``foot_left_gyr_x``
+            (named after ``meta["leg"]``, right when absent),
+            ``contact_left_ref`` (1 / 0), ``speed_ref``, ...) to a float64
+            array; an array with missing samples is a ``numpy.ma.MaskedArray``.
         phase_ref: the gait-phase reference (``"SS1"``, ``"DS"``, ``"SS2"``
             or None) as an object array, or None when the trial has none.
         meta: the ``# key: value`` header (units and conventions of SPEC).

@@ -4,13 +4,17 @@
 //! of channel names and no record moved ([`ColumnRecords`], a runner
 //! [`RecordSource`]).
 //!
-//! Missing cells are NaN (see [`crate::columns`]); a 3-axis vector or a
-//! quaternion is present only when all its components are.
+//! Missing cells are NaN (see [`crate::columns`]). The fields are filled as
+//! `limbfuse_io::TrialReader::read_into` fills them from a file: an IMU
+//! vector (either leg) cell by cell (`ImuSample::set_acc_axes`: a missing
+//! axis keeps the others), a quaternion or a CoM reference vector only
+//! when all its components are present, a foot contact 1 / 0 as on the
+//! ground / swing.
 
 use std::convert::Infallible;
 
 use limbfuse_core::runner::RecordSource;
-use limbfuse_core::sample::{GaitPhase, ImuSample};
+use limbfuse_core::sample::GaitPhase;
 use limbfuse_core::Record;
 use nalgebra::Vector3;
 
@@ -22,9 +26,11 @@ type Column<'a> = Option<&'a [f64]>;
 #[derive(Debug, Clone, Default)]
 pub struct RecordPlan<'a> {
     t: &'a [f64],
-    acc: [Option<[&'a [f64]; 3]>; 4],
-    gyr: [Option<[&'a [f64]; 3]>; 4],
+    acc: [[Column<'a>; 3]; 4],
+    gyr: [[Column<'a>; 3]; 4],
     quat: [Option<[&'a [f64]; 4]>; 4],
+    other_acc: [[Column<'a>; 3]; 4],
+    other_gyr: [[Column<'a>; 3]; 4],
     encoder: [Column<'a>; 3],
     stim: [Column<'a>; 4],
     motor: [Column<'a>; 3],
@@ -34,6 +40,8 @@ pub struct RecordPlan<'a> {
     com_pos: Option<[&'a [f64]; 3]>,
     com_vel: Option<[&'a [f64]; 3]>,
     phase: Option<&'a [Option<GaitPhase>]>,
+    contact: [Column<'a>; 2],
+    speed: Column<'a>,
 }
 
 /// All `N` components, or `None` when any is absent.
@@ -52,6 +60,23 @@ fn scalar(c: Column<'_>, i: usize) -> Option<f64> {
     (!v.is_nan()).then_some(v)
 }
 
+/// The three cells of an IMU vector at `i`, each present or not.
+#[inline]
+fn axes(c: &[Column<'_>; 3], i: usize) -> [Option<f64>; 3] {
+    c.map(|a| scalar(a, i))
+}
+
+/// The foot contact at `i`: 1 on the ground, 0 in swing (the cells are
+/// checked by `TrialColumns::new`; any other value reads as missing).
+#[inline]
+fn contact(c: Column<'_>, i: usize) -> Option<bool> {
+    match scalar(c, i)? {
+        1.0 => Some(true),
+        0.0 => Some(false),
+        _ => None,
+    }
+}
+
 /// The vector at `i`; missing when any component is.
 #[inline]
 fn vector(c: &Option<[&[f64]; 3]>, i: usize) -> Option<Vector3<f64>> {
@@ -62,14 +87,13 @@ fn vector(c: &Option<[&[f64]; 3]>, i: usize) -> Option<Vector3<f64>> {
 
 impl<'a> RecordPlan<'a> {
     /// The plan of `columns` (a trial's checked columns: every vector group
-    /// complete, every column as long as `t`) and its `phase_ref` cells.
+    /// complete, every column as long as `t`, contact cells 1 / 0 / NaN)
+    /// and its `phase_ref` cells.
     pub fn new(
         t: &'a [f64],
         columns: &[(Channel, &'a [f64])],
         phase: Option<&'a [Option<GaitPhase>]>,
     ) -> Self {
-        let mut acc: [[Column<'a>; 3]; 4] = [[None; 3]; 4];
-        let mut gyr: [[Column<'a>; 3]; 4] = [[None; 3]; 4];
         let mut quat: [[Column<'a>; 4]; 4] = [[None; 4]; 4];
         let (mut com_pos, mut com_vel): ([Column<'a>; 3], [Column<'a>; 3]) = ([None; 3], [None; 3]);
         let mut p = RecordPlan {
@@ -80,8 +104,8 @@ impl<'a> RecordPlan<'a> {
         for &(c, v) in columns {
             let v = Some(v);
             match c {
-                Channel::Acc(s, k) => acc[s][k] = v,
-                Channel::Gyr(s, k) => gyr[s][k] = v,
+                Channel::Acc(s, k) => p.acc[s][k] = v,
+                Channel::Gyr(s, k) => p.gyr[s][k] = v,
                 Channel::Quat(s, k) => quat[s][k] = v,
                 Channel::Encoder(j) => p.encoder[j] = v,
                 Channel::Stim(k) => p.stim[k] = v,
@@ -91,10 +115,12 @@ impl<'a> RecordPlan<'a> {
                 Channel::JointRef(j) => p.joint_ref[j] = v,
                 Channel::ComPos(k) => com_pos[k] = v,
                 Channel::ComVel(k) => com_vel[k] = v,
+                Channel::OtherAcc(_, s, k) => p.other_acc[s][k] = v,
+                Channel::OtherGyr(_, s, k) => p.other_gyr[s][k] = v,
+                Channel::ContactRef(side) => p.contact[side.index()] = v,
+                Channel::SpeedRef => p.speed = v,
             }
         }
-        p.acc = acc.map(group);
-        p.gyr = gyr.map(group);
         p.quat = quat.map(group);
         p.com_pos = group(com_pos);
         p.com_vel = group(com_vel);
@@ -107,8 +133,9 @@ impl<'a> RecordPlan<'a> {
     }
 
     /// The same plan without the reference columns (`*_ref`, `com_*`,
-    /// `phase_ref`): records filled by it have an empty reference, as the
-    /// CLI's `estimate` reads a trial file.
+    /// `phase_ref`, `contact_*_ref`, `speed_ref`): records filled by it
+    /// have an empty reference, as the CLI's `estimate` reads a trial file
+    /// (`TrialReader::skip_references`).
     pub fn without_references(&self) -> Self {
         RecordPlan {
             segment_ref: [None; 4],
@@ -116,6 +143,8 @@ impl<'a> RecordPlan<'a> {
             com_pos: None,
             com_vel: None,
             phase: None,
+            contact: [None; 2],
+            speed: None,
             ..self.clone()
         }
     }
@@ -126,16 +155,17 @@ impl<'a> RecordPlan<'a> {
         s.t = self.t[i];
         for k in 0..4 {
             let imu = &mut s.imu[k];
-            imu.acc = vector(&self.acc[k], i);
-            imu.gyr = vector(&self.gyr[k], i);
+            imu.set_acc_axes(axes(&self.acc[k], i));
+            imu.set_gyr_axes(axes(&self.gyr[k], i));
             imu.quat = self.quat[k].as_ref().and_then(|q| {
                 let v = q.map(|c| c[i]);
                 (!v.iter().any(|x| x.is_nan())).then_some(v)
             });
-            imu.acc_partial = [None; 3];
-            imu.gyr_partial = [None; 3];
+            let other = &mut s.other_leg_imu[k];
+            other.set_acc_axes(axes(&self.other_acc[k], i));
+            other.set_gyr_axes(axes(&self.other_gyr[k], i));
+            other.quat = None;
         }
-        s.other_leg_imu = [ImuSample::default(); 4];
         for j in 0..3 {
             s.encoder[j] = scalar(self.encoder[j], i);
             s.inputs.motor_torque[j] = scalar(self.motor[j], i);
@@ -156,8 +186,8 @@ impl<'a> RecordPlan<'a> {
         re.com_pos = vector(&self.com_pos, i);
         re.com_vel = vector(&self.com_vel, i);
         re.phase = self.phase.and_then(|p| p[i]);
-        re.contact = [None; 2];
-        re.speed = None;
+        re.contact = [contact(self.contact[0], i), contact(self.contact[1], i)];
+        re.speed = scalar(self.speed, i);
     }
 }
 

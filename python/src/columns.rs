@@ -1,18 +1,26 @@
 //! Trial columns held as numpy arrays (SPEC section 2 names) <-> the
 //! [`Record`]s the estimators read.
 //!
+//! A trial holds the columns `limbfuse_io::TrialReader` reads: the IMUs,
+//! encoders, model inputs and CoM measurements of the leg, the other leg's
+//! IMUs (`S_<other>_acc_A`, `S_<other>_gyr_A`, the other side of the
+//! trial's `# leg:`, right when absent: [`leg_of`], named by
+//! `limbfuse_io::layout`), and the references (`S_ref`, `J_ref`, `com_*`,
+//! `phase_ref`, `contact_left_ref` / `contact_right_ref`: 1, 0 or missing,
+//! `speed_ref`).
+//!
 //! Inside the extension a missing cell is NaN: the Python layer refuses NaN
 //! in the arrays a user gives (missing samples are masked) and fills the
-//! masked cells with NaN before calling in. A 3-axis vector or a quaternion
-//! is present in a record only when all its components are
-//! ([`crate::column_records`]); unlike `limbfuse_io::TrialReader`, which
-//! keeps the present axes of an incomplete vector (issue 18), the package
-//! drops the whole vector.
+//! masked cells with NaN before calling in. As in `TrialReader`, an IMU
+//! vector with a missing axis cell keeps its other axes
+//! (`ImuSample::set_acc_axes`, issue 18 item 2), while a quaternion or a
+//! CoM reference vector is present only when all its components are
+//! ([`crate::column_records`]).
 
 use limbfuse_core::sample::{ComMeasurement, GaitPhase, ModelInputs};
-use limbfuse_core::{Joint, Record, Segment};
-use limbfuse_io::layout::{AXES, QUAT};
-use limbfuse_io::TrialLayout;
+use limbfuse_core::{Joint, Record, Segment, Side};
+use limbfuse_io::layout::{contact_ref_column, other_leg_prefix, AXES, QUAT, SPEED_REF};
+use limbfuse_io::{TrialLayout, TrialMeta};
 
 use crate::column_records::RecordPlan;
 
@@ -41,6 +49,14 @@ pub enum Channel {
     ComPos(usize),
     /// `com_vx`, `com_vy`, `com_vz`.
     ComVel(usize),
+    /// `S_<side>_acc_A` of the other leg (`side`): segment index, axis index.
+    OtherAcc(Side, usize, usize),
+    /// `S_<side>_gyr_A` of the other leg.
+    OtherGyr(Side, usize, usize),
+    /// `contact_left_ref`, `contact_right_ref` (1 on the ground, 0 swing).
+    ContactRef(Side),
+    /// `speed_ref` (m/s).
+    SpeedRef,
 }
 
 /// The column of the gait-phase reference (text cells `SS1`, `DS`, `SS2`).
@@ -49,14 +65,29 @@ pub const PHASE_REF: &str = "phase_ref";
 const COM_POS: [&str; 3] = ["com_x", "com_y", "com_z"];
 const COM_VEL: [&str; 3] = ["com_vx", "com_vy", "com_vz"];
 
+/// The side of a trial's single-leg columns: its `# leg:` (`left` or
+/// `right`), right when absent (SPEC section 2, as `TrialReader` reads it).
+pub fn leg_of(meta: &TrialMeta) -> Result<Side, String> {
+    match meta.get("leg") {
+        None => Ok(Side::Right),
+        Some(text) => Side::parse(text)
+            .ok_or_else(|| format!("metadata `leg: {text}`: expected `left` or `right`")),
+    }
+}
+
 impl Channel {
-    /// Every numeric channel, in the writers' column order.
-    pub fn all() -> Vec<Channel> {
-        let mut c = Vec::with_capacity(80);
+    /// Every numeric channel of a trial whose other leg is `other`, in the
+    /// writers' column order.
+    pub fn all(other: Side) -> Vec<Channel> {
+        let mut c = Vec::with_capacity(112);
         for s in 0..4 {
             c.extend((0..3).map(|k| Channel::Acc(s, k)));
             c.extend((0..3).map(|k| Channel::Gyr(s, k)));
             c.extend((0..4).map(|k| Channel::Quat(s, k)));
+        }
+        for s in 0..4 {
+            c.extend((0..3).map(|k| Channel::OtherAcc(other, s, k)));
+            c.extend((0..3).map(|k| Channel::OtherGyr(other, s, k)));
         }
         c.extend((0..3).map(Channel::Encoder));
         c.extend((0..4).map(Channel::Stim));
@@ -66,6 +97,8 @@ impl Channel {
         c.extend((0..3).map(Channel::JointRef));
         c.extend((0..3).map(Channel::ComPos));
         c.extend((0..3).map(Channel::ComVel));
+        c.extend(Side::BOTH.map(Channel::ContactRef));
+        c.push(Channel::SpeedRef);
         c
     }
 
@@ -85,20 +118,29 @@ impl Channel {
             Channel::JointRef(j) => format!("{}_ref", joint(j)),
             Channel::ComPos(k) => COM_POS[k].to_string(),
             Channel::ComVel(k) => COM_VEL[k].to_string(),
+            Channel::OtherAcc(side, s, k) => {
+                format!("{}acc_{}", other_leg_prefix(Segment::ALL[s], side), AXES[k])
+            }
+            Channel::OtherGyr(side, s, k) => {
+                format!("{}gyr_{}", other_leg_prefix(Segment::ALL[s], side), AXES[k])
+            }
+            Channel::ContactRef(side) => contact_ref_column(side),
+            Channel::SpeedRef => SPEED_REF.to_string(),
         }
     }
 
-    /// The channel named `name`, if it is a trial column.
-    pub fn parse(name: &str) -> Option<Channel> {
-        Channel::all().into_iter().find(|c| c.name() == name)
+    /// The channel named `name`, if it is a column of a trial whose other
+    /// leg is `other`.
+    pub fn parse(name: &str, other: Side) -> Option<Channel> {
+        Channel::all(other).into_iter().find(|c| c.name() == name)
     }
 
     /// The value in `r` (`None` when missing).
     pub fn get(self, r: &Record) -> Option<f64> {
         let (s, re) = (&r.sample, &r.reference);
         match self {
-            Channel::Acc(i, k) => s.imu[i].acc.map(|v| v[k]),
-            Channel::Gyr(i, k) => s.imu[i].gyr.map(|v| v[k]),
+            Channel::Acc(i, k) => s.imu[i].acc_axis(k),
+            Channel::Gyr(i, k) => s.imu[i].gyr_axis(k),
             Channel::Quat(i, k) => s.imu[i].quat.map(|q| q[k]),
             Channel::Encoder(j) => s.encoder[j],
             Channel::Stim(k) => s.inputs.stim[k],
@@ -108,6 +150,10 @@ impl Channel {
             Channel::JointRef(j) => re.joint[j],
             Channel::ComPos(k) => re.com_pos.map(|v| v[k]),
             Channel::ComVel(k) => re.com_vel.map(|v| v[k]),
+            Channel::OtherAcc(_, i, k) => s.other_leg_imu[i].acc_axis(k),
+            Channel::OtherGyr(_, i, k) => s.other_leg_imu[i].gyr_axis(k),
+            Channel::ContactRef(side) => re.contact[side.index()].map(f64::from),
+            Channel::SpeedRef => re.speed,
         }
     }
 
@@ -125,6 +171,29 @@ impl Channel {
             Channel::JointRef(j) => l.joint_ref[j] = true,
             Channel::ComPos(_) => l.com_pos = true,
             Channel::ComVel(_) => l.com_vel = true,
+            Channel::OtherAcc(_, i, _) => l.other_acc[i] = true,
+            Channel::OtherGyr(_, i, _) => l.other_gyr[i] = true,
+            Channel::ContactRef(side) => l.contact_ref[side.index()] = true,
+            Channel::SpeedRef => l.speed_ref = true,
+        }
+    }
+
+    /// Checks the cells of a channel with a fixed set of values (a foot
+    /// contact: 1, 0 or missing, as `TrialReader` reads it).
+    fn check_cells(self, values: &[f64]) -> Result<(), String> {
+        if !matches!(self, Channel::ContactRef(_)) {
+            return Ok(());
+        }
+        match values
+            .iter()
+            .position(|&v| !(v.is_nan() || v == 0.0 || v == 1.0))
+        {
+            None => Ok(()),
+            Some(i) => Err(format!(
+                "channel `{}`, sample {i}: expected a foot contact 1 (on the ground), 0 (swing) or a missing sample, found {}",
+                self.name(),
+                values[i]
+            )),
         }
     }
 }
@@ -140,18 +209,25 @@ pub struct TrialColumns<'a> {
 }
 
 impl<'a> TrialColumns<'a> {
-    /// Checks the column names and lengths and the time column. `phase`
-    /// holds the `phase_ref` cells (`None` or `""` = missing).
+    /// Checks the column names and lengths, the time column and the
+    /// contact cells, for a trial whose single-leg columns are of `leg`
+    /// ([`leg_of`]). `phase` holds the `phase_ref` cells (`None` or `""` =
+    /// missing).
     pub fn new(
         t: &'a [f64],
         named: Vec<(String, &'a [f64])>,
         phase: Option<Vec<Option<String>>>,
+        leg: Side,
     ) -> Result<Self, String> {
         check_time(t)?;
-        let mut layout = TrialLayout::default();
+        let mut layout = TrialLayout {
+            leg,
+            ..TrialLayout::default()
+        };
+        let other = layout.other_leg();
         let mut columns: Vec<(Channel, &[f64])> = Vec::with_capacity(named.len());
         for (name, values) in named {
-            let c = Channel::parse(&name).ok_or_else(|| unknown_column(&name))?;
+            let c = Channel::parse(&name, other).ok_or_else(|| unknown_column(&name, other))?;
             if columns.iter().any(|(k, _)| *k == c) {
                 return Err(format!("channel `{name}` is given twice"));
             }
@@ -162,17 +238,24 @@ impl<'a> TrialColumns<'a> {
                     t.len()
                 ));
             }
+            c.check_cells(values)?;
             c.mark(&mut layout);
             columns.push((c, values));
         }
         // A vector group needs all its components, as in a trial file.
         let names: Vec<Channel> = columns.iter().map(|(c, _)| *c).collect();
-        for c in Channel::all() {
+        for c in Channel::all(other) {
             let group_has = |f: &dyn Fn(Channel) -> bool| names.iter().any(|k| f(*k));
             let missing_of_group = match c {
                 Channel::Acc(i, _) => group_has(&|k| matches!(k, Channel::Acc(j, _) if j == i)),
                 Channel::Gyr(i, _) => group_has(&|k| matches!(k, Channel::Gyr(j, _) if j == i)),
                 Channel::Quat(i, _) => group_has(&|k| matches!(k, Channel::Quat(j, _) if j == i)),
+                Channel::OtherAcc(_, i, _) => {
+                    group_has(&|k| matches!(k, Channel::OtherAcc(_, j, _) if j == i))
+                }
+                Channel::OtherGyr(_, i, _) => {
+                    group_has(&|k| matches!(k, Channel::OtherGyr(_, j, _) if j == i))
+                }
                 Channel::ComPos(_) => group_has(&|k| matches!(k, Channel::ComPos(_))),
                 Channel::ComVel(_) => group_has(&|k| matches!(k, Channel::ComVel(_))),
                 _ => false,
@@ -250,12 +333,14 @@ pub fn phase_cells(
     Ok(out)
 }
 
-fn unknown_column(name: &str) -> String {
+fn unknown_column(name: &str, other: Side) -> String {
     if name == "t" {
         return "`t` is the time array, not a channel".into();
     }
+    let other_foot = other_leg_prefix(Segment::Foot, other);
     format!(
-        "unknown channel `{name}`: trial channels are named as in SPEC section 2 (e.g. `thigh_gyr_x`, `knee_enc`, `thigh_ref`, `u_ke`, `com_meas_x`)"
+        "unknown channel `{name}`: trial channels are named as in SPEC section 2 (e.g. `thigh_gyr_x`, `knee_enc`, `thigh_ref`, `u_ke`, `com_meas_x`, `contact_left_ref`, `speed_ref`; the other leg's IMUs `{other_foot}gyr_x`, ... in a trial of the {} leg: `leg` metadata, right when absent)",
+        other.other().name()
     )
 }
 
@@ -294,10 +379,11 @@ pub struct OwnedColumns {
 impl OwnedColumns {
     /// Empty columns for `layout`, with room for `n` samples.
     pub fn new(layout: &TrialLayout, n: usize) -> (Self, Vec<Channel>) {
+        let other = layout.other_leg();
         let channels: Vec<Channel> = layout
             .column_names()
             .iter()
-            .filter_map(|n| Channel::parse(n))
+            .filter_map(|n| Channel::parse(n, other))
             .collect();
         let cols = OwnedColumns {
             t: Vec::with_capacity(n),

@@ -1,11 +1,15 @@
 //! `evaluate`: an estimate against its trial's reference, the CLI's
 //! `evaluate --json` object (SPEC section 4) computed by the same code
-//! (`limbfuse-eval`'s `AngleMetrics`; for gait trials, the gait evaluation
-//! over the two written to temporary files).
+//! (`limbfuse-eval`'s `AngleMetrics`; for gait trials, the gait-event
+//! evaluation (contacts, stride speed) or the gait evaluation (phase, CoM)
+//! over the two written to temporary files, chosen as the CLI chooses).
 
 use std::io::Write;
 
+use std::path::Path;
+
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
+use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files;
 use limbfuse_eval::{max_lag_bound, AngleMetrics, EvalOptions, TimeWindow};
 use limbfuse_io::content_hash::TRIAL_HASH_KEY;
 use limbfuse_io::TrialWriter;
@@ -35,8 +39,20 @@ fn evaluate(
         let label = trial.label();
         check_same_trial(&trial, &estimate, allow_trial_mismatch)?;
         let layout = *cols.layout();
+        if !layout.has_angle_reference()
+            && (layout.contact_ref.iter().any(|&b| b) || layout.speed_ref)
+        {
+            // Gait events, contacts and stride speed (docs/GAIT_EVENTS.md).
+            return gait(&trial, &cols, &estimate, &view, |tp, ep| {
+                let ev = evaluate_gait_event_files(tp, ep, true).map_err(|e| user_error(&e))?;
+                Ok(ev.to_json().to_string())
+            });
+        }
         if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
-            return gait(&trial, &cols, &estimate, &view);
+            return gait(&trial, &cols, &estimate, &view, |tp, ep| {
+                let ev = evaluate_gait_files(tp, ep, true).map_err(|e| user_error(&e))?;
+                Ok(ev.to_json().to_string())
+            });
         }
         if !layout.has_angle_reference() {
             return Err(user_msg(format!(
@@ -107,12 +123,14 @@ fn check_same_trial(
     )))
 }
 
-/// The gait evaluation (paper 003) over temporary files.
+/// A gait evaluation (`evaluate_files(trial, estimate)`: the JSON text)
+/// over the trial and the estimate written to temporary files.
 fn gait(
     trial: &TrialArgs<'_>,
     cols: &TrialColumns<'_>,
     estimate: &EstimateArgs<'_>,
     view: &EstimateView<'_>,
+    evaluate_files: impl FnOnce(&Path, &Path) -> PyResult<String>,
 ) -> PyResult<String> {
     let io = |e: std::io::Error| user_msg(format!("temporary files: {e}"));
     let dir = tempfile::tempdir().map_err(io)?;
@@ -149,8 +167,7 @@ fn gait(
         }
         f.flush().map_err(io)?;
     }
-    let ev = evaluate_gait_files(&tp, &ep, true).map_err(|e| user_error(&e))?;
-    Ok(ev.to_json().to_string())
+    evaluate_files(&tp, &ep)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -6,14 +6,14 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use limbfuse_core::runner::{self, Observer};
-use limbfuse_core::{Estimator, Record};
+use limbfuse_core::{Estimator, Record, Side};
 use limbfuse_io::TrialMeta;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
 use crate::column_records::{ColumnRecords, RecordPlan};
-use crate::columns::{Channel, TrialColumns};
+use crate::columns::{leg_of, Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
 use crate::estimate_columns::EstimateColumns;
 use crate::trial::slice;
@@ -31,6 +31,8 @@ pub struct NativeFilter {
     slots: Vec<Channel>,
     /// The position of each name in `channels`.
     index: HashMap<String, usize>,
+    /// The side of the single-leg channels (the `leg` metadata).
+    leg: Side,
     template: EstimateColumns,
 }
 
@@ -68,14 +70,15 @@ impl NativeFilter {
             let t = [0.0];
             let empty: Vec<(String, &[f64])> =
                 channels.iter().map(|c| (c.clone(), &t[..])).collect();
-            let cols = TrialColumns::new(&t, empty, None).map_err(user_msg)?;
+            let leg = leg_of(&m).map_err(user_msg)?;
+            let cols = TrialColumns::new(&t, empty, None, leg).map_err(user_msg)?;
             let est = limbfuse_methods::build(&spec, &m, cols.layout())
                 .map_err(|e| user_msg(chain_message(&e)))?;
             let template = EstimateColumns::for_estimator(est.as_ref(), 0)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let slots = channels
                 .iter()
-                .map(|c| Channel::parse(c))
+                .map(|c| Channel::parse(c, leg.other()))
                 .collect::<Option<Vec<_>>>()
                 .ok_or_else(|| user_msg("unknown channel"))?;
             let index = channels
@@ -89,6 +92,7 @@ impl NativeFilter {
                 channels,
                 slots,
                 index,
+                leg,
                 template,
             })
         })
@@ -213,7 +217,7 @@ impl NativeFilter {
             for (n, a) in names.iter().zip(&arrays) {
                 named.push((n.clone(), slice(a, n)?));
             }
-            let cols = TrialColumns::new(t, named, None).map_err(user_msg)?;
+            let cols = TrialColumns::new(t, named, None, self.leg).map_err(user_msg)?;
             let mut out = EstimateColumns::for_estimator(self.estimator(), cols.len())
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let method = self.method.clone();

@@ -8,7 +8,7 @@ use limbfuse_io::{AtomicFile, TrialMeta, TrialReader, TrialWriter};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
-use crate::columns::{OwnedColumns, TrialColumns};
+use crate::columns::{leg_of, OwnedColumns, TrialColumns};
 use crate::{guarded, user_error, user_msg};
 
 /// What the Python `Trial._native()` returns: metadata items, `t`, channel
@@ -34,8 +34,10 @@ impl<'py> TrialArgs<'py> {
         m
     }
 
-    /// The columns, checked (names, lengths, time).
+    /// The columns, checked (names, lengths, time, contact cells; the
+    /// other leg's IMU columns named after the `leg` metadata).
     pub fn columns(&self) -> PyResult<TrialColumns<'_>> {
+        let leg = leg_of(&self.meta()).map_err(user_msg)?;
         if self.2.len() != self.3.len() {
             return Err(user_msg(
                 "trial: as many channel names as arrays are needed",
@@ -46,7 +48,7 @@ impl<'py> TrialArgs<'py> {
         for (n, a) in self.2.iter().zip(&self.3) {
             named.push((n.clone(), slice(a, n)?));
         }
-        TrialColumns::new(t, named, self.4.clone()).map_err(user_msg)
+        TrialColumns::new(t, named, self.4.clone(), leg).map_err(user_msg)
     }
 
     /// The source file name and its hash text, if read from a file.

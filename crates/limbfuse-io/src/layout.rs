@@ -48,6 +48,9 @@ pub fn contact_ref_column(side: Side) -> String {
     format!("contact_{}_ref", side.name())
 }
 
+/// Column name of the walking-speed reference (m/s).
+pub const SPEED_REF: &str = "speed_ref";
+
 /// Column-name prefix of the other leg's IMU of segment `s` (`foot_left_`).
 pub fn other_leg_prefix(s: Segment, side: Side) -> String {
     format!("{}_{}_", s.name(), side.name())
@@ -157,7 +160,7 @@ impl TrialLayout {
             }
         }
         if self.speed_ref {
-            c.push("speed_ref".into());
+            c.push(SPEED_REF.into());
         }
         c
     }
