@@ -57,13 +57,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn one_at_100_hz_halves_at_200_and_stops_at_the_correlation_time() {
+    fn one_at_100_hz_two_at_200_and_capped_at_the_correlation_time() {
         assert_eq!(variance_scale(0.01), 1.0);
         // Time stamps k / 100 rounded: the mean step is 0.01 to an ulp.
         let p = nominal_period(0.0, 100.0 * 0.01, 101).unwrap();
         assert_eq!(variance_scale(p), 1.0);
-        assert_eq!(variance_scale(0.005), 0.5);
-        assert_eq!(variance_scale(1.0 / 128.0), 0.78125);
+        assert_eq!(variance_scale(0.005), 2.0);
+        assert_eq!(variance_scale(1.0 / 128.0), 1.28);
         assert!((variance_scale(1.0 / 60.0) - 0.6).abs() < 1e-12);
         assert_eq!(variance_scale(0.2), 0.2);
         assert_eq!(variance_scale(f64::NAN), 1.0);
