@@ -25,8 +25,7 @@ fn shank_sd_and_rmse(rate: f64) -> (f64, f64) {
     })
     .unwrap()
     .collect();
-    let mut chain =
-        ChainEkf::new(ChainParams::default(), ChainGeometry::default(), 9.81).unwrap();
+    let mut chain = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), 9.81).unwrap();
     let k = ChainDiag::SdShank.index();
     let (mut sd, mut errors) = (Vec::new(), Vec::new());
     for r in &records {
