@@ -273,6 +273,8 @@ pub fn default_file() -> String {
     let v = |r: [f64; 3]| format!("[{}, {}, {}]", r[0], r[1], r[2]);
     format!(
         "# limbfuse chain parameters (kinematic-chain EKF; docs/CHAIN.md).\n\
+         # Measurement and anchor sigmas are per sample at 100 Hz; their variances scale with the\n\
+         # sample period (docs/CHAIN.md, \"Sample rate\").\n\
          method = \"chain\"\n\
          gyro_noise = {}  # gyro z noise + model error per sample, 1 sigma (rad/s)\n\
          acc_noise = {}  # accelerometer x/y noise + model error per sample, 1 sigma (m/s^2)\n\

@@ -16,12 +16,14 @@ pub mod covariance;
 pub mod kinematics;
 pub mod missing_data;
 pub mod params;
+pub mod sample_period;
 pub mod smoother;
 pub mod stance;
 pub mod startup;
 pub mod state;
 #[cfg(test)]
 mod tests;
+mod turn;
 
 use core::fmt;
 
@@ -119,6 +121,9 @@ pub struct ChainEkf {
     link: Link,
     /// The angle variance the turn widening added in the running step.
     widening: f64,
+    /// Factor on every measurement variance at the recording's nominal
+    /// sample period ([`sample_period`]).
+    variance_scale: f64,
 }
 
 /// How a step's filtered state follows from the previous step's (what an
@@ -179,6 +184,7 @@ impl ChainEkf {
             turn_rate: 0.0,
             link: Link::None,
             widening: 0.0,
+            variance_scale: 1.0,
         })
     }
 
@@ -259,6 +265,9 @@ impl ChainEkf {
         self.turn_rate = 0.0;
         self.last_foot_gyro = None;
         self.out_of_plane_rates(&first);
+        let last = self.window[self.held - 1].t;
+        let period = sample_period::nominal_period(first.t, last, self.held);
+        self.variance_scale = period.map_or(1.0, sample_period::variance_scale);
         let mut previous = first.t;
         for k in 1..self.held {
             let sample = self.window[k];
@@ -322,46 +331,10 @@ impl ChainEkf {
         }
     }
 
-    /// Turning (docs/CHAIN.md, "Turns"): updates `Omega`, the mean over the
-    /// sensors of the rate about the vertical, `w_x sin theta_i + w_y cos
-    /// theta_i` (the world's up in sensor `i`'s frame is `R(theta_i)^T (0,
-    /// 1)`), low-passed with `turn_tau_s` (the stride-periodic yaw of pelvis
-    /// and legs averages out, a turn does not). Beyond `turn_rate_min` the
-    /// planar model does not hold: every angle's variance grows by
-    /// `turn_angle_noise^2 (|Omega| - turn_rate_min) dt`, so that the
-    /// accelerometers re-anchor the angles quickly once the turn ends.
-    fn turning(&mut self, sample: &Sample, dt: f64) {
-        let p = self.params;
-        let (mut sum, mut n) = (0.0, 0.0);
-        for i in 0..4 {
-            let imu = &sample.imu[i];
-            if let (Some(wx), Some(wy)) = (imu.gyr_axis(0), imu.gyr_axis(1)) {
-                if !(wx.is_finite() && wy.is_finite()) {
-                    continue;
-                }
-                let (s, c) = (libm::sin(self.x[theta(i)]), libm::cos(self.x[theta(i)]));
-                sum += wx * s + wy * c;
-                n += 1.0;
-            }
-        }
-        if n > 0.0 {
-            let a = (dt / p.turn_tau_s).min(1.0);
-            self.turn_rate += a * (sum / n - self.turn_rate);
-        }
-        let excess = libm::fabs(self.turn_rate) - p.turn_rate_min;
-        self.widening = 0.0;
-        if excess > 0.0 && p.turn_angle_noise > 0.0 {
-            let q = p.turn_angle_noise * p.turn_angle_noise * excess * dt;
-            self.widening = q;
-            for i in 0..4 {
-                self.p[(theta(i), theta(i))] += q;
-            }
-        }
-    }
-
     /// Applies one scalar row; returns whether it was applied.
     fn apply(&mut self, row: &SparseRow, nu: f64, sigma: f64, gate: f64) -> bool {
-        scalar_update(&mut self.x, &mut self.p, row, nu, sigma * sigma, gate).applied
+        let r = sigma * sigma * self.variance_scale;
+        scalar_update(&mut self.x, &mut self.p, row, nu, r, gate).applied
     }
 
     /// One filter step after the start-up: predict, then every scalar row.
@@ -519,6 +492,7 @@ impl Estimator for ChainEkf {
         self.turn_rate = 0.0;
         self.link = Link::None;
         self.widening = 0.0;
+        self.variance_scale = 1.0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {

@@ -107,12 +107,16 @@ pub enum ChainParamsError {
     },
 }
 
-/// Noise levels, anchors and switches of the chain EKF.
+/// Noise levels, anchors and switches of the chain EKF. The measurement
+/// and anchor sigmas are per sample at 100 Hz; at another rate their
+/// variances scale with the sample period so that the information per
+/// second stays the same ([`super::sample_period`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChainParams {
-    /// Gyro z white noise + model error per sample, 1 sigma (rad/s).
+    /// Gyro z white noise + model error per sample at 100 Hz, 1 sigma (rad/s).
     pub gyro_noise: f64,
-    /// Accelerometer x/y noise + model error per sample, 1 sigma (m/s^2).
+    /// Accelerometer x/y noise + model error per sample at 100 Hz, 1 sigma
+    /// (m/s^2).
     pub acc_noise: f64,
     /// Encoder noise + quantisation, 1 sigma (rad).
     pub encoder_noise: f64,
