@@ -351,11 +351,12 @@ fn tally(rej: &mut Rejections, why: Implausible) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use nalgebra::Vector3;
 
-    fn walking_sample() -> Sample {
+    /// All four IMUs and the encoders reading plausible walking values.
+    pub(crate) fn walking_sample() -> Sample {
         let mut s = Sample::empty(1.0);
         for imu in s.imu.iter_mut() {
             imu.gyr = Some(Vector3::new(0.1, -0.2, 3.0));

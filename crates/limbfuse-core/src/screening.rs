@@ -51,20 +51,9 @@ impl Screening {
 
 #[cfg(test)]
 mod tests {
-    use crate::sample::Sample;
+    use crate::sample_gate::tests::walking_sample;
     use crate::{SampleGate, SensorRanges};
     use nalgebra::Vector3;
-
-    fn walking_sample() -> Sample {
-        let mut s = Sample::empty(1.0);
-        for imu in s.imu.iter_mut() {
-            imu.gyr = Some(Vector3::new(0.1, -0.2, 3.0));
-            imu.acc = Some(Vector3::new(2.0, 9.5, -0.3));
-        }
-        s.encoder = [Some(0.3), Some(1.2), Some(-0.2)];
-        s.other_leg_imu = s.imu;
-        s
-    }
 
     /// `check` on a clean sample asks for no change (the gated estimator
     /// then passes the sample itself, uncopied); on a glitched one,
