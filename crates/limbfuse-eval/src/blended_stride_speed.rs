@@ -71,9 +71,19 @@ impl StrideFigures {
     }
 }
 
-/// First row at or after `x` (t sorted).
-fn row_at(t: &[f64], x: f64) -> usize {
-    t.partition_point(|&v| v < x)
+/// How far (s) an event time may lie before a row and still count as on
+/// it: 10 us. Events that fall on a row carry the rounding of the
+/// arithmetic that produced them (a few 1e-13 s at a clock near 1000 s,
+/// about 1e-7 s per operation at a Unix-time clock near 1.7e9 s, where one
+/// ulp is 2.4e-7 s), so an exact comparison puts such an event on either
+/// side of its row depending on the clock's origin. 10 us is 0.2 % of the
+/// shortest sample period of the shared recordings (4.9 ms at 204.8 Hz).
+pub const ROW_TOLERANCE_S: f64 = 1e-5;
+
+/// First row at or after `x` (t sorted), an event within
+/// [`ROW_TOLERANCE_S`] before a row counting as on it.
+pub fn row_at(t: &[f64], x: f64) -> usize {
+    t.partition_point(|&v| v < x - ROW_TOLERANCE_S)
 }
 
 /// The blended comparison of `strides` (all tracks) with `speed_ref` on rows `t`.
@@ -131,6 +141,21 @@ pub fn blended_stride_speed(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An event a rounding below a row counts as on it (issue 19, clock
+    /// origin), on either side; one 2 ms before the row or 20 us after it does not.
+    #[test]
+    fn row_at_counts_an_event_within_the_tolerance_as_on_its_row() {
+        for t0 in [0.0, 1000.0, 1.7e9] {
+            let t: Vec<f64> = (0..200).map(|k| t0 + 0.01 * k as f64).collect();
+            assert_eq!(row_at(&t, t[123] - 3e-7), 123, "t0 = {t0}");
+            assert_eq!(row_at(&t, t[123]), 123, "t0 = {t0}");
+            assert_eq!(row_at(&t, t[123] - 0.002), 123, "t0 = {t0}");
+            assert_eq!(row_at(&t, t[122] + 0.002), 123, "t0 = {t0}");
+            assert_eq!(row_at(&t, t[123] + 1e-6), 123, "t0 = {t0}");
+            assert_eq!(row_at(&t, t[123] + 2e-5), 124, "t0 = {t0}");
+        }
+    }
 
     /// Left strides at 1.1 m/s, right at 1.3 m/s, overlapping by half; the
     /// reference blends them (1.2 m/s everywhere). An estimate that is

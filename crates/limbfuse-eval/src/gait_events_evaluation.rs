@@ -29,7 +29,9 @@ use std::path::Path;
 use limbfuse_core::{GaitPhase, Side};
 use limbfuse_io::{EstimateReader, TrialReader};
 
-use crate::blended_stride_speed::{blended_stride_speed, StrideFigures, TrackStride};
+use crate::blended_stride_speed::{
+    blended_stride_speed, row_at, StrideFigures, TrackStride, ROW_TOLERANCE_S,
+};
 use crate::evaluation::EvalError;
 
 /// Largest time difference (s) at which an estimated event can pair with a
@@ -199,7 +201,7 @@ fn edge_steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
 
 /// Row nearest to time `x` (t sorted).
 fn nearest_row(t: &[f64], x: f64) -> usize {
-    let k = t.partition_point(|&v| v < x);
+    let k = row_at(t, x);
     if k == 0 {
         0
     } else if k >= t.len() {
@@ -226,7 +228,7 @@ fn pair(reference: &[f64], estimated: &[f64]) -> Vec<(usize, usize)> {
     for (i, &r) in reference.iter().enumerate() {
         for (j, &e) in estimated.iter().enumerate() {
             let d = (e - r).abs();
-            if d <= MATCH_TOLERANCE_S {
+            if d <= MATCH_TOLERANCE_S + ROW_TOLERANCE_S {
                 candidates.push((d, i, j));
             }
         }
@@ -278,7 +280,7 @@ fn timing(sides: &[SideEvents], c: &Columns, side_of: &[Option<usize>]) -> Event
                     && !se
                         .unscored
                         .iter()
-                        .any(|u| (u - x).abs() <= MATCH_TOLERANCE_S)
+                        .any(|u| (u - x).abs() <= MATCH_TOLERANCE_S + ROW_TOLERANCE_S)
             })
             .count();
         errors.extend(
@@ -470,7 +472,11 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
         for &(row, length, time) in strides {
             // The stride ends at this side's last estimated initial contact at or before `row`.
             let t_row = c.t[row];
-            let Some(end_j) = se.estimated.iter().rposition(|&x| x <= t_row + 1e-9) else {
+            let Some(end_j) = se
+                .estimated
+                .iter()
+                .rposition(|&x| x <= t_row + ROW_TOLERANCE_S)
+            else {
                 continue;
             };
             let end = se.estimated[end_j];
@@ -493,10 +499,7 @@ fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Colum
                 length,
                 reference_time,
             });
-            let (k0, k1) = (
-                c.t.partition_point(|&x| x < start),
-                c.t.partition_point(|&x| x < end),
-            );
+            let (k0, k1) = (row_at(&c.t, start), row_at(&c.t, end));
             if k1 <= k0 {
                 continue;
             }
