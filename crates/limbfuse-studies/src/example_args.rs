@@ -254,7 +254,7 @@ pub struct GaitPelvisArgs {
 }
 
 /// `imm_bslip_study [SEEDS] [--truth SPEED] [--weights W] [--touchdown R]
-/// [--p-next P] [--p-gait P] [--rate HZ]`.
+/// [--p-next P] [--p-gait P] [--rate HZ] [--kappa K] [--ms-guard L | --ms-past-foot]`.
 #[derive(Debug, Parser)]
 pub struct ImmBslipStudyArgs {
     /// Noise seeds 1..=SEEDS.
@@ -278,6 +278,16 @@ pub struct ImmBslipStudyArgs {
     /// Measurement rate (Hz).
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,
+    /// Only this kappa (default: 1e5, 1e4, 1e3 and 0).
+    #[arg(long)]
+    pub kappa: Option<f64>,
+    /// MS event at the CoM's apex within this many leg lengths of the leading
+    /// foot (default: the estimator's, 0.1).
+    #[arg(long, conflicts_with = "ms_past_foot")]
+    pub ms_guard: Option<f64>,
+    /// MS event when the CoM is past the leading foot and past its apex.
+    #[arg(long)]
+    pub ms_past_foot: bool,
 }
 
 /// `imm_continuous_study [SEEDS] [--truth SPEED] [--rate HZ] [--data DIR]`.

@@ -89,6 +89,38 @@ pub fn extract(markdown: &str) -> Vec<ResultsCommand> {
     out
 }
 
+/// Words that say a figure was measured by something no committed command
+/// runs (an edit made and undone, a script outside the repository, code no
+/// commit holds). `docs/RESULTS.md` must not contain them (issue 13: every
+/// figure is reproduced by a committed command written next to it; a
+/// "before" figure of code that has since changed names the commit whose
+/// docs/RESULTS.md holds it with its command).
+pub const UNREPRODUCIBLE_MARKERS: [&str; 8] = [
+    "not reproducible",
+    "ad-hoc",
+    "ad hoc",
+    "uncommitted",
+    "temporary",
+    "scoring script",
+    "reverted",
+    "by editing",
+];
+
+/// Lines of `markdown` (1-based) that contain one of
+/// [`UNREPRODUCIBLE_MARKERS`] (case-insensitive), with the marker.
+pub fn unreproducible_markers(markdown: &str) -> Vec<(usize, &'static str)> {
+    let mut out = Vec::new();
+    for (i, line) in markdown.lines().enumerate() {
+        let l = line.to_lowercase();
+        for m in UNREPRODUCIBLE_MARKERS {
+            if l.contains(m) {
+                out.push((i + 1, m));
+            }
+        }
+    }
+    out
+}
+
 /// Inline code spans (single backticks) of `markdown` that look like a
 /// study command (`cargo run`, `cargo test -p`, `--example`) or an abbreviated
 /// one (starting with `...` or `-- `), with their line: such a span must be
