@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 19] = [
+pub const EXAMPLES: [&str; 20] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -28,6 +28,7 @@ pub const EXAMPLES: [&str; 19] = [
     "segment_study",
     "segment_validation",
     "soak",
+    "time_base_study",
 ];
 
 /// Why the arguments of an example command are not runnable.
@@ -77,6 +78,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
+        "time_base_study" => parse::<TimeBaseStudyArgs>(example, args),
         "soak" => parse::<SoakArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
@@ -437,4 +439,26 @@ pub enum MaskedCells {
     Acc,
     /// Gyroscope cells only.
     Gyr,
+}
+
+/// `time_base_study [TRIAL] [--offset S] [--methods M,...] [--from S] [-o SHIFTED]`.
+#[derive(Debug, Parser)]
+#[command(name = "time_base_study")]
+pub struct TimeBaseStudyArgs {
+    /// The trial file.
+    #[arg(default_value = "../shared/data/independent-sim/walk-v1.2-s301.csv")]
+    pub trial: String,
+    /// Added to every time stamp (s; default a Unix time, 1.7e9).
+    #[arg(long, default_value_t = 1.7e9)]
+    pub offset: f64,
+    /// Methods run on both clocks (default: knee-selfalign, mjls, chain).
+    #[arg(long, value_delimiter = ',', value_parser = method_name)]
+    pub methods: Vec<limbfuse_methods::MethodName>,
+    /// Score the RMSE against the reference from this many seconds after
+    /// the first sample.
+    #[arg(long, default_value_t = 0.0)]
+    pub from: f64,
+    /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
+    #[arg(short = 'o', long)]
+    pub output: Option<String>,
 }
