@@ -103,9 +103,8 @@ fn main() {
                     assert!((w - 1.0).abs() < 1e-9);
                     // Models are gait-major, phases SS1, DS, SS2.
                     let ws: Vec<f64> = imm.weights().collect();
-                    let argmax = |v: &[f64]| {
-                        (0..v.len()).fold(0, |b, i| if v[i] > v[b] { i } else { b })
-                    };
+                    let argmax =
+                        |v: &[f64]| (0..v.len()).fold(0, |b, i| if v[i] > v[b] { i } else { b });
                     let phases = [GaitPhase::Ss1, GaitPhase::Ds, GaitPhase::Ss2];
                     if Some(phases[argmax(&ws) % 3]) == r.reference.phase {
                         ok_model += 1;

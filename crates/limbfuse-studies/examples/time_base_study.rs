@@ -67,7 +67,9 @@ fn run_method(
     )
     .unwrap_or_else(|e| panic!("{}: {e}", method.name()));
     let ev = metrics.evaluation();
-    let knee = ev.rmse(AngleChannel::Joint(Joint::Knee)).map(f64::to_degrees);
+    let knee = ev
+        .rmse(AngleChannel::Joint(Joint::Knee))
+        .map(f64::to_degrees);
     let mean = ev.mean_rmse().map(f64::to_degrees);
     (all.0, knee, mean)
 }
@@ -102,7 +104,11 @@ fn main() {
         eprintln!("wrote {out} (clock + {} s)", args.offset);
     }
     let methods = if args.methods.is_empty() {
-        vec![MethodName::KneeSelfAlign, MethodName::Mjls, MethodName::Chain]
+        vec![
+            MethodName::KneeSelfAlign,
+            MethodName::Mjls,
+            MethodName::Chain,
+        ]
     } else {
         args.methods.clone()
     };

@@ -48,7 +48,10 @@ fn knee_rmse(e: &mut dyn Estimator, recs: &[Record]) -> Result<f64, String> {
 /// Runs `states` (with `N` states, the 0.2 m lever arm, default physics
 /// tuning) and `rmx` on the 24 perturbed draws: the mean knee RMSE of each
 /// over the draws that ran, and the draws that failed.
-fn perturbed_draws<const N: usize>(states: KneeStateOptions, label: &str) -> (f64, f64, Vec<String>) {
+fn perturbed_draws<const N: usize>(
+    states: KneeStateOptions,
+    label: &str,
+) -> (f64, f64, Vec<String>) {
     let (mut ekf_sum, mut rmx_sum, mut ran) = (0.0, 0.0, 0usize);
     let mut failures = Vec::new();
     for draw in 0..DRAWS {
