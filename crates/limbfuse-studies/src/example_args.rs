@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 20] = [
+pub const EXAMPLES: [&str; 21] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -19,6 +19,7 @@ pub const EXAMPLES: [&str; 20] = [
     "fes_studies",
     "fes_thesis_protocol",
     "fes_tune_cv",
+    "gait_library_without",
     "gait_pelvis",
     "imm_bslip_study",
     "imm_continuous_study",
@@ -69,6 +70,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         | "fes_tune_cv" => parse::<NoArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
+        "gait_library_without" => parse::<GaitLibraryWithoutArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
@@ -461,4 +463,17 @@ pub struct TimeBaseStudyArgs {
     /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
     #[arg(short = 'o', long)]
     pub output: Option<String>,
+}
+
+/// `gait_library_without LIBRARY SPEED -o OUTPUT`.
+#[derive(Debug, Parser)]
+#[command(name = "gait_library_without")]
+pub struct GaitLibraryWithoutArgs {
+    /// The gait library file (`limbfuse gait-library build`).
+    pub library: String,
+    /// The speed of the gait left out (m/s).
+    pub speed: f64,
+    /// The library file written.
+    #[arg(short = 'o', long)]
+    pub output: String,
 }

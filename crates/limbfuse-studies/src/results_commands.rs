@@ -106,18 +106,31 @@ pub const UNREPRODUCIBLE_MARKERS: [&str; 8] = [
     "by editing",
 ];
 
-/// Lines of `markdown` (1-based) that contain one of
-/// [`UNREPRODUCIBLE_MARKERS`] (case-insensitive), with the marker.
+/// Where `markdown` contains one of [`UNREPRODUCIBLE_MARKERS`]
+/// (case-insensitive, also across a line break): the 1-based line where the
+/// marker starts, with the marker.
 pub fn unreproducible_markers(markdown: &str) -> Vec<(usize, &'static str)> {
-    let mut out = Vec::new();
+    // The words joined by single spaces, with the line each starts on.
+    let mut text = String::new();
+    let mut starts: Vec<(usize, usize)> = Vec::new();
     for (i, line) in markdown.lines().enumerate() {
-        let l = line.to_lowercase();
-        for m in UNREPRODUCIBLE_MARKERS {
-            if l.contains(m) {
-                out.push((i + 1, m));
+        for w in line.split_whitespace() {
+            if !text.is_empty() {
+                text.push(' ');
             }
+            starts.push((text.len(), i + 1));
+            text.push_str(&w.to_lowercase());
         }
     }
+    let line_at = |offset: usize| {
+        let k = starts.partition_point(|&(o, _)| o <= offset);
+        starts[k.saturating_sub(1)].1
+    };
+    let mut out = Vec::new();
+    for m in UNREPRODUCIBLE_MARKERS {
+        out.extend(text.match_indices(m).map(|(o, _)| (line_at(o), m)));
+    }
+    out.sort();
     out
 }
 

@@ -119,9 +119,9 @@ fn issue_13_no_figure_without_a_committed_command() {
 fn the_marker_check_catches_unreproducible_figures() {
     let md = "a 1.2 deg figure (measured with a Temporary edit, reverted)\n\
         and 3.4 deg by an ad-hoc script: not reproducible by a committed command\n\
-        a 5.6 deg figure with its command\n";
+        a 5.6 deg figure with its command; 7.8 deg, Not\n   reproducible (split)\n";
     let lines: Vec<usize> = unreproducible_markers(md).iter().map(|m| m.0).collect();
-    assert_eq!(lines, vec![1, 1, 2, 2]);
+    assert_eq!(lines, vec![1, 1, 2, 2, 3]);
 }
 
 #[test]
