@@ -283,11 +283,11 @@ pub struct ImmBslipStudyArgs {
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,
     /// Only this kappa (default: 1e5, 1e4, 1e3 and 0).
-    #[arg(long)]
+    #[arg(long, value_parser = non_negative)]
     pub kappa: Option<f64>,
     /// MS event at the CoM's apex within this many leg lengths of the leading
     /// foot (default: the estimator's, 0.1).
-    #[arg(long, conflicts_with = "ms_past_foot")]
+    #[arg(long, conflicts_with = "ms_past_foot", value_parser = non_negative)]
     pub ms_guard: Option<f64>,
     /// MS event when the CoM is past the leading foot and past its apex.
     #[arg(long)]
@@ -313,6 +313,16 @@ pub struct ImmContinuousStudyArgs {
 
 /// The gait speeds of the `imm_bslip_study` library (m/s).
 pub const IMM_STUDY_SPEEDS: [f64; 6] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
+
+/// A finite value >= 0.
+fn non_negative(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v}: must be finite and >= 0"))
+    }
+}
 
 fn library_speed(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
