@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 19] = [
+pub const EXAMPLES: [&str; 21] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -19,6 +19,7 @@ pub const EXAMPLES: [&str; 19] = [
     "fes_studies",
     "fes_thesis_protocol",
     "fes_tune_cv",
+    "gait_library_without",
     "gait_pelvis",
     "imm_bslip_study",
     "imm_continuous_study",
@@ -28,6 +29,7 @@ pub const EXAMPLES: [&str; 19] = [
     "segment_study",
     "segment_validation",
     "soak",
+    "time_base_study",
 ];
 
 /// Why the arguments of an example command are not runnable.
@@ -68,6 +70,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         | "fes_tune_cv" => parse::<NoArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
+        "gait_library_without" => parse::<GaitLibraryWithoutArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
@@ -77,6 +80,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
+        "time_base_study" => parse::<TimeBaseStudyArgs>(example, args),
         "soak" => parse::<SoakArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
@@ -254,7 +258,7 @@ pub struct GaitPelvisArgs {
 }
 
 /// `imm_bslip_study [SEEDS] [--truth SPEED] [--weights W] [--touchdown R]
-/// [--p-next P] [--p-gait P] [--rate HZ]`.
+/// [--p-next P] [--p-gait P] [--rate HZ] [--kappa K] [--ms-guard L | --ms-past-foot]`.
 #[derive(Debug, Parser)]
 pub struct ImmBslipStudyArgs {
     /// Noise seeds 1..=SEEDS.
@@ -278,6 +282,16 @@ pub struct ImmBslipStudyArgs {
     /// Measurement rate (Hz).
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,
+    /// Only this kappa (default: 1e5, 1e4, 1e3 and 0).
+    #[arg(long, value_parser = non_negative)]
+    pub kappa: Option<f64>,
+    /// MS event at the CoM's apex within this many leg lengths of the leading
+    /// foot (default: the estimator's, 0.1).
+    #[arg(long, conflicts_with = "ms_past_foot", value_parser = non_negative)]
+    pub ms_guard: Option<f64>,
+    /// MS event when the CoM is past the leading foot and past its apex.
+    #[arg(long)]
+    pub ms_past_foot: bool,
 }
 
 /// `imm_continuous_study [SEEDS] [--truth SPEED] [--rate HZ] [--data DIR]`.
@@ -299,6 +313,16 @@ pub struct ImmContinuousStudyArgs {
 
 /// The gait speeds of the `imm_bslip_study` library (m/s).
 pub const IMM_STUDY_SPEEDS: [f64; 6] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
+
+/// A finite value >= 0.
+fn non_negative(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v}: must be finite and >= 0"))
+    }
+}
 
 fn library_speed(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
@@ -427,4 +451,39 @@ pub enum MaskedCells {
     Acc,
     /// Gyroscope cells only.
     Gyr,
+}
+
+/// `time_base_study [TRIAL] [--offset S] [--methods M,...] [--from S] [-o SHIFTED]`.
+#[derive(Debug, Parser)]
+#[command(name = "time_base_study")]
+pub struct TimeBaseStudyArgs {
+    /// The trial file.
+    #[arg(default_value = "../shared/data/independent-sim/walk-v1.2-s301.csv")]
+    pub trial: String,
+    /// Added to every time stamp (s; default a Unix time, 1.7e9).
+    #[arg(long, default_value_t = 1.7e9)]
+    pub offset: f64,
+    /// Methods run on both clocks (default: knee-selfalign, mjls, chain).
+    #[arg(long, value_delimiter = ',', value_parser = method_name)]
+    pub methods: Vec<limbfuse_methods::MethodName>,
+    /// Score the RMSE against the reference from this many seconds after
+    /// the first sample.
+    #[arg(long, default_value_t = 0.0)]
+    pub from: f64,
+    /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
+    #[arg(short = 'o', long)]
+    pub output: Option<String>,
+}
+
+/// `gait_library_without LIBRARY SPEED -o OUTPUT`.
+#[derive(Debug, Parser)]
+#[command(name = "gait_library_without")]
+pub struct GaitLibraryWithoutArgs {
+    /// The gait library file (`limbfuse gait-library build`).
+    pub library: String,
+    /// The speed of the gait left out (m/s).
+    pub speed: f64,
+    /// The library file written.
+    #[arg(short = 'o', long)]
+    pub output: String,
 }

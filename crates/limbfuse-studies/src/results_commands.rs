@@ -89,6 +89,51 @@ pub fn extract(markdown: &str) -> Vec<ResultsCommand> {
     out
 }
 
+/// Words that say a figure was measured by something no committed command
+/// runs (an edit made and undone, a script outside the repository, code no
+/// commit holds). `docs/RESULTS.md` must not contain them (issue 13: every
+/// figure is reproduced by a committed command written next to it; a
+/// "before" figure of code that has since changed names the commit whose
+/// docs/RESULTS.md holds it with its command).
+pub const UNREPRODUCIBLE_MARKERS: [&str; 8] = [
+    "not reproducible",
+    "ad-hoc",
+    "ad hoc",
+    "uncommitted",
+    "temporary",
+    "scoring script",
+    "reverted",
+    "by editing",
+];
+
+/// Where `markdown` contains one of [`UNREPRODUCIBLE_MARKERS`]
+/// (case-insensitive, also across a line break): the 1-based line where the
+/// marker starts, with the marker.
+pub fn unreproducible_markers(markdown: &str) -> Vec<(usize, &'static str)> {
+    // The words joined by single spaces, with the line each starts on.
+    let mut text = String::new();
+    let mut starts: Vec<(usize, usize)> = Vec::new();
+    for (i, line) in markdown.lines().enumerate() {
+        for w in line.split_whitespace() {
+            if !text.is_empty() {
+                text.push(' ');
+            }
+            starts.push((text.len(), i + 1));
+            text.push_str(&w.to_lowercase());
+        }
+    }
+    let line_at = |offset: usize| {
+        let k = starts.partition_point(|&(o, _)| o <= offset);
+        starts[k.saturating_sub(1)].1
+    };
+    let mut out = Vec::new();
+    for m in UNREPRODUCIBLE_MARKERS {
+        out.extend(text.match_indices(m).map(|(o, _)| (line_at(o), m)));
+    }
+    out.sort();
+    out
+}
+
 /// Inline code spans (single backticks) of `markdown` that look like a
 /// study command (`cargo run`, `cargo test -p`, `--example`) or an abbreviated
 /// one (starting with `...` or `-- `), with their line: such a span must be

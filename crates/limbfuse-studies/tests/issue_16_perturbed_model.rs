@@ -45,15 +45,14 @@ fn knee_rmse(e: &mut dyn Estimator, recs: &[Record]) -> Result<f64, String> {
     Ok((s / n.max(1) as f64).sqrt().to_degrees())
 }
 
-#[test]
-fn issue_16_disturbance_state_survives_30_percent_parameter_error() {
-    let all = KneeStateOptions {
-        activation: true,
-        disturbance: true,
-        gyro_bias: true,
-        acc_bias: true,
-    };
-    let (mut ekf_sum, mut rmx_sum) = (0.0, 0.0);
+/// Runs `states` (with `N` states, the 0.2 m lever arm, default physics
+/// tuning) and `rmx` on the 24 perturbed draws: the mean knee RMSE of each
+/// over the draws that ran, and the draws that failed.
+fn perturbed_draws<const N: usize>(
+    states: KneeStateOptions,
+    label: &str,
+) -> (f64, f64, Vec<String>) {
+    let (mut ekf_sum, mut rmx_sum, mut ran) = (0.0, 0.0, 0usize);
     let mut failures = Vec::new();
     for draw in 0..DRAWS {
         let subject = KneeSubject::ALL[(draw % 6) as usize];
@@ -69,28 +68,60 @@ fn issue_16_disturbance_state_survives_30_percent_parameter_error() {
         let p = perturbed(KneeFesParams::subject(subject), 0.3, draw);
         let m = KneeFesModel::new(p).expect("a +-30 % draw stays physical");
         let mut ekf = ExtendedKneeFilter::with_default_tuning(
-            ExtendedKneeModel::<6>::new(m, all, 0.2).expect("6 states"),
+            ExtendedKneeModel::<N>::new(m, states, 0.2).expect("state count"),
             Linearisation::Jacobian,
         );
         let rmx = knee_rmse(&mut RotationMatrixKnee::new(), &recs).expect("rmx runs");
         match knee_rmse(&mut ekf, &recs) {
             Ok(v) => {
                 eprintln!(
-                    "draw {draw} {}: ekf+all+r {v:.3} deg, rmx {rmx:.3}",
+                    "draw {draw} {}: {label} {v:.3} deg, rmx {rmx:.3}",
                     subject.label()
                 );
                 ekf_sum += v;
                 rmx_sum += rmx;
+                ran += 1;
             }
             Err(e) => failures.push(format!("draw {draw} {}: {e}", subject.label())),
         }
     }
+    let n = ran.max(1) as f64;
+    (ekf_sum / n, rmx_sum / n, failures)
+}
+
+#[test]
+fn issue_16_disturbance_state_survives_30_percent_parameter_error() {
+    let all = KneeStateOptions {
+        activation: true,
+        disturbance: true,
+        gyro_bias: true,
+        acc_bias: true,
+    };
+    let (ekf, rmx, failures) = perturbed_draws::<6>(all, "ekf+all+r");
     assert!(failures.is_empty(), "diverged:\n{}", failures.join("\n"));
-    let ratio = ekf_sum / rmx_sum;
-    eprintln!(
-        "mean knee RMSE: ekf+all+r {:.3}, rmx {:.3} deg, ratio {ratio:.2}",
-        ekf_sum / DRAWS as f64,
-        rmx_sum / DRAWS as f64
-    );
+    let ratio = ekf / rmx;
+    eprintln!("mean knee RMSE: ekf+all+r {ekf:.3}, rmx {rmx:.3} deg, ratio {ratio:.2}");
     assert!(ratio <= 1.2, "ekf+all+r / rmx = {ratio:.2} > 1.2");
+}
+
+/// The bound above can fail: without the unknown-torque state the same
+/// draws miss it (docs/RESULTS.md, issue 16 section).
+#[test]
+fn issue_16_without_the_unknown_torque_state_the_bound_is_missed() {
+    let no_torque = KneeStateOptions {
+        activation: true,
+        disturbance: false,
+        gyro_bias: true,
+        acc_bias: true,
+    };
+    let (ekf, rmx, failures) = perturbed_draws::<5>(no_torque, "ekf+act+bias+r");
+    let ratio = ekf / rmx;
+    eprintln!(
+        "mean knee RMSE: ekf+act+bias+r {ekf:.3}, rmx {rmx:.3} deg, ratio {ratio:.2}, {} diverged",
+        failures.len()
+    );
+    assert!(
+        !failures.is_empty() || ratio > 1.2,
+        "ekf+act+bias+r / rmx = {ratio:.2} <= 1.2 on every draw"
+    );
 }

@@ -9,7 +9,9 @@
 use std::path::{Path, PathBuf};
 
 use limbfuse_studies::example_args::{check, EXAMPLES};
-use limbfuse_studies::results_commands::{extract, inline_study_commands, CommandKind};
+use limbfuse_studies::results_commands::{
+    extract, inline_study_commands, unreproducible_markers, CommandKind,
+};
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -94,6 +96,32 @@ fn the_check_catches_broken_commands() {
         and `cargo run --release -p limbfuse-studies --example segment_study -- 30`\n";
     let p = problems(md);
     assert_eq!(p.len(), 7, "{p:#?}");
+}
+
+/// Issue 13's last "done when": no figure of docs/RESULTS.md is left without
+/// a committed command (a figure measured by an undone edit or a script
+/// outside the repository says so with one of the markers).
+#[test]
+fn issue_13_no_figure_without_a_committed_command() {
+    let found: Vec<String> = unreproducible_markers(&results_md())
+        .into_iter()
+        .map(|(line, m)| format!("docs/RESULTS.md:{line}: \"{m}\""))
+        .collect();
+    assert!(
+        found.is_empty(),
+        "figures without a committed command (make them reproducible, or name the \
+         commit whose docs/RESULTS.md holds them with their command):\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_marker_check_catches_unreproducible_figures() {
+    let md = "a 1.2 deg figure (measured with a Temporary edit, reverted)\n\
+        and 3.4 deg by an ad-hoc script: not reproducible by a committed command\n\
+        a 5.6 deg figure with its command; 7.8 deg, Not\n   reproducible (split)\n";
+    let lines: Vec<usize> = unreproducible_markers(md).iter().map(|m| m.0).collect();
+    assert_eq!(lines, vec![1, 1, 2, 2, 3]);
 }
 
 #[test]

@@ -13,7 +13,7 @@
 use limbfuse_core::GaitPhase;
 use limbfuse_models::bslip::{GaitTemplate, Side, Stance, State};
 
-use super::params::TouchdownRule;
+use super::params::{MidStanceEvent, TouchdownRule};
 
 /// How feet are placed: the rule, and the Markov probabilities that
 /// [`TouchdownRule::Mixed`] needs.
@@ -25,6 +25,8 @@ pub(super) struct FootPlacement {
     pub stay: f64,
     /// Probability per sample of moving to the next phase of the same gait.
     pub next: f64,
+    /// When the leading foot becomes the stance foot.
+    pub mid_stance: MidStanceEvent,
 }
 
 /// One gait's feet.
@@ -138,7 +140,12 @@ impl Feet {
         now: f64,
         w: [f64; 3],
     ) {
-        let FootPlacement { rule, stay, next } = placement;
+        let FootPlacement {
+            rule,
+            stay,
+            next,
+            mid_stance,
+        } = placement;
         self.swing(t, [x[0], x[2]]);
         let lead = match rule {
             TouchdownRule::Mixed => {
@@ -169,8 +176,13 @@ impl Feet {
             },
         };
         let Some(lead) = lead else { return };
-        let apex = previous_vy > 0.0 && x[4] <= 0.0;
-        if apex && x[0] >= lead[0] - 0.1 * t.body.rest_length {
+        let ms = match mid_stance {
+            MidStanceEvent::ApexNearFoot { within } => {
+                previous_vy > 0.0 && x[4] <= 0.0 && x[0] >= lead[0] - within * t.body.rest_length
+            }
+            MidStanceEvent::PastFootAndApex => x[4] <= 0.0 && x[0] >= lead[0],
+        };
+        if ms {
             self.stance = lead;
             self.ms_t = now;
             self.side = self.side.other();

@@ -48,7 +48,7 @@ pub use continuous::ImmContinuous;
 use ekf::{propagate, update, Cov};
 use feet::{Feet, FootPlacement};
 pub use names::{ImmDiag, MAX_GAITS, SPEED_MEAN, WEIGHT_NAMES};
-pub use params::{ImmBslipParams, ImmWeights, TouchdownRule};
+pub use params::{ImmBslipParams, ImmWeights, MidStanceEvent, TouchdownRule};
 
 /// Why an IMM could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -280,6 +280,7 @@ impl ImmBslip {
             rule: self.params.touchdown,
             stay: 1.0 - self.params.p_next_phase - self.params.p_other_gait,
             next: self.params.p_next_phase,
+            mid_stance: self.params.mid_stance,
         };
         let mut w = [[0.0; 3]; MAX_GAITS];
         for m in &self.models {

@@ -68,6 +68,31 @@ impl TouchdownRule {
     }
 }
 
+/// When a gait's mid-stance (MS) event fires, the leading foot becoming the
+/// stance foot. The paper gives the B-SLIP MS guard for one walker, not for a
+/// library gait's feet placed on measured data (docs/GAIT_IMM.md, "Feet");
+/// the variants are compared in docs/RESULTS.md ("Slow gaits and the MS
+/// event").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MidStanceEvent {
+    /// The ensemble CoM's vertical velocity crosses zero downwards (its apex)
+    /// no more than `within` x l0 behind the leading foot, or past it
+    /// (default: `within` = 0.1).
+    ApexNearFoot {
+        /// How far behind the leading foot the apex may be, in leg rest lengths.
+        within: f64,
+    },
+    /// The CoM is past the leading foot and past its apex (vertical velocity
+    /// <= 0), whichever comes last: no distance threshold.
+    PastFootAndApex,
+}
+
+impl Default for MidStanceEvent {
+    fn default() -> Self {
+        MidStanceEvent::ApexNearFoot { within: 0.1 }
+    }
+}
+
 /// Parameters of [`super::ImmBslip`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImmBslipParams {
@@ -95,6 +120,8 @@ pub struct ImmBslipParams {
     pub weights: ImmWeights,
     /// When a gait's leading foot lands.
     pub touchdown: TouchdownRule,
+    /// When a gait's leading foot becomes its stance foot.
+    pub mid_stance: MidStanceEvent,
 }
 
 impl ImmBslipParams {
@@ -124,7 +151,8 @@ impl ImmBslipParams {
     /// Settings the paper does not give (documented choices):
     /// kappa = 1e5 /m^2 (a leg stretched 1 cm beyond rest costs e^-10),
     /// phase switching 0.05 per sample (phases last 10-50 samples at 100 Hz),
-    /// gait switching 0.01 per sample, touchdown at each gait's touchdown height, RK4 sub-steps <= 10 ms (one per
+    /// gait switching 0.01 per sample, touchdown at each gait's touchdown height,
+    /// MS at the CoM's apex within 0.1 l0 of the leading foot, RK4 sub-steps <= 10 ms (one per
     /// sample at 100 Hz; `omega h` = 0.26 for the stiffest library leg, 55 kN/m), P0 =
     /// diag(1e-4 m^2, 1e-2 m^2/s^2), left foot trailing first, restart after
     /// a 0.25 s gap.
@@ -141,6 +169,7 @@ impl ImmBslipParams {
             max_gap: 0.25,
             weights: ImmWeights::Paper,
             touchdown: TouchdownRule::Height,
+            mid_stance: MidStanceEvent::default(),
         }
     }
 
@@ -168,6 +197,11 @@ impl ImmBslipParams {
         }
         if !(self.max_gap.is_finite() && self.max_gap > 0.0) {
             return Err("max_gap must be positive");
+        }
+        if let MidStanceEvent::ApexNearFoot { within } = self.mid_stance {
+            if !nonneg(&within) {
+                return Err("mid_stance: the apex distance must be >= 0");
+            }
         }
         Ok(())
     }

@@ -71,6 +71,7 @@ fn mixed_rule_blends_feet_by_the_weights_flowing_between_phases() {
         rule: TouchdownRule::Mixed,
         stay: 0.94,
         next: 0.05,
+        mid_stance: MidStanceEvent::default(),
     };
     // Rising CoM: no MS.
     let x = State::new(0.1, 0.96, 0.05, 0.6, 0.1, 0.0);
@@ -100,4 +101,47 @@ fn mixed_rule_blends_feet_by_the_weights_flowing_between_phases() {
 fn height_rule_waits_for_the_com_to_fall_to_the_touchdown_height() {
     assert!(template().gait.touchdown_height(1.0) < 0.96);
     assert!(level_walk(TouchdownRule::Height).iter().all(|&(_, l)| !l));
+}
+
+/// The MS event variants on one hand-placed case: the leading foot down at
+/// x = 1.0, l0 = 1 m (BslipParams::default's rest length checked below).
+#[test]
+fn mid_stance_event_variants_fire_where_documented() {
+    let t = template();
+    assert!((t.body.rest_length - 1.0).abs() < 0.1);
+    let fires = |mid_stance, com_x: f64, previous_vy: f64, vy: f64| {
+        let mut f = Feet::new(Side::Left);
+        f.start(&t, [0.0, 0.05], 0.0, TouchdownRule::Height);
+        f.landed = Some([1.0, 0.1]);
+        let placement = FootPlacement {
+            rule: TouchdownRule::Height,
+            stay: 0.94,
+            next: 0.05,
+            mid_stance,
+        };
+        let x = State::new(com_x, 0.96, 0.05, 0.6, vy, 0.0);
+        f.advance(&t, placement, &x, previous_vy, 0.5, [0.0, 0.5, 0.5]);
+        f.side == Side::Right
+    };
+    let l0 = t.body.rest_length;
+    let default = MidStanceEvent::default();
+    let tight = MidStanceEvent::ApexNearFoot { within: 0.05 };
+    let past = MidStanceEvent::PastFootAndApex;
+    // Apex 0.08 l0 behind the foot: the default guard (0.1 l0) fires, 0.05 does not.
+    let behind = 1.0 - 0.08 * l0;
+    assert!(fires(default, behind, 0.01, -0.01));
+    assert!(!fires(tight, behind, 0.01, -0.01));
+    assert!(!fires(past, behind, 0.01, -0.01));
+    // Past the foot, already falling for a while (no zero crossing now):
+    // only PastFootAndApex fires.
+    assert!(!fires(default, 1.02, -0.01, -0.02));
+    assert!(fires(past, 1.02, -0.01, -0.02));
+    // Past the foot, still rising: none.
+    assert!(!fires(past, 1.02, 0.02, 0.01));
+    assert!(ImmBslipParams {
+        mid_stance: MidStanceEvent::ApexNearFoot { within: -0.1 },
+        ..ImmBslipParams::full_com()
+    }
+    .validate()
+    .is_err());
 }
