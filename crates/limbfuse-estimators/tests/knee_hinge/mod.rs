@@ -189,6 +189,9 @@ pub struct SensorErrors {
     pub seed: u64,
     /// Accelerometer scale factor of the thigh and shank sensor (all axes).
     pub acc_scale: [f64; 2],
+    /// Multiplies the gyro and the accelerometer turn-on biases (1 = the
+    /// figures above, 0 = none).
+    pub bias: [f64; 2],
 }
 
 /// The hinge's records at `rate_hz` for `duration_s`, with `errors` if given
@@ -204,8 +207,9 @@ pub fn records(
     let deg = 1f64.to_radians();
     let mg = 9.80665e-3;
     let biases: Option<[[Vector3<f64>; 2]; 2]> = draws.as_mut().map(|d| {
-        let gb = [d.normal3() * 0.5 * deg, d.normal3() * 0.5 * deg];
-        let ab = [d.normal3() * 20.0 * mg, d.normal3() * 20.0 * mg];
+        let (kg, ka) = (errors.map_or(1.0, |e| e.bias[0]), errors.map_or(1.0, |e| e.bias[1]));
+        let gb = [d.normal3() * 0.5 * deg * kg, d.normal3() * 0.5 * deg * kg];
+        let ab = [d.normal3() * 20.0 * mg * ka, d.normal3() * 20.0 * mg * ka];
         [gb, ab]
     });
     let (gyro_sd, acc_sd) = (
