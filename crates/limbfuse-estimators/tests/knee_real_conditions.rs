@@ -146,7 +146,11 @@ fn issue_15_a_still_period_holds_the_geometry() {
             held = ksa.geometry().copied();
         }
         if k == 7999 {
-            assert_eq!(ksa.geometry().copied(), held, "geometry re-identified while still");
+            assert_eq!(
+                ksa.geometry().copied(),
+                held,
+                "geometry re-identified while still"
+            );
         }
     }
     let mut kga = KneeGyroAxis::new(KneeGyroAxisParams::default()).unwrap();
@@ -161,39 +165,63 @@ fn issue_15_a_still_period_holds_the_geometry() {
             "still period, method {m}: RMSE {:.3} deg (offset-free {:.3}), drift {drift:.3} deg; after it {:.3} ({:.3})",
             s.rmse, s.offset_free, after.rmse, after.offset_free
         );
-        assert!(s.rmse < 3.0 && drift.abs() < 5.0, "method {m}: {s:?} drift {drift}");
+        assert!(
+            s.rmse < 3.0 && drift.abs() < 5.0,
+            "method {m}: {s:?} drift {drift}"
+        );
     }
 }
 
+fn only_noise(bias: [f64; 2]) -> Option<SensorErrors> {
+    Some(SensorErrors {
+        seed: 1,
+        acc_scale: [1.0, 1.0],
+        bias,
+    })
+}
+
+/// Free 3D hinge motion with sensor errors, 100 / 40 / 250 Hz, scored after
+/// the first window and from 20 s. White noise alone leaves the angle within
+/// 1 deg from 20 s; the turn-on biases (docs/KNEE_SELFALIGN.md "Conditions
+/// of real recordings": the accelerometer biases move the eq-3 positions, and
+/// with them the zero, from window to window) are printed, not asserted.
 #[test]
-fn measure_free_hinge_rates_and_scales() {
+fn free_3d_hinge_with_sensor_errors() {
     let hinge = free_hinge(None);
-    let only = |bias| Some(SensorErrors { seed: 1, acc_scale: [1.0, 1.0], bias });
-    for (label, errs) in [("MEMS seed 1", noisy(1)), ("MEMS seed 2", noisy(2)), ("noise only", only([0.0, 0.0])), ("noise + gyro bias", only([1.0, 0.0])), ("noise + acc bias", only([0.0, 1.0]))] {
+    let cases = [
+        ("MEMS seed 1", noisy(1)),
+        ("MEMS seed 2", noisy(2)),
+        ("noise only", only_noise([0.0, 0.0])),
+        ("noise + gyro bias", only_noise([1.0, 0.0])),
+        ("noise + acc bias", only_noise([0.0, 1.0])),
+    ];
+    for (label, errs) in cases {
         let recs = records(&hinge, 100.0, 60.0, errs);
-        print(&format!("free 3D hinge 100 Hz {label}"), both(&recs, 500, None));
+        let first = both(&recs, 500, None);
+        let late = both(&recs, 500, Some(2000));
+        print(
+            &format!("free 3D hinge 100 Hz {label}, after the first window"),
+            first,
+        );
+        print(&format!("free 3D hinge 100 Hz {label}, from 20 s"), late);
+        if label == "noise only" {
+            for s in late {
+                assert!(s.rmse < 1.0, "{label}: {s:?}");
+            }
+        }
     }
     for (rate, windows) in [(40.0, [500, 200]), (250.0, [500, 1250])] {
         let recs = records(&hinge, rate, 60.0, noisy(1));
         for w in windows {
+            let from = ((20.0 * rate) as usize).max(w);
             print(
-                &format!("free 3D hinge {rate} Hz MEMS s_w {w}"),
-                both(&recs, w, Some((10.0 * rate) as usize).max(Some(w))),
+                &format!(
+                    "free 3D hinge {rate} Hz MEMS s_w {w}, from {:.1} s",
+                    from as f64 / rate
+                ),
+                both(&recs, w, Some(from)),
             );
         }
-    }
-    for scale in [[1.25, 1.0], [1.0, 1.25], [1.25, 1.25], [0.8, 1.0], [1.0, 0.8], [0.8, 0.8], [1.25, 0.8]] {
-        let recs = records(
-            &hinge,
-            100.0,
-            60.0,
-            Some(SensorErrors {
-                seed: 1,
-                acc_scale: scale,
-                bias: [1.0, 1.0],
-            }),
-        );
-        print(&format!("free 3D hinge acc scale {scale:?}"), both(&recs, 500, None));
     }
 }
 
@@ -221,20 +249,37 @@ fn knee_walk(seed: u64, rate: f64) -> Vec<Record> {
     .collect()
 }
 
+/// limbfuse's knee scenario (random mountings and positions, default
+/// sensors) at 40 and 250 Hz with the default window (500 samples) and with
+/// 5 s, and the walking simulator with sensors aligned with their segments
+/// (the degenerate case for axis solvers that start from the sensor axes).
 #[test]
-fn measure_walking_rates_scales_aligned() {
+fn other_rates_and_aligned_sensors_on_simulated_walks() {
     for seed in [3, 4] {
-        for (rate, windows) in [(100.0, [500, 500]), (40.0, [500, 200]), (250.0, [500, 1250])] {
+        let base = both(&knee_walk(seed, 100.0), 500, Some(1000));
+        print(
+            &format!("knee sim seed {seed} 100 Hz s_w 500, from 10 s"),
+            base,
+        );
+        for (rate, windows) in [(40.0, [500, 200]), (250.0, [500, 1250])] {
             let recs = knee_walk(seed, rate);
             for w in windows {
-                print(&format!("knee sim seed {seed} {rate} Hz s_w {w}"), both(&recs, w, Some((10.0 * rate) as usize).max(Some(w))));
+                let from = ((10.0 * rate) as usize).max(w);
+                let s = both(&recs, w, Some(from));
+                print(
+                    &format!(
+                        "knee sim seed {seed} {rate} Hz s_w {w}, from {:.1} s",
+                        from as f64 / rate
+                    ),
+                    s,
+                );
+                for (m, s) in s.iter().enumerate() {
+                    assert!(
+                        s.rmse < 6.0 && s.offset_free < 2.0,
+                        "seed {seed} {rate} Hz s_w {w} method {m}: {s:?}"
+                    );
+                }
             }
-        }
-        let base = knee_walk(seed, 100.0);
-        for scale in [[1.25, 1.0], [1.0, 1.25], [1.25, 1.25], [0.8, 1.0], [1.0, 0.8], [0.8, 0.8]] {
-            let mut recs = base.clone();
-            scale_acc(&mut recs, scale);
-            print(&format!("knee sim seed {seed} acc scale {scale:?}"), both(&recs, 500, None));
         }
         let aligned: Vec<Record> = WalkingSimulator::new(WalkingConfig {
             seed,
@@ -243,102 +288,81 @@ fn measure_walking_rates_scales_aligned() {
         })
         .unwrap()
         .collect();
-        print(&format!("walking sim seed {seed} aligned sensors"), both(&aligned, 500, None));
+        let s = both(&aligned, 500, Some(1000));
+        print(
+            &format!("walking sim seed {seed}, sensors aligned with the segments, from 10 s"),
+            s,
+        );
+        for (m, s) in s.iter().enumerate() {
+            assert!(
+                s.rmse < 4.0 && s.offset_free < 1.5,
+                "aligned seed {seed} method {m}: {s:?}"
+            );
+        }
     }
 }
 
+/// Accelerometer scale errors of +25 % and -20 % on both sensors and on one:
+/// a common scale is absorbed by the positions (eq 3 scales with `o`, and
+/// eq 5 is a ratio), so the angle is unchanged to within 0.5 deg; a scale
+/// error on one sensor breaks eq 3's `|a_T - Gamma_T| = |a_S - Gamma_S|`
+/// by up to 2.5 m/s^2, the accelerometer angle then fails the trust test and
+/// the estimator says so (`acc_trusted` 0) and falls back on the high-passed
+/// gyro angle: the shape is kept, the zero is the trial mean.
 #[test]
-fn measure_still_period() {
-    for motion in [HingeMotion::Free3d, HingeMotion::WalkLike] {
-        let mut hinge = free_hinge(Some(Still {
-            start_s: 20.0,
-            still_s: 60.0,
-        }));
-        hinge.motion = motion;
-        let recs = records(&hinge, 100.0, 102.0, noisy(1));
-        let axes = KneeSelfAlignParams::default();
-        let mut ksa = KneeSelfAlign::new(axes).unwrap();
-        let mut kga = KneeGyroAxis::new(KneeGyroAxisParams::default()).unwrap();
-        let outs = [knee_out(&mut ksa, &recs), knee_out(&mut kga, &recs)];
-        for (m, out) in outs.iter().enumerate() {
-            let pre = score(&errors(out, &recs, 500, 2000));
-            let still = score(&errors(out, &recs, 2100, 8000));
-            let post = score(&errors(out, &recs, 8200, recs.len()));
-            let e_still = errors(out, &recs, 2100, 8000);
-            let drift = e_still.last().unwrap() - e_still.first().unwrap();
-            println!(
-                "still {:?} method {m}: before {:.3} ({:.3}), still {:.3} ({:.3}) drift {:.3} deg, after {:.3} ({:.3})",
-                matches!(motion, HingeMotion::Free3d),
-                pre.rmse,
-                pre.offset_free,
-                still.rmse,
-                still.offset_free,
-                drift.to_degrees(),
-                post.rmse,
-                post.offset_free
+fn accelerometer_scale_errors() {
+    for seed in [3, 4] {
+        let base = knee_walk(seed, 100.0);
+        let reference = both(&base, 500, Some(1000));
+        print(
+            &format!("knee sim seed {seed}, no added scale error, from 10 s"),
+            reference,
+        );
+        for scale in [
+            [1.25, 1.25],
+            [0.8, 0.8],
+            [1.25, 1.0],
+            [1.0, 1.25],
+            [0.8, 1.0],
+            [1.0, 0.8],
+        ] {
+            let mut recs = base.clone();
+            scale_acc(&mut recs, scale);
+            let s = both(&recs, 500, Some(1000));
+            print(
+                &format!("knee sim seed {seed}, accelerometer scale {scale:?}, from 10 s"),
+                s,
             );
+            let mut ksa = KneeSelfAlign::new(KneeSelfAlignParams::default()).unwrap();
+            knee_out(&mut ksa, &recs);
+            if scale[0] == scale[1] {
+                assert!(ksa.acc_trusted());
+                for m in 0..2 {
+                    assert!(
+                        (s[m].rmse - reference[m].rmse).abs() < 0.5,
+                        "{scale:?} method {m}: {s:?}"
+                    );
+                }
+            } else {
+                assert!(!ksa.acc_trusted(), "{scale:?}: accelerometer angle trusted");
+            }
         }
-        let g = ksa.geometry().unwrap();
-        println!("geometry after: {:?} {:?}", g.axis, g.position);
     }
-}
-
-fn d(e: &limbfuse_core::Estimate, name: &str) -> f64 {
-    use limbfuse_estimators::knee_selfalign::KneeDiag;
-    let i = KneeDiag::NAMES.iter().position(|n| *n == name).unwrap();
-    e.diag[i].unwrap_or(f64::NAN)
-}
-
-#[test]
-fn debug_windows() {
-    let which = std::env::var("KR_CASE").unwrap_or_default();
-    let (hinge, rate, errs, window) = match which.as_str() {
-        "still" => {
-            let mut h = free_hinge(Some(Still { start_s: 20.0, still_s: 60.0 }));
-            h.motion = HingeMotion::WalkLike;
-            (h, 100.0, noisy(1), 500)
-        }
-        "250" => (free_hinge(None), 250.0, noisy(1), 500),
-        "scale" => (free_hinge(None), 100.0, Some(SensorErrors { seed: 1, acc_scale: [1.25, 1.0], bias: [1.0, 1.0] }), 500),
-        "noise" => (free_hinge(None), 100.0, Some(SensorErrors { seed: 1, acc_scale: [1.0, 1.0], bias: [0.0, 0.0] }), 500),
-        "mems" => (free_hinge(None), 100.0, noisy(1), 500),
-        "" => return,
-        _ => (free_hinge(None), 100.0, None, 500),
-    };
-    let recs = records(&hinge, rate, if which == "still" { 102.0 } else { 60.0 }, errs);
-    let truth = [hinge.mount[0].transpose() * Vector3::z(), hinge.mount[1].transpose() * Vector3::z()];
-    let mut est = KneeSelfAlign::new(KneeSelfAlignParams { window, ..Default::default() }).unwrap();
-    let mut sum = 0.0;
-    let mut cnt = 0;
-    for (k, r) in recs.iter().enumerate() {
-        let e = est.step(&r.sample).unwrap();
-        if let Some(x) = e.joint[Joint::Knee.index()] {
-            sum += wrap(x - r.reference.joint[1].unwrap()).powi(2);
-            cnt += 1;
-        }
-        if (k + 1) % window == 0 || k % 100 == 0 && which == "still" {
-            let jt = Vector3::new(d(&e, "j_thigh_x"), d(&e, "j_thigh_y"), d(&e, "j_thigh_z"));
-            let js = Vector3::new(d(&e, "j_shank_x"), d(&e, "j_shank_y"), d(&e, "j_shank_z"));
-            println!(
-                "k {k} t {:.1} status {} jT.true {:.3} jS.true {:.3} conf {:.2} comm {} trust {} src {} spread {:.4} info {:.4} ej {:.3} eo {:.3} err {:.1} rmse {:.1} alpha_acc {:.1} gyro {:.1} kf_x {:.1}",
-                r.sample.t,
-                d(&e, "window_status"),
-                jt.dot(&truth[0]),
-                js.dot(&truth[1]),
-                d(&e, "sign_confidence"),
-                d(&e, "sign_committed"),
-                d(&e, "acc_trusted"),
-                d(&e, "axis_source"),
-                d(&e, "acc_gyro_spread"),
-                d(&e, "information"),
-                d(&e, "rms_e_j"),
-                d(&e, "rms_e_o"),
-                e.joint[1].map_or(f64::NAN, |x| wrap(x - r.reference.joint[1].unwrap()).to_degrees()),
-                (sum / cnt.max(1) as f64).sqrt().to_degrees(),
-                d(&e, "alpha_acc").to_degrees(),
-                d(&e, "alpha_gyro").to_degrees(),
-                d(&e, "kf_x").to_degrees(),
-            );
-        }
+    let hinge = free_hinge(None);
+    for scale in [[1.25, 1.25], [0.8, 0.8], [1.25, 1.0], [1.0, 0.8]] {
+        let recs = records(
+            &hinge,
+            100.0,
+            60.0,
+            Some(SensorErrors {
+                seed: 1,
+                acc_scale: scale,
+                bias: [1.0, 1.0],
+            }),
+        );
+        print(
+            &format!("free 3D hinge MEMS, accelerometer scale {scale:?}, from 20 s"),
+            both(&recs, 500, Some(2000)),
+        );
     }
 }

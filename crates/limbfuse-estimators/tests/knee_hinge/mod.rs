@@ -207,15 +207,15 @@ pub fn records(
     let deg = 1f64.to_radians();
     let mg = 9.80665e-3;
     let biases: Option<[[Vector3<f64>; 2]; 2]> = draws.as_mut().map(|d| {
-        let (kg, ka) = (errors.map_or(1.0, |e| e.bias[0]), errors.map_or(1.0, |e| e.bias[1]));
+        let (kg, ka) = (
+            errors.map_or(1.0, |e| e.bias[0]),
+            errors.map_or(1.0, |e| e.bias[1]),
+        );
         let gb = [d.normal3() * 0.5 * deg * kg, d.normal3() * 0.5 * deg * kg];
         let ab = [d.normal3() * 20.0 * mg * ka, d.normal3() * 20.0 * mg * ka];
         [gb, ab]
     });
-    let (gyro_sd, acc_sd) = (
-        0.007 * deg * rate_hz.sqrt(),
-        0.160 * mg * rate_hz.sqrt(),
-    );
+    let (gyro_sd, acc_sd) = (0.007 * deg * rate_hz.sqrt(), 0.160 * mg * rate_hz.sqrt());
     (0..n)
         .map(|k| {
             let t = k as f64 / rate_hz;
