@@ -75,6 +75,31 @@ fn both(recs: &[Record], window: usize, from: Option<usize>) -> [Score; 2] {
     ]
 }
 
+/// Range of `diag_rms_e_o` (RMS eq-3 residual, m/s^2) over the identified
+/// windows of `knee-selfalign`.
+fn rms_e_o_range(recs: &[Record], window: usize) -> (f64, f64) {
+    use limbfuse_estimators::knee_selfalign::KneeDiag;
+    let i = KneeDiag::NAMES
+        .iter()
+        .position(|n| *n == "rms_e_o")
+        .unwrap();
+    let mut est = KneeSelfAlign::new(KneeSelfAlignParams {
+        window,
+        ..KneeSelfAlignParams::default()
+    })
+    .unwrap();
+    let mut range = (f64::INFINITY, 0.0f64);
+    for (k, r) in recs.iter().enumerate() {
+        let e = est.step(&r.sample).unwrap();
+        if (k + 1) % window == 0 {
+            if let Some(v) = e.diag[i] {
+                range = (range.0.min(v), range.1.max(v));
+            }
+        }
+    }
+    range
+}
+
 fn print(label: &str, s: [Score; 2]) {
     println!(
         "| {label} | {:.3} ({:.3}) | {:.3} ({:.3}) | {} |",
@@ -204,6 +229,8 @@ fn free_3d_hinge_with_sensor_errors() {
             first,
         );
         print(&format!("free 3D hinge 100 Hz {label}, from 20 s"), late);
+        let (lo, hi) = rms_e_o_range(&recs, 500);
+        println!("  RMS e_o per window {lo:.3}-{hi:.3} m/s^2");
         if label == "noise only" {
             for s in late {
                 assert!(s.rmse < 1.0, "{label}: {s:?}");
@@ -256,11 +283,13 @@ fn knee_walk(seed: u64, rate: f64) -> Vec<Record> {
 #[test]
 fn other_rates_and_aligned_sensors_on_simulated_walks() {
     for seed in [3, 4] {
-        let base = both(&knee_walk(seed, 100.0), 500, Some(1000));
+        let sim100 = knee_walk(seed, 100.0);
         print(
             &format!("knee sim seed {seed} 100 Hz s_w 500, from 10 s"),
-            base,
+            both(&sim100, 500, Some(1000)),
         );
+        let (lo, hi) = rms_e_o_range(&sim100, 500);
+        println!("  RMS e_o per window {lo:.3}-{hi:.3} m/s^2");
         for (rate, windows) in [(40.0, [500, 200]), (250.0, [500, 1250])] {
             let recs = knee_walk(seed, rate);
             for w in windows {
