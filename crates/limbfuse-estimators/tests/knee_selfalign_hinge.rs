@@ -5,62 +5,13 @@
 //! 1 cm of the truth, and the knee angle must follow the hinge angle.
 #![allow(clippy::needless_range_loop)] // axis i of thigh (0) and shank (1) in parallel arrays
 
+mod knee_hinge;
+
+use knee_hinge::{rot, Hinge, HingeMotion};
 use limbfuse_core::{Estimator, ImuSample, Joint, Sample, Segment};
 use limbfuse_estimators::knee_selfalign::position::correct_along_axes;
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
-use nalgebra::{Matrix3, Rotation3, Vector3};
-
-fn rot(axis: Vector3<f64>, angle: f64) -> Matrix3<f64> {
-    Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle).into_inner()
-}
-
-/// A leg whose thigh swings in 3D (flexion, ab/adduction, axial rotation
-/// at incommensurate frequencies) with a hinge knee at flexion `kappa(t)`.
-struct Hinge {
-    mount: [Matrix3<f64>; 2],
-    /// Sensor positions relative to the knee centre, segment frames (m).
-    point: [Vector3<f64>; 2],
-}
-
-const G: f64 = 9.81;
-
-impl Hinge {
-    fn kappa(t: f64) -> f64 {
-        0.55 - 0.5 * (2.0 * std::f64::consts::PI * 0.9 * t).cos() + 0.1 * (5.1 * t).sin()
-    }
-
-    /// Segment-to-world rotations of thigh and shank.
-    fn frames(t: f64) -> [Matrix3<f64>; 2] {
-        let theta = 0.4 * (5.65 * t).sin() + 0.1 * (1.3 * t).cos();
-        let alpha = 0.15 * (2.1 * t + 0.3).sin();
-        let beta = 0.2 * (3.7 * t).sin();
-        let r_t = rot(Vector3::z(), theta) * rot(Vector3::x(), alpha) * rot(Vector3::y(), beta);
-        [r_t, r_t * rot(Vector3::z(), -Self::kappa(t))]
-    }
-
-    fn knee_position(t: f64) -> Vector3<f64> {
-        Vector3::new(
-            1.1 * t + 0.05 * (5.65 * t).sin(),
-            0.5 + 0.03 * (11.3 * t).cos(),
-            0.02 * (2.8 * t).sin(),
-        )
-    }
-
-    /// Gyro and specific force of sensor `i` in its own frame, by central
-    /// differences of the orientation and position.
-    fn reading(&self, i: usize, t: f64) -> (Vector3<f64>, Vector3<f64>) {
-        let h = 1e-5;
-        let r = |t: f64| Self::frames(t)[i] * self.mount[i];
-        let rd = (r(t + h) - r(t - h)) / (2.0 * h);
-        let wx = r(t).transpose() * rd; // body-frame [w]x
-        let w = Vector3::new(wx[(2, 1)], wx[(0, 2)], wx[(1, 0)]);
-        let p = |t: f64| Self::knee_position(t) + Self::frames(t)[i] * self.point[i];
-        let hp = 1e-3;
-        let a = (p(t + hp) - 2.0 * p(t) + p(t - hp)) / (hp * hp);
-        let f = a + Vector3::new(0.0, G, 0.0);
-        (w, r(t).transpose() * f)
-    }
-}
+use nalgebra::Vector3;
 
 #[test]
 fn noise_free_hinge_axes_within_1_deg_positions_within_1_cm() {
@@ -73,6 +24,8 @@ fn noise_free_hinge_axes_within_1_deg_positions_within_1_cm() {
             Vector3::new(0.02, 0.2, 0.08),
             Vector3::new(-0.01, -0.22, 0.05),
         ],
+        motion: HingeMotion::WalkLike,
+        still: None,
     };
     let params = KneeSelfAlignParams {
         window: 500,
@@ -96,7 +49,7 @@ fn noise_free_hinge_axes_within_1_deg_positions_within_1_cm() {
         }
         let e = est.step(&s).unwrap();
         if k >= 1200 {
-            errs.push(e.joint[Joint::Knee.index()].unwrap() - Hinge::kappa(t));
+            errs.push(e.joint[Joint::Knee.index()].unwrap() - hinge.kappa(t));
         }
     }
     let g = est.geometry().expect("identified");

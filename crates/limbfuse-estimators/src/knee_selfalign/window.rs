@@ -184,6 +184,27 @@ fn tangent_information(ring: &Ring, psi: &Vector4<f64>) -> f64 {
     eig.eigenvalues.min()
 }
 
+/// A sample "moves" when either gyro reads at least this rate (rad/s):
+/// 5 deg/s, ten times the 1-sigma turn-on bias of a consumer MEMS gyro
+/// (0.5 deg/s, docs/SIMULATOR.md) and about 70 times its white noise per
+/// sample at 100 Hz, yet far below the segment rates of any knee motion
+/// that identifies the geometry (thigh and shank peak at 100-400 deg/s in
+/// walking, Winter 2009; the knee rig's shank at 42 deg/s, 99th percentile).
+pub const MOVING_RATE: f64 = 5.0 * core::f64::consts::PI / 180.0;
+
+/// Complete samples of the window in which either segment turns at
+/// [`MOVING_RATE`] or faster.
+fn moving_samples(ring: &Ring) -> usize {
+    (0..ring.len())
+        .filter(|&i| {
+            let s = ring.get(i);
+            s.gyr_ok
+                && s.acc_ok
+                && (s.gyr[0].norm() >= MOVING_RATE || s.gyr[1].norm() >= MOVING_RATE)
+        })
+        .count()
+}
+
 fn mean_square_rate(ring: &Ring, seg: usize) -> f64 {
     let (mut s, mut n) = (0.0, 0usize);
     for i in 0..ring.len() {
@@ -329,6 +350,15 @@ pub fn identify(
     if information.is_nan() || information < p.min_information {
         return WindowOutcome::Unobservable { information };
     }
+    // Ours (issue 15 item 3): a window that is mostly still holds the
+    // previous geometry. Its few moving samples can pass the axis
+    // information test, but `Gamma` of the still ones is zero, so the
+    // positions (and with them the zero of the accelerometer angle) come
+    // from the moving rest alone, and from sensor biases: on a hinge that
+    // stopped 1 s into a window they moved the zero by 90 deg.
+    if (moving_samples(ring) as f64) < p.min_valid_fraction * p.window as f64 {
+        return WindowOutcome::Unobservable { information };
+    }
     let positions = PositionResiduals(ring);
     let o_start = position_start(ring, &positions, previous);
     let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
@@ -406,6 +436,16 @@ pub fn identify(
                 return identified(flexion_side(ring, other, p));
             }
         }
+    }
+    // While the pair is not committed, the flexion side of the previous
+    // windows may come from the gyro angle's skewness alone (an untrusted
+    // accelerometer angle); a window whose accelerometer angle is trusted
+    // re-reads it from the accelerometer level (issue 15 item 3: on free 3D
+    // hinge motion the first window was untrusted, its skewness picked the
+    // extension side, and the trusted second window committed the pair with
+    // the knee flexing to negative angles).
+    if !committed && keep.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
+        return identified(flexion_side(ring, keep, p));
     }
     identified(keep)
 }
