@@ -147,10 +147,8 @@ impl TrialFingerprint {
     /// hashes its bytes and counts the rows of its batches).
     pub fn of_file(path: &Path) -> Result<Self, FileError> {
         if crate::arrow_file::is_arrow_path(path) {
-            return Ok(TrialFingerprint {
-                hash: of_file(path)?,
-                data_rows: crate::arrow_file::row_count(path)?,
-            });
+            let (hash, data_rows) = crate::arrow_source::hash_and_rows(path)?;
+            return Ok(TrialFingerprint { hash, data_rows });
         }
         let mut file = std::fs::File::open(path).map_err(|e| FileError::io(path, e))?;
         Self::of_reader(&mut file).map_err(|e| FileError::io(path, e))

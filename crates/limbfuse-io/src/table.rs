@@ -14,7 +14,8 @@ use std::io::Read;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use crate::arrow_file::{self, ArrowSource};
+use crate::arrow_file;
+use crate::arrow_source::ArrowSource;
 use crate::content_hash::{ContentHash, HashHandle, HashingReader};
 use crate::csv_lines::{self, LineError, LineSource};
 use crate::error::FileError;
@@ -305,7 +306,7 @@ impl TableReader {
         if let Some((source, hash)) = &mut self.arrow {
             let Some(line) = source.advance(&self.path)? else {
                 if hash.is_none() {
-                    *hash = Some(crate::content_hash::of_file(&self.path)?);
+                    *hash = Some(source.content_hash());
                 }
                 return Ok(None);
             };
@@ -408,11 +409,11 @@ impl Row<'_> {
     /// [`Row::number`] gives. One loop for a whole row: the record reader's
     /// path (one call and one `Result` per cell before: ~5 % of reading).
     pub fn numbers_into(&self, cols: &[usize], out: &mut [Option<f64>]) -> Result<(), FileError> {
-        if self.arrow.is_some() {
-            for &c in cols {
-                out[c] = self.number(c)?;
-            }
-            return Ok(());
+        if let Some(source) = self.arrow {
+            // At a bad cell: the error of `number`.
+            return source
+                .numbers_into(cols, out)
+                .or_else(|c| self.number(c).map(|_| ()));
         }
         for &c in cols {
             let (a, b) = self.cells[c];
