@@ -78,6 +78,21 @@ impl HashHandle {
         let s = self.0.lock().ok()?;
         s.at_end.then(|| ContentHash(s.hasher.digest()))
     }
+
+    /// Hashes the next bytes of the source (read in place, not through a
+    /// [`HashingReader`]).
+    pub(crate) fn update(&self, bytes: &[u8]) {
+        if let Ok(mut s) = self.0.lock() {
+            s.hasher.update(bytes);
+        }
+    }
+
+    /// Marks the source as read to its end: [`HashHandle::finished`] gives the hash.
+    pub(crate) fn finish_input(&self) {
+        if let Ok(mut s) = self.0.lock() {
+            s.at_end = true;
+        }
+    }
 }
 
 /// A reader that hashes the bytes passing through it.

@@ -19,6 +19,7 @@ use crate::arrow_source::ArrowSource;
 use crate::content_hash::{ContentHash, HashHandle, HashingReader};
 use crate::csv_lines::{self, LineError, LineSource};
 use crate::error::FileError;
+use crate::mapped_file::MappedFile;
 use crate::meta::TrialMeta;
 
 /// A CSV table being read row by row.
@@ -88,7 +89,14 @@ impl TableReader {
             return Self::open_arrow(path);
         }
         let file = File::open(path).map_err(|e| FileError::io(path, e))?;
-        Self::from_reader(path, Box::new(file))
+        match MappedFile::map(&file) {
+            // A regular file: its lines are read in place.
+            Some(map) => {
+                let hash = HashHandle::default();
+                Self::from_lines(path, LineSource::mapped(map, hash.clone()), hash)
+            }
+            None => Self::from_reader(path, Box::new(file)),
+        }
     }
 
     fn open_arrow(path: &Path) -> Result<Self, FileError> {
@@ -113,11 +121,16 @@ impl TableReader {
     /// Reads a table from any byte source; `path` is used in error messages.
     pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
         let (source, hash) = HashingReader::new(source);
+        Self::from_lines(path, LineSource::new(Box::new(source)), hash)
+    }
+
+    /// Reads the comments and header from `lines`, whose bytes `hash` hashes.
+    fn from_lines(path: &Path, lines: LineSource, hash: HashHandle) -> Result<Self, FileError> {
         let mut table = TableReader {
             path: path.to_path_buf(),
             meta: TrialMeta::new(),
             header: Vec::new(),
-            lines: LineSource::new(Box::new(source)),
+            lines,
             header_line: 0,
             lines_read: 0,
             cells: Vec::new(),
