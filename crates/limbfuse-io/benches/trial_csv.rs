@@ -104,8 +104,13 @@ fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     // CSV's bytes, so that the two compare as time per row).
     let arrow = dir.path().join("bench.arrow");
     let mut file = std::fs::File::create(&arrow).expect("a temporary file");
-    let mut w = TrialWriter::for_path(&arrow, &mut file, &TrialMeta::trial_v1(), TrialLayout::walking())
-        .expect("a temporary file");
+    let mut w = TrialWriter::for_path(
+        &arrow,
+        &mut file,
+        &TrialMeta::trial_v1(),
+        TrialLayout::walking(),
+    )
+    .expect("a temporary file");
     for r in &records {
         w.write(r).expect("a temporary file");
     }

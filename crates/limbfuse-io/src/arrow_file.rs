@@ -77,7 +77,10 @@ pub fn in_guarded_read() -> bool {
 /// (found by `tests/issue_18_arrow_files.rs`, a flipped byte in a batch
 /// body: `arrow-buffer` asserts a slice bound), and bad input must be an
 /// error naming the file.
-pub(crate) fn guarded<T>(path: &Path, step: impl FnOnce() -> Result<T, ArrowError>) -> Result<T, FileError> {
+pub(crate) fn guarded<T>(
+    path: &Path,
+    step: impl FnOnce() -> Result<T, ArrowError>,
+) -> Result<T, FileError> {
     GUARDED_READ.with(|g| g.set(true));
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(step));
     GUARDED_READ.with(|g| g.set(false));

@@ -92,7 +92,9 @@ fn footer(bytes: &[u8]) -> Result<Footer, ArrowError> {
     let tail = bytes.len().checked_sub(10).ok_or_else(short)?;
     let mut end = [0u8; 10];
     end.copy_from_slice(&bytes[tail..]);
-    let start = tail.checked_sub(read_footer_length(end)?).ok_or_else(short)?;
+    let start = tail
+        .checked_sub(read_footer_length(end)?)
+        .ok_or_else(short)?;
     let footer = arrow_ipc::root_as_footer(&bytes[start..tail])
         .map_err(|e| ArrowError::ParseError(format!("Unable to get root as footer: {e:?}")))?;
     Ok(Footer {
@@ -135,7 +137,9 @@ impl ArrowSource {
         let bytes = file_bytes(path)?;
         // The footer, schema and metadata as `FileReader` reads them (the
         // same checks and messages); the batches are then decoded in place.
-        let reader = guarded(path, || FileReader::try_new(Cursor::new(bytes.clone()), None))?;
+        let reader = guarded(path, || {
+            FileReader::try_new(Cursor::new(bytes.clone()), None)
+        })?;
         let schema = reader.schema();
         let mut header = Vec::with_capacity(schema.fields().len());
         for f in schema.fields() {
@@ -249,7 +253,11 @@ impl ArrowSource {
     /// `out[col]`; at the first cell that is neither a finite number nor
     /// null, `Err(col)` (the caller builds the error).
     #[inline]
-    pub(crate) fn numbers_into(&self, cols: &[usize], out: &mut [Option<f64>]) -> Result<(), usize> {
+    pub(crate) fn numbers_into(
+        &self,
+        cols: &[usize],
+        out: &mut [Option<f64>],
+    ) -> Result<(), usize> {
         let r = self.row - 1;
         for &c in cols {
             let v = match &self.columns[c] {

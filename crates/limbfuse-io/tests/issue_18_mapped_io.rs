@@ -18,8 +18,16 @@ fn trial_text(rows: usize) -> String {
     let mut s = String::from("# format: limbfuse-trial/1\r\n# g: 9.81\n\nt,thigh_acc_x,thigh_acc_y,thigh_acc_z,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z,knee_enc\n");
     for k in 0..rows {
         let x = (k as f64 * 0.37).sin();
-        let enc = if k % 17 == 3 { String::new() } else { format!("{}", x * 0.123456789) };
-        let quoted = if k == 5 { "\"0.5\"".to_string() } else { format!("{}", x / 3.0) };
+        let enc = if k % 17 == 3 {
+            String::new()
+        } else {
+            format!("{}", x * 0.123456789)
+        };
+        let quoted = if k == 5 {
+            "\"0.5\"".to_string()
+        } else {
+            format!("{}", x / 3.0)
+        };
         s += &format!(
             "{},{x},{},{quoted},{},{},{},{enc}{}",
             k as f64 * 0.01,
@@ -75,7 +83,10 @@ fn issue_18_a_mapped_csv_trial_fails_where_the_stream_fails() {
     };
     for (what, bad) in [
         ("a bad cell", with_line(2990, &|l| l.replacen(',', "x,", 2))),
-        ("a short row", with_line(2550, &|l| l[..l.find(',').unwrap()].to_string())),
+        (
+            "a short row",
+            with_line(2550, &|l| l[..l.find(',').unwrap()].to_string()),
+        ),
         ("an unclosed quote", format!("{text}\n30.5,\"1,2,3,4,5,6,7")),
         ("no rows", "t,knee_enc\n\n".to_string()),
     ] {
@@ -151,7 +162,10 @@ fn issue_18_csv_estimate_rows_in_blocks_are_the_rows_written_one_by_one() {
         EstimateWriter::new(Cursor::new(Vec::new())).in_blocks(),
     );
     assert!(one_by_one.len() > 3 * (64 << 10), "several blocks");
-    assert_eq!(String::from_utf8(blocks).unwrap(), String::from_utf8(one_by_one).unwrap());
+    assert_eq!(
+        String::from_utf8(blocks).unwrap(),
+        String::from_utf8(one_by_one).unwrap()
+    );
 }
 
 #[test]
@@ -169,11 +183,17 @@ fn issue_18_every_arrow_batch_is_written_as_the_first() {
     for name in ["e.csv", "e.arrow"] {
         let out = dir.path().join(name);
         let mut file = std::fs::File::create(&out).unwrap();
-        let bytes = estimate_bytes(&path, EstimateWriter::for_path(&out, Cursor::new(Vec::new())));
+        let bytes = estimate_bytes(
+            &path,
+            EstimateWriter::for_path(&out, Cursor::new(Vec::new())),
+        );
         file.write_all(&bytes).unwrap();
         files.push(read(&out));
     }
-    assert_eq!(files[0].len(), 3 * limbfuse_io::arrow_file::BATCH_ROWS + 500);
+    assert_eq!(
+        files[0].len(),
+        3 * limbfuse_io::arrow_file::BATCH_ROWS + 500
+    );
     assert_eq!(files[1], files[0]);
     assert!(files[0][9050].contains("None"), "{}", files[0][9050]);
 }
