@@ -2,12 +2,14 @@
 //! comment lines, one header row, then rows of numeric (or label) cells found
 //! by column name. Shared by the trial and estimate readers.
 //!
-//! Memory use is one row, whatever the file length. Every error names the
-//! file, the 1-based line and, for cells, the 1-based column and its name.
+//! Heap memory is one row, whatever the file length: a regular file is
+//! mapped and its lines read in place (`crate::mapped_file`), anything else
+//! streamed through one buffer. Every error names the file, the 1-based
+//! line and, for cells, the 1-based column and its name.
 //!
 //! A path ending in `.arrow` or `.feather` is read as an Arrow IPC file
-//! holding the same table (`crate::arrow_file`; one record batch in
-//! memory; the "line" of its rows is the 1-based row number).
+//! holding the same table (`crate::arrow_source`: batches decoded in place
+//! from the mapped file; the "line" of its rows is the 1-based row number).
 
 use std::fs::File;
 use std::io::Read;
