@@ -119,11 +119,26 @@ fn estimates(n: usize) -> Vec<Estimate> {
         .collect()
 }
 
+/// How the estimates are written.
+#[derive(Clone, Copy)]
+enum Form {
+    /// CSV, one write per row (a stream).
+    Rows,
+    /// CSV, rows written in 64 KiB blocks (a file: `EstimateWriter::for_path`).
+    Blocks,
+    /// An Arrow IPC file.
+    Arrow,
+}
+
 /// Writes every estimate into `out` (cleared; reused between iterations so
 /// that the kernel's page faults of a fresh 24 MB buffer are not timed).
-fn write_all(est: &[Estimate], out: &mut Vec<u8>) -> usize {
+fn write_all(est: &[Estimate], out: &mut Vec<u8>, form: Form) -> usize {
     out.clear();
-    let mut w = EstimateWriter::new(out);
+    let mut w = match form {
+        Form::Rows => EstimateWriter::new(out),
+        Form::Blocks => EstimateWriter::new(out).in_blocks(),
+        Form::Arrow => EstimateWriter::arrow(out),
+    };
     w.start(&MjlsShape).expect("in-memory write");
     let r = Record::default();
     for e in est {
@@ -136,12 +151,25 @@ fn write_all(est: &[Estimate], out: &mut Vec<u8>) -> usize {
 fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     let est = estimates(60_000);
     let mut out = Vec::new();
-    let bytes = write_all(&est, &mut out);
+    let bytes = write_all(&est, &mut out, Form::Rows);
     let mut g = c.benchmark_group("estimate_csv");
     g.sample_size(10);
     g.throughput(Throughput::Bytes(bytes as u64));
     g.bench_function("write_60k_rows", |b| {
-        b.iter(|| black_box(write_all(&est, &mut out)))
+        b.iter(|| black_box(write_all(&est, &mut out, Form::Rows)))
+    });
+    // The file path of `estimate` (issue 18 item 6, `iopath`).
+    g.bench_function("write_60k_rows_in_blocks", |b| {
+        b.iter(|| black_box(write_all(&est, &mut out, Form::Blocks)))
+    });
+    g.finish();
+    // The same estimates as an Arrow file (throughput in the CSV's bytes,
+    // so that the two compare as time per row).
+    let mut g = c.benchmark_group("estimate_arrow");
+    g.sample_size(10);
+    g.throughput(Throughput::Bytes(bytes as u64));
+    g.bench_function("write_60k_rows", |b| {
+        b.iter(|| black_box(write_all(&est, &mut out, Form::Arrow)))
     });
     g.finish();
 }

@@ -90,7 +90,50 @@ fn bench(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     g.bench_function("write_60k_rows", |b| {
         b.iter(|| black_box(trial_bytes(&records, &mut out).len()))
     });
+    // The runner's path from a file (issue 18 item 6, `iopath`): the file
+    // mapped and read in place; it is in the page cache, as a trial just
+    // written or read before is.
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let csv = dir.path().join("bench.csv");
+    std::fs::write(&csv, bytes).expect("a temporary file");
+    g.bench_function("read_into_60k_rows_mapped_file", |b| {
+        b.iter(|| black_box(read_into_all(&csv)))
+    });
     g.finish();
+    // The same trial as an Arrow file, read the same way (throughput in the
+    // CSV's bytes, so that the two compare as time per row).
+    let arrow = dir.path().join("bench.arrow");
+    let mut file = std::fs::File::create(&arrow).expect("a temporary file");
+    let mut w = TrialWriter::for_path(
+        &arrow,
+        &mut file,
+        &TrialMeta::trial_v1(),
+        TrialLayout::walking(),
+    )
+    .expect("a temporary file");
+    for r in &records {
+        w.write(r).expect("a temporary file");
+    }
+    w.finish().expect("a temporary file");
+    drop(file);
+    let mut g = c.benchmark_group("trial_arrow");
+    g.sample_size(10);
+    g.throughput(Throughput::Bytes(bytes.len() as u64));
+    g.bench_function("read_into_60k_rows_mapped_file", |b| {
+        b.iter(|| black_box(read_into_all(&arrow)))
+    });
+    g.finish();
+}
+
+/// Every row of the trial file at `path` parsed into one record.
+fn read_into_all(path: &Path) -> f64 {
+    let mut r = TrialReader::open(path).expect("valid");
+    let mut rec = Record::default();
+    let mut acc = 0.0;
+    while r.read_into(&mut rec).expect("valid") {
+        acc += rec.sample.t;
+    }
+    acc
 }
 
 criterion_group! {

@@ -41,6 +41,31 @@ impl CsvLine {
         self.line.push(b'\n');
         &self.line[1..]
     }
+
+    /// Bytes held: several rows can be built one after the other
+    /// ([`CsvLine::end_row`]) and taken at once ([`CsvLine::take_rows`]).
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.line.len()
+    }
+
+    /// Ends the row that started at byte `at` (its leading comma): a row
+    /// after another one starts with the line break that ends the other.
+    #[inline]
+    pub(crate) fn end_row(&mut self, at: usize) {
+        if at > 0 {
+            self.line[at] = b'\n';
+        }
+    }
+
+    /// The rows built since the last call (each ended with `\n`; empty if
+    /// none); [`CsvLine::clear`] before the next row.
+    pub(crate) fn take_rows(&mut self) -> &[u8] {
+        if self.line.is_empty() {
+            return &[];
+        }
+        self.finish()
+    }
 }
 
 impl CellSink for CsvLine {

@@ -78,6 +78,21 @@ impl HashHandle {
         let s = self.0.lock().ok()?;
         s.at_end.then(|| ContentHash(s.hasher.digest()))
     }
+
+    /// Hashes the next bytes of the source (read in place, not through a
+    /// [`HashingReader`]).
+    pub(crate) fn update(&self, bytes: &[u8]) {
+        if let Ok(mut s) = self.0.lock() {
+            s.hasher.update(bytes);
+        }
+    }
+
+    /// Marks the source as read to its end: [`HashHandle::finished`] gives the hash.
+    pub(crate) fn finish_input(&self) {
+        if let Ok(mut s) = self.0.lock() {
+            s.at_end = true;
+        }
+    }
 }
 
 /// A reader that hashes the bytes passing through it.
@@ -147,10 +162,8 @@ impl TrialFingerprint {
     /// hashes its bytes and counts the rows of its batches).
     pub fn of_file(path: &Path) -> Result<Self, FileError> {
         if crate::arrow_file::is_arrow_path(path) {
-            return Ok(TrialFingerprint {
-                hash: of_file(path)?,
-                data_rows: crate::arrow_file::row_count(path)?,
-            });
+            let (hash, data_rows) = crate::arrow_source::hash_and_rows(path)?;
+            return Ok(TrialFingerprint { hash, data_rows });
         }
         let mut file = std::fs::File::open(path).map_err(|e| FileError::io(path, e))?;
         Self::of_reader(&mut file).map_err(|e| FileError::io(path, e))

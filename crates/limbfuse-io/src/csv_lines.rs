@@ -1,6 +1,7 @@
 //! Byte-level CSV splitting for [`crate::table::TableReader`]: lines are
-//! found with `memchr` in one reusable buffer and split into cell bounds in
-//! place, so reading a row copies and allocates nothing.
+//! found with `memchr` in one reusable buffer (or in the mapped file,
+//! [`LineSource::mapped`]) and split into cell bounds in place, so reading
+//! a row copies and allocates nothing.
 //!
 //! Quoting (RFC 4180 as the `csv` crate reads it) is handled on a slower
 //! path, taken only by lines that hold a `"`: a cell that starts with `"`
@@ -14,14 +15,25 @@ use std::ops::Range;
 
 use memchr::memchr;
 
+use crate::content_hash::HashHandle;
+use crate::mapped_file::MappedFile;
+
 /// Longest line accepted: a bound on the memory one row may take (a file
 /// without line breaks is not read whole into memory).
 pub(crate) const MAX_LINE_BYTES: usize = 64 << 20;
 
-/// Reads lines from a byte source into one growing buffer.
+/// Bytes of a mapped file hashed at a time, as the lines pass (while
+/// they are still in the cache).
+const HASH_STEP: usize = 256 << 10;
+
+/// Reads lines from a byte source into one growing buffer, or from a
+/// mapped file in place.
 pub(crate) struct LineSource {
     source: Box<dyn Read + Send>,
     buf: Vec<u8>,
+    /// The mapped file (then `buf` is unused and `end` is its length), its
+    /// hash, and how far it has been hashed.
+    map: Option<(MappedFile, HashHandle, usize)>,
     start: usize,
     end: usize,
     at_end: bool,
@@ -41,9 +53,23 @@ impl LineSource {
         LineSource {
             source,
             buf: vec![0; 256 << 10],
+            map: None,
             start: 0,
             end: 0,
             at_end: false,
+        }
+    }
+
+    /// Reads the lines of a mapped file in place; `hash` receives its
+    /// bytes as the lines pass, and is finished at the end.
+    pub(crate) fn mapped(map: MappedFile, hash: HashHandle) -> Self {
+        LineSource {
+            source: Box::new(io::empty()),
+            buf: Vec::new(),
+            end: map.bytes().len(),
+            map: Some((map, hash, 0)),
+            start: 0,
+            at_end: true,
         }
     }
 
@@ -52,16 +78,27 @@ impl LineSource {
         LineSource {
             source: Box::new(io::empty()),
             buf: Vec::new(),
+            map: None,
             start: 0,
             end: 0,
             at_end: true,
         }
     }
 
+    /// The bytes read: the buffer, or the whole mapped file.
+    #[inline]
+    fn data(&self) -> &[u8] {
+        match &self.map {
+            Some((map, _, _)) => map.bytes(),
+            None => &self.buf,
+        }
+    }
+
     /// The bytes of a line returned by [`LineSource::next_line`], valid
     /// until the next call.
+    #[inline]
     pub(crate) fn bytes(&self, line: Range<usize>) -> &[u8] {
-        &self.buf[line]
+        &self.data()[line]
     }
 
     /// The first byte of the next line, without consuming it (`None` at the end).
@@ -69,13 +106,43 @@ impl LineSource {
         while self.start == self.end && !self.at_end {
             self.fill()?;
         }
-        Ok((self.start < self.end).then(|| self.buf[self.start]))
+        Ok((self.start < self.end).then(|| self.data()[self.start]))
+    }
+
+    /// The next line of a mapped file (as [`LineSource::next_line`]),
+    /// hashing the bytes passed.
+    fn next_mapped_line(&mut self) -> Result<Option<Range<usize>>, LineError> {
+        let Some((map, hash, hashed)) = &mut self.map else {
+            return Ok(None);
+        };
+        let bytes = map.bytes();
+        if *hashed + HASH_STEP <= self.start || self.start == self.end {
+            hash.update(&bytes[*hashed..self.start]);
+            *hashed = self.start;
+            if self.start == self.end {
+                hash.finish_input();
+                return Ok(None);
+            }
+        }
+        // A line is at most MAX_LINE_BYTES long, as when streamed.
+        let scan_end = self.end.min(self.start + MAX_LINE_BYTES);
+        let line_end = match memchr(b'\n', &bytes[self.start..scan_end]) {
+            Some(i) => self.start + i,
+            None if scan_end == self.end && self.end - self.start < MAX_LINE_BYTES => self.end,
+            None => return Err(LineError::TooLong),
+        };
+        let line = self.start..line_end;
+        self.start = (line_end + 1).min(self.end);
+        Ok(Some(line))
     }
 
     /// The next line without its `\n` (as a range of [`LineSource::bytes`]);
     /// `None` at the end. Returns as soon as the line's `\n` has arrived (a
     /// pipe is not waited on to fill the buffer).
     pub(crate) fn next_line(&mut self) -> Result<Option<Range<usize>>, LineError> {
+        if self.map.is_some() {
+            return self.next_mapped_line();
+        }
         let mut scan_from = self.start;
         loop {
             if let Some(i) = memchr(b'\n', &self.buf[scan_from..self.end]) {

@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod arrow_file;
+mod arrow_source;
 pub mod atomic_file;
 pub mod body_meta;
 pub mod calibration;
@@ -21,6 +22,7 @@ pub mod estimate_file;
 pub mod gait_library;
 pub mod import;
 pub mod layout;
+mod mapped_file;
 pub mod meta;
 pub mod table;
 pub mod trial_reader;

@@ -2,22 +2,26 @@
 //! comment lines, one header row, then rows of numeric (or label) cells found
 //! by column name. Shared by the trial and estimate readers.
 //!
-//! Memory use is one row, whatever the file length. Every error names the
-//! file, the 1-based line and, for cells, the 1-based column and its name.
+//! Heap memory is one row, whatever the file length: a regular file is
+//! mapped and its lines read in place (`crate::mapped_file`), anything else
+//! streamed through one buffer. Every error names the file, the 1-based
+//! line and, for cells, the 1-based column and its name.
 //!
 //! A path ending in `.arrow` or `.feather` is read as an Arrow IPC file
-//! holding the same table (`crate::arrow_file`; one record batch in
-//! memory; the "line" of its rows is the 1-based row number).
+//! holding the same table (`crate::arrow_source`: batches decoded in place
+//! from the mapped file; the "line" of its rows is the 1-based row number).
 
 use std::fs::File;
 use std::io::Read;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use crate::arrow_file::{self, ArrowSource};
+use crate::arrow_file;
+use crate::arrow_source::ArrowSource;
 use crate::content_hash::{ContentHash, HashHandle, HashingReader};
 use crate::csv_lines::{self, LineError, LineSource};
 use crate::error::FileError;
+use crate::mapped_file::MappedFile;
 use crate::meta::TrialMeta;
 
 /// A CSV table being read row by row.
@@ -87,7 +91,14 @@ impl TableReader {
             return Self::open_arrow(path);
         }
         let file = File::open(path).map_err(|e| FileError::io(path, e))?;
-        Self::from_reader(path, Box::new(file))
+        match MappedFile::map(&file) {
+            // A regular file: its lines are read in place.
+            Some(map) => {
+                let hash = HashHandle::default();
+                Self::from_lines(path, LineSource::mapped(map, hash.clone()), hash)
+            }
+            None => Self::from_reader(path, Box::new(file)),
+        }
     }
 
     fn open_arrow(path: &Path) -> Result<Self, FileError> {
@@ -112,11 +123,16 @@ impl TableReader {
     /// Reads a table from any byte source; `path` is used in error messages.
     pub fn from_reader(path: &Path, source: Box<dyn Read + Send>) -> Result<Self, FileError> {
         let (source, hash) = HashingReader::new(source);
+        Self::from_lines(path, LineSource::new(Box::new(source)), hash)
+    }
+
+    /// Reads the comments and header from `lines`, whose bytes `hash` hashes.
+    fn from_lines(path: &Path, lines: LineSource, hash: HashHandle) -> Result<Self, FileError> {
         let mut table = TableReader {
             path: path.to_path_buf(),
             meta: TrialMeta::new(),
             header: Vec::new(),
-            lines: LineSource::new(Box::new(source)),
+            lines,
             header_line: 0,
             lines_read: 0,
             cells: Vec::new(),
@@ -305,7 +321,7 @@ impl TableReader {
         if let Some((source, hash)) = &mut self.arrow {
             let Some(line) = source.advance(&self.path)? else {
                 if hash.is_none() {
-                    *hash = Some(crate::content_hash::of_file(&self.path)?);
+                    *hash = Some(source.content_hash());
                 }
                 return Ok(None);
             };
@@ -408,11 +424,11 @@ impl Row<'_> {
     /// [`Row::number`] gives. One loop for a whole row: the record reader's
     /// path (one call and one `Result` per cell before: ~5 % of reading).
     pub fn numbers_into(&self, cols: &[usize], out: &mut [Option<f64>]) -> Result<(), FileError> {
-        if self.arrow.is_some() {
-            for &c in cols {
-                out[c] = self.number(c)?;
-            }
-            return Ok(());
+        if let Some(source) = self.arrow {
+            // At a bad cell: the error of `number`.
+            return source
+                .numbers_into(cols, out)
+                .or_else(|c| self.number(c).map(|_| ()));
         }
         for &c in cols {
             let (a, b) = self.cells[c];
