@@ -139,7 +139,7 @@ pub fn update_rows<const M: usize>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::segment_kf::gain_shares::{gain_shares, RowKind};
     use crate::segment_kf::model::{GLOBAL_ROWS, LOCAL_ROWS};
@@ -147,8 +147,9 @@ mod tests {
     use limbfuse_core::kalman::{self, CovarianceUpdate};
     use proptest::prelude::*;
 
-    fn spd(seed: &[f64; 36]) -> Mat8 {
-        // B B^T + 0.1 I from a lower-triangular B.
+    /// `B B^T + 0.1 I`, symmetric positive definite, from a lower-triangular
+    /// `B` filled from the seed.
+    pub(crate) fn spd(seed: &[f64; 36]) -> Mat8 {
         let mut B = Mat8::zeros();
         let mut k = 0;
         for i in 0..8 {
@@ -158,6 +159,52 @@ mod tests {
             }
         }
         B * B.transpose() + Mat8::identity() * 0.1
+    }
+
+    /// A random update of the global rows: `P` (from `seed`, `extra`), `x`,
+    /// the active rows (bits of `mask`), innovations `e`, `H`, `R = diag(r)`
+    /// and `z = e + H x`.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn global_case(
+        seed: &[f64; 32],
+        extra: &[f64; 4],
+        r: &[f64; 7],
+        e: &[f64; 7],
+        x: &[f64; 8],
+        mask: u32,
+    ) -> (
+        Mat8,
+        SVector<f64, 8>,
+        [bool; 7],
+        SVector<f64, 7>,
+        SMatrix<f64, 7, 8>,
+        SMatrix<f64, 7, 7>,
+        SVector<f64, 7>,
+    ) {
+        let mut s36 = [0.0; 36];
+        s36[..32].copy_from_slice(seed);
+        s36[32..].copy_from_slice(extra);
+        let x = SVector::<f64, 8>::from_column_slice(x);
+        let innov = SVector::<f64, 7>::from_column_slice(e);
+        let H = dense_output_matrix(&GLOBAL_ROWS);
+        let R = SMatrix::<f64, 7, 7>::from_diagonal(&SVector::from_column_slice(r));
+        let active = core::array::from_fn(|k| mask & (1 << k) != 0);
+        (spd(&s36), x, active, innov, H, R, innov + H * x)
+    }
+
+    /// The inputs of [`global_case`] (and the row variances `r`): a seed and
+    /// extra seed of `P`, `r`, innovations, state, row mask.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn global_inputs(
+    ) -> impl Strategy<Value = ([f64; 32], [f64; 4], [f64; 7], [f64; 7], [f64; 8], u32)> {
+        (
+            prop::array::uniform32(-1.0f64..1.0),
+            prop::array::uniform4(-1.0f64..1.0),
+            prop::array::uniform7(0.01f64..2.0),
+            prop::array::uniform7(-0.5f64..0.5),
+            prop::array::uniform8(-0.3f64..0.3),
+            0u32..128,
+        )
     }
 
     /// Whether the symmetric `P` is positive semi-definite (eigenvalues of
@@ -174,23 +221,10 @@ mod tests {
         /// 1e-12). `P` stays exactly symmetric and positive semi-definite.
         #[test]
         fn sequential_update_equals_dense_joseph(
-            seed in prop::array::uniform32(-1.0f64..1.0),
-            extra in prop::array::uniform4(-1.0f64..1.0),
-            r in prop::array::uniform7(0.01f64..2.0),
-            e in prop::array::uniform7(-0.5f64..0.5),
-            x in prop::array::uniform8(-0.3f64..0.3),
-            mask in 0u32..128,
+            (seed, extra, r, e, x, mask) in global_inputs(),
         ) {
-            let mut s36 = [0.0; 36];
-            s36[..32].copy_from_slice(&seed);
-            s36[32..].copy_from_slice(&extra);
-            let P = spd(&s36);
-            let x = SVector::<f64, 8>::from_column_slice(&x);
-            let active: [bool; 7] = core::array::from_fn(|k| mask & (1 << k) != 0);
-            let innov = SVector::<f64, 7>::from_column_slice(&e);
+            let (P, x, active, innov, _, R, z) = global_case(&seed, &extra, &r, &e, &x, mask);
             let H = dense_output_matrix(&GLOBAL_ROWS);
-            let R = SMatrix::<f64, 7, 7>::from_diagonal(&SVector::from_column_slice(&r));
-            let z = innov + H * x;
             let dense = kalman::update_rows(&x, &P, &z, &H, &R, &active, CovarianceUpdate::Joseph).unwrap();
             let (mut xf, mut Pf) = (x, P);
             let seq = update_rows(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active).unwrap();
