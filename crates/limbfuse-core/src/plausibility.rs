@@ -219,6 +219,82 @@ impl VectorTrack {
     }
 }
 
+/// What an IMU's gyroscope showed while its accelerometer repeated one
+/// vector (rules (i)-(iii) of "Stuck sensor" above; [`crate::SampleGate`]
+/// keeps one per IMU).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct AccRepeatTurn {
+    /// Predicted change of the specific force (m/s^2): the integral of
+    /// `|w x a|` over the samples whose rate across `a` exceeds the floor.
+    change: f64,
+    /// A gyroscope reading was accepted during the repeat.
+    gyro_seen: bool,
+    /// The gyroscope reading and `dt` of the repeat's first sample, not yet
+    /// in `change`: most accelerometer readings never repeat, so their
+    /// share is computed only once the value repeats (the same sum, in the
+    /// same order).
+    first: Option<(Vector3<f64>, f64)>,
+}
+
+impl AccRepeatTurn {
+    /// Adds one sample: accelerometer reading `a`, the accepted gyroscope
+    /// reading `w` (if any), `dt` since the previous sample; a repeat
+    /// count of 1 starts a new repeat.
+    pub(crate) fn add(
+        &mut self,
+        repeats: u32,
+        a: &Vector3<f64>,
+        w: Option<&Vector3<f64>>,
+        dt: f64,
+        lim: &PlausibilityLimits,
+    ) {
+        if repeats <= 1 {
+            *self = AccRepeatTurn {
+                change: 0.0,
+                gyro_seen: w.is_some(),
+                first: w.map(|w| (*w, dt)),
+            };
+            return;
+        }
+        if let Some((w0, dt0)) = self.first.take() {
+            self.change += turn_change(a, &w0, dt0, lim);
+        }
+        let Some(w) = w else { return };
+        self.gyro_seen = true;
+        self.change += turn_change(a, w, dt, lim);
+    }
+
+    /// Whether an accelerometer repeat (of `a`) long enough to be stuck is
+    /// one: the IMU turned, its gyroscope is frozen too, or no gyroscope says.
+    pub(crate) fn confirms_stuck(
+        &self,
+        a: &Vector3<f64>,
+        gyro_stuck: bool,
+        lim: &PlausibilityLimits,
+    ) -> bool {
+        let change = match self.first {
+            Some((w0, dt0)) => self.change + turn_change(a, &w0, dt0, lim),
+            None => self.change,
+        };
+        gyro_stuck || !self.gyro_seen || change > lim.stuck_acc_turn_m_s2
+    }
+}
+
+/// One sample's predicted change of the specific force `a` under the rate
+/// `w` over `dt` (m/s^2): `|w x a| dt` when the rate across `a` exceeds the
+/// floor, else 0.
+fn turn_change(a: &Vector3<f64>, w: &Vector3<f64>, dt: f64, lim: &PlausibilityLimits) -> f64 {
+    let norm = a.norm();
+    if norm > 0.0 && dt.is_finite() && dt > 0.0 {
+        // rate across the specific force's direction
+        let across = w.cross(a).norm() / norm;
+        if across > lim.stuck_acc_rate_floor_rad_s {
+            return across * norm * dt;
+        }
+    }
+    0.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

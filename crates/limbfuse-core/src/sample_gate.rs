@@ -40,7 +40,7 @@
 //! not remembered as the last accepted vector. A rejected incomplete vector
 //! counts as one rejected reading of its kind.
 
-use crate::plausibility::{Implausible, PlausibilityLimits, VectorTrack};
+use crate::plausibility::{AccRepeatTurn, Implausible, PlausibilityLimits, VectorTrack};
 use crate::sample::Sample;
 use crate::screening::Screening;
 
@@ -130,51 +130,6 @@ pub struct SampleGate {
     acc_turns: [AccRepeatTurn; 8],
     /// Time of the last sample screened.
     last_t: Option<f64>,
-}
-
-/// What an IMU's gyroscope showed while its accelerometer repeated one
-/// vector.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct AccRepeatTurn {
-    /// Predicted change of the specific force (m/s^2): the integral of
-    /// `|w x a|` over the samples whose rate across `a` exceeds the floor.
-    change: f64,
-    /// A gyroscope reading was accepted during the repeat.
-    gyro_seen: bool,
-}
-
-impl AccRepeatTurn {
-    /// Adds one sample: accelerometer reading `a`, the accepted gyroscope
-    /// reading `w` (if any), `dt` since the previous sample; a repeat
-    /// count of 1 starts a new repeat.
-    fn add(
-        &mut self,
-        repeats: u32,
-        a: &nalgebra::Vector3<f64>,
-        w: Option<&nalgebra::Vector3<f64>>,
-        dt: f64,
-        lim: &PlausibilityLimits,
-    ) {
-        if repeats <= 1 {
-            *self = AccRepeatTurn::default();
-        }
-        let Some(w) = w else { return };
-        self.gyro_seen = true;
-        let norm = a.norm();
-        if norm > 0.0 && dt.is_finite() && dt > 0.0 {
-            // rate across the specific force's direction
-            let across = w.cross(a).norm() / norm;
-            if across > lim.stuck_acc_rate_floor_rad_s {
-                self.change += across * norm * dt;
-            }
-        }
-    }
-
-    /// Whether an accelerometer repeat long enough to be stuck is one: the
-    /// IMU turned, its gyroscope is frozen too, or no gyroscope says.
-    fn confirms_stuck(&self, gyro_stuck: bool, lim: &PlausibilityLimits) -> bool {
-        gyro_stuck || !self.gyro_seen || self.change > lim.stuck_acc_turn_m_s2
-    }
 }
 
 impl SampleGate {
@@ -301,7 +256,7 @@ impl SampleGate {
                     let why = track[1].check(&a, t, None, &lim);
                     turn.add(track[1].repeats(), &a, gyr.as_ref(), dt, &lim);
                     let why = why.filter(|w| {
-                        *w != Implausible::Stuck || turn.confirms_stuck(gyro_stuck, &lim)
+                        *w != Implausible::Stuck || turn.confirms_stuck(&a, gyro_stuck, &lim)
                     });
                     if let Some(why) = why {
                         out.acc |= bit;

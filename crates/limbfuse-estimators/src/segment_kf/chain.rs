@@ -21,6 +21,7 @@
 //! `pi^2`); restarts are counted (`resets`).
 #![allow(non_snake_case)]
 
+use limbfuse_core::kalman::CovarianceUpdate;
 use limbfuse_core::{Estimate, EstimatorError, Sample, TimeStep};
 use nalgebra::{SVector, Vector3};
 
@@ -31,6 +32,7 @@ use super::robust::{
     predicted_rate, predicted_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
+use super::sequential;
 use super::structured::{self, all_finite, ChainRow, Gain};
 use crate::inclination::{accel_inclination, sagittal_specific_force};
 
@@ -545,15 +547,13 @@ impl Chain {
         if !active.iter().any(|&a| a) {
             return None;
         }
-        let u = structured::update_rows(
-            &mut self.x,
-            &mut self.P,
-            innov,
-            rows,
-            r,
-            active,
-            self.common.covariance_update,
-        )
+        // Joseph (default): row by row; standard: batch
+        let (x, P, form) = (&mut self.x, &mut self.P, self.common.covariance_update);
+        let u = if form == CovarianceUpdate::Joseph {
+            sequential::update_rows(x, P, innov, rows, r, active)
+        } else {
+            structured::update_rows(x, P, innov, rows, r, active, form)
+        }
         .ok()?;
         if self.common.loop_mode == LoopMode::Closed {
             self.fold_error_state();

@@ -39,6 +39,7 @@ pub mod mjls;
 pub mod model;
 pub mod params;
 pub mod robust;
+pub mod sequential;
 pub mod structured;
 
 pub use criteria::{

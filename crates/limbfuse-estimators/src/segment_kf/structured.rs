@@ -431,45 +431,19 @@ mod tests {
     use limbfuse_core::kalman;
     use proptest::prelude::*;
 
-    fn spd(seed: &[f64; 36]) -> Mat8 {
-        // B B^T + 0.1 I from a lower-triangular B.
-        let mut B = Mat8::zeros();
-        let mut k = 0;
-        for i in 0..8 {
-            for j in 0..=i {
-                B[(i, j)] = seed[k % 36];
-                k += 1;
-            }
-        }
-        B * B.transpose() + Mat8::identity() * 0.1
-    }
-
     use crate::segment_kf::model::GLOBAL_ROWS;
+    use crate::segment_kf::sequential::tests::{global_case, global_inputs, spd};
 
     proptest! {
         /// The structured update equals the dense `kalman::update_rows` for
         /// every row mask, both covariance forms, random SPD `P`.
         #[test]
         fn structured_update_equals_dense(
-            seed in prop::array::uniform32(-1.0f64..1.0),
-            extra in prop::array::uniform4(-1.0f64..1.0),
-            r in prop::array::uniform7(0.01f64..2.0),
-            e in prop::array::uniform7(-0.5f64..0.5),
-            x in prop::array::uniform8(-0.3f64..0.3),
-            mask in 0u32..128,
+            (seed, extra, r, e, x, mask) in global_inputs(),
             joseph in any::<bool>(),
         ) {
-            let mut s36 = [0.0; 36];
-            s36[..32].copy_from_slice(&seed);
-            s36[32..].copy_from_slice(&extra);
-            let P = spd(&s36);
-            let x = SVector::<f64, 8>::from_column_slice(&x);
-            let active: [bool; 7] = core::array::from_fn(|k| mask & (1 << k) != 0);
-            let innov = SVector::<f64, 7>::from_column_slice(&e);
+            let (P, x, active, innov, H, R, z) = global_case(&seed, &extra, &r, &e, &x, mask);
             let form = if joseph { CovarianceUpdate::Joseph } else { CovarianceUpdate::Standard };
-            let H = dense_output_matrix(&GLOBAL_ROWS);
-            let R = SMatrix::<f64, 7, 7>::from_diagonal(&SVector::from_column_slice(&r));
-            let z = innov + H * x;
             let dense = kalman::update_rows(&x, &P, &z, &H, &R, &active, form).unwrap();
             let (mut xf, mut Pf) = (x, P);
             let fast = update_rows(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active, form).unwrap();
