@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 21] = [
+pub const EXAMPLES: [&str; 22] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -21,6 +21,7 @@ pub const EXAMPLES: [&str; 21] = [
     "fes_tune_cv",
     "gait_library_without",
     "gait_pelvis",
+    "gyro_shape_floor",
     "imm_bslip_study",
     "imm_continuous_study",
     "knee_study",
@@ -81,6 +82,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
         "time_base_study" => parse::<TimeBaseStudyArgs>(example, args),
+        "gyro_shape_floor" => parse::<GyroShapeFloorArgs>(example, args),
         "soak" => parse::<SoakArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
@@ -473,6 +475,38 @@ pub struct TimeBaseStudyArgs {
     /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
     #[arg(short = 'o', long)]
     pub output: Option<String>,
+}
+
+/// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`.
+#[derive(Debug, Parser)]
+#[command(name = "gyro_shape_floor")]
+pub struct GyroShapeFloorArgs {
+    /// The (aligned) trial file.
+    pub trial: String,
+    /// A scored window `START:END` in seconds of the trial's clock (repeatable).
+    #[arg(long = "window", value_parser = time_window, required = true)]
+    pub windows: Vec<(f64, f64)>,
+    /// Lags of up to this many samples are tried per segment.
+    #[arg(long, default_value_t = 5)]
+    pub max_lag: u32,
+}
+
+/// `START:END` seconds, `START < END`.
+fn time_window(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: expected START:END in seconds"))?;
+    let parse = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{s}`: `{x}` is not a number of seconds"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a < b {
+        Ok((a, b))
+    } else {
+        Err(format!("`{s}`: START must be below END"))
+    }
 }
 
 /// `gait_library_without LIBRARY SPEED -o OUTPUT`.
