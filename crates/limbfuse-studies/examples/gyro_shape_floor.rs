@@ -9,26 +9,14 @@
 //! disagreement with the reference.
 //! `cargo run --release -p limbfuse-studies --example gyro_shape_floor -- TRIAL --window A:B [--window C:D] [--max-lag N]`
 
-use std::convert::Infallible;
 use std::path::Path;
 
 use clap::Parser;
-use limbfuse_core::runner::{run, BoxError, Observer};
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_core::{Estimate, Record, Segment};
-use limbfuse_io::TrialReader;
-use limbfuse_methods::{build, MethodName, MethodSpec};
+use limbfuse_core::Segment;
+use limbfuse_methods::MethodName;
 use limbfuse_studies::example_args::GyroShapeFloorArgs;
-
-/// Keeps every estimate of a run.
-struct Collect(Vec<Estimate>);
-
-impl Observer for Collect {
-    fn observe(&mut self, _record: &Record, estimate: &Estimate) -> Result<(), BoxError> {
-        self.0.push(*estimate);
-        Ok(())
-    }
-}
+use limbfuse_studies::recorded_trial::{run_defaults, RecordedTrial};
 
 /// RMS of `e - (a + b t)` for the least-squares line; `None` under 3 points.
 fn detrended_rms(points: &[(f64, f64)]) -> Option<f64> {
@@ -57,22 +45,15 @@ fn detrended_rms(points: &[(f64, f64)]) -> Option<f64> {
 fn main() {
     let args = GyroShapeFloorArgs::parse();
     let path = Path::new(&args.trial);
-    let reader = TrialReader::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e} (run from the repository root)", path.display()));
-    let meta = reader.meta().clone();
-    let layout = *reader.layout();
-    let records: Vec<Record> = reader.map(|r| r.expect("valid trial")).collect();
-    let spec = MethodSpec::defaults(MethodName::GyroIntegration).expect("defaults");
-    let mut est = build(&spec, &meta, &layout).unwrap_or_else(|e| panic!("{e}"));
-    let mut all = Collect(Vec::with_capacity(records.len()));
-    let observers: &mut [&mut dyn Observer] = &mut [&mut all];
-    run(
-        est.as_mut(),
-        records.iter().map(|r| Ok::<_, Infallible>(*r)),
-        observers,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    let estimates = all.0;
+    let trial = RecordedTrial::read(path);
+    let records = &trial.records;
+    let estimates = run_defaults(
+        MethodName::GyroIntegration,
+        &trial.meta,
+        &trial.layout,
+        records,
+        &mut [],
+    );
     let segments = [Segment::Thigh, Segment::Shank, Segment::Foot];
     let lag = args.max_lag as i64;
     println!(

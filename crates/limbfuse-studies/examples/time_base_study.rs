@@ -15,29 +15,18 @@
 //! `--from` seconds after the first sample. `-o` also writes the shifted
 //! trial, for `limbfuse estimate` and `limbfuse evaluate`.
 
-use std::convert::Infallible;
 use std::io::BufWriter;
 use std::path::Path;
 
 use clap::Parser;
-use limbfuse_core::runner::{run, BoxError, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::{Estimate, Joint, Record};
 use limbfuse_eval::{AngleMetrics, EvalOptions, TimeWindow};
-use limbfuse_io::{TrialLayout, TrialMeta, TrialReader, TrialWriter};
-use limbfuse_methods::{build, MethodName, MethodSpec};
+use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
+use limbfuse_methods::MethodName;
 use limbfuse_signal::recording_variants::shift_time;
 use limbfuse_studies::example_args::TimeBaseStudyArgs;
-
-/// Keeps every estimate of a run.
-struct Collect(Vec<Estimate>);
-
-impl Observer for Collect {
-    fn observe(&mut self, _record: &Record, estimate: &Estimate) -> Result<(), BoxError> {
-        self.0.push(*estimate);
-        Ok(())
-    }
-}
+use limbfuse_studies::recorded_trial::{run_defaults, RecordedTrial};
 
 /// The estimates of `method` over `records`, and its knee RMSE and mean
 /// RMSE (deg) from `start` (absolute time).
@@ -48,8 +37,6 @@ fn run_method(
     records: &[Record],
     start: f64,
 ) -> (Vec<Estimate>, Option<f64>, Option<f64>) {
-    let spec = MethodSpec::defaults(method).expect("defaults");
-    let mut est = build(&spec, meta, layout).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
     let options = EvalOptions {
         window: TimeWindow {
             start: Some(start),
@@ -58,20 +45,13 @@ fn run_method(
         ..EvalOptions::default()
     };
     let mut metrics = AngleMetrics::new(method.name(), options);
-    let mut all = Collect(Vec::with_capacity(records.len()));
-    let observers: &mut [&mut dyn Observer] = &mut [&mut metrics, &mut all];
-    run(
-        est.as_mut(),
-        records.iter().map(|r| Ok::<_, Infallible>(*r)),
-        observers,
-    )
-    .unwrap_or_else(|e| panic!("{}: {e}", method.name()));
+    let all = run_defaults(method, meta, layout, records, &mut [&mut metrics]);
     let ev = metrics.evaluation();
     let knee = ev
         .rmse(AngleChannel::Joint(Joint::Knee))
         .map(f64::to_degrees);
     let mean = ev.mean_rmse().map(f64::to_degrees);
-    (all.0, knee, mean)
+    (all, knee, mean)
 }
 
 fn angles(e: &Estimate) -> impl Iterator<Item = Option<f64>> + '_ {
@@ -85,11 +65,11 @@ fn deg(v: Option<f64>) -> String {
 fn main() {
     let args = TimeBaseStudyArgs::parse();
     let path = Path::new(&args.trial);
-    let reader = TrialReader::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e} (run from the repository root)", path.display()));
-    let meta = reader.meta().clone();
-    let layout = *reader.layout();
-    let records: Vec<Record> = reader.map(|r| r.expect("valid trial")).collect();
+    let RecordedTrial {
+        meta,
+        layout,
+        records,
+    } = RecordedTrial::read(path);
     let t0 = records.first().map_or(0.0, |r| r.sample.t);
     let mut shifted = records.clone();
     shift_time(&mut shifted, args.offset);

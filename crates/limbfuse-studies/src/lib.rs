@@ -14,5 +14,6 @@ pub mod fes_plot;
 pub mod fes_pulse_cv;
 pub mod fes_study;
 pub mod knee_study;
+pub mod recorded_trial;
 pub mod results_commands;
 pub mod soak;
