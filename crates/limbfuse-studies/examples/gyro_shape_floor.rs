@@ -45,7 +45,8 @@ fn detrended_rms(points: &[(f64, f64)]) -> Option<f64> {
 fn main() {
     let args = GyroShapeFloorArgs::parse();
     let path = Path::new(&args.trial);
-    let trial = RecordedTrial::read(path);
+    let trial =
+        RecordedTrial::read(path).unwrap_or_else(|e| panic!("{e} (run from the repository root)"));
     let records = &trial.records;
     let estimates = run_defaults(
         MethodName::GyroIntegration,
@@ -53,7 +54,8 @@ fn main() {
         &trial.layout,
         records,
         &mut [],
-    );
+    )
+    .unwrap_or_else(|e| panic!("gyro-integration on {}: {e}", path.display()));
     let segments = [Segment::Thigh, Segment::Shank, Segment::Foot];
     let lag = args.max_lag as i64;
     println!(

@@ -45,7 +45,8 @@ fn run_method(
         ..EvalOptions::default()
     };
     let mut metrics = AngleMetrics::new(method.name(), options);
-    let all = run_defaults(method, meta, layout, records, &mut [&mut metrics]);
+    let all = run_defaults(method, meta, layout, records, &mut [&mut metrics])
+        .unwrap_or_else(|e| panic!("{}: {e}", method.name()));
     let ev = metrics.evaluation();
     let knee = ev
         .rmse(AngleChannel::Joint(Joint::Knee))
@@ -69,7 +70,7 @@ fn main() {
         meta,
         layout,
         records,
-    } = RecordedTrial::read(path);
+    } = RecordedTrial::read(path).unwrap_or_else(|e| panic!("{e} (run from the repository root)"));
     let t0 = records.first().map_or(0.0, |r| r.sample.t);
     let mut shifted = records.clone();
     shift_time(&mut shifted, args.offset);

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use limbfuse_core::runner::{run, BoxError, Observer};
 use limbfuse_core::{Estimate, Record};
+use limbfuse_io::FileError;
 use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
 use limbfuse_methods::{build, MethodName, MethodSpec};
 
@@ -21,21 +22,18 @@ pub struct RecordedTrial {
 }
 
 impl RecordedTrial {
-    /// Reads `path` whole (panics with the file and the reason: study
-    /// examples run on the repository's and the shared files).
-    pub fn read(path: &Path) -> RecordedTrial {
-        let reader = TrialReader::open(path)
-            .unwrap_or_else(|e| panic!("{}: {e} (run from the repository root)", path.display()));
+    /// Reads `path` whole; the reader's error (naming the file, line and
+    /// column) when it is not a valid trial.
+    pub fn read(path: &Path) -> Result<RecordedTrial, FileError> {
+        let reader = TrialReader::open(path)?;
         let meta = reader.meta().clone();
         let layout = *reader.layout();
-        let records = reader
-            .map(|r| r.unwrap_or_else(|e| panic!("{}: {e}", path.display())))
-            .collect();
-        RecordedTrial {
+        let records = reader.collect::<Result<Vec<_>, _>>()?;
+        Ok(RecordedTrial {
             meta,
             layout,
             records,
-        }
+        })
     }
 }
 
@@ -51,16 +49,17 @@ impl Observer for EstimateLog {
 }
 
 /// Runs `method` with its defaults (as `limbfuse estimate` builds it) over
-/// `records`, with `observers` beside the log of its estimates.
+/// `records`, with `observers` beside the log of its estimates; the
+/// method's build error (e.g. a channel the trial lacks) or the run's.
 pub fn run_defaults(
     method: MethodName,
     meta: &TrialMeta,
     layout: &TrialLayout,
     records: &[Record],
     observers: &mut [&mut dyn Observer],
-) -> Vec<Estimate> {
-    let spec = MethodSpec::defaults(method).expect("every method has defaults");
-    let mut est = build(&spec, meta, layout).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
+) -> Result<Vec<Estimate>, BoxError> {
+    let spec = MethodSpec::defaults(method)?;
+    let mut est = build(&spec, meta, layout)?;
     let mut log = EstimateLog(Vec::with_capacity(records.len()));
     let mut all: Vec<&mut dyn Observer> = Vec::with_capacity(observers.len() + 1);
     all.push(&mut log);
@@ -71,7 +70,6 @@ pub fn run_defaults(
         est.as_mut(),
         records.iter().map(|r| Ok::<_, Infallible>(*r)),
         &mut all,
-    )
-    .unwrap_or_else(|e| panic!("{}: {e}", method.name()));
-    log.0
+    )?;
+    Ok(log.0)
 }
