@@ -73,6 +73,7 @@ pub fn simulate_with_truth_and(
     let g = Geometry {
         axis,
         position: [pt, ps],
+        acc_scale: 1.0,
     };
     Ok((sim.collect(), g))
 }

@@ -13,6 +13,8 @@
 //! | [`angle`] | eq 4, eqs 5-7 (signed `atan2`: SPEC 6), Algorithm 1 |
 //! | [`window`] | Algorithm 3's window, the sign rules of SPEC 6 |
 //! | [`upright`] | ours (issue 15): the upright-leg axis prior for knees eq 2 does not fit |
+//! | [`acc_scale`] | ours (issue 15 item 3): a relative accelerometer scale in eqs 3 and 7 |
+//! | [`position_fusion`] | ours (issue 15 item 3): the positions fused over windows by their information |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
 //! `sample.imu[shank]`, any sensor orientation and position). Output: the
@@ -21,10 +23,13 @@
 //! moves enough to identify the axes), plus diagnostics. Design and
 //! measured accuracy: `docs/KNEE_SELFALIGN.md`.
 
+pub mod acc_scale;
 pub mod angle;
+mod fuser;
 pub mod param_ekf;
 pub mod params;
 pub mod position;
+pub mod position_fusion;
 pub mod sign;
 pub mod upright;
 pub mod window;
@@ -40,7 +45,9 @@ use nalgebra::Vector3;
 use crate::segment_kf::robust::{
     held_rate_variance, HELD_RATE_CORRELATION_S, HELD_RATE_VARIANCE_CAP,
 };
-use angle::{accel_angle, gyro_angle_rate, ComplementaryKf, PlaneBasis, RateBiasKf};
+use angle::{accel_angle, gyro_angle_rate, PlaneBasis};
+use fuser::Fuser;
+use position_fusion::FusedPositions;
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 pub use window::Geometry;
 use window::{identify, Ring, Slot, WindowOutcome};
@@ -126,6 +133,14 @@ diagnostic_set! {
         /// Where the last identified window's axes came from (ours, issue 15):
         /// 0 eq 2, 1 the upright-leg prior, 2 kept from the window before.
         AxisSource = "axis_source",
+        /// Relative scale of the accelerometers (thigh over shank) applied
+        /// to the shank's specific force (ours, issue 15 item 3,
+        /// [`acc_scale`]); exactly 1 when the last identified window did not
+        /// identify one (no scale error beyond 5 %, or too little motion).
+        AccScaleRatio = "acc_scale_ratio",
+        /// Windows whose positions are fused in the current ones (ours,
+        /// issue 15 item 3, [`position_fusion`]; 1 after a restart).
+        PositionWindows = "position_windows",
     }
 }
 
@@ -172,62 +187,6 @@ impl WindowStatus {
     }
 }
 
-/// The angle-fusion filter in use.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Fuser {
-    Paper(ComplementaryKf),
-    RateBias(RateBiasKf),
-}
-
-impl Fuser {
-    fn new(p: &KneeSelfAlignParams) -> Self {
-        match p.fusion {
-            Fusion::Paper => Fuser::Paper(ComplementaryKf::new(p.kf_q, p.kf_r)),
-            Fusion::RateBias { q_bias, p_bias0 } => {
-                Fuser::RateBias(RateBiasKf::new(p.kf_q, q_bias, p.kf_r, p_bias0))
-            }
-        }
-    }
-    fn predict(&mut self, dt: f64) {
-        match self {
-            Fuser::Paper(k) => k.predict(),
-            Fuser::RateBias(k) => k.predict(dt),
-        }
-    }
-    fn update(&mut self, z: f64) {
-        match self {
-            Fuser::Paper(k) => k.update(z),
-            Fuser::RateBias(k) => k.update(z),
-        }
-    }
-    /// The high-pass used instead of [`Fuser::update`] while the
-    /// accelerometer angle is not trusted: the correction `x` relaxes towards
-    /// `-alpha_gyro` with gain `k` per sample, so `alpha_gyro + x` is
-    /// `alpha_gyro` high-passed (first order, `k = 1 - exp(-2 pi f_c dt)`).
-    fn leak(&mut self, alpha_gyro: f64, k: f64) {
-        match self {
-            Fuser::Paper(f) => f.x += k * (-alpha_gyro - f.x),
-            Fuser::RateBias(f) => f.x[0] += k * (-alpha_gyro - f.x[0]),
-        }
-    }
-    /// Adds `dv` (rad^2) to the variance of the correction, capped at
-    /// `cap` (a gyro angle that became uncertain over a dropout).
-    fn inflate(&mut self, dv: f64, cap: f64) {
-        let p = match self {
-            Fuser::Paper(k) => &mut k.p,
-            Fuser::RateBias(k) => &mut k.p[0][0],
-        };
-        *p = (*p + dv).min(cap.max(*p));
-    }
-    /// Correction added to the gyro angle, its variance, the rate bias.
-    fn state(&self) -> (f64, f64, Option<f64>) {
-        match self {
-            Fuser::Paper(k) => (k.x, k.p, None),
-            Fuser::RateBias(k) => (k.x[0], k.p[0][0], Some(k.x[1])),
-        }
-    }
-}
-
 /// The self-aligning knee estimator (paper 002, Algorithm 3 online).
 #[derive(Debug, Clone)]
 pub struct KneeSelfAlign {
@@ -238,6 +197,7 @@ pub struct KneeSelfAlign {
     recent: Ring,
     recent_gyro_angle: [Option<f64>; 5],
     geometry: Option<Geometry>,
+    fused: Option<FusedPositions>,
     bases: Option<[PlaneBasis; 2]>,
     alpha_gyro: f64,
     last_rate: Option<f64>,
@@ -286,6 +246,7 @@ impl KneeSelfAlign {
             recent: Ring::new(5),
             recent_gyro_angle: [None; 5],
             geometry: None,
+            fused: None,
             bases: None,
             alpha_gyro: 0.0,
             last_rate: None,
@@ -372,6 +333,7 @@ impl KneeSelfAlign {
         match identify(
             &self.window,
             self.geometry.as_ref(),
+            self.fused.as_ref(),
             self.sign_committed,
             &self.params,
         ) {
@@ -384,6 +346,7 @@ impl KneeSelfAlign {
                 sign_confidence,
                 acc_trusted,
                 axis_source,
+                fused,
             } => {
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     // A new pair of sides (first window, or an uncommitted
@@ -394,12 +357,13 @@ impl KneeSelfAlign {
                             || old.axis[1].dot(&geometry.axis[1]) < 0.0
                     });
                     if new_sides {
+                        (self.recent_gyro_angle, self.last_rate) =
+                            window::recent_gyro_angles(&self.recent, &geometry);
                         self.alpha_gyro = 0.0;
-                        self.last_rate = None;
                         self.kf = Fuser::new(&self.params);
-                        self.recent_gyro_angle = [None; 5];
                     }
                     self.geometry = Some(geometry);
+                    self.fused = Some(fused);
                     self.bases = Some(bases);
                     self.status = WindowStatus::Identified;
                     self.rms = [rms_axis, rms_position, axis_source];
@@ -434,9 +398,7 @@ impl KneeSelfAlign {
     /// two samples after it), with the current geometry.
     pub fn lagged_accel_angle(&self) -> Option<f64> {
         let (g, b) = (self.geometry.as_ref()?, self.bases.as_ref()?);
-        let [kt, ks] = self.recent.kinematics(2)?;
-        let at = kt.joint_acceleration(&g.position[0]);
-        let as_ = ks.joint_acceleration(&g.position[1]);
+        let [at, as_] = g.joint_accelerations(&self.recent.kinematics(2)?);
         accel_angle(&at, &as_, &b[0], &b[1])
     }
 }
@@ -469,6 +431,7 @@ impl Estimator for KneeSelfAlign {
         self.counter = 0;
         self.recent_gyro_angle = [None; 5];
         self.geometry = None;
+        self.fused = None;
         self.bases = None;
         self.alpha_gyro = 0.0;
         self.last_rate = None;
@@ -584,6 +547,11 @@ impl Estimator for KneeSelfAlign {
             d.value(KneeDiag::RmsEJ, self.rms[0]);
             d.value(KneeDiag::RmsEO, self.rms[1]);
             d.value(KneeDiag::AxisSource, self.rms[2]);
+            d.value(KneeDiag::AccScaleRatio, g.acc_scale);
+            d.set(
+                KneeDiag::PositionWindows,
+                self.fused.map(|f| f.windows as f64),
+            );
             d.value(KneeDiag::AccGyroSpread, self.spread);
             d.value(KneeDiag::SignConfidence, self.sign_confidence);
         }

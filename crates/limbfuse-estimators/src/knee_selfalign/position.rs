@@ -223,25 +223,31 @@ fn sym6(n: &Matrix3<f64>) -> [f64; 6] {
     ]
 }
 
+/// One sample's row of the lifted problem of [`LiftedStart`] and its
+/// right-hand side `||a_S||^2 - ||a_T||^2`.
+pub(crate) fn lifted_row(thigh: &Kinematics, shank: &Kinematics) -> (SVector<f64, 18>, f64) {
+    let mt = gamma_matrix(&thigh.gyr, &thigh.gyr_dot);
+    let ms = gamma_matrix(&shank.gyr, &shank.gyr_dot);
+    let lt = mt.transpose() * thigh.acc * -2.0;
+    let ls = ms.transpose() * shank.acc * 2.0;
+    let qt = sym6(&(mt.transpose() * mt));
+    let qs = sym6(&(ms.transpose() * ms));
+    let mut row = SVector::<f64, 18>::zeros();
+    for k in 0..3 {
+        row[k] = lt[k];
+        row[3 + k] = ls[k];
+    }
+    for k in 0..6 {
+        row[6 + k] = qt[k];
+        row[12 + k] = -qs[k];
+    }
+    (row, shank.acc.norm_squared() - thigh.acc.norm_squared())
+}
+
 impl LiftedStart {
     /// Adds one sample's thigh and shank kinematics.
     pub fn add(&mut self, thigh: &Kinematics, shank: &Kinematics) {
-        let mt = gamma_matrix(&thigh.gyr, &thigh.gyr_dot);
-        let ms = gamma_matrix(&shank.gyr, &shank.gyr_dot);
-        let lt = mt.transpose() * thigh.acc * -2.0;
-        let ls = ms.transpose() * shank.acc * 2.0;
-        let qt = sym6(&(mt.transpose() * mt));
-        let qs = sym6(&(ms.transpose() * ms));
-        let mut row = SVector::<f64, 18>::zeros();
-        for k in 0..3 {
-            row[k] = lt[k];
-            row[3 + k] = ls[k];
-        }
-        for k in 0..6 {
-            row[6 + k] = qt[k];
-            row[12 + k] = -qs[k];
-        }
-        let y = shank.acc.norm_squared() - thigh.acc.norm_squared();
+        let (row, y) = lifted_row(thigh, shank);
         if row.iter().all(|v| v.is_finite()) && y.is_finite() {
             self.ata.ger(1.0, &row, &row, 1.0);
             self.atb.axpy(y, &row, 1.0);

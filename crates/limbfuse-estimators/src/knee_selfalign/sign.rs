@@ -88,8 +88,7 @@ pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<Agreement
         }
         last = Some((s.t, rate));
         if let Some([kt, ks]) = ring.kinematics(i) {
-            let at = kt.joint_acceleration(&g.position[0]);
-            let as_ = ks.joint_acceleration(&g.position[1]);
+            let [at, as_] = g.joint_accelerations(&[kt, ks]);
             if let Some(a) = accel_angle(&at, &as_, &bases[0], &bases[1]) {
                 diff.add(wrap(a - integral));
                 level.add(a);
@@ -176,11 +175,12 @@ pub fn confidence(chosen: f64, other: f64, floor: f64) -> f64 {
 
 /// The geometry with both axes as given and the positions corrected along
 /// them (paper 002 after eq 3).
-fn geometry(j: [Vector3<f64>; 2], o: [Vector3<f64>; 2]) -> Geometry {
+fn geometry(j: [Vector3<f64>; 2], o: [Vector3<f64>; 2], acc_scale: f64) -> Geometry {
     let (ct, cs) = correct_along_axes(&o[0], &o[1], &j[0], &j[1]);
     Geometry {
         axis: j,
         position: [ct, cs],
+        acc_scale,
     }
 }
 
@@ -218,19 +218,20 @@ impl SignChoice {
 }
 
 /// Scores both relative pairs `(j_T, j_S)` and `(j_T, -j_S)`; returns the
-/// one `keep` says (`Some(true)`: the pair as given, `Some(false)`: shank
+/// one `keep` says (`acc_scale`: [`Geometry::acc_scale`]) (`Some(true)`: the pair as given, `Some(false)`: shank
 /// flipped) or, with `None`, the better-scoring one. `None` when the
 /// accelerometer angle is never defined in the window.
 pub fn score_pairs(
     ring: &Ring,
     j: [Vector3<f64>; 2],
     o: [Vector3<f64>; 2],
+    acc_scale: f64,
     zero: AngleZero,
     floor: f64,
     keep: Option<bool>,
 ) -> Option<SignChoice> {
-    let same = geometry(j, o);
-    let flipped = geometry([j[0], -j[1]], o);
+    let same = geometry(j, o, acc_scale);
+    let flipped = geometry([j[0], -j[1]], o, acc_scale);
     let a = agreement(ring, &same, zero);
     let b = agreement(ring, &flipped, zero);
     let pick_same = match keep {

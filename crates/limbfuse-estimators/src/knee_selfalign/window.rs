@@ -7,12 +7,17 @@ use alloc::vec::Vec;
 
 use nalgebra::{SVector, Vector3, Vector4, Vector6};
 
-use super::angle::PlaneBasis;
+use super::angle::{gyro_angle_rate, PlaneBasis};
 use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
+use super::acc_scale::{
+    joint_accelerations, lifted_scaled_start, positions, scaled, significant_scale,
+    ScaledPositionResiduals, ScaledState,
+};
 use super::position::{position_residual, rate_derivative, Kinematics, LiftedStart};
+use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
 use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
@@ -124,12 +129,15 @@ impl WindowResiduals<4> for AxisResiduals<'_> {
     }
 }
 
-struct PositionResiduals<'a>(&'a Ring);
+/// Eq 3's residuals over the window, the shank's specific force scaled by
+/// the relative scale `r` ([`super::acc_scale`]; 1: the paper's eq 3).
+struct PositionResiduals<'a>(&'a Ring, f64);
 
 impl WindowResiduals<6> for PositionResiduals<'_> {
     fn visit(&self, x: &Vector6<f64>, f: &mut dyn FnMut(f64, &Vector6<f64>)) {
         for i in 0..self.0.len() {
             if let Some([t, s]) = self.0.kinematics(i) {
+                let s = if self.1 == 1.0 { s } else { scaled(&s, self.1) };
                 if let Some((e, h)) = position_residual(&t, &s, x) {
                     f(e, &h);
                 }
@@ -228,9 +236,18 @@ pub struct Geometry {
     pub axis: [Vector3<f64>; 2],
     /// Sensor positions relative to the joint centre, in their frames (m).
     pub position: [Vector3<f64>; 2],
+    /// Relative scale `r` of the accelerometers (thigh over shank) applied to
+    /// the shank's specific force in eqs 3 and 7 ([`super::acc_scale`]; 1
+    /// unless a window identified it).
+    pub acc_scale: f64,
 }
 
 impl Geometry {
+    /// The joint-centre accelerations of eq 7 of both sensors.
+    pub fn joint_accelerations(&self, kin: &[Kinematics; 2]) -> [Vector3<f64>; 2] {
+        joint_accelerations(kin, &self.position, self.acc_scale)
+    }
+
     /// The joint-plane bases of eq 6 for the chosen zero.
     pub fn bases(&self, zero: AngleZero) -> Option<[PlaneBasis; 2]> {
         match zero {
@@ -274,6 +291,9 @@ pub enum WindowOutcome {
         /// [`UprightAxes::code`]: 0 eq 2's axes, 1 the upright prior's, 2
         /// the previous window's.
         axis_source: f64,
+        /// The positions fused over the windows so far
+        /// ([`super::position_fusion`]).
+        fused: FusedPositions,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -302,9 +322,14 @@ pub enum WindowOutcome {
 /// keeps the side of its `previous` axis, unless the relative sign is not
 /// `committed` and the window's trusted accelerometer angle prefers the
 /// other pair with at least `sign_commit` confidence.
+///
+/// The positions (and the relative accelerometer scale) are ours beyond the
+/// paper: [`scaled_positions`], then fused with `fused`, the positions of
+/// the earlier windows ([`super::position_fusion`]).
 pub fn identify(
     ring: &Ring,
     previous: Option<&Geometry>,
+    fused: Option<&FusedPositions>,
     committed: bool,
     p: &KneeSelfAlignParams,
 ) -> WindowOutcome {
@@ -359,7 +384,7 @@ pub fn identify(
     if (moving_samples(ring) as f64) < p.min_valid_fraction * p.window as f64 {
         return WindowOutcome::Unobservable { information };
     }
-    let positions = PositionResiduals(ring);
+    let positions = PositionResiduals(ring, 1.0);
     let o_start = position_start(ring, &positions, previous);
     let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
         Ok(r) => r,
@@ -376,20 +401,23 @@ pub fn identify(
         UprightAxes::NoFlexion => previous.map_or([j_t, j_s], |g| g.axis),
         UprightAxes::Hinge => [j_t, j_s],
     };
-    let o_t: Vector3<f64> = o.x.fixed_rows::<3>(0).into_owned();
-    let o_s: Vector3<f64> = o.x.fixed_rows::<3>(3).into_owned();
+    let (r, o_x, rms_position) = scaled_positions(ring, &o, p);
+    let fusion = fuse(fused, &PositionResiduals(ring, r), o_x, [j_t, j_s]);
+    let o_t: Vector3<f64> = fusion.position.fixed_rows::<3>(0).into_owned();
+    let o_s: Vector3<f64> = fusion.position.fixed_rows::<3>(3).into_owned();
     let identified = |c: SignChoice| WindowOutcome::Identified {
         geometry: c.geometry,
         rms_axis: j.rms_after,
-        rms_position: o.rms_after,
+        rms_position,
         information,
         spread: c.spread,
         sign_confidence: c.confidence,
         acc_trusted: c.acc_trusted(p.acc_max_spread, p.acc_min_motion),
         axis_source: source.code(),
+        fused: fusion,
     };
     let o = [o_t, o_s];
-    let score = |j, keep| score_pairs(ring, j, o, p.zero, p.sign_floor, keep);
+    let score = |j, keep| score_pairs(ring, j, o, r, p.zero, p.sign_floor, keep);
     let Some(prev) = previous else {
         // First window: the pair the trusted accelerometer angle prefers
         // with at least `sign_commit` confidence, else the pair whose gyro
@@ -469,6 +497,35 @@ fn flexion_side(ring: &Ring, mut c: SignChoice, p: &KneeSelfAlignParams) -> Sign
     c
 }
 
+/// The relative accelerometer scale `r`, the positions and their RMS eq-3
+/// residual: Algorithm 2 on `[o_T, o_S, r]` ([`super::acc_scale`]) from the
+/// better of the lifted scaled start and the paper's solution `o` with
+/// `r = 1`; its `r` and positions when `r` is identified
+/// ([`significant_scale`]), else `r = 1` and `o`.
+fn scaled_positions(
+    ring: &Ring,
+    o: &ParamEkfResult<6>,
+    p: &KneeSelfAlignParams,
+) -> (f64, Vector6<f64>, f64) {
+    let paper = (1.0, o.x, o.rms_after);
+    let w = ScaledPositionResiduals(ring);
+    let mut start = ScaledState::zeros();
+    start.fixed_rows_mut::<6>(0).copy_from(&o.x);
+    start[6] = 1.0;
+    if let Some(l) = lifted_scaled_start(ring) {
+        if residual_sum(&w, &l).0 < residual_sum(&w, &start).0 {
+            start = l;
+        }
+    }
+    let Ok(fit) = estimate_parameters(&w, start, p.order, &p.position_noise, |x| x) else {
+        return paper;
+    };
+    match significant_scale(ring, &fit.x) {
+        Some(r) => (r, positions(&fit.x), fit.rms_after),
+        None => paper,
+    }
+}
+
 /// Starting positions of Algorithm 2: the lower-cost (`sum e_o^2`) of the
 /// previous window's positions (`o = 0` in the first window) and the lifted
 /// least-squares solution ([`LiftedStart`]).
@@ -495,4 +552,38 @@ fn position_start(
 
 fn stack(a: &Vector3<f64>, b: &Vector3<f64>) -> SVector<f64, 6> {
     Vector6::new(a.x, a.y, a.z, b.x, b.y, b.z)
+}
+
+/// The gyro angles (eq 4, trapezoidal) of the samples in `recent` with the
+/// geometry `g`, ending at 0 at the newest, placed as the estimator's last
+/// five gyro angles (newest last), and the newest sample's rate (ours,
+/// issue 15 item 3). When a window gives new axis sides, eq 4 restarts; the
+/// accelerometer angle of the sample two steps back (the rate derivative's
+/// latency) is compared with the gyro angle of that same sample, which the
+/// restart had not recorded: the first two outputs were the bare gyro angle
+/// from zero, up to 58 deg off on the shared 1.6 m/s walk at 40 Hz.
+pub fn recent_gyro_angles(recent: &Ring, g: &Geometry) -> ([Option<f64>; 5], Option<f64>) {
+    let mut out = [None; 5];
+    let n = recent.len().min(5);
+    if n == 0 {
+        return (out, None);
+    }
+    let rate = |s: &Slot| {
+        s.gyr_ok
+            .then(|| gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]))
+    };
+    let newest = recent.get(recent.len() - 1);
+    let last_rate = rate(newest);
+    let (mut angle, mut later) = (0.0, (newest.t, last_rate));
+    out[4] = last_rate.map(|_| 0.0);
+    for k in 1..n {
+        let s = recent.get(recent.len() - 1 - k);
+        let (Some(r), (t1, Some(r1))) = (rate(s), later) else {
+            break;
+        };
+        angle -= 0.5 * (r + r1) * (t1 - s.t);
+        out[4 - k] = Some(angle);
+        later = (s.t, Some(r));
+    }
+    (out, last_rate)
 }
