@@ -142,14 +142,6 @@ pub fn lifted_scaled_start(ring: &Ring) -> Option<ScaledState> {
     lifted.solve()
 }
 
-/// Smallest relative scale error that is applied: 5 %. Below it, eq 3's
-/// mismatch (`< 0.05 g`) is of the order of what the turn-on biases of
-/// consumer accelerometers give (20 mg each, docs/SIMULATOR.md; up to
-/// ~0.04 g between two sensors), which `r` would otherwise absorb, and of
-/// the sensitivity tolerance of consumer accelerometers (+-3 % each,
-/// InvenSense MPU-6000/6050 product specification rev 3.4, table 6.2).
-pub const MIN_SCALE_ERROR: f64 = 0.05;
-
 /// Standard deviations of `r - 1` the estimate must lie from 1 to be
 /// applied (the standard deviation from the residuals:
 /// `s^2 (H^T H)^-1`, `s^2 = sum e^2 / (N - 7)`).
@@ -157,10 +149,11 @@ pub const SCALE_SIGMAS: f64 = 3.0;
 
 /// The relative scale of the window when it is identified: the Gauss-Newton
 /// solution `x` of the scaled problem, applied only when `r` differs from 1
-/// by more than [`MIN_SCALE_ERROR`] and [`SCALE_SIGMAS`] standard deviations.
+/// by more than [`SCALE_SIGMAS`] standard deviations (else the window cannot
+/// tell it from 1, and eq 3 is the paper's).
 pub fn significant_scale(ring: &Ring, x: &ScaledState) -> Option<f64> {
     let r = x[6];
-    if !(r.is_finite() && r > 0.0) || (r - 1.0).abs() <= MIN_SCALE_ERROR {
+    if !(r.is_finite() && r > 0.0) {
         return None;
     }
     let mut hth = SMatrix::<f64, 7, 7>::zeros();

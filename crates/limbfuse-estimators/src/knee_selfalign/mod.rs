@@ -135,8 +135,8 @@ diagnostic_set! {
         AxisSource = "axis_source",
         /// Relative scale of the accelerometers (thigh over shank) applied
         /// to the shank's specific force (ours, issue 15 item 3,
-        /// [`acc_scale`]); exactly 1 when the last identified window did not
-        /// identify one (no scale error beyond 5 %, or too little motion).
+        /// [`acc_scale`]); exactly 1 when the last identified window could not
+        /// tell it from 1 (within 3 standard deviations).
         AccScaleRatio = "acc_scale_ratio",
         /// Windows whose positions are fused in the current ones (ours,
         /// issue 15 item 3, [`position_fusion`]; 1 after a restart).
