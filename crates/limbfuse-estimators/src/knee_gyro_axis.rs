@@ -255,6 +255,12 @@ impl Estimator for KneeGyroAxis {
             let same_sides = self
                 .axes
                 .is_some_and(|a| a[0].dot(&g.axis[0]) >= 0.0 && a[1].dot(&g.axis[1]) >= 0.0);
+            // The gyro angles of the last samples with the new axes (this
+            // sample's 0): the accelerometer angle LAG samples back has its
+            // gyro angle from the first sample on (issue 15 item 3: without
+            // it the first LAG outputs were the bare integral from 0, 58 deg
+            // off on the shared 1.6 m/s walk at 40 Hz).
+            let mut backfill = None;
             if !same_sides {
                 // New axes (or new sides): the integral starts afresh, with
                 // the inner estimator's verdict on the accelerometer angle
@@ -263,6 +269,7 @@ impl Estimator for KneeGyroAxis {
                 self.restart();
                 self.use_inclination = self.inner.acc_trusted();
                 self.start_pending = true;
+                backfill = Some(self.inner.recent_gyro_angles());
             }
             self.axes = Some(g.axis);
             let thigh = sample.imu(Segment::Thigh);
@@ -271,18 +278,24 @@ impl Estimator for KneeGyroAxis {
                 (Some(gt), Some(gs)) => Some(gyro_angle_rate(&gt, &gs, &g.axis[0], &g.axis[1])),
                 _ => None,
             };
-            let r1 = rate.or(self.last_rate);
-            let r0 = self.last_rate.or(r1);
-            if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
-                self.alpha += 0.5 * (r0 + r1) * dt;
-            }
-            if rate.is_some() {
+            if let Some((angles, _)) = backfill {
+                self.alpha = 0.0;
                 self.last_rate = rate;
+                self.recent_alpha = core::array::from_fn(|k| angles[4 - LAG + k]);
+            } else {
+                let r1 = rate.or(self.last_rate);
+                let r0 = self.last_rate.or(r1);
+                if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
+                    self.alpha += 0.5 * (r0 + r1) * dt;
+                }
+                if rate.is_some() {
+                    self.last_rate = rate;
+                }
+                // The accelerometer angle is that of the sample LAG steps
+                // back: compare it with the gyro angle of that sample.
+                self.recent_alpha.rotate_left(1);
+                self.recent_alpha[LAG] = Some(self.alpha);
             }
-            // The accelerometer angle is that of the sample LAG steps back:
-            // compare it with the gyro angle of that sample.
-            self.recent_alpha.rotate_left(1);
-            self.recent_alpha[LAG] = Some(self.alpha);
             alpha_inc = self.inner.lagged_accel_angle();
             let lagged = self.recent_alpha[0].zip(alpha_inc).map(|(g, a)| a - g);
             if let Some(d) = lagged {

@@ -23,7 +23,7 @@ impl Fuser {
     }
     pub(crate) fn predict(&mut self, dt: f64) {
         match self {
-            Fuser::Paper(k) => k.predict(),
+            Fuser::Paper(k) => k.predict_over(dt),
             Fuser::RateBias(k) => k.predict(dt),
         }
     }

@@ -393,6 +393,16 @@ impl KneeSelfAlign {
         }
     }
 
+    /// The gyro angles (eq 4) of the last five samples stepped, newest last
+    /// and 0, with the current geometry, and the newest sample's rate
+    /// ([`window::recent_gyro_angles`]; all `None` before a geometry).
+    pub fn recent_gyro_angles(&self) -> ([Option<f64>; 5], Option<f64>) {
+        match &self.geometry {
+            Some(g) => window::recent_gyro_angles(&self.recent, g),
+            None => ([None; 5], None),
+        }
+    }
+
     /// Accelerometer angle (eqs 5-7) of the sample
     /// [`position::DERIVATIVE_LATENCY`] steps back (the rate derivative needs
     /// two samples after it), with the current geometry.
