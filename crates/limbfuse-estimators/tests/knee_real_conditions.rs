@@ -190,8 +190,12 @@ fn issue_15_a_still_period_holds_the_geometry() {
             "still period, method {m}: RMSE {:.3} deg (offset-free {:.3}), drift {drift:.3} deg; after it {:.3} ({:.3})",
             s.rmse, s.offset_free, after.rmse, after.offset_free
         );
+        // Held: the angle's shape through the still period (offset-free)
+        // and its drift. The level is the zero of the accelerometer angle,
+        // set by the accelerometer biases (4.3 deg on this seed since the
+        // relative scale of eq 3, 1.2 before; docs/RESULTS.md).
         assert!(
-            s.rmse < 3.0 && drift.abs() < 5.0,
+            s.rmse < 5.0 && s.offset_free < 1.5 && drift.abs() < 5.0,
             "method {m}: {s:?} drift {drift}"
         );
     }
@@ -334,10 +338,8 @@ fn other_rates_and_aligned_sensors_on_simulated_walks() {
 /// Accelerometer scale errors of +25 % and -20 % on both sensors and on one:
 /// a common scale is absorbed by the positions (eq 3 scales with `o`, and
 /// eq 5 is a ratio), so the angle is unchanged to within 0.5 deg; a scale
-/// error on one sensor breaks eq 3's `|a_T - Gamma_T| = |a_S - Gamma_S|`
-/// by up to 2.5 m/s^2, the accelerometer angle then fails the trust test and
-/// the estimator says so (`acc_trusted` 0) and falls back on the high-passed
-/// gyro angle: the shape is kept, the zero is the trial mean.
+/// error on one sensor is the relative scale `r` of eq 3
+/// (`knee_selfalign::acc_scale`, [`issue_15_one_accelerometer_scale_error_is_identified`]).
 #[test]
 fn accelerometer_scale_errors() {
     for seed in [3, 4] {
@@ -373,7 +375,11 @@ fn accelerometer_scale_errors() {
                     );
                 }
             } else {
-                assert!(!ksa.acc_trusted(), "{scale:?}: accelerometer angle trusted");
+                // issue_15_one_accelerometer_scale_error_is_identified
+                assert!(
+                    ksa.acc_trusted(),
+                    "{scale:?}: accelerometer angle not trusted"
+                );
             }
         }
     }
@@ -393,5 +399,142 @@ fn accelerometer_scale_errors() {
             &format!("free 3D hinge MEMS, accelerometer scale {scale:?}, from 20 s"),
             both(&recs, 500, Some(2000)),
         );
+    }
+}
+
+fn diag(est: &KneeSelfAlign, recs: &[Record], name: &str) -> Vec<Option<f64>> {
+    use limbfuse_estimators::knee_selfalign::KneeDiag;
+    let i = KneeDiag::NAMES.iter().position(|n| *n == name).unwrap();
+    let mut est = est.clone();
+    recs.iter()
+        .map(|r| est.step(&r.sample).unwrap().diag[i])
+        .collect()
+}
+
+/// Issue 15 item 3: a scale error of +25 % or -20 % on ONE accelerometer
+/// broke eq 3 (`|a_T - Gamma_T| = |a_S - Gamma_S|` off by up to 0.25 g): the
+/// accelerometer angle failed the trust test on every window and both
+/// methods fell back on the high-passed gyro angle, 21.1 / 32.6 deg RMSE on
+/// the knee simulator seeds 3 / 4 (zero = the trial mean). Now the relative
+/// scale `r` is identified with the positions and applied in eqs 3 and 7:
+/// the angle is that of the unscaled recording to within 0.5 deg, and
+/// `diag_acc_scale_ratio` reads the scale ratio (times the simulated
+/// sensors' own relative scale, the unscaled run's ratio) to 1 %.
+#[test]
+fn issue_15_one_accelerometer_scale_error_is_identified() {
+    let fresh = KneeSelfAlign::new(KneeSelfAlignParams::default()).unwrap();
+    for seed in [3, 4] {
+        let base = knee_walk(seed, 100.0);
+        let reference = both(&base, 500, Some(1000));
+        let r0 = diag(&fresh, &base, "acc_scale_ratio")
+            .last()
+            .copied()
+            .flatten()
+            .unwrap();
+        for scale in [[1.25, 1.0], [1.0, 1.25], [0.8, 1.0], [1.0, 0.8]] {
+            let mut recs = base.clone();
+            scale_acc(&mut recs, scale);
+            let s = both(&recs, 500, Some(1000));
+            let r = diag(&fresh, &recs, "acc_scale_ratio")
+                .last()
+                .copied()
+                .flatten()
+                .unwrap();
+            print(
+                &format!("knee sim seed {seed}, accelerometer scale {scale:?}, r {r:.4} (unscaled {r0:.4}), from 10 s"),
+                s,
+            );
+            let expected = r0 * scale[0] / scale[1];
+            assert!(
+                (r / expected - 1.0).abs() < 0.01,
+                "{scale:?}: r {r} vs {expected}"
+            );
+            for m in 0..2 {
+                assert!(
+                    (s[m].rmse - reference[m].rmse).abs() < 0.5,
+                    "seed {seed} {scale:?} method {m}: {:?} vs {:?}",
+                    s[m],
+                    reference[m]
+                );
+            }
+        }
+    }
+}
+
+/// Issue 15 item 3: on free 3D hinge motion with accelerometer biases the
+/// eq-3 positions of each window landed somewhere else (`Gamma` as small as
+/// the bias mismatch), and with them the zero of the angle: 23.2 (22.0) deg
+/// with the accelerometer biases alone, 9.05 (6.50) with all MEMS errors on
+/// seed 2, from 20 s. With the relative scale of eq 3 alone the positions
+/// still moved (offset-free 3.4 / 2.7 deg); fused over the windows by their
+/// information (`knee_selfalign::position_fusion`) the angle's shape is
+/// within 2 deg (offset-free) for both methods.
+#[test]
+fn issue_15_free_3d_hinge_positions_fused_over_windows() {
+    let hinge = free_hinge(None);
+    for (label, errs) in [
+        ("acc bias", only_noise([0.0, 1.0])),
+        ("MEMS seed 2", noisy(2)),
+    ] {
+        let recs = records(&hinge, 100.0, 60.0, errs);
+        let s = both(&recs, 500, Some(2000));
+        print(&format!("free 3D hinge 100 Hz {label}, from 20 s"), s);
+        let fresh = KneeSelfAlign::new(KneeSelfAlignParams::default()).unwrap();
+        let fused = diag(&fresh, &recs, "position_windows")
+            .last()
+            .copied()
+            .flatten();
+        println!("  windows fused at the end: {fused:?}");
+        for (m, s) in s.iter().enumerate() {
+            assert!(
+                s.offset_free < 2.0 && s.rmse < 8.0,
+                "{label} method {m}: {s:?}"
+            );
+        }
+    }
+}
+
+/// Issue 15 item 3: when a window gives new axis sides, eq 4 restarts; the
+/// accelerometer angle is that of the sample two steps back, whose gyro
+/// angle the restart had not kept, so the first two outputs were the bare
+/// gyro integral from 0 (58 deg off on the shared 1.6 m/s walk at 40 Hz;
+/// here ~61 deg on a walk-like hinge at 40 Hz, s_w = 200). Now the gyro
+/// angles of the last samples are integrated with the new axes: the first
+/// output is corrected (knee-selfalign: Algorithm 1's first gain
+/// `1 / 1.2`, so within 20 % of the angle; knee-gyro-axis: exact).
+#[test]
+fn issue_15_first_outputs_after_identification_are_corrected() {
+    let mut hinge = free_hinge(None);
+    hinge.motion = HingeMotion::WalkLike;
+    let recs = records(&hinge, 40.0, 30.0, None);
+    let p = KneeSelfAlignParams {
+        window: 200,
+        ..KneeSelfAlignParams::default()
+    };
+    let mut ksa = KneeSelfAlign::new(p).unwrap();
+    let mut kga = KneeGyroAxis::new(KneeGyroAxisParams {
+        axes: p,
+        ..KneeGyroAxisParams::default()
+    })
+    .unwrap();
+    for (m, out) in [knee_out(&mut ksa, &recs), knee_out(&mut kga, &recs)]
+        .iter()
+        .enumerate()
+    {
+        let first = out.iter().position(|x| x.is_some()).unwrap();
+        for k in first..first + 3 {
+            let truth = recs[k].reference.joint[Joint::Knee.index()].unwrap();
+            let e = wrap(out[k].unwrap() - truth);
+            println!(
+                "method {m} sample {k}: true {:.1} deg, error {:.1} deg",
+                truth.to_degrees(),
+                e.to_degrees()
+            );
+            assert!(truth.to_degrees() > 20.0, "the check needs a flexed knee");
+            assert!(
+                e.abs() < 0.2 * truth.abs(),
+                "method {m} sample {k}: error {e} of {truth}"
+            );
+        }
     }
 }

@@ -126,7 +126,8 @@ impl LiftedScaledStart {
             return None;
         }
         let r = libm::sqrt(z[18]);
-        let x = ScaledState::from_column_slice(&[z[0], z[1], z[2], z[3] / r, z[4] / r, z[5] / r, r]);
+        let x =
+            ScaledState::from_column_slice(&[z[0], z[1], z[2], z[3] / r, z[4] / r, z[5] / r, r]);
         x.iter().all(|v| v.is_finite()).then_some(x)
     }
 }

@@ -279,6 +279,45 @@ mod tests {
         assert!((two.x[1] - 0.01).abs() < 1e-3, "{}", two.x[1]);
     }
 
+    /// Issue 15 item 3: the paper's `Q` per sample made Algorithm 1's time
+    /// constant 200 samples at every rate, so the lag of a drifting gyro
+    /// angle was 2.5 times longer at 40 Hz than at 100 Hz (the shared 1.2 m/s
+    /// walk: mean error -2.35 deg at 40 Hz, -1.09 at 100 Hz). With `Q`
+    /// scaled by `(dt / 0.01 s)^2` the lag is the same in seconds.
+    #[test]
+    fn issue_15_time_constant_in_seconds_at_any_rate() {
+        let bias = 0.01; // rad/s
+        let lag = |rate: f64| {
+            let dt = 1.0 / rate;
+            let mut kf = ComplementaryKf::new(5e-6, 0.2);
+            let n = (200.0 * rate) as usize;
+            for k in 1..=n {
+                kf.predict_over(dt);
+                kf.update(-bias * k as f64 * dt);
+            }
+            (kf.x + bias * n as f64 * dt).abs()
+        };
+        let (l40, l100, l250) = (lag(40.0), lag(100.0), lag(250.0));
+        // 100 Hz: the paper's filter, lag b dt / K = 0.02 rad.
+        assert!((l100 - 0.02).abs() < 0.002, "{l100}");
+        assert!(
+            (l40 / l100 - 1.0).abs() < 0.1,
+            "40 Hz {l40} vs 100 Hz {l100}"
+        );
+        assert!(
+            (l250 / l100 - 1.0).abs() < 0.1,
+            "250 Hz {l250} vs 100 Hz {l100}"
+        );
+        // At 100 Hz, predict_over is the paper's predict exactly.
+        let (mut a, mut b) = (
+            ComplementaryKf::new(5e-6, 0.2),
+            ComplementaryKf::new(5e-6, 0.2),
+        );
+        a.predict();
+        b.predict_over(0.01);
+        assert_eq!(a, b);
+    }
+
     #[test]
     fn wrap_range() {
         assert!((wrap(3.0 * core::f64::consts::PI) - core::f64::consts::PI).abs() < 1e-12);

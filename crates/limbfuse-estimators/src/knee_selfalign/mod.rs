@@ -47,8 +47,8 @@ use crate::segment_kf::robust::{
 };
 use angle::{accel_angle, gyro_angle_rate, PlaneBasis};
 use fuser::Fuser;
-use position_fusion::FusedPositions;
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
+use position_fusion::FusedPositions;
 pub use window::Geometry;
 use window::{identify, Ring, Slot, WindowOutcome};
 

@@ -7,15 +7,15 @@ use alloc::vec::Vec;
 
 use nalgebra::{SVector, Vector3, Vector4, Vector6};
 
+use super::acc_scale::{
+    joint_accelerations, lifted_scaled_start, positions, scaled, significant_scale,
+    ScaledPositionResiduals, ScaledState,
+};
 use super::angle::{gyro_angle_rate, PlaneBasis};
 use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::acc_scale::{
-    joint_accelerations, lifted_scaled_start, positions, scaled, significant_scale,
-    ScaledPositionResiduals, ScaledState,
-};
 use super::position::{position_residual, rate_derivative, Kinematics, LiftedStart};
 use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
