@@ -86,7 +86,7 @@ fn first_window_positions_are_the_true_ones() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let g = match identify(&ring, None, false, &p) {
+        let g = match identify(&ring, None, None, false, &p) {
             limbfuse_estimators::knee_selfalign::window::WindowOutcome::Identified {
                 geometry,
                 ..
@@ -125,8 +125,8 @@ fn independent_walks_meet_the_target() {
 /// window's sign confidence reaches `sign_commit`. The run with
 /// `sign_commit = 0`, `acc_max_spread = 1`, `acc_min_motion = 0` (every
 /// accelerometer angle trusted, the default before the gaittoolbox/knee-rig causes) is the old
-/// behaviour: it keeps the wrong pair on the 0.7 m/s walk with a 2.51 s
-/// shift (knee RMSE 55 deg).
+/// behaviour: it kept the wrong pair on the 0.7 m/s walk with a 2.51 s
+/// shift (knee RMSE 55 deg) until issue 15 item 3 (see the end of the test).
 #[test]
 fn a_misleading_first_window_does_not_fix_the_sign() {
     let Some(dir) = data_dir() else { return };
@@ -170,8 +170,11 @@ fn a_misleading_first_window_does_not_fix_the_sign() {
             old_wrong += usize::from(!old);
         }
     }
-    assert!(
-        old_wrong > 0,
-        "the old rule should fail on at least one case"
-    );
+    // Until issue 15 item 3 the old rule kept the wrong pair on the 0.7 m/s
+    // walk with a 2.51 s shift (asserted here, so the scenario was shown to
+    // discriminate). Since the relative accelerometer scale of eq 3 and the
+    // fused positions (`acc_scale`, `position_fusion`), the old rule's
+    // settings find the right pair on all 9 cases too: printed, no longer
+    // asserted.
+    println!("old rule wrong on {old_wrong} of 9 cases");
 }
