@@ -77,6 +77,11 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         s,
         "# positions: sensor relative to the knee centre, sensor frames (m)"
     )?;
+    writeln!(
+        s,
+        "# relative accelerometer scale (thigh / shank) in eqs 3 and 7: {:.4} (1: not identified)",
+        g.acc_scale
+    )?;
     writeln!(s, "thigh_axis = {}", v(g.axis[0].into()))?;
     writeln!(s, "shank_axis = {}", v(g.axis[1].into()))?;
     writeln!(s, "thigh_position_m = {}", v(g.position[0].into()))?;
