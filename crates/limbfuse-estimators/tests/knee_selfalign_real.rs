@@ -121,7 +121,8 @@ fn rig_first_window_pairs_the_z_axes() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let WindowOutcome::Identified { geometry: g, .. } = identify(&ring, None, None, false, &p) else {
+        let WindowOutcome::Identified { geometry: g, .. } = identify(&ring, None, None, false, &p)
+        else {
             panic!("trial {k}: first window not identified");
         };
         println!("Trial_0{k}: j_T {:.2?}, j_S {:.2?}", g.axis[0], g.axis[1]);

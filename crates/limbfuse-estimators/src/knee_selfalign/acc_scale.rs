@@ -130,17 +130,27 @@ impl LiftedScaledStart {
             ScaledState::from_column_slice(&[z[0], z[1], z[2], z[3] / r, z[4] / r, z[5] / r, r]);
         x.iter().all(|v| v.is_finite()).then_some(x)
     }
-}
 
-/// The lifted scaled start over the window.
-pub fn lifted_scaled_start(ring: &Ring) -> Option<ScaledState> {
-    let mut lifted = LiftedScaledStart::default();
-    for i in 0..ring.len() {
-        if let Some([t, s]) = ring.kinematics(i) {
-            lifted.add(&t, &s);
+    /// The lifted solution of the paper's eq 3 (`r = 1`:
+    /// [`super::position::LiftedStart`]) from the same sums: with `r^2 = 1`
+    /// known, its column moves to the right-hand side. `[o_T, o_S]`.
+    pub fn solve_unit_scale(&self) -> Option<Vector6<f64>> {
+        if self.n < 18 {
+            return None;
         }
+        let a: SMatrix<f64, 18, 18> = self.ata.fixed_view::<18, 18>(0, 0).into_owned();
+        let b: SVector<f64, 18> =
+            self.atb.fixed_rows::<18>(0) - self.ata.fixed_view::<18, 1>(0, 18);
+        let ridge = 1e-9 * a.trace() / 18.0;
+        if !(ridge.is_finite() && ridge > 0.0) {
+            return None;
+        }
+        let z = (a + SMatrix::<f64, 18, 18>::identity() * ridge)
+            .cholesky()?
+            .solve(&b);
+        let o = Vector6::new(z[0], z[1], z[2], z[3], z[4], z[5]);
+        o.iter().all(|v| v.is_finite()).then_some(o)
     }
-    lifted.solve()
 }
 
 /// Standard deviations of `r - 1` the estimate must lie from 1 to be
@@ -148,28 +158,13 @@ pub fn lifted_scaled_start(ring: &Ring) -> Option<ScaledState> {
 /// `s^2 (H^T H)^-1`, `s^2 = sum e^2 / (N - 7)`).
 pub const SCALE_SIGMAS: f64 = 3.0;
 
-/// The relative scale of the window when it is identified: the Gauss-Newton
-/// solution `x` of the scaled problem, applied only when `r` differs from 1
-/// by more than [`SCALE_SIGMAS`] standard deviations (else the window cannot
-/// tell it from 1, and eq 3 is the paper's).
-pub fn significant_scale(ring: &Ring, x: &ScaledState) -> Option<f64> {
-    let r = x[6];
-    if !(r.is_finite() && r > 0.0) {
-        return None;
-    }
-    let mut hth = SMatrix::<f64, 7, 7>::zeros();
-    let (mut sse, mut n) = (0.0, 0usize);
-    ScaledPositionResiduals(ring).visit(x, &mut |e, h| {
-        hth.ger(1.0, h, h, 1.0);
-        sse += e * e;
-        n += 1;
-    });
-    if n <= 7 {
-        return None;
-    }
-    let cov = hth.cholesky()?.inverse() * (sse / (n - 7) as f64);
-    let sigma = libm::sqrt(cov[(6, 6)]);
-    ((r - 1.0).abs() > SCALE_SIGMAS * sigma).then_some(r)
+/// The relative scale `r` when the window identifies it: `r` differs from
+/// 1 by more than [`SCALE_SIGMAS`] standard deviations (`var` its variance,
+/// from the residuals); else `None` (the window cannot tell it from 1, and
+/// eq 3 is the paper's).
+pub fn significant_scale(r: f64, var: f64) -> Option<f64> {
+    let ok = r.is_finite() && r > 0.0 && var.is_finite() && var >= 0.0;
+    (ok && (r - 1.0).abs() > SCALE_SIGMAS * libm::sqrt(var)).then_some(r)
 }
 
 /// The positions of a scaled state.

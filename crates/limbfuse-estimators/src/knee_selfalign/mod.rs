@@ -14,6 +14,7 @@
 //! | [`window`] | Algorithm 3's window, the sign rules of SPEC 6 |
 //! | [`upright`] | ours (issue 15): the upright-leg axis prior for knees eq 2 does not fit |
 //! | [`acc_scale`] | ours (issue 15 item 3): a relative accelerometer scale in eqs 3 and 7 |
+//! | [`position_fit`] | Algorithm 2 on eq 3 for one window (with the relative scale: ours) |
 //! | [`position_fusion`] | ours (issue 15 item 3): the positions fused over windows by their information |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
@@ -29,6 +30,7 @@ mod fuser;
 pub mod param_ekf;
 pub mod params;
 pub mod position;
+pub mod position_fit;
 pub mod position_fusion;
 pub mod sign;
 pub mod upright;

@@ -23,6 +23,7 @@
 use nalgebra::{Matrix6, Vector3, Vector6};
 
 use super::param_ekf::{residual_sum, WindowResiduals};
+use super::position_fit::PositionFit;
 
 /// Largest turn of either axis (in its sensor frame) between the fused
 /// geometry and a new window that is taken as the same mounting: 5 deg. A
@@ -53,38 +54,20 @@ pub struct FusedPositions {
     pub windows: usize,
 }
 
-/// The information `H^T H / s^2` of a window's residuals about the positions
-/// at `o` (`s^2 = sum e^2 / (N - 6)`); `None` with fewer than 7 residuals.
-pub fn window_information<W: WindowResiduals<6>>(w: &W, o: &Vector6<f64>) -> Option<Matrix6<f64>> {
-    let mut hth = Matrix6::<f64>::zeros();
-    let (mut sse, mut n) = (0.0, 0usize);
-    w.visit(o, &mut |e, h| {
-        hth.ger(1.0, h, h, 1.0);
-        sse += e * e;
-        n += 1;
-    });
-    if n <= 6 || !(sse > 0.0) {
-        return None;
-    }
-    let s2 = sse / (n - 6) as f64;
-    let info = hth / s2;
-    info.iter().all(|v| v.is_finite()).then_some(info)
-}
-
 fn turned(a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
     // Sign-free: the axis sign is chosen later (SPEC section 6).
     a.dot(b).abs() < libm::cos(AXIS_CHANGE)
 }
 
-/// Fuses a window's positions `o` (identified with axes `axis`) into
+/// Fuses a window's positions `fit` (identified with axes `axis`) into
 /// `prior`; `w` are the window's eq-3 residuals.
 pub fn fuse<W: WindowResiduals<6>>(
     prior: Option<&FusedPositions>,
     w: &W,
-    o: Vector6<f64>,
+    fit: &PositionFit,
     axis: [Vector3<f64>; 2],
 ) -> FusedPositions {
-    let info = window_information(w, &o);
+    let (o, info) = (fit.o, fit.information);
     let fresh = FusedPositions {
         position: o,
         information: info.unwrap_or_else(Matrix6::zeros),
@@ -97,8 +80,8 @@ pub fn fuse<W: WindowResiduals<6>>(
     if turned(&p.axis[0], &axis[0]) || turned(&p.axis[1], &axis[1]) {
         return fresh;
     }
-    let (own, n) = residual_sum(w, &o);
-    let (old, _) = residual_sum(w, &p.position);
+    let (old, n) = residual_sum(w, &p.position);
+    let own = fit.rms * fit.rms * n as f64;
     if n == 0 || old > POSITION_CHANGE * POSITION_CHANGE * own {
         return fresh;
     }

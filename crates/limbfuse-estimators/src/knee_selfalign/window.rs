@@ -5,18 +5,16 @@
 
 use alloc::vec::Vec;
 
-use nalgebra::{SVector, Vector3, Vector4, Vector6};
+use nalgebra::{Vector3, Vector4};
 
-use super::acc_scale::{
-    joint_accelerations, lifted_scaled_start, positions, scaled, significant_scale,
-    ScaledPositionResiduals, ScaledState,
-};
+use super::acc_scale::joint_accelerations;
 use super::angle::{gyro_angle_rate, PlaneBasis};
 use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::position::{position_residual, rate_derivative, Kinematics, LiftedStart};
+use super::position::{rate_derivative, Kinematics};
+use super::position_fit::{fit_positions, PositionResiduals};
 use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
 use super::upright::{upright_axes, UprightAxes};
@@ -122,23 +120,6 @@ impl WindowResiduals<4> for AxisResiduals<'_> {
             let s = self.0.get(i);
             if s.gyr_ok {
                 if let Some((e, h)) = axis_residual(&s.gyr[0], &s.gyr[1], x) {
-                    f(e, &h);
-                }
-            }
-        }
-    }
-}
-
-/// Eq 3's residuals over the window, the shank's specific force scaled by
-/// the relative scale `r` ([`super::acc_scale`]; 1: the paper's eq 3).
-struct PositionResiduals<'a>(&'a Ring, f64);
-
-impl WindowResiduals<6> for PositionResiduals<'_> {
-    fn visit(&self, x: &Vector6<f64>, f: &mut dyn FnMut(f64, &Vector6<f64>)) {
-        for i in 0..self.0.len() {
-            if let Some([t, s]) = self.0.kinematics(i) {
-                let s = if self.1 == 1.0 { s } else { scaled(&s, self.1) };
-                if let Some((e, h)) = position_residual(&t, &s, x) {
                     f(e, &h);
                 }
             }
@@ -324,7 +305,7 @@ pub enum WindowOutcome {
 /// other pair with at least `sign_commit` confidence.
 ///
 /// The positions (and the relative accelerometer scale) are ours beyond the
-/// paper: [`scaled_positions`], then fused with `fused`, the positions of
+/// paper: [`fit_positions`], then fused with `fused`, the positions of
 /// the earlier windows ([`super::position_fusion`]).
 pub fn identify(
     ring: &Ring,
@@ -384,10 +365,8 @@ pub fn identify(
     if (moving_samples(ring) as f64) < p.min_valid_fraction * p.window as f64 {
         return WindowOutcome::Unobservable { information };
     }
-    let positions = PositionResiduals(ring, 1.0);
-    let o_start = position_start(ring, &positions, previous);
-    let o = match estimate_parameters(&positions, o_start, p.order, &p.position_noise, |x| x) {
-        Ok(r) => r,
+    let o = match fit_positions(ring, previous, p) {
+        Ok(o) => o,
         Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
     };
@@ -401,8 +380,8 @@ pub fn identify(
         UprightAxes::NoFlexion => previous.map_or([j_t, j_s], |g| g.axis),
         UprightAxes::Hinge => [j_t, j_s],
     };
-    let (r, o_x, rms_position) = scaled_positions(ring, &o, p);
-    let fusion = fuse(fused, &PositionResiduals(ring, r), o_x, [j_t, j_s]);
+    let (r, rms_position) = (o.r, o.rms);
+    let fusion = fuse(fused, &PositionResiduals(ring, r), &o, [j_t, j_s]);
     let o_t: Vector3<f64> = fusion.position.fixed_rows::<3>(0).into_owned();
     let o_s: Vector3<f64> = fusion.position.fixed_rows::<3>(3).into_owned();
     let identified = |c: SignChoice| WindowOutcome::Identified {
@@ -495,63 +474,6 @@ fn flexion_side(ring: &Ring, mut c: SignChoice, p: &KneeSelfAlignParams) -> Sign
         c.geometry.axis = [-c.geometry.axis[0], -c.geometry.axis[1]];
     }
     c
-}
-
-/// The relative accelerometer scale `r`, the positions and their RMS eq-3
-/// residual: Algorithm 2 on `[o_T, o_S, r]` ([`super::acc_scale`]) from the
-/// better of the lifted scaled start and the paper's solution `o` with
-/// `r = 1`; its `r` and positions when `r` is identified
-/// ([`significant_scale`]), else `r = 1` and `o`.
-fn scaled_positions(
-    ring: &Ring,
-    o: &ParamEkfResult<6>,
-    p: &KneeSelfAlignParams,
-) -> (f64, Vector6<f64>, f64) {
-    let paper = (1.0, o.x, o.rms_after);
-    let w = ScaledPositionResiduals(ring);
-    let mut start = ScaledState::zeros();
-    start.fixed_rows_mut::<6>(0).copy_from(&o.x);
-    start[6] = 1.0;
-    if let Some(l) = lifted_scaled_start(ring) {
-        if residual_sum(&w, &l).0 < residual_sum(&w, &start).0 {
-            start = l;
-        }
-    }
-    let Ok(fit) = estimate_parameters(&w, start, p.order, &p.position_noise, |x| x) else {
-        return paper;
-    };
-    match significant_scale(ring, &fit.x) {
-        Some(r) => (r, positions(&fit.x), fit.rms_after),
-        None => paper,
-    }
-}
-
-/// Starting positions of Algorithm 2: the lower-cost (`sum e_o^2`) of the
-/// previous window's positions (`o = 0` in the first window) and the lifted
-/// least-squares solution ([`LiftedStart`]).
-fn position_start(
-    ring: &Ring,
-    positions: &PositionResiduals<'_>,
-    previous: Option<&Geometry>,
-) -> Vector6<f64> {
-    let old = match previous {
-        Some(g) => stack(&g.position[0], &g.position[1]),
-        None => Vector6::zeros(),
-    };
-    let mut lifted = LiftedStart::default();
-    for i in 0..ring.len() {
-        if let Some([t, s]) = ring.kinematics(i) {
-            lifted.add(&t, &s);
-        }
-    }
-    match lifted.solve() {
-        Some(l) if residual_sum(positions, &l).0 < residual_sum(positions, &old).0 => l,
-        _ => old,
-    }
-}
-
-fn stack(a: &Vector3<f64>, b: &Vector3<f64>) -> SVector<f64, 6> {
-    Vector6::new(a.x, a.y, a.z, b.x, b.y, b.z)
 }
 
 /// The gyro angles (eq 4, trapezoidal) of the samples in `recent` with the
