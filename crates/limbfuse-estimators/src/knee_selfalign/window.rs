@@ -246,6 +246,9 @@ impl Geometry {
 
 /// What identifying one window gave.
 #[derive(Debug, Clone, Copy, PartialEq)]
+// Returned by value once per window; boxing the large variant would
+// allocate in `step` (the estimators allocate nothing per sample).
+#[allow(clippy::large_enum_variant)]
 pub enum WindowOutcome {
     /// New geometry.
     Identified {
