@@ -44,6 +44,9 @@ pub struct ColumnBlock {
     nan: Vec<bool>,
 }
 
+/// Columns as numpy arrays, and whether each holds a NaN.
+pub type NumpyColumns<'py> = (Vec<Bound<'py, PyArray1<f64>>>, Vec<bool>);
+
 /// Values per 4 KiB page.
 const PAGE_VALUES: usize = 512;
 
@@ -115,10 +118,7 @@ impl ColumnBlock {
 
     /// The columns as numpy arrays (views into one array that owns the
     /// block: no copy), and whether each holds a NaN.
-    pub fn into_numpy(
-        mut self,
-        py: Python<'_>,
-    ) -> PyResult<(Vec<Bound<'_, PyArray1<f64>>>, Vec<bool>)> {
+    pub fn into_numpy(mut self, py: Python<'_>) -> PyResult<NumpyColumns<'_>> {
         let staged = self.len % LINE;
         if staged > 0 {
             self.move_stage(self.len - staged, staged);

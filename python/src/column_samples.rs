@@ -14,7 +14,6 @@
 use limbfuse_core::Sample;
 use nalgebra::Vector3;
 
-use crate::cache_hints::{prefetch, AHEAD, LINE};
 use crate::columns::Channel;
 
 /// Which three-axis IMU vector of a sample a column group fills.
@@ -46,8 +45,6 @@ pub struct SampleColumns<'a> {
     vectors: Vec<(VectorSlot, [&'a [f64]; 3])>,
     quats: Vec<(usize, [&'a [f64]; 4])>,
     scalars: Vec<(ScalarSlot, &'a [f64])>,
-    /// Every column above, for the prefetch hints.
-    all: Vec<&'a [f64]>,
 }
 
 /// The value at `i` (NaN = missing).
@@ -125,16 +122,11 @@ impl<'a> SampleColumns<'a> {
                 _ => None,
             })
             .collect();
-        let mut all = vec![t];
-        all.extend(vectors.iter().flat_map(|(_, c)| *c));
-        all.extend(quats.iter().flat_map(|(_, c)| *c));
-        all.extend(scalars.iter().map(|(_, c)| *c));
         SampleColumns {
             t,
             vectors,
             quats,
             scalars,
-            all,
         }
     }
 
@@ -147,12 +139,6 @@ impl<'a> SampleColumns<'a> {
     /// (`i < len()`); every other field is left as it is.
     #[inline]
     pub fn fill(&self, i: usize, s: &mut Sample) {
-        // One column in LINE per sample asks for its line AHEAD: each line
-        // once, spread over the samples.
-        let phase = i % LINE;
-        for c in self.all.iter().skip(phase).step_by(LINE) {
-            prefetch(c, i - phase + AHEAD);
-        }
         s.t = self.t[i];
         for &(slot, [x, y, z]) in &self.vectors {
             let cells = [x[i], y[i], z[i]];

@@ -48,7 +48,10 @@ impl EstimateColumns {
         let mut cells = vec![Cell::Time];
         for c in AngleChannel::ALL.into_iter().filter(|c| has(&outputs, *c)) {
             names.push(c.name().to_string());
-            cells.push(Cell::Angle(c));
+            cells.push(match c {
+                AngleChannel::Segment(s) => Cell::Segment(s.index()),
+                AngleChannel::Joint(j) => Cell::Joint(j.index()),
+            });
         }
         if outputs.speed {
             names.push("speed".into());
@@ -114,7 +117,8 @@ const MAX_HEAD: usize = 17;
 #[derive(Debug, Clone, Copy)]
 enum Cell {
     Time,
-    Angle(AngleChannel),
+    Segment(usize),
+    Joint(usize),
     Speed,
     ComPos(usize),
     ComVel(usize),
@@ -135,7 +139,8 @@ impl Cell {
     fn value(self, e: &Estimate) -> f64 {
         finite(match self {
             Cell::Time => Some(e.t),
-            Cell::Angle(c) => e.angle(c),
+            Cell::Segment(k) => e.segment[k],
+            Cell::Joint(k) => e.joint[k],
             Cell::Speed => e.speed,
             Cell::ComPos(k) => e.com_pos.map(|v| v[k]),
             Cell::ComVel(k) => e.com_vel.map(|v| v[k]),
