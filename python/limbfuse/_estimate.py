@@ -93,9 +93,13 @@ class Estimate:
 
     @classmethod
     def _from_native(cls, tup: tuple) -> "Estimate":
-        header, order, t, names, arrays, phase, resets = tup
+        header, order, t, names, arrays, phase, resets, has_nan = tup
+        if has_nan is None:
+            cols = {n: from_native(a) for n, a in zip(names, arrays)}
+        else:
+            cols = {n: from_native(a) if nan else a for n, a, nan in zip(names, arrays, has_nan)}
         e = cls.__new__(cls)
-        e._set(t, {n: from_native(a) for n, a in zip(names, arrays)}, phase_array(phase), header, order)
+        e._set(t, cols, phase_array(phase), header, order)
         if resets:
             warnings.warn(resets, LimbfuseWarning, stacklevel=3)
         return e

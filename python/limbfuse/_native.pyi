@@ -1,8 +1,10 @@
 """Type stubs of the Rust extension `limbfuse._native` (python/src/).
 
 Trials cross as ``(meta items, t, names, arrays, phase_ref cells, source)``
-and estimates as ``(header lines, t, names, arrays, phase cells)``; arrays
-are float64 with NaN = missing (the public classes mask them).
+and estimates as ``(header lines, t, names, arrays, phase cells)`` (handed
+back with the file's column order, a restart warning and which arrays hold
+a NaN, None = not known); arrays are float64 with NaN = missing (the public
+classes mask them).
 """
 
 from typing import Any, Dict, List, Optional, Sequence, Tuple
@@ -16,7 +18,14 @@ TrialTuple = Tuple[
 ]
 EstimateArgs = Tuple[List[str], F64, List[str], List[F64], Optional[List[Optional[str]]]]
 EstimateTuple = Tuple[
-    List[str], List[str], F64, List[str], List[F64], Optional[List[Optional[str]]], Optional[str]
+    List[str],
+    List[str],
+    F64,
+    List[str],
+    List[F64],
+    Optional[List[Optional[str]]],
+    Optional[str],
+    Optional[List[bool]],
 ]
 
 class LimbfuseError(ValueError): ...

@@ -23,6 +23,7 @@ use limbfuse_io::layout::{contact_ref_column, other_leg_prefix, AXES, QUAT, SPEE
 use limbfuse_io::{TrialLayout, TrialMeta};
 
 use crate::column_records::RecordPlan;
+use crate::column_samples::SampleColumns;
 
 /// One numeric trial column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -295,6 +296,12 @@ impl<'a> TrialColumns<'a> {
     /// Where each record field comes from (resolved once for a run).
     pub fn plan(&self) -> RecordPlan<'_> {
         RecordPlan::new(self.t, &self.columns, self.phase.as_deref())
+    }
+
+    /// The input columns, each with the sample field it fills (resolved
+    /// once for a run).
+    pub fn inputs(&self) -> SampleColumns<'_> {
+        SampleColumns::new(self.t, &self.columns)
     }
 
     /// Every record, in order.

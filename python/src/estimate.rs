@@ -4,7 +4,6 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::ResetWatch;
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
@@ -15,7 +14,7 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::column_records::ColumnRecords;
+use crate::column_run::run_columns;
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -57,8 +56,10 @@ impl<'py> EstimateArgs<'py> {
 }
 
 /// The tuple the Python layer builds an `Estimate` from: header lines,
-/// file column order, `t`, numeric names and arrays, `phase` cells, and a
-/// restart warning (issue 16) when the estimator restarted.
+/// file column order, `t`, numeric names and arrays, `phase` cells, a
+/// restart warning (issue 16) when the estimator restarted, and whether
+/// each numeric array holds a NaN (`None`: not known, the Python layer
+/// looks).
 pub type EstimateTuple<'py> = (
     Vec<String>,
     Vec<String>,
@@ -67,6 +68,7 @@ pub type EstimateTuple<'py> = (
     Vec<Bound<'py, PyArray1<f64>>>,
     Option<Vec<Option<&'static str>>>,
     Option<String>,
+    Option<Vec<bool>>,
 );
 
 fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
@@ -86,15 +88,15 @@ fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
 
 pub(crate) fn estimate_tuple(
     py: Python<'_>,
-    mut cols: EstimateColumns,
+    cols: EstimateColumns,
     resets: Option<String>,
 ) -> PyResult<EstimateTuple<'_>> {
-    cols.flush();
     let order = file_order(&cols.names, cols.phase.is_some());
-    let mut arrays = std::mem::take(&mut cols.values).into_numpy(py)?;
+    let (mut arrays, mut nan) = cols.values.into_numpy(py)?;
     let t = if arrays.is_empty() {
         PyArray1::zeros(py, 0, false)
     } else {
+        nan.remove(0);
         arrays.remove(0)
     };
     Ok((
@@ -105,6 +107,7 @@ pub(crate) fn estimate_tuple(
         arrays,
         cols.phase,
         resets,
+        Some(nan),
     ))
 }
 
@@ -132,11 +135,8 @@ fn estimate<'py>(
             out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
         }
         let mut resets = ResetWatch::default();
-        let run = py.detach(|| {
-            let mut observers: [&mut dyn Observer; 2] = [&mut out, &mut resets];
-            let mut records = ColumnRecords::new(cols.plan().without_references());
-            runner::run_from(est.as_mut(), &mut records, &mut observers)
-        });
+        let inputs = cols.inputs();
+        let run = py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
         run.map_err(|e| {
             user_msg(format!(
                 "estimating {label} with {}: {}",
@@ -218,6 +218,7 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
             names[1..].to_vec(),
             values.map(|v| PyArray1::from_vec(py, v)).collect(),
             phase,
+            None,
             None,
         ))
     })

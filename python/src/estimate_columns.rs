@@ -4,9 +4,8 @@
 //! in from Python back into [`Estimate`]s.
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_core::{Estimate, Estimator, GaitPhase, Record, MAX_DIAG};
+use limbfuse_core::{Estimate, Estimator, GaitPhase, MAX_DIAG};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use nalgebra::Vector3;
 
@@ -22,24 +21,12 @@ fn has(o: &Outputs, c: AngleChannel) -> bool {
     }
 }
 
-/// Estimates staged row by row before they are written to the columns: a
-/// block of rows (row-major, in cache) is transposed into the columns at
-/// once, so that each column is written sequentially rather than one
-/// value per column per sample.
-const STAGED_ROWS: usize = 256;
-
 /// A run's estimates as columns (NaN = missing or non-finite, written as
-/// an empty cell by the estimate writer too).
-///
-/// [`EstimateColumns::push`] stages each estimate; the columns hold every
-/// estimate after [`EstimateColumns::flush`] (which the runner's
-/// [`Observer::finish`] calls).
+/// an empty cell by the estimate writer too), each estimate written
+/// straight into the columns by [`EstimateColumns::push`].
 #[derive(Debug, Default)]
 pub struct EstimateColumns {
     format: RowFormat,
-    /// Staged rows, `names.len()` values each.
-    stage: Vec<f64>,
-    staged: usize,
     /// Numeric column names (without `phase`), in file order.
     pub names: Vec<String>,
     /// One column per name.
@@ -57,20 +44,26 @@ impl EstimateColumns {
         let outputs = est.outputs();
         let diag = est.diagnostic_names();
         let n_diag = diag.len().min(MAX_DIAG);
-        let angles: Vec<AngleChannel> = AngleChannel::ALL
-            .into_iter()
-            .filter(|c| has(&outputs, *c))
-            .collect();
         let mut names = vec!["t".to_string()];
-        names.extend(angles.iter().map(|c| c.name().to_string()));
+        let mut cells = vec![Cell::Time];
+        for c in AngleChannel::ALL.into_iter().filter(|c| has(&outputs, *c)) {
+            names.push(c.name().to_string());
+            cells.push(match c {
+                AngleChannel::Segment(s) => Cell::Segment(s.index()),
+                AngleChannel::Joint(j) => Cell::Joint(j.index()),
+            });
+        }
         if outputs.speed {
             names.push("speed".into());
+            cells.push(Cell::Speed);
         }
         if outputs.com {
             names.extend(COM_COLUMNS.iter().map(|c| c.to_string()));
+            cells.extend((0..3).map(Cell::ComPos).chain((0..3).map(Cell::ComVel)));
         }
         if outputs.contact {
             names.extend(CONTACT.iter().map(|c| c.to_string()));
+            cells.extend((0..2).map(Cell::Contact));
         }
         names.extend(diag[..n_diag].iter().map(|n| format!("diag_{n}")));
         let mut header = vec![format!("method: {}", est.name())];
@@ -83,13 +76,7 @@ impl EstimateColumns {
                 .map(str::to_string),
         );
         Ok(EstimateColumns {
-            format: RowFormat {
-                outputs,
-                n_diag,
-                angles,
-            },
-            stage: vec![0.0; STAGED_ROWS.min(n.max(1)) * names.len()],
-            staged: 0,
+            format: RowFormat { cells, n_diag },
             values: ColumnBlock::new(names.len(), n),
             names,
             phase: outputs.phase.then(|| Vec::with_capacity(n)),
@@ -97,99 +84,94 @@ impl EstimateColumns {
         })
     }
 
-    /// Appends one estimate (staged: see [`EstimateColumns::flush`]).
+    /// Appends one estimate.
+    #[inline]
     pub fn push(&mut self, e: &Estimate) {
-        let width = self.names.len();
-        if (self.staged + 1) * width > self.stage.len() {
-            self.flush();
-        }
-        let at = self.staged * width;
-        if let Some(row) = self.stage.get_mut(at..at + width) {
-            self.format.write(e, row);
-            self.staged += 1;
-        }
+        let mut head = [0.0; MAX_HEAD];
+        let n = self.format.head(e, &mut head);
+        self.values.push_row(&head[..n], self.format.diag(e));
         if let Some(p) = &mut self.phase {
             p.push(e.phase.map(GaitPhase::label));
         }
     }
 
-    /// Moves the staged estimates into the columns.
-    pub fn flush(&mut self) {
-        self.values.append_rows(&self.stage, self.staged);
-        self.staged = 0;
-    }
-
     /// One estimate as (name, value) pairs, `phase` in its file position.
     pub fn row(&self, e: &Estimate) -> Vec<(String, Option<f64>)> {
-        let mut row = vec![f64::NAN; self.names.len()];
-        self.format.write(e, &mut row);
+        let mut head = [0.0; MAX_HEAD];
+        let n = self.format.head(e, &mut head);
+        let diag = self.format.diag(e).iter().map(|d| finite(*d));
         self.names
             .iter()
             .cloned()
-            .zip(row)
+            .zip(head[..n].iter().copied().chain(diag))
             .map(|(n, v)| (n, Some(v).filter(|x| !x.is_nan())))
             .collect()
     }
 }
 
-/// Which values of an estimate a row holds, in file order.
+/// At most as many columns before the diagnostics: `t`, 7 angles,
+/// `speed`, 6 CoM values, 2 contacts.
+const MAX_HEAD: usize = 17;
+
+/// Where the value of a (non-diagnostic) column comes from in an estimate.
+#[derive(Debug, Clone, Copy)]
+enum Cell {
+    Time,
+    Segment(usize),
+    Joint(usize),
+    Speed,
+    ComPos(usize),
+    ComVel(usize),
+    Contact(usize),
+}
+
+/// A value, or NaN when missing or not finite.
+#[inline]
+fn finite(v: Option<f64>) -> f64 {
+    match v {
+        Some(x) if x.is_finite() => x,
+        _ => f64::NAN,
+    }
+}
+
+impl Cell {
+    #[inline]
+    fn value(self, e: &Estimate) -> f64 {
+        finite(match self {
+            Cell::Time => Some(e.t),
+            Cell::Segment(k) => e.segment[k],
+            Cell::Joint(k) => e.joint[k],
+            Cell::Speed => e.speed,
+            Cell::ComPos(k) => e.com_pos.map(|v| v[k]),
+            Cell::ComVel(k) => e.com_vel.map(|v| v[k]),
+            Cell::Contact(k) => e.contact[k].map(|c| if c { 1.0 } else { 0.0 }),
+        })
+    }
+}
+
+/// Which values of an estimate a row holds, in file order: the cells the
+/// method outputs (resolved once), then its `n_diag` diagnostics.
 #[derive(Debug, Default)]
 struct RowFormat {
-    outputs: Outputs,
+    cells: Vec<Cell>,
     n_diag: usize,
-    /// The angle channels the method outputs, in file order.
-    angles: Vec<AngleChannel>,
 }
 
 impl RowFormat {
-    /// Writes `e`'s values into `row` (one per column, in order).
-    fn write(&self, e: &Estimate, row: &mut [f64]) {
-        let n_diag = self.n_diag.min(row.len());
-        let (row, diag) = row.split_at_mut(row.len() - n_diag);
-        for (cell, d) in diag.iter_mut().zip(&e.diag) {
-            *cell = match d {
-                Some(x) if x.is_finite() => *x,
-                _ => f64::NAN,
-            };
+    /// Writes `e`'s values before its diagnostics into `head`, one per
+    /// column in order; returns how many.
+    #[inline]
+    fn head(&self, e: &Estimate, head: &mut [f64; MAX_HEAD]) -> usize {
+        for (h, c) in head.iter_mut().zip(&self.cells) {
+            *h = c.value(e);
         }
-        let mut cells = row.iter_mut();
-        let mut put = |v: Option<f64>| {
-            if let Some(c) = cells.next() {
-                *c = v.filter(|x| x.is_finite()).unwrap_or(f64::NAN);
-            }
-        };
-        put(Some(e.t));
-        for c in &self.angles {
-            put(e.angle(*c));
-        }
-        if self.outputs.speed {
-            put(e.speed);
-        }
-        if self.outputs.com {
-            for k in 0..3 {
-                put(e.com_pos.map(|v| v[k]));
-            }
-            for k in 0..3 {
-                put(e.com_vel.map(|v| v[k]));
-            }
-        }
-        if self.outputs.contact {
-            for c in e.contact {
-                put(c.map(|c| if c { 1.0 } else { 0.0 }));
-            }
-        }
-    }
-}
-
-impl Observer for EstimateColumns {
-    fn observe(&mut self, _record: &Record, estimate: &Estimate) -> Result<(), BoxError> {
-        self.push(estimate);
-        Ok(())
+        self.cells.len().min(MAX_HEAD)
     }
 
-    fn finish(&mut self) -> Result<(), BoxError> {
-        self.flush();
-        Ok(())
+    /// `e`'s diagnostics, one per column in order.
+    #[inline]
+    fn diag<'e>(&self, e: &'e Estimate) -> &'e [Option<f64>] {
+        e.diag.get(..self.n_diag).unwrap_or(&e.diag)
     }
 }
 

@@ -5,14 +5,14 @@
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-use limbfuse_core::runner::{self, Observer};
-use limbfuse_core::{Estimator, Record, Side};
+use limbfuse_core::{Estimator, Sample, Side};
 use limbfuse_io::TrialMeta;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
-use crate::column_records::{ColumnRecords, RecordPlan};
+use crate::column_run::run_columns;
+use crate::column_samples::SampleColumns;
 use crate::columns::{leg_of, Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
 use crate::estimate_columns::EstimateColumns;
@@ -171,11 +171,11 @@ impl NativeFilter {
                 .zip(&values)
                 .map(|(c, v)| (*c, std::slice::from_ref(v)))
                 .collect();
-            let mut r = Record::default();
-            RecordPlan::new(&time, &columns, None).fill(0, &mut r);
+            let mut sample = Sample::default();
+            SampleColumns::new(&time, &columns).fill(0, &mut sample);
             let e = self
                 .estimator()
-                .step(&r.sample)
+                .step(&sample)
                 .map_err(|e| step_error(&self.method, t, &e))?;
             let out = PyDict::new(py);
             for (name, v) in self.template.row(&e) {
@@ -222,12 +222,9 @@ impl NativeFilter {
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let method = self.method.clone();
             let est = self.estimator();
-            py.detach(|| {
-                let mut observers: [&mut dyn Observer; 1] = [&mut out];
-                let mut records = ColumnRecords::new(cols.plan().without_references());
-                runner::run_from(est, &mut records, &mut observers)
-            })
-            .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
+            let inputs = cols.inputs();
+            py.detach(|| run_columns(est, &inputs, &mut out, None))
+                .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             crate::estimate::estimate_tuple(py, out, None)
         })
     }

@@ -18,8 +18,11 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+mod cache_hints;
 mod column_block;
 mod column_records;
+mod column_run;
+mod column_samples;
 mod columns;
 mod estimate;
 mod estimate_columns;

@@ -140,9 +140,9 @@ def test_filter_step_and_run_equal_estimate(walking_trial):
 
 def test_issue_17_long_estimate_equals_filter_run_in_chunks():
     # A trial long enough for `estimate`'s output block to take the huge-page
-    # path (>= 4 MiB: 300 s x 41 columns x 8 bytes = 9.8 MB), and not a
-    # multiple of the 256-row staging block; `Filter.run` over chunks of
-    # 7 001 samples (2.2 MB each, normal pages) must give the same bits.
+    # path (>= 4 MiB: 300 s x 41 columns x 8 bytes = 9.8 MB); `Filter.run`
+    # over chunks of 7 001 samples (2.2 MB each, normal pages, each ending
+    # on a partial 8-row staging line) must give the same bits.
     trial = limbfuse.simulate("walking", duration=300.0, seed=5)
     n = len(trial)
     assert n % 256 != 0
@@ -164,6 +164,33 @@ def test_issue_17_long_estimate_equals_filter_run_in_chunks():
     thigh[:] = 0.0
     for k, b in before.items():
         assert np.array_equal(bits(est.channels[k]), b), k
+
+
+def test_issue_17_estimate_of_any_length_equals_step_by_step(walking_trial):
+    # `estimate` stages its rows a cache line (8 rows) at a time and tells
+    # the Python layer which columns hold a NaN: trials of 1 to 19 samples
+    # (whole lines, a partial last line, less than one line) must give the
+    # bits of `Filter.step`, which does neither, masked exactly where a
+    # value is missing.
+    names = list(walking_trial.channels)
+    f = Filter.for_trial(walking_trial, "mjls")
+    steps = []
+    for i in range(19):
+        sample = {"t": float(walking_trial.t[i])}
+        sample.update({n: float(walking_trial.channels[n][i]) for n in names})
+        steps.append(f.step(sample))
+    for n in range(1, 20):
+        part = Trial(
+            walking_trial.t[:n], {k: v[:n] for k, v in walking_trial.channels.items()}, walking_trial.meta
+        )
+        est = limbfuse.estimate(part, "mjls")
+        assert len(est) == n
+        for k, v in est.channels.items():
+            want = np.array([np.nan if s[k] is None else s[k] for s in steps[:n]])
+            assert np.array_equal(bits(v), bits(want)), (n, k)
+            missing = np.isnan(want)
+            assert np.ma.isMaskedArray(v) == bool(missing.any()), (n, k)
+            assert np.array_equal(np.ma.getmaskarray(v), missing), (n, k)
 
 
 def test_issue_17_filter_step_absent_axis_is_missing(walking_trial):
