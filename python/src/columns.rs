@@ -66,14 +66,10 @@ pub const PHASE_REF: &str = "phase_ref";
 const COM_POS: [&str; 3] = ["com_x", "com_y", "com_z"];
 const COM_VEL: [&str; 3] = ["com_vx", "com_vy", "com_vz"];
 
-/// The side of a trial's single-leg columns: its `# leg:` (`left` or
-/// `right`), right when absent (SPEC section 2, as `TrialReader` reads it).
+/// The side of a trial's single-leg columns: [`TrialMeta::leg`], the rule
+/// `TrialReader` reads it by (SPEC section 2: right when absent).
 pub fn leg_of(meta: &TrialMeta) -> Result<Side, String> {
-    match meta.get("leg") {
-        None => Ok(Side::Right),
-        Some(text) => Side::parse(text)
-            .ok_or_else(|| format!("metadata `leg: {text}`: expected `left` or `right`")),
-    }
+    meta.leg()
 }
 
 impl Channel {

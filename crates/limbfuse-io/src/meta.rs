@@ -44,11 +44,41 @@ impl TrialMeta {
         &self.entries
     }
 
+    /// The side of the trial's single-leg columns: its `leg` entry (`left`
+    /// or `right`), right when absent (SPEC section 2). The error says what
+    /// the entry holds and what was expected; the caller adds the file.
+    pub fn leg(&self) -> Result<limbfuse_core::Side, String> {
+        match self.get("leg") {
+            None => Ok(limbfuse_core::Side::Right),
+            Some(text) => limbfuse_core::Side::parse(text)
+                .ok_or_else(|| format!("metadata `# leg: {text}`: expected `left` or `right`")),
+        }
+    }
+
     /// Gravity (m/s^2): the `g` entry if it parses as a positive finite number, else 9.81.
     pub fn gravity(&self) -> f64 {
         self.get("g")
             .and_then(|v| v.trim().parse::<f64>().ok())
             .filter(|g| g.is_finite() && *g > 0.0)
             .unwrap_or(STANDARD_GRAVITY)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_core::Side;
+
+    #[test]
+    fn leg_is_right_when_absent_and_named_when_wrong() {
+        let mut m = TrialMeta::trial_v1();
+        assert_eq!(m.leg(), Ok(Side::Right));
+        m.set("leg", "left");
+        assert_eq!(m.leg(), Ok(Side::Left));
+        m.set("leg", "both");
+        assert_eq!(
+            m.leg(),
+            Err("metadata `# leg: both`: expected `left` or `right`".to_string())
+        );
     }
 }

@@ -165,14 +165,11 @@ impl TrialReader {
             plan.com_meas[k] = table.column(name);
             layout.com_meas[k] = plan.com_meas[k].is_some();
         }
-        let own_leg = match table.meta().get("leg") {
-            None => Side::Right,
-            Some(text) => Side::parse(text).ok_or_else(|| FileError::Header {
-                path: table.path().to_path_buf(),
-                line: table.header_line(),
-                message: format!("metadata `# leg: {text}`: expected `left` or `right`"),
-            })?,
-        };
+        let own_leg = table.meta().leg().map_err(|message| FileError::Header {
+            path: table.path().to_path_buf(),
+            line: table.header_line(),
+            message,
+        })?;
         layout.leg = own_leg;
         for s in Segment::ALL {
             let i = s.index();
