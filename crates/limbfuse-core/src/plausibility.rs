@@ -147,7 +147,7 @@ impl VectorTrack {
     /// Checks reading `v` at time `t`; `max_accel` is the jump bound
     /// (rad/s^2, `None`: no jump check). An accepted reading becomes the
     /// reference of the next check.
-    #[inline]
+    #[inline(always)]
     pub fn check(
         &mut self,
         v: &Vector3<f64>,

@@ -347,6 +347,9 @@ fn tally(rej: &mut Rejections, why: Implausible) {
 }
 
 #[cfg(test)]
+mod reference;
+
+#[cfg(test)]
 pub(crate) mod tests {
     use super::*;
     use nalgebra::Vector3;

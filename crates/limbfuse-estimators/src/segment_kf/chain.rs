@@ -29,7 +29,7 @@ use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
 use super::robust::{
-    predicted_rate, predicted_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S,
+    predicted_rate, predicted_rate_variance, rate_slope, FillContext, RateDropouts, GATE_LOCKOUT_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::sequential;
@@ -112,17 +112,6 @@ pub(crate) struct Chain {
     resets: u64,
     /// Time of the first sample since the (re)start (for `startup_s`).
     first_t: Option<f64>,
-}
-
-/// Derivative of a rate between its last two readings (rad/s^2): the last
-/// reading `last` at `last_t` and the one before, `prev` (reading, time); 0
-/// without an earlier reading or time between them.
-#[inline]
-fn rate_slope(last: Option<f64>, last_t: f64, prev: (Option<f64>, f64)) -> f64 {
-    match (last, prev) {
-        (Some(r), (Some(l), t_prev)) if last_t > t_prev => (r - l) / (last_t - t_prev),
-        _ => 0.0,
-    }
 }
 
 fn finite(v: f64) -> Option<f64> {
