@@ -228,10 +228,9 @@ impl SampleGate {
             limits: lim,
             rejections: rej,
             tracks,
-            acc_turns,
             ..
         } = self;
-        let (track, turn) = (&mut tracks[k], &mut acc_turns[k]);
+        let track = &mut tracks[k];
         let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
         let clipped = |v: &nalgebra::Vector3<f64>, fs: Option<f64>| {
             fs.is_some_and(|fs| v.iter().any(|x| x.abs() >= CLIPPED_FRACTION * fs))
@@ -271,6 +270,35 @@ impl SampleGate {
                 out.gyr |= bit;
             }
         }
+        self.check_imu_rest(k, imu, gyr, gyro_stuck, (t, dt), out);
+    }
+
+    /// The checks of [`SampleGate::check_imu`] after the complete gyroscope
+    /// vector's: the incomplete gyroscope vector (if `gyr`, the gyroscope
+    /// reading accepted, is `None`) and the accelerometer (`gyro_stuck`: the
+    /// gyroscope was rejected as stuck), at `(t, dt)`.
+    #[inline]
+    fn check_imu_rest(
+        &mut self,
+        k: usize,
+        imu: &ImuSample,
+        gyr: Option<&nalgebra::Vector3<f64>>,
+        gyro_stuck: bool,
+        (t, dt): (f64, f64),
+        out: &mut Screening,
+    ) {
+        let SampleGate {
+            ranges: r,
+            limits: lim,
+            rejections: rej,
+            tracks,
+            acc_turns,
+            ..
+        } = self;
+        let (track, turn) = (&mut tracks[k], &mut acc_turns[k]);
+        let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
+        let bit = 1u8 << k;
+        let alpha = lim.angular_accel_rad_s2[k % 4];
         if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
             let cells = &imu.gyr_partial;
             let out_of_range = !cells_within(cells, r.gyro_rad_s);

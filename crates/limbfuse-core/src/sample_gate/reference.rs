@@ -1,6 +1,8 @@
-//! The sensor gate as it was before its fast path (every check on every
-//! cell, in the order of the module documentation), kept to test that
-//! [`SampleGate::check`] screens, counts and remembers exactly as it did.
+//! The sensor gate as it was before its fast path (every IMU visited, every
+//! check of a complete gyroscope vector made in turn on copies), kept to
+//! test that [`SampleGate::check`] screens, counts and remembers exactly as
+//! it did. The checks after the complete gyroscope vector's, which have no
+//! fast path, are the gate's own ([`SampleGate::check_imu_rest`]).
 
 use super::*;
 use nalgebra::Vector3;
@@ -18,10 +20,9 @@ fn reference_check(gate: &mut SampleGate, sample: &Sample) -> Screening {
     };
     let dt = gate.last_t.map_or(f64::NAN, |t0| t - t0);
     gate.last_t = Some(t);
-    let rej = &mut gate.rejections;
     let imus = sample.imu.iter().chain(sample.other_leg_imu.iter());
-    let per_imu = gate.tracks.iter_mut().zip(gate.acc_turns.iter_mut());
-    for (k, (imu, (track, turn))) in imus.zip(per_imu).enumerate() {
+    for (k, imu) in imus.enumerate() {
+        let (rej, track) = (&mut gate.rejections, &mut gate.tracks[k]);
         let bit = 1u8 << k;
         let alpha = lim.angular_accel_rad_s2[k % 4];
         let mut gyro_stuck = false;
@@ -44,44 +45,10 @@ fn reference_check(gate: &mut SampleGate, sample: &Sample) -> Screening {
                 out.gyr |= bit;
             }
         }
-        if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
-            let cells = &imu.gyr_partial;
-            let out_of_range = !cells_within(cells, r.gyro_rad_s);
-            let clip = !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s);
-            let why = (!out_of_range && !clip)
-                .then(|| track[0].check_axes(cells, t, Some(alpha), &lim))
-                .flatten();
-            if out_of_range || clip || why.is_some() {
-                out.gyr_partial |= bit;
-                rej.gyro += 1;
-                rej.clipped += u64::from(clip);
-                if let Some(why) = why {
-                    tally(rej, why);
-                }
-            }
-        }
-        if imu.acc.is_none() && !cells_within(&imu.acc_partial, r.acc_m_s2) {
-            out.acc_partial |= bit;
-            rej.acc += 1;
-        }
-        if let Some(a) = imu.acc {
-            if !within(&a, r.acc_m_s2) {
-                out.acc |= bit;
-                rej.acc += 1;
-            } else {
-                let why = track[1].check(&a, t, None, &lim);
-                turn.add(track[1].repeats(), &a, gyr.as_ref(), dt, &lim);
-                let why = why.filter(|w| {
-                    *w != Implausible::Stuck || turn.confirms_stuck(&a, gyro_stuck, &lim)
-                });
-                if let Some(why) = why {
-                    out.acc |= bit;
-                    rej.acc += 1;
-                    tally(rej, why);
-                }
-            }
-        }
+        // (the incomplete vectors and the accelerometer: no fast path there)
+        gate.check_imu_rest(k, imu, gyr.as_ref(), gyro_stuck, (t, dt), &mut out);
     }
+    let rej = &mut gate.rejections;
     for (j, e) in sample.encoder.iter().enumerate() {
         if e.is_some_and(|x| !x.is_finite() || x.abs() > r.encoder_rad) {
             out.encoder |= 1 << j;
