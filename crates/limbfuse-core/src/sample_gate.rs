@@ -201,8 +201,7 @@ impl SampleGate {
             } else {
                 &sample.other_leg_imu[k - 4]
             };
-            // An IMU without a single cell has nothing to check and leaves
-            // its history as it is (every branch below needs a cell).
+            // (an IMU without a cell: nothing to check, no history to change)
             if imu.gyr.is_some() || imu.acc.is_some() || has_partial_cells(imu) {
                 self.check_imu(k, imu, t, dt, &mut out);
             }
@@ -220,8 +219,7 @@ impl SampleGate {
         out
     }
 
-    /// The checks of [`SampleGate::check`] on IMU `k` (this leg's four, then
-    /// the other leg's) at time `t`, `dt` after the previous sample.
+    /// [`SampleGate::check`] on IMU `k` (this leg's four, then the other's).
     fn check_imu(&mut self, k: usize, imu: &ImuSample, t: f64, dt: f64, out: &mut Screening) {
         let SampleGate {
             ranges: r,
@@ -238,11 +236,9 @@ impl SampleGate {
         let bit = 1u8 << k;
         let alpha = lim.angular_accel_rad_s2[k % 4];
         let mut gyro_stuck = false;
-        // the gyroscope vector as screened so far (a reference: no copies)
-        let mut gyr = imu.gyr.as_ref();
+        let mut gyr = imu.gyr.as_ref(); // the gyroscope as screened so far
         if let Some(g) = gyr {
-            // Nearly every reading is well inside the range and the clipping
-            // threshold: one pass of comparisons then (NaN fails it).
+            // (most readings pass the range and clipping tests: one pass, NaN fails)
             let clip = r
                 .gyro_full_scale_rad_s
                 .map_or(f64::INFINITY, |fs| CLIPPED_FRACTION * fs);
@@ -273,10 +269,9 @@ impl SampleGate {
         self.check_imu_rest(k, imu, gyr, gyro_stuck, (t, dt), out);
     }
 
-    /// The checks of [`SampleGate::check_imu`] after the complete gyroscope
-    /// vector's: the incomplete gyroscope vector (if `gyr`, the gyroscope
-    /// reading accepted, is `None`) and the accelerometer (`gyro_stuck`: the
-    /// gyroscope was rejected as stuck), at `(t, dt)`.
+    /// The checks after the complete gyroscope vector's (`gyr`: accepted,
+    /// `gyro_stuck`: rejected as stuck): the incomplete gyroscope vector and
+    /// the accelerometer, at `(t, dt)`.
     #[inline]
     fn check_imu_rest(
         &mut self,
@@ -339,8 +334,7 @@ impl SampleGate {
     }
 }
 
-/// Whether any axis of an incomplete accelerometer or gyroscope vector is
-/// present.
+/// Whether any axis of an incomplete vector is there.
 fn has_partial_cells(imu: &ImuSample) -> bool {
     imu.acc_partial
         .iter()
