@@ -147,6 +147,7 @@ impl VectorTrack {
     /// Checks reading `v` at time `t`; `max_accel` is the jump bound
     /// (rad/s^2, `None`: no jump check). An accepted reading becomes the
     /// reference of the next check.
+    #[inline(always)]
     pub fn check(
         &mut self,
         v: &Vector3<f64>,
@@ -154,26 +155,33 @@ impl VectorTrack {
         max_accel: Option<f64>,
         limits: &PlausibilityLimits,
     ) -> Option<Implausible> {
-        let run = match self.run {
-            Some((value, since, n)) if value == *v => (value, since, n.saturating_add(1)),
-            _ => (*v, t, 1),
+        // (the run's value is kept as it is when `v` repeats it)
+        let (since, n) = match &mut self.run {
+            Some((value, since, n)) if *value == *v => {
+                *n = n.saturating_add(1);
+                (*since, *n)
+            }
+            run => {
+                *run = Some((*v, t, 1));
+                (t, 1)
+            }
         };
-        self.run = Some(run);
         // (1 ns of slack: 0.61 - 0.51 is 0.0999... in binary floating point)
-        if run.2 >= limits.stuck_min_samples && t - run.1 >= limits.stuck_s - 1e-9 {
+        if n >= limits.stuck_min_samples && t - since >= limits.stuck_s - 1e-9 {
             return Some(Implausible::Stuck);
         }
         if v.iter().zip(&self.rejected).any(|(x, r)| *r == Some(*x)) {
             return Some(Implausible::Jump);
         }
-        if let (Some(alpha), Some((w, t0))) = (max_accel, self.last_ok) {
-            let bound = alpha * (t - t0) + limits.gyro_noise_rad_s;
-            let jumped: [bool; 3] = core::array::from_fn(|k| {
+        if let (Some(alpha), Some((w, t0))) = (max_accel, &self.last_ok) {
+            let bound = alpha * (t - *t0) + limits.gyro_noise_rad_s;
+            let jumped = |k: usize| {
                 let d = (v[k] - w[k]).abs();
                 d.is_nan() || d > bound
-            });
-            if jumped.iter().any(|&j| j) {
-                self.rejected = core::array::from_fn(|k| jumped[k].then_some(v[k]));
+            };
+            // (one pass without branches; the rejected axes only on a jump)
+            if jumped(0) | jumped(1) | jumped(2) {
+                self.rejected = core::array::from_fn(|k| jumped(k).then_some(v[k]));
                 return Some(Implausible::Jump);
             }
         }
@@ -240,6 +248,7 @@ impl AccRepeatTurn {
     /// Adds one sample: accelerometer reading `a`, the accepted gyroscope
     /// reading `w` (if any), `dt` since the previous sample; a repeat
     /// count of 1 starts a new repeat.
+    #[inline]
     pub(crate) fn add(
         &mut self,
         repeats: u32,

@@ -41,7 +41,7 @@
 //! counts as one rejected reading of its kind.
 
 use crate::plausibility::{AccRepeatTurn, Implausible, PlausibilityLimits, VectorTrack};
-use crate::sample::Sample;
+use crate::sample::{ImuSample, Sample};
 use crate::screening::Screening;
 
 /// The largest readings a sensor can produce, per kind.
@@ -192,84 +192,25 @@ impl SampleGate {
     pub fn check(&mut self, sample: &Sample) -> Screening {
         let mut out = Screening::default();
         let before = self.rejections.total();
-        let r = self.ranges;
-        let lim = self.limits;
         let t = sample.t;
-        let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
-        let clipped = |v: &nalgebra::Vector3<f64>, fs: Option<f64>| {
-            fs.is_some_and(|fs| v.iter().any(|x| x.abs() >= CLIPPED_FRACTION * fs))
-        };
         let dt = self.last_t.map_or(f64::NAN, |t0| t - t0);
         self.last_t = Some(t);
-        let rej = &mut self.rejections;
-        let imus = sample.imu.iter().chain(sample.other_leg_imu.iter());
-        let per_imu = self.tracks.iter_mut().zip(self.acc_turns.iter_mut());
-        for (k, (imu, (track, turn))) in imus.zip(per_imu).enumerate() {
-            let bit = 1u8 << k;
-            let alpha = lim.angular_accel_rad_s2[k % 4];
-            let mut gyro_stuck = false;
-            // the gyroscope vector as screened so far
-            let mut gyr = imu.gyr;
-            if let Some(g) = imu.gyr {
-                if !within(&g, r.gyro_rad_s) {
-                    gyr = None;
-                    rej.gyro += 1;
-                } else if clipped(&g, r.gyro_full_scale_rad_s) {
-                    gyr = None;
-                    rej.gyro += 1;
-                    rej.clipped += 1;
-                } else if let Some(why) = track[0].check(&g, t, Some(alpha), &lim) {
-                    gyr = None;
-                    rej.gyro += 1;
-                    gyro_stuck = why == Implausible::Stuck;
-                    tally(rej, why);
-                }
-                if gyr.is_none() {
-                    out.gyr |= bit;
-                }
-            }
-            if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
-                let cells = &imu.gyr_partial;
-                let out_of_range = !cells_within(cells, r.gyro_rad_s);
-                let clip = !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s);
-                let why = (!out_of_range && !clip)
-                    .then(|| track[0].check_axes(cells, t, Some(alpha), &lim))
-                    .flatten();
-                if out_of_range || clip || why.is_some() {
-                    out.gyr_partial |= bit;
-                    rej.gyro += 1;
-                    rej.clipped += u64::from(clip);
-                    if let Some(why) = why {
-                        tally(rej, why);
-                    }
-                }
-            }
-            if imu.acc.is_none() && !cells_within(&imu.acc_partial, r.acc_m_s2) {
-                out.acc_partial |= bit;
-                rej.acc += 1;
-            }
-            if let Some(a) = imu.acc {
-                if !within(&a, r.acc_m_s2) {
-                    out.acc |= bit;
-                    rej.acc += 1;
-                } else {
-                    let why = track[1].check(&a, t, None, &lim);
-                    turn.add(track[1].repeats(), &a, gyr.as_ref(), dt, &lim);
-                    let why = why.filter(|w| {
-                        *w != Implausible::Stuck || turn.confirms_stuck(&a, gyro_stuck, &lim)
-                    });
-                    if let Some(why) = why {
-                        out.acc |= bit;
-                        rej.acc += 1;
-                        tally(rej, why);
-                    }
-                }
+        for k in 0..8 {
+            let imu = if k < 4 {
+                &sample.imu[k]
+            } else {
+                &sample.other_leg_imu[k - 4]
+            };
+            // (an IMU without a cell: nothing to check, no history to change)
+            if imu.gyr.is_some() || imu.acc.is_some() || has_partial_cells(imu) {
+                self.check_imu(k, imu, t, dt, &mut out);
             }
         }
+        let r = &self.ranges;
         for (j, e) in sample.encoder.iter().enumerate() {
             if e.is_some_and(|x| !x.is_finite() || x.abs() > r.encoder_rad) {
                 out.encoder |= 1 << j;
-                rej.encoder += 1;
+                self.rejections.encoder += 1;
             }
         }
         if self.rejections.total() > before && self.rejections.first_t.is_none() {
@@ -277,6 +218,128 @@ impl SampleGate {
         }
         out
     }
+
+    /// [`SampleGate::check`] on IMU `k` (this leg's four, then the other's).
+    fn check_imu(&mut self, k: usize, imu: &ImuSample, t: f64, dt: f64, out: &mut Screening) {
+        let SampleGate {
+            ranges: r,
+            limits: lim,
+            rejections: rej,
+            tracks,
+            ..
+        } = self;
+        let track = &mut tracks[k];
+        let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
+        let clipped = |v: &nalgebra::Vector3<f64>, fs: Option<f64>| {
+            fs.is_some_and(|fs| v.iter().any(|x| x.abs() >= CLIPPED_FRACTION * fs))
+        };
+        let bit = 1u8 << k;
+        let alpha = lim.angular_accel_rad_s2[k % 4];
+        let mut gyro_stuck = false;
+        let mut gyr = imu.gyr.as_ref(); // the gyroscope as screened so far
+        if let Some(g) = gyr {
+            // (most readings pass the range and clipping tests: one pass, NaN fails)
+            let clip = r
+                .gyro_full_scale_rad_s
+                .map_or(f64::INFINITY, |fs| CLIPPED_FRACTION * fs);
+            let plain = (g.x.abs() <= r.gyro_rad_s)
+                & (g.y.abs() <= r.gyro_rad_s)
+                & (g.z.abs() <= r.gyro_rad_s)
+                & (g.x.abs() < clip)
+                & (g.y.abs() < clip)
+                & (g.z.abs() < clip);
+            let rejected = if !plain && !within(g, r.gyro_rad_s) {
+                true
+            } else if !plain && clipped(g, r.gyro_full_scale_rad_s) {
+                rej.clipped += 1;
+                true
+            } else if let Some(why) = track[0].check(g, t, Some(alpha), lim) {
+                gyro_stuck = why == Implausible::Stuck;
+                tally(rej, why);
+                true
+            } else {
+                false
+            };
+            if rejected {
+                gyr = None;
+                rej.gyro += 1;
+                out.gyr |= bit;
+            }
+        }
+        self.check_imu_rest(k, imu, gyr, gyro_stuck, (t, dt), out);
+    }
+
+    /// The checks after the complete gyroscope vector's (`gyr`: accepted,
+    /// `gyro_stuck`: rejected as stuck): the incomplete gyroscope vector and
+    /// the accelerometer, at `(t, dt)`.
+    #[inline]
+    fn check_imu_rest(
+        &mut self,
+        k: usize,
+        imu: &ImuSample,
+        gyr: Option<&nalgebra::Vector3<f64>>,
+        gyro_stuck: bool,
+        (t, dt): (f64, f64),
+        out: &mut Screening,
+    ) {
+        let SampleGate {
+            ranges: r,
+            limits: lim,
+            rejections: rej,
+            tracks,
+            acc_turns,
+            ..
+        } = self;
+        let (track, turn) = (&mut tracks[k], &mut acc_turns[k]);
+        let within = |v: &nalgebra::Vector3<f64>, limit: f64| v.iter().all(|x| x.abs() <= limit);
+        let bit = 1u8 << k;
+        let alpha = lim.angular_accel_rad_s2[k % 4];
+        if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
+            let cells = &imu.gyr_partial;
+            let out_of_range = !cells_within(cells, r.gyro_rad_s);
+            let clip = !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s);
+            let why = (!out_of_range && !clip)
+                .then(|| track[0].check_axes(cells, t, Some(alpha), lim))
+                .flatten();
+            if out_of_range || clip || why.is_some() {
+                out.gyr_partial |= bit;
+                rej.gyro += 1;
+                rej.clipped += u64::from(clip);
+                if let Some(why) = why {
+                    tally(rej, why);
+                }
+            }
+        }
+        if imu.acc.is_none() && !cells_within(&imu.acc_partial, r.acc_m_s2) {
+            out.acc_partial |= bit;
+            rej.acc += 1;
+        }
+        if let Some(a) = imu.acc.as_ref() {
+            if !within(a, r.acc_m_s2) {
+                out.acc |= bit;
+                rej.acc += 1;
+            } else {
+                let why = track[1].check(a, t, None, lim);
+                turn.add(track[1].repeats(), a, gyr, dt, lim);
+                let why = why.filter(|w| {
+                    *w != Implausible::Stuck || turn.confirms_stuck(a, gyro_stuck, lim)
+                });
+                if let Some(why) = why {
+                    out.acc |= bit;
+                    rej.acc += 1;
+                    tally(rej, why);
+                }
+            }
+        }
+    }
+}
+
+/// Whether any axis of an incomplete vector is there.
+fn has_partial_cells(imu: &ImuSample) -> bool {
+    imu.acc_partial
+        .iter()
+        .chain(&imu.gyr_partial)
+        .any(Option::is_some)
 }
 
 /// Whether every present cell of an incomplete vector is finite and within
@@ -304,6 +367,9 @@ fn tally(rej: &mut Rejections, why: Implausible) {
         Implausible::Stuck => rej.stuck += 1,
     }
 }
+
+#[cfg(test)]
+mod reference;
 
 #[cfg(test)]
 pub(crate) mod tests {

@@ -29,7 +29,7 @@ use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
 use super::robust::{
-    predicted_rate, predicted_rate_variance, FillContext, RateDropouts, GATE_LOCKOUT_S,
+    predicted_rate, predicted_rate_variance, rate_slope, FillContext, RateDropouts, GATE_LOCKOUT_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
 };
 use super::sequential;
@@ -84,9 +84,12 @@ pub(crate) struct Chain {
     angle_g: [f64; 4],
     bias_hat: [f64; 4],
     last_rate: [Option<f64>; 4],
-    /// Derivative of each rate between its last two readings (rad/s^2)
-    /// and the time of the last reading, for [`predicted_rate`].
-    last_rate_slope: [(f64, f64); 4],
+    /// Time of each rate's last reading (s; 0 before the first).
+    last_rate_t: [f64; 4],
+    /// Each rate's reading before the last and its time: the derivative
+    /// for [`predicted_rate`] ([`rate_slope`]) is formed from them only
+    /// when a dropout needs it, not at every reading.
+    prev_rate: [(Option<f64>, f64); 4],
     init: [bool; 4],
     disc: Discretizer,
     /// Encoder standard deviations when the filter starts the whole chain
@@ -136,7 +139,8 @@ impl Chain {
             angle_g: [0.0; 4],
             bias_hat: Self::bias0(&common),
             last_rate: [None; 4],
-            last_rate_slope: [(0.0, 0.0); 4],
+            last_rate_t: [0.0; 4],
+            prev_rate: [(None, 0.0); 4],
             init: [false; 4],
             disc: Discretizer::new(&common.segments, common.discretization),
             common,
@@ -259,8 +263,10 @@ impl Chain {
             if let Some(acc) = sagittal_specific_force(imu) {
                 // (a norm that overflows, e.g. 1e300 on an axis, is no reading:
                 // found by tests/issue_18_fuzz.rs as an infinite `rho` diagnostic)
+                // (a finite norm, the square root of the sum of the squares,
+                // implies finite axes: no test per axis)
                 let r = reliability(&acc, g);
-                if acc.iter().all(|v| v.is_finite()) && r.is_finite() {
+                if r.is_finite() {
                     accs[i] = Some(acc);
                     rho[i] = Some(r);
                 }
@@ -272,13 +278,14 @@ impl Chain {
         for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {
             // A joint angle beyond a full turn is no reading (found by
             // tests/issue_18_fuzz.rs: -1e308 started the chain at infinity).
-            *e = s
-                .and_then(finite)
-                .filter(|v| v.abs() <= core::f64::consts::TAU);
+            // (NaN and infinity fail the comparison too)
+            *e = s.filter(|v| v.abs() <= core::f64::consts::TAU);
         }
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.dropouts.observe(&rate, dt);
-        if let (Some(sigma), Some(dt)) = (self.encoder_start, dt) {
+        // `fill` only replaces missing rates: nothing to do without one
+        // (and then the held rates it would be given are not computed).
+        if let (Some(sigma), Some(dt), true) = (self.encoder_start, dt, rate_missing > 0) {
             // (only a missing rate is replaced by its held value: no `exp` else)
             let held: [Option<f64>; 4] = core::array::from_fn(|i| {
                 (self.init[i] && rate[i].is_none())
@@ -322,13 +329,9 @@ impl Chain {
                 }
             }
             if let Some(r) = rate[i] {
-                let (_, t_last) = self.last_rate_slope[i];
-                let slope = match self.last_rate[i] {
-                    Some(l) if sample.t > t_last => (r - l) / (sample.t - t_last),
-                    _ => 0.0,
-                };
-                self.last_rate_slope[i] = (slope, sample.t);
+                self.prev_rate[i] = (self.last_rate[i], self.last_rate_t[i]);
                 self.last_rate[i] = Some(r);
+                self.last_rate_t[i] = sample.t;
             }
         }
         Ok(Inputs {
@@ -418,13 +421,12 @@ impl Chain {
     /// Segment `i`'s rate predicted over a dropout of `tau` s from its last
     /// reading and slope ([`predicted_rate`]); `None` if none was seen.
     fn held_rate(&self, i: usize, tau: f64) -> Option<f64> {
-        let slope = self.last_rate_slope[i].0;
+        let slope = rate_slope(self.last_rate[i], self.last_rate_t[i], self.prev_rate[i]);
         self.last_rate[i].map(|r| predicted_rate(r, slope, tau))
     }
 
     fn predict(&mut self, dt: f64, rate: &[Option<f64>; 4]) {
-        let last_rate = self.last_rate;
-        let slope = self.last_rate_slope;
+        let (last_rate, last_t, prev) = (&self.last_rate, &self.last_rate_t, &self.prev_rate);
         let blocks = self.disc.blocks(dt);
         for (i, rate) in rate.iter().enumerate() {
             if !self.init[i] {
@@ -434,7 +436,10 @@ impl Chain {
             // and its slope, tending to zero after a stride
             // (`predicted_rate`); zero if none was ever seen.
             let tau = self.rate_gap[i];
-            let held = |t: f64| last_rate[i].map(|r| predicted_rate(r, slope[i].0, t));
+            let held = |t: f64| {
+                let slope = rate_slope(last_rate[i], last_t[i], prev[i]);
+                last_rate[i].map(|r| predicted_rate(r, slope, t))
+            };
             // The decay is evaluated only over a dropout (`tau == 0`: the
             // held rate is the last rate itself, the same arithmetic).
             let r1 = match rate {

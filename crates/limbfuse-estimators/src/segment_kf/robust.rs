@@ -123,6 +123,18 @@ pub fn predicted_rate(r: f64, r_dot: f64, tau: f64) -> f64 {
     p11 * r + p12 * d
 }
 
+/// Derivative of a rate between its last two readings (rad/s^2), for
+/// [`predicted_rate`]: the last reading `last` at `last_t` and the one
+/// before, `prev` (reading, time); 0 without an earlier reading or time
+/// between them. Formed when a dropout needs it, from the readings kept.
+#[inline]
+pub(crate) fn rate_slope(last: Option<f64>, last_t: f64, prev: (Option<f64>, f64)) -> f64 {
+    match (last, prev) {
+        (Some(r), (Some(l), t_prev)) if last_t > t_prev => (r - l) / (last_t - t_prev),
+        _ => 0.0,
+    }
+}
+
 /// Variance (rad^2) of the angle error built up over a dropout of `tau`
 /// seconds by integrating [`predicted_rate`]: the rate's prediction error
 /// of the second-order model, `sd(tau) = HELD_RATE_SD sqrt(1 - phi_11^2 -
