@@ -14,16 +14,17 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def cli_binary():
-    """The `limbfuse` binary: $LIMBFUSE_BIN, else the workspace's build."""
+    """The `limbfuse` binary: $LIMBFUSE_BIN, else the workspace's most
+    recently built one (debug or release: a stale debug build left beside a
+    fresh release build made the equivalence tests compare against old code)."""
     env = os.environ.get("LIMBFUSE_BIN")
     if env:
         if not Path(env).is_file():
             raise RuntimeError(f"LIMBFUSE_BIN={env} does not exist")
         return env
-    for profile in ("debug", "release"):
-        p = REPO / "target" / profile / "limbfuse"
-        if p.is_file():
-            return str(p)
+    built = [p for p in (REPO / "target" / prof / "limbfuse" for prof in ("debug", "release")) if p.is_file()]
+    if built:
+        return str(max(built, key=lambda p: p.stat().st_mtime))
     return shutil.which("limbfuse")
 
 
