@@ -9,7 +9,7 @@
 //! (scaled by `s_T`; eq 5 uses their directions only); a relative one is
 //! the unknown `r`, identified with the positions: Algorithm 2 on
 //! `Psi = [o_T, o_S, r]`, started from the lifted least-squares problem of
-//! [`super::position::LiftedStart`] with `r^2` and `r o_S` as unknowns.
+//! [`super::position::lifted_row`] with `r^2` and `r o_S` as unknowns.
 //! The accelerometer angle (eqs 5-7) then uses `r a_S - Gamma_S(o_S)`.
 //!
 //! `r` is applied only when the window identifies it
@@ -116,12 +116,7 @@ impl LiftedScaledStart {
         if self.n < 19 {
             return None;
         }
-        let ridge = 1e-9 * self.ata.trace() / 19.0;
-        if !(ridge.is_finite() && ridge > 0.0) {
-            return None;
-        }
-        let a = self.ata + SMatrix::<f64, 19, 19>::identity() * ridge;
-        let z = a.cholesky()?.solve(&self.atb);
+        let z = ridge_solve(&self.ata, &self.atb)?;
         if !(z[18].is_finite() && z[18] > 0.0) {
             return None;
         }
@@ -132,7 +127,7 @@ impl LiftedScaledStart {
     }
 
     /// The lifted solution of the paper's eq 3 (`r = 1`:
-    /// [`super::position::LiftedStart`]) from the same sums: with `r^2 = 1`
+    /// [`super::position::lifted_row`]) from the same sums: with `r^2 = 1`
     /// known, its column moves to the right-hand side. `[o_T, o_S]`.
     pub fn solve_unit_scale(&self) -> Option<Vector6<f64>> {
         if self.n < 18 {
@@ -141,16 +136,27 @@ impl LiftedScaledStart {
         let a: SMatrix<f64, 18, 18> = self.ata.fixed_view::<18, 18>(0, 0).into_owned();
         let b: SVector<f64, 18> =
             self.atb.fixed_rows::<18>(0) - self.ata.fixed_view::<18, 1>(0, 18);
-        let ridge = 1e-9 * a.trace() / 18.0;
-        if !(ridge.is_finite() && ridge > 0.0) {
-            return None;
-        }
-        let z = (a + SMatrix::<f64, 18, 18>::identity() * ridge)
-            .cholesky()?
-            .solve(&b);
+        let z = ridge_solve(&a, &b)?;
         let o = Vector6::new(z[0], z[1], z[2], z[3], z[4], z[5]);
         o.iter().all(|v| v.is_finite()).then_some(o)
     }
+}
+
+/// The least-squares solution of the normal equations `A z = b` with a
+/// ridge of `1e-9` times the mean diagonal of `A` (directions the window does
+/// not excite, such as the positions along the axis in planar motion, come
+/// out zero); `None` when the ridge is not positive and finite or the
+/// Cholesky factorisation fails.
+fn ridge_solve<const N: usize>(
+    a: &SMatrix<f64, N, N>,
+    b: &SVector<f64, N>,
+) -> Option<SVector<f64, N>> {
+    let ridge = 1e-9 * a.trace() / N as f64;
+    if !(ridge.is_finite() && ridge > 0.0) {
+        return None;
+    }
+    let regularised = a + SMatrix::<f64, N, N>::identity() * ridge;
+    Some(regularised.cholesky()?.solve(b))
 }
 
 /// Standard deviations of `r - 1` the estimate must lie from 1 to be

@@ -10,7 +10,7 @@
 //! sensors see the same joint centre, so the norms agree at the true
 //! positions: `e_o = ||a_T - Gamma_T(o_T)|| - ||a_S - Gamma_S(o_S)||`.
 
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3, Vector6};
+use nalgebra::{Matrix3, SVector, Vector3, Vector6};
 
 /// Accelerations whose joint-centre part is below this norm (m/s^2) give no
 /// usable gradient (eq 13 divides by it); such samples are left out.
@@ -175,9 +175,24 @@ pub fn correct_along_axes(
     (o_t - j_t * m, o_s - j_s * m)
 }
 
-/// Running sums of the lifted linear least-squares problem that gives
-/// Algorithm 2 its starting positions (a limbfuse decision: paper 002 does
-/// not say where the position search starts).
+/// The six distinct entries of a symmetric matrix, off-diagonals doubled, so
+/// that `<N, o o^T> = sym(N) . [o_x^2, o_y^2, o_z^2, o_x o_y, o_x o_z, o_y o_z]`.
+fn sym6(n: &Matrix3<f64>) -> [f64; 6] {
+    [
+        n[(0, 0)],
+        n[(1, 1)],
+        n[(2, 2)],
+        2.0 * n[(0, 1)],
+        2.0 * n[(0, 2)],
+        2.0 * n[(1, 2)],
+    ]
+}
+
+/// One sample's row of the lifted linear least-squares problem that gives
+/// Algorithm 2 its starting positions, and its right-hand side
+/// `||a_S||^2 - ||a_T||^2` (a limbfuse decision: paper 002 does not say
+/// where the position search starts; the sums and solves are
+/// [`super::acc_scale::LiftedScaledStart`]).
 ///
 /// Eq 3 holds when `||a_T - M_T o_T||^2 = ||a_S - M_S o_S||^2` (`M` of
 /// [`gamma_matrix`]). Expanded, this is linear in `o_T`, `o_S` and the six
@@ -193,38 +208,6 @@ pub fn correct_along_axes(
 /// independent-simulator walk at 1.2 m/s the first window converged to
 /// `o_T = (-0.03, -0.28, -0.01)` m (RMS `e_o` 1.18 m/s^2) instead of the true
 /// `(0, 0.215, 0)` (0.08 m/s^2); from the lifted start it reaches the truth.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LiftedStart {
-    ata: SMatrix<f64, 18, 18>,
-    atb: SVector<f64, 18>,
-    n: usize,
-}
-
-impl Default for LiftedStart {
-    fn default() -> Self {
-        LiftedStart {
-            ata: SMatrix::zeros(),
-            atb: SVector::zeros(),
-            n: 0,
-        }
-    }
-}
-
-/// The six distinct entries of a symmetric matrix, off-diagonals doubled, so
-/// that `<N, o o^T> = sym(N) . [o_x^2, o_y^2, o_z^2, o_x o_y, o_x o_z, o_y o_z]`.
-fn sym6(n: &Matrix3<f64>) -> [f64; 6] {
-    [
-        n[(0, 0)],
-        n[(1, 1)],
-        n[(2, 2)],
-        2.0 * n[(0, 1)],
-        2.0 * n[(0, 2)],
-        2.0 * n[(1, 2)],
-    ]
-}
-
-/// One sample's row of the lifted problem of [`LiftedStart`] and its
-/// right-hand side `||a_S||^2 - ||a_T||^2`.
 pub(crate) fn lifted_row(thigh: &Kinematics, shank: &Kinematics) -> (SVector<f64, 18>, f64) {
     let mt = gamma_matrix(&thigh.gyr, &thigh.gyr_dot);
     let ms = gamma_matrix(&shank.gyr, &shank.gyr_dot);
@@ -242,37 +225,6 @@ pub(crate) fn lifted_row(thigh: &Kinematics, shank: &Kinematics) -> (SVector<f64
         row[12 + k] = -qs[k];
     }
     (row, shank.acc.norm_squared() - thigh.acc.norm_squared())
-}
-
-impl LiftedStart {
-    /// Adds one sample's thigh and shank kinematics.
-    pub fn add(&mut self, thigh: &Kinematics, shank: &Kinematics) {
-        let (row, y) = lifted_row(thigh, shank);
-        if row.iter().all(|v| v.is_finite()) && y.is_finite() {
-            self.ata.ger(1.0, &row, &row, 1.0);
-            self.atb.axpy(y, &row, 1.0);
-            self.n += 1;
-        }
-    }
-
-    /// The starting positions `[o_T, o_S]`: the first six entries of the
-    /// least-squares solution, with a ridge of `1e-9` times the mean diagonal
-    /// (directions the window does not excite, such as the positions along
-    /// the axis in planar motion, come out zero). `None` without samples or
-    /// when the solve fails.
-    pub fn solve(&self) -> Option<Vector6<f64>> {
-        if self.n < 18 {
-            return None;
-        }
-        let ridge = 1e-9 * self.ata.trace() / 18.0;
-        if !(ridge.is_finite() && ridge > 0.0) {
-            return None;
-        }
-        let a = self.ata + SMatrix::<f64, 18, 18>::identity() * ridge;
-        let z = a.cholesky()?.solve(&self.atb);
-        let o = Vector6::new(z[0], z[1], z[2], z[3], z[4], z[5]);
-        o.iter().all(|v| v.is_finite()).then_some(o)
-    }
 }
 
 #[cfg(test)]
@@ -385,7 +337,7 @@ mod tests {
         // and the lifted problem recovers both positions (to 1 mm: the ridge biases it slightly).
         let o_t = Vector3::new(0.03, 0.21, -0.05);
         let o_s = Vector3::new(-0.02, -0.18, 0.06);
-        let mut lifted = LiftedStart::default();
+        let mut lifted = super::super::acc_scale::LiftedScaledStart::default();
         for k in 0..400 {
             let t = k as f64 * 0.01;
             let a_j = Vector3::new(1.5 * (2.0 * t).sin(), 9.81 + (3.1 * t).cos(), 0.4 * t.sin());
@@ -421,9 +373,12 @@ mod tests {
             };
             lifted.add(&kin(&rt, 1.3, &o_t), &kin(&rs, 2.1, &o_s));
         }
-        let o = lifted.solve().unwrap();
+        let o = lifted.solve_unit_scale().unwrap();
         assert!((o.fixed_rows::<3>(0) - o_t).norm() < 1e-3, "{o}");
         assert!((o.fixed_rows::<3>(3) - o_s).norm() < 1e-3, "{o}");
-        assert_eq!(LiftedStart::default().solve(), None);
+        assert_eq!(
+            super::super::acc_scale::LiftedScaledStart::default().solve_unit_scale(),
+            None
+        );
     }
 }

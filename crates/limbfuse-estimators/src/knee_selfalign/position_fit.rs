@@ -79,7 +79,7 @@ fn stack(o: &[Vector3<f64>; 2]) -> Vector6<f64> {
 /// Otherwise the paper's Algorithm 2 on `[o_T, o_S]`, from the lower-cost
 /// (`sum e_o^2`) of the previous window's positions (`o = 0` in the first
 /// window) and the lifted least-squares solution with `r = 1`
-/// ([`super::position::LiftedStart`]).
+/// ([`LiftedScaledStart::solve_unit_scale`]).
 pub fn fit_positions(
     ring: &Ring,
     previous: Option<&Geometry>,
