@@ -8,11 +8,12 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 22] = [
+pub const EXAMPLES: [&str; 23] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
     "calibration_study",
+    "chain_geometry_sensitivity",
     "chain_study",
     "fes_figures",
     "fes_model_study",
@@ -69,6 +70,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         | "fes_model_study"
         | "fes_thesis_protocol"
         | "fes_tune_cv" => parse::<NoArgs>(example, args),
+        "chain_geometry_sensitivity" => parse::<ChainGeometrySensitivityArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
         "gait_library_without" => parse::<GaitLibraryWithoutArgs>(example, args),
@@ -489,6 +491,26 @@ pub struct GyroShapeFloorArgs {
     /// Lags of up to this many samples are tried per segment.
     #[arg(long, default_value_t = 5)]
     pub max_lag: u32,
+}
+
+/// `chain_geometry_sensitivity TRIAL --window A:B [--window C:D ...] [--max-lag N] [--search-cm R]`.
+#[derive(Debug, Parser)]
+#[command(name = "chain_geometry_sensitivity")]
+pub struct ChainGeometrySensitivityArgs {
+    /// The (aligned) trial file, with a segment-angle reference.
+    pub trial: String,
+    /// A scored window `START:END` in seconds of the trial's clock
+    /// (repeatable); the search minimises the last one.
+    #[arg(long = "window", value_parser = time_window, required = true)]
+    pub windows: Vec<(f64, f64)>,
+    /// Lags of up to this many samples are tried per channel (as
+    /// `limbfuse evaluate --max-lag`).
+    #[arg(long, default_value_t = 5)]
+    pub max_lag: usize,
+    /// The search's lattice spans +-this many cm around the base geometry
+    /// (five points per quantity).
+    #[arg(long, default_value_t = 3.0)]
+    pub search_cm: f64,
 }
 
 /// `START:END` seconds, `START < END`.
