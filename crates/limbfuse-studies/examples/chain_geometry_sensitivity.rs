@@ -13,7 +13,8 @@
 //! sagittal mounts and both lengths, on a lattice of five points within
 //! +-`--search-cm` (3) of the base, minimises the last window's thigh/shank/foot mean: the best
 //! geometry found *on the scored data itself*, so it flatters the lever;
-//! it is an optimistic bound on what identifying the geometry could give.
+//! it is optimistic for what identifying the geometry could give (a local
+//! coordinate search, not an exhaustive one).
 //! The geometry keys of the trial's metadata (`imu_mounts_m`,
 //! `segment_lengths_m`, `height_m`) are dropped so that the moved geometry
 //! is the one used; the alignment metadata (frame offsets) is kept.
