@@ -35,10 +35,28 @@
 #![allow(clippy::needless_range_loop)]
 
 use limbfuse_core::kalman::KalmanError;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 use super::model::{angle_state, Mat8};
 use super::structured::{all_finite, ChainRow, Gain};
+
+/// [`update_rows_into`] returning the gain.
+#[cfg(test)]
+pub fn update_rows<const M: usize>(
+    x: &mut SVector<f64, 8>,
+    P: &mut Mat8,
+    innovation: &SVector<f64, M>,
+    rows: &[ChainRow; M],
+    r: &[f64; M],
+    active: &[bool; M],
+) -> Result<Gain<M>, KalmanError> {
+    let mut gain = Gain {
+        K: nalgebra::SMatrix::<f64, 8, M>::zeros(),
+        innovation: SVector::<f64, M>::zeros(),
+    };
+    update_rows_into(x, P, innovation, rows, r, active, &mut gain)?;
+    Ok(gain)
+}
 
 /// Measurement update (000 eqs 23-25, Joseph form in its rank-1 equivalent,
 /// module docs) on the active `rows`, with diagonal measurement noise `r`
@@ -50,20 +68,22 @@ use super::structured::{all_finite, ChainRow, Gain};
 /// Fails, leaving `x` and `P` untouched, when a pivot `s = h P h^T + r`
 /// is not positive (exactly when the batch `S = H P H^T + R` is not
 /// positive definite) or the result is not finite.
-pub fn update_rows<const M: usize>(
+/// The gain is written into `gain` (no copy of it on the way out: the
+/// filters keep it for their `last_gain`); after a failure `gain` holds no
+/// meaningful value.
+pub fn update_rows_into<const M: usize>(
     x: &mut SVector<f64, 8>,
     P: &mut Mat8,
     innovation: &SVector<f64, M>,
     rows: &[ChainRow; M],
     r: &[f64; M],
     active: &[bool; M],
-) -> Result<Gain<M>, KalmanError> {
-    let mut gain = Gain {
-        K: SMatrix::<f64, 8, M>::zeros(),
-        innovation: SVector::<f64, M>::zeros(),
-    };
+    gain: &mut Gain<M>,
+) -> Result<(), KalmanError> {
+    gain.K.fill(0.0);
+    gain.innovation.fill(0.0);
     if !active.iter().any(|&a| a) {
-        return Ok(gain);
+        return Ok(());
     }
     // Column-major and symmetric: p[t] is column t of P and also its row t.
     let mut p: [[f64; 8]; 8] = P.data.0;
@@ -135,7 +155,7 @@ pub fn update_rows<const M: usize>(
         x[t] += dx[t];
     }
     P.data.0 = p;
-    Ok(gain)
+    Ok(())
 }
 
 #[cfg(test)]
@@ -145,6 +165,7 @@ pub(crate) mod tests {
     use crate::segment_kf::model::{GLOBAL_ROWS, LOCAL_ROWS};
     use crate::segment_kf::structured::dense_output_matrix;
     use limbfuse_core::kalman::{self, CovarianceUpdate};
+    use nalgebra::SMatrix;
     use proptest::prelude::*;
 
     /// `B B^T + 0.1 I`, symmetric positive definite, from a lower-triangular
