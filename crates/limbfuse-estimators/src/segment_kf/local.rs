@@ -23,7 +23,7 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{wrap, Chain};
 use super::criteria::{count_reliable, psi, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::{gain_shares, RowKind};
+use super::gain_shares::{after_update, RowKind};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
 use super::structured::Gain;
@@ -226,15 +226,7 @@ impl Estimator for LocalKf {
             &[false; 4],
             &mut self.last,
         );
-        let (updated, shares) = if made {
-            (
-                active,
-                gain_shares(&self.last.K, &self.last.innovation, &KINDS),
-            )
-        } else {
-            self.last = Gain::zero();
-            ([false; 4], [[None; 3]; 4])
-        };
+        let (updated, shares) = after_update(made, active, &mut self.last, &KINDS);
         let mut est = Estimate::empty(sample.t);
         self.chain.estimate_into(sample.t, &mut est);
         let mut d = est.diagnostics_mut::<LocalDiag>();

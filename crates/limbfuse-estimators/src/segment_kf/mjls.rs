@@ -24,7 +24,7 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{wrap, Chain};
 use super::criteria::{mjls_select, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::{gain_shares, RowKind};
+use super::gain_shares::{after_update, RowKind};
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
 use super::structured::Gain;
@@ -306,15 +306,7 @@ impl Estimator for MarkovJumpKf {
             &[false, true, true, true],
             &mut self.last,
         );
-        let (updated, shares) = if made {
-            (
-                active,
-                gain_shares(&self.last.K, &self.last.innovation, &kinds),
-            )
-        } else {
-            self.last = Gain::zero();
-            ([false; 4], [[None; 3]; 4])
-        };
+        let (updated, shares) = after_update(made, active, &mut self.last, &kinds);
         self.chain.estimate_into(sample.t, est);
         let mut d = est.diagnostics_mut::<MjlsDiag>();
         d.value(MjlsDiag::Mode, sel.code());

@@ -40,24 +40,6 @@ use nalgebra::SVector;
 use super::model::{angle_state, Mat8};
 use super::structured::{all_finite, ChainRow, Gain};
 
-/// [`update_rows_into`] returning the gain.
-#[cfg(test)]
-pub fn update_rows<const M: usize>(
-    x: &mut SVector<f64, 8>,
-    P: &mut Mat8,
-    innovation: &SVector<f64, M>,
-    rows: &[ChainRow; M],
-    r: &[f64; M],
-    active: &[bool; M],
-) -> Result<Gain<M>, KalmanError> {
-    let mut gain = Gain {
-        K: nalgebra::SMatrix::<f64, 8, M>::zeros(),
-        innovation: SVector::<f64, M>::zeros(),
-    };
-    update_rows_into(x, P, innovation, rows, r, active, &mut gain)?;
-    Ok(gain)
-}
-
 /// Measurement update (000 eqs 23-25, Joseph form in its rank-1 equivalent,
 /// module docs) on the active `rows`, with diagonal measurement noise `r`
 /// (variances) and innovations `innovation = z - H x` (formed by the caller,
@@ -248,7 +230,8 @@ pub(crate) mod tests {
             let H = dense_output_matrix(&GLOBAL_ROWS);
             let dense = kalman::update_rows(&x, &P, &z, &H, &R, &active, CovarianceUpdate::Joseph).unwrap();
             let (mut xf, mut Pf) = (x, P);
-            let seq = update_rows(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active).unwrap();
+            let mut seq = Gain::zero();
+            update_rows_into(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active, &mut seq).unwrap();
             let scale = 1.0 + P.norm();
             prop_assert!((dense.K - seq.K).norm() < 1e-12 * scale);
             prop_assert!((dense.x - xf).norm() < 1e-12 * scale);
@@ -290,7 +273,8 @@ pub(crate) mod tests {
             let x = SVector::<f64, 8>::zeros();
             let dense = kalman::update_rows(&x, &P, &innov, &H, &R, &active, CovarianceUpdate::Joseph).unwrap();
             let (mut xf, mut Pf) = (x, P);
-            let seq = update_rows(&mut xf, &mut Pf, &innov, &rows, &r, &active).unwrap();
+            let mut seq = Gain::zero();
+            update_rows_into(&mut xf, &mut Pf, &innov, &rows, &r, &active, &mut seq).unwrap();
             prop_assert!((dense.x - xf).norm() < 1e-12);
             prop_assert!((dense.P - Pf).norm() < 1e-12);
             prop_assert!((dense.K - seq.K).norm() < 1e-12 * (1.0 + dense.K.norm()));
@@ -316,7 +300,17 @@ pub(crate) mod tests {
             kalman::update_rows(&x, &P, &innov, &H, &R, &[true; 4], CovarianceUpdate::Joseph)
                 .unwrap();
         let (mut xf, mut Pf) = (x, P);
-        update_rows(&mut xf, &mut Pf, &innov, &LOCAL_ROWS, &r, &[true; 4]).unwrap();
+        let mut g = Gain::zero();
+        update_rows_into(
+            &mut xf,
+            &mut Pf,
+            &innov,
+            &LOCAL_ROWS,
+            &r,
+            &[true; 4],
+            &mut g,
+        )
+        .unwrap();
         assert!((dense.x - xf).norm() < 1e-13);
         assert!((dense.P - Pf).norm() < 1e-13);
     }
@@ -325,13 +319,14 @@ pub(crate) mod tests {
     fn indefinite_pivot_is_an_error_and_changes_nothing() {
         let mut P = -Mat8::identity();
         let mut x = SVector::<f64, 8>::zeros();
-        let u = update_rows(
+        let u = update_rows_into(
             &mut x,
             &mut P,
             &SVector::<f64, 1>::new(0.1),
             &[ChainRow::segment(2)],
             &[1e-3],
             &[true],
+            &mut Gain::zero(),
         );
         assert_eq!(u.unwrap_err(), KalmanError::InnovationNotPositiveDefinite);
         assert_eq!(P, -Mat8::identity());
