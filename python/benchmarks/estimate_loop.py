@@ -4,6 +4,7 @@ simulated walking trial: a process to profile the package's estimate path
 time of each call.
 
     python python/benchmarks/estimate_loop.py [--duration 600] [--calls 20] [--method mjls]
+    python python/benchmarks/estimate_loop.py --trial FILE [--calls 20]   # a trial file instead
 """
 
 import argparse
@@ -18,8 +19,12 @@ def main():
     ap.add_argument("--duration", type=float, default=600.0, help="trial length (s), 100 Hz")
     ap.add_argument("--calls", type=int, default=20)
     ap.add_argument("--method", default="mjls")
+    ap.add_argument("--trial", help="read this trial file instead of simulating one")
     a = ap.parse_args()
-    trial = limbfuse.simulate("walking", duration=a.duration, seed=1)
+    if a.trial:
+        trial = limbfuse.read_trial(a.trial)
+    else:
+        trial = limbfuse.simulate("walking", duration=a.duration, seed=1)
     n = len(trial)
     cpu = []
     for _ in range(max(1, a.calls)):

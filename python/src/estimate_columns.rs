@@ -9,7 +9,7 @@ use limbfuse_core::{Estimate, Estimator, GaitPhase, MAX_DIAG};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use nalgebra::Vector3;
 
-use crate::column_block::ColumnBlock;
+use crate::column_block::{finite_or_nan, ColumnBlock};
 
 /// The column of the estimated gait phase (text cells).
 pub const PHASE: &str = "phase";
@@ -99,7 +99,7 @@ impl EstimateColumns {
     pub fn row(&self, e: &Estimate) -> Vec<(String, Option<f64>)> {
         let mut head = [0.0; MAX_HEAD];
         let n = self.format.head(e, &mut head);
-        let diag = self.format.diag(e).iter().map(|d| finite(*d));
+        let diag = self.format.diag(e).iter().map(|d| finite_or_nan(*d));
         self.names
             .iter()
             .cloned()
@@ -125,19 +125,10 @@ enum Cell {
     Contact(usize),
 }
 
-/// A value, or NaN when missing or not finite.
-#[inline]
-fn finite(v: Option<f64>) -> f64 {
-    match v {
-        Some(x) if x.is_finite() => x,
-        _ => f64::NAN,
-    }
-}
-
 impl Cell {
     #[inline]
     fn value(self, e: &Estimate) -> f64 {
-        finite(match self {
+        finite_or_nan(match self {
             Cell::Time => Some(e.t),
             Cell::Segment(k) => e.segment[k],
             Cell::Joint(k) => e.joint[k],

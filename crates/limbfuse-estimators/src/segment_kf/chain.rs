@@ -514,8 +514,8 @@ impl Chain {
     /// active `rows`, measurement variances `r` (diagonal `R`). The rows
     /// marked in `encoder` pass the innovation gate
     /// ([`INNOVATION_GATE_CHI2`]) first: a failing row is made inactive in
-    /// `active` and counted. Returns the update (gain, innovation) when one
-    /// was made.
+    /// `active` and counted. Returns whether an update was made; its gain
+    /// and innovation are then in `gain` (otherwise unspecified).
     pub fn update<const M: usize>(
         &mut self,
         innov: &SVector<f64, M>,
@@ -523,7 +523,8 @@ impl Chain {
         r: &[f64; M],
         active: &mut [bool; M],
         encoder: &[bool; M],
-    ) -> Option<Gain<M>> {
+        gain: &mut Gain<M>,
+    ) -> bool {
         let mut locked_out = false;
         for k in 0..M {
             if !(active[k] && encoder[k]) {
@@ -547,23 +548,22 @@ impl Chain {
         }
         if locked_out {
             self.restart();
-            return None;
-        }
-        if !active.iter().any(|&a| a) {
-            return None;
+            return false;
         }
         // Joseph (default): row by row; standard: batch
         let (x, P, form) = (&mut self.x, &mut self.P, self.common.covariance_update);
-        let u = if form == CovarianceUpdate::Joseph {
-            sequential::update_rows(x, P, innov, rows, r, active)
-        } else {
-            structured::update_rows(x, P, innov, rows, r, active, form)
-        }
-        .ok()?;
-        if self.common.loop_mode == LoopMode::Closed {
+        let made = active.iter().any(|&a| a)
+            && if form == CovarianceUpdate::Joseph {
+                sequential::update_rows_into(x, P, innov, rows, r, active, gain).is_ok()
+            } else {
+                structured::update_rows(x, P, innov, rows, r, active, form)
+                    .map(|u| *gain = u)
+                    .is_ok()
+            };
+        if made && self.common.loop_mode == LoopMode::Closed {
             self.fold_error_state();
         }
-        Some(u)
+        made
     }
 
     /// Closed-loop reset (SPEC section 6): angle correction into the

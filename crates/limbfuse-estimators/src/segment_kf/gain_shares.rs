@@ -5,6 +5,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::model::angle_state;
+use super::structured::Gain;
 
 /// How a measurement row relates to the segments (for the gain breakdown
 /// of 001 Fig. 6).
@@ -50,6 +51,25 @@ pub fn gain_shares<const M: usize>(
         }
     }
     out
+}
+
+/// The rows that updated and the gain shares after [`super::chain::Chain::update`]
+/// returned `made` with the rows `active` and wrote its gain into `last`
+/// (the filter's kept gain): `active` and the shares of `last` after an
+/// update; no row, no shares and a zero gain otherwise.
+#[inline]
+pub(crate) fn after_update<const M: usize>(
+    made: bool,
+    active: [bool; M],
+    last: &mut Gain<M>,
+    kinds: &[RowKind; M],
+) -> ([bool; M], [[Option<f64>; 3]; 4]) {
+    if made {
+        (active, gain_shares(&last.K, &last.innovation, kinds))
+    } else {
+        *last = Gain::zero();
+        ([false; M], [[None; 3]; 4])
+    }
 }
 
 #[cfg(test)]

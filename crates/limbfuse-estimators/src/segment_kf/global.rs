@@ -23,9 +23,10 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{wrap, Chain};
 use super::criteria::{count_reliable, psi, upsilon, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::{gain_shares, RowKind};
+use super::gain_shares::{after_update, RowKind};
 use super::model::{Mat8, GLOBAL_ROWS};
 use super::params::{check_min_reliable, positive, CommonParams, ParamError};
+use super::structured::Gain;
 
 /// Parameters of [`GlobalKf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -147,7 +148,7 @@ pub struct GlobalKf {
     chain: Chain,
     gate: AccelGateState,
     R: SMatrix<f64, 7, 7>,
-    last_gain: SMatrix<f64, 8, 7>,
+    last: Gain<7>,
 }
 
 impl Default for GlobalKf {
@@ -177,7 +178,7 @@ impl GlobalKf {
             params,
             gate: AccelGateState::default(),
             R,
-            last_gain: SMatrix::zeros(),
+            last: Gain::zero(),
         }
     }
 
@@ -193,7 +194,7 @@ impl GlobalKf {
 
     /// Gain `K` (8x7) of the last update; zero when the last sample made none.
     pub fn last_gain(&self) -> &SMatrix<f64, 8, 7> {
-        &self.last_gain
+        &self.last.K
     }
 
     /// Error covariance `P` (8x8, state order of 000 eq 16).
@@ -240,7 +241,7 @@ impl Estimator for GlobalKf {
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
-        self.last_gain = SMatrix::zeros();
+        self.last = Gain::zero();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -275,20 +276,15 @@ impl Estimator for GlobalKf {
             }
         }
         let r: [f64; 7] = core::array::from_fn(|k| self.R[(k, k)]);
-        let (updated, shares) =
-            match self
-                .chain
-                .update(&innov, &GLOBAL_ROWS, &r, &mut active, &[false; 7])
-            {
-                Some(u) => {
-                    self.last_gain = u.K;
-                    (active, gain_shares(&u.K, &u.innovation, &KINDS))
-                }
-                None => {
-                    self.last_gain = SMatrix::zeros();
-                    ([false; 7], [[None; 3]; 4])
-                }
-            };
+        let made = self.chain.update(
+            &innov,
+            &GLOBAL_ROWS,
+            &r,
+            &mut active,
+            &[false; 7],
+            &mut self.last,
+        );
+        let (updated, shares) = after_update(made, active, &mut self.last, &KINDS);
         let mut est = Estimate::empty(sample.t);
         self.chain.estimate_into(sample.t, &mut est);
         let mut d = est.diagnostics_mut::<GlobalDiag>();

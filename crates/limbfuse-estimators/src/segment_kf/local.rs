@@ -23,9 +23,10 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{wrap, Chain};
 use super::criteria::{count_reliable, psi, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::{gain_shares, RowKind};
+use super::gain_shares::{after_update, RowKind};
 use super::model::{Mat8, LOCAL_ROWS};
 use super::params::{check_min_reliable, CommonParams, ParamError};
+use super::structured::Gain;
 
 /// Parameters of [`LocalKf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,7 +111,7 @@ pub struct LocalKf {
     chain: Chain,
     gate: AccelGateState,
     R: SMatrix<f64, 4, 4>,
-    last_gain: SMatrix<f64, 8, 4>,
+    last: Gain<4>,
 }
 
 impl Default for LocalKf {
@@ -137,7 +138,7 @@ impl LocalKf {
             params,
             gate: AccelGateState::default(),
             R,
-            last_gain: SMatrix::zeros(),
+            last: Gain::zero(),
         }
     }
 
@@ -148,7 +149,7 @@ impl LocalKf {
 
     /// Gain `K` (8x4) of the last update; zero when the last sample made none.
     pub fn last_gain(&self) -> &SMatrix<f64, 8, 4> {
-        &self.last_gain
+        &self.last.K
     }
 
     /// Error covariance `P` (8x8, state order of 000 eq 16).
@@ -191,7 +192,7 @@ impl Estimator for LocalKf {
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
-        self.last_gain = SMatrix::zeros();
+        self.last = Gain::zero();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -217,20 +218,15 @@ impl Estimator for LocalKf {
             self.R[(2, 2)],
             self.R[(3, 3)],
         ];
-        let (updated, shares) =
-            match self
-                .chain
-                .update(&innov, &LOCAL_ROWS, &r, &mut active, &[false; 4])
-            {
-                Some(u) => {
-                    self.last_gain = u.K;
-                    (active, gain_shares(&u.K, &u.innovation, &KINDS))
-                }
-                None => {
-                    self.last_gain = SMatrix::zeros();
-                    ([false; 4], [[None; 3]; 4])
-                }
-            };
+        let made = self.chain.update(
+            &innov,
+            &LOCAL_ROWS,
+            &r,
+            &mut active,
+            &[false; 4],
+            &mut self.last,
+        );
+        let (updated, shares) = after_update(made, active, &mut self.last, &KINDS);
         let mut est = Estimate::empty(sample.t);
         self.chain.estimate_into(sample.t, &mut est);
         let mut d = est.diagnostics_mut::<LocalDiag>();

@@ -24,9 +24,10 @@ use nalgebra::{SMatrix, SVector};
 use super::chain::{wrap, Chain};
 use super::criteria::{mjls_select, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
-use super::gain_shares::{gain_shares, RowKind};
+use super::gain_shares::{after_update, RowKind};
 use super::model::{mjls_rows, Mat8};
 use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
+use super::structured::Gain;
 
 /// What the MJLS filter does when no accelerometer is reliable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -143,7 +144,7 @@ pub struct MarkovJumpKf {
     params: MarkovJumpKfParams,
     chain: Chain,
     gate: AccelGateState,
-    last_gain: SMatrix<f64, 8, 4>,
+    last: Gain<4>,
 }
 
 impl Default for MarkovJumpKf {
@@ -164,7 +165,7 @@ impl MarkovJumpKf {
             chain: Chain::with_encoder_start(params.common, params.encoder_sigma),
             params,
             gate: AccelGateState::default(),
-            last_gain: SMatrix::zeros(),
+            last: Gain::zero(),
         }
     }
 
@@ -176,7 +177,7 @@ impl MarkovJumpKf {
     /// Gain `K` (8x4, columns: accelerometer row, hip, knee, ankle) of the
     /// last update; zero when the last sample made none.
     pub fn last_gain(&self) -> &SMatrix<f64, 8, 4> {
-        &self.last_gain
+        &self.last.K
     }
 
     /// Error covariance `P` (8x8, state order of 000 eq 16).
@@ -240,7 +241,7 @@ impl Estimator for MarkovJumpKf {
     fn reset(&mut self) {
         self.chain.reset();
         self.gate.reset();
-        self.last_gain = SMatrix::zeros();
+        self.last = Gain::zero();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -297,20 +298,15 @@ impl Estimator for MarkovJumpKf {
             RowKind::Joint,
             RowKind::Joint,
         ];
-        let (updated, shares) =
-            match self
-                .chain
-                .update(&innov, &rows, &r, &mut active, &[false, true, true, true])
-            {
-                Some(u) => {
-                    self.last_gain = u.K;
-                    (active, gain_shares(&u.K, &u.innovation, &kinds))
-                }
-                None => {
-                    self.last_gain = SMatrix::zeros();
-                    ([false; 4], [[None; 3]; 4])
-                }
-            };
+        let made = self.chain.update(
+            &innov,
+            &rows,
+            &r,
+            &mut active,
+            &[false, true, true, true],
+            &mut self.last,
+        );
+        let (updated, shares) = after_update(made, active, &mut self.last, &kinds);
         self.chain.estimate_into(sample.t, est);
         let mut d = est.diagnostics_mut::<MjlsDiag>();
         d.value(MjlsDiag::Mode, sel.code());

@@ -35,7 +35,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use limbfuse_core::kalman::KalmanError;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 use super::model::{angle_state, Mat8};
 use super::structured::{all_finite, ChainRow, Gain};
@@ -50,20 +50,22 @@ use super::structured::{all_finite, ChainRow, Gain};
 /// Fails, leaving `x` and `P` untouched, when a pivot `s = h P h^T + r`
 /// is not positive (exactly when the batch `S = H P H^T + R` is not
 /// positive definite) or the result is not finite.
-pub fn update_rows<const M: usize>(
+/// The gain is written into `gain` (no copy of it on the way out: the
+/// filters keep it for their `last_gain`); after a failure `gain` holds no
+/// meaningful value.
+pub fn update_rows_into<const M: usize>(
     x: &mut SVector<f64, 8>,
     P: &mut Mat8,
     innovation: &SVector<f64, M>,
     rows: &[ChainRow; M],
     r: &[f64; M],
     active: &[bool; M],
-) -> Result<Gain<M>, KalmanError> {
-    let mut gain = Gain {
-        K: SMatrix::<f64, 8, M>::zeros(),
-        innovation: SVector::<f64, M>::zeros(),
-    };
+    gain: &mut Gain<M>,
+) -> Result<(), KalmanError> {
+    gain.K.fill(0.0);
+    gain.innovation.fill(0.0);
     if !active.iter().any(|&a| a) {
-        return Ok(gain);
+        return Ok(());
     }
     // Column-major and symmetric: p[t] is column t of P and also its row t.
     let mut p: [[f64; 8]; 8] = P.data.0;
@@ -135,7 +137,7 @@ pub fn update_rows<const M: usize>(
         x[t] += dx[t];
     }
     P.data.0 = p;
-    Ok(gain)
+    Ok(())
 }
 
 #[cfg(test)]
@@ -145,6 +147,7 @@ pub(crate) mod tests {
     use crate::segment_kf::model::{GLOBAL_ROWS, LOCAL_ROWS};
     use crate::segment_kf::structured::dense_output_matrix;
     use limbfuse_core::kalman::{self, CovarianceUpdate};
+    use nalgebra::SMatrix;
     use proptest::prelude::*;
 
     /// `B B^T + 0.1 I`, symmetric positive definite, from a lower-triangular
@@ -227,7 +230,8 @@ pub(crate) mod tests {
             let H = dense_output_matrix(&GLOBAL_ROWS);
             let dense = kalman::update_rows(&x, &P, &z, &H, &R, &active, CovarianceUpdate::Joseph).unwrap();
             let (mut xf, mut Pf) = (x, P);
-            let seq = update_rows(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active).unwrap();
+            let mut seq = Gain::zero();
+            update_rows_into(&mut xf, &mut Pf, &innov, &GLOBAL_ROWS, &r, &active, &mut seq).unwrap();
             let scale = 1.0 + P.norm();
             prop_assert!((dense.K - seq.K).norm() < 1e-12 * scale);
             prop_assert!((dense.x - xf).norm() < 1e-12 * scale);
@@ -269,7 +273,8 @@ pub(crate) mod tests {
             let x = SVector::<f64, 8>::zeros();
             let dense = kalman::update_rows(&x, &P, &innov, &H, &R, &active, CovarianceUpdate::Joseph).unwrap();
             let (mut xf, mut Pf) = (x, P);
-            let seq = update_rows(&mut xf, &mut Pf, &innov, &rows, &r, &active).unwrap();
+            let mut seq = Gain::zero();
+            update_rows_into(&mut xf, &mut Pf, &innov, &rows, &r, &active, &mut seq).unwrap();
             prop_assert!((dense.x - xf).norm() < 1e-12);
             prop_assert!((dense.P - Pf).norm() < 1e-12);
             prop_assert!((dense.K - seq.K).norm() < 1e-12 * (1.0 + dense.K.norm()));
@@ -295,7 +300,17 @@ pub(crate) mod tests {
             kalman::update_rows(&x, &P, &innov, &H, &R, &[true; 4], CovarianceUpdate::Joseph)
                 .unwrap();
         let (mut xf, mut Pf) = (x, P);
-        update_rows(&mut xf, &mut Pf, &innov, &LOCAL_ROWS, &r, &[true; 4]).unwrap();
+        let mut g = Gain::zero();
+        update_rows_into(
+            &mut xf,
+            &mut Pf,
+            &innov,
+            &LOCAL_ROWS,
+            &r,
+            &[true; 4],
+            &mut g,
+        )
+        .unwrap();
         assert!((dense.x - xf).norm() < 1e-13);
         assert!((dense.P - Pf).norm() < 1e-13);
     }
@@ -304,13 +319,14 @@ pub(crate) mod tests {
     fn indefinite_pivot_is_an_error_and_changes_nothing() {
         let mut P = -Mat8::identity();
         let mut x = SVector::<f64, 8>::zeros();
-        let u = update_rows(
+        let u = update_rows_into(
             &mut x,
             &mut P,
             &SVector::<f64, 1>::new(0.1),
             &[ChainRow::segment(2)],
             &[1e-3],
             &[true],
+            &mut Gain::zero(),
         );
         assert_eq!(u.unwrap_err(), KalmanError::InnovationNotPositiveDefinite);
         assert_eq!(P, -Mat8::identity());

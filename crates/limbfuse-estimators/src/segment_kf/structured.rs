@@ -177,6 +177,16 @@ pub struct Gain<const M: usize> {
     pub innovation: SVector<f64, M>,
 }
 
+impl<const M: usize> Gain<M> {
+    /// A zero gain and innovation (no update).
+    pub fn zero() -> Self {
+        Gain {
+            K: SMatrix::zeros(),
+            innovation: SVector::zeros(),
+        }
+    }
+}
+
 /// Measurement update (000 eqs 23-25) on the active `rows`, with diagonal
 /// measurement noise `r` (variances) and innovations `innovation = z - H x`
 /// (already formed by the caller, e.g. with angle wrapping), applied to `x`
