@@ -230,8 +230,8 @@ impl ChainEkf {
     /// Starts the filter at the window's first sample from the start-up
     /// estimates (`theta_i = m_i` there: the gyro integral starts at 0) and
     /// replays the window's samples through it, so that its convergence
-    /// transient lies inside the window.
-    fn start(&mut self) {
+    /// transient lies inside the window. `false`: the replay was refused.
+    fn start(&mut self) -> bool {
         let first = self.window[0];
         let mut x = StateVector::zeros();
         let mut d = [0.0; state::N];
@@ -275,6 +275,15 @@ impl ChainEkf {
             previous = sample.t;
         }
         self.held = 0;
+        // A replay that ends further than the start angle's prior 1-sigma
+        // from the window's own angles left the window's evidence (audit
+        // 2026-12-03: S02 started 1.5 s into the walk ended 34-87 deg off
+        // and never recovered): refused, the window begins again.
+        let off = |i: usize| {
+            let d = self.x[theta(i)] - self.startup.angle(i).unwrap_or(self.x[theta(i)]);
+            libm::fabs(libm::atan2(libm::sin(d), libm::cos(d))) > initial::ANGLE
+        };
+        !(0..4).any(off)
     }
 
     /// Begins the start-up window again (after a long gap or a divergence):
@@ -528,8 +537,11 @@ impl Estimator for ChainEkf {
                 let closed = self.startup.elapsed(sample.t) >= self.params.startup_s
                     || self.held == self.window.len();
                 if ready && closed {
-                    self.start();
-                    self.link = Link::Start;
+                    if self.start() {
+                        self.link = Link::Start;
+                    } else {
+                        self.restart_startup();
+                    }
                 } else if self.held == self.window.len() {
                     // Full before every segment had an accelerometer reading:
                     // start the window again.

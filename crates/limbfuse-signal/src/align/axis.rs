@@ -164,19 +164,43 @@ pub(crate) fn hinge_fit(
 /// (`dv/dt = -w x v`) and pulled toward the normalised accelerometer with
 /// time constant `tau` (s); accelerometer readings further than 30 % from
 /// their median norm are not used. `None` before the first reading.
+///
+/// The filter starts from the vertical that the same filter, run backward
+/// over the whole recording, gives at the first reading (alignment is
+/// offline): a recording that starts mid-stride would otherwise start from
+/// one reading's direction, tens of degrees off the vertical in swing, and
+/// carry that error for several `tau` into the axis (issue 14, audit
+/// 2026-12-03: S02 cut 1 s into the walk).
 pub(crate) fn up_track(records: &[Record], seg: Segment, tau: f64) -> Vec<Option<Vector3<f64>>> {
     let mut norms: Vec<f64> = (0..records.len())
         .filter_map(|k| acc(records, seg, k).map(|a| a.norm()))
         .collect();
     let g = super::series::median(&mut norms).unwrap_or(0.0);
-    let mut v: Option<Vector3<f64>> = None;
-    let mut t_prev = records.first().map_or(0.0, |r| r.sample.t);
-    records
-        .iter()
-        .enumerate()
-        .map(|(k, r)| {
-            let dt = r.sample.t - t_prev;
-            t_prev = r.sample.t;
+    let backward = complementary(records, seg, tau, g, (0..records.len()).rev(), None);
+    let start = backward.iter().rev().find_map(|v| *v);
+    complementary(records, seg, tau, g, 0..records.len(), start)
+}
+
+/// One pass of [`up_track`]'s filter over the records in `order` (forward
+/// or backward in time), from `init`; the vertical at each record, in the
+/// order visited.
+fn complementary(
+    records: &[Record],
+    seg: Segment,
+    tau: f64,
+    g: f64,
+    order: impl Iterator<Item = usize>,
+    init: Option<Vector3<f64>>,
+) -> Vec<Option<Vector3<f64>>> {
+    let mut v = init;
+    let mut t_prev: Option<f64> = None;
+    order
+        .map(|k| {
+            let t = records[k].sample.t;
+            // Signed: negative on the backward pass, where the gyro carries
+            // the vector back in time.
+            let dt = t - t_prev.unwrap_or(t);
+            t_prev = Some(t);
             if let (Some(cur), Some(w)) = (v, gyr(records, seg, k)) {
                 v = (cur - w.cross(&cur) * dt).try_normalize(1e-12);
             }
@@ -185,7 +209,7 @@ pub(crate) fn up_track(records: &[Record], seg: Segment, tau: f64) -> Vec<Option
                 v = match (v, a.try_normalize(1e-9)) {
                     (None, an) => an,
                     (Some(cur), Some(an)) if trusted => {
-                        (cur + (an - cur) * (dt / tau).clamp(0.0, 1.0)).try_normalize(1e-12)
+                        (cur + (an - cur) * (dt.abs() / tau).clamp(0.0, 1.0)).try_normalize(1e-12)
                     }
                     (cur, _) => cur,
                 };

@@ -1,0 +1,102 @@
+//! Audit against kept-back recordings (2026-12-03, docs/RESULTS.md): `chain`
+//! on a recording that starts mid-stride. The gaittoolbox S02 walk, aligned
+//! (`limbfuse align`), with its first 1.50 or 1.55 s removed: the start-up
+//! replay ended 34-87 deg from the window's own angles, the filter stated
+//! 0.4 deg of uncertainty and never recovered (pass-2 offset-free RMSE
+//! thigh / shank / foot 12.6 / 11.9 / 18.1 deg and 8.2 / 10.7 / 77.9 deg
+//! against 2.3 / 2.6 / 2.6 on the whole recording). Such a replay is now
+//! refused and the start-up window begins again (2.3 / 3.5 / 4.1 and
+//! 2.8 / 3.1 / 3.7 deg). Skipped when `../shared/data` is absent.
+
+use std::path::{Path, PathBuf};
+
+mod support;
+use support::limbfuse;
+
+fn s02_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    let s02 = dir.join("gaittoolbox-s02-walk");
+    if s02.is_dir() {
+        Some(s02)
+    } else {
+        println!("skipping: ../shared/data/gaittoolbox-s02-walk not found (set LIMBFUSE_DATA)");
+        None
+    }
+}
+
+fn run_ok(args: &[&str], dir: &Path) -> Vec<u8> {
+    let o = limbfuse(args, dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o.stdout
+}
+
+/// `src` without its first `rows` data rows (metadata and header kept).
+fn cut(src: &Path, dst: &Path, rows: usize) {
+    let text = std::fs::read_to_string(src).unwrap();
+    let mut out = String::new();
+    let mut data = 0usize;
+    let mut header_seen = false;
+    for line in text.lines() {
+        if line.starts_with('#') || !header_seen {
+            header_seen |= !line.starts_with('#');
+        } else {
+            data += 1;
+            if data <= rows {
+                continue;
+            }
+        }
+        out += line;
+        out += "\n";
+    }
+    std::fs::write(dst, out).unwrap();
+}
+
+#[test]
+fn issue_14_chain_mid_stride_start() {
+    let Some(s02) = s02_dir() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let s02 = s02.to_str().unwrap();
+    run_ok(
+        &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
+        dir,
+    );
+    run_ok(&["align", "s02.csv", "-o", "s02al.csv"], dir);
+    for rows in [150, 155] {
+        let trial = format!("cut{rows}.csv");
+        let est = format!("cut{rows}-chain.csv");
+        cut(&dir.join("s02al.csv"), &dir.join(&trial), rows);
+        run_ok(&["estimate", "--method", "chain", &trial, "-o", &est], dir);
+        let json = run_ok(
+            &[
+                "evaluate",
+                &trial,
+                &est,
+                "--window",
+                "4.40:8.72",
+                "--offset-free",
+                "--max-lag",
+                "5",
+                "--json",
+            ],
+            dir,
+        );
+        let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
+        for seg in ["thigh", "shank", "foot"] {
+            let rmse = v["rmse_deg"][seg].as_f64().unwrap();
+            println!("first {rows} rows cut: {seg} {rmse:.3} deg");
+            assert!(rmse < 6.0, "cut {rows}: {seg} RMSE {rmse:.2} deg");
+        }
+    }
+}
