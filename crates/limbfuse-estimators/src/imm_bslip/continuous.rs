@@ -54,6 +54,10 @@ struct StepTracker {
     fixes: [Option<(FootFix, u32)>; 3],
     /// MS and the stance foot from the CoM's mid-height crossings.
     crossings: HeightCrossings,
+    /// Lowest and highest CoM height since the last MS.
+    heights: (f64, f64),
+    /// The detector's crossing count at the last MS.
+    crossings_at_ms: u32,
     /// Walking speed (m/s).
     speed: f64,
     /// Whether `speed` is measured (two located feet).
@@ -75,6 +79,8 @@ impl StepTracker {
             step: 0,
             fixes: [None; 3],
             crossings: HeightCrossings::new(),
+            heights: (f64::INFINITY, f64::NEG_INFINITY),
+            crossings_at_ms: 0,
             speed: gait.speed,
             measured: false,
             vx_sum: (0.0, 0),
@@ -189,6 +195,7 @@ impl ImmContinuous {
         let st = &mut self.steps;
         st.vx_sum.0 += x[3];
         st.vx_sum.1 += 1;
+        st.heights = (st.heights.0.min(x[1]), st.heights.1.max(x[1]));
         if let Some(f) = st.crossings.push(now, x[0], x[1]) {
             // The located foot is the nearer of the two: the leading one if
             // the CoM has not yet passed over it (MS is overdue).
@@ -206,8 +213,11 @@ impl ImmContinuous {
         }
         if st.phase == GaitPhase::Ds && trailing >= l0 {
             st.phase = GaitPhase::Ss2;
-            // A trough and an apex have passed: the crossings' level.
-            st.crossings.bootstrap(x[1]);
+            if !st.crossings.started() {
+                // The first lift-off: the start (MS, an apex) and a trough
+                // have passed.
+                st.crossings.restart(st.heights.0, st.heights.1, x[1]);
+            }
         }
         if st.phase == GaitPhase::Ss2 && x[0] >= st.leading[0] {
             self.mid_stance(x, None);
@@ -219,6 +229,12 @@ impl ImmContinuous {
     /// offset from the CoM), the gait is re-targeted to the speed.
     fn mid_stance(&mut self, x: &State, fix: Option<FootFix>) {
         let st = &mut self.steps;
+        if st.crossings.started() && st.crossings.crossings() == st.crossings_at_ms {
+            // A step without a crossing: the level from its extremes.
+            st.crossings.restart(st.heights.0, st.heights.1, x[1]);
+        }
+        st.heights = (x[1], x[1]);
+        st.crossings_at_ms = st.crossings.crossings();
         st.side = st.side.other();
         st.step += 1;
         let mut foot = [st.leading[0], x[2] - st.side.sign() * st.gait.gait.lateral];

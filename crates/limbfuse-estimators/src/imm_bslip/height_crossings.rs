@@ -15,9 +15,11 @@
 //! near-tangencies before MS (0.9 m/s: `vy` within 1 mm/s of zero just
 //! after lift-off), where filter noise fires it early.
 //!
-//! A crossing of one direction counts only once the CoM has gone a quarter
-//! of the last trough-to-apex excursion beyond the level (hysteresis), so
-//! noise around the level does not make pairs.
+//! The rise counts only once the CoM is a quarter of the trough-to-apex
+//! excursion above the level (hysteresis), so noise around the level does
+//! not make pairs. If a step passes without a crossing (an apex lower than the
+//! hysteresis, a trough above the level), the caller restarts the detector
+//! from that step's extremes.
 
 /// One located mid-stance: time and the stance foot's forward position.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,23 +35,26 @@ pub(super) struct FootFix {
 enum Level {
     /// Below the level (or not yet confirmed above it).
     Low,
-    /// Above the level, confirmed; the up-crossing if it was seen.
-    High(Option<(f64, f64)>),
+    /// Confirmed above `level`; the up-crossing `(t, x)` if it was seen.
+    High { level: f64, up: Option<(f64, f64)> },
 }
 
 /// The mid-height crossing detector (module docs).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct HeightCrossings {
-    /// `(level, hysteresis)` once an apex and a trough have been seen.
-    level: Option<(f64, f64)>,
+    /// The last apex height, once an apex and a trough have been seen.
+    apex: Option<f64>,
     side: Level,
     /// Candidate up-crossing `(t, x)` while below the level.
     candidate: Option<(f64, f64)>,
-    /// Lowest and highest CoM height since the last down-crossing / up-crossing.
+    /// Lowest CoM height since the last down-crossing (the trough).
     low: f64,
+    /// Highest CoM height since the last up-crossing (the apex).
     high: f64,
     /// Previous sample `(t, x, y)`.
     previous: Option<(f64, f64, f64)>,
+    /// Crossings (confirmed rises and falls) so far.
+    crossings: u32,
 }
 
 /// Where `y` crosses `h` between `(t0, x0, y0)` and `(t1, x1, y1)`, linearly.
@@ -60,67 +65,87 @@ fn crossing(p: (f64, f64, f64), t: f64, x: f64, y: f64, h: f64) -> (f64, f64) {
 }
 
 impl HeightCrossings {
-    /// A detector at the start of a trial (at MS: near an apex).
+    /// A detector at the start of a trial, before any apex or trough.
     pub fn new() -> Self {
         HeightCrossings {
-            level: None,
-            side: Level::High(None),
+            apex: None,
+            side: Level::Low,
             candidate: None,
             low: f64::INFINITY,
             high: f64::NEG_INFINITY,
             previous: None,
+            crossings: 0,
         }
     }
 
-    /// Sets the level from the extremes seen since the start, once both an
-    /// apex and a trough have passed (the caller knows: the first lift-off).
-    pub fn bootstrap(&mut self, y: f64) {
-        if self.level.is_some() || !(self.high > self.low) {
+    /// Starts over from a trough `low` and an apex `high` the caller has
+    /// seen (the first lift-off; a step without a located foot), the CoM
+    /// now at height `y`.
+    pub fn restart(&mut self, low: f64, high: f64, y: f64) {
+        if !(high > low) {
             return;
         }
-        let h = 0.5 * (self.high + self.low);
-        self.level = Some((h, 0.25 * (self.high - self.low)));
-        self.side = if y < h { Level::Low } else { Level::High(None) };
-        self.low = y;
+        let level = 0.5 * (high + low);
+        self.apex = Some(high);
+        self.candidate = None;
+        self.side = if y < level {
+            Level::Low
+        } else {
+            Level::High { level, up: None }
+        };
+        self.low = low.min(y);
         self.high = y;
     }
 
+    /// Whether an apex and a trough have been seen.
+    pub fn started(&self) -> bool {
+        self.apex.is_some()
+    }
+
+    /// Crossings (confirmed rises and falls) so far: a step without one
+    /// means the detector is stuck (module docs).
+    pub fn crossings(&self) -> u32 {
+        self.crossings
+    }
+
     /// The next CoM sample (time, forward position, height); a located MS
-    /// when the CoM has just fallen through the level after rising through it.
+    /// when the CoM has just fallen through the level after rising through
+    /// it. The level is halfway between the last apex and the trough since;
+    /// the rise is confirmed a quarter of that excursion above it.
     pub fn push(&mut self, t: f64, x: f64, y: f64) -> Option<FootFix> {
         let previous = self.previous.replace((t, x, y));
-        self.low = self.low.min(y);
-        self.high = self.high.max(y);
-        let ((h, band), p) = (self.level?, previous?);
+        let (apex, p) = (self.apex?, previous?);
         match self.side {
             Level::Low => {
+                self.low = self.low.min(y);
+                let h = 0.5 * (apex + self.low);
                 if p.2 < h && y >= h {
                     self.candidate = Some(crossing(p, t, x, y, h));
-                }
-                if y < h {
+                } else if y < h && p.2 >= h {
                     // Fell back below: the next rise gives the candidate.
-                    if p.2 >= h {
-                        self.candidate = None;
-                    }
-                } else if y >= h + band {
-                    self.side = Level::High(self.candidate.take());
+                    self.candidate = None;
+                }
+                if y >= h + 0.25 * (apex - self.low) {
+                    self.side = Level::High {
+                        level: h,
+                        up: self.candidate.take(),
+                    };
                     self.high = y;
+                    self.crossings = self.crossings.wrapping_add(1);
                 }
                 None
             }
-            Level::High(up) => {
-                if !(p.2 >= h && y < h) {
+            Level::High { level, up } => {
+                self.high = self.high.max(y);
+                if !(p.2 >= level && y < level) {
                     return None;
                 }
-                let down = crossing(p, t, x, y, h);
-                // The next pair's level: this apex and the trough before it.
-                let (low, high) = (self.low.min(p.2), self.high);
-                if high > low && low.is_finite() {
-                    self.level = Some((0.5 * (high + low), 0.25 * (high - low)));
-                }
+                let down = crossing(p, t, x, y, level);
+                self.apex = Some(self.high);
                 self.side = Level::Low;
                 self.candidate = None;
                 self.low = y;
+                self.crossings = self.crossings.wrapping_add(1);
                 let (t_up, x_up) = up?;
                 Some(FootFix {
                     t: 0.5 * (t_up + down.0),
@@ -151,7 +176,7 @@ mod tests {
             let x = t + 0.5 * l; // starts at an apex (MS)
             let y = 1.0 - 0.02 * libm::cos(2.0 * core::f64::consts::PI * x / l);
             if k == 40 {
-                c.bootstrap(y);
+                c.restart(0.98, 1.02, y);
             }
             fixes.extend(c.push(t, x, y));
         }
@@ -168,9 +193,8 @@ mod tests {
     #[test]
     fn noise_at_the_level_does_not_make_pairs() {
         let mut c = HeightCrossings::new();
-        c.push(0.0, 0.0, 1.0);
+        c.restart(0.96, 1.0, 0.96); // level 0.98, band 0.01
         c.push(0.01, 0.01, 0.96);
-        c.bootstrap(0.96); // level 0.98, band 0.01
         let mut fixes = 0;
         for k in 2..50 {
             // Chatter around the level, never past the band.
