@@ -5,13 +5,18 @@
 //! the template's touchdown timing. docs/GAIT_IMM.md, "Configuration
 //! `continuous`".
 //!
-//! - **Feet from the data.** At each mid-stance (MS: the ensemble's
-//!   vertical velocity crossing zero downwards in SS2, located between the
-//!   two samples by linear interpolation) the stance foot is under the CoM
-//!   (`x_foot = x_CoM(MS)`, the B-SLIP apex; laterally at the gait's MS
-//!   offset), and the next foot is one measured step length ahead (the
-//!   last MS-to-MS advance; the family's step length before two MS are
-//!   seen) and one step width to the side.
+//! - **Feet from the data.** A periodic B-SLIP step is symmetric in time
+//!   about mid-stance (MS), where the CoM is over the stance foot; so the
+//!   stance foot is the midpoint of where the CoM rises through and falls
+//!   back through its mid height (`height_crossings`), located in SS1 just
+//!   after MS, and the next foot is one measured step length ahead (the
+//!   located feet's spacing; the family's step length before two are
+//!   located) and one step width to the side. MS is the CoM passing over
+//!   the leading foot (or the leading foot's location, if that comes
+//!   first). The first downward zero crossing of the ensemble's `vy`, used
+//!   before, is ill-conditioned: flat-topped slow gaits and the flat DS of
+//!   fast ones let noise fire it early, and an early MS put the next feet,
+//!   hence the next MS, earlier still (issue 19, 10 s trials).
 //! - **Phase from the leg lengths.** Feet land and lift at rest length
 //!   (B-SLIP), so with the feet known the phase is the set of legs shorter
 //!   than `l0` on the ensemble CoM: SS1 -> DS when the leading leg is
@@ -19,11 +24,12 @@
 //!   longer (lift-off), SS2 -> SS1 at MS. This is eq 14's physical
 //!   likelihood taken to its limit (`kappa -> infinity`) and does not use
 //!   the template's `t_touchdown` or touchdown height.
-//! - **Speed as a continuous quantity.** The walking speed is the CoM's
-//!   advance over the last stride (two MS-to-MS steps; one step until two
-//!   are seen; before that the mean ensemble `vx` since the start), and
-//!   at every MS the filters' gait is re-targeted to the family's gait at
-//!   that speed ([`gait_at_speed`]): stiffness, lateral offset, step width.
+//! - **Speed as a continuous quantity.** The walking speed is the advance
+//!   of the located feet over their MS times across the last stride (two
+//!   steps; one step until three feet are located; before that the mean
+//!   ensemble `vx` since the start), and at every MS the filters' gait is
+//!   re-targeted to the family's gait at that speed ([`gait_at_speed`]):
+//!   stiffness, lateral offset, step width.
 
 extern crate alloc;
 
