@@ -82,7 +82,7 @@ impl HeightCrossings {
     /// seen (the first lift-off; a step without a located foot), the CoM
     /// now at height `y`.
     pub fn restart(&mut self, low: f64, high: f64, y: f64) {
-        if !(high > low) {
+        if high.partial_cmp(&low) != Some(core::cmp::Ordering::Greater) {
             return;
         }
         let level = 0.5 * (high + low);
