@@ -7,12 +7,12 @@
 //! (`DATA/independent-sim/bslip-*.csv`): a 0.4-1.0 m/s library built for
 //! the body in the trial's metadata, and one built for the default body
 //! rescaled automatically (Froude similarity); phase accuracy and median
-//! speed against `# speed_true`. (3) With `--long N`: 10 s trials (100 Hz,
+//! speed against `# speed_true`. (3) With `--long N`: 10 s trials (`--long-duration`; 100 Hz,
 //! noise seeds 1..=N) of every gait of the 0.4-1.0 m/s library of each
 //! body (default 80 kg / 1 m; 70 kg / 0.95 m), the gait in the library:
 //! continuous configuration's phase accuracy and median speed (issue 19,
 //! long trials).
-//! `cargo run --release -p limbfuse-studies --example imm_continuous_study -- [SEEDS] [--truth V] [--rate HZ] [--data DIR] [--long N]`
+//! `cargo run --release -p limbfuse-studies --example imm_continuous_study -- [SEEDS] [--truth V] [--rate HZ] [--data DIR] [--long N] [--long-duration S]`
 
 use clap::Parser;
 use limbfuse_core::{Estimator, Record};
@@ -130,7 +130,7 @@ fn main() {
     let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
     let default_lib = library(&body, &speeds);
     if args.long > 0 {
-        long_trials(&default_lib, &speeds, args.long);
+        long_trials(&default_lib, &speeds, args.long, args.long_duration);
     }
     let dir = std::path::Path::new(&args.data).join("independent-sim");
     let mut files: Vec<_> = match std::fs::read_dir(&dir) {
@@ -189,8 +189,8 @@ fn main() {
     }
 }
 
-/// Part (3): 10 s trials of every library gait, both bodies, `seeds` seeds.
-fn long_trials(default_lib: &[GaitTemplate], speeds: &[f64], seeds: u64) {
+/// Part (3): `duration` s trials of every library gait, both bodies, `seeds` seeds.
+fn long_trials(default_lib: &[GaitTemplate], speeds: &[f64], seeds: u64, duration: f64) {
     let other = BslipParams {
         mass: 70.0,
         rest_length: 0.95,
@@ -209,7 +209,7 @@ fn long_trials(default_lib: &[GaitTemplate], speeds: &[f64], seeds: u64) {
             let mut speed = Vec::new();
             for seed in 1..=seeds {
                 let cfg = BslipTrialConfig {
-                    duration: 10.0,
+                    duration,
                     seed,
                     ..Default::default()
                 };
