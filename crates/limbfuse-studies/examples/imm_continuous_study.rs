@@ -198,7 +198,7 @@ fn long_trials(default_lib: &[GaitTemplate], speeds: &[f64], seeds: u64, duratio
     };
     let other_lib = library(&other, speeds);
     println!(
-        "(3) 10 s trials of the library's own gaits, library {speeds:?} m/s, seeds 1..={seeds}"
+        "(3) {duration} s trials of the library's own gaits, library {speeds:?} m/s, seeds 1..={seeds}"
     );
     for (name, lib) in [
         ("80 kg / 1 m", default_lib),
