@@ -238,6 +238,8 @@ impl ImmContinuous {
         if st.crossings.started() && st.crossings.crossings() == st.crossings_at_ms {
             // A step without a crossing: the level from its extremes.
             st.crossings.restart(st.heights.0, st.heights.1, x[1]);
+        } else {
+            st.crossings.set_excursion(st.heights.0, st.heights.1);
         }
         st.heights = (x[1], x[1]);
         st.crossings_at_ms = st.crossings.crossings();

@@ -15,8 +15,9 @@
 //! near-tangencies before MS (0.9 m/s: `vy` within 1 mm/s of zero just
 //! after lift-off), where filter noise fires it early.
 //!
-//! The rise counts only once the CoM is a quarter of the trough-to-apex
-//! excursion above the level (hysteresis), so noise around the level does
+//! The rise counts only once the CoM is a quarter of the last step's
+//! trough-to-apex excursion above the level (hysteresis), so noise around
+//! the level, or wiggles of a noisy height estimate near a flat apex, do
 //! not make pairs. If a step passes without a crossing (an apex lower than the
 //! hysteresis, a trough above the level), the caller restarts the detector
 //! from that step's extremes.
@@ -51,6 +52,8 @@ pub(super) struct HeightCrossings {
     low: f64,
     /// Highest CoM height since the last up-crossing (the apex).
     high: f64,
+    /// The last step's trough-to-apex excursion (the hysteresis' scale).
+    excursion: f64,
     /// Previous sample `(t, x, y)`.
     previous: Option<(f64, f64, f64)>,
     /// Crossings (confirmed rises and falls) so far.
@@ -73,6 +76,7 @@ impl HeightCrossings {
             candidate: None,
             low: f64::INFINITY,
             high: f64::NEG_INFINITY,
+            excursion: 0.0,
             previous: None,
             crossings: 0,
         }
@@ -95,6 +99,16 @@ impl HeightCrossings {
         };
         self.low = low.min(y);
         self.high = y;
+        self.excursion = high - low;
+    }
+
+    /// The last step's lowest and highest CoM height (the caller's, at
+    /// MS): the hysteresis is a quarter of that excursion, so noise on the
+    /// height near the apex or the level cannot shrink it.
+    pub fn set_excursion(&mut self, low: f64, high: f64) {
+        if high.partial_cmp(&low) == Some(core::cmp::Ordering::Greater) {
+            self.excursion = high - low;
+        }
     }
 
     /// Whether an apex and a trough have been seen.
@@ -111,7 +125,7 @@ impl HeightCrossings {
     /// The next CoM sample (time, forward position, height); a located MS
     /// when the CoM has just fallen through the level after rising through
     /// it. The level is halfway between the last apex and the trough since;
-    /// the rise is confirmed a quarter of that excursion above it.
+    /// the rise is confirmed a quarter of the last step's excursion above it.
     pub fn push(&mut self, t: f64, x: f64, y: f64) -> Option<FootFix> {
         let previous = self.previous.replace((t, x, y));
         let (apex, p) = (self.apex?, previous?);
@@ -125,7 +139,7 @@ impl HeightCrossings {
                     // Fell back below: the next rise gives the candidate.
                     self.candidate = None;
                 }
-                if y >= h + 0.25 * (apex - self.low) {
+                if y >= h + 0.25 * self.excursion {
                     self.side = Level::High {
                         level: h,
                         up: self.candidate.take(),
