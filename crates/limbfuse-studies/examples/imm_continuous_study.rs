@@ -7,8 +7,12 @@
 //! (`DATA/independent-sim/bslip-*.csv`): a 0.4-1.0 m/s library built for
 //! the body in the trial's metadata, and one built for the default body
 //! rescaled automatically (Froude similarity); phase accuracy and median
-//! speed against `# speed_true`.
-//! `cargo run --release -p limbfuse-studies --example imm_continuous_study -- [SEEDS] [--truth V] [--rate HZ] [--data DIR]`
+//! speed against `# speed_true`. (3) With `--long N`: 10 s trials (`--long-duration`; 100 Hz,
+//! noise seeds 1..=N) of every gait of the 0.4-1.0 m/s library of each
+//! body (default 80 kg / 1 m; 70 kg / 0.95 m), the gait in the library:
+//! continuous configuration's phase accuracy and median speed (issue 19,
+//! long trials).
+//! `cargo run --release -p limbfuse-studies --example imm_continuous_study -- [SEEDS] [--truth V] [--rate HZ] [--data DIR] [--long N] [--long-duration S]`
 
 use clap::Parser;
 use limbfuse_core::{Estimator, Record};
@@ -123,6 +127,11 @@ fn main() {
             mean(&rms)
         );
     }
+    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+    let default_lib = library(&body, &speeds);
+    if args.long > 0 {
+        long_trials(&default_lib, &speeds, args.long, args.long_duration);
+    }
     let dir = std::path::Path::new(&args.data).join("independent-sim");
     let mut files: Vec<_> = match std::fs::read_dir(&dir) {
         Ok(d) => d
@@ -139,8 +148,6 @@ fn main() {
         }
     };
     files.sort();
-    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
-    let default_lib = library(&body, &speeds);
     println!("(2) independent B-SLIP trials, library {speeds:?} m/s");
     for path in files {
         let mut reader = TrialReader::open(&path).unwrap();
@@ -178,6 +185,46 @@ fn main() {
                     s - truth
                 );
             }
+        }
+    }
+}
+
+/// Part (3): `duration` s trials of every library gait, both bodies, `seeds` seeds.
+fn long_trials(default_lib: &[GaitTemplate], speeds: &[f64], seeds: u64, duration: f64) {
+    let other = BslipParams {
+        mass: 70.0,
+        rest_length: 0.95,
+        ..BslipParams::default()
+    };
+    let other_lib = library(&other, speeds);
+    println!(
+        "(3) {duration} s trials of the library's own gaits, library {speeds:?} m/s, seeds 1..={seeds}"
+    );
+    for (name, lib) in [
+        ("80 kg / 1 m", default_lib),
+        ("70 kg / 0.95 m", &other_lib[..]),
+    ] {
+        for walker in lib {
+            let mut acc = Vec::new();
+            let mut speed = Vec::new();
+            for seed in 1..=seeds {
+                let cfg = BslipTrialConfig {
+                    duration,
+                    seed,
+                    ..Default::default()
+                };
+                let trial = simulate_trial(walker, &cfg);
+                let [(_, mut est), _] = estimators(lib);
+                let (a, s, _) = run(est.as_mut(), &trial);
+                acc.push(format!("{a:.1}"));
+                speed.push(format!("{s:.3}"));
+            }
+            println!(
+                "  {name:<15} {:.1} m/s: phase accuracy {} %, median speed {} m/s",
+                walker.speed,
+                acc.join(" / "),
+                speed.join(" / ")
+            );
         }
     }
 }

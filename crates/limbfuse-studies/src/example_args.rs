@@ -298,7 +298,7 @@ pub struct ImmBslipStudyArgs {
     pub ms_past_foot: bool,
 }
 
-/// `imm_continuous_study [SEEDS] [--truth SPEED] [--rate HZ] [--data DIR]`.
+/// `imm_continuous_study [SEEDS] [--truth SPEED] [--rate HZ] [--data DIR] [--long SEEDS] [--long-duration S]`.
 #[derive(Debug, Parser)]
 pub struct ImmContinuousStudyArgs {
     /// Noise seeds 1..=SEEDS.
@@ -313,6 +313,13 @@ pub struct ImmContinuousStudyArgs {
     /// The shared data directory.
     #[arg(long, default_value = "../shared/data")]
     pub data: String,
+    /// Also 10 s trials of every 0.4-1.0 m/s library gait of both bodies
+    /// (80 kg / 1 m, 70 kg / 0.95 m), noise seeds 1..=LONG (0: skipped).
+    #[arg(long, default_value_t = 0)]
+    pub long: u64,
+    /// Duration of the `--long` trials (s).
+    #[arg(long, default_value_t = 10.0)]
+    pub long_duration: f64,
 }
 
 /// The gait speeds of the `imm_bslip_study` library (m/s).

@@ -5,13 +5,18 @@
 //! the template's touchdown timing. docs/GAIT_IMM.md, "Configuration
 //! `continuous`".
 //!
-//! - **Feet from the data.** At each mid-stance (MS: the ensemble's
-//!   vertical velocity crossing zero downwards in SS2, located between the
-//!   two samples by linear interpolation) the stance foot is under the CoM
-//!   (`x_foot = x_CoM(MS)`, the B-SLIP apex; laterally at the gait's MS
-//!   offset), and the next foot is one measured step length ahead (the
-//!   last MS-to-MS advance; the family's step length before two MS are
-//!   seen) and one step width to the side.
+//! - **Feet from the data.** A periodic B-SLIP step is symmetric in time
+//!   about mid-stance (MS), where the CoM is over the stance foot; so the
+//!   stance foot is the midpoint of where the CoM rises through and falls
+//!   back through its mid height (`height_crossings`), located in SS1 just
+//!   after MS, and the next foot is one measured step length ahead (the
+//!   located feet's spacing; the family's step length before two are
+//!   located) and one step width to the side. MS is the CoM passing over
+//!   the leading foot (or the leading foot's location, if that comes
+//!   first). The first downward zero crossing of the ensemble's `vy`, used
+//!   before, is ill-conditioned: flat-topped slow gaits and the flat DS of
+//!   fast ones let noise fire it early, and an early MS put the next feet,
+//!   hence the next MS, earlier still (issue 19, 10 s trials).
 //! - **Phase from the leg lengths.** Feet land and lift at rest length
 //!   (B-SLIP), so with the feet known the phase is the set of legs shorter
 //!   than `l0` on the ensemble CoM: SS1 -> DS when the leading leg is
@@ -19,11 +24,12 @@
 //!   longer (lift-off), SS2 -> SS1 at MS. This is eq 14's physical
 //!   likelihood taken to its limit (`kappa -> infinity`) and does not use
 //!   the template's `t_touchdown` or touchdown height.
-//! - **Speed as a continuous quantity.** The walking speed is the CoM's
-//!   advance over the last stride (two MS-to-MS steps; one step until two
-//!   are seen; before that the mean ensemble `vx` since the start), and
-//!   at every MS the filters' gait is re-targeted to the family's gait at
-//!   that speed ([`gait_at_speed`]): stiffness, lateral offset, step width.
+//! - **Speed as a continuous quantity.** The walking speed is the advance
+//!   of the located feet over their MS times across the last stride (two
+//!   steps; one step until three feet are located; before that the mean
+//!   ensemble `vx` since the start), and at every MS the filters' gait is
+//!   re-targeted to the family's gait at that speed ([`gait_at_speed`]):
+//!   stiffness, lateral offset, step width.
 
 extern crate alloc;
 
@@ -35,15 +41,8 @@ use limbfuse_core::{Estimate, Estimator, EstimatorError, GaitPhase, Sample};
 use limbfuse_models::bslip::family::{gait_at_speed, speed_at_mid_stance_velocity};
 use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
 
+use super::height_crossings::{FootFix, HeightCrossings};
 use super::{ImmBslip, ImmBslipError, ImmBslipParams};
-
-/// One located mid-stance: time and CoM `(x, z)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct MidStance {
-    t: f64,
-    x: f64,
-    z: f64,
-}
 
 /// Feet, phase and speed from the data (module docs).
 #[derive(Debug, Clone, Copy)]
@@ -55,10 +54,20 @@ struct StepTracker {
     /// Leading foot `(x, z)`.
     leading: [f64; 2],
     phase: GaitPhase,
-    /// The last two located MS (newest first); the start is not one.
-    ms: [Option<MidStance>; 3],
+    /// Steps since the start (one per MS).
+    step: u32,
+    /// The last three located stance feet (newest first) and their steps.
+    fixes: [Option<(FootFix, u32)>; 3],
+    /// MS and the stance foot from the CoM's mid-height crossings.
+    crossings: HeightCrossings,
+    /// Lowest and highest CoM height since the last MS.
+    heights: (f64, f64),
+    /// The detector's crossing count at the last MS.
+    crossings_at_ms: u32,
     /// Walking speed (m/s).
     speed: f64,
+    /// Whether `speed` is measured (two located feet).
+    measured: bool,
     /// Sum of ensemble `vx` and samples since the start (the speed before a
     /// step is measured).
     vx_sum: (f64, usize),
@@ -73,35 +82,58 @@ impl StepTracker {
             stance: [0.0; 2],
             leading: [0.0; 2],
             phase: GaitPhase::Ss1,
-            ms: [None; 3],
+            step: 0,
+            fixes: [None; 3],
+            crossings: HeightCrossings::new(),
+            heights: (f64::INFINITY, f64::NEG_INFINITY),
+            crossings_at_ms: 0,
             speed: gait.speed,
+            measured: false,
             vx_sum: (0.0, 0),
             gait,
         }
     }
 
-    /// Feet of a step starting at MS on `self.side` with the CoM at
-    /// `(x, z)`, the next foot `step_length` ahead.
-    fn place_feet(&mut self, x: f64, z: f64, step_length: f64) {
+    /// A step starting at MS on `self.side` with the stance foot at `foot`,
+    /// the next foot one step length ahead and one step width to the side.
+    fn place_feet(&mut self, foot: [f64; 2]) {
         let s = self.side.sign();
-        self.stance = [x, z - s * self.gait.gait.lateral];
-        self.leading = [x + step_length, self.stance[1] + s * self.gait.step_width];
+        self.stance = foot;
+        self.leading = [
+            foot[0] + self.step_length(),
+            foot[1] + s * self.gait.step_width,
+        ];
         self.phase = GaitPhase::Ss1;
     }
 
-    /// The measured step length, if two MS are known.
-    fn measured_step(&self) -> Option<f64> {
-        match (self.ms[0], self.ms[1]) {
-            (Some(a), Some(b)) => Some(a.x - b.x),
-            _ => None,
+    /// The newest and the oldest located foot of different steps.
+    fn span(&self) -> Option<((FootFix, u32), (FootFix, u32))> {
+        let a = self.fixes[0]?;
+        let b = self.fixes[2].or(self.fixes[1])?;
+        (a.1 > b.1 && a.0.t > b.0.t).then_some((a, b))
+    }
+
+    /// The measured step length (located feet), else the family's.
+    fn step_length(&self) -> f64 {
+        match self.span() {
+            Some((a, b)) => (a.0.x - b.0.x) / f64::from(a.1 - b.1),
+            None => self.gait.step_length,
         }
     }
 
-    /// The CoM's advance over the last stride (or step) since located MS.
-    fn measured_speed(&self) -> Option<f64> {
-        let a = self.ms[0]?;
-        let b = self.ms[2].or(self.ms[1])?;
-        (a.t > b.t).then(|| (a.x - b.x) / (a.t - b.t))
+    /// Records the located stance foot of the current step.
+    fn fix(&mut self, f: FootFix) {
+        if self.fixes[0].is_some_and(|(_, s)| s == self.step) {
+            self.fixes[0] = Some((f, self.step));
+        } else {
+            self.fixes = [Some((f, self.step)), self.fixes[0], self.fixes[1]];
+        }
+        self.stance[0] = f.x;
+        self.leading[0] = f.x + self.step_length();
+        if let Some((a, b)) = self.span() {
+            self.speed = (a.0.x - b.0.x) / (a.0.t - b.0.t);
+            self.measured = true;
+        }
     }
 }
 
@@ -155,17 +187,31 @@ impl ImmContinuous {
         let gait = gait_at_speed(&self.family, speed).unwrap_or(self.steps.gait);
         self.steps = StepTracker::new(gait, self.first_side);
         self.retarget(speed);
-        self.steps.place_feet(x[0], x[2], gait.step_length);
+        let s = self.first_side.sign();
+        self.steps
+            .place_feet([x[0], x[2] - s * self.steps.gait.gait.lateral]);
         let _ = now;
     }
 
-    /// After the ensemble update: phase by the leg lengths, MS and the
-    /// next step's feet, speed and re-targeting.
+    /// After the ensemble update: the stance foot located by the mid-height
+    /// crossings, phase by the leg lengths, MS when the CoM passes over the
+    /// leading foot, then the next step's feet, speed and re-targeting.
     fn advance(&mut self, now: f64, x: &State) {
         let l0 = self.steps.gait.body.rest_length;
         let st = &mut self.steps;
         st.vx_sum.0 += x[3];
         st.vx_sum.1 += 1;
+        st.heights = (st.heights.0.min(x[1]), st.heights.1.max(x[1]));
+        if let Some(f) = st.crossings.push(now, x[0], x[1]) {
+            // The located foot is the nearer of the two: the leading one if
+            // the CoM has not yet passed over it (MS is overdue).
+            if (f.x - st.leading[0]).abs() < (f.x - st.stance[0]).abs() {
+                self.mid_stance(x, Some(f));
+            } else {
+                self.steps.fix(f);
+            }
+        }
+        let st = &mut self.steps;
         let trailing = leg_length(x, st.stance);
         let leading = leg_length(x, st.leading);
         if st.phase == GaitPhase::Ss1 && leading < l0 {
@@ -173,39 +219,44 @@ impl ImmContinuous {
         }
         if st.phase == GaitPhase::Ds && trailing >= l0 {
             st.phase = GaitPhase::Ss2;
+            if !st.crossings.started() {
+                // The first lift-off: the start (MS, an apex) and a trough
+                // have passed.
+                st.crossings.restart(st.heights.0, st.heights.1, x[1]);
+            }
         }
-        let Some((t_prev, x_prev)) = self.previous else {
-            return;
-        };
-        if st.phase != GaitPhase::Ss2 {
-            return;
+        if st.phase == GaitPhase::Ss2 && x[0] >= st.leading[0] {
+            self.mid_stance(x, None);
         }
-        let apex = x_prev[4] > 0.0 && x[4] <= 0.0;
-        let past = x[0] > st.leading[0] + 0.1 * l0;
-        if !(apex || past) {
-            return;
-        }
-        // MS between the two samples, where vy crosses zero.
-        let a = if apex {
-            x_prev[4] / (x_prev[4] - x[4])
+    }
+
+    /// MS: the leading foot becomes the stance foot (at `fix` if it was
+    /// located, else where it was predicted, laterally at the gait's MS
+    /// offset from the CoM), the gait is re-targeted to the speed.
+    fn mid_stance(&mut self, x: &State, fix: Option<FootFix>) {
+        let st = &mut self.steps;
+        if st.crossings.started() && st.crossings.crossings() == st.crossings_at_ms {
+            // A step without a crossing: the level from its extremes.
+            st.crossings.restart(st.heights.0, st.heights.1, x[1]);
         } else {
-            1.0
-        };
-        let ms = MidStance {
-            t: t_prev + a * (now - t_prev),
-            x: x_prev[0] + a * (x[0] - x_prev[0]),
-            z: x_prev[2] + a * (x[2] - x_prev[2]),
-        };
-        st.ms = [Some(ms), st.ms[0], st.ms[1]];
-        if let Some(v) = st.measured_speed() {
-            st.speed = v;
+            st.crossings.set_excursion(st.heights.0, st.heights.1);
+        }
+        st.heights = (x[1], x[1]);
+        st.crossings_at_ms = st.crossings.crossings();
+        st.side = st.side.other();
+        st.step += 1;
+        let mut foot = [st.leading[0], x[2] - st.side.sign() * st.gait.gait.lateral];
+        if fix.is_some() {
+            // Located after MS: the CoM has moved on laterally.
+            foot[1] = st.leading[1];
         }
         let speed = st.speed;
-        st.side = st.side.other();
         self.retarget(speed);
         let st = &mut self.steps;
-        let length = st.measured_step().unwrap_or(st.gait.step_length);
-        st.place_feet(ms.x, ms.z, length);
+        st.place_feet(foot);
+        if let Some(f) = fix {
+            st.fix(f);
+        }
     }
 }
 
@@ -275,7 +326,7 @@ impl Estimator for ImmContinuous {
         let st = &self.steps;
         self.inner.set_feet(st.stance, st.leading);
         e.phase = Some(st.phase);
-        e.speed = Some(if st.ms[1].is_some() {
+        e.speed = Some(if st.measured {
             st.speed
         } else {
             st.vx_sum.0 / st.vx_sum.1.max(1) as f64

@@ -30,6 +30,7 @@ pub mod continuous;
 pub mod ekf;
 mod ensemble;
 mod feet;
+mod height_crossings;
 mod mode_probabilities;
 mod names;
 pub mod params;
