@@ -8,9 +8,10 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 23] = [
+pub const EXAMPLES: [&str; 24] = [
     "accel_accept_stats",
     "accel_gate_study",
+    "attitude_floor",
     "baseline_study",
     "calibration_study",
     "chain_geometry_sensitivity",
@@ -84,7 +85,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
         "time_base_study" => parse::<TimeBaseStudyArgs>(example, args),
-        "gyro_shape_floor" => parse::<GyroShapeFloorArgs>(example, args),
+        "gyro_shape_floor" | "attitude_floor" => parse::<GyroShapeFloorArgs>(example, args),
         "soak" => parse::<SoakArgs>(example, args),
         _ => Err(ExampleArgsError::UnknownExample(example.into())),
     }
@@ -486,7 +487,8 @@ pub struct TimeBaseStudyArgs {
     pub output: Option<String>,
 }
 
-/// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`.
+/// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`
+/// (also the arguments of `attitude_floor`).
 #[derive(Debug, Parser)]
 #[command(name = "gyro_shape_floor")]
 pub struct GyroShapeFloorArgs {
