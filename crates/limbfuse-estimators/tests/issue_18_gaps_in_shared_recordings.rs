@@ -134,5 +134,7 @@ fn issue_19_gait_events_bridge_dropped_readings_and_restart_after_long_gaps() {
     let fastest = gapped.iter().map(|s| s.1).fold(0.0f64, f64::max);
     println!("2 s gap: {} strides, fastest {fastest:.2} m/s", gapped.len());
     assert!(fastest < 2.0, "a stride of {fastest:.2} m/s across the gap");
-    assert!(gapped.len() + 6 >= clean.len(), "{}", gapped.len());
+    // (about two strides per foot fall in the gap, and each foot needs one
+    // more initial contact after its restart)
+    assert!(gapped.len() + 10 >= clean.len(), "{}", gapped.len());
 }
