@@ -2,7 +2,8 @@
 //! kept-back recordings"): rows missing for half a second (a time gap
 //! shorter than `LONG_GAP_S`) in a walk for the segment filters, and empty
 //! cells (dropped packets) or missing rows in the gaitmap two-foot walk for
-//! `gait-events`. Each test failed before its fix (checked by reverting
+//! `gait-events`, missing rows in a Mobilise-D straight walk for
+//! `lowback-speed`. Each test failed before its fix (checked by reverting
 //! it). Skipped with a message when `../shared/data` is absent
 //! (`LIMBFUSE_DATA` overrides the path).
 
@@ -10,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::gait_events::{FootSource, GaitDiag, GaitEvents, GaitEventsParams};
+use limbfuse_estimators::lowback_speed::{LowbackDiag, LowbackParams, LowbackSpeed};
 use limbfuse_estimators::segment_kf::GlobalKf;
 use limbfuse_io::TrialReader;
 
@@ -19,7 +21,8 @@ fn data_dir() -> Option<PathBuf> {
         .unwrap_or_else(|| {
             PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
         });
-    if dir.join("independent-sim").is_dir() && dir.join("gaitmap-foot-walk").is_dir() {
+    let folders = ["independent-sim", "gaitmap-foot-walk", "mobgap-lowerback"];
+    if folders.iter().all(|f| dir.join(f).is_dir()) {
         Some(dir)
     } else {
         println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
@@ -67,7 +70,7 @@ fn issue_18_a_half_second_time_gap_is_reanchored_within_two_seconds() {
     // From 2 s after the gap's end on, the filter must be back on the
     // clean run's angles. Before the fix the 0.5 s step was integrated with
     // the paper's process noise only, and the accelerometer rows took more
-    // than 10 s to pull the shank back (36 deg off 2 s after the gap).
+    // than 10 s to pull the shank back (57 deg off 2 s after the gap).
     let worst = gapped
         .iter()
         .filter(|(t, _)| *t >= 32.5)
@@ -132,9 +135,36 @@ fn issue_19_gait_events_bridge_dropped_readings_and_restart_after_long_gaps() {
     // was integrated through it (3.25 m/s, the walk's fastest is 1.4).
     let gapped = strides(&without_rows(&records, 6.0, 8.0));
     let fastest = gapped.iter().map(|s| s.1).fold(0.0f64, f64::max);
-    println!("2 s gap: {} strides, fastest {fastest:.2} m/s", gapped.len());
+    println!(
+        "2 s gap: {} strides, fastest {fastest:.2} m/s",
+        gapped.len()
+    );
     assert!(fastest < 2.0, "a stride of {fastest:.2} m/s across the gap");
     // (about two strides per foot fall in the gap, and each foot needs one
     // more initial contact after its restart)
     assert!(gapped.len() + 10 >= clean.len(), "{}", gapped.len());
+}
+
+#[test]
+fn issue_19_lowback_speed_joins_no_step_across_a_time_gap() {
+    let Some(dir) = data_dir() else { return };
+    let records = read(&dir.join("mobgap-lowerback/HA001-test5-trial1.csv"));
+    let gapped = without_rows(&records, 6.0, 6.5);
+    let mut e = LowbackSpeed::new(LowbackParams::default());
+    let (mut ics, mut stride_times) = (vec![], vec![]);
+    for r in &gapped {
+        let est = e.step(&r.sample).unwrap();
+        ics.extend(est.diagnostic(LowbackDiag::Ic));
+        stride_times.extend(est.diagnostic(LowbackDiag::StrideTime));
+    }
+    println!("initial contacts {ics:.2?}, stride times {stride_times:.2?} s");
+    // Before the fix the samples on both sides of the gap were smoothed and
+    // integrated as consecutive ones: a contact at 6.25 s, inside the gap,
+    // and a 1.84 s stride across it (the walk's strides: 1.15-1.48 s).
+    assert!(
+        ics.iter().all(|t| !(6.0..6.5).contains(t)),
+        "a contact inside the gap"
+    );
+    let longest = stride_times.iter().fold(0.0f64, |m, t| m.max(*t));
+    assert!(longest < 1.6, "a {longest:.2} s stride across the gap");
 }
