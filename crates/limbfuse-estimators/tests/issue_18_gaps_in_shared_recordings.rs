@@ -7,37 +7,15 @@
 //! it). Skipped with a message when `../shared/data` is absent
 //! (`LIMBFUSE_DATA` overrides the path).
 
-use std::path::{Path, PathBuf};
+mod shared_data_support;
 
 use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::gait_events::{FootSource, GaitDiag, GaitEvents, GaitEventsParams};
 use limbfuse_estimators::lowback_speed::{LowbackDiag, LowbackParams, LowbackSpeed};
 use limbfuse_estimators::segment_kf::GlobalKf;
-use limbfuse_io::TrialReader;
+use shared_data_support::{data_dir, read};
 
-fn data_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let folders = ["independent-sim", "gaitmap-foot-walk", "mobgap-lowerback"];
-    if folders.iter().all(|f| dir.join(f).is_dir()) {
-        Some(dir)
-    } else {
-        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
-
-fn read(path: &Path) -> Vec<Record> {
-    let mut r = TrialReader::open(path).unwrap();
-    let mut out = Vec::new();
-    while let Some(rec) = r.next_record().unwrap() {
-        out.push(rec);
-    }
-    out
-}
+const FOLDERS: [&str; 3] = ["independent-sim", "gaitmap-foot-walk", "mobgap-lowerback"];
 
 /// The records without those in `[from, to)` s (a time gap).
 fn without_rows(records: &[Record], from: f64, to: f64) -> Vec<Record> {
@@ -63,7 +41,9 @@ fn global_shank(records: &[Record]) -> Vec<(f64, f64)> {
 
 #[test]
 fn issue_18_a_half_second_time_gap_is_reanchored_within_two_seconds() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&FOLDERS) else {
+        return;
+    };
     let records = read(&dir.join("independent-sim/walk-v1.2-s301.csv"));
     let clean = global_shank(&records);
     let gapped = global_shank(&without_rows(&records, 30.0, 30.5));
@@ -108,7 +88,9 @@ fn strides(records: &[Record]) -> Vec<(f64, f64)> {
 
 #[test]
 fn issue_19_gait_events_bridge_dropped_readings_and_restart_after_long_gaps() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&FOLDERS) else {
+        return;
+    };
     let records = read(&dir.join("gaitmap-foot-walk/trial.csv"));
     let clean = strides(&records);
     // One empty reading of both feet about every second (a dropped radio
@@ -147,7 +129,9 @@ fn issue_19_gait_events_bridge_dropped_readings_and_restart_after_long_gaps() {
 
 #[test]
 fn issue_19_lowback_speed_joins_no_step_across_a_time_gap() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&FOLDERS) else {
+        return;
+    };
     let records = read(&dir.join("mobgap-lowerback/HA001-test5-trial1.csv"));
     let gapped = without_rows(&records, 6.0, 6.5);
     let mut e = LowbackSpeed::new(LowbackParams::default());

@@ -66,8 +66,15 @@ fn main() {
     let mut w = TrialWriter::for_path(path, BufWriter::new(file), &meta, layout)
         .unwrap_or_else(|e| panic!("{}: {e}", args.output));
     for r in &out {
-        w.write(r).unwrap_or_else(|e| panic!("{}: {e}", args.output));
+        w.write(r)
+            .unwrap_or_else(|e| panic!("{}: {e}", args.output));
     }
-    w.finish().unwrap_or_else(|e| panic!("{}: {e}", args.output));
-    eprintln!("{}: {n_in} rows -> {} rows in {}", args.trial, out.len(), args.output);
+    w.finish()
+        .unwrap_or_else(|e| panic!("{}: {e}", args.output));
+    eprintln!(
+        "{}: {n_in} rows -> {} rows in {}",
+        args.trial,
+        out.len(),
+        args.output
+    );
 }
