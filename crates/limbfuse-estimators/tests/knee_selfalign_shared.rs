@@ -6,35 +6,12 @@
 //! Figures: `cargo test --release -p limbfuse-estimators --test
 //! knee_selfalign_shared -- --nocapture`.
 
-use std::path::{Path, PathBuf};
+mod shared_data_support;
 
 use limbfuse_core::{Estimator, Joint, Record};
 use limbfuse_estimators::knee_selfalign::window::{identify, Ring, Slot};
 use limbfuse_estimators::knee_selfalign::{KneeDiag, KneeSelfAlign, KneeSelfAlignParams};
-use limbfuse_io::TrialReader;
-
-fn data_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    if dir.join("independent-sim").is_dir() {
-        Some(dir)
-    } else {
-        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
-
-fn read(path: &Path) -> Vec<Record> {
-    let mut r = TrialReader::open(path).unwrap();
-    let mut out = Vec::new();
-    while let Some(rec) = r.next_record().unwrap() {
-        out.push(rec);
-    }
-    out
-}
+use shared_data_support::{data_dir, read};
 
 fn slot(r: &Record) -> Slot {
     let (t, s) = (r.sample.imu[1], r.sample.imu[2]);
@@ -78,7 +55,9 @@ const WALKS: [&str; 3] = ["walk-v0.7-s300", "walk-v1.2-s301", "walk-v1.6-s302"];
 /// (`# imu_mounts_m`).
 #[test]
 fn first_window_positions_are_the_true_ones() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&["independent-sim"]) else {
+        return;
+    };
     for name in WALKS {
         let records = read(&dir.join(format!("independent-sim/{name}.csv")));
         let p = KneeSelfAlignParams::default();
@@ -107,7 +86,9 @@ fn first_window_positions_are_the_true_ones() {
 /// RMSE <= 2 deg after 10 s, not offset-free, with the defaults.
 #[test]
 fn independent_walks_meet_the_target() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&["independent-sim"]) else {
+        return;
+    };
     for name in WALKS {
         let records = read(&dir.join(format!("independent-sim/{name}.csv")));
         let rmse = knee_rmse(&records, KneeSelfAlignParams::default(), 10.0);
@@ -129,7 +110,9 @@ fn independent_walks_meet_the_target() {
 /// shift (knee RMSE 55 deg) until issue 15 item 3 (see the end of the test).
 #[test]
 fn a_misleading_first_window_does_not_fix_the_sign() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = data_dir(&["independent-sim"]) else {
+        return;
+    };
     let mut old_wrong = 0;
     for name in WALKS {
         let records = read(&dir.join(format!("independent-sim/{name}.csv")));

@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 24] = [
+pub const EXAMPLES: [&str; 25] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -27,6 +27,7 @@ pub const EXAMPLES: [&str; 24] = [
     "imm_bslip_study",
     "imm_continuous_study",
     "knee_study",
+    "recording_variant",
     "robust_input_study",
     "segment_error_budget",
     "segment_study",
@@ -79,6 +80,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
+        "recording_variant" => parse::<RecordingVariantArgs>(example, args),
         "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
@@ -485,6 +487,39 @@ pub struct TimeBaseStudyArgs {
     /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
     #[arg(short = 'o', long)]
     pub output: Option<String>,
+}
+
+/// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
+/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]`.
+#[derive(Debug, Parser)]
+#[command(name = "recording_variant")]
+pub struct RecordingVariantArgs {
+    /// The trial file.
+    pub trial: String,
+    /// The variant's trial file.
+    #[arg(short = 'o', long, required = true)]
+    pub output: String,
+    /// Rows with `START <= t < END` (s) removed: a time gap (repeatable).
+    #[arg(long = "drop-rows", value_parser = time_window)]
+    pub drop_rows: Vec<(f64, f64)>,
+    /// Every IMU cell (both legs) emptied on rows with `START <= t < END`
+    /// (s): a dropout (repeatable).
+    #[arg(long, value_parser = time_window)]
+    pub blank: Vec<(f64, f64)>,
+    /// Every IMU cell emptied on every N-th row (dropped packets).
+    #[arg(long)]
+    pub blank_every: Option<std::num::NonZeroUsize>,
+    /// The first row (0-based) `--blank-every` empties.
+    #[arg(long, default_value_t = 0)]
+    pub blank_first: usize,
+    /// The other leg's IMU columns removed (one-leg recording).
+    #[arg(long)]
+    pub drop_other_leg: bool,
+    /// The two legs' IMU columns and contact references exchanged, the
+    /// readings not mirrored (the sensors' columns mislabelled, or a
+    /// recording whose two sensors are mounted alike).
+    #[arg(long)]
+    pub swap_legs: bool,
 }
 
 /// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`

@@ -29,6 +29,7 @@
 
 pub mod foot_axis;
 pub mod foot_events;
+pub mod reading_gap;
 pub mod shank_events;
 pub mod strapdown;
 pub mod zero_velocity;
@@ -43,6 +44,7 @@ use limbfuse_core::{
 
 use foot_axis::FootAxis;
 use foot_events::FootEvents;
+use reading_gap::ReadingGap;
 use shank_events::{ShankAxis, ShankContact, ShankEvents};
 use strapdown::StrideIntegrator;
 use zero_velocity::{Shoe, ShoeParams};
@@ -217,6 +219,7 @@ struct FootTracker {
     ic_in_segment: Option<f64>,
     stride_start_ic: Option<f64>,
     swing: SwingTimes,
+    gap: ReadingGap,
 }
 
 impl FootTracker {
@@ -232,6 +235,7 @@ impl FootTracker {
             ic_in_segment: None,
             stride_start_ic: None,
             swing: SwingTimes::default(),
+            gap: ReadingGap::default(),
         }
     }
 
@@ -246,9 +250,16 @@ impl FootTracker {
 
     fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
         let (Some(acc), Some(gyr)) = (imu.acc, imu.gyr) else {
-            self.dropout();
+            // No reading: bridged, or the pipeline restarts, at the next one.
             return FootOutput::default();
         };
+        let dt = self
+            .gap
+            .reading(t, dt, p.min_swing_time)
+            .unwrap_or_else(|| {
+                self.dropout();
+                dt
+            });
         let mut out = FootOutput::default();
         let rest = self.shoe.update(&acc, &gyr, p.gravity);
         out.rest = Some(rest);
@@ -301,6 +312,7 @@ struct ShankTracker {
     events: ShankEvents,
     sign: i32,
     swing: SwingTimes,
+    gap: ReadingGap,
 }
 
 impl ShankTracker {
@@ -310,14 +322,21 @@ impl ShankTracker {
             events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
             sign: 0,
             swing: SwingTimes::default(),
+            gap: ReadingGap::default(),
         }
     }
 
-    fn step(&mut self, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
+    fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
         let Some(gyr) = imu.gyr else {
-            self.events.reset();
             return FootOutput::default();
         };
+        let dt = self
+            .gap
+            .reading(t, dt, p.min_swing_time)
+            .unwrap_or_else(|| {
+                self.events.reset();
+                dt
+            });
         let mut out = FootOutput::default();
         self.axis.update(&gyr, dt);
         let sign = self.axis.sign();
@@ -357,7 +376,7 @@ impl LegTracker {
     fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
         match self {
             LegTracker::Foot(f) => f.step(p, t, dt, imu),
-            LegTracker::Shank(s) => s.step(t, dt, imu),
+            LegTracker::Shank(s) => s.step(p, t, dt, imu),
         }
     }
 

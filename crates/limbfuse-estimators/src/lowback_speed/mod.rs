@@ -226,6 +226,7 @@ pub struct LowbackSpeed {
     last_step: Option<(f64, f64, u64)>,
     last_stride_turned: bool,
     speed: Option<(f64, f64)>,
+    last_reading: Option<f64>,
 }
 
 impl LowbackSpeed {
@@ -249,6 +250,7 @@ impl LowbackSpeed {
             last_step: None,
             last_stride_turned: false,
             speed: None,
+            last_reading: None,
         }
     }
 
@@ -267,6 +269,20 @@ impl LowbackSpeed {
             *w /= sum;
         }
         self.half = half;
+    }
+
+    /// After a gap in the readings (rows or accelerometer cells missing)
+    /// longer than `min_step_time`, which may hide an initial contact, the
+    /// step detection starts again from the next samples: the smoothing, the
+    /// step excursion and the stride would otherwise join samples from both
+    /// sides of the gap as if they were consecutive. Gravity, heading, the
+    /// walking RMS and the held speed are kept; nothing is allocated.
+    fn restart_steps(&mut self) {
+        self.n = 0;
+        self.smoothed = [0.0; 3];
+        self.last_ic = None;
+        self.last_step = None;
+        self.last_stride_turned = false;
     }
 
     fn at(&self, index: u64) -> f64 {
@@ -327,6 +343,13 @@ impl Estimator for LowbackSpeed {
             return Err(EstimatorError::NonFinite {
                 channel: "trunk_acc",
             });
+        }
+        if self
+            .last_reading
+            .replace(t)
+            .is_some_and(|last| t - last > self.params.min_step_time)
+        {
+            self.restart_steps();
         }
         let dt = match (step, self.dt) {
             (Some(dt), None) => {

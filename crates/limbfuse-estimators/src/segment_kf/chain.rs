@@ -458,6 +458,8 @@ impl Chain {
             self.bias_hat[i] *= phi[(1, 1)];
         }
         structured::predict_blocks(&mut self.x, &mut self.P, &blocks.phi, &blocks.qd);
+        self.dropouts
+            .grow_over_time_gap(&mut self.P, &self.init, dt);
         for (i, rate) in rate.iter().enumerate() {
             if rate.is_some() || !self.init[i] {
                 self.rate_gap[i] = 0.0;

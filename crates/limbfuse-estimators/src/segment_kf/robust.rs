@@ -6,6 +6,7 @@
 //! the clean trials of `scripts/refactor-check.sh`).
 
 use super::chain::wrap;
+use super::model::{angle_state, Mat8};
 
 /// Chi-square threshold of the innovation gate on encoder rows: a row whose
 /// normalised innovation squared `e^2 / (h P h^T + r)` exceeds it is not
@@ -28,6 +29,13 @@ pub const INNOVATION_GATE_CHI2: f64 = 23.928;
 /// 1 Hz stride frequency, Perry & Burnfield 2010), so the filter restarts
 /// from the data after it.
 pub const LONG_GAP_S: f64 = 1.0;
+
+/// A time step longer than this multiple of the previous step is a time
+/// gap (rows missing from the recording, shorter than [`LONG_GAP_S`]): one
+/// missing row doubles the step, while clock jitter of real recordings
+/// moves it by a few percent (+-1 ms at 100 Hz: at most 1.22 times the
+/// previous step); 1.5 lies between the two.
+pub const GAP_STEP_RATIO: f64 = 1.5;
 
 /// Typical sagittal angular-acceleration amplitude of a walking segment
 /// (rad/s^2): a shank swinging +-35 deg (0.61 rad) at a 1 Hz stride
@@ -224,6 +232,8 @@ pub(crate) struct RateDropouts {
     /// [`RATE_POWER_S`]): the stillest segment anchors the chain when
     /// every gyro is gone.
     rate_power: [Option<f64>; 4],
+    /// The previous time step (s), against which a time gap is told.
+    last_step: Option<f64>,
     /// The smoothing weights `1 - exp(-dt / RATE_POWER_S)` of the last few
     /// distinct steps, reused when a step repeats bit for bit: timestamps
     /// such as `k * 0.01` give steps that differ in their last bits, a few
@@ -248,6 +258,32 @@ impl RateDropouts {
 }
 
 impl RateDropouts {
+    /// A step `dt` longer than [`GAP_STEP_RATIO`] times the previous one is
+    /// a time gap (missing rows): the rates between its two readings are as
+    /// unknown as over a dropout of every gyro for the extra time, so the angle
+    /// variance of every started segment (`init`) grows by
+    /// [`predicted_rate_variance`] of it (capped as over a dropout) and the
+    /// accelerometer and encoder rows after the gap re-anchor the angles; the
+    /// angles themselves are integrated as before. Regular and jittered steps
+    /// keep the papers' prediction, untouched (docs/ROBUST_INPUT.md, "Time
+    /// gaps").
+    pub fn grow_over_time_gap(&mut self, p: &mut Mat8, init: &[bool; 4], dt: f64) {
+        let Some(extra) = self
+            .last_step
+            .replace(dt)
+            .filter(|&s| dt > GAP_STEP_RATIO * s)
+            .map(|s| dt - s)
+        else {
+            return;
+        };
+        let variance = predicted_rate_variance(extra);
+        for (i, _) in init.iter().enumerate().filter(|(_, &started)| started) {
+            let a = angle_state(i);
+            let grown = p[(a, a)] + variance;
+            p[(a, a)] = grown.min(HELD_RATE_VARIANCE_CAP.max(p[(a, a)]));
+        }
+    }
+
     /// Records which own rates this sample has; returns how long each had
     /// been missing before it.
     pub fn observe(&mut self, rate: &[Option<f64>; 4], dt: Option<f64>) -> [f64; 4] {

@@ -1,0 +1,80 @@
+//! Variants of a shared recording that a kept-back recording of the same
+//! kind could be (docs/RESULTS.md, "Second audit against kept-back
+//! recordings"): rows removed (a time gap), IMU cells emptied over a time
+//! window or on every N-th row (dropped packets), the other leg's IMU
+//! columns removed, or the two legs' IMU columns and contact references
+//! exchanged without mirroring the readings. Other rates and the mirror
+//! image are `limbfuse resample` and `limbfuse mirror`.
+//! `cargo run --release -p limbfuse-studies --example recording_variant --
+//! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-every N
+//! [--blank-first K]] [--drop-other-leg] [--swap-legs]`
+
+use std::io::BufWriter;
+use std::path::Path;
+
+use clap::Parser;
+use limbfuse_core::ImuSample;
+use limbfuse_io::TrialWriter;
+use limbfuse_studies::example_args::RecordingVariantArgs;
+use limbfuse_studies::recorded_trial::RecordedTrial;
+
+fn inside(windows: &[(f64, f64)], t: f64) -> bool {
+    windows.iter().any(|&(a, b)| (a..b).contains(&t))
+}
+
+fn main() {
+    let args = RecordingVariantArgs::parse();
+    let RecordedTrial {
+        meta,
+        mut layout,
+        records,
+    } = RecordedTrial::read(Path::new(&args.trial))
+        .unwrap_or_else(|e| panic!("{e} (run from the repository root)"));
+    let n_in = records.len();
+    let mut out = Vec::with_capacity(n_in);
+    for (row, mut r) in records.into_iter().enumerate() {
+        let t = r.sample.t;
+        if inside(&args.drop_rows, t) {
+            continue;
+        }
+        let every = args
+            .blank_every
+            .is_some_and(|n| row >= args.blank_first && (row - args.blank_first) % n.get() == 0);
+        if every || inside(&args.blank, t) {
+            r.sample.imu = [ImuSample::default(); 4];
+            r.sample.other_leg_imu = [ImuSample::default(); 4];
+        }
+        if args.drop_other_leg {
+            r.sample.other_leg_imu = [ImuSample::default(); 4];
+        }
+        if args.swap_legs {
+            core::mem::swap(&mut r.sample.imu, &mut r.sample.other_leg_imu);
+            r.reference.contact.swap(0, 1);
+        }
+        out.push(r);
+    }
+    if args.drop_other_leg {
+        layout.other_acc = [false; 4];
+        layout.other_gyr = [false; 4];
+    }
+    if args.swap_legs {
+        core::mem::swap(&mut layout.acc, &mut layout.other_acc);
+        core::mem::swap(&mut layout.gyr, &mut layout.other_gyr);
+    }
+    let path = Path::new(&args.output);
+    let file = std::fs::File::create(path).unwrap_or_else(|e| panic!("{}: {e}", args.output));
+    let mut w = TrialWriter::for_path(path, BufWriter::new(file), &meta, layout)
+        .unwrap_or_else(|e| panic!("{}: {e}", args.output));
+    for r in &out {
+        w.write(r)
+            .unwrap_or_else(|e| panic!("{}: {e}", args.output));
+    }
+    w.finish()
+        .unwrap_or_else(|e| panic!("{}: {e}", args.output));
+    eprintln!(
+        "{}: {n_in} rows -> {} rows in {}",
+        args.trial,
+        out.len(),
+        args.output
+    );
+}
