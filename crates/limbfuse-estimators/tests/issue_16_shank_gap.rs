@@ -64,7 +64,10 @@ fn issue_16_knee_ekf_recovers_after_a_shank_gap() {
         ] {
             // From 4 s: one second after the readings are back.
             let (rmse, resets) = knee_rmse(&mut f, &recs, 4.0);
-            println!("{} {name}: knee RMSE {rmse:.3} deg after the gap, {resets} restarts", subject.label());
+            println!(
+                "{} {name}: knee RMSE {rmse:.3} deg after the gap, {resets} restarts",
+                subject.label()
+            );
             if !(rmse < 2.0) {
                 failures.push(format!("{} {name}: {rmse:.1} deg", subject.label()));
             }

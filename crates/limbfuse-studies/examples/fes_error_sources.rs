@@ -251,11 +251,9 @@ fn main() {
     ];
     let cases: Vec<(usize, KneeSubject, u64)> = (0..rows.len())
         .flat_map(|v| {
-            KneeSubject::ALL
-                .iter()
-                .flat_map(move |s| {
-                    (0..TRIALS_PER_LEG).map(move |k| (v, *s, 960 + 4 * s.index() as u64 + k))
-                })
+            KneeSubject::ALL.iter().flat_map(move |s| {
+                (0..TRIALS_PER_LEG).map(move |k| (v, *s, 960 + 4 * s.index() as u64 + k))
+            })
         })
         .collect();
     let results: Vec<(usize, KneeSubject, u64, Vec<(f64, f64)>)> = cases
@@ -287,11 +285,8 @@ fn main() {
     println!();
     for (v, (label, _)) in rows.iter().enumerate() {
         print!("{label:<34}");
-        let sel: Vec<&Vec<(f64, f64)>> = results
-            .iter()
-            .filter(|r| r.0 == v)
-            .map(|r| &r.3)
-            .collect();
+        let sel: Vec<&Vec<(f64, f64)>> =
+            results.iter().filter(|r| r.0 == v).map(|r| &r.3).collect();
         let n = sel.len() as f64;
         for j in 0..NAMES.len() {
             let rmse = sel.iter().map(|e| e[j].0).sum::<f64>() / n;

@@ -102,9 +102,10 @@ pub const MAX_INPUT_HOLD_S: f64 = 0.1;
 /// one; the Riccati solution of eq 4.16 stays positive definite in exact
 /// arithmetic). The negative variance is what RK4 leaves when the step cap
 /// ([`super::propagation`]) cannot follow the Riccati equation: after
-/// seconds without a gyro reading `P_22` grows to ~90 (rad/s)^2 and the
-/// gyro's gain `P_22 / s_1` (`s_1` = 1e-5) makes the first interval with a
-/// reading ~1e5 times stiffer than the capped sub-steps allow; the state
+/// seconds without a gyro reading `P_22` grows to ~90 (rad/s)^2, and the
+/// first interval with a reading again (Riccati rate `~2 P_22 / s_1` =
+/// 2e7 /s, `s_1` = 1e-5) is ~200 times stiffer than the capped sub-steps
+/// can follow; the state
 /// then ends finite but ~1e9 rad off and stays there (issue 16:
 /// `simulate knee-fes --no-noise`, whose still sensors the sample gate
 /// rejects as stuck for the first 3 s).
