@@ -115,6 +115,8 @@ const NO_ERRORS: TriadSpec = TriadSpec {
 };
 
 type Edit = fn(&mut KneeFesConfig);
+/// One run: variant index, leg, seed, (RMSE, mean error) per filter.
+type Run = (usize, KneeSubject, u64, Vec<(f64, f64)>);
 
 fn no_misalignment(c: &mut KneeFesConfig) {
     c.imu.misalignment_rad = 0.0;
@@ -256,7 +258,7 @@ fn main() {
             })
         })
         .collect();
-    let results: Vec<(usize, KneeSubject, u64, Vec<(f64, f64)>)> = cases
+    let results: Vec<Run> = cases
         .into_par_iter()
         .map(|(v, subject, seed)| {
             let mut cfg = KneeFesConfig {
@@ -297,7 +299,12 @@ fn main() {
             print!(" {rmse:>6.3} {median:>6.3} {bias:>6.3}");
         }
         let over: Vec<String> = (0..NAMES.len())
-            .map(|j| sel.iter().filter(|e| !(e[j].0 <= 5.0)).count().to_string())
+            .map(|j| {
+                sel.iter()
+                    .filter(|e| e[j].0.is_nan() || e[j].0 > 5.0)
+                    .count()
+                    .to_string()
+            })
             .collect();
         println!("  (> 5 deg: {})", over.join("/"));
     }
