@@ -118,29 +118,62 @@ type Edit = fn(&mut KneeFesConfig);
 /// One run: variant index, leg, seed, (RMSE, mean error) per filter.
 type Run = (usize, KneeSubject, u64, Vec<(f64, f64)>);
 
-fn no_misalignment(c: &mut KneeFesConfig) {
-    c.imu.misalignment_rad = 0.0;
+/// The sensor error sources of `ImuSpec`, switched one at a time.
+#[derive(Clone, Copy)]
+enum Source {
+    Misalignment,
+    GyroBias,
+    AccBias,
+    Scale,
+    CrossAxis,
+    White,
 }
-fn no_gyro_bias(c: &mut KneeFesConfig) {
-    c.imu.gyro.turn_on_bias = 0.0;
-    c.imu.gyro.bias_instability = 0.0;
+
+impl Source {
+    /// Copies this source's figures from `from` into `to`.
+    fn copy(self, to: &mut ImuSpec, from: &ImuSpec) {
+        let triad = |t: &mut TriadSpec, f: &TriadSpec, gyro: bool| match self {
+            Source::Misalignment => {}
+            Source::GyroBias | Source::AccBias => {
+                if gyro == matches!(self, Source::GyroBias) {
+                    t.turn_on_bias = f.turn_on_bias;
+                    t.bias_instability = f.bias_instability;
+                }
+            }
+            Source::Scale => t.scale_error = f.scale_error,
+            Source::CrossAxis => t.cross_axis = f.cross_axis,
+            Source::White => t.noise_density = f.noise_density,
+        };
+        triad(&mut to.gyro, &from.gyro, true);
+        triad(&mut to.acc, &from.acc, false);
+        if let Source::Misalignment = self {
+            to.misalignment_rad = from.misalignment_rad;
+        }
+    }
 }
-fn no_acc_bias(c: &mut KneeFesConfig) {
-    c.imu.acc.turn_on_bias = 0.0;
-    c.imu.acc.bias_instability = 0.0;
+
+/// Every sensor error zero.
+const IDEAL: ImuSpec = ImuSpec {
+    gyro: NO_ERRORS,
+    acc: NO_ERRORS,
+    misalignment_rad: 0.0,
+};
+
+/// `sources` switched off, the rest as `ImuSpec::default()`.
+fn without(c: &mut KneeFesConfig, sources: &[Source]) {
+    for s in sources {
+        s.copy(&mut c.imu, &IDEAL);
+    }
 }
-fn no_scale(c: &mut KneeFesConfig) {
-    c.imu.gyro.scale_error = 0.0;
-    c.imu.acc.scale_error = 0.0;
+
+/// Only white noise and `sources`, at `ImuSpec::default()`'s figures.
+fn only(c: &mut KneeFesConfig, sources: &[Source]) {
+    c.imu = IDEAL;
+    for s in [Source::White].iter().chain(sources) {
+        s.copy(&mut c.imu, &ImuSpec::default());
+    }
 }
-fn no_cross_axis(c: &mut KneeFesConfig) {
-    c.imu.gyro.cross_axis = 0.0;
-    c.imu.acc.cross_axis = 0.0;
-}
-fn no_white_noise(c: &mut KneeFesConfig) {
-    c.imu.gyro.noise_density = 0.0;
-    c.imu.acc.noise_density = 0.0;
-}
+
 fn imu_at_knee(c: &mut KneeFesConfig) {
     c.shank_imu_m = 0.0;
 }
@@ -153,49 +186,12 @@ fn thesis_plant(c: &mut KneeFesConfig) {
     imu_at_knee(c);
     no_activation(c);
 }
-fn ideal(c: &mut KneeFesConfig) {
-    c.imu = ImuSpec {
-        gyro: NO_ERRORS,
-        acc: NO_ERRORS,
-        misalignment_rad: 0.0,
-    };
-}
-fn white_only(c: &mut KneeFesConfig) {
-    let d = ImuSpec::default();
-    ideal(c);
-    c.imu.gyro.noise_density = d.gyro.noise_density;
-    c.imu.acc.noise_density = d.acc.noise_density;
-}
-fn acc_bias_only(c: &mut KneeFesConfig) {
-    let d = ImuSpec::default();
-    white_only(c);
-    c.imu.acc.turn_on_bias = d.acc.turn_on_bias;
-    c.imu.acc.bias_instability = d.acc.bias_instability;
-}
-fn gyro_bias_only(c: &mut KneeFesConfig) {
-    let d = ImuSpec::default();
-    white_only(c);
-    c.imu.gyro.turn_on_bias = d.gyro.turn_on_bias;
-    c.imu.gyro.bias_instability = d.gyro.bias_instability;
-}
-fn misalignment_only(c: &mut KneeFesConfig) {
-    white_only(c);
-    c.imu.misalignment_rad = ImuSpec::default().misalignment_rad;
-}
-fn scale_cross_only(c: &mut KneeFesConfig) {
-    let d = ImuSpec::default();
-    white_only(c);
-    c.imu.gyro.scale_error = d.gyro.scale_error;
-    c.imu.acc.scale_error = d.acc.scale_error;
-    c.imu.gyro.cross_axis = d.gyro.cross_axis;
-    c.imu.acc.cross_axis = d.acc.cross_axis;
-}
 /// The independent simulator's `# noise` header: white 0.005 rad/s and
 /// 0.03 m/s^2 per sample, constant biases of 0.005 rad/s and 0.05 m/s^2
 /// (1 sigma, per axis), no misalignment, scale or cross-axis error; at
 /// 100 Hz a white sigma per sample is `density * sqrt(50)`.
 fn independent_figures(c: &mut KneeFesConfig) {
-    ideal(c);
+    c.imu = IDEAL;
     let per_sample = (c.rate_hz / 2.0).sqrt();
     c.imu.gyro.noise_density = 0.005 / per_sample;
     c.imu.acc.noise_density = 0.03 / per_sample;
@@ -205,45 +201,48 @@ fn independent_figures(c: &mut KneeFesConfig) {
 
 fn main() {
     let _ = NoArgs::parse();
+    use Source::*;
     let rows: [(&str, Edit); 23] = [
         ("as the CLI writes it", |_| {}),
-        ("no mounting misalignment", no_misalignment),
-        ("no gyro bias", no_gyro_bias),
-        ("no accelerometer bias", no_acc_bias),
-        ("no scale-factor errors", no_scale),
-        ("no cross-axis errors", no_cross_axis),
-        ("no white noise", no_white_noise),
+        ("no mounting misalignment", |c| without(c, &[Misalignment])),
+        ("no gyro bias", |c| without(c, &[GyroBias])),
+        ("no accelerometer bias", |c| without(c, &[AccBias])),
+        ("no scale-factor errors", |c| without(c, &[Scale])),
+        ("no cross-axis errors", |c| without(c, &[CrossAxis])),
+        ("no white noise", |c| without(c, &[White])),
         ("shank IMU at the knee (r = 0)", imu_at_knee),
         ("no activation dynamics", no_activation),
-        ("white noise only", white_only),
-        ("white + accelerometer bias", acc_bias_only),
-        ("white + gyro bias", gyro_bias_only),
-        ("white + misalignment", misalignment_only),
-        ("white + scale and cross-axis", scale_cross_only),
+        ("white noise only", |c| only(c, &[])),
+        ("white + accelerometer bias", |c| only(c, &[AccBias])),
+        ("white + gyro bias", |c| only(c, &[GyroBias])),
+        ("white + misalignment", |c| only(c, &[Misalignment])),
+        ("white + scale and cross-axis", |c| {
+            only(c, &[Scale, CrossAxis])
+        }),
         ("independent simulator's figures", independent_figures),
         ("thesis plant: ideal", |c| {
             thesis_plant(c);
-            ideal(c);
+            c.imu = IDEAL;
         }),
         ("thesis plant: white noise only", |c| {
             thesis_plant(c);
-            white_only(c);
+            only(c, &[]);
         }),
         ("thesis plant: white + acc bias", |c| {
             thesis_plant(c);
-            acc_bias_only(c);
+            only(c, &[AccBias]);
         }),
         ("thesis plant: white + gyro bias", |c| {
             thesis_plant(c);
-            gyro_bias_only(c);
+            only(c, &[GyroBias]);
         }),
         ("thesis plant: white + misalignment", |c| {
             thesis_plant(c);
-            misalignment_only(c);
+            only(c, &[Misalignment]);
         }),
         ("thesis plant: white + scale, cross", |c| {
             thesis_plant(c);
-            scale_cross_only(c);
+            only(c, &[Scale, CrossAxis]);
         }),
         ("thesis plant: every sensor error", thesis_plant),
         ("thesis plant: independent figures", |c| {
