@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 25] = [
+pub const EXAMPLES: [&str; 26] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -16,6 +16,7 @@ pub const EXAMPLES: [&str; 25] = [
     "calibration_study",
     "chain_geometry_sensitivity",
     "chain_study",
+    "fes_error_sources",
     "fes_figures",
     "fes_model_study",
     "fes_studies",
@@ -68,6 +69,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "accel_accept_stats" => parse::<AccelAcceptStatsArgs>(example, args),
         "accel_gate_study" => parse::<AccelGateStudyArgs>(example, args),
         "baseline_study"
+        | "fes_error_sources"
         | "fes_figures"
         | "fes_model_study"
         | "fes_thesis_protocol"

@@ -97,6 +97,24 @@ pub trait Plant<const N: usize, const M: usize, const U: usize> {
 /// of held samples is the plant's `held_inputs` diagnostic.
 pub const MAX_INPUT_HOLD_S: f64 = 0.1;
 
+/// Whether a propagated state has diverged: a non-finite state or
+/// covariance, or a covariance with a negative variance (no covariance has
+/// one; the Riccati solution of eq 4.16 stays positive definite in exact
+/// arithmetic). The negative variance is what RK4 leaves when the step cap
+/// ([`super::propagation`]) cannot follow the Riccati equation: after
+/// seconds without a gyro reading `P_22` grows to ~90 (rad/s)^2, and the
+/// first interval with a reading again (Riccati rate `~2 P_22 / s_1` =
+/// 2e7 /s, `s_1` = 1e-5) is ~200 times stiffer than the capped sub-steps
+/// can follow; the state
+/// then ends finite but ~1e9 rad off and stays there (issue 16:
+/// `simulate knee-fes --no-noise`, whose still sensors the sample gate
+/// rejects as stuck for the first 3 s).
+fn diverged<const N: usize>(st: &FilterState<N>) -> bool {
+    !(st.x.iter().all(|v| v.is_finite())
+        && st.p.iter().all(|v| v.is_finite())
+        && st.p.diagonal().iter().all(|v| *v >= 0.0))
+}
+
 /// The continuous-time estimator of paper 004 on plant `P`: `sdre` with
 /// [`Linearisation::Sdc`], `ekf` with [`Linearisation::Jacobian`].
 #[derive(Debug, Clone)]
@@ -289,7 +307,7 @@ where
                     &weight,
                     &self.tuning,
                 );
-                if !(st.x.iter().all(|v| v.is_finite()) && st.p.iter().all(|v| v.is_finite())) {
+                if diverged(st) {
                     self.resets += 1;
                     self.restart(s);
                 }
