@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 23] = [
+pub const EXAMPLES: [&str; 24] = [
     "accel_accept_stats",
     "accel_gate_study",
     "baseline_study",
@@ -25,6 +25,7 @@ pub const EXAMPLES: [&str; 23] = [
     "gyro_shape_floor",
     "imm_bslip_study",
     "imm_continuous_study",
+    "imm_offgrid_study",
     "knee_study",
     "robust_input_study",
     "segment_error_budget",
@@ -77,6 +78,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
+        "imm_offgrid_study" => parse::<ImmOffgridStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
@@ -320,6 +322,20 @@ pub struct ImmContinuousStudyArgs {
     /// Duration of the `--long` trials (s).
     #[arg(long, default_value_t = 10.0)]
     pub long_duration: f64,
+}
+
+/// `imm_offgrid_study [SEEDS] [--speeds V,V,...] [--duration S]`.
+#[derive(Debug, Parser)]
+pub struct ImmOffgridStudyArgs {
+    /// Noise seeds 1..=SEEDS.
+    #[arg(default_value_t = 3)]
+    pub seeds: u64,
+    /// Walking speeds (m/s), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [0.35, 0.45, 0.55, 0.65, 0.75, 1.05], value_parser = non_negative)]
+    pub speeds: Vec<f64>,
+    /// Trial duration (s).
+    #[arg(long, default_value_t = 10.0, value_parser = non_negative)]
+    pub duration: f64,
 }
 
 /// The gait speeds of the `imm_bslip_study` library (m/s).
