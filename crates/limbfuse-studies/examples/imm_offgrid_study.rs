@@ -78,11 +78,12 @@ fn main() {
     let default_body = BslipParams::default();
     let own = build_library(&body, &LIBRARY_SPEEDS, &settings, |_, _| {}).unwrap();
     let lib095: Vec<GaitTemplate> = own.iter().map(|g| g.template(&body)).collect();
-    let lib100: Vec<GaitTemplate> = build_library(&default_body, &LIBRARY_SPEEDS, &settings, |_, _| {})
-        .unwrap()
-        .iter()
-        .map(|g| g.template(&default_body))
-        .collect();
+    let lib100: Vec<GaitTemplate> =
+        build_library(&default_body, &LIBRARY_SPEEDS, &settings, |_, _| {})
+            .unwrap()
+            .iter()
+            .map(|g| g.template(&default_body))
+            .collect();
     let trial_body = TrialBody {
         mass: Some(body.mass),
         leg_length: Some(body.rest_length),
@@ -122,10 +123,13 @@ fn main() {
             let template = walker.template(&body);
             // The walker's own mean speed (reference CoM advance over the
             // trial): a check on the simulated trial itself.
-            let check = simulate_trial(&template, &BslipTrialConfig {
-                duration: args.duration,
-                ..Default::default()
-            });
+            let check = simulate_trial(
+                &template,
+                &BslipTrialConfig {
+                    duration: args.duration,
+                    ..Default::default()
+                },
+            );
             let walked = match (check.first(), check.last()) {
                 (Some(a), Some(b)) => match (a.reference.com_pos, b.reference.com_pos) {
                     (Some(p), Some(q)) => (q[0] - p[0]) / (b.sample.t - a.sample.t),

@@ -68,7 +68,15 @@ impl WeightSupport {
     /// stiffness for `mass` (kg) and `gravity` (m/s^2) is kept when
     /// `counts` (the step's stance foot was located from the data) and it
     /// is finite and positive. The next step starts here.
-    pub fn end_step(&mut self, t: f64, vy: f64, support: f64, mass: f64, gravity: f64, counts: bool) {
+    pub fn end_step(
+        &mut self,
+        t: f64,
+        vy: f64,
+        support: f64,
+        mass: f64,
+        gravity: f64,
+        counts: bool,
+    ) {
         if let (true, Some((t0, vy0))) = (counts, self.start) {
             let k = mass * (gravity * (t - t0) + vy - vy0) / self.integral;
             if k.is_finite() && k > 0.0 {
