@@ -7,8 +7,12 @@ use clap::{Parser, Subcommand};
 use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
+pub use crate::recorded_trial_args::{
+    ChainGeometrySensitivityArgs, GyroShapeFloorArgs, RecordingVariantArgs,
+};
+
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 26] = [
+pub const EXAMPLES: [&str; 27] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -27,6 +31,7 @@ pub const EXAMPLES: [&str; 26] = [
     "gyro_shape_floor",
     "imm_bslip_study",
     "imm_continuous_study",
+    "imm_offgrid_study",
     "knee_study",
     "recording_variant",
     "robust_input_study",
@@ -81,6 +86,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
+        "imm_offgrid_study" => parse::<ImmOffgridStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "recording_variant" => parse::<RecordingVariantArgs>(example, args),
         "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
@@ -327,6 +333,20 @@ pub struct ImmContinuousStudyArgs {
     pub long_duration: f64,
 }
 
+/// `imm_offgrid_study [SEEDS] [--speeds V,V,...] [--duration S]`.
+#[derive(Debug, Parser)]
+pub struct ImmOffgridStudyArgs {
+    /// Noise seeds 1..=SEEDS.
+    #[arg(default_value_t = 3)]
+    pub seeds: u64,
+    /// Walking speeds (m/s), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [0.35, 0.45, 0.55, 0.65, 0.75, 1.05], value_parser = non_negative)]
+    pub speeds: Vec<f64>,
+    /// Trial duration (s).
+    #[arg(long, default_value_t = 10.0, value_parser = non_negative)]
+    pub duration: f64,
+}
+
 /// The gait speeds of the `imm_bslip_study` library (m/s).
 pub const IMM_STUDY_SPEEDS: [f64; 6] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9];
 
@@ -489,92 +509,6 @@ pub struct TimeBaseStudyArgs {
     /// Also write the shifted trial here (for `limbfuse estimate` / `evaluate`).
     #[arg(short = 'o', long)]
     pub output: Option<String>,
-}
-
-/// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
-/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]`.
-#[derive(Debug, Parser)]
-#[command(name = "recording_variant")]
-pub struct RecordingVariantArgs {
-    /// The trial file.
-    pub trial: String,
-    /// The variant's trial file.
-    #[arg(short = 'o', long, required = true)]
-    pub output: String,
-    /// Rows with `START <= t < END` (s) removed: a time gap (repeatable).
-    #[arg(long = "drop-rows", value_parser = time_window)]
-    pub drop_rows: Vec<(f64, f64)>,
-    /// Every IMU cell (both legs) emptied on rows with `START <= t < END`
-    /// (s): a dropout (repeatable).
-    #[arg(long, value_parser = time_window)]
-    pub blank: Vec<(f64, f64)>,
-    /// Every IMU cell emptied on every N-th row (dropped packets).
-    #[arg(long)]
-    pub blank_every: Option<std::num::NonZeroUsize>,
-    /// The first row (0-based) `--blank-every` empties.
-    #[arg(long, default_value_t = 0)]
-    pub blank_first: usize,
-    /// The other leg's IMU columns removed (one-leg recording).
-    #[arg(long)]
-    pub drop_other_leg: bool,
-    /// The two legs' IMU columns and contact references exchanged, the
-    /// readings not mirrored (the sensors' columns mislabelled, or a
-    /// recording whose two sensors are mounted alike).
-    #[arg(long)]
-    pub swap_legs: bool,
-}
-
-/// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`
-/// (also the arguments of `attitude_floor`).
-#[derive(Debug, Parser)]
-#[command(name = "gyro_shape_floor")]
-pub struct GyroShapeFloorArgs {
-    /// The (aligned) trial file.
-    pub trial: String,
-    /// A scored window `START:END` in seconds of the trial's clock (repeatable).
-    #[arg(long = "window", value_parser = time_window, required = true)]
-    pub windows: Vec<(f64, f64)>,
-    /// Lags of up to this many samples are tried per segment.
-    #[arg(long, default_value_t = 5)]
-    pub max_lag: u32,
-}
-
-/// `chain_geometry_sensitivity TRIAL --window A:B [--window C:D ...] [--max-lag N] [--search-cm R]`.
-#[derive(Debug, Parser)]
-#[command(name = "chain_geometry_sensitivity")]
-pub struct ChainGeometrySensitivityArgs {
-    /// The (aligned) trial file, with a segment-angle reference.
-    pub trial: String,
-    /// A scored window `START:END` in seconds of the trial's clock
-    /// (repeatable); the search minimises the last one.
-    #[arg(long = "window", value_parser = time_window, required = true)]
-    pub windows: Vec<(f64, f64)>,
-    /// Lags of up to this many samples are tried per channel (as
-    /// `limbfuse evaluate --max-lag`).
-    #[arg(long, default_value_t = 5)]
-    pub max_lag: usize,
-    /// The search's lattice spans +-this many cm around the base geometry
-    /// (five points per quantity).
-    #[arg(long, default_value_t = 3.0)]
-    pub search_cm: f64,
-}
-
-/// `START:END` seconds, `START < END`.
-fn time_window(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(':')
-        .ok_or_else(|| format!("`{s}`: expected START:END in seconds"))?;
-    let parse = |x: &str| {
-        x.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("`{s}`: `{x}` is not a number of seconds"))
-    };
-    let (a, b) = (parse(a)?, parse(b)?);
-    if a < b {
-        Ok((a, b))
-    } else {
-        Err(format!("`{s}`: START must be below END"))
-    }
 }
 
 /// `gait_library_without LIBRARY SPEED -o OUTPUT`.

@@ -15,5 +15,6 @@ pub mod fes_pulse_cv;
 pub mod fes_study;
 pub mod knee_study;
 pub mod recorded_trial;
+pub mod recorded_trial_args;
 pub mod results_commands;
 pub mod soak;

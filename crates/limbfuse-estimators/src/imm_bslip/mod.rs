@@ -34,6 +34,7 @@ mod height_crossings;
 mod mode_probabilities;
 mod names;
 pub mod params;
+mod weight_support;
 
 extern crate alloc;
 

@@ -1,0 +1,93 @@
+//! Arguments of the study examples that read one recorded trial and score
+//! windows of it, or write a variant of it (`gyro_shape_floor`,
+//! `attitude_floor`, `chain_geometry_sensitivity`, `recording_variant`),
+//! re-exported by [`crate::example_args`].
+
+use clap::Parser;
+
+/// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
+/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]`.
+#[derive(Debug, Parser)]
+#[command(name = "recording_variant")]
+pub struct RecordingVariantArgs {
+    /// The trial file.
+    pub trial: String,
+    /// The variant's trial file.
+    #[arg(short = 'o', long, required = true)]
+    pub output: String,
+    /// Rows with `START <= t < END` (s) removed: a time gap (repeatable).
+    #[arg(long = "drop-rows", value_parser = time_window)]
+    pub drop_rows: Vec<(f64, f64)>,
+    /// Every IMU cell (both legs) emptied on rows with `START <= t < END`
+    /// (s): a dropout (repeatable).
+    #[arg(long, value_parser = time_window)]
+    pub blank: Vec<(f64, f64)>,
+    /// Every IMU cell emptied on every N-th row (dropped packets).
+    #[arg(long)]
+    pub blank_every: Option<std::num::NonZeroUsize>,
+    /// The first row (0-based) `--blank-every` empties.
+    #[arg(long, default_value_t = 0)]
+    pub blank_first: usize,
+    /// The other leg's IMU columns removed (one-leg recording).
+    #[arg(long)]
+    pub drop_other_leg: bool,
+    /// The two legs' IMU columns and contact references exchanged, the
+    /// readings not mirrored (the sensors' columns mislabelled, or a
+    /// recording whose two sensors are mounted alike).
+    #[arg(long)]
+    pub swap_legs: bool,
+}
+
+/// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`
+/// (also the arguments of `attitude_floor`).
+#[derive(Debug, Parser)]
+#[command(name = "gyro_shape_floor")]
+pub struct GyroShapeFloorArgs {
+    /// The (aligned) trial file.
+    pub trial: String,
+    /// A scored window `START:END` in seconds of the trial's clock (repeatable).
+    #[arg(long = "window", value_parser = time_window, required = true)]
+    pub windows: Vec<(f64, f64)>,
+    /// Lags of up to this many samples are tried per segment.
+    #[arg(long, default_value_t = 5)]
+    pub max_lag: u32,
+}
+
+/// `chain_geometry_sensitivity TRIAL --window A:B [--window C:D ...] [--max-lag N] [--search-cm R]`.
+#[derive(Debug, Parser)]
+#[command(name = "chain_geometry_sensitivity")]
+pub struct ChainGeometrySensitivityArgs {
+    /// The (aligned) trial file, with a segment-angle reference.
+    pub trial: String,
+    /// A scored window `START:END` in seconds of the trial's clock
+    /// (repeatable); the search minimises the last one.
+    #[arg(long = "window", value_parser = time_window, required = true)]
+    pub windows: Vec<(f64, f64)>,
+    /// Lags of up to this many samples are tried per channel (as
+    /// `limbfuse evaluate --max-lag`).
+    #[arg(long, default_value_t = 5)]
+    pub max_lag: usize,
+    /// The search's lattice spans +-this many cm around the base geometry
+    /// (five points per quantity).
+    #[arg(long, default_value_t = 3.0)]
+    pub search_cm: f64,
+}
+
+/// `START:END` seconds, `START < END`.
+pub(crate) fn time_window(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: expected START:END in seconds"))?;
+    let parse = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{s}`: `{x}` is not a number of seconds"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a < b {
+        Ok((a, b))
+    } else {
+        Err(format!("`{s}`: START must be below END"))
+    }
+}
+
