@@ -80,6 +80,8 @@ struct ChainFile {
     turn_tau_s: Option<f64>,
     turn_rate_min: Option<f64>,
     turn_angle_noise: Option<f64>,
+    device_orientation: Option<bool>,
+    device_angle_noise: Option<f64>,
     geometry: Option<GeometryFile>,
 }
 
@@ -135,6 +137,8 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         turn_tau_s: f.turn_tau_s.unwrap_or(d.turn_tau_s),
         turn_rate_min: f.turn_rate_min.unwrap_or(d.turn_rate_min),
         turn_angle_noise: f.turn_angle_noise.unwrap_or(d.turn_angle_noise),
+        device_orientation: f.device_orientation.unwrap_or(d.device_orientation),
+        device_angle_noise: f.device_angle_noise.unwrap_or(d.device_angle_noise),
     };
     let path = file.map_or(Path::new("(defaults)"), |(_, p)| p);
     params
