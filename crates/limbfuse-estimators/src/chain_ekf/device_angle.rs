@@ -172,3 +172,53 @@ impl ChainEkf {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::f64::consts::TAU;
+
+    /// A segment swinging `theta(t) = 0.5 sin(2 pi t)` about its `z` in a
+    /// vertical plane whose heading is `psi` (world `y` up): its
+    /// orientation, gravity's specific force and its gyro, per sample.
+    fn swing(psi: f64, k: usize) -> (f64, UnitQuaternion<f64>, Vector3<f64>, Vector3<f64>) {
+        let t = k as f64 * 0.01;
+        let theta = 0.5 * libm::sin(TAU * t);
+        let rate = 0.5 * TAU * libm::cos(TAU * t);
+        let r = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), psi)
+            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta);
+        let acc = r.inverse() * Vector3::new(0.0, 9.81, 0.0);
+        (theta, r, acc, Vector3::new(0.0, 0.0, rate))
+    }
+
+    fn wxyz(q: &UnitQuaternion<f64>) -> [f64; 4] {
+        [q.w, q.i, q.j, q.k]
+    }
+
+    #[test]
+    fn the_device_angle_is_the_planar_angle_whatever_the_heading() {
+        for psi in [0.0, 1.0, 2.5, -2.0] {
+            let mut d = DeviceAngle::default();
+            let mut checked = 0;
+            for k in 0..300 {
+                let (theta, r, acc, gyr) = swing(psi, k);
+                if let Some(a) = d.observe(wxyz(&r), Some(acc), Some(gyr), 0.01) {
+                    assert!((a - theta).abs() < 1e-9, "psi {psi}: {a} against {theta}");
+                    checked += 1;
+                }
+            }
+            assert!(checked > 150, "psi {psi}: only {checked} angles");
+        }
+    }
+
+    #[test]
+    fn an_orientation_in_another_convention_is_not_used() {
+        // World to sensor instead of sensor to world: the conjugate.
+        let mut d = DeviceAngle::default();
+        for k in 0..300 {
+            let (_, r, acc, gyr) = swing(0.7, k);
+            let a = d.observe(wxyz(&r.inverse()), Some(acc), Some(gyr), 0.01);
+            assert_eq!(a, None, "sample {k}");
+        }
+    }
+}
