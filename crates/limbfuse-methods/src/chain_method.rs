@@ -304,6 +304,8 @@ pub fn default_file() -> String {
          turn_tau_s = {}  # turning: low-pass time constant of the rate about the vertical (s)\n\
          turn_rate_min = {}  # turning: low-passed rate about the vertical above this is a turn (rad/s)\n\
          turn_angle_noise = {}  # turning: angle 1-sigma added per sqrt(rad) turned (rad; 0: off)\n\
+         device_orientation = {}  # use the trial's device orientation (<seg>_quat_*) as an angle row\n\
+         device_angle_noise = {}  # that angle's 1 sigma per sample at 100 Hz (rad)\n\
          \n\
          # Geometry: the trial's metadata wins (imu_mounts_m, segment_lengths_m, height_m);\n\
          # these keys fill what it lacks; the rest comes from Winter's proportions.\n\
@@ -339,6 +341,8 @@ pub fn default_file() -> String {
         d.turn_tau_s,
         d.turn_rate_min,
         d.turn_angle_noise,
+        d.device_orientation,
+        d.device_angle_noise,
         g.thigh_length,
         g.shank_length,
         v(g.imu_position[0]),

@@ -255,6 +255,13 @@ impl ChainParams {
                 range: "0 or positive finite numbers",
             });
         }
+        if !(self.device_angle_noise.is_finite() && self.device_angle_noise > 0.0) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "device_angle_noise",
+                value: self.device_angle_noise,
+                range: "positive finite numbers",
+            });
+        }
         if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
             return Err(ChainParamsError::OutOfRange {
                 name: "acc_gate",
