@@ -10,9 +10,13 @@
 //! frame: `y` up along the segment), and the angle is
 //! `atan2(d . f, -d . up)` for the walking direction `f` and up `up` of the
 //! device's world:
-//! - `up` is the long-run mean of the unit specific force turned into the
-//!   world (`R a`; gravity, as the walking accelerations average out),
-//!   used once that mean is consistent;
+//! - `up` is the axis of the device's world (gravity-aligned by
+//!   construction: ENU `z` up, NED `z` down, some `y` up) nearest the mean
+//!   specific force turned into the world (`R a`; gravity, as the walking
+//!   accelerations average out), decided after 1 s (a plain mean, then over
+//!   the last 10 s) when it is within 20 deg of an axis: the mean itself
+//!   is 5-10 deg off gravity over a second of walking on S02, the axis
+//!   exact;
 //! - `f` is the segment's own forward: up x (its `z`, the medio-lateral
 //!   axis after `align`, made horizontal). It turns with the segment, so it
 //!   needs no heading (a magnetometer's heading differs between sensors:
@@ -26,9 +30,11 @@
 //! in another convention (world to sensor, another axis order) or of
 //! another sensor is not used.
 //!
-//! The angle enters the filter as a row on the segment angle minus an
-//! offset of its own (the device's zero need not be the chain's; the offset
-//! follows the mean difference), not before the direction is established.
+//! The angle enters the filter as a row on the segment angle: `theta_i` is
+//! the angle of the aligned sensor frame (docs/CHAIN.md, "Frame offsets"),
+//! and so is the projection of that frame's `-y`, with no offset between
+//! them. (An offset learned from the first rows was tried: a start in a
+//! turn learned the chain's start-up error into it.)
 
 use limbfuse_core::Sample;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -39,12 +45,11 @@ use super::ChainEkf;
 
 /// Time constant (s) of the device world's up (a long mean of `R a`).
 const UP_TAU_S: f64 = 10.0;
-/// The device's up is used after this long (s) ...
+/// The device's up is decided after this long (s) ...
 const UP_READY_S: f64 = 1.0;
-/// ... and while the mean of the unit specific force in its world is at
-/// least this long (1 for a fixed direction; an orientation in another
-/// convention turns it with the segment and shortens the mean).
-const UP_CONSISTENCY: f64 = 0.9;
+/// ... as the world axis within this angle (deg) of the mean specific
+/// force (a second's mean while walking is within 10 deg of it on S02).
+const UP_AXIS_DEG: f64 = 20.0;
 /// Time constant (s) of the comparison of the orientation's rate with the
 /// gyroscope's.
 const RATE_TAU_S: f64 = 1.0;
@@ -56,17 +61,15 @@ const MOVING_RATE: f64 = 0.3;
 /// rate; an orientation of another convention, or of another sensor,
 /// differs by more than the rate itself).
 const RATE_AGREEMENT: f64 = 0.25;
-/// Time constant (s) of the offset between the device's angle and the
-/// chain's.
-const OFFSET_TAU_S: f64 = 10.0;
 
-/// One sensor's up, walking direction and offset.
+/// One sensor's up and orientation check.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct DeviceAngle {
-    /// Mean of the unit specific force turned into the world.
+    /// Mean of the specific force turned into the world (m/s^2).
     up_mean: Option<Vector3<f64>>,
-    /// Time (s) over which `up_mean` was formed.
+    /// Time (s) over which `up_mean` was formed, and its samples.
     tracked_s: f64,
+    up_n: f64,
     /// The previous orientation (for its rate).
     last: Option<UnitQuaternion<f64>>,
     /// Mean square of the orientation's rate minus the gyro's, and of the
@@ -75,9 +78,6 @@ pub(super) struct DeviceAngle {
     rate_power: f64,
     /// The orientation turns as the gyroscope says (decided while moving).
     consistent: bool,
-    offset: Option<f64>,
-    /// Rows since the offset started (its first ones are a plain mean).
-    offset_n: f64,
 }
 
 fn wrap(a: f64) -> f64 {
@@ -109,41 +109,33 @@ impl DeviceAngle {
             }
         }
         self.last = Some(r);
-        if let Some(a) = acc.map(|a| r * a).and_then(|a| a.try_normalize(1e-9)) {
-            self.up_mean = match self.up_mean {
-                None => Some(a),
-                Some(u) => Some(u + (a - u) * (dt / UP_TAU_S).min(1.0)),
-            };
+        if let Some(a) = acc.map(|a| r * a) {
+            // A plain mean until it spans `UP_TAU_S`, then exponential (one
+            // sample's specific force is off by the walking accelerations).
+            self.up_n += 1.0;
+            let k = (dt / UP_TAU_S).max(1.0 / self.up_n).min(1.0);
+            self.up_mean = Some(self.up_mean.map_or(a, |u| u + (a - u) * k));
             self.tracked_s += dt;
         }
-        // A device world whose up wanders (an orientation in another
-        // convention, e.g. world to sensor) is not used.
         let mean = self.up_mean?;
-        if !self.consistent || self.tracked_s < UP_READY_S || mean.norm() < UP_CONSISTENCY {
+        if !self.consistent || self.tracked_s < UP_READY_S {
             return None;
         }
-        let up = mean.try_normalize(1e-9)?;
+        // A device's world is gravity-aligned with one of its axes up (ENU
+        // z up, NED z down, some y up): the axis nearest the mean, when it
+        // is within `UP_AXIS_DEG` of it.
+        let mean = mean.try_normalize(1e-9)?;
+        let k = mean.iamax();
+        if libm::fabs(mean[k]) < libm::cos(UP_AXIS_DEG.to_radians()) {
+            return None;
+        }
+        let mut up = Vector3::zeros();
+        up[k] = libm::copysign(1.0, mean[k]);
         let z = r * Vector3::z();
         let lateral = (z - up * up.dot(&z)).try_normalize(1e-6)?;
         let forward = up.cross(&lateral);
         let d = r * Vector3::new(0.0, -1.0, 0.0);
         Some(libm::atan2(d.dot(&forward), -d.dot(&up)))
-    }
-
-    /// The offset between the device's angle `device` and the chain's
-    /// `angle`, updated with this sample.
-    fn offset(&mut self, device: f64, angle: f64, dt: f64) -> f64 {
-        let diff = wrap(device - angle);
-        self.offset_n += 1.0;
-        let o = match self.offset {
-            None => diff,
-            Some(o) => {
-                let k = (dt / OFFSET_TAU_S).max(1.0 / self.offset_n).min(1.0);
-                o + wrap(diff - o) * k
-            }
-        };
-        self.offset = Some(o);
-        o
     }
 }
 
@@ -163,10 +155,9 @@ impl ChainEkf {
             let Some(angle) = self.device[i].observe(q, acc, gyr, dt) else {
                 continue;
             };
-            let offset = self.device[i].offset(angle, self.x[theta(i)], dt);
             let mut row = SparseRow::new();
             row.add(theta(i), 1.0);
-            let nu = wrap(angle - offset - self.x[theta(i)]);
+            let nu = wrap(angle - self.x[theta(i)]);
             let r = p.device_angle_noise * p.device_angle_noise * self.variance_scale;
             scalar_update(&mut self.x, &mut self.p, &row, nu, r, f64::INFINITY);
         }
