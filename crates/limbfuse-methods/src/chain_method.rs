@@ -80,6 +80,8 @@ struct ChainFile {
     turn_tau_s: Option<f64>,
     turn_rate_min: Option<f64>,
     turn_angle_noise: Option<f64>,
+    device_orientation: Option<bool>,
+    device_angle_noise: Option<f64>,
     geometry: Option<GeometryFile>,
 }
 
@@ -135,6 +137,8 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         turn_tau_s: f.turn_tau_s.unwrap_or(d.turn_tau_s),
         turn_rate_min: f.turn_rate_min.unwrap_or(d.turn_rate_min),
         turn_angle_noise: f.turn_angle_noise.unwrap_or(d.turn_angle_noise),
+        device_orientation: f.device_orientation.unwrap_or(d.device_orientation),
+        device_angle_noise: f.device_angle_noise.unwrap_or(d.device_angle_noise),
     };
     let path = file.map_or(Path::new("(defaults)"), |(_, p)| p);
     params
@@ -300,6 +304,8 @@ pub fn default_file() -> String {
          turn_tau_s = {}  # turning: low-pass time constant of the rate about the vertical (s)\n\
          turn_rate_min = {}  # turning: low-passed rate about the vertical above this is a turn (rad/s)\n\
          turn_angle_noise = {}  # turning: angle 1-sigma added per sqrt(rad) turned (rad; 0: off)\n\
+         device_orientation = {}  # use the trial's device orientation (<seg>_quat_*) as an angle row\n\
+         device_angle_noise = {}  # that angle's 1 sigma per sample at 100 Hz (rad)\n\
          \n\
          # Geometry: the trial's metadata wins (imu_mounts_m, segment_lengths_m, height_m);\n\
          # these keys fill what it lacks; the rest comes from Winter's proportions.\n\
@@ -335,6 +341,8 @@ pub fn default_file() -> String {
         d.turn_tau_s,
         d.turn_rate_min,
         d.turn_angle_noise,
+        d.device_orientation,
+        d.device_angle_noise,
         g.thigh_length,
         g.shank_length,
         v(g.imu_position[0]),

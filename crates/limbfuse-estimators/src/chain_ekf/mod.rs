@@ -13,6 +13,7 @@
 //! ([`covariance`]). Allocation-free, `no_std`.
 
 pub mod covariance;
+mod device_angle;
 pub mod kinematics;
 pub mod missing_data;
 pub mod params;
@@ -116,6 +117,8 @@ pub struct ChainEkf {
     held: usize,
     /// Low-passed rate about the vertical (rad/s), `Omega` (turning).
     turn_rate: f64,
+    /// The device orientation's walking direction and offset per sensor.
+    device: [device_angle::DeviceAngle; 4],
     /// How the last step's state follows from the one before (for the
     /// offline smoother, [`smoother`]).
     link: Link,
@@ -182,6 +185,7 @@ impl ChainEkf {
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
             held: 0,
             turn_rate: 0.0,
+            device: Default::default(),
             link: Link::None,
             widening: 0.0,
             variance_scale: 1.0,
@@ -263,6 +267,7 @@ impl ChainEkf {
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.turn_rate = 0.0;
+        self.device = Default::default();
         self.last_foot_gyro = None;
         self.out_of_plane_rates(&first);
         let last = self.window[self.held - 1].t;
@@ -396,6 +401,7 @@ impl ChainEkf {
                 }
             }
         }
+        self.device_rows(sample, dt);
         // Anchors: vertical hip velocity about 0, forward about the mean speed.
         let mut row = SparseRow::new();
         row.add(hip_velocity(1), 1.0);
@@ -481,6 +487,8 @@ impl Estimator for ChainEkf {
         writeln!(out, "stance_min_s: {}", p.stance_min_s)?;
         writeln!(out, "startup_s: {}", p.startup_s)?;
         writeln!(out, "acc_gate: {}", p.acc_gate)?;
+        writeln!(out, "device_orientation: {}", p.device_orientation)?;
+        writeln!(out, "device_angle_noise: {}", p.device_angle_noise)?;
         writeln!(out, "use_encoders: {}", p.use_encoders)?;
         writeln!(out, "out_of_plane: {}", p.out_of_plane)?;
         writeln!(out, "turn_tau_s: {}", p.turn_tau_s)?;
@@ -499,6 +507,7 @@ impl Estimator for ChainEkf {
         self.last_foot_gyro = None;
         self.held = 0;
         self.turn_rate = 0.0;
+        self.device = Default::default();
         self.link = Link::None;
         self.widening = 0.0;
         self.variance_scale = 1.0;

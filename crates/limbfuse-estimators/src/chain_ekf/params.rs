@@ -167,6 +167,11 @@ pub struct ChainParams {
     /// `turn_rate_min`, as a 1-sigma per sqrt(rad) (rad): the planar model
     /// does not hold in a turn (0: off).
     pub turn_angle_noise: f64,
+    /// Use the device's own orientation (`<seg>_quat_*`) when the trial has
+    /// it, as an angle row per segment (docs/CHAIN.md, "Device orientation").
+    pub device_orientation: bool,
+    /// 1-sigma of that angle per sample at 100 Hz (rad).
+    pub device_angle_noise: f64,
 }
 
 impl Default for ChainParams {
@@ -196,6 +201,8 @@ impl Default for ChainParams {
             turn_tau_s: 0.5,
             turn_rate_min: 0.6,
             turn_angle_noise: 0.05,
+            device_orientation: true,
+            device_angle_noise: 2.0_f64.to_radians(),
         }
     }
 }
@@ -246,6 +253,13 @@ impl ChainParams {
                 name: "turn_angle_noise",
                 value: self.turn_angle_noise,
                 range: "0 or positive finite numbers",
+            });
+        }
+        if !(self.device_angle_noise.is_finite() && self.device_angle_noise > 0.0) {
+            return Err(ChainParamsError::OutOfRange {
+                name: "device_angle_noise",
+                value: self.device_angle_noise,
+                range: "positive finite numbers",
             });
         }
         if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
