@@ -90,4 +90,3 @@ pub(crate) fn time_window(s: &str) -> Result<(f64, f64), String> {
         Err(format!("`{s}`: START must be below END"))
     }
 }
-
