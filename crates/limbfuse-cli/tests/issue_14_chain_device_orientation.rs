@@ -7,36 +7,11 @@
 //! convention) gives the output without the rows, bit for bit: the rate
 //! check refuses them. Skipped when `../shared/data` is absent.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+mod s02_support;
 mod support;
-use support::limbfuse;
-
-fn s02_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let s02 = dir.join("gaittoolbox-s02-walk");
-    if s02.is_dir() {
-        Some(s02)
-    } else {
-        println!("skipping: ../shared/data/gaittoolbox-s02-walk not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
-
-fn run_ok(args: &[&str], dir: &Path) -> Vec<u8> {
-    let o = limbfuse(args, dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o.stdout
-}
+use s02_support::{run_ok, s02_dir};
 
 /// Mean offset-free RMSE (deg) of thigh, shank and foot over `window`.
 fn pass_mean(dir: &Path, trial: &str, est: &str, window: &str) -> f64 {

@@ -8,36 +8,11 @@
 //! refused and the start-up window begins again (2.3 / 3.5 / 4.1 and
 //! 2.8 / 3.1 / 3.7 deg). Skipped when `../shared/data` is absent.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+mod s02_support;
 mod support;
-use support::limbfuse;
-
-fn s02_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let s02 = dir.join("gaittoolbox-s02-walk");
-    if s02.is_dir() {
-        Some(s02)
-    } else {
-        println!("skipping: ../shared/data/gaittoolbox-s02-walk not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
-
-fn run_ok(args: &[&str], dir: &Path) -> Vec<u8> {
-    let o = limbfuse(args, dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o.stdout
-}
+use s02_support::{run_ok, s02_dir};
 
 /// `src` without its first `rows` data rows (metadata and header kept).
 fn cut(src: &Path, dst: &Path, rows: usize) {
