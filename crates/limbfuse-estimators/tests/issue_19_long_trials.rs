@@ -8,12 +8,11 @@
 //! is the midpoint of the CoM's mid-height crossings and MS the CoM passing
 //! over it. Every library gait of both bodies, two noise seeds, 10 s each.
 
-use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights};
+mod imm_continuous_support;
+use imm_continuous_support::run;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
-use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
 
 const SPEEDS: [f64; 7] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
 
@@ -24,32 +23,6 @@ fn library(body: BslipParams) -> Vec<GaitTemplate> {
         .iter()
         .map(|g| g.template(&body))
         .collect()
-}
-
-/// Phase accuracy and median speed of the continuous configuration on a
-/// 10 s trial of `walker`.
-fn run(walker: &GaitTemplate, family: &[GaitTemplate], seed: u64) -> (f64, f64) {
-    let records: Vec<Record> = simulate_trial(
-        walker,
-        &BslipTrialConfig {
-            duration: 10.0,
-            seed,
-            ..Default::default()
-        },
-    );
-    let params = ImmBslipParams {
-        weights: ImmWeights::Recursive,
-        ..ImmBslipParams::full_com()
-    };
-    let mut imm = ImmContinuous::new(family, params).unwrap();
-    let (mut ok, mut speeds) = (0, Vec::new());
-    for r in &records {
-        let e = imm.step(&r.sample).unwrap();
-        ok += usize::from(e.phase == r.reference.phase);
-        speeds.push(e.speed.unwrap());
-    }
-    speeds.sort_by(f64::total_cmp);
-    (ok as f64 / records.len() as f64, speeds[speeds.len() / 2])
 }
 
 #[test]

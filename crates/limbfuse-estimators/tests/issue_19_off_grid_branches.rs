@@ -9,14 +9,13 @@
 //! library rescaled). Now the stiffness is measured from the weight support
 //! over each step. Both cases, two noise seeds, 10 s each.
 
-use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights};
+mod imm_continuous_support;
+use imm_continuous_support::run;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::{build_library, continue_to, LibraryGait};
 use limbfuse_sim::bslip::periodic::Corrected;
 use limbfuse_sim::bslip::search::{FoundGait, SearchSettings};
 use limbfuse_sim::bslip::step::StepSimulator;
-use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
 
 /// Library speeds: the neighbours of 0.8 m/s, as in `gait-library build
 /// --speeds 0.4:1.0:0.1` (the homotopy from 1.0 m/s walks the same path).
@@ -24,32 +23,6 @@ const SPEEDS: [f64; 3] = [0.7, 0.8, 0.9];
 
 fn library(body: &BslipParams) -> Vec<LibraryGait> {
     build_library(body, &SPEEDS, &SearchSettings::default(), |_, _| {}).unwrap()
-}
-
-/// Phase accuracy and median speed of the continuous configuration on a
-/// 10 s trial of `walker`.
-fn run(walker: &GaitTemplate, family: &[GaitTemplate], seed: u64) -> (f64, f64) {
-    let records: Vec<Record> = simulate_trial(
-        walker,
-        &BslipTrialConfig {
-            duration: 10.0,
-            seed,
-            ..Default::default()
-        },
-    );
-    let params = ImmBslipParams {
-        weights: ImmWeights::Recursive,
-        ..ImmBslipParams::full_com()
-    };
-    let mut imm = ImmContinuous::new(family, params).unwrap();
-    let (mut ok, mut speeds) = (0, Vec::new());
-    for r in &records {
-        let e = imm.step(&r.sample).unwrap();
-        ok += usize::from(e.phase == r.reference.phase);
-        speeds.push(e.speed.unwrap());
-    }
-    speeds.sort_by(f64::total_cmp);
-    (ok as f64 / records.len() as f64, speeds[speeds.len() / 2])
 }
 
 #[test]
