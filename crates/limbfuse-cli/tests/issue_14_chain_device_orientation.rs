@@ -11,31 +11,7 @@ use std::path::Path;
 
 mod s02_support;
 mod support;
-use s02_support::{run_ok, s02_dir};
-
-/// Mean offset-free RMSE (deg) of thigh, shank and foot over `window`.
-fn pass_mean(dir: &Path, trial: &str, est: &str, window: &str) -> f64 {
-    let json = run_ok(
-        &[
-            "evaluate",
-            trial,
-            est,
-            "--window",
-            window,
-            "--offset-free",
-            "--max-lag",
-            "5",
-            "--json",
-        ],
-        dir,
-    );
-    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
-    ["thigh", "shank", "foot"]
-        .iter()
-        .map(|s| v["rmse_deg"][*s].as_f64().unwrap())
-        .sum::<f64>()
-        / 3.0
-}
+use s02_support::{aligned_s02, leg_rmse, run_ok};
 
 /// `src` with the vector part of every `*_quat_*` cell negated.
 fn conjugate(src: &Path, dst: &Path) {
@@ -69,17 +45,11 @@ fn conjugate(src: &Path, dst: &Path) {
 
 #[test]
 fn issue_14_chain_device_orientation() {
-    let Some(s02) = s02_dir() else {
-        return;
-    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let s02 = s02.to_str().unwrap();
-    run_ok(
-        &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
-        dir,
-    );
-    run_ok(&["align", "s02.csv", "-o", "s02al.csv"], dir);
+    if !aligned_s02(dir) {
+        return;
+    }
     std::fs::write(dir.join("off.toml"), "device_orientation = false\n").unwrap();
     run_ok(
         &["estimate", "--method", "chain", "s02al.csv", "-o", "on.csv"],
@@ -101,7 +71,7 @@ fn issue_14_chain_device_orientation() {
     let mut means = Vec::new();
     for est in ["on.csv", "off.csv"] {
         for window in ["0.45:3.55", "4.40:8.72"] {
-            let m = pass_mean(dir, "s02al.csv", est, window);
+            let m = leg_rmse(dir, "s02al.csv", est, window).iter().sum::<f64>() / 3.0;
             println!("{est} {window}: {m:.3} deg");
             means.push(m);
         }

@@ -34,3 +34,40 @@ pub fn run_ok(args: &[&str], dir: &Path) -> Vec<u8> {
     );
     o.stdout
 }
+
+/// Imports and aligns the S02 walk into `dir` as `s02al.csv`; `false` (with
+/// the skip message) when the shared data is absent.
+pub fn aligned_s02(dir: &Path) -> bool {
+    let Some(s02) = s02_dir() else {
+        return false;
+    };
+    let s02 = s02.to_str().unwrap();
+    run_ok(
+        &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
+        dir,
+    );
+    run_ok(&["align", "s02.csv", "-o", "s02al.csv"], dir);
+    true
+}
+
+/// Offset-free RMSE (deg) of thigh, shank and foot of `est` against `trial`
+/// over `window`, each at its best lag within +-5 samples (the ~20 ms IMU
+/// lag the data README reports, with margin).
+pub fn leg_rmse(dir: &Path, trial: &str, est: &str, window: &str) -> [f64; 3] {
+    let json = run_ok(
+        &[
+            "evaluate",
+            trial,
+            est,
+            "--window",
+            window,
+            "--offset-free",
+            "--max-lag",
+            "5",
+            "--json",
+        ],
+        dir,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    ["thigh", "shank", "foot"].map(|s| v["rmse_deg"][s].as_f64().unwrap())
+}

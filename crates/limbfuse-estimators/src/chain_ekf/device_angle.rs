@@ -8,7 +8,7 @@
 //! walking plane (docs/RESULTS.md, "the attitude floor"). With the device's
 //! orientation `R`, the long axis in the world is `d = R (0, -1, 0)` (align's
 //! frame: `y` up along the segment), and the angle is
-//! `atan2(d . f, -d . up)` for the walking direction `f` and up `up` of the
+//! `atan2(d . f, -d . up)` for a forward direction `f` and the up `up` of the
 //! device's world:
 //! - `up` is the axis of the device's world (gravity-aligned by
 //!   construction: ENU `z` up, NED `z` down, some `y` up) nearest the mean
