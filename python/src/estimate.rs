@@ -5,12 +5,13 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_eval::ResetWatch;
+use limbfuse_eval::{ResetWatch, SpeedRangeWatch};
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
 use limbfuse_io::{AtomicFile, EstimateReader};
-use numpy::{PyArray1, PyReadonlyArray1};
+use limbfuse_methods::MethodSpec;
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -111,6 +112,26 @@ pub(crate) fn estimate_tuple(
     ))
 }
 
+/// The note of [`SpeedRangeWatch`] (imm-bslip: a trial walking outside its
+/// library's speeds `lo..=hi`) over the estimate's `speed` array (NaN: no
+/// speed), as the CLI prints it.
+fn speed_range_note(
+    lo: f64,
+    hi: f64,
+    names: &[String],
+    arrays: &[Bound<'_, PyArray1<f64>>],
+) -> PyResult<Option<String>> {
+    let Some(i) = names.iter().position(|n| n == "speed") else {
+        return Ok(None);
+    };
+    let mut watch = SpeedRangeWatch::new(lo, hi);
+    let speeds = arrays[i].readonly();
+    for &v in speeds.as_slice()? {
+        watch.observe_speed(Some(v));
+    }
+    Ok(watch.note())
+}
+
 /// Runs `method` over the trial, in memory, with the GIL released.
 #[pyfunction]
 #[pyo3(signature = (trial, method, params=None, options=None))]
@@ -147,7 +168,23 @@ fn estimate<'py>(
         let warning = resets
             .resets()
             .map(|r| format!("{} on {label}: {r}", spec.method()));
-        estimate_tuple(py, out, warning)
+        let range = match &spec {
+            MethodSpec::ImmBslip(s) => Some(
+                limbfuse_methods::imm_params::library_speed_range(s, &meta)
+                    .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?,
+            ),
+            _ => None,
+        };
+        let mut tuple = estimate_tuple(py, out, warning)?;
+        if let Some((lo, hi)) = range {
+            let note = speed_range_note(lo, hi, &tuple.3, &tuple.4)?
+                .map(|n| format!("{} on {label}: {n}", spec.method()));
+            tuple.6 = match (tuple.6.take(), note) {
+                (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+                (a, b) => a.or(b),
+            };
+        }
+        Ok(tuple)
     })
 }
 

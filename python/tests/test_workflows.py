@@ -1,5 +1,7 @@
 """simulate, align, gait_library."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -70,6 +72,26 @@ def test_gait_library_feeds_imm_bslip(gait_library):
     trial = limbfuse.Trial(np.arange(3) * 0.01, {"com_meas_x": np.zeros(3), "com_meas_y": np.ones(3), "com_meas_z": np.zeros(3)})
     est = limbfuse.estimate(trial, "imm-bslip", library=str(gait_library_file))
     assert "speed" in est.channels
+
+
+def test_issue_19_a_trial_outside_the_library_speeds_warns(gait_library, cli, tmp_path):
+    """The CLI's stderr note (imm-bslip walking outside the library's
+    speeds) is a LimbfuseWarning in Python, with the same text."""
+    lib = str(gait_library[0])
+    path = tmp_path / "fast.csv"
+    cli("simulate", "bslip", "--speed", "1.0", "--duration", "3", "-o", path)
+    trial = limbfuse.read_trial(path)
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"above the gait library's range \(0\.70-0\.70 m/s") as w:
+        limbfuse.estimate(trial, "imm-bslip", library=lib, imm_config="continuous")
+    r = cli("estimate", "--method", "imm-bslip", "--library", lib, "--imm-config", "continuous", path, "-o", tmp_path / "e.csv")
+    note = str(w[0].message).split(": ", 1)[1]
+    assert note in r.stderr, (note, r.stderr)
+    # Inside the range: no warning.
+    inside = tmp_path / "at.csv"
+    cli("simulate", "bslip", "--speed", "0.7", "--duration", "3", "-o", inside)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        limbfuse.estimate(limbfuse.read_trial(inside), "imm-bslip", library=lib, imm_config="continuous")
 
 
 def test_gait_library_bad_input(tmp_path):

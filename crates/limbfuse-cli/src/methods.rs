@@ -47,6 +47,17 @@ pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Esti
     build(spec, reader.meta(), reader.layout()).with_context(|| reader.path().display().to_string())
 }
 
+/// imm-bslip: the slowest and fastest gait of the library as used on the
+/// trial `reader` reads (rescaled to its body); `None` for other methods.
+pub fn library_speed_range(spec: &MethodSpec, reader: &TrialReader) -> Result<Option<(f64, f64)>> {
+    let MethodSpec::ImmBslip(s) = spec else {
+        return Ok(None);
+    };
+    let range = limbfuse_methods::imm_params::library_speed_range(s, reader.meta())
+        .with_context(|| reader.path().display().to_string())?;
+    Ok(Some(range))
+}
+
 /// imm-bslip: says on stderr when the library was rescaled to the trial's
 /// body (issue 19); lowback-speed: where the pendulum length came from; sdre / ekf: the states and the lever arm a file that
 /// states `t_a` without `[states]` gets (issue 16).

@@ -17,6 +17,7 @@ pub mod metrics;
 pub mod rejections;
 pub mod resets;
 pub mod scored_feet;
+pub mod speed_range;
 pub mod stats;
 pub mod sync_lag;
 pub mod trial_check;
@@ -26,4 +27,5 @@ pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, Time
 pub use metrics::{AngleMetrics, Evaluation};
 pub use rejections::{Rejected, RejectionWatch};
 pub use resets::{scan_estimate_file, ResetWatch, Resets};
+pub use speed_range::SpeedRangeWatch;
 pub use trial_check::{TrialCheck, TrialMismatch};

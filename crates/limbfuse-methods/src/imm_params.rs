@@ -140,6 +140,17 @@ pub fn templates_for_trial(
     crate::imm_body::fit_library(spec.templates.clone(), &body)
 }
 
+/// The slowest and fastest gait (m/s) of the library as used on a trial
+/// with metadata `meta` (rescaled to its body, as [`templates_for_trial`]).
+pub fn library_speed_range(spec: &ImmSpec, meta: &TrialMeta) -> Result<(f64, f64), MethodError> {
+    let (templates, _) = templates_for_trial(spec, meta)?;
+    Ok(templates
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), g| {
+            (lo.min(g.speed), hi.max(g.speed))
+        }))
+}
+
 /// Reads a library file's templates, optionally rescaled to a CoM height
 /// at mid-stance (paper 003 sec IV-B).
 pub fn load_templates(path: &Path, height: Option<f64>) -> Result<Vec<GaitTemplate>, MethodError> {

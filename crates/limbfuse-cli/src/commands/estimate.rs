@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
-use limbfuse_eval::{RejectionWatch, ResetWatch};
+use limbfuse_eval::{RejectionWatch, ResetWatch, SpeedRangeWatch};
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
@@ -85,11 +85,16 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let gait_method = outputs.contact || (outputs.speed && !outputs.com);
     let mut gait = GaitWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
+    let mut speed_range =
+        methods::library_speed_range(&spec, &reader)?.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
     let label = spec.method().name();
     let n = {
         let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
         if let Some(k) = knee.as_mut() {
             extra.push(k);
+        }
+        if let Some(w) = speed_range.as_mut() {
+            extra.push(w);
         }
         let engine = match smoothed.as_mut() {
             Some(s) => Engine::Offline(s),
@@ -156,6 +161,9 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             a.trial.display(),
             spec.method()
         );
+    }
+    if let Some(note) = speed_range.as_ref().and_then(SpeedRangeWatch::note) {
+        eprintln!("{}: {note}", spec.method());
     }
     eprintln!("{}: {n} samples -> {written}", spec.method());
     Ok(())
