@@ -156,7 +156,11 @@ def estimate(
         **options: the method's ``limbfuse estimate`` flags: ``window``,
             ``order`` (knee-selfalign), ``library``, ``kappa``,
             ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
-            ``leg_length``, ``mass`` (imm-bslip).
+            ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
+            (``--diagnostics``): ``"all"`` (default), ``"none"``, or
+            diagnostic names (a comma-separated string or a list, e.g.
+            ``["sd_thigh", "sd_shank"]``; ``limbfuse methods NAME`` lists
+            a method's). Fewer columns make a smaller, faster call.
 
     Raises:
         LimbfuseError: unknown method, bad parameter, a channel the method

@@ -143,13 +143,16 @@ fn estimate<'py>(
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<EstimateTuple<'py>> {
     guarded(|| {
-        let spec = crate::options::method_spec(method, params, options)?;
+        let (spec, diagnostics) = crate::options::estimate_spec(method, params, options)?;
         let meta = trial.meta();
         let cols = trial.columns()?;
         let label = trial.label();
         let mut est = limbfuse_methods::build(&spec, &meta, cols.layout())
             .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?;
-        let mut out = EstimateColumns::for_estimator(est.as_ref(), cols.len())
+        let chosen = diagnostics
+            .resolve(est.name(), est.diagnostic_names())
+            .map_err(|e| user_msg(format!("{label}: {e}")))?;
+        let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
             .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
         if let Some((name, hash)) = trial.source() {
             out.header.push(format!("{TRIAL_KEY}: {name}"));

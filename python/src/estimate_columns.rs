@@ -38,12 +38,23 @@ pub struct EstimateColumns {
 }
 
 impl EstimateColumns {
-    /// Empty columns for `est`'s outputs and diagnostics, with room for
-    /// `n` samples (a run grows no vector).
+    /// Empty columns for `est`'s outputs and all its diagnostics, with
+    /// room for `n` samples (a run grows no vector).
     pub fn for_estimator(est: &dyn Estimator, n: usize) -> Result<Self, std::fmt::Error> {
+        let n_diag = est.diagnostic_names().len().min(MAX_DIAG);
+        Self::with_diagnostics(est, n, &(0..n_diag).collect::<Vec<_>>())
+    }
+
+    /// [`EstimateColumns::for_estimator`] with only the diagnostics at
+    /// `chosen` (ascending indices into `Estimate::diag`, as
+    /// `DiagnosticColumns::resolve` gives them).
+    pub fn with_diagnostics(
+        est: &dyn Estimator,
+        n: usize,
+        chosen: &[usize],
+    ) -> Result<Self, std::fmt::Error> {
         let outputs = est.outputs();
         let diag = est.diagnostic_names();
-        let n_diag = diag.len().min(MAX_DIAG);
         let mut names = vec!["t".to_string()];
         let mut cells = vec![Cell::Time];
         for c in AngleChannel::ALL.into_iter().filter(|c| has(&outputs, *c)) {
@@ -65,7 +76,7 @@ impl EstimateColumns {
             names.extend(CONTACT.iter().map(|c| c.to_string()));
             cells.extend((0..2).map(Cell::Contact));
         }
-        names.extend(diag[..n_diag].iter().map(|n| format!("diag_{n}")));
+        names.extend(chosen.iter().map(|&i| format!("diag_{}", diag[i])));
         let mut header = vec![format!("method: {}", est.name())];
         let mut params = String::new();
         est.describe_parameters(&mut params)?;
@@ -76,7 +87,7 @@ impl EstimateColumns {
                 .map(str::to_string),
         );
         Ok(EstimateColumns {
-            format: RowFormat { cells, n_diag },
+            format: RowFormat::new(cells, chosen),
             values: ColumnBlock::new(names.len(), n),
             names,
             phase: outputs.phase.then(|| Vec::with_capacity(n)),
@@ -89,7 +100,9 @@ impl EstimateColumns {
     pub fn push(&mut self, e: &Estimate) {
         let mut head = [0.0; MAX_HEAD];
         let n = self.format.head(e, &mut head);
-        self.values.push_row(&head[..n], self.format.diag(e));
+        let mut picked = [None; MAX_DIAG];
+        self.values
+            .push_row(&head[..n], self.format.diag(e, &mut picked));
         if let Some(p) = &mut self.phase {
             p.push(e.phase.map(GaitPhase::label));
         }
@@ -99,7 +112,12 @@ impl EstimateColumns {
     pub fn row(&self, e: &Estimate) -> Vec<(String, Option<f64>)> {
         let mut head = [0.0; MAX_HEAD];
         let n = self.format.head(e, &mut head);
-        let diag = self.format.diag(e).iter().map(|d| finite_or_nan(*d));
+        let mut picked = [None; MAX_DIAG];
+        let diag = self
+            .format
+            .diag(e, &mut picked)
+            .iter()
+            .map(|d| finite_or_nan(*d));
         self.names
             .iter()
             .cloned()
@@ -141,14 +159,31 @@ impl Cell {
 }
 
 /// Which values of an estimate a row holds, in file order: the cells the
-/// method outputs (resolved once), then its `n_diag` diagnostics.
+/// method outputs (resolved once), then the chosen diagnostics.
 #[derive(Debug, Default)]
 struct RowFormat {
     cells: Vec<Cell>,
-    n_diag: usize,
+    /// Indices into `Estimate::diag` of the diagnostic columns.
+    chosen: Vec<usize>,
+    /// `Some(k)` when the chosen diagnostics are the first `k` (all of
+    /// them, or none): the row takes them as one slice, without picking.
+    leading: Option<usize>,
 }
 
 impl RowFormat {
+    fn new(cells: Vec<Cell>, chosen: &[usize]) -> Self {
+        let leading = chosen
+            .iter()
+            .enumerate()
+            .all(|(k, &i)| k == i)
+            .then_some(chosen.len());
+        RowFormat {
+            cells,
+            chosen: chosen.iter().copied().filter(|&i| i < MAX_DIAG).collect(),
+            leading,
+        }
+    }
+
     /// Writes `e`'s values before its diagnostics into `head`, one per
     /// column in order; returns how many.
     #[inline]
@@ -159,10 +194,21 @@ impl RowFormat {
         self.cells.len().min(MAX_HEAD)
     }
 
-    /// `e`'s diagnostics, one per column in order.
+    /// `e`'s chosen diagnostics, one per column in order (picked into
+    /// `picked` unless they lead `e.diag`).
     #[inline]
-    fn diag<'e>(&self, e: &'e Estimate) -> &'e [Option<f64>] {
-        e.diag.get(..self.n_diag).unwrap_or(&e.diag)
+    fn diag<'a>(
+        &self,
+        e: &'a Estimate,
+        picked: &'a mut [Option<f64>; MAX_DIAG],
+    ) -> &'a [Option<f64>] {
+        if let Some(k) = self.leading {
+            return e.diag.get(..k).unwrap_or(&e.diag);
+        }
+        for (p, &i) in picked.iter_mut().zip(&self.chosen) {
+            *p = e.diag.get(i).copied().flatten();
+        }
+        &picked[..self.chosen.len()]
     }
 }
 

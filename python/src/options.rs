@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use limbfuse_io::DiagnosticColumns;
 use limbfuse_methods::{MethodFlags, MethodName, MethodSpec};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -144,8 +145,49 @@ pub fn method_spec(
     params: Option<&Bound<'_, PyAny>>,
     options: Option<Bound<'_, PyDict>>,
 ) -> PyResult<MethodSpec> {
-    let name = MethodName::parse(method).map_err(|e| user_error(&e))?;
+    let o = Options::new("method options", options);
+    method_spec_from(method, params, o)
+}
+
+/// [`method_spec`] for `estimate`, which also takes the option
+/// `diagnostics` (`limbfuse estimate --diagnostics`): `"all"` (the
+/// default), `"none"`, or diagnostic names (a comma-separated string or a
+/// list of strings, with or without `diag_`).
+pub fn estimate_spec(
+    method: &str,
+    params: Option<&Bound<'_, PyAny>>,
+    options: Option<Bound<'_, PyDict>>,
+) -> PyResult<(MethodSpec, DiagnosticColumns)> {
     let mut o = Options::new("method options", options);
+    let diagnostics = match o.any("diagnostics")? {
+        None => DiagnosticColumns::All,
+        Some(v) => {
+            let text = if let Ok(s) = v.extract::<String>() {
+                s
+            } else if let Ok(names) = v.extract::<Vec<String>>() {
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(",")
+                }
+            } else {
+                return Err(user_msg(
+                    "method options: option `diagnostics`: expected \"all\", \"none\" or diagnostic \
+                     names (a comma-separated string or a list of strings)",
+                ));
+            };
+            DiagnosticColumns::parse(&text).map_err(|e| user_error(&e))?
+        }
+    };
+    Ok((method_spec_from(method, params, o)?, diagnostics))
+}
+
+fn method_spec_from(
+    method: &str,
+    params: Option<&Bound<'_, PyAny>>,
+    mut o: Options<'_>,
+) -> PyResult<MethodSpec> {
+    let name = MethodName::parse(method).map_err(|e| user_error(&e))?;
     let flags = MethodFlags {
         window: o.u64("window")?.map(|v| v as usize),
         order: o.u64("order")?.map(|v| v as usize),

@@ -74,3 +74,31 @@ def test_python_estimate_equals_the_cli_file(cli, files, method):
         assert mine.read_bytes() == cli_bytes
         return
     pytest.fail(f"the CLI ran {method} on none of the trial kinds:\n" + "\n".join(tried))
+
+
+@pytest.mark.parametrize(
+    "selection, flag",
+    [("none", "none"), (["sd_thigh", "rho_shank"], "sd_thigh,rho_shank"), ("diag_rho_shank,sd_thigh", "diag_rho_shank,sd_thigh")],
+)
+def test_diagnostics_option_equals_the_cli_flag(cli, files, selection, flag):
+    """`estimate(..., diagnostics=...)` writes the columns of the CLI's
+    `--diagnostics` (in the method's order), bit for bit."""
+    d, _, trials = files
+    out = d / f"mjls-diag-{flag.replace(',', '-')}.csv"
+    cli("estimate", "--method", "mjls", "--diagnostics", flag, trials["walking"], "-o", out)
+    ref = limbfuse.read_estimate(out)
+    est = limbfuse.estimate(limbfuse.read_trial(trials["walking"]), "mjls", diagnostics=selection)
+    assert est.columns == ref.columns
+    n_diag = {"none": 0}.get(flag, 2)
+    assert len([c for c in est.columns if c.startswith("diag_")]) == n_diag
+    for name in ref.channels:
+        assert np.array_equal(bits(est.channels[name]), bits(ref.channels[name])), name
+
+
+def test_diagnostics_option_bad_input(files):
+    _, _, trials = files
+    trial = limbfuse.read_trial(trials["walking"])
+    with pytest.raises(limbfuse.LimbfuseError, match="`banana` is not a diagnostic of `mjls`"):
+        limbfuse.estimate(trial, "mjls", diagnostics="banana")
+    with pytest.raises(limbfuse.LimbfuseError, match="option `diagnostics`: expected"):
+        limbfuse.estimate(trial, "mjls", diagnostics=3)
