@@ -3,7 +3,6 @@
 //! positive-definite covariances over long runs) of the segment filters.
 #![allow(clippy::needless_range_loop)]
 
-mod segment_kf_support;
 
 use limbfuse_core::{Estimate, Estimator, Sample};
 use limbfuse_estimators::segment_kf::params::CommonParams;
@@ -13,7 +12,7 @@ use limbfuse_estimators::segment_kf::{
 };
 use nalgebra::{SMatrix, Vector3};
 use proptest::prelude::*;
-use segment_kf_support::{is_spd, Rng, StaticLimb, G};
+use crate::segment_kf_support::{is_spd, Rng, StaticLimb, G};
 
 /// The three filters behind one interface, with their covariance.
 #[allow(clippy::large_enum_variant)]

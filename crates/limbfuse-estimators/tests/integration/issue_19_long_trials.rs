@@ -8,8 +8,7 @@
 //! is the midpoint of the CoM's mid-height crossings and MS the CoM passing
 //! over it. Every library gait of both bodies, two noise seeds, 10 s each.
 
-mod imm_continuous_support;
-use imm_continuous_support::run;
+use crate::imm_continuous_support::run;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;

@@ -7,8 +7,7 @@ use limbfuse_estimators::gait_events::{FootSource, GaitEvents, GaitEventsParams}
 use limbfuse_estimators::lowback_speed::{LowbackParams, LowbackSpeed};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-mod counting_alloc;
-use counting_alloc::allocations;
+use crate::counting_alloc::allocations;
 
 #[test]
 fn gait_estimators_step_without_allocating() {

@@ -9,8 +9,7 @@
 //! library rescaled). Now the stiffness is measured from the weight support
 //! over each step. Both cases, two noise seeds, 10 s each.
 
-mod imm_continuous_support;
-use imm_continuous_support::run;
+use crate::imm_continuous_support::run;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::{build_library, continue_to, LibraryGait};
 use limbfuse_sim::bslip::periodic::Corrected;

@@ -6,12 +6,11 @@
 //! Figures: `cargo test --release -p limbfuse-estimators --test
 //! knee_selfalign_shared -- --nocapture`.
 
-mod shared_data_support;
 
 use limbfuse_core::{Estimator, Joint, Record};
 use limbfuse_estimators::knee_selfalign::window::{identify, Ring, Slot};
 use limbfuse_estimators::knee_selfalign::{KneeDiag, KneeSelfAlign, KneeSelfAlignParams};
-use shared_data_support::{data_dir, read};
+use crate::shared_data_support::{data_dir, read};
 
 fn slot(r: &Record) -> Slot {
     let (t, s) = (r.sample.imu[1], r.sample.imu[2]);

@@ -37,7 +37,6 @@
 //!   figures and the filter's own covariance.)
 #![allow(clippy::needless_range_loop)]
 
-mod segment_kf_support;
 
 use limbfuse_core::{Estimate, Estimator};
 use limbfuse_estimators::segment_kf::params::{CommonParams, LoopMode};
@@ -45,7 +44,7 @@ use limbfuse_estimators::segment_kf::{
     GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams, MarkovJumpKf,
     MarkovJumpKfParams, MjlsDiag, SegmentDiag,
 };
-use segment_kf_support::{Rng, StaticLimb, G};
+use crate::segment_kf_support::{Rng, StaticLimb, G};
 
 const DT: f64 = 0.01;
 const STEPS: usize = 3000;

@@ -15,8 +15,7 @@ use limbfuse_estimators::segment_kf::{
 };
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-mod counting_alloc;
-use counting_alloc::allocations;
+use crate::counting_alloc::allocations;
 
 #[test]
 fn step_never_allocates() {

@@ -7,9 +7,8 @@
 //! Figures: `cargo test --release -p limbfuse-estimators --test
 //! knee_real_conditions -- --nocapture --test-threads 1`.
 
-mod knee_hinge;
 
-use knee_hinge::{records, rot, Hinge, HingeMotion, SensorErrors, Still};
+use crate::knee_hinge::{records, rot, Hinge, HingeMotion, SensorErrors, Still};
 use limbfuse_core::{Estimator, Joint, Record, Segment};
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};

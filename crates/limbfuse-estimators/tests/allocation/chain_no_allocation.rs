@@ -5,8 +5,7 @@ use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::chain_ekf::{ChainEkf, ChainGeometry, ChainParams};
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
-mod counting_alloc;
-use counting_alloc::allocations;
+use crate::counting_alloc::allocations;
 
 #[test]
 fn chain_steps_without_allocating() {

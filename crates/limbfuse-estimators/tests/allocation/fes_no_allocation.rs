@@ -14,8 +14,7 @@ use limbfuse_models::{
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
-mod counting_alloc;
-use counting_alloc::allocations;
+use crate::counting_alloc::allocations;
 
 fn with_dropouts(mut recs: Vec<Record>) -> Vec<Record> {
     for (k, r) in recs.iter_mut().enumerate() {
