@@ -7,12 +7,11 @@
 //! it). Skipped with a message when `../shared/data` is absent
 //! (`LIMBFUSE_DATA` overrides the path).
 
-
+use crate::shared_data_support::{data_dir, read};
 use limbfuse_core::{Estimator, Record, Segment};
 use limbfuse_estimators::gait_events::{FootSource, GaitDiag, GaitEvents, GaitEventsParams};
 use limbfuse_estimators::lowback_speed::{LowbackDiag, LowbackParams, LowbackSpeed};
 use limbfuse_estimators::segment_kf::GlobalKf;
-use crate::shared_data_support::{data_dir, read};
 
 const FOLDERS: [&str; 3] = ["independent-sim", "gaitmap-foot-walk", "mobgap-lowerback"];
 

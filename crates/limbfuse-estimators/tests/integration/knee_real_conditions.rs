@@ -4,9 +4,8 @@
 //! scale errors of +25 % / -20 % on one and on both sensors, a 60 s still
 //! period, and sensors aligned with their segments.
 //!
-//! Figures: `cargo test --release -p limbfuse-estimators --test
-//! knee_real_conditions -- --nocapture --test-threads 1`.
-
+//! Figures: `cargo test --release -p limbfuse-estimators --test integration
+//! -- knee_real_conditions:: --nocapture --test-threads 1`.
 
 use crate::knee_hinge::{records, rot, Hinge, HingeMotion, SensorErrors, Still};
 use limbfuse_core::{Estimator, Joint, Record, Segment};

@@ -5,7 +5,6 @@
 //! 1 cm of the truth, and the knee angle must follow the hinge angle.
 #![allow(clippy::needless_range_loop)] // axis i of thigh (0) and shank (1) in parallel arrays
 
-
 use crate::knee_hinge::{rot, Hinge, HingeMotion};
 use limbfuse_core::{Estimator, ImuSample, Joint, Sample, Segment};
 use limbfuse_estimators::knee_selfalign::position::correct_along_axes;

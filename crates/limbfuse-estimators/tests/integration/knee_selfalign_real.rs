@@ -4,8 +4,8 @@
 //! one test per failure cause found on them (issue 15), each of which
 //! failed before its fix.
 //!
-//! Figures: `cargo test --release -p limbfuse-estimators --test
-//! knee_selfalign_real -- --nocapture`.
+//! Figures: `cargo test --release -p limbfuse-estimators --test integration
+//! -- knee_selfalign_real:: --nocapture`.
 
 use std::path::PathBuf;
 

@@ -3,14 +3,13 @@
 //! `LIMBFUSE_DATA` overrides the path): one test per failure cause found on
 //! them (issue 15), each of which failed before its fix.
 //!
-//! Figures: `cargo test --release -p limbfuse-estimators --test
-//! knee_selfalign_shared -- --nocapture`.
+//! Figures: `cargo test --release -p limbfuse-estimators --test integration
+//! -- knee_selfalign_shared:: --nocapture`.
 
-
+use crate::shared_data_support::{data_dir, read};
 use limbfuse_core::{Estimator, Joint, Record};
 use limbfuse_estimators::knee_selfalign::window::{identify, Ring, Slot};
 use limbfuse_estimators::knee_selfalign::{KneeDiag, KneeSelfAlign, KneeSelfAlignParams};
-use crate::shared_data_support::{data_dir, read};
 
 fn slot(r: &Record) -> Slot {
     let (t, s) = (r.sample.imu[1], r.sample.imu[2]);

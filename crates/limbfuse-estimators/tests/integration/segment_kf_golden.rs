@@ -7,7 +7,7 @@
 //! rewritten but equivalent Kalman step); any change of behaviour (a
 //! criterion, a default, the simulator) fails the test. After a deliberate
 //! change, regenerate the file with
-//! `LIMBFUSE_BLESS=1 cargo test -p limbfuse-estimators --test segment_kf_golden`
+//! `LIMBFUSE_BLESS=1 cargo test -p limbfuse-estimators --test integration -- segment_kf_golden::`
 //! and say why in the commit.
 
 use std::fmt::Write as _;

@@ -2,11 +2,10 @@
 //! restart after encoder rows refused for `GATE_LOCKOUT_S`, and the restart
 //! after a long time gap, each counted (`rejected_readings`, `resets`).
 
-
+use crate::segment_kf_support::{Rng, StaticLimb};
 use limbfuse_core::{Estimate, Estimator};
 use limbfuse_estimators::segment_kf::robust::{GATE_LOCKOUT_S, LONG_GAP_S};
 use limbfuse_estimators::segment_kf::{LocalDiag, LocalKf, MarkovJumpKf, MjlsDiag, SegmentDiag};
-use crate::segment_kf_support::{Rng, StaticLimb};
 
 fn limb(seed: u64) -> StaticLimb {
     StaticLimb {

@@ -3,7 +3,7 @@
 //! 001's first-iteration gains of the local and global two-segment models.
 #![allow(clippy::needless_range_loop, non_snake_case)]
 
-
+use crate::segment_kf_support::G;
 use limbfuse_core::kalman::{update_rows, CovarianceUpdate};
 use limbfuse_core::{Estimator, Sample, Segment};
 use limbfuse_estimators::segment_kf::params::CommonParams;
@@ -12,7 +12,6 @@ use limbfuse_estimators::segment_kf::{
     GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf, MarkovJumpKfParams, MjlsDiag,
 };
 use nalgebra::{SMatrix, SVector, Vector3};
-use crate::segment_kf_support::G;
 
 // Paper 000 section 3, the ten samples of ||a_i|| - g, printed in the order
 // B, T, F, S (foot before shank).

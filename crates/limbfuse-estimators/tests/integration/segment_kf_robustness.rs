@@ -3,7 +3,7 @@
 //! positive-definite covariances over long runs) of the segment filters.
 #![allow(clippy::needless_range_loop)]
 
-
+use crate::segment_kf_support::{is_spd, Rng, StaticLimb, G};
 use limbfuse_core::{Estimate, Estimator, Sample};
 use limbfuse_estimators::segment_kf::params::CommonParams;
 use limbfuse_estimators::segment_kf::{
@@ -12,7 +12,6 @@ use limbfuse_estimators::segment_kf::{
 };
 use nalgebra::{SMatrix, Vector3};
 use proptest::prelude::*;
-use crate::segment_kf_support::{is_spd, Rng, StaticLimb, G};
 
 /// The three filters behind one interface, with their covariance.
 #[allow(clippy::large_enum_variant)]

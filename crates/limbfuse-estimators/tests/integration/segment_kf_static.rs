@@ -37,14 +37,13 @@
 //!   figures and the filter's own covariance.)
 #![allow(clippy::needless_range_loop)]
 
-
+use crate::segment_kf_support::{Rng, StaticLimb, G};
 use limbfuse_core::{Estimate, Estimator};
 use limbfuse_estimators::segment_kf::params::{CommonParams, LoopMode};
 use limbfuse_estimators::segment_kf::{
     GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams, MarkovJumpKf,
     MarkovJumpKfParams, MjlsDiag, SegmentDiag,
 };
-use crate::segment_kf_support::{Rng, StaticLimb, G};
 
 const DT: f64 = 0.01;
 const STEPS: usize = 3000;
