@@ -14,8 +14,8 @@
 # committed figures: `git diff docs/figures` shows what changed). Each
 # command's output goes to target/results-commands/logs/LINE.txt.
 # `cargo test --workspace` checks, without running them, that every command
-# is runnable (crates/limbfuse-studies/tests/results_commands.rs,
-# crates/limbfuse-cli/tests/results_commands.rs), and that no figure is left
+# is runnable (crates/limbfuse-studies/tests/integration/results_commands.rs,
+# crates/limbfuse-cli/tests/integration/results_commands.rs), and that no figure is left
 # without a committed command (the same limbfuse-studies test,
 # issue_13_no_figure_without_a_committed_command: markers such as "not
 # reproducible", "ad-hoc", "temporary", "reverted" fail it).

@@ -74,7 +74,7 @@ pub fn in_guarded_read() -> bool {
 
 /// Runs an arrow-rs reading step, turning a panic into an error: arrow-rs
 /// validates what it reads, but some corrupted files still make it panic
-/// (found by `tests/issue_18_arrow_files.rs`, a flipped byte in a batch
+/// (found by `tests/integration/issue_18_arrow_files.rs`, a flipped byte in a batch
 /// body: `arrow-buffer` asserts a slice bound), and bad input must be an
 /// error naming the file.
 pub(crate) fn guarded<T>(

@@ -25,7 +25,7 @@
 //! parameter file and flags, build for a trial, default file) and add one
 //! line to the registry ([`registry`]); [`MethodName`], [`MethodSpec`] and
 //! every dispatch follow from that line.
-//! `tests/adding_a_method.rs` does it for a trivial method.
+//! `tests/integration/adding_a_method.rs` does it for a trivial method.
 #![deny(missing_docs)]
 
 mod baseline_methods;

@@ -2,9 +2,9 @@
 //! ```` ```sh ```` block that is not a `#` comment is one command, run from
 //! the repository root (or a directory beside it, see
 //! `scripts/results-commands.sh`). [`extract`] lists them, [`ResultsCommand::kind`]
-//! says what each runs; `tests/results_commands.rs` (here, for the study
+//! says what each runs; `tests/integration/results_commands.rs` (here, for the study
 //! examples and `cargo test` commands) and `limbfuse-cli`'s
-//! `tests/results_commands.rs` (for `limbfuse` commands) check that each is
+//! `tests/integration/results_commands.rs` (for `limbfuse` commands) check that each is
 //! runnable.
 
 /// One command of a ```` ```sh ```` block.
@@ -34,6 +34,9 @@ pub enum CommandKind {
         package: String,
         /// The integration test targets.
         tests: Vec<String>,
+        /// The test harness's arguments (after `--`): name filters such as
+        /// `MODULE::` (a module of a test target) and options.
+        args: Vec<String>,
     },
     /// `limbfuse ARGS` (the installed command-line tool).
     Limbfuse {
@@ -221,12 +224,13 @@ impl ResultsCommand {
                 })
             }
             ["cargo", "test", ..] => {
-                let (opts, _) = split_at_dashes(&words[2..]);
+                let (opts, args) = split_at_dashes(&words[2..]);
                 let (package, tests) = cargo_options(opts, &["--test"])
                     .map_err(|w| unsupported(format!("unknown cargo test option `{w}`")))?;
                 Ok(CommandKind::CargoTest {
                     package: package.ok_or_else(|| unsupported("no -p PACKAGE".into()))?,
                     tests,
+                    args,
                 })
             }
             _ => Err(unsupported(

@@ -519,7 +519,7 @@ impl Estimator for ChainEkf {
             // A gap in the recording longer than a stride (ours, issue 18
             // item 2, as the segment filters): no prediction over it means
             // anything (a 2 s step made the covariance indefinite, found by
-            // tests/issue_18_fuzz_chain_knee.rs), so the start-up window
+            // tests/integration/issue_18_fuzz_chain_knee.rs), so the start-up window
             // begins again at this sample (`diag_running` = 0, no estimate
             // until it closes).
             self.restart_startup();
@@ -561,7 +561,7 @@ impl Estimator for ChainEkf {
         }
         if self.running && self.diverged() {
             // Diverged (readings no gate screened, e.g. 1e300 offered to the
-            // estimator directly; tests/issue_18_fuzz_chain_knee.rs): start
+            // estimator directly; tests/integration/issue_18_fuzz_chain_knee.rs): start
             // again from the next samples.
             self.restart_startup();
             self.link = Link::None;

@@ -262,7 +262,7 @@ impl Chain {
         for (i, imu) in sample.imu.iter().enumerate() {
             if let Some(acc) = sagittal_specific_force(imu) {
                 // (a norm that overflows, e.g. 1e300 on an axis, is no reading:
-                // found by tests/issue_18_fuzz.rs as an infinite `rho` diagnostic)
+                // found by tests/integration/issue_18_fuzz.rs as an infinite `rho` diagnostic)
                 // (a finite norm, the square root of the sum of the squares,
                 // implies finite axes: no test per axis)
                 let r = reliability(&acc, g);
@@ -277,7 +277,7 @@ impl Chain {
         let mut encoder = [None; 3];
         for (e, s) in encoder.iter_mut().zip(sample.encoder.iter()) {
             // A joint angle beyond a full turn is no reading (found by
-            // tests/issue_18_fuzz.rs: -1e308 started the chain at infinity).
+            // tests/integration/issue_18_fuzz.rs: -1e308 started the chain at infinity).
             // (NaN and infinity fail the comparison too)
             *e = s.filter(|v| v.abs() <= core::f64::consts::TAU);
         }

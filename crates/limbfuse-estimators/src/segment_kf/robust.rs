@@ -111,7 +111,7 @@ pub fn predicted_rate_transition(tau: f64) -> (f64, f64) {
 /// oscillating at twice the stride frequency, integrated over a 1 s gap of
 /// every IMU, turned the chain that `mjls` anchors on the trunk by 5 deg
 /// (thigh RMSE over the gap 5.0 deg, 3.0 with this horizon;
-/// tests/issue_18_missing_data.rs).
+/// tests/integration/issue_18_missing_data.rs).
 pub const SLOPE_HORIZON_S: f64 = 0.25 * HELD_RATE_CORRELATION_S;
 
 /// The rate predicted `tau` seconds after the last reading `r` whose

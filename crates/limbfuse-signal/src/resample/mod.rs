@@ -20,7 +20,7 @@
 //!   dropout) the output falls back to the mean over one output period
 //!   (`[t - T/2, t + T/2]`, end points weighted 1/2); with no sample in that
 //!   period the output is missing. Measured response: `docs/TUNING.md` and
-//!   the tests in `tests/resample.rs`.
+//!   the tests in `tests/integration/resample.rs`.
 //!   The other leg's IMU channels (two-leg recordings) are IMU channels.
 //! - **Gait contact references** (`contact_left_ref`, `contact_right_ref`):
 //!   the nearest present sample (as gait phase labels below), so they stay 0

@@ -1,0 +1,257 @@
+//! The `limbfuse` binary on bad input: exit status 1, a message naming the
+//! file, line and column, never a panic.
+
+use std::process::Output;
+
+use crate::support::limbfuse;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn assert_user_error(o: &Output, needles: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
+    assert!(
+        !e.contains("panicked") && !e.contains("RUST_BACKTRACE"),
+        "{e}"
+    );
+    for n in needles {
+        assert!(e.contains(n), "expected `{n}` in: {e}");
+    }
+}
+
+#[test]
+fn nan_in_trial_names_file_line_and_column() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("t.csv"),
+        "t,thigh_acc_x,thigh_acc_y,thigh_acc_z\n0,0,9.81,0\n0.01,0,NaN,0\n",
+    )
+    .unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "accel-inclination",
+            "t.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_user_error(&o, &["t.csv:3: column 3 (`thigh_acc_y`)", "finite"]);
+}
+
+#[test]
+fn unknown_and_planned_methods_are_user_errors() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("t.csv"), "t\n0\n").unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "magic", "t.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    assert_user_error(&o, &["unknown method `magic`", "gyro-integration"]);
+    let o = limbfuse(
+        &["estimate", "--method", "sdre", "t.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    // sdre exists now (paper 004); without model metadata it is a user error.
+    assert_user_error(&o, &["t.csv", "# model:"]);
+}
+
+#[test]
+fn missing_trial_file_and_bad_flags_exit_1() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "gyro-integration",
+            "nope.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_user_error(&o, &["nope.csv"]);
+    let o = limbfuse(&["evaluate", "a.csv"], d.path());
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let o = limbfuse(&["frobnicate"], d.path());
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let o = limbfuse(&["--help"], d.path());
+    assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn evaluate_rejects_mismatched_time_bases_and_bad_windows() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("t.csv"), "t,thigh_ref\n0,0.1\n0.01,0.2\n").unwrap();
+    std::fs::write(
+        d.path().join("e.csv"),
+        "# method: x\nt,thigh\n0,0.1\n0.02,0.2\n",
+    )
+    .unwrap();
+    let o = limbfuse(&["evaluate", "t.csv", "e.csv"], d.path());
+    assert_user_error(&o, &["e.csv:4", "does not match"]);
+    std::fs::write(
+        d.path().join("e2.csv"),
+        "# method: x\nt,thigh\n0,0.1\n0.01,0.2\n",
+    )
+    .unwrap();
+    let o = limbfuse(
+        &["evaluate", "t.csv", "e2.csv", "--window", "5:1"],
+        d.path(),
+    );
+    assert_user_error(&o, &["--window"]);
+    std::fs::write(d.path().join("noref.csv"), "t,knee_enc\n0,0.1\n").unwrap();
+    let o = limbfuse(&["evaluate", "noref.csv", "e2.csv"], d.path());
+    assert_user_error(&o, &["noref.csv", "no reference"]);
+}
+
+#[test]
+fn estimate_then_evaluate_json_on_a_hand_made_trial() {
+    let d = tempfile::tempdir().unwrap();
+    // Static thigh at 0.2 rad: acc = g (sin 0.2, cos 0.2, 0). accel-inclination is exact.
+    let (s, c) = (9.81 * 0.2f64.sin(), 9.81 * 0.2f64.cos());
+    let mut text = String::from(
+        "# format: limbfuse-trial/1\nt,thigh_acc_x,thigh_acc_y,thigh_acc_z,thigh_ref\n",
+    );
+    for k in 0..10 {
+        let acc = if k == 4 {
+            ",,".to_string()
+        } else {
+            format!("{s},{c},0")
+        };
+        text += &format!("{},{acc},0.2\n", k as f64 * 0.01);
+    }
+    std::fs::write(d.path().join("t.csv"), text).unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "accel-inclination",
+            "t.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let est = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
+    assert!(est.starts_with("# method: accel-inclination\n"), "{est}");
+    let o = limbfuse(&["evaluate", "t.csv", "e.csv", "--json"], d.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "accel-inclination");
+    assert_eq!(v["n_samples"], 10);
+    assert!(v["rmse_deg"]["thigh"].as_f64().unwrap() < 1e-12);
+    assert!(v["mean_rmse_deg"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["offset_free"], false);
+}
+
+/// A hand-made trial with the given IMU segments (acc + gyr, static,
+/// upright), optionally the three encoders, and a `thigh_ref` reference, 5
+/// samples at 100 Hz.
+fn trial_with(segments: &[&str], encoders: bool) -> String {
+    let mut header = vec!["t".to_string()];
+    for s in segments {
+        for q in ["acc", "gyr"] {
+            for a in ["x", "y", "z"] {
+                header.push(format!("{s}_{q}_{a}"));
+            }
+        }
+    }
+    if encoders {
+        header.extend(["hip_enc", "knee_enc", "ankle_enc"].map(String::from));
+    }
+    header.push("thigh_ref".to_string());
+    let mut out = header.join(",") + "\n";
+    for k in 0..5 {
+        let mut row = vec![format!("{}", k as f64 * 0.01)];
+        for _ in segments {
+            row.extend(["0", "9.81", "0", "0", "0", "0"].map(String::from));
+        }
+        if encoders {
+            row.extend(["0", "0", "0"].map(String::from));
+        }
+        row.push("0".to_string());
+        out += &(row.join(",") + "\n");
+    }
+    out
+}
+
+/// Issue 3: `mjls` on a trial without encoders is a user error naming the
+/// missing columns (it used to run on the accelerometers alone).
+#[test]
+fn issue3_mjls_without_encoders_names_the_missing_columns() {
+    let d = tempfile::tempdir().unwrap();
+    let all = ["trunk", "thigh", "shank", "foot"];
+    std::fs::write(d.path().join("noenc.csv"), trial_with(&all, false)).unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "noenc.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    assert_user_error(
+        &o,
+        &[
+            "noenc.csv",
+            "`mjls`",
+            "hip_enc, knee_enc, ankle_enc",
+            "`local` or `global`",
+        ],
+    );
+    assert!(
+        !d.path().join("e.csv").exists(),
+        "no estimate file on error"
+    );
+    // local and global need no encoders.
+    for m in ["local", "global"] {
+        let o = limbfuse(
+            &["estimate", "--method", m, "noenc.csv", "-o", "e.csv"],
+            d.path(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{m}: {}", stderr(&o));
+    }
+    // tune checks too, before any optimisation.
+    let o = limbfuse(
+        &[
+            "tune",
+            "--method",
+            "mjls",
+            "noenc.csv",
+            "--window",
+            "0:0.04",
+            "-o",
+            "p.toml",
+        ],
+        d.path(),
+    );
+    assert_user_error(&o, &["noenc.csv", "hip_enc"]);
+}
+
+/// Issue 3: a segment filter on a trial lacking one segment's IMU is a user
+/// error naming that segment's columns.
+#[test]
+fn issue3_segment_filter_without_a_segment_imu_names_it() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("noshank.csv"),
+        trial_with(&["trunk", "thigh", "foot"], true),
+    )
+    .unwrap();
+    for m in ["local", "mjls", "global"] {
+        let o = limbfuse(
+            &["estimate", "--method", m, "noshank.csv", "-o", "e.csv"],
+            d.path(),
+        );
+        assert_user_error(
+            &o,
+            &[
+                "noshank.csv",
+                &format!("`{m}`"),
+                "shank_acc_x/y/z, shank_gyr_x/y/z",
+            ],
+        );
+    }
+}

@@ -1,0 +1,483 @@
+//! `gait-events` and `lowback-speed` through the binary: the shared real
+//! recordings (skipped with a message when `../shared/data` is absent), and
+//! bad input (no foot IMU, no walking).
+
+use std::path::{Path, PathBuf};
+
+use crate::support::limbfuse;
+
+fn data_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    if dir.join("gaitmap-foot-walk").is_dir() && dir.join("mobgap-lowerback").is_dir() {
+        Some(dir)
+    } else {
+        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
+        None
+    }
+}
+
+fn evaluate_json(method: &str, trial: &Path, dir: &Path) -> serde_json::Value {
+    let trial = trial.to_str().unwrap();
+    let o = limbfuse(&["estimate", "--method", method, trial, "-o", "e.csv"], dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = limbfuse(&["evaluate", trial, "e.csv", "--json"], dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+fn f(v: &serde_json::Value, path: &[&str]) -> f64 {
+    let mut x = v;
+    for k in path {
+        x = &x[*k];
+    }
+    x.as_f64().unwrap_or_else(|| panic!("{path:?} in {v}"))
+}
+
+/// Issue 19 targets on the shared two-foot walk: contacts within 20 ms
+/// (median) / 40 ms (p95), none missed; measured 4.6 / 12.6 ms (initial),
+/// 5.8 / 11.2 ms (final). Stride speed and length, each stride against
+/// the blended reference, are held to their measured 0.037 m/s and 2.8 %;
+/// compared like with like (blended) they meet the 0.03 m/s and 2.5 %
+/// targets (docs/RESULTS.md).
+#[test]
+fn foot_recording_meets_the_event_targets() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let v = evaluate_json(
+        "gait-events",
+        &data.join("gaitmap-foot-walk/trial.csv"),
+        d.path(),
+    );
+    for kind in ["initial_contact", "final_contact"] {
+        assert!(f(&v, &[kind, "median_abs_ms"]) <= 20.0, "{v}");
+        assert!(f(&v, &[kind, "p95_abs_ms"]) <= 40.0, "{v}");
+        assert_eq!(f(&v, &[kind, "missed"]), 0.0, "{v}");
+        assert_eq!(f(&v, &[kind, "n_reference"]), 56.0, "{v}");
+    }
+    assert_eq!(f(&v, &["initial_contact", "extra"]), 0.0, "{v}");
+    // The one extra final contact is a turning step at 16.2 s.
+    assert!(f(&v, &["final_contact", "extra"]) <= 1.0, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) < 0.04, "{v}");
+    assert!(f(&v, &["stride_length_error_pct"]) < 3.0, "{v}");
+    // Like with like (the estimate blended as speed_ref is): measured
+    // 0.026 m/s and 2.18 %, the issue's targets 0.03 m/s and 2.5 %.
+    assert!(f(&v, &["blended", "speed_mae_mps"]) <= 0.03, "{v}");
+    assert!(f(&v, &["blended", "stride_length_error_pct"]) <= 2.5, "{v}");
+    assert!(f(&v, &["blended", "n_strides"]) >= 50.0, "{v}");
+    assert!(f(&v, &["n_strides"]) >= 50.0, "{v}");
+    assert!(f(&v, &["phase_accuracy_pct"]) > 90.0, "{v}");
+}
+
+/// HA001 straight walk: contacts found, 40 ms median (target: within 40),
+/// stride speed MAE 0.028 m/s with the sensor height of the file's
+/// `# subject:` line (0.054 before it was read; target 0.06).
+#[test]
+fn lowback_straight_walk() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let v = evaluate_json(
+        "lowback-speed",
+        &data.join("mobgap-lowerback/HA001-test5-trial1.csv"),
+        d.path(),
+    );
+    assert_eq!(f(&v, &["initial_contact", "missed"]), 0.0, "{v}");
+    // 40 ms up to rounding (10 ms samples).
+    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 40.5, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) <= 0.06, "{v}");
+    assert!(v["final_contact"].is_null());
+}
+
+/// Issue 19, lower-back speed on the daily-living course (HA001 test11):
+/// turning strides (mean heading rate above 15 deg/s) and the strides after
+/// them report no speed. Measured: 13 of 41 strides keep a speed, MAE
+/// 0.088 m/s with the sensor height of the file's `# subject:` line (0.133
+/// with the default pendulum; 0.179 over all 41 without the turn rule);
+/// contacts 35 ms median (30 ms with the plain gravity mean).
+#[test]
+fn issue_19_lowback_course_turning_strides_have_no_speed() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let v = evaluate_json(
+        "lowback-speed",
+        &data.join("mobgap-lowerback/HA001-test11-trial1.csv"),
+        d.path(),
+    );
+    let n = f(&v, &["n_strides"]);
+    assert!((10.0..=22.0).contains(&n), "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) <= 0.10, "{v}");
+    // The issue's 40 ms up to rounding (10 ms samples).
+    assert!(f(&v, &["initial_contact", "median_abs_ms"]) < 40.5, "{v}");
+}
+
+/// The data rows of a limbfuse CSV file, by column name (empty = `None`).
+fn columns(path: &Path, names: &[&str]) -> Vec<Vec<Option<f64>>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| header.iter().position(|h| h == n).expect(n))
+        .collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            index.iter().map(|&i| cells[i].parse().ok()).collect()
+        })
+        .collect()
+}
+
+/// Issue 19, lower-back speed, first stride of a bout on the HA001 course:
+/// the first stride with a speed and a reference (6.42-7.70 s, after the
+/// subject stands up) was 0.25 m/s slow with the plain 2 s gravity mean
+/// (which lagged the standing-up tilt by 5-9 deg); with the mean rotated
+/// by the gyroscope it is 0.01 m/s slow. Held within 0.06 m/s.
+#[test]
+fn issue_19_lowback_course_first_stride_after_standing_up() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let trial = data.join("mobgap-lowerback/HA001-test11-trial1.csv");
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            trial.to_str().unwrap(),
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let reference = columns(&trial, &["t", "speed_ref"]);
+    let est = columns(
+        &d.path().join("e.csv"),
+        &["diag_ic", "diag_stride_length", "diag_stride_time"],
+    );
+    let first = est.iter().find_map(|row| {
+        let (end, length, time) = (row[0]?, row[1]?, row[2]?);
+        let refs: Option<Vec<f64>> = reference
+            .iter()
+            .filter(|r| r[0].is_some_and(|t| t >= end - time - 1e-9 && t < end - 1e-9))
+            .map(|r| r[1])
+            .collect();
+        let refs = refs.filter(|r| !r.is_empty())?;
+        Some((
+            end,
+            length / time,
+            refs.iter().sum::<f64>() / refs.len() as f64,
+        ))
+    });
+    let (end, v, v_ref) = first.expect("a stride with a reference");
+    assert!((7.6..7.8).contains(&end), "first stride ends at {end} s");
+    assert!((v - v_ref).abs() < 0.06, "{v} m/s vs {v_ref} m/s");
+}
+
+/// Issue 19, lower-back speed: the pendulum length the lower-back literature
+/// uses is the sensor's height above the ground (Soltani et al. 2021, the
+/// Mobilise-D `SlZijlstra`: `l` = sensor height, factor 4.587 / 4). A trial
+/// with `# sensor_height_m:` gets that pair. The HA001 files state the
+/// sensor height (96.4 cm) only in free text (`# subject: ..., sensor
+/// height 96.4 cm`), which is read too: as shipped and with the line
+/// added, measured stride speed MAE 0.028 / 0.024 m/s on the straight walks
+/// and 0.088 on the course (default pendulum: 0.054 / 0.065 / 0.133).
+#[test]
+fn issue_19_lowback_sensor_height_is_the_pendulum_length() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    for (name, limit) in [
+        ("HA001-test5-trial1.csv", 0.06),
+        ("HA001-test5-trial2.csv", 0.06),
+        ("HA001-test11-trial1.csv", 0.10),
+    ] {
+        let shipped = data.join("mobgap-lowerback").join(name);
+        let text = std::fs::read_to_string(&shipped).unwrap();
+        let trial = d.path().join(name);
+        std::fs::write(&trial, format!("# sensor_height_m: 0.964\n{text}")).unwrap();
+        for trial in [&trial, &shipped] {
+            let v = evaluate_json("lowback-speed", trial, d.path());
+            let header = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
+            assert!(header.contains("# leg_length: 0.964 m"), "{name}");
+            assert!(header.contains("# correction: 1.14675"), "{name}");
+            assert!(f(&v, &["speed_mae_mps"]) <= limit, "{name}: {v}");
+        }
+    }
+}
+
+fn write(dir: &Path, name: &str, header: &str, row: impl Fn(usize) -> String, n: usize) {
+    let mut s = format!("# sample_rate_hz: 100\n{header}\n");
+    for k in 0..n {
+        s += &format!("{},{}\n", k as f64 / 100.0, row(k));
+    }
+    std::fs::write(dir.join(name), s).unwrap();
+}
+
+#[test]
+fn no_foot_or_shank_imu_is_a_clear_error() {
+    let d = tempfile::tempdir().unwrap();
+    write(
+        d.path(),
+        "back.csv",
+        "t,trunk_acc_x,trunk_acc_y,trunk_acc_z,trunk_gyr_x,trunk_gyr_y,trunk_gyr_z",
+        |_| "9.81,0,0,0,0,0".into(),
+        50,
+    );
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "back.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        msg.contains("foot_acc_x/y/z")
+            && msg.contains("shank_gyr_x/y/z")
+            && msg.contains("gait-events"),
+        "{msg}"
+    );
+    assert!(!d.path().join("e.csv").exists());
+    // A shank-only trial with `leg_imu = "foot"`: refused, naming the setting.
+    write(
+        d.path(),
+        "shank.csv",
+        "t,shank_acc_x,shank_acc_y,shank_acc_z,shank_gyr_x,shank_gyr_y,shank_gyr_z",
+        |_| "0,9.81,0,0,0,0".into(),
+        50,
+    );
+    std::fs::write(d.path().join("foot.toml"), "leg_imu = \"foot\"\n").unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "--params",
+            "foot.toml",
+            "shank.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let msg = String::from_utf8_lossy(&o.stderr);
+    assert!(msg.contains("leg_imu = \"foot\""), "{msg}");
+    assert!(!d.path().join("e.csv").exists());
+}
+
+/// The `diag_<name>` values of an estimate file.
+fn diag_values(path: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == format!("diag_{name}"))
+        .unwrap_or_else(|| panic!("no diag_{name} in {}", path.display()));
+    lines
+        .filter_map(|l| l.split(',').nth(col).and_then(|v| v.parse().ok()))
+        .collect()
+}
+
+/// Issue 19 item 3, shank IMUs, on the shared gaittoolbox walk (right leg:
+/// foot and shank IMUs, 100 Hz, no event reference): the shank's events
+/// against the foot IMU's (whose landmarks are within 5 ms of motion capture
+/// on the gaitmap recording). Measured: initial contacts (zero crossing)
+/// -5 to +7 ms from the foot's, with the literature's valley +51 to +62 ms;
+/// toe offs +20 to +41 ms (valley before mid-swing). Every foot event paired.
+#[test]
+fn issue_19_shank_events_agree_with_the_foot_imu() {
+    let Some(data) = data_dir() else { return };
+    let gtb = data.join("gaittoolbox-s02-walk");
+    if !gtb.is_dir() {
+        println!("skipping: gaittoolbox-s02-walk not found");
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(
+        &[
+            "import",
+            "--format",
+            "gaittoolbox",
+            gtb.to_str().unwrap(),
+            "-o",
+            "t.csv",
+            "-q",
+        ],
+        d.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let run = |name: &str, params: &str| -> (Vec<f64>, Vec<f64>) {
+        std::fs::write(d.path().join("p.toml"), params).unwrap();
+        let out = format!("{name}.csv");
+        let o = limbfuse(
+            &[
+                "estimate",
+                "--method",
+                "gait-events",
+                "--params",
+                "p.toml",
+                "t.csv",
+                "-o",
+                &out,
+            ],
+            d.path(),
+        );
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let p = d.path().join(&out);
+        (diag_values(&p, "ic_right"), diag_values(&p, "fc_right"))
+    };
+    let (foot_ic, foot_fc) = run("foot", "leg_imu = \"foot\"\n");
+    let (shank_ic, shank_fc) = run("shank", "leg_imu = \"shank\"\n");
+    let (valley_ic, _) = run(
+        "valley",
+        "leg_imu = \"shank\"\nshank_contact = \"valley\"\n",
+    );
+    assert!(
+        foot_ic.len() >= 4 && foot_fc.len() >= 4,
+        "{foot_ic:?} {foot_fc:?}"
+    );
+    // Signed offset of the nearest shank event for each foot event.
+    let offsets = |foot: &[f64], shank: &[f64]| -> Vec<f64> {
+        foot.iter()
+            .map(|&f| {
+                shank
+                    .iter()
+                    .map(|&s| s - f)
+                    .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+                    .unwrap()
+            })
+            .collect()
+    };
+    let ic = offsets(&foot_ic, &shank_ic);
+    let valley = offsets(&foot_ic, &valley_ic);
+    let fc = offsets(&foot_fc, &shank_fc);
+    println!("IC zero crossing {ic:?}\nIC valley {valley:?}\nFC {fc:?}");
+    assert!(ic.iter().all(|x| x.abs() <= 0.01), "{ic:?}");
+    assert!(
+        valley.iter().all(|x| (0.045..=0.07).contains(x)),
+        "{valley:?}"
+    );
+    assert!(fc.iter().all(|x| (0.0..=0.05).contains(x)), "{fc:?}");
+}
+
+#[test]
+fn standing_still_is_no_gait_found() {
+    let d = tempfile::tempdir().unwrap();
+    // Five seconds of quiet standing: both feet and the lower back still.
+    let still = |k: usize| {
+        let n = 0.001 * ((k * 7919) % 13) as f64;
+        format!("0,{},9.81,0.01,{n},-0.002", 0.02 + n)
+    };
+    write(
+        d.path(),
+        "stand.csv",
+        "t,foot_gyr_x,foot_gyr_y,foot_gyr_z,foot_acc_x,foot_acc_y,foot_acc_z",
+        still,
+        500,
+    );
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "stand.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no gait found"));
+    assert!(!d.path().join("e.csv").exists());
+    write(
+        d.path(),
+        "back.csv",
+        "t,trunk_acc_x,trunk_acc_y,trunk_acc_z",
+        |k| format!("9.6,{},0.3", 0.001 * ((k * 31) % 7) as f64),
+        500,
+    );
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "back.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no gait found"));
+}
+
+/// Issue 19 (invariance audit): a one-foot recording that carries both
+/// feet's contact references (the gaitmap walk with the right shoe's
+/// columns removed) counted the unmeasured right foot's 29 initial
+/// contacts as missed (27 of 56 found). A foot with no IMU in the trial and
+/// nothing in the estimate is not scored now: 27 of 27, as on the full walk.
+#[test]
+fn issue_19_one_foot_recording_scores_only_that_foot() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(data.join("gaitmap-foot-walk/trial.csv")).unwrap();
+    let mut keep: Vec<usize> = Vec::new();
+    let mut out = String::new();
+    for line in src.lines() {
+        if line.starts_with('#') {
+            out += line;
+        } else {
+            let cells: Vec<&str> = line.split(',').collect();
+            if keep.is_empty() {
+                keep = (0..cells.len())
+                    .filter(|&i| {
+                        !cells[i].starts_with("foot_") || cells[i].starts_with("foot_left_")
+                    })
+                    .collect();
+            }
+            out += &keep.iter().map(|&i| cells[i]).collect::<Vec<_>>().join(",");
+        }
+        out += "\n";
+    }
+    let path = d.path().join("left-shoe.csv");
+    std::fs::write(&path, out).unwrap();
+    let v = evaluate_json("gait-events", &path, d.path());
+    for kind in ["initial_contact", "final_contact"] {
+        assert_eq!(f(&v, &[kind, "missed"]), 0.0, "{v}");
+        assert_eq!(f(&v, &[kind, "n_reference"]), 27.0, "{v}");
+    }
+}

@@ -1,0 +1,288 @@
+//! Issue 18 item 1: one corrupted cell (a bus glitch far beyond any sensor's
+//! range) must not ruin the rest of a trial. Before the range gate, a single
+//! thigh gyro cell of 1e300 left `mjls`, `global` and `local` ~91 deg off
+//! for the rest of the trial, and nothing was reported.
+
+use std::path::Path;
+use std::process::Output;
+
+use crate::support::limbfuse;
+
+fn assert_ok(o: &Output) {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "stderr: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// A copy of trial `from` with the cell (`row` after the header, `column`)
+/// replaced by `value`.
+fn corrupt(dir: &Path, from: &str, to: &str, cells: &[(usize, &str, &str)]) {
+    let text = std::fs::read_to_string(dir.join(from)).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header = lines.iter().position(|l| l.starts_with("t,")).unwrap();
+    let cols: Vec<String> = lines[header].split(',').map(str::to_string).collect();
+    for (row, column, value) in cells {
+        let c = cols.iter().position(|x| x == column).unwrap();
+        let mut fields: Vec<String> = lines[header + 1 + row]
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        fields[c] = value.to_string();
+        lines[header + 1 + row] = fields.join(",");
+    }
+    std::fs::write(dir.join(to), lines.join("\n") + "\n").unwrap();
+}
+
+/// Column `name` of an estimate file, from data row `from` on.
+fn column(dir: &Path, file: &str, name: &str, from: usize) -> Vec<f64> {
+    let text = std::fs::read_to_string(dir.join(file)).unwrap();
+    let mut rows = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let c = header.iter().position(|h| *h == name).unwrap();
+    rows.skip(from)
+        .map(|l| l.split(',').nth(c).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn issue_18_one_glitched_cell_does_not_ruin_the_rest_of_the_trial() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    assert_ok(&limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "20",
+            "--seed",
+            "5",
+            "-o",
+            "clean.csv",
+        ],
+        p,
+    ));
+    corrupt(
+        p,
+        "clean.csv",
+        "glitch.csv",
+        &[
+            (800, "thigh_gyr_z", "1e300"),
+            (1200, "shank_acc_x", "-1e308"),
+        ],
+    );
+    for method in ["mjls", "global", "local"] {
+        for trial in ["clean", "glitch"] {
+            let o = limbfuse(
+                &[
+                    "estimate",
+                    "--method",
+                    method,
+                    &format!("{trial}.csv"),
+                    "-o",
+                    &format!("{trial}-{method}.csv"),
+                ],
+                p,
+            );
+            assert_ok(&o);
+            let err = String::from_utf8_lossy(&o.stderr);
+            if trial == "glitch" {
+                assert!(
+                    err.contains("1 gyroscope, 1 accelerometer and 0 encoder reading(s) were rejected (first at t = 8 s)"),
+                    "{err}"
+                );
+            } else {
+                assert!(!err.contains("were rejected"), "{err}");
+            }
+        }
+        for seg in ["thigh", "shank"] {
+            let a = column(p, &format!("clean-{method}.csv"), seg, 800);
+            let b = column(p, &format!("glitch-{method}.csv"), seg, 800);
+            let worst = a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (x - y).abs().to_degrees())
+                .fold(0.0, f64::max);
+            // One missing update moves the estimate by a fraction of a degree.
+            assert!(worst < 0.5, "{method} {seg}: {worst} deg after the glitch");
+        }
+        let rejected = column(p, &format!("glitch-{method}.csv"), "diag_rejected_gyro", 0);
+        assert_eq!(rejected[799], 0.0);
+        assert_eq!(rejected[800], 1.0);
+        assert_eq!(*rejected.last().unwrap(), 1.0);
+    }
+}
+
+#[test]
+fn issue_18_sensor_range_comes_from_the_trial_metadata_and_a_bad_one_is_an_error() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    assert_ok(&limbfuse(
+        &["simulate", "walking", "--duration", "5", "-o", "w.csv"],
+        p,
+    ));
+    let text = std::fs::read_to_string(p.join("w.csv")).unwrap();
+    // A 1 rad/s gyro range: walking thigh rates exceed it, so readings go.
+    std::fs::write(
+        p.join("narrow.csv"),
+        format!("# gyro_range_rad_s: 1\n{text}"),
+    )
+    .unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "narrow.csv", "-o", "n.csv"],
+        p,
+    );
+    assert_ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("gyroscope"));
+    let rejected = column(p, "n.csv", "diag_rejected_gyro", 0);
+    assert!(*rejected.last().unwrap() > 100.0, "{:?}", rejected.last());
+
+    std::fs::write(p.join("bad.csv"), format!("# acc_range_m_s2: -3\n{text}")).unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "bad.csv", "-o", "b.csv"],
+        p,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("acc_range_m_s2: -3") && err.contains("positive number"),
+        "{err}"
+    );
+    assert!(!p.join("b.csv").exists());
+}
+
+/// The shared independent walking trial, or `None` (with a message) when
+/// `../shared/data` is absent.
+fn independent_walk() -> Option<std::path::PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| {
+            std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    let f = dir.join("independent-sim/walk-v1.2-s301.csv");
+    if f.is_file() {
+        Some(f)
+    } else {
+        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
+        None
+    }
+}
+
+/// The four segment RMSEs (deg) of `limbfuse evaluate trial estimate`.
+fn segment_rmse(dir: &Path, trial: &str, estimate: &str) -> [f64; 4] {
+    let o = limbfuse(&["evaluate", trial, estimate], dir);
+    assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    ["trunk", "thigh", "shank", "foot"].map(|seg| {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(seg))
+            .unwrap_or_else(|| panic!("no {seg} row in {text}"));
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    })
+}
+
+/// Issue 18 done-when: one 1e300 gyro cell, one -1e308 accelerometer cell,
+/// a burst of 50 saturated gyro samples (2000 deg/s on the thigh's z axis
+/// while x and y move on) and a stuck thigh gyroscope (its three axes
+/// frozen for 2 s) each leave every segment's RMSE within 0.5 deg of the
+/// clean run's, for local, mjls, global and chain, and the rejections are
+/// reported. Before the plausibility checks the saturated burst cost the
+/// thigh 750-800 deg of RMSE (the filters integrated 35 rad/s for 0.5 s).
+#[test]
+fn issue_18_glitches_within_range_saturation_and_a_stuck_gyro_leave_the_rmse() {
+    let Some(walk) = independent_walk() else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::copy(&walk, p.join("clean.csv")).unwrap();
+    // rows after the header; the trial is 100 Hz
+    corrupt(
+        p,
+        "clean.csv",
+        "gyro1e300.csv",
+        &[(2000, "thigh_gyr_z", "1e300")],
+    );
+    corrupt(
+        p,
+        "clean.csv",
+        "acc1e308.csv",
+        &[(3000, "shank_acc_x", "-1e308")],
+    );
+    let saturated: Vec<(usize, &str, &str)> = (2500..2550)
+        .map(|r| (r, "thigh_gyr_z", "34.906585"))
+        .collect();
+    corrupt(p, "clean.csv", "saturated.csv", &saturated);
+    let text = std::fs::read_to_string(p.join("clean.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| l.starts_with("t,")).unwrap();
+    let cols: Vec<&str> = lines[header].split(',').collect();
+    let frozen: Vec<String> = ["thigh_gyr_x", "thigh_gyr_y", "thigh_gyr_z"]
+        .iter()
+        .map(|c| {
+            let k = cols.iter().position(|x| x == c).unwrap();
+            lines[header + 1 + 4000]
+                .split(',')
+                .nth(k)
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    let mut stuck = Vec::new();
+    for r in 4000..4200 {
+        for (c, v) in ["thigh_gyr_x", "thigh_gyr_y", "thigh_gyr_z"]
+            .iter()
+            .zip(&frozen)
+        {
+            stuck.push((r, *c, v.as_str()));
+        }
+    }
+    corrupt(p, "clean.csv", "stuck.csv", &stuck);
+    // (trial, gyroscope readings that must be rejected, accelerometer ones)
+    let cases = [
+        ("gyro1e300", 1, 0),
+        ("acc1e308", 0, 1),
+        ("saturated", 50, 0),
+        ("stuck", 190, 0),
+    ];
+    for method in ["local", "mjls", "global", "chain"] {
+        let est = |trial: &str| {
+            let o = limbfuse(
+                &[
+                    "estimate",
+                    "--method",
+                    method,
+                    &format!("{trial}.csv"),
+                    "-o",
+                    &format!("{trial}-{method}.csv"),
+                ],
+                p,
+            );
+            assert_ok(&o);
+            String::from_utf8_lossy(&o.stderr).to_string()
+        };
+        let err = est("clean");
+        assert!(!err.contains("were rejected"), "{method} clean: {err}");
+        let clean = segment_rmse(p, "clean.csv", &format!("clean-{method}.csv"));
+        for (trial, gyro, acc) in cases {
+            let err = est(trial);
+            // (mjls's encoder gate may refuse a row while the thigh is
+            // carried by the chain: the encoder count is not fixed here)
+            let reported = format!("{gyro} gyroscope, {acc} accelerometer and ");
+            assert!(
+                err.contains(&reported) && err.contains("were rejected"),
+                "{method} {trial}: {err}"
+            );
+            let rmse = segment_rmse(p, &format!("{trial}.csv"), &format!("{trial}-{method}.csv"));
+            for (k, (a, b)) in clean.iter().zip(&rmse).enumerate() {
+                assert!(
+                    (b - a).abs() <= 0.5,
+                    "{method} {trial} segment {k}: RMSE {b} deg vs clean {a} deg"
+                );
+            }
+        }
+    }
+}
