@@ -41,39 +41,27 @@ impl SpeedRangeWatch {
     /// library's range, `None` otherwise.
     pub fn note(&self) -> Option<String> {
         let (lo, hi) = self.range;
-        let (side, (n, sum), end, build) = if 2 * self.below.0 > self.with_speed {
-            (
-                "below",
-                self.below,
-                lo,
-                (self.below.1 / self.below.0 as f64, hi),
-            )
+        let (side, (n, sum), end) = if 2 * self.below.0 > self.with_speed {
+            ("below", self.below, lo)
         } else if 2 * self.above.0 > self.with_speed {
-            (
-                "above",
-                self.above,
-                hi,
-                (lo, self.above.1 / self.above.0 as f64),
-            )
+            ("above", self.above, hi)
         } else {
             return None;
         };
         let mean = sum / n as f64;
         let share = 100.0 * n as f64 / self.with_speed as f64;
+        // (the ends on the 0.1 m/s grid of the library builds documented)
+        let from = (lo.min(mean) * 10.0 + 1e-9).floor() / 10.0;
+        let to = (hi.max(mean) * 10.0 - 1e-9).ceil() / 10.0;
         Some(format!(
             "note: the estimated walking speed is {side} the gait library's range ({lo:.2}-{hi:.2} m/s \
              for this body) on {share:.0} % of the samples with a speed (their mean {mean:.2} m/s): \
              phase and CoM then follow the library's end gait at {end:.2} m/s; for this trial build a \
-             library over its speeds, e.g. `limbfuse gait-library build --speeds {:.2}:{:.2}:0.1 ...` \
+             library over its speeds, e.g. `limbfuse gait-library build --speeds {from:.2}:{to:.2}:0.1 ...` \
              with the body's --leg-length and --mass (docs/GAIT_IMM.md)",
-            // (the ends on the 0.1 m/s grid of the library builds documented)
-            (build.0 * 10.0 + 1e-9).floor() / 10.0,
-            (build.1 * 10.0 - 1e-9).ceil() / 10.0,
         ))
     }
-}
 
-impl SpeedRangeWatch {
     /// Counts one estimated speed (m/s; `None` or not finite: no speed).
     pub fn observe_speed(&mut self, v: Option<f64>) {
         if let Some(v) = v.filter(|v| v.is_finite()) {
