@@ -47,6 +47,18 @@ pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Esti
     build(spec, reader.meta(), reader.layout()).with_context(|| reader.path().display().to_string())
 }
 
+/// knee-selfalign / knee-gyro-axis: the identification window in samples
+/// at the trial's rate (`limbfuse_methods::knee_window`); 0 for other methods.
+pub fn knee_window(spec: &MethodSpec, reader: &TrialReader) -> Result<usize> {
+    let meta = reader.meta();
+    let window = match spec {
+        MethodSpec::KneeSelfAlign(s) => s.for_trial(meta).map(|p| p.window),
+        MethodSpec::KneeGyroAxis(s) => s.for_trial(meta).map(|p| p.axes.window),
+        _ => Ok(0),
+    };
+    Ok(window.with_context(|| reader.path().display().to_string())?)
+}
+
 /// imm-bslip: the slowest and fastest gait of the library as used on the
 /// trial `reader` reads (rescaled to its body); `None` for other methods.
 pub fn library_speed_range(spec: &MethodSpec, reader: &TrialReader) -> Result<Option<(f64, f64)>> {

@@ -56,6 +56,15 @@ pub enum MethodError {
     /// A knee-selfalign setting out of range.
     #[error("{0} (--window counts samples: 20 to 100000; --order: 1 to 100)")]
     KneeParams(#[from] KneeParamError),
+    /// The knee methods' identification window cannot be resolved (both
+    /// file keys, a duration out of range, a trial rate that is not one).
+    #[error("method `{method}`: {message}")]
+    KneeWindow {
+        /// The method.
+        method: MethodName,
+        /// What is wrong (names the key and what was expected).
+        message: String,
+    },
     /// An imm-bslip setting out of range.
     #[error("method `imm-bslip`: {0}")]
     ImmParams(String),

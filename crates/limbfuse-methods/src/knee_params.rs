@@ -2,7 +2,8 @@
 //!
 //! ```toml
 //! method = "knee-selfalign"   # optional
-//! window = 500                # s_w, samples (--window)
+//! window_s = 5.0              # s_w as a duration (s): 500 samples at 100 Hz (paper 002)
+//! # window = 500              # or s_w in samples, as given (--window)
 //! order = 6                   # parameter-EKF iterations per window (--order)
 //! zero = "sensor-positions"   # or "paper-c": which sensor pose is 0 deg
 //! sign_commit = 0.9           # sign confidence at which the axis-sign pair is kept
@@ -24,8 +25,9 @@ use serde::Deserialize;
 use limbfuse_core::Estimator;
 use limbfuse_io::{TrialLayout, TrialMeta};
 
+use crate::knee_window::WindowLength;
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
-use crate::{ChannelNeeds, MethodError, MethodFlags};
+use crate::{ChannelNeeds, MethodError, MethodFlags, MethodName};
 
 /// The zero of the accelerometer angle, as written in a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -51,6 +53,7 @@ enum AxisPriorName {
 struct KneeSelfAlignFile {
     method: Option<String>,
     window: Option<usize>,
+    window_s: Option<f64>,
     order: Option<usize>,
     zero: Option<ZeroName>,
     sign_commit: Option<f64>,
@@ -62,16 +65,52 @@ struct KneeSelfAlignFile {
     upright_min_hinge_ratio: Option<f64>,
 }
 
-/// The parameters of a parameter file's text (or the paper defaults for
-/// none) with `--window` / `--order` applied on top, validated.
+/// `knee-selfalign` settings: the estimator's parameters and its window as
+/// given (samples, or a duration counted at the trial's rate:
+/// [`crate::knee_window`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KneeSelfAlignSettings {
+    /// The parameters; `params.window` is the window at 100 Hz, replaced
+    /// for the trial by [`KneeSelfAlignSettings::for_trial`].
+    pub params: KneeSelfAlignParams,
+    /// The window as the file or `--window` gives it.
+    pub window: WindowLength,
+}
+
+impl KneeSelfAlignSettings {
+    /// The parameters for a trial with this metadata (the window in
+    /// samples at its rate), validated.
+    pub fn for_trial(&self, meta: &TrialMeta) -> Result<KneeSelfAlignParams, MethodError> {
+        let p = KneeSelfAlignParams {
+            window: self.window.samples(MethodName::KneeSelfAlign, meta)?,
+            ..self.params
+        };
+        p.validate()?;
+        Ok(p)
+    }
+}
+
+/// The window at 100 Hz (what `params.window` holds before a trial is known).
+fn window_at_paper_rate(w: WindowLength) -> Result<usize, MethodError> {
+    w.samples(MethodName::KneeSelfAlign, &TrialMeta::new())
+}
+
+/// The settings of a parameter file's text (or the defaults for none) with
+/// `--window` / `--order` applied on top, validated.
 pub fn knee_params(
     file: Option<(&str, &Path)>,
     flags: &MethodFlags,
-) -> Result<KneeSelfAlignParams, MethodError> {
+) -> Result<KneeSelfAlignSettings, MethodError> {
     let f: KneeSelfAlignFile = read_file::<KneeSelfAlignMethod, _>(file)?;
     let d = KneeSelfAlignParams::default();
+    let window = WindowLength::resolve(
+        MethodName::KneeSelfAlign,
+        flags.window,
+        f.window,
+        f.window_s,
+    )?;
     let p = KneeSelfAlignParams {
-        window: flags.window.or(f.window).unwrap_or(d.window),
+        window: window_at_paper_rate(window)?,
         order: flags.order.or(f.order).unwrap_or(d.order),
         zero: match f.zero {
             None => d.zero,
@@ -96,7 +135,7 @@ pub fn knee_params(
         ..d
     };
     p.validate()?;
-    Ok(p)
+    Ok(KneeSelfAlignSettings { params: p, window })
 }
 
 impl MethodFile for KneeSelfAlignFile {
@@ -114,27 +153,27 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio (file keys or --window/--order)",
+        "window_s (default 5 s at the trial's rate) or window (samples), order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
         "needs the thigh and shank accelerometers and gyroscopes (the knee axis and angle come from both)",
     );
-    type Settings = KneeSelfAlignParams;
+    type Settings = KneeSelfAlignSettings;
 
     fn resolve(
         file: Option<(&str, &Path)>,
         flags: &MethodFlags,
-    ) -> Result<KneeSelfAlignParams, MethodError> {
+    ) -> Result<KneeSelfAlignSettings, MethodError> {
         knee_params(file, flags)
     }
 
     fn build(
-        p: &KneeSelfAlignParams,
-        _: &TrialMeta,
+        s: &KneeSelfAlignSettings,
+        meta: &TrialMeta,
         _: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(KneeSelfAlign::new(*p)?))
+        Ok(Box::new(KneeSelfAlign::new(s.for_trial(meta)?)?))
     }
 
     fn default_file() -> String {
@@ -148,7 +187,7 @@ pub fn default_file() -> String {
     format!(
         "# limbfuse knee-selfalign parameters (paper 002; docs/KNEE_SELFALIGN.md).\n\
          method = \"knee-selfalign\"\n\
-         window = {}  # s_w, samples (20 to 100000); --window overrides\n\
+         {}  # s_w as a duration (s, 0.2 to 1000), in samples at the trial's rate: 500 at 100 Hz (paper 002); or `window = N` samples (20 to 100000) as given; --window N overrides\n\
          order = {}  # parameter-EKF iterations per window (1 to 100); --order overrides\n\
          zero = \"{}\"  # which pose is 0 deg: \"sensor-positions\" or \"paper-c\"\n\
          sign_commit = {}  # sign confidence (0 to 1) at which the axis-sign pair is kept (limbfuse)\n\
@@ -158,7 +197,7 @@ pub fn default_file() -> String {
          highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n\
          axis_prior = \"upright\"  # \"upright\" (limbfuse, issue 15) or \"none\" (paper 002: eq 2 alone)\n\
          upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n",
-        d.window,
+        WindowLength::default().file_line(),
         d.order,
         d.zero.name(),
         d.sign_commit,
@@ -170,12 +209,33 @@ pub fn default_file() -> String {
     )
 }
 
+/// `knee-gyro-axis` settings: the estimator's parameters and the axis
+/// identification's window as given ([`crate::knee_window`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KneeGyroAxisSettings {
+    /// The parameters; `params.axes.window` is the window at 100 Hz.
+    pub params: KneeGyroAxisParams,
+    /// The window as the file or `--window` gives it.
+    pub window: WindowLength,
+}
+
+impl KneeGyroAxisSettings {
+    /// The parameters for a trial with this metadata, validated.
+    pub fn for_trial(&self, meta: &TrialMeta) -> Result<KneeGyroAxisParams, MethodError> {
+        let mut p = self.params;
+        p.axes.window = self.window.samples(MethodName::KneeGyroAxis, meta)?;
+        p.validate()?;
+        Ok(p)
+    }
+}
+
 /// A `knee-gyro-axis` parameter file.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct KneeGyroAxisFile {
     method: Option<String>,
     window: Option<usize>,
+    window_s: Option<f64>,
     order: Option<usize>,
     corner_hz: Option<f64>,
 }
@@ -196,38 +256,40 @@ impl MethodDef for KneeGyroAxisMethod {
         "knee-gyro-axis",
         "knee angle from the relative gyro rate about the identified knee axes, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
         "raw thigh and shank IMUs (any mounting)",
-        "window, order, corner_hz (file keys or --window/--order)",
+        "window_s (default 5 s at the trial's rate) or window (samples), order, corner_hz (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
         "needs the thigh and shank accelerometers and gyroscopes (the knee axes come from both gyros, the inclination from both accelerometers)",
     );
-    type Settings = KneeGyroAxisParams;
+    type Settings = KneeGyroAxisSettings;
 
     fn resolve(
         file: Option<(&str, &Path)>,
         flags: &MethodFlags,
-    ) -> Result<KneeGyroAxisParams, MethodError> {
+    ) -> Result<KneeGyroAxisSettings, MethodError> {
         let f: KneeGyroAxisFile = read_file::<KneeGyroAxisMethod, _>(file)?;
         let d = KneeGyroAxisParams::default();
+        let window =
+            WindowLength::resolve(MethodName::KneeGyroAxis, flags.window, f.window, f.window_s)?;
         let p = KneeGyroAxisParams {
             axes: KneeSelfAlignParams {
-                window: flags.window.or(f.window).unwrap_or(d.axes.window),
+                window: window_at_paper_rate(window)?,
                 order: flags.order.or(f.order).unwrap_or(d.axes.order),
                 ..d.axes
             },
             corner_hz: f.corner_hz.unwrap_or(d.corner_hz),
         };
         p.validate()?;
-        Ok(p)
+        Ok(KneeGyroAxisSettings { params: p, window })
     }
 
     fn build(
-        p: &KneeGyroAxisParams,
-        _: &TrialMeta,
+        s: &KneeGyroAxisSettings,
+        meta: &TrialMeta,
         _: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(KneeGyroAxis::new(*p)?))
+        Ok(Box::new(KneeGyroAxis::new(s.for_trial(meta)?)?))
     }
 
     fn default_file() -> String {
@@ -235,10 +297,12 @@ impl MethodDef for KneeGyroAxisMethod {
         format!(
             "# limbfuse knee-gyro-axis parameters (issue 15; docs/KNEE_SELFALIGN.md).\n\
              method = \"knee-gyro-axis\"\n\
-             window = {}  # s_w of the axis identification, samples; --window overrides\n\
+             {}  # s_w of the axis identification as a duration (s), in samples at the trial's rate: 500 at 100 Hz; or `window = N` samples as given; --window N overrides\n\
              order = {}  # parameter-EKF iterations per window; --order overrides\n\
              corner_hz = {}  # drift-removal corner frequency (Hz, 0 to 10)\n",
-            d.axes.window, d.axes.order, d.corner_hz
+            WindowLength::default().file_line(),
+            d.axes.order,
+            d.corner_hz
         )
     }
 }
@@ -255,7 +319,8 @@ mod tests {
             ..Default::default()
         };
         let p = knee_params(Some(("window = 300\norder = 5\n", path)), &flags).unwrap();
-        assert_eq!((p.window, p.order), (300, 3));
+        assert_eq!((p.params.window, p.params.order), (300, 3));
+        assert_eq!(p.window, WindowLength::Samples(300));
         let e = knee_params(Some(("windw = 300\n", path)), &flags).unwrap_err();
         assert!(e.to_string().contains("k.toml:1:1"), "{e}");
         let e = knee_params(Some(("window = 3\n", path)), &MethodFlags::default()).unwrap_err();
@@ -269,7 +334,35 @@ mod tests {
             &MethodFlags::default(),
         )
         .unwrap();
-        assert_eq!(p, KneeSelfAlignParams::default());
+        assert_eq!(p.params, KneeSelfAlignParams::default());
+        assert_eq!(p.window, WindowLength::default());
+    }
+
+    #[test]
+    fn the_window_is_counted_at_the_trials_rate_unless_given_in_samples() {
+        let mut meta = TrialMeta::new();
+        meta.set("sample_rate_hz", 250);
+        let path = Path::new("k.toml");
+        let none = MethodFlags::default();
+        let p = knee_params(None, &none).unwrap();
+        assert_eq!(p.for_trial(&meta).unwrap().window, 1250);
+        assert_eq!(p.for_trial(&TrialMeta::new()).unwrap().window, 500);
+        let p = knee_params(Some(("window_s = 2.0\n", path)), &none).unwrap();
+        assert_eq!(p.for_trial(&meta).unwrap().window, 500);
+        let p = knee_params(Some(("window = 500\n", path)), &none).unwrap();
+        assert_eq!(p.for_trial(&meta).unwrap().window, 500);
+        // a duration that is too short at this rate is refused when built
+        let p = knee_params(Some(("window_s = 0.2\n", path)), &none).unwrap();
+        meta.set("sample_rate_hz", 50);
+        let e = p.for_trial(&meta).unwrap_err();
+        assert!(e.to_string().contains("window"), "{e}");
+        let g = KneeGyroAxisMethod::resolve(None, &none).unwrap();
+        meta.set("sample_rate_hz", 250);
+        assert_eq!(g.for_trial(&meta).unwrap().axes.window, 1250);
+        let g =
+            KneeGyroAxisMethod::resolve(Some((&KneeGyroAxisMethod::default_file(), path)), &none)
+                .unwrap();
+        assert_eq!(g.params, KneeGyroAxisParams::default());
     }
 
     #[test]
@@ -277,9 +370,9 @@ mod tests {
         let path = Path::new("k.toml");
         let flags = MethodFlags::default();
         let p = knee_params(Some(("axis_prior = \"none\"\n", path)), &flags).unwrap();
-        assert_eq!(p.axis_prior, None);
+        assert_eq!(p.params.axis_prior, None);
         let p = knee_params(Some(("upright_min_hinge_ratio = 0.2\n", path)), &flags).unwrap();
-        assert_eq!(p.axis_prior.map(|u| u.min_hinge_ratio), Some(0.2));
+        assert_eq!(p.params.axis_prior.map(|u| u.min_hinge_ratio), Some(0.2));
         let e = knee_params(Some(("upright_min_hinge_ratio = -1\n", path)), &flags).unwrap_err();
         assert!(e.to_string().contains("upright_min_hinge_ratio"), "{e}");
     }

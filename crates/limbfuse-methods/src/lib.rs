@@ -43,6 +43,7 @@ pub mod gated;
 pub mod imm_body;
 pub mod imm_params;
 pub mod knee_params;
+pub mod knee_window;
 pub mod lowback_method;
 pub mod method_def;
 mod name;

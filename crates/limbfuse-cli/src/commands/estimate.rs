@@ -9,8 +9,6 @@ use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{RejectionWatch, ResetWatch, SpeedRangeWatch};
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
-use limbfuse_methods::MethodSpec;
-
 use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
@@ -64,6 +62,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     };
     let mut est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
+    let knee_window = methods::knee_window(&spec, &reader)?;
     let diagnostics = match &a.diagnostics {
         Some(text) => DiagnosticColumns::parse(text)?,
         None => DiagnosticColumns::All,
@@ -124,12 +123,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         }
     };
     if let Some(k) = &knee {
-        let window = match &spec {
-            MethodSpec::KneeSelfAlign(p) => p.window,
-            MethodSpec::KneeGyroAxis(p) => p.axes.window,
-            _ => 0,
-        };
-        match k.verdict(window) {
+        match k.verdict(knee_window) {
             Ok(line) => eprintln!("{}: {line}", spec.method()),
             Err(why) => {
                 if !stdio::is_stdio(&a.output) {
