@@ -250,7 +250,8 @@ pub struct EstimateArgs {
     /// Parameter overrides (TOML).
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// knee-selfalign: window length s_w in samples (paper 002 default 500).
+    /// knee-selfalign / knee-gyro-axis: window length s_w in samples, used as given (default: 5 s at
+    /// the trial's rate, i.e. paper 002's 500 samples at 100 Hz).
     #[arg(long, value_name = "SAMPLES")]
     pub window: Option<usize>,
     /// knee-selfalign: parameter-EKF iterations per window (paper 002 default 6).
