@@ -56,7 +56,7 @@ pub fn knee_window(spec: &MethodSpec, reader: &TrialReader) -> Result<usize> {
         MethodSpec::KneeGyroAxis(s) => s.for_trial(meta).map(|p| p.axes.window),
         _ => Ok(0),
     };
-    Ok(window.with_context(|| reader.path().display().to_string())?)
+    window.with_context(|| reader.path().display().to_string())
 }
 
 /// imm-bslip: the slowest and fastest gait of the library as used on the
