@@ -229,18 +229,7 @@ fn pose_recordings_with_motion_or_too_few_poses_are_refused() {
 }
 
 fn knee_rig() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let f = dir.join("knee-rig/Trial_01.csv");
-    if f.is_file() {
-        Some(f)
-    } else {
-        println!("skipping: ../shared/data not found (set LIMBFUSE_DATA)");
-        None
-    }
+    crate::support::shared_data("knee-rig/Trial_01.csv")
 }
 
 #[test]

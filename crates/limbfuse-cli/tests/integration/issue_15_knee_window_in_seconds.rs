@@ -8,40 +8,15 @@
 //! (offset-free 2.3), correlation 0.98. Skipped when `../shared/data` is
 //! absent.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::support::limbfuse;
-
-fn rig_trial() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let t = dir.join("knee-rig/Trial_05.csv");
-    if t.is_file() {
-        Some(t)
-    } else {
-        println!("skipping: ../shared/data/knee-rig/Trial_05.csv not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
-
-fn run_ok(args: &[&str], dir: &Path) -> String {
-    let o = limbfuse(args, dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+use crate::s02_support::run_ok;
+use crate::support::shared_data;
 
 /// Knee RMSE (deg) and correlation of `est` against `rig.csv`.
 fn knee_fit(dir: &Path, est: &str) -> (f64, f64) {
     let json = run_ok(&["evaluate", "rig.csv", est, "--json"], dir);
-    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
     let rmse = v["rmse_deg"]["knee"].as_f64().unwrap();
     let corr = v["corr"]["knee"].as_f64().unwrap();
     (rmse, corr)
@@ -49,7 +24,7 @@ fn knee_fit(dir: &Path, est: &str) -> (f64, f64) {
 
 #[test]
 fn issue_15_knee_window_in_seconds_on_the_250_hz_rig() {
-    let Some(trial) = rig_trial() else {
+    let Some(trial) = shared_data("knee-rig/Trial_05.csv") else {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();

@@ -4,23 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::support::limbfuse;
+use crate::support::{limbfuse, shared_data};
 
 /// `../shared/data/gaittoolbox-s02-walk` (or under `LIMBFUSE_DATA`); `None`
 /// with a message when it is absent.
 pub fn s02_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    let s02 = dir.join("gaittoolbox-s02-walk");
-    if s02.is_dir() {
-        Some(s02)
-    } else {
-        println!("skipping: ../shared/data/gaittoolbox-s02-walk not found (set LIMBFUSE_DATA)");
-        None
-    }
+    shared_data("gaittoolbox-s02-walk")
 }
 
 /// Runs `limbfuse args` in `dir`, asserts exit 0, returns its stdout.

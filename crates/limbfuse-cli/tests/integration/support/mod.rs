@@ -1,7 +1,7 @@
 //! What every CLI integration test needs: the `limbfuse` binary built for
 //! this test run, run with arguments in a directory.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs the `limbfuse` binary of this build with `args` in `dir` and
@@ -13,4 +13,21 @@ pub fn limbfuse(args: &[&str], dir: &Path) -> Output {
         .current_dir(dir)
         .output()
         .expect("the binary runs")
+}
+
+/// `../shared/data/REL` (or under `LIMBFUSE_DATA`) when it exists; `None`
+/// with a skip message otherwise.
+pub fn shared_data(rel: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("LIMBFUSE_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
+        });
+    let path = dir.join(rel);
+    if path.exists() {
+        Some(path)
+    } else {
+        println!("skipping: ../shared/data/{rel} not found (set LIMBFUSE_DATA)");
+        None
+    }
 }
