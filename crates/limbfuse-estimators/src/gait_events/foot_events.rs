@@ -208,4 +208,39 @@ mod tests {
         assert!((ic - 0.75).abs() < 1e-3, "initial contact at {ic}");
         assert_eq!(d.contact(), Some(true));
     }
+
+    /// At 50 Hz a sharp release can cross `swing_rate` at the first sample
+    /// after the extremum: the swing is decided there (contact off), the
+    /// toe off one sample later, when the release line's second sample is
+    /// in, at the corner of the push-off and release lines.
+    #[test]
+    fn a_release_crossing_at_the_next_sample_waits_for_the_line() {
+        let mut d = FootEvents::new(1.0, 0.15);
+        let dt = 0.02;
+        let corner = 0.513;
+        let w = |t: f64| {
+            if t < 0.3 {
+                0.0
+            } else if t < corner {
+                -5.0 - 20.0 * (t - corner)
+            } else {
+                (-5.0 + 1000.0 * (t - corner)).min(30.0)
+            }
+        };
+        let mut fc = vec![];
+        for k in 0..40 {
+            let t = k as f64 * dt;
+            let e = d.update(t, dt, w(t), t < 0.3);
+            if let Some(t_fc) = e.final_contact {
+                fc.push((t, t_fc));
+            }
+            if (0.52..0.53).contains(&t) {
+                assert_eq!(d.contact(), Some(false), "swing decided at {t}");
+            }
+        }
+        assert_eq!(fc.len(), 1, "{fc:?}");
+        let (decided, t_fc) = fc[0];
+        assert!((decided - 0.54).abs() < 1e-9, "decided at {decided}");
+        assert!((t_fc - corner).abs() < 1e-9, "toe off at {t_fc}");
+    }
 }
