@@ -5,9 +5,11 @@
 //! `gait-events` places it (corner or parabola, `gait_events::trough_time`),
 //! as the parabola alone places it, and at the minimum of a band-limited
 //! (windowed-sinc) interpolation of the samples, each against the 204.8 Hz
-//! reference events and against the resampled reference.
+//! reference events and against the resampled reference. Each further
+//! trial (no event reference needed) is resampled to the rates below its
+//! own, and its toe offs there are compared with those at its own rate.
 //! `cargo run --release -p limbfuse-studies --example final_contact_floor --
-//! ../shared/data/gaitmap-foot-walk/trial.csv`
+//! ../shared/data/gaitmap-foot-walk/trial.csv [OTHER_TRIAL ...]`
 
 use std::path::Path;
 
@@ -147,11 +149,88 @@ fn read(path: &Path) -> Vec<Record> {
     out
 }
 
+/// Resampled to `rate` (default filter), or as recorded for 0.
+fn at_rate(path: &Path, native: &[Record], rate: f64, anti_alias: AntiAlias) -> Vec<Record> {
+    if rate == 0.0 {
+        return native.to_vec();
+    }
+    let reader = TrialReader::open(path).expect("the trial");
+    resample_trial(
+        reader,
+        &ResampleOptions {
+            rate_hz: rate,
+            anti_alias,
+        },
+    )
+    .expect("resampled")
+    .records
+}
+
+/// Toe offs of `path` at lower rates against those at its own rate.
+fn rate_shift(path: &Path) {
+    let native = read(path);
+    let own_rate = 1.0 / (native[1].sample.t - native[0].sample.t);
+    let base = run(&native);
+    let base_parabola: Vec<Vec<f64>> = base
+        .iter()
+        .map(|f| {
+            f.final_contacts
+                .iter()
+                .filter_map(|&fc| alternatives(f, fc))
+                .map(|a| a.0)
+                .collect()
+        })
+        .collect();
+    let own_corners: usize = base
+        .iter()
+        .map(|f| {
+            f.final_contacts
+                .iter()
+                .filter_map(|&fc| alternatives(f, fc))
+                .filter(|a| a.2)
+                .count()
+        })
+        .sum();
+    let own_n: usize = base_parabola.iter().map(Vec::len).sum();
+    println!("\n{} ({own_rate:.1} Hz, {own_n} toe offs, {own_corners} corners): toe offs at a lower rate minus at {own_rate:.1} Hz, median / p95 (mean) ms", path.display());
+    for rate in [200.0, 100.0, 60.0, 50.0] {
+        if rate >= own_rate - 1e-6 {
+            continue;
+        }
+        let feet = run(&at_rate(path, &native, rate, AntiAlias::WindowedSinc));
+        let (mut shift, mut parabola_shift, mut n, mut corners) = (vec![], vec![], 0, 0);
+        for side in 0..2 {
+            let foot = &feet[side];
+            shift.extend(errors(&foot.final_contacts, &base[side].final_contacts));
+            let mut p = vec![];
+            for &fc in &foot.final_contacts {
+                if let Some((tp, _, corner)) = alternatives(foot, fc) {
+                    p.push(tp);
+                    n += 1;
+                    corners += usize::from(corner);
+                }
+            }
+            parabola_shift.extend(errors(&p, &base_parabola[side]));
+        }
+        if shift.is_empty() {
+            println!("  {rate} Hz: no toe off");
+            continue;
+        }
+        println!(
+            "  {rate} Hz: {n} toe offs ({corners} corners): gait-events {}, parabola alone {}",
+            summary(&shift),
+            summary(&parabola_shift)
+        );
+    }
+}
+
 fn main() {
-    let path = std::env::args()
-        .nth(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let first = args
+        .first()
+        .cloned()
         .unwrap_or_else(|| "../shared/data/gaitmap-foot-walk/trial.csv".into());
-    let path = Path::new(&path);
+    let path = Path::new(&first);
     let native = read(path);
     let native_fc = [0, 1].map(|s| reference_final_contacts(&native, s));
     let feet = run(&native);
@@ -248,5 +327,8 @@ fn main() {
             shift.iter().sum::<f64>() / shift.len() as f64 * 1e3,
             max_shift
         );
+    }
+    for other in args.iter().skip(1) {
+        rate_shift(Path::new(other));
     }
 }
