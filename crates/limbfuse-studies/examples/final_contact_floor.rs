@@ -192,7 +192,19 @@ fn rate_shift(path: &Path) {
         })
         .sum();
     let own_n: usize = base_parabola.iter().map(Vec::len).sum();
-    println!("\n{} ({own_rate:.1} Hz, {own_n} toe offs, {own_corners} corners): toe offs at a lower rate minus at {own_rate:.1} Hz, median / p95 (mean) ms", path.display());
+    let largest_move = base
+        .iter()
+        .flat_map(|f| {
+            f.final_contacts
+                .iter()
+                .filter_map(move |&fc| alternatives(f, fc).map(|a| (fc - a.0).abs()))
+        })
+        .fold(0.0f64, f64::max);
+    println!(
+        "\n{} ({own_rate:.1} Hz, {own_n} toe offs, {own_corners} corners, at most {:.2} ms from the parabola's): toe offs at a lower rate minus at {own_rate:.1} Hz, median / p95 (mean) ms",
+        path.display(),
+        largest_move * 1e3
+    );
     for rate in [200.0, 100.0, 60.0, 50.0] {
         if rate >= own_rate - 1e-6 {
             continue;
