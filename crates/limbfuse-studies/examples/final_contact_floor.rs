@@ -287,20 +287,7 @@ fn main() {
         (50.0, AntiAlias::Boxcar),
     ];
     for (rate, anti_alias) in cases {
-        let records = if rate == 0.0 {
-            native.clone()
-        } else {
-            let reader = TrialReader::open(path).expect("the trial");
-            resample_trial(
-                reader,
-                &ResampleOptions {
-                    rate_hz: rate,
-                    anti_alias,
-                },
-            )
-            .expect("resampled")
-            .records
-        };
+        let records = at_rate(path, &native, rate, anti_alias);
         let feet = run(&records);
         let (mut own, mut at_native, mut parabola, mut sinc, mut shift) =
             (vec![], vec![], vec![], vec![], vec![]);

@@ -20,22 +20,22 @@ fn data_dir() -> Option<PathBuf> {
     }
 }
 
+/// Runs `limbfuse` with `args` in `dir`; exit 0 or the test fails with its stderr.
+fn succeed(args: &[&str], dir: &Path) -> std::process::Output {
+    let o = limbfuse(args, dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
 fn evaluate_json(method: &str, trial: &Path, dir: &Path) -> serde_json::Value {
     let trial = trial.to_str().unwrap();
-    let o = limbfuse(&["estimate", "--method", method, trial, "-o", "e.csv"], dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let o = limbfuse(&["evaluate", trial, "e.csv", "--json"], dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    succeed(&["estimate", "--method", method, trial, "-o", "e.csv"], dir);
+    let o = succeed(&["evaluate", trial, "e.csv", "--json"], dir);
     serde_json::from_slice(&o.stdout).unwrap()
 }
 
@@ -97,7 +97,7 @@ fn issue_19_final_contacts_at_50_hz() {
     let trial = data.join("gaitmap-foot-walk/trial.csv");
     for rate in ["50", "60"] {
         let file = format!("gm-{rate}.csv");
-        let o = limbfuse(
+        succeed(
             &[
                 "resample",
                 trial.to_str().unwrap(),
@@ -107,12 +107,6 @@ fn issue_19_final_contacts_at_50_hz() {
                 &file,
             ],
             d.path(),
-        );
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
         );
         let v = evaluate_json("gait-events", &d.path().join(&file), d.path());
         for kind in ["initial_contact", "final_contact"] {

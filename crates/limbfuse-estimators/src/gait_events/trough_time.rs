@@ -132,7 +132,7 @@ fn corner(
 ) -> Option<(f64, f64)> {
     let slope_left = (s1.1 - s0.1) / (s1.0 - s0.0);
     let slope_right = (s4.1 - s3.1) / (s4.0 - s3.0);
-    if !(slope_right > slope_left) || !slope_left.is_finite() || !slope_right.is_finite() {
+    if !(slope_left.is_finite() && slope_right.is_finite()) || slope_right <= slope_left {
         return None;
     }
     // L(t) = w1 + sL (t - t1), R(t) = w3 + sR (t - t3); in u = t - t2:
