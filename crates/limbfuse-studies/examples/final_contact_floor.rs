@@ -171,34 +171,26 @@ fn rate_shift(path: &Path) {
     let native = read(path);
     let own_rate = 1.0 / (native[1].sample.t - native[0].sample.t);
     let base = run(&native);
-    let base_parabola: Vec<Vec<f64>> = base
+    // Per foot: (gait-events toe off, parabola's, corner chosen).
+    let own: Vec<Vec<(f64, f64, bool)>> = base
         .iter()
         .map(|f| {
             f.final_contacts
                 .iter()
-                .filter_map(|&fc| alternatives(f, fc))
-                .map(|a| a.0)
+                .filter_map(|&fc| alternatives(f, fc).map(|a| (fc, a.0, a.2)))
                 .collect()
         })
         .collect();
-    let own_corners: usize = base
+    let base_parabola: Vec<Vec<f64>> = own
         .iter()
-        .map(|f| {
-            f.final_contacts
-                .iter()
-                .filter_map(|&fc| alternatives(f, fc))
-                .filter(|a| a.2)
-                .count()
-        })
-        .sum();
-    let own_n: usize = base_parabola.iter().map(Vec::len).sum();
-    let largest_move = base
+        .map(|v| v.iter().map(|a| a.1).collect())
+        .collect();
+    let own_n: usize = own.iter().map(Vec::len).sum();
+    let own_corners = own.iter().flatten().filter(|a| a.2).count();
+    let largest_move = own
         .iter()
-        .flat_map(|f| {
-            f.final_contacts
-                .iter()
-                .filter_map(move |&fc| alternatives(f, fc).map(|a| (fc - a.0).abs()))
-        })
+        .flatten()
+        .map(|a| (a.0 - a.1).abs())
         .fold(0.0f64, f64::max);
     println!(
         "\n{} ({own_rate:.1} Hz, {own_n} toe offs, {own_corners} corners, at most {:.2} ms from the parabola's): toe offs at a lower rate minus at {own_rate:.1} Hz, median / p95 (mean) ms",
