@@ -13,11 +13,13 @@
 
 use std::path::Path;
 
+use clap::Parser;
 use limbfuse_core::{Estimator, Record, Side};
 use limbfuse_estimators::gait_events::trough_time::{TroughModel, TroughSamples};
 use limbfuse_estimators::gait_events::{FootSource, GaitDiag, GaitEvents, GaitEventsParams};
 use limbfuse_io::TrialReader;
 use limbfuse_signal::resample::{resample_trial, AntiAlias, ResampleOptions};
+use limbfuse_studies::example_args::FinalContactFloorArgs;
 
 /// One foot's signed sagittal rate and final contacts from `gait-events`.
 struct FootRun {
@@ -229,12 +231,8 @@ fn rate_shift(path: &Path) {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let first = args
-        .first()
-        .cloned()
-        .unwrap_or_else(|| "../shared/data/gaitmap-foot-walk/trial.csv".into());
-    let path = Path::new(&first);
+    let args = FinalContactFloorArgs::parse();
+    let path = Path::new(&args.trial);
     let native = read(path);
     let native_fc = [0, 1].map(|s| reference_final_contacts(&native, s));
     let feet = run(&native);
@@ -319,7 +317,7 @@ fn main() {
             max_shift
         );
     }
-    for other in args.iter().skip(1) {
+    for other in &args.others {
         rate_shift(Path::new(other));
     }
 }
