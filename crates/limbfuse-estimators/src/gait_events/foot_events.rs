@@ -29,6 +29,8 @@
 //! swing (a lobe starts when `w` turns negative), so the loading lobe of
 //! the previous contact is never mistaken for it.
 
+use super::trough_time::TroughSamples;
+
 /// What the detector decided at one sample.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct EventsAt {
@@ -47,8 +49,6 @@ enum State {
     /// Foot in the air.
     Swing,
 }
-
-use super::trough_time::TroughSamples;
 
 /// Per-foot contact detector.
 #[derive(Debug, Clone)]
