@@ -252,8 +252,11 @@ fn main() {
             }
         }
     }
-    println!("push-off trough, left foot, mean rate (rad/s) around the reference toe off:");
-    for (i, p) in profile.iter().enumerate().step_by(2) {
+    println!(
+        "push-off trough, left foot, mean rate (rad/s) around its {} reference toe offs:",
+        profile[20].1
+    );
+    for (i, p) in profile.iter().enumerate() {
         println!(
             "  {:+6.1} ms  {:6.2}",
             (i as f64 - 20.0) * h * 1e3,
