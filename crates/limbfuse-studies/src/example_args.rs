@@ -8,11 +8,11 @@ use limbfuse_estimators::imm_bslip::{ImmWeights, TouchdownRule};
 use limbfuse_estimators::segment_kf::AccelGate;
 
 pub use crate::recorded_trial_args::{
-    ChainGeometrySensitivityArgs, GyroShapeFloorArgs, RecordingVariantArgs,
+    ChainGeometrySensitivityArgs, FinalContactFloorArgs, GyroShapeFloorArgs, RecordingVariantArgs,
 };
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 27] = [
+pub const EXAMPLES: [&str; 28] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -26,6 +26,7 @@ pub const EXAMPLES: [&str; 27] = [
     "fes_studies",
     "fes_thesis_protocol",
     "fes_tune_cv",
+    "final_contact_floor",
     "gait_library_without",
     "gait_pelvis",
     "gyro_shape_floor",
@@ -82,6 +83,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "chain_geometry_sensitivity" => parse::<ChainGeometrySensitivityArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
+        "final_contact_floor" => parse::<FinalContactFloorArgs>(example, args),
         "gait_library_without" => parse::<GaitLibraryWithoutArgs>(example, args),
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),

@@ -1,7 +1,7 @@
 //! Arguments of the study examples that read one recorded trial and score
 //! windows of it, or write a variant of it (`gyro_shape_floor`,
-//! `attitude_floor`, `chain_geometry_sensitivity`, `recording_variant`),
-//! re-exported by [`crate::example_args`].
+//! `attitude_floor`, `chain_geometry_sensitivity`, `recording_variant`,
+//! `final_contact_floor`), re-exported by [`crate::example_args`].
 
 use clap::Parser;
 
@@ -36,6 +36,18 @@ pub struct RecordingVariantArgs {
     /// recording whose two sensors are mounted alike).
     #[arg(long)]
     pub swap_legs: bool,
+}
+
+/// `final_contact_floor [TRIAL [OTHER_TRIAL ...]]`.
+#[derive(Debug, Parser)]
+#[command(name = "final_contact_floor")]
+pub struct FinalContactFloorArgs {
+    /// The two-foot trial with contact references (the gaitmap walk).
+    #[arg(default_value = "../shared/data/gaitmap-foot-walk/trial.csv")]
+    pub trial: String,
+    /// Trials with foot IMUs (no reference needed) whose toe offs at lower
+    /// rates are compared with those at their own rate.
+    pub others: Vec<String>,
 }
 
 /// `gyro_shape_floor TRIAL --window A:B [--window C:D ...] [--max-lag N]`

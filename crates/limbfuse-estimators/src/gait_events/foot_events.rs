@@ -11,10 +11,14 @@
 //!   pitch angular velocity" before swing; Rampp et al. 2015 use the same
 //!   landmark region): while the toe is on the ground, the plantarflexors
 //!   accelerate the foot's rotation about the toe; once the toe leaves, that
-//!   drive is gone and the rotation reverses. Located to sub-sample time by
-//!   a parabola through the extremum and its two neighbours. It is decided
-//!   when `w` then rises above `swing_rate` (the foot is in swing), so its
-//!   latency is the time from toe-off to that crossing.
+//!   drive is gone and the rotation reverses. Located to sub-sample time
+//!   from the extremum and the two samples on each side of it
+//!   ([`super::trough_time`]: the corner of the push-off and release lines,
+//!   or a parabola's vertex for a smooth trough). It is decided when `w`
+//!   then rises above `swing_rate` (the foot is in swing), or at the next
+//!   sample when the second sample after the extremum is that crossing
+//!   itself, so its latency is the time from toe-off to that crossing (one
+//!   sample more in that case).
 //! - **Initial contact** = the downward zero crossing of `w` that ends the
 //!   swing lobe: in terminal swing the foot is still turning toe-up; the
 //!   heel's ground contact is what reverses it (the loading lobe), so the
@@ -24,6 +28,8 @@
 //! The push-off extremum is taken from the latest negative lobe before the
 //! swing (a lobe starts when `w` turns negative), so the loading lobe of
 //! the previous contact is never mistaken for it.
+
+use super::trough_time::TroughSamples;
 
 /// What the detector decided at one sample.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -44,31 +50,6 @@ enum State {
     Swing,
 }
 
-/// The extremum of the current negative lobe, with its neighbours.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Extremum {
-    t: f64,
-    value: f64,
-    before: f64,
-    after: Option<f64>,
-    dt: f64,
-}
-
-impl Extremum {
-    /// Parabolic sub-sample time of the extremum.
-    fn refined_time(&self) -> f64 {
-        let Some(after) = self.after else {
-            return self.t;
-        };
-        let den = self.before - 2.0 * self.value + after;
-        if den.abs() < 1e-12 {
-            return self.t;
-        }
-        let offset = 0.5 * (self.before - after) / den;
-        self.t + offset.clamp(-0.5, 0.5) * self.dt
-    }
-}
-
 /// Per-foot contact detector.
 #[derive(Debug, Clone)]
 pub struct FootEvents {
@@ -76,7 +57,11 @@ pub struct FootEvents {
     min_swing_time: f64,
     state: State,
     previous: Option<(f64, f64)>,
-    lobe_min: Option<Extremum>,
+    before_previous: Option<(f64, f64)>,
+    lobe_min: Option<TroughSamples>,
+    /// The push-off extremum of a swing already decided, waiting for its
+    /// second sample after.
+    pending_final_contact: Option<TroughSamples>,
     swing_start: f64,
 }
 
@@ -89,7 +74,9 @@ impl FootEvents {
             min_swing_time,
             state: State::Unknown,
             previous: None,
+            before_previous: None,
             lobe_min: None,
+            pending_final_contact: None,
             swing_start: 0.0,
         }
     }
@@ -112,11 +99,21 @@ impl FootEvents {
     pub fn update(&mut self, t: f64, dt: f64, w: f64, rest: bool) -> EventsAt {
         let mut out = EventsAt::default();
         let previous = self.previous.replace((t, w));
+        let before_previous = core::mem::replace(&mut self.before_previous, previous);
         if let Some(m) = self.lobe_min.as_mut() {
-            if m.after.is_none() && m.t < t {
-                m.after = Some(w);
+            m.push_after(t, w);
+        }
+        if let Some(mut m) = self.pending_final_contact.take() {
+            m.push_after(t, w);
+            if m.is_complete() {
+                let t_fc = m.refined().0;
+                out.final_contact = Some(t_fc);
+                self.swing_start = t_fc;
+            } else {
+                self.pending_final_contact = Some(m);
             }
         }
+        let lobe_start = || TroughSamples::new(t, w, dt, [before_previous, previous]);
         match self.state {
             State::Unknown => {
                 if rest {
@@ -127,26 +124,29 @@ impl FootEvents {
                 let w_prev = previous.map_or(0.0, |p| p.1);
                 if w < 0.0 {
                     let new_lobe = w_prev >= 0.0 || self.lobe_min.is_none();
-                    let lower = self.lobe_min.is_none_or(|m| w < m.value);
+                    let lower = self.lobe_min.is_none_or(|m| w < m.value());
                     if new_lobe || lower {
-                        self.lobe_min = Some(Extremum {
-                            t,
-                            value: w,
-                            before: w_prev,
-                            after: None,
-                            dt,
-                        });
+                        self.lobe_min = Some(lobe_start());
                     }
                 }
                 if w > self.swing_rate {
-                    let t_fc = match self.lobe_min {
-                        Some(m) => m.refined_time(),
-                        None => t,
-                    };
-                    out.final_contact = Some(t_fc);
-                    self.swing_start = t_fc;
+                    match self.lobe_min.take() {
+                        Some(m) if m.is_complete() => {
+                            let t_fc = m.refined().0;
+                            out.final_contact = Some(t_fc);
+                            self.swing_start = t_fc;
+                        }
+                        Some(m) => {
+                            // The release line needs the next sample.
+                            self.pending_final_contact = Some(m);
+                            self.swing_start = m.t();
+                        }
+                        None => {
+                            out.final_contact = Some(t);
+                            self.swing_start = t;
+                        }
+                    }
                     self.state = State::Swing;
-                    self.lobe_min = None;
                 }
             }
             State::Swing => {
@@ -155,13 +155,7 @@ impl FootEvents {
                         let t_ic = t_prev + (t - t_prev) * w_prev / (w_prev - w);
                         out.initial_contact = Some(t_ic);
                         self.state = State::Stance;
-                        self.lobe_min = Some(Extremum {
-                            t,
-                            value: w,
-                            before: w_prev,
-                            after: None,
-                            dt,
-                        });
+                        self.lobe_min = Some(lobe_start());
                     }
                 }
             }
@@ -213,5 +207,40 @@ mod tests {
         assert!((fc - 0.30).abs() < 1.5e-3, "toe off at {fc}");
         assert!((ic - 0.75).abs() < 1e-3, "initial contact at {ic}");
         assert_eq!(d.contact(), Some(true));
+    }
+
+    /// At 50 Hz a sharp release can cross `swing_rate` at the first sample
+    /// after the extremum: the swing is decided there (contact off), the
+    /// toe off one sample later, when the release line's second sample is
+    /// in, at the corner of the push-off and release lines.
+    #[test]
+    fn a_release_crossing_at_the_next_sample_waits_for_the_line() {
+        let mut d = FootEvents::new(1.0, 0.15);
+        let dt = 0.02;
+        let corner = 0.513;
+        let w = |t: f64| {
+            if t < 0.3 {
+                0.0
+            } else if t < corner {
+                -5.0 - 20.0 * (t - corner)
+            } else {
+                (-5.0 + 1000.0 * (t - corner)).min(30.0)
+            }
+        };
+        let mut fc = vec![];
+        for k in 0..40 {
+            let t = k as f64 * dt;
+            let e = d.update(t, dt, w(t), t < 0.3);
+            if let Some(t_fc) = e.final_contact {
+                fc.push((t, t_fc));
+            }
+            if (0.52..0.53).contains(&t) {
+                assert_eq!(d.contact(), Some(false), "swing decided at {t}");
+            }
+        }
+        assert_eq!(fc.len(), 1, "{fc:?}");
+        let (decided, t_fc) = fc[0];
+        assert!((decided - 0.54).abs() < 1e-9, "decided at {decided}");
+        assert!((t_fc - corner).abs() < 1e-9, "toe off at {t_fc}");
     }
 }

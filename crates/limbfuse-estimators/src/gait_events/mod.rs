@@ -32,6 +32,7 @@ pub mod foot_events;
 pub mod reading_gap;
 pub mod shank_events;
 pub mod strapdown;
+pub mod trough_time;
 pub mod zero_velocity;
 
 use core::fmt;
