@@ -280,6 +280,15 @@ pub struct EstimateArgs {
     /// re-targeted to the measured speed, phase from the leg lengths).
     #[arg(long, value_name = "CONFIG")]
     pub imm_config: Option<String>,
+    /// imm-bslip, continuous configuration: `on` (default) or `off`. When
+    /// most estimated speeds lie more than 0.03 m/s below the library's
+    /// range, search the missing gaits for the trial's body (the
+    /// `gait-library build` search, on the library's speed step, down to the
+    /// trial's speed), add them to the family and estimate again; stderr says
+    /// which speeds were added. Files only (a trial or estimate streamed
+    /// through `-` gets the note of the library to build instead).
+    #[arg(long, value_name = "ON_OFF")]
+    pub imm_extend_library: Option<String>,
     /// imm-bslip: the trial body's leg rest length (m), over its metadata
     /// (`# leg_length_m:`); a library built for another body is rescaled.
     #[arg(long, value_name = "M")]

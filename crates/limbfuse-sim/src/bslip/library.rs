@@ -4,7 +4,10 @@
 
 use limbfuse_models::bslip::{BslipParams, GaitParameters, GaitTemplate};
 
-use super::search::{optimise_gait, predict_seed, FoundGait, SearchError, SearchSettings};
+use super::periodic::{correct, STIFFNESS_FIXED};
+use super::search::{
+    objective, optimise_gait, predict_seed, FoundGait, SearchError, SearchSettings,
+};
 use super::step::{StepOutcome, StepSimulator};
 
 /// Speed at which the homotopy starts with a direct optimisation (m/s): the
@@ -129,6 +132,122 @@ pub fn build_library(
     Ok(out)
 }
 
+/// Gaits continued from a library's end gait, as far as the search went.
+#[derive(Debug, Clone)]
+pub struct LibraryExtension {
+    /// The gaits found, in the order of the speeds asked for.
+    pub gaits: Vec<LibraryGait>,
+    /// Where the continuation from the end gait failed, when the search
+    /// then started again from [`START_SPEED`] (the failure).
+    pub restarted: Option<SearchError>,
+    /// Why the search stopped before the last speed (`None`: every speed
+    /// was reached).
+    pub stopped: Option<SearchError>,
+}
+
+/// Extends a library beyond its end gait `end` (mean speed `end_speed`,
+/// periodic for `body`): the homotopy of [`build_library`] (predictor eq 6,
+/// corrector eqs 1-2, [`HOMOTOPY_STEP`] sub-steps) from that gait to each of
+/// `speeds` in turn (ordered outwards from `end_speed`), so the new gaits
+/// continue the library's own branch. The end gait is first projected onto
+/// `g = 0` at its own stiffness (a library built for another body and
+/// rescaled by Froude similarity is periodic, but the step-length law is
+/// not Froude-invariant). Where the homotopy finds no periodic gait at a
+/// speed, the last gait it reached on the way is kept; if that does not get
+/// to `reach` (the speed the extension must cover), the search starts once
+/// more as [`build_library`] does (direct optimisation at [`START_SPEED`],
+/// homotopy to the speed). It stops at the first speed not reached.
+pub fn extend_library(
+    body: &BslipParams,
+    end: &GaitParameters,
+    end_speed: f64,
+    speeds: &[f64],
+    reach: f64,
+    settings: &SearchSettings,
+) -> LibraryExtension {
+    let sim = StepSimulator::new(*body);
+    let outwards = speeds.first().map_or(1.0, |v| (v - end_speed).signum());
+    let covers = |v: f64| (v - reach) * outwards >= -1e-9;
+    let mut out = LibraryExtension {
+        gaits: Vec::with_capacity(speeds.len()),
+        restarted: None,
+        stopped: None,
+    };
+    let mut current = match project(&sim, end, end_speed, settings) {
+        Ok(found) => Some(found),
+        Err(e) => {
+            out.restarted = Some(e);
+            None
+        }
+    };
+    let mut furthest = end_speed;
+    for &target in speeds {
+        let mut reached = match current {
+            Some(from) => continue_towards(&sim, &from, target, settings),
+            None => Err((None, SearchError::Optimiser("no gait to continue from".into()))),
+        };
+        if let Err((partial, e)) = &reached {
+            let short = partial.is_none_or(|p| !covers(p.speed));
+            if out.restarted.is_none() || current.is_none() {
+                if short {
+                    if out.restarted.is_none() {
+                        out.restarted = Some(e.clone());
+                    }
+                    reached = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)
+                        .map_err(|e| (None, e))
+                        .and_then(|start| continue_towards(&sim, &start, target, settings));
+                }
+            }
+        }
+        match reached {
+            Ok(found) => {
+                current = Some(found);
+                furthest = found.speed;
+                out.gaits.push(found.into());
+            }
+            Err((partial, e)) => {
+                if let Some(p) = partial.filter(|p| (p.speed - furthest) * outwards > 1e-6) {
+                    out.gaits.push(p.into());
+                }
+                out.stopped = Some(e);
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// `gait` (periodic or nearly) projected onto `g = 0` at `speed` with its
+/// own stiffness.
+fn project(
+    sim: &StepSimulator,
+    gait: &GaitParameters,
+    speed: f64,
+    settings: &SearchSettings,
+) -> Result<FoundGait, SearchError> {
+    let c = correct(
+        sim,
+        gait,
+        speed,
+        &STIFFNESS_FIXED,
+        settings.periodic_tol,
+        60,
+    )
+    .map_err(|failure| SearchError::Step { speed, failure })?;
+    if c.residual > settings.periodic_tol {
+        return Err(SearchError::NotPeriodic {
+            speed,
+            residual: c.residual,
+            tol: settings.periodic_tol,
+        });
+    }
+    Ok(FoundGait {
+        speed,
+        objective: objective(&c.outcome, &c.gait, speed, sim.body.rest_length, settings),
+        solution: c,
+    })
+}
+
 /// Homotopy from a found gait to `target` speed by predictor (eq 6) /
 /// corrector (eqs 1-2) sub-steps.
 pub fn continue_to(
@@ -137,7 +256,19 @@ pub fn continue_to(
     target: f64,
     settings: &SearchSettings,
 ) -> Result<FoundGait, SearchError> {
+    continue_towards(sim, from, target, settings).map_err(|(_, e)| e)
+}
+
+/// [`continue_to`], whose failure also gives the last gait the homotopy
+/// reached beyond `from` (`None`: not one sub-step).
+pub fn continue_towards(
+    sim: &StepSimulator,
+    from: &FoundGait,
+    target: f64,
+    settings: &SearchSettings,
+) -> Result<FoundGait, (Option<FoundGait>, SearchError)> {
     let mut current = *from;
+    let mut moved = false;
     let mut step = HOMOTOPY_STEP;
     while (target - current.speed).abs() > 1e-9 {
         let dv = (target - current.speed).clamp(-step, step);
@@ -167,12 +298,13 @@ pub fn continue_to(
         match attempt {
             Ok(found) => {
                 current = found;
+                moved = true;
                 step = HOMOTOPY_STEP;
             }
             Err(e) => {
                 step *= 0.5;
                 if step < HOMOTOPY_STEP / 16.0 {
-                    return Err(e);
+                    return Err((moved.then_some(current), e));
                 }
             }
         }
