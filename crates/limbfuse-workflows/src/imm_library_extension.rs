@@ -191,7 +191,7 @@ pub fn extend_for_trial(
     family.extend(found.gaits.iter().map(|g| g.template(&body)));
     family.sort_by(|a, b| a.speed.total_cmp(&b.speed));
     let range = (family[0].speed, family[family.len() - 1].speed);
-    let estimator = build_over(s, &family, layout)?;
+    let estimator = limbfuse_methods::gate(build_over(s, &family, layout)?, meta)?;
     let stop_note = match &stopped {
         Some(why) => format!(" ({why}: the family stops there)"),
         None => String::new(),
