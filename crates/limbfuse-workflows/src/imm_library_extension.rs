@@ -140,9 +140,7 @@ pub fn extend_for_trial(
         RangeSide::Below => (first, family.get(1).map(|g| g.speed - first.speed)),
         RangeSide::Above => (last, (n > 1).then(|| last.speed - family[n - 2].speed)),
     };
-    let step = step
-        .filter(|s| *s > 1e-6)
-        .unwrap_or(SINGLE_GAIT_STEP);
+    let step = step.filter(|s| *s > 1e-6).unwrap_or(SINGLE_GAIT_STEP);
     let speeds = speeds_to_search(&end, outside.side, step, outside.mean);
     let body = end.body;
     let what = format!(
@@ -175,7 +173,9 @@ pub fn extend_for_trial(
     };
     let added: Vec<f64> = found.gaits.iter().map(|g| g.speed).collect();
     let stopped = found.stopped.as_ref().map(|e| {
-        let grid = speeds.iter().filter(|v| added.iter().all(|a| (*a - **v).abs() > 1e-9));
+        let grid = speeds
+            .iter()
+            .filter(|v| added.iter().all(|a| (*a - **v).abs() > 1e-9));
         let at = grid.copied().next().unwrap_or(end.speed);
         format!("no periodic gait at {at:.2} m/s ({e})")
     });

@@ -91,7 +91,11 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     } else {
         a.output.display().to_string()
     };
-    eprintln!("{}: {} samples -> {written}", spec.method(), pass.report.n_samples);
+    eprintln!(
+        "{}: {} samples -> {written}",
+        spec.method(),
+        pass.report.n_samples
+    );
     Ok(())
 }
 

@@ -43,7 +43,10 @@ fn estimate(trial: &str, extra: &[&str], out: &str, dir: &Path) -> (String, Stri
         .lines()
         .filter(|l| !l.starts_with("# command:"))
         .collect();
-    (String::from_utf8_lossy(&o.stderr).into_owned(), body.join("\n"))
+    (
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        body.join("\n"),
+    )
 }
 
 fn phase_accuracy(trial: &str, est: &str, dir: &Path) -> f64 {
@@ -94,11 +97,15 @@ fn issue_19_a_trial_below_the_library_gets_the_missing_gaits() {
         "{said}"
     );
     assert!(!said.contains("note:"), "{said}");
-    assert!(extended.contains("speed 0.700 m/s, step"), "the header lists the gaits added");
+    assert!(
+        extended.contains("speed 0.700 m/s, step"),
+        "the header lists the gaits added"
+    );
     let with = phase_accuracy("slow.csv", "on.csv", p);
     let (said_off, _) = estimate("slow.csv", &["--imm-extend-library", "off"], "off.csv", p);
     assert!(
-        said_off.contains("note: the estimated walking speed is below") && !said_off.contains("added"),
+        said_off.contains("note: the estimated walking speed is below")
+            && !said_off.contains("added"),
         "{said_off}"
     );
     let without = phase_accuracy("slow.csv", "off.csv", p);

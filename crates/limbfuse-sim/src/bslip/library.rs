@@ -184,7 +184,10 @@ pub fn extend_library(
     for &target in speeds {
         let mut reached = match current {
             Some(from) => continue_towards(&sim, &from, target, settings),
-            None => Err((None, SearchError::Optimiser("no gait to continue from".into()))),
+            None => Err((
+                None,
+                SearchError::Optimiser("no gait to continue from".into()),
+            )),
         };
         if let Err((partial, e)) = &reached {
             let short = partial.is_none_or(|p| !covers(p.speed));
@@ -193,9 +196,10 @@ pub fn extend_library(
                     if out.restarted.is_none() {
                         out.restarted = Some(e.clone());
                     }
-                    reached = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)
-                        .map_err(|e| (None, e))
-                        .and_then(|start| continue_towards(&sim, &start, target, settings));
+                    reached =
+                        optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)
+                            .map_err(|e| (None, e))
+                            .and_then(|start| continue_towards(&sim, &start, target, settings));
                 }
             }
         }
