@@ -180,38 +180,41 @@ pub fn extend_library(
             None
         }
     };
+    let mut restart_used = false;
     let mut furthest = end_speed;
     for &target in speeds {
-        let mut reached = match current {
-            Some(from) => continue_towards(&sim, &from, target, settings),
-            None => Err((
-                None,
-                SearchError::Optimiser("no gait to continue from".into()),
-            )),
-        };
-        if let Err((partial, e)) = &reached {
-            let short = partial.is_none_or(|p| !covers(p.speed));
-            if out.restarted.is_none() || current.is_none() {
-                if short {
-                    if out.restarted.is_none() {
-                        out.restarted = Some(e.clone());
-                    }
-                    reached =
-                        optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)
-                            .map_err(|e| (None, e))
-                            .and_then(|start| continue_towards(&sim, &start, target, settings));
+        let mut run = current.map(|from| continue_towards(&sim, &from, target, settings));
+        // The first failure short of `reach`: once more from the start speed.
+        let short = run.as_ref().is_none_or(|r| {
+            r.failed.is_some() && r.partial().is_none_or(|p| !covers(p.speed))
+        });
+        if short && !restart_used {
+            restart_used = true;
+            if out.restarted.is_none() {
+                out.restarted = run.as_ref().and_then(|r| r.failed.clone());
+            }
+            let start = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings);
+            match start {
+                Ok(start) => run = Some(continue_towards(&sim, &start, target, settings)),
+                Err(e) => {
+                    out.stopped = Some(e);
+                    break;
                 }
             }
         }
-        match reached {
-            Ok(found) => {
-                current = Some(found);
-                furthest = found.speed;
-                out.gaits.push(found.into());
+        let Some(run) = run else {
+            break;
+        };
+        match run.failed {
+            None => {
+                current = Some(run.last);
+                furthest = run.last.speed;
+                out.gaits.push(run.last.into());
             }
-            Err((partial, e)) => {
-                if let Some(p) = partial.filter(|p| (p.speed - furthest) * outwards > 1e-6) {
-                    out.gaits.push(p.into());
+            Some(e) => {
+                let beyond = (run.last.speed - furthest) * outwards > 1e-6;
+                if run.moved && beyond {
+                    out.gaits.push(run.last.into());
                 }
                 out.stopped = Some(e);
                 break;
@@ -219,6 +222,25 @@ pub fn extend_library(
         }
     }
     out
+}
+
+/// How far a homotopy ([`continue_towards`]) got.
+#[derive(Debug, Clone)]
+pub struct Continuation {
+    /// The last gait reached: the target's when `failed` is `None`, else
+    /// the last one before the failure (the start gait if none).
+    pub last: FoundGait,
+    /// Whether it got one sub-step or more beyond the start gait.
+    pub moved: bool,
+    /// Why it stopped short of the target.
+    pub failed: Option<SearchError>,
+}
+
+impl Continuation {
+    /// The gait reached beyond the start before a failure.
+    pub fn partial(&self) -> Option<&FoundGait> {
+        (self.failed.is_some() && self.moved).then_some(&self.last)
+    }
 }
 
 /// `gait` (periodic or nearly) projected onto `g = 0` at `speed` with its
@@ -260,17 +282,20 @@ pub fn continue_to(
     target: f64,
     settings: &SearchSettings,
 ) -> Result<FoundGait, SearchError> {
-    continue_towards(sim, from, target, settings).map_err(|(_, e)| e)
+    let run = continue_towards(sim, from, target, settings);
+    match run.failed {
+        None => Ok(run.last),
+        Some(e) => Err(e),
+    }
 }
 
-/// [`continue_to`], whose failure also gives the last gait the homotopy
-/// reached beyond `from` (`None`: not one sub-step).
+/// [`continue_to`], saying how far it got when it failed.
 pub fn continue_towards(
     sim: &StepSimulator,
     from: &FoundGait,
     target: f64,
     settings: &SearchSettings,
-) -> Result<FoundGait, (Option<FoundGait>, SearchError)> {
+) -> Continuation {
     let mut current = *from;
     let mut moved = false;
     let mut step = HOMOTOPY_STEP;
@@ -308,10 +333,18 @@ pub fn continue_towards(
             Err(e) => {
                 step *= 0.5;
                 if step < HOMOTOPY_STEP / 16.0 {
-                    return Err((moved.then_some(current), e));
+                    return Continuation {
+                        last: current,
+                        moved,
+                        failed: Some(e),
+                    };
                 }
             }
         }
     }
-    Ok(current)
+    Continuation {
+        last: current,
+        moved,
+        failed: None,
+    }
 }
