@@ -56,7 +56,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
     let range = methods::library_speed_range(&spec, &reader)?;
-    let (meta, layout) = (reader.meta().clone(), reader.layout().clone());
+    let (meta, layout) = (reader.meta().clone(), *reader.layout());
     let streamed = stdio::is_stdio(&a.trial) || stdout.is_some();
     let mut pass = estimate_pass(a, &spec, reader, est, stdout, range)?;
     if let Some(watch) = &pass.speed_range {

@@ -185,9 +185,9 @@ pub fn extend_library(
     for &target in speeds {
         let mut run = current.map(|from| continue_towards(&sim, &from, target, settings));
         // The first failure short of `reach`: once more from the start speed.
-        let short = run.as_ref().is_none_or(|r| {
-            r.failed.is_some() && r.partial().is_none_or(|p| !covers(p.speed))
-        });
+        let short = run
+            .as_ref()
+            .is_none_or(|r| r.failed.is_some() && r.partial().is_none_or(|p| !covers(p.speed)));
         if short && !restart_used {
             restart_used = true;
             if out.restarted.is_none() {
