@@ -64,7 +64,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             if imm_library_extension::wanted(&spec, watch).is_some() {
                 eprintln!(
                     "{}: the library is extended to a trial's speeds only when the trial and the \
-                     estimate are files (not `-`: a streamed trial cannot be run again)",
+                     estimate are files (not `-`: a streamed trial or estimate cannot be run again)",
                     spec.method()
                 );
             }
