@@ -39,7 +39,7 @@ impl Observer for GaitWatch {
 /// Runs one estimator over a trial file, streaming; `-` as the trial reads
 /// standard input, `-` as the output writes standard output as rows arrive
 /// (docs/STREAMING.md). `imm-bslip --imm-config continuous` on a trial
-/// walking below its library's speeds runs twice: the first run's speeds
+/// walking outside its library's speeds runs twice: the first run's speeds
 /// say which gaits are missing, the second runs over the extended family
 /// (`limbfuse_workflows::imm_library_extension`; files only).
 pub fn run(a: &EstimateArgs) -> Result<()> {

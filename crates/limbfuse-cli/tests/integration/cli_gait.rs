@@ -163,6 +163,12 @@ fn continuous_configuration_and_trial_body(p: &std::path::Path) {
     for bad in [
         &["--imm-config", "banana"][..],
         &["--imm-config", "continuous", "--imm-touchdown", "height"][..],
+        &[
+            "--imm-config",
+            "continuous",
+            "--imm-extend-library",
+            "maybe",
+        ][..],
         &["--leg-length", "-1"][..],
     ] {
         let o = estimate_imm(bad, "z.csv", p);
