@@ -156,11 +156,19 @@ def estimate(
         **options: the method's ``limbfuse estimate`` flags: ``window``,
             ``order`` (knee-selfalign), ``library``, ``kappa``,
             ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
-            ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
+            ``imm_extend_library``, ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
             (``--diagnostics``): ``"all"`` (default), ``"none"``, or
             diagnostic names (a comma-separated string or a list, e.g.
             ``["sd_thigh", "sd_shank"]``; ``limbfuse methods NAME`` lists
             a method's). Fewer columns make a smaller, faster call.
+
+    With ``imm_config="continuous"`` a trial walking outside the gait
+    library's speeds is estimated twice, as ``limbfuse estimate`` does: the
+    missing gaits are searched for the trial's body and added to the family
+    (``imm_extend_library="off"`` keeps the library as it is); a
+    ``LimbfuseWarning`` says which speeds were added, with the CLI's text
+    (docs/GAIT_IMM.md). ``Filter`` steps once through the samples and never
+    extends.
 
     Raises:
         LimbfuseError: unknown method, bad parameter, a channel the method

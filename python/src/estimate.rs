@@ -11,6 +11,7 @@ use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
 use limbfuse_io::{AtomicFile, EstimateReader};
 use limbfuse_methods::MethodSpec;
+use limbfuse_workflows::imm_library_extension;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -112,15 +113,14 @@ pub(crate) fn estimate_tuple(
     ))
 }
 
-/// The note of [`SpeedRangeWatch`] (imm-bslip: a trial walking outside its
-/// library's speeds `lo..=hi`) over the estimate's `speed` array (NaN: no
-/// speed), as the CLI prints it.
-fn speed_range_note(
-    lo: f64,
-    hi: f64,
+/// [`SpeedRangeWatch`] over the estimate's `speed` array (NaN: no speed)
+/// against the imm-bslip library's speeds `lo..=hi`; `None` without a
+/// `speed` column.
+fn speed_watch(
+    (lo, hi): (f64, f64),
     names: &[String],
     arrays: &[Bound<'_, PyArray1<f64>>],
-) -> PyResult<Option<String>> {
+) -> PyResult<Option<SpeedRangeWatch>> {
     let Some(i) = names.iter().position(|n| n == "speed") else {
         return Ok(None);
     };
@@ -129,10 +129,14 @@ fn speed_range_note(
     for &v in speeds.as_slice()? {
         watch.observe_speed(Some(v));
     }
-    Ok(watch.note())
+    Ok(Some(watch))
 }
 
 /// Runs `method` over the trial, in memory, with the GIL released.
+/// `imm-bslip` in the continuous configuration on a trial walking outside
+/// its library's speeds runs twice, as the CLI does: the missing gaits are
+/// searched and the trial estimated again over the extended family
+/// (`limbfuse_workflows::imm_library_extension`); the warning says so.
 #[pyfunction]
 #[pyo3(signature = (trial, method, params=None, options=None))]
 fn estimate<'py>(
@@ -147,45 +151,60 @@ fn estimate<'py>(
         let meta = trial.meta();
         let cols = trial.columns()?;
         let label = trial.label();
-        let mut est = limbfuse_methods::build(&spec, &meta, cols.layout())
-            .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?;
-        let chosen = diagnostics
-            .resolve(est.name(), est.diagnostic_names())
-            .map_err(|e| user_msg(format!("{label}: {e}")))?;
-        let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
-            .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
-        if let Some((name, hash)) = trial.source() {
-            out.header.push(format!("{TRIAL_KEY}: {name}"));
-            out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
-        }
-        let mut resets = ResetWatch::default();
+        let in_trial = |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
+        let est = limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?;
         let inputs = cols.inputs();
-        let run = py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
-        run.map_err(|e| {
-            user_msg(format!(
-                "estimating {label} with {}: {}",
-                spec.method(),
-                chain_message(&e)
-            ))
-        })?;
-        let warning = resets
-            .resets()
-            .map(|r| format!("{} on {label}: {r}", spec.method()));
-        let range = match &spec {
-            MethodSpec::ImmBslip(s) => Some(
-                limbfuse_methods::imm_params::library_speed_range(s, &meta)
-                    .map_err(|e| user_msg(format!("{label}: {}", chain_message(&e))))?,
-            ),
-            _ => None,
+        let run = |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
+            let chosen = diagnostics
+                .resolve(est.name(), est.diagnostic_names())
+                .map_err(|e| user_msg(format!("{label}: {e}")))?;
+            let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
+                .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+            if let Some((name, hash)) = trial.source() {
+                out.header.push(format!("{TRIAL_KEY}: {name}"));
+                out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
+            }
+            let mut resets = ResetWatch::default();
+            let run = py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
+            run.map_err(|e| {
+                user_msg(format!(
+                    "estimating {label} with {}: {}",
+                    spec.method(),
+                    chain_message(&e)
+                ))
+            })?;
+            let warning = resets
+                .resets()
+                .map(|r| format!("{} on {label}: {r}", spec.method()));
+            estimate_tuple(py, out, warning)
         };
-        let mut tuple = estimate_tuple(py, out, warning)?;
-        if let Some((lo, hi)) = range {
-            let note = speed_range_note(lo, hi, &tuple.3, &tuple.4)?
-                .map(|n| format!("{} on {label}: {n}", spec.method()));
-            tuple.6 = match (tuple.6.take(), note) {
-                (Some(a), Some(b)) => Some(format!("{a}; {b}")),
-                (a, b) => a.or(b),
-            };
+        let mut tuple = run(est)?;
+        let MethodSpec::ImmBslip(s) = &spec else {
+            return Ok(tuple);
+        };
+        let range = limbfuse_methods::imm_params::library_speed_range(s, &meta)
+            .map_err(|e| in_trial(&e))?;
+        let Some(mut watch) = speed_watch(range, &tuple.3, &tuple.4)? else {
+            return Ok(tuple);
+        };
+        let mut said = Vec::new();
+        let extension = py.detach(|| {
+            imm_library_extension::extend_for_trial(&spec, &meta, cols.layout(), &watch)
+        });
+        if let Some(ext) = extension.map_err(|e| in_trial(&e))? {
+            said.push(format!("{} on {label}: {}", spec.method(), ext.message));
+            if let Some(est) = ext.estimator {
+                tuple = run(est)?;
+                watch = speed_watch(ext.range, &tuple.3, &tuple.4)?.unwrap_or(watch);
+            }
+        }
+        if let Some(note) = watch.note() {
+            said.push(format!("{} on {label}: {note}", spec.method()));
+        }
+        if !said.is_empty() {
+            // (the restart warning first, as before the extension)
+            said.splice(0..0, tuple.6.take());
+            tuple.6 = Some(said.join("; "));
         }
         Ok(tuple)
     })

@@ -197,6 +197,7 @@ fn method_spec_from(
         imm_weights: o.string("imm_weights")?,
         imm_touchdown: o.string("imm_touchdown")?,
         imm_config: o.string("imm_config")?,
+        imm_extend_library: o.string("imm_extend_library")?,
         leg_length: o.f64("leg_length")?,
         mass: o.f64("mass")?,
     };

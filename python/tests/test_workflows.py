@@ -76,14 +76,16 @@ def test_gait_library_feeds_imm_bslip(gait_library):
 
 def test_issue_19_a_trial_outside_the_library_speeds_warns(gait_library, cli, tmp_path):
     """The CLI's stderr note (imm-bslip walking outside the library's
-    speeds) is a LimbfuseWarning in Python, with the same text."""
+    speeds, the library extension off) is a LimbfuseWarning in Python, with
+    the same text."""
     lib = str(gait_library[0])
     path = tmp_path / "fast.csv"
     cli("simulate", "bslip", "--speed", "1.0", "--duration", "3", "-o", path)
     trial = limbfuse.read_trial(path)
     with pytest.warns(limbfuse.LimbfuseWarning, match=r"above the gait library's range \(0\.70-0\.70 m/s") as w:
-        limbfuse.estimate(trial, "imm-bslip", library=lib, imm_config="continuous")
-    r = cli("estimate", "--method", "imm-bslip", "--library", lib, "--imm-config", "continuous", path, "-o", tmp_path / "e.csv")
+        limbfuse.estimate(trial, "imm-bslip", library=lib, imm_config="continuous", imm_extend_library="off")
+    r = cli("estimate", "--method", "imm-bslip", "--library", lib, "--imm-config", "continuous",
+            "--imm-extend-library", "off", path, "-o", tmp_path / "e.csv")
     note = str(w[0].message).split(": ", 1)[1]
     assert note in r.stderr, (note, r.stderr)
     # Inside the range: no warning.
@@ -92,6 +94,27 @@ def test_issue_19_a_trial_outside_the_library_speeds_warns(gait_library, cli, tm
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         limbfuse.estimate(limbfuse.read_trial(inside), "imm-bslip", library=lib, imm_config="continuous")
+
+
+def test_issue_19_the_library_extension_says_what_the_cli_says(gait_library, cli, tmp_path):
+    """imm-bslip (continuous) on a trial outside the library's speeds: the
+    package searches the missing gaits and estimates again, as the CLI does,
+    and says so in a LimbfuseWarning with the CLI's stderr text (the search's
+    duration aside); the estimate is the CLI's."""
+    import re
+
+    lib = str(gait_library[0])
+    path = tmp_path / "fast.csv"
+    cli("simulate", "bslip", "--speed", "1.0", "--duration", "3", "-o", path)
+    with pytest.warns(limbfuse.LimbfuseWarning, match="added 0.800, 0.900, 1.000 m/s") as w:
+        est = limbfuse.estimate(limbfuse.read_trial(path), "imm-bslip", library=lib, imm_config="continuous")
+    r = cli("estimate", "--method", "imm-bslip", "--library", lib, "--imm-config", "continuous", path, "-o", tmp_path / "e.csv")
+    said = str(w[0].message).split(": ", 1)[1]
+    line = next(l for l in r.stderr.splitlines() if "gait search" in l).split(": ", 1)[1]
+    duration = re.compile(r" in \d+\.\d s")
+    assert duration.sub(" in T s", said) == duration.sub(" in T s", line), (said, line)
+    cli_est = limbfuse.read_estimate(tmp_path / "e.csv")
+    np.testing.assert_array_equal(est.channels["speed"], cli_est.channels["speed"])
 
 
 def test_gait_library_bad_input(tmp_path):

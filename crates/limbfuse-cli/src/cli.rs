@@ -281,6 +281,17 @@ pub struct EstimateArgs {
     /// re-targeted to the measured speed, phase from the leg lengths).
     #[arg(long, value_name = "CONFIG")]
     pub imm_config: Option<String>,
+    /// imm-bslip, continuous configuration: `on` (default) or `off`. When
+    /// most estimated speeds lie more than 0.03 m/s outside the library's
+    /// range, search the missing gaits for the trial's body (the
+    /// `gait-library build` search, from the library's end gait on its speed
+    /// step out to the trial's mean speed), add them to the family and
+    /// estimate again; stderr says which speeds were added and how long the
+    /// search took. `off`: keep the library (stderr then names the library to
+    /// build). Files only (a trial or estimate streamed through `-` gets that
+    /// note instead).
+    #[arg(long, value_name = "ON_OFF")]
+    pub imm_extend_library: Option<String>,
     /// imm-bslip: the trial body's leg rest length (m), over its metadata
     /// (`# leg_length_m:`); a library built for another body is rescaled.
     #[arg(long, value_name = "M")]

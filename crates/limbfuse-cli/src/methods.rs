@@ -31,6 +31,7 @@ pub fn flags(a: &EstimateArgs) -> MethodFlags {
         imm_weights: a.imm_weights.clone(),
         imm_touchdown: a.imm_touchdown.clone(),
         imm_config: a.imm_config.clone(),
+        imm_extend_library: a.imm_extend_library.clone(),
         leg_length: a.leg_length,
         mass: a.mass,
     }

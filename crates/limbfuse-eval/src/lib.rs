@@ -27,5 +27,5 @@ pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, Time
 pub use metrics::{AngleMetrics, Evaluation};
 pub use rejections::{Rejected, RejectionWatch};
 pub use resets::{scan_estimate_file, ResetWatch, Resets};
-pub use speed_range::SpeedRangeWatch;
+pub use speed_range::{OutsideRange, RangeSide, SpeedRangeWatch};
 pub use trial_check::{TrialCheck, TrialMismatch};

@@ -24,3 +24,14 @@ pub fn build(
     let inner = spec.build_estimator(meta, layout)?;
     Ok(Box::new(crate::gated::GatedEstimator::new(inner, ranges)))
 }
+
+/// `inner` behind the sensor-range gate of a trial with this metadata, as
+/// [`build`] gives every estimator (for an estimator built another way,
+/// e.g. over an extended gait family).
+pub fn gate(
+    inner: Box<dyn Estimator + Send>,
+    meta: &TrialMeta,
+) -> Result<Box<dyn Estimator + Send>, MethodError> {
+    let ranges = crate::gated::sensor_ranges(meta)?;
+    Ok(Box::new(crate::gated::GatedEstimator::new(inner, ranges)))
+}

@@ -9,6 +9,7 @@
 //! weights = "paper"        # or "recursive" (--imm-weights)
 //! touchdown = "height"     # or "step-clock", "mixed" (--imm-touchdown)
 //! configuration = "paper"  # or "continuous" (--imm-config)
+//! extend_library = "on"    # or "off"; continuous only (--imm-extend-library)
 //! leg_length = 0.95        # trial body, m (--leg-length; else the trial metadata)
 //! mass = 70                # trial body, kg (--mass)
 //! ```
@@ -38,6 +39,7 @@ struct ImmBslipFile {
     weights: Option<String>,
     touchdown: Option<String>,
     configuration: Option<String>,
+    extend_library: Option<String>,
     leg_length: Option<f64>,
     mass: Option<f64>,
 }
@@ -80,6 +82,11 @@ pub struct ImmSpec {
     pub touchdown: TouchdownRule,
     /// The configuration.
     pub config: ImmConfig,
+    /// Continuous configuration: whether a trial walking outside the
+    /// library's speeds gets the missing gaits searched and is estimated
+    /// again (`limbfuse-workflows::imm_library_extension`; default on).
+    /// Always `false` for the paper configuration.
+    pub extend_library: bool,
     /// The trial body's leg length (m) and mass (kg) given as flags or in
     /// the parameter file (else the trial metadata is read).
     pub leg_length: Option<f64>,
@@ -125,6 +132,18 @@ fn config(flag: &'static str, text: &str) -> Result<ImmConfig, MethodError> {
             expected: "`paper` or `continuous`",
             found: text.to_string(),
         })
+}
+
+fn on_off(flag: &'static str, text: &str) -> Result<bool, MethodError> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(MethodError::BadFlagValue {
+            flag,
+            expected: "`on` or `off`",
+            found: text.to_string(),
+        }),
+    }
 }
 
 /// The templates for the trial's body (rescaled by Froude similarity when
@@ -211,6 +230,19 @@ pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmS
                 .into(),
         ));
     }
+    let extend_library = match (&flags.imm_extend_library, &f.extend_library) {
+        (Some(e), _) => Some(on_off("--imm-extend-library", e)?),
+        (None, Some(e)) => Some(on_off("extend_library", e)?),
+        (None, None) => None,
+    };
+    if config == ImmConfig::Paper && extend_library == Some(true) {
+        return Err(MethodError::ImmParams(
+            "--imm-extend-library on applies to the continuous configuration only (the paper \
+             configuration keeps its library as it is)"
+                .into(),
+        ));
+    }
+    let extend_library = config == ImmConfig::Continuous && extend_library.unwrap_or(true);
     let touchdown = match (&flags.imm_touchdown, &f.touchdown) {
         (Some(w), _) => touchdown("--imm-touchdown", w)?,
         (None, Some(w)) => touchdown("touchdown", w)?,
@@ -230,6 +262,7 @@ pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmS
         weights,
         touchdown,
         config,
+        extend_library,
         leg_length: flags.leg_length.or(f.leg_length),
         mass: flags.mass.or(f.mass),
     })
@@ -250,12 +283,23 @@ pub fn build_for_trial(
     layout: &TrialLayout,
 ) -> Result<Box<dyn Estimator + Send>, MethodError> {
     let (templates, _) = templates_for_trial(spec, meta)?;
+    build_over(spec, &templates, layout)
+}
+
+/// The estimator of `spec`'s configuration over `templates`, already fitted
+/// to the trial's body (as [`templates_for_trial`] gives them, or extended
+/// by the gait search).
+pub fn build_over(
+    spec: &ImmSpec,
+    templates: &[GaitTemplate],
+    layout: &TrialLayout,
+) -> Result<Box<dyn Estimator + Send>, MethodError> {
     let params = imm_params(spec, layout);
     let err =
         |e: limbfuse_estimators::imm_bslip::ImmBslipError| MethodError::ImmParams(e.to_string());
     Ok(match spec.config {
-        ImmConfig::Paper => Box::new(ImmBslip::new(&templates, params).map_err(err)?),
-        ImmConfig::Continuous => Box::new(ImmContinuous::new(&templates, params).map_err(err)?),
+        ImmConfig::Paper => Box::new(ImmBslip::new(templates, params).map_err(err)?),
+        ImmConfig::Continuous => Box::new(ImmContinuous::new(templates, params).map_err(err)?),
     })
 }
 
@@ -288,7 +332,7 @@ impl MethodDef for ImmBslipMethod {
         "imm-bslip",
         "paper 003: gait phase and speed from CoM measurements, IMM over a B-SLIP gait library (--library)",
         "com_meas_x/y/z (and com_meas_vx/vy when present)",
-        "library, kappa, rescale_height, weights, touchdown, configuration, leg_length, mass (file keys or --library, --kappa, --imm-config, ...)",
+        "library, kappa, rescale_height, weights, touchdown, configuration, extend_library, leg_length, mass (file keys or --library, --kappa, --imm-config, ...)",
     )
     .needing(
         ChannelNeeds {
@@ -329,6 +373,7 @@ pub fn default_file() -> String {
          weights = \"{}\"  # \"paper\" (eq 8) or \"recursive\"\n\
          touchdown = \"{}\"  # \"height\", \"step-clock\" or \"mixed\"\n\
          configuration = \"paper\"  # or \"continuous\" (then weights default to \"recursive\" and touchdown is not used)\n\
+         # extend_library = \"on\"  # continuous: search the gaits a trial outside the library's speeds needs (\"off\": keep the library)\n\
          # leg_length = 0.95  # trial body, m (else the trial metadata); a library for another body is rescaled\n\
          # mass = 70  # trial body, kg\n",
         full.kappa,

@@ -55,7 +55,7 @@ pub mod smoothed_chain;
 mod spec;
 
 pub use baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
-pub use build::{build, check_channels};
+pub use build::{build, check_channels, gate};
 pub use channels::ChannelNeeds;
 pub use error::MethodError;
 pub use method_def::{build_with, read_file, resolve_with, MethodDef, MethodFile, MethodInfo};

@@ -24,6 +24,9 @@ pub struct MethodFlags {
     pub imm_touchdown: Option<String>,
     /// imm-bslip: configuration (`paper`, `continuous`).
     pub imm_config: Option<String>,
+    /// imm-bslip (continuous): extend the library to the trial's speeds
+    /// (`on`, the default, or `off`).
+    pub imm_extend_library: Option<String>,
     /// imm-bslip: the trial body's leg length (m), over its metadata.
     pub leg_length: Option<f64>,
     /// imm-bslip: the trial body's mass (kg), over its metadata.
@@ -47,11 +50,12 @@ impl MethodFlags {
             || self.imm_weights.is_some()
             || self.imm_touchdown.is_some()
             || self.imm_config.is_some()
+            || self.imm_extend_library.is_some()
             || self.leg_length.is_some()
             || self.mass.is_some();
         if imm && method != MethodName::ImmBslip {
             return Err(MethodError::FlagNotForMethod {
-                flags: "--library, --kappa, --rescale-height, --imm-weights, --imm-touchdown, --imm-config, --leg-length and --mass",
+                flags: "--library, --kappa, --rescale-height, --imm-weights, --imm-touchdown, --imm-config, --imm-extend-library, --leg-length and --mass",
                 owner: MethodName::ImmBslip,
                 method,
             });

@@ -8,12 +8,14 @@
 //! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
 //! [`monte_carlo_plot`]), simulated trials with their metadata and columns
 //! ([`simulated_trials`]), a built gait library as its file
-//! ([`gait_library`]).
+//! ([`gait_library`]), and `imm-bslip`'s library extended to a trial's
+//! speeds ([`imm_library_extension`]).
 #![deny(missing_docs)]
 
 pub mod coverage;
 pub mod fes_pulse_cv;
 pub mod gait_library;
+pub mod imm_library_extension;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod protocol;

@@ -9,6 +9,9 @@ use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{RejectionWatch, ResetWatch, SpeedRangeWatch};
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
+use limbfuse_methods::MethodSpec;
+use limbfuse_workflows::imm_library_extension;
+
 use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
@@ -35,11 +38,14 @@ impl Observer for GaitWatch {
 
 /// Runs one estimator over a trial file, streaming; `-` as the trial reads
 /// standard input, `-` as the output writes standard output as rows arrive
-/// (docs/STREAMING.md).
+/// (docs/STREAMING.md). `imm-bslip --imm-config continuous` on a trial
+/// walking outside its library's speeds runs twice: the first run's speeds
+/// say which gaits are missing, the second runs over the extended family
+/// (`limbfuse_workflows::imm_library_extension`; files only).
 pub fn run(a: &EstimateArgs) -> Result<()> {
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let stdout = stdio::is_stdio(&a.output).then(SharedStdout::new);
-    let mut reader = if stdio::is_stdio(&a.trial) {
+    let reader = if stdio::is_stdio(&a.trial) {
         TrialReader::from_reader(
             Path::new(stdio::STDIN_LABEL),
             Box::new(FlushingStdin::new(stdout.clone())),
@@ -47,10 +53,76 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     } else {
         TrialReader::open(&a.trial)?
     };
+    let est = methods::build_for(&spec, &reader)?;
+    methods::report_body(&spec, &reader)?;
+    let range = methods::library_speed_range(&spec, &reader)?;
+    let (meta, layout) = (reader.meta().clone(), *reader.layout());
+    let streamed = stdio::is_stdio(&a.trial) || stdout.is_some();
+    let mut pass = estimate_pass(a, &spec, reader, est, stdout, range)?;
+    if let Some(watch) = &pass.speed_range {
+        if streamed {
+            if imm_library_extension::wanted(&spec, watch).is_some() {
+                eprintln!(
+                    "{}: the library is extended to a trial's speeds only when the trial and the \
+                     estimate are files (not `-`: a streamed trial or estimate cannot be run again)",
+                    spec.method()
+                );
+            }
+        } else if let Some(ext) =
+            imm_library_extension::extend_for_trial(&spec, &meta, &layout, watch)
+                .with_context(|| a.trial.display().to_string())?
+        {
+            eprintln!("{}: {}", spec.method(), ext.message);
+            if let Some(est) = ext.estimator {
+                let reader = TrialReader::open(&a.trial)?;
+                pass = estimate_pass(a, &spec, reader, est, None, Some(ext.range))?;
+            }
+        }
+    }
+    pass.report.warn(spec.method().name());
+    if let Some(line) = &pass.verdict {
+        eprintln!("{line}");
+    }
+    if let Some(note) = pass.speed_range.as_ref().and_then(SpeedRangeWatch::note) {
+        eprintln!("{}: {note}", spec.method());
+    }
+    let written = if stdio::is_stdio(&a.output) {
+        "standard output".to_string()
+    } else {
+        a.output.display().to_string()
+    };
+    eprintln!(
+        "{}: {} samples -> {written}",
+        spec.method(),
+        pass.report.n_samples
+    );
+    Ok(())
+}
+
+/// What one run of `estimate` over the trial found.
+struct Pass {
+    report: RunReport,
+    /// knee-selfalign's verdict line.
+    verdict: Option<String>,
+    speed_range: Option<SpeedRangeWatch>,
+}
+
+/// One run of `est` over the trial `reader` reads into the output file (or
+/// standard output); `range`: the imm-bslip library's speeds, watched.
+/// Errors (and removes the output) when a gait method found no gait or
+/// knee-selfalign refused.
+fn estimate_pass(
+    a: &EstimateArgs,
+    spec: &MethodSpec,
+    mut reader: TrialReader,
+    mut est: Box<dyn limbfuse_core::Estimator + Send>,
+    stdout: Option<SharedStdout>,
+    range: Option<(f64, f64)>,
+) -> Result<Pass> {
     let mut smoothed = if a.smooth {
         Some(
             limbfuse_methods::smoothed_chain::build_smoothed(
-                &spec,
+                spec,
                 reader.meta(),
                 reader.layout(),
                 Default::default(),
@@ -60,9 +132,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     } else {
         None
     };
-    let mut est = methods::build_for(&spec, &reader)?;
-    methods::report_body(&spec, &reader)?;
-    let knee_window = methods::knee_window(&spec, &reader)?;
+    let knee_window = methods::knee_window(spec, &reader)?;
     let diagnostics = match &a.diagnostics {
         Some(text) => DiagnosticColumns::parse(text)?,
         None => DiagnosticColumns::All,
@@ -84,10 +154,9 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
     let gait_method = outputs.contact || (outputs.speed && !outputs.com);
     let mut gait = GaitWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
-    let mut speed_range =
-        methods::library_speed_range(&spec, &reader)?.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
+    let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
     let label = spec.method().name();
-    let n = {
+    let report = {
         let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
         if let Some(k) = knee.as_mut() {
             extra.push(k);
@@ -122,10 +191,12 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             )?,
         }
     };
+    let mut verdict = None;
     if let Some(k) = &knee {
         match k.verdict(knee_window) {
-            Ok(line) => eprintln!("{}: {line}", spec.method()),
+            Ok(line) => verdict = Some(format!("{}: {line}", spec.method())),
             Err(why) => {
+                report.warn(label);
                 if !stdio::is_stdio(&a.output) {
                     let _ = std::fs::remove_file(&a.output);
                 }
@@ -137,12 +208,8 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             }
         }
     }
-    let written = if stdio::is_stdio(&a.output) {
-        "standard output".to_string()
-    } else {
-        a.output.display().to_string()
-    };
     if gait_method && !gait.found {
+        report.warn(label);
         let kept = if stdio::is_stdio(&a.output) {
             "the estimate written to standard output holds none"
         } else {
@@ -150,17 +217,18 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
             "no estimate written"
         };
         anyhow::bail!(
-            "no gait found in {}: `{}` detected no foot contact and no walking speed in {n} samples \
+            "no gait found in {}: `{}` detected no foot contact and no walking speed in {} samples \
              (the recording has no walking, or the IMU is not where the method expects it); {kept}",
             a.trial.display(),
-            spec.method()
+            spec.method(),
+            report.n_samples
         );
     }
-    if let Some(note) = speed_range.as_ref().and_then(SpeedRangeWatch::note) {
-        eprintln!("{}: {note}", spec.method());
-    }
-    eprintln!("{}: {n} samples -> {written}", spec.method());
-    Ok(())
+    Ok(Pass {
+        report,
+        verdict,
+        speed_range,
+    })
 }
 
 /// The `# command:` line of an estimate file: the flags given, with file
@@ -194,6 +262,7 @@ fn command_line(a: &EstimateArgs) -> String {
     opt(&mut c, "imm-weights", a.imm_weights.clone());
     opt(&mut c, "imm-touchdown", a.imm_touchdown.clone());
     opt(&mut c, "imm-config", a.imm_config.clone());
+    opt(&mut c, "imm-extend-library", a.imm_extend_library.clone());
     opt(&mut c, "leg-length", a.leg_length.map(|v| v.to_string()));
     opt(&mut c, "mass", a.mass.map(|v| v.to_string()));
     opt(&mut c, "calibration", a.calibration.as_deref().map(name));
@@ -221,7 +290,7 @@ pub fn run_to_file(
     extra: &mut [&mut dyn Observer],
 ) -> Result<u64> {
     let all = DiagnosticColumns::All;
-    run_to_file_calibrated(
+    let run = run_to_file_calibrated(
         Engine::Online(est),
         reader,
         output,
@@ -230,13 +299,16 @@ pub fn run_to_file(
         extra,
         None,
         all,
-    )
+    )?;
+    run.warn(label);
+    Ok(run.n_samples)
 }
 
 /// [`run_to_file`] with an IMU calibration applied to every record read
-/// (docs/CALIBRATION.md), writing the `diagnostics` asked for.
+/// (docs/CALIBRATION.md), writing the `diagnostics` asked for; the caller
+/// gives the run's warnings ([`RunReport::warn`]).
 #[allow(clippy::too_many_arguments)]
-pub fn run_to_file_calibrated(
+fn run_to_file_calibrated(
     est: Engine<'_>,
     mut reader: TrialReader,
     output: &Path,
@@ -245,7 +317,7 @@ pub fn run_to_file_calibrated(
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
     diagnostics: DiagnosticColumns,
-) -> Result<u64> {
+) -> Result<RunReport> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::for_path(output, super::create_file(output)?)
         .recording_trial(file_name(&trial))
@@ -261,14 +333,13 @@ pub fn run_to_file_calibrated(
     let write_err = || format!("{}: cannot write the output file", output.display());
     writer.stamp_trial_hash(hash).with_context(write_err)?;
     super::commit(writer.into_inner().with_context(write_err)?)?;
-    run.warn(label, &trial);
-    Ok(run.n_samples)
+    Ok(run)
 }
 
 /// [`run_to_file_calibrated`] writing to standard output as the rows
 /// arrive. The header cannot hold the trial's hash (it is written before
 /// the trial ends): it says `# trial_hash: streamed`, and the hash goes to
-/// stderr at the end.
+/// stderr at the end; the caller gives the run's warnings.
 #[allow(clippy::too_many_arguments)]
 fn run_to_stdout(
     est: Engine<'_>,
@@ -279,7 +350,7 @@ fn run_to_stdout(
     extra: &mut [&mut dyn Observer],
     calibration: Option<&Calibration>,
     diagnostics: DiagnosticColumns,
-) -> Result<u64> {
+) -> Result<RunReport> {
     let trial = reader.path().to_path_buf();
     let mut writer = EstimateWriter::new(output)
         .streaming_trial(file_name(&trial))
@@ -296,8 +367,7 @@ fn run_to_stdout(
             trial.display()
         );
     }
-    run.warn(label, &trial);
-    Ok(run.n_samples)
+    Ok(run)
 }
 
 /// The file name of `path` (its display form if it has none).
@@ -319,6 +389,7 @@ pub enum Engine<'a> {
 
 /// What a run found besides its estimates.
 struct RunReport {
+    trial: std::path::PathBuf,
     n_samples: u64,
     resets: ResetWatch,
     rejections: RejectionWatch,
@@ -327,7 +398,8 @@ struct RunReport {
 impl RunReport {
     /// Warns on stderr when the estimator restarted during the run (issue
     /// 16) or sensor readings were rejected as out of range (issue 18).
-    fn warn(&self, label: &str, trial: &Path) {
+    fn warn(&self, label: &str) {
+        let trial = &self.trial;
         super::warn_resets(
             &format!("{label} on {}", trial.display()),
             self.resets.resets().as_ref(),
@@ -407,6 +479,7 @@ fn run_observed<W: std::io::Write>(
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
     Ok(RunReport {
+        trial,
         n_samples: summary.n_samples,
         resets,
         rejections,

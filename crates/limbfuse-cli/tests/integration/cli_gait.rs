@@ -163,6 +163,12 @@ fn continuous_configuration_and_trial_body(p: &std::path::Path) {
     for bad in [
         &["--imm-config", "banana"][..],
         &["--imm-config", "continuous", "--imm-touchdown", "height"][..],
+        &[
+            "--imm-config",
+            "continuous",
+            "--imm-extend-library",
+            "maybe",
+        ][..],
         &["--leg-length", "-1"][..],
     ] {
         let o = estimate_imm(bad, "z.csv", p);
@@ -170,10 +176,11 @@ fn continuous_configuration_and_trial_body(p: &std::path::Path) {
     }
 }
 
-/// A walker slower than every gait of the library (0.9-1.0 m/s): the
-/// estimate is written, with a note naming the range and the library to
-/// build (issue 19: 54 % phase accuracy at 0.35 m/s with a 0.4-1.0
-/// library, 92 % with the library the note names).
+/// A walker slower than every gait of the library (0.9-1.0 m/s), with the
+/// library extension off: the estimate is written, with a note naming the
+/// range and the library to build (issue 19: 54 % phase accuracy at 0.35
+/// m/s with a 0.4-1.0 library, 92 % with the library the note names; the
+/// extension, on by default, is `issue_19_library_extension`).
 fn issue_19_a_trial_below_the_library_speeds_gets_a_note(p: &std::path::Path) {
     ok(&limbfuse(
         &[
@@ -197,6 +204,8 @@ fn issue_19_a_trial_below_the_library_speeds_gets_a_note(p: &std::path::Path) {
             "lib.json",
             "--imm-config",
             "continuous",
+            "--imm-extend-library",
+            "off",
             "slow.csv",
             "-o",
             "slow-est.csv",

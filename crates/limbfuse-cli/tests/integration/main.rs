@@ -28,6 +28,7 @@ mod issue_18_fuzz_parsers;
 mod issue_18_fuzz_steps;
 mod issue_18_glitches;
 mod issue_19_clock_origin;
+mod issue_19_library_extension;
 mod knee_bad_input;
 mod knee_cli;
 mod results_commands;

@@ -4,7 +4,10 @@
 
 use limbfuse_models::bslip::{BslipParams, GaitParameters, GaitTemplate};
 
-use super::search::{optimise_gait, predict_seed, FoundGait, SearchError, SearchSettings};
+use super::periodic::{correct, STIFFNESS_FIXED};
+use super::search::{
+    objective, optimise_gait, predict_seed, FoundGait, SearchError, SearchSettings,
+};
 use super::step::{StepOutcome, StepSimulator};
 
 /// Speed at which the homotopy starts with a direct optimisation (m/s): the
@@ -129,6 +132,148 @@ pub fn build_library(
     Ok(out)
 }
 
+/// Gaits continued from a library's end gait, as far as the search went.
+#[derive(Debug, Clone)]
+pub struct LibraryExtension {
+    /// The gaits found, in the order of the speeds asked for.
+    pub gaits: Vec<LibraryGait>,
+    /// Where the continuation from the end gait failed, when the search
+    /// then started again from [`START_SPEED`] (the failure).
+    pub restarted: Option<SearchError>,
+    /// Why the search stopped before the last speed (`None`: every speed
+    /// was reached).
+    pub stopped: Option<SearchError>,
+}
+
+/// Extends a library beyond its end gait `end` (mean speed `end_speed`,
+/// periodic for `body`): the homotopy of [`build_library`] (predictor eq 6,
+/// corrector eqs 1-2, [`HOMOTOPY_STEP`] sub-steps) from that gait to each of
+/// `speeds` in turn (ordered outwards from `end_speed`), so the new gaits
+/// continue the library's own branch. The end gait is first projected onto
+/// `g = 0` at its own stiffness (a library built for another body and
+/// rescaled by Froude similarity is periodic, but the step-length law is
+/// not Froude-invariant). Where the homotopy finds no periodic gait at a
+/// speed, the last gait it reached on the way is kept; if that does not get
+/// to `reach` (the speed the extension must cover), the search starts once
+/// more as [`build_library`] does (direct optimisation at [`START_SPEED`],
+/// homotopy to the speed). It stops at the first speed not reached.
+pub fn extend_library(
+    body: &BslipParams,
+    end: &GaitParameters,
+    end_speed: f64,
+    speeds: &[f64],
+    reach: f64,
+    settings: &SearchSettings,
+) -> LibraryExtension {
+    let sim = StepSimulator::new(*body);
+    let outwards = speeds.first().map_or(1.0, |v| (v - end_speed).signum());
+    let covers = |v: f64| (v - reach) * outwards >= -1e-9;
+    let mut out = LibraryExtension {
+        gaits: Vec::with_capacity(speeds.len()),
+        restarted: None,
+        stopped: None,
+    };
+    let mut current = match project(&sim, end, end_speed, settings) {
+        Ok(found) => Some(found),
+        Err(e) => {
+            out.restarted = Some(e);
+            None
+        }
+    };
+    let mut restart_used = false;
+    let mut furthest = end_speed;
+    for &target in speeds {
+        let mut run = current.map(|from| continue_towards(&sim, &from, target, settings));
+        // The first failure short of `reach`: once more from the start speed.
+        let short = run
+            .as_ref()
+            .is_none_or(|r| r.failed.is_some() && r.partial().is_none_or(|p| !covers(p.speed)));
+        if short && !restart_used {
+            restart_used = true;
+            if out.restarted.is_none() {
+                out.restarted = run.as_ref().and_then(|r| r.failed.clone());
+            }
+            let start = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings);
+            match start {
+                Ok(start) => run = Some(continue_towards(&sim, &start, target, settings)),
+                Err(e) => {
+                    out.stopped = Some(e);
+                    break;
+                }
+            }
+        }
+        let Some(run) = run else {
+            break;
+        };
+        match run.failed {
+            None => {
+                current = Some(run.last);
+                furthest = run.last.speed;
+                out.gaits.push(run.last.into());
+            }
+            Some(e) => {
+                let beyond = (run.last.speed - furthest) * outwards > 1e-6;
+                if run.moved && beyond {
+                    out.gaits.push(run.last.into());
+                }
+                out.stopped = Some(e);
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// How far a homotopy ([`continue_towards`]) got.
+#[derive(Debug, Clone)]
+pub struct Continuation {
+    /// The last gait reached: the target's when `failed` is `None`, else
+    /// the last one before the failure (the start gait if none).
+    pub last: FoundGait,
+    /// Whether it got one sub-step or more beyond the start gait.
+    pub moved: bool,
+    /// Why it stopped short of the target.
+    pub failed: Option<SearchError>,
+}
+
+impl Continuation {
+    /// The gait reached beyond the start before a failure.
+    pub fn partial(&self) -> Option<&FoundGait> {
+        (self.failed.is_some() && self.moved).then_some(&self.last)
+    }
+}
+
+/// `gait` (periodic or nearly) projected onto `g = 0` at `speed` with its
+/// own stiffness.
+fn project(
+    sim: &StepSimulator,
+    gait: &GaitParameters,
+    speed: f64,
+    settings: &SearchSettings,
+) -> Result<FoundGait, SearchError> {
+    let c = correct(
+        sim,
+        gait,
+        speed,
+        &STIFFNESS_FIXED,
+        settings.periodic_tol,
+        60,
+    )
+    .map_err(|failure| SearchError::Step { speed, failure })?;
+    if c.residual > settings.periodic_tol {
+        return Err(SearchError::NotPeriodic {
+            speed,
+            residual: c.residual,
+            tol: settings.periodic_tol,
+        });
+    }
+    Ok(FoundGait {
+        speed,
+        objective: objective(&c.outcome, &c.gait, speed, sim.body.rest_length, settings),
+        solution: c,
+    })
+}
+
 /// Homotopy from a found gait to `target` speed by predictor (eq 6) /
 /// corrector (eqs 1-2) sub-steps.
 pub fn continue_to(
@@ -137,7 +282,22 @@ pub fn continue_to(
     target: f64,
     settings: &SearchSettings,
 ) -> Result<FoundGait, SearchError> {
+    let run = continue_towards(sim, from, target, settings);
+    match run.failed {
+        None => Ok(run.last),
+        Some(e) => Err(e),
+    }
+}
+
+/// [`continue_to`], saying how far it got when it failed.
+pub fn continue_towards(
+    sim: &StepSimulator,
+    from: &FoundGait,
+    target: f64,
+    settings: &SearchSettings,
+) -> Continuation {
     let mut current = *from;
+    let mut moved = false;
     let mut step = HOMOTOPY_STEP;
     while (target - current.speed).abs() > 1e-9 {
         let dv = (target - current.speed).clamp(-step, step);
@@ -167,15 +327,24 @@ pub fn continue_to(
         match attempt {
             Ok(found) => {
                 current = found;
+                moved = true;
                 step = HOMOTOPY_STEP;
             }
             Err(e) => {
                 step *= 0.5;
                 if step < HOMOTOPY_STEP / 16.0 {
-                    return Err(e);
+                    return Continuation {
+                        last: current,
+                        moved,
+                        failed: Some(e),
+                    };
                 }
             }
         }
     }
-    Ok(current)
+    Continuation {
+        last: current,
+        moved,
+        failed: None,
+    }
 }
