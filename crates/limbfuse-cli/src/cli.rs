@@ -233,6 +233,9 @@ pub struct ImportArgs {
     /// IMU calibration (`limbfuse calibrate`) applied to the raw sensor channels.
     #[arg(long, visible_alias = "imu-calibration")]
     pub calibration: Option<PathBuf>,
+    /// gaittoolbox: the leg to import (default: the one the folder holds, the right when it holds both).
+    #[arg(long, value_enum)]
+    pub leg: Option<crate::cli::LegArg>,
 }
 
 /// Options of `estimate`.
