@@ -213,7 +213,7 @@ pub struct DemoArgs {
 /// Supported import formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ImportFormat {
-    /// gait-tech/gaittoolbox sample folder (Xsens `imu-*.csv` + `vicon-right.csv`).
+    /// gait-tech/gaittoolbox sample folder (Xsens `imu-*.csv` + `vicon-right.csv`, `vicon-left.csv` or `vicon.csv`; either leg).
     Gaittoolbox,
     /// KneeAngleAlgorithmComparison rig log (`Trial_NN.csv`, 250 Hz, MPU6050).
     KneeRig,
