@@ -213,7 +213,7 @@ pub struct DemoArgs {
 /// Supported import formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ImportFormat {
-    /// gait-tech/gaittoolbox sample folder (Xsens `imu-*.csv` + `vicon-right.csv`).
+    /// gait-tech/gaittoolbox sample folder (Xsens `imu-*.csv` + `vicon-right.csv`, `vicon-left.csv` or `vicon.csv`; either leg).
     Gaittoolbox,
     /// KneeAngleAlgorithmComparison rig log (`Trial_NN.csv`, 250 Hz, MPU6050).
     KneeRig,
@@ -233,6 +233,9 @@ pub struct ImportArgs {
     /// IMU calibration (`limbfuse calibrate`) applied to the raw sensor channels.
     #[arg(long, visible_alias = "imu-calibration")]
     pub calibration: Option<PathBuf>,
+    /// gaittoolbox: the leg to import (default: the one the folder holds, the right when it holds both).
+    #[arg(long, value_enum)]
+    pub leg: Option<crate::cli::LegArg>,
 }
 
 /// Options of `estimate`.

@@ -1,16 +1,34 @@
 //! `limbfuse import --format gaittoolbox|knee-rig INPUT -o trial.csv`.
 
 use anyhow::{Context, Result};
-use limbfuse_io::import::{import_gaittoolbox, import_knee_rig};
+use limbfuse_core::Side;
+use limbfuse_io::import::{import_gaittoolbox_with, import_knee_rig, GaittoolboxOptions};
 use limbfuse_io::TrialWriter;
 
-use crate::cli::{ImportArgs, ImportFormat};
+use crate::cli::{ImportArgs, ImportFormat, LegArg};
 
 /// Converts a recording into a trial file.
 pub fn run(a: &ImportArgs) -> Result<()> {
+    let leg = a.leg.map(|l| match l {
+        LegArg::Left => Side::Left,
+        LegArg::Right => Side::Right,
+    });
     let mut trial = match a.format {
-        ImportFormat::Gaittoolbox => import_gaittoolbox(&a.input)?,
-        ImportFormat::KneeRig => import_knee_rig(&a.input)?,
+        ImportFormat::Gaittoolbox => {
+            let opts = GaittoolboxOptions {
+                leg,
+                ..GaittoolboxOptions::default()
+            };
+            import_gaittoolbox_with(&a.input, &opts)?
+        }
+        ImportFormat::KneeRig => {
+            if a.leg.is_some() {
+                anyhow::bail!(
+                    "--leg applies to --format gaittoolbox only (a knee-rig log has one knee)"
+                );
+            }
+            import_knee_rig(&a.input)?
+        }
     };
     if let Some(path) = &a.calibration {
         let (cal, frame) =

@@ -172,3 +172,26 @@ fn knee_axis_methods_summarise_and_refuse_bad_trials() {
         "(2000 samples, --window) is longer than the trial (1200 samples)",
     );
 }
+
+/// `--leg` belongs to the gaittoolbox import: a knee-rig log refuses it.
+#[test]
+fn issue_14_import_leg_only_for_gaittoolbox() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("Trial_01.csv"), "x\n").unwrap();
+    let o = crate::support::limbfuse(
+        &[
+            "import",
+            "--format",
+            "knee-rig",
+            "--leg",
+            "left",
+            "Trial_01.csv",
+            "-o",
+            "t.csv",
+        ],
+        d.path(),
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("--leg applies to --format gaittoolbox"), "{e}");
+}

@@ -1,21 +1,18 @@
-//! The gaittoolbox walking trial: `imu-<segment>.csv` (Xsens MTx) and
-//! `vicon-right.csv` (joint centres) in one folder, 100 Hz, sample k of every
-//! file being the same instant. See `docs/IMPORTERS.md`.
+//! The gaittoolbox walking trial: `imu-<segment>.csv` (Xsens MTx) and a
+//! Vicon file of joint centres (`vicon-right.csv`, `vicon-left.csv` or the
+//! toolbox's `vicon.csv`) in one folder, 100 Hz, sample k of every file being
+//! the same instant; either leg (`gaittoolbox_leg`). See `docs/IMPORTERS.md`.
 
 use std::path::{Path, PathBuf};
 
-use limbfuse_core::{ImuSample, Joint, Record, Segment};
+use limbfuse_core::{ImuSample, Joint, Record, Segment, Side};
 use nalgebra::Vector3;
 
+use super::gaittoolbox_leg::leg_files;
 use super::sagittal_reference::{sagittal_reference, JointCentres, SagittalParams};
 use super::{fmt, read_lines, Header, ImportError, ImportedTrial};
 use crate::layout::TrialLayout;
 use crate::meta::TrialMeta;
-
-/// IMU file stem per limbfuse segment (trunk, thigh, shank, foot).
-const IMU_FILES: [&str; 4] = ["Pelvis", "R_UpLeg", "R_LowLeg", "R_Foot"];
-/// The Vicon file.
-const VICON_FILE: &str = "vicon-right.csv";
 
 /// Options of [`import_gaittoolbox_with`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -27,6 +24,9 @@ pub struct GaittoolboxOptions {
     pub shift_imu_samples: i32,
     /// How the reference angles are derived.
     pub reference: SagittalParams,
+    /// The leg to import; `None`: the one the folder holds (the right
+    /// when it holds both).
+    pub leg: Option<Side>,
 }
 
 /// One parsed CSV file of the toolbox: `// key=value` comments, header, rows.
@@ -168,9 +168,10 @@ pub fn import_gaittoolbox(dir: &Path) -> Result<ImportedTrial, ImportError> {
 }
 
 /// Imports the gaittoolbox trial in `dir`: 4 IMUs (Pelvis -> trunk, R_UpLeg ->
-/// thigh, R_LowLeg -> shank, R_Foot -> foot; R_LowLeg2 is not imported) with
-/// their raw acc (m/s^2), gyr (rad/s) and Xsens orientation quaternion, plus
-/// thigh/shank/foot/knee/ankle reference angles from the Vicon joint centres.
+/// thigh, R_LowLeg -> shank, R_Foot -> foot, or the `L_` files of the left
+/// leg; LowLeg2 is not imported) with their raw acc (m/s^2), gyr (rad/s) and
+/// Xsens orientation quaternion, plus thigh/shank/foot/knee/ankle reference
+/// angles from the leg's Vicon joint centres.
 pub fn import_gaittoolbox_with(
     dir: &Path,
     opts: &GaittoolboxOptions,
@@ -180,11 +181,16 @@ pub fn import_gaittoolbox_with(
             dir,
             std::io::Error::new(
                 std::io::ErrorKind::NotFound,
-                "expected a folder with imu-*.csv and vicon-right.csv",
+                "expected a folder with imu-*.csv and a Vicon file (vicon-right.csv, vicon-left.csv or vicon.csv)",
             ),
         ));
     }
-    let vicon = ToolboxFile::read(&dir.join(VICON_FILE))?;
+    let leg = leg_files(dir, opts.leg)?;
+    let vicon = ToolboxFile::read(&leg.vicon)?;
+    let vicon_name = leg
+        .vicon
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let n = vicon.rows.len();
     let fs = vicon.sample_rate()?.unwrap_or(100.0);
     let unit = vicon.comment("posUnit").unwrap_or("m");
@@ -204,7 +210,7 @@ pub fn import_gaittoolbox_with(
     let centre = |stem: &str| -> Result<Vec<Option<Vector3<f64>>>, ImportError> {
         let g = vicon.groups::<3>(
             stem,
-            "joint-centre columns PELV_1..3, RFEP_1..3, RFEO_1..3, RTIO_1..3, RTOE_1..3",
+            "joint-centre columns PELV_1..3 and the leg's FEP, FEO, TIO, TOE _1..3 (R... right, L... left)",
         )?;
         Ok(g.into_iter()
             .map(|p| p.map(|p| Vector3::from(p) * scale))
@@ -212,14 +218,14 @@ pub fn import_gaittoolbox_with(
     };
     let joint_centres = JointCentres {
         pelvis: centre("PELV")?,
-        hip: centre("RFEP")?,
-        knee: centre("RFEO")?,
-        ankle: centre("RTIO")?,
-        toe: centre("RTOE")?,
+        hip: centre(&leg.column("FEP"))?,
+        knee: centre(&leg.column("FEO"))?,
+        ankle: centre(&leg.column("TIO"))?,
+        toe: centre(&leg.column("TOE"))?,
     };
 
     let mut imus: Vec<Vec<ImuSample>> = Vec::new();
-    for stem in IMU_FILES {
+    for stem in &leg.imu {
         let file = ToolboxFile::read(&dir.join(format!("imu-{stem}.csv")))?;
         if let Some(f) = file.sample_rate()? {
             if (f - fs).abs() > 1e-9 * fs {
@@ -227,7 +233,7 @@ pub fn import_gaittoolbox_with(
                     &file.path,
                     file.comment_line("fs"),
                     format!("sample rate fs={f}"),
-                    format!("the rate of {VICON_FILE} ({fs} Hz)"),
+                    format!("the rate of {vicon_name} ({fs} Hz)"),
                 ));
             }
         }
@@ -236,7 +242,7 @@ pub fn import_gaittoolbox_with(
                 &file.path,
                 file.last_line,
                 format!("{} samples", file.rows.len()),
-                format!("{n} samples, as many as {VICON_FILE} (sample k of every file is the same instant)"),
+                format!("{n} samples, as many as {vicon_name} (sample k of every file is the same instant)"),
             ));
         }
         let expected = "Xsens columns ori_1..4, acc_1..3, gyr_1..3";
@@ -318,12 +324,23 @@ pub fn import_gaittoolbox_with(
         format!("gaittoolbox {orig} (idx {idx}) from {}", dir.display()),
     );
     meta.set("sample_rate_hz", fmt(fs, 0));
-    meta.set("leg", "right");
+    meta.set("leg", leg.side.name());
     meta.set("g", "9.81");
-    meta.set(
-        "segment_map",
-        "trunk=imu-Pelvis thigh=imu-R_UpLeg shank=imu-R_LowLeg foot=imu-R_Foot (imu-R_LowLeg2, mag_* and step-detect.csv not imported)",
+    let [_, up, low, foot] = &leg.imu;
+    let mut map = format!(
+        "trunk=imu-Pelvis thigh=imu-{up} shank=imu-{low} foot=imu-{foot} (imu-{low}2, mag_* and step-detect.csv not imported)"
     );
+    if vicon_name != "vicon-right.csv" {
+        map += &format!("; Vicon {vicon_name}");
+    }
+    if leg.both_legs {
+        let other = match leg.side {
+            Side::Left => "right",
+            Side::Right => "left",
+        };
+        map += &format!("; the folder also holds the {other} leg (import --leg {other})");
+    }
+    meta.set("segment_map", map);
     meta.set(
         "units",
         format!("acc m/s^2 and gyr rad/s as recorded (no conversion); Vicon positions {unit} scaled by {scale} to m"),
@@ -343,8 +360,12 @@ pub fn import_gaittoolbox_with(
     meta.set(
         "reference_method",
         format!(
-            "heading-following sagittal plane: forward = horizontal direction of the PELV velocity averaged over {} s; theta = atan2(forward, -up) of the proximal->distal vector (thigh RFEP->RFEO, shank RFEO->RTIO, foot RTIO->RTOE minus foot_offset); knee = thigh - shank, ankle = shank - foot",
-            fmt(p.heading_window_s, 2)
+            "heading-following sagittal plane: forward = horizontal direction of the PELV velocity averaged over {} s; theta = atan2(forward, -up) of the proximal->distal vector (thigh {hip}->{knee}, shank {knee}->{ankle}, foot {ankle}->{toe} minus foot_offset); knee = thigh - shank, ankle = shank - foot",
+            fmt(p.heading_window_s, 2),
+            hip = leg.column("FEP"),
+            knee = leg.column("FEO"),
+            ankle = leg.column("TIO"),
+            toe = leg.column("TOE"),
         ),
     );
     let ranges: Vec<String> = reference

@@ -21,6 +21,7 @@ use crate::layout::TrialLayout;
 use crate::meta::TrialMeta;
 
 mod gaittoolbox;
+mod gaittoolbox_leg;
 mod knee_rig;
 pub mod sagittal_reference;
 

@@ -5,6 +5,7 @@
 mod estimate_provenance;
 mod import_gaittoolbox;
 mod import_knee_rig;
+mod issue_14_gaittoolbox_other_leg;
 mod issue_18_arrow_files;
 mod issue_18_mapped_io;
 mod issue_18_partial_imu_cells;
