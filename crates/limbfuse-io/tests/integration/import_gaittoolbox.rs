@@ -14,7 +14,8 @@ use limbfuse_io::import::{
 use limbfuse_io::{TrialReader, TrialWriter};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
-fn data_dir() -> Option<PathBuf> {
+/// The shared S02 folder, or `None` with a skip message.
+pub(crate) fn data_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("LIMBFUSE_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| {

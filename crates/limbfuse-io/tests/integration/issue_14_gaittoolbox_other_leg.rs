@@ -7,25 +7,10 @@
 //! legs imports the right one unless the left is asked for. Skipped (the
 //! shared-data part) when `../shared/data` is absent.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use limbfuse_core::Side;
 use limbfuse_io::import::{import_gaittoolbox, import_gaittoolbox_with, GaittoolboxOptions};
-
-fn s02() -> Option<PathBuf> {
-    let dir = std::env::var_os("LIMBFUSE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        })
-        .join("gaittoolbox-s02-walk");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        println!("skipping: ../shared/data/gaittoolbox-s02-walk not found (set LIMBFUSE_DATA)");
-        None
-    }
-}
 
 /// `src`'s header row with every right-leg Vicon column renamed to the left's.
 fn left_columns(text: &str) -> String {
@@ -72,7 +57,7 @@ fn as_left_leg(src: &Path, dst: &Path) {
 
 #[test]
 fn issue_14_a_left_leg_folder_imports_as_the_right_one_does() {
-    let Some(src) = s02() else {
+    let Some(src) = crate::import_gaittoolbox::data_dir() else {
         return;
     };
     let right = import_gaittoolbox(&src).unwrap();
@@ -94,7 +79,7 @@ fn issue_14_a_left_leg_folder_imports_as_the_right_one_does() {
 
 #[test]
 fn issue_14_a_folder_with_both_legs_imports_the_one_asked_for() {
-    let Some(src) = s02() else {
+    let Some(src) = crate::import_gaittoolbox::data_dir() else {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
@@ -140,7 +125,7 @@ fn issue_14_a_folder_with_both_legs_imports_the_one_asked_for() {
 
 #[test]
 fn issue_14_a_left_leg_folder_without_its_vicon_columns_is_an_error() {
-    let Some(src) = s02() else {
+    let Some(src) = crate::import_gaittoolbox::data_dir() else {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
