@@ -151,33 +151,36 @@ fn estimate<'py>(
         let meta = trial.meta();
         let cols = trial.columns()?;
         let label = trial.label();
-        let in_trial = |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
+        let in_trial =
+            |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
         let est = limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?;
         let inputs = cols.inputs();
-        let run = |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
-            let chosen = diagnostics
-                .resolve(est.name(), est.diagnostic_names())
-                .map_err(|e| user_msg(format!("{label}: {e}")))?;
-            let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
-                .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
-            if let Some((name, hash)) = trial.source() {
-                out.header.push(format!("{TRIAL_KEY}: {name}"));
-                out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
-            }
-            let mut resets = ResetWatch::default();
-            let run = py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
-            run.map_err(|e| {
-                user_msg(format!(
-                    "estimating {label} with {}: {}",
-                    spec.method(),
-                    chain_message(&e)
-                ))
-            })?;
-            let warning = resets
-                .resets()
-                .map(|r| format!("{} on {label}: {r}", spec.method()));
-            estimate_tuple(py, out, warning)
-        };
+        let run =
+            |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
+                let chosen = diagnostics
+                    .resolve(est.name(), est.diagnostic_names())
+                    .map_err(|e| user_msg(format!("{label}: {e}")))?;
+                let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
+                    .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+                if let Some((name, hash)) = trial.source() {
+                    out.header.push(format!("{TRIAL_KEY}: {name}"));
+                    out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
+                }
+                let mut resets = ResetWatch::default();
+                let run =
+                    py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
+                run.map_err(|e| {
+                    user_msg(format!(
+                        "estimating {label} with {}: {}",
+                        spec.method(),
+                        chain_message(&e)
+                    ))
+                })?;
+                let warning = resets
+                    .resets()
+                    .map(|r| format!("{} on {label}: {r}", spec.method()));
+                estimate_tuple(py, out, warning)
+            };
         let mut tuple = run(est)?;
         let MethodSpec::ImmBslip(s) = &spec else {
             return Ok(tuple);
