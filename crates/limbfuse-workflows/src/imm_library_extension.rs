@@ -43,12 +43,6 @@ const SINGLE_GAIT_STEP: f64 = 0.1;
 /// the library with a fine step would otherwise search for minutes.
 const MAX_ADDED: usize = limbfuse_estimators::imm_bslip::MAX_GAITS;
 
-/// Whether a trial above the library's range gets gaits added. Measured on
-/// the 70 kg / 0.95 m walker with the 0.4-1.0 m/s library (docs/RESULTS.md,
-/// "The library extended to the trial's speeds"): the end gait gives
-/// 95.7-97.9 % phase at 1.15 and 1.30 m/s, the extended family 99.0-99.6 %.
-const EXTEND_ABOVE: bool = true;
-
 /// The extended family, or why there is none, for a trial outside its
 /// library's speeds.
 pub struct LibraryExtension {
@@ -78,8 +72,11 @@ impl std::fmt::Debug for LibraryExtension {
 
 /// What a first run found that calls for an extension: `spec` is
 /// `imm-bslip` in the continuous configuration with the extension on, and
-/// most estimated speeds lie outside the library's range on a side that is
-/// extended.
+/// most estimated speeds lie outside the library's range, on either side.
+/// Above the range too: measured on the 70 kg / 0.95 m walker with the
+/// 0.4-1.0 m/s library (docs/RESULTS.md, "The library extended to the
+/// trial's speeds"), the end gait gives 95.7-97.9 % phase at 1.15 and
+/// 1.30 m/s, the extended family 99.0-99.6 %.
 pub fn wanted(spec: &MethodSpec, watch: &SpeedRangeWatch) -> Option<OutsideRange> {
     let MethodSpec::ImmBslip(s) = spec else {
         return None;
@@ -87,9 +84,7 @@ pub fn wanted(spec: &MethodSpec, watch: &SpeedRangeWatch) -> Option<OutsideRange
     if s.config != ImmConfig::Continuous || !s.extend_library {
         return None;
     }
-    watch
-        .outside()
-        .filter(|o| o.side == RangeSide::Below || EXTEND_ABOVE)
+    watch.outside()
 }
 
 /// The speeds to search (m/s), outwards from the library's end gait `end`
