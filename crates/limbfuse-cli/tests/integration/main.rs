@@ -17,6 +17,7 @@ mod closed_pipe;
 mod crate_layers;
 mod issue_14_chain_device_orientation;
 mod issue_14_chain_mid_stride_start;
+mod issue_15_knee_turn_in_the_window;
 mod issue_15_knee_window_in_seconds;
 mod issue_16_plant_as_stated;
 mod issue_16_tune_fes;

@@ -30,7 +30,14 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::window::Ring;
+use super::window::{Ring, Slot};
+
+/// Length of the blocks (s) a window is split into when it fails the
+/// perpendicular test as a whole: about one stride (a walking stride lasts
+/// 1.0-1.2 s at 100-120 steps/min, Perry & Burnfield 2010, so a block holds
+/// about one of each segment's swings), short against a turn on the spot
+/// (1-2 s).
+pub const FLEXION_BLOCK_S: f64 = 1.0;
 
 /// Settings of the upright-leg axis prior.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,30 +74,107 @@ struct Sums {
     n_gyr: usize,
 }
 
-fn sums(ring: &Ring) -> Sums {
-    let mut s = Sums {
-        acc: [Vector3::zeros(); 2],
+impl Sums {
+    const ZERO: Sums = Sums {
+        acc: [Vector3::new(0.0, 0.0, 0.0); 2],
         n_acc: 0,
-        gg: [Matrix3::zeros(); 2],
+        gg: [Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0); 2],
         rate_sq: 0.0,
         n_gyr: 0,
     };
-    for i in 0..ring.len() {
-        let x = ring.get(i);
+
+    fn push(&mut self, x: &Slot) {
         if x.acc_ok {
-            s.acc[0] += x.acc[0];
-            s.acc[1] += x.acc[1];
-            s.n_acc += 1;
+            self.acc[0] += x.acc[0];
+            self.acc[1] += x.acc[1];
+            self.n_acc += 1;
         }
         if x.gyr_ok {
             for seg in 0..2 {
-                s.gg[seg].ger(1.0, &x.gyr[seg], &x.gyr[seg], 1.0);
+                self.gg[seg].ger(1.0, &x.gyr[seg], &x.gyr[seg], 1.0);
             }
-            s.rate_sq += x.gyr[0].norm_squared() + x.gyr[1].norm_squared();
-            s.n_gyr += 1;
+            self.rate_sq += x.gyr[0].norm_squared() + x.gyr[1].norm_squared();
+            self.n_gyr += 1;
         }
     }
+
+    fn add(&mut self, other: &Sums) {
+        for seg in 0..2 {
+            self.acc[seg] += other.acc[seg];
+            self.gg[seg] += other.gg[seg];
+        }
+        self.n_acc += other.n_acc;
+        self.rate_sq += other.rate_sq;
+        self.n_gyr += other.n_gyr;
+    }
+
+    /// Each segment's dominant rotation axis perpendicular to its mean
+    /// specific force (on the side of `hinge`), or `None` when a segment
+    /// turns mainly about its long axis (or the sums are empty).
+    fn perpendicular_axes(
+        &self,
+        hinge: &[Vector3<f64>; 2],
+        prior: &UprightPrior,
+    ) -> Option<[Vector3<f64>; 2]> {
+        if self.n_acc == 0 || self.n_gyr == 0 {
+            return None;
+        }
+        let mut out = [Vector3::zeros(); 2];
+        for seg in 0..2 {
+            let a = self.acc[seg].try_normalize(1e-9)?;
+            let gg = &self.gg[seg];
+            let along = (a.transpose() * gg * a)[0];
+            let perpendicular = gg.trace() - along;
+            if perpendicular.is_nan()
+                || perpendicular < prior.min_perpendicular_fraction * gg.trace()
+            {
+                return None;
+            }
+            let p = Matrix3::identity() - a * a.transpose();
+            let eig = nalgebra::SymmetricEigen::new(p * gg * p);
+            let j: Vector3<f64> = eig.eigenvectors.column(eig.eigenvalues.imax()).into_owned();
+            out[seg] = if j.dot(&hinge[seg]) < 0.0 { -j } else { j };
+        }
+        Some(out)
+    }
+
+    /// Whether a block passes the perpendicular test (both segments).
+    fn shows_flexion(&self, prior: &UprightPrior) -> bool {
+        self.perpendicular_axes(&[Vector3::zeros(); 2], prior)
+            .is_some()
+    }
+}
+
+fn sums(ring: &Ring) -> Sums {
+    let mut s = Sums::ZERO;
+    for i in 0..ring.len() {
+        s.push(ring.get(i));
+    }
     s
+}
+
+/// The sums over the window's [`FLEXION_BLOCK_S`] blocks that pass the
+/// perpendicular test on their own (the window minus its turns).
+fn flexion_block_sums(ring: &Ring, prior: &UprightPrior) -> Sums {
+    let mut kept = Sums::ZERO;
+    let mut block = Sums::ZERO;
+    let mut start = None;
+    for i in 0..ring.len() {
+        let x = ring.get(i);
+        let t0 = *start.get_or_insert(x.t);
+        if x.t - t0 >= FLEXION_BLOCK_S {
+            if block.shows_flexion(prior) {
+                kept.add(&block);
+            }
+            block = Sums::ZERO;
+            start = Some(x.t);
+        }
+        block.push(x);
+    }
+    if block.shows_flexion(prior) {
+        kept.add(&block);
+    }
+    kept
 }
 
 /// What the upright-leg prior makes of a window.
@@ -100,6 +184,11 @@ pub enum UprightAxes {
     Hinge,
     /// The prior's axes, each on the side of its eq-2 axis.
     Prior([Vector3<f64>; 2]),
+    /// The prior's axes from the window's blocks of [`FLEXION_BLOCK_S`]
+    /// that pass the perpendicular test, when the window as a whole does not
+    /// (walking and a turn on the spot in one window) and those blocks hold
+    /// more than half of its gyro samples.
+    PriorOnBlocks([Vector3<f64>; 2]),
     /// The hinge does not fit and a segment turns mainly about its long
     /// axis: no flexion axis in this window (keep the previous axes).
     NoFlexion,
@@ -107,12 +196,14 @@ pub enum UprightAxes {
 
 impl UprightAxes {
     /// Where the window's axes came from, as `diag_axis_source`: 0 eq 2, 1
-    /// the upright prior, 2 the previous window's (no flexion in this one).
+    /// the upright prior, 2 the previous window's (no flexion in this one),
+    /// 3 the upright prior on the window's flexion blocks.
     pub const fn code(&self) -> f64 {
         match self {
             UprightAxes::Hinge => 0.0,
             UprightAxes::Prior(_) => 1.0,
             UprightAxes::NoFlexion => 2.0,
+            UprightAxes::PriorOnBlocks(_) => 3.0,
         }
     }
 }
@@ -133,29 +224,24 @@ pub fn upright_axes(
     if rms_e_j.is_nan() || rms_e_j < prior.min_hinge_ratio * rms_rate {
         return UprightAxes::Hinge;
     }
-    let mut out = [Vector3::zeros(); 2];
-    for seg in 0..2 {
-        let Some(a) = s.acc[seg].try_normalize(1e-9) else {
-            return UprightAxes::NoFlexion;
-        };
-        let gg = &s.gg[seg];
-        let along = (a.transpose() * gg * a)[0];
-        let perpendicular = gg.trace() - along;
-        if perpendicular.is_nan() || perpendicular < prior.min_perpendicular_fraction * gg.trace() {
-            return UprightAxes::NoFlexion;
-        }
-        let p = Matrix3::identity() - a * a.transpose();
-        let eig = nalgebra::SymmetricEigen::new(p * gg * p);
-        let j: Vector3<f64> = eig.eigenvectors.column(eig.eigenvalues.imax()).into_owned();
-        out[seg] = if j.dot(&hinge[seg]) < 0.0 { -j } else { j };
+    if let Some(axes) = s.perpendicular_axes(&hinge, prior) {
+        return UprightAxes::Prior(axes);
     }
-    UprightAxes::Prior(out)
+    // Ours (beyond the window-level test): a window that mixes walking with
+    // a turn on the spot fails as a whole; its blocks that pass, if they
+    // hold most of its gyro samples, still show the flexion axis.
+    let kept = flexion_block_sums(ring, prior);
+    if 2 * kept.n_gyr > s.n_gyr {
+        if let Some(axes) = kept.perpendicular_axes(&hinge, prior) {
+            return UprightAxes::PriorOnBlocks(axes);
+        }
+    }
+    UprightAxes::NoFlexion
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::knee_selfalign::window::Slot;
 
     fn ring(axial: f64) -> Ring {
         // Both segments upright (gravity along sensor y), flexing about z,
@@ -202,5 +288,56 @@ mod tests {
         let r = ring(1.2);
         let h = upright_axes(&r, [Vector3::z(); 2], 1.0, &p);
         assert_eq!(h, UprightAxes::NoFlexion);
+    }
+
+    /// Walking (flexion about z, the thigh also rolling about its long axis
+    /// y) for `walk` samples at 100 Hz, then a turn on the spot: both
+    /// segments turning about their long axis y at 2.5 rad/s.
+    fn walk_then_turn(walk: usize, n: usize) -> Ring {
+        let mut r = Ring::new(n);
+        for k in 0..n {
+            let (thigh, shank) = if k < walk {
+                let w = libm::sin(k as f64 * 0.05);
+                (
+                    Vector3::new(0.0, 0.8 * w, w),
+                    Vector3::new(0.0, 0.0, 2.0 * w),
+                )
+            } else {
+                (Vector3::new(0.0, 2.5, 0.0), Vector3::new(0.0, 2.5, 0.0))
+            };
+            r.push(Slot {
+                t: k as f64 * 0.01,
+                gyr: [thigh, shank],
+                acc: [Vector3::new(0.0, 9.81, 0.0); 2],
+                gyr_ok: true,
+                acc_ok: true,
+            });
+        }
+        r
+    }
+
+    #[test]
+    fn issue_15_a_turn_inside_the_window_is_left_out_by_blocks() {
+        let p = UprightPrior::default();
+        let tilted = Vector3::new(0.0, 0.6, 0.8);
+        // 3.5 s of walking and a 1.5 s turn: the window as a whole turns
+        // mainly about the long axes, its walking blocks do not.
+        let r = walk_then_turn(350, 500);
+        let whole = sums(&r);
+        assert!(whole
+            .perpendicular_axes(&[tilted, Vector3::z()], &p)
+            .is_none());
+        let UprightAxes::PriorOnBlocks(j) = upright_axes(&r, [tilted, Vector3::z()], 1.0, &p)
+        else {
+            panic!("the walking blocks should give the axes");
+        };
+        assert!((j[0] - Vector3::z()).norm() < 1e-9, "{:?}", j[0]);
+        assert!((j[1] - Vector3::z()).norm() < 1e-9, "{:?}", j[1]);
+        // Mostly turn: the walking blocks hold less than half of the window.
+        let r = walk_then_turn(200, 500);
+        assert_eq!(
+            upright_axes(&r, [tilted, Vector3::z()], 1.0, &p),
+            UprightAxes::NoFlexion
+        );
     }
 }

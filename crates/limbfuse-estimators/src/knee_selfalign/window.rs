@@ -379,7 +379,7 @@ pub fn identify(
         upright_axes(ring, [j_t, j_s], j.rms_after, &u)
     });
     let [j_t, j_s] = match source {
-        UprightAxes::Prior(jj) => jj,
+        UprightAxes::Prior(jj) | UprightAxes::PriorOnBlocks(jj) => jj,
         UprightAxes::NoFlexion => previous.map_or([j_t, j_s], |g| g.axis),
         UprightAxes::Hinge => [j_t, j_s],
     };
