@@ -155,6 +155,7 @@ fn estimate<'py>(
             |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
         let est = limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?;
         let inputs = cols.inputs();
+        let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
         let run =
             |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
                 let chosen = diagnostics
@@ -176,9 +177,13 @@ fn estimate<'py>(
                         chain_message(&e)
                     ))
                 })?;
-                let warning = resets
+                let resets = resets
                     .resets()
                     .map(|r| format!("{} on {label}: {r}", spec.method()));
+                let warning = match (frame_note.clone(), resets) {
+                    (Some(f), Some(r)) => Some(format!("{f}\n{r}")),
+                    (f, r) => f.or(r),
+                };
                 estimate_tuple(py, out, warning)
             };
         let mut tuple = run(est)?;

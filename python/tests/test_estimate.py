@@ -2,6 +2,7 @@
 
 import json
 import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -281,3 +282,18 @@ def test_evaluate_result_is_the_cli_json(cli, walking_file, tmp_path):
         py = limbfuse.evaluate(trial, limbfuse.read_estimate(est), **kw)
         assert py == cli_json
         assert limbfuse.evaluate(trial, limbfuse.estimate(trial, "mjls"), **kw) == cli_json
+
+
+def test_raw_frames_warn_methods_that_read_aligned_ones(walking_trial):
+    """A trial declaring raw sensor frames (`# imu_frame: raw ...`, as the
+    gaittoolbox and knee-rig importers write) and no alignment: the segment
+    filters and `chain` read aligned frames, so `estimate` warns with the
+    CLI's stderr text; methods reading raw frames and aligned trials do not."""
+    raw = Trial(walking_trial.t, walking_trial.channels, {**walking_trial.meta, "imu_frame": "raw sensor frames (unaligned)"})
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"declares raw sensor frames .*`local` reads IMU frames aligned"):
+        limbfuse.estimate(raw, "local", diagnostics="none")
+    aligned = Trial(raw.t, raw.channels, {**raw.meta, "align_method": "limbfuse-align/1"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        limbfuse.estimate(aligned, "local", diagnostics="none")
+        limbfuse.estimate(raw, "knee-gyro-axis", diagnostics="none")

@@ -75,6 +75,10 @@ pub fn library_speed_range(spec: &MethodSpec, reader: &TrialReader) -> Result<Op
 /// body (issue 19); lowback-speed: where the pendulum length came from; sdre / ekf: the states and the lever arm a file that
 /// states `t_a` without `[states]` gets (issue 16).
 pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
+    let label = reader.path().display().to_string();
+    if let Some(note) = limbfuse_methods::raw_frame_note(spec.method(), reader.meta(), &label) {
+        eprintln!("{note}");
+    }
     if let MethodSpec::Sdre(f) | MethodSpec::Ekf(f) = spec {
         let note = f
             .plant_as_stated_note(spec.method(), reader.meta())

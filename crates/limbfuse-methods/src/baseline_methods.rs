@@ -68,6 +68,7 @@ baseline_method!(
             "each segment's gyro (aligned: z = sagittal axis)",
             "none",
         )
+        .reading_aligned_frames()
     }
 );
 
@@ -83,5 +84,6 @@ baseline_method!(
             "each segment's accelerometer (aligned)",
             "none",
         )
+        .reading_aligned_frames()
     }
 );

@@ -243,7 +243,8 @@ impl MethodDef for ChainMethod {
     .needing(
         ChannelNeeds::FOUR_IMUS,
         "models the four segments' accelerometers and gyroscopes together",
-    );
+    )
+    .reading_aligned_frames();
     type Settings = ChainSettings;
 
     fn resolve(

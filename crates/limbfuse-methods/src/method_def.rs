@@ -34,6 +34,10 @@ pub struct MethodInfo {
     /// accelerometer rows (paper 001's global filter), which the AGR of
     /// `evaluate` counts.
     pub relative_rows: bool,
+    /// Whether it reads IMU frames aligned to the segments (SPEC section 1:
+    /// z medio-lateral), so that a trial declaring raw sensor frames gets
+    /// [`crate::raw_frame_note`].
+    pub reads_aligned: bool,
 }
 
 impl MethodInfo {
@@ -54,6 +58,7 @@ impl MethodInfo {
             needs_hint: "",
             in_walking_demo: false,
             relative_rows: false,
+            reads_aligned: false,
         }
     }
 
@@ -61,6 +66,12 @@ impl MethodInfo {
     pub const fn needing(mut self, needs: ChannelNeeds, why: &'static str) -> Self {
         self.needs = needs;
         self.needs_why = why;
+        self
+    }
+
+    /// Marked as reading IMU frames aligned to the segments.
+    pub const fn reading_aligned_frames(mut self) -> Self {
+        self.reads_aligned = true;
         self
     }
 }

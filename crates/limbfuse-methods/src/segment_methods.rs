@@ -73,6 +73,7 @@ segment_method!(
             "segment-filter parameter file (docs/TUNING.md): preset, noise densities, gates",
         )
         .needing(ChannelNeeds::FOUR_IMUS, FOUR_IMUS_WHY)
+        .reading_aligned_frames()
     }
 );
 
@@ -96,6 +97,7 @@ segment_method!(
             },
             "needs the four IMUs and the joint encoders (its output rows are the most reliable accelerometer plus hip, knee and ankle encoders)",
         )
+        .reading_aligned_frames()
     }
 );
 
@@ -113,5 +115,6 @@ segment_method!(
             "segment-filter parameter file (docs/TUNING.md); relative_sigma, min_reliable",
         )
         .needing(ChannelNeeds::FOUR_IMUS, FOUR_IMUS_WHY)
+        .reading_aligned_frames()
     }
 );

@@ -32,6 +32,7 @@ mod issue_19_clock_origin;
 mod issue_19_library_extension;
 mod knee_bad_input;
 mod knee_cli;
+mod raw_frames_warning;
 mod results_commands;
 mod s02_support;
 mod source_file_length;

@@ -76,6 +76,12 @@ fn quat_text(r: &Rotation3<f64>) -> String {
     )
 }
 
+/// The metadata key importers use to declare the IMU frames.
+pub const IMU_FRAME_KEY: &str = "imu_frame";
+
+/// What `imu_frame` says after [`Alignment::annotate`].
+pub const ALIGNED_FRAME: &str = "aligned to the segments by limbfuse align (SPEC section 1)";
+
 impl Alignment {
     /// The rotations (raw to aligned) per segment.
     pub fn rotations(&self) -> [Option<Rotation3<f64>>; 4] {
@@ -160,10 +166,22 @@ impl Alignment {
         m
     }
 
-    /// Adds [`Alignment::metadata`] to `meta` (replacing earlier values).
+    /// Adds [`Alignment::metadata`] to `meta` (replacing earlier values),
+    /// and restates an importer's `imu_frame` declaration of raw frames as
+    /// aligned (keeping what it said after `before:`).
     pub fn annotate(&self, meta: &mut TrialMeta) {
         for (k, v) in self.metadata() {
             meta.set(k, v);
+        }
+        if let Some(before) = meta.get(IMU_FRAME_KEY).map(str::to_string) {
+            if !before.starts_with(ALIGNED_FRAME) {
+                meta.set(
+                    IMU_FRAME_KEY,
+                    format!(
+                        "{ALIGNED_FRAME} (segments with a `<seg>_align_quat`); before: {before}"
+                    ),
+                );
+            }
         }
     }
 }
