@@ -441,6 +441,16 @@ impl EstimateReader {
         self.contact.iter().any(Option::is_some)
     }
 
+    /// True when the file has a `speed` column.
+    pub fn has_speed(&self) -> bool {
+        self.speed.is_some()
+    }
+
+    /// True when the file holds any segment or joint angle.
+    pub fn has_any_angle(&self) -> bool {
+        self.angle.iter().any(Option::is_some)
+    }
+
     /// Which angle channels the file holds.
     pub fn has_angle(&self, c: AngleChannel) -> bool {
         AngleChannel::ALL

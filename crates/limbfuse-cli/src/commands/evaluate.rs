@@ -34,9 +34,16 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         let reader = limbfuse_io::TrialReader::open(&a.trial)?;
         let layout = *reader.layout();
         let (trial, mismatch) = (&a.trial, a.allow_trial_mismatch);
-        if !layout.has_angle_reference()
-            && (layout.contact_ref.iter().any(|&b| b) || layout.speed_ref)
-        {
+        // Gait events when the trial has their references and either no
+        // angle reference or an estimate of events/speed and no angle (a
+        // real walk imported with angle *and* speed references, scored for
+        // `gait-events` or `lowback-speed`).
+        let gait_refs = layout.contact_ref.iter().any(|&b| b) || layout.speed_ref;
+        let gait_estimate = || -> Result<bool> {
+            let e = limbfuse_io::EstimateReader::open(estimate)?;
+            Ok((e.has_contact() || e.has_speed()) && !e.has_any_angle())
+        };
+        if gait_refs && (!layout.has_angle_reference() || gait_estimate()?) {
             // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
             let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
                 trial, estimate, mismatch,

@@ -300,6 +300,7 @@ pub fn import_gaittoolbox_with(
         };
         r.reference.joint[Joint::Knee.index()] = joint(Joint::Knee, seg);
         r.reference.joint[Joint::Ankle.index()] = joint(Joint::Ankle, seg);
+        r.reference.speed = reference.walking_speed[k];
         records.push(r);
     }
 
@@ -314,6 +315,7 @@ pub fn import_gaittoolbox_with(
     layout.segment_ref[Segment::Foot.index()] = has_foot;
     layout.joint_ref[Joint::Knee.index()] = true;
     layout.joint_ref[Joint::Ankle.index()] = has_foot;
+    layout.speed_ref = true;
 
     let p = &opts.reference;
     let mut meta = TrialMeta::trial_v1();
@@ -394,6 +396,10 @@ pub fn import_gaittoolbox_with(
             fmt(p.max_heading_rate.to_degrees(), 0),
             p.min_straight_s
         ),
+    );
+    meta.set(
+        "speed_ref",
+        "walking speed on the straight parts only (empty elsewhere): the Vicon PELV velocity (central difference, per sample) along the heading; its mean over a stride is the distance the pelvis walked over it divided by the stride time",
     );
     match reference.foot_offset {
         Some(off) => {

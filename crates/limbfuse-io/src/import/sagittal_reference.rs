@@ -78,6 +78,11 @@ pub struct SagittalReference {
     pub heading_rate: Vec<Option<f64>>,
     /// Straight parts as half-open sample ranges.
     pub straight: Vec<Range<usize>>,
+    /// Walking speed on the straight parts (m/s; `None` elsewhere): the
+    /// pelvis velocity (central difference, not smoothed) along the heading,
+    /// so that its mean over a stride is the distance walked over it divided
+    /// by its time, the lateral sway left out.
+    pub walking_speed: Vec<Option<f64>>,
     /// Thigh angle (rad).
     pub thigh: Vec<Option<f64>>,
     /// Shank angle (rad).
@@ -203,6 +208,14 @@ pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> Sagi
         })
         .collect();
     let straight = runs(&mask, (p.min_straight_s * fs).round() as usize);
+    let pelvis_velocity = derivative(&c.pelvis, fs);
+    let mut walking_speed = vec![None; n];
+    for k in straight.iter().flat_map(|r| r.clone()) {
+        walking_speed[k] = match (pelvis_velocity[k], heading[k]) {
+            (Some(v), Some(h)) => Some(v.x * h.cos() + v.y * h.sin()),
+            _ => None,
+        };
+    }
 
     let angle =
         |prox: &[Option<Vector3<f64>>], dist: &[Option<Vector3<f64>>]| -> Vec<Option<f64>> {
@@ -248,6 +261,7 @@ pub fn sagittal_reference(c: &JointCentres, fs: f64, p: &SagittalParams) -> Sagi
         speed,
         heading_rate,
         straight,
+        walking_speed,
         thigh,
         shank,
         foot,

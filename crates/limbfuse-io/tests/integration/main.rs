@@ -10,6 +10,7 @@ mod issue_18_arrow_files;
 mod issue_18_mapped_io;
 mod issue_18_partial_imu_cells;
 mod issue_18_read_into;
+mod issue_19_gaittoolbox_speed_ref;
 mod trial_bad_input;
 mod trial_roundtrip;
 mod two_leg_trial;
