@@ -4,7 +4,7 @@
 # Installs Debian's chromium when it is missing (the CI machine runs as
 # root), writes reports of short simulated trials (walking with five segment
 # estimates, knee-FES with sdre/ekf/rmx, the self-aligning knee, B-SLIP with
-# imm-bslip), opens each in headless Chromium through the DevTools protocol
+# imm-bslip, gait-events and lowback-speed on the walk), opens each in headless Chromium through the DevTools protocol
 # (scripts/report_browser_check.py, Python standard library only) and fails
 # on any console error, uncaught exception, network request, missing element
 # or undrawn plot. With --screenshot it also writes docs/figures/report.png
@@ -69,6 +69,13 @@ lf estimate --method imm-bslip --library lib.json bslip.csv -o bslip-est.csv
 lf report bslip.csv bslip-est.csv -o bslip.html
 bslip_ids="gait-table,panel-imm-0,plot-imm-gait-0,plot-imm-phase-0,plot-imm-speed-0,plot-imm-phase-track-0"
 
+# Gait events and walking speed (issue 19): the foot IMU and the trunk IMU of the walk.
+lf estimate --method gait-events walk.csv -o walk-events.csv
+lf estimate --method lowback-speed walk.csv -o walk-lowback.csv
+lf report walk.csv walk-events.csv walk-lowback.csv -o events.html
+events_ids="panel-events,plot-contact-right,plot-speed"
+
 python3 "$root/scripts/report_browser_check.py" "$chromium" "$shot" \
-  "walk.html:$walk_ids" "fes.html:$fes_ids" "knee.html:$knee_ids" "bslip.html:$bslip_ids"
+  "walk.html:$walk_ids" "fes.html:$fes_ids" "knee.html:$knee_ids" "bslip.html:$bslip_ids" \
+  "events.html:$events_ids"
 echo "report-browser-test: OK"

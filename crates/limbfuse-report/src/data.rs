@@ -52,6 +52,9 @@ pub struct EstimateData {
     pub phase: Option<Column>,
     /// Estimated speed (m/s), when the file has it.
     pub speed: Option<Column>,
+    /// Estimated foot contact (1 on the ground, 0 in swing), left then
+    /// right, when the file has it.
+    pub contact: [Option<Column>; 2],
     /// The kept diagnostic columns, by name without `diag_`.
     pub diag: BTreeMap<String, Column>,
 }
@@ -172,6 +175,7 @@ impl EstimateData {
             AngleChannel::ALL.map(|c| reader.has_angle(c).then(Vec::new));
         let mut phase = Vec::new();
         let mut speed = Vec::new();
+        let mut contact: [Column; 2] = [Vec::new(), Vec::new()];
         let mut diag: Vec<Column> = vec![Vec::new(); kept.len()];
         while let Some((_, e)) = reader.next_estimate()? {
             for (c, out) in AngleChannel::ALL.iter().zip(angle.iter_mut()) {
@@ -181,6 +185,9 @@ impl EstimateData {
             }
             phase.push(e.phase.map(phase_code));
             speed.push(e.speed);
+            for (out, c) in contact.iter_mut().zip(e.contact) {
+                out.push(c.map(|on| if on { 1.0 } else { 0.0 }));
+            }
             for ((k, _), out) in kept.iter().zip(diag.iter_mut()) {
                 out.push(e.diag[*k]);
             }
@@ -194,6 +201,7 @@ impl EstimateData {
             angle,
             phase: any(&phase).then_some(phase),
             speed: any(&speed).then_some(speed),
+            contact: contact.map(|c| any(&c).then_some(c)),
             diag: kept.into_iter().map(|(_, n)| n).zip(diag).collect(),
         })
     }

@@ -11,6 +11,7 @@
 
 pub mod data;
 pub mod decimate;
+pub mod events_panel;
 pub mod gait_cycle;
 mod page;
 pub mod panels;

@@ -6,9 +6,11 @@ use std::fmt::Write as _;
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::gait_evaluation::{evaluate_gait_files, GaitEvaluation};
+use limbfuse_eval::gait_events_evaluation::{evaluate_gait_event_files, GaitEventEvaluation};
 use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
 
 use crate::data::{file_name, Column, EstimateData, TrialData};
+use crate::events_panel::{events_table, has_event_reference, is_event_estimate};
 use crate::gait_cycle::{cycle_mean_sd, find_cycles};
 use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
 use crate::svg::{esc, Band, Line, Plot};
@@ -26,6 +28,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     let angle_trial = trial.reference.iter().any(Option::is_some);
     let mut evals = Vec::new();
     let mut gait_evals = Vec::new();
+    let mut event_evals = Vec::new();
     let mut estimates = Vec::new();
     for path in &input.estimates {
         if angle_trial {
@@ -63,6 +66,12 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
                 n_trial: trial.t.len(),
             });
         }
+        if is_event_estimate(&e) && has_event_reference(&trial) {
+            event_evals.push((
+                estimates.len(),
+                evaluate_gait_event_files(&input.trial, path, input.allow_trial_mismatch)?,
+            ));
+        }
         estimates.push(e);
     }
     let labels: Vec<String> = unique_labels(&estimates);
@@ -79,7 +88,14 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     header(&mut body, &trial, &estimates, rate, input.buckets);
     angle_section(&mut body, &trial, &estimates, &tp);
     cycle_section(&mut body, &trial, &estimates);
-    error_section(&mut body, &labels, &evals, &gait_evals);
+    let event_estimates: Vec<bool> = estimates.iter().map(is_event_estimate).collect();
+    error_section(
+        &mut body,
+        &labels,
+        &evals,
+        &gait_evals,
+        (&event_estimates, &event_evals),
+    );
     panel_section(&mut body, &panels(&trial, &estimates, &tp));
     command_section(&mut body, input, &trial, &estimates);
     Ok(format!(
@@ -304,8 +320,23 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
     s.push_str("</section>");
 }
 
-fn error_section(s: &mut String, labels: &[String], evals: &[Evaluation], gait: &[GaitEvaluation]) {
+fn error_section(
+    s: &mut String,
+    labels: &[String],
+    evals: &[Evaluation],
+    gait: &[GaitEvaluation],
+    (is_event, events): (&[bool], &[(usize, GaitEventEvaluation)]),
+) {
     s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
+    // Angle tables only for estimates of angles (a speed or event estimate
+    // of a trial with angle references is scored below, if it can be).
+    let angle_rows: Vec<usize> = (0..evals.len()).filter(|&i| !is_event[i]).collect();
+    let (labels_a, evals_a): (Vec<String>, Vec<Evaluation>) = angle_rows
+        .iter()
+        .map(|&i| (labels[i].clone(), evals[i].clone()))
+        .unzip();
+    let labels_all = labels;
+    let (labels, evals) = (&labels_a[..], &evals_a[..]);
     if !evals.is_empty() {
         s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code>: every sample, no window, no offset removal or lag. The mean RMSE is over the segment angles estimated (over the joint angles when no segment is), leaving out channels equal to their reference in every sample when another channel has an error (a value the method is given, not an estimate).</p>"#);
         s.push_str(&tables::rmse_matrix(labels, evals));
@@ -317,7 +348,13 @@ fn error_section(s: &mut String, labels: &[String], evals: &[Evaluation], gait: 
         s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate</code> on a gait trial (paper 003).</p>"#);
         s.push_str(&tables::gait_table(labels, gait));
     }
-    if evals.is_empty() && gait.is_empty() {
+    if !events.is_empty() {
+        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code> for gait events and walking speed (docs/GAIT_EVENTS.md): events paired within 0.25 s, each stride's speed against the mean <code>speed_ref</code> over its rows.</p>"#);
+        s.push_str(&events_table(labels_all, events));
+    }
+    if events.is_empty() && is_event.iter().any(|&e| e) {
+        s.push_str(r#"<p class="note">The trial has no contact or speed reference (<code>contact_*_ref</code>, <code>speed_ref</code>) to score the gait events and walking speed against.</p>"#);
+    } else if evals.is_empty() && gait.is_empty() && events.is_empty() {
         s.push_str(r#"<p class="note">The trial has no reference to evaluate against.</p>"#);
     }
     s.push_str("</section>");
@@ -326,7 +363,7 @@ fn error_section(s: &mut String, labels: &[String], evals: &[Evaluation], gait: 
 fn panel_section(s: &mut String, panels: &[Panel]) {
     s.push_str(r#"<section id="methods" data-section="methods"><h2>Method panels</h2>"#);
     if panels.is_empty() {
-        s.push_str(r#"<p class="note">No method-specific panel applies (panels: IMM weights, knee-axis convergence, FES stimulation).</p>"#);
+        s.push_str(r#"<p class="note">No method-specific panel applies (panels: IMM weights, knee-axis convergence, FES stimulation, gait events and walking speed).</p>"#);
     }
     for p in panels {
         let _ = write!(

@@ -2,7 +2,8 @@
 //! name): the `imm-bslip` weights (`diag_w_gNN_PHASE`), the
 //! `knee-selfalign` joint axes (`diag_j_thigh_*`, `diag_j_shank_*`), and
 //! for FES trials the stimulation (`u_*`), activation (`a_*`) and the
-//! `sdre` / `ekf` angle uncertainty (`diag_p11`).
+//! `sdre` / `ekf` angle uncertainty (`diag_p11`); the gait events and
+//! walking speed of `gait-events` / `lowback-speed` ([`crate::events_panel`]).
 
 use std::fmt::Write as _;
 
@@ -115,6 +116,7 @@ pub fn panels(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> V
     if trial.columns.keys().any(|k| k.starts_with("u_")) {
         out.push(fes_panel(trial, estimates, tp));
     }
+    out.extend(crate::events_panel::events_panel(trial, estimates, tp));
     out
 }
 

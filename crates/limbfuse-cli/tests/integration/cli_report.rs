@@ -23,15 +23,15 @@ fn limbfuse(args: &[&str], dir: &Path) -> String {
 
 /// One start tag: name and attributes.
 #[derive(Debug)]
-struct Tag {
-    name: String,
-    attrs: BTreeMap<String, String>,
+pub(crate) struct Tag {
+    pub name: String,
+    pub attrs: BTreeMap<String, String>,
 }
 
 /// A small HTML tokenizer: the start tags in order, checking that every
 /// non-void element is closed in order (inside `<script>`/`<style>` the
 /// text is skipped). Enough for the report, which limbfuse writes itself.
-fn parse(html: &str) -> Vec<Tag> {
+pub(crate) fn parse(html: &str) -> Vec<Tag> {
     const VOID: [&str; 6] = ["meta", "input", "br", "rect", "path", "line"];
     let mut tags = Vec::new();
     let mut open: Vec<String> = Vec::new();
@@ -76,14 +76,14 @@ fn parse(html: &str) -> Vec<Tag> {
     tags
 }
 
-fn by_id<'a>(tags: &'a [Tag], id: &str) -> &'a Tag {
+pub(crate) fn by_id<'a>(tags: &'a [Tag], id: &str) -> &'a Tag {
     tags.iter()
         .find(|t| t.attrs.get("id").map(String::as_str) == Some(id))
         .unwrap_or_else(|| panic!("no element #{id}"))
 }
 
 /// The `data-series` of the line paths inside the plot `id`.
-fn series_of(html: &str, id: &str) -> Vec<String> {
+pub(crate) fn series_of(html: &str, id: &str) -> Vec<String> {
     let start = html.find(&format!("id=\"{id}\"")).unwrap();
     let end = start + html[start..].find("</svg></svg>").unwrap();
     parse(&format!("<svg {}", &html[start..end + 12]))

@@ -1,0 +1,61 @@
+//! Issue 19 methods in `limbfuse report` (issue 17 item 3): a report of
+//! `gait-events` or `lowback-speed` estimates showed no plot and said "the
+//! trial has no reference" even on the gaitmap walk, which has contact and
+//! speed references. It now has a gait-events panel (each foot's contact and
+//! the walking speed against `contact_*_ref` / `speed_ref`) and the numbers
+//! of `evaluate` for them. Skipped when `../shared/data` is absent.
+
+use crate::cli_report::{by_id, parse, series_of};
+use crate::s02_support::run_ok;
+use crate::support::shared_data;
+
+#[test]
+fn issue_19_report_of_gait_events_on_the_gaitmap_walk() {
+    let Some(trial) = shared_data("gaitmap-foot-walk/trial.csv") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let trial = trial.to_str().unwrap();
+    run_ok(
+        &["estimate", "--method", "gait-events", trial, "-o", "ge.csv"],
+        dir,
+    );
+    run_ok(&["report", trial, "ge.csv", "-o", "r.html"], dir);
+    let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
+    let tags = parse(&html);
+    for id in [
+        "panel-events",
+        "plot-contact-left",
+        "plot-contact-right",
+        "plot-speed",
+        "events-table",
+    ] {
+        by_id(&tags, id);
+    }
+    for id in ["plot-contact-left", "plot-contact-right", "plot-speed"] {
+        assert_eq!(series_of(&html, id), ["ref", "e0"], "{id}");
+    }
+    assert!(!html.contains("has no reference to evaluate against"));
+    // The table holds evaluate's numbers.
+    let v: serde_json::Value =
+        serde_json::from_slice(&run_ok(&["evaluate", trial, "ge.csv", "--json"], dir)).unwrap();
+    let ic = &v["initial_contact"];
+    let row = format!(
+        "<td>{} / {} ({}, {})</td><td>{:.1} / {:.1}</td>",
+        ic["n_matched"],
+        ic["n_reference"],
+        ic["missed"],
+        ic["extra"],
+        ic["median_abs_ms"].as_f64().unwrap(),
+        ic["p95_abs_ms"].as_f64().unwrap()
+    );
+    assert!(html.contains(&row), "no {row} in the events table");
+    let speed = format!(
+        "<td>{:.3} ({:.3})</td><td>{}</td>",
+        v["speed_mae_mps"].as_f64().unwrap(),
+        v["speed_bias_mps"].as_f64().unwrap(),
+        v["n_strides"]
+    );
+    assert!(html.contains(&speed), "no {speed} in the events table");
+}
