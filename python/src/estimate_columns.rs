@@ -284,6 +284,14 @@ impl<'a> EstimateView<'a> {
         self.t.len()
     }
 
+    /// What the estimate carries, for choosing its evaluation.
+    pub fn content(&self) -> limbfuse_eval::EstimateContent {
+        limbfuse_eval::EstimateContent {
+            events_or_speed: self.speed.is_some() || self.contact.iter().any(Option::is_some),
+            angles: self.angle.iter().any(Option::is_some),
+        }
+    }
+
     /// The estimate of sample `i`.
     pub fn estimate(&self, i: usize) -> Estimate {
         let opt = |c: Option<&[f64]>| c.map(|v| v[i]).filter(|x| x.is_finite());

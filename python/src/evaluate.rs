@@ -10,6 +10,7 @@ use std::path::Path;
 
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
 use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files;
+use limbfuse_eval::{evaluation_kind, EvaluationKind};
 use limbfuse_eval::{max_lag_bound, AngleMetrics, EvalOptions, TimeWindow};
 use limbfuse_io::content_hash::TRIAL_HASH_KEY;
 use limbfuse_io::TrialWriter;
@@ -39,20 +40,21 @@ fn evaluate(
         let label = trial.label();
         check_same_trial(&trial, &estimate, allow_trial_mismatch)?;
         let layout = *cols.layout();
-        if !layout.has_angle_reference()
-            && (layout.contact_ref.iter().any(|&b| b) || layout.speed_ref)
-        {
-            // Gait events, contacts and stride speed (docs/GAIT_EVENTS.md).
-            return gait(&trial, &cols, &estimate, &view, |tp, ep| {
-                let ev = evaluate_gait_event_files(tp, ep, true).map_err(|e| user_error(&e))?;
-                Ok(ev.to_json().to_string())
-            });
-        }
-        if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
-            return gait(&trial, &cols, &estimate, &view, |tp, ep| {
-                let ev = evaluate_gait_files(tp, ep, true).map_err(|e| user_error(&e))?;
-                Ok(ev.to_json().to_string())
-            });
+        match evaluation_kind(&layout, view.content()) {
+            EvaluationKind::GaitEvents => {
+                // Gait events, contacts and stride speed (docs/GAIT_EVENTS.md).
+                return gait(&trial, &cols, &estimate, &view, |tp, ep| {
+                    let ev = evaluate_gait_event_files(tp, ep, true).map_err(|e| user_error(&e))?;
+                    Ok(ev.to_json().to_string())
+                });
+            }
+            EvaluationKind::Gait => {
+                return gait(&trial, &cols, &estimate, &view, |tp, ep| {
+                    let ev = evaluate_gait_files(tp, ep, true).map_err(|e| user_error(&e))?;
+                    Ok(ev.to_json().to_string())
+                });
+            }
+            EvaluationKind::Angles => {}
         }
         if !layout.has_angle_reference() {
             return Err(user_msg(format!(

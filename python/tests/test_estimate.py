@@ -297,3 +297,17 @@ def test_raw_frames_warn_methods_that_read_aligned_ones(walking_trial):
         warnings.simplefilter("error")
         limbfuse.estimate(aligned, "local", diagnostics="none")
         limbfuse.estimate(raw, "knee-gyro-axis", diagnostics="none")
+
+
+def test_issue_19_speed_estimate_of_a_trial_with_angle_references_is_scored_as_speed(walking_trial):
+    """A trial with angle references and a `speed_ref` (as the gaittoolbox
+    importer writes for the S02 walk): a `gait-events` estimate is scored for
+    its events and stride speed (the CLI's rule, limbfuse_eval::evaluation_kind),
+    an angle estimate for its angles."""
+    channels = dict(walking_trial.channels)
+    channels["speed_ref"] = np.full(len(walking_trial), 1.2)
+    trial = Trial(walking_trial.t, channels, walking_trial.meta)
+    ev = limbfuse.evaluate(trial, limbfuse.estimate(trial, "gait-events"))
+    assert ev["method"] == "gait-events" and ev["n_strides"] > 0 and ev["speed_mae_mps"] is not None
+    ev = limbfuse.evaluate(trial, limbfuse.estimate(trial, "local", diagnostics="none"))
+    assert ev["rmse_deg"]["thigh"] > 0.0

@@ -9,6 +9,7 @@
 pub mod blended_stride_speed;
 pub mod channel_error;
 pub mod evaluation;
+pub mod evaluation_kind;
 pub mod gait_evaluation;
 pub mod gait_events_evaluation;
 pub mod gait_events_report;
@@ -24,6 +25,7 @@ pub mod trial_check;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, TimeWindow};
+pub use evaluation_kind::{evaluation_kind, EstimateContent, EvaluationKind};
 pub use metrics::{AngleMetrics, Evaluation};
 pub use rejections::{Rejected, RejectionWatch};
 pub use resets::{scan_estimate_file, ResetWatch, Resets};

@@ -1,7 +1,9 @@
 //! `limbfuse evaluate TRIAL ESTIMATE [--json] [--window A:B] [--offset-free] [--max-lag N]`.
 
 use anyhow::{anyhow, Result};
-use limbfuse_eval::{evaluate_files, EvalError, EvalOptions, TimeWindow, TrialCheck};
+use limbfuse_eval::{
+    evaluate_files, EvalError, EvalOptions, EvaluationKind, TimeWindow, TrialCheck,
+};
 
 use crate::cli::EvaluateArgs;
 
@@ -34,29 +36,25 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         let reader = limbfuse_io::TrialReader::open(&a.trial)?;
         let layout = *reader.layout();
         let (trial, mismatch) = (&a.trial, a.allow_trial_mismatch);
-        // Gait events when the trial has their references and either no
-        // angle reference or an estimate of events/speed and no angle (a
-        // real walk imported with angle *and* speed references, scored for
-        // `gait-events` or `lowback-speed`).
-        let gait_refs = layout.contact_ref.iter().any(|&b| b) || layout.speed_ref;
-        let gait_estimate = || -> Result<bool> {
-            let e = limbfuse_io::EstimateReader::open(estimate)?;
-            Ok((e.has_contact() || e.has_speed()) && !e.has_any_angle())
-        };
-        if gait_refs && (!layout.has_angle_reference() || gait_estimate()?) {
-            // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
-            let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
-                trial, estimate, mismatch,
-            )?;
-            print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
-            return Ok(());
-        }
-        if !layout.has_angle_reference() && (layout.phase_ref || layout.com_pos) {
-            // A gait trial (paper 003): phase, CoM and speed errors.
-            let ev =
-                limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
-            print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
-            return Ok(());
+        let content =
+            limbfuse_eval::EstimateContent::of_file(&limbfuse_io::EstimateReader::open(estimate)?);
+        match limbfuse_eval::evaluation_kind(&layout, content) {
+            EvaluationKind::GaitEvents => {
+                // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
+                let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
+                    trial, estimate, mismatch,
+                )?;
+                print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
+                return Ok(());
+            }
+            EvaluationKind::Gait => {
+                // A gait trial (paper 003): phase, CoM and speed errors.
+                let ev =
+                    limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
+                print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
+                return Ok(());
+            }
+            EvaluationKind::Angles => {}
         }
         segments_zeroed_by_assumption(reader.meta())
     };

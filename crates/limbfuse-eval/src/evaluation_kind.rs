@@ -1,0 +1,81 @@
+//! Which evaluation a trial and an estimate get: angles, gait events and
+//! walking speed (`limbfuse_eval::gait_events_evaluation`), or the gait
+//! evaluation of paper 003 (`limbfuse_eval::gait_evaluation`). One rule for
+//! `limbfuse evaluate` and Python's `limbfuse.evaluate`.
+
+use limbfuse_io::{EstimateReader, TrialLayout};
+
+/// What an estimate carries, as far as choosing its evaluation goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct EstimateContent {
+    /// A foot-contact or a speed column.
+    pub events_or_speed: bool,
+    /// Any segment or joint angle.
+    pub angles: bool,
+}
+
+impl EstimateContent {
+    /// The content of an estimate file, from its header.
+    pub fn of_file(r: &EstimateReader) -> Self {
+        EstimateContent {
+            events_or_speed: r.has_contact() || r.has_speed(),
+            angles: r.has_any_angle(),
+        }
+    }
+}
+
+/// The evaluation a trial and an estimate get.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EvaluationKind {
+    /// Angle errors (the trial has angle references, or nothing else).
+    Angles,
+    /// Gait events, contacts and stride speed (docs/GAIT_EVENTS.md).
+    GaitEvents,
+    /// Phase, CoM and speed of a gait trial (paper 003).
+    Gait,
+}
+
+/// Gait events when the trial has their references (`contact_*_ref`,
+/// `speed_ref`) and either no angle reference or an estimate of events or
+/// speed without angles (a real walk imported with angle *and* speed
+/// references, scored for `gait-events` or `lowback-speed`); the paper-003
+/// gait evaluation for a trial with `phase_ref` or a CoM and no angle
+/// reference; angles otherwise.
+pub fn evaluation_kind(layout: &TrialLayout, estimate: EstimateContent) -> EvaluationKind {
+    let event_refs = layout.contact_ref.iter().any(|&b| b) || layout.speed_ref;
+    let angle_refs = layout.has_angle_reference();
+    if event_refs && (!angle_refs || (estimate.events_or_speed && !estimate.angles)) {
+        EvaluationKind::GaitEvents
+    } else if !angle_refs && (layout.phase_ref || layout.com_pos) {
+        EvaluationKind::Gait
+    } else {
+        EvaluationKind::Angles
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn events_of_a_walk_with_angle_references_are_scored_as_events() {
+        let mut l = TrialLayout::default();
+        l.joint_ref[1] = true;
+        l.speed_ref = true;
+        let speed = EstimateContent {
+            events_or_speed: true,
+            angles: false,
+        };
+        let angles = EstimateContent {
+            events_or_speed: false,
+            angles: true,
+        };
+        assert_eq!(evaluation_kind(&l, speed), EvaluationKind::GaitEvents);
+        assert_eq!(evaluation_kind(&l, angles), EvaluationKind::Angles);
+        l.joint_ref[1] = false;
+        assert_eq!(evaluation_kind(&l, angles), EvaluationKind::GaitEvents);
+        l.speed_ref = false;
+        l.phase_ref = true;
+        assert_eq!(evaluation_kind(&l, speed), EvaluationKind::Gait);
+    }
+}
