@@ -2,7 +2,8 @@
 
 ``run(paths_or_glob, method)`` maps read + estimate + evaluate over the
 trials as Dask tasks and returns one pandas DataFrame with a row per trial
-and angle channel. Without a client it uses Dask's local threaded scheduler
+and angle channel (one row per trial with the event or gait figures for
+``gait-events``, ``lowback-speed`` and ``imm-bslip``). Without a client it uses Dask's local threaded scheduler
 (``estimate`` releases the GIL, so the trials run in parallel on threads);
 given a ``dask.distributed`` client, the tasks run on its workers.
 
@@ -25,6 +26,20 @@ from ._trial import read_trial
 #: The per-channel metrics of ``limbfuse evaluate --json`` (degrees).
 METRICS = ("rmse_deg", "max_abs_err_deg", "mean_err_deg", "corr")
 COLUMNS = ("trial", "method", "channel", "n_samples") + METRICS + ("mean_rmse_deg",)
+#: The timing figures of each kind of gait event (``initial_contact``,
+#: ``final_contact`` of ``evaluate --json``), as ``ic_*`` / ``fc_*`` columns.
+EVENT_TIMING = ("n_reference", "n_matched", "missed", "extra", "median_abs_ms", "p95_abs_ms", "mean_ms")
+#: The columns of a trial evaluated for gait events and walking speed
+#: (``gait-events``, ``lowback-speed``; channel ``events``): one row per trial.
+EVENT_METRICS = (
+    tuple(f"ic_{k}" for k in EVENT_TIMING)
+    + tuple(f"fc_{k}" for k in EVENT_TIMING)
+    + ("contact_accuracy_pct", "phase_accuracy_pct", "speed_mae_mps", "speed_bias_mps",
+       "n_strides", "stride_length_error_pct")
+)
+#: The columns of a paper-003 gait trial (``imm-bslip``; channel ``gait``).
+GAIT_METRICS = ("phase_accuracy_pct", "com_pos_rmse_m", "com_pos_max_m", "speed_mean_mps",
+                "speed_ref_mps", "speed_error_mps")
 
 
 def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> List[str]:
@@ -82,7 +97,25 @@ def chunks(paths: Sequence[str], slots: int) -> List[List[str]]:
 
 
 def rows_of(path: str, ev: Mapping[str, Any]) -> List[Dict[str, Any]]:
-    """The rows of one ``evaluate`` result (one per evaluated channel)."""
+    """The rows of one ``evaluate`` result: one per evaluated angle channel;
+    for gait events and walking speed one row, channel ``events``
+    (``EVENT_METRICS``); for a paper-003 gait trial one row, channel ``gait``
+    (``GAIT_METRICS``)."""
+    base = {"trial": path, "method": ev["method"], "n_samples": ev["n_samples"]}
+    if "initial_contact" in ev:
+        row = dict(base, channel="events")
+        for prefix, key in (("ic", "initial_contact"), ("fc", "final_contact")):
+            timing = ev.get(key) or {}
+            for k in EVENT_TIMING:
+                row[f"{prefix}_{k}"] = timing.get(k)
+        for k in EVENT_METRICS[2 * len(EVENT_TIMING):]:
+            row[k] = ev.get(k)
+        return [row]
+    if "phase_accuracy_pct" in ev and "com_pos_rmse_m" in ev:
+        row = dict(base, channel="gait")
+        for k in GAIT_METRICS:
+            row[k] = ev.get(k)
+        return [row]
     rows = []
     for channel in ev.get("rmse_deg", {}):
         row = {"trial": path, "method": ev["method"], "channel": channel, "n_samples": ev["n_samples"]}
@@ -106,7 +139,10 @@ def run(
 ):
     """Estimates and evaluates every trial; one DataFrame row per trial and
     channel (``trial, method, channel, n_samples, rmse_deg,
-    max_abs_err_deg, mean_err_deg, corr, mean_rmse_deg``).
+    max_abs_err_deg, mean_err_deg, corr, mean_rmse_deg``); for gait events
+    and walking speed one row per trial (channel ``events``) with the
+    ``EVENT_METRICS`` columns, for a paper-003 gait trial (channel ``gait``)
+    the ``GAIT_METRICS`` ones (``rows_of``).
 
     Args:
         paths_or_glob: a glob pattern, a directory, or a list of files.
@@ -147,7 +183,17 @@ def run(
         else:
             results = dask.compute(*tasks, scheduler=scheduler)
     rows = [row for rs in results for row in rs]
-    return pd.DataFrame(rows, columns=list(COLUMNS))
+    return pd.DataFrame(rows, columns=columns_of(rows))
+
+
+def columns_of(rows: Sequence[Mapping[str, Any]]) -> List[str]:
+    """``COLUMNS``, then ``EVENT_METRICS`` / ``GAIT_METRICS`` when some row
+    is of that kind (a cohort of angle estimates keeps its nine columns)."""
+    cols = list(COLUMNS)
+    for channel, extra in (("events", EVENT_METRICS), ("gait", GAIT_METRICS)):
+        if any(r.get("channel") == channel for r in rows):
+            cols += [c for c in extra if c not in cols]
+    return cols
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -62,3 +62,26 @@ def test_command_line(cohort_dir, tmp_path, capsys):
     assert set(df.columns) == set(cohort.COLUMNS) and df["trial"].nunique() == N_TRIALS
     assert cohort.main([str(cohort_dir / "*.csv"), "--method", "nope", "--quiet"]) == 1
     assert "unknown method" in capsys.readouterr().err
+
+
+def test_issue_19_gait_event_cohort_has_one_row_per_trial(tmp_path):
+    """`gait-events` over trials with a walking-speed reference: one row per
+    trial (channel `events`) with evaluate's event and stride-speed figures,
+    equal to the serial loop (before, the cohort of a gait-events or
+    lowback-speed method was an empty DataFrame)."""
+    paths = []
+    for k in range(4):
+        speed = 0.9 + 0.1 * k
+        tr = limbfuse.simulate("walking", duration=10.0, seed=200 + k, speed=speed)
+        tr = limbfuse.Trial(tr.t, {**tr.channels, "speed_ref": [speed] * len(tr)}, tr.meta)
+        tr.write(tmp_path / f"w{k}.csv")
+        paths.append(str(tmp_path / f"w{k}.csv"))
+    df = cohort.run(paths, "gait-events", scheduler="sync")
+    assert len(df) == 4 and (df["channel"] == "events").all()
+    assert set(cohort.EVENT_METRICS) <= set(df.columns)
+    assert (df["n_strides"] > 0).all() and df["speed_mae_mps"].notna().all()
+    rows = []
+    for p in paths:
+        tr = limbfuse.read_trial(p)
+        rows += cohort.rows_of(p, limbfuse.evaluate(tr, limbfuse.estimate(tr, "gait-events")))
+    pd.testing.assert_frame_equal(df, pd.DataFrame(rows, columns=cohort.columns_of(rows)), check_exact=True)
