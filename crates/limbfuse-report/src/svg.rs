@@ -78,10 +78,16 @@ impl Plot {
                 y = [y[0].min(py), y[1].max(py)];
             }
         };
+        // A break (`None`) still spans time: a series that starts late
+        // (an estimate that needs a window, a stride) keeps the plot's time
+        // axis on the whole trial, as "whole trial" promises.
+        let mut gaps = [f64::INFINITY, f64::NEG_INFINITY];
         for l in &self.lines {
             for (px, py) in &l.points {
-                if let Some(py) = py {
-                    see(*px, *py);
+                match py {
+                    Some(py) => see(*px, *py),
+                    None if px.is_finite() => gaps = [gaps[0].min(*px), gaps[1].max(*px)],
+                    None => {}
                 }
             }
         }
@@ -94,6 +100,7 @@ impl Plot {
         if !x[0].is_finite() {
             return None;
         }
+        x = [x[0].min(gaps[0]), x[1].max(gaps[1])];
         if x[1] <= x[0] {
             x[1] = x[0] + 1.0;
         }
@@ -370,5 +377,29 @@ mod tests {
             esc(r#"<a href="x">&'"#),
             "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
         );
+    }
+
+    #[test]
+    fn a_series_that_starts_late_keeps_the_whole_time_axis() {
+        let plot = Plot {
+            id: "p".into(),
+            kind: "speed".into(),
+            title: String::new(),
+            x_label: String::new(),
+            y_label: String::new(),
+            x_scale: 1.0,
+            zoomable: true,
+            lines: vec![Line {
+                key: "e0".into(),
+                label: String::new(),
+                color: String::new(),
+                points: vec![(0.0, None), (1.4, Some(1.0)), (2.0, Some(1.2)), (3.0, None)],
+                dashed: false,
+            }],
+            bands: Vec::new(),
+        };
+        let ([x0, x1], [y0, y1]) = plot.ranges().unwrap();
+        assert_eq!((x0, x1), (0.0, 3.0));
+        assert!(y0 <= 1.0 && y1 >= 1.2);
     }
 }
