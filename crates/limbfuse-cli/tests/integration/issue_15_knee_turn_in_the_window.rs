@@ -24,6 +24,47 @@ fn issue_15_knee_turn_in_the_first_window() {
         &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
         dir,
     );
+    second_pass_knee_fits(dir);
+}
+
+/// The same walk with its second shank sensor (`imu-R_LowLeg2.csv`, mounted
+/// differently), which the fix was not designed on: 25.2 deg, correlation
+/// 0.61 before it.
+#[test]
+fn issue_15_knee_turn_in_the_first_window_other_shank_sensor() {
+    let Some(s02) = s02_dir() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let folder = dir.join("s02-lowleg2");
+    std::fs::create_dir(&folder).unwrap();
+    for (from, to) in [
+        ("imu-Pelvis.csv", "imu-Pelvis.csv"),
+        ("imu-R_UpLeg.csv", "imu-R_UpLeg.csv"),
+        ("imu-R_LowLeg2.csv", "imu-R_LowLeg.csv"),
+        ("imu-R_Foot.csv", "imu-R_Foot.csv"),
+        ("vicon-right.csv", "vicon-right.csv"),
+    ] {
+        std::fs::copy(s02.join(from), folder.join(to)).unwrap();
+    }
+    run_ok(
+        &[
+            "import",
+            "--format",
+            "gaittoolbox",
+            "s02-lowleg2",
+            "-o",
+            "s02.csv",
+        ],
+        dir,
+    );
+    second_pass_knee_fits(dir);
+}
+
+/// Both knee methods with the default window on `dir/s02.csv`: the second
+/// straight pass within 5 deg offset-free, correlation above 0.98.
+fn second_pass_knee_fits(dir: &std::path::Path) {
     for method in ["knee-selfalign", "knee-gyro-axis"] {
         let est = format!("{method}.csv");
         run_ok(
