@@ -25,7 +25,7 @@ from ._estimate import (
     read_estimate,
 )
 from ._filter import Filter
-from ._workflows import align, gait_library, simulate
+from ._workflows import align, gait_library, report, simulate
 
 def __getattr__(name: str):
     # `limbfuse.cohort` without importing it with the package, so that
@@ -57,6 +57,7 @@ __all__ = [
     "methods",
     "read_estimate",
     "read_trial",
+    "report",
     "simulate",
     "write_trial",
 ]

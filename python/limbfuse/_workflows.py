@@ -8,10 +8,14 @@ beside `align`, wrapped here the same way.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Sequence
+import tempfile
+from typing import TYPE_CHECKING, Any, Dict, List, Sequence, Union
 
 from . import _native
 from ._trial import PathLike, Trial
+
+if TYPE_CHECKING:
+    from ._estimate import Estimate
 
 
 def simulate(kind: str = "walking", **options: Any) -> Trial:
@@ -48,3 +52,53 @@ def gait_library(
     `speeds` (m/s), writes it to `path` (for ``estimate(..., "imm-bslip",
     library=path)``) and returns one summary per gait."""
     return list(_native.gait_library(os.fspath(path), [float(s) for s in speeds], float(mass), float(leg_length)))
+
+
+def report(
+    trial: Union[PathLike, Trial],
+    estimates: Sequence[Union[PathLike, "Estimate"]],
+    path: PathLike,
+    buckets: int = 2000,
+    allow_trial_mismatch: bool = False,
+) -> int:
+    """Writes the self-contained HTML report of ``limbfuse report`` (plots,
+    error tables, method panels; docs/REPORT.md) to `path` and returns its
+    size in bytes.
+
+    `trial` and each of `estimates` is a file path or an in-memory
+    ``Trial`` / ``Estimate``; objects are written to a temporary folder
+    first (their legend labels are then ``METHOD.csv``). With an in-memory
+    trial the check that every estimate was made from it is skipped (it
+    compares the trial file's content hash), as ``allow_trial_mismatch``
+    does.
+
+    Raises:
+        LimbfuseError: unreadable file, an estimate of another trial or of
+            another length, ``buckets`` < 1.
+    """
+    from ._estimate import Estimate
+
+    with tempfile.TemporaryDirectory(prefix="limbfuse-report-") as tmp:
+        if isinstance(trial, Trial):
+            trial_path = os.path.join(tmp, "trial.csv")
+            trial.write(trial_path)
+            allow_trial_mismatch = True
+        else:
+            trial_path = os.fspath(trial)
+        paths = []
+        for k, e in enumerate(estimates):
+            if isinstance(e, Estimate):
+                name = f"{e.method}.csv"
+                if any(os.path.basename(p) == name for p in paths):
+                    name = f"{e.method}-{k}.csv"
+                p = os.path.join(tmp, name)
+                e.write(p)
+                paths.append(p)
+            else:
+                paths.append(os.fspath(e))
+        command = f"limbfuse.report({os.path.basename(trial_path)!r}, {len(paths)} estimate(s)) (Python)"
+        return int(
+            _native.report(
+                trial_path, paths, os.fspath(path), int(buckets), bool(allow_trial_mismatch), command
+            )
+        )

@@ -298,7 +298,41 @@ fn gait_library<'py>(
     })
 }
 
+/// Writes the HTML report of a trial file and estimate files (`limbfuse
+/// report`) to `path`; returns its size in bytes.
+#[pyfunction]
+#[pyo3(signature = (trial, estimates, path, buckets, allow_trial_mismatch, command))]
+fn report(
+    py: Python<'_>,
+    trial: PathBuf,
+    estimates: Vec<PathBuf>,
+    path: PathBuf,
+    buckets: usize,
+    allow_trial_mismatch: bool,
+    command: String,
+) -> PyResult<usize> {
+    guarded(|| {
+        if buckets == 0 {
+            return Err(user_msg(
+                "report: buckets: expected a positive number of display buckets, found 0",
+            ));
+        }
+        let input = limbfuse_report::ReportInput {
+            buckets,
+            allow_trial_mismatch,
+            ..limbfuse_report::ReportInput::new(&trial, &estimates, command)
+        };
+        let html = py
+            .detach(|| limbfuse_report::render(&input))
+            .map_err(|e| user_error(&e))?;
+        limbfuse_io::AtomicFile::write(&path, &html)
+            .map_err(|e| user_msg(format!("{}: cannot write: {e}", path.display())))?;
+        Ok(html.len())
+    })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(align, m)?)?;
     m.add_function(wrap_pyfunction!(gait_library, m)?)?;
