@@ -35,6 +35,11 @@ impl EventTiming {
 
     /// One line of the text table.
     pub fn to_text(&self, name: &str) -> String {
+        if self.n_reference == 0 {
+            return format!(
+                "{name:<16} no reference event to score against (the trial's contact_*_ref has no transition)\n"
+            );
+        }
         let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
         format!(
             "{name:<16} {} of {} found, {} missed, {} extra; |error| median {} ms, p95 {} ms, mean error {} ms\n",
