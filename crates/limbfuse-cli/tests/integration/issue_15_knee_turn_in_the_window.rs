@@ -6,8 +6,8 @@
 //! eq 2's axes, 20-45 deg off on this soft-tissue thigh: the second pass came
 //! out flipped (offset-free RMSE 35.7 deg, correlation -0.95) for both
 //! `knee-selfalign` and `knee-gyro-axis`, at 50, 60, 100 and 200 Hz. The
-//! prior now takes the axes from the window's one-second blocks that show
-//! flexion when they hold most of it (`upright::FLEXION_BLOCK_S`):
+//! prior now leaves the window's one-second turn blocks out when the rest
+//! holds most of it (`upright::TURN_BLOCK_S`, `upright::TURN_RATE`):
 //! 3.5 deg, correlation 0.995. Skipped when `../shared/data` is absent.
 
 use crate::s02_support::{run_ok, s02_dir};

@@ -34,10 +34,17 @@ use super::window::{Ring, Slot};
 
 /// Length of the blocks (s) a window is split into when it fails the
 /// perpendicular test as a whole: about one stride (a walking stride lasts
-/// 1.0-1.2 s at 100-120 steps/min, Perry & Burnfield 2010, so a block holds
-/// about one of each segment's swings), short against a turn on the spot
-/// (1-2 s).
-pub const FLEXION_BLOCK_S: f64 = 1.0;
+/// 1.0-1.2 s at 100-120 steps/min, Perry & Burnfield 2010), short against a
+/// turn on the spot (1-2 s).
+pub const TURN_BLOCK_S: f64 = 1.0;
+
+/// A block whose thigh and shank turn, on average, faster than this about
+/// their long axes (rad/s; 45 deg/s, the heading-rate bound of the
+/// gaittoolbox importer's straight parts) is a turn, left out of the prior.
+/// Walking's axial rotation is an oscillation whose block mean stays small
+/// (at most 21 deg/s, thigh and shank averaged, on the shared S02 walk's
+/// legs); its turn on the spot is 65-110 deg/s.
+pub const TURN_RATE: f64 = 45.0 * core::f64::consts::PI / 180.0;
 
 /// Settings of the upright-leg axis prior.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,6 +77,7 @@ struct Sums {
     acc: [Vector3<f64>; 2],
     n_acc: usize,
     gg: [Matrix3<f64>; 2],
+    gyr: [Vector3<f64>; 2],
     rate_sq: f64,
     n_gyr: usize,
 }
@@ -79,6 +87,7 @@ impl Sums {
         acc: [Vector3::new(0.0, 0.0, 0.0); 2],
         n_acc: 0,
         gg: [Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0); 2],
+        gyr: [Vector3::new(0.0, 0.0, 0.0); 2],
         rate_sq: 0.0,
         n_gyr: 0,
     };
@@ -92,6 +101,7 @@ impl Sums {
         if x.gyr_ok {
             for seg in 0..2 {
                 self.gg[seg].ger(1.0, &x.gyr[seg], &x.gyr[seg], 1.0);
+                self.gyr[seg] += x.gyr[seg];
             }
             self.rate_sq += x.gyr[0].norm_squared() + x.gyr[1].norm_squared();
             self.n_gyr += 1;
@@ -102,6 +112,7 @@ impl Sums {
         for seg in 0..2 {
             self.acc[seg] += other.acc[seg];
             self.gg[seg] += other.gg[seg];
+            self.gyr[seg] += other.gyr[seg];
         }
         self.n_acc += other.n_acc;
         self.rate_sq += other.rate_sq;
@@ -138,10 +149,21 @@ impl Sums {
         Some(out)
     }
 
-    /// Whether a block passes the perpendicular test (both segments).
-    fn shows_flexion(&self, prior: &UprightPrior) -> bool {
-        self.perpendicular_axes(&[Vector3::zeros(); 2], prior)
-            .is_some()
+    /// Whether a block is a turn: the mean of the thigh's and the shank's
+    /// mean rate about their long axes (the mean specific force) above
+    /// [`TURN_RATE`]. A block without data is not a turn.
+    fn is_turn(&self) -> bool {
+        if self.n_acc == 0 || self.n_gyr == 0 {
+            return false;
+        }
+        let mut rate = 0.0;
+        for seg in 0..2 {
+            let Some(a) = self.acc[seg].try_normalize(1e-9) else {
+                return false;
+            };
+            rate += a.dot(&self.gyr[seg]) / self.n_gyr as f64;
+        }
+        libm::fabs(rate / 2.0) > TURN_RATE
     }
 }
 
@@ -153,17 +175,17 @@ fn sums(ring: &Ring) -> Sums {
     s
 }
 
-/// The sums over the window's [`FLEXION_BLOCK_S`] blocks that pass the
-/// perpendicular test on their own (the window minus its turns).
-fn flexion_block_sums(ring: &Ring, prior: &UprightPrior) -> Sums {
+/// The sums over the window's [`TURN_BLOCK_S`] blocks that are not turns
+/// ([`Sums::is_turn`]): the window without its turns.
+fn sums_without_turns(ring: &Ring) -> Sums {
     let mut kept = Sums::ZERO;
     let mut block = Sums::ZERO;
     let mut start = None;
     for i in 0..ring.len() {
         let x = ring.get(i);
         let t0 = *start.get_or_insert(x.t);
-        if x.t - t0 >= FLEXION_BLOCK_S {
-            if block.shows_flexion(prior) {
+        if x.t - t0 >= TURN_BLOCK_S {
+            if !block.is_turn() {
                 kept.add(&block);
             }
             block = Sums::ZERO;
@@ -171,7 +193,7 @@ fn flexion_block_sums(ring: &Ring, prior: &UprightPrior) -> Sums {
         }
         block.push(x);
     }
-    if block.shows_flexion(prior) {
+    if !block.is_turn() {
         kept.add(&block);
     }
     kept
@@ -184,10 +206,10 @@ pub enum UprightAxes {
     Hinge,
     /// The prior's axes, each on the side of its eq-2 axis.
     Prior([Vector3<f64>; 2]),
-    /// The prior's axes from the window's blocks of [`FLEXION_BLOCK_S`]
-    /// that pass the perpendicular test, when the window as a whole does not
-    /// (walking and a turn on the spot in one window) and those blocks hold
-    /// more than half of its gyro samples.
+    /// The prior's axes from the window without its turn blocks
+    /// ([`TURN_BLOCK_S`], [`TURN_RATE`]), when the window as a whole fails
+    /// the perpendicular test (walking and a turn on the spot in one window),
+    /// the rest holds more than half of its gyro samples and passes it.
     PriorOnBlocks([Vector3<f64>; 2]),
     /// The hinge does not fit and a segment turns mainly about its long
     /// axis: no flexion axis in this window (keep the previous axes).
@@ -197,7 +219,7 @@ pub enum UprightAxes {
 impl UprightAxes {
     /// Where the window's axes came from, as `diag_axis_source`: 0 eq 2, 1
     /// the upright prior, 2 the previous window's (no flexion in this one),
-    /// 3 the upright prior on the window's flexion blocks.
+    /// 3 the upright prior on the window without its turns.
     pub const fn code(&self) -> f64 {
         match self {
             UprightAxes::Hinge => 0.0,
@@ -228,9 +250,9 @@ pub fn upright_axes(
         return UprightAxes::Prior(axes);
     }
     // Ours (beyond the window-level test): a window that mixes walking with
-    // a turn on the spot fails as a whole; its blocks that pass, if they
-    // hold most of its gyro samples, still show the flexion axis.
-    let kept = flexion_block_sums(ring, prior);
+    // a turn on the spot fails as a whole; without its turn blocks, if they
+    // leave most of its gyro samples, it may still show the flexion axis.
+    let kept = sums_without_turns(ring);
     if 2 * kept.n_gyr > s.n_gyr {
         if let Some(axes) = kept.perpendicular_axes(&hinge, prior) {
             return UprightAxes::PriorOnBlocks(axes);
@@ -294,12 +316,18 @@ mod tests {
     /// y) for `walk` samples at 100 Hz, then a turn on the spot: both
     /// segments turning about their long axis y at 2.5 rad/s.
     fn walk_then_turn(walk: usize, n: usize) -> Ring {
+        walk_then_turn_axial(walk, n, |_| 0.8)
+    }
+
+    /// As [`walk_then_turn`], the thigh's axial rotation amplitude per
+    /// sample given by `axial`.
+    fn walk_then_turn_axial(walk: usize, n: usize, axial: impl Fn(usize) -> f64) -> Ring {
         let mut r = Ring::new(n);
         for k in 0..n {
             let (thigh, shank) = if k < walk {
                 let w = libm::sin(k as f64 * 0.05);
                 (
-                    Vector3::new(0.0, 0.8 * w, w),
+                    Vector3::new(0.0, axial(k) * w, w),
                     Vector3::new(0.0, 0.0, 2.0 * w),
                 )
             } else {
@@ -339,5 +367,22 @@ mod tests {
             upright_axes(&r, [tilted, Vector3::z()], 1.0, &p),
             UprightAxes::NoFlexion
         );
+    }
+
+    #[test]
+    fn issue_15_a_walking_block_with_strong_axial_rotation_is_not_a_turn() {
+        // The S02 walk's left thigh: one walking block turns more about the
+        // long axis than about the flexion axis (perpendicular fraction 0.45
+        // here, 0.48 measured) but is no turn; left out, the other walking
+        // blocks would hold too little of the window.
+        let p = UprightPrior::default();
+        let tilted = Vector3::new(0.0, 0.6, 0.8);
+        let r = walk_then_turn_axial(350, 500, |k| if k >= 200 { 1.1 } else { 0.8 });
+        let UprightAxes::PriorOnBlocks(j) = upright_axes(&r, [tilted, Vector3::z()], 1.0, &p)
+        else {
+            panic!("the walking blocks, the strong one included, should give the axes");
+        };
+        assert!((j[0] - Vector3::z()).norm() < 1e-9, "{:?}", j[0]);
+        assert!((j[1] - Vector3::z()).norm() < 1e-9, "{:?}", j[1]);
     }
 }
