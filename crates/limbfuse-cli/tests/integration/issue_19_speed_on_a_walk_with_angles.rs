@@ -6,20 +6,15 @@
 //! scores events and stride speeds when the estimate holds those and no
 //! angle, and angles otherwise. Skipped when `../shared/data` is absent.
 
-use crate::s02_support::{run_ok, s02_dir};
+use crate::s02_support::{imported_s02, run_ok};
 
 #[test]
 fn issue_19_speed_scored_on_a_walk_with_angle_references() {
-    let Some(s02) = s02_dir() else {
-        return;
-    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let s02 = s02.to_str().unwrap();
-    run_ok(
-        &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
-        dir,
-    );
+    if !imported_s02(dir) {
+        return;
+    }
     let json = |est: &str| -> serde_json::Value {
         serde_json::from_slice(&run_ok(&["evaluate", "s02.csv", est, "--json"], dir)).unwrap()
     };

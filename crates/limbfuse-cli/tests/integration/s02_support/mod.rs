@@ -24,9 +24,9 @@ pub fn run_ok(args: &[&str], dir: &Path) -> Vec<u8> {
     o.stdout
 }
 
-/// Imports and aligns the S02 walk into `dir` as `s02al.csv`; `false` (with
-/// the skip message) when the shared data is absent.
-pub fn aligned_s02(dir: &Path) -> bool {
+/// Imports the S02 walk into `dir` as `s02.csv`; `false` (with the skip
+/// message) when the shared data is absent.
+pub fn imported_s02(dir: &Path) -> bool {
     let Some(s02) = s02_dir() else {
         return false;
     };
@@ -35,6 +35,15 @@ pub fn aligned_s02(dir: &Path) -> bool {
         &["import", "--format", "gaittoolbox", s02, "-o", "s02.csv"],
         dir,
     );
+    true
+}
+
+/// Imports and aligns the S02 walk into `dir` as `s02al.csv`; `false` (with
+/// the skip message) when the shared data is absent.
+pub fn aligned_s02(dir: &Path) -> bool {
+    if !imported_s02(dir) {
+        return false;
+    }
     run_ok(&["align", "s02.csv", "-o", "s02al.csv"], dir);
     true
 }
