@@ -26,7 +26,10 @@
 //! (a turn on the spot: 79 % of the gaittoolbox thigh's energy along
 //! `a_bar` in the turn window; a knee axis along the long axis, e.g. lying
 //! legs or the knee rig, 89-97 %) and the previous window's axes are kept
-//! (eq 2's in a first window).
+//! (eq 2's in a first window), unless the window without its turn blocks
+//! ([`TURN_BLOCK_S`], [`TURN_RATE`]) holds most of it and passes the test:
+//! a window of walking with a turn on the spot (the gaittoolbox walk at the
+//! default 5 s window) then gets the prior over its walking.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -42,8 +45,9 @@ pub const TURN_BLOCK_S: f64 = 1.0;
 /// their long axes (rad/s; 45 deg/s, the heading-rate bound of the
 /// gaittoolbox importer's straight parts) is a turn, left out of the prior.
 /// Walking's axial rotation is an oscillation whose block mean stays small
-/// (at most 21 deg/s, thigh and shank averaged, on the shared S02 walk's
-/// legs); its turn on the spot is 65-110 deg/s.
+/// (at most 21 deg/s, thigh and shank averaged, on both legs of the S02
+/// walk: the shared right leg, the left from its public source); its turn
+/// on the spot is 65-110 deg/s.
 pub const TURN_RATE: f64 = 45.0 * core::f64::consts::PI / 180.0;
 
 /// Settings of the upright-leg axis prior.
