@@ -52,8 +52,9 @@ impl KneeWatch {
             } else if self.last_windows.unwrap_or(0.0) < 1.0 && (self.samples as usize) < window {
                 format!(
                     "the identification window ({window} samples, --window) is longer than the trial \
-                     ({} samples): no window was completed",
-                    self.samples
+                     ({} samples): no window was completed; give `--window N` with N at most {} \
+                     (a shorter window identifies the axis from less motion) or a longer trial",
+                    self.samples, self.samples
                 )
             } else {
                 format!(

@@ -169,7 +169,8 @@ fn knee_axis_methods_summarise_and_refuse_bad_trials() {
         p,
         "k.csv",
         &["--window", "2000"],
-        "(2000 samples, --window) is longer than the trial (1200 samples)",
+        "(2000 samples, --window) is longer than the trial (1200 samples): no window was \
+         completed; give `--window N` with N at most 1200",
     );
 }
 
