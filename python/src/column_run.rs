@@ -7,22 +7,39 @@
 
 use limbfuse_core::runner::RunError;
 use limbfuse_core::{Estimate, Estimator, Sample};
-use limbfuse_eval::ResetWatch;
+use limbfuse_eval::{GaitWatch, KneeWatch, ResetWatch};
 
 use crate::column_samples::SampleColumns;
 use crate::estimate_columns::EstimateColumns;
 
+/// What a run watches besides writing the estimates: restarts, whether a
+/// gait method found gait, whether a knee-axis method identified the axis
+/// (as `limbfuse estimate` does; `limbfuse_eval`).
+#[derive(Debug, Default)]
+pub struct RunWatches {
+    /// Restart counts.
+    pub resets: ResetWatch,
+    /// Contacts or speeds seen.
+    pub gait: GaitWatch,
+    /// The knee-axis verdict, for a knee-axis method.
+    pub knee: Option<KneeWatch>,
+}
+
 /// Runs `est` over every sample of `inputs`, pushing each estimate to
-/// `out` and, when given, to the restart watch `resets` (restarted for
-/// `est`'s diagnostics). Errors as `runner::run_from`'s.
+/// `out` and, when given, to `watches` (restarted for `est`'s
+/// diagnostics). Errors as `runner::run_from`'s.
 pub fn run_columns(
     est: &mut dyn Estimator,
     inputs: &SampleColumns<'_>,
     out: &mut EstimateColumns,
-    mut resets: Option<&mut ResetWatch>,
+    mut watches: Option<&mut RunWatches>,
 ) -> Result<(), RunError> {
-    if let Some(w) = resets.as_deref_mut() {
-        *w = ResetWatch::new(est.diagnostic_names().iter());
+    if let Some(w) = watches.as_deref_mut() {
+        *w = RunWatches {
+            resets: ResetWatch::new(est.diagnostic_names().iter()),
+            gait: GaitWatch::default(),
+            knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
+        };
     }
     let mut sample = Sample::default();
     let mut estimate = Estimate::empty(0.0);
@@ -35,8 +52,12 @@ pub fn run_columns(
                 source,
             })?;
         out.push(&estimate);
-        if let Some(w) = resets.as_deref_mut() {
-            w.push(&estimate);
+        if let Some(w) = watches.as_deref_mut() {
+            w.resets.push(&estimate);
+            w.gait.push(&estimate);
+            if let Some(k) = w.knee.as_mut() {
+                k.push(&sample, &estimate);
+            }
         }
     }
     Ok(())

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_eval::{ResetWatch, SpeedRangeWatch};
+use limbfuse_eval::SpeedRangeWatch;
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
@@ -16,7 +16,7 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::column_run::run_columns;
+use crate::column_run::{run_columns, RunWatches};
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -156,6 +156,8 @@ fn estimate<'py>(
         let est = limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?;
         let inputs = cols.inputs();
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
+        let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
+            .map_err(|e| in_trial(&e))?;
         let run =
             |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
                 let chosen = diagnostics
@@ -167,9 +169,10 @@ fn estimate<'py>(
                     out.header.push(format!("{TRIAL_KEY}: {name}"));
                     out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
                 }
-                let mut resets = ResetWatch::default();
+                let mut watches = RunWatches::default();
+                let gait_method = limbfuse_eval::gait_watch::is_gait_method(&est.outputs());
                 let run =
-                    py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut resets)));
+                    py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut watches)));
                 run.map_err(|e| {
                     user_msg(format!(
                         "estimating {label} with {}: {}",
@@ -177,7 +180,22 @@ fn estimate<'py>(
                         chain_message(&e)
                     ))
                 })?;
-                let resets = resets
+                // As `limbfuse estimate`: nothing estimated is an error.
+                if let Some(k) = &watches.knee {
+                    if let Err(why) = k.verdict(knee_window) {
+                        return Err(user_msg(format!("{label}: `{}`: {why}", spec.method())));
+                    }
+                }
+                if gait_method && !watches.gait.found {
+                    return Err(user_msg(limbfuse_eval::gait_watch::no_gait_message(
+                        &label,
+                        spec.method().name(),
+                        inputs.len() as u64,
+                        "nothing to return",
+                    )));
+                }
+                let resets = watches
+                    .resets
                     .resets()
                     .map(|r| format!("{} on {label}: {r}", spec.method()));
                 let warning = match (frame_note.clone(), resets) {

@@ -311,3 +311,17 @@ def test_issue_19_speed_estimate_of_a_trial_with_angle_references_is_scored_as_s
     assert ev["method"] == "gait-events" and ev["n_strides"] > 0 and ev["speed_mae_mps"] is not None
     ev = limbfuse.evaluate(trial, limbfuse.estimate(trial, "local", diagnostics="none"))
     assert ev["rmse_deg"]["thigh"] > 0.0
+
+
+def test_nothing_estimated_is_an_error_as_in_the_cli(walking_trial):
+    """`limbfuse estimate` exits 1 when a knee-axis method identifies no
+    axis or a gait method finds no gait; `limbfuse.estimate` raises the same
+    message (before, it returned an estimate with every value missing)."""
+    n = 300  # 3 s: shorter than the 5 s identification window
+    short = Trial(walking_trial.t[:n], {k: v[:n] for k, v in walking_trial.channels.items()}, walking_trial.meta)
+    with pytest.raises(LimbfuseError, match=r"identification window \(500 samples, --window\) is longer than the trial \(300 samples\)"):
+        limbfuse.estimate(short, "knee-selfalign")
+    still = Trial(walking_trial.t[:n], {k: (v[:n] * 0.0 if "gyr" in k else v[:n]) for k, v in walking_trial.channels.items()}, walking_trial.meta)
+    with pytest.raises(LimbfuseError, match="no gait found in <in-memory trial>: `gait-events` detected no foot contact"):
+        limbfuse.estimate(still, "gait-events")
+    assert limbfuse.estimate(short, "knee-selfalign", window=100).channels["knee"].count() > 0

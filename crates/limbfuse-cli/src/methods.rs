@@ -51,13 +51,8 @@ pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Esti
 /// knee-selfalign / knee-gyro-axis: the identification window in samples
 /// at the trial's rate (`limbfuse_methods::knee_window`); 0 for other methods.
 pub fn knee_window(spec: &MethodSpec, reader: &TrialReader) -> Result<usize> {
-    let meta = reader.meta();
-    let window = match spec {
-        MethodSpec::KneeSelfAlign(s) => s.for_trial(meta).map(|p| p.window),
-        MethodSpec::KneeGyroAxis(s) => s.for_trial(meta).map(|p| p.axes.window),
-        _ => Ok(0),
-    };
-    window.with_context(|| reader.path().display().to_string())
+    limbfuse_methods::knee_window::identification_window(spec, reader.meta())
+        .with_context(|| reader.path().display().to_string())
 }
 
 /// imm-bslip: the slowest and fastest gait of the library as used on the

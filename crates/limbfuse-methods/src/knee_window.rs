@@ -16,7 +16,17 @@
 
 use limbfuse_io::TrialMeta;
 
-use crate::{MethodError, MethodName};
+use crate::{MethodError, MethodName, MethodSpec};
+
+/// The identification window (samples) `spec` uses on a trial with `meta`:
+/// `knee-selfalign`'s and `knee-gyro-axis`'s; 0 for other methods.
+pub fn identification_window(spec: &MethodSpec, meta: &TrialMeta) -> Result<usize, MethodError> {
+    match spec {
+        MethodSpec::KneeSelfAlign(s) => s.for_trial(meta).map(|p| p.window),
+        MethodSpec::KneeGyroAxis(s) => s.for_trial(meta).map(|p| p.axes.window),
+        _ => Ok(0),
+    }
+}
 
 /// Paper 002's window, `s_w = 500` samples at its 100 Hz, as a duration (s).
 pub const DEFAULT_WINDOW_S: f64 = 5.0;

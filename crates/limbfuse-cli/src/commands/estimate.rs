@@ -6,35 +6,17 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
-use limbfuse_eval::{RejectionWatch, ResetWatch, SpeedRangeWatch};
+use limbfuse_eval::{GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SpeedRangeWatch};
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
 use limbfuse_workflows::imm_library_extension;
 
-use super::knee_watch::KneeWatch;
 use crate::cli::EstimateArgs;
 use crate::exit::Internal;
 use crate::methods;
 use crate::progress::Progress;
 use crate::stdio::{self, FlushingStdin, SharedStdout};
-
-/// Whether any estimate carried a contact state or a walking speed.
-#[derive(Debug, Default)]
-struct GaitWatch {
-    found: bool,
-}
-
-impl Observer for GaitWatch {
-    fn observe(
-        &mut self,
-        _record: &limbfuse_core::Record,
-        e: &limbfuse_core::Estimate,
-    ) -> Result<(), runner::BoxError> {
-        self.found |= e.speed.is_some() || e.contact.iter().any(Option::is_some);
-        Ok(())
-    }
-}
 
 /// Runs one estimator over a trial file, streaming; `-` as the trial reads
 /// standard input, `-` as the output writes standard output as rows arrive
@@ -151,7 +133,7 @@ fn estimate_pass(
     let outputs = est.outputs();
     // Gait methods (contacts, or a speed without a CoM model): a recording
     // in which they find no gait is an error, not an empty estimate.
-    let gait_method = outputs.contact || (outputs.speed && !outputs.com);
+    let gait_method = limbfuse_eval::gait_watch::is_gait_method(&outputs);
     let mut gait = GaitWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
@@ -216,13 +198,12 @@ fn estimate_pass(
             let _ = std::fs::remove_file(&a.output);
             "no estimate written"
         };
-        anyhow::bail!(
-            "no gait found in {}: `{}` detected no foot contact and no walking speed in {} samples \
-             (the recording has no walking, or the IMU is not where the method expects it); {kept}",
-            a.trial.display(),
-            spec.method(),
-            report.n_samples
-        );
+        anyhow::bail!(limbfuse_eval::gait_watch::no_gait_message(
+            &a.trial.display().to_string(),
+            spec.method().name(),
+            report.n_samples,
+            kept
+        ));
     }
     Ok(Pass {
         report,

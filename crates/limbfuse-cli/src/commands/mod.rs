@@ -12,7 +12,6 @@ mod fes;
 mod gait;
 mod import;
 mod knee_demo;
-mod knee_watch;
 mod method_list;
 mod mirror;
 mod montecarlo;

@@ -1,11 +1,11 @@
-//! What `estimate` says about a knee-axis method (`knee-selfalign`,
+//! What `limbfuse estimate` and Python's `limbfuse.estimate` say about a knee-axis method (`knee-selfalign`,
 //! `knee-gyro-axis`; issue 15 item 5): the one-line summary ("knee axis
 //! identified at t = 3.2 s, sign confidence 0.97") and the errors for a
 //! trial on which the knee axis was never identified (no gyroscope samples,
 //! a window longer than the trial, no knee motion).
 
 use limbfuse_core::runner::{self, Observer};
-use limbfuse_core::{Estimate, Joint, Record, Segment};
+use limbfuse_core::{Estimate, Joint, Record, Sample, Segment};
 
 /// Watches a knee-axis method's estimates.
 #[derive(Debug, Default)]
@@ -82,10 +82,10 @@ impl KneeWatch {
     }
 }
 
-impl Observer for KneeWatch {
-    fn observe(&mut self, record: &Record, e: &Estimate) -> Result<(), runner::BoxError> {
+impl KneeWatch {
+    /// Adds one sample and its estimate.
+    pub fn push(&mut self, s: &Sample, e: &Estimate) {
         self.samples += 1;
-        let s = &record.sample;
         if s.imu(Segment::Thigh).gyr.is_some() && s.imu(Segment::Shank).gyr.is_some() {
             self.gyro_samples += 1;
         }
@@ -100,6 +100,12 @@ impl Observer for KneeWatch {
             self.last_confidence = get(self.confidence).or(self.last_confidence);
             self.last_committed = get(self.committed).or(self.last_committed);
         }
+    }
+}
+
+impl Observer for KneeWatch {
+    fn observe(&mut self, record: &Record, e: &Estimate) -> Result<(), runner::BoxError> {
+        self.push(&record.sample, e);
         Ok(())
     }
 }
