@@ -25,11 +25,11 @@ pub fn params(a: &ParamsArgs) -> Result<()> {
     let method = MethodName::parse(&a.method)?;
     let text = default_params_file(method);
     match &a.output {
-        Some(p) => {
+        Some(p) if !crate::stdio::is_stdio(p) => {
             super::write_file(p, &text)?;
             eprintln!("{method} defaults -> {}", p.display());
         }
-        None => print!("{text}"),
+        _ => print!("{text}"),
     }
     Ok(())
 }

@@ -60,8 +60,22 @@ pub fn run(cli: Cli) -> Result<()> {
 /// Starts writing the output file `path` ([`AtomicFile`]: it appears only
 /// when [`commit`] succeeds; on any error before, nothing is left behind).
 pub fn create_file(path: &Path) -> Result<AtomicFile> {
+    refuse_stdout(path)?;
     AtomicFile::create(path)
         .with_context(|| format!("{}: cannot create the output file", path.display()))
+}
+
+/// `-` names standard output only where a command streams to it
+/// (`estimate -o -`, `params -o -`); elsewhere it would silently create a
+/// file named `-`, so it is refused.
+pub fn refuse_stdout(path: &Path) -> Result<()> {
+    if crate::stdio::is_stdio(path) {
+        anyhow::bail!(
+            "-o -: this command writes a file, not standard output (`-` is standard output for \
+             `limbfuse estimate` and `limbfuse params` only); give a file name"
+        );
+    }
+    Ok(())
 }
 
 /// Finishes an output file from [`create_file`]: renames it into place.
@@ -73,6 +87,7 @@ pub fn commit(file: AtomicFile) -> Result<()> {
 
 /// Writes a whole output file atomically (the CLI's `std::fs::write`).
 pub fn write_file(path: &Path, contents: impl AsRef<[u8]>) -> Result<()> {
+    refuse_stdout(path)?;
     AtomicFile::write(path, contents)
         .with_context(|| format!("{}: cannot write the output file", path.display()))
 }

@@ -8,6 +8,7 @@ use crate::cli::{AntiAliasArg, ResampleArgs};
 /// Resamples a trial onto a uniform time base (not streaming: see
 /// `limbfuse_signal::resample`).
 pub fn run(a: &ResampleArgs) -> Result<()> {
+    super::refuse_stdout(&a.output)?;
     let opts = ResampleOptions {
         rate_hz: a.rate,
         anti_alias: match a.anti_alias {

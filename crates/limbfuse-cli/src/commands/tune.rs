@@ -16,6 +16,7 @@ use crate::cli::TuneArgs;
 /// Tunes the noise parameters and writes them as a parameter file.
 pub fn run(a: &TuneArgs) -> Result<()> {
     let name = MethodName::parse(&a.method)?;
+    super::refuse_stdout(&a.output)?;
     if matches!(name, MethodName::Sdre | MethodName::Ekf) {
         return super::tune_fes::run(a, name);
     }
