@@ -71,7 +71,7 @@ pub fn create_file(path: &Path) -> Result<AtomicFile> {
 pub fn refuse_stdout(path: &Path) -> Result<()> {
     if crate::stdio::is_stdio(path) {
         anyhow::bail!(
-            "-o -: this command writes a file, not standard output (`-` is standard output for \
+            "output `-`: this command writes a file, not standard output (`-` is standard output for \
              `limbfuse estimate` and `limbfuse params` only); give a file name"
         );
     }

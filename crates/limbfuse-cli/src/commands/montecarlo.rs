@@ -38,6 +38,10 @@ fn parse_levels(text: &str) -> Result<Vec<f64>> {
 /// Runs the study and writes the CSV (and SVG).
 pub fn run(a: &MonteCarloArgs) -> Result<()> {
     let levels = parse_levels(&a.levels)?;
+    super::refuse_stdout(&a.output)?;
+    if let Some(svg) = &a.svg {
+        super::refuse_stdout(svg)?;
+    }
     crate::bounds::simulated_trial(
         a.duration,
         "the IMU rate",

@@ -39,7 +39,7 @@ fn dash_output_is_stdout_or_refused() {
         assert_eq!(o.status.code(), Some(1), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(
-            err.contains("-o -: this command writes a file"),
+            err.contains("output `-`: this command writes a file"),
             "{args:?}: {err}"
         );
         assert!(!dir.join("-").exists(), "{args:?} created a file named -");
