@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
-use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files;
+use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in;
 use limbfuse_eval::{evaluation_kind, EvaluationKind};
 use limbfuse_eval::{max_lag_bound, AngleMetrics, EvalOptions, TimeWindow};
 use limbfuse_io::content_hash::TRIAL_HASH_KEY;
@@ -40,15 +40,45 @@ fn evaluate(
         let label = trial.label();
         check_same_trial(&trial, &estimate, allow_trial_mismatch)?;
         let layout = *cols.layout();
+        let window_text = window;
+        let window = match window {
+            Some(w) => TimeWindow::parse(w).map_err(|m| user_msg(format!("window: {m}")))?,
+            None => TimeWindow::default(),
+        };
+        // As `limbfuse evaluate`: options of the angle evaluation that an
+        // event or gait evaluation cannot honour are refused.
+        let angle_only = |what: &str, window_too: bool| -> PyResult<()> {
+            let mut given = Vec::new();
+            if window_too && window_text.is_some() {
+                given.push("window");
+            }
+            if offset_free {
+                given.push("offset_free");
+            }
+            if max_lag > 0 {
+                given.push("max_lag");
+            }
+            if given.is_empty() {
+                return Ok(());
+            }
+            Err(user_msg(format!(
+                "{}: {} to angle errors only; the estimate is scored for {what}",
+                given.join(", "),
+                if given.len() == 1 { "applies" } else { "apply" }
+            )))
+        };
         match evaluation_kind(&layout, view.content()) {
             EvaluationKind::GaitEvents => {
                 // Gait events, contacts and stride speed (docs/GAIT_EVENTS.md).
+                angle_only("gait events and walking speed", false)?;
                 return gait(&trial, &cols, &estimate, &view, |tp, ep| {
-                    let ev = evaluate_gait_event_files(tp, ep, true).map_err(|e| user_error(&e))?;
+                    let ev = evaluate_gait_event_files_in(tp, ep, true, &window)
+                        .map_err(|e| user_error(&e))?;
                     Ok(ev.to_json().to_string())
                 });
             }
             EvaluationKind::Gait => {
+                angle_only("gait phase, CoM and speed (paper 003)", true)?;
                 return gait(&trial, &cols, &estimate, &view, |tp, ep| {
                     let ev = evaluate_gait_files(tp, ep, true).map_err(|e| user_error(&e))?;
                     Ok(ev.to_json().to_string())
@@ -61,10 +91,6 @@ fn evaluate(
                 "{label}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against"
             )));
         }
-        let window = match window {
-            Some(w) => TimeWindow::parse(w).map_err(|m| user_msg(format!("window: {m}")))?,
-            None => TimeWindow::default(),
-        };
         let bound = max_lag_bound(cols.len() as u64);
         if max_lag as u64 > bound {
             return Err(user_msg(format!(

@@ -325,3 +325,17 @@ def test_nothing_estimated_is_an_error_as_in_the_cli(walking_trial):
     with pytest.raises(LimbfuseError, match="no gait found in <in-memory trial>: `gait-events` detected no foot contact"):
         limbfuse.estimate(still, "gait-events")
     assert limbfuse.estimate(short, "knee-selfalign", window=100).channels["knee"].count() > 0
+
+
+def test_issue_19_event_evaluation_window_and_angle_options(walking_trial):
+    """`window` restricts an event evaluation to its rows (it was ignored);
+    `offset_free` / `max_lag` are refused for it, as the CLI does."""
+    channels = dict(walking_trial.channels)
+    channels["speed_ref"] = np.full(len(walking_trial), 1.2)
+    trial = Trial(walking_trial.t, channels, walking_trial.meta)
+    est = limbfuse.estimate(trial, "gait-events")
+    whole = limbfuse.evaluate(trial, est)
+    half = limbfuse.evaluate(trial, est, window=f"0:{walking_trial.t[-1] / 2}")
+    assert half["n_samples"] < whole["n_samples"] and half["n_strides"] < whole["n_strides"]
+    with pytest.raises(LimbfuseError, match="offset_free: applies to angle errors only"):
+        limbfuse.evaluate(trial, est, offset_free=True)

@@ -26,13 +26,14 @@
 
 use std::path::Path;
 
-use limbfuse_core::{GaitPhase, Side};
+use limbfuse_core::GaitPhase;
 use limbfuse_io::{EstimateReader, TrialReader};
 
 use crate::blended_stride_speed::{
     blended_stride_speed, row_at, StrideFigures, TrackStride, ROW_TOLERANCE_S,
 };
-use crate::evaluation::EvalError;
+use crate::evaluation::{EvalError, TimeWindow};
+use crate::gait_event_columns::{read_columns, Columns};
 
 /// Largest time difference (s) at which an estimated event can pair with a
 /// reference event: a quarter of a typical 1.0-1.2 s stride, under half the
@@ -84,101 +85,6 @@ pub struct GaitEventEvaluation {
     pub blended: StrideFigures,
     /// Whether the estimate file records this trial.
     pub trial_check: crate::trial_check::TrialCheck,
-}
-
-#[derive(Default)]
-struct Columns {
-    t: Vec<f64>,
-    reference: [Vec<Option<bool>>; 2],
-    speed_ref: Vec<Option<f64>>,
-    contact: [Vec<Option<bool>>; 2],
-    phase: Vec<Option<GaitPhase>>,
-    ic: [Vec<f64>; 2],
-    fc: [Vec<f64>; 2],
-    /// (row, length, time) per side.
-    strides: [Vec<(usize, f64, f64)>; 2],
-    /// Initial contacts of either foot (`diag_ic`, methods that do not tell the side).
-    ic_any: Vec<f64>,
-    /// Strides of either foot (`diag_stride_length`, `diag_stride_time`).
-    strides_any: Vec<(usize, f64, f64)>,
-}
-
-fn diag_index(er: &EstimateReader, name: &str) -> Option<usize> {
-    er.diagnostic_names().position(|n| n == name)
-}
-
-fn read_columns(
-    trial: &Path,
-    estimate: &Path,
-    tr: &mut TrialReader,
-    er: &mut EstimateReader,
-) -> Result<(Columns, bool), EvalError> {
-    let mut c = Columns::default();
-    let key = |what: &str, side: Side| format!("{what}_{}", side.name());
-    let ic_col = Side::BOTH.map(|s| diag_index(er, &key("ic", s)));
-    let fc_col = Side::BOTH.map(|s| diag_index(er, &key("fc", s)));
-    let len_col = Side::BOTH.map(|s| diag_index(er, &key("stride_length", s)));
-    let time_col = Side::BOTH.map(|s| diag_index(er, &key("stride_time", s)));
-    let (ic_any_col, len_any_col, time_any_col) = (
-        diag_index(er, "ic"),
-        diag_index(er, "stride_length"),
-        diag_index(er, "stride_time"),
-    );
-    let has_event_columns = ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
-    let mut row = 0usize;
-    loop {
-        match (tr.next_record()?, er.next_estimate()?) {
-            (None, None) => break,
-            (Some(r), Some((line, e))) => {
-                if (r.sample.t - e.t).abs() > 1e-9 * r.sample.t.abs().max(1.0) {
-                    return Err(EvalError::TimeMismatch {
-                        estimate: estimate.display().to_string(),
-                        line,
-                        index: row as u64,
-                        t_estimate: e.t,
-                        t_trial: r.sample.t,
-                    });
-                }
-                c.t.push(r.sample.t);
-                c.speed_ref.push(r.reference.speed);
-                c.phase.push(e.phase);
-                if let Some(v) = ic_any_col.and_then(|k| e.diag[k]) {
-                    c.ic_any.push(v);
-                }
-                if let (Some(l), Some(tm)) = (
-                    len_any_col.and_then(|k| e.diag[k]),
-                    time_any_col.and_then(|k| e.diag[k]),
-                ) {
-                    c.strides_any.push((row, l, tm));
-                }
-                for s in 0..2 {
-                    c.reference[s].push(r.reference.contact[s]);
-                    c.contact[s].push(e.contact[s]);
-                    if let Some(v) = ic_col[s].and_then(|k| e.diag[k]) {
-                        c.ic[s].push(v);
-                    }
-                    if let Some(v) = fc_col[s].and_then(|k| e.diag[k]) {
-                        c.fc[s].push(v);
-                    }
-                    if let (Some(l), Some(tm)) = (
-                        len_col[s].and_then(|k| e.diag[k]),
-                        time_col[s].and_then(|k| e.diag[k]),
-                    ) {
-                        c.strides[s].push((row, l, tm));
-                    }
-                }
-            }
-            _ => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{} and {} have different numbers of samples (mismatch after {row})",
-                    trial.display(),
-                    estimate.display()
-                )))
-            }
-        }
-        row += 1;
-    }
-    Ok((c, has_event_columns))
 }
 
 /// Times of the `from -> to` steps of a contact column.
@@ -347,16 +253,33 @@ pub fn evaluate_gait_event_files(
     estimate: &Path,
     allow_trial_mismatch: bool,
 ) -> Result<GaitEventEvaluation, EvalError> {
+    evaluate_gait_event_files_in(
+        trial,
+        estimate,
+        allow_trial_mismatch,
+        &TimeWindow::default(),
+    )
+}
+
+/// As [`evaluate_gait_event_files`], over the rows inside `window` only
+/// (`evaluate --window`): the references outside it count as unknown, so
+/// that the events, contacts and strides scored are those inside it.
+pub fn evaluate_gait_event_files_in(
+    trial: &Path,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+    window: &TimeWindow,
+) -> Result<GaitEventEvaluation, EvalError> {
     let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
     let mut tr = TrialReader::open(trial)?;
     let mut er = EstimateReader::open(estimate)?;
     let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
     let method = er.method().to_string();
     let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
-    let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er)?;
+    let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er, window)?;
     let mut ev = GaitEventEvaluation {
         method,
-        n_samples: c.t.len() as u64,
+        n_samples: c.n_inside,
         trial_check,
         ..Default::default()
     };

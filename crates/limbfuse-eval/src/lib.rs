@@ -11,6 +11,7 @@ pub mod channel_error;
 pub mod evaluation;
 pub mod evaluation_kind;
 pub mod gait_evaluation;
+mod gait_event_columns;
 pub mod gait_events_evaluation;
 pub mod gait_events_report;
 pub mod gait_watch;

@@ -32,6 +32,33 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             "evaluate needs an ESTIMATE file, or --method NAME [--params FILE] [--starts N] to run the method on the trial"
         );
     };
+    let window = match &a.window {
+        Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
+        None => TimeWindow::default(),
+    };
+    // Options of the angle evaluation that an event or gait evaluation
+    // cannot honour: refused rather than silently ignored.
+    let angle_only = |what: &str, window_too: bool| -> Result<()> {
+        let mut given = Vec::new();
+        if window_too && a.window.is_some() {
+            given.push("--window");
+        }
+        if a.offset_free {
+            given.push("--offset-free");
+        }
+        if a.max_lag > 0 {
+            given.push("--max-lag");
+        }
+        if given.is_empty() {
+            return Ok(());
+        }
+        anyhow::bail!(
+            "{}: {} to angle errors only; {} is scored for {what}",
+            given.join(", "),
+            if given.len() == 1 { "applies" } else { "apply" },
+            estimate.display()
+        )
+    };
     let assumed_zero = {
         let reader = limbfuse_io::TrialReader::open(&a.trial)?;
         let layout = *reader.layout();
@@ -41,14 +68,16 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         match limbfuse_eval::evaluation_kind(&layout, content) {
             EvaluationKind::GaitEvents => {
                 // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
-                let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files(
-                    trial, estimate, mismatch,
+                angle_only("gait events and walking speed", false)?;
+                let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in(
+                    trial, estimate, mismatch, &window,
                 )?;
                 print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
                 return Ok(());
             }
             EvaluationKind::Gait => {
                 // A gait trial (paper 003): phase, CoM and speed errors.
+                angle_only("gait phase, CoM and speed (paper 003)", true)?;
                 let ev =
                     limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
                 print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
@@ -57,10 +86,6 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             EvaluationKind::Angles => {}
         }
         segments_zeroed_by_assumption(reader.meta())
-    };
-    let window = match &a.window {
-        Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
-        None => TimeWindow::default(),
     };
     let ev = evaluate_files(
         &a.trial,
