@@ -209,10 +209,18 @@ def evaluate(
     """Errors of `estimate` against the trial's reference: the same object
     (and numbers) as ``limbfuse evaluate --json`` (angles in degrees).
 
+    An estimate of gait events or walking speed (``gait-events``,
+    ``lowback-speed``) gets the event evaluation (timing, contacts, stride
+    speed; docs/GAIT_EVENTS.md), a paper-003 gait trial the phase / CoM /
+    speed evaluation, as the CLI chooses them.
+
     Args:
         window: ``"10:40"`` or ``(10, 40)`` (s); either end may be open.
-        offset_free: remove each channel's mean error before the RMSE.
-        max_lag: synchronise each channel within +-max_lag samples.
+            For an event evaluation, only the rows inside it are scored.
+        offset_free: remove each channel's mean error before the RMSE
+            (angles only: refused for an event or gait evaluation).
+        max_lag: synchronise each channel within +-max_lag samples (angles
+            only, likewise).
         allow_trial_mismatch: evaluate an estimate recording another trial.
     """
     if not isinstance(trial, Trial) or not isinstance(estimate, Estimate):
