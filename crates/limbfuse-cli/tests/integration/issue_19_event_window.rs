@@ -4,21 +4,17 @@
 //! `--max-lag`, which only mean something for angles, are refused (exit 1)
 //! instead of ignored. Skipped when `../shared/data` is absent.
 
-use crate::s02_support::run_ok;
-use crate::support::{limbfuse, shared_data};
+use crate::s02_support::{gaitmap_events, run_ok};
+use crate::support::limbfuse;
 
 #[test]
 fn issue_19_event_evaluation_honours_the_window() {
-    let Some(trial) = shared_data("gaitmap-foot-walk/trial.csv") else {
-        return;
-    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let trial = trial.to_str().unwrap();
-    run_ok(
-        &["estimate", "--method", "gait-events", trial, "-o", "ge.csv"],
-        dir,
-    );
+    let Some(trial) = gaitmap_events(dir) else {
+        return;
+    };
+    let trial = trial.as_str();
     let ic = |extra: &[&str]| -> (u64, u64) {
         let mut args = vec!["evaluate", trial, "ge.csv", "--json"];
         args.extend_from_slice(extra);

@@ -6,21 +6,16 @@
 //! of `evaluate` for them. Skipped when `../shared/data` is absent.
 
 use crate::cli_report::{by_id, parse, series_of};
-use crate::s02_support::run_ok;
-use crate::support::shared_data;
+use crate::s02_support::{gaitmap_events, run_ok};
 
 #[test]
 fn issue_19_report_of_gait_events_on_the_gaitmap_walk() {
-    let Some(trial) = shared_data("gaitmap-foot-walk/trial.csv") else {
-        return;
-    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let trial = trial.to_str().unwrap();
-    run_ok(
-        &["estimate", "--method", "gait-events", trial, "-o", "ge.csv"],
-        dir,
-    );
+    let Some(trial) = gaitmap_events(dir) else {
+        return;
+    };
+    let trial = trial.as_str();
     run_ok(&["report", trial, "ge.csv", "-o", "r.html"], dir);
     let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
     let tags = parse(&html);

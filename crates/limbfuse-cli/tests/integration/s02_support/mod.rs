@@ -69,3 +69,23 @@ pub fn leg_rmse(dir: &Path, trial: &str, est: &str, window: &str) -> [f64; 3] {
     let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
     ["thigh", "shank", "foot"].map(|s| v["rmse_deg"][s].as_f64().unwrap())
 }
+
+/// Runs `gait-events` on the shared gaitmap walk into `dir/ge.csv` and
+/// returns the walk's path; `None` (with the skip message) when the shared
+/// data is absent.
+pub fn gaitmap_events(dir: &Path) -> Option<String> {
+    let trial = shared_data("gaitmap-foot-walk/trial.csv")?;
+    let trial = trial.to_str().unwrap().to_string();
+    run_ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            &trial,
+            "-o",
+            "ge.csv",
+        ],
+        dir,
+    );
+    Some(trial)
+}
