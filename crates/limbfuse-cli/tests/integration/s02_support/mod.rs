@@ -1,6 +1,6 @@
 //! What the tests on the shared gaittoolbox S02 walk need: its folder (or a
 //! skip message when `../shared/data` is absent) and a `limbfuse` run that
-//! must succeed.
+//! must succeed; also the gaitmap walk's `gait-events` run.
 
 use std::path::{Path, PathBuf};
 
