@@ -128,6 +128,30 @@ pub enum EvalError {
     NoReference(String),
 }
 
+impl EvalError {
+    /// `Ok` when the estimate's time `t_estimate` (line `line` of
+    /// `estimate`) is the trial's sample `index` time `t_trial` (to 1e-9
+    /// relative); else [`EvalError::TimeMismatch`].
+    pub fn check_same_time(
+        estimate: &std::path::Path,
+        line: u64,
+        index: u64,
+        t_estimate: f64,
+        t_trial: f64,
+    ) -> Result<(), EvalError> {
+        if (t_trial - t_estimate).abs() > 1e-9 * t_trial.abs().max(1.0) {
+            return Err(EvalError::TimeMismatch {
+                estimate: estimate.display().to_string(),
+                line,
+                index,
+                t_estimate,
+                t_trial,
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Evaluates the estimate file against the trial's reference, streaming both.
 ///
 /// First, one pass over the trial's bytes hashes it and counts its samples:
@@ -169,16 +193,7 @@ pub fn evaluate_files(
         match (rec, est) {
             (None, None) => break,
             (Some(r), Some((line, e))) => {
-                let tol = 1e-9 * r.sample.t.abs().max(1.0);
-                if (r.sample.t - e.t).abs() > tol {
-                    return Err(EvalError::TimeMismatch {
-                        estimate: estimate.display().to_string(),
-                        line,
-                        index,
-                        t_estimate: e.t,
-                        t_trial: r.sample.t,
-                    });
-                }
+                EvalError::check_same_time(estimate, line, index, e.t, r.sample.t)?;
                 metrics.push(&r, &e);
             }
             (Some(_), None) => {

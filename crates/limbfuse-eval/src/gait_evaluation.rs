@@ -64,15 +64,7 @@ pub fn evaluate_gait_files(
         match (tr.next_record()?, er.next_estimate()?) {
             (None, None) => break,
             (Some(r), Some((line, e))) => {
-                if (r.sample.t - e.t).abs() > 1e-9 * r.sample.t.abs().max(1.0) {
-                    return Err(EvalError::TimeMismatch {
-                        estimate: estimate.display().to_string(),
-                        line,
-                        index: index_row,
-                        t_estimate: e.t,
-                        t_trial: r.sample.t,
-                    });
-                }
+                EvalError::check_same_time(estimate, line, index_row, e.t, r.sample.t)?;
                 ev.n_samples += 1;
                 if let (Some(a), Some(b)) = (r.reference.phase, e.phase) {
                     ev.phase_confusion[index(a)][index(b)] += 1;

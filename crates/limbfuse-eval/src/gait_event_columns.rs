@@ -66,15 +66,7 @@ pub(crate) fn read_columns(
         match (tr.next_record()?, er.next_estimate()?) {
             (None, None) => break,
             (Some(r), Some((line, e))) => {
-                if (r.sample.t - e.t).abs() > 1e-9 * r.sample.t.abs().max(1.0) {
-                    return Err(EvalError::TimeMismatch {
-                        estimate: estimate.display().to_string(),
-                        line,
-                        index: row as u64,
-                        t_estimate: e.t,
-                        t_trial: r.sample.t,
-                    });
-                }
+                EvalError::check_same_time(estimate, line, row as u64, e.t, r.sample.t)?;
                 // Outside the window the reference counts as unknown: no
                 // event, stride or row there is scored.
                 let inside = window.contains(r.sample.t);
