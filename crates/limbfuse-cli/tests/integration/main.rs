@@ -32,6 +32,7 @@ mod issue_18_glitches;
 mod issue_19_clock_origin;
 mod issue_19_event_window;
 mod issue_19_library_extension;
+mod issue_19_mid_walk_start;
 mod issue_19_report_gait_events;
 mod issue_19_speed_on_a_walk_with_angles;
 mod knee_bad_input;

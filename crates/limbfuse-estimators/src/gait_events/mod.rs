@@ -29,8 +29,10 @@
 
 pub mod foot_axis;
 pub mod foot_events;
+mod foot_tracker;
 pub mod reading_gap;
 pub mod shank_events;
+pub mod sign_replay;
 pub mod strapdown;
 pub mod trough_time;
 pub mod zero_velocity;
@@ -43,12 +45,11 @@ use limbfuse_core::{
     Side, TimeStep,
 };
 
-use foot_axis::FootAxis;
-use foot_events::FootEvents;
+use foot_tracker::FootTracker;
 use reading_gap::ReadingGap;
 use shank_events::{ShankAxis, ShankContact, ShankEvents};
-use strapdown::StrideIntegrator;
-use zero_velocity::{Shoe, ShoeParams};
+use sign_replay::{LateEvents, Reading, UndecidedReadings};
+use zero_velocity::ShoeParams;
 
 diagnostic_set! {
     /// Diagnostics of [`GaitEvents`].
@@ -192,117 +193,16 @@ struct SwingTimes {
 }
 
 impl SwingTimes {
-    /// Records one sample's events, and copies them to `out`.
-    fn record(&mut self, e: foot_events::EventsAt, out: &mut FootOutput) {
+    /// Records one sample's events (in time order: live, or replayed).
+    fn record(&mut self, e: foot_events::EventsAt) {
         if let Some(t_fc) = e.final_contact {
             self.last_fc = Some(t_fc);
-            out.final_contact = Some(t_fc);
         }
         if let Some(t_ic) = e.initial_contact {
             if let Some(t_fc) = self.last_fc {
                 self.last_swing = Some(t_ic - t_fc);
             }
-            out.initial_contact = Some(t_ic);
         }
-    }
-}
-
-/// The pipeline of one foot.
-#[derive(Debug, Clone)]
-struct FootTracker {
-    shoe: Shoe,
-    axis: FootAxis,
-    events: FootEvents,
-    integrator: StrideIntegrator,
-    sign: i32,
-    ics_in_segment: u32,
-    last_ic: Option<f64>,
-    ic_in_segment: Option<f64>,
-    stride_start_ic: Option<f64>,
-    swing: SwingTimes,
-    gap: ReadingGap,
-}
-
-impl FootTracker {
-    fn new(p: &GaitEventsParams) -> Self {
-        FootTracker {
-            shoe: Shoe::new(p.shoe),
-            axis: FootAxis::new(p.axis_time_constant),
-            events: FootEvents::new(p.swing_rate, p.min_swing_time),
-            integrator: StrideIntegrator::new(p.max_moving_time),
-            sign: 0,
-            ics_in_segment: 0,
-            last_ic: None,
-            ic_in_segment: None,
-            stride_start_ic: None,
-            swing: SwingTimes::default(),
-            gap: ReadingGap::default(),
-        }
-    }
-
-    fn dropout(&mut self) {
-        self.shoe.reset();
-        self.integrator.reset();
-        self.events.reset();
-        self.ic_in_segment = None;
-        self.ics_in_segment = 0;
-        self.last_ic = None;
-    }
-
-    fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
-        let (Some(acc), Some(gyr)) = (imu.acc, imu.gyr) else {
-            // No reading: bridged, or the pipeline restarts, at the next one.
-            return FootOutput::default();
-        };
-        let dt = self
-            .gap
-            .reading(t, dt, p.min_swing_time)
-            .unwrap_or_else(|| {
-                self.dropout();
-                dt
-            });
-        let mut out = FootOutput::default();
-        let rest = self.shoe.update(&acc, &gyr, p.gravity);
-        out.rest = Some(rest);
-        if !rest {
-            self.axis.update(&gyr, dt);
-        }
-        let axis_sign = self.axis.sign();
-        if axis_sign != self.sign {
-            // The sign was decided or reversed: events from the other sign are void.
-            self.sign = axis_sign;
-            self.events.reset();
-            self.last_ic = None;
-            self.ic_in_segment = None;
-            self.ics_in_segment = 0;
-        }
-        if let Some(w) = self.axis.sagittal_rate(&gyr) {
-            out.rate = Some(w);
-            let e = self.events.update(t, dt, w, rest);
-            self.swing.record(e, &mut out);
-            if let Some(t_ic) = e.initial_contact {
-                self.stride_start_ic = self.last_ic;
-                self.ic_in_segment = Some(t_ic);
-                self.ics_in_segment += 1;
-                self.last_ic = Some(t_ic);
-            }
-        }
-        out.contact = self.events.contact();
-        if let Some(seg) = self.integrator.update(rest, &acc, &gyr, dt) {
-            let length = seg.horizontal_length();
-            if length >= p.min_vote_length {
-                self.axis
-                    .vote(&seg.forward_in_sensor.cross(&seg.up_in_sensor));
-            }
-            let one_contact = core::mem::take(&mut self.ics_in_segment) == 1;
-            if let (Some(end), Some(start)) = (self.ic_in_segment.take(), self.stride_start_ic) {
-                let time = end - start;
-                if one_contact && (p.min_stride_time..=p.max_stride_time).contains(&time) {
-                    out.stride = Some(Stride { length, time });
-                }
-            }
-        }
-        out
     }
 }
 
@@ -314,17 +214,49 @@ struct ShankTracker {
     sign: i32,
     swing: SwingTimes,
     gap: ReadingGap,
+    undecided: UndecidedReadings,
+    late: LateEvents,
 }
 
 impl ShankTracker {
     fn new(p: &GaitEventsParams) -> Self {
+        ShankTracker::with_buffer(p, UndecidedReadings::default())
+    }
+
+    /// A tracker in its starting state with `undecided` (emptied) as its
+    /// buffer of undecided readings.
+    fn with_buffer(p: &GaitEventsParams, mut undecided: UndecidedReadings) -> Self {
+        undecided.clear();
         ShankTracker {
             axis: ShankAxis::new(p.axis_time_constant),
             events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
             sign: 0,
             swing: SwingTimes::default(),
             gap: ReadingGap::default(),
+            undecided,
+            late: LateEvents::default(),
         }
+    }
+
+    /// Back to the starting state, keeping the buffer (no allocation).
+    fn reset(&mut self, p: &GaitEventsParams) {
+        let undecided = core::mem::replace(&mut self.undecided, UndecidedReadings::empty());
+        *self = ShankTracker::with_buffer(p, undecided);
+    }
+
+    /// The sign was just decided: the readings kept since the start (or the
+    /// last restart) go through the event detector ([`sign_replay`]).
+    fn replay_undecided(&mut self) {
+        let undecided = core::mem::replace(&mut self.undecided, UndecidedReadings::empty());
+        for r in undecided.iter() {
+            if let Some(w) = self.axis.sagittal_rate(&r.gyr) {
+                let e = self.events.update(r.t, w);
+                self.swing.record(e);
+                self.late.push(e);
+            }
+        }
+        self.undecided = undecided;
+        self.undecided.clear();
     }
 
     fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
@@ -336,27 +268,46 @@ impl ShankTracker {
             .reading(t, dt, p.min_swing_time)
             .unwrap_or_else(|| {
                 self.events.reset();
+                self.undecided.clear();
                 dt
             });
         let mut out = FootOutput::default();
         self.axis.update(&gyr, dt);
         let sign = self.axis.sign();
         if sign != self.sign {
+            let decided = self.sign == 0;
             self.sign = sign;
             self.events.reset();
+            if decided {
+                self.replay_undecided();
+            }
+            self.undecided.clear();
+        }
+        if self.sign == 0 {
+            self.undecided.push(Reading {
+                t,
+                dt,
+                gyr,
+                rest: false,
+            });
         }
         if let Some(w) = self.axis.sagittal_rate(&gyr) {
             out.rate = Some(w);
             let e = self.events.update(t, w);
-            self.swing.record(e, &mut out);
+            self.swing.record(e);
+            self.late.push(e);
         }
+        let written = self.late.pop();
+        out.initial_contact = written.initial_contact;
+        out.final_contact = written.final_contact;
         out.contact = self.events.contact();
         out
     }
 }
 
-/// One side's pipeline (two per estimator, made once: the foot variant's
-/// size costs nothing, and kept inline it needs no allocation).
+/// One side's pipeline (two per estimator, made once with the estimator:
+/// the foot variant's buffer of undecided readings is its only allocation,
+/// and `reset` keeps it).
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)]
 enum LegTracker {
@@ -371,6 +322,14 @@ impl LegTracker {
                 LegTracker::Shank(ShankTracker::new(p))
             }
             _ => LegTracker::Foot(FootTracker::new(p)),
+        }
+    }
+
+    /// Back to the starting state (no allocation).
+    fn reset(&mut self, p: &GaitEventsParams) {
+        match self {
+            LegTracker::Foot(f) => f.reset(p),
+            LegTracker::Shank(s) => s.reset(p),
         }
     }
 
@@ -510,17 +469,12 @@ impl Estimator for GaitEvents {
     }
 
     fn reset(&mut self) {
-        *self = GaitEvents {
-            params: self.params,
-            sources: self.sources,
-            feet: [
-                LegTracker::new(&self.params, self.sources[0]),
-                LegTracker::new(&self.params, self.sources[1]),
-            ],
-            time: TimeStep::new(),
-            speed: None,
-            strides: 0,
-        };
+        for foot in &mut self.feet {
+            foot.reset(&self.params);
+        }
+        self.time = TimeStep::new();
+        self.speed = None;
+        self.strides = 0;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {

@@ -344,3 +344,44 @@ fn issue_19_lowback_gravity_follows_a_posture_change() {
     assert!(with_gyro < 0.01, "{with_gyro} m/s");
     assert!(without > 0.02, "{without} m/s");
 }
+
+/// Issue 19 (regression, 2026-12-04): a leg's events before its axis sign
+/// is decided (a foot's first stride, a shank's first 2 s) are replayed
+/// and reported late instead of being lost. The simulated right leg
+/// strikes at `k period` and leaves at `(k + 0.6) period` from t = 0, so
+/// every contact after the first (which has no swing before it) and every
+/// toe off is found, with the foot IMU and with the shank IMU alone
+/// (before: the foot missed its first initial and final contact, the
+/// shank its first two of each).
+#[test]
+fn issue_19_events_before_the_axis_sign_are_reported_late() {
+    for speed in [0.8, 1.3] {
+        let (records, period, _) = trial(speed);
+        for source in [FootSource::OwnLeg, FootSource::OwnShank] {
+            let mut e = GaitEvents::new(GaitEventsParams::default(), [None, Some(source)]).unwrap();
+            let (mut ic, mut fc) = (vec![], vec![]);
+            for r in &records {
+                let mut s = r.sample;
+                if source == FootSource::OwnShank {
+                    s.imu[Segment::Foot.index()] = Default::default();
+                }
+                let est = e.step(&s).unwrap();
+                ic.extend(est.diagnostic(GaitDiag::IcRight));
+                fc.extend(est.diagnostic(GaitDiag::FcRight));
+            }
+            // Events up to 0.1 s before the end (their decision latency).
+            let last = 12.0 - 0.1;
+            let n_ic = (last / period).floor() as usize;
+            let n_fc = (last / period - 0.6).floor() as usize + 1;
+            assert_eq!(ic.len(), n_ic, "{speed} m/s {source:?}: contacts {ic:?}");
+            assert_eq!(fc.len(), n_fc, "{speed} m/s {source:?}: toe offs {fc:?}");
+            assert!(ic.windows(2).all(|w| w[0] < w[1]) && fc.windows(2).all(|w| w[0] < w[1]));
+            assert!(
+                ic[0] < period && fc[0] < 0.6 * period,
+                "{speed} m/s {source:?}: first contact {} s, first toe off {} s",
+                ic[0],
+                fc[0]
+            );
+        }
+    }
+}
