@@ -28,6 +28,12 @@
 //! The push-off extremum is taken from the latest negative lobe before the
 //! swing (a lobe starts when `w` turns negative), so the loading lobe of
 //! the previous contact is never mistaken for it.
+//!
+//! The detector starts (and restarts after a gap) by waiting for a rest of
+//! the foot, or, when it starts in swing (`w > swing_rate`), by ending that
+//! swing with an initial contact once `min_swing_time` of it has been seen
+//! (with less seen, a zero crossing is not told from a dip, and it waits
+//! for a rest).
 
 use super::trough_time::TroughSamples;
 
@@ -63,6 +69,9 @@ pub struct FootEvents {
     /// second sample after.
     pending_final_contact: Option<TroughSamples>,
     swing_start: f64,
+    /// The current swing was entered from [`State::Unknown`] (its toe off
+    /// not seen).
+    swing_seen_from_start: bool,
 }
 
 impl FootEvents {
@@ -78,6 +87,7 @@ impl FootEvents {
             lobe_min: None,
             pending_final_contact: None,
             swing_start: 0.0,
+            swing_seen_from_start: false,
         }
     }
 
@@ -118,6 +128,13 @@ impl FootEvents {
             State::Unknown => {
                 if rest {
                     self.state = State::Stance;
+                } else if w > self.swing_rate {
+                    // Started (or restarted after a gap) in swing: its toe
+                    // off is not seen, but its end is an initial contact
+                    // when `min_swing_time` of it has been seen.
+                    self.state = State::Swing;
+                    self.swing_start = t;
+                    self.swing_seen_from_start = true;
                 }
             }
             State::Stance => {
@@ -147,15 +164,22 @@ impl FootEvents {
                         }
                     }
                     self.state = State::Swing;
+                    self.swing_seen_from_start = false;
                 }
             }
             State::Swing => {
                 if let Some((t_prev, w_prev)) = previous {
-                    if w_prev > 0.0 && w <= 0.0 && t - self.swing_start >= self.min_swing_time {
+                    let ends = w_prev > 0.0 && w <= 0.0;
+                    if ends && t - self.swing_start >= self.min_swing_time {
                         let t_ic = t_prev + (t - t_prev) * w_prev / (w_prev - w);
                         out.initial_contact = Some(t_ic);
                         self.state = State::Stance;
                         self.lobe_min = Some(lobe_start());
+                    } else if ends && self.swing_seen_from_start {
+                        // Too little of a swing seen from the start to
+                        // tell its end from a dip: wait for a rest, as
+                        // any start does.
+                        self.state = State::Unknown;
                     }
                 }
             }
@@ -242,5 +266,47 @@ mod tests {
         let (decided, t_fc) = fc[0];
         assert!((decided - 0.54).abs() < 1e-9, "decided at {decided}");
         assert!((t_fc - corner).abs() < 1e-9, "toe off at {t_fc}");
+    }
+
+    /// Two synthetic strides (period 1 s) seen from `start` (s): the
+    /// events decided, in order.
+    fn events_from(start: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut d = FootEvents::new(1.0, 0.15);
+        let dt = 1.0 / 500.0;
+        let (mut ic, mut fc) = (vec![], vec![]);
+        let first = (start / dt).round() as usize;
+        for k in first..1000 {
+            let t = k as f64 * dt;
+            let w = w_of(t % 1.0);
+            let flat = w == 0.0 && !(0.75..0.9).contains(&(t % 1.0));
+            let e = d.update(t, dt, w, flat);
+            ic.extend(e.initial_contact);
+            fc.extend(e.final_contact);
+        }
+        (ic, fc)
+    }
+
+    /// Issue 19 (2026-12-04): a detector started in mid-swing (a recording
+    /// cut mid-walk, or a foot back from a gap in its readings) ends that
+    /// swing with an initial contact once `min_swing_time` of it is seen;
+    /// with less seen it waits for a rest, as before, and misses nothing
+    /// after. Before, it always waited for a rest: the contact at 0.75 s
+    /// was lost when starting at 0.45 s.
+    #[test]
+    fn issue_19_a_start_in_mid_swing_ends_with_an_initial_contact() {
+        let near = |v: &[f64], want: &[f64]| {
+            v.len() == want.len() && v.iter().zip(want).all(|(a, b)| (a - b).abs() < 1.5e-3)
+        };
+        let (ic, fc) = events_from(0.45);
+        assert!(near(&ic, &[0.75, 1.75]), "{ic:?}");
+        assert!(near(&fc, &[1.30]), "{fc:?}");
+        // 0.1 s of swing seen: not told from a dip, no event until the rest.
+        let (ic, fc) = events_from(0.65);
+        assert!(near(&ic, &[1.75]), "{ic:?}");
+        assert!(near(&fc, &[1.30]), "{fc:?}");
+        // From the start: every event.
+        let (ic, fc) = events_from(0.0);
+        assert!(near(&ic, &[0.75, 1.75]), "{ic:?}");
+        assert!(near(&fc, &[0.30, 1.30]), "{fc:?}");
     }
 }

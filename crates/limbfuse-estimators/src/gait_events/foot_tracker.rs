@@ -71,6 +71,9 @@ impl FootTracker {
         self.ic_in_segment = None;
         self.ics_in_segment = 0;
         self.last_ic = None;
+        // A toe off before the gap does not start a swing after it (the
+        // phase would split that swing from it).
+        self.swing.last_fc = None;
         // (readings before a long gap are not replayed across it)
         self.undecided.clear();
     }

@@ -25,7 +25,8 @@
 //! contact when the foot's rate exceeds `swing_rate` (tens of ms, reported
 //! in docs/RESULTS.md); a stride length when the foot is flat again. The
 //! contact columns are causal (they switch when the event is decided).
-//! Allocation-free per sample.
+//! The events before a leg's axis sign was decided are replayed then and
+//! written late ([`sign_replay`]). Allocation-free per sample.
 
 pub mod foot_axis;
 pub mod foot_events;
