@@ -445,7 +445,7 @@ pub struct TuneArgs {
     #[arg(long, value_name = "SECONDS")]
     pub length: Option<f64>,
     /// Start from this parameter file instead of a preset (sdre/ekf: the
-    /// knee model's file with [states]; the tuned file is a copy of it).
+    /// knee model's file with `[states]`; the tuned file is a copy of it).
     #[arg(long, conflicts_with = "preset")]
     pub params: Option<PathBuf>,
     /// Start from this preset: default or paper-2014.

@@ -3,7 +3,7 @@
 //!
 //! Each sub-step takes four evaluations of the model and the Riccati
 //! right-hand side; the stiffness bound comes with the first and last of
-//! them ([`derivative_and_stiffness`]), so checking the step size costs no
+//! them (`derivative_and_stiffness`), so checking the step size costs no
 //! further model evaluation.
 
 use limbfuse_models::SdcModel;
@@ -97,7 +97,7 @@ pub(crate) fn stiffness_bound_until<const N: usize>(m: &SMatrix<f64, N, N>, enou
 /// within about 1e-4 s, and the gain `K = P C^T S^-1` (eq 4.15) with it, so
 /// a step sized at the start of the interval was ten times too long for
 /// RK4 (issue 16: a non-finite state and a restart at every sample). The
-/// work per sample is bounded: at most [`MAX_SUBSTEPS`] sub-steps, the last
+/// work per sample is bounded: at most `MAX_SUBSTEPS` sub-steps, the last
 /// ones spreading what is left evenly (a divergence then shows as a
 /// restart).
 #[allow(clippy::too_many_arguments)]

@@ -31,7 +31,7 @@
 //!   re-targeted to the family's gait at that speed ([`gait_at_speed`]):
 //!   lateral offset, step width, and the stiffness until the legs' own is
 //!   measured.
-//! - **Leg stiffness from the weight support** ([`super::weight_support`]).
+//! - **Leg stiffness from the weight support** (`super::weight_support`).
 //!   The legs' vertical impulse over a step equals the weight's, so with
 //!   the feet located the stiffness of the legs the trial walks on is
 //!   measured step by step (mean over the last stride) and replaces the

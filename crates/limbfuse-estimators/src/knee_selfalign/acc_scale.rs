@@ -9,7 +9,7 @@
 //! (scaled by `s_T`; eq 5 uses their directions only); a relative one is
 //! the unknown `r`, identified with the positions: Algorithm 2 on
 //! `Psi = [o_T, o_S, r]`, started from the lifted least-squares problem of
-//! [`super::position::lifted_row`] with `r^2` and `r o_S` as unknowns.
+//! `super::position::lifted_row` with `r^2` and `r o_S` as unknowns.
 //! The accelerometer angle (eqs 5-7) then uses `r a_S - Gamma_S(o_S)`.
 //!
 //! `r` is applied only when the window identifies it
@@ -127,7 +127,7 @@ impl LiftedScaledStart {
     }
 
     /// The lifted solution of the paper's eq 3 (`r = 1`:
-    /// [`super::position::lifted_row`]) from the same sums: with `r^2 = 1`
+    /// `super::position::lifted_row`) from the same sums: with `r^2 = 1`
     /// known, its column moves to the right-hand side. `[o_T, o_S]`.
     pub fn solve_unit_scale(&self) -> Option<Vector6<f64>> {
         if self.n < 18 {

@@ -302,7 +302,7 @@ pub enum WindowOutcome {
 /// makes the accelerometer angle follow the integrated gyro angle better
 /// (both axes must point to the same side for eqs 4 and 5 to describe the
 /// same rotation); then both are flipped if the knee would flex to negative
-/// angles (SPEC section 1; [`flexion_side`]). In later windows each axis
+/// angles (SPEC section 1; `flexion_side`). In later windows each axis
 /// keeps the side of its `previous` axis, unless the relative sign is not
 /// `committed` and the window's trusted accelerometer angle prefers the
 /// other pair with at least `sign_commit` confidence.
