@@ -158,8 +158,9 @@ pub fn format_segment_lengths(thigh: f64, shank: f64) -> String {
     format!("thigh {thigh:.4}; shank {shank:.4}")
 }
 
-/// A length stated in free text as `LABEL NUMBER UNIT` (unit `m`, `cm` or
-/// `mm`; case-insensitive), in metres: the text is cut into clauses at
+/// A length stated in free text as `LABEL NUMBER UNIT` (or `LABEL:` /
+/// `LABEL =` before the number; unit `m`, `cm` or `mm`; case-insensitive),
+/// in metres: the text is cut into clauses at
 /// `,` `;` `(` `)`, and the clause must start with `label`, so that
 /// `height` does not match `sensor height 96.4 cm`. `None` when no clause
 /// states it or the number is not finite and positive.
@@ -168,10 +169,13 @@ pub fn free_text_length(text: &str, label: &str) -> Option<f64> {
     text.split([',', ';', '(', ')']).find_map(|clause| {
         let clause = clause.trim().to_ascii_lowercase();
         let rest = clause.strip_prefix(label.as_str())?;
-        if !rest.starts_with(char::is_whitespace) {
-            return None;
-        }
+        // `LABEL 96.4 cm`, `LABEL: 96.4 cm`, `LABEL = 96.4 cm`; not `LABELs`.
         let rest = rest.trim_start();
+        let rest = match rest.strip_prefix([':', '=']) {
+            Some(after) => after.trim_start(),
+            None if rest.len() < clause.len() - label.len() => rest,
+            None => return None,
+        };
         let end = rest
             .find(|c: char| !(c.is_ascii_digit() || c == '.'))
             .unwrap_or(rest.len());
@@ -260,6 +264,13 @@ mod tests {
             Some(0.964)
         );
         assert_eq!(free_text_length("sensor height 96.4 cm", "height"), None);
+        assert_eq!(
+            free_text_length("sensor height: 96.4 cm", "sensor height"),
+            Some(0.964)
+        );
+        assert_eq!(free_text_length("height = 1.59 m", "height"), Some(1.59));
+        assert_eq!(free_text_length("height:159cm", "height"), Some(1.59));
+        assert_eq!(free_text_length("heights: 159 cm", "height"), None);
         assert_eq!(free_text_length("heights 159 cm", "height"), None);
         assert_eq!(free_text_length("height 159 inches", "height"), None);
         assert_eq!(free_text_length("height unknown", "height"), None);
