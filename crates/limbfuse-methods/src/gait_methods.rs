@@ -5,6 +5,7 @@
 //! method = "gait-events"     # optional
 //! swing_rate = 1.0           # rad/s: foot sagittal rate that confirms swing
 //! min_swing_time = 0.15      # s: shortest swing before an initial contact
+//! min_rest_time = 0.05       # s: shortest rest that ends a stride's integration
 //! shoe_window = 3            # samples: zero-velocity detector window (Skog 2010)
 //! shoe_gamma = 3e4           # zero-velocity detector threshold (Skog 2010)
 //! axis_time_constant = 10.0  # s: averaging of the medio-lateral axis
@@ -32,6 +33,7 @@ struct GaitEventsFile {
     method: Option<String>,
     swing_rate: Option<f64>,
     min_swing_time: Option<f64>,
+    min_rest_time: Option<f64>,
     shoe_window: Option<usize>,
     shoe_gamma: Option<f64>,
     axis_time_constant: Option<f64>,
@@ -103,7 +105,7 @@ impl MethodDef for GaitEventsMethod {
         "gait-events",
         "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT); events from shank IMUs",
         "per leg foot_acc/gyr (foot_<other side>_ for the other leg), else shank_gyr; raw sensor frames",
-        "swing_rate, min_swing_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
+        "swing_rate, min_swing_time, min_rest_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
     );
     type Settings = GaitEventsSettings;
 
@@ -126,6 +128,14 @@ impl MethodDef for GaitEventsMethod {
         let mut p = GaitEventsParams::default();
         positive("swing_rate", f.swing_rate, &mut p.swing_rate).map_err(&bad)?;
         positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time).map_err(&bad)?;
+        if let Some(v) = f.min_rest_time {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(bad(format!(
+                    "`min_rest_time` = {v}: expected a number of seconds >= 0"
+                )));
+            }
+            p.min_rest_time = v;
+        }
         positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma).map_err(&bad)?;
         positive(
             "axis_time_constant",
@@ -222,6 +232,8 @@ impl MethodDef for GaitEventsMethod {
              swing_rate = {:?}\n\
              # Shortest swing (s) before an initial contact is accepted.\n\
              min_swing_time = {:?}\n\
+             # Shortest rest (s) that ends a stride's integration (0: the first rest sample).\n\
+             min_rest_time = {:?}\n\
              # Zero-velocity detector (SHOE, Skog et al. 2010, OpenShoe values): window (samples) and threshold.\n\
              shoe_window = {}\n\
              shoe_gamma = {:?}\n\
@@ -231,6 +243,7 @@ impl MethodDef for GaitEventsMethod {
              speed_hold = {:?}\n",
             p.swing_rate,
             p.min_swing_time,
+            p.min_rest_time,
             p.shoe.window,
             p.shoe.gamma,
             p.axis_time_constant,

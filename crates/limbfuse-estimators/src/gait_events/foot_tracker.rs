@@ -27,6 +27,8 @@ pub(super) struct FootTracker {
     stride_start_ic: Option<f64>,
     pub(super) swing: SwingTimes,
     gap: ReadingGap,
+    /// How long (s) the detector has said "rest" without a break.
+    rest_time: f64,
     undecided: UndecidedReadings,
     late: LateEvents,
 }
@@ -52,6 +54,7 @@ impl FootTracker {
             stride_start_ic: None,
             swing: SwingTimes::default(),
             gap: ReadingGap::default(),
+            rest_time: 0.0,
             undecided,
             late: LateEvents::default(),
         }
@@ -66,6 +69,7 @@ impl FootTracker {
 
     fn dropout(&mut self) {
         self.shoe.reset();
+        self.rest_time = 0.0;
         self.integrator.reset();
         self.events.reset();
         self.ic_in_segment = None;
@@ -161,7 +165,12 @@ impl FootTracker {
         out.initial_contact = written.initial_contact;
         out.final_contact = written.final_contact;
         out.contact = self.events.contact();
-        if let Some(seg) = self.integrator.update(rest, &acc, &gyr, dt) {
+        // The stride integration stops at a rest that has lasted
+        // `min_rest_time` (this sample included), not at a moment of a
+        // slow swing that holds still.
+        self.rest_time = if rest { self.rest_time + dt } else { 0.0 };
+        let settled = rest && self.rest_time >= p.min_rest_time - 1e-9;
+        if let Some(seg) = self.integrator.update(settled, &acc, &gyr, dt) {
             let length = seg.horizontal_length();
             if length >= p.min_vote_length {
                 self.axis

@@ -130,6 +130,14 @@ pub struct GaitEventsParams {
     /// Shortest swing (s) before an initial contact is accepted: 0.15
     /// (walking swings last 0.35-0.5 s).
     pub min_swing_time: f64,
+    /// Shortest rest (s) that ends a moving period (the stride integration's
+    /// zero-velocity update): 0.05. A walking foot-flat lasts 0.13 s or more
+    /// at up to 1.8 m/s (the walking simulator; a median 0.25 s per stance
+    /// on the shared real walk), while a slow swing can hold still in
+    /// rotation and acceleration for 0.02 s, which the detector calls a rest
+    /// (docs/GAIT_EVENTS.md, "Rest of the foot"). 0 ends a moving period at
+    /// the first rest sample (the behaviour before 2026-12-04).
+    pub min_rest_time: f64,
     /// Averaging time constant (s) of the medio-lateral axis: 10.
     pub axis_time_constant: f64,
     /// Longest moving period (s) integrated: 3.0 (a longer one is not a stride).
@@ -154,6 +162,7 @@ impl Default for GaitEventsParams {
             shoe: ShoeParams::default(),
             swing_rate: 1.0,
             min_swing_time: 0.15,
+            min_rest_time: 0.05,
             axis_time_constant: 10.0,
             max_moving_time: 3.0,
             min_vote_length: 0.2,
@@ -445,6 +454,7 @@ impl Estimator for GaitEvents {
         )?;
         writeln!(out, "swing_rate: {} rad/s", p.swing_rate)?;
         writeln!(out, "min_swing_time: {} s", p.min_swing_time)?;
+        writeln!(out, "min_rest_time: {} s", p.min_rest_time)?;
         writeln!(out, "axis_time_constant: {} s", p.axis_time_constant)?;
         writeln!(out, "max_moving_time: {} s", p.max_moving_time)?;
         writeln!(out, "min_vote_length: {} m", p.min_vote_length)?;

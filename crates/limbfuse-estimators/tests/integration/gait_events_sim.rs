@@ -385,3 +385,53 @@ fn issue_19_events_before_the_axis_sign_are_reported_late() {
         }
     }
 }
+
+/// Issue 19 (regression, 2026-12-04): at 200 Hz and 1 kHz the simulated
+/// slow swing holds still in rotation and acceleration for about 20 ms in
+/// early swing, which the zero-velocity detector calls a rest. Each stride
+/// was integrated in two parts: stride lengths 38 % (0.6 m/s) to 51 %
+/// (1.0 m/s, 1 kHz) short. A rest now ends a moving period only after
+/// `min_rest_time` (0.05 s): every stride within 1.5 % at every rate.
+#[test]
+fn issue_19_a_still_moment_of_a_slow_swing_is_not_a_rest() {
+    for (speed, rate) in [(0.6, 200.0), (0.6, 1000.0), (1.0, 1000.0), (0.8, 200.0)] {
+        let cfg = WalkingConfig {
+            speed_mps: speed,
+            duration_s: 12.0,
+            imu_rate_hz: rate,
+            seed: 3,
+            variability: None,
+            ..WalkingConfig::default()
+        };
+        let law = SpeedLaw {
+            speed,
+            height: cfg.height_m,
+        };
+        let length = law.stride_length();
+        let mut e = GaitEvents::new(
+            GaitEventsParams::default(),
+            [None, Some(FootSource::OwnLeg)],
+        )
+        .unwrap();
+        let mut lengths = vec![];
+        for r in WalkingSimulator::new(cfg).unwrap() {
+            lengths.extend(
+                e.step(&r.sample)
+                    .unwrap()
+                    .diagnostic(GaitDiag::StrideLengthRight),
+            );
+        }
+        let strides = (12.0 * law.stride_frequency()) as usize;
+        assert!(
+            lengths.len() + 3 >= strides,
+            "{speed} m/s at {rate} Hz: {} strides",
+            lengths.len()
+        );
+        for l in &lengths {
+            assert!(
+                (l - length).abs() < 0.015 * length,
+                "{speed} m/s at {rate} Hz: stride {l} m vs {length} m"
+            );
+        }
+    }
+}
