@@ -49,10 +49,12 @@ fn f(v: &serde_json::Value, path: &[&str]) -> f64 {
 
 /// Issue 19 targets on the shared two-foot walk: contacts within 20 ms
 /// (median) / 40 ms (p95), none missed; measured 4.6 / 12.6 ms (initial),
-/// 3.6 / 8.5 ms (final; 5.8 / 11.2 with the parabolic toe off). Stride speed and length, each stride against
-/// the blended reference, are held to their measured 0.037 m/s and 2.8 %;
-/// compared like with like (blended) they meet the 0.03 m/s and 2.5 %
-/// targets (docs/RESULTS.md).
+/// 3.6 / 8.5 ms (final; 5.8 / 11.2 with the parabolic toe off). Each
+/// stride against the blended reference: length 2.45 % (the 2.5 % target;
+/// 2.81 % before `min_rest_time`, 2026-12-04), speed 0.032 m/s (held to
+/// its measurement, the 0.03 target is not met this way); compared like
+/// with like (blended) 0.022 m/s and 1.95 %, within 0.03 m/s and 2.5 %
+/// (docs/RESULTS.md).
 #[test]
 fn foot_recording_meets_the_event_targets() {
     let Some(data) = data_dir() else { return };
@@ -71,10 +73,10 @@ fn foot_recording_meets_the_event_targets() {
     assert_eq!(f(&v, &["initial_contact", "extra"]), 0.0, "{v}");
     // The one extra final contact is a turning step at 16.2 s.
     assert!(f(&v, &["final_contact", "extra"]) <= 1.0, "{v}");
-    assert!(f(&v, &["speed_mae_mps"]) < 0.04, "{v}");
-    assert!(f(&v, &["stride_length_error_pct"]) < 3.0, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) < 0.034, "{v}");
+    assert!(f(&v, &["stride_length_error_pct"]) <= 2.5, "{v}");
     // Like with like (the estimate blended as speed_ref is): measured
-    // 0.026 m/s and 2.18 %, the issue's targets 0.03 m/s and 2.5 %.
+    // 0.022 m/s and 1.95 %, the issue's targets 0.03 m/s and 2.5 %.
     assert!(f(&v, &["blended", "speed_mae_mps"]) <= 0.03, "{v}");
     assert!(f(&v, &["blended", "stride_length_error_pct"]) <= 2.5, "{v}");
     assert!(f(&v, &["blended", "n_strides"]) >= 50.0, "{v}");
