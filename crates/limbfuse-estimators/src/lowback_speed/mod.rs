@@ -174,12 +174,19 @@ pub fn pendulum_step_length(h: f64, l: f64, k: f64) -> f64 {
 }
 
 /// The vertical excursion of one step from its vertical accelerations
-/// (uniform step `dt`): velocity zero-mean, position linearly detrended.
+/// (uniform step `dt`): acceleration zero-mean over the step (periodic
+/// gait; since 2026-12-04), velocity zero-mean, position linearly
+/// detrended.
 pub fn step_excursion(a_v: impl Iterator<Item = f64> + Clone, dt: f64) -> f64 {
     let n = a_v.clone().count();
     if n < 3 {
         return 0.0;
     }
+    // Over a step of periodic gait the vertical velocity comes back to its
+    // start: the step's mean vertical acceleration is zero. What is not
+    // (a gravity estimate still settling, a posture change) is removed.
+    let a_mean = a_v.clone().sum::<f64>() / n as f64;
+    let a_v = a_v.map(move |a| a - a_mean);
     let mut v = 0.0;
     let mut v_sum = 0.0;
     for a in a_v.clone() {
@@ -498,5 +505,20 @@ mod tests {
             .collect();
         let h = step_excursion(a.iter().copied(), dt);
         assert!((h - 2.0 * amp).abs() < 0.02 * 2.0 * amp, "h = {h}");
+    }
+
+    /// Issue 19 (2026-12-04): a constant offset in `a_v` (a gravity
+    /// estimate still settling: a recording that starts mid-walk) does not
+    /// change a step's excursion. Before, 0.3 m/s^2 added a parabola of
+    /// `c T^2 / 8` = 1.1 cm to the 4 cm of this step.
+    #[test]
+    fn issue_19_an_offset_in_the_vertical_acceleration_is_not_excursion() {
+        let (amp, period, n) = (0.02, 0.55, 550);
+        let dt = period / n as f64;
+        let w = 2.0 * core::f64::consts::PI / period;
+        let a = |k: usize| -amp * w * w * libm::cos(w * (k as f64 + 0.5) * dt);
+        let plain = step_excursion((0..n).map(a), dt);
+        let offset = step_excursion((0..n).map(|k| a(k) + 0.3), dt);
+        assert!((offset - plain).abs() < 1e-9, "{offset} vs {plain}");
     }
 }
