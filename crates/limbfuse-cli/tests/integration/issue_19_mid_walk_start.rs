@@ -6,7 +6,8 @@
 //! foot already in swing at the first row (cuts at 2.5-4.0 s), or after a
 //! gap in its readings, ends that swing with an initial contact once
 //! `min_swing_time` of it was seen (before, the detector waited for a
-//! rest). Skipped when `../shared/data` is absent.
+//! rest). `lowback-speed` on the HA001 straight walk cut the same way:
+//! its last test. Skipped when `../shared/data` is absent.
 
 use crate::s02_support::run_ok;
 use crate::support::shared_data;
@@ -34,17 +35,12 @@ fn without_rows(src: &str, from: f64, to: f64) -> String {
     out
 }
 
-fn evaluate(dir: &std::path::Path, trial: &str) -> serde_json::Value {
+/// `trial` (file text) written to `dir`, estimated with `method` and
+/// evaluated: `evaluate --json`.
+fn evaluate(dir: &std::path::Path, method: &str, trial: &str) -> serde_json::Value {
     std::fs::write(dir.join("variant.csv"), trial).unwrap();
     run_ok(
-        &[
-            "estimate",
-            "--method",
-            "gait-events",
-            "variant.csv",
-            "-o",
-            "e.csv",
-        ],
+        &["estimate", "--method", method, "variant.csv", "-o", "e.csv"],
         dir,
     );
     serde_json::from_slice(&run_ok(
@@ -62,7 +58,7 @@ fn issue_19_a_recording_that_starts_mid_walk() {
     let src = std::fs::read_to_string(trial).unwrap();
     let tmp = tempfile::tempdir().unwrap();
     for start in [2.0, 2.5, 3.0, 3.5, 4.0] {
-        let v = evaluate(tmp.path(), &without_rows(&src, 0.0, start));
+        let v = evaluate(tmp.path(), "gait-events", &without_rows(&src, 0.0, start));
         for kind in ["initial_contact", "final_contact"] {
             assert_eq!(v[kind]["missed"], 0, "cut at {start} s: {v}");
             // The one extra final contact is the full walk's (a turning step).
@@ -92,7 +88,7 @@ fn issue_19_a_foot_back_from_a_gap_in_swing() {
     let src = std::fs::read_to_string(trial).unwrap();
     let tmp = tempfile::tempdir().unwrap();
     for (from, to) in [(6.0, 6.5), (6.0, 8.0)] {
-        let v = evaluate(tmp.path(), &without_rows(&src, from, to));
+        let v = evaluate(tmp.path(), "gait-events", &without_rows(&src, from, to));
         assert_eq!(v["initial_contact"]["missed"], 0, "gap {from}-{to} s: {v}");
         assert_eq!(v["initial_contact"]["extra"], 0, "gap {from}-{to} s: {v}");
         assert!(
@@ -117,23 +113,8 @@ fn issue_19_lowback_walk_cut_mid_walk() {
     };
     let src = std::fs::read_to_string(trial).unwrap();
     let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
     for start in [4.0, 5.0, 6.0] {
-        std::fs::write(dir.join("cut.csv"), without_rows(&src, 0.0, start)).unwrap();
-        run_ok(
-            &[
-                "estimate",
-                "--method",
-                "lowback-speed",
-                "cut.csv",
-                "-o",
-                "e.csv",
-            ],
-            dir,
-        );
-        let v: serde_json::Value =
-            serde_json::from_slice(&run_ok(&["evaluate", "cut.csv", "e.csv", "--json"], dir))
-                .unwrap();
+        let v = evaluate(tmp.path(), "lowback-speed", &without_rows(&src, 0.0, start));
         let mae = v["speed_mae_mps"].as_f64().unwrap();
         assert!(mae <= 0.035, "cut at {start} s: {v}");
         assert!(
