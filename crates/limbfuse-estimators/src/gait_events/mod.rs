@@ -71,7 +71,8 @@ diagnostic_set! {
         StrideTimeLeft = "stride_time_left",
         /// Right stride time (s).
         StrideTimeRight = "stride_time_right",
-        /// 1 while the left foot is at rest (zero-velocity detector), else 0.
+        /// 1 while the left foot is at rest (zero-velocity detector), else 0
+        /// (a stride ends only at a rest that lasted `min_rest_time`).
         RestLeft = "rest_left",
         /// 1 while the right foot is at rest, else 0.
         RestRight = "rest_right",
