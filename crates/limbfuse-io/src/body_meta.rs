@@ -168,14 +168,13 @@ pub fn free_text_length(text: &str, label: &str) -> Option<f64> {
     let label = label.to_ascii_lowercase();
     text.split([',', ';', '(', ')']).find_map(|clause| {
         let clause = clause.trim().to_ascii_lowercase();
-        let rest = clause.strip_prefix(label.as_str())?;
+        let after = clause.strip_prefix(label.as_str())?;
         // `LABEL 96.4 cm`, `LABEL: 96.4 cm`, `LABEL = 96.4 cm`; not `LABELs`.
-        let rest = rest.trim_start();
-        let rest = match rest.strip_prefix([':', '=']) {
-            Some(after) => after.trim_start(),
-            None if rest.len() < clause.len() - label.len() => rest,
-            None => return None,
-        };
+        if !after.starts_with(|c: char| c.is_whitespace() || c == ':' || c == '=') {
+            return None;
+        }
+        let rest = after.trim_start();
+        let rest = rest.strip_prefix([':', '=']).map_or(rest, str::trim_start);
         let end = rest
             .find(|c: char| !(c.is_ascii_digit() || c == '.'))
             .unwrap_or(rest.len());

@@ -104,13 +104,11 @@ impl FootTracker {
         let Some(axis) = self.axis.right_axis() else {
             return;
         };
-        let undecided = core::mem::replace(&mut self.undecided, UndecidedReadings::empty());
-        for r in undecided.iter() {
+        for i in 0..self.undecided.len() {
+            let r = self.undecided.get(i);
             let e = self.events.update(r.t, r.dt, axis.dot(&r.gyr), r.rest);
             self.record(e);
         }
-        self.undecided = undecided;
-        self.undecided.clear();
         self.ic_in_segment = None;
         self.ics_in_segment = 0;
     }

@@ -258,16 +258,14 @@ impl ShankTracker {
     /// The sign was just decided: the readings kept since the start (or the
     /// last restart) go through the event detector ([`sign_replay`]).
     fn replay_undecided(&mut self) {
-        let undecided = core::mem::replace(&mut self.undecided, UndecidedReadings::empty());
-        for r in undecided.iter() {
+        for i in 0..self.undecided.len() {
+            let r = self.undecided.get(i);
             if let Some(w) = self.axis.sagittal_rate(&r.gyr) {
                 let e = self.events.update(r.t, w);
                 self.swing.record(e);
                 self.late.push(e);
             }
         }
-        self.undecided = undecided;
-        self.undecided.clear();
     }
 
     fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {

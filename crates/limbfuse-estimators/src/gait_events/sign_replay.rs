@@ -107,10 +107,9 @@ impl UndecidedReadings {
         self.len == 0
     }
 
-    /// The readings kept, oldest first.
-    pub fn iter(&self) -> impl Iterator<Item = &Reading> {
-        let cap = self.ring.len();
-        (0..self.len).map(move |i| &self.ring[(self.start + i) % cap])
+    /// The `i`-th reading kept, oldest first (`i < len()`).
+    pub fn get(&self, i: usize) -> Reading {
+        self.ring[(self.start + i) % self.ring.len()]
     }
 }
 
@@ -195,7 +194,7 @@ mod tests {
             r.push(reading(i as f64));
         }
         assert_eq!(r.len(), CAPACITY);
-        let times: alloc::vec::Vec<f64> = r.iter().map(|x| x.t).collect();
+        let times: alloc::vec::Vec<f64> = (0..r.len()).map(|i| r.get(i).t).collect();
         assert_eq!(times[0], 5.0);
         assert_eq!(*times.last().unwrap(), (CAPACITY + 4) as f64);
         assert!(times.windows(2).all(|w| w[1] == w[0] + 1.0));
@@ -203,7 +202,9 @@ mod tests {
         assert!(r.is_empty());
         r.push(reading(7.0));
         assert_eq!(
-            r.iter().map(|x| x.t).collect::<alloc::vec::Vec<_>>(),
+            (0..r.len())
+                .map(|i| r.get(i).t)
+                .collect::<alloc::vec::Vec<_>>(),
             vec![7.0]
         );
     }
