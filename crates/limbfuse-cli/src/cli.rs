@@ -310,6 +310,11 @@ pub struct EstimateArgs {
     /// look-ahead; every estimate uses the samples after it too; docs/CHAIN.md).
     #[arg(long)]
     pub smooth: bool,
+    /// knee-selfalign, knee-gyro-axis: fill the knee angle before the first
+    /// identified window offline (the relative gyro angle about the first
+    /// axes, integrated backwards from the first estimate; docs/KNEE_SELFALIGN.md).
+    #[arg(long, conflicts_with = "smooth")]
+    pub backfill: bool,
     /// Diagnostic columns to write: `all` (default), `none`, or names
     /// separated by commas (`limbfuse methods NAME` lists a method's), for example
     /// `sd_thigh,sd_shank`.

@@ -25,6 +25,9 @@ pub struct KneeWatch {
     last_windows: Option<f64>,
     after_first: u64,
     acc_used_samples: u64,
+    /// The `identified` diagnostic: an estimate with a knee angle before the
+    /// axes were identified (`estimate --backfill`) does not count.
+    identified: Option<usize>,
 }
 
 impl KneeWatch {
@@ -37,6 +40,7 @@ impl KneeWatch {
             committed: col("sign_committed"),
             acc_used: col("acc_trusted").or_else(|| col("inclination_used")),
             windows: col("windows"),
+            identified: col("identified"),
             ..Default::default()
         })
     }
@@ -93,7 +97,11 @@ impl KneeWatch {
         if let Some(w) = get(self.windows) {
             self.last_windows = Some(w);
         }
-        if e.joint[Joint::Knee.index()].is_some() {
+        let identified = match self.identified {
+            Some(c) => get(Some(c)) == Some(1.0),
+            None => true,
+        };
+        if identified && e.joint[Joint::Knee.index()].is_some() {
             self.first.get_or_insert(e.t);
             self.after_first += 1;
             self.acc_used_samples += u64::from(get(self.acc_used) == Some(1.0));

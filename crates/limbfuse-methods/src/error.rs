@@ -118,6 +118,9 @@ pub enum MethodError {
     /// `--smooth` asked of a method without an offline smoother.
     #[error("method `{0}` has no offline smoother (`--smooth` applies to `chain`)")]
     NoSmoother(&'static str),
+    /// `--backfill` asked of a method without a first identification window.
+    #[error("method `{0}` has nothing to backfill (`--backfill` applies to `knee-selfalign` and `knee-gyro-axis`)")]
+    NoBackfill(&'static str),
     /// A library path in a parameter file that is not valid UTF-8 or empty.
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),

@@ -135,14 +135,44 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     }
 
     fn step_into(&mut self, sample: &Sample, e: &mut Estimate) -> Result<(), EstimatorError> {
+        self.step_gated(sample, e, None)
+    }
+}
+
+impl<E: Estimator + ?Sized> GatedEstimator<E> {
+    /// As [`Estimator::step_into`]; `seen` becomes the sample as the
+    /// estimator saw it (the readings the gate rejected missing), for an
+    /// offline pass that reuses the readings ([`crate::knee_backfill`]).
+    pub fn step_seen(
+        &mut self,
+        sample: &Sample,
+        e: &mut Estimate,
+        seen: &mut Sample,
+    ) -> Result<(), EstimatorError> {
+        self.step_gated(sample, e, Some(seen))
+    }
+
+    #[inline]
+    fn step_gated(
+        &mut self,
+        sample: &Sample,
+        e: &mut Estimate,
+        seen: Option<&mut Sample>,
+    ) -> Result<(), EstimatorError> {
         // Most samples pass the gate unchanged: no copy of the sample then.
         let screening = self.gate.check(sample);
         if screening.is_clean() {
             self.inner.step_into(sample, e)?;
+            if let Some(s) = seen {
+                *s = *sample;
+            }
         } else {
             let mut screened = *sample;
             screening.apply(&mut screened);
             self.inner.step_into(&screened, e)?;
+            if let Some(s) = seen {
+                *s = screened;
+            }
         }
         if !outputs_finite(e) {
             blank_non_finite(e);

@@ -42,6 +42,7 @@ pub mod gait_methods;
 pub mod gated;
 pub mod imm_body;
 pub mod imm_params;
+pub mod knee_backfill;
 pub mod knee_params;
 pub mod knee_window;
 pub mod lowback_method;

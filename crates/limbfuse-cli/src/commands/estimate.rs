@@ -114,6 +114,14 @@ fn estimate_pass(
     } else {
         None
     };
+    let mut backfilled = if a.backfill {
+        Some(
+            limbfuse_methods::knee_backfill::build_backfilled(spec, reader.meta(), reader.layout())
+                .with_context(|| reader.path().display().to_string())?,
+        )
+    } else {
+        None
+    };
     let knee_window = methods::knee_window(spec, &reader)?;
     let diagnostics = match &a.diagnostics {
         Some(text) => DiagnosticColumns::parse(text)?,
@@ -146,9 +154,10 @@ fn estimate_pass(
         if let Some(w) = speed_range.as_mut() {
             extra.push(w);
         }
-        let engine = match smoothed.as_mut() {
-            Some(s) => Engine::Offline(s),
-            None => Engine::Online(est.as_mut()),
+        let engine = match (smoothed.as_mut(), backfilled.as_mut()) {
+            (Some(s), _) => Engine::Offline(s),
+            (None, Some(b)) => Engine::Offline(b),
+            (None, None) => Engine::Online(est.as_mut()),
         };
         match stdout {
             Some(out) => run_to_stdout(
@@ -176,7 +185,16 @@ fn estimate_pass(
     let mut verdict = None;
     if let Some(k) = &knee {
         match k.verdict(knee_window) {
-            Ok(line) => verdict = Some(format!("{}: {line}", spec.method())),
+            Ok(line) => {
+                let before = match backfilled.as_ref().map(|b| b.filled()) {
+                    Some(Some((t0, t1))) => {
+                        format!("; knee backfilled over {t0:.2}-{t1:.2} s (gyro angle)")
+                    }
+                    Some(None) => String::new(),
+                    None => "; no knee angle before it (`--backfill` fills it offline)".into(),
+                };
+                verdict = Some(format!("{}: {line}{before}", spec.method()))
+            }
             Err(why) => {
                 report.warn(label);
                 if !stdio::is_stdio(&a.output) {
@@ -249,6 +267,9 @@ fn command_line(a: &EstimateArgs) -> String {
     opt(&mut c, "calibration", a.calibration.as_deref().map(name));
     if a.smooth {
         c += " --smooth";
+    }
+    if a.backfill {
+        c += " --backfill";
     }
     opt(&mut c, "diagnostics", a.diagnostics.clone());
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))

@@ -35,6 +35,7 @@ mod issue_19_library_extension;
 mod issue_19_mid_walk_start;
 mod issue_19_report_gait_events;
 mod issue_19_speed_on_a_walk_with_angles;
+mod knee_backfill_cli;
 mod knee_bad_input;
 mod knee_cli;
 mod raw_frames_warning;
