@@ -380,6 +380,92 @@ mod tests {
         }
     }
 
+    /// A knee estimator that outputs `0.5 + 0.2 (t - t_first)` rad from
+    /// time `t_first` on, with axes z / -z (the rate the samples carry).
+    struct FakeKnee {
+        t_first: f64,
+        identified: bool,
+    }
+
+    impl Estimator for FakeKnee {
+        fn name(&self) -> &'static str {
+            "knee-selfalign"
+        }
+        fn outputs(&self) -> Outputs {
+            Outputs {
+                joint: [false, true, false],
+                ..Outputs::default()
+            }
+        }
+        fn describe_parameters(&self, _: &mut dyn fmt::Write) -> fmt::Result {
+            Ok(())
+        }
+        fn diagnostic_names(&self) -> &[&'static str] {
+            &[]
+        }
+        fn reset(&mut self) {}
+        fn step(&mut self, s: &Sample) -> Result<Estimate, EstimatorError> {
+            let mut e = Estimate::empty(s.t);
+            self.identified |= s.t >= self.t_first;
+            if self.identified {
+                e.joint[1] = Some(0.5 + 0.2 * (s.t - self.t_first));
+            }
+            Ok(e)
+        }
+    }
+
+    impl KneeAxes for FakeKnee {
+        fn knee_axes(&self) -> Option<[Vector3<f64>; 2]> {
+            self.identified.then(axes)
+        }
+    }
+
+    /// The backfilled knee angles of a 100 Hz run of `n` samples whose
+    /// knee rate is 0.2 rad/s, the first estimate at `t_first`.
+    fn run(n: usize, t_first: f64) -> Vec<Option<f64>> {
+        let fake: Box<dyn KneeAxes> = Box::new(FakeKnee {
+            t_first,
+            identified: false,
+        });
+        let mut b = KneeBackfill::new(GatedEstimator::new(fake, Default::default()));
+        let mut out = Vec::new();
+        for k in 0..n {
+            let mut s = Sample::empty(k as f64 * 0.01);
+            s.imu[Segment::Thigh.index()].gyr = Some(Vector3::new(0.0, 0.0, 0.15));
+            s.imu[Segment::Shank.index()].gyr = Some(Vector3::new(0.0, 0.0, 0.05));
+            b.push(&s).unwrap();
+            while let Some(e) = b.pop() {
+                out.push(e.joint[1]);
+            }
+        }
+        b.finish();
+        while let Some(e) = b.pop() {
+            out.push(e.joint[1]);
+        }
+        out
+    }
+
+    #[test]
+    fn the_backfill_continues_the_output_backwards() {
+        let out = run(1000, 5.0);
+        assert_eq!(out.len(), 1000);
+        for (k, a) in out.iter().enumerate() {
+            let want = wrap(0.5 + 0.2 * (k as f64 * 0.01 - 5.0));
+            assert!((a.unwrap() - want).abs() < 1e-12, "{k}: {a:?} vs {want}");
+        }
+    }
+
+    #[test]
+    fn the_backfill_reaches_back_at_most_max_backfill_s() {
+        let out = run(9000, 80.0);
+        assert_eq!(out.len(), 9000);
+        // released unfilled: older than 60 s before the newest held sample
+        // while waiting, i.e. before t = 20 s
+        let first_filled = out.iter().position(Option::is_some).unwrap();
+        assert!((1999..=2001).contains(&first_filled), "{first_filled}");
+        assert!(out[first_filled..].iter().all(Option::is_some));
+    }
+
     #[test]
     fn the_anchor_is_the_circular_mean_across_the_wrap() {
         let g = [0.0, 0.0, 0.0];
