@@ -161,6 +161,9 @@ def estimate(
             diagnostic names (a comma-separated string or a list, e.g.
             ``["sd_thigh", "sd_shank"]``; ``limbfuse methods NAME`` lists
             a method's). Fewer columns make a smaller, faster call.
+            ``backfill=True`` (``--backfill``; knee-selfalign,
+            knee-gyro-axis): the knee angle before the first identified
+            window, filled offline (docs/KNEE_SELFALIGN.md "Backfill").
 
     With ``imm_config="continuous"`` a trial walking outside the gait
     library's speeds is estimated twice, as ``limbfuse estimate`` does: the

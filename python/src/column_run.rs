@@ -6,7 +6,7 @@
 //! ([`EstimateColumns::push`]).
 
 use limbfuse_core::runner::RunError;
-use limbfuse_core::{Estimate, Estimator, Sample};
+use limbfuse_core::{Estimate, Estimator, OfflineEstimator, Sample};
 use limbfuse_eval::{GaitWatch, KneeWatch, ResetWatch};
 
 use crate::column_samples::SampleColumns;
@@ -35,11 +35,7 @@ pub fn run_columns(
     mut watches: Option<&mut RunWatches>,
 ) -> Result<(), RunError> {
     if let Some(w) = watches.as_deref_mut() {
-        *w = RunWatches {
-            resets: ResetWatch::new(est.diagnostic_names().iter()),
-            gait: GaitWatch::default(),
-            knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
-        };
+        *w = RunWatches::for_estimator(est);
     }
     let mut sample = Sample::default();
     let mut estimate = Estimate::empty(0.0);
@@ -53,12 +49,63 @@ pub fn run_columns(
             })?;
         out.push(&estimate);
         if let Some(w) = watches.as_deref_mut() {
-            w.resets.push(&estimate);
-            w.gait.push(&estimate);
-            if let Some(k) = w.knee.as_mut() {
-                k.push(&sample, &estimate);
-            }
+            w.push(&sample, &estimate);
         }
     }
     Ok(())
+}
+
+/// As [`run_columns`] for an offline estimator (`estimate(..., backfill=True)`):
+/// each estimate is written when the estimator releases it, and watched
+/// with its own sample.
+pub fn run_columns_offline(
+    est: &mut dyn OfflineEstimator,
+    inputs: &SampleColumns<'_>,
+    out: &mut EstimateColumns,
+    watches: &mut RunWatches,
+) -> Result<(), RunError> {
+    *watches = RunWatches::for_estimator(est.header());
+    let mut sample = Sample::default();
+    let mut own = Sample::default();
+    let mut written = 0;
+    let mut release = |est: &mut dyn OfflineEstimator, own: &mut Sample| {
+        while let Some(e) = est.pop() {
+            out.push(&e);
+            inputs.fill(written, own);
+            watches.push(own, &e);
+            written += 1;
+        }
+    };
+    for i in 0..inputs.len() {
+        inputs.fill(i, &mut sample);
+        est.push(&sample).map_err(|source| RunError::Estimator {
+            index: i as u64,
+            t: sample.t,
+            source,
+        })?;
+        release(est, &mut own);
+    }
+    est.finish();
+    release(est, &mut own);
+    Ok(())
+}
+
+impl RunWatches {
+    /// Fresh watches for `est`'s diagnostics.
+    fn for_estimator(est: &dyn Estimator) -> Self {
+        RunWatches {
+            resets: ResetWatch::new(est.diagnostic_names().iter()),
+            gait: GaitWatch::default(),
+            knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
+        }
+    }
+
+    /// Watches one estimate and its sample.
+    fn push(&mut self, sample: &Sample, estimate: &Estimate) {
+        self.resets.push(estimate);
+        self.gait.push(estimate);
+        if let Some(k) = self.knee.as_mut() {
+            k.push(sample, estimate);
+        }
+    }
 }

@@ -5,18 +5,20 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use limbfuse_core::sample::AngleChannel;
+use limbfuse_core::Estimator;
 use limbfuse_eval::SpeedRangeWatch;
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
 use limbfuse_io::{AtomicFile, EstimateReader};
+use limbfuse_methods::knee_backfill::{build_backfilled, KneeBackfill};
 use limbfuse_methods::MethodSpec;
 use limbfuse_workflows::imm_library_extension;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::column_run::{run_columns, RunWatches};
+use crate::column_run::{run_columns, run_columns_offline, RunWatches};
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -132,6 +134,23 @@ fn speed_watch(
     Ok(Some(watch))
 }
 
+/// The estimator of an `estimate` call: real-time, or a knee method
+/// backfilled offline (`backfill=True`, `limbfuse estimate --backfill`).
+enum Built {
+    Online(Box<dyn Estimator + Send>),
+    Backfill(Box<KneeBackfill>),
+}
+
+impl Built {
+    /// The estimator as the estimate's header describes it.
+    fn header(&self) -> &dyn Estimator {
+        match self {
+            Built::Online(e) => e.as_ref(),
+            Built::Backfill(e) => e.as_ref(),
+        }
+    }
+}
+
 /// Runs `method` over the trial, in memory, with the GIL released.
 /// `imm-bslip` in the continuous configuration on a trial walking outside
 /// its library's speeds runs twice, as the CLI does: the missing gaits are
@@ -147,63 +166,77 @@ fn estimate<'py>(
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<EstimateTuple<'py>> {
     guarded(|| {
-        let (spec, diagnostics) = crate::options::estimate_spec(method, params, options)?;
+        let (spec, diagnostics, backfill) = crate::options::estimate_spec(method, params, options)?;
         let meta = trial.meta();
         let cols = trial.columns()?;
         let label = trial.label();
         let in_trial =
             |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
-        let est = limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?;
+        let est = if backfill {
+            Built::Backfill(Box::new(
+                build_backfilled(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?,
+            ))
+        } else {
+            Built::Online(
+                limbfuse_methods::build(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?,
+            )
+        };
         let inputs = cols.inputs();
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;
-        let run =
-            |mut est: Box<dyn limbfuse_core::Estimator + Send>| -> PyResult<EstimateTuple<'py>> {
-                let chosen = diagnostics
-                    .resolve(est.name(), est.diagnostic_names())
-                    .map_err(|e| user_msg(format!("{label}: {e}")))?;
-                let mut out = EstimateColumns::with_diagnostics(est.as_ref(), cols.len(), &chosen)
-                    .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
-                if let Some((name, hash)) = trial.source() {
-                    out.header.push(format!("{TRIAL_KEY}: {name}"));
-                    out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
+        let run = |mut built: Built| -> PyResult<EstimateTuple<'py>> {
+            let est = built.header();
+            let chosen = diagnostics
+                .resolve(est.name(), est.diagnostic_names())
+                .map_err(|e| user_msg(format!("{label}: {e}")))?;
+            let mut out = EstimateColumns::with_diagnostics(est, cols.len(), &chosen)
+                .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
+            if let Some((name, hash)) = trial.source() {
+                out.header.push(format!("{TRIAL_KEY}: {name}"));
+                out.header.push(format!("{TRIAL_HASH_KEY}: {hash}"));
+            }
+            let mut watches = RunWatches::default();
+            let gait_method = limbfuse_eval::gait_watch::is_gait_method(&est.outputs());
+            let run = py.detach(|| match &mut built {
+                Built::Online(est) => {
+                    run_columns(est.as_mut(), &inputs, &mut out, Some(&mut watches))
                 }
-                let mut watches = RunWatches::default();
-                let gait_method = limbfuse_eval::gait_watch::is_gait_method(&est.outputs());
-                let run =
-                    py.detach(|| run_columns(est.as_mut(), &inputs, &mut out, Some(&mut watches)));
-                run.map_err(|e| {
-                    user_msg(format!(
-                        "estimating {label} with {}: {}",
-                        spec.method(),
-                        chain_message(&e)
-                    ))
-                })?;
-                // As `limbfuse estimate`: nothing estimated is an error.
-                if let Some(k) = &watches.knee {
-                    if let Err(why) = k.verdict(knee_window) {
-                        return Err(user_msg(format!("{label}: `{}`: {why}", spec.method())));
-                    }
+                Built::Backfill(est) => {
+                    run_columns_offline(est.as_mut(), &inputs, &mut out, &mut watches)
                 }
-                if gait_method && !watches.gait.found {
-                    return Err(user_msg(limbfuse_eval::gait_watch::no_gait_message(
-                        &label,
-                        spec.method().name(),
-                        inputs.len() as u64,
-                        "nothing to return",
-                    )));
+            });
+            run.map_err(|e| {
+                user_msg(format!(
+                    "estimating {label} with {}: {}",
+                    spec.method(),
+                    chain_message(&e)
+                ))
+            })?;
+            // As `limbfuse estimate`: nothing estimated is an error.
+            if let Some(k) = &watches.knee {
+                if let Err(why) = k.verdict(knee_window) {
+                    return Err(user_msg(format!("{label}: `{}`: {why}", spec.method())));
                 }
-                let resets = watches
-                    .resets
-                    .resets()
-                    .map(|r| format!("{} on {label}: {r}", spec.method()));
-                let warning = match (frame_note.clone(), resets) {
-                    (Some(f), Some(r)) => Some(format!("{f}\n{r}")),
-                    (f, r) => f.or(r),
-                };
-                estimate_tuple(py, out, warning)
+            }
+            if gait_method && !watches.gait.found {
+                return Err(user_msg(limbfuse_eval::gait_watch::no_gait_message(
+                    &label,
+                    spec.method().name(),
+                    inputs.len() as u64,
+                    "nothing to return",
+                )));
+            }
+            let resets = watches
+                .resets
+                .resets()
+                .map(|r| format!("{} on {label}: {r}", spec.method()));
+            let warning = match (frame_note.clone(), resets) {
+                (Some(f), Some(r)) => Some(format!("{f}\n{r}")),
+                (f, r) => f.or(r),
             };
+            estimate_tuple(py, out, warning)
+        };
         let mut tuple = run(est)?;
         let MethodSpec::ImmBslip(s) = &spec else {
             return Ok(tuple);
@@ -220,7 +253,7 @@ fn estimate<'py>(
         if let Some(ext) = extension.map_err(|e| in_trial(&e))? {
             said.push(format!("{} on {label}: {}", spec.method(), ext.message));
             if let Some(est) = ext.estimator {
-                tuple = run(est)?;
+                tuple = run(Built::Online(est))?;
                 watch = speed_watch(ext.range, &tuple.3, &tuple.4)?.unwrap_or(watch);
             }
         }

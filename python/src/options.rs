@@ -149,16 +149,18 @@ pub fn method_spec(
     method_spec_from(method, params, o)
 }
 
-/// [`method_spec`] for `estimate`, which also takes the option
+/// [`method_spec`] for `estimate`, which also takes the options
 /// `diagnostics` (`limbfuse estimate --diagnostics`): `"all"` (the
 /// default), `"none"`, or diagnostic names (a comma-separated string or a
-/// list of strings, with or without `diag_`).
+/// list of strings, with or without `diag_`); and `backfill`
+/// (`--backfill`, a boolean).
 pub fn estimate_spec(
     method: &str,
     params: Option<&Bound<'_, PyAny>>,
     options: Option<Bound<'_, PyDict>>,
-) -> PyResult<(MethodSpec, DiagnosticColumns)> {
+) -> PyResult<(MethodSpec, DiagnosticColumns, bool)> {
     let mut o = Options::new("method options", options);
+    let backfill = o.bool("backfill")?.unwrap_or(false);
     let diagnostics = match o.any("diagnostics")? {
         None => DiagnosticColumns::All,
         Some(v) => {
@@ -179,7 +181,7 @@ pub fn estimate_spec(
             DiagnosticColumns::parse(&text).map_err(|e| user_error(&e))?
         }
     };
-    Ok((method_spec_from(method, params, o)?, diagnostics))
+    Ok((method_spec_from(method, params, o)?, diagnostics, backfill))
 }
 
 fn method_spec_from(

@@ -102,3 +102,34 @@ def test_diagnostics_option_bad_input(files):
         limbfuse.estimate(trial, "mjls", diagnostics="banana")
     with pytest.raises(limbfuse.LimbfuseError, match="option `diagnostics`: expected"):
         limbfuse.estimate(trial, "mjls", diagnostics=3)
+
+
+@pytest.mark.parametrize("method", ["knee-selfalign", "knee-gyro-axis"])
+def test_backfill_option_equals_the_cli_flag(cli, files, method):
+    """`estimate(..., backfill=True)` equals `limbfuse estimate --backfill`
+    bit for bit, and fills the rows before the first identified window
+    that the real-time run leaves empty."""
+    d, _, trials = files
+    out = d / f"{method}-backfill.csv"
+    cli("estimate", "--method", method, "--backfill", trials["knee"], "-o", out)
+    ref = limbfuse.read_estimate(out)
+    trial = limbfuse.read_trial(trials["knee"])
+    est = limbfuse.estimate(trial, method, backfill=True)
+    made_by = lambda h: [x for x in h if not x.startswith("command:")]  # noqa: E731
+    assert est.columns == ref.columns and made_by(est.header) == made_by(ref.header)
+    for name in ref.channels:
+        assert np.array_equal(bits(est.channels[name]), bits(ref.channels[name])), name
+    plain = limbfuse.estimate(trial, method)
+    knee, filled = np.ma.getmaskarray(plain.channels["knee"]), np.ma.getmaskarray(est.channels["knee"])
+    assert knee[:400].all() and not filled.any()
+    first = int(np.argmin(knee))
+    assert np.array_equal(bits(est.channels["knee"][first:]), bits(plain.channels["knee"][first:]))
+
+
+def test_backfill_option_bad_input(files):
+    _, _, trials = files
+    trial = limbfuse.read_trial(trials["walking"])
+    with pytest.raises(limbfuse.LimbfuseError, match="nothing to backfill"):
+        limbfuse.estimate(trial, "mjls", backfill=True)
+    with pytest.raises(limbfuse.LimbfuseError, match="option `backfill`: expected True or False"):
+        limbfuse.estimate(trial, "knee-selfalign", backfill="yes")
