@@ -101,7 +101,8 @@ pub struct ShankEvents {
     mid_swing: bool,
     phase: Phase,
     toe_off: f64,
-    started: bool,
+    /// Time of the first sample (since the start or a reset).
+    first: Option<f64>,
 }
 
 impl ShankEvents {
@@ -119,7 +120,7 @@ impl ShankEvents {
             mid_swing: false,
             phase: Phase::Unknown,
             toe_off: 0.0,
-            started: false,
+            first: None,
         }
     }
 
@@ -141,11 +142,19 @@ impl ShankEvents {
     pub fn update(&mut self, t: f64, w: f64) -> EventsAt {
         let mut out = EventsAt::default();
         let previous = self.previous.replace((t, w));
-        if !self.started {
-            self.started = true;
+        let Some(first) = self.first else {
+            self.first = Some(t);
             self.current = (t, w);
+            if w > self.swing_rate {
+                // The readings start in a swing (the recording, or the
+                // readings after a gap): its toe off came before them, so it
+                // is not reported; the swing ends with its initial contact.
+                self.phase = Phase::Swing;
+                self.toe_off = f64::NEG_INFINITY;
+                self.looking = Looking::ForPeak;
+            }
             return out;
-        }
+        };
         match self.looking {
             Looking::ForValley => {
                 if w < self.current.1 {
@@ -162,9 +171,11 @@ impl ShankEvents {
                         self.phase = Phase::Stance;
                         self.mid_swing = false;
                         self.last_valley = None;
-                    } else {
+                    } else if t_valley > first {
                         self.last_valley = Some(t_valley);
                     }
+                    // (A minimum at the first sample is where the readings
+                    // start, not a valley: the rate only rose from there.)
                     self.looking = Looking::ForPeak;
                     self.current = (t, w);
                 }
@@ -198,6 +209,12 @@ impl ShankEvents {
             if let Some(t_fc) = self.last_valley.take() {
                 out.final_contact = Some(t_fc);
                 self.toe_off = t_fc;
+                self.phase = Phase::Swing;
+                self.mid_swing = false;
+            } else if self.phase == Phase::Unknown {
+                // A swing with no valley since the readings started: its
+                // toe off came before them (not reported).
+                self.toe_off = f64::NEG_INFINITY;
                 self.phase = Phase::Swing;
                 self.mid_swing = false;
             }
@@ -290,6 +307,40 @@ mod tests {
             fc.extend(e.final_contact);
         }
         (ic, fc)
+    }
+
+    /// The events of the synthetic walk seen from `t0` on.
+    fn events_from(t0: f64, landmark: ShankContact) -> (Vec<f64>, Vec<f64>) {
+        let mut d = ShankEvents::new(1.0, 0.15, landmark);
+        let (mut ic, mut fc) = (vec![], vec![]);
+        for k in 0..1000 {
+            let t = t0 + f64::from(k) * 0.002;
+            let e = d.update(t, w_of(t));
+            ic.extend(e.initial_contact);
+            fc.extend(e.final_contact);
+        }
+        (ic, fc)
+    }
+
+    /// A recording that starts in a swing ends it with its initial
+    /// contact, and reports no toe off at its first sample: from just after
+    /// the toe-off valley (0.72 s, the rate still negative but rising) to
+    /// where the falling rate passes `swing_rate` (0.941 s; later, with the
+    /// rate between 0 and `swing_rate`, the start is not told from a still
+    /// leg). Before: a start before the mid-swing peak took its first
+    /// sample for a toe-off valley (a toe off reported at the start), a
+    /// start after the peak lost the initial contact.
+    #[test]
+    fn issue_19_a_start_in_mid_swing_ends_with_an_initial_contact_shank() {
+        let x = libm::acos(1.0 / 3.0 - 1.0) / core::f64::consts::PI;
+        let crossing = 0.85 + 0.15 * x;
+        for t0 in [0.72, 0.78, 0.85, 0.9, 0.935] {
+            let (ic, fc) = events_from(t0, ShankContact::ZeroCrossing);
+            assert!((ic[0] - crossing).abs() < 1e-3, "start {t0}: {ic:?}");
+            assert!(fc[0] > 1.1, "start {t0}: a toe off at {fc:?}");
+            let (ic, _) = events_from(t0, ShankContact::Valley);
+            assert!((ic[0] - 1.03).abs() < 2.5e-3, "start {t0}: {ic:?}");
+        }
     }
 
     #[test]

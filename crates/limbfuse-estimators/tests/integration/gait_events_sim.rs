@@ -429,3 +429,47 @@ fn issue_19_a_still_moment_of_a_slow_swing_is_not_a_rest() {
         }
     }
 }
+
+/// Issue 19 (regression, 2026-12-04): a shank-only recording that starts in
+/// a swing (65-90 % of the stride, after the toe off at 60 %) ends that
+/// swing with its initial contact and reports no toe off at its first
+/// sample. Before, a start before the mid-swing peak reported a toe off at
+/// the first sample, and a start after it lost the initial contact.
+#[test]
+fn issue_19_a_shank_recording_that_starts_in_swing() {
+    for speed in [0.8, 1.3] {
+        let (records, period, _) = trial(speed);
+        for f in [0.65, 0.7, 0.75, 0.8, 0.85, 0.9] {
+            let start = (3.0 + f) * period;
+            let mut e = GaitEvents::new(
+                GaitEventsParams::default(),
+                [None, Some(FootSource::OwnShank)],
+            )
+            .unwrap();
+            let (mut ic, mut fc) = (vec![], vec![]);
+            for r in records.iter().filter(|r| r.sample.t >= start) {
+                let mut s = r.sample;
+                s.imu[Segment::Foot.index()] = Default::default();
+                let est = e.step(&s).unwrap();
+                ic.extend(est.diagnostic(GaitDiag::IcRight));
+                fc.extend(est.diagnostic(GaitDiag::FcRight));
+            }
+            println!(
+                "{speed} m/s, start at {f} of the stride: contacts {:?}, toe offs {:?}",
+                &ic[..2],
+                &fc[..2]
+            );
+            let next = 4.0 * period;
+            assert!(
+                (ic[0] - next).abs() < 0.05,
+                "{speed} m/s, start at {f}: first contact {} s, next strike {next} s",
+                ic[0]
+            );
+            assert!(
+                fc[0] > next,
+                "{speed} m/s, start at {f}: toe off {} s before the first strike",
+                fc[0]
+            );
+        }
+    }
+}
