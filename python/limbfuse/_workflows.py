@@ -23,7 +23,10 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
 
     kinds and options (defaults are the CLI's):
         walking: speed, duration, imu_rate, seed, mounting ("aligned" or
-            "random"), noise, out_of_plane, variability.
+            "random"), noise, out_of_plane, variability, gait_reference
+            (``--gait-reference``: the feet's contact and the per-stride
+            speed as ``contact_*_ref`` / ``speed_ref``, for ``gait-events``
+            and ``lowback-speed``).
         knee: speed, duration, imu_rate, seed, noise, out_of_plane (paper 002
             scenario: random IMU orientations and positions).
         knee-fes: subject ("P1-L" ... "P3-R"), duration, rate, seed, noise,

@@ -110,8 +110,14 @@ fn simulate<'py>(
                         },
                         ..walking
                     };
+                    let gait_reference = o.bool("gait_reference")?.unwrap_or(false);
                     o.finish()?;
-                    let tr = py.detach(|| simulated_trials::walking(walking).map(collect));
+                    let tr = py.detach(|| {
+                        simulated_trials::walking(walking).map(|t| match gait_reference {
+                            true => collect(simulated_trials::with_gait_reference(t)),
+                            false => collect(t),
+                        })
+                    });
                     tr.map_err(|e| user_error(&e))?
                 } else {
                     o.finish()?;

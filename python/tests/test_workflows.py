@@ -21,6 +21,19 @@ def test_simulate_is_seeded_and_matches_the_cli(cli, tmp_path):
     assert p.read_bytes() == q.read_bytes()
 
 
+def test_simulate_gait_reference_matches_the_cli(cli, tmp_path):
+    """`gait_reference=True` writes the CLI's `--gait-reference` file, and
+    `gait-events` is scored against it: every contact found."""
+    a = limbfuse.simulate("walking", duration=8.0, seed=5, gait_reference=True)
+    p, q = tmp_path / "cli.csv", tmp_path / "py.csv"
+    cli("simulate", "walking", "--duration", "8", "--seed", "5", "--gait-reference", "-o", p)
+    a.write(q)
+    assert p.read_bytes() == q.read_bytes()
+    ev = limbfuse.evaluate(a, limbfuse.estimate(a, "gait-events"))
+    ic = ev["initial_contact"]
+    assert ic["n_matched"] == ic["n_reference"] > 0 and ic["missed"] == 0 and ic["extra"] == 0, ic
+
+
 @pytest.mark.parametrize("kind", ["walking", "knee", "knee-fes", "fixed-hip"])
 def test_every_kind_simulates(kind):
     tr = limbfuse.simulate(kind, duration=2.0, seed=1)

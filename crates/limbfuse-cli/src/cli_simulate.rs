@@ -222,6 +222,11 @@ pub struct WalkingArgs {
     /// No mounting misalignment (the ~1 deg no calibration can observe); every other sensor error unchanged.
     #[arg(long)]
     pub no_misalignment: bool,
+    /// Also write the gait truth: `contact_right_ref` (or `_left_`: the simulated leg on the
+    /// ground from heel strike to toe off at 60 % of the stride) and `speed_ref` (per stride),
+    /// so that `gait-events` and `lowback-speed` estimates can be evaluated.
+    #[arg(long)]
+    pub gait_reference: bool,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
     pub cap: LengthCap,

@@ -22,6 +22,7 @@ pub mod fixed_hip;
 pub mod fourier;
 pub mod gait_curves;
 pub mod gait_model;
+pub mod gait_truth;
 pub mod hip_path;
 pub mod imu_model;
 pub mod knee_fes;

@@ -265,6 +265,15 @@ impl WalkingSimulator {
         self.clock.mean_frequency()
     }
 
+    /// Unwrapped gait phase (rad, 0 = heel strike of the simulated leg) at
+    /// `t`: the gait clock alone, without the kinematics ([`Self::truth`]).
+    pub fn gait_phase(&self, t: f64) -> f64 {
+        if self.cfg.motion == Motion::Stand {
+            return 0.0;
+        }
+        self.clock.phase(t).v
+    }
+
     /// Nominal walking speed the calibrated gait achieves (m/s):
     /// stride length x mean stride frequency.
     pub fn nominal_speed(&self) -> f64 {

@@ -6,10 +6,12 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::Record;
+use limbfuse_core::Side;
 use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
 use limbfuse_models::bslip::GaitTemplate;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::gait_truth::GaitTruth;
 use limbfuse_sim::knee_fes::{simulate_calibration, simulate_knee_fes, FesTrial, KneeFesConfig};
 use limbfuse_sim::{
     KneeScenario, KneeSimulator, PoseRecording, PoseRecordingConfig, WalkingConfig,
@@ -80,6 +82,34 @@ pub fn walking(
         layout: TrialLayout::walking(),
         records: sim,
     })
+}
+
+/// The walking trial with its gait truth (`simulate walking
+/// --gait-reference`): both legs' `contact_*_ref` (the other leg's half a
+/// stride later) and `speed_ref` per stride ([`limbfuse_sim::gait_truth`]).
+pub fn with_gait_reference(
+    trial: SimulatedTrial<WalkingSimulator>,
+) -> SimulatedTrial<Box<dyn Iterator<Item = Record>>> {
+    let mut truth = GaitTruth::new(trial.records.clone());
+    let side = match trial.meta.get("leg") {
+        Some("left") => Side::Left,
+        _ => Side::Right,
+    };
+    let mut layout = trial.layout;
+    layout.contact_ref = [true; 2];
+    layout.speed_ref = true;
+    let records = trial.records.map(move |mut r| {
+        let ([own, other], speed) = truth.at(r.sample.t);
+        r.reference.contact[side.index()] = Some(own);
+        r.reference.contact[side.other().index()] = Some(other);
+        r.reference.speed = Some(speed);
+        r
+    });
+    SimulatedTrial {
+        meta: trial.meta,
+        layout,
+        records: Box::new(records),
+    }
 }
 
 /// A calibration recording of the walking simulator's sensors (`simulate

@@ -36,6 +36,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         turn_deg: 180.0,
         turn_s: 2.5,
         no_misalignment: false,
+        gait_reference: false,
         cap: a.cap,
     };
     let summary = super::simulate::write_walking(&sim)?;

@@ -70,7 +70,12 @@ pub fn write_walking(a: &WalkingArgs) -> Result<String> {
         if a.no_noise { "off" } else { "on" }
     );
     let mut out = super::create_file(&a.output)?;
-    simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    if a.gait_reference {
+        let trial = simulated_trials::with_gait_reference(trial);
+        simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    } else {
+        simulated_trials::write_trial(&mut out, trial, &a.output)?;
+    }
     super::commit(out)?;
     Ok(summary)
 }

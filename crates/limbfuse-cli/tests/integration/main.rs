@@ -41,6 +41,7 @@ mod knee_cli;
 mod raw_frames_warning;
 mod results_commands;
 mod s02_support;
+mod simulate_gait_reference;
 mod source_file_length;
 mod streaming_estimate;
 mod support;
