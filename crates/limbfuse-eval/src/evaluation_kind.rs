@@ -24,6 +24,16 @@ impl EstimateContent {
     }
 }
 
+/// Whether a trial's walking-speed reference is its centre-of-mass velocity:
+/// it has `com_vx` .. `com_vz` but no `speed_ref` and no `phase_ref` (a
+/// paper-003 gait trial keeps its own evaluation). The independent
+/// simulator's walks are such trials (their `com_*` is the hip joint
+/// centre); `gait-events` and `lowback-speed` are then scored against the
+/// horizontal CoM speed of each row ([`crate::gait_events_evaluation`]).
+pub fn speed_from_com(layout: &TrialLayout) -> bool {
+    layout.com_vel && !layout.speed_ref && !layout.phase_ref
+}
+
 /// The evaluation a trial and an estimate get.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EvaluationKind {
@@ -42,7 +52,10 @@ pub enum EvaluationKind {
 /// gait evaluation for a trial with `phase_ref` or a CoM and no angle
 /// reference; angles otherwise.
 pub fn evaluation_kind(layout: &TrialLayout, estimate: EstimateContent) -> EvaluationKind {
-    let event_refs = layout.contact_ref.iter().any(|&b| b) || layout.speed_ref;
+    let events_only = estimate.events_or_speed && !estimate.angles;
+    let event_refs = layout.contact_ref.iter().any(|&b| b)
+        || layout.speed_ref
+        || (events_only && speed_from_com(layout));
     let angle_refs = layout.has_angle_reference();
     if event_refs && (!angle_refs || (estimate.events_or_speed && !estimate.angles)) {
         EvaluationKind::GaitEvents
@@ -76,6 +89,30 @@ mod tests {
         assert_eq!(evaluation_kind(&l, angles), EvaluationKind::GaitEvents);
         l.speed_ref = false;
         l.phase_ref = true;
+        assert_eq!(evaluation_kind(&l, speed), EvaluationKind::Gait);
+    }
+
+    #[test]
+    fn a_walk_with_a_com_velocity_scores_speed_estimates_against_it() {
+        let mut l = TrialLayout::default();
+        l.joint_ref[1] = true;
+        l.com_pos = true;
+        l.com_vel = true;
+        let speed = EstimateContent {
+            events_or_speed: true,
+            angles: false,
+        };
+        let angles = EstimateContent {
+            events_or_speed: false,
+            angles: true,
+        };
+        assert!(speed_from_com(&l));
+        assert_eq!(evaluation_kind(&l, speed), EvaluationKind::GaitEvents);
+        assert_eq!(evaluation_kind(&l, angles), EvaluationKind::Angles);
+        // A paper-003 gait trial keeps its evaluation.
+        l.joint_ref[1] = false;
+        l.phase_ref = true;
+        assert!(!speed_from_com(&l));
         assert_eq!(evaluation_kind(&l, speed), EvaluationKind::Gait);
     }
 }

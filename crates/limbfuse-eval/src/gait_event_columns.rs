@@ -18,8 +18,12 @@ pub(crate) struct Columns {
     pub(crate) n_inside: u64,
     /// `contact_*_ref` per side (left, right), unknown outside the window.
     pub(crate) reference: [Vec<Option<bool>>; 2],
-    /// `speed_ref`, unknown outside the window.
+    /// `speed_ref`, unknown outside the window; on a trial whose speed
+    /// reference is its CoM velocity ([`crate::speed_from_com`]), the
+    /// row's horizontal CoM speed `hypot(com_vx, com_vz)` (y is up).
     pub(crate) speed_ref: Vec<Option<f64>>,
+    /// The speed reference is the CoM velocity.
+    pub(crate) speed_from_com: bool,
     /// The estimate's contact per side.
     pub(crate) contact: [Vec<Option<bool>>; 2],
     /// The estimate's gait phase.
@@ -61,6 +65,7 @@ pub(crate) fn read_columns(
         diag_index(er, "stride_time"),
     );
     let has_event_columns = ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
+    c.speed_from_com = crate::speed_from_com(tr.layout());
     let mut row = 0usize;
     loop {
         match (tr.next_record()?, er.next_estimate()?) {
@@ -72,7 +77,11 @@ pub(crate) fn read_columns(
                 let inside = window.contains(r.sample.t);
                 c.n_inside += u64::from(inside);
                 c.t.push(r.sample.t);
-                c.speed_ref.push(r.reference.speed.filter(|_| inside));
+                let speed = match c.speed_from_com {
+                    true => r.reference.com_vel.map(|v| v.x.hypot(v.z)),
+                    false => r.reference.speed,
+                };
+                c.speed_ref.push(speed.filter(|_| inside));
                 c.phase.push(e.phase);
                 if let Some(v) = ic_any_col.and_then(|k| e.diag[k]) {
                     c.ic_any.push(v);

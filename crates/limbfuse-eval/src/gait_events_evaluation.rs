@@ -85,6 +85,10 @@ pub struct GaitEventEvaluation {
     pub blended: StrideFigures,
     /// Whether the estimate file records this trial.
     pub trial_check: crate::trial_check::TrialCheck,
+    /// The speed reference is the trial's CoM velocity, row by row (no
+    /// `speed_ref` column; [`crate::speed_from_com`]); the blended
+    /// comparison, made for a per-stride `speed_ref`, is then not made.
+    pub speed_from_com: bool,
 }
 
 /// Times of the `from -> to` steps of a contact column.
@@ -281,6 +285,7 @@ pub fn evaluate_gait_event_files_in(
         method,
         n_samples: c.n_inside,
         trial_check,
+        speed_from_com: c.speed_from_com,
         ..Default::default()
     };
     let mut ic_sides = Vec::new();
@@ -307,7 +312,9 @@ pub fn evaluate_gait_event_files_in(
         let mut acc = Acc::default();
         stride_errors_track(&c.strides_any, &se, &c, &mut acc);
         acc.finish(&mut ev);
-        ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
+        if !c.speed_from_com {
+            ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
+        }
         return Ok(ev);
     }
     let estimated = [0, 1].map(|s| {
@@ -347,7 +354,9 @@ pub fn evaluate_gait_event_files_in(
         stride_errors_track(&c.strides[s], se, &c, &mut acc);
     }
     acc.finish(&mut ev);
-    ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
+    if !c.speed_from_com {
+        ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
+    }
     Ok(ev)
 }
 

@@ -70,6 +70,7 @@ impl GaitEventEvaluation {
             "contact_accuracy_pct": self.contact_accuracy_pct,
             "phase_accuracy_pct": self.phase_accuracy_pct,
             "blended": self.blended.to_json(),
+            "speed_reference": if self.speed_from_com { "com_velocity" } else { "speed_ref" },
         });
         if let (Value::Object(top), Value::Object(per_stride)) = (&mut v, self.per_stride.to_json())
         {
@@ -103,6 +104,10 @@ impl GaitEventEvaluation {
             f(self.per_stride.stride_length_mae_m, "m", 3),
             self.per_stride.n_lengths,
         );
+        if self.speed_from_com {
+            s += "(stride speed against the trial's horizontal CoM speed, row by row: it has no speed_ref column)\n";
+            return s;
+        }
         let b = &self.blended;
         s += &format!(
             "blended strides speed MAE {} (bias {}) over {} strides; length error {} (MAE {}) over {} (estimate blended as speed_ref is)\n",

@@ -28,7 +28,7 @@ pub mod trial_check;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, TimeWindow};
-pub use evaluation_kind::{evaluation_kind, EstimateContent, EvaluationKind};
+pub use evaluation_kind::{evaluation_kind, speed_from_com, EstimateContent, EvaluationKind};
 pub use gait_watch::GaitWatch;
 pub use knee_watch::KneeWatch;
 pub use metrics::{AngleMetrics, Evaluation};
