@@ -70,19 +70,22 @@ pub fn evaluation_kind(layout: &TrialLayout, estimate: EstimateContent) -> Evalu
 mod tests {
     use super::*;
 
+    /// A speed or events estimate, and an angle estimate.
+    const SPEED: EstimateContent = EstimateContent {
+        events_or_speed: true,
+        angles: false,
+    };
+    const ANGLES: EstimateContent = EstimateContent {
+        events_or_speed: false,
+        angles: true,
+    };
+
     #[test]
     fn events_of_a_walk_with_angle_references_are_scored_as_events() {
         let mut l = TrialLayout::default();
         l.joint_ref[1] = true;
         l.speed_ref = true;
-        let speed = EstimateContent {
-            events_or_speed: true,
-            angles: false,
-        };
-        let angles = EstimateContent {
-            events_or_speed: false,
-            angles: true,
-        };
+        let (speed, angles) = (SPEED, ANGLES);
         assert_eq!(evaluation_kind(&l, speed), EvaluationKind::GaitEvents);
         assert_eq!(evaluation_kind(&l, angles), EvaluationKind::Angles);
         l.joint_ref[1] = false;
@@ -98,14 +101,7 @@ mod tests {
         l.joint_ref[1] = true;
         l.com_pos = true;
         l.com_vel = true;
-        let speed = EstimateContent {
-            events_or_speed: true,
-            angles: false,
-        };
-        let angles = EstimateContent {
-            events_or_speed: false,
-            angles: true,
-        };
+        let (speed, angles) = (SPEED, ANGLES);
         assert!(speed_from_com(&l));
         assert_eq!(evaluation_kind(&l, speed), EvaluationKind::GaitEvents);
         assert_eq!(evaluation_kind(&l, angles), EvaluationKind::Angles);
