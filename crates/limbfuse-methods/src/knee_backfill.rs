@@ -21,8 +21,9 @@
 //! at `J` and takes a few samples to converge (on the independent
 //! simulator's 0.7 m/s walk `knee-selfalign`'s first output is 9.4 deg off,
 //! 0.9 deg after 5 samples, 0.03 after 10), so anchoring on the first
-//! output alone put the whole backfill 10 deg off. A missing rate holds
-//! the last one (as the estimators do); before the first rate, the first.
+//! output alone put the whole backfill 10 deg off. A gap in the rates up to [`MAX_BRIDGE_S`] is
+//! bridged linearly; a longer one ends the backfill (the rows before it
+//! keep no knee angle: the angle change across the gap is not known).
 //! The backfill carries the estimator's zero and sign, but not its
 //! accelerometer drift correction: a relative gyro bias `b` accumulates as
 //! `b (t_J - t_k)` going back (0.1 deg/s over a 5 s window: 0.5 deg at
@@ -166,12 +167,18 @@ impl KneeBackfill {
         let g = gyro_angles(self.gyros.iter().take(n), first, axes);
         let knee = Joint::Knee.index();
         let outputs = self.held.iter().map(|e| e.joint[knee]);
-        let offset = anchor(outputs.zip(&g).skip(first));
+        let Some(offset) = anchor(outputs.zip(&g).skip(first)) else {
+            return;
+        };
+        let mut from = None;
         for (k, gk) in g.iter().enumerate().take(first) {
-            self.held[k].joint[knee] = Some(wrap(offset + gk));
+            if let Some(gk) = gk {
+                self.held[k].joint[knee] = Some(wrap(offset + gk));
+                from.get_or_insert(k);
+            }
         }
-        if first > 0 {
-            self.filled = Some((self.gyros[0].t, self.gyros[first - 1].t));
+        if let Some(k) = from {
+            self.filled = Some((self.gyros[k].t, self.gyros[first - 1].t));
         }
     }
 
@@ -185,50 +192,84 @@ impl KneeBackfill {
     }
 }
 
+/// Longest run of missing rates (s, from the reading before it to the one
+/// after it) the backfill bridges, linearly: a few samples' dropout (0.1 s
+/// is under a tenth of a stride; the knee rate changes little across it).
+/// A longer gap ends the backfill there: the angle change across it is not
+/// known, so the rows before it keep no knee angle, as in real time.
+pub const MAX_BRIDGE_S: f64 = 0.1;
+
 /// The relative gyro angle about `axes` (paper 002 eq 4, trapezoidal) at
 /// each of the readings, 0 at reading `first`, integrated forwards after it
-/// and backwards before it. A missing rate holds the last one; before the
-/// first rate, the first (0 if there is none).
+/// and backwards before it, up to the first gap in the rates longer than
+/// [`MAX_BRIDGE_S`] either way (`None` beyond it); shorter gaps are
+/// bridged by linear interpolation between their neighbours.
 fn gyro_angles<'a>(
     gyros: impl Iterator<Item = &'a Gyros>,
     first: usize,
     axes: &[Vector3<f64>; 2],
-) -> Vec<f64> {
-    let mut rates: Vec<(f64, Option<f64>)> = Vec::new();
-    let mut last = None;
-    for g in gyros {
-        let r = match (g.thigh, g.shank) {
-            (Some(t), Some(s)) => Some(gyro_angle_rate(&t, &s, &axes[0], &axes[1])),
-            _ => None,
-        };
-        last = r.or(last);
-        rates.push((g.t, last));
+) -> Vec<Option<f64>> {
+    let (t, mut rate): (Vec<f64>, Vec<Option<f64>>) = gyros
+        .map(|g| {
+            let r = match (g.thigh, g.shank) {
+                (Some(t), Some(s)) => Some(gyro_angle_rate(&t, &s, &axes[0], &axes[1])),
+                _ => None,
+            };
+            (g.t, r)
+        })
+        .unzip();
+    bridge_short_gaps(&t, &mut rate);
+    let n = t.len();
+    let step = |k: usize| match (rate[k], rate[k + 1]) {
+        (Some(r0), Some(r1)) => Some(0.5 * (r0 + r1) * (t[k + 1] - t[k])),
+        _ => None,
+    };
+    let mut g = vec![None; n];
+    if first >= n || rate[first].is_none() {
+        return g;
     }
-    let lead = rates.iter().find_map(|r| r.1).unwrap_or(0.0);
-    let rate = |k: usize| rates[k].1.unwrap_or(lead);
-    let step = |k: usize| 0.5 * (rate(k) + rate(k + 1)) * (rates[k + 1].0 - rates[k].0);
-    let mut g = vec![0.0; rates.len()];
-    for k in first + 1..rates.len() {
-        g[k] = g[k - 1] + step(k - 1);
+    g[first] = Some(0.0);
+    for k in first + 1..n {
+        g[k] = g[k - 1].zip(step(k - 1)).map(|(a, d)| a + d);
     }
-    for k in (0..first.min(rates.len())).rev() {
-        g[k] = g[k + 1] - step(k);
+    for k in (0..first).rev() {
+        g[k] = g[k + 1].zip(step(k)).map(|(a, d)| a - d);
     }
     g
 }
 
+/// Fills each run of missing rates no longer than [`MAX_BRIDGE_S`] between
+/// two known ones by linear interpolation.
+fn bridge_short_gaps(t: &[f64], rate: &mut [Option<f64>]) {
+    let mut last: Option<usize> = None;
+    for k in 0..rate.len() {
+        let Some(r1) = rate[k] else { continue };
+        if let Some(i) = last {
+            if k > i + 1 && t[k] - t[i] <= MAX_BRIDGE_S {
+                let r0 = rate[i].unwrap_or(r1);
+                for j in i + 1..k {
+                    let w = (t[j] - t[i]) / (t[k] - t[i]);
+                    rate[j] = Some(r0 + w * (r1 - r0));
+                }
+            }
+        }
+        last = Some(k);
+    }
+}
+
 /// The circular mean of `alpha - g` over the pairs (estimator output,
-/// gyro angle) that have an output: the backfill's offset.
-fn anchor<'a>(pairs: impl Iterator<Item = (Option<f64>, &'a f64)>) -> f64 {
-    let (mut sin, mut cos) = (0.0, 0.0);
+/// gyro angle) that have both: the backfill's offset (`None` without any).
+fn anchor<'a>(pairs: impl Iterator<Item = (Option<f64>, &'a Option<f64>)>) -> Option<f64> {
+    let (mut sin, mut cos, mut n) = (0.0, 0.0, 0);
     for (a, g) in pairs {
-        if let Some(a) = a {
+        if let (Some(a), Some(g)) = (a, g) {
             let (s, c) = libm::sincos(a - g);
             sin += s;
             cos += c;
+            n += 1;
         }
     }
-    libm::atan2(sin, cos)
+    (n > 0).then(|| libm::atan2(sin, cos))
 }
 
 impl Estimator for KneeBackfill {
@@ -360,24 +401,35 @@ mod tests {
         for (k, &t) in times.iter().enumerate() {
             // integral of 2 s ds from 0.03 to t
             let want = t * t - 0.03 * 0.03;
-            assert!((g[k] - want).abs() < 1e-15, "{k}: {} vs {want}", g[k]);
+            let got = g[k].unwrap();
+            assert!((got - want).abs() < 1e-15, "{k}: {got} vs {want}");
         }
     }
 
     #[test]
-    fn a_missing_rate_holds_the_last_and_the_lead_takes_the_first() {
-        let gyros = [
-            reading(0.0, None),
-            reading(0.1, Some((1.0, 0.0))),
-            reading(0.2, None),
-            reading(0.3, Some((3.0, 0.0))),
-        ];
-        let g = gyro_angles(gyros.iter(), 1, &axes());
-        // rates used: 1 (lead), 1, 1 (held), 3
-        let want = [-0.1, 0.0, 0.1, 0.1 + 0.5 * (1.0 + 3.0) * 0.1];
-        for k in 0..4 {
-            assert!((g[k] - want[k]).abs() < 1e-15, "{k}: {:?}", g);
+    fn a_short_gap_is_bridged_and_a_long_one_ends_the_backfill() {
+        // 100 Hz; rate 1 rad/s, missing at 0.05 s (bridged: 0.02 s between
+        // its neighbours), missing over 0.10-0.25 s (0.16 s: not bridged).
+        let gyros: Vec<Gyros> = (0..40)
+            .map(|k| {
+                let t = f64::from(k) * 0.01;
+                let missing = k == 5 || (10..=24).contains(&k);
+                reading(t, (!missing).then_some((1.0, 0.0)))
+            })
+            .collect();
+        let g = gyro_angles(gyros.iter(), 30, &axes());
+        for k in 25..40 {
+            let want = (k as f64 - 30.0) * 0.01;
+            assert!((g[k].unwrap() - want).abs() < 1e-12, "{k}: {:?}", g[k]);
         }
+        assert!(g[..25].iter().all(Option::is_none), "{g:?}");
+        // Backwards from 0.08 s: across the short gap, to the start.
+        let g = gyro_angles(gyros.iter(), 8, &axes());
+        for k in 0..9 {
+            let want = (k as f64 - 8.0) * 0.01;
+            assert!((g[k].unwrap() - want).abs() < 1e-12, "{k}: {:?}", g[k]);
+        }
+        assert!(g[9].is_some() && g[10].is_none());
     }
 
     /// A knee estimator that outputs `0.5 + 0.2 (t - t_first)` rad from
@@ -431,8 +483,11 @@ mod tests {
         let mut out = Vec::new();
         for k in 0..n {
             let mut s = Sample::empty(k as f64 * 0.01);
-            s.imu[Segment::Thigh.index()].gyr = Some(Vector3::new(0.0, 0.0, 0.15));
-            s.imu[Segment::Shank.index()].gyr = Some(Vector3::new(0.0, 0.0, 0.05));
+            // Readings that change (a constant one is a stuck sensor to the
+            // gate) with a knee rate of 0.15 + 0.05 = 0.2 rad/s.
+            let w = 0.01 * (k as f64).sin();
+            s.imu[Segment::Thigh.index()].gyr = Some(Vector3::new(w, -w, 0.15 + w));
+            s.imu[Segment::Shank.index()].gyr = Some(Vector3::new(w, w, 0.05 - w));
             b.push(&s).unwrap();
             while let Some(e) = b.pop() {
                 out.push(e.joint[1]);
@@ -471,10 +526,11 @@ mod tests {
         let g = [0.0, 0.0, 0.0];
         // outputs at +179 and -179 deg: the mean is 180 deg, not 0
         let out = [Some(179f64.to_radians()), None, Some(-179f64.to_radians())];
-        let a = anchor(out.into_iter().zip(&g));
+        let a = anchor(out.into_iter().zip(&g.map(Some))).unwrap();
         assert!((a.abs() - core::f64::consts::PI).abs() < 1e-12, "{a}");
         let out = [Some(0.2), Some(0.4), None];
-        let a = anchor(out.into_iter().zip(&[0.1, 0.1, 5.0]));
+        let a = anchor(out.into_iter().zip(&[Some(0.1), Some(0.1), Some(5.0)])).unwrap();
         assert!((a - 0.2).abs() < 1e-12, "{a}");
+        assert_eq!(anchor(out.into_iter().zip(&[None, None, Some(0.0)])), None);
     }
 }

@@ -55,6 +55,53 @@ impl Circular {
     }
 }
 
+/// Readings of the two gyroscopes further apart than this (s), and more
+/// than [`GAP_SPLIT_PERIODS`] sampling periods, split a window's gyro angle
+/// (ours, robust input): the rotation across the gap is not known, so
+/// `alpha_acc - integral(gyro rate)` takes a new constant after it. A
+/// tenth of a second is about a tenth of a stride; a trapezoid across a
+/// longer gap misses tens of degrees of knee motion.
+pub const GAP_SPLIT_S: f64 = 0.1;
+
+/// See [`GAP_SPLIT_S`].
+pub const GAP_SPLIT_PERIODS: f64 = 2.5;
+
+/// Circular statistics of angles taken in segments, each about its own
+/// mean: the spread is `1 - sum |R_segment| / n`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct SegmentedCircular {
+    closed_resultant: f64,
+    closed_n: usize,
+    current: Circular,
+}
+
+impl SegmentedCircular {
+    fn add(&mut self, a: f64) {
+        self.current.add(a);
+    }
+
+    /// Starts a new segment.
+    fn split(&mut self) {
+        self.closed_resultant += libm::hypot(self.current.s, self.current.c);
+        self.closed_n += self.current.n;
+        self.current = Circular::default();
+    }
+
+    fn count(&self) -> usize {
+        self.closed_n + self.current.n
+    }
+
+    /// 1 - mean resultant length about each segment's mean; 1 when empty.
+    fn spread(&self) -> f64 {
+        let n = self.count();
+        if n == 0 {
+            return 1.0;
+        }
+        let r = self.closed_resultant + libm::hypot(self.current.s, self.current.c);
+        1.0 - r / n as f64
+    }
+}
+
 /// What the accelerometer angle and the gyro angle show over one window.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Agreement {
@@ -72,11 +119,12 @@ pub struct Agreement {
 /// never defined.
 pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<Agreement> {
     let bases = g.bases(zero)?;
-    let mut diff = Circular::default();
+    let mut diff = SegmentedCircular::default();
     let mut level = Circular::default();
-    let mut motion = Circular::default();
+    let mut motion = SegmentedCircular::default();
     let mut integral = 0.0;
     let mut last: Option<(f64, f64)> = None;
+    let mut period = f64::INFINITY;
     for i in 0..ring.len() {
         let s = ring.get(i);
         if !s.gyr_ok {
@@ -84,7 +132,15 @@ pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<Agreement
         }
         let rate = gyro_angle_rate(&s.gyr[0], &s.gyr[1], &g.axis[0], &g.axis[1]);
         if let Some((t0, r0)) = last {
-            integral += 0.5 * (rate + r0) * (s.t - t0);
+            let dt = s.t - t0;
+            if dt > GAP_SPLIT_S && dt > GAP_SPLIT_PERIODS * period {
+                // A gap: the angle after it has its own constant.
+                diff.split();
+                motion.split();
+            } else {
+                integral += 0.5 * (rate + r0) * dt;
+                period = period.min(dt);
+            }
         }
         last = Some((s.t, rate));
         if let Some([kt, ks]) = ring.kinematics(i) {
@@ -96,7 +152,7 @@ pub fn agreement(ring: &Ring, g: &Geometry, zero: AngleZero) -> Option<Agreement
             }
         }
     }
-    (diff.n > 0).then(|| Agreement {
+    (diff.count() > 0).then(|| Agreement {
         spread: diff.spread(),
         level: level.mean(),
         motion: motion.spread(),
