@@ -418,16 +418,16 @@ mod tests {
             })
             .collect();
         let g = gyro_angles(gyros.iter(), 30, &axes());
-        for k in 25..40 {
+        for (k, gk) in g.iter().enumerate().skip(25) {
             let want = (k as f64 - 30.0) * 0.01;
-            assert!((g[k].unwrap() - want).abs() < 1e-12, "{k}: {:?}", g[k]);
+            assert!((gk.unwrap() - want).abs() < 1e-12, "{k}: {gk:?}");
         }
         assert!(g[..25].iter().all(Option::is_none), "{g:?}");
         // Backwards from 0.08 s: across the short gap, to the start.
         let g = gyro_angles(gyros.iter(), 8, &axes());
-        for k in 0..9 {
+        for (k, gk) in g.iter().enumerate().take(9) {
             let want = (k as f64 - 8.0) * 0.01;
-            assert!((g[k].unwrap() - want).abs() < 1e-12, "{k}: {:?}", g[k]);
+            assert!((gk.unwrap() - want).abs() < 1e-12, "{k}: {gk:?}");
         }
         assert!(g[9].is_some() && g[10].is_none());
     }
