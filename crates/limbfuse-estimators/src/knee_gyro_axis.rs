@@ -39,8 +39,9 @@ use limbfuse_core::{
 use nalgebra::Vector3;
 
 use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};
-use crate::knee_selfalign::sign::Circular;
+use crate::knee_selfalign::sign::{SegmentedCircular, GAP_SPLIT_S};
 use crate::knee_selfalign::{KneeParamError, KneeSelfAlign, KneeSelfAlignParams};
+use crate::segment_kf::robust::HELD_RATE_CORRELATION_S;
 
 diagnostic_set! {
     /// Diagnostics of [`KneeGyroAxis`].
@@ -125,13 +126,17 @@ pub struct KneeGyroAxis {
     x: f64,
     use_inclination: bool,
     windows: usize,
-    diff: Circular,
-    motion: Circular,
+    diff: SegmentedCircular,
+    motion: SegmentedCircular,
     last_spread: f64,
     smoothed: Option<(f64, f64)>,
     recent_alpha: [Option<f64>; LAG + 1],
     z: f64,
     start_pending: bool,
+    /// Time (s) since the last knee rate.
+    gyro_gap: f64,
+    /// Samples until the correction restarts after a gap.
+    reanchor_in: Option<usize>,
 }
 
 impl KneeGyroAxis {
@@ -148,13 +153,15 @@ impl KneeGyroAxis {
             x: 0.0,
             use_inclination: false,
             windows: 0,
-            diff: Circular::default(),
-            motion: Circular::default(),
+            diff: SegmentedCircular::default(),
+            motion: SegmentedCircular::default(),
             last_spread: 1.0,
             smoothed: None,
             recent_alpha: [None; LAG + 1],
             z: 0.0,
             start_pending: false,
+            gyro_gap: 0.0,
+            reanchor_in: None,
         })
     }
 
@@ -192,8 +199,8 @@ impl KneeGyroAxis {
                 self.use_inclination = true;
             }
         }
-        self.diff = Circular::default();
-        self.motion = Circular::default();
+        self.diff = SegmentedCircular::default();
+        self.motion = SegmentedCircular::default();
     }
 
     fn restart(&mut self) {
@@ -201,13 +208,15 @@ impl KneeGyroAxis {
         self.last_rate = None;
         self.x = 0.0;
         self.use_inclination = false;
-        self.diff = Circular::default();
-        self.motion = Circular::default();
+        self.diff = SegmentedCircular::default();
+        self.motion = SegmentedCircular::default();
         self.last_spread = 1.0;
         self.smoothed = None;
         self.recent_alpha = [None; LAG + 1];
         self.z = 0.0;
         self.start_pending = false;
+        self.gyro_gap = 0.0;
+        self.reanchor_in = None;
     }
 }
 
@@ -283,13 +292,35 @@ impl Estimator for KneeGyroAxis {
                 self.last_rate = rate;
                 self.recent_alpha = core::array::from_fn(|k| angles[4 - LAG + k]);
             } else {
-                let r1 = rate.or(self.last_rate);
-                let r0 = self.last_rate.or(r1);
+                // Over a dropout the last rate is held decaying towards 0
+                // (`HELD_RATE_CORRELATION_S`, as knee-selfalign and the
+                // segment filters; issue 18). Before, it was held constant:
+                // a 1 s gap of both IMUs mid-walk left the knee 21.6 deg RMSE
+                // over the next 5 s. After a gap longer than `GAP_SPLIT_S`
+                // the gyro angle's error over it is unknown: the window's
+                // statistics start a new part, and with the inclination in
+                // use the correction restarts at the first difference.
+                let step = dt.unwrap_or(0.0);
+                let held = |t: f64| {
+                    self.last_rate
+                        .map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S))
+                };
+                let r1 = rate.or(held(self.gyro_gap + step));
+                let r0 = held(self.gyro_gap).or(r1);
                 if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
                     self.alpha += 0.5 * (r0 + r1) * dt;
                 }
                 if rate.is_some() {
+                    if self.gyro_gap > GAP_SPLIT_S {
+                        self.diff.split();
+                        self.motion.split();
+                        self.smoothed = None;
+                        self.reanchor_in = Some(LAG + 1);
+                    }
                     self.last_rate = rate;
+                    self.gyro_gap = 0.0;
+                } else {
+                    self.gyro_gap += step;
                 }
                 // The accelerometer angle is that of the sample LAG steps
                 // back: compare it with the gyro angle of that sample.
@@ -316,6 +347,20 @@ impl Estimator for KneeGyroAxis {
             if let (true, Some(d)) = (self.start_pending, lagged) {
                 self.x = if self.use_inclination { d } else { 0.0 };
                 self.start_pending = false;
+            }
+            // Back from a gap: once the lagged comparison is past it.
+            // (The accelerometer angle needs a few readings after the gap:
+            // the first difference may come later still.)
+            match (self.reanchor_in, lagged) {
+                (Some(0), Some(d)) => {
+                    self.reanchor_in = None;
+                    if self.use_inclination {
+                        self.x = d;
+                    }
+                }
+                (Some(0), None) => {}
+                (Some(n), _) => self.reanchor_in = Some(n - 1),
+                (None, _) => {}
             }
             match (self.use_inclination, lagged) {
                 (true, Some(d)) => {

@@ -23,8 +23,8 @@ use super::params::AngleZero;
 use super::position::correct_along_axes;
 use super::window::{Geometry, Ring};
 
-/// Circular mean and spread of angles fed one by one (also used by
-/// `knee_gyro_axis`).
+/// Circular mean of angles fed one by one (the sums [`SegmentedCircular`]
+/// pools).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Circular {
     c: f64,
@@ -39,19 +39,8 @@ impl Circular {
         self.c += c;
         self.n += 1;
     }
-    /// Angles fed so far.
-    pub(crate) fn count(&self) -> usize {
-        self.n
-    }
     pub(crate) fn mean(&self) -> f64 {
         libm::atan2(self.s, self.c)
-    }
-    /// 1 - mean resultant length (0 = all equal, 1 = uniform); 1 when empty.
-    pub(crate) fn spread(&self) -> f64 {
-        if self.n == 0 {
-            return 1.0;
-        }
-        1.0 - libm::hypot(self.s, self.c) / self.n as f64
     }
 }
 
@@ -67,32 +56,48 @@ pub const GAP_SPLIT_S: f64 = 0.1;
 pub const GAP_SPLIT_PERIODS: f64 = 2.5;
 
 /// Circular statistics of angles taken in segments, each about its own
-/// mean: the spread is `1 - sum |R_segment| / n`.
+/// mean: the spread is `1 - sum |R_segment| / n` (also used by
+/// `knee_gyro_axis`, whose gyro angle also takes a new constant after a
+/// gap).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct SegmentedCircular {
+pub(crate) struct SegmentedCircular {
     closed_resultant: f64,
     closed_n: usize,
+    last_closed_mean: f64,
     current: Circular,
 }
 
 impl SegmentedCircular {
-    fn add(&mut self, a: f64) {
+    pub(crate) fn add(&mut self, a: f64) {
         self.current.add(a);
     }
 
-    /// Starts a new segment.
-    fn split(&mut self) {
+    /// Starts a new segment (nothing to close when the current one is empty).
+    pub(crate) fn split(&mut self) {
+        if self.current.n == 0 {
+            return;
+        }
         self.closed_resultant += libm::hypot(self.current.s, self.current.c);
         self.closed_n += self.current.n;
+        self.last_closed_mean = self.current.mean();
         self.current = Circular::default();
     }
 
-    fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.closed_n + self.current.n
     }
 
+    /// Circular mean of the latest segment with angles.
+    pub(crate) fn mean(&self) -> f64 {
+        if self.current.n > 0 {
+            self.current.mean()
+        } else {
+            self.last_closed_mean
+        }
+    }
+
     /// 1 - mean resultant length about each segment's mean; 1 when empty.
-    fn spread(&self) -> f64 {
+    pub(crate) fn spread(&self) -> f64 {
         let n = self.count();
         if n == 0 {
             return 1.0;
