@@ -25,7 +25,7 @@ from ._estimate import (
     read_estimate,
 )
 from ._filter import Filter
-from ._workflows import align, gait_library, report, simulate
+from ._workflows import Calibration, align, calibrate, gait_library, report, simulate
 
 def __getattr__(name: str):
     # `limbfuse.cohort` without importing it with the package, so that
@@ -42,6 +42,7 @@ METHODS = tuple(name for name, _ in methods())
 
 __all__ = [
     "METHODS",
+    "Calibration",
     "Estimate",
     "Filter",
     "InternalError",
@@ -49,6 +50,7 @@ __all__ = [
     "LimbfuseWarning",
     "Trial",
     "align",
+    "calibrate",
     "cohort",
     "default_params",
     "estimate",

@@ -1,9 +1,5 @@
-"""`simulate`, `align`, `gait_library`: the CLI's workflows as functions.
-
-`calibrate` (issue 17) joins these when the calibration workflow exists in
-the Rust crates: a `calibrate` function in `src/workflows.rs` registered
-beside `align`, wrapped here the same way.
-"""
+"""`simulate`, `align`, `calibrate`, `gait_library`: the CLI's workflows as
+functions."""
 
 from __future__ import annotations
 
@@ -32,6 +28,9 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
         knee-fes: subject ("P1-L" ... "P3-R"), duration, rate, seed, noise,
             mounting (paper 004).
         fixed-hip: duration, rate, seed, noise (paper 004).
+        calibration: seed, imu_rate, noise, poses, hold, transition (the
+            sensors of ``simulate("walking", seed=N)`` held still in poses,
+            for ``calibrate``).
     """
     return Trial._from_native(_native.simulate(kind, options or None))
 
@@ -46,6 +45,46 @@ def align(trial: Trial, **options: Any) -> Trial:
     if not isinstance(trial, Trial):
         raise TypeError(f"align: expected a limbfuse.Trial, found {type(trial).__name__}")
     return Trial._from_native(_native.align(trial._native(), options or None))
+
+
+class Calibration:
+    """A sensor calibration (``limbfuse calibrate``): ``toml`` is the file's
+    text, ``sensors`` one summary dict per calibrated IMU (segment, poses,
+    residual_mg, acc_bias_mg, acc_scale, gyro_bias_rad_s, rejected).
+    ``write(path)`` writes the file ``limbfuse estimate --calibration``,
+    ``import --calibration`` and ``align --calibration`` read
+    (docs/CALIBRATION.md)."""
+
+    def __init__(self, toml: str, sensors: List[Dict[str, Any]]):
+        self.toml = toml
+        self.sensors = sensors
+
+    def write(self, path: PathLike) -> None:
+        with open(os.fspath(path), "w", encoding="utf-8") as f:
+            f.write(self.toml)
+
+    def __repr__(self) -> str:
+        names = ", ".join(str(s["segment"]) for s in self.sensors)
+        return f"<Calibration of {names}>"
+
+
+def calibrate(poses: Trial, **options: Any) -> Calibration:
+    """Calibrates every IMU of a pose recording (``limbfuse calibrate``:
+    the sensors held still in a dozen orientations, e.g.
+    ``simulate("calibration")``).
+
+    options: model ("full", default; "scale"; "bias"), gravity (m/s^2;
+    default the recording's ``# g:``), acc_std_max, gyro_std_max, min_pose
+    (the CLI's flags).
+
+    Raises:
+        LimbfuseError: too few or too similar poses, a moving "pose", bad
+            options (the message names the sensor and the problem).
+    """
+    if not isinstance(poses, Trial):
+        raise TypeError(f"calibrate: expected a limbfuse.Trial, found {type(poses).__name__}")
+    toml, sensors = _native.calibrate(poses._native(), options or None)
+    return Calibration(toml, [dict(s) for s in sensors])
 
 
 def gait_library(

@@ -1,18 +1,19 @@
-//! `simulate`, `align` and `gait_library`: the CLI's workflows as functions
-//! (`limbfuse-workflows`, `limbfuse-signal`, `limbfuse-sim`).
-//! `calibrate` (issue 17: "when it exists") will join them here.
+//! `simulate`, `align`, `calibrate` and `gait_library`: the CLI's workflows
+//! as functions (`limbfuse-workflows`, `limbfuse-signal`, `limbfuse-sim`).
 
 use std::path::PathBuf;
 
 use limbfuse_core::{Record, Segment};
+use limbfuse_io::calibration::CalibrationModel;
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_models::KneeSubject;
 use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
+use limbfuse_signal::calibration::CalibrationParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::fixed_hip::FixedHipConfig;
 use limbfuse_sim::knee_fes::KneeFesConfig;
-use limbfuse_sim::{KneeScenario, Mounting, WalkingConfig};
+use limbfuse_sim::{KneeScenario, Mounting, PoseRecordingConfig, WalkingConfig};
 use limbfuse_workflows::gait_library::gait_library_file;
 use limbfuse_workflows::simulated_trials::{self, SimulatedTrial};
 use pyo3::prelude::*;
@@ -169,9 +170,41 @@ fn simulate<'py>(
                 let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
                 tr.map_err(|e| sim_err(&e))?
             }
+            "calibration" => {
+                // `limbfuse simulate calibration`: the sensors of `simulate
+                // walking --seed N` held still in poses on a board.
+                let d = PoseRecordingConfig::default();
+                let rate = o.f64("imu_rate")?.unwrap_or(d.sensors.imu_rate_hz);
+                if !(rate.is_finite() && rate > 0.0) {
+                    return Err(user_msg(format!(
+                        "simulate calibration: option `imu_rate`: expected a positive number of Hz, found {rate}"
+                    )));
+                }
+                let cfg = PoseRecordingConfig {
+                    sensors: WalkingConfig {
+                        seed: o.u64("seed")?.unwrap_or(d.sensors.seed),
+                        imu_rate_hz: rate,
+                        noise: o.bool("noise")?.unwrap_or(d.sensors.noise),
+                        ..d.sensors
+                    },
+                    poses: o.u64("poses")?.map_or(d.poses, |v| v as usize),
+                    hold_s: o.f64("hold")?.unwrap_or(d.hold_s),
+                    transition_s: o.f64("transition")?.unwrap_or(d.transition_s),
+                    ..d
+                };
+                o.finish()?;
+                if cfg.duration_s() * rate > MAX_SAMPLES {
+                    return Err(user_msg(format!(
+                        "simulate calibration: {:.0} s at {rate} Hz is more than the cap of {MAX_SAMPLES:.3e} samples",
+                        cfg.duration_s()
+                    )));
+                }
+                let tr = py.detach(|| simulated_trials::calibration_poses(cfg).map(collect));
+                tr.map_err(|e| sim_err(&e))?
+            }
             other => {
                 return Err(user_msg(format!(
-                "simulate: unknown kind `{other}` (expected walking, knee, knee-fes or fixed-hip)"
+                "simulate: unknown kind `{other}` (expected walking, knee, knee-fes, fixed-hip or calibration)"
             )))
             }
         };
@@ -242,6 +275,71 @@ fn align<'py>(
             })
             .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
         Ok(trial_tuple(py, &meta, out, None))
+    })
+}
+
+/// The calibration of every IMU of a pose recording (`limbfuse calibrate`):
+/// the calibration file's text (TOML, as `limbfuse calibrate -o` writes it)
+/// and one summary dict per calibrated sensor.
+#[pyfunction]
+#[pyo3(signature = (trial, options=None))]
+fn calibrate<'py>(
+    py: Python<'py>,
+    trial: TrialArgs<'py>,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<(String, Vec<Bound<'py, PyDict>>)> {
+    guarded(|| {
+        let mut o = Options::new("calibrate", options);
+        let d = CalibrationParams::default();
+        let model = match o.string("model")?.as_deref() {
+            None | Some("full") => CalibrationModel::Full,
+            Some("scale") => CalibrationModel::Scale,
+            Some("bias") => CalibrationModel::Bias,
+            Some(other) => {
+                return Err(user_msg(format!(
+                    "calibrate: option `model`: expected \"full\", \"scale\" or \"bias\", found \"{other}\""
+                )))
+            }
+        };
+        let meta = trial.meta();
+        let params = CalibrationParams {
+            model,
+            gravity: o.f64("gravity")?.unwrap_or_else(|| meta.gravity()),
+            acc_std_max: o.f64("acc_std_max")?.unwrap_or(d.acc_std_max),
+            gyro_std_max: o.f64("gyro_std_max")?.unwrap_or(d.gyro_std_max),
+            min_pose_s: o.f64("min_pose")?.unwrap_or(d.min_pose_s),
+            ..d
+        };
+        o.finish()?;
+        let label = trial.label();
+        let records: Vec<Record> = trial.columns()?.records().collect();
+        let mut cal = py
+            .detach(|| limbfuse_signal::calibration::calibrate(&records, &params))
+            .map_err(|e| user_msg(format!("calibrating from {label}: {}", chain_message(&e))))?;
+        cal.source = trial.source().map(|(name, _)| name.clone());
+        let g = params.gravity;
+        let mut sensors = Vec::new();
+        for (seg, c) in Segment::ALL.iter().zip(&cal.sensors) {
+            let Some(c) = c else { continue };
+            let dict = PyDict::new(py);
+            dict.set_item("segment", seg.name())?;
+            let b = c.acc_bias * (1000.0 / g);
+            dict.set_item("acc_bias_mg", [b.x, b.y, b.z])?;
+            let scale = [
+                c.acc_matrix[(0, 0)],
+                c.acc_matrix[(1, 1)],
+                c.acc_matrix[(2, 2)],
+            ];
+            dict.set_item("acc_scale", scale)?;
+            dict.set_item("gyro_bias_rad_s", c.gyro_bias.map(|b| [b.x, b.y, b.z]))?;
+            if let Some(f) = &c.fit {
+                dict.set_item("poses", f.poses)?;
+                dict.set_item("residual_mg", f.residual_rms * 1000.0 / g)?;
+                dict.set_item("rejected", f.rejected.clone())?;
+            }
+            sensors.push(dict);
+        }
+        Ok((cal.to_toml(), sensors))
     })
 }
 
@@ -341,6 +439,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(align, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(gait_library, m)?)?;
     Ok(())
 }

@@ -135,3 +135,36 @@ def test_gait_library_bad_input(tmp_path):
         limbfuse.gait_library(tmp_path / "x.json", [-1.0])
     with pytest.raises(LimbfuseError, match="mass"):
         limbfuse.gait_library(tmp_path / "x.json", [0.7], mass=0)
+
+
+def test_calibrate_matches_the_cli(cli, tmp_path):
+    """`simulate("calibration")` writes the CLI's pose recording and
+    `calibrate` the CLI's calibration file (with the recording read from a
+    file, its name is the `source`, as the CLI writes it)."""
+    p, cal_cli = tmp_path / "poses.csv", tmp_path / "cli.toml"
+    cli("simulate", "calibration", "--seed", "7", "-o", p)
+    cli("calibrate", p, "-o", cal_cli)
+    poses = limbfuse.simulate("calibration", seed=7)
+    q = tmp_path / "py.csv"
+    poses.write(q)
+    assert p.read_bytes() == q.read_bytes()
+    cal = limbfuse.calibrate(limbfuse.read_trial(p))
+    assert cal.toml == cal_cli.read_text()
+    assert [s["segment"] for s in cal.sensors] == ["trunk", "thigh", "shank", "foot"]
+    assert all(s["poses"] == 14 and s["residual_mg"] < 1.0 for s in cal.sensors)
+    cal.write(tmp_path / "py.toml")
+    assert (tmp_path / "py.toml").read_text() == cal_cli.read_text()
+    # These sensors have cross-axis errors: a scale-only model does not fit
+    # them, and says so (as `limbfuse calibrate --model scale`).
+    with pytest.raises(LimbfuseError, match="do not fit one calibration"):
+        limbfuse.calibrate(poses, model="scale")
+
+
+def test_calibrate_bad_input():
+    poses = limbfuse.simulate("calibration", seed=3, poses=6)
+    with pytest.raises(LimbfuseError, match="option `model`"):
+        limbfuse.calibrate(poses, model="nope")
+    with pytest.raises(LimbfuseError, match="calibrating from"):
+        limbfuse.calibrate(limbfuse.simulate("walking", duration=3.0))
+    with pytest.raises(TypeError):
+        limbfuse.calibrate("poses.csv")
