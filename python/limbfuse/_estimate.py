@@ -164,6 +164,9 @@ def estimate(
             ``backfill=True`` (``--backfill``; knee-selfalign,
             knee-gyro-axis): the knee angle before the first identified
             window, filled offline (docs/KNEE_SELFALIGN.md "Backfill").
+            ``calibration`` (``--calibration``): a calibration file or a
+            ``Calibration`` from ``calibrate``, applied to every IMU
+            reading before the method sees it (docs/CALIBRATION.md).
 
     With ``imm_config="continuous"`` a trial walking outside the gait
     library's speeds is estimated twice, as ``limbfuse estimate`` does: the
@@ -180,6 +183,12 @@ def estimate(
     if not isinstance(trial, Trial):
         raise TypeError(f"estimate: expected a limbfuse.Trial, found {type(trial).__name__}")
     p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+    cal = options.get("calibration")
+    if cal is not None and hasattr(cal, "toml"):
+        options = dict(options)
+        options["calibration_toml"] = options.pop("calibration").toml
+    elif isinstance(cal, os.PathLike):
+        options = dict(options, calibration=os.fspath(cal))
     return Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
 
 

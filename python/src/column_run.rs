@@ -8,6 +8,7 @@
 use limbfuse_core::runner::RunError;
 use limbfuse_core::{Estimate, Estimator, OfflineEstimator, Sample};
 use limbfuse_eval::{GaitWatch, KneeWatch, ResetWatch};
+use limbfuse_io::Calibration;
 
 use crate::column_samples::SampleColumns;
 use crate::estimate_columns::EstimateColumns;
@@ -33,6 +34,7 @@ pub fn run_columns(
     inputs: &SampleColumns<'_>,
     out: &mut EstimateColumns,
     mut watches: Option<&mut RunWatches>,
+    calibration: Option<&Calibration>,
 ) -> Result<(), RunError> {
     if let Some(w) = watches.as_deref_mut() {
         *w = RunWatches::for_estimator(est);
@@ -41,6 +43,9 @@ pub fn run_columns(
     let mut estimate = Estimate::empty(0.0);
     for i in 0..inputs.len() {
         inputs.fill(i, &mut sample);
+        if let Some(c) = calibration {
+            c.apply_sample(&mut sample);
+        }
         est.step_into(&sample, &mut estimate)
             .map_err(|source| RunError::Estimator {
                 index: i as u64,
@@ -63,6 +68,7 @@ pub fn run_columns_offline(
     inputs: &SampleColumns<'_>,
     out: &mut EstimateColumns,
     watches: &mut RunWatches,
+    calibration: Option<&Calibration>,
 ) -> Result<(), RunError> {
     *watches = RunWatches::for_estimator(est.header());
     let mut sample = Sample::default();
@@ -78,6 +84,9 @@ pub fn run_columns_offline(
     };
     for i in 0..inputs.len() {
         inputs.fill(i, &mut sample);
+        if let Some(c) = calibration {
+            c.apply_sample(&mut sample);
+        }
         est.push(&sample).map_err(|source| RunError::Estimator {
             index: i as u64,
             t: sample.t,

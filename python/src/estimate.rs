@@ -2,7 +2,7 @@
 //! `read_estimate` and `write_estimate` (SPEC section 3 files).
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::Estimator;
@@ -10,9 +10,10 @@ use limbfuse_eval::SpeedRangeWatch;
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
-use limbfuse_io::{AtomicFile, EstimateReader};
+use limbfuse_io::{AtomicFile, Calibration, EstimateReader};
 use limbfuse_methods::knee_backfill::{build_backfilled, KneeBackfill};
 use limbfuse_methods::MethodSpec;
+use limbfuse_signal::align::rotations_from_metadata;
 use limbfuse_workflows::imm_library_extension;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -134,6 +135,31 @@ fn speed_watch(
     Ok(Some(watch))
 }
 
+/// The calibration `text` (file `name`) for the trial `label`, as
+/// `limbfuse estimate --calibration` takes it: refused for a trial
+/// calibrated already or one with an IMU it does not cover; rotated into
+/// the aligned frames of a trial `align` wrote.
+fn calibration_for_trial(
+    text: &str,
+    name: &str,
+    label: &str,
+    meta: &limbfuse_io::TrialMeta,
+    layout: &limbfuse_io::TrialLayout,
+) -> PyResult<Calibration> {
+    let (path, trial) = (Path::new(name), Path::new(label));
+    let cal = Calibration::from_toml(text, path).map_err(|e| user_error(&e))?;
+    Calibration::check_not_calibrated(meta, trial).map_err(|e| user_error(&e))?;
+    cal.check_covers(layout, path, trial)
+        .map_err(|e| user_error(&e))?;
+    let rotations = rotations_from_metadata(meta)
+        .map_err(|e| user_msg(format!("{label}: reading the alignment rotations: {e}")))?;
+    Ok(if rotations.iter().any(Option::is_some) {
+        cal.rotated(&rotations)
+    } else {
+        cal
+    })
+}
+
 /// The estimator of an `estimate` call: real-time, or a knee method
 /// backfilled offline (`backfill=True`, `limbfuse estimate --backfill`).
 enum Built {
@@ -166,10 +192,25 @@ fn estimate<'py>(
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<EstimateTuple<'py>> {
     guarded(|| {
-        let (spec, diagnostics, backfill) = crate::options::estimate_spec(method, params, options)?;
+        let crate::options::EstimateRun {
+            spec,
+            diagnostics,
+            backfill,
+            calibration,
+        } = crate::options::estimate_spec(method, params, options)?;
         let meta = trial.meta();
         let cols = trial.columns()?;
         let label = trial.label();
+        let calibration = match calibration {
+            Some((text, name)) => Some(calibration_for_trial(
+                &text,
+                &name,
+                &label,
+                &meta,
+                cols.layout(),
+            )?),
+            None => None,
+        };
         let in_trial =
             |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
         let est = if backfill {
@@ -199,12 +240,20 @@ fn estimate<'py>(
             let mut watches = RunWatches::default();
             let gait_method = limbfuse_eval::gait_watch::is_gait_method(&est.outputs());
             let run = py.detach(|| match &mut built {
-                Built::Online(est) => {
-                    run_columns(est.as_mut(), &inputs, &mut out, Some(&mut watches))
-                }
-                Built::Backfill(est) => {
-                    run_columns_offline(est.as_mut(), &inputs, &mut out, &mut watches)
-                }
+                Built::Online(est) => run_columns(
+                    est.as_mut(),
+                    &inputs,
+                    &mut out,
+                    Some(&mut watches),
+                    calibration.as_ref(),
+                ),
+                Built::Backfill(est) => run_columns_offline(
+                    est.as_mut(),
+                    &inputs,
+                    &mut out,
+                    &mut watches,
+                    calibration.as_ref(),
+                ),
             });
             run.map_err(|e| {
                 user_msg(format!(

@@ -223,7 +223,7 @@ impl NativeFilter {
             let method = self.method.clone();
             let est = self.estimator();
             let inputs = cols.inputs();
-            py.detach(|| run_columns(est, &inputs, &mut out, None))
+            py.detach(|| run_columns(est, &inputs, &mut out, None, None))
                 .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             crate::estimate::estimate_tuple(py, out, None)
         })

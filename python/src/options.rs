@@ -149,6 +149,19 @@ pub fn method_spec(
     method_spec_from(method, params, o)
 }
 
+/// What `estimate` runs: the method, the diagnostic columns, `--backfill`
+/// and an IMU calibration (the file's text and its label).
+pub struct EstimateRun {
+    /// The method.
+    pub spec: MethodSpec,
+    /// The diagnostic columns written.
+    pub diagnostics: DiagnosticColumns,
+    /// `backfill=True`.
+    pub backfill: bool,
+    /// `calibration=` (a file) or `calibration_toml=` (its text): text, label.
+    pub calibration: Option<(String, String)>,
+}
+
 /// [`method_spec`] for `estimate`, which also takes the options
 /// `diagnostics` (`limbfuse estimate --diagnostics`): `"all"` (the
 /// default), `"none"`, or diagnostic names (a comma-separated string or a
@@ -158,9 +171,23 @@ pub fn estimate_spec(
     method: &str,
     params: Option<&Bound<'_, PyAny>>,
     options: Option<Bound<'_, PyDict>>,
-) -> PyResult<(MethodSpec, DiagnosticColumns, bool)> {
+) -> PyResult<EstimateRun> {
     let mut o = Options::new("method options", options);
     let backfill = o.bool("backfill")?.unwrap_or(false);
+    let calibration = match (o.string("calibration")?, o.string("calibration_toml")?) {
+        (Some(path), None) => {
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| user_msg(format!("calibration: cannot read {path}: {e}")))?;
+            Some((text, path))
+        }
+        (None, Some(text)) => Some((text, "<Calibration>".to_string())),
+        (None, None) => None,
+        (Some(_), Some(_)) => {
+            return Err(user_msg(
+                "method options: give `calibration` (a file) or `calibration_toml`, not both",
+            ))
+        }
+    };
     let diagnostics = match o.any("diagnostics")? {
         None => DiagnosticColumns::All,
         Some(v) => {
@@ -181,7 +208,12 @@ pub fn estimate_spec(
             DiagnosticColumns::parse(&text).map_err(|e| user_error(&e))?
         }
     };
-    Ok((method_spec_from(method, params, o)?, diagnostics, backfill))
+    Ok(EstimateRun {
+        spec: method_spec_from(method, params, o)?,
+        diagnostics,
+        backfill,
+        calibration,
+    })
 }
 
 fn method_spec_from(

@@ -168,3 +168,29 @@ def test_calibrate_bad_input():
         limbfuse.calibrate(limbfuse.simulate("walking", duration=3.0))
     with pytest.raises(TypeError):
         limbfuse.calibrate("poses.csv")
+
+
+def test_estimate_with_a_calibration_equals_the_cli(cli, tmp_path):
+    """`estimate(..., calibration=...)` (a file or a `Calibration`) equals
+    `limbfuse estimate --calibration` bit for bit; a trial with an IMU the
+    calibration does not cover is refused."""
+    poses, cal_file = tmp_path / "poses.csv", tmp_path / "cal.toml"
+    walk, est_file = tmp_path / "walk.csv", tmp_path / "est.csv"
+    cli("simulate", "calibration", "--seed", "7", "-o", poses)
+    cli("calibrate", poses, "-o", cal_file)
+    cli("simulate", "walking", "--seed", "7", "--duration", "6", "-o", walk)
+    cli("estimate", "--method", "mjls", "--calibration", cal_file, walk, "-o", est_file)
+    ref = limbfuse.read_estimate(est_file)
+    trial = limbfuse.read_trial(walk)
+    plain = limbfuse.estimate(trial, "mjls")
+    for cal in (cal_file, str(cal_file), limbfuse.calibrate(limbfuse.read_trial(poses))):
+        est = limbfuse.estimate(trial, "mjls", calibration=cal)
+        for name in ref.channels:
+            a = np.ma.filled(est.channels[name], np.nan).view(np.uint64)
+            b = np.ma.filled(ref.channels[name], np.nan).view(np.uint64)
+            assert np.array_equal(a, b), name
+    assert not np.array_equal(np.ma.filled(plain.channels["thigh"], 0), np.ma.filled(est.channels["thigh"], 0))
+    bad = tmp_path / "bad.toml"
+    bad.write_text(cal_file.read_text().split("[sensors.thigh]")[0])
+    with pytest.raises(LimbfuseError, match="thigh"):
+        limbfuse.estimate(trial, "mjls", calibration=bad)

@@ -442,7 +442,12 @@ impl Calibration {
     /// Applies the calibration to a record's accelerometer and gyro
     /// readings (sensors without an entry are left as they are).
     pub fn apply(&self, record: &mut Record) {
-        for (imu, c) in record.sample.imu.iter_mut().zip(&self.sensors) {
+        self.apply_sample(&mut record.sample);
+    }
+
+    /// [`Calibration::apply`] on a sample.
+    pub fn apply_sample(&self, sample: &mut limbfuse_core::Sample) {
+        for (imu, c) in sample.imu.iter_mut().zip(&self.sensors) {
             if let Some(c) = c {
                 imu.acc = imu.acc.map(|a| c.acc(&a));
                 imu.gyr = imu.gyr.map(|w| c.gyr(&w));
