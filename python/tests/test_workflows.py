@@ -168,6 +168,10 @@ def test_calibrate_bad_input():
         limbfuse.calibrate(limbfuse.simulate("walking", duration=3.0))
     with pytest.raises(TypeError):
         limbfuse.calibrate("poses.csv")
+    with pytest.raises(LimbfuseError, match="option `imu_rate`"):
+        limbfuse.simulate("calibration", imu_rate=0)
+    with pytest.raises(LimbfuseError, match="unknown option"):
+        limbfuse.simulate("calibration", lever_arm=0.1)
 
 
 def test_estimate_with_a_calibration_equals_the_cli(cli, tmp_path):
