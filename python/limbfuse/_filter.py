@@ -23,6 +23,10 @@ class Filter:
     sample or ``None`` is a missing sample. ``run({"t": t, ...})`` runs over
     arrays with the GIL released and returns an ``Estimate``. Both continue
     from the filter's state; ``reset()`` starts over.
+
+    ``calibration=`` (a calibration file or a ``Calibration``, as
+    ``estimate``'s) is applied to every IMU reading before the method sees
+    it.
     """
 
     def __init__(
@@ -39,6 +43,12 @@ class Filter:
         # `run` checks its arrays as a trial with this metadata (the `leg`
         # names the other leg's channels).
         self._meta = {str(k): str(v) for k, v in (meta or {}).items()}
+        cal = options.get("calibration")
+        if cal is not None and hasattr(cal, "toml"):
+            options = dict(options)
+            options["calibration_toml"] = options.pop("calibration").toml
+        elif isinstance(cal, os.PathLike):
+            options = dict(options, calibration=os.fspath(cal))
         self._native = _native.NativeFilter(
             method,
             names,

@@ -139,7 +139,7 @@ fn speed_watch(
 /// `limbfuse estimate --calibration` takes it: refused for a trial
 /// calibrated already or one with an IMU it does not cover; rotated into
 /// the aligned frames of a trial `align` wrote.
-fn calibration_for_trial(
+pub(crate) fn calibration_for_trial(
     text: &str,
     name: &str,
     label: &str,

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use limbfuse_core::{Estimator, Sample, Side};
-use limbfuse_io::TrialMeta;
+use limbfuse_io::{Calibration, TrialMeta};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
@@ -34,6 +34,8 @@ pub struct NativeFilter {
     /// The side of the single-leg channels (the `leg` metadata).
     leg: Side,
     template: EstimateColumns,
+    /// The IMU calibration applied to every sample (`calibration=`).
+    calibration: Option<Calibration>,
 }
 
 fn step_error(method: &str, t: f64, e: &dyn std::error::Error) -> PyErr {
@@ -61,6 +63,10 @@ impl NativeFilter {
         options: Option<Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         guarded(|| {
+            let calibration = match &options {
+                Some(d) => crate::options::take_calibration(d)?,
+                None => None,
+            };
             let spec = crate::options::method_spec(method, params, options)?;
             let mut m = TrialMeta::new();
             for (k, v) in meta {
@@ -74,6 +80,16 @@ impl NativeFilter {
             let cols = TrialColumns::new(&t, empty, None, leg).map_err(user_msg)?;
             let est = limbfuse_methods::build(&spec, &m, cols.layout())
                 .map_err(|e| user_msg(chain_message(&e)))?;
+            let calibration = match calibration {
+                Some((text, name)) => Some(crate::estimate::calibration_for_trial(
+                    &text,
+                    &name,
+                    "the filter's channels",
+                    &m,
+                    cols.layout(),
+                )?),
+                None => None,
+            };
             let template = EstimateColumns::for_estimator(est.as_ref(), 0)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let slots = channels
@@ -94,6 +110,7 @@ impl NativeFilter {
                 index,
                 leg,
                 template,
+                calibration,
             })
         })
     }
@@ -173,6 +190,9 @@ impl NativeFilter {
                 .collect();
             let mut sample = Sample::default();
             SampleColumns::new(&time, &columns).fill(0, &mut sample);
+            if let Some(c) = &self.calibration {
+                c.apply_sample(&mut sample);
+            }
             let e = self
                 .estimator()
                 .step(&sample)
@@ -221,9 +241,10 @@ impl NativeFilter {
             let mut out = EstimateColumns::for_estimator(self.estimator(), cols.len())
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let method = self.method.clone();
+            let calibration = self.calibration.clone();
             let est = self.estimator();
             let inputs = cols.inputs();
-            py.detach(|| run_columns(est, &inputs, &mut out, None, None))
+            py.detach(|| run_columns(est, &inputs, &mut out, None, calibration.as_ref()))
                 .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             crate::estimate::estimate_tuple(py, out, None)
         })

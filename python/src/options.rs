@@ -149,6 +149,37 @@ pub fn method_spec(
     method_spec_from(method, params, o)
 }
 
+/// The options `calibration` (a file path) and `calibration_toml` (a
+/// `Calibration`'s text): the calibration's text and label.
+fn calibration_option(o: &mut Options<'_>) -> PyResult<Option<(String, String)>> {
+    match (o.string("calibration")?, o.string("calibration_toml")?) {
+        (Some(path), None) => {
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| user_msg(format!("calibration: cannot read {path}: {e}")))?;
+            Ok(Some((text, path)))
+        }
+        (None, Some(text)) => Ok(Some((text, "<Calibration>".to_string()))),
+        (None, None) => Ok(None),
+        (Some(_), Some(_)) => Err(user_msg(
+            "method options: give `calibration` (a file) or `calibration_toml`, not both",
+        )),
+    }
+}
+
+/// Takes the calibration options out of `options` (for `Filter`, whose
+/// other options are the method's): the calibration's text and label.
+pub fn take_calibration(options: &Bound<'_, PyDict>) -> PyResult<Option<(String, String)>> {
+    let picked = PyDict::new(options.py());
+    for key in ["calibration", "calibration_toml"] {
+        if let Some(v) = options.get_item(key)? {
+            picked.set_item(key, v)?;
+            options.del_item(key)?;
+        }
+    }
+    let mut o = Options::new("method options", Some(picked));
+    calibration_option(&mut o)
+}
+
 /// What `estimate` runs: the method, the diagnostic columns, `--backfill`
 /// and an IMU calibration (the file's text and its label).
 pub struct EstimateRun {
@@ -174,20 +205,7 @@ pub fn estimate_spec(
 ) -> PyResult<EstimateRun> {
     let mut o = Options::new("method options", options);
     let backfill = o.bool("backfill")?.unwrap_or(false);
-    let calibration = match (o.string("calibration")?, o.string("calibration_toml")?) {
-        (Some(path), None) => {
-            let text = std::fs::read_to_string(&path)
-                .map_err(|e| user_msg(format!("calibration: cannot read {path}: {e}")))?;
-            Some((text, path))
-        }
-        (None, Some(text)) => Some((text, "<Calibration>".to_string())),
-        (None, None) => None,
-        (Some(_), Some(_)) => {
-            return Err(user_msg(
-                "method options: give `calibration` (a file) or `calibration_toml`, not both",
-            ))
-        }
-    };
+    let calibration = calibration_option(&mut o)?;
     let diagnostics = match o.any("diagnostics")? {
         None => DiagnosticColumns::All,
         Some(v) => {

@@ -198,3 +198,26 @@ def test_estimate_with_a_calibration_equals_the_cli(cli, tmp_path):
     bad.write_text(cal_file.read_text().split("[sensors.thigh]")[0])
     with pytest.raises(LimbfuseError, match="thigh"):
         limbfuse.estimate(trial, "mjls", calibration=bad)
+
+
+def test_filter_with_a_calibration_equals_estimate(tmp_path):
+    """`Filter(..., calibration=cal)`, stepped or run, equals
+    `estimate(..., calibration=cal)` bit for bit."""
+    cal = limbfuse.calibrate(limbfuse.simulate("calibration", seed=7))
+    trial = limbfuse.simulate("walking", seed=7, duration=4.0)
+    ref = limbfuse.estimate(trial, "mjls", calibration=cal)
+    run = limbfuse.Filter.for_trial(trial, "mjls", calibration=cal).run({"t": trial.t, **trial.channels})
+    f = limbfuse.Filter.for_trial(trial, "mjls", calibration=cal)
+    names = list(trial.channels)
+    stepped = []
+    for k in range(len(trial)):
+        s = {"t": float(trial.t[k])}
+        for n in names:
+            v = trial.channels[n][k]
+            s[n] = None if np.ma.is_masked(v) else float(v)
+        stepped.append(f.step(s)["thigh"])
+    for name in ref.channels:
+        a = np.ma.filled(run.channels[name], np.nan).view(np.uint64)
+        b = np.ma.filled(ref.channels[name], np.nan).view(np.uint64)
+        assert np.array_equal(a, b), name
+    assert np.array_equal(np.array(stepped, dtype=float), np.ma.filled(ref.channels["thigh"], np.nan))
