@@ -191,3 +191,76 @@ fn demo_has_a_knee_section() {
     let report = std::fs::read_to_string(d.path().join("o/report.md")).unwrap();
     assert!(report.contains("## Self-aligning knee (paper 002)"));
 }
+
+/// `evaluate` says when a knee estimate's zero is its high-pass's (the
+/// accelerometer angle trusted in under half the samples): the shared knee
+/// rig (joint axis near vertical: 3 % trusted, mean error -9.4 deg, 2.2
+/// offset-free); not on a simulated walk (trusted from the first window),
+/// nor with `--offset-free`.
+#[test]
+fn evaluate_says_when_the_knee_zero_is_the_high_pass() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let note = "note: the accelerometer angle set the knee angle's zero";
+    ok(&limbfuse(
+        &[
+            "simulate",
+            "knee",
+            "--duration",
+            "12",
+            "--seed",
+            "2",
+            "-o",
+            "k.csv",
+        ],
+        p,
+    ));
+    ok(&limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "knee-selfalign",
+            "k.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    ));
+    assert!(!ok(&limbfuse(&["evaluate", "k.csv", "e.csv"], p)).contains(note));
+    let Some(rig) = crate::support::shared_data("knee-rig/Trial_01.csv") else {
+        eprintln!("skipped the rig: ../shared/data is absent");
+        return;
+    };
+    ok(&limbfuse(
+        &[
+            "import",
+            "--format",
+            "knee-rig",
+            rig.to_str().unwrap(),
+            "-o",
+            "rig.csv",
+        ],
+        p,
+    ));
+    ok(&limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "knee-gyro-axis",
+            "rig.csv",
+            "-o",
+            "r.csv",
+        ],
+        p,
+    ));
+    let text = ok(&limbfuse(&["evaluate", "rig.csv", "r.csv"], p));
+    assert!(
+        text.contains(note) && text.contains("`diag_inclination_used`"),
+        "{text}"
+    );
+    let text = ok(&limbfuse(
+        &["evaluate", "rig.csv", "r.csv", "--offset-free"],
+        p,
+    ));
+    assert!(!text.contains(note), "{text}");
+}
