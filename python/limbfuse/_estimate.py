@@ -13,6 +13,7 @@ import numpy as np
 from . import _native
 from ._arrays import as_column, as_time, filled, from_native, phase_array, phase_cells, split_header
 from ._trial import PathLike, Trial
+from ._workflows import calibration_options
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -183,12 +184,7 @@ def estimate(
     if not isinstance(trial, Trial):
         raise TypeError(f"estimate: expected a limbfuse.Trial, found {type(trial).__name__}")
     p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
-    cal = options.get("calibration")
-    if cal is not None and hasattr(cal, "toml"):
-        options = dict(options)
-        options["calibration_toml"] = options.pop("calibration").toml
-    elif isinstance(cal, os.PathLike):
-        options = dict(options, calibration=os.fspath(cal))
+    options = calibration_options(options)
     return Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
 
 

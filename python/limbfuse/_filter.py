@@ -8,6 +8,7 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Union
 from . import _native
 from ._estimate import Estimate
 from ._trial import PathLike, Trial
+from ._workflows import calibration_options
 
 
 class Filter:
@@ -43,12 +44,7 @@ class Filter:
         # `run` checks its arrays as a trial with this metadata (the `leg`
         # names the other leg's channels).
         self._meta = {str(k): str(v) for k, v in (meta or {}).items()}
-        cal = options.get("calibration")
-        if cal is not None and hasattr(cal, "toml"):
-            options = dict(options)
-            options["calibration_toml"] = options.pop("calibration").toml
-        elif isinstance(cal, os.PathLike):
-            options = dict(options, calibration=os.fspath(cal))
+        options = calibration_options(options)
         self._native = _native.NativeFilter(
             method,
             names,

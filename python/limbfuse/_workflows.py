@@ -68,6 +68,19 @@ class Calibration:
         return f"<Calibration of {names}>"
 
 
+def calibration_options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The native options of ``calibration=`` (``estimate``, ``Filter``): a
+    ``Calibration`` passes its text as ``calibration_toml``, a path as a
+    string; anything else is left for the native layer to reject."""
+    cal = options.get("calibration")
+    if isinstance(cal, Calibration):
+        options = dict(options)
+        options["calibration_toml"] = options.pop("calibration").toml
+    elif isinstance(cal, os.PathLike):
+        options = dict(options, calibration=os.fspath(cal))
+    return options
+
+
 def calibrate(poses: Trial, **options: Any) -> Calibration:
     """Calibrates every IMU of a pose recording (``limbfuse calibrate``:
     the sensors held still in a dozen orientations, e.g.

@@ -305,8 +305,15 @@ impl Estimator for KneeGyroAxis {
                     self.last_rate
                         .map(|r| r * libm::exp(-t / HELD_RATE_CORRELATION_S))
                 };
-                let r1 = rate.or(held(self.gyro_gap + step));
-                let r0 = held(self.gyro_gap).or(r1);
+                // (The decay is evaluated only over a dropout: with no gap
+                // the held rate is the last rate itself.)
+                let r1 = rate.or_else(|| held(self.gyro_gap + step));
+                let r0 = if self.gyro_gap == 0.0 {
+                    self.last_rate
+                } else {
+                    held(self.gyro_gap)
+                }
+                .or(r1);
                 if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
                     self.alpha += 0.5 * (r0 + r1) * dt;
                 }

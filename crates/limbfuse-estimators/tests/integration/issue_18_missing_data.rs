@@ -58,6 +58,20 @@ fn rmse(
     (sq / n).sqrt().to_degrees()
 }
 
+/// The paper-002 knee scenario (random mountings) walking for `duration_s`.
+fn knee_walk(duration_s: f64, seed: u64) -> Vec<Record> {
+    KneeSimulator::new(KneeScenario {
+        walking: WalkingConfig {
+            duration_s,
+            seed,
+            ..KneeScenario::default().walking
+        },
+        ..KneeScenario::default()
+    })
+    .unwrap()
+    .collect()
+}
+
 fn run(est: &mut dyn Estimator, records: &[Record]) -> Vec<(Estimate, Record)> {
     records
         .iter()
@@ -117,16 +131,7 @@ fn issue_18_mjls_follows_the_leg_through_the_encoders_in_a_gap_of_every_imu() {
 /// fusion's variance grows, so the accelerometer angle takes over at once.
 #[test]
 fn issue_18_knee_selfalign_reanchors_after_a_gap() {
-    let mut records: Vec<Record> = KneeSimulator::new(KneeScenario {
-        walking: WalkingConfig {
-            duration_s: 20.0,
-            seed: 2,
-            ..KneeScenario::default().walking
-        },
-        ..KneeScenario::default()
-    })
-    .unwrap()
-    .collect();
+    let mut records = knee_walk(20.0, 2);
     gap(&mut records, 12.0, 13.0);
     let out = run(&mut KneeSelfAlign::default(), &records);
     let knee = |e: &Estimate, r: &Record| err(e.joint[1], r.reference.joint[1]);
@@ -357,16 +362,7 @@ fn issue_18_chain_holds_the_trunk_in_a_gap_of_every_imu() {
 /// constant.
 #[test]
 fn issue_18_knee_selfalign_trusts_the_accelerometer_after_a_gap_in_its_first_window() {
-    let clean: Vec<Record> = KneeSimulator::new(KneeScenario {
-        walking: WalkingConfig {
-            duration_s: 12.0,
-            seed: 2,
-            ..KneeScenario::default().walking
-        },
-        ..KneeScenario::default()
-    })
-    .unwrap()
-    .collect();
+    let clean = knee_walk(12.0, 2);
     let mut gapped = clean.clone();
     gap(&mut gapped, 2.0, 2.5);
     let knee = |e: &Estimate, r: &Record| err(e.joint[1], r.reference.joint[1]);
@@ -396,16 +392,7 @@ fn issue_18_knee_selfalign_trusts_the_accelerometer_after_a_gap_in_its_first_win
 /// after the gap (1.19 and 0.52 deg there).
 #[test]
 fn issue_18_knee_gyro_axis_reanchors_after_a_gap() {
-    let clean: Vec<Record> = KneeSimulator::new(KneeScenario {
-        walking: WalkingConfig {
-            duration_s: 20.0,
-            seed: 2,
-            ..KneeScenario::default().walking
-        },
-        ..KneeScenario::default()
-    })
-    .unwrap()
-    .collect();
+    let clean = knee_walk(20.0, 2);
     let mut gapped = clean.clone();
     gap(&mut gapped, 12.0, 13.0);
     let knee = |e: &Estimate, r: &Record| err(e.joint[1], r.reference.joint[1]);
