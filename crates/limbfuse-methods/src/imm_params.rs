@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use limbfuse_core::Estimator;
 use limbfuse_estimators::imm_bslip::{
-    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, TouchdownRule,
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart, TouchdownRule,
 };
 use limbfuse_io::gait_library::GaitLibraryFile;
 use limbfuse_io::{TrialLayout, TrialMeta};
@@ -298,8 +298,12 @@ pub fn build_over(
     let err =
         |e: limbfuse_estimators::imm_bslip::ImmBslipError| MethodError::ImmParams(e.to_string());
     Ok(match spec.config {
-        ImmConfig::Paper => Box::new(ImmBslip::new(templates, params).map_err(err)?),
-        ImmConfig::Continuous => Box::new(ImmContinuous::new(templates, params).map_err(err)?),
+        ImmConfig::Paper => Box::new(SwayRestart::new(
+            ImmBslip::new(templates, params).map_err(err)?,
+        )),
+        ImmConfig::Continuous => Box::new(SwayRestart::new(
+            ImmContinuous::new(templates, params).map_err(err)?,
+        )),
     })
 }
 

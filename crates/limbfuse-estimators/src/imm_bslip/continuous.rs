@@ -153,10 +153,12 @@ impl StepTracker {
 /// (module docs).
 #[derive(Debug, Clone)]
 pub struct ImmContinuous {
-    inner: ImmBslip,
+    pub(super) inner: ImmBslip,
     family: Vec<GaitTemplate>,
     steps: StepTracker,
     first_side: Side,
+    /// The stance side of the next start ([`super::RestartOnSide`]).
+    pub(super) start_side: Side,
     previous: Option<(f64, State)>,
 }
 
@@ -175,6 +177,7 @@ impl ImmContinuous {
             family,
             steps: StepTracker::new(middle, params.first_side),
             first_side: params.first_side,
+            start_side: params.first_side,
             previous: None,
         })
     }
@@ -219,9 +222,9 @@ impl ImmContinuous {
             .and_then(|vx| speed_at_mid_stance_velocity(&self.family, vx))
             .unwrap_or(middle);
         let gait = gait_at_speed(&self.family, speed).unwrap_or(self.steps.gait);
-        self.steps = StepTracker::new(gait, self.first_side);
+        self.steps = StepTracker::new(gait, self.start_side);
         self.retarget(speed);
-        let s = self.first_side.sign();
+        let s = self.start_side.sign();
         self.steps
             .place_feet([x[0], x[2] - s * self.steps.gait.gait.lateral]);
         let _ = now;
@@ -344,6 +347,7 @@ impl Estimator for ImmContinuous {
 
     fn reset(&mut self) {
         self.inner.reset();
+        self.start_side = self.first_side;
         self.previous = None;
     }
 

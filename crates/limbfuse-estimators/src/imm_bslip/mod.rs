@@ -34,6 +34,8 @@ mod height_crossings;
 mod mode_probabilities;
 mod names;
 pub mod params;
+mod sway_extremum;
+pub mod sway_restart;
 mod weight_support;
 
 extern crate alloc;
@@ -51,6 +53,7 @@ use ekf::{propagate, update, Cov};
 use feet::{Feet, FootPlacement};
 pub use names::{ImmDiag, MAX_GAITS, SPEED_MEAN, WEIGHT_NAMES};
 pub use params::{ImmBslipParams, ImmWeights, MidStanceEvent, TouchdownRule};
+pub use sway_restart::{RestartOnSide, SwayRestart};
 
 /// Why an IMM could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

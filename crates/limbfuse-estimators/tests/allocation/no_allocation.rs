@@ -5,7 +5,7 @@
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::baseline::{AccelInclination, GyroIntegration};
 use limbfuse_estimators::imm_bslip::{
-    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, TouchdownRule,
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart, TouchdownRule,
 };
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
@@ -56,7 +56,9 @@ fn step_never_allocates() {
     );
     for (k, r) in records.iter_mut().enumerate() {
         if let Some(b) = bslip.get(k) {
-            r.sample.com = if k % 13 == 5 {
+            // Single dropouts, and a 0.5 s run that stops the bank and
+            // restarts it at a sway extremum (`SwayRestart`).
+            r.sample.com = if k % 13 == 5 || (150..200).contains(&k) {
                 Default::default()
             } else {
                 b.sample.com
@@ -95,6 +97,13 @@ fn step_never_allocates() {
     estimators.push(Box::new(
         ImmContinuous::new(&library, ImmBslipParams::default()).unwrap(),
     ));
+    // Both, restarted after the gap at a sway extremum.
+    estimators.push(Box::new(SwayRestart::new(
+        ImmBslip::new(&library, ImmBslipParams::default()).unwrap(),
+    )));
+    estimators.push(Box::new(SwayRestart::new(
+        ImmContinuous::new(&library, ImmBslipParams::default()).unwrap(),
+    )));
     estimators.extend::<[Box<dyn Estimator>; 10]>([
         Box::new(GyroIntegration::new()),
         Box::new(AccelInclination::new()),

@@ -15,7 +15,7 @@ use nalgebra::Matrix6;
 
 /// One optimised gait and two dynamically similar ones (rescaled heights),
 /// so a 3-gait library costs one gait search.
-fn library() -> Vec<GaitTemplate> {
+pub fn library() -> Vec<GaitTemplate> {
     let body = BslipParams::default();
     let sim = StepSimulator::new(body);
     let g: LibraryGait = optimise_gait(
@@ -34,7 +34,7 @@ fn library() -> Vec<GaitTemplate> {
     ]
 }
 
-fn trial(t: &GaitTemplate, seconds: f64) -> Vec<Record> {
+pub fn trial(t: &GaitTemplate, seconds: f64) -> Vec<Record> {
     simulate_trial(
         t,
         &BslipTrialConfig {

@@ -17,6 +17,7 @@ mod issue_17_gain_kept_in_place;
 mod issue_18_fuzz;
 mod issue_18_fuzz_chain_knee;
 mod issue_18_gaps_in_shared_recordings;
+mod issue_18_imm_restart_after_gap;
 mod issue_18_missing_data;
 mod issue_18_partial_imu_cells;
 mod issue_19_long_trials;
