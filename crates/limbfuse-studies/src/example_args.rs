@@ -12,7 +12,7 @@ pub use crate::recorded_trial_args::{
 };
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 28] = [
+pub const EXAMPLES: [&str; 29] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -32,6 +32,7 @@ pub const EXAMPLES: [&str; 28] = [
     "gyro_shape_floor",
     "imm_bslip_study",
     "imm_continuous_study",
+    "imm_gap_study",
     "imm_offgrid_study",
     "knee_study",
     "recording_variant",
@@ -88,6 +89,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "gait_pelvis" => parse::<GaitPelvisArgs>(example, args),
         "imm_bslip_study" => parse::<ImmBslipStudyArgs>(example, args),
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
+        "imm_gap_study" => parse::<ImmGapStudyArgs>(example, args),
         "imm_offgrid_study" => parse::<ImmOffgridStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "recording_variant" => parse::<RecordingVariantArgs>(example, args),
@@ -335,6 +337,17 @@ pub struct ImmContinuousStudyArgs {
     pub long_duration: f64,
 }
 
+/// `imm_gap_study [--gap S] [--data DIR]`.
+#[derive(Debug, Parser)]
+pub struct ImmGapStudyArgs {
+    /// Length of each gap (s).
+    #[arg(long, default_value_t = 1.0, value_parser = positive_seconds)]
+    pub gap: f64,
+    /// The shared data directory.
+    #[arg(long, default_value = "../shared/data")]
+    pub data: String,
+}
+
 /// `imm_offgrid_study [SEEDS] [--speeds V,V,...] [--duration S]`.
 #[derive(Debug, Parser)]
 pub struct ImmOffgridStudyArgs {
@@ -359,6 +372,15 @@ fn non_negative(s: &str) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!("{v}: must be finite and >= 0"))
+    }
+}
+
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if v.is_finite() && v > 0.0 && v <= 5.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v}: must be in (0, 5] s"))
     }
 }
 

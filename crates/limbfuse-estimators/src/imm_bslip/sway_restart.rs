@@ -9,11 +9,12 @@
 //! empty CoM cells: 97 % -> 57 % phase accuracy, it never re-synchronised).
 //! [`SwayRestart`] wraps either configuration: after a gap (successive
 //! samples more than `max_gap` apart, or no measured CoM position for longer
-//! than `max_gap`) it outputs nothing, keeps the measured positions, and
-//! restarts the bank at the first lateral sway extremum (`sway_extremum`)
-//! on its side, replaying the positions since then. With no extremum in
-//! [`MAX_WAIT_S`] (a walker who does not sway) it restarts at the current
-//! sample on `first_side`, as before.
+//! than `max_gap`) it keeps the measured positions and restarts the bank at
+//! the first lateral sway extremum (`sway_extremum`) on its side, replaying
+//! the positions since then. Until then the output is the bare estimator's
+//! (it predicts through a run of empty cells and restarts on `first_side`
+//! after a gap in time), so no row loses its estimate; with no extremum in
+//! [`MAX_WAIT_S`] (a walker who does not sway) the bare estimator goes on.
 
 extern crate alloc;
 
@@ -110,8 +111,9 @@ impl<E: RestartOnSide> SwayRestart<E> {
         &self.inner
     }
 
-    /// While the bank is stopped: keep the position, restart at an
-    /// extremum (or after [`MAX_WAIT_S`]).
+    /// After a gap: the bare estimator's output (it predicts through, or
+    /// restarts on `first_side`), the positions kept, and the bank
+    /// restarted at the first sway extremum.
     fn wait(&mut self, sample: &Sample, since: f64) -> Result<Estimate, EstimatorError> {
         let max_gap = self.inner.max_gap();
         if self
@@ -122,7 +124,7 @@ impl<E: RestartOnSide> SwayRestart<E> {
             self.buffer.clear();
         }
         if !has_position(sample) {
-            return Ok(Estimate::empty(sample.t));
+            return self.inner.step(sample);
         }
         if self.buffer.len() == BUFFER {
             self.buffer.pop_front();
@@ -143,10 +145,11 @@ impl<E: RestartOnSide> SwayRestart<E> {
             return self.resume(ms.side, from);
         }
         if sample.t - since > MAX_WAIT_S {
-            let last = self.buffer.len() - 1;
-            return self.resume(self.inner.first_side(), last);
+            // No sway: the bare estimator goes on.
+            self.buffer.clear();
+            self.lost_since = None;
         }
-        Ok(Estimate::empty(sample.t))
+        self.inner.step(sample)
     }
 
     /// Restarts the bank on `side` at buffered sample `from` and replays
@@ -188,7 +191,7 @@ impl<E: RestartOnSide> Estimator for SwayRestart<E> {
         self.inner.describe_parameters(out)?;
         writeln!(
             out,
-            "restart after a gap: at the next lateral sway extremum ({WINDOW_S} s fit), else after {MAX_WAIT_S} s"
+            "restart after a gap: at the next lateral sway extremum ({WINDOW_S} s fit, within {MAX_WAIT_S} s)"
         )
     }
 

@@ -1,0 +1,196 @@
+//! `imm-bslip` after a gap in the CoM measurements: the bank restarted at
+//! the next lateral sway extremum on its side ([`SwayRestart`], the CLI's
+//! and Python's `imm-bslip`) against the bare estimators (a run of empty
+//! cells is predicted through; a gap in time restarts at the next position
+//! on `first_side`). Trials: the shared independent B-SLIP trials
+//! (`DATA/independent-sim/bslip-*.csv`, a 0.4-1.0 m/s library built for the
+//! body in their metadata) and 10 s trials of limbfuse's simulator at 0.5,
+//! 0.7 and 0.9 m/s (0.4-1.0 m/s library, default body, that gait held out
+//! for the paper configuration). Gaps of `--gap` s start at five instants
+//! 0.3 s apart from 3 s (different phases of the stride), as emptied
+//! `com_meas_*` cells and as removed rows. Reported over the rows after the
+//! gap: phase accuracy over the rows with an estimate, the share of rows
+//! with one, and the accuracy counting rows without one as wrong.
+//! `cargo run --release -p limbfuse-studies --example imm_gap_study -- [--gap S] [--data DIR]`
+
+use clap::Parser;
+use limbfuse_core::{Estimator, Record};
+use limbfuse_estimators::imm_bslip::{
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart,
+};
+use limbfuse_io::TrialReader;
+use limbfuse_methods::imm_body::trial_body;
+use limbfuse_models::bslip::{BslipParams, GaitTemplate};
+use limbfuse_sim::bslip::library::build_library;
+use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_studies::example_args::ImmGapStudyArgs;
+
+const SPEEDS: [f64; 7] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+
+fn library(body: &BslipParams, speeds: &[f64]) -> Vec<GaitTemplate> {
+    build_library(body, speeds, &SearchSettings::default(), |_, _| {})
+        .unwrap()
+        .iter()
+        .map(|g| g.template(body))
+        .collect()
+}
+
+/// `(config, restart, estimator)` for every configuration, bare and with
+/// the sway restart.
+fn estimators(
+    lib: &[GaitTemplate],
+    held_out: &[GaitTemplate],
+) -> Vec<(String, Box<dyn Estimator>)> {
+    let continuous = ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    };
+    let paper = ImmBslipParams::full_com();
+    let c = || ImmContinuous::new(lib, continuous).unwrap();
+    let p = || ImmBslip::new(held_out, paper).unwrap();
+    vec![
+        ("continuous, bare".into(), Box::new(c())),
+        (
+            "continuous, sway restart".into(),
+            Box::new(SwayRestart::new(c())),
+        ),
+        ("paper, bare".into(), Box::new(p())),
+        (
+            "paper, sway restart".into(),
+            Box::new(SwayRestart::new(p())),
+        ),
+    ]
+}
+
+/// The rows of `[a, b)` emptied of CoM measurements, or removed.
+fn gapped(records: &[Record], a: f64, b: f64, rows: bool) -> Vec<Record> {
+    let mut out = records.to_vec();
+    if rows {
+        out.retain(|r| !(a..b).contains(&r.sample.t));
+    } else {
+        for r in &mut out {
+            if (a..b).contains(&r.sample.t) {
+                r.sample.com = Default::default();
+            }
+        }
+    }
+    out
+}
+
+/// Over the rows from `from` s: (correct, with an estimate, all).
+fn score(est: &mut dyn Estimator, records: &[Record], from: f64) -> [usize; 3] {
+    let mut n = [0; 3];
+    for r in records {
+        let e = est.step(&r.sample).unwrap();
+        if r.sample.t >= from && r.reference.phase.is_some() {
+            n[2] += 1;
+            if e.phase.is_some() {
+                n[1] += 1;
+                n[0] += usize::from(e.phase == r.reference.phase);
+            }
+        }
+    }
+    n
+}
+
+fn study(name: &str, trial: &[Record], lib: &[GaitTemplate], held_out: &[GaitTemplate], gap: f64) {
+    println!("  {name}");
+    for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
+        let (mut ok, mut n) = (0, 0);
+        for start in [3.0, 3.3, 3.6, 3.9, 4.2] {
+            let mut est = estimators(lib, held_out).swap_remove(k).1;
+            let s = score(est.as_mut(), trial, start + gap);
+            ok += s[0];
+            n += s[2];
+        }
+        println!(
+            "    {:<13} {label:<25}: {:.1} %",
+            "no gap",
+            100.0 * ok as f64 / n.max(1) as f64
+        );
+    }
+    for rows in [false, true] {
+        for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
+            let mut sum = [0usize; 3];
+            for start in [3.0, 3.3, 3.6, 3.9, 4.2] {
+                let records = gapped(trial, start, start + gap, rows);
+                let mut est = estimators(lib, held_out).swap_remove(k).1;
+                let n = score(est.as_mut(), &records, start + gap);
+                sum.iter_mut().zip(n).for_each(|(s, n)| *s += n);
+            }
+            let pct = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+            println!(
+                "    {:<13} {label:<25}: {:.1} % of rows with an estimate ({:.1} % of rows have one; {:.1} % counting the others wrong)",
+                if rows { "rows removed" } else { "cells emptied" },
+                pct(sum[0], sum[1]),
+                pct(sum[1], sum[2]),
+                pct(sum[0], sum[2]),
+            );
+        }
+    }
+}
+
+fn main() {
+    let args = ImmGapStudyArgs::parse();
+    println!(
+        "imm-bslip after a {} s gap (five starts 3.0-4.2 s), rows after the gap",
+        args.gap
+    );
+    let body = BslipParams::default();
+    let default_lib = library(&body, &SPEEDS);
+    for speed in [0.5, 0.7, 0.9] {
+        let walker = *default_lib
+            .iter()
+            .find(|t| (t.speed - speed).abs() < 1e-9)
+            .unwrap();
+        let held_out: Vec<_> = default_lib
+            .iter()
+            .filter(|t| (t.speed - speed).abs() > 1e-9)
+            .copied()
+            .collect();
+        let cfg = BslipTrialConfig {
+            duration: 10.0,
+            ..Default::default()
+        };
+        let trial = simulate_trial(&walker, &cfg);
+        study(
+            &format!("limbfuse simulator, {speed} m/s, 80 kg / 1 m (paper: gait held out)"),
+            &trial,
+            &default_lib,
+            &held_out,
+            args.gap,
+        );
+    }
+    let dir = std::path::Path::new(&args.data).join("independent-sim");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        println!("  skipped the shared trials: {} not found", dir.display());
+        return;
+    };
+    let mut files: Vec<_> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("bslip-") && n.ends_with(".csv"))
+        })
+        .collect();
+    files.sort();
+    for path in files {
+        let mut reader = TrialReader::open(&path).unwrap();
+        let meta = reader.meta().clone();
+        let mut trial = Vec::new();
+        while let Some(r) = reader.next_record().unwrap() {
+            trial.push(r);
+        }
+        let tb = trial_body(None, None, &meta).unwrap();
+        let own_body = BslipParams {
+            mass: tb.mass.unwrap(),
+            rest_length: tb.leg_length.unwrap(),
+            gravity: tb.gravity,
+            ..body
+        };
+        let own = library(&own_body, &SPEEDS);
+        study(&path.display().to_string(), &trial, &own, &own, args.gap);
+    }
+}
