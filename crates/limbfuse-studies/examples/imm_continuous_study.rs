@@ -17,12 +17,10 @@
 use clap::Parser;
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
-use limbfuse_io::TrialReader;
-use limbfuse_methods::imm_body::{fit_library, trial_body};
+use limbfuse_methods::imm_body::fit_library;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
-use limbfuse_sim::bslip::library::build_library;
-use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_studies::bslip_trials::{independent_trials, library};
 use limbfuse_studies::example_args::{ImmContinuousStudyArgs, IMM_STUDY_SPEEDS};
 
 /// Phase accuracy (%), median speed (m/s) and CoM position RMS (cm).
@@ -49,14 +47,6 @@ fn run(est: &mut dyn Estimator, trial: &[Record]) -> (f64, f64, f64) {
         median,
         100.0 * (se / trial.len() as f64).sqrt(),
     )
-}
-
-fn library(body: &BslipParams, speeds: &[f64]) -> Vec<GaitTemplate> {
-    build_library(body, speeds, &SearchSettings::default(), |_, _| {})
-        .unwrap()
-        .iter()
-        .map(|g| g.template(body))
-        .collect()
 }
 
 fn estimators(lib: &[GaitTemplate]) -> [(&'static str, Box<dyn Estimator>); 2] {
@@ -132,40 +122,17 @@ fn main() {
     if args.long > 0 {
         long_trials(&default_lib, &speeds, args.long, args.long_duration);
     }
-    let dir = std::path::Path::new(&args.data).join("independent-sim");
-    let mut files: Vec<_> = match std::fs::read_dir(&dir) {
-        Ok(d) => d
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                p.file_name()
-                    .and_then(|n| n.to_str())
-                    .is_some_and(|n| n.starts_with("bslip-") && n.ends_with(".csv"))
-            })
-            .collect(),
-        Err(_) => {
-            println!("(2) skipped: {} not found", dir.display());
-            return;
-        }
+    let Some(trials) = independent_trials(std::path::Path::new(&args.data), body) else {
+        println!("(2) skipped: {}/independent-sim not found", args.data);
+        return;
     };
-    files.sort();
     println!("(2) independent B-SLIP trials, library {speeds:?} m/s");
-    for path in files {
-        let mut reader = TrialReader::open(&path).unwrap();
-        let meta = reader.meta().clone();
-        let mut trial = Vec::new();
-        while let Some(r) = reader.next_record().unwrap() {
-            trial.push(r);
-        }
+    for t in trials {
+        let (path, meta, trial, tb, own_body) =
+            (&t.path, &t.meta, &t.records, &t.body_source, t.body);
         let truth: f64 = meta.get("speed_true").unwrap().trim().parse().unwrap();
-        let tb = trial_body(None, None, &meta).unwrap();
-        let own_body = BslipParams {
-            mass: tb.mass.unwrap(),
-            rest_length: tb.leg_length.unwrap(),
-            gravity: tb.gravity,
-            ..body
-        };
         let own = library(&own_body, &speeds);
-        let (rescaled, note) = fit_library(default_lib.clone(), &tb).unwrap();
+        let (rescaled, note) = fit_library(default_lib.clone(), tb).unwrap();
         println!(
             "  {}: true speed {truth} m/s; body from {}: {} kg, l0 {} m",
             path.display(),
@@ -179,7 +146,7 @@ fn main() {
             ("default body, rescaled", &rescaled),
         ] {
             for (label, mut est) in estimators(lib) {
-                let (a, s, _) = run(est.as_mut(), &trial);
+                let (a, s, _) = run(est.as_mut(), trial);
                 println!(
                     "    {lib_label:<25} {label:<10}: phase accuracy {a:.1} %, median speed {s:.3} m/s (error {:+.3})",
                     s - truth

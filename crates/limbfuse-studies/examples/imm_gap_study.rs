@@ -18,23 +18,12 @@ use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::imm_bslip::{
     ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart,
 };
-use limbfuse_io::TrialReader;
-use limbfuse_methods::imm_body::trial_body;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
-use limbfuse_sim::bslip::library::build_library;
-use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_studies::bslip_trials::{independent_trials, library};
 use limbfuse_studies::example_args::ImmGapStudyArgs;
 
 const SPEEDS: [f64; 7] = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
-
-fn library(body: &BslipParams, speeds: &[f64]) -> Vec<GaitTemplate> {
-    build_library(body, speeds, &SearchSettings::default(), |_, _| {})
-        .unwrap()
-        .iter()
-        .map(|g| g.template(body))
-        .collect()
-}
 
 /// `(config, restart, estimator)` for every configuration, bare and with
 /// the sway restart.
@@ -162,35 +151,21 @@ fn main() {
             args.gap,
         );
     }
-    let dir = std::path::Path::new(&args.data).join("independent-sim");
-    let Ok(entries) = std::fs::read_dir(&dir) else {
-        println!("  skipped the shared trials: {} not found", dir.display());
+    let Some(trials) = independent_trials(std::path::Path::new(&args.data), body) else {
+        println!(
+            "  skipped the shared trials: {}/independent-sim not found",
+            args.data
+        );
         return;
     };
-    let mut files: Vec<_> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("bslip-") && n.ends_with(".csv"))
-        })
-        .collect();
-    files.sort();
-    for path in files {
-        let mut reader = TrialReader::open(&path).unwrap();
-        let meta = reader.meta().clone();
-        let mut trial = Vec::new();
-        while let Some(r) = reader.next_record().unwrap() {
-            trial.push(r);
-        }
-        let tb = trial_body(None, None, &meta).unwrap();
-        let own_body = BslipParams {
-            mass: tb.mass.unwrap(),
-            rest_length: tb.leg_length.unwrap(),
-            gravity: tb.gravity,
-            ..body
-        };
-        let own = library(&own_body, &SPEEDS);
-        study(&path.display().to_string(), &trial, &own, &own, args.gap);
+    for t in trials {
+        let own = library(&t.body, &SPEEDS);
+        study(
+            &t.path.display().to_string(),
+            &t.records,
+            &own,
+            &own,
+            args.gap,
+        );
     }
 }

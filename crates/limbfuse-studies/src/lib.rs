@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod baseline_study;
+pub mod bslip_trials;
 pub mod calibration_study;
 pub mod example_args;
 pub mod fes_plot;
