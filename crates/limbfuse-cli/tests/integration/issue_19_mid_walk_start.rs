@@ -123,3 +123,67 @@ fn issue_19_lowback_walk_cut_mid_walk() {
         );
     }
 }
+
+/// `imm-bslip --imm-config continuous` on the shared 0.85 m/s B-SLIP trial
+/// started mid-stride (its first 0.3 or 0.9 s removed). The bank starts at
+/// mid-stance on `first_side`, true of the uncut trial only; it never
+/// re-synchronised: 43.0 % and 35.9 % phase accuracy (uncut 97.2 %). It is
+/// now restarted at the first lateral sway extremum (docs/GAIT_IMM.md,
+/// "Restart after a gap"): 89.6 % and 90.3 %; the uncut trial keeps its
+/// 97.2 % (the bank agrees with the sway and goes on).
+#[test]
+fn issue_19_imm_continuous_on_a_bslip_trial_started_mid_stride() {
+    let Some(path) = shared_data("independent-sim/bslip-v0.85-s21.csv") else {
+        eprintln!("skipped: ../shared/data/independent-sim is absent");
+        return;
+    };
+    let src = std::fs::read_to_string(path).unwrap();
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    run_ok(
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.7:0.9:0.1",
+            "--leg-length",
+            "0.95",
+            "--mass",
+            "70",
+            "-o",
+            "lib.json",
+        ],
+        p,
+    );
+    let mut report = Vec::new();
+    let mut failed = false;
+    for (cut, target) in [(0.0, 96.0), (0.3, 88.0), (0.9, 88.0)] {
+        std::fs::write(p.join("variant.csv"), without_rows(&src, 0.0, cut)).unwrap();
+        run_ok(
+            &[
+                "estimate",
+                "--method",
+                "imm-bslip",
+                "--library",
+                "lib.json",
+                "--imm-config",
+                "continuous",
+                "variant.csv",
+                "-o",
+                "e.csv",
+            ],
+            p,
+        );
+        let v: serde_json::Value =
+            serde_json::from_slice(&run_ok(&["evaluate", "variant.csv", "e.csv", "--json"], p))
+                .unwrap();
+        let acc = v["phase_accuracy_pct"].as_f64().unwrap();
+        let bad = acc < target;
+        failed |= bad;
+        report.push(format!(
+            "first {cut} s removed: {acc:.1} % (target {target}){}",
+            if bad { "  <-- FAIL" } else { "" }
+        ));
+    }
+    assert!(!failed, "\n{}", report.join("\n"));
+}

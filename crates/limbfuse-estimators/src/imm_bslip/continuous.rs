@@ -82,6 +82,8 @@ struct StepTracker {
     vx_sum: (f64, usize),
     /// The family's gait the filters use.
     gait: GaitTemplate,
+    /// The last MS: time and stance side.
+    ms: Option<(f64, Side)>,
     /// The legs' stiffness from the weight support of the last stride.
     support: WeightSupport,
 }
@@ -102,6 +104,7 @@ impl StepTracker {
             measured: false,
             vx_sum: (0.0, 0),
             gait,
+            ms: None,
             support: WeightSupport::new(),
         }
     }
@@ -182,6 +185,11 @@ impl ImmContinuous {
         })
     }
 
+    /// The last mid-stance (MS): its time and the stance foot's side.
+    pub fn last_mid_stance(&self) -> Option<(f64, Side)> {
+        self.steps.ms
+    }
+
     /// The family's gait the filters use now.
     pub fn current_gait(&self) -> &GaitTemplate {
         &self.steps.gait
@@ -227,7 +235,7 @@ impl ImmContinuous {
         let s = self.start_side.sign();
         self.steps
             .place_feet([x[0], x[2] - s * self.steps.gait.gait.lateral]);
-        let _ = now;
+        self.steps.ms = Some((now, self.start_side));
     }
 
     /// After the ensemble update: the stance foot located by the mid-height
@@ -288,6 +296,7 @@ impl ImmContinuous {
         st.heights = (x[1], x[1]);
         st.crossings_at_ms = st.crossings.crossings();
         st.side = st.side.other();
+        st.ms = Some((now, st.side));
         st.step += 1;
         let mut foot = [st.leading[0], x[2] - st.side.sign() * st.gait.gait.lateral];
         if fix.is_some() {

@@ -228,6 +228,22 @@ impl ImmBslip {
         }
     }
 
+    /// The library gait with the largest summed weight.
+    fn dominant(&self) -> usize {
+        let mut w = [0.0; MAX_GAITS];
+        for m in &self.models {
+            w[m.gait] += m.w;
+        }
+        (0..self.templates.len())
+            .max_by(|&a, &b| w[a].total_cmp(&w[b]))
+            .unwrap_or(0)
+    }
+
+    /// The library's template with the largest summed weight.
+    pub fn dominant_gait(&self) -> &GaitTemplate {
+        &self.templates[self.dominant()]
+    }
+
     /// Ensemble covariance (eq 10) of the last sample.
     pub fn ensemble_covariance(&self) -> &Cov {
         &self.ensemble.1

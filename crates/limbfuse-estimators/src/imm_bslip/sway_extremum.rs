@@ -8,8 +8,13 @@
 //! same way (its extremes lie near MS).
 //!
 //! The extremum is found by a least-squares parabola
-//! `z(tau) = c0 + c1 tau + c2 tau^2` over the last [`WINDOW_S`] of measured
-//! positions (`tau` from the window's mid time). The sway is symmetric about
+//! `z(tau) = c0 + c1 tau + c2 tau^2` over the last window of measured
+//! positions (`tau` from the window's mid time), one step long
+//! ([`window_for_step`]): from one lateral zero crossing to the next, so it
+//! never spans two extremes, and as long as the step allows, because the
+//! curvature of a slow walk's sway stands out of the noise only over a long
+//! window (limbfuse's 0.5 m/s B-SLIP trial, paper 003 eq 15's 7 mm noise:
+//! t statistic about 1 over 0.5 s at MS). The sway is symmetric about
 //! its extremum, so the vertex `tau_v = -c1 / (2 c2)` of a fit centred on it
 //! is unbiased even where the sway is not a parabola. An extremum is
 //! reported when the curvature is significant (`|c2| / se(c2) >`
@@ -20,11 +25,18 @@
 use limbfuse_models::bslip::Side;
 use nalgebra::{Matrix3, Vector3};
 
-/// Length of the fitted window (s): half a stride of a fast walk (a stride
-/// lasts 1.0-1.6 s between 1.6 and 0.4 m/s), so the window never spans two
-/// extremes, and long enough that a 2 cm sway stands out of 7 mm noise
-/// (paper 003 eq 15's position variance 5e-5 m^2) at 100 Hz.
-pub const WINDOW_S: f64 = 0.5;
+/// Shortest and longest fitted window (s).
+pub const WINDOW_RANGE_S: (f64, f64) = (0.4, 1.2);
+
+/// The fitted window for a walk of step time `step_time` (s): one step,
+/// within [`WINDOW_RANGE_S`].
+pub fn window_for_step(step_time: f64) -> f64 {
+    if step_time.is_finite() {
+        step_time.clamp(WINDOW_RANGE_S.0, WINDOW_RANGE_S.1)
+    } else {
+        WINDOW_RANGE_S.0
+    }
+}
 
 /// Minimum t statistic of the curvature `c2`: three standard errors.
 pub const MIN_CURVATURE_T: f64 = 3.0;
@@ -69,23 +81,22 @@ fn fit(
     Some((c, (s2 * inv[(2, 2)]).sqrt()))
 }
 
-/// The MS at the middle of the window `samples` (time, lateral position;
-/// oldest first, ending now), if the window holds a significant extremum
-/// whose vertex has reached its middle. Samples older than [`WINDOW_S`]
-/// before the last are ignored.
-pub fn mid_stance_in<I>(samples: I) -> Option<SwayMidStance>
+/// The MS at the middle of the last `window` s of `samples` (time, lateral
+/// position; oldest first, ending now), if it holds a significant extremum
+/// whose vertex has reached its middle.
+pub fn mid_stance_in<I>(samples: I, window: f64) -> Option<SwayMidStance>
 where
     I: DoubleEndedIterator<Item = (f64, f64)> + Clone,
 {
     let (t_now, _) = samples.clone().next_back()?;
-    let start = t_now - WINDOW_S;
-    let window = samples.skip_while(move |&(t, _)| t < start);
-    let (t_first, _) = window.clone().next()?;
-    if t_now - t_first < 0.9 * WINDOW_S {
+    let start = t_now - window;
+    let last = samples.clone().skip_while(move |&(t, _)| t < start);
+    let (t_first, _) = last.clone().next()?;
+    if t_now - t_first < 0.9 * window {
         return None;
     }
     let t_mid = 0.5 * (t_first + t_now);
-    let (c, se) = fit(window, t_mid)?;
+    let (c, se) = fit(last, t_mid)?;
     let c2 = c[2];
     // A NaN fit (it cannot be: the samples are finite) is not significant.
     let significant = c2.abs() > MIN_CURVATURE_T * se;
@@ -94,8 +105,42 @@ where
     }
     let tau_v = -c[1] / (2.0 * c2);
     let half = 0.5 * (t_now - t_first);
-    (tau_v <= 0.0 && tau_v >= -0.5 * half).then_some(SwayMidStance {
-        t: t_mid + tau_v,
+    if !(tau_v <= 0.0 && tau_v >= -0.5 * half) {
+        return None;
+    }
+    // The window is centred on the vertex only when it is found at once; a
+    // weak curvature (a slow walk) is significant only later, with the
+    // vertex off the window's middle, where the sway's departure from a
+    // parabola biases it towards the middle. Refit centred on the vertex.
+    let mut t_v = t_mid + tau_v;
+    for _ in 0..4 {
+        let (a, b) = (t_v - 0.5 * window, t_v + 0.5 * window);
+        let centred = samples.clone().filter(move |&(t, _)| a <= t && t <= b);
+        let (Some((first, _)), Some((last, _))) =
+            (centred.clone().next(), centred.clone().next_back())
+        else {
+            break;
+        };
+        if first > a + 0.05 * window || last < b - 0.05 * window {
+            break;
+        }
+        let Some((c, _)) = fit(centred, t_v) else {
+            break;
+        };
+        if c[2] * c2 <= 0.0 {
+            break;
+        }
+        let step = -c[1] / (2.0 * c[2]);
+        if step.abs() > 0.25 * window {
+            break;
+        }
+        t_v += step;
+        if step.abs() < 1e-4 {
+            break;
+        }
+    }
+    Some(SwayMidStance {
+        t: t_v,
         side: if c2 > 0.0 { Side::Left } else { Side::Right },
     })
 }
@@ -103,6 +148,9 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The window of a fast walk's step.
+    const WINDOW: f64 = 0.5;
 
     /// `z = a cos(w (t - t0))` sampled at `rate` from `t_start` to `t_end`,
     /// plus the deterministic "noise" `noise(k)`.
@@ -125,7 +173,8 @@ mod tests {
 
     /// The first window, sliding sample by sample, that reports an MS.
     fn first_detection(s: &[(f64, f64)]) -> Option<(usize, SwayMidStance)> {
-        (1..=s.len()).find_map(|k| mid_stance_in(s[..k].iter().copied()).map(|m| (k - 1, m)))
+        (1..=s.len())
+            .find_map(|k| mid_stance_in(s[..k].iter().copied(), WINDOW).map(|m| (k - 1, m)))
     }
 
     #[test]
@@ -139,11 +188,7 @@ mod tests {
         // vertex only to a sample: 1 ms.
         assert!((m.t - 0.4).abs() < 1e-3, "{}", m.t);
         // Reported when the window's middle reaches the vertex.
-        assert!(
-            (s[k].0 - (0.4 + 0.5 * WINDOW_S)).abs() < 0.011,
-            "{}",
-            s[k].0
-        );
+        assert!((s[k].0 - (0.4 + 0.5 * WINDOW)).abs() < 0.011, "{}", s[k].0);
         // The next report is the minimum.
         let (_, next) = first_detection(&s[k + 1..]).unwrap();
         assert_eq!(next.side, Side::Left);

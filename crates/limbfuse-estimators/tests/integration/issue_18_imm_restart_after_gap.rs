@@ -149,3 +149,32 @@ fn issue_18_imm_without_sway_is_the_bare_estimator() {
     }
     assert!(records.last().unwrap().sample.t > 1.5 + MAX_WAIT_S);
 }
+
+#[test]
+fn issue_19_imm_synced_at_start_keeps_a_bank_in_step_with_the_sway() {
+    // The shared trial starts at mid-stance on the left foot, as the bank
+    // assumes: at the first sway extremum the bank agrees and goes on, so
+    // the output is the bare estimator's, bit for bit.
+    let Some(dir) = data_dir(&["independent-sim"]) else {
+        return;
+    };
+    let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
+    let body = BslipParams {
+        mass: 70.0,
+        rest_length: 0.95,
+        ..BslipParams::default()
+    };
+    let family: Vec<GaitTemplate> =
+        build_library(&body, &[0.8, 0.9], &SearchSettings::default(), |_, _| {})
+            .unwrap()
+            .iter()
+            .map(|g| g.template(&body))
+            .collect();
+    let params = ImmBslipParams::full_com();
+    let mut bare = ImmContinuous::new(&family, params).unwrap();
+    let mut synced = SwayRestart::synced_at_start(ImmContinuous::new(&family, params).unwrap());
+    for r in &records {
+        let e = synced.step(&r.sample).unwrap();
+        assert_eq!(e, bare.step(&r.sample).unwrap(), "t {}", r.sample.t);
+    }
+}
