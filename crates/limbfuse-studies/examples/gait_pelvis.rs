@@ -3,12 +3,15 @@
 //! position-only measurements (eqs 17-18), a 0.6-1.0 m/s library rescaled
 //! to the pelvis height at mid-stance (sec IV-B).
 //! `cargo run --release -p limbfuse-studies --example gait_pelvis -- [DATA_DIR] [--touchdown height|step-clock|mixed] [--continuous]`
-//! (`--continuous`: the issue-19 configuration, median speed estimate over
+//! (`--continuous`: the issue-19 configuration, bare and with the sway
+//! restart the CLI applies (`SwayRestart::synced_at_start`), median speed estimate over
 //! the second half of each part).
 
 use clap::Parser;
 use limbfuse_core::{Estimator, Sample};
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
+use limbfuse_estimators::imm_bslip::{
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart,
+};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -160,26 +163,36 @@ fn continuous(
         weights: ImmWeights::Recursive,
         ..ImmBslipParams::position_only()
     };
-    let mut imm = ImmContinuous::new(templates, params).unwrap();
-    let mut speeds = Vec::new();
-    for (i, q) in part.iter().enumerate() {
-        let mut sample = Sample::empty(i as f64 / fs);
-        let l = local(q);
-        sample.com.pos = [Some(l[0]), Some(l[1]), Some(l[2])];
-        let est = imm.step(&sample).unwrap();
-        if i >= part.len() / 2 {
-            speeds.extend(est.speed);
+    let bare = ImmContinuous::new(templates, params).unwrap();
+    let runs: [(&str, Box<dyn Estimator>); 2] = [
+        ("continuous", Box::new(bare.clone())),
+        (
+            "continuous, sway restart (as the CLI)",
+            Box::new(SwayRestart::synced_at_start(bare)),
+        ),
+    ];
+    for (config, mut imm) in runs {
+        let mut speeds = Vec::new();
+        for (i, q) in part.iter().enumerate() {
+            let mut sample = Sample::empty(i as f64 / fs);
+            let l = local(q);
+            sample.com.pos = [Some(l[0]), Some(l[1]), Some(l[2])];
+            let est = imm.step(&sample).unwrap();
+            if i >= part.len() / 2 {
+                speeds.extend(est.speed);
+            }
         }
+        speeds.sort_by(f64::total_cmp);
+        let median = speeds[speeds.len() / 2];
+        let (mid, last) = (part.len() / 2, part.len() - 1);
+        let second_half =
+            (local(&part[last])[0] - local(&part[mid])[0]) / ((last - mid) as f64 / fs);
+        println!(
+            "part {:.2}-{:.2} s, {label}, {config}: measured pelvis speed {measured:.3} m/s (second half {second_half:.3}); second half: median speed estimate {median:.3} m/s (error {:+.3}; {:+.3} against the second half)",
+            s as f64 / fs,
+            e as f64 / fs,
+            median - measured,
+            median - second_half
+        );
     }
-    speeds.sort_by(f64::total_cmp);
-    let median = speeds[speeds.len() / 2];
-    let (mid, last) = (part.len() / 2, part.len() - 1);
-    let second_half = (local(&part[last])[0] - local(&part[mid])[0]) / ((last - mid) as f64 / fs);
-    println!(
-        "part {:.2}-{:.2} s, {label}, continuous: measured pelvis speed {measured:.3} m/s (second half {second_half:.3}); second half: median speed estimate {median:.3} m/s (error {:+.3}; {:+.3} against the second half)",
-        s as f64 / fs,
-        e as f64 / fs,
-        median - measured,
-        median - second_half
-    );
 }

@@ -1,5 +1,5 @@
 //! Mid-stance and its side from the CoM's lateral sway (ours, not in paper
-//! 003; docs/GAIT_IMM.md, "Restart after a gap").
+//! 003; docs/GAIT_IMM.md, "Restart after a gap or a mid-stride start").
 //!
 //! In walking the CoM sways over the stance foot: the lateral position `z`
 //! (SPEC: z right) is furthest left at mid-stance (MS) on the left foot and

@@ -1,17 +1,20 @@
-//! Restarting the IMM after a gap at the next mid-stance, on the side the
-//! CoM sways to (ours, not in paper 003; docs/GAIT_IMM.md, "Restart after a
-//! gap").
+//! Restarting the IMM at the next mid-stance, on the side the CoM sways
+//! to, after a gap or a mid-stride start (ours, not in paper 003;
+//! docs/GAIT_IMM.md, "Restart after a gap or a mid-stride start").
 //!
 //! The bank starts at mid-stance (MS) of SS1 on `first_side` (paper 003's
-//! simulated trials start there). That holds at a trial's start, and only
-//! by chance after a gap: restarted at the first position after a gap, the
-//! bank tracked the wrong foot (shared 0.85 m/s B-SLIP trial, one second of
-//! empty CoM cells: 97 % -> 57 % phase accuracy, it never re-synchronised).
-//! [`SwayRestart`] wraps either configuration: after a gap (successive
-//! samples more than `max_gap` apart, or no measured CoM position for longer
-//! than `max_gap`) it keeps the measured positions and restarts the bank at
-//! the first lateral sway extremum (`sway_extremum`) on its side, replaying
-//! the positions since then. Until then the output is the bare estimator's
+//! simulated trials start there). That holds at such a trial's start, and
+//! only by chance after a gap or in a recording that starts anywhere in the
+//! stride: the bank then tracks the wrong foot and never re-synchronises
+//! (shared 0.85 m/s B-SLIP trial, one second of empty CoM cells: 97 % ->
+//! 57 % phase accuracy; its first 0.9 s removed: 36 %). [`SwayRestart`]
+//! wraps either configuration: after a gap (successive samples more than
+//! `max_gap` apart, or no measured CoM position for longer than `max_gap`),
+//! and with [`SwayRestart::synced_at_start`] from the first sample, it
+//! keeps the measured positions and restarts the bank at the first lateral
+//! sway extremum (`sway_extremum`) on its side, replaying the positions
+//! since then, unless the bank's own last MS agrees with the extremum
+//! ([`MS_AGREEMENT_STEPS`]). Until then the output is the bare estimator's
 //! (it predicts through a run of empty cells and restarts on `first_side`
 //! after a gap in time), so no row loses its estimate; with no extremum in
 //! [`MAX_WAIT_S`] (a walker who does not sway) the bare estimator goes on.
@@ -34,7 +37,7 @@ pub const MAX_WAIT_S: f64 = 2.5;
 
 /// How far the bare bank's last mid-stance may lie from the sway
 /// extremum's, on the same side, for the bank to go on without a restart:
-/// this fraction of the step time. The bare continuous bank's MS lies 5-9 %
+/// this fraction of the step time. The bare continuous bank's MS lies 2-6 %
 /// of a step after the true one on the shared B-SLIP trials (its MS is the
 /// CoM passing over the located foot); a bank started at the wrong instant
 /// is off by the offset of its start. A restart is not free: the tracker
