@@ -78,7 +78,7 @@ fn fit(
     // Residual sum of squares: z'z - c' X'z.
     let rss = (zz - c.dot(&xtz)).max(0.0);
     let s2 = rss / (n - 3) as f64;
-    Some((c, (s2 * inv[(2, 2)]).sqrt()))
+    Some((c, libm::sqrt(s2 * inv[(2, 2)])))
 }
 
 /// The MS at the middle of the last `window` s of `samples` (time, lateral
