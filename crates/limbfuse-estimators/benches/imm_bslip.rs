@@ -10,7 +10,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use limbfuse_core::Estimator;
-use limbfuse_estimators::imm_bslip::{ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights};
+use limbfuse_estimators::imm_bslip::{
+    ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart,
+};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -54,6 +56,18 @@ fn bench(c: &mut Criterion) {
     g.bench_function("continuous", |b| {
         b.iter(|| {
             let mut e = ImmContinuous::new(&held_out, continuous).unwrap();
+            let mut acc = 0.0;
+            for r in &records {
+                acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);
+            }
+            black_box(acc)
+        })
+    });
+    // As the CLI builds it: restarted at the first sway extremum after the
+    // start (the fit runs on every sample until then) and after gaps.
+    g.bench_function("continuous_sway_restart", |b| {
+        b.iter(|| {
+            let mut e = SwayRestart::new(ImmContinuous::new(&held_out, continuous).unwrap());
             let mut acc = 0.0;
             for r in &records {
                 acc += e.step(&r.sample).unwrap().speed.unwrap_or(0.0);

@@ -301,7 +301,7 @@ pub fn build_over(
         ImmConfig::Paper => Box::new(SwayRestart::new(
             ImmBslip::new(templates, params).map_err(err)?,
         )),
-        ImmConfig::Continuous => Box::new(SwayRestart::synced_at_start(
+        ImmConfig::Continuous => Box::new(SwayRestart::new(
             ImmContinuous::new(templates, params).map_err(err)?,
         )),
     })

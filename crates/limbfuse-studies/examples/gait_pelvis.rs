@@ -4,7 +4,7 @@
 //! to the pelvis height at mid-stance (sec IV-B).
 //! `cargo run --release -p limbfuse-studies --example gait_pelvis -- [DATA_DIR] [--touchdown height|step-clock|mixed] [--continuous]`
 //! (`--continuous`: the issue-19 configuration, bare and with the sway
-//! restart the CLI applies (`SwayRestart::synced_at_start`), median speed estimate over
+//! restart the CLI applies (`SwayRestart`), median speed estimate over
 //! the second half of each part).
 
 use clap::Parser;
@@ -168,7 +168,7 @@ fn continuous(
         ("continuous", Box::new(bare.clone())),
         (
             "continuous, sway restart (as the CLI)",
-            Box::new(SwayRestart::synced_at_start(bare)),
+            Box::new(SwayRestart::new(bare)),
         ),
     ];
     for (config, mut imm) in runs {

@@ -13,7 +13,7 @@
 //! with one, and the accuracy counting rows without one as wrong. And the
 //! whole trial started mid-stride (its first 0.15-0.9 s removed): the
 //! continuous configuration is also restarted at the first sway extremum
-//! after the start (`SwayRestart::synced_at_start`, as the CLI builds it),
+//! after the start (`SwayRestart`, as the CLI builds it),
 //! the paper configuration keeps the paper's start.
 //! `cargo run --release -p limbfuse-studies --example imm_gap_study -- [--gap S] [--data DIR]`
 
@@ -46,7 +46,7 @@ fn estimators(
         ("continuous, bare".into(), Box::new(c())),
         (
             "continuous, sway restart".into(),
-            Box::new(SwayRestart::synced_at_start(c())),
+            Box::new(SwayRestart::new(c())),
         ),
         ("paper, bare".into(), Box::new(p())),
         (

@@ -10,7 +10,7 @@
 //! 57 % phase accuracy; its first 0.9 s removed: 36 %). [`SwayRestart`]
 //! wraps either configuration: after a gap (successive samples more than
 //! `max_gap` apart, or no measured CoM position for longer than `max_gap`),
-//! and with [`SwayRestart::synced_at_start`] from the first sample, it
+//! and with [`SwayRestart`] from the first sample, it
 //! keeps the measured positions and restarts the bank at the first lateral
 //! sway extremum (`sway_extremum`) on its side, replaying the positions
 //! since then, unless the bank's own last MS agrees with the extremum
@@ -44,7 +44,7 @@ pub const MAX_WAIT_S: f64 = 2.5;
 /// measures step length and leg stiffness anew.
 pub const MS_AGREEMENT_STEPS: f64 = 0.15;
 
-/// Measured positions kept while waiting: the longest window up to 1.7 kHz.
+/// Most positions kept: [`KEPT_S`] up to 1.1 kHz.
 const BUFFER: usize = 2048;
 
 /// An IMM that can restart at MS of SS1 on a given side.
@@ -58,8 +58,13 @@ pub trait RestartOnSide: Estimator {
     fn first_side(&self) -> Side;
     /// The step time (s) of the gait the bank tracks.
     fn step_time(&self) -> f64;
-    /// The time of the bank's last mid-stance and its stance side, if it
-    /// keeps one.
+    /// Whether the bank keeps its own mid-stance ([`Self::last_mid_stance`]):
+    /// then it is checked against the sway all along (from the start, and
+    /// while tracking), else only restarted after a gap.
+    fn keeps_mid_stance(&self) -> bool {
+        false
+    }
+    /// The time of the bank's last mid-stance and its stance side.
     fn last_mid_stance(&self) -> Option<(f64, Side)> {
         None
     }
@@ -105,6 +110,10 @@ impl RestartOnSide for ImmContinuous {
         self.inner.params.first_side
     }
 
+    fn keeps_mid_stance(&self) -> bool {
+        true
+    }
+
     fn last_mid_stance(&self) -> Option<(f64, Side)> {
         self.last_mid_stance()
     }
@@ -114,7 +123,7 @@ impl RestartOnSide for ImmContinuous {
     }
 }
 
-/// `E`, restarted after a gap at the next sway extremum (module docs).
+/// `E`, restarted at a sway extremum (module docs).
 #[derive(Debug, Clone)]
 pub struct SwayRestart<E> {
     inner: E,
@@ -125,11 +134,14 @@ pub struct SwayRestart<E> {
     last_position: Option<f64>,
     /// Since when the bank has been stopped (a gap), if it is.
     lost_since: Option<f64>,
-    /// Measured positions since the gap (time, CoM), oldest first.
+    /// Recent measured positions (time, CoM), oldest first: since the last
+    /// extremum, at most [`KEPT_S`].
     buffer: VecDeque<(f64, ComMeasurement)>,
-    /// Whether the start is treated as a gap ([`SwayRestart::synced_at_start`]).
-    sync_at_start: bool,
 }
+
+/// Positions older than this before the newest are dropped (s): more than
+/// the longest fit window.
+const KEPT_S: f64 = 1.5 * WINDOW_RANGE_S.1;
 
 impl<E: RestartOnSide> SwayRestart<E> {
     /// Wraps `inner`.
@@ -141,18 +153,6 @@ impl<E: RestartOnSide> SwayRestart<E> {
             last_position: None,
             lost_since: None,
             buffer: VecDeque::with_capacity(BUFFER),
-            sync_at_start: false,
-        }
-    }
-
-    /// Wraps `inner`, and treats the start of a recording as a gap too: the
-    /// bank starts as `inner` does (MS of SS1 on `first_side`) and restarts
-    /// at the first sway extremum, so a recording may start anywhere in the
-    /// stride.
-    pub fn synced_at_start(inner: E) -> Self {
-        SwayRestart {
-            sync_at_start: true,
-            ..Self::new(inner)
         }
     }
 
@@ -161,24 +161,24 @@ impl<E: RestartOnSide> SwayRestart<E> {
         &self.inner
     }
 
-    /// After a gap: the bare estimator's output (it predicts through, or
-    /// restarts on `first_side`), the positions kept, and the bank
-    /// restarted at the first sway extremum.
-    fn wait(&mut self, sample: &Sample, since: f64) -> Result<Estimate, EstimatorError> {
-        let max_gap = self.inner.max_gap();
+    /// Keeps the position of `sample` (with the bank's output `bare` for
+    /// it) and looks for a sway extremum: the bank goes on if its own MS
+    /// agrees, else it is restarted there. While lost, after [`MAX_WAIT_S`]
+    /// without an extremum the bare estimator goes on.
+    fn observe(&mut self, sample: &Sample, bare: Estimate) -> Result<Estimate, EstimatorError> {
         if self
             .buffer
             .back()
-            .is_some_and(|&(t, _)| sample.t - t > max_gap)
+            .is_some_and(|&(t, _)| sample.t - t > self.inner.max_gap())
         {
             self.buffer.clear();
         }
-        if !has_position(sample) {
-            return self.inner.step(sample);
-        }
-        self.last_position = Some(sample.t);
-        let bare = self.inner.step(sample)?;
-        if self.buffer.len() == BUFFER {
+        while self.buffer.len() == BUFFER
+            || self
+                .buffer
+                .front()
+                .is_some_and(|&(t, _)| sample.t - t > KEPT_S)
+        {
             self.buffer.pop_front();
         }
         self.buffer.push_back((sample.t, sample.com));
@@ -186,16 +186,8 @@ impl<E: RestartOnSide> SwayRestart<E> {
             .buffer
             .iter()
             .map(|&(t, c)| (t, c.pos[2].unwrap_or(0.0)));
-        if let Some(ms) = mid_stance_in(sway, window_for_step(self.inner.step_time())) {
-            if let Some((t, side)) = self.inner.last_mid_stance() {
-                let step = self.inner.step_time();
-                if side == ms.side && (t - ms.t).abs() <= MS_AGREEMENT_STEPS * step {
-                    // The bare bank is in step with the sway: it goes on.
-                    self.buffer.clear();
-                    self.lost_since = None;
-                    return Ok(bare);
-                }
-            }
+        let step = self.inner.step_time();
+        if let Some(ms) = mid_stance_in(sway, window_for_step(step)) {
             let last = self.buffer.len() - 1;
             let from = self.buffer.partition_point(|&(t, _)| t < ms.t).min(last);
             // The buffered sample nearer to the extremum.
@@ -203,9 +195,22 @@ impl<E: RestartOnSide> SwayRestart<E> {
                 Some(before) if ms.t - self.buffer[before].0 < self.buffer[from].0 - ms.t => before,
                 _ => from,
             };
+            let agrees = self.inner.last_mid_stance().is_some_and(|(t, side)| {
+                side == ms.side && (t - ms.t).abs() <= MS_AGREEMENT_STEPS * step
+            });
+            if agrees {
+                // The bank is in step with the sway: it goes on. This
+                // extremum is not looked at again.
+                self.buffer.drain(..=from);
+                self.lost_since = None;
+                return Ok(bare);
+            }
             return self.resume(ms.side, from);
         }
-        if sample.t - since > MAX_WAIT_S {
+        if self
+            .lost_since
+            .is_some_and(|since| sample.t - since > MAX_WAIT_S)
+        {
             // No sway: the bare estimator goes on.
             self.buffer.clear();
             self.lost_since = None;
@@ -227,7 +232,7 @@ impl<E: RestartOnSide> SwayRestart<E> {
             last = Some(self.inner.step(&sample)?);
             self.last_position = Some(t);
         }
-        self.buffer.clear();
+        self.buffer.drain(..=from);
         self.lost_since = None;
         last.ok_or(EstimatorError::NonFinite {
             channel: "com_meas_z",
@@ -252,14 +257,14 @@ impl<E: RestartOnSide> Estimator for SwayRestart<E> {
         self.inner.describe_parameters(out)?;
         writeln!(
             out,
-            "restart {}: at the next lateral sway extremum (fit over a step, {}-{} s, within {MAX_WAIT_S} s)",
-            if self.sync_at_start {
-                "at the start and after a gap"
+            "sway restart: at a lateral sway extremum (fit over a step, {}-{} s) {}",
+            WINDOW_RANGE_S.0,
+            WINDOW_RANGE_S.1,
+            if self.inner.keeps_mid_stance() {
+                "where the bank's own mid-stance disagrees with it, from the start"
             } else {
                 "after a gap"
-            },
-            WINDOW_RANGE_S.0,
-            WINDOW_RANGE_S.1
+            }
         )
     }
 
@@ -286,10 +291,7 @@ impl<E: RestartOnSide> Estimator for SwayRestart<E> {
         }
         let max_gap = self.inner.max_gap();
         let position = has_position(sample);
-        if self.sync_at_start && position && self.last_position.is_none() {
-            self.lost_since = Some(sample.t);
-            self.buffer.clear();
-        } else if self.lost_since.is_none() && self.last_position.is_some() {
+        if self.lost_since.is_none() && self.last_position.is_some() {
             let gap = previous.is_some_and(|p| sample.t - p > max_gap);
             let stale = !position && self.last_position.is_some_and(|p| sample.t - p > max_gap);
             if gap || stale {
@@ -297,13 +299,15 @@ impl<E: RestartOnSide> Estimator for SwayRestart<E> {
                 self.buffer.clear();
             }
         }
-        if let Some(since) = self.lost_since {
-            return self.wait(sample, since);
+        let bare = self.inner.step(sample)?;
+        if !position {
+            return Ok(bare);
         }
-        let e = self.inner.step(sample)?;
-        if position {
-            self.last_position = Some(sample.t);
+        self.last_position = Some(sample.t);
+        if self.lost_since.is_some() || self.inner.keeps_mid_stance() {
+            self.observe(sample, bare)
+        } else {
+            Ok(bare)
         }
-        Ok(e)
     }
 }
