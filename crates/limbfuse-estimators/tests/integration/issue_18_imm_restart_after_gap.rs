@@ -187,12 +187,16 @@ fn issue_19_imm_continuous_drifting_at_0_4_m_s_is_brought_back_by_the_sway() {
     // 0.4-1.0 m/s library; 69.6 % phase accuracy). Checked against the
     // sway all along, it is restarted when it disagrees.
     let body = BslipParams::default();
-    let family: Vec<GaitTemplate> =
-        build_library(&body, &[0.4, 0.5, 0.6], &SearchSettings::default(), |_, _| {})
-            .unwrap()
-            .iter()
-            .map(|g| g.template(&body))
-            .collect();
+    let family: Vec<GaitTemplate> = build_library(
+        &body,
+        &[0.4, 0.5, 0.6],
+        &SearchSettings::default(),
+        |_, _| {},
+    )
+    .unwrap()
+    .iter()
+    .map(|g| g.template(&body))
+    .collect();
     let walker = family[0];
     let records: Vec<Record> = trial(&walker, 10.0)
         .into_iter()
@@ -203,7 +207,11 @@ fn issue_19_imm_continuous_drifting_at_0_4_m_s_is_brought_back_by_the_sway() {
         ..ImmBslipParams::full_com()
     };
     let from = records[0].sample.t;
-    let (bare, _) = score(&mut ImmContinuous::new(&family, params).unwrap(), &records, from);
+    let (bare, _) = score(
+        &mut ImmContinuous::new(&family, params).unwrap(),
+        &records,
+        from,
+    );
     let (checked, _) = score(
         &mut SwayRestart::new(ImmContinuous::new(&family, params).unwrap()),
         &records,
