@@ -71,6 +71,29 @@ fn gapped(records: &[Record], a: f64, b: f64, rows: bool) -> Vec<Record> {
     out
 }
 
+/// `records` walking `deg` degrees off the x axis (CoM measurements turned
+/// about the vertical; the unmeasured lateral velocity stays unmeasured).
+fn turned(records: &[Record], deg: f64) -> Vec<Record> {
+    let (s, c) = deg.to_radians().sin_cos();
+    let mut out = records.to_vec();
+    for r in &mut out {
+        let com = &mut r.sample.com;
+        if let (Some(x), Some(z)) = (com.pos[0], com.pos[2]) {
+            com.pos[0] = Some(x * c - z * s);
+            com.pos[2] = Some(x * s + z * c);
+        }
+        match (com.vel[0], com.vel[2]) {
+            (Some(vx), Some(vz)) => {
+                com.vel[0] = Some(vx * c - vz * s);
+                com.vel[2] = Some(vx * s + vz * c);
+            }
+            (Some(vx), None) => com.vel[0] = Some(vx * c),
+            _ => {}
+        }
+    }
+    out
+}
+
 /// Over the rows from `from` s: (correct, with an estimate, all).
 fn score(est: &mut dyn Estimator, records: &[Record], from: f64) -> [usize; 3] {
     let mut n = [0; 3];
@@ -115,6 +138,24 @@ fn study(name: &str, trial: &[Record], lib: &[GaitTemplate], held_out: &[GaitTem
         println!(
             "    {:<13} {label:<25}: {} % (first 0.15, 0.3, ..., 0.9 s removed)",
             "mid-stride",
+            acc.iter()
+                .map(|a| format!("{a:.1}"))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        );
+    }
+    for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
+        // Walking off the x axis: the whole trial turned by 1, 2, 5 deg.
+        let mut acc = Vec::new();
+        for deg in [1.0, 2.0, 5.0] {
+            let records = turned(trial, deg);
+            let mut est = estimators(lib, held_out).swap_remove(k).1;
+            let n = score(est.as_mut(), &records, 0.0);
+            acc.push(100.0 * n[0] as f64 / n[2].max(1) as f64);
+        }
+        println!(
+            "    {:<13} {label:<25}: {} % (turned 1, 2, 5 deg)",
+            "heading",
             acc.iter()
                 .map(|a| format!("{a:.1}"))
                 .collect::<Vec<_>>()

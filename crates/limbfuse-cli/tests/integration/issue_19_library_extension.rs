@@ -52,7 +52,8 @@ fn phase_accuracy(trial: &str, est: &str, dir: &Path) -> f64 {
 /// A 0.7 m/s walker below a 0.9-1.0 m/s library: with the extension the
 /// family gets 0.8 / 0.7 (/ 0.6: the estimated mean is 0.69) m/s gaits and
 /// the phase is >= 90 % right; without it (`--imm-extend-library off`, the
-/// note) far less (measured 96.8 % and 75.6 %). The extension is
+/// note) far less (measured 96.8 % and 75.6 %; 80.0 % since the bank is
+/// checked against the CoM's sway, docs/GAIT_IMM.md). The extension is
 /// deterministic, and a trial inside the range gets the same estimate with
 /// the extension on and off.
 #[test]
@@ -82,7 +83,10 @@ fn issue_19_a_trial_below_the_library_gets_the_missing_gaits() {
         "{said_off}"
     );
     let without = phase_accuracy("slow.csv", "off.csv", p);
-    assert!(with >= 90.0 && without < 80.0, "{with} % / {without} %");
+    assert!(
+        with >= 90.0 && with - without >= 10.0,
+        "{with} % / {without} %"
+    );
     // Same input, same output, search included.
     let (_, again) = estimate("slow.csv", "", "on.csv", p);
     assert!(again == extended, "the extension is deterministic");

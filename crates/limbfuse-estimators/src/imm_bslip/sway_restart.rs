@@ -49,8 +49,8 @@ pub const MAX_WAIT_S: f64 = 2.5;
 /// measures step length and leg stiffness anew.
 pub const MS_AGREEMENT_STEPS: f64 = 0.15;
 
-/// Most positions kept: [`KEPT_S`] up to 1.1 kHz.
-const BUFFER: usize = 2048;
+/// Most positions kept: [`KEPT_S`] up to 1.5 kHz.
+const BUFFER: usize = 4096;
 
 /// An IMM that can restart at MS of SS1 on a given side.
 pub trait RestartOnSide: Estimator {
@@ -139,14 +139,49 @@ pub struct SwayRestart<E> {
     last_position: Option<f64>,
     /// Since when the bank has been stopped (a gap), if it is.
     lost_since: Option<f64>,
-    /// Recent measured positions (time, CoM), oldest first: since the last
-    /// extremum, at most [`KEPT_S`].
+    /// Recent measured positions (time, CoM), oldest first: at most
+    /// [`KEPT_S`].
     buffer: VecDeque<(f64, ComMeasurement)>,
+    /// The last extremum looked at (s).
+    last_extremum: Option<f64>,
 }
 
-/// Positions older than this before the newest are dropped (s): more than
-/// the longest fit window.
-const KEPT_S: f64 = 1.5 * WINDOW_RANGE_S.1;
+/// Positions older than this before the newest are dropped (s): a stride of
+/// the longest fit window (the lateral drift) and a margin.
+const KEPT_S: f64 = 2.0 * WINDOW_RANGE_S.1 + 0.2;
+
+/// Each end of the stride over which the lateral drift is measured is the
+/// mean position over this long (s).
+const DRIFT_END_S: f64 = 0.05;
+
+/// The lateral drift (m/s) of `buffer` (time, CoM; oldest first) over the
+/// stride `stride` (s) before `now`: the CoM's mean lateral velocity, which
+/// walking off the x axis makes non-zero (1 m/s at 2 deg: 0.035 m/s) and
+/// which would move the sway's vertex by `drift / z''` (0.07 s at a
+/// curvature of 0.5 m/s^2). Over one stride the sway itself returns.
+/// `None` until a stride is kept.
+fn lateral_drift(buffer: &VecDeque<(f64, ComMeasurement)>, now: f64, stride: f64) -> Option<f64> {
+    let mean = |a: f64, b: f64| {
+        let (sum, n) = buffer
+            .iter()
+            .filter(|&&(t, _)| a <= t && t <= b)
+            .fold((0.0, 0usize), |(s, n), (_, c)| {
+                (s + c.pos[2].unwrap_or(0.0), n + 1)
+            });
+        (n > 0).then(|| sum / n as f64)
+    };
+    let covered = buffer
+        .front()
+        .is_some_and(|&(t, _)| t <= now - stride - DRIFT_END_S);
+    match (
+        covered,
+        mean(now - DRIFT_END_S, now),
+        mean(now - stride - DRIFT_END_S, now - stride),
+    ) {
+        (true, Some(z1), Some(z0)) => Some((z1 - z0) / stride),
+        _ => None,
+    }
+}
 
 impl<E: RestartOnSide> SwayRestart<E> {
     /// Wraps `inner`.
@@ -158,6 +193,7 @@ impl<E: RestartOnSide> SwayRestart<E> {
             last_position: None,
             lost_since: None,
             buffer: VecDeque::with_capacity(BUFFER),
+            last_extremum: None,
         }
     }
 
@@ -187,12 +223,22 @@ impl<E: RestartOnSide> SwayRestart<E> {
             self.buffer.pop_front();
         }
         self.buffer.push_back((sample.t, sample.com));
+        let step = self.inner.step_time();
+        let now = sample.t;
+        // Until a stride is kept the drift is unknown and taken as zero: a
+        // looser agreement then (tried: 0.35 of a step) or no check at all
+        // keeps a bank started mid-stride for a stride longer, which costs
+        // more on mid-stride starts than the rare false restart of a bank
+        // walking 5 deg off the x axis (docs/RESULTS.md).
+        let drift = lateral_drift(&self.buffer, now, 2.0 * step).unwrap_or(0.0);
         let sway = self
             .buffer
             .iter()
-            .map(|&(t, c)| (t, c.pos[2].unwrap_or(0.0)));
-        let step = self.inner.step_time();
-        if let Some(ms) = mid_stance_in(sway, window_for_step(step)) {
+            .map(|&(t, c)| (t, c.pos[2].unwrap_or(0.0) - drift * (t - now)));
+        let found = mid_stance_in(sway, window_for_step(step))
+            .filter(|ms| !self.last_extremum.is_some_and(|e| ms.t - e < 0.5 * step));
+        if let Some(ms) = found {
+            self.last_extremum = Some(ms.t);
             let last = self.buffer.len() - 1;
             let from = self.buffer.partition_point(|&(t, _)| t < ms.t).min(last);
             // The buffered sample nearer to the extremum.
@@ -203,11 +249,9 @@ impl<E: RestartOnSide> SwayRestart<E> {
             let agrees = self.inner.last_mid_stance().is_some_and(|(t, side)| {
                 side == ms.side && (t - ms.t).abs() <= MS_AGREEMENT_STEPS * step
             });
+            self.lost_since = None;
             if agrees {
-                // The bank is in step with the sway: it goes on. This
-                // extremum is not looked at again.
-                self.buffer.drain(..=from);
-                self.lost_since = None;
+                // The bank is in step with the sway: it goes on.
                 return Ok(bare);
             }
             return self.resume(ms.side, from);
@@ -237,8 +281,6 @@ impl<E: RestartOnSide> SwayRestart<E> {
             last = Some(self.inner.step(&sample)?);
             self.last_position = Some(t);
         }
-        self.buffer.drain(..=from);
-        self.lost_since = None;
         last.ok_or(EstimatorError::NonFinite {
             channel: "com_meas_z",
         })
@@ -284,6 +326,7 @@ impl<E: RestartOnSide> Estimator for SwayRestart<E> {
         self.last_position = None;
         self.lost_since = None;
         self.buffer.clear();
+        self.last_extremum = None;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
