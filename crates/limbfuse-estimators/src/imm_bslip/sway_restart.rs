@@ -162,9 +162,10 @@ const DRIFT_END_S: f64 = 0.05;
 /// `None` until a stride is kept.
 fn lateral_drift(buffer: &VecDeque<(f64, ComMeasurement)>, now: f64, stride: f64) -> Option<f64> {
     let mean = |a: f64, b: f64| {
+        let from = buffer.partition_point(|&(t, _)| t < a);
+        let to = buffer.partition_point(|&(t, _)| t <= b);
         let (sum, n) = buffer
-            .iter()
-            .filter(|&&(t, _)| a <= t && t <= b)
+            .range(from..to.max(from))
             .fold((0.0, 0usize), |(s, n), (_, c)| {
                 (s + c.pos[2].unwrap_or(0.0), n + 1)
             });
@@ -231,11 +232,17 @@ impl<E: RestartOnSide> SwayRestart<E> {
         // more on mid-stride starts than the rare false restart of a bank
         // walking 5 deg off the x axis (docs/RESULTS.md).
         let drift = lateral_drift(&self.buffer, now, 2.0 * step).unwrap_or(0.0);
+        let window = window_for_step(step);
+        // The fit looks at the last window (and, centred on a vertex found
+        // there, at most half a window before it).
+        let first = self
+            .buffer
+            .partition_point(|&(t, _)| t < now - 1.5 * window);
         let sway = self
             .buffer
-            .iter()
+            .range(first..)
             .map(|&(t, c)| (t, c.pos[2].unwrap_or(0.0) - drift * (t - now)));
-        let found = mid_stance_in(sway, window_for_step(step))
+        let found = mid_stance_in(sway, window)
             .filter(|ms| !self.last_extremum.is_some_and(|e| ms.t - e < 0.5 * step));
         if let Some(ms) = found {
             self.last_extremum = Some(ms.t);
