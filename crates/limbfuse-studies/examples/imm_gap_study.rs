@@ -14,7 +14,9 @@
 //! whole trial started mid-stride (its first 0.15-0.9 s removed): the
 //! continuous configuration is also restarted at the first sway extremum
 //! after the start (`SwayRestart`, as the CLI builds it),
-//! the paper configuration keeps the paper's start.
+//! the paper configuration keeps the paper's start. And the whole trial
+//! walked 1, 2 and 5 deg off the x axis (CoM measurements turned about the
+//! vertical).
 //! `cargo run --release -p limbfuse-studies --example imm_gap_study -- [--gap S] [--data DIR]`
 
 use clap::Parser;

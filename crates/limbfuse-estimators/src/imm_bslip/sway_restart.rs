@@ -16,7 +16,9 @@
 //! configuration's step tracker) is checked so all along: from the start
 //! (a recording may start anywhere in the stride) and while it tracks (its
 //! MS can drift: limbfuse's 0.4 m/s trial, 0.1-0.25 s late after a few
-//! steps). The paper's bank is restarted at the first extremum after a gap
+//! steps). The lateral drift over the last stride (walking off the x axis,
+//! `lateral_drift`) is taken out of the positions first. The paper's
+//! bank is restarted at the first extremum after a gap
 //! only: a gap is successive samples more than `max_gap` apart, or no
 //! measured CoM position for longer than `max_gap`. Until a restart the
 //! output is the bare estimator's (it predicts through a run of empty cells
