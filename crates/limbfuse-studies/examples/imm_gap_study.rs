@@ -112,6 +112,27 @@ fn score(est: &mut dyn Estimator, records: &[Record], from: f64) -> [usize; 3] {
     n
 }
 
+/// Every configuration's phase accuracy over each of the whole `variants`.
+fn whole_trials(
+    variants: &[Vec<Record>],
+    kind: &str,
+    what: &str,
+    lib: &[GaitTemplate],
+    held_out: &[GaitTemplate],
+) {
+    for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
+        let acc: Vec<_> = variants
+            .iter()
+            .map(|records| {
+                let mut est = estimators(lib, held_out).swap_remove(k).1;
+                let n = score(est.as_mut(), records, 0.0);
+                format!("{:.1}", 100.0 * n[0] as f64 / n[2].max(1) as f64)
+            })
+            .collect();
+        println!("    {kind:<13} {label:<25}: {} % ({what})", acc.join(" / "));
+    }
+}
+
 fn study(name: &str, trial: &[Record], lib: &[GaitTemplate], held_out: &[GaitTemplate], gap: f64) {
     println!("  {name}");
     for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
@@ -128,42 +149,21 @@ fn study(name: &str, trial: &[Record], lib: &[GaitTemplate], held_out: &[GaitTem
             100.0 * ok as f64 / n.max(1) as f64
         );
     }
-    for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
-        // Started mid-stride: the first `cut` s removed (no gap).
-        let mut acc = Vec::new();
-        for cut in [0.15, 0.3, 0.45, 0.6, 0.75, 0.9] {
-            let records = gapped(trial, 0.0, cut, true);
-            let mut est = estimators(lib, held_out).swap_remove(k).1;
-            let n = score(est.as_mut(), &records, 0.0);
-            acc.push(100.0 * n[0] as f64 / n[2].max(1) as f64);
-        }
-        println!(
-            "    {:<13} {label:<25}: {} % (first 0.15, 0.3, ..., 0.9 s removed)",
-            "mid-stride",
-            acc.iter()
-                .map(|a| format!("{a:.1}"))
-                .collect::<Vec<_>>()
-                .join(" / ")
-        );
-    }
-    for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
-        // Walking off the x axis: the whole trial turned by 1, 2, 5 deg.
-        let mut acc = Vec::new();
-        for deg in [1.0, 2.0, 5.0] {
-            let records = turned(trial, deg);
-            let mut est = estimators(lib, held_out).swap_remove(k).1;
-            let n = score(est.as_mut(), &records, 0.0);
-            acc.push(100.0 * n[0] as f64 / n[2].max(1) as f64);
-        }
-        println!(
-            "    {:<13} {label:<25}: {} % (turned 1, 2, 5 deg)",
-            "heading",
-            acc.iter()
-                .map(|a| format!("{a:.1}"))
-                .collect::<Vec<_>>()
-                .join(" / ")
-        );
-    }
+    // Started mid-stride: the first 0.15-0.9 s removed (no gap).
+    let cuts: Vec<_> = [0.15, 0.3, 0.45, 0.6, 0.75, 0.9]
+        .iter()
+        .map(|&cut| gapped(trial, 0.0, cut, true))
+        .collect();
+    whole_trials(
+        &cuts,
+        "mid-stride",
+        "first 0.15, 0.3, ..., 0.9 s removed",
+        lib,
+        held_out,
+    );
+    // Walking off the x axis: the whole trial turned by 1, 2, 5 deg.
+    let turns: Vec<_> = [1.0, 2.0, 5.0].iter().map(|&d| turned(trial, d)).collect();
+    whole_trials(&turns, "heading", "turned 1, 2, 5 deg", lib, held_out);
     for rows in [false, true] {
         for (k, (label, _)) in estimators(lib, held_out).into_iter().enumerate() {
             let mut sum = [0usize; 3];

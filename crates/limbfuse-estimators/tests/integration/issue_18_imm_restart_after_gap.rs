@@ -50,31 +50,40 @@ fn score(imm: &mut dyn Estimator, records: &[Record], from: f64) -> (f64, f64) {
     (ok as f64 / n.max(1) as f64, first)
 }
 
+/// The library `gait-library build --speeds ...` builds for `body`.
+fn family(body: BslipParams, speeds: &[f64]) -> Vec<GaitTemplate> {
+    build_library(&body, speeds, &SearchSettings::default(), |_, _| {})
+        .unwrap()
+        .iter()
+        .map(|g| g.template(&body))
+        .collect()
+}
+
+/// The body of the shared independent B-SLIP trials (their metadata).
+fn shared_body() -> BslipParams {
+    BslipParams {
+        mass: 70.0,
+        rest_length: 0.95,
+        ..BslipParams::default()
+    }
+}
+
+/// The continuous configuration's parameters in these tests.
+fn continuous_params() -> ImmBslipParams {
+    ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    }
+}
+
 #[test]
 fn issue_18_imm_restarts_on_the_swaying_side_after_a_gap_in_the_shared_bslip_trial() {
     let Some(dir) = data_dir(&["independent-sim"]) else {
         return;
     };
     let clean = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
-    let body = BslipParams {
-        mass: 70.0,
-        rest_length: 0.95,
-        ..BslipParams::default()
-    };
-    let family: Vec<GaitTemplate> = build_library(
-        &body,
-        &[0.7, 0.8, 0.9],
-        &SearchSettings::default(),
-        |_, _| {},
-    )
-    .unwrap()
-    .iter()
-    .map(|g| g.template(&body))
-    .collect();
-    let params = ImmBslipParams {
-        weights: ImmWeights::Recursive,
-        ..ImmBslipParams::full_com()
-    };
+    let family = family(shared_body(), &[0.7, 0.8, 0.9]);
+    let params = continuous_params();
     let mut report = Vec::new();
     let mut failed = false;
     for rows in [false, true] {
@@ -159,17 +168,7 @@ fn issue_19_imm_a_bank_in_step_with_the_sway_goes_on_untouched() {
         return;
     };
     let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
-    let body = BslipParams {
-        mass: 70.0,
-        rest_length: 0.95,
-        ..BslipParams::default()
-    };
-    let family: Vec<GaitTemplate> =
-        build_library(&body, &[0.8, 0.9], &SearchSettings::default(), |_, _| {})
-            .unwrap()
-            .iter()
-            .map(|g| g.template(&body))
-            .collect();
+    let family = family(shared_body(), &[0.8, 0.9]);
     let params = ImmBslipParams::full_com();
     let mut bare = ImmContinuous::new(&family, params).unwrap();
     let mut synced = SwayRestart::new(ImmContinuous::new(&family, params).unwrap());
@@ -186,26 +185,13 @@ fn issue_19_imm_continuous_drifting_at_0_4_m_s_is_brought_back_by_the_sway() {
     // later step by step (0.11 s to 0.24 s late over five steps with the
     // 0.4-1.0 m/s library; 69.6 % phase accuracy). Checked against the
     // sway all along, it is restarted when it disagrees.
-    let body = BslipParams::default();
-    let family: Vec<GaitTemplate> = build_library(
-        &body,
-        &[0.4, 0.5, 0.6],
-        &SearchSettings::default(),
-        |_, _| {},
-    )
-    .unwrap()
-    .iter()
-    .map(|g| g.template(&body))
-    .collect();
+    let family = family(BslipParams::default(), &[0.4, 0.5, 0.6]);
     let walker = family[0];
     let records: Vec<Record> = trial(&walker, 10.0)
         .into_iter()
         .filter(|r| r.sample.t >= 2.0 * walker.step_time - 1e-9)
         .collect();
-    let params = ImmBslipParams {
-        weights: ImmWeights::Recursive,
-        ..ImmBslipParams::full_com()
-    };
+    let params = continuous_params();
     let from = records[0].sample.t;
     let (bare, _) = score(
         &mut ImmContinuous::new(&family, params).unwrap(),
@@ -239,25 +225,8 @@ fn issue_19_imm_sway_check_walking_5_deg_off_the_x_axis() {
         com.pos[2] = Some(x * s + z * c);
         com.vel[0] = com.vel[0].map(|vx| vx * c);
     }
-    let body = BslipParams {
-        mass: 70.0,
-        rest_length: 0.95,
-        ..BslipParams::default()
-    };
-    let family: Vec<GaitTemplate> = build_library(
-        &body,
-        &[0.7, 0.8, 0.9],
-        &SearchSettings::default(),
-        |_, _| {},
-    )
-    .unwrap()
-    .iter()
-    .map(|g| g.template(&body))
-    .collect();
-    let params = ImmBslipParams {
-        weights: ImmWeights::Recursive,
-        ..ImmBslipParams::full_com()
-    };
+    let family = family(shared_body(), &[0.7, 0.8, 0.9]);
+    let params = continuous_params();
     let (bare, _) = score(
         &mut ImmContinuous::new(&family, params).unwrap(),
         &records,
