@@ -7,7 +7,7 @@
 //! [`SwayRestart`] restarts the bank at the next lateral sway extremum, on
 //! its side.
 
-use limbfuse_core::{Estimator, Record};
+use limbfuse_core::{Estimator, Record, Sample};
 use limbfuse_estimators::imm_bslip::sway_restart::MAX_WAIT_S;
 use limbfuse_estimators::imm_bslip::{
     ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart,
@@ -242,4 +242,71 @@ fn issue_19_imm_sway_check_walking_5_deg_off_the_x_axis() {
         checked >= 0.95 && checked >= bare - 0.01,
         "{checked} (bare {bare})"
     );
+}
+
+/// Hostile edits of a simulated B-SLIP trial: rows emptied of their CoM,
+/// rows removed (gaps in time), the lateral position or every position
+/// missing, a lateral jump of 1 km, a non-finite lateral position (refused
+/// with the estimator's typed error).
+fn hostile(records: &[Record], edits: &[(u16, u8)]) -> Vec<Sample> {
+    let n = records.len();
+    let mut rows: Vec<Option<Sample>> = records.iter().map(|r| Some(r.sample)).collect();
+    for &(at, kind) in edits {
+        let i = at as usize * n / (u16::MAX as usize + 1);
+        // Runs of up to 64 rows, so some exceed `max_gap`.
+        let run = 1 + (kind as usize >> 3);
+        for row in rows.iter_mut().skip(i).take(run) {
+            let Some(s) = row.as_mut() else { continue };
+            match kind % 6 {
+                0 => s.com = Default::default(),
+                1 => *row = None,
+                2 => s.com.pos[2] = None,
+                3 => s.com.pos = [None; 3],
+                4 => s.com.pos[2] = s.com.pos[2].map(|z| z + 1e3),
+                _ => s.com.pos[2] = Some(f64::NAN),
+            }
+        }
+    }
+    rows.into_iter().flatten().collect()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 16, ..Default::default() })]
+
+    #[test]
+    fn issue_18_imm_sway_restart_survives_hostile_rows(
+        edits in proptest::collection::vec((proptest::prelude::any::<u16>(), proptest::prelude::any::<u8>()), 1..24),
+    ) {
+        let (lib, records) = hostile_fixture();
+        let rows = hostile(records, &edits);
+        let params = ImmBslipParams::full_com();
+        let estimators: [Box<dyn Estimator>; 2] = [
+            Box::new(SwayRestart::new(ImmBslip::new(lib, params).unwrap())),
+            Box::new(SwayRestart::new(ImmContinuous::new(lib, continuous_params()).unwrap())),
+        ];
+        for mut est in estimators {
+            for s in &rows {
+                let Ok(e) = est.step(s) else { continue };
+                let finite = |v: &Option<nalgebra::Vector3<f64>>| {
+                    v.is_none_or(|v| v.iter().all(|x| x.is_finite()))
+                };
+                proptest::prop_assert!(
+                    e.speed.is_none_or(f64::is_finite) && finite(&e.com_pos) && finite(&e.com_vel),
+                    "t {}: {e:?}",
+                    s.t
+                );
+            }
+        }
+    }
+}
+
+/// The test library and a 6 s trial of its middle gait, built once.
+fn hostile_fixture() -> &'static (Vec<GaitTemplate>, Vec<Record>) {
+    static FIXTURE: std::sync::OnceLock<(Vec<GaitTemplate>, Vec<Record>)> =
+        std::sync::OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let lib = library();
+        let records = trial(&lib[1], 6.0);
+        (lib, records)
+    })
 }
