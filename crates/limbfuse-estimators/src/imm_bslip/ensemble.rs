@@ -27,22 +27,9 @@ impl ImmBslip {
     /// diagnostics ([`ImmDiag`]).
     pub(super) fn estimate(&self, t: f64) -> Estimate {
         let mut e = Estimate::empty(t);
-        let n_gaits = self.templates.len();
+        let w = self.gait_weights();
+        let mean_speed: f64 = self.templates.iter().zip(w).map(|(t, w)| w * t.speed).sum();
         let mut phase_w = [0.0; 3];
-        let mut best_gait = (0usize, -1.0);
-        let mut mean_speed = 0.0;
-        for g in 0..n_gaits {
-            let w: f64 = self
-                .models
-                .iter()
-                .filter(|m| m.gait == g)
-                .map(|m| m.w)
-                .sum();
-            mean_speed += w * self.templates[g].speed;
-            if w > best_gait.1 {
-                best_gait = (g, w);
-            }
-        }
         for m in &self.models {
             phase_w[phase_index(m.phase)] += m.w;
         }
@@ -53,7 +40,7 @@ impl ImmBslip {
             }
         }
         e.phase = Some(PHASES[best_phase]);
-        e.speed = Some(self.templates[best_gait.0].speed);
+        e.speed = Some(self.templates[self.dominant()].speed);
         let x = self.ensemble.0;
         e.com_pos = Some(Vector3::new(x[0], x[1], x[2]));
         e.com_vel = Some(Vector3::new(x[3], x[4], x[5]));

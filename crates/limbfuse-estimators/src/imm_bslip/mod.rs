@@ -228,15 +228,25 @@ impl ImmBslip {
         }
     }
 
-    /// The library gait with the largest summed weight.
-    fn dominant(&self) -> usize {
+    /// Each library gait's summed weight.
+    fn gait_weights(&self) -> [f64; MAX_GAITS] {
         let mut w = [0.0; MAX_GAITS];
         for m in &self.models {
             w[m.gait] += m.w;
         }
-        (0..self.templates.len())
-            .max_by(|&a, &b| w[a].total_cmp(&w[b]))
-            .unwrap_or(0)
+        w
+    }
+
+    /// The library gait with the largest summed weight (the first of equals).
+    fn dominant(&self) -> usize {
+        let w = self.gait_weights();
+        let mut best = 0;
+        for g in 1..self.templates.len() {
+            if w[g] > w[best] {
+                best = g;
+            }
+        }
+        best
     }
 
     /// The library's template with the largest summed weight.
