@@ -101,6 +101,21 @@ impl LineSource {
         &self.data()[line]
     }
 
+    /// Skips a UTF-8 byte-order mark (`EF BB BF`) at the very start of the
+    /// source: spreadsheet programs and Windows tools write one before the
+    /// first line of a CSV, and it would otherwise become part of the first
+    /// comment's `#` or of the first column's name. Call before the first line.
+    pub(crate) fn skip_byte_order_mark(&mut self) -> Result<(), LineError> {
+        const BOM: [u8; 3] = [0xEF, 0xBB, 0xBF];
+        while self.end - self.start < BOM.len() && !self.at_end {
+            self.fill()?;
+        }
+        if self.data()[self.start..self.end].starts_with(&BOM) {
+            self.start += BOM.len();
+        }
+        Ok(())
+    }
+
     /// The first byte of the next line, without consuming it (`None` at the end).
     pub(crate) fn peek(&mut self) -> Result<Option<u8>, LineError> {
         while self.start == self.end && !self.at_end {

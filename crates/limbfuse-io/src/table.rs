@@ -141,6 +141,10 @@ impl TableReader {
             hash,
             arrow: None,
         };
+        table
+            .lines
+            .skip_byte_order_mark()
+            .map_err(|e| table.line_error(e))?;
         table.read_comments()?;
         table.read_header()?;
         Ok(table)
@@ -307,8 +311,32 @@ impl TableReader {
         self.column("t").ok_or_else(|| FileError::Header {
             path: self.path.clone(),
             line: self.header_line(),
-            message: "missing required column `t` (time in seconds)".into(),
+            message: format!(
+                "missing required column `t` (time in seconds){}",
+                self.separator_hint()
+            ),
         })
+    }
+
+    /// A hint when the header is one cell holding another separator (a
+    /// spreadsheet's `;` export with decimal commas, a tab-separated file):
+    /// the whole line became one column name.
+    fn separator_hint(&self) -> String {
+        let [only] = self.header.as_slice() else {
+            return String::new();
+        };
+        match [';', '\t'].into_iter().find(|c| only.contains(*c)) {
+            Some(c) => format!(
+                "; the header is one column `{}`: its cells are separated by {}, and trial files are comma-separated with `.` as the decimal point (SPEC section 2)",
+                {
+                    let head: String = only.chars().take(40).collect();
+                    let more = if head.len() < only.len() { "..." } else { "" };
+                    format!("{}{more}", head.replace('\t', "\\t"))
+                },
+                if c == ';' { "`;`" } else { "tabs" }
+            ),
+            None => String::new(),
+        }
     }
 
     /// 0-based index of the column named `name`.

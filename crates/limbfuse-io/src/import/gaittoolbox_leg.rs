@@ -66,7 +66,8 @@ fn header_has(path: &Path, column: &str) -> bool {
     let Ok(text) = std::fs::read_to_string(path) else {
         return false;
     };
-    text.lines()
+    text.trim_start_matches('\u{feff}')
+        .lines()
         .map(str::trim)
         .find(|l| !l.is_empty() && !l.starts_with("//"))
         .is_some_and(|h| h.split(',').any(|c| c.trim() == column))

@@ -118,7 +118,8 @@ impl ImportError {
     }
 }
 
-/// Reads a text file as numbered lines (1-based), `\r` stripped.
+/// Reads a text file as numbered lines (1-based), `\r` and a leading
+/// byte-order mark stripped.
 pub(crate) fn read_lines(path: &Path) -> Result<Vec<(u64, String)>, ImportError> {
     let file = File::open(path).map_err(|e| ImportError::io(path, e))?;
     let mut out = Vec::new();
@@ -130,6 +131,13 @@ pub(crate) fn read_lines(path: &Path) -> Result<Vec<(u64, String)>, ImportError>
             }
             _ => ImportError::io(path, e),
         })?;
+        // (a UTF-8 byte-order mark before the first line, as spreadsheet
+        // programs write it, is not part of the text)
+        let line = if n == 1 {
+            line.strip_prefix('\u{feff}').unwrap_or(&line)
+        } else {
+            &line
+        };
         out.push((n, line.trim_end_matches('\r').to_string()));
     }
     Ok(out)

@@ -2,6 +2,7 @@
 //! `tests/NAME.rs` (one test binary per package: each binary linked the whole
 //! dependency graph again).
 
+mod byte_order_mark;
 mod estimate_provenance;
 mod import_gaittoolbox;
 mod import_knee_rig;

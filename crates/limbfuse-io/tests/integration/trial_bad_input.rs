@@ -149,3 +149,24 @@ fn several_bad_cells_report_the_first_in_reading_order() {
     let m = message("knee_enc,t,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\nx,,1,y,3\n");
     assert!(m.starts_with("bad.csv:2: column 2 (`t`)"), "{m}");
 }
+
+/// A spreadsheet's `;`-separated export (decimal commas) or a
+/// tab-separated file reads as one header cell: the error says so instead
+/// of only "missing required column `t`".
+#[test]
+fn another_separator_is_named() {
+    let m = message("t;knee_enc\n0,0;1,5\n");
+    assert!(
+        m.starts_with("bad.csv:1: header: missing required column `t`"),
+        "{m}"
+    );
+    assert!(
+        m.contains("one column `t;knee_enc`") && m.contains("separated by `;`"),
+        "{m}"
+    );
+    let m = message("t\tknee_enc\n0\t1\n");
+    assert!(m.contains("`t\\tknee_enc`") && m.contains("tabs"), "{m}");
+    // a plain missing `t` has no hint
+    let m = message("time,knee_enc\n0,1\n");
+    assert!(m.ends_with("(time in seconds)"), "{m}");
+}
