@@ -205,7 +205,7 @@ impl TableReader {
         self.check_header(line)
     }
 
-    /// Names present, none empty, none twice.
+    /// Names present, none empty (but the last), none twice.
     fn check_header(&self, line: u64) -> Result<(), FileError> {
         let header = &self.header;
         if header.iter().all(String::is_empty) {
@@ -215,6 +215,12 @@ impl TableReader {
             });
         }
         for (i, name) in header.iter().enumerate() {
+            // A header line ending in `,` (loggers that end every line with
+            // the separator): the unnamed last column is ignored, like any
+            // column no channel is named after.
+            if name.is_empty() && i + 1 == header.len() {
+                continue;
+            }
             if name.is_empty() {
                 return Err(FileError::Header {
                     path: self.path.clone(),

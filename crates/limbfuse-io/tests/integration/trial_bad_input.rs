@@ -170,3 +170,16 @@ fn another_separator_is_named() {
     let m = message("time,knee_enc\n0,1\n");
     assert!(m.ends_with("(time in seconds)"), "{m}");
 }
+
+/// Loggers that end every line with the separator give a last column with
+/// no name: it is ignored like any column no channel is named after. An
+/// empty name anywhere else is still an error.
+#[test]
+fn a_trailing_separator_is_an_ignored_column() {
+    assert_eq!(read_all("t,knee_enc,\n0.0,1.0,\n0.01,2.0,\n").unwrap(), 2);
+    let m = message("t,,knee_enc\n0.0,,1.0\n");
+    assert!(
+        m.starts_with("bad.csv:1: header: column 2 has an empty name"),
+        "{m}"
+    );
+}
