@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::Estimator;
-use limbfuse_eval::SpeedRangeWatch;
+use limbfuse_eval::sample_interval::FIRST_INTERVALS;
+use limbfuse_eval::{SampleIntervalWatch, SpeedRangeWatch};
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
@@ -224,6 +225,17 @@ fn estimate<'py>(
         };
         let inputs = cols.inputs();
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
+        // As `limbfuse estimate`: a time column that is not in seconds.
+        let interval_note = {
+            let stated = meta
+                .get("sample_rate_hz")
+                .and_then(|v| v.trim().parse().ok());
+            let mut w = SampleIntervalWatch::new(stated);
+            for &t in cols.t.iter().take(FIRST_INTERVALS + 1) {
+                w.push(t);
+            }
+            w.mismatch().map(|m| format!("{label}: {m}"))
+        };
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;
         let run = |mut built: Built| -> PyResult<EstimateTuple<'py>> {
@@ -280,10 +292,10 @@ fn estimate<'py>(
                 .resets
                 .resets()
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
-            let warning = match (frame_note.clone(), resets) {
-                (Some(f), Some(r)) => Some(format!("{f}\n{r}")),
-                (f, r) => f.or(r),
-            };
+            let warning = [frame_note.clone(), resets, interval_note.clone()]
+                .into_iter()
+                .flatten()
+                .reduce(|a, b| format!("{a}\n{b}"));
             estimate_tuple(py, out, warning)
         };
         let mut tuple = run(est)?;

@@ -284,6 +284,17 @@ def test_evaluate_result_is_the_cli_json(cli, walking_file, tmp_path):
         assert limbfuse.evaluate(trial, limbfuse.estimate(trial, "mjls"), **kw) == cli_json
 
 
+def test_a_time_column_in_milliseconds_is_named(walking_trial):
+    """`t` in milliseconds (many loggers' unit) read as seconds: `estimate`
+    says so with the CLI's stderr text, and says nothing for seconds."""
+    ms = Trial(walking_trial.t * 1000.0, walking_trial.channels, walking_trial.meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"time column `t` steps by a median 10.*looks like milliseconds"):
+        limbfuse.estimate(ms, "mjls", diagnostics="none")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        limbfuse.estimate(walking_trial, "mjls", diagnostics="none")
+
+
 def test_raw_frames_warn_methods_that_read_aligned_ones(walking_trial):
     """A trial declaring raw sensor frames (`# imu_frame: raw ...`, as the
     gaittoolbox and knee-rig importers write) and no alignment: the segment

@@ -6,7 +6,9 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
-use limbfuse_eval::{GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SpeedRangeWatch};
+use limbfuse_eval::{
+    GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch, SpeedRangeWatch,
+};
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
 use limbfuse_methods::MethodSpec;
@@ -395,6 +397,7 @@ struct RunReport {
     n_samples: u64,
     resets: ResetWatch,
     rejections: RejectionWatch,
+    intervals: SampleIntervalWatch,
 }
 
 impl RunReport {
@@ -409,6 +412,15 @@ impl RunReport {
         if let Some(r) = self.rejections.rejected() {
             eprintln!("warning: {label} on {}: {r}", trial.display());
         }
+        warn_intervals(&self.intervals, trial);
+    }
+}
+
+/// Warns on stderr when the trial's time column does not look like seconds
+/// (`limbfuse_eval::sample_interval`).
+fn warn_intervals(intervals: &SampleIntervalWatch, trial: &Path) {
+    if let Some(m) = intervals.mismatch() {
+        eprintln!("warning: {}: {m}", trial.display());
     }
 }
 
@@ -444,12 +456,18 @@ fn run_observed<W: std::io::Write>(
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();
+    let stated_hz = reader
+        .meta()
+        .get("sample_rate_hz")
+        .and_then(|v| v.trim().parse().ok());
+    let mut intervals = SampleIntervalWatch::new(stated_hz);
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(4 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(5 + extra.len());
         observers.push(writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
         observers.push(&mut rejections);
+        observers.push(&mut intervals);
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
@@ -478,6 +496,10 @@ fn run_observed<W: std::io::Write>(
                 runner::run_offline(est, source, &mut observers)
             }
         };
+        if summary.is_err() {
+            // (a time column in milliseconds is the likely cause of a failure)
+            warn_intervals(&intervals, &trial);
+        }
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
     Ok(RunReport {
@@ -485,5 +507,6 @@ fn run_observed<W: std::io::Write>(
         n_samples: summary.n_samples,
         resets,
         rejections,
+        intervals,
     })
 }
