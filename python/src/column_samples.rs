@@ -12,6 +12,7 @@
 //! present.
 
 use limbfuse_core::Sample;
+use limbfuse_eval::SensorUnitsWatch;
 use nalgebra::Vector3;
 
 use crate::columns::Channel;
@@ -133,6 +134,24 @@ impl<'a> SampleColumns<'a> {
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.t.len()
+    }
+
+    /// Counts the complete IMU vectors of the columns (both legs) in
+    /// `units`, of the samples `limbfuse estimate` counts (every
+    /// [`SensorUnitsWatch::STRIDE`]-th).
+    pub fn count_units(&self, units: &mut SensorUnitsWatch) {
+        for &(slot, [x, y, z]) in &self.vectors {
+            for i in (0..self.t.len()).step_by(SensorUnitsWatch::STRIDE) {
+                let v = Vector3::new(x[i], y[i], z[i]);
+                if v.iter().any(|c| c.is_nan()) {
+                    continue;
+                }
+                match slot {
+                    VectorSlot::Acc(_) | VectorSlot::OtherAcc(_) => units.push_acc(&v),
+                    VectorSlot::Gyr(_) | VectorSlot::OtherGyr(_) => units.push_gyr(&v),
+                }
+            }
+        }
     }
 
     /// Overwrites the fields of `s` that the columns fill with sample `i`

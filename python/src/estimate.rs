@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::Estimator;
 use limbfuse_eval::sample_interval::FIRST_INTERVALS;
-use limbfuse_eval::{SampleIntervalWatch, SpeedRangeWatch};
+use limbfuse_eval::{SampleIntervalWatch, SensorUnitsWatch, SpeedRangeWatch};
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
@@ -234,7 +234,16 @@ fn estimate<'py>(
             for &t in cols.t.iter().take(FIRST_INTERVALS + 1) {
                 w.push(t);
             }
-            w.mismatch().map(|m| format!("{label}: {m}"))
+            let mut units = SensorUnitsWatch::default();
+            inputs.count_units(&mut units);
+            let said: Vec<String> = w
+                .mismatch()
+                .map(|m| m.to_string())
+                .into_iter()
+                .chain(units.suspects().map(|u| u.to_string()))
+                .map(|m| format!("{label}: {m}"))
+                .collect();
+            (!said.is_empty()).then(|| said.join("\n"))
         };
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;

@@ -295,6 +295,18 @@ def test_a_time_column_in_milliseconds_is_named(walking_trial):
         limbfuse.estimate(walking_trial, "mjls", diagnostics="none")
 
 
+def test_imu_units_other_than_spec_are_named(walking_trial):
+    """Accelerometers in g and gyroscopes in deg/s: `estimate` names the
+    unit with the CLI's stderr text."""
+    ch = dict(walking_trial.channels)
+    in_g = {k: (v / 9.81 if "_acc_" in k else v) for k, v in ch.items()}
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"accelerometer readings .* look like g"):
+        limbfuse.estimate(Trial(walking_trial.t, in_g, walking_trial.meta), "mjls", diagnostics="none")
+    in_deg = {k: (np.degrees(v) if "_gyr_" in k else v) for k, v in ch.items()}
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"gyroscope readings .* look like deg/s"):
+        limbfuse.estimate(Trial(walking_trial.t, in_deg, walking_trial.meta), "mjls", diagnostics="none")
+
+
 def test_raw_frames_warn_methods_that_read_aligned_ones(walking_trial):
     """A trial declaring raw sensor frames (`# imu_frame: raw ...`, as the
     gaittoolbox and knee-rig importers write) and no alignment: the segment

@@ -7,7 +7,8 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{
-    GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch, SpeedRangeWatch,
+    GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch, SensorUnitsWatch,
+    SpeedRangeWatch,
 };
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
@@ -398,6 +399,7 @@ struct RunReport {
     resets: ResetWatch,
     rejections: RejectionWatch,
     intervals: SampleIntervalWatch,
+    units: SensorUnitsWatch,
 }
 
 impl RunReport {
@@ -412,15 +414,19 @@ impl RunReport {
         if let Some(r) = self.rejections.rejected() {
             eprintln!("warning: {label} on {}: {r}", trial.display());
         }
-        warn_intervals(&self.intervals, trial);
+        warn_units(&self.intervals, &self.units, trial);
     }
 }
 
 /// Warns on stderr when the trial's time column does not look like seconds
-/// (`limbfuse_eval::sample_interval`).
-fn warn_intervals(intervals: &SampleIntervalWatch, trial: &Path) {
+/// (`limbfuse_eval::sample_interval`) or its IMU readings not like m/s^2
+/// and rad/s (`limbfuse_eval::sensor_units`).
+fn warn_units(intervals: &SampleIntervalWatch, units: &SensorUnitsWatch, trial: &Path) {
     if let Some(m) = intervals.mismatch() {
         eprintln!("warning: {}: {m}", trial.display());
+    }
+    for u in units.suspects() {
+        eprintln!("warning: {}: {u}", trial.display());
     }
 }
 
@@ -461,13 +467,15 @@ fn run_observed<W: std::io::Write>(
         .get("sample_rate_hz")
         .and_then(|v| v.trim().parse().ok());
     let mut intervals = SampleIntervalWatch::new(stated_hz);
+    let mut units = SensorUnitsWatch::default();
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(5 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(6 + extra.len());
         observers.push(writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
         observers.push(&mut rejections);
         observers.push(&mut intervals);
+        observers.push(&mut units);
         for o in extra.iter_mut() {
             observers.push(&mut **o);
         }
@@ -497,8 +505,9 @@ fn run_observed<W: std::io::Write>(
             }
         };
         if summary.is_err() {
-            // (a time column in milliseconds is the likely cause of a failure)
-            warn_intervals(&intervals, &trial);
+            // (a time column in milliseconds or sensors in other units are
+            // likely causes of a failure)
+            warn_units(&intervals, &units, &trial);
         }
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };
@@ -508,5 +517,6 @@ fn run_observed<W: std::io::Write>(
         resets,
         rejections,
         intervals,
+        units,
     })
 }

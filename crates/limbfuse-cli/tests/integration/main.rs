@@ -46,5 +46,5 @@ mod simulate_gait_reference;
 mod source_file_length;
 mod streaming_estimate;
 mod support;
-mod time_column_units;
 mod tuning_cli;
+mod units_of_a_trial;

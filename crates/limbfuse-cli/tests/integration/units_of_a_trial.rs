@@ -1,0 +1,101 @@
+//! Units other than SPEC's in a trial file. A time column in milliseconds
+//! (what many loggers write) read as seconds steps by 10 s at 100 Hz:
+//! before, `estimate` restarted the filter at every sample and said only
+//! that. Accelerometers in g: the angles were 75 deg off without a word.
+//! Gyroscopes in deg/s: the warnings spoke of rejected readings. `estimate`
+//! now names the unit (`limbfuse_eval::{sample_interval, sensor_units}`);
+//! the estimate is still written.
+
+use crate::support::limbfuse;
+
+/// `text` (a trial file) with every data row's cells of the columns whose
+/// name `pick` accepts multiplied by `factor`.
+fn scaled(text: &str, pick: impl Fn(&str) -> bool, factor: f64) -> String {
+    let mut header: Option<Vec<String>> = None;
+    let mut out = String::new();
+    for line in text.lines() {
+        match &header {
+            _ if line.starts_with('#') => out += line,
+            None => {
+                header = Some(line.split(',').map(String::from).collect());
+                out += line;
+            }
+            Some(names) => {
+                let cells: Vec<String> = line
+                    .split(',')
+                    .zip(names)
+                    .map(|(c, n)| match (pick(n), c.parse::<f64>()) {
+                        (true, Ok(v)) => (v * factor).to_string(),
+                        _ => c.to_string(),
+                    })
+                    .collect();
+                out += &cells.join(",");
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+#[test]
+fn a_time_column_in_milliseconds_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let sim = limbfuse(
+        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(sim.status.code(), Some(0));
+    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    std::fs::write(dir.join("ms.csv"), scaled(&text, |n| n == "t", 1000.0)).unwrap();
+    let stderr = |trial: &str| {
+        let o = limbfuse(&["estimate", "--method", "mjls", trial, "-o", "e.csv"], dir);
+        assert_eq!(o.status.code(), Some(0), "{trial}");
+        String::from_utf8(o.stderr).unwrap()
+    };
+    let err = stderr("ms.csv");
+    assert!(
+        err.contains("warning: ms.csv: the time column `t` steps by a median 10 ")
+            && err.contains("`# sample_rate_hz: 100`")
+            && err.contains("it looks like milliseconds (divide `t` by 1000)"),
+        "{err}"
+    );
+    assert!(!stderr("w.csv").contains("time column"));
+}
+
+#[test]
+fn imu_units_other_than_spec_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let sim = limbfuse(
+        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(sim.status.code(), Some(0));
+    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let in_g = scaled(&text, |n| n.contains("_acc_"), 1.0 / 9.81);
+    let in_deg = scaled(&text, |n| n.contains("_gyr_"), 180.0 / std::f64::consts::PI);
+    std::fs::write(dir.join("g.csv"), in_g).unwrap();
+    std::fs::write(dir.join("deg.csv"), in_deg).unwrap();
+    let stderr = |trial: &str| {
+        let o = limbfuse(&["estimate", "--method", "mjls", trial, "-o", "e.csv"], dir);
+        assert_eq!(o.status.code(), Some(0), "{trial}");
+        String::from_utf8(o.stderr).unwrap()
+    };
+    let err = stderr("g.csv");
+    assert!(
+        err.contains("warning: g.csv: ")
+            && err.contains("of the accelerometer readings have a norm of 0.5-2")
+            && err.contains("look like g (multiply them by 9.81)")
+            && !err.contains("deg/s"),
+        "{err}"
+    );
+    let err = stderr("deg.csv");
+    assert!(
+        err.contains("warning: deg.csv: ")
+            && err.contains("of the gyroscope readings turn faster than 25")
+            && err.contains("look like deg/s"),
+        "{err}"
+    );
+    assert!(!stderr("w.csv").contains("look like"));
+}

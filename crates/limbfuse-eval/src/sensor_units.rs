@@ -1,0 +1,241 @@
+//! What `estimate` says when a trial's IMU readings do not look like SPEC
+//! units (section 2: specific force in m/s^2, angular rate in rad/s).
+//!
+//! The two usual slips of a hand-made trial file, measured on a simulated
+//! 3 s walk (`mjls`):
+//! - **accelerometers in g**: the readings' norm is about 1 instead of
+//!   9.81, so every reliability test `| ||a|| - g |` fails, the filter
+//!   never corrects its gyro integration and the angles are 74-75 deg off,
+//!   with no warning at all;
+//! - **gyroscopes in deg/s**: 57 times the rate; the sensor gate rejects
+//!   the readings above its range and passes the others, the angles are
+//!   67-82 deg RMSE off, and the warnings speak of rejected readings and
+//!   restarts, not of units.
+//!
+//! [`SensorUnitsWatch`] counts, over all IMUs of both legs:
+//! - accelerometer readings whose norm lies in 0.5-2 (in the file's unit):
+//!   for a body-worn accelerometer in m/s^2 that is near free fall, which
+//!   walking, standing or sitting never sustains (the mean specific force
+//!   over a stride is g); in g it is nearly every reading. Flagged when
+//!   three quarters of the readings are there;
+//! - gyroscope readings whose norm exceeds 25 rad/s (1430 deg/s): no body
+//!   segment turns that fast (a sprinting foot peaks near 20 rad/s), while
+//!   in deg/s any segment moving faster than 25 deg/s does. Flagged when 5
+//!   % of the readings are there (a glitch now and then is not).
+//!
+//! Every [`SensorUnitsWatch::STRIDE`]-th sample is counted (shares need no
+//! more; counting every sample cost 20 % of a `limbfuse.estimate` call of
+//! `mjls`), and neither unit is decided on fewer than [`MIN_READINGS`]
+//! readings. The CLI
+//! prints what it finds as a warning, the Python package as a
+//! `LimbfuseWarning`; the estimate is still written.
+
+use std::fmt;
+
+use limbfuse_core::runner::{BoxError, Observer};
+use limbfuse_core::{Estimate, ImuSample, Record};
+use nalgebra::Vector3;
+
+/// Readings of a kind needed before anything is said about its unit.
+pub const MIN_READINGS: u64 = 25;
+
+/// Norms (in the file's unit) an accelerometer in g reads: 0.5-2 g covers
+/// standing (1 g) and walking (0.5-2 g most of a stride at the trunk and
+/// thigh); in m/s^2 it is near free fall.
+const G_UNIT_NORMS: (f64, f64) = (0.5, 2.0);
+/// Share of accelerometer readings in [`G_UNIT_NORMS`] that says g.
+const G_UNIT_SHARE: f64 = 0.75;
+/// A rate no body segment reaches (rad/s; 1430 deg/s).
+const FASTER_THAN_ANY_SEGMENT: f64 = 25.0;
+/// Share of gyroscope readings beyond [`FASTER_THAN_ANY_SEGMENT`] that
+/// says deg/s.
+const DEGREES_SHARE: f64 = 0.05;
+
+/// An IMU unit that does not look like SPEC's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum UnitSuspect {
+    /// Accelerometers that look like g (`share` of their readings has a
+    /// norm of 0.5-2).
+    AccelerometerInG {
+        /// Share of the readings (0-1).
+        share: f64,
+    },
+    /// Gyroscopes that look like deg/s (`share` of their readings is
+    /// faster than 25).
+    GyroscopeInDegrees {
+        /// Share of the readings (0-1).
+        share: f64,
+    },
+}
+
+impl fmt::Display for UnitSuspect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            UnitSuspect::AccelerometerInG { share } => write!(
+                f,
+                "{:.0} % of the accelerometer readings have a norm of {}-{}, where a body-worn \
+                 accelerometer in m/s^2 reads about g = 9.81: accelerometers must be in m/s^2 \
+                 (SPEC section 2); these look like g (multiply them by 9.81)",
+                100.0 * share,
+                G_UNIT_NORMS.0,
+                G_UNIT_NORMS.1
+            ),
+            UnitSuspect::GyroscopeInDegrees { share } => write!(
+                f,
+                "{:.0} % of the gyroscope readings turn faster than {FASTER_THAN_ANY_SEGMENT} \
+                 (rad/s: 1430 deg/s), which no body segment does: gyroscopes must be in rad/s \
+                 (SPEC section 2); these look like deg/s (multiply them by pi/180 = 0.017453)",
+                100.0 * share
+            ),
+        }
+    }
+}
+
+/// Counts a run's IMU readings by the norms above.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SensorUnitsWatch {
+    acc: u64,
+    acc_in_g_range: u64,
+    gyr: u64,
+    gyr_too_fast: u64,
+    /// Records observed ([`Observer`]).
+    records: u64,
+}
+
+impl SensorUnitsWatch {
+    /// Samples counted: sample 0, `STRIDE`, `2 STRIDE`, ... of a run.
+    pub const STRIDE: usize = 8;
+
+    /// Adds an accelerometer reading (a non-finite norm is not counted).
+    pub fn push_acc(&mut self, a: &Vector3<f64>) {
+        let n2 = a.norm_squared();
+        if n2.is_finite() {
+            let (lo, hi) = G_UNIT_NORMS;
+            self.acc += 1;
+            self.acc_in_g_range += u64::from((lo * lo..=hi * hi).contains(&n2));
+        }
+    }
+
+    /// Adds a gyroscope reading (a non-finite norm is not counted).
+    pub fn push_gyr(&mut self, w: &Vector3<f64>) {
+        let n2 = w.norm_squared();
+        if n2.is_finite() {
+            self.gyr += 1;
+            self.gyr_too_fast += u64::from(n2 > FASTER_THAN_ANY_SEGMENT * FASTER_THAN_ANY_SEGMENT);
+        }
+    }
+
+    /// Adds the complete vectors of one IMU reading.
+    pub fn push_imu(&mut self, imu: &ImuSample) {
+        if let Some(a) = &imu.acc {
+            self.push_acc(a);
+        }
+        if let Some(w) = &imu.gyr {
+            self.push_gyr(w);
+        }
+    }
+
+    /// What looks wrong, accelerometers first.
+    pub fn suspects(&self) -> impl Iterator<Item = UnitSuspect> {
+        let share = |k: u64, n: u64| (n >= MIN_READINGS).then(|| k as f64 / n as f64);
+        let acc = share(self.acc_in_g_range, self.acc)
+            .filter(|s| *s >= G_UNIT_SHARE)
+            .map(|share| UnitSuspect::AccelerometerInG { share });
+        let gyr = share(self.gyr_too_fast, self.gyr)
+            .filter(|s| *s >= DEGREES_SHARE)
+            .map(|share| UnitSuspect::GyroscopeInDegrees { share });
+        acc.into_iter().chain(gyr)
+    }
+}
+
+impl Observer for SensorUnitsWatch {
+    /// Counts every [`SensorUnitsWatch::STRIDE`]-th record's IMUs.
+    fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
+        if self.records.is_multiple_of(Self::STRIDE as u64) {
+            let s = &record.sample;
+            for imu in s.imu.iter().chain(&s.other_leg_imu) {
+                self.push_imu(imu);
+            }
+        }
+        self.records += 1;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A walking-like reading at phase `k`: specific force around g with
+    /// +-0.5 g, rate up to `peak` rad/s.
+    fn walking(k: usize, peak: f64) -> (Vector3<f64>, Vector3<f64>) {
+        let p = k as f64 * 0.063;
+        let a = Vector3::new(3.0 * p.sin(), 9.81 + 4.9 * (2.0 * p).cos(), 0.5);
+        let w = Vector3::new(0.1, 0.2, peak * p.sin());
+        (a, w)
+    }
+
+    fn watch(acc_scale: f64, gyr_scale: f64, peak: f64) -> Vec<UnitSuspect> {
+        let mut u = SensorUnitsWatch::default();
+        for k in 0..1000 {
+            let (a, w) = walking(k, peak);
+            u.push_acc(&(a * acc_scale));
+            u.push_gyr(&(w * gyr_scale));
+        }
+        u.suspects().collect()
+    }
+
+    #[test]
+    fn si_units_pass_even_for_a_fast_foot() {
+        assert!(watch(1.0, 1.0, 8.0).is_empty());
+        assert!(watch(1.0, 1.0, 20.0).is_empty());
+    }
+
+    #[test]
+    fn accelerometers_in_g_are_named() {
+        let s = watch(1.0 / 9.81, 1.0, 3.0);
+        assert!(matches!(s[..], [UnitSuspect::AccelerometerInG { share }] if share > 0.9));
+        assert!(s[0]
+            .to_string()
+            .contains("look like g (multiply them by 9.81)"));
+    }
+
+    #[test]
+    fn gyroscopes_in_degrees_are_named() {
+        let s = watch(1.0, 180.0 / core::f64::consts::PI, 3.0);
+        assert!(matches!(s[..], [UnitSuspect::GyroscopeInDegrees { share }] if share > 0.5));
+        assert!(s[0].to_string().contains("look like deg/s"));
+        // both at once, accelerometers first
+        let s = watch(1.0 / 9.81, 180.0 / core::f64::consts::PI, 3.0);
+        assert!(matches!(
+            s[..],
+            [
+                UnitSuspect::AccelerometerInG { .. },
+                UnitSuspect::GyroscopeInDegrees { .. }
+            ]
+        ));
+    }
+
+    #[test]
+    fn too_few_readings_say_nothing() {
+        let mut u = SensorUnitsWatch::default();
+        for _ in 0..MIN_READINGS - 1 {
+            u.push_acc(&Vector3::new(0.0, 1.0, 0.0));
+            u.push_gyr(&Vector3::new(0.0, 0.0, 100.0));
+        }
+        assert_eq!(u.suspects().count(), 0);
+        u.push_acc(&Vector3::new(0.0, 1.0, 0.0));
+        u.push_gyr(&Vector3::new(0.0, 0.0, 100.0));
+        assert_eq!(u.suspects().count(), 2);
+    }
+
+    #[test]
+    fn rare_glitches_are_not_degrees() {
+        let mut u = SensorUnitsWatch::default();
+        for k in 0..1000 {
+            let fast = if k % 40 == 0 { 1e3 } else { 1.0 };
+            u.push_gyr(&Vector3::new(0.0, 0.0, fast));
+        }
+        assert_eq!(u.suspects().count(), 0);
+    }
+}
