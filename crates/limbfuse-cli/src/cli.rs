@@ -35,6 +35,8 @@ pub enum Command {
     Estimate(EstimateArgs),
     /// Compare an estimate file with its trial's reference.
     Evaluate(EvaluateArgs),
+    /// What a trial file holds (time base, gaps, inputs, unit checks) and which methods can run on it.
+    Inspect(InspectArgs),
     /// Write one self-contained HTML report (plots, error tables, method panels) of a trial and its estimates.
     Report(ReportArgs),
     /// Monte Carlo of the segment filters under parametric uncertainty (paper 000 Fig. 9).
@@ -411,6 +413,13 @@ pub struct ResampleArgs {
     /// Anti-alias low-pass of the accelerometer and gyro channels.
     #[arg(long, value_enum, default_value_t = AntiAliasArg::Sinc)]
     pub anti_alias: AntiAliasArg,
+}
+
+/// Options of `inspect`.
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// Trial file (CSV or Arrow).
+    pub trial: PathBuf,
 }
 
 /// Options of `tune`.

@@ -27,6 +27,7 @@ pub mod speed_range;
 pub mod stats;
 pub mod sync_lag;
 pub mod trial_check;
+pub mod trial_summary;
 
 pub use channel_error::ChannelError;
 pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, TimeWindow};
@@ -40,3 +41,4 @@ pub use sample_interval::{IntervalMismatch, SampleIntervalWatch};
 pub use sensor_units::{SensorUnitsWatch, UnitSuspect};
 pub use speed_range::{OutsideRange, RangeSide, SpeedRangeWatch};
 pub use trial_check::{TrialCheck, TrialMismatch};
+pub use trial_summary::{summarise, InputGroup, TrialSummary};

@@ -28,7 +28,7 @@ fn no_settings_file(name: &str) -> String {
 }
 
 macro_rules! baseline_method {
-    ($(#[$doc:meta])* $name:ident, $estimator:ident, $info:expr) => {
+    ($(#[$doc:meta])* $name:ident, $estimator:ident, $info:expr, $sensor:ident, $why:expr, $columns:expr) => {
         $(#[$doc])*
         #[derive(Debug, Clone, Copy)]
         pub struct $name;
@@ -41,11 +41,22 @@ macro_rules! baseline_method {
                 read_file::<Self, NoSettingsFile>(file).map(|_| ())
             }
 
+            /// Refuses a trial with no segment's sensor of its kind: the
+            /// estimate would be empty on every row (found by `limbfuse
+            /// inspect` on the shared B-SLIP trial, which has no IMU).
             fn build(
                 _: &(),
                 _: &TrialMeta,
-                _: &TrialLayout,
+                layout: &TrialLayout,
             ) -> Result<Box<dyn Estimator + Send>, MethodError> {
+                if !layout.$sensor.iter().any(|&has| has) {
+                    return Err(MethodError::MissingChannels {
+                        method: Self::INFO.name,
+                        why: $why,
+                        missing: vec![$columns.to_string()],
+                        hint: "",
+                    });
+                }
                 Ok(Box::new($estimator::new()))
             }
 
@@ -69,7 +80,10 @@ baseline_method!(
             "none",
         )
         .reading_aligned_frames()
-    }
+    },
+    gyr,
+    "integrates each segment's gyroscope",
+    "trunk_, thigh_, shank_ or foot_gyr_x/y/z"
 );
 
 baseline_method!(
@@ -85,5 +99,8 @@ baseline_method!(
             "none",
         )
         .reading_aligned_frames()
-    }
+    },
+    acc,
+    "takes each segment's inclination from its accelerometer",
+    "trunk_, thigh_, shank_ or foot_acc_x/y/z"
 );

@@ -11,6 +11,7 @@ mod evaluate;
 mod fes;
 mod gait;
 mod import;
+mod inspect;
 mod knee_demo;
 mod method_list;
 mod mirror;
@@ -46,6 +47,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Import(a) => import::run(&a),
         Command::Estimate(a) => estimate::run(&a),
         Command::Evaluate(a) => evaluate::run(&a),
+        Command::Inspect(a) => inspect::run(&a),
         Command::Report(a) => report::run(&a),
         Command::Montecarlo(a) => montecarlo::run(&a),
         Command::Align(a) => align::run(&a),

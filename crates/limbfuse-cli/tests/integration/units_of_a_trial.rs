@@ -6,6 +6,8 @@
 //! now names the unit (`limbfuse_eval::{sample_interval, sensor_units}`);
 //! the estimate is still written.
 
+use std::path::Path;
+
 use crate::support::limbfuse;
 
 /// `text` (a trial file) with every data row's cells of the columns whose
@@ -37,52 +39,49 @@ fn scaled(text: &str, pick: impl Fn(&str) -> bool, factor: f64) -> String {
     out
 }
 
-#[test]
-fn a_time_column_in_milliseconds_is_named() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
+/// A 3 s simulated walk `w.csv` in `dir` and its text.
+fn walk(dir: &Path) -> String {
     let sim = limbfuse(
         &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
         dir,
     );
     assert_eq!(sim.status.code(), Some(0));
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    std::fs::read_to_string(dir.join("w.csv")).unwrap()
+}
+
+/// The stderr of `estimate --method mjls` on `trial` (which succeeds).
+fn estimate_stderr(dir: &Path, trial: &str) -> String {
+    let o = limbfuse(&["estimate", "--method", "mjls", trial, "-o", "e.csv"], dir);
+    assert_eq!(o.status.code(), Some(0), "{trial}");
+    String::from_utf8(o.stderr).unwrap()
+}
+
+#[test]
+fn a_time_column_in_milliseconds_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let text = walk(dir);
     std::fs::write(dir.join("ms.csv"), scaled(&text, |n| n == "t", 1000.0)).unwrap();
-    let stderr = |trial: &str| {
-        let o = limbfuse(&["estimate", "--method", "mjls", trial, "-o", "e.csv"], dir);
-        assert_eq!(o.status.code(), Some(0), "{trial}");
-        String::from_utf8(o.stderr).unwrap()
-    };
-    let err = stderr("ms.csv");
+    let err = estimate_stderr(dir, "ms.csv");
     assert!(
         err.contains("warning: ms.csv: the time column `t` steps by a median 10 ")
             && err.contains("`# sample_rate_hz: 100`")
             && err.contains("it looks like milliseconds (divide `t` by 1000)"),
         "{err}"
     );
-    assert!(!stderr("w.csv").contains("time column"));
+    assert!(!estimate_stderr(dir, "w.csv").contains("time column"));
 }
 
 #[test]
 fn imu_units_other_than_spec_are_named() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let sim = limbfuse(
-        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
-        dir,
-    );
-    assert_eq!(sim.status.code(), Some(0));
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let text = walk(dir);
     let in_g = scaled(&text, |n| n.contains("_acc_"), 1.0 / 9.81);
     let in_deg = scaled(&text, |n| n.contains("_gyr_"), 180.0 / std::f64::consts::PI);
     std::fs::write(dir.join("g.csv"), in_g).unwrap();
     std::fs::write(dir.join("deg.csv"), in_deg).unwrap();
-    let stderr = |trial: &str| {
-        let o = limbfuse(&["estimate", "--method", "mjls", trial, "-o", "e.csv"], dir);
-        assert_eq!(o.status.code(), Some(0), "{trial}");
-        String::from_utf8(o.stderr).unwrap()
-    };
-    let err = stderr("g.csv");
+    let err = estimate_stderr(dir, "g.csv");
     assert!(
         err.contains("warning: g.csv: ")
             && err.contains("of the accelerometer readings have a norm of 0.5-2")
@@ -90,12 +89,12 @@ fn imu_units_other_than_spec_are_named() {
             && !err.contains("deg/s"),
         "{err}"
     );
-    let err = stderr("deg.csv");
+    let err = estimate_stderr(dir, "deg.csv");
     assert!(
         err.contains("warning: deg.csv: ")
             && err.contains("of the gyroscope readings turn faster than 25")
             && err.contains("look like deg/s"),
         "{err}"
     );
-    assert!(!stderr("w.csv").contains("look like"));
+    assert!(!estimate_stderr(dir, "w.csv").contains("look like"));
 }

@@ -1,0 +1,159 @@
+//! `limbfuse inspect TRIAL`: what a trial file holds and which methods can
+//! run on it, before estimating anything.
+
+use anyhow::Result;
+use limbfuse_eval::{summarise, TrialSummary};
+use limbfuse_io::{TrialMeta, TrialReader};
+use limbfuse_methods::{
+    build, check_channels, raw_frame_note, MethodError, MethodName, MethodSpec,
+};
+
+use crate::cli::InspectArgs;
+
+/// Prints the trial's time base, inputs, unit checks and the methods that
+/// can run on it (each built with its defaults, as `estimate` would build
+/// it without `--params`).
+pub fn run(a: &InspectArgs) -> Result<()> {
+    let mut reader = TrialReader::open(&a.trial)?;
+    let meta = reader.meta().clone();
+    let layout = *reader.layout();
+    let s = summarise(&mut reader)?;
+    let label = a.trial.display().to_string();
+    print!("{}", describe(&label, &meta, &s));
+    // Columns first (what no setting can replace), then the method built
+    // with its defaults (a model, a gait library, a window).
+    let (mut runs, mut settings, mut not) = (Vec::new(), Vec::new(), Vec::new());
+    for m in MethodName::ALL {
+        if let Err(e) = check_channels(m, &layout) {
+            not.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string())));
+            continue;
+        }
+        match MethodSpec::defaults(m).and_then(|spec| build(&spec, &meta, &layout)) {
+            Ok(_) => runs.push(match raw_frame_note(m, &meta, &label) {
+                Some(_) => format!(
+                    "{} (after `limbfuse align`: it reads aligned frames)",
+                    m.name()
+                ),
+                None => m.name().to_string(),
+            }),
+            // (methods whose columns are one group or another check them
+            // when they are built)
+            Err(e @ MethodError::MissingChannels { .. }) => {
+                not.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string())))
+            }
+            Err(e) => settings.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string()))),
+        }
+    }
+    println!(
+        "methods that run on it with their defaults: {}",
+        or_none(&runs.join(", "))
+    );
+    for (title, lines) in [
+        (
+            "methods with the columns they need, but not their defaults' settings:",
+            settings,
+        ),
+        ("methods missing columns they need:", not),
+    ] {
+        if !lines.is_empty() {
+            println!("{title}");
+            for l in lines {
+                println!("{l}");
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `text`, or `none` when empty.
+fn or_none(text: &str) -> &str {
+    if text.is_empty() {
+        "none"
+    } else {
+        text
+    }
+}
+
+/// The first line of a message.
+fn first_line(text: &str) -> &str {
+    text.lines().next().unwrap_or("")
+}
+
+/// The summary's text (everything but the methods).
+fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
+    let mut out = String::new();
+    let mut line = |l: String| {
+        out += &l;
+        out.push('\n');
+    };
+    let span = s
+        .span
+        .map_or("no rows".to_string(), |(a, b)| format!("t = {a} to {b} s"));
+    line(format!("{label}: {} rows, {span}", s.rows));
+    if let Some(step) = s.median_step {
+        let stated = s.stated_hz.map_or("the file states no rate".into(), |hz| {
+            format!("the file states {hz} Hz")
+        });
+        line(format!(
+            "  sample step: median {step:.6} s ({:.2} Hz; {stated})",
+            1.0 / step
+        ));
+        line(match (s.gaps, s.longest_step) {
+            (0, _) => "  gaps: none (no step over 1.5 median steps)".into(),
+            (n, Some((at, len))) => format!(
+                "  gaps: {n} step{} over 1.5 median steps, the longest {len} s after t = {at} s",
+                if n == 1 { "" } else { "s" }
+            ),
+            (n, None) => format!("  gaps: {n}"),
+        });
+    }
+    let frames = meta
+        .get("imu_frame")
+        .unwrap_or("not stated (SPEC: aligned to the segments)");
+    line(format!(
+        "  leg: {}; IMU frames: {frames}",
+        meta.get("leg").unwrap_or("not stated (SPEC: right)")
+    ));
+    if s.inputs.is_empty() {
+        line("  inputs: none (no IMU, encoder, CoM or stimulation column)".into());
+    } else {
+        let rows = s.rows.max(1) as f64;
+        let names: Vec<String> = s
+            .inputs
+            .iter()
+            .map(|g| match g.missing_rows {
+                0 => g.name.clone(),
+                m => format!(
+                    "{} ({:.1} % of rows missing)",
+                    g.name,
+                    100.0 * m as f64 / rows
+                ),
+            })
+            .collect();
+        line(format!("  inputs: {}", names.join(", ")));
+    }
+    let warnings: Vec<String> = s
+        .interval
+        .iter()
+        .map(ToString::to_string)
+        .chain(s.units.iter().map(ToString::to_string))
+        .collect();
+    if warnings.is_empty() {
+        let imus = s
+            .inputs
+            .iter()
+            .any(|g| g.name.ends_with(" acc") || g.name.ends_with(" gyr"));
+        line(format!(
+            "  units: t in s{} as far as the data show (docs/ROBUST_INPUT.md, 2e)",
+            if imus {
+                ", IMUs in m/s^2 and rad/s"
+            } else {
+                ""
+            }
+        ));
+    }
+    for w in warnings {
+        line(format!("  warning: {w}"));
+    }
+    out
+}

@@ -1,0 +1,123 @@
+//! `limbfuse inspect`: what a trial holds and which methods run on it.
+//! Writing it found that `gyro-integration` and `accel-inclination` ran on a
+//! trial without any IMU (the shared B-SLIP trials) and wrote an estimate
+//! empty on every row with exit 0; they now refuse it (exit 1).
+
+use crate::support::limbfuse;
+
+fn run(args: &[&str], dir: &std::path::Path) -> (i32, String, String) {
+    let o = limbfuse(args, dir);
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8(o.stdout).unwrap(),
+        String::from_utf8(o.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn inspect_a_walking_trial_and_its_gaps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (code, ..) = run(
+        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(code, 0);
+    let (code, out, err) = run(&["inspect", "w.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    for want in [
+        "w.csv: 300 rows, t = 0 to 2.99 s",
+        "sample step: median 0.010000 s (100.00 Hz; the file states 100 Hz)",
+        "gaps: none",
+        "inputs: trunk acc, trunk gyr, thigh acc, thigh gyr, shank acc, shank gyr, foot acc, foot gyr, hip_enc, knee_enc, ankle_enc",
+        "units: t in s, IMUs in m/s^2 and rad/s",
+        "methods that run on it with their defaults: gyro-integration, accel-inclination, local, mjls, global, chain",
+        "imm-bslip          method `imm-bslip` needs CoM measurement columns",
+    ] {
+        assert!(out.contains(want), "missing `{want}` in:\n{out}");
+    }
+    // sdre needs a model, not columns
+    let settings = out
+        .split("methods with the columns they need, but not their defaults' settings:")
+        .nth(1)
+        .unwrap();
+    assert!(
+        settings.contains("  sdre ") && settings.contains("# model:"),
+        "{out}"
+    );
+    // rows 100-149 removed (a 0.51 s gap) and thigh gyro cells emptied on 30 rows
+    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let header_at = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header_at).unwrap().split(',').collect();
+    let gyr: Vec<usize> = (0..names.len())
+        .filter(|&i| names[i].starts_with("thigh_gyr_"))
+        .collect();
+    let mut out_text = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let row = k as i64 - header_at as i64 - 1;
+        if (100..150).contains(&row) {
+            continue;
+        }
+        if (200..230).contains(&row) {
+            let mut cells: Vec<&str> = line.split(',').collect();
+            for &i in &gyr {
+                cells[i] = "";
+            }
+            out_text += &cells.join(",");
+        } else {
+            out_text += line;
+        }
+        out_text.push('\n');
+    }
+    std::fs::write(dir.join("g.csv"), out_text).unwrap();
+    let (code, out, _) = run(&["inspect", "g.csv"], dir);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("gaps: 1 step over 1.5 median steps, the longest 0.51"),
+        "{out}"
+    );
+    assert!(out.contains("thigh gyr (12.0 % of rows missing)"), "{out}");
+}
+
+#[test]
+fn inspect_names_units_and_refuses_nothing_to_estimate() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (code, ..) = run(
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "0.8",
+            "--duration",
+            "3",
+            "-o",
+            "b.csv",
+        ],
+        dir,
+    );
+    assert_eq!(code, 0);
+    let (code, out, err) = run(&["inspect", "b.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("inputs: com_meas"), "{out}");
+    assert!(out.contains("units: t in s as far as"), "{out}");
+    assert!(
+        out.contains("methods that run on it with their defaults: none"),
+        "{out}"
+    );
+    for method in ["gyro-integration", "accel-inclination"] {
+        let (code, _, err) = run(
+            &["estimate", "--method", method, "b.csv", "-o", "e.csv"],
+            dir,
+        );
+        assert_eq!(code, 1, "{method}: {err}");
+        assert!(
+            err.contains("but the trial has no trunk_, thigh_, shank_ or foot_"),
+            "{err}"
+        );
+        assert!(!dir.join("e.csv").exists());
+    }
+    let (code, _, err) = run(&["inspect", "missing.csv"], dir);
+    assert_eq!(code, 1);
+    assert!(err.contains("missing.csv"), "{err}");
+}

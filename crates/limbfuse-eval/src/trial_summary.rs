@@ -1,0 +1,179 @@
+//! What a trial file holds, read once (`limbfuse inspect`): its time base
+//! (duration, sample step, gaps), the share of missing readings per input
+//! group, and the unit checks `estimate` makes
+//! ([`crate::sample_interval`], [`crate::sensor_units`]). Which methods
+//! can run on it is the CLI's part (it needs the method registry).
+
+use limbfuse_core::runner::Observer;
+use limbfuse_core::{Estimate, Record, Segment};
+use limbfuse_io::{FileError, TrialLayout, TrialReader};
+
+use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch};
+use crate::sensor_units::{SensorUnitsWatch, UnitSuspect};
+
+/// A step longer than this many median steps is a gap (a dropped sample
+/// at the least: 2 steps; jitter stays well below).
+const GAP_STEPS: f64 = 1.5;
+
+/// The inputs a trial holds and how many of its rows miss each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputGroup {
+    /// Name, e.g. `thigh gyr`, `foot_left acc`, `knee_enc`, `com_meas`.
+    pub name: String,
+    /// Rows without a complete reading of the group.
+    pub missing_rows: u64,
+}
+
+/// A trial's time base, inputs and unit checks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrialSummary {
+    /// Data rows.
+    pub rows: u64,
+    /// First and last `t` (s).
+    pub span: Option<(f64, f64)>,
+    /// Median step of the first samples (s), see [`SampleIntervalWatch`].
+    pub median_step: Option<f64>,
+    /// The rate the metadata states (`# sample_rate_hz:`).
+    pub stated_hz: Option<f64>,
+    /// Steps longer than 1.5 median steps.
+    pub gaps: u64,
+    /// The longest step: where it starts (s) and its length (s).
+    pub longest_step: Option<(f64, f64)>,
+    /// The input groups the layout has, in SPEC order.
+    pub inputs: Vec<InputGroup>,
+    /// The time column does not look like seconds.
+    pub interval: Option<IntervalMismatch>,
+    /// IMU readings that do not look like m/s^2 or rad/s.
+    pub units: Vec<UnitSuspect>,
+}
+
+/// Reads every row of `reader` and summarises the trial.
+pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
+    let layout = *reader.layout();
+    let stated_hz = reader
+        .meta()
+        .get("sample_rate_hz")
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|hz| hz.is_finite() && *hz > 0.0);
+    let mut intervals = SampleIntervalWatch::new(stated_hz);
+    let mut units = SensorUnitsWatch::default();
+    let groups = input_groups(&layout);
+    let mut missing = vec![0u64; groups.len()];
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    let mut span: Option<(f64, f64)> = None;
+    let mut rows = 0u64;
+    let mut rec = Record::default();
+    let none = Estimate::empty(0.0);
+    while reader.read_into(&mut rec)? {
+        let t = rec.sample.t;
+        if let Some((_, last)) = span {
+            steps.push((last, t - last));
+        }
+        span = Some((span.map_or(t, |s| s.0), t));
+        rows += 1;
+        // (the watches never fail)
+        let _ = intervals.observe(&rec, &none);
+        let _ = units.observe(&rec, &none);
+        for ((_, has), m) in groups.iter().zip(missing.iter_mut()) {
+            *m += u64::from(!has(&rec));
+        }
+    }
+    let median_step = intervals.median_step();
+    let (gaps, longest_step) = match median_step {
+        Some(m) => (
+            steps.iter().filter(|(_, d)| *d > GAP_STEPS * m).count() as u64,
+            steps.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)),
+        ),
+        None => (0, None),
+    };
+    Ok(TrialSummary {
+        rows,
+        span,
+        median_step,
+        stated_hz,
+        gaps,
+        longest_step,
+        inputs: groups
+            .into_iter()
+            .zip(missing)
+            .map(|((name, _), missing_rows)| InputGroup { name, missing_rows })
+            .collect(),
+        interval: intervals.mismatch(),
+        units: units.suspects().collect(),
+    })
+}
+
+/// Whether a record holds a group's reading.
+type Has = Box<dyn Fn(&Record) -> bool>;
+
+/// The input groups of a layout with their tests, in SPEC order: each
+/// IMU's accelerometer and gyroscope (this leg, then the other), encoders,
+/// CoM measurements, stimulation.
+fn input_groups(layout: &TrialLayout) -> Vec<(String, Has)> {
+    let mut out: Vec<(String, Has)> = Vec::new();
+    let other = layout.other_leg();
+    for s in Segment::ALL {
+        let i = s.index();
+        let name = s.name();
+        if layout.acc[i] {
+            out.push((
+                format!("{name} acc"),
+                Box::new(move |r| r.sample.imu[i].acc.is_some()),
+            ));
+        }
+        if layout.gyr[i] {
+            out.push((
+                format!("{name} gyr"),
+                Box::new(move |r| r.sample.imu[i].gyr.is_some()),
+            ));
+        }
+    }
+    for s in Segment::ALL {
+        let i = s.index();
+        let prefix = limbfuse_io::layout::other_leg_prefix(s, other);
+        let name = prefix.trim_end_matches('_');
+        if layout.other_acc[i] {
+            out.push((
+                format!("{name} acc"),
+                Box::new(move |r| r.sample.other_leg_imu[i].acc.is_some()),
+            ));
+        }
+        if layout.other_gyr[i] {
+            out.push((
+                format!("{name} gyr"),
+                Box::new(move |r| r.sample.other_leg_imu[i].gyr.is_some()),
+            ));
+        }
+    }
+    for (j, name) in ["hip_enc", "knee_enc", "ankle_enc"].into_iter().enumerate() {
+        if layout.encoder[j] {
+            out.push((
+                name.into(),
+                Box::new(move |r| r.sample.encoder[j].is_some()),
+            ));
+        }
+    }
+    if layout.com_meas.iter().any(|c| *c) {
+        let cols = layout.com_meas;
+        out.push((
+            "com_meas".into(),
+            Box::new(move |r| {
+                r.sample
+                    .com
+                    .values()
+                    .iter()
+                    .zip(cols)
+                    .all(|(v, has)| !has || v.is_some())
+            }),
+        ));
+    }
+    for (k, name) in ["u_ke", "u_kf", "u_he", "u_hf"].into_iter().enumerate() {
+        if layout.stim[k] {
+            out.push((
+                name.into(),
+                Box::new(move |r| r.sample.inputs.stim[k].is_some()),
+            ));
+        }
+    }
+    out
+}
