@@ -27,6 +27,7 @@ mod tune_fes;
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use limbfuse_core::Record;
 use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
@@ -56,6 +57,33 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Tune(a) => tune::run(&a),
         Command::Methods => method_list::list(),
         Command::Params(a) => method_list::params(&a),
+    }
+}
+
+/// Warns on stderr when a trial read whole has a time column or IMU
+/// readings that do not look like SPEC units (`limbfuse_eval::
+/// sample_interval`, `limbfuse_eval::sensor_units`), as `estimate` does
+/// while it streams.
+pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[Record]) {
+    use limbfuse_core::runner::Observer;
+    let stated = meta
+        .get("sample_rate_hz")
+        .and_then(|v| v.trim().parse().ok());
+    let mut intervals = limbfuse_eval::SampleIntervalWatch::new(stated);
+    let mut units = limbfuse_eval::SensorUnitsWatch::default();
+    let none = limbfuse_core::Estimate::empty(0.0);
+    for r in records {
+        // (the watches never fail)
+        let _ = intervals.observe(r, &none);
+        let _ = units.observe(r, &none);
+    }
+    let said = intervals
+        .mismatch()
+        .map(|m| m.to_string())
+        .into_iter()
+        .chain(units.suspects().map(|u| u.to_string()));
+    for w in said {
+        eprintln!("warning: {}: {w}", trial.display());
     }
 }
 

@@ -97,4 +97,11 @@ fn imu_units_other_than_spec_are_named() {
         "{err}"
     );
     assert!(!estimate_stderr(dir, "w.csv").contains("look like"));
+    // `align` reads the trial whole and says the same
+    let o = limbfuse(&["align", "g.csv", "-o", "al.csv"], dir);
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("warning: g.csv: ") && err.contains("look like g"),
+        "{err}"
+    );
 }
