@@ -5,12 +5,12 @@
 //! 3 s walk (`mjls`):
 //! - **accelerometers in g**: the readings' norm is about 1 instead of
 //!   9.81, so every reliability test `| ||a|| - g |` fails, the filter
-//!   never corrects its gyro integration and the angles are 74-75 deg off,
-//!   with no warning at all;
+//!   never corrects its gyro integration and the segment angles are 73-75
+//!   deg off (the encoders keep the joints), with no warning at all;
 //! - **gyroscopes in deg/s**: 57 times the rate; the sensor gate rejects
-//!   the readings above its range and passes the others, the angles are
-//!   67-82 deg RMSE off, and the warnings speak of rejected readings and
-//!   restarts, not of units.
+//!   the readings above its range and passes the others, the segment
+//!   angles are 67-83 deg RMSE off, and the warnings speak of rejected
+//!   readings and restarts, not of units.
 //!
 //! [`SensorUnitsWatch`] counts, over all IMUs of both legs:
 //! - accelerometer readings whose norm lies in 0.5-2 (in the file's unit):
