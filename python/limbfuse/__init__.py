@@ -21,6 +21,7 @@ from ._estimate import (
     default_params,
     estimate,
     evaluate,
+    inspect,
     methods,
     read_estimate,
 )
@@ -56,6 +57,7 @@ __all__ = [
     "estimate",
     "evaluate",
     "gait_library",
+    "inspect",
     "methods",
     "read_estimate",
     "read_trial",

@@ -254,3 +254,37 @@ def methods() -> List[Tuple[str, str]]:
 def default_params(method: str) -> str:
     """A method's default parameter file, commented (``limbfuse params``)."""
     return _native.default_params(method)
+
+
+def inspect(path: PathLike) -> Dict[str, Any]:
+    """What a trial file holds and which methods run on it (``limbfuse
+    inspect``), read once without estimating anything.
+
+    Returns a dict: ``rows``; ``span`` (first, last ``t``) or None;
+    ``median_step`` (s, of the first 64 samples) and ``stated_hz`` (the
+    file's ``# sample_rate_hz:``), each or None; ``gaps`` (steps over 1.5
+    median steps) and ``longest_step`` (start ``t``, length) or None;
+    ``inputs``: {group: rows missing} (``"thigh gyr"``, ``"knee_enc"``,
+    ...); ``warnings``: the unit checks of ``estimate`` (a time column not
+    in seconds, accelerometers in g, gyroscopes in deg/s;
+    docs/ROBUST_INPUT.md); ``methods``: {name: (kind, why)} with kind
+    ``"runs"``, ``"runs after align"`` (it reads aligned frames, the file
+    declares raw ones), ``"needs a setting"`` (a model, a gait library) or
+    ``"missing columns"``, and why the message ``estimate`` would give.
+
+    Raises:
+        LimbfuseError: the file cannot be read (the message names the file
+            and line).
+    """
+    rows, span, step, stated, gaps, longest, inputs, warnings, methods_ = _native.inspect(os.fspath(path))
+    return {
+        "rows": rows,
+        "span": span,
+        "median_step": step,
+        "stated_hz": stated,
+        "gaps": gaps,
+        "longest_step": longest,
+        "inputs": dict(inputs),
+        "warnings": list(warnings),
+        "methods": {name: (kind, why) for name, kind, why in methods_},
+    }

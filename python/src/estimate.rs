@@ -227,20 +227,13 @@ fn estimate<'py>(
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
         // As `limbfuse estimate`: a time column that is not in seconds.
         let interval_note = {
-            let stated = meta
-                .get("sample_rate_hz")
-                .and_then(|v| v.trim().parse().ok());
-            let mut w = SampleIntervalWatch::new(stated);
+            let mut w = SampleIntervalWatch::for_trial(&meta);
             for &t in cols.t.iter().take(FIRST_INTERVALS + 1) {
                 w.push(t);
             }
             let mut units = SensorUnitsWatch::default();
             inputs.count_units(&mut units);
-            let said: Vec<String> = w
-                .mismatch()
-                .map(|m| m.to_string())
-                .into_iter()
-                .chain(units.suspects().map(|u| u.to_string()))
+            let said: Vec<String> = limbfuse_eval::unit_warnings(&w, &units)
                 .map(|m| format!("{label}: {m}"))
                 .collect();
             (!said.is_empty()).then(|| said.join("\n"))

@@ -106,6 +106,59 @@ fn default_params(method: &str) -> PyResult<String> {
     })
 }
 
+/// What a trial file holds and which methods run on it (`limbfuse
+/// inspect`): a tuple the Python layer turns into a dict.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn inspect(
+    path: std::path::PathBuf,
+) -> PyResult<(
+    u64,
+    Option<(f64, f64)>,
+    Option<f64>,
+    Option<f64>,
+    u64,
+    Option<(f64, f64)>,
+    Vec<(String, u64)>,
+    Vec<String>,
+    Vec<(&'static str, &'static str, String)>,
+)> {
+    guarded(|| {
+        let mut reader = limbfuse_io::TrialReader::open(&path).map_err(|e| user_error(&e))?;
+        let meta = reader.meta().clone();
+        let layout = *reader.layout();
+        let s = limbfuse_eval::summarise(&mut reader).map_err(|e| user_error(&e))?;
+
+        let methods = limbfuse_methods::availability(&meta, &layout)
+            .into_iter()
+            .map(|(m, a)| {
+                use limbfuse_methods::Availability as A;
+                let (kind, why) = match a {
+                    A::Runs { after_align: false } => ("runs", String::new()),
+                    A::Runs { after_align: true } => (
+                        "runs after align",
+                        "it reads aligned IMU frames and the trial declares raw ones".into(),
+                    ),
+                    A::NeedsSetting(why) => ("needs a setting", why),
+                    A::MissingColumns(why) => ("missing columns", why),
+                };
+                (m.name(), kind, why)
+            })
+            .collect();
+        Ok((
+            s.rows,
+            s.span,
+            s.median_step,
+            s.stated_hz,
+            s.gaps,
+            s.longest_step,
+            s.inputs.into_iter().map(|g| (g.name, g.missing_rows)).collect(),
+            s.warnings,
+            methods,
+        ))
+    })
+}
+
 /// Raises `InternalError` from inside Rust (tests the panic boundary).
 #[pyfunction]
 fn _panic_for_test() -> PyResult<()> {
@@ -119,6 +172,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InternalError", py.get_type::<InternalError>())?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(default_params, m)?)?;
+    m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     trial::register(m)?;
     estimate::register(m)?;

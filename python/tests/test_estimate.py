@@ -362,3 +362,18 @@ def test_issue_19_event_evaluation_window_and_angle_options(walking_trial):
     assert half["n_samples"] < whole["n_samples"] and half["n_strides"] < whole["n_strides"]
     with pytest.raises(LimbfuseError, match="offset_free: applies to angle errors only"):
         limbfuse.evaluate(trial, est, offset_free=True)
+
+
+def test_inspect_a_trial_file(walking_file, tmp_path):
+    """`limbfuse.inspect` gives `limbfuse inspect`'s summary as a dict."""
+    info = limbfuse.inspect(walking_file)
+    assert info["rows"] == 1000 and info["span"] == (0.0, 9.99)
+    assert abs(info["median_step"] - 0.01) < 1e-12 and info["stated_hz"] == 100.0
+    assert info["gaps"] == 0 and info["warnings"] == []
+    assert info["inputs"]["thigh gyr"] == 0 and "knee_enc" in info["inputs"]
+    assert info["methods"]["mjls"] == ("runs", "")
+    kind, why = info["methods"]["imm-bslip"]
+    assert kind == "missing columns" and "com_meas_x" in why
+    assert info["methods"]["sdre"][0] == "needs a setting"
+    with pytest.raises(LimbfuseError, match="nothing.csv"):
+        limbfuse.inspect(tmp_path / "nothing.csv")

@@ -113,6 +113,20 @@ impl SampleIntervalWatch {
         }
     }
 
+    /// A watch for a trial with this metadata (its `# sample_rate_hz:`,
+    /// when that is a number).
+    pub fn for_trial(meta: &limbfuse_io::TrialMeta) -> Self {
+        Self::new(
+            meta.get("sample_rate_hz")
+                .and_then(|v| v.trim().parse().ok()),
+        )
+    }
+
+    /// The rate the trial states, if it is a positive finite number.
+    pub fn stated_hz(&self) -> Option<f64> {
+        self.stated_hz
+    }
+
     /// Adds a sample time.
     pub fn push(&mut self, t: f64) {
         if self.n < FIRST_INTERVALS {

@@ -36,6 +36,8 @@ use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::{Estimate, ImuSample, Record};
 use nalgebra::Vector3;
 
+use crate::sample_interval::SampleIntervalWatch;
+
 /// Readings of a kind needed before anything is said about its unit.
 pub const MIN_READINGS: u64 = 25;
 
@@ -146,6 +148,17 @@ impl SensorUnitsWatch {
             .map(|share| UnitSuspect::GyroscopeInDegrees { share });
         acc.into_iter().chain(gyr)
     }
+}
+
+/// The warnings of both unit checks, time column first: what `estimate`,
+/// `align` and `inspect` say (CLI and Python alike).
+pub fn unit_warnings(
+    intervals: &SampleIntervalWatch,
+    units: &SensorUnitsWatch,
+) -> impl Iterator<Item = String> {
+    let time = intervals.mismatch().map(|m| m.to_string());
+    time.into_iter()
+        .chain(units.suspects().map(|u| u.to_string()))
 }
 
 impl Observer for SensorUnitsWatch {

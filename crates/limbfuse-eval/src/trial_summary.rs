@@ -45,17 +45,15 @@ pub struct TrialSummary {
     pub interval: Option<IntervalMismatch>,
     /// IMU readings that do not look like m/s^2 or rad/s.
     pub units: Vec<UnitSuspect>,
+    /// Both as `estimate` words them ([`crate::unit_warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Reads every row of `reader` and summarises the trial.
 pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
     let layout = *reader.layout();
-    let stated_hz = reader
-        .meta()
-        .get("sample_rate_hz")
-        .and_then(|v| v.trim().parse::<f64>().ok())
-        .filter(|hz| hz.is_finite() && *hz > 0.0);
-    let mut intervals = SampleIntervalWatch::new(stated_hz);
+    let mut intervals = SampleIntervalWatch::for_trial(reader.meta());
+    let stated_hz = intervals.stated_hz();
     let mut units = SensorUnitsWatch::default();
     let groups = input_groups(&layout);
     let mut missing = vec![0u64; groups.len()];
@@ -100,6 +98,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
             .collect(),
         interval: intervals.mismatch(),
         units: units.suspects().collect(),
+        warnings: crate::unit_warnings(&intervals, &units).collect(),
     })
 }
 

@@ -28,6 +28,7 @@
 //! `tests/integration/adding_a_method.rs` does it for a trivial method.
 #![deny(missing_docs)]
 
+pub mod availability;
 mod baseline_methods;
 mod build;
 pub mod chain_method;
@@ -56,6 +57,7 @@ pub mod segment_params;
 pub mod smoothed_chain;
 mod spec;
 
+pub use availability::{availability, Availability};
 pub use baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
 pub use build::{build, check_channels, gate};
 pub use channels::ChannelNeeds;

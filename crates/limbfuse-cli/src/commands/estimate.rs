@@ -422,11 +422,8 @@ impl RunReport {
 /// (`limbfuse_eval::sample_interval`) or its IMU readings not like m/s^2
 /// and rad/s (`limbfuse_eval::sensor_units`).
 fn warn_units(intervals: &SampleIntervalWatch, units: &SensorUnitsWatch, trial: &Path) {
-    if let Some(m) = intervals.mismatch() {
-        eprintln!("warning: {}: {m}", trial.display());
-    }
-    for u in units.suspects() {
-        eprintln!("warning: {}: {u}", trial.display());
+    for w in limbfuse_eval::unit_warnings(intervals, units) {
+        eprintln!("warning: {}: {w}", trial.display());
     }
 }
 
@@ -462,11 +459,7 @@ fn run_observed<W: std::io::Write>(
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();
-    let stated_hz = reader
-        .meta()
-        .get("sample_rate_hz")
-        .and_then(|v| v.trim().parse().ok());
-    let mut intervals = SampleIntervalWatch::new(stated_hz);
+    let mut intervals = SampleIntervalWatch::for_trial(reader.meta());
     let mut units = SensorUnitsWatch::default();
     let summary = {
         let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(6 + extra.len());

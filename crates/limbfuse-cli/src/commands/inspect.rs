@@ -4,9 +4,7 @@
 use anyhow::Result;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
-use limbfuse_methods::{
-    build, check_channels, raw_frame_note, MethodError, MethodName, MethodSpec,
-};
+use limbfuse_methods::{availability, Availability};
 
 use crate::cli::InspectArgs;
 
@@ -20,28 +18,16 @@ pub fn run(a: &InspectArgs) -> Result<()> {
     let s = summarise(&mut reader)?;
     let label = a.trial.display().to_string();
     print!("{}", describe(&label, &meta, &s));
-    // Columns first (what no setting can replace), then the method built
-    // with its defaults (a model, a gait library, a window).
     let (mut runs, mut settings, mut not) = (Vec::new(), Vec::new(), Vec::new());
-    for m in MethodName::ALL {
-        if let Err(e) = check_channels(m, &layout) {
-            not.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string())));
-            continue;
-        }
-        match MethodSpec::defaults(m).and_then(|spec| build(&spec, &meta, &layout)) {
-            Ok(_) => runs.push(match raw_frame_note(m, &meta, &label) {
-                Some(_) => format!(
-                    "{} (after `limbfuse align`: it reads aligned frames)",
-                    m.name()
-                ),
-                None => m.name().to_string(),
-            }),
-            // (methods whose columns are one group or another check them
-            // when they are built)
-            Err(e @ MethodError::MissingChannels { .. }) => {
-                not.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string())))
-            }
-            Err(e) => settings.push(format!("  {:<18} {}", m.name(), first_line(&e.to_string()))),
+    for (m, a) in availability(&meta, &layout) {
+        match a {
+            Availability::Runs { after_align: false } => runs.push(m.name().to_string()),
+            Availability::Runs { after_align: true } => runs.push(format!(
+                "{} (after `limbfuse align`: it reads aligned frames)",
+                m.name()
+            )),
+            Availability::NeedsSetting(why) => settings.push(format!("  {:<18} {why}", m.name())),
+            Availability::MissingColumns(why) => not.push(format!("  {:<18} {why}", m.name())),
         }
     }
     println!(
@@ -72,11 +58,6 @@ fn or_none(text: &str) -> &str {
     } else {
         text
     }
-}
-
-/// The first line of a message.
-fn first_line(text: &str) -> &str {
-    text.lines().next().unwrap_or("")
 }
 
 /// The summary's text (everything but the methods).
@@ -132,12 +113,7 @@ fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
             .collect();
         line(format!("  inputs: {}", names.join(", ")));
     }
-    let warnings: Vec<String> = s
-        .interval
-        .iter()
-        .map(ToString::to_string)
-        .chain(s.units.iter().map(ToString::to_string))
-        .collect();
+    let warnings = &s.warnings;
     if warnings.is_empty() {
         let imus = s
             .inputs

@@ -66,10 +66,7 @@ pub fn run(cli: Cli) -> Result<()> {
 /// while it streams.
 pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[Record]) {
     use limbfuse_core::runner::Observer;
-    let stated = meta
-        .get("sample_rate_hz")
-        .and_then(|v| v.trim().parse().ok());
-    let mut intervals = limbfuse_eval::SampleIntervalWatch::new(stated);
+    let mut intervals = limbfuse_eval::SampleIntervalWatch::for_trial(meta);
     let mut units = limbfuse_eval::SensorUnitsWatch::default();
     let none = limbfuse_core::Estimate::empty(0.0);
     for r in records {
@@ -77,12 +74,7 @@ pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[
         let _ = intervals.observe(r, &none);
         let _ = units.observe(r, &none);
     }
-    let said = intervals
-        .mismatch()
-        .map(|m| m.to_string())
-        .into_iter()
-        .chain(units.suspects().map(|u| u.to_string()));
-    for w in said {
+    for w in limbfuse_eval::unit_warnings(&intervals, &units) {
         eprintln!("warning: {}: {w}", trial.display());
     }
 }

@@ -1,0 +1,87 @@
+//! Which methods can run on a trial, and why not (`limbfuse inspect`, the
+//! Python `limbfuse.inspect`): each method is built with its defaults, as
+//! `estimate` builds it without `--params`, and sorted by what stops it.
+
+use limbfuse_io::{TrialLayout, TrialMeta};
+
+use crate::{build, check_channels, raw_frame_note, MethodError, MethodName, MethodSpec};
+
+/// What a method needs beyond a trial's columns, or that it runs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Availability {
+    /// It runs with its defaults.
+    Runs {
+        /// It reads aligned IMU frames and the trial declares raw ones: it
+        /// runs, but its angles mean something only after `limbfuse align`.
+        after_align: bool,
+    },
+    /// The trial has its columns, but a setting its defaults lack (a
+    /// `# model:` for `sdre` / `ekf`, a gait library for `imm-bslip`): the
+    /// first line of the error `estimate` would give.
+    NeedsSetting(String),
+    /// The trial lacks columns it needs: the first line of the error.
+    MissingColumns(String),
+}
+
+/// Every method of the registry with its [`Availability`] on a trial with
+/// this metadata and these columns.
+pub fn availability(meta: &TrialMeta, layout: &TrialLayout) -> Vec<(MethodName, Availability)> {
+    let first_line = |e: MethodError| e.to_string().lines().next().unwrap_or("").to_string();
+    MethodName::ALL
+        .into_iter()
+        .map(|m| {
+            // Columns first (what no setting can replace), then the method
+            // built with its defaults; methods whose columns are one group
+            // or another check them when they are built.
+            let a = match check_channels(m, layout)
+                .and_then(|()| MethodSpec::defaults(m))
+                .and_then(|spec| build(&spec, meta, layout))
+            {
+                Ok(_) => Availability::Runs {
+                    after_align: raw_frame_note(m, meta, "").is_some(),
+                },
+                Err(e @ MethodError::MissingChannels { .. }) => {
+                    Availability::MissingColumns(first_line(e))
+                }
+                Err(e) => Availability::NeedsSetting(first_line(e)),
+            };
+            (m, a)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_walking_trial_runs_the_segment_filters_and_not_the_others() {
+        let mut meta = TrialMeta::trial_v1();
+        let layout = TrialLayout::walking();
+        let get = |list: &[(MethodName, Availability)], m| {
+            list.iter().find(|(n, _)| *n == m).unwrap().1.clone()
+        };
+        let list = availability(&meta, &layout);
+        assert_eq!(list.len(), MethodName::ALL.len());
+        assert_eq!(
+            get(&list, MethodName::Mjls),
+            Availability::Runs { after_align: false }
+        );
+        assert!(
+            matches!(get(&list, MethodName::ImmBslip), Availability::MissingColumns(m) if m.contains("com_meas_x"))
+        );
+        assert!(
+            matches!(get(&list, MethodName::Sdre), Availability::NeedsSetting(m) if m.contains("# model:"))
+        );
+        meta.set("imu_frame", "raw sensor frames (unaligned)");
+        let list = availability(&meta, &layout);
+        assert_eq!(
+            get(&list, MethodName::Mjls),
+            Availability::Runs { after_align: true }
+        );
+        assert_eq!(
+            get(&list, MethodName::KneeSelfAlign),
+            Availability::Runs { after_align: false }
+        );
+    }
+}
