@@ -152,7 +152,10 @@ fn inspect(
             s.stated_hz,
             s.gaps,
             s.longest_step,
-            s.inputs.into_iter().map(|g| (g.name, g.missing_rows)).collect(),
+            s.inputs
+                .into_iter()
+                .map(|g| (g.name, g.missing_rows))
+                .collect(),
             s.warnings,
             methods,
         ))

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_core::GaitPhase;
 use limbfuse_io::table::TableReader;
-use limbfuse_io::{EstimateReader, FileError, TrialMeta};
+use limbfuse_io::{EstimateReader, FileError, TrialMeta, TrialReader};
 
 /// One numeric column, a value (or a gap) per sample.
 pub type Column = Vec<Option<f64>>;
@@ -33,6 +33,9 @@ pub struct TrialData {
     pub columns: BTreeMap<String, Column>,
     /// `phase_ref` as 0 (SS1), 1 (DS), 2 (SS2), when present.
     pub phase_ref: Option<Column>,
+    /// The unit checks `estimate` makes (a time column not in seconds,
+    /// accelerometers in g, gyroscopes in deg/s; `limbfuse_eval::unit_warnings`).
+    pub unit_warnings: Vec<String>,
 }
 
 /// One estimate file.
@@ -128,6 +131,8 @@ impl TrialData {
                 v.push(p);
             }
         }
+        // (a second pass, over records: the checks read the IMU vectors)
+        let unit_warnings = limbfuse_eval::summarise(&mut TrialReader::open(path)?)?.warnings;
         Ok(TrialData {
             path: path.to_path_buf(),
             meta,
@@ -135,6 +140,7 @@ impl TrialData {
             reference,
             columns: extra.into_iter().map(|(n, _)| n).zip(columns).collect(),
             phase_ref,
+            unit_warnings,
         })
     }
 

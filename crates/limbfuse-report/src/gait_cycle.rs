@@ -278,6 +278,7 @@ mod tests {
             reference: Default::default(),
             columns: Default::default(),
             phase_ref: None,
+            unit_warnings: Vec::new(),
         };
         trial.columns.insert("contact_right_ref".into(), c);
         let cy = find_cycles(&trial).unwrap();

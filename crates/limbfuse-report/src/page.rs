@@ -147,6 +147,9 @@ fn header(
             .join(", "),
         buckets
     );
+    for w in &trial.unit_warnings {
+        let _ = write!(s, r#"<p class="warning">warning: {}</p>"#, esc(w));
+    }
     window_controls(s, trial);
 }
 

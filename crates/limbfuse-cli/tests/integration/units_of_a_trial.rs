@@ -97,6 +97,19 @@ fn imu_units_other_than_spec_are_named() {
         "{err}"
     );
     assert!(!estimate_stderr(dir, "w.csv").contains("look like"));
+    // the HTML report of the trial says it under its summary
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "g.csv", "-o", "eg.csv"],
+        dir,
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let o = limbfuse(&["report", "g.csv", "eg.csv", "-o", "r.html"], dir);
+    assert_eq!(o.status.code(), Some(0));
+    let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
+    assert!(
+        html.contains(r#"<p class="warning">warning: "#) && html.contains("look like g"),
+        "the report names the unit"
+    );
     // `align` reads the trial whole and says the same
     let o = limbfuse(&["align", "g.csv", "-o", "al.csv"], dir);
     let err = String::from_utf8(o.stderr).unwrap();
