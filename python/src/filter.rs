@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use limbfuse_core::{Estimator, Sample, Side};
+use limbfuse_eval::{SampleIntervalWatch, SensorUnitsWatch};
 use limbfuse_io::{Calibration, TrialMeta};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
@@ -36,6 +37,67 @@ pub struct NativeFilter {
     template: EstimateColumns,
     /// The IMU calibration applied to every sample (`calibration=`).
     calibration: Option<Calibration>,
+    /// The unit checks of `estimate`, over the samples stepped or run.
+    units: StreamUnits,
+}
+
+/// The unit checks of `estimate` (`limbfuse_eval::unit_warnings`) over a
+/// stream: said once, as a `LimbfuseWarning`, when they find something.
+struct StreamUnits {
+    intervals: SampleIntervalWatch,
+    units: SensorUnitsWatch,
+    samples: u64,
+    said: bool,
+}
+
+impl StreamUnits {
+    /// Samples after which the checks stop (the first 64 steps decide the
+    /// time column; the IMU shares settle long before).
+    const LAST_CHECK: u64 = 8192;
+
+    fn new(meta: &TrialMeta) -> Self {
+        StreamUnits {
+            intervals: SampleIntervalWatch::for_trial(meta),
+            units: SensorUnitsWatch::default(),
+            samples: 0,
+            said: false,
+        }
+    }
+
+    /// Counts one sample (every [`SensorUnitsWatch::STRIDE`]-th one's IMUs,
+    /// as `estimate` counts).
+    fn observe(&mut self, s: &Sample) {
+        if self.said || self.samples > Self::LAST_CHECK {
+            return;
+        }
+        self.intervals.push(s.t);
+        if self.samples.is_multiple_of(SensorUnitsWatch::STRIDE as u64) {
+            for imu in s.imu.iter().chain(&s.other_leg_imu) {
+                self.units.push_imu(imu);
+            }
+        }
+        self.samples += 1;
+    }
+
+    /// Warns once, when the checks have found something (looked at every
+    /// 64 samples and at the end of a `run`).
+    fn warn(&mut self, py: Python<'_>, method: &str, now: bool) -> PyResult<()> {
+        if self.said || !(now || self.samples.is_multiple_of(64)) {
+            return Ok(());
+        }
+        let said: Vec<String> =
+            limbfuse_eval::unit_warnings(&self.intervals, &self.units).collect();
+        if said.is_empty() {
+            return Ok(());
+        }
+        self.said = true;
+        let category = py
+            .import("limbfuse._estimate")?
+            .getattr("LimbfuseWarning")?;
+        let text = format!("{method}: the filter's samples: {}", said.join("; "));
+        let text = std::ffi::CString::new(text).unwrap_or_default();
+        PyErr::warn(py, &category, &text, 2)
+    }
 }
 
 fn step_error(method: &str, t: f64, e: &dyn std::error::Error) -> PyErr {
@@ -111,6 +173,7 @@ impl NativeFilter {
                 leg,
                 template,
                 calibration,
+                units: StreamUnits::new(&m),
             })
         })
     }
@@ -190,6 +253,9 @@ impl NativeFilter {
                 .collect();
             let mut sample = Sample::default();
             SampleColumns::new(&time, &columns).fill(0, &mut sample);
+            // (the units of the samples as given, before a calibration)
+            self.units.observe(&sample);
+            self.units.warn(py, &self.method, false)?;
             if let Some(c) = &self.calibration {
                 c.apply_sample(&mut sample);
             }
@@ -242,8 +308,16 @@ impl NativeFilter {
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             let method = self.method.clone();
             let calibration = self.calibration.clone();
-            let est = self.estimator();
             let inputs = cols.inputs();
+            if !self.units.said {
+                let mut sample = Sample::default();
+                for i in 0..inputs.len().min(StreamUnits::LAST_CHECK as usize) {
+                    inputs.fill(i, &mut sample);
+                    self.units.observe(&sample);
+                }
+                self.units.warn(py, &method, true)?;
+            }
+            let est = self.estimator();
             py.detach(|| run_columns(est, &inputs, &mut out, None, calibration.as_ref()))
                 .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             crate::estimate::estimate_tuple(py, out, None)

@@ -377,3 +377,24 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     assert info["methods"]["sdre"][0] == "needs a setting"
     with pytest.raises(LimbfuseError, match="nothing.csv"):
         limbfuse.inspect(tmp_path / "nothing.csv")
+
+
+def test_filter_warns_once_about_units(walking_trial):
+    """`Filter` gives `estimate`'s unit warnings once, stepping or running:
+    gyroscopes in deg/s here; SI samples say nothing."""
+    in_deg = {k: (np.degrees(v) if "_gyr_" in k else v) for k, v in walking_trial.channels.items()}
+    names = list(in_deg)
+    f = Filter("mjls", channels=names, meta=walking_trial.meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"the filter's samples: .* look like deg/s") as caught:
+        for i in range(300):
+            f.step({"t": float(walking_trial.t[i]), **{n: float(in_deg[n][i]) for n in names}})
+    assert len([w for w in caught if issubclass(w.category, limbfuse.LimbfuseWarning)]) == 1
+    g = Filter("mjls", channels=names, meta=walking_trial.meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match="look like deg/s"):
+        g.run({"t": walking_trial.t, **in_deg})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        h = Filter.for_trial(walking_trial, "mjls")
+        for i in range(300):
+            h.step({"t": float(walking_trial.t[i]), **{n: float(walking_trial.channels[n][i]) for n in names}})
+        h.run({"t": walking_trial.t + 10.0, **dict(walking_trial.channels)})
