@@ -418,8 +418,12 @@ pub struct ResampleArgs {
 /// Options of `inspect`.
 #[derive(Debug, Args)]
 pub struct InspectArgs {
-    /// Trial file (CSV or Arrow).
-    pub trial: PathBuf,
+    /// Trial files (CSV or Arrow).
+    #[arg(required = true)]
+    pub trials: Vec<PathBuf>,
+    /// One JSON array, an object per trial (the keys of Python's `limbfuse.inspect`, plus `trial`).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Options of `tune`.

@@ -1,4 +1,4 @@
-//! `limbfuse inspect TRIAL`: what a trial file holds and which methods can
+//! `limbfuse inspect TRIAL... [--json]`: what trial files hold and which methods can
 //! run on it, before estimating anything.
 
 use anyhow::Result;
@@ -8,18 +8,95 @@ use limbfuse_methods::{availability, Availability};
 
 use crate::cli::InspectArgs;
 
-/// Prints the trial's time base, inputs, unit checks and the methods that
+/// Prints each trial's time base, inputs, unit checks and the methods that
 /// can run on it (each built with its defaults, as `estimate` would build
-/// it without `--params`).
+/// it without `--params`), as text or one JSON array (`--json`). A file
+/// that cannot be read is an error (exit 1) after the others were printed.
 pub fn run(a: &InspectArgs) -> Result<()> {
-    let mut reader = TrialReader::open(&a.trial)?;
-    let meta = reader.meta().clone();
-    let layout = *reader.layout();
-    let s = summarise(&mut reader)?;
-    let label = a.trial.display().to_string();
-    print!("{}", describe(&label, &meta, &s));
+    let mut json = Vec::new();
+    let mut failed = 0usize;
+    for path in &a.trials {
+        let inspected = TrialReader::open(path).and_then(|mut reader| {
+            let meta = reader.meta().clone();
+            let layout = *reader.layout();
+            summarise(&mut reader).map(|s| (meta, layout, s))
+        });
+        let (meta, layout, s) = match inspected {
+            Ok(x) => x,
+            Err(e) if a.trials.len() == 1 => return Err(e.into()),
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+                continue;
+            }
+        };
+        let label = path.display().to_string();
+        let methods = availability(&meta, &layout);
+        if a.json {
+            json.push(to_json(&label, &s, &methods));
+        } else {
+            print_text(&label, &meta, &s, methods);
+        }
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    }
+    if failed > 0 {
+        anyhow::bail!(
+            "{failed} of {} trial files could not be read (above)",
+            a.trials.len()
+        );
+    }
+    Ok(())
+}
+
+/// The JSON form of one trial (the keys of Python's `limbfuse.inspect`).
+fn to_json(
+    label: &str,
+    s: &TrialSummary,
+    methods: &[(limbfuse_methods::MethodName, Availability)],
+) -> serde_json::Value {
+    let methods: serde_json::Map<String, serde_json::Value> = methods
+        .iter()
+        .map(|(m, a)| {
+            let (kind, why) = match a {
+                Availability::Runs { after_align: false } => ("runs", ""),
+                Availability::Runs { after_align: true } => ("runs after align", ""),
+                Availability::NeedsSetting(why) => ("needs a setting", why.as_str()),
+                Availability::MissingColumns(why) => ("missing columns", why.as_str()),
+            };
+            (m.name().to_string(), serde_json::json!([kind, why]))
+        })
+        .collect();
+    let inputs: serde_json::Map<String, serde_json::Value> = s
+        .inputs
+        .iter()
+        .map(|g| (g.name.clone(), g.missing_rows.into()))
+        .collect();
+    serde_json::json!({
+        "trial": label,
+        "rows": s.rows,
+        "span": s.span.map(|(a, b)| [a, b]),
+        "median_step": s.median_step,
+        "stated_hz": s.stated_hz,
+        "gaps": s.gaps,
+        "longest_step": s.longest_step.map(|(a, b)| [a, b]),
+        "inputs": inputs,
+        "warnings": s.warnings,
+        "methods": methods,
+    })
+}
+
+/// The text form of one trial.
+fn print_text(
+    label: &str,
+    meta: &TrialMeta,
+    s: &TrialSummary,
+    methods: Vec<(limbfuse_methods::MethodName, Availability)>,
+) {
+    print!("{}", describe(label, meta, s));
     let (mut runs, mut settings, mut not) = (Vec::new(), Vec::new(), Vec::new());
-    for (m, a) in availability(&meta, &layout) {
+    for (m, a) in methods {
         match a {
             Availability::Runs { after_align: false } => runs.push(m.name().to_string()),
             Availability::Runs { after_align: true } => runs.push(format!(
@@ -48,7 +125,6 @@ pub fn run(a: &InspectArgs) -> Result<()> {
             }
         }
     }
-    Ok(())
 }
 
 /// `text`, or `none` when empty.

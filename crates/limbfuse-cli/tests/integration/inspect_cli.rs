@@ -121,3 +121,35 @@ fn inspect_names_units_and_refuses_nothing_to_estimate() {
     assert_eq!(code, 1);
     assert!(err.contains("missing.csv"), "{err}");
 }
+
+#[test]
+fn inspect_several_files_as_json() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (code, ..) = run(&["simulate", "walking", "--duration", "2", "-o", "w.csv"], dir);
+    assert_eq!(code, 0);
+    let (code, ..) = run(
+        &["simulate", "bslip", "--speed", "0.8", "--duration", "2", "-o", "b.csv"],
+        dir,
+    );
+    assert_eq!(code, 0);
+    let (code, out, err) = run(&["inspect", "--json", "w.csv", "b.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let trials = v.as_array().unwrap();
+    assert_eq!(trials.len(), 2);
+    assert_eq!(trials[0]["trial"], "w.csv");
+    assert_eq!(trials[0]["rows"], 200);
+    assert_eq!(trials[0]["methods"]["mjls"][0], "runs");
+    assert_eq!(trials[1]["methods"]["mjls"][0], "missing columns");
+    assert_eq!(trials[1]["methods"]["imm-bslip"][0], "needs a setting");
+    assert_eq!(trials[1]["inputs"]["com_meas"], 0);
+    // a file that cannot be read: the others are printed, then exit 1
+    let (code, out, err) = run(&["inspect", "w.csv", "missing.csv", "b.csv"], dir);
+    assert_eq!(code, 1);
+    assert_eq!(out.matches(" rows, t = ").count(), 2, "{out}");
+    assert!(
+        err.contains("missing.csv") && err.contains("1 of 3 trial files could not be read"),
+        "{err}"
+    );
+}
