@@ -2,13 +2,15 @@
 //! (duration, sample step, gaps), the share of missing readings per input
 //! group, and the unit checks `estimate` makes
 //! ([`crate::sample_interval`], [`crate::sensor_units`]). Which methods
-//! can run on it is the CLI's part (it needs the method registry).
+//! can run on it is `limbfuse-methods::availability` (it needs the method
+//! registry). Memory does not grow with the trial: the steps are held only
+//! until the median of the first ones is known.
 
 use limbfuse_core::runner::Observer;
 use limbfuse_core::{Estimate, Record, Segment};
 use limbfuse_io::{FileError, TrialLayout, TrialReader};
 
-use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch};
+use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch, FIRST_INTERVALS};
 use crate::sensor_units::{SensorUnitsWatch, UnitSuspect};
 
 /// A step longer than this many median steps is a gap (a dropped sample
@@ -57,7 +59,10 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
     let mut units = SensorUnitsWatch::default();
     let groups = input_groups(&layout);
     let mut missing = vec![0u64; groups.len()];
-    let mut steps: Vec<(f64, f64)> = Vec::new();
+    // The first steps wait for the median; later ones are counted at once.
+    let mut early: Vec<(f64, f64)> = Vec::with_capacity(FIRST_INTERVALS);
+    let mut gaps = GapCount::default();
+    let mut median: Option<f64> = None;
     let mut span: Option<(f64, f64)> = None;
     let mut rows = 0u64;
     let mut rec = Record::default();
@@ -65,7 +70,15 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
     while reader.read_into(&mut rec)? {
         let t = rec.sample.t;
         if let Some((_, last)) = span {
-            steps.push((last, t - last));
+            let step = (last, t - last);
+            if early.len() == FIRST_INTERVALS && median.is_none() {
+                // (the watch has seen exactly these steps: its median is final)
+                median = intervals.median_step();
+            }
+            match median {
+                Some(m) => gaps.add(step, m),
+                None => early.push(step),
+            }
         }
         span = Some((span.map_or(t, |s| s.0), t));
         rows += 1;
@@ -77,13 +90,15 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         }
     }
     let median_step = intervals.median_step();
-    let (gaps, longest_step) = match median_step {
-        Some(m) => (
-            steps.iter().filter(|(_, d)| *d > GAP_STEPS * m).count() as u64,
-            steps.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)),
-        ),
-        None => (0, None),
-    };
+    if let Some(m) = median_step {
+        for step in early {
+            gaps.add(step, m);
+        }
+    }
+    let GapCount {
+        count: gaps,
+        longest: longest_step,
+    } = gaps;
     Ok(TrialSummary {
         rows,
         span,
@@ -100,6 +115,22 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         units: units.suspects().collect(),
         warnings: crate::unit_warnings(&intervals, &units).collect(),
     })
+}
+
+/// Steps over [`GAP_STEPS`] median steps, and the longest step.
+#[derive(Debug, Default)]
+struct GapCount {
+    count: u64,
+    longest: Option<(f64, f64)>,
+}
+
+impl GapCount {
+    fn add(&mut self, step: (f64, f64), median: f64) {
+        self.count += u64::from(step.1 > GAP_STEPS * median);
+        if self.longest.is_none_or(|l| step.1 > l.1) {
+            self.longest = Some(step);
+        }
+    }
 }
 
 /// Whether a record holds a group's reading.
@@ -175,4 +206,55 @@ fn input_groups(layout: &TrialLayout) -> Vec<(String, Has)> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 100 rows at 100 Hz with a 0.05 s step among the first 64 (held until
+    /// the median is known) and a 0.1 s one after them; the knee encoder
+    /// empty on 3 rows.
+    #[test]
+    fn gaps_before_and_after_the_median_is_known_and_missing_rows() {
+        let mut text = String::from("# sample_rate_hz: 100\nt,knee_enc\n");
+        let mut t = 0.0;
+        for k in 0..100 {
+            t += match k {
+                10 => 0.05,
+                80 => 0.1,
+                0 => 0.0,
+                _ => 0.01,
+            };
+            let knee = if (20..23).contains(&k) {
+                String::new()
+            } else {
+                "0.1".into()
+            };
+            text += &format!("{t},{knee}\n");
+        }
+        let mut r = TrialReader::from_reader(
+            std::path::Path::new("s.csv"),
+            Box::new(std::io::Cursor::new(text.into_bytes())),
+        )
+        .unwrap();
+        let s = summarise(&mut r).unwrap();
+        assert_eq!(s.rows, 100);
+        assert!((s.median_step.unwrap() - 0.01).abs() < 1e-9);
+        assert_eq!(s.stated_hz, Some(100.0));
+        assert_eq!(s.gaps, 2);
+        let (at, len) = s.longest_step.unwrap();
+        assert!(
+            (len - 0.1).abs() < 1e-9 && (at - 0.83).abs() < 1e-9,
+            "{at} {len}"
+        );
+        assert_eq!(
+            s.inputs,
+            vec![InputGroup {
+                name: "knee_enc".into(),
+                missing_rows: 3
+            }]
+        );
+        assert!(s.warnings.is_empty() && s.interval.is_none() && s.units.is_empty());
+    }
 }

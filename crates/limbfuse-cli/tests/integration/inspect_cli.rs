@@ -126,10 +126,22 @@ fn inspect_names_units_and_refuses_nothing_to_estimate() {
 fn inspect_several_files_as_json() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let (code, ..) = run(&["simulate", "walking", "--duration", "2", "-o", "w.csv"], dir);
+    let (code, ..) = run(
+        &["simulate", "walking", "--duration", "2", "-o", "w.csv"],
+        dir,
+    );
     assert_eq!(code, 0);
     let (code, ..) = run(
-        &["simulate", "bslip", "--speed", "0.8", "--duration", "2", "-o", "b.csv"],
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "0.8",
+            "--duration",
+            "2",
+            "-o",
+            "b.csv",
+        ],
         dir,
     );
     assert_eq!(code, 0);
