@@ -230,6 +230,10 @@ def evaluate(
         max_lag: synchronise each channel within +-max_lag samples (angles
             only, likewise).
         allow_trial_mismatch: evaluate an estimate recording another trial.
+
+    Angle references that look like degrees (a quarter of a channel's
+    values beyond pi) give a ``LimbfuseWarning`` and a ``warnings`` entry,
+    as the CLI's.
     """
     if not isinstance(trial, Trial) or not isinstance(estimate, Estimate):
         raise TypeError("evaluate: expected a limbfuse.Trial and a limbfuse.Estimate")
@@ -243,7 +247,11 @@ def evaluate(
         int(max_lag),
         bool(allow_trial_mismatch),
     )
-    return json.loads(text)
+    result = json.loads(text)
+    # (references that look like degrees: the CLI's stderr warning)
+    for w in result.get("warnings", []):
+        warnings.warn(w, LimbfuseWarning, stacklevel=2)
+    return result
 
 
 def methods() -> List[Tuple[str, str]]:

@@ -398,3 +398,17 @@ def test_filter_warns_once_about_units(walking_trial):
         for i in range(300):
             h.step({"t": float(walking_trial.t[i]), **{n: float(walking_trial.channels[n][i]) for n in names}})
         h.run({"t": walking_trial.t + 10.0, **dict(walking_trial.channels)})
+
+
+def test_references_in_degrees_are_named(walking_trial):
+    """Angle references in degrees: `evaluate` warns and says so under
+    `warnings`, as `limbfuse evaluate --json`; rad references say nothing."""
+    ch = {k: (np.degrees(v) if k.endswith("_ref") else v) for k, v in walking_trial.channels.items()}
+    deg = Trial(walking_trial.t, ch, walking_trial.meta)
+    est = limbfuse.estimate(walking_trial, "mjls", diagnostics="none")
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"`thigh_ref`.*look like degrees"):
+        result = limbfuse.evaluate(deg, est, allow_trial_mismatch=True)
+    assert "look like degrees" in result["warnings"][0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert "warnings" not in limbfuse.evaluate(walking_trial, est)

@@ -38,7 +38,7 @@ pub use metrics::{AngleMetrics, Evaluation};
 pub use rejections::{Rejected, RejectionWatch};
 pub use resets::{scan_estimate_file, ResetWatch, Resets};
 pub use sample_interval::{IntervalMismatch, SampleIntervalWatch};
-pub use sensor_units::{unit_warnings, SensorUnitsWatch, UnitSuspect};
+pub use sensor_units::{unit_warnings, ReferenceUnitsWatch, SensorUnitsWatch, UnitSuspect};
 pub use speed_range::{OutsideRange, RangeSide, SpeedRangeWatch};
 pub use trial_check::{TrialCheck, TrialMismatch};
 pub use trial_summary::{summarise, InputGroup, TrialSummary};

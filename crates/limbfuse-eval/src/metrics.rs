@@ -27,6 +27,7 @@ pub struct AngleMetrics {
     diag_n: Vec<u64>,
     reliability: ReliabilityCounter,
     resets: ResetWatch,
+    reference_units: crate::ReferenceUnitsWatch,
 }
 
 /// Counts the samples in which accelerometer rows update the estimate
@@ -102,6 +103,7 @@ impl AngleMetrics {
             diag_n: Vec::new(),
             reliability: ReliabilityCounter::default(),
             resets: ResetWatch::default(),
+            reference_units: Default::default(),
         }
     }
 
@@ -118,6 +120,7 @@ impl AngleMetrics {
     /// (restarts count over the whole run, window or not).
     pub fn push(&mut self, record: &Record, estimate: &Estimate) {
         self.resets.push(estimate);
+        self.reference_units.push(&record.reference);
         let inside = self.options.window.contains(record.sample.t);
         for (lag, c) in self.lags.iter_mut().zip(AngleChannel::ALL) {
             lag.push(estimate.angle(c), record.reference.angle(c), inside);
@@ -180,6 +183,7 @@ impl AngleMetrics {
                 .pct(self.reliability.missing, &self.reliability.missing_col),
             trial_check: Default::default(),
             resets: self.resets.resets(),
+            reference_units: self.reference_units.warning(),
         }
     }
 }
@@ -231,6 +235,9 @@ pub struct Evaluation {
     /// diagnostic of `sdre` / `ekf`), `None` when there were none: the
     /// estimate after a restart is not a filter output (issue 16).
     pub resets: Option<Resets>,
+    /// The warning when angle references look like degrees
+    /// ([`crate::ReferenceUnitsWatch`]); in the JSON as `warnings`.
+    pub reference_units: Option<String>,
 }
 
 impl Evaluation {
@@ -336,6 +343,9 @@ impl Evaluation {
             "accel_global_reliability_pct": self.accel_global_reliability_pct,
             "missing_input_pct": self.missing_input_pct,
         });
+        if let (Some(w), Some(obj)) = (&self.reference_units, v.as_object_mut()) {
+            obj.insert("warnings".into(), json!([w]));
+        }
         if let (Some(r), Some(obj)) = (&self.resets, v.as_object_mut()) {
             obj.insert(
                 "resets".into(),

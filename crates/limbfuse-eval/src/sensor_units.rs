@@ -68,6 +68,12 @@ pub enum UnitSuspect {
         /// Share of the readings (0-1).
         share: f64,
     },
+    /// Joint encoders that look like degrees (`share` of their readings
+    /// beyond pi in magnitude).
+    EncoderInDegrees {
+        /// Share of the readings (0-1).
+        share: f64,
+    },
 }
 
 impl fmt::Display for UnitSuspect {
@@ -89,17 +95,77 @@ impl fmt::Display for UnitSuspect {
                  (SPEC section 2); these look like deg/s (multiply them by pi/180 = 0.017453)",
                 100.0 * share
             ),
+            UnitSuspect::EncoderInDegrees { share } => write!(
+                f,
+                "{:.0} % of the joint-encoder readings lie beyond pi, which no joint angle \
+                 reaches in rad: encoders must be in rad (SPEC section 2); these look like \
+                 degrees (multiply them by pi/180 = 0.017453)",
+                100.0 * share
+            ),
         }
     }
 }
 
-/// Counts a run's IMU readings by the norms above.
+/// Share of angles beyond pi that says degrees: in rad no sagittal segment
+/// or joint angle of the lower limb passes half a turn, in degrees every
+/// angle beyond 3.14 deg does.
+const DEGREES_ANGLE_SHARE: f64 = 0.25;
+
+/// Counts angle references (`S_ref`, joint `_ref` columns) beyond pi: a
+/// reference in degrees makes every error of `evaluate` 57 times too large
+/// without saying why (measured on a simulated walk: 88-119 deg RMSE).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ReferenceUnitsWatch {
+    seen: [u64; 7],
+    beyond_pi: [u64; 7],
+}
+
+impl ReferenceUnitsWatch {
+    /// Adds one record's angle references.
+    pub fn push(&mut self, reference: &limbfuse_core::Reference) {
+        for (k, c) in limbfuse_core::sample::AngleChannel::ALL
+            .into_iter()
+            .enumerate()
+        {
+            if let Some(v) = reference.angle(c) {
+                self.seen[k] += 1;
+                self.beyond_pi[k] += u64::from(v.abs() > core::f64::consts::PI);
+            }
+        }
+    }
+
+    /// The warning, naming the reference columns that look like degrees.
+    pub fn warning(&self) -> Option<String> {
+        let names: Vec<String> = limbfuse_core::sample::AngleChannel::ALL
+            .into_iter()
+            .enumerate()
+            .filter(|&(k, _)| {
+                self.seen[k] >= MIN_READINGS
+                    && self.beyond_pi[k] as f64 >= DEGREES_ANGLE_SHARE * self.seen[k] as f64
+            })
+            .map(|(_, c)| format!("`{}_ref`", c.name()))
+            .collect();
+        (!names.is_empty()).then(|| {
+            format!(
+                "the reference column(s) {} lie beyond pi for a quarter or more of their values, \
+                 which no sagittal angle reaches in rad: references must be in rad (SPEC section \
+                 2); these look like degrees, and every error above is 57 times too large",
+                names.join(", ")
+            )
+        })
+    }
+}
+
+/// Counts a run's IMU readings by the norms above, and its joint-encoder
+/// readings beyond pi.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SensorUnitsWatch {
     acc: u64,
     acc_in_g_range: u64,
     gyr: u64,
     gyr_too_fast: u64,
+    enc: u64,
+    enc_beyond_pi: u64,
     /// Records observed ([`Observer`]).
     records: u64,
 }
@@ -127,6 +193,14 @@ impl SensorUnitsWatch {
         }
     }
 
+    /// Adds a joint-encoder reading (rad; a non-finite one is not counted).
+    pub fn push_encoder(&mut self, angle: f64) {
+        if angle.is_finite() {
+            self.enc += 1;
+            self.enc_beyond_pi += u64::from(angle.abs() > core::f64::consts::PI);
+        }
+    }
+
     /// Adds the complete vectors of one IMU reading.
     pub fn push_imu(&mut self, imu: &ImuSample) {
         if let Some(a) = &imu.acc {
@@ -146,7 +220,10 @@ impl SensorUnitsWatch {
         let gyr = share(self.gyr_too_fast, self.gyr)
             .filter(|s| *s >= DEGREES_SHARE)
             .map(|share| UnitSuspect::GyroscopeInDegrees { share });
-        acc.into_iter().chain(gyr)
+        let enc = share(self.enc_beyond_pi, self.enc)
+            .filter(|s| *s >= DEGREES_ANGLE_SHARE)
+            .map(|share| UnitSuspect::EncoderInDegrees { share });
+        acc.into_iter().chain(gyr).chain(enc)
     }
 }
 
@@ -168,6 +245,9 @@ impl Observer for SensorUnitsWatch {
             let s = &record.sample;
             for imu in s.imu.iter().chain(&s.other_leg_imu) {
                 self.push_imu(imu);
+            }
+            for e in s.encoder.iter().flatten() {
+                self.push_encoder(*e);
             }
         }
         self.records += 1;
@@ -240,6 +320,30 @@ mod tests {
         u.push_acc(&Vector3::new(0.0, 1.0, 0.0));
         u.push_gyr(&Vector3::new(0.0, 0.0, 100.0));
         assert_eq!(u.suspects().count(), 2);
+    }
+
+    #[test]
+    fn encoders_and_references_in_degrees_are_named() {
+        let mut u = SensorUnitsWatch::default();
+        let mut r = ReferenceUnitsWatch::default();
+        let mut rad = ReferenceUnitsWatch::default();
+        for k in 0..200 {
+            let knee = 0.6 * (k as f64 * 0.063).sin().abs();
+            u.push_encoder(knee.to_degrees());
+            let mut reference = limbfuse_core::Reference::default();
+            reference.joint[1] = Some(knee.to_degrees());
+            reference.segment[0] = Some(0.02); // a trunk within 3 deg stays below pi in degrees
+            r.push(&reference);
+            reference.joint[1] = Some(knee);
+            rad.push(&reference);
+        }
+        assert!(matches!(
+            u.suspects().collect::<Vec<_>>()[..],
+            [UnitSuspect::EncoderInDegrees { .. }]
+        ));
+        let w = r.warning().unwrap();
+        assert!(w.contains("`knee_ref`") && !w.contains("trunk"), "{w}");
+        assert_eq!(rad.warning(), None);
     }
 
     #[test]

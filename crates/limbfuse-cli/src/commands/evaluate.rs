@@ -107,6 +107,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
     })?;
     warn(&ev.trial_check);
     super::warn_resets(&estimate.display().to_string(), ev.resets.as_ref());
+    if let Some(w) = &ev.reference_units {
+        eprintln!("warning: {}: {w}", a.trial.display());
+    }
     if a.json {
         println!("{}", ev.to_json());
     } else {

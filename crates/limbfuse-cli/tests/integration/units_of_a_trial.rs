@@ -118,3 +118,47 @@ fn imu_units_other_than_spec_are_named() {
         "{err}"
     );
 }
+
+#[test]
+fn encoders_and_references_in_degrees_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let text = walk(dir);
+    let deg = 180.0 / std::f64::consts::PI;
+    std::fs::write(
+        dir.join("enc.csv"),
+        scaled(&text, |n| n.ends_with("_enc"), deg),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("ref.csv"),
+        scaled(&text, |n| n.ends_with("_ref"), deg),
+    )
+    .unwrap();
+    let err = estimate_stderr(dir, "enc.csv");
+    assert!(
+        err.contains("of the joint-encoder readings lie beyond pi")
+            && err.contains("look like degrees"),
+        "{err}"
+    );
+    // references are not read by `estimate`; `evaluate` names them
+    assert!(!estimate_stderr(dir, "ref.csv").contains("degrees"));
+    let o = limbfuse(&["evaluate", "ref.csv", "e.csv"], dir);
+    assert_eq!(o.status.code(), Some(0));
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("warning: ref.csv: the reference column(s) `thigh_ref`")
+            && err.contains("look like degrees"),
+        "{err}"
+    );
+    let o = limbfuse(&["evaluate", "--json", "ref.csv", "e.csv"], dir);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["warnings"][0]
+        .as_str()
+        .unwrap()
+        .contains("look like degrees"));
+    assert!(!estimate_stderr(dir, "w.csv").contains("degrees"));
+    let o = limbfuse(&["evaluate", "--json", "w.csv", "e.csv"], dir);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v.get("warnings").is_none());
+}
