@@ -136,9 +136,9 @@ impl<'a> SampleColumns<'a> {
         self.t.len()
     }
 
-    /// Counts the complete IMU vectors of the columns (both legs) in
-    /// `units`, of the samples `limbfuse estimate` counts (every
-    /// [`SensorUnitsWatch::STRIDE`]-th).
+    /// Counts the complete IMU vectors of the columns (both legs) and the
+    /// encoder readings in `units`, of the samples `limbfuse estimate`
+    /// counts (every [`SensorUnitsWatch::STRIDE`]-th).
     pub fn count_units(&self, units: &mut SensorUnitsWatch) {
         for &(slot, [x, y, z]) in &self.vectors {
             for i in (0..self.t.len()).step_by(SensorUnitsWatch::STRIDE) {
@@ -149,6 +149,15 @@ impl<'a> SampleColumns<'a> {
                 match slot {
                     VectorSlot::Acc(_) | VectorSlot::OtherAcc(_) => units.push_acc(&v),
                     VectorSlot::Gyr(_) | VectorSlot::OtherGyr(_) => units.push_gyr(&v),
+                }
+            }
+        }
+        for &(slot, c) in &self.scalars {
+            if let ScalarSlot::Encoder(_) = slot {
+                for i in (0..self.t.len()).step_by(SensorUnitsWatch::STRIDE) {
+                    if let Some(v) = cell(c, i) {
+                        units.push_encoder(v);
+                    }
                 }
             }
         }

@@ -64,8 +64,8 @@ impl StreamUnits {
         }
     }
 
-    /// Counts one sample (every [`SensorUnitsWatch::STRIDE`]-th one's IMUs,
-    /// as `estimate` counts).
+    /// Counts one sample (every [`SensorUnitsWatch::STRIDE`]-th one's IMUs
+    /// and encoders, as `estimate` counts).
     fn observe(&mut self, s: &Sample) {
         if self.said || self.samples > Self::LAST_CHECK {
             return;
@@ -74,6 +74,9 @@ impl StreamUnits {
         if self.samples.is_multiple_of(SensorUnitsWatch::STRIDE as u64) {
             for imu in s.imu.iter().chain(&s.other_leg_imu) {
                 self.units.push_imu(imu);
+            }
+            for e in s.encoder.iter().flatten() {
+                self.units.push_encoder(*e);
             }
         }
         self.samples += 1;

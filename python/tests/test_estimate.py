@@ -305,6 +305,9 @@ def test_imu_units_other_than_spec_are_named(walking_trial):
     in_deg = {k: (np.degrees(v) if "_gyr_" in k else v) for k, v in ch.items()}
     with pytest.warns(limbfuse.LimbfuseWarning, match=r"gyroscope readings .* look like deg/s"):
         limbfuse.estimate(Trial(walking_trial.t, in_deg, walking_trial.meta), "mjls", diagnostics="none")
+    enc_deg = {k: (np.degrees(v) if k.endswith("_enc") else v) for k, v in ch.items()}
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"joint-encoder readings .* look like degrees"):
+        limbfuse.estimate(Trial(walking_trial.t, enc_deg, walking_trial.meta), "mjls", diagnostics="none")
 
 
 def test_raw_frames_warn_methods_that_read_aligned_ones(walking_trial):
