@@ -72,12 +72,7 @@ impl StreamUnits {
         }
         self.intervals.push(s.t);
         if self.samples.is_multiple_of(SensorUnitsWatch::STRIDE as u64) {
-            for imu in s.imu.iter().chain(&s.other_leg_imu) {
-                self.units.push_imu(imu);
-            }
-            for e in s.encoder.iter().flatten() {
-                self.units.push_encoder(*e);
-            }
+            self.units.push_sample(s);
         }
         self.samples += 1;
     }

@@ -211,6 +211,16 @@ impl SensorUnitsWatch {
         }
     }
 
+    /// Adds a sample's IMU readings (both legs) and encoder readings.
+    pub fn push_sample(&mut self, s: &limbfuse_core::Sample) {
+        for imu in s.imu.iter().chain(&s.other_leg_imu) {
+            self.push_imu(imu);
+        }
+        for e in s.encoder.iter().flatten() {
+            self.push_encoder(*e);
+        }
+    }
+
     /// What looks wrong, accelerometers first.
     pub fn suspects(&self) -> impl Iterator<Item = UnitSuspect> {
         let share = |k: u64, n: u64| (n >= MIN_READINGS).then(|| k as f64 / n as f64);
@@ -239,16 +249,10 @@ pub fn unit_warnings(
 }
 
 impl Observer for SensorUnitsWatch {
-    /// Counts every [`SensorUnitsWatch::STRIDE`]-th record's IMUs.
+    /// Counts every [`SensorUnitsWatch::STRIDE`]-th record.
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
         if self.records.is_multiple_of(Self::STRIDE as u64) {
-            let s = &record.sample;
-            for imu in s.imu.iter().chain(&s.other_leg_imu) {
-                self.push_imu(imu);
-            }
-            for e in s.encoder.iter().flatten() {
-                self.push_encoder(*e);
-            }
+            self.push_sample(&record.sample);
         }
         self.records += 1;
         Ok(())
