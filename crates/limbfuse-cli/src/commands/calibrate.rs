@@ -19,7 +19,10 @@ use crate::cli_calibration::{CalibrateArgs, CalibrationSimArgs, ModelArg};
 pub fn run(a: &CalibrateArgs) -> Result<()> {
     let reader = TrialReader::open(&a.poses)?;
     let gravity = a.gravity.unwrap_or_else(|| reader.meta().gravity());
+    let meta = reader.meta().clone();
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    // (accelerometers in g would be fitted a scale of 9.81: say why first)
+    super::warn_input_units(&a.poses, &meta, &records);
     let params = CalibrationParams {
         model: match a.model {
             ModelArg::Full => CalibrationModel::Full,

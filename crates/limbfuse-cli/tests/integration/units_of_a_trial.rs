@@ -110,6 +110,24 @@ fn imu_units_other_than_spec_are_named() {
         html.contains(r#"<p class="warning">warning: "#) && html.contains("look like g"),
         "the report names the unit"
     );
+    // so does `calibrate` (a static-pose recording in g would be fitted a
+    // scale of 9.81), and not for the same recording in m/s^2
+    let o = limbfuse(
+        &["simulate", "calibration", "--seed", "7", "-o", "p.csv"],
+        dir,
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let poses = std::fs::read_to_string(dir.join("p.csv")).unwrap();
+    std::fs::write(
+        dir.join("pg.csv"),
+        scaled(&poses, |n| n.contains("_acc_"), 1.0 / 9.81),
+    )
+    .unwrap();
+    for (file, warned) in [("p.csv", false), ("pg.csv", true)] {
+        let o = limbfuse(&["calibrate", file, "-o", "cal.toml"], dir);
+        let err = String::from_utf8(o.stderr).unwrap();
+        assert_eq!(err.contains("look like g"), warned, "{file}: {err}");
+    }
     // `align` reads the trial whole and says the same
     let o = limbfuse(&["align", "g.csv", "-o", "al.csv"], dir);
     let err = String::from_utf8(o.stderr).unwrap();
