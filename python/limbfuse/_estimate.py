@@ -264,8 +264,9 @@ def default_params(method: str) -> str:
     return _native.default_params(method)
 
 
-def inspect(path: PathLike) -> Dict[str, Any]:
-    """What a trial file holds and which methods run on it (``limbfuse
+def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
+    """What a trial file (or an in-memory ``Trial``, written to a temporary
+    Arrow file first) holds and which methods run on it (``limbfuse
     inspect``), read once without estimating anything.
 
     Returns a dict: ``rows``; ``span`` (first, last ``t``) or None;
@@ -284,7 +285,14 @@ def inspect(path: PathLike) -> Dict[str, Any]:
         LimbfuseError: the file cannot be read (the message names the file
             and line).
     """
-    rows, span, step, stated, gaps, longest, inputs, warnings, methods_ = _native.inspect(os.fspath(path))
+    if isinstance(path, Trial):
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as tmp:
+            file = os.path.join(tmp, "trial.arrow")
+            path.write(file)
+            return inspect(file)
+    rows, span, step, stated, gaps, longest, inputs, warnings_, methods_ = _native.inspect(os.fspath(path))
     return {
         "rows": rows,
         "span": span,
@@ -293,6 +301,6 @@ def inspect(path: PathLike) -> Dict[str, Any]:
         "gaps": gaps,
         "longest_step": longest,
         "inputs": dict(inputs),
-        "warnings": list(warnings),
+        "warnings": list(warnings_),
         "methods": {name: (kind, why) for name, kind, why in methods_},
     }

@@ -380,6 +380,11 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     assert info["methods"]["sdre"][0] == "needs a setting"
     with pytest.raises(LimbfuseError, match="nothing.csv"):
         limbfuse.inspect(tmp_path / "nothing.csv")
+    # an in-memory trial: the same summary
+    trial = limbfuse.read_trial(walking_file)
+    same = limbfuse.inspect(trial)
+    assert {k: same[k] for k in info if k != "span"} == {k: info[k] for k in info if k != "span"}
+    assert same["span"] == info["span"]
 
 
 def test_filter_warns_once_about_units(walking_trial):
