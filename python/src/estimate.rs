@@ -225,8 +225,9 @@ fn estimate<'py>(
         };
         let inputs = cols.inputs();
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
-        // As `limbfuse estimate`: a time column that is not in seconds.
-        let interval_note = {
+        // As `limbfuse estimate`: a time column, IMU or encoder readings
+        // that do not look like SPEC units.
+        let unit_note = {
             let mut w = SampleIntervalWatch::for_trial(&meta);
             for &t in cols.t.iter().take(FIRST_INTERVALS + 1) {
                 w.push(t);
@@ -294,7 +295,7 @@ fn estimate<'py>(
                 .resets
                 .resets()
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
-            let warning = [frame_note.clone(), resets, interval_note.clone()]
+            let warning = [frame_note.clone(), resets, unit_note.clone()]
                 .into_iter()
                 .flatten()
                 .reduce(|a, b| format!("{a}\n{b}"));

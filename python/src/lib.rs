@@ -131,19 +131,7 @@ fn inspect(
 
         let methods = limbfuse_methods::availability(&meta, &layout)
             .into_iter()
-            .map(|(m, a)| {
-                use limbfuse_methods::Availability as A;
-                let (kind, why) = match a {
-                    A::Runs { after_align: false } => ("runs", String::new()),
-                    A::Runs { after_align: true } => (
-                        "runs after align",
-                        "it reads aligned IMU frames and the trial declares raw ones".into(),
-                    ),
-                    A::NeedsSetting(why) => ("needs a setting", why),
-                    A::MissingColumns(why) => ("missing columns", why),
-                };
-                (m.name(), kind, why)
-            })
+            .map(|(m, a)| (m.name(), a.kind(), a.reason().to_string()))
             .collect();
         Ok((
             s.rows,

@@ -23,6 +23,27 @@ pub enum Availability {
     MissingColumns(String),
 }
 
+impl Availability {
+    /// `runs`, `runs after align`, `needs a setting` or `missing columns`
+    /// (the kinds of `limbfuse inspect --json` and Python's `inspect`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Availability::Runs { after_align: false } => "runs",
+            Availability::Runs { after_align: true } => "runs after align",
+            Availability::NeedsSetting(_) => "needs a setting",
+            Availability::MissingColumns(_) => "missing columns",
+        }
+    }
+
+    /// Why not (the first line of `estimate`'s error); empty when it runs.
+    pub fn reason(&self) -> &str {
+        match self {
+            Availability::Runs { .. } => "",
+            Availability::NeedsSetting(why) | Availability::MissingColumns(why) => why,
+        }
+    }
+}
+
 /// Every method of the registry with its [`Availability`] on a trial with
 /// this metadata and these columns.
 pub fn availability(meta: &TrialMeta, layout: &TrialLayout) -> Vec<(MethodName, Availability)> {

@@ -414,16 +414,7 @@ impl RunReport {
         if let Some(r) = self.rejections.rejected() {
             eprintln!("warning: {label} on {}: {r}", trial.display());
         }
-        warn_units(&self.intervals, &self.units, trial);
-    }
-}
-
-/// Warns on stderr when the trial's time column does not look like seconds
-/// (`limbfuse_eval::sample_interval`) or its IMU readings not like m/s^2
-/// and rad/s (`limbfuse_eval::sensor_units`).
-fn warn_units(intervals: &SampleIntervalWatch, units: &SensorUnitsWatch, trial: &Path) {
-    for w in limbfuse_eval::unit_warnings(intervals, units) {
-        eprintln!("warning: {}: {w}", trial.display());
+        super::warn_units(trial, &self.intervals, &self.units);
     }
 }
 
@@ -500,7 +491,7 @@ fn run_observed<W: std::io::Write>(
         if summary.is_err() {
             // (a time column in milliseconds or sensors in other units are
             // likely causes of a failure)
-            warn_units(&intervals, &units, &trial);
+            super::warn_units(&trial, &intervals, &units);
         }
         summary.with_context(|| format!("estimating {} with {label}", trial.display()))?
     };

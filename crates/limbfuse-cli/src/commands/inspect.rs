@@ -59,13 +59,10 @@ fn to_json(
     let methods: serde_json::Map<String, serde_json::Value> = methods
         .iter()
         .map(|(m, a)| {
-            let (kind, why) = match a {
-                Availability::Runs { after_align: false } => ("runs", ""),
-                Availability::Runs { after_align: true } => ("runs after align", ""),
-                Availability::NeedsSetting(why) => ("needs a setting", why.as_str()),
-                Availability::MissingColumns(why) => ("missing columns", why.as_str()),
-            };
-            (m.name().to_string(), serde_json::json!([kind, why]))
+            (
+                m.name().to_string(),
+                serde_json::json!([a.kind(), a.reason()]),
+            )
         })
         .collect();
     let inputs: serde_json::Map<String, serde_json::Value> = s

@@ -74,7 +74,18 @@ pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[
         let _ = intervals.observe(r, &none);
         let _ = units.observe(r, &none);
     }
-    for w in limbfuse_eval::unit_warnings(&intervals, &units) {
+    warn_units(trial, &intervals, &units);
+}
+
+/// Prints the unit checks' warnings (`limbfuse_eval::unit_warnings`) for
+/// `trial` on stderr: one printer for `estimate` (streaming) and the
+/// commands that read a trial whole.
+pub fn warn_units(
+    trial: &Path,
+    intervals: &limbfuse_eval::SampleIntervalWatch,
+    units: &limbfuse_eval::SensorUnitsWatch,
+) {
+    for w in limbfuse_eval::unit_warnings(intervals, units) {
         eprintln!("warning: {}: {w}", trial.display());
     }
 }

@@ -63,12 +63,13 @@ fn has_leg(dir: &Path, side: Side) -> bool {
 /// Whether the first line that is neither empty nor a `//` comment (the
 /// header) names `column`.
 fn header_has(path: &Path, column: &str) -> bool {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    // (`read_lines` strips `\r` and a byte-order mark, as for the import)
+    let Ok(lines) = super::read_lines(path) else {
         return false;
     };
-    text.trim_start_matches('\u{feff}')
-        .lines()
-        .map(str::trim)
+    lines
+        .iter()
+        .map(|(_, l)| l.trim())
         .find(|l| !l.is_empty() && !l.starts_with("//"))
         .is_some_and(|h| h.split(',').any(|c| c.trim() == column))
 }
