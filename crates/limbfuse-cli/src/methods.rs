@@ -82,6 +82,14 @@ pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
             eprintln!("{note}");
         }
     }
+    if let MethodSpec::KneeKinematic(f) = spec {
+        let note = f
+            .kinematic_note(reader.meta())
+            .with_context(|| reader.path().display().to_string())?;
+        if let Some(note) = note {
+            eprintln!("{note}");
+        }
+    }
     if let MethodSpec::LowbackSpeed(s) = spec {
         let note = limbfuse_methods::lowback_method::pendulum_note(s, reader.meta())
             .with_context(|| reader.path().display().to_string())?;

@@ -30,7 +30,8 @@ pub fn default_file(method: MethodName) -> String {
         let t = kinematic_default_tuning();
         let _ = write!(
             s,
-            "[measurement]\n# shank_imu_m = 0.2  # accelerometer below the knee (m); default 0\n\n\
+            "[measurement]\n# shank_imu_m = 0.2  # accelerometer below the knee (m); default: the trial's # shank_imu_m\n\
+             # (or # param_r_imu), else 0.5 x 0.246 x height (Winter 2009)\n\n\
              [tuning]  # states: shank angle, rate, angular acceleration, gyro bias, acc bias\n\
              # q = [{}]  s = [{}]  p0 = [{}]  max_substep = {:?}\n",
             list(t.q.as_slice()),
@@ -92,7 +93,7 @@ pub fn default_file(method: MethodName) -> String {
          # chooses it on a pre-trial.\n\n\
          [measurement]\n\
          # shank_imu_m = 0.2  # accelerometer below the knee (m): acc_x = g sin x1 + r x1''; default 0 (thesis);\n\
-         # with t_a and no [states]: the trial's # shank_imu_m, else 0.5 x 0.246 x height (Winter 2009)"
+         # with t_a and no [states]: the trial's # shank_imu_m (or # param_r_imu), else 0.5 x 0.246 x height (Winter 2009)"
     );
     s
 }

@@ -9,7 +9,7 @@
 //! acc_bias = true     # shank accelerometer x bias
 //! [measurement]
 //! shank_imu_m = 0.2   # accelerometer below the knee: adds r x2'' (default 0, thesis;
-//!                     # t_a and no [states]: the trial's, else mid-shank)
+//!                     # t_a and no [states], and knee-kinematic: the trial's, else mid-shank)
 //! ```
 //!
 //! and the `knee-kinematic` estimator (model-free, same bias states), and
@@ -67,7 +67,8 @@ impl StatesFile {
 #[serde(deny_unknown_fields)]
 pub struct MeasurementFile {
     /// Distance of the shank accelerometer below the knee (m), `r` in
-    /// `acc_x = g sin x1 + r x1''`; absent: 0 (the thesis's measurement).
+    /// `acc_x = g sin x1 + r x1''`; absent: see [`FesParamsFile::lever_arm`]
+    /// and [`FesParamsFile::kinematic_lever_arm`].
     pub shank_imu_m: Option<f64>,
 }
 
@@ -278,57 +279,100 @@ impl FesParamsFile {
 
     /// The shank accelerometer's lever arm of the extended knee model:
     /// `[measurement] shank_imu_m` if the file states it; else, for the
-    /// plant-as-stated default (`t_a` and no `[states]`), the trial's
-    /// `# shank_imu_m:` metadata, else mid-shank for the trial's `#
-    /// height_m:` (default 1.75 m): `0.5 x 0.246 H` (Winter 2009); else 0
-    /// (an explicit `[states]` without `[measurement]`: the thesis's
-    /// measurement).
+    /// plant-as-stated default (`t_a` and no `[states]`), what the trial
+    /// states ([`stated_lever_arm`]); else 0 (an explicit `[states]` without
+    /// `[measurement]`: the thesis's measurement).
     pub fn lever_arm(&self, meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
         if self.measurement.shank_imu_m.is_some() {
-            return Ok(LeverArm {
-                radius: self.measurement.radius(&self.path)?,
-                source: "parameter file [measurement] shank_imu_m",
-            });
+            return self.file_lever_arm();
         }
         if self.states.is_some() || !self.model.contains_key("t_a") {
             return Ok(LeverArm::THESIS);
         }
-        if let Some(v) = meta.get("shank_imu_m") {
-            let r = number("metadata", "shank_imu_m", v)?;
-            if !lever_arm_in_range(r) {
-                return Err(FesBuildError::NotApplicable {
-                    path: "trial metadata".into(),
-                    what: format!("`# shank_imu_m: {v}`: expected the shank accelerometer's distance below the knee in metres, in [0, 1]"),
-                });
-            }
-            return Ok(LeverArm {
-                radius: r,
-                source: "trial metadata # shank_imu_m",
-            });
+        stated_lever_arm(meta)
+    }
+
+    /// The lever arm of `knee-kinematic` (ours, no thesis measurement to
+    /// keep): `[measurement] shank_imu_m` if the file states it, else what
+    /// the trial states ([`stated_lever_arm`]).
+    pub fn kinematic_lever_arm(&self, meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
+        if self.measurement.shank_imu_m.is_some() {
+            return self.file_lever_arm();
         }
-        let (height, source) = match meta.get(HEIGHT_KEY) {
-            Some(v) => (
-                number("metadata", HEIGHT_KEY, v)?,
-                "anthropometric default: mid-shank, 0.5 x 0.246 x # height_m, Winter 2009 Table 4.1",
-            ),
-            None => (
-                DEFAULT_HEIGHT_M,
-                "anthropometric default: mid-shank, 0.5 x 0.246 x 1.75 m, Winter 2009 Table 4.1; the trial states neither # shank_imu_m nor # height_m",
-            ),
-        };
-        if !(1.0..=2.5).contains(&height) {
-            return Err(FesBuildError::NotApplicable {
-                path: "trial metadata".into(),
-                what: format!(
-                    "`# {HEIGHT_KEY}: {height}`: expected a body height in metres, in [1, 2.5]"
-                ),
-            });
+        stated_lever_arm(meta)
+    }
+
+    /// What `knee-kinematic` says on stderr when the lever arm is not the
+    /// parameter file's: its value and source.
+    pub fn kinematic_note(&self, meta: &TrialMeta) -> Result<Option<String>, FesBuildError> {
+        if self.measurement.shank_imu_m.is_some() {
+            return Ok(None);
         }
+        let arm = stated_lever_arm(meta)?;
+        Ok(Some(format!(
+            "knee-kinematic: shank accelerometer {:.4} m below the knee ({}; `[measurement] shank_imu_m` sets it)",
+            arm.radius, arm.source
+        )))
+    }
+
+    fn file_lever_arm(&self) -> Result<LeverArm, FesBuildError> {
         Ok(LeverArm {
-            radius: 0.5 * SHANK_LENGTH_PER_HEIGHT * height,
-            source,
+            radius: self.measurement.radius(&self.path)?,
+            source: "parameter file [measurement] shank_imu_m",
         })
     }
+}
+
+/// The independent FES simulator's metadata key for the shank IMU's distance
+/// below the knee (its `# param_*` lines state every model parameter;
+/// `../shared/data/independent-sim/README.md`). Read after limbfuse's own
+/// `# shank_imu_m:` (docs/FES_ESTIMATION.md, "Where the shank IMU is").
+pub const PARAM_R_IMU_KEY: &str = "param_r_imu";
+
+/// The shank accelerometer's lever arm as the trial states it: `#
+/// shank_imu_m:` (limbfuse's key), else `# param_r_imu:` (the independent FES
+/// simulator's), else mid-shank for the trial's `# height_m:` (default
+/// 1.75 m): `0.5 x 0.246 H` (Winter 2009). A stated value outside [0, 1] m
+/// is an error naming the key.
+pub fn stated_lever_arm(meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
+    for (key, source) in [
+        ("shank_imu_m", "trial metadata # shank_imu_m"),
+        (PARAM_R_IMU_KEY, "trial metadata # param_r_imu"),
+    ] {
+        let Some(v) = meta.get(key) else {
+            continue;
+        };
+        let r = number("metadata", key, v)?;
+        if !lever_arm_in_range(r) {
+            return Err(FesBuildError::NotApplicable {
+                path: "trial metadata".into(),
+                what: format!("`# {key}: {v}`: expected the shank accelerometer's distance below the knee in metres, in [0, 1]"),
+            });
+        }
+        return Ok(LeverArm { radius: r, source });
+    }
+    let (height, source) = match meta.get(HEIGHT_KEY) {
+        Some(v) => (
+            number("metadata", HEIGHT_KEY, v)?,
+            "anthropometric default: mid-shank, 0.5 x 0.246 x # height_m, Winter 2009 Table 4.1",
+        ),
+        None => (
+            DEFAULT_HEIGHT_M,
+            "anthropometric default: mid-shank, 0.5 x 0.246 x 1.75 m, Winter 2009 Table 4.1; the trial states neither # shank_imu_m, # param_r_imu nor # height_m",
+        ),
+    };
+    if !(1.0..=2.5).contains(&height) {
+        return Err(FesBuildError::NotApplicable {
+            path: "trial metadata".into(),
+            what: format!(
+                "`# {HEIGHT_KEY}: {height}`: expected a body height in metres, in [1, 2.5]"
+            ),
+        });
+    }
+    Ok(LeverArm {
+        radius: 0.5 * SHANK_LENGTH_PER_HEIGHT * height,
+        source,
+    })
 }
 
 /// `sdre` / `ekf` on the extended knee model with `opts` and the lever arm,

@@ -492,7 +492,7 @@ pub fn build_fes_estimator(
             return Ok(Box::new(RotationMatrixKnee::with_gains(g)));
         }
         FesMethod::KneeKinematic => {
-            let r = file.measurement.radius(path)?;
+            let r = file.kinematic_lever_arm(meta)?.radius;
             return build_kinematic(meta, r, &file.tuning_entries(), path);
         }
         FesMethod::Sdre => Linearisation::Sdc,

@@ -150,7 +150,9 @@ impl MethodDef for LowbackSpeedMethod {
             p.wavelet_scale,
             p.walking_rms,
             p.speed_hold,
-            p.turn_rate.to_degrees(),
+            // Degrees to 1e-9: 15 deg/s, not the 14.999999999999998 the
+            // radian round trip gives (read back, it is the default).
+            (p.turn_rate.to_degrees() * 1e9).round() / 1e9,
             p.withhold_after_turn,
             p.gravity_follows_gyro
         )
@@ -325,6 +327,23 @@ mod tests {
 
     fn leg_length_line(meta: &TrialMeta, file: Option<&str>) -> String {
         parameter_line(meta, file, "leg_length")
+    }
+
+    /// `limbfuse params --method lowback-speed` writes `turn_rate = 15.0`
+    /// (was 14.999999999999998, the radian round trip), and the file read
+    /// back gives the default parameters bit for bit.
+    #[test]
+    fn default_file_reads_back_as_the_defaults() {
+        let text = LowbackSpeedMethod::default_file();
+        assert!(text.contains("\nturn_rate = 15.0\n"), "{text}");
+        let settings = LowbackSpeedMethod::resolve(
+            Some((&text, Path::new("p.toml"))),
+            &MethodFlags::default(),
+        )
+        .unwrap();
+        let d = LowbackParams::default();
+        assert_eq!(settings.params.turn_rate.to_bits(), d.turn_rate.to_bits());
+        assert_eq!(settings.params.leg_length.to_bits(), d.leg_length.to_bits());
     }
 
     /// The pendulum length: the parameter file, else `# leg_length:`, else

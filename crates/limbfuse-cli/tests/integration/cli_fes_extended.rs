@@ -279,3 +279,28 @@ fn issue_16_shared_trials_default_no_worse_than_rmx() {
         }
     }
 }
+
+/// The shared independent FES trials state the shank IMU's distance below
+/// the knee as `# param_r_imu: 0.25` (their README: every model parameter
+/// is in a `# param_*` line; the shipped `.toml` holds only `[model]`).
+/// Before it was read: `sdre` with the shipped file took the anthropometric
+/// 0.215 m (P2-R knee 0.305 deg), `knee-kinematic` without a file took 0 m
+/// (P2-R 2.659, P3-L 2.022 deg). With it: 0.073 deg and 0.153 / 0.066 deg.
+#[test]
+fn issue_16_shared_trials_lever_arm_from_param_r_imu() {
+    let Some(dir) = shared_fes() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let t = "fes-P2-R-s900";
+    let trial = dir.join(format!("{t}.csv"));
+    let params = dir.join(format!("{t}.toml"));
+    let (trial, params) = (trial.to_str().unwrap(), params.to_str().unwrap());
+    let knee = knee_rmse("sdre", trial, Some(params), d.path());
+    eprintln!("{t} sdre with its .toml: knee {knee:.3} deg");
+    assert!(knee < 0.15, "{t} sdre: {knee} deg (0.305 with 0.215 m)");
+    for (t, before) in [("fes-P2-R-s900", 2.659), ("fes-P3-L-s901", 2.022)] {
+        let trial = dir.join(format!("{t}.csv"));
+        let knee = knee_rmse("knee-kinematic", trial.to_str().unwrap(), None, d.path());
+        eprintln!("{t} knee-kinematic, no file: knee {knee:.3} deg (lever arm 0: {before})");
+        assert!(knee < 0.5, "{t} knee-kinematic: {knee} deg");
+    }
+}

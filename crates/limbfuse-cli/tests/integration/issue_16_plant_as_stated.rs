@@ -187,6 +187,77 @@ fn issue_16_lever_arm_source_is_reported() {
     );
 }
 
+/// The independent FES simulator's `# param_r_imu:` is the lever arm when
+/// the trial has no `# shank_imu_m:` (which wins when both are there); a
+/// value out of range is an error naming the key. Before: ignored, the
+/// anthropometric 0.215 m.
+#[test]
+fn issue_16_param_r_imu_is_the_lever_arm() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    trials(p);
+    std::fs::write(p.join("ta.toml"), "[model]\nt_a = 1.0\n").unwrap();
+    let bare = std::fs::read_to_string(p.join("bare.csv")).unwrap();
+    let with = |line: &str| bare.replace("# noise:", &format!("{line}\n# noise:"));
+    std::fs::write(p.join("r.csv"), with("# param_r_imu: 0.3")).unwrap();
+    let (err, header, _) = run("sdre", "r.csv", Some("ta.toml"), p);
+    assert!(
+        err.contains("0.3000 m below the knee (trial metadata # param_r_imu)"),
+        "{err}"
+    );
+    assert!(header.contains("# shank_imu_m: 0.3\n"), "{header}");
+    let both = std::fs::read_to_string(p.join("k.csv"))
+        .unwrap()
+        .replace("# noise:", "# param_r_imu: 0.3\n# noise:");
+    std::fs::write(p.join("both.csv"), both).unwrap();
+    let (err, _, _) = run("ekf", "both.csv", Some("ta.toml"), p);
+    assert!(
+        err.contains("0.2000 m below the knee (trial metadata # shank_imu_m)"),
+        "{err}"
+    );
+    std::fs::write(p.join("bad.csv"), with("# param_r_imu: 3")).unwrap();
+    let o = limbfuse(
+        &[
+            "estimate", "--method", "sdre", "bad.csv", "-o", "x.csv", "--params", "ta.toml",
+        ],
+        p,
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("param_r_imu: 3") && !e.contains("panicked"),
+        "{e}"
+    );
+}
+
+/// `knee-kinematic` (ours: no thesis measurement to keep) takes the lever
+/// arm the trial states, else mid-shank, and says so; a parameter file's
+/// `[measurement]` wins. Before: 0 m (the accelerometer on the knee axis)
+/// unless the file stated it.
+#[test]
+fn issue_16_knee_kinematic_lever_arm_from_the_trial() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    trials(p);
+    std::fs::write(p.join("r02.toml"), "[measurement]\nshank_imu_m = 0.2\n").unwrap();
+    std::fs::write(p.join("r0.toml"), "[measurement]\nshank_imu_m = 0\n").unwrap();
+    let (err, _, rows) = run("knee-kinematic", "k.csv", None, p);
+    assert!(
+        err.contains("0.2000 m below the knee (trial metadata # shank_imu_m"),
+        "{err}"
+    );
+    let (err_file, _, same) = run("knee-kinematic", "k.csv", Some("r02.toml"), p);
+    assert!(!err_file.contains("below the knee"), "{err_file}");
+    assert_eq!(rows, same, "the trial's 0.2 m is the file's 0.2 m");
+    let (_, _, at_axis) = run("knee-kinematic", "k.csv", Some("r0.toml"), p);
+    assert_ne!(rows, at_axis, "0 m is not the default");
+    let (err, _, _) = run("knee-kinematic", "bare.csv", None, p);
+    assert!(
+        err.contains("0.2152 m below the knee (anthropometric"),
+        "{err}"
+    );
+}
+
 /// Issue 16 item 1 on the fixed hip: `[states] activation = true` runs the
 /// four activation states; a `[model]` that states `t_a` without
 /// `[states]` does too (and says so); the knee's other states and

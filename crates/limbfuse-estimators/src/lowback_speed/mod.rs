@@ -326,7 +326,7 @@ impl Estimator for LowbackSpeed {
         )?;
         writeln!(out, "walking_rms: {} m/s^2", p.walking_rms)?;
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
-        writeln!(out, "turn_rate: {} deg/s", p.turn_rate.to_degrees())?;
+        writeln!(out, "turn_rate: {:.6} deg/s", p.turn_rate.to_degrees())?;
         writeln!(out, "withhold_after_turn: {}", p.withhold_after_turn)?;
         writeln!(out, "gravity_follows_gyro: {}", p.gravity_follows_gyro)
     }
