@@ -279,7 +279,11 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
     docs/ROBUST_INPUT.md); ``methods``: {name: (kind, why)} with kind
     ``"runs"``, ``"runs after align"`` (it reads aligned frames, the file
     declares raw ones), ``"needs a setting"`` (a model, a gait library) or
-    ``"missing columns"``, and why the message ``estimate`` would give.
+    ``"missing columns"``, and why the message ``estimate`` would give;
+    ``metadata_settings``: one line per method that reads body or sensor
+    geometry from the metadata (``lowback-speed``'s pendulum,
+    ``knee-kinematic``'s lever arm, ``imm-bslip``'s body, ``chain``'s
+    geometry): the value its defaults take on this trial and its source.
 
     Raises:
         LimbfuseError: the file cannot be read (the message names the file
@@ -292,7 +296,7 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
             file = os.path.join(tmp, "trial.arrow")
             path.write(file)
             return inspect(file)
-    rows, span, step, stated, gaps, longest, inputs, warnings_, methods_ = _native.inspect(os.fspath(path))
+    rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read = _native.inspect(os.fspath(path))
     return {
         "rows": rows,
         "span": span,
@@ -303,4 +307,5 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
         "inputs": dict(inputs),
         "warnings": list(warnings_),
         "methods": {name: (kind, why) for name, kind, why in methods_},
+        "metadata_settings": list(read),
     }

@@ -122,6 +122,7 @@ fn inspect(
     Vec<(String, u64)>,
     Vec<String>,
     Vec<(&'static str, &'static str, String)>,
+    Vec<String>,
 )> {
     guarded(|| {
         let mut reader = limbfuse_io::TrialReader::open(&path).map_err(|e| user_error(&e))?;
@@ -129,7 +130,9 @@ fn inspect(
         let layout = *reader.layout();
         let s = limbfuse_eval::summarise(&mut reader).map_err(|e| user_error(&e))?;
 
-        let methods = limbfuse_methods::availability(&meta, &layout)
+        let available = limbfuse_methods::availability(&meta, &layout);
+        let read = limbfuse_methods::metadata_settings(&meta, &available);
+        let methods = available
             .into_iter()
             .map(|(m, a)| (m.name(), a.kind(), a.reason().to_string()))
             .collect();
@@ -146,6 +149,7 @@ fn inspect(
                 .collect(),
             s.warnings,
             methods,
+            read,
         ))
     })
 }

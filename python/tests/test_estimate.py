@@ -378,6 +378,10 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     kind, why = info["methods"]["imm-bslip"]
     assert kind == "missing columns" and "com_meas_x" in why
     assert info["methods"]["sdre"][0] == "needs a setting"
+    # what the simulator's metadata sets in the methods that run on it
+    read = info["metadata_settings"]
+    assert any(line.startswith("lowback-speed: pendulum length") and "# height_m:" in line for line in read)
+    assert any(line.startswith("chain: thigh") for line in read)
     with pytest.raises(LimbfuseError, match="nothing.csv"):
         limbfuse.inspect(tmp_path / "nothing.csv")
     # an in-memory trial: the same summary

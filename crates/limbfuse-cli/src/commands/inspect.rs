@@ -4,7 +4,7 @@
 use anyhow::Result;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
-use limbfuse_methods::{availability, Availability};
+use limbfuse_methods::{availability, metadata_settings, Availability};
 
 use crate::cli::InspectArgs;
 
@@ -32,10 +32,17 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         };
         let label = path.display().to_string();
         let methods = availability(&meta, &layout);
+        let read = metadata_settings(&meta, &methods);
         if a.json {
-            json.push(to_json(&label, &s, &methods));
+            json.push(to_json(&label, &s, &methods, &read));
         } else {
             print_text(&label, &meta, &s, methods);
+            if !read.is_empty() {
+                println!("what the metadata sets (or its defaults, when it says nothing):");
+                for l in read {
+                    println!("  {l}");
+                }
+            }
         }
     }
     if a.json {
@@ -55,6 +62,7 @@ fn to_json(
     label: &str,
     s: &TrialSummary,
     methods: &[(limbfuse_methods::MethodName, Availability)],
+    read: &[String],
 ) -> serde_json::Value {
     let methods: serde_json::Map<String, serde_json::Value> = methods
         .iter()
@@ -81,6 +89,7 @@ fn to_json(
         "inputs": inputs,
         "warnings": s.warnings,
         "methods": methods,
+        "metadata_settings": read,
     })
 }
 

@@ -33,6 +33,11 @@ fn inspect_a_walking_trial_and_its_gaps() {
         "units: t in s, IMUs in m/s^2 and rad/s",
         "methods that run on it with their defaults: gyro-integration, accel-inclination, local, mjls, global, chain",
         "imm-bslip          method `imm-bslip` needs CoM measurement columns",
+        // what the simulator's metadata sets in the methods that run
+        "what the metadata sets (or its defaults, when it says nothing):",
+        "  chain: thigh 0.429 m, shank 0.430 m from `# segment_lengths_m:`; IMU positions from `# imu_mounts_m:`",
+        "  lowback-speed: pendulum length 0.9275 m, correction factor 1.25 (from 0.530 x the trial's `# height_m:`",
+        "  knee-kinematic: shank accelerometer 0.2152 m below the knee (anthropometric default",
     ] {
         assert!(out.contains(want), "missing `{want}` in:\n{out}");
     }
@@ -156,6 +161,14 @@ fn inspect_several_files_as_json() {
     assert_eq!(trials[1]["methods"]["mjls"][0], "missing columns");
     assert_eq!(trials[1]["methods"]["imm-bslip"][0], "needs a setting");
     assert_eq!(trials[1]["inputs"]["com_meas"], 0);
+    let read = trials[0]["metadata_settings"].as_array().unwrap();
+    assert_eq!(read.len(), 3, "{read:?}");
+    // limbfuse's B-SLIP trial states no body: the library's is used
+    let read = trials[1]["metadata_settings"].as_array().unwrap();
+    assert!(
+        read.len() == 1 && read[0].as_str().unwrap().starts_with("imm-bslip: no body"),
+        "{read:?}"
+    );
     // a file that cannot be read: the others are printed, then exit 1
     let (code, out, err) = run(&["inspect", "w.csv", "missing.csv", "b.csv"], dir);
     assert_eq!(code, 1);
