@@ -12,7 +12,7 @@
 //! present.
 
 use limbfuse_core::Sample;
-use limbfuse_eval::SensorUnitsWatch;
+use limbfuse_eval::{FixedThighWatch, SensorUnitsWatch};
 use nalgebra::Vector3;
 
 use crate::columns::Channel;
@@ -158,6 +158,22 @@ impl<'a> SampleColumns<'a> {
                     if let Some(v) = cell(c, i) {
                         units.push_encoder(v);
                     }
+                }
+            }
+        }
+    }
+
+    /// Counts every [`FixedThighWatch::STRIDE`]-th thigh gyroscope reading
+    /// into `w` (as `estimate`'s observer counts the records).
+    pub fn count_thigh(&self, w: &mut FixedThighWatch) {
+        for &(slot, [x, y, z]) in &self.vectors {
+            if !matches!(slot, VectorSlot::Gyr(1)) {
+                continue;
+            }
+            for i in (0..self.t.len()).step_by(FixedThighWatch::STRIDE) {
+                let v = Vector3::new(x[i], y[i], z[i]);
+                if !v.iter().any(|c| c.is_nan()) {
+                    w.push_gyr(&v);
                 }
             }
         }

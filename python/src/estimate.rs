@@ -239,6 +239,14 @@ fn estimate<'py>(
                 .collect();
             (!said.is_empty()).then(|| said.join("\n"))
         };
+        // knee-kinematic on a trial whose thigh moves (the CLI's warning).
+        let thigh_note = (spec.method() == limbfuse_methods::MethodName::KneeKinematic)
+            .then(|| {
+                let mut w = limbfuse_eval::FixedThighWatch::default();
+                inputs.count_thigh(&mut w);
+                w.warning(spec.method().name(), &label)
+            })
+            .flatten();
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;
         let run = |mut built: Built| -> PyResult<EstimateTuple<'py>> {
@@ -295,10 +303,15 @@ fn estimate<'py>(
                 .resets
                 .resets()
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
-            let warning = [frame_note.clone(), resets, unit_note.clone()]
-                .into_iter()
-                .flatten()
-                .reduce(|a, b| format!("{a}\n{b}"));
+            let warning = [
+                frame_note.clone(),
+                resets,
+                unit_note.clone(),
+                thigh_note.clone(),
+            ]
+            .into_iter()
+            .flatten()
+            .reduce(|a, b| format!("{a}\n{b}"));
             estimate_tuple(py, out, warning)
         };
         let mut tuple = run(est)?;

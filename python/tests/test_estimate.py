@@ -424,3 +424,11 @@ def test_references_in_degrees_are_named(walking_trial):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert "warnings" not in limbfuse.evaluate(walking_trial, est)
+
+
+def test_knee_kinematic_warns_on_a_moving_thigh(walking_trial):
+    """`knee-kinematic` models a seated leg's fixed thigh: on a walking
+    trial `estimate` says so (the CLI's warning), and still returns."""
+    with pytest.warns(limbfuse.LimbfuseWarning, match="models a fixed thigh"):
+        est = limbfuse.estimate(walking_trial, "knee-kinematic")
+    assert len(est) == len(walking_trial.t)

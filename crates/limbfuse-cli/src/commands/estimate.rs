@@ -7,12 +7,12 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{
-    GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch, SensorUnitsWatch,
-    SpeedRangeWatch,
+    FixedThighWatch, GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch,
+    SensorUnitsWatch, SpeedRangeWatch,
 };
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
-use limbfuse_methods::MethodSpec;
+use limbfuse_methods::{MethodName, MethodSpec};
 use limbfuse_workflows::imm_library_extension;
 
 use crate::cli::EstimateArgs;
@@ -65,6 +65,9 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         }
     }
     pass.report.warn(spec.method().name());
+    if let Some(w) = &pass.moving_thigh {
+        eprintln!("warning: {w}");
+    }
     if let Some(line) = &pass.verdict {
         eprintln!("{line}");
     }
@@ -90,6 +93,8 @@ struct Pass {
     /// knee-selfalign's verdict line.
     verdict: Option<String>,
     speed_range: Option<SpeedRangeWatch>,
+    /// knee-kinematic on a trial whose thigh moves: the warning.
+    moving_thigh: Option<String>,
 }
 
 /// One run of `est` over the trial `reader` reads into the output file (or
@@ -148,9 +153,13 @@ fn estimate_pass(
     let mut gait = GaitWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
+    let mut thigh = (spec.method() == MethodName::KneeKinematic).then(FixedThighWatch::default);
     let label = spec.method().name();
     let report = {
         let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
+        if let Some(w) = thigh.as_mut() {
+            extra.push(w);
+        }
         if let Some(k) = knee.as_mut() {
             extra.push(k);
         }
@@ -226,10 +235,14 @@ fn estimate_pass(
             kept
         ));
     }
+    let moving_thigh = thigh
+        .as_ref()
+        .and_then(|w| w.warning(label, &report.trial.display().to_string()));
     Ok(Pass {
         report,
         verdict,
         speed_range,
+        moving_thigh,
     })
 }
 

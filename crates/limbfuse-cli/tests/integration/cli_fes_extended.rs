@@ -304,3 +304,43 @@ fn issue_16_shared_trials_lever_arm_from_param_r_imu() {
         assert!(knee < 0.5, "{t} knee-kinematic: {knee} deg");
     }
 }
+
+/// `knee-kinematic` models a fixed (seated) thigh. On a walking trial it
+/// wrote a knee 110 deg off with exit 0 and nothing said; now a warning
+/// names the moving thigh (the estimate is still written). A seated
+/// knee-FES trial gets none.
+#[test]
+fn knee_kinematic_warns_when_the_thigh_moves() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    for (args, file) in [
+        (
+            vec!["simulate", "walking", "--duration", "5", "-o", "w.csv"],
+            "w.csv",
+        ),
+        (
+            vec![
+                "simulate",
+                "knee-fes",
+                "--subject",
+                "P3-L",
+                "--duration",
+                "8",
+                "-o",
+                "k.csv",
+            ],
+            "k.csv",
+        ),
+    ] {
+        let o = limbfuse(&args, p);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = limbfuse(
+            &["estimate", "--method", "knee-kinematic", file, "-o", "e.csv"],
+            p,
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        let warned = err.contains("models a fixed thigh") && err.contains(file);
+        assert_eq!(warned, file == "w.csv", "{file}: {err}");
+    }
+}
