@@ -163,17 +163,17 @@ impl<'a> SampleColumns<'a> {
         }
     }
 
-    /// Counts every [`FixedThighWatch::STRIDE`]-th thigh gyroscope reading
-    /// into `w` (as `estimate`'s observer counts the records).
+    /// Adds every [`FixedThighWatch::STRIDE`]-th thigh accelerometer
+    /// reading to `w` (as `estimate`'s observer sees the records).
     pub fn count_thigh(&self, w: &mut FixedThighWatch) {
         for &(slot, [x, y, z]) in &self.vectors {
-            if !matches!(slot, VectorSlot::Gyr(1)) {
+            if !matches!(slot, VectorSlot::Acc(1)) {
                 continue;
             }
             for i in (0..self.t.len()).step_by(FixedThighWatch::STRIDE) {
                 let v = Vector3::new(x[i], y[i], z[i]);
                 if !v.iter().any(|c| c.is_nan()) {
-                    w.push_gyr(&v);
+                    w.push_acc(&v);
                 }
             }
         }

@@ -335,7 +335,14 @@ fn knee_kinematic_warns_when_the_thigh_moves() {
         let o = limbfuse(&args, p);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let o = limbfuse(
-            &["estimate", "--method", "knee-kinematic", file, "-o", "e.csv"],
+            &[
+                "estimate",
+                "--method",
+                "knee-kinematic",
+                file,
+                "-o",
+                "e.csv",
+            ],
             p,
         );
         let err = String::from_utf8_lossy(&o.stderr);
