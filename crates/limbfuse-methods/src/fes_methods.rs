@@ -83,6 +83,7 @@ fes_method!(
         "[model] parameter overrides, [tuning] q, s, a, p0, max_substep",
     )
     .needing(SHANK_IMU, MODEL_IMUS)
+    .reading_aligned_frames()
 );
 
 fes_method!(
@@ -96,6 +97,7 @@ fes_method!(
         "[model] parameter overrides, [tuning] q, s, a, p0, max_substep",
     )
     .needing(SHANK_IMU, MODEL_IMUS)
+    .reading_aligned_frames()
 );
 
 fes_method!(
@@ -112,6 +114,7 @@ fes_method!(
         ChannelNeeds::imus([false, true, true, false]),
         "needs the thigh and shank IMUs (their relative orientation is the knee)",
     )
+    .reading_aligned_frames()
 );
 
 fes_method!(
@@ -126,4 +129,5 @@ fes_method!(
         "[measurement] shank_imu_m, [tuning] q, s, p0, max_substep (5 states)",
     )
     .needing(SHANK_IMU, "needs the shank IMU")
+    .reading_aligned_frames()
 );

@@ -8,7 +8,11 @@
 //! writes `# align_method:` and restates `imu_frame`. A segment filter or the
 //! chain run on raw frames integrates whatever axis the sensor's z happens to
 //! be (on the shared S02 walk: thigh 82 deg, shank 88 deg RMSE for `chain`),
-//! with nothing to say so.
+//! with nothing to say so. The paper-004 knee methods (`sdre`, `ekf`, `rmx`,
+//! and our `knee-kinematic`) read the shank's aligned `acc_x` and `gyr_z` or
+//! the relative orientation of aligned frames too (`rmx` on the shared S02
+//! walk as imported: 20 deg RMSE; on the knee rig: 61 deg; warned since
+//! 2026-12-04).
 
 use limbfuse_io::TrialMeta;
 
@@ -63,6 +67,10 @@ mod tests {
             "mjls",
             "global",
             "chain",
+            "sdre",
+            "ekf",
+            "rmx",
+            "knee-kinematic",
         ] {
             let m = MethodName::parse(name).unwrap();
             let note = raw_frame_note(m, &raw, "t.csv").expect(name);

@@ -478,6 +478,14 @@ impl WalkingSimulator {
         }
         put("noise", c.noise.to_string());
         put("mounting", format!("{:?}", c.mounting).to_lowercase());
+        if c.mounting == crate::Mounting::Random {
+            // As the importers of real recordings declare theirs: methods
+            // reading aligned frames then say so (`raw_frame_note`).
+            put(
+                "imu_frame",
+                "raw sensor frames (mounted at random: the `<seg>_mount_quat` lines)".into(),
+            );
+        }
         let s = &c.imu;
         put(
             "gyro_spec",

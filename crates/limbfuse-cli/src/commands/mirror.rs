@@ -43,6 +43,12 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
                 .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})"))
         ),
     );
+    if a.remount_seed.is_some() {
+        meta.set(
+            "imu_frame",
+            "raw sensor frames (re-mounted at random by limbfuse mirror)",
+        );
+    }
     let remount = a.remount_seed.map(remount_rotations_both_legs);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)

@@ -60,3 +60,56 @@ fn raw_frames_warn_until_aligned() {
     ]);
     assert!(!err.contains("warning"), "{err}");
 }
+
+/// limbfuse's own raw trials declare their frames too: `simulate walking
+/// --mounting random` (and `simulate knee`, mounted at random) and `mirror
+/// --remount-seed` write `# imu_frame: raw ...`, and the paper-004 knee
+/// methods (`rmx`, `knee-kinematic`) read aligned frames. Before
+/// (2026-12-04): nothing said; `local` on a random-mounted walk 21-139 deg
+/// RMSE, `rmx` on the randomly mounted knee trial 70 deg.
+#[test]
+fn own_raw_trials_declare_their_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let run = |args: &[&str]| {
+        let o = limbfuse(args, dir);
+        assert_eq!(o.status.code(), Some(0), "{args:?}");
+        String::from_utf8(o.stderr).unwrap()
+    };
+    run(&[
+        "simulate",
+        "walking",
+        "--duration",
+        "6",
+        "--mounting",
+        "random",
+        "-o",
+        "raw.csv",
+    ]);
+    run(&["simulate", "walking", "--duration", "6", "-o", "w.csv"]);
+    run(&["mirror", "w.csv", "--remount-seed", "1", "-o", "left.csv"]);
+    run(&["simulate", "knee", "--duration", "12", "-o", "knee.csv"]);
+    for (trial, method) in [
+        ("raw.csv", "local"),
+        ("left.csv", "chain"),
+        ("knee.csv", "rmx"),
+        ("raw.csv", "knee-kinematic"),
+    ] {
+        let err = run(&["estimate", "--method", method, trial, "-o", "e.csv"]);
+        assert!(
+            err.contains(&format!("warning: {trial} declares raw sensor frames")),
+            "{trial} {method}: {err}"
+        );
+    }
+    // aligned, the same walk says nothing
+    run(&["align", "raw.csv", "-o", "aligned.csv"]);
+    let err = run(&[
+        "estimate",
+        "--method",
+        "local",
+        "aligned.csv",
+        "-o",
+        "e.csv",
+    ]);
+    assert!(!err.contains("warning"), "{err}");
+}
