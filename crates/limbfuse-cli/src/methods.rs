@@ -45,7 +45,39 @@ pub fn resolve(name: &str, params: Option<&Path>, flags: &MethodFlags) -> Result
 
 /// Builds `spec` for the trial `reader` is reading; errors name the trial.
 pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Estimator + Send>> {
-    build(spec, reader.meta(), reader.layout()).with_context(|| reader.path().display().to_string())
+    build(spec, reader.meta(), reader.layout()).map_err(|e| {
+        let path = reader.path().display();
+        match model_file_beside(&e, reader.path()) {
+            Some(hint) => anyhow::anyhow!("{path}: {e}; {hint}"),
+            None => anyhow::Error::new(e).context(path.to_string()),
+        }
+    })
+}
+
+/// `sdre` / `ekf` refused for want of a model: when a parameter file with
+/// the trial's name and a `[model]` table lies beside the trial (the shared
+/// independent-simulator FES trials ship one), a hint naming it.
+fn model_file_beside(e: &limbfuse_methods::MethodError, trial: &std::path::Path) -> Option<String> {
+    use limbfuse_methods::fes_params::FesBuildError;
+    let limbfuse_methods::MethodError::Fes { source, .. } = e else {
+        return None;
+    };
+    if !matches!(
+        source,
+        FesBuildError::UnknownModel { .. }
+            | FesBuildError::NoModel { .. }
+            | FesBuildError::NoModelInFile { .. }
+    ) {
+        return None;
+    }
+    let beside = trial.with_extension("toml");
+    let text = std::fs::read_to_string(&beside).ok()?;
+    text.lines().any(|l| l.trim() == "[model]").then(|| {
+        format!(
+            "the parameter file beside the trial has a [model] table: add `--params {}`",
+            beside.display()
+        )
+    })
 }
 
 /// knee-selfalign / knee-gyro-axis: the identification window in samples

@@ -351,3 +351,43 @@ fn knee_kinematic_warns_when_the_thigh_moves() {
         assert_eq!(warned, file == "w.csv", "{file}: {err}");
     }
 }
+
+/// `sdre` / `ekf` refused for want of a model name the parameter file that
+/// lies beside the trial with a `[model]` table (the shared independent FES
+/// trials ship `NAME.toml` beside `NAME.csv`); without one, no hint.
+#[test]
+fn a_refused_model_names_the_parameter_file_beside_the_trial() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &[
+            "simulate",
+            "knee-fes",
+            "--subject",
+            "P2-R",
+            "--duration",
+            "4",
+            "-o",
+            "k.csv",
+        ],
+        p,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(p.join("k.csv")).unwrap();
+    let bare: String = text
+        .lines()
+        .filter(|l| !l.starts_with("# model:"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(p.join("bare.csv"), bare).unwrap();
+    let args = ["estimate", "--method", "sdre", "bare.csv", "-o", "x.csv"];
+    let o = limbfuse(&args, p);
+    user_error(&o, &["bare.csv"]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("beside the trial"));
+    std::fs::write(p.join("bare.toml"), "[model]\nt_a = 1.0\n").unwrap();
+    let o = limbfuse(&args, p);
+    user_error(
+        &o,
+        &["beside the trial has a [model] table: add `--params bare.toml`"],
+    );
+}
