@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from . import _native
-from ._estimate import Estimate
+from ._estimate import Estimate, LimbfuseWarning
 from ._trial import PathLike, Trial
 from ._workflows import calibration_options
 
@@ -52,6 +53,10 @@ class Filter:
             p,
             options or None,
         )
+        # `estimate`'s warning: a method reading aligned frames, metadata
+        # declaring raw ones (`# imu_frame: raw ...`) and no alignment.
+        if self._native.frame_note:
+            warnings.warn(self._native.frame_note, LimbfuseWarning, stacklevel=2)
 
     @classmethod
     def for_trial(

@@ -39,6 +39,9 @@ pub struct NativeFilter {
     calibration: Option<Calibration>,
     /// The unit checks of `estimate`, over the samples stepped or run.
     units: StreamUnits,
+    /// `estimate`'s warning for a method reading aligned frames given a
+    /// trial that declares raw ones (`raw_frame_note`).
+    frame_note: Option<String>,
 }
 
 /// The unit checks of `estimate` (`limbfuse_eval::unit_warnings`) over a
@@ -172,6 +175,11 @@ impl NativeFilter {
                 template,
                 calibration,
                 units: StreamUnits::new(&m),
+                frame_note: limbfuse_methods::raw_frame_note(
+                    spec.method(),
+                    &m,
+                    "the filter's metadata",
+                ),
             })
         })
     }
@@ -186,6 +194,12 @@ impl NativeFilter {
     #[getter]
     fn header(&self) -> Vec<String> {
         self.template.header.clone()
+    }
+
+    /// `estimate`'s raw-frame warning for this method and metadata, if any.
+    #[getter]
+    fn frame_note(&self) -> Option<String> {
+        self.frame_note.clone()
     }
 
     /// Forgets the state (the next sample starts a new run).

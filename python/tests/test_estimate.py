@@ -432,3 +432,18 @@ def test_knee_kinematic_warns_on_a_moving_thigh(walking_trial):
     with pytest.warns(limbfuse.LimbfuseWarning, match="models a fixed thigh"):
         est = limbfuse.estimate(walking_trial, "knee-kinematic")
     assert len(est) == len(walking_trial.t)
+
+
+def test_filter_warns_about_raw_frames(walking_trial):
+    """A `Filter` of a method that reads aligned frames, made for metadata
+    declaring raw ones, gives `estimate`'s raw-frame warning once, when it
+    is made; a method that reads raw frames, or aligned metadata, says
+    nothing."""
+    names = list(walking_trial.channels)
+    raw = {**walking_trial.meta, "imu_frame": "raw sensor frames (unaligned)"}
+    with pytest.warns(limbfuse.LimbfuseWarning, match="declares raw sensor frames"):
+        Filter("local", channels=names, meta=raw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", limbfuse.LimbfuseWarning)
+        Filter("knee-gyro-axis", channels=names, meta=raw)
+        Filter("local", channels=names, meta=walking_trial.meta)
