@@ -21,21 +21,35 @@ use crate::MethodName;
 /// The metadata key importers use to declare the IMU frames.
 pub const IMU_FRAME_KEY: &str = "imu_frame";
 
+/// The free-text metadata key in which the shared recordings' converters
+/// describe the sensors (`# sensors: ... RAW sensor frames ...` in the
+/// gaitmap foot walk and the Mobilise-D lower-back files).
+pub const SENSORS_KEY: &str = "sensors";
+
 /// Whether `meta` declares raw (unaligned) IMU frames and no alignment:
-/// `imu_frame` starting with `raw` and no `align_method`.
+/// `imu_frame` starting with `raw`, or a `sensors` line saying `raw sensor
+/// frame(s)`; and no `align_method`.
 pub fn declares_raw_frames(meta: &TrialMeta) -> bool {
-    meta.get("align_method").is_none()
-        && meta
-            .get(IMU_FRAME_KEY)
-            .is_some_and(|v| v.trim_start().to_ascii_lowercase().starts_with("raw"))
+    let keyed = meta
+        .get(IMU_FRAME_KEY)
+        .is_some_and(|v| v.trim_start().to_ascii_lowercase().starts_with("raw"));
+    let in_words = meta
+        .get(SENSORS_KEY)
+        .is_some_and(|v| v.to_ascii_lowercase().contains("raw sensor frame"));
+    meta.get("align_method").is_none() && (keyed || in_words)
 }
 
 /// A warning when `method` reads aligned frames and the trial `label`
 /// declares raw ones ([`declares_raw_frames`]); `None` otherwise.
 pub fn raw_frame_note(method: MethodName, meta: &TrialMeta, label: &str) -> Option<String> {
     (method.info().reads_aligned && declares_raw_frames(meta)).then(|| {
+        let key = if meta.get(IMU_FRAME_KEY).is_some() {
+            IMU_FRAME_KEY
+        } else {
+            SENSORS_KEY
+        };
         format!(
-            "warning: {label} declares raw sensor frames (`# {IMU_FRAME_KEY}:`) and no \
+            "warning: {label} declares raw sensor frames (`# {key}:`) and no \
              alignment, but `{}` reads IMU frames aligned to the segments (z = medio-lateral \
              axis, SPEC section 1): its angles will not mean anything. Align the trial first \
              (`limbfuse align TRIAL -o ALIGNED.csv`, docs/ALIGNMENT.md), or use a method that \
@@ -85,6 +99,19 @@ mod tests {
             let m = MethodName::parse(name).unwrap();
             assert_eq!(raw_frame_note(m, &raw, "t.csv"), None, "{name}");
         }
+    }
+
+    /// The shared gaitmap and Mobilise-D files say it in words.
+    #[test]
+    fn raw_frames_said_in_the_sensors_line() {
+        let gyro = MethodName::parse("gyro-integration").unwrap();
+        let said = meta(&[(
+            SENSORS_KEY,
+            "NilsPod IMUs on the lateral side of each shoe; RAW sensor frames (imu_sample_not_rotated.csv)",
+        )]);
+        assert!(raw_frame_note(gyro, &said, "t.csv").is_some());
+        let aligned = meta(&[(SENSORS_KEY, "ALIGNED (SPEC frame): x forward, y up")]);
+        assert_eq!(raw_frame_note(gyro, &aligned, "t.csv"), None);
     }
 
     #[test]

@@ -170,9 +170,13 @@ fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
             (n, None) => format!("  gaps: {n}"),
         });
     }
-    let frames = meta
-        .get("imu_frame")
-        .unwrap_or("not stated (SPEC: aligned to the segments)");
+    let frames = match meta.get("imu_frame") {
+        Some(f) => f,
+        None if limbfuse_methods::raw_frames::declares_raw_frames(meta) => {
+            "raw sensor frames (said in `# sensors:`)"
+        }
+        None => "not stated (SPEC: aligned to the segments)",
+    };
     line(format!(
         "  leg: {}; IMU frames: {frames}",
         meta.get("leg").unwrap_or("not stated (SPEC: right)")
