@@ -24,6 +24,7 @@ use limbfuse_core::{Estimate, Record, Sample};
 use nalgebra::Vector3;
 
 use crate::sensor_units::MIN_READINGS;
+use crate::strided::Strided;
 
 /// The spread (deg) of the thigh's specific-force direction above which
 /// the thigh is not on a seat.
@@ -32,7 +33,7 @@ pub const SEATED_SPREAD_DEG: f64 = 5.0;
 /// Follows the thigh accelerometer's direction over a run (see the module).
 #[derive(Debug, Clone, Default)]
 pub struct FixedThighWatch {
-    records: u64,
+    records: Strided,
     readings: u64,
     direction_sum: Vector3<f64>,
 }
@@ -84,10 +85,9 @@ impl FixedThighWatch {
 impl Observer for FixedThighWatch {
     /// Counts every [`FixedThighWatch::STRIDE`]-th record.
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
-        if self.records.is_multiple_of(Self::STRIDE as u64) {
+        if self.records.due(Self::STRIDE) {
             self.push_sample(&record.sample);
         }
-        self.records += 1;
         Ok(())
     }
 }

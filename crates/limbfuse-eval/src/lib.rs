@@ -26,6 +26,7 @@ pub mod scored_feet;
 pub mod sensor_units;
 pub mod speed_range;
 pub mod stats;
+pub mod strided;
 pub mod sync_lag;
 pub mod trial_check;
 pub mod trial_summary;

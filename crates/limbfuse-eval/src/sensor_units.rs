@@ -37,6 +37,7 @@ use limbfuse_core::{Estimate, ImuSample, Record};
 use nalgebra::Vector3;
 
 use crate::sample_interval::SampleIntervalWatch;
+use crate::strided::Strided;
 
 /// Readings of a kind needed before anything is said about its unit.
 pub const MIN_READINGS: u64 = 25;
@@ -166,8 +167,8 @@ pub struct SensorUnitsWatch {
     gyr_too_fast: u64,
     enc: u64,
     enc_beyond_pi: u64,
-    /// Records observed ([`Observer`]).
-    records: u64,
+    /// Which records the [`Observer`] counts.
+    records: Strided,
 }
 
 impl SensorUnitsWatch {
@@ -251,10 +252,9 @@ pub fn unit_warnings(
 impl Observer for SensorUnitsWatch {
     /// Counts every [`SensorUnitsWatch::STRIDE`]-th record.
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
-        if self.records.is_multiple_of(Self::STRIDE as u64) {
+        if self.records.due(Self::STRIDE) {
             self.push_sample(&record.sample);
         }
-        self.records += 1;
         Ok(())
     }
 }
