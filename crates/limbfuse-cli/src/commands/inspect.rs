@@ -4,7 +4,7 @@
 use anyhow::Result;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
-use limbfuse_methods::{availability, metadata_settings, Availability};
+use limbfuse_methods::{availability, metadata_settings, Availability, MethodName};
 
 use crate::cli::InspectArgs;
 
@@ -36,7 +36,14 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         if a.json {
             json.push(to_json(&label, &s, &methods, &read));
         } else {
-            print_text(&label, &meta, &s, methods);
+            let needs_model = methods.iter().any(|(m, a)| {
+                matches!(m, MethodName::Sdre | MethodName::Ekf)
+                    && matches!(a, Availability::NeedsSetting(_))
+            });
+            let hint = needs_model
+                .then(|| crate::methods::model_file_hint(path))
+                .flatten();
+            print_text(&label, &meta, &s, methods, hint);
             if !read.is_empty() {
                 println!("what the metadata sets (or its defaults, when it says nothing):");
                 for l in read {
@@ -99,6 +106,7 @@ fn print_text(
     meta: &TrialMeta,
     s: &TrialSummary,
     methods: Vec<(limbfuse_methods::MethodName, Availability)>,
+    model_hint: Option<String>,
 ) {
     print!("{}", describe(label, meta, s));
     let (mut runs, mut settings, mut not) = (Vec::new(), Vec::new(), Vec::new());
@@ -112,6 +120,9 @@ fn print_text(
             Availability::NeedsSetting(why) => settings.push(format!("  {:<18} {why}", m.name())),
             Availability::MissingColumns(why) => not.push(format!("  {:<18} {why}", m.name())),
         }
+    }
+    if let Some(h) = model_hint {
+        settings.push(format!("  (sdre, ekf: {h})"));
     }
     println!(
         "methods that run on it with their defaults: {}",

@@ -390,4 +390,11 @@ fn a_refused_model_names_the_parameter_file_beside_the_trial() {
         &o,
         &["beside the trial has a [model] table: add `--params bare.toml`"],
     );
+    // `inspect` says it too, under the methods that need a setting
+    let o = limbfuse(&["inspect", "bare.csv"], p);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("  (sdre, ekf: the parameter file beside the trial has a [model] table: add `--params bare.toml`)"),
+        "{out}"
+    );
 }
