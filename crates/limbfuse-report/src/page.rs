@@ -150,6 +150,21 @@ fn header(
     for w in &trial.unit_warnings {
         let _ = write!(s, r#"<p class="warning">warning: {}</p>"#, esc(w));
     }
+    // `estimate`'s raw-frame warning, for the estimates it applied to.
+    for e in estimates {
+        let note = limbfuse_methods::MethodName::parse(&e.method)
+            .ok()
+            .and_then(|m| limbfuse_methods::raw_frame_note(m, &trial.meta, &trial.name()));
+        if let Some(w) = note {
+            let w = w.strip_prefix("warning: ").unwrap_or(&w);
+            let _ = write!(
+                s,
+                r#"<p class="warning">warning ({}): {}</p>"#,
+                esc(&e.label),
+                esc(w)
+            );
+        }
+    }
     window_controls(s, trial);
 }
 

@@ -101,6 +101,23 @@ fn own_raw_trials_declare_their_frames() {
             "{trial} {method}: {err}"
         );
     }
+    // the HTML report of an estimate of the raw walk says it too
+    run(&[
+        "estimate",
+        "--method",
+        "local",
+        "raw.csv",
+        "-o",
+        "raw-local.csv",
+    ]);
+    run(&["report", "raw.csv", "raw-local.csv", "-o", "r.html"]);
+    let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
+    assert!(
+        html.contains(
+            r#"<p class="warning">warning (raw-local.csv): raw.csv declares raw sensor frames"#
+        ),
+        "the report names the raw frames"
+    );
     // aligned, the same walk says nothing
     run(&["align", "raw.csv", "-o", "aligned.csv"]);
     let err = run(&[
@@ -112,4 +129,10 @@ fn own_raw_trials_declare_their_frames() {
         "e.csv",
     ]);
     assert!(!err.contains("warning"), "{err}");
+    run(&["report", "aligned.csv", "e.csv", "-o", "a.html"]);
+    let html = std::fs::read_to_string(dir.join("a.html")).unwrap();
+    assert!(
+        !html.contains(r#"<p class="warning">"#),
+        "aligned: no warning"
+    );
 }
