@@ -65,7 +65,7 @@ fn raw_frames_warn_until_aligned() {
 /// --mounting random` (and `simulate knee`, mounted at random) and `mirror
 /// --remount-seed` write `# imu_frame: raw ...`, and the paper-004 knee
 /// methods (`rmx`, `knee-kinematic`) read aligned frames. Before
-/// (2026-12-04): nothing said; `local` on a random-mounted walk 21-139 deg
+/// (2026-12-04): nothing said; `local` on a random-mounted walk 20-107 deg per segment
 /// RMSE, `rmx` on the randomly mounted knee trial 70 deg.
 #[test]
 fn own_raw_trials_declare_their_frames() {
