@@ -234,17 +234,20 @@ pub fn frame_offset_from_alignment(meta: &TrialMeta) -> [f64; 4] {
 pub struct ChainMethod;
 
 impl MethodDef for ChainMethod {
-    const INFO: MethodInfo = MethodInfo::new(
-        "chain",
-        "beyond the papers: planar kinematic-chain EKF; accelerometers modelled (hip acceleration, rates, angular accelerations, mount positions), not gated",
-        "aligned trunk, thigh, shank and foot IMUs; hip/knee/ankle encoders when present; geometry from the trial metadata (imu_mounts_m, segment_lengths_m, height_m)",
-        "noise levels, anchors, start-up, [geometry] (parameter file; docs/CHAIN.md)",
-    )
-    .needing(
-        ChannelNeeds::FOUR_IMUS,
-        "models the four segments' accelerometers and gyroscopes together",
-    )
-    .reading_aligned_frames();
+    const INFO: MethodInfo = MethodInfo {
+        in_walking_demo: true,
+        ..MethodInfo::new(
+            "chain",
+            "beyond the papers: planar kinematic-chain EKF; accelerometers modelled (hip acceleration, rates, angular accelerations, mount positions), not gated",
+            "aligned trunk, thigh, shank and foot IMUs; hip/knee/ankle encoders when present; geometry from the trial metadata (imu_mounts_m, segment_lengths_m, height_m)",
+            "noise levels, anchors, start-up, [geometry] (parameter file; docs/CHAIN.md)",
+        )
+        .needing(
+            ChannelNeeds::FOUR_IMUS,
+            "models the four segments' accelerometers and gyroscopes together",
+        )
+        .reading_aligned_frames()
+    };
     type Settings = ChainSettings;
 
     fn resolve(

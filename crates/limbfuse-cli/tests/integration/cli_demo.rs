@@ -27,6 +27,7 @@ fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
         "local",
         "mjls",
         "global",
+        "chain",
     ] {
         assert!(stdout.contains(m), "{m} missing in {stdout}");
         assert!(d.path().join(format!("out/estimate-{m}.csv")).exists());
@@ -40,7 +41,7 @@ fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
             .unwrap_or_else(|| panic!("no {row} row"));
         // every method column holds a number
         let cells: Vec<&str> = line[row.len()..].split_whitespace().collect();
-        assert_eq!(cells.len(), 5, "{line}");
+        assert_eq!(cells.len(), 6, "{line}");
         assert!(cells.iter().all(|c| c.parse::<f64>().is_ok()), "{line}");
     }
     let report = std::fs::read_to_string(d.path().join("out/report.md")).unwrap();
