@@ -6,8 +6,9 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use limbfuse_core::{Estimator, Sample, Side};
-use limbfuse_eval::{SampleIntervalWatch, SensorUnitsWatch};
+use limbfuse_eval::{FixedThighWatch, SampleIntervalWatch, SensorUnitsWatch};
 use limbfuse_io::{Calibration, TrialMeta};
+use limbfuse_methods::MethodName;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
@@ -45,12 +46,16 @@ pub struct NativeFilter {
 }
 
 /// The unit checks of `estimate` (`limbfuse_eval::unit_warnings`) over a
-/// stream: said once, as a `LimbfuseWarning`, when they find something.
+/// stream, and for `knee-kinematic` its fixed-thigh check
+/// (`limbfuse_eval::FixedThighWatch`): each said once, as a
+/// `LimbfuseWarning`, when it finds something.
 struct StreamUnits {
     intervals: SampleIntervalWatch,
     units: SensorUnitsWatch,
+    thigh: Option<FixedThighWatch>,
     samples: u64,
     said: bool,
+    thigh_said: bool,
 }
 
 impl StreamUnits {
@@ -58,46 +63,77 @@ impl StreamUnits {
     /// time column; the IMU shares settle long before).
     const LAST_CHECK: u64 = 8192;
 
-    fn new(meta: &TrialMeta) -> Self {
+    fn new(meta: &TrialMeta, method: MethodName) -> Self {
         StreamUnits {
             intervals: SampleIntervalWatch::for_trial(meta),
             units: SensorUnitsWatch::default(),
+            thigh: (method == MethodName::KneeKinematic).then(FixedThighWatch::default),
             samples: 0,
             said: false,
+            thigh_said: false,
         }
+    }
+
+    /// Whether every check has spoken or stopped looking.
+    fn done(&self) -> bool {
+        (self.said && (self.thigh.is_none() || self.thigh_said)) || self.samples > Self::LAST_CHECK
     }
 
     /// Counts one sample (every [`SensorUnitsWatch::STRIDE`]-th one's IMUs
     /// and encoders, as `estimate` counts).
     fn observe(&mut self, s: &Sample) {
-        if self.said || self.samples > Self::LAST_CHECK {
+        if self.done() {
             return;
         }
         self.intervals.push(s.t);
         if self.samples.is_multiple_of(SensorUnitsWatch::STRIDE as u64) {
             self.units.push_sample(s);
+            if let Some(w) = self.thigh.as_mut() {
+                w.push_sample(s);
+            }
         }
         self.samples += 1;
     }
 
-    /// Warns once, when the checks have found something (looked at every
+    /// Warns once per check, when it has found something (looked at every
     /// 64 samples and at the end of a `run`).
     fn warn(&mut self, py: Python<'_>, method: &str, now: bool) -> PyResult<()> {
-        if self.said || !(now || self.samples.is_multiple_of(64)) {
+        if !(now || self.samples.is_multiple_of(64)) {
             return Ok(());
         }
-        let said: Vec<String> =
-            limbfuse_eval::unit_warnings(&self.intervals, &self.units).collect();
-        if said.is_empty() {
+        let mut texts = Vec::new();
+        if !self.said {
+            let said: Vec<String> =
+                limbfuse_eval::unit_warnings(&self.intervals, &self.units).collect();
+            if !said.is_empty() {
+                self.said = true;
+                texts.push(format!(
+                    "{method}: the filter's samples: {}",
+                    said.join("; ")
+                ));
+            }
+        }
+        if !self.thigh_said {
+            if let Some(w) = self
+                .thigh
+                .as_ref()
+                .and_then(|w| w.warning(method, "the filter's samples"))
+            {
+                self.thigh_said = true;
+                texts.push(w);
+            }
+        }
+        if texts.is_empty() {
             return Ok(());
         }
-        self.said = true;
         let category = py
             .import("limbfuse._estimate")?
             .getattr("LimbfuseWarning")?;
-        let text = format!("{method}: the filter's samples: {}", said.join("; "));
-        let text = std::ffi::CString::new(text).unwrap_or_default();
-        PyErr::warn(py, &category, &text, 2)
+        for text in texts {
+            let text = std::ffi::CString::new(text).unwrap_or_default();
+            PyErr::warn(py, &category, &text, 2)?;
+        }
+        Ok(())
     }
 }
 
@@ -174,7 +210,7 @@ impl NativeFilter {
                 leg,
                 template,
                 calibration,
-                units: StreamUnits::new(&m),
+                units: StreamUnits::new(&m, spec.method()),
                 frame_note: limbfuse_methods::raw_frame_note(
                     spec.method(),
                     &m,
@@ -321,7 +357,7 @@ impl NativeFilter {
             let method = self.method.clone();
             let calibration = self.calibration.clone();
             let inputs = cols.inputs();
-            if !self.units.said {
+            if !self.units.done() {
                 let mut sample = Sample::default();
                 for i in 0..inputs.len().min(StreamUnits::LAST_CHECK as usize) {
                     inputs.fill(i, &mut sample);

@@ -447,3 +447,23 @@ def test_filter_warns_about_raw_frames(walking_trial):
         warnings.simplefilter("error", limbfuse.LimbfuseWarning)
         Filter("knee-gyro-axis", channels=names, meta=raw)
         Filter("local", channels=names, meta=walking_trial.meta)
+
+
+def test_filter_warns_about_a_moving_thigh(walking_trial):
+    """`Filter("knee-kinematic")` gives `estimate`'s fixed-thigh warning
+    once, stepping or running, on a walk; a seated knee-FES leg says
+    nothing."""
+    names = list(walking_trial.channels)
+    f = Filter("knee-kinematic", channels=names, meta=walking_trial.meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match="models a fixed thigh") as caught:
+        for i in range(400):
+            f.step({"t": float(walking_trial.t[i]), **{n: float(walking_trial.channels[n][i]) for n in names}})
+    assert len([w for w in caught if "fixed thigh" in str(w.message)]) == 1
+    g = Filter("knee-kinematic", channels=names, meta=walking_trial.meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match="models a fixed thigh"):
+        g.run({"t": walking_trial.t, **walking_trial.channels})
+    seated = limbfuse.simulate("knee-fes", duration=8.0)
+    h = Filter("knee-kinematic", channels=list(seated.channels), meta=seated.meta)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", limbfuse.LimbfuseWarning)
+        h.run({"t": seated.t, **seated.channels})
