@@ -132,9 +132,24 @@ fn inspect(
 
         let available = limbfuse_methods::availability(&meta, &layout);
         let read = limbfuse_methods::metadata_settings(&meta, &available);
+        // `inspect`'s hint: the model file beside the trial, for sdre / ekf.
+        let hint = limbfuse_methods::availability::needs_a_model(&available)
+            .then(|| limbfuse_methods::availability::model_file_hint(&path))
+            .flatten();
         let methods = available
             .into_iter()
-            .map(|(m, a)| (m.name(), a.kind(), a.reason().to_string()))
+            .map(|(m, a)| {
+                let mut why = a.reason().to_string();
+                if let (Some(h), limbfuse_methods::Availability::NeedsSetting(_)) = (&hint, &a) {
+                    if matches!(
+                        m,
+                        limbfuse_methods::MethodName::Sdre | limbfuse_methods::MethodName::Ekf
+                    ) {
+                        why = format!("{why}; {h}");
+                    }
+                }
+                (m.name(), a.kind(), why)
+            })
             .collect();
         Ok((
             s.rows,

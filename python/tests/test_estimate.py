@@ -467,3 +467,18 @@ def test_filter_warns_about_a_moving_thigh(walking_trial):
     with warnings.catch_warnings():
         warnings.simplefilter("error", limbfuse.LimbfuseWarning)
         h.run({"t": seated.t, **seated.channels})
+
+
+def test_inspect_names_the_model_file_beside_the_trial(tmp_path):
+    """`inspect` says, under `sdre` / `ekf` needing a model, which `--params`
+    to add when a parameter file with a [model] table lies beside the trial
+    (the shared independent FES trials ship one)."""
+    trial = limbfuse.simulate("knee-fes", duration=4.0)
+    meta = {k: v for k, v in trial.meta.items() if k != "model"}
+    bare = Trial(trial.t, dict(trial.channels), meta)
+    path = tmp_path / "bare.csv"
+    bare.write(path)
+    assert "beside the trial" not in limbfuse.inspect(path)["methods"]["sdre"][1]
+    (tmp_path / "bare.toml").write_text("[model]\nt_a = 1.0\n")
+    kind, why = limbfuse.inspect(path)["methods"]["sdre"]
+    assert kind == "needs a setting" and "add `--params" in why and "bare.toml" in why

@@ -70,21 +70,7 @@ fn model_file_beside(e: &limbfuse_methods::MethodError, trial: &std::path::Path)
     ) {
         return None;
     }
-    model_file_hint(trial)
-}
-
-/// When a parameter file with the trial's name and a `[model]` table lies
-/// beside it: the `--params` to add (for `sdre` / `ekf` refused for want of
-/// a model, in `estimate`'s error and `inspect`).
-pub fn model_file_hint(trial: &std::path::Path) -> Option<String> {
-    let beside = trial.with_extension("toml");
-    let text = std::fs::read_to_string(&beside).ok()?;
-    text.lines().any(|l| l.trim() == "[model]").then(|| {
-        format!(
-            "the parameter file beside the trial has a [model] table: add `--params {}`",
-            beside.display()
-        )
-    })
+    limbfuse_methods::availability::model_file_hint(trial)
 }
 
 /// knee-selfalign / knee-gyro-axis: the identification window in samples

@@ -71,6 +71,29 @@ pub fn availability(meta: &TrialMeta, layout: &TrialLayout) -> Vec<(MethodName, 
         .collect()
 }
 
+/// When a parameter file with the trial's name and a `[model]` table lies
+/// beside it (the shared independent-simulator FES trials ship `NAME.toml`
+/// beside `NAME.csv`): the `--params` to add, for `sdre` / `ekf` refused
+/// for want of a model (`estimate`'s error, `inspect`, Python's `inspect`).
+pub fn model_file_hint(trial: &std::path::Path) -> Option<String> {
+    let beside = trial.with_extension("toml");
+    let text = std::fs::read_to_string(&beside).ok()?;
+    text.lines().any(|l| l.trim() == "[model]").then(|| {
+        format!(
+            "the parameter file beside the trial has a [model] table: add `--params {}`",
+            beside.display()
+        )
+    })
+}
+
+/// Whether `methods` has `sdre` or `ekf` needing a setting (a model).
+pub fn needs_a_model(methods: &[(MethodName, Availability)]) -> bool {
+    methods.iter().any(|(m, a)| {
+        matches!(m, MethodName::Sdre | MethodName::Ekf)
+            && matches!(a, Availability::NeedsSetting(_))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
-use limbfuse_methods::{availability, metadata_settings, Availability, MethodName};
+use limbfuse_methods::{availability, metadata_settings, Availability};
 
 use crate::cli::InspectArgs;
 
@@ -36,12 +36,8 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         if a.json {
             json.push(to_json(&label, &s, &methods, &read));
         } else {
-            let needs_model = methods.iter().any(|(m, a)| {
-                matches!(m, MethodName::Sdre | MethodName::Ekf)
-                    && matches!(a, Availability::NeedsSetting(_))
-            });
-            let hint = needs_model
-                .then(|| crate::methods::model_file_hint(path))
+            let hint = limbfuse_methods::availability::needs_a_model(&methods)
+                .then(|| limbfuse_methods::availability::model_file_hint(path))
                 .flatten();
             print_text(&label, &meta, &s, methods, hint);
             if !read.is_empty() {
