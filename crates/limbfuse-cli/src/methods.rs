@@ -100,6 +100,15 @@ pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
         eprintln!("{note}");
     }
     if let MethodSpec::Sdre(f) | MethodSpec::Ekf(f) = spec {
+        let from_lines = limbfuse_methods::fes_param_lines::model_from_param_lines(reader.meta())
+            .with_context(|| reader.path().display().to_string())?;
+        if from_lines.is_some_and(|m| m.keys().any(|k| !f.model.contains_key(k))) {
+            eprintln!(
+                "{}: the knee-fes model from the trial's `# param_*` lines (docs/FES_ESTIMATION.md, \
+                 \"Trials of other simulators\"; a parameter file's [model] keys win)",
+                spec.method()
+            );
+        }
         let note = f
             .plant_as_stated_note(spec.method(), reader.meta())
             .with_context(|| reader.path().display().to_string())?;

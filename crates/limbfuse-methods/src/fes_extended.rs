@@ -258,7 +258,8 @@ impl FesParamsFile {
         method: crate::MethodName,
         meta: &TrialMeta,
     ) -> Result<Option<String>, FesBuildError> {
-        if self.states.is_some() || !self.model.contains_key("t_a") {
+        let file = self.for_trial(meta)?;
+        if file.states.is_some() || !file.model.contains_key("t_a") {
             return Ok(None);
         }
         if meta.get("model").map(str::trim) == Some("fixed-hip") {
@@ -268,7 +269,7 @@ impl FesParamsFile {
                  the thesis estimator)"
             )));
         }
-        let arm = self.lever_arm(meta)?;
+        let arm = file.lever_arm(meta)?;
         Ok(Some(format!(
             "{method}: [model] states t_a and the file has no [states]: activation, gyro bias and \
              accelerometer bias states (the plant as stated; `[states]` with `activation = false` \

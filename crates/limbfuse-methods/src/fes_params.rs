@@ -479,6 +479,9 @@ pub fn build_fes_estimator(
     layout: &TrialLayout,
     file: &FesParamsFile,
 ) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
+    // A free-text `# model:` whose `# param_*` lines state the whole model
+    // (the independent FES simulator's trials): as if given in the file.
+    let file = &*file.for_trial(meta)?;
     let path = file.path.as_path();
     let lin = match method {
         FesMethod::Rmx => {

@@ -38,6 +38,7 @@ pub mod fes_default_file;
 pub mod fes_extended;
 pub mod fes_fixed_hip;
 pub mod fes_methods;
+pub mod fes_param_lines;
 pub mod fes_params;
 pub mod gait_methods;
 pub mod gated;

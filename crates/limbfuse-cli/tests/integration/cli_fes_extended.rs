@@ -398,3 +398,41 @@ fn a_refused_model_names_the_parameter_file_beside_the_trial() {
         "{out}"
     );
 }
+
+/// The shared independent FES trials state their whole model in `# param_*`
+/// lines: `sdre` / `ekf` run on them without `--params` (before: exit 1,
+/// "not a limbfuse model"), and the estimate equals, row for row, the one
+/// made with the `.toml` shipped beside them (the mapping of the lines to
+/// `[model]` keys is the file's, value for value).
+#[test]
+fn shared_fes_trials_run_from_their_param_lines() {
+    let Some(dir) = shared_fes() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let rows = |name: &str| -> Vec<String> {
+        std::fs::read_to_string(d.path().join(name))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect()
+    };
+    for t in ["fes-P2-R-s900", "fes-P3-L-s901"] {
+        let trial = dir.join(format!("{t}.csv"));
+        let params = dir.join(format!("{t}.toml"));
+        let (trial, params) = (trial.to_str().unwrap(), params.to_str().unwrap());
+        for m in ["sdre", "ekf"] {
+            let o = limbfuse(&["estimate", "--method", m, trial, "-o", "a.csv"], d.path());
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(o.status.success(), "{t} {m}: {err}");
+            assert!(err.contains("from the trial's `# param_*` lines"), "{err}");
+            let o = limbfuse(
+                &[
+                    "estimate", "--method", m, "--params", params, trial, "-o", "b.csv",
+                ],
+                d.path(),
+            );
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            assert_eq!(rows("a.csv"), rows("b.csv"), "{t} {m}");
+        }
+    }
+}
