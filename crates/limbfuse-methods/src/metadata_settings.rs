@@ -28,6 +28,7 @@ pub fn metadata_settings(meta: &TrialMeta, methods: &[(MethodName, Availability)
                 MethodName::KneeKinematic => knee_kinematic(meta),
                 MethodName::ImmBslip => imm_body(meta),
                 MethodName::Chain => chain(meta),
+                MethodName::Sdre | MethodName::Ekf => fes_model(meta)?,
                 _ => return None,
             };
             Some(format!("{}: {line}", m.name()))
@@ -46,6 +47,28 @@ fn lowback(meta: &TrialMeta) -> String {
         ),
         Err(e) => e.to_string(),
     }
+}
+
+/// `sdre` / `ekf` with no parameter file: where the model and the lever arm
+/// come from, when the trial's `# param_*` lines state the model (a
+/// limbfuse `# model:` line says nothing new: the thesis estimator).
+fn fes_model(meta: &TrialMeta) -> Option<String> {
+    let file = FesParamsFile::none();
+    let with_lines = match file.for_trial(meta) {
+        Ok(f) => f,
+        Err(e) => return Some(e.to_string()),
+    };
+    if with_lines.model.is_empty() {
+        return None;
+    }
+    Some(match with_lines.lever_arm(meta) {
+        Ok(arm) => format!(
+            "knee-fes model from the trial's `# param_*` lines; it states t_a, so the plant as \
+             stated (activation and bias states), shank accelerometer {:.4} m below the knee ({})",
+            arm.radius, arm.source
+        ),
+        Err(e) => e.to_string(),
+    })
 }
 
 fn knee_kinematic(meta: &TrialMeta) -> String {
@@ -128,6 +151,30 @@ mod tests {
         );
         let got = lines(&[], &layout);
         assert!(got[0].contains("the default (0.530 x 1.70 m"), "{got:?}");
+    }
+
+    /// An independent-simulator FES trial: sdre and ekf take the model from
+    /// its `# param_*` lines, with their lever arm.
+    #[test]
+    fn the_param_lines_model_is_named() {
+        let mut layout = TrialLayout::default();
+        layout.acc[2] = true;
+        layout.gyr[2] = true;
+        layout.stim[0] = true;
+        layout.acc[1] = true;
+        layout.gyr[1] = true;
+        let mut meta = vec![("model", "free text"), ("param_r_imu", "0.25")];
+        let values: Vec<String> = (0..19).map(|i| format!("{}", 1.0 + i as f64)).collect();
+        for ((line, _), v) in crate::fes_param_lines::PARAM_LINE_KEYS.iter().zip(&values) {
+            meta.push((line, v));
+        }
+        let got = lines(&meta, &layout);
+        assert!(
+            got.iter().any(|l| l
+                .starts_with("sdre: knee-fes model from the trial's `# param_*` lines")
+                && l.contains("0.2500 m below the knee (trial metadata # param_r_imu)")),
+            "{got:?}"
+        );
     }
 
     /// A shank-IMU trial: knee-kinematic's lever arm from `# param_r_imu:`.
