@@ -239,8 +239,11 @@ fn estimate<'py>(
                 .collect();
             (!said.is_empty()).then(|| said.join("\n"))
         };
-        // knee-kinematic on a trial whose thigh moves (the CLI's warning).
-        let thigh_note = (spec.method() == limbfuse_methods::MethodName::KneeKinematic)
+        // A method modelling a fixed thigh on a trial whose thigh moves (the CLI's warning).
+        let thigh_note = spec
+            .method()
+            .info()
+            .assumes_fixed_thigh
             .then(|| {
                 let mut w = limbfuse_eval::FixedThighWatch::default();
                 inputs.count_thigh(&mut w);

@@ -67,7 +67,10 @@ impl StreamUnits {
         StreamUnits {
             intervals: SampleIntervalWatch::for_trial(meta),
             units: SensorUnitsWatch::default(),
-            thigh: (method == MethodName::KneeKinematic).then(FixedThighWatch::default),
+            thigh: method
+                .info()
+                .assumes_fixed_thigh
+                .then(FixedThighWatch::default),
             samples: 0,
             said: false,
             thigh_said: false,

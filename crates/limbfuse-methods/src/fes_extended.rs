@@ -125,6 +125,17 @@ impl LeverArm {
     };
 }
 
+impl std::fmt::Display for LeverArm {
+    /// `shank accelerometer R m below the knee (SOURCE)`, as the runs say it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "shank accelerometer {:.4} m below the knee ({})",
+            self.radius, self.source
+        )
+    }
+}
+
 /// Every `[model]` key of the knee-fes model (what a parameter file must
 /// give to stand for a trial's free-text `# model:` line).
 pub const KNEE_MODEL_KEYS: [&str; 19] = [
@@ -273,8 +284,7 @@ impl FesParamsFile {
         Ok(Some(format!(
             "{method}: [model] states t_a and the file has no [states]: activation, gyro bias and \
              accelerometer bias states (the plant as stated; `[states]` with `activation = false` \
-             gives the thesis estimator); shank accelerometer {:.4} m below the knee ({})",
-            arm.radius, arm.source
+             gives the thesis estimator); {arm}"
         )))
     }
 
@@ -311,8 +321,7 @@ impl FesParamsFile {
         }
         let arm = stated_lever_arm(meta)?;
         Ok(Some(format!(
-            "knee-kinematic: shank accelerometer {:.4} m below the knee ({}; `[measurement] shank_imu_m` sets it)",
-            arm.radius, arm.source
+            "knee-kinematic: {arm} (`[measurement] shank_imu_m` sets it)"
         )))
     }
 

@@ -130,4 +130,5 @@ fes_method!(
     )
     .needing(SHANK_IMU, "needs the shank IMU")
     .reading_aligned_frames()
+    .assuming_a_fixed_thigh()
 );

@@ -64,8 +64,7 @@ fn fes_model(meta: &TrialMeta) -> Option<String> {
     Some(match with_lines.lever_arm(meta) {
         Ok(arm) => format!(
             "knee-fes model from the trial's `# param_*` lines; it states t_a, so the plant as \
-             stated (activation and bias states), shank accelerometer {:.4} m below the knee ({})",
-            arm.radius, arm.source
+             stated (activation and bias states), {arm}"
         ),
         Err(e) => e.to_string(),
     })
@@ -73,10 +72,7 @@ fn fes_model(meta: &TrialMeta) -> Option<String> {
 
 fn knee_kinematic(meta: &TrialMeta) -> String {
     match FesParamsFile::none().kinematic_lever_arm(meta) {
-        Ok(arm) => format!(
-            "shank accelerometer {:.4} m below the knee ({})",
-            arm.radius, arm.source
-        ),
+        Ok(arm) => arm.to_string(),
         Err(e) => e.to_string(),
     }
 }

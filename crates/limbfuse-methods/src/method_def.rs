@@ -38,6 +38,9 @@ pub struct MethodInfo {
     /// z medio-lateral), so that a trial declaring raw sensor frames gets
     /// [`crate::raw_frame_note`].
     pub reads_aligned: bool,
+    /// Whether it models a fixed (seated) thigh, so that `estimate` checks
+    /// the thigh does not move (`limbfuse_eval::FixedThighWatch`).
+    pub assumes_fixed_thigh: bool,
 }
 
 impl MethodInfo {
@@ -59,6 +62,7 @@ impl MethodInfo {
             in_walking_demo: false,
             relative_rows: false,
             reads_aligned: false,
+            assumes_fixed_thigh: false,
         }
     }
 
@@ -66,6 +70,12 @@ impl MethodInfo {
     pub const fn needing(mut self, needs: ChannelNeeds, why: &'static str) -> Self {
         self.needs = needs;
         self.needs_why = why;
+        self
+    }
+
+    /// Marked as modelling a fixed (seated) thigh.
+    pub const fn assuming_a_fixed_thigh(mut self) -> Self {
+        self.assumes_fixed_thigh = true;
         self
     }
 

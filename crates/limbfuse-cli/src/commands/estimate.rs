@@ -12,7 +12,7 @@ use limbfuse_eval::{
 };
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
-use limbfuse_methods::{MethodName, MethodSpec};
+use limbfuse_methods::MethodSpec;
 use limbfuse_workflows::imm_library_extension;
 
 use crate::cli::EstimateArgs;
@@ -153,7 +153,11 @@ fn estimate_pass(
     let mut gait = GaitWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
-    let mut thigh = (spec.method() == MethodName::KneeKinematic).then(FixedThighWatch::default);
+    let mut thigh = spec
+        .method()
+        .info()
+        .assumes_fixed_thigh
+        .then(FixedThighWatch::default);
     let label = spec.method().name();
     let report = {
         let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
