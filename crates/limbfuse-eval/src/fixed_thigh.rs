@@ -14,10 +14,10 @@
 //! sec. 2.3.1; bounded memory: a sum of unit vectors). Flagged above
 //! [`SEATED_SPREAD_DEG`] (5 deg) on at least [`MIN_READINGS`] readings
 //! (every [`FixedThighWatch::STRIDE`]-th sample, as the unit checks).
-//! Measured (`limbfuse simulate ...`, the shared files): seated knee-FES
-//! trials 0.09 deg (limbfuse's P1-L) and 0.25 deg (the independent
-//! simulator's P2-R); a fixed-hip trial 8.4 deg, limbfuse's 20 s walk 12.5,
-//! the knee rig 19.8, the real S02 walk 21.2.
+//! Measured with `limbfuse estimate --method knee-kinematic`, which prints
+//! the spread when it warns (docs/RESULTS.md, last section): a fixed-hip
+//! trial 8.4 deg, limbfuse's 20 s walk 12.5, the knee rig 19.8, the real S02
+//! walk 21.2; no seated knee-FES trial of either simulator warns.
 
 use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::{Estimate, Record, Sample};
