@@ -283,7 +283,12 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
     ``metadata_settings``: one line per method that reads body or sensor
     geometry from the metadata (``lowback-speed``'s pendulum,
     ``knee-kinematic``'s lever arm, ``imm-bslip``'s body, ``chain``'s
-    geometry): the value its defaults take on this trial and its source.
+    geometry): the value its defaults take on this trial and its source;
+    ``thigh_spread_deg``: the angular deviation of the thigh accelerometer's
+    direction (deg; None without a thigh accelerometer), and
+    ``data_notes``: what it says about the methods that run
+    (``knee-kinematic`` models a fixed thigh and the thigh moves; a walking
+    method on a thigh that does not move, where it finds no gait).
 
     Raises:
         LimbfuseError: the file cannot be read (the message names the file
@@ -296,7 +301,9 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
             file = os.path.join(tmp, "trial.arrow")
             path.write(file)
             return inspect(file)
-    rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read = _native.inspect(os.fspath(path))
+    (rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read, spread, notes) = _native.inspect(
+        os.fspath(path)
+    )
     return {
         "rows": rows,
         "span": span,
@@ -308,4 +315,6 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
         "warnings": list(warnings_),
         "methods": {name: (kind, why) for name, kind, why in methods_},
         "metadata_settings": list(read),
+        "thigh_spread_deg": spread,
+        "data_notes": list(notes),
     }

@@ -123,6 +123,8 @@ fn inspect(
     Vec<String>,
     Vec<(&'static str, &'static str, String)>,
     Vec<String>,
+    Option<f64>,
+    Vec<String>,
 )> {
     guarded(|| {
         let mut reader = limbfuse_io::TrialReader::open(&path).map_err(|e| user_error(&e))?;
@@ -132,6 +134,7 @@ fn inspect(
 
         let available = limbfuse_methods::availability(&meta, &layout);
         let read = limbfuse_methods::metadata_settings(&meta, &available);
+        let motion = limbfuse_eval::fixed_thigh::thigh_motion_notes(s.thigh_spread_deg, &available);
         // `inspect`'s hint: the model file beside the trial, for sdre / ekf.
         let hint = limbfuse_methods::availability::needs_a_model(&available)
             .then(|| limbfuse_methods::availability::model_file_hint(&path))
@@ -165,6 +168,8 @@ fn inspect(
             s.warnings,
             methods,
             read,
+            s.thigh_spread_deg,
+            motion,
         ))
     })
 }

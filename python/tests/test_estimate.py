@@ -382,6 +382,13 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     read = info["metadata_settings"]
     assert any(line.startswith("lowback-speed: pendulum length") and "# height_m:" in line for line in read)
     assert any(line.startswith("chain: thigh") for line in read)
+    # the walking thigh moves: knee-kinematic's fixed thigh does not hold
+    assert info["thigh_spread_deg"] > 5.0
+    assert [n.split(":")[0] for n in info["data_notes"]] == ["knee-kinematic"]
+    # a seated leg's thigh does not: no walking for gait-events to find
+    seated = limbfuse.inspect(limbfuse.simulate("knee-fes", duration=4.0))
+    assert seated["thigh_spread_deg"] < 5.0
+    assert [n.split(":")[0] for n in seated["data_notes"]] == ["gait-events"]
     with pytest.raises(LimbfuseError, match="nothing.csv"):
         limbfuse.inspect(tmp_path / "nothing.csv")
     # an in-memory trial: the same summary

@@ -21,6 +21,7 @@
 
 use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::{Estimate, Record, Sample};
+use limbfuse_methods::{Availability, MethodName};
 use nalgebra::Vector3;
 
 use crate::sensor_units::MIN_READINGS;
@@ -82,6 +83,47 @@ impl FixedThighWatch {
     }
 }
 
+/// What the thigh's motion says about the methods that run on a trial
+/// (`limbfuse inspect`, Python's `inspect`), from the spread of
+/// [`FixedThighWatch::spread_deg`]: a method modelling a fixed thigh
+/// ([`limbfuse_methods::MethodInfo::assumes_fixed_thigh`]) on a thigh that
+/// moves, and a method finding walking
+/// ([`limbfuse_methods::MethodInfo::finds_walking`]) on a thigh that does
+/// not (no one walks without turning the thigh: `estimate` then finds no
+/// gait and exits 1). Nothing without a thigh accelerometer.
+pub fn thigh_motion_notes(
+    spread_deg: Option<f64>,
+    methods: &[(MethodName, Availability)],
+) -> Vec<String> {
+    let Some(spread) = spread_deg else {
+        return Vec::new();
+    };
+    let moves = spread > SEATED_SPREAD_DEG;
+    methods
+        .iter()
+        .filter(|(_, a)| matches!(a, Availability::Runs { .. }))
+        .filter_map(|(m, _)| {
+            let info = m.info();
+            if info.assumes_fixed_thigh && moves {
+                Some(format!(
+                    "{}: models a fixed (seated) thigh, but the thigh accelerometer's direction \
+                     spreads by {spread:.1} deg (a thigh on a seat stays within \
+                     {SEATED_SPREAD_DEG} deg): its knee would not be this trial's",
+                    m.name()
+                ))
+            } else if info.finds_walking && !moves {
+                Some(format!(
+                    "{}: the thigh accelerometer's direction spreads by only {spread:.1} deg \
+                     (walking turns it by tens of degrees): no walking for it to find",
+                    m.name()
+                ))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
 impl Observer for FixedThighWatch {
     /// Counts every [`FixedThighWatch::STRIDE`]-th record.
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
@@ -132,5 +174,31 @@ mod tests {
             short.push_acc(&Vector3::new(1.0, (k % 2) as f64, 0.0));
         }
         assert_eq!(short.spread_deg(), None);
+    }
+
+    /// `inspect`'s notes: the fixed-thigh method on a moving thigh, the
+    /// walking methods on a still one, only for methods that run, nothing
+    /// without a spread.
+    #[test]
+    fn thigh_motion_notes_name_the_method_the_motion_contradicts() {
+        let runs = Availability::Runs { after_align: false };
+        let methods = [
+            (MethodName::KneeKinematic, runs.clone()),
+            (MethodName::GaitEvents, runs.clone()),
+            (MethodName::Rmx, runs),
+            (
+                MethodName::LowbackSpeed,
+                Availability::MissingColumns("no trunk".into()),
+            ),
+        ];
+        let moving = thigh_motion_notes(Some(12.5), &methods);
+        assert_eq!(moving.len(), 1);
+        assert!(moving[0].starts_with("knee-kinematic:") && moving[0].contains("12.5 deg"));
+        let still = thigh_motion_notes(Some(0.3), &methods);
+        assert_eq!(still.len(), 1);
+        assert!(still[0].starts_with("gait-events:") && still[0].contains("0.3 deg"));
+        // At the threshold the thigh counts as still (as in the warning).
+        assert!(thigh_motion_notes(Some(SEATED_SPREAD_DEG), &methods)[0].starts_with("gait-events"));
+        assert!(thigh_motion_notes(None, &methods).is_empty());
     }
 }

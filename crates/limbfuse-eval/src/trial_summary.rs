@@ -1,7 +1,8 @@
 //! What a trial file holds, read once (`limbfuse inspect`): its time base
 //! (duration, sample step, gaps), the share of missing readings per input
 //! group, and the unit checks `estimate` makes
-//! ([`crate::sample_interval`], [`crate::sensor_units`]). Which methods
+//! ([`crate::sample_interval`], [`crate::sensor_units`]) and whether the
+//! thigh moves ([`crate::fixed_thigh`]). Which methods
 //! can run on it is `limbfuse-methods::availability` (it needs the method
 //! registry). Memory does not grow with the trial: the steps are held only
 //! until the median of the first ones is known.
@@ -10,6 +11,7 @@ use limbfuse_core::runner::Observer;
 use limbfuse_core::{Estimate, Record, Segment};
 use limbfuse_io::{FileError, TrialLayout, TrialReader};
 
+use crate::fixed_thigh::FixedThighWatch;
 use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch, FIRST_INTERVALS};
 use crate::sensor_units::{SensorUnitsWatch, UnitSuspect};
 
@@ -49,6 +51,9 @@ pub struct TrialSummary {
     pub units: Vec<UnitSuspect>,
     /// Both as `estimate` words them ([`crate::unit_warnings`]).
     pub warnings: Vec<String>,
+    /// The angular deviation (deg) of the thigh accelerometer's direction
+    /// ([`FixedThighWatch`]): whether the thigh moves.
+    pub thigh_spread_deg: Option<f64>,
 }
 
 /// Reads every row of `reader` and summarises the trial.
@@ -57,6 +62,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
     let mut intervals = SampleIntervalWatch::for_trial(reader.meta());
     let stated_hz = intervals.stated_hz();
     let mut units = SensorUnitsWatch::default();
+    let mut thigh = FixedThighWatch::default();
     let groups = input_groups(&layout);
     let mut missing = vec![0u64; groups.len()];
     // The first steps wait for the median; later ones are counted at once.
@@ -85,6 +91,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         // (the watches never fail)
         let _ = intervals.observe(&rec, &none);
         let _ = units.observe(&rec, &none);
+        let _ = thigh.observe(&rec, &none);
         for ((_, has), m) in groups.iter().zip(missing.iter_mut()) {
             *m += u64::from(!has(&rec));
         }
@@ -114,6 +121,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         interval: intervals.mismatch(),
         units: units.suspects().collect(),
         warnings: crate::unit_warnings(&intervals, &units).collect(),
+        thigh_spread_deg: thigh.spread_deg(),
     })
 }
 

@@ -106,7 +106,8 @@ impl MethodDef for GaitEventsMethod {
         "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT); events from shank IMUs",
         "per leg foot_acc/gyr (foot_<other side>_ for the other leg), else shank_gyr; raw sensor frames",
         "swing_rate, min_swing_time, min_rest_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
-    );
+    )
+    .finding_walking();
     type Settings = GaitEventsSettings;
 
     fn resolve(

@@ -76,7 +76,8 @@ impl MethodDef for LowbackSpeedMethod {
             com_position: false,
         },
         "estimates walking speed from a lower-back accelerometer",
-    );
+    )
+    .finding_walking();
     type Settings = LowbackSettings;
 
     fn resolve(

@@ -41,6 +41,10 @@ pub struct MethodInfo {
     /// Whether it models a fixed (seated) thigh, so that `estimate` checks
     /// the thigh does not move (`limbfuse_eval::FixedThighWatch`).
     pub assumes_fixed_thigh: bool,
+    /// Whether it finds walking (steps, contacts, speed) and has nothing
+    /// to give on a trial without any (`inspect` says so when the thigh
+    /// does not move, `limbfuse_eval::fixed_thigh`).
+    pub finds_walking: bool,
 }
 
 impl MethodInfo {
@@ -63,6 +67,7 @@ impl MethodInfo {
             relative_rows: false,
             reads_aligned: false,
             assumes_fixed_thigh: false,
+            finds_walking: false,
         }
     }
 
@@ -76,6 +81,12 @@ impl MethodInfo {
     /// Marked as modelling a fixed (seated) thigh.
     pub const fn assuming_a_fixed_thigh(mut self) -> Self {
         self.assumes_fixed_thigh = true;
+        self
+    }
+
+    /// Marked as finding walking (nothing to give without it).
+    pub const fn finding_walking(mut self) -> Self {
+        self.finds_walking = true;
         self
     }
 

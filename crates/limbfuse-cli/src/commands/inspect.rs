@@ -2,6 +2,7 @@
 //! run on it, before estimating anything.
 
 use anyhow::Result;
+use limbfuse_eval::fixed_thigh::thigh_motion_notes;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
 use limbfuse_methods::{availability, metadata_settings, Availability};
@@ -33,17 +34,26 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         let label = path.display().to_string();
         let methods = availability(&meta, &layout);
         let read = metadata_settings(&meta, &methods);
+        let motion = thigh_motion_notes(s.thigh_spread_deg, &methods);
         if a.json {
-            json.push(to_json(&label, &s, &methods, &read));
+            json.push(to_json(&label, &s, &methods, &read, &motion));
         } else {
             let hint = limbfuse_methods::availability::needs_a_model(&methods)
                 .then(|| limbfuse_methods::availability::model_file_hint(path))
                 .flatten();
             print_text(&label, &meta, &s, methods, hint);
-            if !read.is_empty() {
-                println!("what the metadata sets (or its defaults, when it says nothing):");
-                for l in read {
-                    println!("  {l}");
+            for (title, lines) in [
+                (
+                    "what the metadata sets (or its defaults, when it says nothing):",
+                    read,
+                ),
+                ("what the thigh's motion says about them:", motion),
+            ] {
+                if !lines.is_empty() {
+                    println!("{title}");
+                    for l in lines {
+                        println!("  {l}");
+                    }
                 }
             }
         }
@@ -66,6 +76,7 @@ fn to_json(
     s: &TrialSummary,
     methods: &[(limbfuse_methods::MethodName, Availability)],
     read: &[String],
+    motion: &[String],
 ) -> serde_json::Value {
     let methods: serde_json::Map<String, serde_json::Value> = methods
         .iter()
@@ -93,6 +104,8 @@ fn to_json(
         "warnings": s.warnings,
         "methods": methods,
         "metadata_settings": read,
+        "thigh_spread_deg": s.thigh_spread_deg,
+        "data_notes": motion,
     })
 }
 

@@ -178,3 +178,67 @@ fn inspect_several_files_as_json() {
         "{err}"
     );
 }
+
+/// `inspect` listed `gait-events` as running on a seated knee-FES trial,
+/// where `estimate` then finds no gait (exit 1), and `knee-kinematic` as
+/// running on a walk, where its fixed thigh does not hold: both with
+/// nothing said. It now says what the thigh's motion (the angular
+/// deviation of the thigh accelerometer's direction) says about them.
+#[test]
+fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    for args in [
+        &["simulate", "walking", "--duration", "4", "-o", "w.csv"][..],
+        &[
+            "simulate",
+            "knee-fes",
+            "--duration",
+            "4",
+            "-o",
+            "seated.csv",
+        ][..],
+    ] {
+        assert_eq!(run(args, dir).0, 0);
+    }
+    let title = "what the thigh's motion says about them:";
+    let (code, out, err) = run(&["inspect", "w.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    let notes = out.split(title).nth(1).expect(title);
+    assert!(
+        notes.contains("  knee-kinematic: models a fixed (seated) thigh, but the thigh accelerometer's direction spreads by")
+            && !notes.contains("gait-events"),
+        "{out}"
+    );
+    let (code, out, err) = run(&["inspect", "seated.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    let notes = out.split(title).nth(1).expect(title);
+    assert!(
+        notes.contains("  gait-events: the thigh accelerometer's direction spreads by only")
+            && notes.contains("no walking for it to find")
+            && !notes.contains("knee-kinematic"),
+        "{out}"
+    );
+    // what it foretells: `estimate` finds no gait there
+    let (code, _, err) = run(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "seated.csv",
+            "-o",
+            "e.csv",
+        ],
+        dir,
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("no gait found"), "{err}");
+    // JSON: the spread and the same notes
+    let (code, out, _) = run(&["inspect", "--json", "seated.csv"], dir);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v[0]["thigh_spread_deg"].as_f64().unwrap() < 5.0);
+    let notes = v[0]["data_notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1);
+    assert!(notes[0].as_str().unwrap().starts_with("gait-events:"));
+}
