@@ -64,6 +64,22 @@ def as_time(t: Any) -> np.ndarray:
     return np.asarray(arr)
 
 
+def frozen(a: np.ndarray) -> np.ndarray:
+    """A read-only view of `a` (data and mask): the arrays of a ``Trial`` or
+    an ``Estimate`` were checked when it was made (no unmasked NaN), so
+    they cannot be written afterwards. The array the caller passed in (not
+    copied when already float64 and contiguous) stays writeable."""
+    if np.ma.isMaskedArray(a):
+        data = np.ma.getdata(a).view()
+        mask = np.ma.getmaskarray(a).view()
+        data.flags.writeable = False
+        mask.flags.writeable = False
+        return np.ma.MaskedArray(data, mask=mask)
+    v = a.view()
+    v.flags.writeable = False
+    return v
+
+
 def filled(a: np.ndarray) -> np.ndarray:
     """The float64 array the extension reads: NaN where masked (no copy for
     an unmasked contiguous float64 array)."""

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, 
 import numpy as np
 
 from . import _native
-from ._arrays import as_column, as_time, filled, from_native, phase_array, phase_cells, split_header
+from ._arrays import as_column, as_time, filled, from_native, frozen, phase_array, phase_cells, split_header
 from ._trial import PathLike, Trial
 from ._workflows import calibration_options
 
@@ -32,7 +32,8 @@ class Estimate:
         t: time (s), the trial's.
         channels: read-only mapping of column name (``trunk`` ... ``ankle``
             in rad, ``speed``, ``com_x`` ... ``com_vz``, ``diag_NAME``) to a
-            float64 array, masked where the method gave no value.
+            float64 array, masked where the method gave no value; ``t`` and
+            the arrays are read-only views.
         phase: estimated gait phase (object array of ``"SS1"``, ``"DS"``,
             ``"SS2"`` or None) or None.
         header: the estimate file's ``key: value`` header lines.
@@ -64,8 +65,8 @@ class Estimate:
         self._check()
 
     def _set(self, t, cols, phase, header, order) -> None:
-        self.t = t
-        self.channels = MappingProxyType(cols)
+        self.t = frozen(t)
+        self.channels = MappingProxyType({n: frozen(a) for n, a in cols.items()})
         self.phase = phase
         self.header = list(header)
         entries, params = split_header(self.header)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Dict, Mapping, Optional, Tuple, Union
 import numpy as np
 
 from . import _native
-from ._arrays import as_column, as_time, filled, from_native, phase_array, phase_cells
+from ._arrays import as_column, as_time, filled, from_native, frozen, phase_array, phase_cells
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -29,6 +29,8 @@ class Trial:
             (named after ``meta["leg"]``, right when absent),
             ``contact_left_ref`` (1 / 0), ``speed_ref``, ...) to a float64
             array; an array with missing samples is a ``numpy.ma.MaskedArray``.
+            ``t`` and the arrays are read-only views (checked when the trial
+            was made: build a new ``Trial`` to change them).
         phase_ref: the gait-phase reference (``"SS1"``, ``"DS"``, ``"SS2"``
             or None) as an object array, or None when the trial has none.
         meta: the ``# key: value`` header (units and conventions of SPEC).
@@ -64,8 +66,8 @@ class Trial:
                 phase_ref = values
                 continue
             cols[name] = as_column(name, values, t.shape[0])
-        self.t = t
-        self.channels = MappingProxyType(cols)
+        self.t = frozen(t)
+        self.channels = MappingProxyType({n: frozen(a) for n, a in cols.items()})
         self.phase_ref = (
             None if phase_ref is None else phase_array(phase_cells(PHASE_REF, phase_ref, t.shape[0]))
         )
@@ -88,8 +90,8 @@ class Trial:
     def _from_native(cls, tup: tuple) -> "Trial":
         meta, t, names, arrays, phase, source = tup
         trial = cls.__new__(cls)
-        trial.t = t
-        trial.channels = MappingProxyType({n: from_native(a) for n, a in zip(names, arrays)})
+        trial.t = frozen(t)
+        trial.channels = MappingProxyType({n: frozen(from_native(a)) for n, a in zip(names, arrays)})
         trial.phase_ref = phase_array(phase)
         trial.meta = dict(meta)
         trial.source = source

@@ -159,12 +159,11 @@ def test_issue_17_long_estimate_equals_filter_run_in_chunks():
         assert v.shape == (n,)
         whole = np.concatenate([bits(p.channels[k]) for p in parts])
         assert np.array_equal(bits(v), whole), k
-    # The columns are views of one block: writing one changes no other.
+    # The columns are views of one block (read-only): no two overlap.
     thigh = np.ma.getdata(est.channels["thigh"])
-    before = {k: bits(v).copy() for k, v in est.channels.items() if k != "thigh"}
-    thigh[:] = 0.0
-    for k, b in before.items():
-        assert np.array_equal(bits(est.channels[k]), b), k
+    for k, v in est.channels.items():
+        if k != "thigh":
+            assert not np.shares_memory(thigh, np.ma.getdata(v)), k
 
 
 def test_issue_17_estimate_of_any_length_equals_step_by_step(walking_trial):

@@ -18,9 +18,34 @@ def test_trial_from_arrays_keeps_the_arrays_without_copy():
     t, ch = gyro_trial()
     tr = Trial(t, ch, {"sample_rate_hz": 100})
     assert len(tr) == 10
-    assert tr.channels["thigh_gyr_x"] is ch["thigh_gyr_x"]
+    # a read-only view of the caller's array, not a copy
+    assert np.shares_memory(tr.channels["thigh_gyr_x"], ch["thigh_gyr_x"])
     assert tr.meta == {"sample_rate_hz": "100"}
     assert tr.phase_ref is None and tr.source is None
+
+
+def test_a_checked_trial_cannot_be_changed_in_place(tmp_path):
+    """An audit found `trial.channels["knee_enc"][3] = np.nan` after the
+    checks: `estimate` then read the NaN as a missing sample, and an
+    estimate's channel set to NaN left `evaluate` silently without it.
+    The arrays of a Trial and an Estimate are read-only views."""
+    t, ch = gyro_trial()
+    enc = np.ma.MaskedArray(np.linspace(0.0, 1.0, 10), mask=[False] * 3 + [True] + [False] * 6)
+    tr = Trial(t, {**ch, "knee_enc": enc})
+    for a in (tr.t, tr.channels["thigh_gyr_x"], tr.channels["knee_enc"]):
+        with pytest.raises(ValueError, match="read-only"):
+            a[1] = np.nan
+    with pytest.raises(ValueError, match="read-only"):
+        tr.channels["knee_enc"][1] = np.ma.masked
+    tr.write(tmp_path / "a.csv")
+    back = limbfuse.read_trial(tmp_path / "a.csv")
+    with pytest.raises(ValueError, match="read-only"):
+        back.channels["knee_enc"][0] = np.nan
+    est = limbfuse.estimate(back, "gyro-integration")
+    with pytest.raises(ValueError, match="read-only"):
+        est.channels["thigh"][:] = np.nan
+    # the caller's own array stays theirs
+    ch["thigh_gyr_x"][0] = 0.2
 
 
 def test_file_round_trip_is_exact_and_keeps_missing_samples(tmp_path):

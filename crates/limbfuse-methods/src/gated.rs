@@ -70,6 +70,8 @@ pub struct GatedEstimator<E: Estimator + ?Sized = dyn Estimator + Send> {
     names: Vec<&'static str>,
     /// Index of `rejected_gyro` in [`Estimate::diag`], if written.
     first: Option<usize>,
+    /// The time of the last sample stepped without error.
+    last_t: Option<f64>,
 }
 
 impl<E: Estimator + ?Sized> GatedEstimator<E> {
@@ -85,6 +87,7 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
             gate: SampleGate::new(ranges),
             names,
             first,
+            last_t: None,
         }
     }
 
@@ -126,6 +129,7 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     fn reset(&mut self) {
         self.inner.reset();
         self.gate.reset();
+        self.last_t = None;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -159,6 +163,18 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
         e: &mut Estimate,
         seen: Option<&mut Sample>,
     ) -> Result<(), EstimatorError> {
+        // A sample the estimator would refuse for its time is refused
+        // before the gate sees it: a refused sample leaves no trace in the
+        // gate's counts and tests (Python's `Filter` goes on after an error).
+        if !sample.t.is_finite() {
+            return Err(EstimatorError::NonFinite { channel: "t" });
+        }
+        if let Some(previous) = self.last_t.filter(|p| sample.t <= *p) {
+            return Err(EstimatorError::NonIncreasingTime {
+                previous,
+                t: sample.t,
+            });
+        }
         // Most samples pass the gate unchanged: no copy of the sample then.
         let screening = self.gate.check(sample);
         if screening.is_clean() {
@@ -178,6 +194,7 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
             blank_non_finite(e);
             self.inner.reset();
         }
+        self.last_t = Some(sample.t);
         if let Some(i) = self.first {
             let [g, a, n] = self.rejected_readings();
             e.diag[i] = Some(g as f64);
@@ -217,5 +234,58 @@ fn blank_non_finite(e: &mut Estimate) {
         if v.is_some_and(|v| v.iter().any(|x| !x.is_finite())) {
             *v = None;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_estimators::baseline::GyroIntegration;
+    use nalgebra::Vector3;
+
+    fn sample(t: f64, rate: f64) -> Sample {
+        let mut s = Sample {
+            t,
+            ..Sample::default()
+        };
+        s.imu[1].gyr = Some(Vector3::new(0.0, 0.0, rate));
+        s
+    }
+
+    /// A sample refused for its time (Python's `Filter` goes on after the
+    /// error) left its out-of-range reading in the gate's count:
+    /// `diag_rejected_gyro` stayed raised on every later step. It is now
+    /// refused before the gate sees it, and the run goes on as if it had
+    /// never been given.
+    #[test]
+    fn a_sample_refused_for_its_time_leaves_no_trace() {
+        let gated = || {
+            GatedEstimator::new(
+                Box::new(GyroIntegration::new()) as Box<dyn Estimator + Send>,
+                SensorRanges::default(),
+            )
+        };
+        let (mut a, mut b) = (gated(), gated());
+        for k in 0..50 {
+            let s = sample(k as f64 * 0.01, (0.3 * k as f64).sin());
+            a.step(&s).unwrap();
+            b.step(&s).unwrap();
+        }
+        // backwards in time, with a gyro reading far beyond the range
+        let bad = sample(0.1, 1e4);
+        assert!(matches!(
+            a.step(&bad),
+            Err(EstimatorError::NonIncreasingTime { .. })
+        ));
+        assert!(matches!(
+            a.step(&sample(f64::NAN, 1e4)),
+            Err(EstimatorError::NonFinite { channel: "t" })
+        ));
+        assert_eq!(a.rejected_readings(), b.rejected_readings());
+        let next = sample(0.5, 0.7);
+        assert_eq!(a.step(&next).unwrap(), b.step(&next).unwrap());
+        // after a reset any time starts a new run
+        a.reset();
+        assert!(a.step(&sample(0.0, 0.5)).is_ok());
     }
 }
