@@ -178,31 +178,50 @@ impl<'a> Header<'a> {
             })
     }
 
-    /// The cells of a data row, checked to reach at least column `needed`
-    /// (0-based index of the last column this importer reads).
+    /// The cells of a data row, checked to be as many as the header's
+    /// names (one more, empty, is a separator ending the row): a row with a
+    /// cell too few or too many would put every later value under the
+    /// wrong name. `needed` (0-based index of the last column this
+    /// importer reads) is within the header's names.
     pub fn cells<'l>(
         &self,
         line: u64,
         text: &'l str,
         needed: usize,
     ) -> Result<Vec<&'l str>, ImportError> {
-        let cells = split_cells(text);
-        if cells.len() <= needed {
-            let k = cells.len();
-            return Err(ImportError::Cell {
+        debug_assert!(needed < self.names.len().max(1));
+        let mut cells = split_cells(text);
+        let want = self.names.len();
+        if cells.len() == want + 1 && cells.last().is_some_and(|c| c.trim().is_empty()) {
+            cells.pop();
+        }
+        if cells.len() == want {
+            return Ok(cells);
+        }
+        let k = cells.len();
+        let expected = format!(
+            "{want} comma-separated cells as in the header (line {})",
+            self.line
+        );
+        Err(if k < want {
+            ImportError::Cell {
                 path: self.path.to_path_buf(),
                 line,
                 column: k + 1,
                 name: self.names.get(k).cloned().unwrap_or_default(),
-                expected: format!(
-                    "{} comma-separated cells as in the header (line {})",
-                    self.names.len(),
-                    self.line
-                ),
-                found: format!("end of row after {k} cell(s) (truncated row)"),
-            });
-        }
-        Ok(cells)
+                expected,
+                found: format!("end of row after {k} cell(s) (a cell missing or a truncated row)"),
+            }
+        } else {
+            ImportError::Cell {
+                path: self.path.to_path_buf(),
+                line,
+                column: want + 1,
+                name: "beyond the header".into(),
+                expected,
+                found: format!("{k} cells (a cell too many)"),
+            }
+        })
     }
 
     /// Parses cell `col` of a row as a finite number; `Ok(None)` for an empty

@@ -208,6 +208,31 @@ fn truncated_row_names_line_and_column() {
     );
 }
 
+/// An audit found a row with one cell removed (or one added) in the middle
+/// imported with exit 0: every later value of the row under the wrong
+/// name (`A1X` holding `A1Y`'s value, `A2Z` the hip stepper's). A row must
+/// have the header's cells; a trailing separator is still accepted.
+#[test]
+fn a_row_with_a_cell_too_few_or_too_many_is_refused() {
+    let short = row(1, 4000).replacen(",0.00,0.00,-1.00,", ",0.00,-1.00,", 1);
+    let msg = import_err(&format!("{HEAD}{}{short}", row(0, 0)));
+    assert!(
+        msg.contains(":7:") && msg.contains("column 20 (`IMPULSE HIT`)") && msg.contains("19 cell(s)"),
+        "{msg}"
+    );
+    let long = row(1, 4000).replacen(",0.00,0.00,-1.00,", ",0.00,0.00,0.00,-1.00,", 1);
+    let msg = import_err(&format!("{HEAD}{}{long}", row(0, 0)));
+    assert!(
+        msg.contains(":7:") && msg.contains("column 21") && msg.contains("21 cells (a cell too many)"),
+        "{msg}"
+    );
+    // a row ending in the separator is the header's cells and an empty one
+    let dir = tempfile::tempdir().unwrap();
+    let trailing = row(1, 4000).replace('\n', ",\n");
+    let path = write(&dir, &format!("{HEAD}{}{trailing}", row(0, 0)));
+    assert_eq!(import_knee_rig(&path).unwrap().records.len(), 2);
+}
+
 #[test]
 fn missing_header_column() {
     let text = format!("{}{}", HEAD.replace(",G2Z,", ",G2Q,"), row(0, 0));
