@@ -48,6 +48,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         mean_angle_rad: parse_mean_angles(&a.mean_angle)?,
         ..AlignOptions::default()
     };
+    super::refuse_input_as_output(&a.trial, &a.output)?;
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();

@@ -11,6 +11,7 @@ use crate::cli::MirrorArgs;
 
 /// Reads the trial, mirrors (and re-mounts) every sensor, writes the result.
 pub fn run(a: &MirrorArgs) -> Result<()> {
+    super::refuse_input_as_output(&a.trial, &a.output)?;
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let mut layout = *reader.layout();

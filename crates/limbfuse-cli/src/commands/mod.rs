@@ -111,6 +111,27 @@ pub fn refuse_stdout(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// An output that names the input file would replace the recording with
+/// what was made from it (an audit found `estimate c.csv -o c.csv` did,
+/// exit 0): refused, exit 1. Same file by its canonical path, so `./c.csv`
+/// and `c.csv` are one; standard input and output are never the same file.
+pub fn refuse_input_as_output(input: &Path, output: &Path) -> Result<()> {
+    if crate::stdio::is_stdio(input) || crate::stdio::is_stdio(output) {
+        return Ok(());
+    }
+    let (Ok(i), Ok(o)) = (input.canonicalize(), output.canonicalize()) else {
+        return Ok(()); // the output does not exist yet (or the input cannot be read: said later)
+    };
+    if i == o {
+        anyhow::bail!(
+            "-o {}: that is the input file {}; writing would replace it: give the output another name",
+            output.display(),
+            input.display()
+        );
+    }
+    Ok(())
+}
+
 /// Finishes an output file from [`create_file`]: renames it into place.
 pub fn commit(file: AtomicFile) -> Result<()> {
     let path = file.path().to_path_buf();

@@ -9,6 +9,7 @@ use crate::cli::{AntiAliasArg, ResampleArgs};
 /// `limbfuse_signal::resample`).
 pub fn run(a: &ResampleArgs) -> Result<()> {
     super::refuse_stdout(&a.output)?;
+    super::refuse_input_as_output(&a.trial, &a.output)?;
     let opts = ResampleOptions {
         rate_hz: a.rate,
         anti_alias: match a.anti_alias {

@@ -255,3 +255,33 @@ fn issue3_segment_filter_without_a_segment_imu_names_it() {
         );
     }
 }
+
+/// An audit found `estimate c.csv -o c.csv` replaced the recording with
+/// its estimate (exit 0); `resample`, `mirror` and `align` overwrote their
+/// input the same way. Refused now, exit 1, the trial left as it was.
+#[test]
+fn an_output_naming_the_input_file_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(
+        &["simulate", "walking", "--duration", "3", "-o", "c.csv"],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let before = std::fs::read(d.path().join("c.csv")).unwrap();
+    for args in [
+        &["estimate", "--method", "local", "c.csv", "-o", "./c.csv"][..],
+        &["resample", "c.csv", "--rate", "50", "-o", "c.csv"][..],
+        &["mirror", "c.csv", "-o", "c.csv"][..],
+        &["align", "c.csv", "-o", "c.csv"][..],
+    ] {
+        let o = limbfuse(args, d.path());
+        assert_user_error(&o, &["that is the input file", "give the output another name"]);
+        assert_eq!(std::fs::read(d.path().join("c.csv")).unwrap(), before, "{args:?}");
+    }
+    // another name is fine
+    let o = limbfuse(
+        &["estimate", "--method", "local", "c.csv", "-o", "e.csv"],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
