@@ -203,8 +203,31 @@ def _window_text(window: Union[None, str, Tuple[Optional[float], Optional[float]
         raise _native.LimbfuseError(
             f"window: expected \"START:END\" or (start, end) in seconds, found {window!r}"
         ) from None
-    fmt = lambda x: "" if x is None else repr(float(x))  # noqa: E731
+
+    def fmt(x: Any) -> str:
+        if x is None:
+            return ""
+        if isinstance(x, (bool, str, bytes)) or not isinstance(x, (int, float, np.integer, np.floating)):
+            raise TypeError(f"window: expected numbers (s) or None for its ends, found {x!r}")
+        return repr(float(x))
+
     return f"{fmt(start)}:{fmt(end)}"
+
+
+def flag(name: str, value: Any) -> bool:
+    """A True/False option, checked (a string such as "no" is truthy)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, found {value!r}")
+    return bool(value)
+
+
+def count(name: str, value: Any, least: int, most: int) -> int:
+    """An integer option in [least, most], checked and named."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, found {value!r}")
+    if not least <= value <= most:
+        raise _native.LimbfuseError(f"{name}: expected an integer from {least} to {most}, found {value}")
+    return int(value)
 
 
 def evaluate(
@@ -240,13 +263,15 @@ def evaluate(
         raise TypeError("evaluate: expected a limbfuse.Trial and a limbfuse.Estimate")
     if isinstance(max_lag, bool) or not isinstance(max_lag, (int, np.integer)) or max_lag < 0:
         raise _native.LimbfuseError(f"max_lag: expected a non-negative integer, found {max_lag!r}")
+    # (the extension bounds it by half the trial; beyond 2**32 no trial is that long)
+    max_lag = min(int(max_lag), 2**32)
     text = _native.evaluate(
         trial._native(),
         estimate._native(),
         _window_text(window),
-        bool(offset_free),
-        int(max_lag),
-        bool(allow_trial_mismatch),
+        flag("offset_free", offset_free),
+        max_lag,
+        flag("allow_trial_mismatch", allow_trial_mismatch),
     )
     result = json.loads(text)
     # (references that look like degrees: the CLI's stderr warning)

@@ -41,6 +41,11 @@ class Filter:
         **options: Any,
     ) -> None:
         p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+        if isinstance(channels, (str, bytes)):
+            raise TypeError(
+                f"channels: expected a sequence of channel names, found the string {channels!r} "
+                "(one channel: [name])"
+            )
         names = [str(c) for c in channels]
         # `run` checks its arrays as a trial with this metadata (the `leg`
         # names the other leg's channels).
@@ -80,10 +85,18 @@ class Filter:
         return list(self._native.header)
 
     def step(self, sample: Mapping[str, Optional[float]]) -> Dict[str, Any]:
-        """One sample in, one estimate out."""
+        """One sample in, one estimate out. A missing value is ``None``,
+        ``numpy.ma.masked`` or an absent key (NaN is refused: limbfuse never
+        takes NaN for a value); a value that is not a number raises
+        ``TypeError``."""
         if not isinstance(sample, dict):
             sample = dict(sample)
-        return self._native.step(sample)
+        try:
+            return self._native.step(sample)
+        except RuntimeError as e:
+            if isinstance(e, _native.InternalError):
+                raise
+            raise _busy(e) from None
 
     def run(self, arrays: Mapping[str, Any]) -> Estimate:
         """Runs over arrays (``t`` and channels; masked = missing), the GIL
@@ -92,8 +105,23 @@ class Filter:
             raise _native.LimbfuseError("run: the arrays need `t` (time in seconds)")
         data = Trial(arrays["t"], {k: v for k, v in arrays.items() if k != "t"}, self._meta)
         _, t, names, filled, _, _ = data._native()
-        return Estimate._from_native(self._native.run(t, names, filled))
+        try:
+            return Estimate._from_native(self._native.run(t, names, filled))
+        except RuntimeError as e:
+            if isinstance(e, _native.InternalError):
+                raise
+            raise _busy(e) from None
 
     def reset(self) -> None:
         """Forgets the state: the next sample starts a new run."""
         self._native.reset()
+
+
+def _busy(e: RuntimeError) -> RuntimeError:
+    """PyO3's "Already borrowed": a filter stepped from two threads at once."""
+    if "borrow" in str(e).lower():
+        return RuntimeError(
+            "this Filter is in use by another thread: a filter is stepped by one thread at a "
+            "time (make one Filter per thread, or guard it with a lock)"
+        )
+    return e

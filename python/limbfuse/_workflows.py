@@ -106,6 +106,8 @@ def gait_library(
     """Builds a B-SLIP gait library (``limbfuse gait-library build``) for
     `speeds` (m/s), writes it to `path` (for ``estimate(..., "imm-bslip",
     library=path)``) and returns one summary per gait."""
+    if isinstance(speeds, (str, bytes)):
+        raise TypeError(f"speeds: expected a sequence of speeds in m/s, found the string {speeds!r}")
     return list(_native.gait_library(os.fspath(path), [float(s) for s in speeds], float(mass), float(leg_length)))
 
 
@@ -120,7 +122,7 @@ def report(
     error tables, method panels; docs/REPORT.md) to `path` and returns its
     size in bytes.
 
-    `trial` and each of `estimates` is a file path or an in-memory
+    `trial` and each of `estimates` (or one estimate) is a file path or an in-memory
     ``Trial`` / ``Estimate``; objects are written to a temporary folder
     first (their legend labels are then ``METHOD.csv``). With an in-memory
     trial the check that every estimate was made from it is skipped (it
@@ -131,8 +133,12 @@ def report(
         LimbfuseError: unreadable file, an estimate of another trial or of
             another length, ``buckets`` < 1.
     """
-    from ._estimate import Estimate
+    from ._estimate import Estimate, count, flag
 
+    if isinstance(estimates, (str, bytes, os.PathLike, Estimate)):
+        estimates = [estimates]  # one estimate (a string is not a list of them)
+    buckets = count("buckets", buckets, 1, 2**31 - 1)
+    allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
     with tempfile.TemporaryDirectory(prefix="limbfuse-report-") as tmp:
         if isinstance(trial, Trial):
             trial_path = os.path.join(tmp, "trial.csv")
@@ -154,6 +160,6 @@ def report(
         command = f"limbfuse.report({os.path.basename(trial_path)!r}, {len(paths)} estimate(s)) (Python)"
         return int(
             _native.report(
-                trial_path, paths, os.fspath(path), int(buckets), bool(allow_trial_mismatch), command
+                trial_path, paths, os.fspath(path), buckets, allow_trial_mismatch, command
             )
         )

@@ -69,10 +69,17 @@ def evaluate_trial(
     options: Optional[Mapping[str, Any]] = None,
     eval_options: Optional[Mapping[str, Any]] = None,
 ) -> List[Dict[str, Any]]:
-    """One task: read, estimate, evaluate one trial; its rows."""
-    trial = read_trial(path)
-    est = estimate(trial, method, params, **dict(options or {}))
-    ev = evaluate(trial, est, **dict(eval_options or {}))
+    """One task: read, estimate, evaluate one trial; its rows. An error
+    names the trial by the path given (messages from estimating name the
+    file only: in a cohort, `s2/trial.csv` is not `s1/trial.csv`)."""
+    try:
+        trial = read_trial(path)
+        est = estimate(trial, method, params, **dict(options or {}))
+        ev = evaluate(trial, est, **dict(eval_options or {}))
+    except LimbfuseError as e:
+        if str(path) in str(e):
+            raise
+        raise LimbfuseError(f"{path}: {e}") from e
     return rows_of(path, ev)
 
 

@@ -8,6 +8,7 @@ use std::io::Write;
 
 use std::path::Path;
 
+use limbfuse_eval::evaluation::nothing_scored;
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
 use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in;
 use limbfuse_eval::{evaluation_kind, EvaluationKind};
@@ -126,7 +127,12 @@ fn evaluate(
                 }
                 metrics.push(&r, &e);
             }
-            Ok(metrics.evaluation().to_json().to_string())
+            let ev = metrics.evaluation();
+            let angles = view.content().angles;
+            if let Some(why) = nothing_scored(&ev, angles, &window, &label, "the estimate") {
+                return Err(user_msg(why));
+            }
+            Ok(ev.to_json().to_string())
         })
     })
 }

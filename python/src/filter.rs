@@ -43,6 +43,8 @@ pub struct NativeFilter {
     /// `estimate`'s warning for a method reading aligned frames given a
     /// trial that declares raw ones (`raw_frame_note`).
     frame_note: Option<String>,
+    /// `numpy.ma.masked`, a missing value in a sample as in arrays.
+    masked: Py<PyAny>,
 }
 
 /// The unit checks of `estimate` (`limbfuse_eval::unit_warnings`) over a
@@ -158,6 +160,7 @@ impl NativeFilter {
     #[new]
     #[pyo3(signature = (method, channels, meta, params=None, options=None))]
     fn new(
+        py: Python<'_>,
         method: &str,
         channels: Vec<String>,
         meta: Vec<(String, String)>,
@@ -219,6 +222,7 @@ impl NativeFilter {
                     &m,
                     "the filter's metadata",
                 ),
+                masked: py.import("numpy.ma")?.getattr("masked")?.unbind(),
             })
         })
     }
@@ -264,7 +268,7 @@ impl NativeFilter {
                 let key: String = k
                     .extract()
                     .map_err(|_| user_msg("sample: every key must be a channel name (str)"))?;
-                let value: Option<f64> = if v.is_none() {
+                let value: Option<f64> = if v.is_none() || v.is(self.masked.bind(py)) {
                     None
                 } else if v.is_instance_of::<PyBool>() {
                     return Err(user_msg(format!(
@@ -272,7 +276,10 @@ impl NativeFilter {
                     )));
                 } else {
                     Some(v.extract().map_err(|_| {
-                        user_msg(format!("sample `{key}`: expected a number or None"))
+                        pyo3::exceptions::PyTypeError::new_err(format!(
+                            "sample `{key}`: expected a number or None, found {}",
+                            v.repr().map_or("?".into(), |r| r.to_string())
+                        ))
                     })?)
                 };
                 if let Some(x) = value {

@@ -126,6 +126,10 @@ pub enum EvalError {
     /// The trial has no reference angle to compare with.
     #[error("{0}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against")]
     NoReference(String),
+    /// No sample of the window has both an estimate and a reference of
+    /// any angle: nothing was scored (the message says why).
+    #[error("{0}")]
+    NothingScored(String),
 }
 
 impl EvalError {
@@ -213,9 +217,64 @@ pub fn evaluate_files(
         }
         index += 1;
     }
-    Ok(Evaluation {
-        trial_check,
-        ..metrics.evaluation()
+    let ev = metrics.evaluation();
+    Ok(Evaluation { trial_check, ..ev })
+}
+
+/// [`evaluate_files`], refusing an evaluation that scored nothing: an
+/// estimate without any angle, a window outside the trial, references
+/// empty wherever the estimate has angles (an audit: `limbfuse evaluate`
+/// printed an empty table with exit 0). `limbfuse evaluate` and Python's
+/// `evaluate` use it; the report keeps [`evaluate_files`] (a gait-events
+/// estimate has its own panel and no angle to score).
+pub fn evaluate_files_scored(
+    trial: &Path,
+    estimate: &Path,
+    options: EvalOptions,
+) -> Result<Evaluation, EvalError> {
+    let window = options.window;
+    let ev = evaluate_files(trial, estimate, options)?;
+    let angles = EstimateReader::open(estimate)?.has_any_angle();
+    let (trial, estimate) = (trial.display().to_string(), estimate.display().to_string());
+    match nothing_scored(&ev, angles, &window, &trial, &estimate) {
+        Some(why) => Err(EvalError::NothingScored(why)),
+        None => Ok(ev),
+    }
+}
+
+/// Why `ev` scored nothing (no angle sample with both an estimate and a
+/// reference), or `None` when it scored something; `angles`: whether the
+/// estimate has any angle column. Shared with Python's `evaluate`.
+pub fn nothing_scored(
+    ev: &Evaluation,
+    angles: bool,
+    window: &TimeWindow,
+    trial: &str,
+    estimate: &str,
+) -> Option<String> {
+    if ev.channels.iter().any(|(_, c)| c.n() > 0) {
+        return None;
+    }
+    Some(if !angles {
+        format!(
+            "{estimate}: the estimate has no angle column ({}), and the trial {trial} has no \
+             reference of what it estimates (gait events and walking speed are scored against \
+             `contact_left_ref` / `contact_right_ref` / `speed_ref`, a gait phase against \
+             `phase_ref`)",
+            ev.method
+        )
+    } else if ev.n_samples == 0 {
+        format!(
+            "{trial}: no sample of the trial inside the window ({window}; `limbfuse inspect` \
+             gives the trial's time span)"
+        )
+    } else {
+        format!(
+            "{trial}: none of the {} samples in the window has both an angle of {estimate} and \
+             its reference (the reference cells are empty, or the estimate gave no angle): \
+             nothing to score",
+            ev.n_samples
+        )
     })
 }
 

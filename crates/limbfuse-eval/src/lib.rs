@@ -32,7 +32,9 @@ pub mod trial_check;
 pub mod trial_summary;
 
 pub use channel_error::ChannelError;
-pub use evaluation::{evaluate_files, max_lag_bound, EvalError, EvalOptions, TimeWindow};
+pub use evaluation::{
+    evaluate_files, evaluate_files_scored, max_lag_bound, EvalError, EvalOptions, TimeWindow,
+};
 pub use evaluation_kind::{evaluation_kind, speed_from_com, EstimateContent, EvaluationKind};
 pub use fixed_thigh::FixedThighWatch;
 pub use gait_watch::GaitWatch;

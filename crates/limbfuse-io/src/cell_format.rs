@@ -90,6 +90,19 @@ pub(crate) fn write_comments<'a, W: Write>(
     entries: impl IntoIterator<Item = (&'a str, &'a str)>,
 ) -> io::Result<()> {
     for (k, v) in entries {
+        // A key is read back up to the first `:` of its line: one holding a
+        // `:` or a line break (or none at all) would not read back as itself
+        // (an audit: Python's `Trial(meta={"a\nb": ...}).write` wrote a file
+        // that no reader took).
+        if k.trim().is_empty() || k.contains([':', '\n', '\r']) || k.trim() != k {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "metadata key {k:?}: expected a name without `:`, line breaks or \
+                     surrounding spaces (written as `# key: value`)"
+                ),
+            ));
+        }
         // Keep one entry on one line whatever the value holds.
         let v = v.replace(['\n', '\r'], " ");
         writeln!(w, "# {k}: {v}")?;
@@ -111,6 +124,21 @@ pub(crate) fn parse_number(cell: &[u8]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A metadata key that would not read back as itself is refused; a
+    /// value keeps one line.
+    #[test]
+    fn comment_keys_must_read_back() {
+        for bad in ["a\nb", "a: b", "", " a", "a\r"] {
+            let mut out = Vec::new();
+            let e = write_comments(&mut out, [(bad, "v")]).unwrap_err();
+            assert_eq!(e.kind(), io::ErrorKind::InvalidInput, "{bad:?}");
+            assert!(e.to_string().contains("metadata key"), "{e}");
+        }
+        let mut out = Vec::new();
+        write_comments(&mut out, [("note", "two\nlines")]).unwrap();
+        assert_eq!(String::from_utf8(out).unwrap(), "# note: two lines\n");
+    }
     use proptest::prelude::*;
 
     fn written(v: f64) -> String {

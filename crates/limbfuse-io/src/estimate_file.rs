@@ -389,6 +389,31 @@ impl EstimateReader {
     fn from_table(table: TableReader) -> Result<Self, FileError> {
         let t = table.time_column()?;
         let angle = AngleChannel::ALL.map(|c| table.column(c.name()));
+        let outputs = angle.iter().any(Option::is_some)
+            || ["phase", "speed"]
+                .into_iter()
+                .chain(COM_COLUMNS)
+                .chain(CONTACT_COLUMNS)
+                .any(|c| table.column(c).is_some());
+        if !outputs {
+            // A trial file given as the estimate (an audit: `evaluate w.csv
+            // w.csv` gave an empty table, exit 0).
+            let sensor = table
+                .header()
+                .iter()
+                .find(|h| h.contains("_gyr_") || h.contains("_acc_") || h.ends_with("_ref"));
+            return Err(FileError::Header {
+                path: table.path().to_path_buf(),
+                line: table.header_line(),
+                message: format!(
+                    "no estimate column (an angle `thigh` ... `ankle`, `speed`, `phase`, `com_*` or \
+                     `contact_*`, SPEC section 3){}",
+                    sensor.map_or(String::new(), |c| format!(
+                        "; it has `{c}`: a trial file, not an estimate?"
+                    ))
+                ),
+            });
+        }
         let diag: Vec<(String, usize)> = table
             .header()
             .iter()

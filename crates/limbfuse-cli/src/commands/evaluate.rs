@@ -2,7 +2,7 @@
 
 use anyhow::{anyhow, Result};
 use limbfuse_eval::{
-    evaluate_files, EvalError, EvalOptions, EvaluationKind, TimeWindow, TrialCheck,
+    evaluate_files_scored, EvalError, EvalOptions, EvaluationKind, TimeWindow, TrialCheck,
 };
 
 use crate::cli::EvaluateArgs;
@@ -87,7 +87,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         }
         segments_zeroed_by_assumption(reader.meta())
     };
-    let ev = evaluate_files(
+    let ev = evaluate_files_scored(
         &a.trial,
         estimate,
         EvalOptions {

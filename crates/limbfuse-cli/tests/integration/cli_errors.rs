@@ -275,8 +275,15 @@ fn an_output_naming_the_input_file_is_refused() {
         &["align", "c.csv", "-o", "c.csv"][..],
     ] {
         let o = limbfuse(args, d.path());
-        assert_user_error(&o, &["that is the input file", "give the output another name"]);
-        assert_eq!(std::fs::read(d.path().join("c.csv")).unwrap(), before, "{args:?}");
+        assert_user_error(
+            &o,
+            &["that is the input file", "give the output another name"],
+        );
+        assert_eq!(
+            std::fs::read(d.path().join("c.csv")).unwrap(),
+            before,
+            "{args:?}"
+        );
     }
     // another name is fine
     let o = limbfuse(
@@ -284,4 +291,71 @@ fn an_output_naming_the_input_file_is_refused() {
         d.path(),
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// An audit found `evaluate` printing an empty table with exit 0 when
+/// nothing could be scored: a trial file given as the estimate (with a
+/// false warning that it came from an older limbfuse), a window beyond the
+/// trial, references empty on every row. Each is now an error, exit 1.
+#[test]
+fn evaluate_refuses_when_nothing_can_be_scored() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| limbfuse(args, d.path());
+    assert_eq!(
+        run(&["simulate", "walking", "--duration", "3", "-o", "w.csv"])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_eq!(
+        run(&["estimate", "--method", "local", "w.csv", "-o", "e.csv"])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_user_error(
+        &run(&["evaluate", "w.csv", "w.csv"]),
+        &[
+            "w.csv",
+            "no estimate column",
+            "a trial file, not an estimate?",
+        ],
+    );
+    assert_user_error(
+        &run(&["report", "w.csv", "w.csv", "-o", "r.html"]),
+        &["no estimate column"],
+    );
+    assert_user_error(
+        &run(&["evaluate", "w.csv", "e.csv", "--window", "50:60"]),
+        &["no sample of the trial inside the window (50:60 s"],
+    );
+    // every reference cell emptied
+    let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    let mut out = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i <= header {
+            out += l;
+        } else {
+            let cells: Vec<&str> = l
+                .split(',')
+                .zip(&names)
+                .map(|(c, n)| if n.ends_with("_ref") { "" } else { c })
+                .collect();
+            out += &cells.join(",");
+        }
+        out.push('\n');
+    }
+    std::fs::write(d.path().join("noref.csv"), out).unwrap();
+    assert_eq!(
+        run(&["estimate", "--method", "local", "noref.csv", "-o", "en.csv"])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_user_error(
+        &run(&["evaluate", "noref.csv", "en.csv"]),
+        &["none of the 300 samples", "nothing to score"],
+    );
 }

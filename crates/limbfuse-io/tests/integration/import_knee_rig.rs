@@ -217,13 +217,17 @@ fn a_row_with_a_cell_too_few_or_too_many_is_refused() {
     let short = row(1, 4000).replacen(",0.00,0.00,-1.00,", ",0.00,-1.00,", 1);
     let msg = import_err(&format!("{HEAD}{}{short}", row(0, 0)));
     assert!(
-        msg.contains(":7:") && msg.contains("column 20 (`IMPULSE HIT`)") && msg.contains("19 cell(s)"),
+        msg.contains(":7:")
+            && msg.contains("column 20 (`IMPULSE HIT`)")
+            && msg.contains("19 cell(s)"),
         "{msg}"
     );
     let long = row(1, 4000).replacen(",0.00,0.00,-1.00,", ",0.00,0.00,0.00,-1.00,", 1);
     let msg = import_err(&format!("{HEAD}{}{long}", row(0, 0)));
     assert!(
-        msg.contains(":7:") && msg.contains("column 21") && msg.contains("21 cells (a cell too many)"),
+        msg.contains(":7:")
+            && msg.contains("column 21")
+            && msg.contains("21 cells (a cell too many)"),
         "{msg}"
     );
     // a row ending in the separator is the header's cells and an empty one
