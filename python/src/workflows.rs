@@ -304,7 +304,10 @@ fn calibrate<'py>(
         let meta = trial.meta();
         let params = CalibrationParams {
             model,
-            gravity: o.f64("gravity")?.unwrap_or_else(|| meta.gravity()),
+            gravity: match o.f64("gravity")? {
+                Some(g) => g,
+                None => meta.gravity().map_err(user_msg)?,
+            },
             acc_std_max: o.f64("acc_std_max")?.unwrap_or(d.acc_std_max),
             gyro_std_max: o.f64("gyro_std_max")?.unwrap_or(d.gyro_std_max),
             min_pose_s: o.f64("min_pose")?.unwrap_or(d.min_pose_s),

@@ -55,12 +55,24 @@ impl TrialMeta {
         }
     }
 
-    /// Gravity (m/s^2): the `g` entry if it parses as a positive finite number, else 9.81.
-    pub fn gravity(&self) -> f64 {
-        self.get("g")
-            .and_then(|v| v.trim().parse::<f64>().ok())
-            .filter(|g| g.is_finite() && *g > 0.0)
-            .unwrap_or(STANDARD_GRAVITY)
+    /// Gravity (m/s^2): the `g` entry, 9.81 without one. An entry that is
+    /// not a positive finite number is an error naming it (an audit found
+    /// `# g: abc`, `0`, `-9.81` and `nan` silently taken for 9.81).
+    pub fn gravity(&self) -> Result<f64, String> {
+        match self.get("g") {
+            None => Ok(STANDARD_GRAVITY),
+            Some(text) => text
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|g| g.is_finite() && *g > 0.0)
+                .ok_or_else(|| {
+                    format!(
+                        "metadata `# g: {text}`: expected gravity in m/s^2, a positive number \
+                         (e.g. 9.81)"
+                    )
+                }),
+        }
     }
 }
 
@@ -68,6 +80,21 @@ impl TrialMeta {
 mod tests {
     use super::*;
     use limbfuse_core::Side;
+
+    /// `# g:` that is not a positive finite number is an error naming the
+    /// line (it was taken for 9.81 with nothing said); absent, 9.81.
+    #[test]
+    fn gravity_is_the_g_line_or_an_error() {
+        let mut m = TrialMeta::trial_v1();
+        assert_eq!(m.gravity(), Ok(STANDARD_GRAVITY));
+        m.set("g", " 9.5 ");
+        assert_eq!(m.gravity(), Ok(9.5));
+        for bad in ["abc", "0", "-9.81", "nan", "inf", ""] {
+            m.set("g", bad);
+            let e = m.gravity().unwrap_err();
+            assert!(e.contains(&format!("`# g: {bad}`")), "{e}");
+        }
+    }
 
     #[test]
     fn leg_is_right_when_absent_and_named_when_wrong() {

@@ -264,8 +264,9 @@ impl MethodDef for ChainMethod {
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
         let geometry =
             resolve_geometry(meta, &s.geometry).map_err(|e| MethodError::Chain(e.to_string()))?;
-        let ekf = ChainEkf::new(s.params, geometry, meta.gravity())
-            .map_err(|e| MethodError::Chain(e.to_string()))?;
+        let g = meta.gravity().map_err(MethodError::Metadata)?;
+        let ekf =
+            ChainEkf::new(s.params, geometry, g).map_err(|e| MethodError::Chain(e.to_string()))?;
         Ok(Box::new(ekf))
     }
 

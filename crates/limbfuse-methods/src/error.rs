@@ -121,6 +121,9 @@ pub enum MethodError {
     /// `--backfill` asked of a method without a first identification window.
     #[error("method `{0}` has nothing to backfill (`--backfill` applies to `knee-selfalign` and `knee-gyro-axis`)")]
     NoBackfill(&'static str),
+    /// A trial metadata entry the method reads is not valid.
+    #[error("{0}")]
+    Metadata(String),
     /// A library path in a parameter file that is not valid UTF-8 or empty.
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),

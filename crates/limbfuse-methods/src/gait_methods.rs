@@ -211,7 +211,7 @@ impl MethodDef for GaitEventsMethod {
             });
         }
         let mut p = settings.params;
-        p.gravity = meta.gravity();
+        p.gravity = meta.gravity().map_err(MethodError::Metadata)?;
         GaitEvents::new(p, sources)
             .map(|e| Box::new(e) as Box<dyn Estimator + Send>)
             .map_err(|e| MethodError::GaitParams {

@@ -95,7 +95,7 @@ pub fn trial_body(
     Ok(TrialBody {
         mass: mass.or(key_mass).or(model_mass),
         leg_length: leg_length.or(key_leg).or(model_leg),
-        gravity: meta.gravity(),
+        gravity: meta.gravity().map_err(MethodError::Metadata)?,
         source,
     })
 }

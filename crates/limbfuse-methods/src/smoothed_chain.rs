@@ -44,8 +44,9 @@ pub fn build_smoothed(
     }
     let geometry =
         resolve_geometry(meta, &s.geometry).map_err(|e| MethodError::Chain(e.to_string()))?;
-    let ekf = ChainEkf::new(s.params, geometry, meta.gravity())
-        .map_err(|e| MethodError::Chain(e.to_string()))?;
+    let g = meta.gravity().map_err(MethodError::Metadata)?;
+    let ekf =
+        ChainEkf::new(s.params, geometry, g).map_err(|e| MethodError::Chain(e.to_string()))?;
     crate::channels::check_info(&ChainMethod::INFO, layout)?;
     let q = ekf.process_noise();
     let ranges = crate::gated::sensor_ranges(meta)?;

@@ -45,8 +45,8 @@ fn one_trial(speed: f64, seed: u64, calibrated: bool) -> [f64; 2] {
     }
     let records: Vec<Record> = trial(seed, speed, sensors).expect("simulated, calibrated");
     let geometry = resolve_geometry(&meta, &GeometryFile::default()).expect("simulator metadata");
-    let mut ekf =
-        ChainEkf::new(ChainParams::default(), geometry, meta.gravity()).expect("defaults");
+    let mut ekf = ChainEkf::new(ChainParams::default(), geometry, meta.gravity().expect("g"))
+        .expect("defaults");
     let mut abs = AngleMetrics::new("chain", EvalOptions::default());
     let mut off = AngleMetrics::new(
         "chain",

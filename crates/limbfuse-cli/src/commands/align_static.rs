@@ -17,7 +17,9 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();
-    let g = meta.gravity();
+    let g = meta
+        .gravity()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", a.trial.display()))?;
     let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     let imu_cal = match &a.imu_calibration {
         Some(path) => {

@@ -18,7 +18,13 @@ use crate::cli_calibration::{CalibrateArgs, CalibrationSimArgs, ModelArg};
 /// `calibrate`: fits every sensor of the pose recording, writes the file.
 pub fn run(a: &CalibrateArgs) -> Result<()> {
     let reader = TrialReader::open(&a.poses)?;
-    let gravity = a.gravity.unwrap_or_else(|| reader.meta().gravity());
+    let gravity = match a.gravity {
+        Some(g) => g,
+        None => reader
+            .meta()
+            .gravity()
+            .map_err(|e| anyhow::anyhow!("{}: {e}", a.poses.display()))?,
+    };
     let meta = reader.meta().clone();
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     // (accelerometers in g would be fitted a scale of 9.81: say why first)

@@ -359,3 +359,30 @@ fn evaluate_refuses_when_nothing_can_be_scored() {
         &["none of the 300 samples", "nothing to score"],
     );
 }
+
+/// `# g: abc` (or 0, -9.81, nan) was silently taken for 9.81 by the
+/// methods that read the trial's gravity; it is now an error naming the
+/// file and the line's value.
+#[test]
+fn a_trial_gravity_that_is_not_a_number_is_an_error() {
+    let d = tempfile::tempdir().unwrap();
+    let o = limbfuse(
+        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
+        d.path(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
+    assert!(text.contains("\n# g: 9.81\n"));
+    std::fs::write(
+        d.path().join("g.csv"),
+        text.replace("\n# g: 9.81\n", "\n# g: -9.81\n"),
+    )
+    .unwrap();
+    for m in ["gait-events", "chain"] {
+        let o = limbfuse(
+            &["estimate", "--method", m, "g.csv", "-o", "e.csv"],
+            d.path(),
+        );
+        assert_user_error(&o, &["g.csv", "`# g: -9.81`", "expected gravity in m/s^2"]);
+    }
+}

@@ -48,7 +48,7 @@ fn trial_round_trip_is_bit_exact() {
         TrialReader::from_reader(Path::new("mem.csv"), Box::new(std::io::Cursor::new(bytes)))
             .unwrap();
     assert_eq!(reader.meta().get("source"), Some("unit test"));
-    assert_eq!(reader.meta().gravity(), 9.80665);
+    assert_eq!(reader.meta().gravity(), Ok(9.80665));
     assert_eq!(*reader.layout(), TrialLayout::walking());
     let mut back = Vec::new();
     while let Some(r) = reader.next_record().unwrap() {
