@@ -16,13 +16,16 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{Estimate, Estimator, EstimatorError, Sample, TimeStep};
 
 use crate::inclination::accel_inclination;
+use crate::segment_kf::robust::LONG_GAP_S;
 
 /// Gyro integration from the first accelerometer inclination.
 ///
 /// A segment starts when it first has both an accelerometer and a gyro
 /// reading: its angle is then the accelerometer inclination. A missing gyro
 /// sample is bridged by holding the last rate (zero-order hold), so a
-/// dropout of `n` samples adds at most `n dt |rate change|` of error.
+/// dropout of `n` samples adds at most `n dt |rate change|` of error. A
+/// time step over [`LONG_GAP_S`] (a gap in the recording) starts every
+/// segment again from its inclination.
 #[derive(Debug, Clone, Default)]
 pub struct GyroIntegration {
     time: TimeStep,
@@ -53,7 +56,7 @@ impl Estimator for GyroIntegration {
         )?;
         writeln!(
             out,
-            "initial_angle: atan2(acc_x, acc_y) of the first sample with acc and gyr"
+            "initial_angle: atan2(acc_x, acc_y) of the first sample with acc and gyr (again after a time gap over {LONG_GAP_S} s)"
         )
     }
 
@@ -62,7 +65,15 @@ impl Estimator for GyroIntegration {
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
-        let dt = self.time.advance(sample.t)?;
+        let mut dt = self.time.advance(sample.t)?;
+        if dt.is_some_and(|d| d > LONG_GAP_S) {
+            // A gap in the recording: no rate held over it means anything
+            // (an audit: a 1000 s gap integrated the last rate into a knee
+            // of -2090 rad). Start again from the inclination, as at first.
+            self.angle = [None; 4];
+            self.last_rate = [None; 4];
+            dt = None;
+        }
         let mut est = Estimate::empty(sample.t);
         for i in 0..4 {
             let imu = &sample.imu[i];
@@ -172,6 +183,21 @@ mod tests {
         assert!((e.segment[0].unwrap() - 0.2).abs() < 1e-12);
         assert_eq!(e.joint[0], Some(0.0));
         assert!(g.step(&sample(0.2, 0.0, Some(1.0))).is_err());
+    }
+
+    /// An audit: a 1000 s gap integrated the last rate into a knee of
+    /// -2090 rad. Over a step longer than `LONG_GAP_S` every segment starts
+    /// again from its inclination; a shorter dropout still holds the rate.
+    #[test]
+    fn starts_again_from_the_inclination_after_a_time_gap() {
+        let mut g = GyroIntegration::new();
+        g.step(&sample(0.0, 0.1, Some(1.0))).unwrap();
+        let e = g.step(&sample(0.5, 0.1, Some(1.0))).unwrap();
+        assert!((e.segment[0].unwrap() - 0.6).abs() < 1e-12);
+        let e = g.step(&sample(1000.0, 0.4, Some(1.0))).unwrap();
+        assert!((e.segment[0].unwrap() - 0.4).abs() < 1e-12);
+        let e = g.step(&sample(1000.01, 0.4, Some(1.0))).unwrap();
+        assert!((e.segment[0].unwrap() - 0.41).abs() < 1e-12);
     }
 
     #[test]

@@ -14,6 +14,7 @@ use limbfuse_core::{
 use nalgebra::{Quaternion, UnitQuaternion};
 
 use super::mahony::{sagittal_joint_angle, Mahony, MahonyGains};
+use crate::segment_kf::robust::LONG_GAP_S;
 
 diagnostic_set! {
     /// Diagnostics of [`RotationMatrixKnee`].
@@ -85,7 +86,11 @@ impl Estimator for RotationMatrixKnee {
         writeln!(out, "orientation: device quaternions when both thigh and shank have them, else Mahony filter (Mahony et al. 2008)")?;
         writeln!(out, "kp: {}", self.gains.kp)?;
         writeln!(out, "ki: {}", self.gains.ki)?;
-        writeln!(out, "knee: minus the z twist of q_thigh^-1 q_shank")
+        writeln!(out, "knee: minus the z twist of q_thigh^-1 q_shank")?;
+        writeln!(
+            out,
+            "restart: from the accelerometers after a time gap over {LONG_GAP_S} s"
+        )
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {
@@ -99,6 +104,12 @@ impl Estimator for RotationMatrixKnee {
 
     fn step(&mut self, s: &Sample) -> Result<Estimate, EstimatorError> {
         let dt = self.time.advance(s.t)?;
+        if dt.is_some_and(|d| d > LONG_GAP_S) {
+            // A gap in the recording: the orientations start again from
+            // the accelerometers (an audit: a 1000 s gap integrated into a
+            // knee off by up to 3.3 rad to the end of the trial).
+            self.filters = [None, None];
+        }
         let mut e = Estimate::empty(s.t);
         let segs = [Segment::Thigh, Segment::Shank];
         if let (Some(a), Some(b)) = (s.imu(segs[0]).quat, s.imu(segs[1]).quat) {
@@ -127,5 +138,43 @@ impl Estimator for RotationMatrixKnee {
         e.diagnostics_mut::<RmxDiag>()
             .value(RmxDiag::SourceDeviceQuat, OrientationSource::Mahony.code());
         Ok(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    /// Thigh and shank at the inclinations `thigh`, `shank` (rad), both
+    /// turning at `rate` (rad/s) about z.
+    fn sample(t: f64, thigh: f64, shank: f64, rate: f64) -> Sample {
+        let mut s = Sample::empty(t);
+        for (seg, a) in [(Segment::Thigh, thigh), (Segment::Shank, shank)] {
+            let imu = &mut s.imu[seg.index()];
+            imu.acc = Some(Vector3::new(9.81 * a.sin(), 9.81 * a.cos(), 0.0));
+            imu.gyr = Some(Vector3::new(0.0, 0.0, rate));
+        }
+        s
+    }
+
+    /// An audit: a 1000 s gap integrated one rate into a knee off by up to
+    /// 3.3 rad to the end of the trial. After a step over `LONG_GAP_S` the
+    /// orientations start again from the accelerometers.
+    #[test]
+    fn starts_again_from_the_accelerometers_after_a_time_gap() {
+        let knee_at = |e: &Estimate| e.joint[1].unwrap();
+        let mut fresh = RotationMatrixKnee::new();
+        let want = knee_at(&fresh.step(&sample(0.0, 0.2, -0.5, 0.0)).unwrap());
+        let mut r = RotationMatrixKnee::new();
+        for k in 0..100 {
+            r.step(&sample(k as f64 * 0.01, 0.2, -0.5, 0.0)).unwrap();
+        }
+        // one sample of a fast rate with the thigh alone turning, then the gap
+        let mut s = sample(1.0, 0.2, -0.5, 0.0);
+        s.imu[Segment::Thigh.index()].gyr = Some(Vector3::new(0.0, 0.0, 3.0));
+        r.step(&s).unwrap();
+        let after = knee_at(&r.step(&sample(1001.0, 0.2, -0.5, 0.0)).unwrap());
+        assert!((after - want).abs() < 1e-9, "{after} vs {want}");
     }
 }
