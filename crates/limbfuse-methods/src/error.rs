@@ -128,3 +128,26 @@ pub enum MethodError {
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),
 }
+
+/// `v` as an error message shows it: as Rust prints it, but a huge or tiny
+/// magnitude in exponent form (`1e300`, not 301 digits).
+pub(crate) fn shown(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Huge and tiny magnitudes in exponent form, the rest as Rust prints.
+    #[test]
+    fn shown_numbers_stay_short() {
+        assert_eq!(super::shown(1e300), "1e300");
+        assert_eq!(super::shown(-2.5e-7), "-2.5e-7");
+        assert_eq!(super::shown(0.964), "0.964");
+        assert_eq!(super::shown(5000.0), "5000");
+        assert_eq!(super::shown(0.0), "0");
+    }
+}

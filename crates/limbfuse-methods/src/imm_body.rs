@@ -43,6 +43,25 @@ fn positive(name: &str, v: f64) -> Result<f64, MethodError> {
     }
 }
 
+/// Plausible human leg (rest) lengths (m): greater-trochanter heights of
+/// adults of 1.0-2.5 m (0.530 x height, Winter 2009), widened to decimetres.
+const LEG_LENGTH_M: (f64, f64) = (0.5, 1.4);
+/// Plausible human body masses (kg).
+const MASS_KG: (f64, f64) = (20.0, 250.0);
+
+/// `v` when within `(lo, hi)`; else an error naming `name` (an audit:
+/// `--leg-length 1e300` gave a speed of 4e149 m/s, exit 0).
+fn plausible(name: &str, v: f64, (lo, hi): (f64, f64), unit: &str) -> Result<f64, MethodError> {
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(bad(format!(
+            "{name} {}: expected a human body's value, {lo} to {hi} {unit}",
+            crate::error::shown(v)
+        )))
+    }
+}
+
 fn meta_number(meta: &TrialMeta, key: &str) -> Result<Option<f64>, MethodError> {
     match meta.get(key) {
         None => Ok(None),
@@ -75,14 +94,23 @@ pub fn trial_body(
     meta: &TrialMeta,
 ) -> Result<TrialBody, MethodError> {
     if let Some(m) = mass {
-        positive("--mass", m)?;
+        plausible("--mass", positive("--mass", m)?, MASS_KG, "kg")?;
     }
     if let Some(l) = leg_length {
-        positive("--leg-length", l)?;
+        plausible(
+            "--leg-length",
+            positive("--leg-length", l)?,
+            LEG_LENGTH_M,
+            "m",
+        )?;
     }
     let model = meta.get("model").filter(|t| t.contains("SLIP"));
-    let key_mass = meta_number(meta, "body_mass_kg")?;
-    let key_leg = meta_number(meta, "leg_length_m")?;
+    let key_mass = meta_number(meta, "body_mass_kg")?
+        .map(|m| plausible("trial metadata # body_mass_kg", m, MASS_KG, "kg"))
+        .transpose()?;
+    let key_leg = meta_number(meta, "leg_length_m")?
+        .map(|l| plausible("trial metadata # leg_length_m", l, LEG_LENGTH_M, "m"))
+        .transpose()?;
     let model_mass = model.and_then(|t| number_after(t, "mass", "kg"));
     let model_leg = model.and_then(|t| number_after(t, "rest length", "m"));
     let source = if leg_length.is_some() || (mass.is_some() && key_leg.or(model_leg).is_none()) {
@@ -209,5 +237,12 @@ mod tests {
         let e = trial_body(None, None, &meta(&[("leg_length_m", "long")])).unwrap_err();
         assert!(e.to_string().contains("leg_length_m: long"), "{e}");
         assert!(trial_body(None, Some(-1.0), &TrialMeta::new()).is_err());
+        // absurd but finite bodies are refused, naming the flag or the key
+        let e = trial_body(None, Some(1e300), &TrialMeta::new()).unwrap_err();
+        assert!(e.to_string().contains("--leg-length 1e300"), "{e}");
+        let e = trial_body(Some(5000.0), None, &TrialMeta::new()).unwrap_err();
+        assert!(e.to_string().contains("--mass 5000"), "{e}");
+        let e = trial_body(None, None, &meta(&[("leg_length_m", "3")])).unwrap_err();
+        assert!(e.to_string().contains("# leg_length_m 3"), "{e}");
     }
 }

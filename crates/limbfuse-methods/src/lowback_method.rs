@@ -203,6 +203,21 @@ impl PendulumSource {
 const SUBJECT_SENSOR_HEIGHT_M: (f64, f64) = (0.5, 1.4);
 /// Plausible adult body heights (m) read from free text.
 const SUBJECT_BODY_HEIGHT_M: (f64, f64) = (1.0, 2.5);
+/// Plausible greater-trochanter heights (m): 0.530 x the body heights above
+/// (Winter 2009), widened to whole decimetres.
+const LEG_LENGTH_M: (f64, f64) = (0.5, 1.4);
+
+/// A metadata length refused outside its plausible range (an audit:
+/// `# height_m: 1e300` gave a walking speed of 7e149 m/s, exit 0).
+fn plausible(key: &str, what: &str, v: f64, (lo, hi): (f64, f64)) -> Result<f64, MethodError> {
+    within(v, (lo, hi)).ok_or_else(|| MethodError::GaitParams {
+        method: LowbackSpeedMethod::INFO.name,
+        message: format!(
+            "trial metadata `# {key}: {}`: expected {what} of {lo} to {hi} m",
+            crate::error::shown(v)
+        ),
+    })
+}
 
 fn within(v: f64, (lo, hi): (f64, f64)) -> Option<f64> {
     (lo..=hi).contains(&v).then_some(v)
@@ -228,6 +243,12 @@ pub fn pendulum_for_trial(
     };
     let sensor_height = match metadata_metres(meta, "sensor_height_m", "a sensor height")? {
         Some(h) => {
+            let h = plausible(
+                "sensor_height_m",
+                "a lower-back sensor height",
+                h,
+                SUBJECT_SENSOR_HEIGHT_M,
+            )?;
             positive(
                 "sensor_height_m (trial metadata)",
                 Some(h),
@@ -252,6 +273,7 @@ pub fn pendulum_for_trial(
         return Ok((p, source));
     }
     if let Some(l) = metadata_metres(meta, "leg_length", "a leg length")? {
+        let l = plausible("leg_length", "a leg length", l, LEG_LENGTH_M)?;
         positive("leg_length (trial metadata)", Some(l), &mut p.leg_length).map_err(gait_error)?;
         return Ok((p, PendulumSource::LegLength));
     }
@@ -265,6 +287,7 @@ pub fn pendulum_for_trial(
     let Some(h) = height else {
         return Ok((p, PendulumSource::Default));
     };
+    let h = plausible("height_m", "a body height", h, SUBJECT_BODY_HEIGHT_M)?;
     // Anthropometry: the greater-trochanter height of a body of height `h`.
     positive("height_m (trial metadata)", Some(h), &mut p.leg_length).map_err(gait_error)?;
     p.leg_length *= LEG_LENGTH_PER_HEIGHT;
@@ -410,6 +433,31 @@ mod tests {
             .unwrap()
             .to_string();
         assert!(err.contains("sensor_height_m"), "{err}");
+    }
+
+    /// An audit: `# height_m: 1e300` gave a walking speed of 7e149 m/s with
+    /// exit 0. The body, leg and sensor heights of the metadata are refused
+    /// outside a human's range, naming the key.
+    #[test]
+    fn implausible_metadata_lengths_are_refused() {
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        for (key, value) in [
+            ("height_m", "1e300"),
+            ("height_m", "0.3"),
+            ("leg_length", "3"),
+            ("sensor_height_m", "2.5"),
+        ] {
+            let mut meta = TrialMeta::new();
+            meta.set(key, value);
+            let err = LowbackSpeedMethod::build(&settings, &meta, &TrialLayout::default())
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(err.contains(&format!("`# {key}: ")), "{key}: {err}");
+        }
+        let mut ok = TrialMeta::new();
+        ok.set("height_m", "1.59");
+        assert!(LowbackSpeedMethod::build(&settings, &ok, &TrialLayout::default()).is_ok());
     }
 
     /// Issue 19: the HA001 files (`mobgap-lowerback`) state the sensor and
