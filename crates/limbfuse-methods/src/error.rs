@@ -54,8 +54,15 @@ pub enum MethodError {
     #[error(transparent)]
     SegmentParams(#[from] ParamError),
     /// A knee-selfalign setting out of range.
-    #[error("{0} (--window counts samples: 20 to 100000; --order: 1 to 100)")]
-    KneeParams(#[from] KneeParamError),
+    #[error(
+        "method `{method}`: {source} (--window counts samples: 20 to 100000; --order: 1 to 100)"
+    )]
+    KneeParams {
+        /// The method (`knee-selfalign` or `knee-gyro-axis`).
+        method: crate::MethodName,
+        /// The setting out of range.
+        source: KneeParamError,
+    },
     /// The knee methods' identification window cannot be resolved (both
     /// file keys, a duration out of range, a trial rate that is not one).
     #[error("method `{method}`: {message}")]

@@ -254,6 +254,22 @@ pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmS
         (ImmConfig::Continuous, false) => ImmWeights::Recursive,
         _ => weights,
     };
+    // (an audit: `--kappa nan` was reported against the trial file, as the
+    // estimator's "kappa must be non-negative")
+    if let Some(k) = flags
+        .kappa
+        .or(f.kappa)
+        .filter(|k| !(k.is_finite() && *k >= 0.0))
+    {
+        let source = if flags.kappa.is_some() {
+            "--kappa".to_string()
+        } else {
+            "the parameter file's `kappa`".to_string()
+        };
+        return Err(MethodError::ImmParams(format!(
+            "{source} {k}: expected a gain of 0 (off) or more, in 1/m^2 (eq 14)"
+        )));
+    }
     Ok(ImmSpec {
         library,
         height_rescaled: flags.rescale_height.or(f.rescale_height).is_some(),

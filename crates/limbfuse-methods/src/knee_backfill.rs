@@ -49,7 +49,8 @@ use limbfuse_io::{TrialLayout, TrialMeta};
 use nalgebra::Vector3;
 
 use crate::gated::GatedEstimator;
-use crate::{MethodError, MethodSpec};
+use crate::knee_params::out_of_range;
+use crate::{MethodError, MethodName, MethodSpec};
 
 /// How far back (s) a backfill reaches from the first knee estimate: twelve
 /// default windows. Further back the estimates keep no knee angle (a
@@ -127,8 +128,14 @@ pub fn build_backfilled(
     layout: &TrialLayout,
 ) -> Result<KneeBackfill, MethodError> {
     let inner: Box<dyn KneeAxes> = match spec {
-        MethodSpec::KneeSelfAlign(s) => Box::new(KneeSelfAlign::new(s.for_trial(meta)?)?),
-        MethodSpec::KneeGyroAxis(s) => Box::new(KneeGyroAxis::new(s.for_trial(meta)?)?),
+        MethodSpec::KneeSelfAlign(s) => Box::new(
+            KneeSelfAlign::new(s.for_trial(meta)?)
+                .map_err(out_of_range(MethodName::KneeSelfAlign))?,
+        ),
+        MethodSpec::KneeGyroAxis(s) => Box::new(
+            KneeGyroAxis::new(s.for_trial(meta)?)
+                .map_err(out_of_range(MethodName::KneeGyroAxis))?,
+        ),
         _ => return Err(MethodError::NoBackfill(spec.method().name())),
     };
     crate::build::check_channels(spec.method(), layout)?;

@@ -18,6 +18,7 @@
 use std::path::Path;
 
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
+use limbfuse_estimators::knee_selfalign::params::KneeParamError;
 use limbfuse_estimators::knee_selfalign::upright::UprightPrior;
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
@@ -77,6 +78,11 @@ pub struct KneeSelfAlignSettings {
     pub window: WindowLength,
 }
 
+/// A knee setting out of range, as the method named reports it.
+pub(crate) fn out_of_range(method: MethodName) -> impl Fn(KneeParamError) -> MethodError {
+    move |source| MethodError::KneeParams { method, source }
+}
+
 impl KneeSelfAlignSettings {
     /// The parameters for a trial with this metadata (the window in
     /// samples at its rate), validated.
@@ -85,7 +91,8 @@ impl KneeSelfAlignSettings {
             window: self.window.samples(MethodName::KneeSelfAlign, meta)?,
             ..self.params
         };
-        p.validate()?;
+        p.validate()
+            .map_err(out_of_range(MethodName::KneeSelfAlign))?;
         Ok(p)
     }
 }
@@ -134,7 +141,8 @@ pub fn knee_params(
         },
         ..d
     };
-    p.validate()?;
+    p.validate()
+        .map_err(out_of_range(MethodName::KneeSelfAlign))?;
     Ok(KneeSelfAlignSettings { params: p, window })
 }
 
@@ -173,7 +181,10 @@ impl MethodDef for KneeSelfAlignMethod {
         meta: &TrialMeta,
         _: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(KneeSelfAlign::new(s.for_trial(meta)?)?))
+        Ok(Box::new(
+            KneeSelfAlign::new(s.for_trial(meta)?)
+                .map_err(out_of_range(MethodName::KneeSelfAlign))?,
+        ))
     }
 
     fn default_file() -> String {
@@ -224,7 +235,8 @@ impl KneeGyroAxisSettings {
     pub fn for_trial(&self, meta: &TrialMeta) -> Result<KneeGyroAxisParams, MethodError> {
         let mut p = self.params;
         p.axes.window = self.window.samples(MethodName::KneeGyroAxis, meta)?;
-        p.validate()?;
+        p.validate()
+            .map_err(out_of_range(MethodName::KneeGyroAxis))?;
         Ok(p)
     }
 }
@@ -280,7 +292,8 @@ impl MethodDef for KneeGyroAxisMethod {
             },
             corner_hz: f.corner_hz.unwrap_or(d.corner_hz),
         };
-        p.validate()?;
+        p.validate()
+            .map_err(out_of_range(MethodName::KneeGyroAxis))?;
         Ok(KneeGyroAxisSettings { params: p, window })
     }
 
@@ -289,7 +302,10 @@ impl MethodDef for KneeGyroAxisMethod {
         meta: &TrialMeta,
         _: &TrialLayout,
     ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-        Ok(Box::new(KneeGyroAxis::new(s.for_trial(meta)?)?))
+        Ok(Box::new(
+            KneeGyroAxis::new(s.for_trial(meta)?)
+                .map_err(out_of_range(MethodName::KneeGyroAxis))?,
+        ))
     }
 
     fn default_file() -> String {

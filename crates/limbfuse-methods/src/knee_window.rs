@@ -14,6 +14,7 @@
 //! trial's `# sample_rate_hz:`, which is the paper's 500 samples at 100 Hz
 //! (a trial without the key is taken at the paper's 100 Hz).
 
+use limbfuse_estimators::knee_selfalign::params::WINDOW_SAMPLES;
 use limbfuse_io::TrialMeta;
 
 use crate::{MethodError, MethodName, MethodSpec};
@@ -100,7 +101,27 @@ impl WindowLength {
                             ),
                         })?,
                 };
-                Ok((s * rate).round() as usize)
+                let n = (s * rate).round();
+                let (lo, hi) = WINDOW_SAMPLES;
+                if !(lo as f64..=hi as f64).contains(&n) {
+                    // (an audit: `# sample_rate_hz: 1e308` blamed `--window`)
+                    return Err(MethodError::KneeWindow {
+                        method,
+                        message: format!(
+                            "the window of {s} s is {} samples at the trial's rate of {} Hz{}: \
+                             expected {lo} to {hi} samples (check the rate, or give the window \
+                             in samples with --window N)",
+                            crate::error::shown(n),
+                            crate::error::shown(rate),
+                            if meta.get("sample_rate_hz").is_some() {
+                                " (`# sample_rate_hz:`)"
+                            } else {
+                                ""
+                            }
+                        ),
+                    });
+                }
+                Ok(n as usize)
             }
         }
     }
@@ -161,6 +182,21 @@ mod tests {
         for bad in ["fast", "0", "-100", "inf"] {
             let e = w.samples(M, &meta(Some(bad))).unwrap_err();
             assert!(e.to_string().contains("sample_rate_hz"), "{e}");
+        }
+        // A rate that makes the window absurd names the rate, not `--window`
+        // (an audit: `# sample_rate_hz: 1e308` blamed the flag and
+        // `knee-selfalign` under `knee-gyro-axis`).
+        for (rate, n) in [("1e308", "inf"), ("1", "5"), ("1e6", "5000000")] {
+            let e = w
+                .samples(MethodName::KneeGyroAxis, &meta(Some(rate)))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("method `knee-gyro-axis`")
+                    && e.contains(&format!("is {n} samples"))
+                    && e.contains("`# sample_rate_hz:`"),
+                "{e}"
+            );
         }
     }
 }

@@ -96,6 +96,17 @@ pub fn simulate(a: &CalibrationSimArgs) -> Result<()> {
     if a.wobble_pose == Some(0) {
         anyhow::bail!("--wobble-pose: poses are numbered from 1, found 0");
     }
+    // The flags that make the duration, each named (an audit: `--poses 0`
+    // and `--hold nan` were reported as `--duration`, a flag this command
+    // does not have).
+    if !(1..=14).contains(&a.poses) {
+        anyhow::bail!(
+            "--poses {}: expected 1 to 14 (the six faces, then the eight corners)",
+            a.poses
+        );
+    }
+    crate::bounds::positive("--hold", a.hold, "seconds")?;
+    crate::bounds::positive("--transition", a.transition, "seconds")?;
     crate::bounds::simulated_trial(cfg.duration_s(), "--imu-rate", a.imu_rate, a.cap.force)?;
     let trial = simulated_trials::calibration_poses(cfg)?;
     let mut out = super::create_file(&a.output)?;

@@ -174,9 +174,12 @@ fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
         .map_or("no rows".to_string(), |(a, b)| format!("t = {a} to {b} s"));
     line(format!("{label}: {} rows, {span}", s.rows));
     if let Some(step) = s.median_step {
-        let stated = s.stated_hz.map_or("the file states no rate".into(), |hz| {
-            format!("the file states {hz} Hz")
-        });
+        let stated = match (s.stated_hz, meta.get("sample_rate_hz")) {
+            (Some(hz), _) => format!("the file states {hz} Hz"),
+            // (an audit: `# sample_rate_hz: abc` read as no rate at all)
+            (None, Some(text)) => format!("the file's `# sample_rate_hz: {text}` is not a rate"),
+            (None, None) => "the file states no rate".into(),
+        };
         line(format!(
             "  sample step: median {step:.6} s ({:.2} Hz; {stated})",
             1.0 / step

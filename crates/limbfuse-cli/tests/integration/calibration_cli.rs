@@ -288,3 +288,24 @@ fn import_applies_a_calibration_or_refuses_one_of_other_sensors() {
     let t = std::fs::read_to_string(p.join("t.csv")).unwrap();
     assert!(t.contains("# imu_calibration: cal.toml"));
 }
+
+/// An audit: `simulate calibration --poses 0` and `--hold nan` were
+/// reported as `--duration 0` / `--duration NaN`, a flag this command does
+/// not have. Each flag is now named.
+#[test]
+fn simulate_calibration_names_the_flag_that_is_wrong() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |flag: &str, value: &str| {
+        limbfuse(
+            &["simulate", "calibration", flag, value, "-o", "c.csv"],
+            tmp.path(),
+        )
+    };
+    assert_user_error(&run("--poses", "0"), &["--poses 0: expected 1 to 14"]);
+    assert_user_error(&run("--poses", "15"), &["--poses 15"]);
+    assert_user_error(&run("--hold", "nan"), &["--hold NaN"]);
+    assert_user_error(&run("--transition", "-1"), &["--transition -1"]);
+    for o in [run("--poses", "0"), run("--hold", "nan")] {
+        assert!(!stderr(&o).contains("--duration"), "{}", stderr(&o));
+    }
+}

@@ -386,3 +386,50 @@ fn a_trial_gravity_that_is_not_a_number_is_an_error() {
         assert_user_error(&o, &["g.csv", "`# g: -9.81`", "expected gravity in m/s^2"]);
     }
 }
+
+/// An audit: `--kappa nan` was reported against the trial file with the
+/// estimator's words ("kappa must be non-negative"); it names the flag.
+#[test]
+fn a_bad_kappa_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| limbfuse(args, d.path());
+    for args in [
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.7:0.7:0.1",
+            "-o",
+            "l.json",
+        ][..],
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "0.7",
+            "--library",
+            "l.json",
+            "--duration",
+            "2",
+            "-o",
+            "b.csv",
+        ][..],
+    ] {
+        assert_eq!(run(args).status.code(), Some(0), "{args:?}");
+    }
+    for k in ["nan", "-1"] {
+        let o = run(&[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "l.json",
+            "--kappa",
+            k,
+            "b.csv",
+            "-o",
+            "e.csv",
+        ]);
+        assert_user_error(&o, &["--kappa", "expected a gain of 0 (off) or more"]);
+    }
+}

@@ -242,3 +242,37 @@ fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
     assert_eq!(notes.len(), 1);
     assert!(notes[0].as_str().unwrap().starts_with("gait-events:"));
 }
+
+/// An audit: `# sample_rate_hz: abc` (or 0, nan) was shown as "the file
+/// states no rate"; it now says the line is not a rate.
+#[test]
+fn inspect_names_a_stated_rate_that_is_not_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (code, ..) = run(
+        &["simulate", "walking", "--duration", "2", "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(code, 0);
+    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    assert!(text.contains("# sample_rate_hz: 100\n"));
+    for bad in ["abc", "0", "nan"] {
+        let name = format!("r-{bad}.csv");
+        std::fs::write(
+            dir.join(&name),
+            text.replace(
+                "# sample_rate_hz: 100\n",
+                &format!("# sample_rate_hz: {bad}\n"),
+            ),
+        )
+        .unwrap();
+        let (code, out, err) = run(&["inspect", &name], dir);
+        assert_eq!(code, 0, "{err}");
+        assert!(
+            out.contains(&format!(
+                "the file's `# sample_rate_hz: {bad}` is not a rate"
+            )),
+            "{out}"
+        );
+    }
+}

@@ -61,7 +61,7 @@ impl Fusion {
 
 /// A parameter value outside its allowed range.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("knee-selfalign parameter {name} = {value} is outside {range}")]
+#[error("parameter {name} = {value} is outside {range}")]
 pub struct KneeParamError {
     /// Parameter name.
     pub name: &'static str,
@@ -206,14 +206,18 @@ fn positive(name: &'static str, value: f64) -> Result<(), KneeParamError> {
     }
 }
 
+/// The window lengths `s_w` allowed (samples), shared with
+/// `knee-gyro-axis`.
+pub const WINDOW_SAMPLES: (usize, usize) = (20, 100_000);
+
 impl KneeSelfAlignParams {
     /// Checks every value; the error names the first bad one.
     pub fn validate(&self) -> Result<(), KneeParamError> {
         check(
             "window",
             self.window as f64,
-            20.0,
-            100_000.0,
+            WINDOW_SAMPLES.0 as f64,
+            WINDOW_SAMPLES.1 as f64,
             "20..=100000 samples",
         )?;
         check("order", self.order as f64, 1.0, 100.0, "1..=100")?;
