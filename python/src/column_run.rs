@@ -7,6 +7,7 @@
 
 use limbfuse_core::runner::RunError;
 use limbfuse_core::{Estimate, Estimator, OfflineEstimator, Sample};
+use limbfuse_eval::output_watch::AnyOutputWatch;
 use limbfuse_eval::{GaitWatch, KneeWatch, ResetWatch};
 use limbfuse_io::Calibration;
 
@@ -24,6 +25,8 @@ pub struct RunWatches {
     pub gait: GaitWatch,
     /// The knee-axis verdict, for a knee-axis method.
     pub knee: Option<KneeWatch>,
+    /// Any value at all.
+    pub any_output: AnyOutputWatch,
 }
 
 /// Runs `est` over every sample of `inputs`, pushing each estimate to
@@ -106,6 +109,7 @@ impl RunWatches {
             resets: ResetWatch::new(est.diagnostic_names().iter()),
             gait: GaitWatch::default(),
             knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
+            any_output: AnyOutputWatch::default(),
         }
     }
 
@@ -113,6 +117,7 @@ impl RunWatches {
     fn push(&mut self, sample: &Sample, estimate: &Estimate) {
         self.resets.push(estimate);
         self.gait.push(estimate);
+        self.any_output.push(estimate);
         if let Some(k) = self.knee.as_mut() {
             k.push(sample, estimate);
         }

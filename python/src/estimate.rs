@@ -302,6 +302,14 @@ fn estimate<'py>(
                     "nothing to return",
                 )));
             }
+            if !watches.any_output.found {
+                return Err(user_msg(limbfuse_eval::output_watch::no_output_message(
+                    &label,
+                    spec.method().name(),
+                    inputs.len() as u64,
+                    "nothing to return",
+                )));
+            }
             let resets = watches
                 .resets
                 .resets()

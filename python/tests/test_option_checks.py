@@ -126,3 +126,17 @@ def test_evaluate_refuses_when_nothing_is_scored(walking_trial):
     events = limbfuse.estimate(walking_trial, "gait-events")
     with pytest.raises(LimbfuseError, match="the estimate has no angle column"):
         limbfuse.evaluate(walking_trial, events)
+
+
+def test_no_measurement_no_estimate():
+    """As `limbfuse estimate`: a run that gives no value on any row is an
+    error (knee-kinematic wrote its prior, a constant 90 deg knee)."""
+    seated = limbfuse.simulate("knee-fes", duration=3.0)
+    n = len(seated)
+    masked = {
+        k: (np.ma.masked_all(n) if ("_acc_" in k or "_gyr_" in k) else v)
+        for k, v in seated.channels.items()
+    }
+    trial = Trial(seated.t, masked, seated.meta)
+    with pytest.raises(LimbfuseError, match="gave no estimate on any of its"):
+        limbfuse.estimate(trial, "knee-kinematic")

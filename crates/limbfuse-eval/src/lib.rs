@@ -19,6 +19,7 @@ pub mod gait_watch;
 pub mod knee_errors;
 pub mod knee_watch;
 pub mod metrics;
+pub mod output_watch;
 pub mod rejections;
 pub mod resets;
 pub mod sample_interval;

@@ -152,6 +152,7 @@ fn estimate_pass(
     // in which they find no gait is an error, not an empty estimate.
     let gait_method = limbfuse_eval::gait_watch::is_gait_method(&outputs);
     let mut gait = GaitWatch::default();
+    let mut any_output = limbfuse_eval::output_watch::AnyOutputWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
     let mut thigh = spec
@@ -161,7 +162,7 @@ fn estimate_pass(
         .then(FixedThighWatch::default);
     let label = spec.method().name();
     let report = {
-        let mut extra: Vec<&mut dyn Observer> = vec![&mut gait];
+        let mut extra: Vec<&mut dyn Observer> = vec![&mut gait, &mut any_output];
         if let Some(w) = thigh.as_mut() {
             extra.push(w);
         }
@@ -234,6 +235,21 @@ fn estimate_pass(
             "no estimate written"
         };
         anyhow::bail!(limbfuse_eval::gait_watch::no_gait_message(
+            &a.trial.display().to_string(),
+            spec.method().name(),
+            report.n_samples,
+            kept
+        ));
+    }
+    if !any_output.found {
+        report.warn(label);
+        let kept = if stdio::is_stdio(&a.output) {
+            "the estimate written to standard output holds none"
+        } else {
+            let _ = std::fs::remove_file(&a.output);
+            "no estimate written"
+        };
+        anyhow::bail!(limbfuse_eval::output_watch::no_output_message(
             &a.trial.display().to_string(),
             spec.method().name(),
             report.n_samples,

@@ -433,3 +433,76 @@ fn a_bad_kappa_names_the_flag() {
         assert_user_error(&o, &["--kappa", "expected a gain of 0 (off) or more"]);
     }
 }
+
+/// An audit: `knee-kinematic` on a trial whose IMU cells were all empty
+/// wrote a constant 90 deg knee (the filter's prior) with exit 0, and
+/// `imm-bslip` with every `com_meas_*` cell empty an estimate empty on
+/// every row. The paper-004 filters give no angle before their first
+/// measurement, and a run that gives no value on any row is an error.
+#[test]
+fn no_measurement_no_estimate() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| limbfuse(args, d.path());
+    assert_eq!(
+        run(&["simulate", "knee-fes", "--duration", "3", "-o", "k.csv"])
+            .status
+            .code(),
+        Some(0)
+    );
+    let text = std::fs::read_to_string(d.path().join("k.csv")).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    // IMU cells emptied on the first `rows` data rows
+    let blank = |rows: usize| {
+        let mut out = String::new();
+        for (i, l) in text.lines().enumerate() {
+            if i > header && i <= header + rows {
+                let cells: Vec<&str> = l
+                    .split(',')
+                    .zip(&names)
+                    .map(|(c, n)| {
+                        if n.contains("_acc_") || n.contains("_gyr_") {
+                            ""
+                        } else {
+                            c
+                        }
+                    })
+                    .collect();
+                out += &cells.join(",");
+            } else {
+                out += l;
+            }
+            out.push('\n');
+        }
+        out
+    };
+    std::fs::write(d.path().join("none.csv"), blank(1_000_000)).unwrap();
+    std::fs::write(d.path().join("late.csv"), blank(100)).unwrap();
+    for m in ["knee-kinematic", "sdre", "ekf"] {
+        let o = run(&["estimate", "--method", m, "none.csv", "-o", "e.csv"]);
+        assert_user_error(
+            &o,
+            &["none.csv", "gave no estimate on any of its 300 samples"],
+        );
+        assert!(!d.path().join("e.csv").exists());
+        let o = run(&["estimate", "--method", m, "late.csv", "-o", "e.csv"]);
+        assert_eq!(o.status.code(), Some(0), "{m}: {}", stderr(&o));
+        let est = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
+        let rows: Vec<&str> = est
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .collect();
+        let knee = |r: &str| r.split(',').nth(3).unwrap().to_string();
+        assert!(
+            rows[..100].iter().all(|r| knee(r).is_empty()),
+            "{m}: {}",
+            rows[0]
+        );
+        assert!(
+            rows[100..].iter().all(|r| !knee(r).is_empty()),
+            "{m}: {}",
+            rows[100]
+        );
+    }
+}

@@ -327,6 +327,13 @@ where
             .ok_or(EstimatorError::Numerical("no state"))?;
         let mut e = Estimate::empty(s.t);
         self.plant.fill(&st.x, &mut e);
+        if !self.y_seen.iter().any(|seen| *seen) {
+            // No measurement yet: the state is the prior, not an estimate
+            // (an audit: `knee-kinematic` on a trial whose IMU cells were all
+            // empty wrote a constant 90 deg knee).
+            e.segment = [None; 4];
+            e.joint = [None; 3];
+        }
         self.plant.write_diagnostics(st, self.resets, &mut e);
         if let Some(key) = P::HELD_INPUTS_DIAG {
             e.diagnostics_mut::<P::Diag>()
