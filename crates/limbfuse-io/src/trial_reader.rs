@@ -165,6 +165,21 @@ impl TrialReader {
             plan.com_meas[k] = table.column(name);
             layout.com_meas[k] = plan.com_meas[k].is_some();
         }
+        // A later version of the format (an audit: `# format:
+        // limbfuse-trial/99` was read as version 1 with nothing said).
+        if let Some(f) = table.meta().get("format") {
+            let version = f.trim().strip_prefix("limbfuse-trial/");
+            if version.is_some_and(|v| v.trim() != "1") {
+                return Err(FileError::Header {
+                    path: table.path().to_path_buf(),
+                    line: table.header_line(),
+                    message: format!(
+                        "`# format: {f}`: this limbfuse reads limbfuse-trial/1 (SPEC section 2); \
+                         a newer limbfuse wrote this file"
+                    ),
+                });
+            }
+        }
         let own_leg = table.meta().leg().map_err(|message| FileError::Header {
             path: table.path().to_path_buf(),
             line: table.header_line(),

@@ -183,3 +183,24 @@ fn a_trailing_separator_is_an_ignored_column() {
         "{m}"
     );
 }
+
+/// An audit: `# format: limbfuse-trial/99` was read as version 1 with
+/// nothing said. Another version is refused, naming the line; version 1
+/// and other formats' names (not limbfuse's) are read as before.
+#[test]
+fn a_later_format_version_is_refused() {
+    let body = "t,thigh_gyr_x,thigh_gyr_y,thigh_gyr_z\n0,0,0,0\n0.01,0,0,0\n";
+    let m = message(&format!("# format: limbfuse-trial/99\n{body}"));
+    assert!(
+        m.contains("`# format: limbfuse-trial/99`") && m.contains("limbfuse-trial/1"),
+        "{m}"
+    );
+    assert_eq!(
+        read_all(&format!("# format: limbfuse-trial/1\n{body}")).unwrap(),
+        2
+    );
+    assert_eq!(
+        read_all(&format!("# format: my-export\n{body}")).unwrap(),
+        2
+    );
+}
