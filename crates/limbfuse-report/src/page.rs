@@ -196,30 +196,55 @@ fn compared_channels(trial: &TrialData, estimates: &[EstimateData]) -> Vec<(usiz
         .collect()
 }
 
+/// The channels at least one estimate gives (with or without a reference).
+fn estimated_channels(estimates: &[EstimateData]) -> Vec<(usize, AngleChannel)> {
+    AngleChannel::ALL
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| estimates.iter().any(|e| e.angle[*k].is_some()))
+        .map(|(k, c)| (k, *c))
+        .collect()
+}
+
+/// Every estimated angle over time, against its reference when the trial
+/// has one (a recording without motion capture still shows its estimates:
+/// the page showed nothing there before).
 fn angle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) {
     s.push_str(r#"<section id="angles" data-section="angles"><h2>Angles over time</h2>"#);
-    let channels = compared_channels(trial, estimates);
+    let channels = estimated_channels(estimates);
     if channels.is_empty() {
-        s.push_str(r#"<p class="note">No angle channel has both a reference in the trial and an estimate.</p></section>"#);
+        s.push_str(r#"<p class="note">No estimate gives an angle.</p></section>"#);
         return;
     }
+    let unreferenced: Vec<&str> = channels
+        .iter()
+        .filter(|(k, _)| trial.reference[*k].is_none())
+        .map(|(_, c)| c.name())
+        .collect();
+    if !unreferenced.is_empty() {
+        let _ = write!(
+            s,
+            r#"<p class="note">No reference in the trial for {}: the estimates alone.</p>"#,
+            esc(&unreferenced.join(", "))
+        );
+    }
     for (k, c) in channels {
-        let Some(r) = &trial.reference[k] else {
-            continue;
-        };
-        let reference = degrees(r);
+        let reference = trial.reference[k].as_ref().map(degrees);
         let est: Vec<(usize, Column)> = estimates
             .iter()
             .enumerate()
             .filter_map(|(i, e)| Some((i, degrees(e.angle[k].as_ref()?))))
             .collect();
-        let mut lines = vec![(
-            "reference".to_string(),
-            format!("{}_ref", c.name()),
-            "#000".to_string(),
-            &reference,
-            false,
-        )];
+        let mut lines = Vec::new();
+        if let Some(r) = &reference {
+            lines.push((
+                "reference".to_string(),
+                format!("{}_ref", c.name()),
+                "#000".to_string(),
+                r,
+                false,
+            ));
+        }
         for (i, col) in &est {
             lines.push((
                 format!("est-{i}"),

@@ -226,7 +226,16 @@ fn estimate_pass(
             }
         }
     }
-    if gait_method && !gait.found {
+    // Nothing found: an error, and the output file removed (standard output
+    // cannot be taken back).
+    let message: Option<fn(&str, &str, u64, &str) -> String> = if gait_method && !gait.found {
+        Some(limbfuse_eval::gait_watch::no_gait_message)
+    } else if !any_output.found {
+        Some(limbfuse_eval::output_watch::no_output_message)
+    } else {
+        None
+    };
+    if let Some(message) = message {
         report.warn(label);
         let kept = if stdio::is_stdio(&a.output) {
             "the estimate written to standard output holds none"
@@ -234,22 +243,7 @@ fn estimate_pass(
             let _ = std::fs::remove_file(&a.output);
             "no estimate written"
         };
-        anyhow::bail!(limbfuse_eval::gait_watch::no_gait_message(
-            &a.trial.display().to_string(),
-            spec.method().name(),
-            report.n_samples,
-            kept
-        ));
-    }
-    if !any_output.found {
-        report.warn(label);
-        let kept = if stdio::is_stdio(&a.output) {
-            "the estimate written to standard output holds none"
-        } else {
-            let _ = std::fs::remove_file(&a.output);
-            "no estimate written"
-        };
-        anyhow::bail!(limbfuse_eval::output_watch::no_output_message(
+        anyhow::bail!(message(
             &a.trial.display().to_string(),
             spec.method().name(),
             report.n_samples,

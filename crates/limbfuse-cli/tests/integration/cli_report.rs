@@ -334,3 +334,53 @@ fn bad_input_is_a_user_error_naming_the_file() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("missing.csv"));
 }
+
+/// A recording without references (most real recordings: no motion
+/// capture) gave a page with no plot at all ("No angle channel has both a
+/// reference in the trial and an estimate"), found by a 1-hour trial's
+/// 15 KB report. Every estimated angle is now plotted, its reference drawn
+/// when the trial has one.
+#[test]
+fn a_trial_without_references_still_shows_its_estimates() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    limbfuse(
+        &["simulate", "walking", "--duration", "4", "-o", "w.csv"],
+        dir,
+    );
+    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    let keep: Vec<bool> = names.iter().map(|n| !n.ends_with("_ref")).collect();
+    let mut out = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i < header {
+            out += l;
+        } else {
+            let cells: Vec<&str> = l
+                .split(',')
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
+                .collect();
+            out += &cells.join(",");
+        }
+        out.push('\n');
+    }
+    std::fs::write(dir.join("noref.csv"), out).unwrap();
+    limbfuse(
+        &["estimate", "--method", "local", "noref.csv", "-o", "e.csv"],
+        dir,
+    );
+    limbfuse(&["report", "noref.csv", "e.csv", "-o", "r.html"], dir);
+    let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
+    let tags = parse(&html);
+    for c in ["trunk", "thigh", "shank", "foot", "hip", "knee", "ankle"] {
+        by_id(&tags, &format!("plot-angle-{c}"));
+        assert_eq!(series_of(&html, &format!("plot-angle-{c}")), ["est-0"]);
+    }
+    assert!(
+        html.contains("No reference in the trial for trunk, thigh"),
+        "note"
+    );
+}
