@@ -21,6 +21,10 @@ use crate::methods;
 use crate::progress::Progress;
 use crate::stdio::{self, FlushingStdin, SharedStdout};
 
+/// The message of a run that found nothing: (trial, method, samples, what
+/// became of the output).
+type NothingFound = fn(&str, &str, u64, &str) -> String;
+
 /// Runs one estimator over a trial file, streaming; `-` as the trial reads
 /// standard input, `-` as the output writes standard output as rows arrive
 /// (docs/STREAMING.md). `imm-bslip --imm-config continuous` on a trial
@@ -228,7 +232,7 @@ fn estimate_pass(
     }
     // Nothing found: an error, and the output file removed (standard output
     // cannot be taken back).
-    let message: Option<fn(&str, &str, u64, &str) -> String> = if gait_method && !gait.found {
+    let message: Option<NothingFound> = if gait_method && !gait.found {
         Some(limbfuse_eval::gait_watch::no_gait_message)
     } else if !any_output.found {
         Some(limbfuse_eval::output_watch::no_output_message)
