@@ -62,7 +62,30 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         records.iter_mut().for_each(|r| cal.apply(r));
         cal.annotate(&mut meta, &super::calibrate::file_name(path), frame);
     }
-    let alignment = estimate_alignment(&records, &opts)
+    // The axes come from the readings `estimate` would keep: an audit found
+    // one 1e308 gyro cell made `align` blame the sensor's placement ("axis
+    // undetermined"). The written trial keeps every reading.
+    let mut gate = limbfuse_core::SampleGate::new(limbfuse_methods::gated::sensor_ranges(&meta)?);
+    let screened: Vec<Record> = records
+        .iter()
+        .map(|r| Record {
+            sample: gate.screen(&r.sample),
+            ..r.clone()
+        })
+        .collect();
+    let rej = gate.rejections();
+    if rej.gyro + rej.acc > 0 {
+        eprintln!(
+            "warning: {}: {} gyroscope and {} accelerometer readings out of the sensors' range or \
+             implausible (first at t = {} s) left out of the alignment, as `estimate` leaves them \
+             out (the written trial keeps them)",
+            a.trial.display(),
+            rej.gyro,
+            rej.acc,
+            rej.first_t.unwrap_or(f64::NAN)
+        );
+    }
+    let alignment = estimate_alignment(&screened, &opts)
         .with_context(|| format!("aligning {}", a.trial.display()))?;
     alignment.annotate(&mut meta);
     let leg_line = leg_report(&mut meta, &alignment);

@@ -240,3 +240,54 @@ fn issue_19_mirror_names_the_other_legs_columns() {
         (1.0, 0.0)
     );
 }
+
+/// An audit: one 1e308 gyro cell made `align` refuse the thigh as "axis
+/// undetermined ... is it on a walking leg?", blaming the placement. The
+/// axes now come from the readings `estimate` keeps (the sensor gate), with
+/// a warning; the written trial keeps every reading.
+#[test]
+fn one_absurd_reading_is_left_out_of_the_alignment() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    ok(&limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "20",
+            "--seed",
+            "4",
+            "--mounting",
+            "random",
+            "-o",
+            "raw.csv",
+        ],
+        d,
+    ));
+    let raw = std::fs::read_to_string(d.join("raw.csv")).unwrap();
+    let header = raw.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = raw.lines().nth(header).unwrap().split(',').collect();
+    let col = names.iter().position(|n| *n == "thigh_gyr_x").unwrap();
+    let mut out = String::new();
+    for (i, l) in raw.lines().enumerate() {
+        if i == header + 500 {
+            let mut cells: Vec<&str> = l.split(',').collect();
+            cells[col] = "1e308";
+            out += &cells.join(",");
+        } else {
+            out += l;
+        }
+        out.push('\n');
+    }
+    std::fs::write(d.join("big.csv"), out).unwrap();
+    let o = limbfuse(&["align", "big.csv", "-o", "al.csv"], d);
+    ok(&o);
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("1 gyroscope and 0 accelerometer readings")
+            && err.contains("left out of the alignment"),
+        "{err}"
+    );
+    let aligned = std::fs::read_to_string(d.join("al.csv")).unwrap();
+    assert!(aligned.contains("# thigh_align_quat:"));
+}
