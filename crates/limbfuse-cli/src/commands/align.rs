@@ -70,7 +70,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         .iter()
         .map(|r| Record {
             sample: gate.screen(&r.sample),
-            ..r.clone()
+            ..*r
         })
         .collect();
     let rej = gate.rejections();
