@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::support::limbfuse;
+use crate::support::{edit_cells, limbfuse};
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
@@ -265,20 +265,9 @@ fn one_absurd_reading_is_left_out_of_the_alignment() {
         d,
     ));
     let raw = std::fs::read_to_string(d.join("raw.csv")).unwrap();
-    let header = raw.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = raw.lines().nth(header).unwrap().split(',').collect();
-    let col = names.iter().position(|n| *n == "thigh_gyr_x").unwrap();
-    let mut out = String::new();
-    for (i, l) in raw.lines().enumerate() {
-        if i == header + 500 {
-            let mut cells: Vec<&str> = l.split(',').collect();
-            cells[col] = "1e308";
-            out += &cells.join(",");
-        } else {
-            out += l;
-        }
-        out.push('\n');
-    }
+    let out = edit_cells(&raw, |row, n, _| {
+        (row == 499 && n == "thigh_gyr_x").then(|| "1e308".to_string())
+    });
     std::fs::write(d.join("big.csv"), out).unwrap();
     let o = limbfuse(&["align", "big.csv", "-o", "al.csv"], d);
     ok(&o);

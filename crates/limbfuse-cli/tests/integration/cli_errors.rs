@@ -3,7 +3,7 @@
 
 use std::process::Output;
 
-use crate::support::limbfuse;
+use crate::support::{edit_cells, limbfuse};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -331,22 +331,7 @@ fn evaluate_refuses_when_nothing_can_be_scored() {
     );
     // every reference cell emptied
     let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let mut out = String::new();
-    for (i, l) in text.lines().enumerate() {
-        if i <= header {
-            out += l;
-        } else {
-            let cells: Vec<&str> = l
-                .split(',')
-                .zip(&names)
-                .map(|(c, n)| if n.ends_with("_ref") { "" } else { c })
-                .collect();
-            out += &cells.join(",");
-        }
-        out.push('\n');
-    }
+    let out = edit_cells(&text, |_, n, _| n.ends_with("_ref").then(String::new));
     std::fs::write(d.path().join("noref.csv"), out).unwrap();
     assert_eq!(
         run(&["estimate", "--method", "local", "noref.csv", "-o", "en.csv"])
@@ -450,31 +435,11 @@ fn no_measurement_no_estimate() {
         Some(0)
     );
     let text = std::fs::read_to_string(d.path().join("k.csv")).unwrap();
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
     // IMU cells emptied on the first `rows` data rows
     let blank = |rows: usize| {
-        let mut out = String::new();
-        for (i, l) in text.lines().enumerate() {
-            if i > header && i <= header + rows {
-                let cells: Vec<&str> = l
-                    .split(',')
-                    .zip(&names)
-                    .map(|(c, n)| {
-                        if n.contains("_acc_") || n.contains("_gyr_") {
-                            ""
-                        } else {
-                            c
-                        }
-                    })
-                    .collect();
-                out += &cells.join(",");
-            } else {
-                out += l;
-            }
-            out.push('\n');
-        }
-        out
+        edit_cells(&text, |row, n, _| {
+            (row < rows && (n.contains("_acc_") || n.contains("_gyr_"))).then(String::new)
+        })
     };
     std::fs::write(d.path().join("none.csv"), blank(1_000_000)).unwrap();
     std::fs::write(d.path().join("late.csv"), blank(100)).unwrap();

@@ -31,3 +31,29 @@ pub fn shared_data(rel: &str) -> Option<PathBuf> {
         None
     }
 }
+
+/// A trial file's text with data cells rewritten: `f(row, column name,
+/// cell)` (row 0 is the first data row) gives the new cell, or `None` to
+/// keep it. Comment lines and the header are kept as they are.
+pub fn edit_cells(text: &str, f: impl Fn(usize, &str, &str) -> Option<String>) -> String {
+    let header = text
+        .lines()
+        .position(|l| l.starts_with("t,"))
+        .expect("a header row");
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    let mut out = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i > header && !l.is_empty() {
+            let cells: Vec<String> = l
+                .split(',')
+                .zip(&names)
+                .map(|(c, n)| f(i - header - 1, n, c).unwrap_or_else(|| c.to_string()))
+                .collect();
+            out += &cells.join(",");
+        } else {
+            out += l;
+        }
+        out.push('\n');
+    }
+    out
+}
