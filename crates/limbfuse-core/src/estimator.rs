@@ -152,22 +152,26 @@ impl TimeStep {
         TimeStep { previous: None }
     }
 
-    /// Registers sample time `t`: `Ok(None)` for the first sample, `Ok(Some(dt))` after.
-    pub fn advance(&mut self, t: f64) -> Result<Option<f64>, EstimatorError> {
+    /// Whether sample time `t` may follow (finite, after the previous
+    /// sample's), without registering it.
+    pub fn check(&self, t: f64) -> Result<(), EstimatorError> {
         if !t.is_finite() {
             return Err(EstimatorError::NonFinite { channel: "t" });
         }
         match self.previous {
-            None => {
-                self.previous = Some(t);
-                Ok(None)
+            Some(previous) if t <= previous => {
+                Err(EstimatorError::NonIncreasingTime { previous, t })
             }
-            Some(previous) if t > previous => {
-                self.previous = Some(t);
-                Ok(Some(t - previous))
-            }
-            Some(previous) => Err(EstimatorError::NonIncreasingTime { previous, t }),
+            _ => Ok(()),
         }
+    }
+
+    /// Registers sample time `t`: `Ok(None)` for the first sample, `Ok(Some(dt))` after.
+    pub fn advance(&mut self, t: f64) -> Result<Option<f64>, EstimatorError> {
+        self.check(t)?;
+        let dt = self.previous.map(|previous| t - previous);
+        self.previous = Some(t);
+        Ok(dt)
     }
 
     /// Forgets the previous time.
@@ -200,5 +204,16 @@ mod tests {
             })
         );
         assert!(ts.advance(f64::NAN).is_err());
+    }
+
+    #[test]
+    fn check_refuses_as_advance_does_without_registering() {
+        let mut ts = TimeStep::new();
+        assert_eq!(ts.check(5.0), Ok(()));
+        ts.advance(1.0).unwrap();
+        assert!(ts.check(1.0).is_err() && ts.check(f64::INFINITY).is_err());
+        assert_eq!(ts.check(3.0), Ok(()));
+        // nothing registered by `check`: 2.0 still follows 1.0
+        assert_eq!(ts.advance(2.0).unwrap(), Some(1.0));
     }
 }

@@ -217,8 +217,10 @@ pub fn evaluate_files(
         }
         index += 1;
     }
-    let ev = metrics.evaluation();
-    Ok(Evaluation { trial_check, ..ev })
+    Ok(Evaluation {
+        trial_check,
+        ..metrics.evaluation()
+    })
 }
 
 /// [`evaluate_files`], refusing an evaluation that scored nothing: an

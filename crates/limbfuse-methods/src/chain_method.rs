@@ -172,7 +172,7 @@ pub fn resolve_geometry(
 ) -> Result<ChainGeometry, GeometryError> {
     let body = meta.body()?;
     let height = body.height.or(file.height_m).unwrap_or(DEFAULT_HEIGHT_M);
-    if !(1.0..=2.5).contains(&height) {
+    if crate::body_ranges::within(height, crate::body_ranges::BODY_HEIGHT_M).is_none() {
         return Err(GeometryError::Height(height));
     }
     let mut g = ChainGeometry::from_height(height);

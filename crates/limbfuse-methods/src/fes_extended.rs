@@ -371,7 +371,7 @@ pub fn stated_lever_arm(meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
             "anthropometric default: mid-shank, 0.5 x 0.246 x 1.75 m, Winter 2009 Table 4.1; the trial states neither # shank_imu_m, # param_r_imu nor # height_m",
         ),
     };
-    if !(1.0..=2.5).contains(&height) {
+    if crate::body_ranges::within(height, crate::body_ranges::BODY_HEIGHT_M).is_none() {
         return Err(FesBuildError::NotApplicable {
             path: "trial metadata".into(),
             what: format!(

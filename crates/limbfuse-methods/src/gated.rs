@@ -17,7 +17,8 @@
 use std::fmt;
 
 use limbfuse_core::{
-    Estimate, Estimator, EstimatorError, Outputs, Sample, SampleGate, SensorRanges, MAX_DIAG,
+    Estimate, Estimator, EstimatorError, Outputs, Sample, SampleGate, SensorRanges, TimeStep,
+    MAX_DIAG,
 };
 use limbfuse_io::TrialMeta;
 
@@ -70,8 +71,8 @@ pub struct GatedEstimator<E: Estimator + ?Sized = dyn Estimator + Send> {
     names: Vec<&'static str>,
     /// Index of `rejected_gyro` in [`Estimate::diag`], if written.
     first: Option<usize>,
-    /// The time of the last sample stepped without error.
-    last_t: Option<f64>,
+    /// The times of the samples stepped without error.
+    time: TimeStep,
 }
 
 impl<E: Estimator + ?Sized> GatedEstimator<E> {
@@ -87,7 +88,7 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
             gate: SampleGate::new(ranges),
             names,
             first,
-            last_t: None,
+            time: TimeStep::new(),
         }
     }
 
@@ -129,7 +130,7 @@ impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
     fn reset(&mut self) {
         self.inner.reset();
         self.gate.reset();
-        self.last_t = None;
+        self.time.reset();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -166,15 +167,7 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
         // A sample the estimator would refuse for its time is refused
         // before the gate sees it: a refused sample leaves no trace in the
         // gate's counts and tests (Python's `Filter` goes on after an error).
-        if !sample.t.is_finite() {
-            return Err(EstimatorError::NonFinite { channel: "t" });
-        }
-        if let Some(previous) = self.last_t.filter(|p| sample.t <= *p) {
-            return Err(EstimatorError::NonIncreasingTime {
-                previous,
-                t: sample.t,
-            });
-        }
+        self.time.check(sample.t)?;
         // Most samples pass the gate unchanged: no copy of the sample then.
         let screening = self.gate.check(sample);
         if screening.is_clean() {
@@ -194,7 +187,8 @@ impl<E: Estimator + ?Sized> GatedEstimator<E> {
             blank_non_finite(e);
             self.inner.reset();
         }
-        self.last_t = Some(sample.t);
+        // (checked above)
+        let _ = self.time.advance(sample.t);
         if let Some(i) = self.first {
             let [g, a, n] = self.rejected_readings();
             e.diag[i] = Some(g as f64);

@@ -14,6 +14,7 @@
 use limbfuse_io::TrialMeta;
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 
+use crate::body_ranges::{within, LEG_LENGTH_M, MASS_KG};
 use crate::MethodError;
 
 /// The trial's body as far as it is known, and where it came from.
@@ -43,23 +44,15 @@ fn positive(name: &str, v: f64) -> Result<f64, MethodError> {
     }
 }
 
-/// Plausible human leg (rest) lengths (m): greater-trochanter heights of
-/// adults of 1.0-2.5 m (0.530 x height, Winter 2009), widened to decimetres.
-const LEG_LENGTH_M: (f64, f64) = (0.5, 1.4);
-/// Plausible human body masses (kg).
-const MASS_KG: (f64, f64) = (20.0, 250.0);
-
-/// `v` when within `(lo, hi)`; else an error naming `name` (an audit:
-/// `--leg-length 1e300` gave a speed of 4e149 m/s, exit 0).
+/// `v` when within `(lo, hi)` ([`crate::body_ranges`]); else an error
+/// naming `name`.
 fn plausible(name: &str, v: f64, (lo, hi): (f64, f64), unit: &str) -> Result<f64, MethodError> {
-    if (lo..=hi).contains(&v) {
-        Ok(v)
-    } else {
-        Err(bad(format!(
+    within(v, (lo, hi)).ok_or_else(|| {
+        bad(format!(
             "{name} {}: expected a human body's value, {lo} to {hi} {unit}",
             crate::error::shown(v)
-        )))
-    }
+        ))
+    })
 }
 
 fn meta_number(meta: &TrialMeta, key: &str) -> Result<Option<f64>, MethodError> {

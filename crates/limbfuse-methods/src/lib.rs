@@ -30,6 +30,7 @@
 
 pub mod availability;
 mod baseline_methods;
+pub mod body_ranges;
 mod build;
 pub mod chain_method;
 pub mod channels;

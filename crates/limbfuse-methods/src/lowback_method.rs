@@ -17,6 +17,7 @@ use limbfuse_io::body_meta::subject_length;
 use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
+use crate::body_ranges::{within, BODY_HEIGHT_M, LEG_LENGTH_M, LOWER_BACK_SENSOR_M};
 use crate::gait_methods::{bad_value, positive};
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
 use crate::{MethodError, MethodFlags};
@@ -198,17 +199,8 @@ impl PendulumSource {
     }
 }
 
-/// Plausible lower-back sensor heights (m) read from free text: a sensor at
-/// L3-L5 of adults of 1.2-2.2 m sits at about 0.53-0.6 of the body height.
-const SUBJECT_SENSOR_HEIGHT_M: (f64, f64) = (0.5, 1.4);
-/// Plausible adult body heights (m) read from free text.
-const SUBJECT_BODY_HEIGHT_M: (f64, f64) = (1.0, 2.5);
-/// Plausible greater-trochanter heights (m): 0.530 x the body heights above
-/// (Winter 2009), widened to whole decimetres.
-const LEG_LENGTH_M: (f64, f64) = (0.5, 1.4);
-
-/// A metadata length refused outside its plausible range (an audit:
-/// `# height_m: 1e300` gave a walking speed of 7e149 m/s, exit 0).
+/// A metadata length refused outside its plausible range
+/// ([`crate::body_ranges`]).
 fn plausible(key: &str, what: &str, v: f64, (lo, hi): (f64, f64)) -> Result<f64, MethodError> {
     within(v, (lo, hi)).ok_or_else(|| MethodError::GaitParams {
         method: LowbackSpeedMethod::INFO.name,
@@ -217,10 +209,6 @@ fn plausible(key: &str, what: &str, v: f64, (lo, hi): (f64, f64)) -> Result<f64,
             crate::error::shown(v)
         ),
     })
-}
-
-fn within(v: f64, (lo, hi): (f64, f64)) -> Option<f64> {
-    (lo..=hi).contains(&v).then_some(v)
 }
 
 /// The parameters of `settings` with the pendulum length (and, for a
@@ -247,7 +235,7 @@ pub fn pendulum_for_trial(
                 "sensor_height_m",
                 "a lower-back sensor height",
                 h,
-                SUBJECT_SENSOR_HEIGHT_M,
+                LOWER_BACK_SENSOR_M,
             )?;
             positive(
                 "sensor_height_m (trial metadata)",
@@ -258,7 +246,7 @@ pub fn pendulum_for_trial(
             Some(PendulumSource::SensorHeight)
         }
         None => subject_length(meta, "sensor height")
-            .and_then(|h| within(h, SUBJECT_SENSOR_HEIGHT_M))
+            .and_then(|h| within(h, LOWER_BACK_SENSOR_M))
             .map(|h| {
                 p.leg_length = h;
                 PendulumSource::SensorHeightInSubject
@@ -280,14 +268,14 @@ pub fn pendulum_for_trial(
     let (height, source) = match meta.body().map_err(|e| gait_error(e.to_string()))?.height {
         Some(h) => (Some(h), PendulumSource::BodyHeight),
         None => (
-            subject_length(meta, "height").and_then(|h| within(h, SUBJECT_BODY_HEIGHT_M)),
+            subject_length(meta, "height").and_then(|h| within(h, BODY_HEIGHT_M)),
             PendulumSource::BodyHeightInSubject,
         ),
     };
     let Some(h) = height else {
         return Ok((p, PendulumSource::Default));
     };
-    let h = plausible("height_m", "a body height", h, SUBJECT_BODY_HEIGHT_M)?;
+    let h = plausible("height_m", "a body height", h, BODY_HEIGHT_M)?;
     // Anthropometry: the greater-trochanter height of a body of height `h`.
     positive("height_m (trial metadata)", Some(h), &mut p.leg_length).map_err(gait_error)?;
     p.leg_length *= LEG_LENGTH_PER_HEIGHT;
