@@ -114,6 +114,23 @@ impl Default for PlausibilityLimits {
     }
 }
 
+impl PlausibilityLimits {
+    /// No plausibility check: a [`crate::SampleGate`] with these limits
+    /// applies only its range, finiteness and clipping checks (`limbfuse
+    /// resample`: a static calibration recording's exactly repeated readings
+    /// are data there, not a stuck sensor).
+    pub const fn off() -> Self {
+        PlausibilityLimits {
+            angular_accel_rad_s2: [f64::INFINITY; 4],
+            gyro_noise_rad_s: 0.0,
+            stuck_s: f64::INFINITY,
+            stuck_min_samples: u32::MAX,
+            stuck_acc_turn_m_s2: f64::INFINITY,
+            stuck_acc_rate_floor_rad_s: 0.0,
+        }
+    }
+}
+
 /// Why a reading was rejected after the range check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Implausible {
@@ -310,6 +327,43 @@ mod tests {
 
     fn v(z: f64) -> Vector3<f64> {
         Vector3::new(0.01 * z.sin(), -0.02 * z.cos(), z)
+    }
+
+    /// With [`PlausibilityLimits::off`] a gate keeps a repeated (static)
+    /// vector and a jump that the default limits reject, and still drops a
+    /// reading out of range.
+    #[test]
+    fn limits_off_leave_only_the_range_checks() {
+        use crate::{Sample, SampleGate, SensorRanges};
+        for (limits, kept) in [
+            (PlausibilityLimits::default(), false),
+            (PlausibilityLimits::off(), true),
+        ] {
+            let mut g = SampleGate::with_limits(SensorRanges::default(), limits);
+            let mut s = Sample::default();
+            s.imu[1].acc = Some(Vector3::new(0.5, 9.8, 0.0));
+            // a gyroscope repeating one vector for 0.3 s (stuck at 0.1 s)
+            for k in 0..30 {
+                s.t = k as f64 * 0.01;
+                s.imu[1].gyr = Some(Vector3::new(0.0, 0.0, 0.25));
+                let out = g.screen(&s);
+                if k >= 20 {
+                    assert_eq!(out.imu[1].gyr.is_some(), kept, "stuck, {k}");
+                }
+            }
+            g.reset();
+            // a 30 rad/s step in 10 ms (beyond 2000 rad/s^2, within range) at k = 5
+            for k in 0..10 {
+                s.t = k as f64 * 0.01;
+                let z = 0.01 * k as f64 + if k == 5 { 30.0 } else { 0.0 };
+                s.imu[1].gyr = Some(Vector3::new(0.0, 0.0, z));
+                let out = g.screen(&s);
+                assert_eq!(out.imu[1].gyr.is_some(), k != 5 || kept, "jump, {k}");
+            }
+            s.t = 0.3;
+            s.imu[1].gyr = Some(Vector3::new(0.0, 1e308, 0.0));
+            assert_eq!(g.screen(&s).imu[1].gyr, None);
+        }
     }
 
     #[test]

@@ -1,6 +1,21 @@
 //! Trial metadata: the leading `# key: value` comment lines of a trial file.
 
-use limbfuse_core::STANDARD_GRAVITY;
+use limbfuse_core::{SensorRanges, STANDARD_GRAVITY};
+
+/// Trial metadata key of the gyroscopes' range (rad/s).
+pub const GYRO_RANGE_KEY: &str = "gyro_range_rad_s";
+/// Trial metadata key of the accelerometers' range (m/s^2).
+pub const ACC_RANGE_KEY: &str = "acc_range_m_s2";
+
+/// A sensor range entry of the metadata that is not a positive finite
+/// number ([`TrialMeta::sensor_ranges`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BadSensorRange {
+    /// The metadata key ([`GYRO_RANGE_KEY`] or [`ACC_RANGE_KEY`]).
+    pub key: &'static str,
+    /// Its value.
+    pub found: String,
+}
 
 /// Ordered `key: value` metadata of a trial. Unknown keys are kept.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -74,6 +89,35 @@ impl TrialMeta {
                 }),
         }
     }
+
+    /// The sensor ranges of the trial: its `gyro_range_rad_s` and
+    /// `acc_range_m_s2` entries where given, the datasheet defaults of
+    /// [`SensorRanges::default`] otherwise. A gyroscope range given is the
+    /// sensor's full scale: readings beyond it are out of range, readings at
+    /// it are clipped.
+    pub fn sensor_ranges(&self) -> Result<SensorRanges, BadSensorRange> {
+        let mut r = SensorRanges::default();
+        for (key, slot) in [
+            (GYRO_RANGE_KEY, &mut r.gyro_rad_s),
+            (ACC_RANGE_KEY, &mut r.acc_m_s2),
+        ] {
+            if let Some(text) = self.get(key) {
+                match text.trim().parse::<f64>() {
+                    Ok(v) if v.is_finite() && v > 0.0 => *slot = v,
+                    _ => {
+                        return Err(BadSensorRange {
+                            key,
+                            found: text.to_string(),
+                        })
+                    }
+                }
+            }
+        }
+        if self.get(GYRO_RANGE_KEY).is_some() {
+            r.gyro_full_scale_rad_s = Some(r.gyro_rad_s);
+        }
+        Ok(r)
+    }
 }
 
 #[cfg(test)]
@@ -93,6 +137,31 @@ mod tests {
             m.set("g", bad);
             let e = m.gravity().unwrap_err();
             assert!(e.contains(&format!("`# g: {bad}`")), "{e}");
+        }
+    }
+
+    /// The ranges are the entries given, the defaults otherwise; a gyro
+    /// range given is the full scale; a bad entry names its key and value.
+    #[test]
+    fn sensor_ranges_come_from_the_entries() {
+        let mut m = TrialMeta::trial_v1();
+        assert_eq!(m.sensor_ranges(), Ok(SensorRanges::default()));
+        m.set(GYRO_RANGE_KEY, " 17.5 ");
+        m.set(ACC_RANGE_KEY, "80");
+        let r = m.sensor_ranges().unwrap();
+        assert_eq!(
+            (r.gyro_rad_s, r.acc_m_s2, r.gyro_full_scale_rad_s),
+            (17.5, 80.0, Some(17.5))
+        );
+        for bad in ["abc", "0", "-1", "nan", "inf"] {
+            m.set(ACC_RANGE_KEY, bad);
+            assert_eq!(
+                m.sensor_ranges(),
+                Err(BadSensorRange {
+                    key: ACC_RANGE_KEY,
+                    found: bad.to_string()
+                })
+            );
         }
     }
 

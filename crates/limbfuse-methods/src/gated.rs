@@ -28,38 +28,16 @@ use crate::MethodError;
 /// estimator's own.
 pub const REJECTION_DIAGNOSTICS: [&str; 3] = ["rejected_gyro", "rejected_acc", "rejected_encoder"];
 
-/// Trial metadata key of the gyroscopes' range (rad/s).
-pub const GYRO_RANGE_KEY: &str = "gyro_range_rad_s";
-/// Trial metadata key of the accelerometers' range (m/s^2).
-pub const ACC_RANGE_KEY: &str = "acc_range_m_s2";
+pub use limbfuse_io::meta::{ACC_RANGE_KEY, GYRO_RANGE_KEY};
 
-/// The sensor ranges of a trial: its metadata's `gyro_range_rad_s` and
-/// `acc_range_m_s2` where given, the datasheet defaults of
-/// [`SensorRanges::default`] otherwise.
+/// The sensor ranges of a trial ([`TrialMeta::sensor_ranges`]): its
+/// metadata's `gyro_range_rad_s` and `acc_range_m_s2` where given, the
+/// datasheet defaults of [`SensorRanges::default`] otherwise.
 pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
-    let mut r = SensorRanges::default();
-    for (key, slot) in [
-        (GYRO_RANGE_KEY, &mut r.gyro_rad_s),
-        (ACC_RANGE_KEY, &mut r.acc_m_s2),
-    ] {
-        if let Some(text) = meta.get(key) {
-            match text.trim().parse::<f64>() {
-                Ok(v) if v.is_finite() && v > 0.0 => *slot = v,
-                _ => {
-                    return Err(MethodError::SensorRange {
-                        key,
-                        found: text.to_string(),
-                    })
-                }
-            }
-        }
-    }
-    // The trial's gyroscope range is its full scale: readings beyond it are
-    // out of range, readings at it are clipped.
-    if meta.get(GYRO_RANGE_KEY).is_some() {
-        r.gyro_full_scale_rad_s = Some(r.gyro_rad_s);
-    }
-    Ok(r)
+    meta.sensor_ranges().map_err(|e| MethodError::SensorRange {
+        key: e.key,
+        found: e.found,
+    })
 }
 
 /// An estimator behind a [`SampleGate`].

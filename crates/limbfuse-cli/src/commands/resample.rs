@@ -20,6 +20,19 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
     };
     let s = resample_file(&a.trial, &a.output, &opts)
         .with_context(|| format!("resampling {} to {} Hz", a.trial.display(), a.rate))?;
+    let rej = s.rejections;
+    if rej.total() > 0 {
+        eprintln!(
+            "warning: {}: {} gyroscope, {} accelerometer and {} encoder readings out of the \
+             sensors' range (first at t = {} s) left out, as `estimate` leaves them out \
+             (interpolated, they would spread into their neighbours)",
+            a.trial.display(),
+            rej.gyro,
+            rej.acc,
+            rej.encoder,
+            rej.first_t.unwrap_or(f64::NAN)
+        );
+    }
     eprintln!(
         "resampled {} to {} Hz ({} anti-alias on IMU channels): {} samples, {} s to {} s -> {}",
         a.trial.display(),

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::sample::GaitPhase;
-use limbfuse_core::Record;
+use limbfuse_core::{PlausibilityLimits, Record, Rejections, SampleGate};
 use limbfuse_io::{FileError, TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use nalgebra::Vector3;
 
@@ -23,6 +23,11 @@ pub struct ResampledTrial {
     pub layout: TrialLayout,
     /// One record per output time.
     pub records: Vec<Record>,
+    /// The input readings left out as [`SampleGate`] leaves them out of
+    /// every estimator for being out of the sensors' range, clipped or not
+    /// finite (not for the plausibility checks, [`PlausibilityLimits::off`]):
+    /// interpolated, one such reading would spread into its neighbours.
+    pub rejections: Rejections,
 }
 
 /// A scalar cell of a record.
@@ -138,12 +143,29 @@ pub fn resample_trial(
 ) -> Result<ResampledTrial, ResampleError> {
     check_rate(opts.rate_hz)?;
     let layout = *reader.layout();
+    let ranges = reader.meta().sensor_ranges().map_err(|e| {
+        ResampleError::Invalid(format!(
+            "{}: trial metadata `# {}: {}`: expected the sensor's full-scale range as a positive \
+             number",
+            reader.path().display(),
+            e.key,
+            e.found
+        ))
+    })?;
+    // Readings no sensor can produce are left out (an audit found one 1e308
+    // gyro cell spread over its neighbours). Not the plausibility checks: a
+    // static recording's exactly repeated readings are data here.
+    let mut gate = SampleGate::with_limits(ranges, PlausibilityLimits::off());
     let slots = slots(&layout);
     let mut series = vec![Series::default(); slots.len()];
     let mut quat: [(Vec<f64>, Vec<[f64; 4]>); 4] = Default::default();
     let mut phase: (Vec<f64>, Vec<GaitPhase>) = Default::default();
     let (mut t_first, mut t_last) = (None, 0.0);
-    while let Some(r) = reader.next_record()? {
+    while let Some(mut r) = reader.next_record()? {
+        let screening = gate.check(&r.sample);
+        if !screening.is_clean() {
+            screening.apply(&mut r.sample);
+        }
         let t = r.sample.t;
         t_first.get_or_insert(t);
         t_last = t;
@@ -230,12 +252,22 @@ pub fn resample_trial(
             records[k].reference.phase = v;
         }
     }
+    let rejections = *gate.rejections();
     let mut meta = reader.meta().clone();
     meta.set("sample_rate_hz", opts.rate_hz);
+    let left_out = if rejections.total() > 0 {
+        format!(
+            "; {} gyroscope, {} accelerometer and {} encoder readings out of the \
+             sensors' range left out",
+            rejections.gyro, rejections.acc, rejections.encoder
+        )
+    } else {
+        String::new()
+    };
     meta.set(
         "resampled",
         format!(
-            "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear)",
+            "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear{left_out})",
             reader.path().display(),
             opts.anti_alias.label()
         ),
@@ -244,6 +276,7 @@ pub fn resample_trial(
         meta,
         layout,
         records,
+        rejections,
     })
 }
 
@@ -254,6 +287,8 @@ pub struct ResampleSummary {
     pub n_samples: usize,
     /// First and last output time (s).
     pub span: (f64, f64),
+    /// The input readings left out ([`ResampledTrial::rejections`]).
+    pub rejections: Rejections,
 }
 
 /// Resamples the trial file `input` into the trial file `output`.
@@ -281,5 +316,6 @@ pub fn resample_file(
             trial.records.first().map_or(0.0, |r| r.sample.t),
             trial.records.last().map_or(0.0, |r| r.sample.t),
         ),
+        rejections: trial.rejections,
     })
 }
