@@ -3,7 +3,7 @@
 
 use std::process::{Command, Output};
 
-use crate::support::limbfuse;
+use crate::support::{limbfuse, shared_data};
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
@@ -138,6 +138,48 @@ fn evaluate_keeps_diagnostics_behind_a_flag_and_fes_mean_leaves_out_the_fixed_th
         "{}",
         text(&with.stdout)
     );
+}
+
+/// The rule above on a trial limbfuse did not write: the independent
+/// simulator's reference holds the fixed thigh as 1.57079633 (8 decimals),
+/// the estimate as 1.570796327, and a 3e-9 rad difference made the thigh
+/// count as a perfect estimate (mean 0.023 deg where the knee is 0.045).
+#[test]
+fn issue_17_fes_mean_leaves_out_the_fixed_thigh_written_to_8_decimals() {
+    let Some(dir) = shared_data("independent-sim") else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let trial = dir.join("fes-P3-L-s901.csv");
+    let params = dir.join("fes-P3-L-s901.toml");
+    let (trial, params) = (trial.to_str().unwrap(), params.to_str().unwrap());
+    assert_ok(&limbfuse(
+        &[
+            "estimate", "--method", "sdre", "--params", params, trial, "-o", "e.csv",
+        ],
+        p,
+    ));
+    let o = limbfuse(&["evaluate", trial, "e.csv"], p);
+    assert_ok(&o);
+    let out = text(&o.stdout);
+    let knee: f64 = out
+        .lines()
+        .find(|l| l.starts_with("knee "))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let mean_line = out.lines().find(|l| l.starts_with("mean RMSE:")).unwrap();
+    let mean: f64 = mean_line
+        .split_whitespace()
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(knee > 0.0, "{out}");
+    assert_eq!(mean, knee, "{out}");
+    assert!(mean_line.contains("without thigh"), "{mean_line}");
 }
 
 #[test]
