@@ -48,7 +48,14 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         mean_angle_rad: parse_mean_angles(&a.mean_angle)?,
         ..AlignOptions::default()
     };
-    super::refuse_input_as_output(&a.trial, &a.output)?;
+    super::refuse_overwrites(
+        &[
+            ("", Some(&a.trial)),
+            ("--calibration", a.calibration.as_deref()),
+            ("--imu-calibration", a.imu_calibration.as_deref()),
+        ],
+        &[("-o", Some(&a.output))],
+    )?;
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();

@@ -17,6 +17,7 @@ use crate::cli_calibration::{CalibrateArgs, CalibrationSimArgs, ModelArg};
 
 /// `calibrate`: fits every sensor of the pose recording, writes the file.
 pub fn run(a: &CalibrateArgs) -> Result<()> {
+    super::refuse_input_as_output(&a.poses, &a.output)?;
     let reader = TrialReader::open(&a.poses)?;
     let gravity = match a.gravity {
         Some(g) => g,

@@ -32,7 +32,15 @@ type NothingFound = fn(&str, &str, u64, &str) -> String;
 /// say which gaits are missing, the second runs over the extended family
 /// (`limbfuse_workflows::imm_library_extension`; files only).
 pub fn run(a: &EstimateArgs) -> Result<()> {
-    super::refuse_input_as_output(&a.trial, &a.output)?;
+    super::refuse_overwrites(
+        &[
+            ("", Some(&a.trial)),
+            ("--params", a.params.as_deref()),
+            ("--library", a.library.as_deref()),
+            ("--calibration", a.calibration.as_deref()),
+        ],
+        &[("-o", Some(&a.output))],
+    )?;
     let spec = methods::resolve(&a.method, a.params.as_deref(), &methods::flags(a))?;
     let stdout = stdio::is_stdio(&a.output).then(SharedStdout::new);
     let reader = if stdio::is_stdio(&a.trial) {

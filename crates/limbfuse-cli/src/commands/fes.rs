@@ -35,6 +35,13 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
 
 /// `simulate knee-fes`.
 pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
+    super::refuse_overwrites(
+        &[],
+        &[
+            ("-o", Some(&a.output)),
+            ("--calibration", a.calibration.as_deref()),
+        ],
+    )?;
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = knee_config(a)?;
     let trial = simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes")?;

@@ -117,6 +117,10 @@ pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
 
 /// `limbfuse simulate bslip`.
 pub fn simulate(a: &BslipArgs) -> Result<()> {
+    super::refuse_overwrites(
+        &[("--library", a.library.as_deref())],
+        &[("-o", Some(&a.output))],
+    )?;
     crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= MAX_GAIT_SPEED) {
         bail!(

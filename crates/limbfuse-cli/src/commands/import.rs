@@ -9,6 +9,13 @@ use crate::cli::{ImportArgs, ImportFormat, LegArg};
 
 /// Converts a recording into a trial file.
 pub fn run(a: &ImportArgs) -> Result<()> {
+    super::refuse_overwrites(
+        &[
+            ("", Some(&a.input)),
+            ("--calibration", a.calibration.as_deref()),
+        ],
+        &[("-o", Some(&a.output))],
+    )?;
     let leg = a.leg.map(|l| match l {
         LegArg::Left => Side::Left,
         LegArg::Right => Side::Right,

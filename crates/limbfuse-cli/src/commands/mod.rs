@@ -16,6 +16,7 @@ mod knee_demo;
 mod method_list;
 mod mirror;
 mod montecarlo;
+mod output_paths;
 mod protocol;
 mod report;
 mod resample;
@@ -31,6 +32,7 @@ use limbfuse_core::Record;
 use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
+pub use output_paths::{refuse_input_as_output, refuse_overwrites};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
@@ -106,27 +108,6 @@ pub fn refuse_stdout(path: &Path) -> Result<()> {
         anyhow::bail!(
             "output `-`: this command writes a file, not standard output (`-` is standard output for \
              `limbfuse estimate` and `limbfuse params` only); give a file name"
-        );
-    }
-    Ok(())
-}
-
-/// An output that names the input file would replace the recording with
-/// what was made from it (an audit found `estimate c.csv -o c.csv` did,
-/// exit 0): refused, exit 1. Same file by its canonical path, so `./c.csv`
-/// and `c.csv` are one; standard input and output are never the same file.
-pub fn refuse_input_as_output(input: &Path, output: &Path) -> Result<()> {
-    if crate::stdio::is_stdio(input) || crate::stdio::is_stdio(output) {
-        return Ok(());
-    }
-    let (Ok(i), Ok(o)) = (input.canonicalize(), output.canonicalize()) else {
-        return Ok(()); // the output does not exist yet (or the input cannot be read: said later)
-    };
-    if i == o {
-        anyhow::bail!(
-            "-o {}: that is the input file {}; writing would replace it: give the output another name",
-            output.display(),
-            input.display()
         );
     }
     Ok(())

@@ -42,6 +42,7 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
     if let Some(svg) = &a.svg {
         super::refuse_stdout(svg)?;
     }
+    super::refuse_overwrites(&[], &[("-o", Some(&a.output)), ("--svg", a.svg.as_deref())])?;
     crate::bounds::simulated_trial(
         a.duration,
         "the IMU rate",

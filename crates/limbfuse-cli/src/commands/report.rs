@@ -9,6 +9,9 @@ use crate::cli::ReportArgs;
 
 /// Writes the HTML report.
 pub fn run(a: &ReportArgs) -> Result<()> {
+    let mut inputs = vec![("", Some(a.trial.as_path()))];
+    inputs.extend(a.estimates.iter().map(|e| ("", Some(e.as_path()))));
+    super::refuse_overwrites(&inputs, &[("-o", Some(&a.output))])?;
     if a.buckets == 0 {
         bail!("--buckets: expected a positive number of display buckets, found 0");
     }

@@ -17,6 +17,8 @@ use crate::cli::TuneArgs;
 pub fn run(a: &TuneArgs) -> Result<()> {
     let name = MethodName::parse(&a.method)?;
     super::refuse_stdout(&a.output)?;
+    // (`--params p.toml -o p.toml` refines a file in place: allowed)
+    super::refuse_input_as_output(&a.trial, &a.output)?;
     if matches!(name, MethodName::Sdre | MethodName::Ekf) {
         return super::tune_fes::run(a, name);
     }

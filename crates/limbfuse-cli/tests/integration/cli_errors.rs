@@ -273,6 +273,15 @@ fn an_output_naming_the_input_file_is_refused() {
         &["resample", "c.csv", "--rate", "50", "-o", "c.csv"][..],
         &["mirror", "c.csv", "-o", "c.csv"][..],
         &["align", "c.csv", "-o", "c.csv"][..],
+        // a second audit: these replaced their input too
+        &[
+            "tune", "--method", "local", "--budget", "10", "c.csv", "-o", "c.csv",
+        ][..],
+        &["calibrate", "c.csv", "-o", "c.csv"][..],
+        &["report", "c.csv", "e.csv", "-o", "c.csv"][..],
+        &[
+            "estimate", "--method", "mjls", "--params", "c.csv", "w.csv", "-o", "c.csv",
+        ][..],
     ] {
         let o = limbfuse(args, d.path());
         assert_user_error(
@@ -291,6 +300,51 @@ fn an_output_naming_the_input_file_is_refused() {
         d.path(),
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let est = std::fs::read(d.path().join("e.csv")).unwrap();
+    let o = limbfuse(&["report", "c.csv", "e.csv", "-o", "e.csv"], d.path());
+    assert_user_error(&o, &["that is the input file", "e.csv"]);
+    assert_eq!(std::fs::read(d.path().join("e.csv")).unwrap(), est);
+}
+
+/// A second audit found two outputs of one command given the same name
+/// reported both written (exit 0) while one replaced the other. Refused
+/// now, exit 1, nothing written.
+#[test]
+fn two_outputs_with_one_name_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    for args in [
+        &[
+            "montecarlo",
+            "--runs",
+            "1",
+            "--duration",
+            "2",
+            "-o",
+            "m.csv",
+            "--svg",
+            "./m.csv",
+        ][..],
+        &[
+            "simulate",
+            "knee-fes",
+            "--duration",
+            "2",
+            "--calibration",
+            "s.csv",
+            "-o",
+            "s.csv",
+        ][..],
+    ] {
+        let o = limbfuse(args, d.path());
+        assert_user_error(
+            &o,
+            &["the same file as -o", "give each output its own name"],
+        );
+    }
+    assert!(
+        std::fs::read_dir(d.path()).unwrap().next().is_none(),
+        "nothing written"
+    );
 }
 
 /// An audit found `evaluate` printing an empty table with exit 0 when
