@@ -9,7 +9,7 @@ use limbfuse_core::Record;
 use limbfuse_core::Side;
 use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
 use limbfuse_models::bslip::GaitTemplate;
-use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig, ComChannels};
+use limbfuse_sim::bslip::trial::{trial_records, BslipTrialConfig, ComChannels};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::gait_truth::GaitTruth;
 use limbfuse_sim::knee_fes::{simulate_calibration, simulate_knee_fes, FesTrial, KneeFesConfig};
@@ -233,7 +233,7 @@ pub fn bslip(
     template: &GaitTemplate,
     cfg: &BslipTrialConfig,
     source: &str,
-) -> SimulatedTrial<Vec<Record>> {
+) -> SimulatedTrial<impl Iterator<Item = Record>> {
     let mut m = meta(source, cfg.sample_rate);
     m.set("bslip_speed_mps", template.speed);
     m.set("bslip_step_time_s", template.step_time);
@@ -249,7 +249,7 @@ pub fn bslip(
     SimulatedTrial {
         meta: m,
         layout,
-        records: simulate_trial(template, cfg),
+        records: trial_records(template, cfg),
     }
 }
 

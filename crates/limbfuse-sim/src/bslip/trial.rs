@@ -55,15 +55,26 @@ impl Default for BslipTrialConfig {
 }
 
 /// Simulates a trial on `template`, starting at MS with the left foot
-/// trailing at the origin.
+/// trailing at the origin (all records in memory: [`trial_records`] yields
+/// them one at a time).
 pub fn simulate_trial(template: &GaitTemplate, cfg: &BslipTrialConfig) -> Vec<Record> {
+    trial_records(template, cfg).collect()
+}
+
+/// The records of [`simulate_trial`], one at a time: memory does not grow
+/// with the trial (a record is about 2 KB; an audit's `simulate bslip --rate
+/// 1e7` asked for 82 GB at once and aborted).
+pub fn trial_records(
+    template: &GaitTemplate,
+    cfg: &BslipTrialConfig,
+) -> impl Iterator<Item = Record> {
+    let cfg = *cfg;
     let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
     let pos_noise = Normal::new(0.0, cfg.position_variance.max(0.0).sqrt()).ok();
     let vel_noise = Normal::new(0.0, cfg.velocity_variance.max(0.0).sqrt()).ok();
     let mut walker = Walker::new(*template, Side::Left, 0.0);
     let n = (cfg.duration * cfg.sample_rate).floor() as usize + 1;
-    let mut out = Vec::with_capacity(n);
-    for k in 0..n {
+    (0..n).map(move |k| {
         let t = k as f64 / cfg.sample_rate;
         walker.advance_to(t);
         let x = walker.state();
@@ -86,7 +97,6 @@ pub fn simulate_trial(template: &GaitTemplate, cfg: &BslipTrialConfig) -> Vec<Re
         rec.reference.com_pos = Some(Vector3::new(x[0], x[1], x[2]));
         rec.reference.com_vel = Some(Vector3::new(x[3], x[4], x[5]));
         rec.reference.phase = Some(walker.phase());
-        out.push(rec);
-    }
-    out
+        rec
+    })
 }

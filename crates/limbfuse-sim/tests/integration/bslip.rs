@@ -10,7 +10,7 @@ use limbfuse_sim::bslip::library::{start_seed, LibraryGait, START_SPEED};
 use limbfuse_sim::bslip::periodic::periodicity_error;
 use limbfuse_sim::bslip::search::{optimise_gait, SearchSettings};
 use limbfuse_sim::bslip::step::StepSimulator;
-use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
+use limbfuse_sim::bslip::trial::{simulate_trial, trial_records, BslipTrialConfig};
 
 fn body() -> BslipParams {
     BslipParams::default()
@@ -118,6 +118,26 @@ fn the_found_gait_is_periodic_and_has_the_human_step() {
     assert!((o.mean_speed() - START_SPEED).abs() <= tol);
     let l_des = limbfuse_sim::bslip::step_law::step_length(START_SPEED, 1.0);
     assert!((o.step_length() - l_des).abs() < 1e-6);
+}
+
+/// `trial_records` yields records one at a time: a trial of 1e11 samples
+/// (about 200 TB as records in memory) gives its first ones at once, equal
+/// to a short trial's. `simulate bslip --rate 1e7` (4e7 samples, within the
+/// cap) aborted asking for 82 GB before the records were streamed.
+#[test]
+fn trial_records_stream_without_holding_the_trial() {
+    let g = gait_at_start_speed();
+    let tpl = g.template(&body());
+    let short = BslipTrialConfig {
+        duration: 0.05,
+        ..Default::default()
+    };
+    let huge = BslipTrialConfig {
+        duration: 1e9,
+        ..Default::default()
+    };
+    let first: Vec<_> = trial_records(&tpl, &huge).take(6).collect();
+    assert_eq!(first, simulate_trial(&tpl, &short));
 }
 
 #[test]
