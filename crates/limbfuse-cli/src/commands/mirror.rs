@@ -15,6 +15,16 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
     let reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let mut layout = *reader.layout();
+    let has_imu = |l: &limbfuse_io::TrialLayout| {
+        (0..4).any(|i| l.acc[i] || l.gyr[i] || l.quat[i] || l.other_acc[i] || l.other_gyr[i])
+    };
+    if !has_imu(&layout) {
+        anyhow::bail!(
+            "{}: no IMU channel to mirror (`mirror` turns the accelerometer, gyroscope and \
+             orientation columns into the other leg's; this trial has none)",
+            a.trial.display()
+        );
+    }
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     let declared = meta.get("leg").map(str::to_string);
     let leg = match declared.as_deref().map(Leg::parse) {
@@ -34,21 +44,44 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
     // Two-leg recordings: the other leg's columns are named after the
     // recorded leg now (`foot_right_...` on a mirrored right-leg trial).
     layout.leg = other;
+    let two_legs = (0..4).any(|i| layout.other_acc[i] || layout.other_gyr[i]);
     meta.set(
         "mirrored",
         format!(
-            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z); two legs: both mirrored, contact references swapped){}",
+            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z); two legs: both mirrored, contact references swapped){}{}",
             a.trial.display(),
             leg.name(),
             a.remount_seed
-                .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})"))
+                .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})")),
+            if two_legs {
+                format!(
+                    "; the columns without a leg suffix are now the {} leg's, the `_{}_` ones the \
+                     {} leg's (description lines above this one describe the recording before \
+                     mirroring)",
+                    other.name(),
+                    leg.name(),
+                    leg.name()
+                )
+            } else {
+                String::new()
+            }
         ),
     );
-    if a.remount_seed.is_some() {
+    // A two-leg recording's own description of its columns no longer holds.
+    if let Some(legs) = meta.get("legs").map(str::to_string) {
+        meta.set("legs", format!("(before `limbfuse mirror`) {legs}"));
+    }
+    if let Some(seed) = a.remount_seed {
         meta.set(
             "imu_frame",
             "raw sensor frames (re-mounted at random by limbfuse mirror)",
         );
+        if meta.get("mounting").is_some() {
+            meta.set(
+                "mounting",
+                format!("random (re-mounted by limbfuse mirror, seed {seed})"),
+            );
+        }
     }
     let remount = a.remount_seed.map(remount_rotations_both_legs);
     let mut out = super::create_file(&a.output)?;

@@ -194,7 +194,9 @@ fn a_sensor_that_never_rotates_is_refused_by_name() {
 fn issue_19_mirror_names_the_other_legs_columns() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    let mut csv = String::from("# leg: right\nt");
+    let mut csv = String::from(
+        "# leg: right\n# legs: right leg = foot_ (no suffix), left leg = foot_left_\nt",
+    );
     for s in ["foot", "foot_left"] {
         for q in ["acc", "gyr"] {
             for a in ["x", "y", "z"] {
@@ -213,6 +215,16 @@ fn issue_19_mirror_names_the_other_legs_columns() {
     ok(&limbfuse(&["mirror", "two.csv", "-o", "m.csv"], p));
     let m = std::fs::read_to_string(p.join("m.csv")).unwrap();
     assert!(m.contains("# leg: left\n"), "{m}");
+    // The recording's own description of its columns no longer holds: it
+    // is marked, and the `mirrored` line gives the new naming (an audit).
+    assert!(
+        m.contains("# legs: (before `limbfuse mirror`) right leg = foot_"),
+        "{m}"
+    );
+    assert!(
+        m.contains("without a leg suffix are now the left leg's, the `_right_` ones the right"),
+        "{m}"
+    );
     let header = m.lines().find(|l| !l.starts_with('#')).unwrap();
     assert!(
         header.contains("foot_right_acc_x") && !header.contains("foot_left_"),
@@ -239,6 +251,20 @@ fn issue_19_mirror_names_the_other_legs_columns() {
         (cell("contact_left_ref"), cell("contact_right_ref")),
         (1.0, 0.0)
     );
+}
+
+/// An audit: `mirror` on a trial without IMU columns (a B-SLIP CoM trial)
+/// said "mirrored 401 samples", exit 0, and changed only `# leg:`.
+#[test]
+fn mirror_refuses_a_trial_without_imu_channels() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(&["simulate", "bslip", "-o", "b.csv"], p));
+    user_error(
+        &limbfuse(&["mirror", "b.csv", "-o", "m.csv"], p),
+        &["b.csv", "no IMU channel to mirror"],
+    );
+    assert!(!p.join("m.csv").exists());
 }
 
 /// An audit: one 1e308 gyro cell made `align` refuse the thigh as "axis
