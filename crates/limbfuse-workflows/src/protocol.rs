@@ -99,6 +99,12 @@ pub fn plan_intervals(
             "length: each interval must last more than 0 s and at most the window's {span} s, found {len} s"
         )));
     }
+    if len < period {
+        return Err(ProtocolError::Config(format!(
+            "length: each interval of {len} s is shorter than one sample period ({period} s): \
+             it must hold at least two samples"
+        )));
+    }
     let len = len.min(span);
     let n = plan.starts;
     Ok((0..n)
