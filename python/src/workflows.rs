@@ -374,9 +374,22 @@ fn gait_library<'py>(
                 speeds.len()
             )));
         }
-        if !(mass.is_finite() && mass > 0.0 && leg_length.is_finite() && leg_length > 0.0) {
+        use limbfuse_methods::body_ranges::{within, LEG_LENGTH_M, MASS_KG};
+        // A human's, as the CLI's `gait-library build` checks.
+        if within(mass, MASS_KG).is_none() {
             return Err(user_msg(format!(
-                "gait_library: mass and leg_length must be positive (got {mass} kg, {leg_length} m)"
+                "gait_library: mass {}: expected a human's body mass, {} to {} kg",
+                limbfuse_methods::shown(mass),
+                MASS_KG.0,
+                MASS_KG.1
+            )));
+        }
+        if within(leg_length, LEG_LENGTH_M).is_none() {
+            return Err(user_msg(format!(
+                "gait_library: leg_length {}: expected a human's leg (rest) length, {} to {} m",
+                limbfuse_methods::shown(leg_length),
+                LEG_LENGTH_M.0,
+                LEG_LENGTH_M.1
             )));
         }
         let body = BslipParams {

@@ -135,6 +135,9 @@ def test_gait_library_bad_input(tmp_path):
         limbfuse.gait_library(tmp_path / "x.json", [-1.0])
     with pytest.raises(LimbfuseError, match="mass"):
         limbfuse.gait_library(tmp_path / "x.json", [0.7], mass=0)
+    # a human's: a leg of 1 cm failed with "no periodic gait at 1 m/s"
+    with pytest.raises(LimbfuseError, match="leg_length 0.01: expected a human"):
+        limbfuse.gait_library(tmp_path / "x.json", [0.7], leg_length=0.01)
 
 
 def test_calibrate_matches_the_cli(cli, tmp_path):

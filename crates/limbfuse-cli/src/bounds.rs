@@ -26,21 +26,36 @@ pub fn positive(flag: &str, value: f64, unit: &str) -> Result<()> {
 /// Checks `--duration` and the sample rate flag `rate_flag` of a simulation:
 /// positive, and within the caps unless `force`.
 pub fn simulated_trial(duration_s: f64, rate_flag: &str, rate_hz: f64, force: bool) -> Result<()> {
-    positive("--duration", duration_s, "seconds")?;
+    simulated_length("--duration", duration_s, rate_flag, rate_hz, force)
+}
+
+/// [`simulated_trial`] for a command whose length is not one flag:
+/// `duration` names what makes it (`simulate calibration`: its poses, hold
+/// and transition times; an audit found `--hold 1e9` reported as
+/// `--duration`, a flag that command does not have).
+pub fn simulated_length(
+    duration: &str,
+    duration_s: f64,
+    rate_flag: &str,
+    rate_hz: f64,
+    force: bool,
+) -> Result<()> {
+    positive(duration, duration_s, "seconds")?;
     positive(rate_flag, rate_hz, "Hz")?;
     if force {
         return Ok(());
     }
+    let d = limbfuse_methods::shown(duration_s);
     if duration_s > MAX_DURATION_S {
         bail!(
-            "--duration {duration_s}: longer than the cap of {MAX_DURATION_S} s (24 h of simulated time; \
+            "{duration} {d}: longer than the cap of {MAX_DURATION_S} s (24 h of simulated time; \
              24 h of walking at 100 Hz is a ~6 GB trial file); pass --force to simulate it anyway"
         );
     }
     let samples = duration_s * rate_hz;
     if samples > MAX_SAMPLES {
         bail!(
-            "--duration {duration_s} at {rate_flag} {rate_hz}: {samples:.3e} samples, more than the cap of \
+            "{duration} {d} at {rate_flag} {rate_hz}: {samples:.3e} samples, more than the cap of \
              {MAX_SAMPLES:.3e} (24 h at 1 kHz); pass --force to simulate it anyway"
         );
     }

@@ -138,7 +138,7 @@ pub enum MethodError {
 
 /// `v` as an error message shows it: as Rust prints it, but a huge or tiny
 /// magnitude in exponent form (`1e300`, not 301 digits).
-pub(crate) fn shown(v: f64) -> String {
+pub fn shown(v: f64) -> String {
     if v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v.abs()) {
         format!("{v:e}")
     } else {

@@ -18,6 +18,7 @@ fn resolve(name: &'static str, file: Option<(&str, &Path)>) -> Result<FesParamsF
     let Some((text, path)) = file else {
         return Ok(FesParamsFile::none());
     };
+    crate::params_toml::check_method_line(text, path, name)?;
     let f = FesParamsFile::parse(text, path)?;
     if let Some(found) = f.method {
         check_file_method(found.name(), name, path)?;

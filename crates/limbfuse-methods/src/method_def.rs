@@ -137,6 +137,7 @@ pub fn read_file<M: MethodDef, F: MethodFile>(
     let Some((text, path)) = file else {
         return Ok(F::default());
     };
+    crate::params_toml::check_method_line(text, path, M::INFO.name)?;
     let f: F = crate::params_toml::from_str(text, path)?;
     if let Some(found) = f.method() {
         crate::name::check_file_method(found, M::INFO.name, path)?;

@@ -72,9 +72,36 @@ pub fn from_str<T: DeserializeOwned>(text: &str, path: &Path) -> Result<T, Param
     })
 }
 
+/// A file's top-level `method = "NAME"` line against the method it is
+/// read for (`expected`), checked before the file is parsed for that
+/// method: an audit found an `sdre` file given to `mjls` reported as
+/// "unknown field `measurement`", which hides the mix-up. Text that is not
+/// TOML passes here (the typed parse names the line and column).
+pub fn check_method_line(text: &str, path: &Path, expected: &str) -> Result<(), ParamsFileError> {
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return Ok(());
+    };
+    match table.get("method").and_then(toml::Value::as_str) {
+        Some(found) => crate::name::check_file_method(found, expected, path),
+        None => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn another_methods_file_is_named_before_its_keys() {
+        let p = Path::new("p.toml");
+        let e = check_method_line("method = \"sdre\"\n[measurement]\n", p, "mjls").unwrap_err();
+        assert!(e
+            .to_string()
+            .contains("`method` = \"sdre\" but the file is read for method `mjls`"));
+        assert!(check_method_line("method = \"mjls\"\n", p, "mjls").is_ok());
+        assert!(check_method_line("gravity = 9.81\n", p, "mjls").is_ok());
+        assert!(check_method_line("not toml [", p, "mjls").is_ok());
+    }
 
     #[test]
     fn line_and_column_are_one_based() {

@@ -30,6 +30,21 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     // (accelerometers in g would be fitted a scale of 9.81: say why first)
     super::warn_input_units(&a.poses, &meta, &records);
+    // The flags by their names (an audit: `--min-pose 0` was "calibration
+    // setting `min_pose_s`", `--min-pose 1e9` "the sensor moves throughout").
+    crate::bounds::positive("--min-pose", a.min_pose, "seconds")?;
+    crate::bounds::positive("--acc-std-max", a.acc_std_max, "m/s^2")?;
+    crate::bounds::positive("--gyro-std-max", a.gyro_std_max, "rad/s")?;
+    if let (Some(first), Some(last)) = (records.first(), records.last()) {
+        let span = last.sample.t - first.sample.t;
+        if a.min_pose > span {
+            anyhow::bail!(
+                "--min-pose {}: longer than the recording {} ({span} s): no pose can last that long",
+                limbfuse_methods::shown(a.min_pose),
+                a.poses.display()
+            );
+        }
+    }
     let params = CalibrationParams {
         model: match a.model {
             ModelArg::Full => CalibrationModel::Full,
@@ -108,7 +123,19 @@ pub fn simulate(a: &CalibrationSimArgs) -> Result<()> {
     }
     crate::bounds::positive("--hold", a.hold, "seconds")?;
     crate::bounds::positive("--transition", a.transition, "seconds")?;
-    crate::bounds::simulated_trial(cfg.duration_s(), "--imu-rate", a.imu_rate, a.cap.force)?;
+    if let Some(k) = a.wobble_pose.filter(|k| *k > a.poses) {
+        anyhow::bail!(
+            "--wobble-pose {k}: expected a pose from 1 to {} (--poses; numbered from 1)",
+            a.poses
+        );
+    }
+    crate::bounds::simulated_length(
+        "the recording's length (--poses x (--hold + --transition), s)",
+        cfg.duration_s(),
+        "--imu-rate",
+        a.imu_rate,
+        a.cap.force,
+    )?;
     let trial = simulated_trials::calibration_poses(cfg)?;
     let mut out = super::create_file(&a.output)?;
     let n = simulated_trials::write_trial(&mut out, trial, &a.output)?;

@@ -9,8 +9,23 @@ use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{FixedHipArgs, KneeFesArgs};
 
+/// `--gyro-drift` (deg/s) within the simulators' +-1 rad/s, named in the
+/// flag's unit (the simulator's own message said `gyro_drift = 1.745 ...
+/// [-1, 1] rad/s` for `--gyro-drift 100`).
+fn check_gyro_drift(deg_s: f64) -> Result<()> {
+    let limit = 1f64.to_degrees();
+    if !(deg_s.is_finite() && deg_s.abs() <= limit) {
+        bail!(
+            "--gyro-drift {}: expected a constant gyro offset in deg/s within +-{limit:.1} (1 rad/s)",
+            limbfuse_methods::shown(deg_s)
+        );
+    }
+    Ok(())
+}
+
 /// The knee-FES configuration of the flags.
 pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
+    check_gyro_drift(a.gyro_drift)?;
     let Some(subject) = KneeSubject::parse(&a.subject) else {
         bail!(
             "--subject {}: unknown leg; use P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6",
@@ -71,6 +86,16 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
 /// `simulate fixed-hip`.
 pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
+    check_gyro_drift(a.gyro_drift)?;
+    if let Some(t_a) = a.activation_t_a {
+        if !(t_a.is_finite() && t_a > 0.0) {
+            bail!(
+                "--activation-t-a {}: expected the muscles' activation time constant in seconds, \
+                 a positive number (e.g. 0.1)",
+                limbfuse_methods::shown(t_a)
+            );
+        }
+    }
     let cfg = FixedHipConfig {
         duration_s: a.duration,
         rate_hz: a.imu_rate,

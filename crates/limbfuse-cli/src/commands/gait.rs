@@ -51,8 +51,24 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
 }
 
 fn body(mass: f64, leg: f64) -> Result<BslipParams> {
-    if !(mass.is_finite() && mass > 0.0 && leg.is_finite() && leg > 0.0) {
-        bail!("--mass and --leg-length must be positive (got {mass} kg, {leg} m)");
+    use limbfuse_methods::body_ranges::{within, LEG_LENGTH_M, MASS_KG};
+    // A human's (an audit: `--leg-length 0.01` or `--mass 1e9` failed with
+    // "no periodic gait at 1 m/s", a speed that was not asked for).
+    if within(mass, MASS_KG).is_none() {
+        bail!(
+            "--mass {}: expected a human's body mass, {} to {} kg",
+            limbfuse_methods::shown(mass),
+            MASS_KG.0,
+            MASS_KG.1
+        );
+    }
+    if within(leg, LEG_LENGTH_M).is_none() {
+        bail!(
+            "--leg-length {}: expected a human's leg (rest) length, {} to {} m",
+            limbfuse_methods::shown(leg),
+            LEG_LENGTH_M.0,
+            LEG_LENGTH_M.1
+        );
     }
     Ok(BslipParams {
         mass,

@@ -59,7 +59,7 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
             ..WalkingConfig::default()
         },
     };
-    cfg.trial.validate().context("simulated trial")?;
+    super::simulate::check_walking(&cfg.trial)?;
     let bar = crate::progress::bar(
         a.runs as u64,
         "montecarlo {bar:30} {pos}/{len} runs [{elapsed} < {eta}]",

@@ -398,6 +398,7 @@ pub fn parse_params(
     path: &Path,
     method: FilterMethod,
 ) -> Result<FilterParams, ParamsFileError> {
+    crate::params_toml::check_method_line(text, path, method.name())?;
     let raw: RawFile = crate::params_toml::from_str(text, path)?;
     if let Some(m) = raw.method {
         if m != method.method() {
