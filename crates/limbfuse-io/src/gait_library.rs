@@ -278,7 +278,26 @@ impl GaitLibraryFile {
         if self.gaits.is_empty() {
             return Err(bad("the library has no gaits".into()));
         }
+        // (an audit: negative and repeated speeds were accepted, and the
+        // continuous family interpolates between neighbours by speed)
+        for (i, w) in self.gaits.windows(2).enumerate() {
+            if w[1].speed.partial_cmp(&w[0].speed) != Some(core::cmp::Ordering::Greater) {
+                return Err(bad(format!(
+                    "gait {} (speed {} m/s) after gait {i} ({} m/s): gaits must be listed by \
+                     increasing speed, each speed once (as `limbfuse gait-library build` writes them)",
+                    i + 1,
+                    w[1].speed,
+                    w[0].speed
+                )));
+            }
+        }
         for (i, g) in self.gaits.iter().enumerate() {
+            if g.speed.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+                return Err(bad(format!(
+                    "gait {i}: speed {} m/s: expected a positive walking speed",
+                    g.speed
+                )));
+            }
             let x = g.xi;
             let values = [
                 g.speed,
@@ -398,5 +417,22 @@ mod tests {
         let text = serde_json::to_string(&lib).unwrap();
         let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
         assert!(e.to_string().contains("gait 0"), "{e}");
+    }
+
+    #[test]
+    fn speeds_must_be_positive_and_increasing() {
+        let mut lib = sample();
+        lib.gaits[0].speed = -0.7;
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
+        assert!(e.to_string().contains("positive walking speed"), "{e}");
+        let mut lib = sample();
+        lib.gaits.push(lib.gaits[0].clone());
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
+        assert!(
+            e.to_string().contains("increasing speed, each speed once"),
+            "{e}"
+        );
     }
 }

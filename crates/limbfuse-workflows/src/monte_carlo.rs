@@ -78,6 +78,14 @@ pub struct MonteCarloRow {
     pub runs: usize,
 }
 
+impl MonteCarloRow {
+    /// The level in percent, rounded to 1e-9 % (a level of 0.14 printed
+    /// `14.000000000000002`; levels are given in percent to a few decimals).
+    pub fn level_pct(&self) -> f64 {
+        (self.level * 100.0 * 1e9).round() / 1e9
+    }
+}
+
 /// Why a Monte Carlo study failed.
 #[derive(Debug, thiserror::Error)]
 pub enum MonteCarloError {
@@ -230,7 +238,7 @@ pub fn write_csv(rows: &[MonteCarloRow], mut w: impl Write) -> std::io::Result<(
             w,
             "{},{},{},{},{}",
             r.method,
-            r.level * 100.0,
+            r.level_pct(),
             r.mean_rmse_deg,
             r.std_rmse_deg,
             r.runs

@@ -24,7 +24,7 @@ fn draw_svg(
 ) -> Result<(), String> {
     let max_level = rows
         .iter()
-        .map(|r| r.level * 100.0)
+        .map(|r| r.level_pct())
         .fold(0.0, f64::max)
         .max(1.0);
     let max_err = rows.iter().map(|r| r.mean_rmse_deg).fold(0.0, f64::max) * 1.15 + 1e-9;
@@ -49,7 +49,7 @@ fn draw_svg(
         let pts: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.method == method.name())
-            .map(|r| (r.level * 100.0, r.mean_rmse_deg))
+            .map(|r| (r.level_pct(), r.mean_rmse_deg))
             .collect();
         let c = colours[m];
         chart

@@ -32,7 +32,10 @@ fn parse_levels(text: &str) -> Result<Vec<f64>> {
     if n > 1000 {
         bail!("--levels: {} levels is too many (at most 1000)", n + 1);
     }
-    Ok((0..=n).map(|k| (a + k as f64 * step) / 100.0).collect())
+    // (percent rounded to 1e-9: `0:1:0.1` gave 0.30000000000000004)
+    Ok((0..=n)
+        .map(|k| ((a + k as f64 * step) * 1e9).round() / 1e9 / 100.0)
+        .collect())
 }
 
 /// Runs the study and writes the CSV (and SVG).
@@ -84,7 +87,7 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
         println!(
             "{:<8}{:>10.1}{:>16.3}{:>12.3}",
             r.method,
-            r.level * 100.0,
+            r.level_pct(),
             r.mean_rmse_deg,
             r.std_rmse_deg
         );

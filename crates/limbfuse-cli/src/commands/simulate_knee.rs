@@ -38,6 +38,17 @@ pub fn run(a: &KneeSimArgs) -> Result<()> {
 /// Simulates and writes the trial; returns a one-line summary.
 pub fn write(a: &KneeSimArgs) -> Result<String> {
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
+    // (an audit: `--remount-at 1000 --duration 5` said "re-mounted at 1000 s")
+    if let Some(t) = a
+        .remount_at
+        .filter(|t| !(t.is_finite() && *t > 0.0 && *t < a.duration))
+    {
+        anyhow::bail!(
+            "--remount-at {}: expected a time within the trial, after 0 and before --duration {} s",
+            limbfuse_methods::shown(t),
+            a.duration
+        );
+    }
     let sc = scenario(a);
     let trial = simulated_trials::knee(sc)?;
     let summary = format!(

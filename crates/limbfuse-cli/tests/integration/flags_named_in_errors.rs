@@ -113,6 +113,19 @@ fn errors_name_the_flag_in_its_unit() {
             ],
             &["--mass 1e9", "20 to 250 kg"],
         ),
+        (
+            &[
+                "simulate",
+                "knee",
+                "--remount-at",
+                "1000",
+                "--duration",
+                "5",
+                "-o",
+                "k.csv",
+            ],
+            &["--remount-at 1000", "within the trial"],
+        ),
     ];
     for (args, needles) in cases {
         user_error(&limbfuse(args, p), needles);
@@ -181,4 +194,42 @@ fn calibrate_and_params_files_say_what_is_wrong() {
             ],
         );
     }
+}
+
+/// The same audit: `montecarlo` printed levels as `14.000000000000002` and
+/// `0.30000000000000004` (percent times a fraction).
+#[test]
+fn montecarlo_levels_are_printed_as_given() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &[
+            "montecarlo",
+            "--runs",
+            "1",
+            "--duration",
+            "2",
+            "--levels",
+            "0:1:0.1",
+            "-o",
+            "m.csv",
+        ],
+        p,
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let csv = std::fs::read_to_string(p.join("m.csv")).unwrap();
+    let levels: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    assert_eq!(
+        &levels[..11],
+        &["0", "0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]
+    );
 }
