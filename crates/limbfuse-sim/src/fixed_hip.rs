@@ -134,6 +134,15 @@ fn motor(model: &FixedHipModel, x: &Vector4<f64>, t: f64, period: f64, s: [f64; 
 
 /// Simulates one fixed-hip trial.
 pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError> {
+    Ok(fixed_hip_stream(cfg)?.collect())
+}
+
+/// [`simulate_fixed_hip`] with the records one at a time: memory does not
+/// grow with the trial (a record is about 2 KB).
+pub fn fixed_hip_stream(
+    cfg: &FixedHipConfig,
+) -> Result<FesTrial<impl Iterator<Item = Record>>, FesSimError> {
+    let cfg = *cfg;
     in_range("duration_s", cfg.duration_s, 1.0, 3600.0, "[1, 3600]")?;
     in_range("rate_hz", cfg.rate_hz, 10.0, 2000.0, "[10, 2000]")?;
     in_range("period_s", cfg.period_s, 0.5, 20.0, "[0.5, 20]")?;
@@ -167,7 +176,7 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
     let n = (cfg.duration_s * cfg.rate_hz).round() as usize;
     let sub = (dt / 1e-3).ceil().max(1.0) as usize;
     let h = dt / sub as f64;
-    let inputs = |x: &Vector4<f64>, t: f64, held: (f64, f64)| {
+    let inputs = move |x: &Vector4<f64>, t: f64, held: (f64, f64)| {
         let s = stimulation(t, cfg.period_s);
         let _ = x;
         SVector::<f64, 6>::from_row_slice(&[s[0], s[1], s[2], s[3], held.0, held.1])
@@ -176,13 +185,24 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
     let mut x = Vector4::new(q0[0], q0[1], v0[0], v0[1]);
     // Activations (used when `act` is set), starting at the stimulation.
     let mut a = stimulation(0.0, cfg.period_s);
-    let drive = |a: &[f64; 4], t: f64| match act {
+    let drive = move |a: &[f64; 4], t: f64| match act {
         Some(_) => *a,
         None => stimulation(t, cfg.period_s),
     };
-    let mut records = Vec::with_capacity(n);
+    let mut metadata = vec![
+        ("model".to_string(), "fixed-hip".to_string()),
+        ("seed".to_string(), cfg.seed.to_string()),
+        ("noise".to_string(), cfg.noise.to_string()),
+        ("period_s".to_string(), cfg.period_s.to_string()),
+        ("gyro_drift_rad_s".to_string(), cfg.gyro_drift.to_string()),
+    ];
+    if let Some(t_a) = cfg.activation_t_a {
+        metadata.push(("activation_dynamics".to_string(), "true".to_string()));
+        metadata.push(("param.t_a".to_string(), t_a.to_string()));
+    }
+    metadata.extend(fixed_hip_param_metadata(&p));
     let mut held = motor(&model, &x, 0.0, cfg.period_s, drive(&a, 0.0));
-    for k in 0..n {
+    let records = (0..n).map(move |k| {
         let t = k as f64 * dt;
         if k > 0 {
             for j in 0..sub {
@@ -256,20 +276,8 @@ pub fn simulate_fixed_hip(cfg: &FixedHipConfig) -> Result<FesTrial, FesSimError>
         reference.segment[Segment::Shank.index()] = Some(x[1]);
         reference.joint[0] = Some(hip);
         reference.joint[1] = Some(knee);
-        records.push(Record { sample, reference });
-    }
-    let mut metadata = vec![
-        ("model".to_string(), "fixed-hip".to_string()),
-        ("seed".to_string(), cfg.seed.to_string()),
-        ("noise".to_string(), cfg.noise.to_string()),
-        ("period_s".to_string(), cfg.period_s.to_string()),
-        ("gyro_drift_rad_s".to_string(), cfg.gyro_drift.to_string()),
-    ];
-    if let Some(t_a) = cfg.activation_t_a {
-        metadata.push(("activation_dynamics".to_string(), "true".to_string()));
-        metadata.push(("param.t_a".to_string(), t_a.to_string()));
-    }
-    metadata.extend(fixed_hip_param_metadata(&p));
+        Record { sample, reference }
+    });
     Ok(FesTrial { records, metadata })
 }
 

@@ -10,9 +10,9 @@ use limbfuse_core::Side;
 use limbfuse_io::{TrialLayout, TrialMeta, TrialWriter};
 use limbfuse_models::bslip::GaitTemplate;
 use limbfuse_sim::bslip::trial::{trial_records, BslipTrialConfig, ComChannels};
-use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
+use limbfuse_sim::fixed_hip::{fixed_hip_stream, FixedHipConfig};
 use limbfuse_sim::gait_truth::GaitTruth;
-use limbfuse_sim::knee_fes::{simulate_calibration, simulate_knee_fes, FesTrial, KneeFesConfig};
+use limbfuse_sim::knee_fes::{knee_fes_stream, simulate_calibration, FesTrial, KneeFesConfig};
 use limbfuse_sim::{
     KneeScenario, KneeSimulator, PoseRecording, PoseRecordingConfig, WalkingConfig,
     WalkingSimulator,
@@ -170,7 +170,7 @@ pub fn fes_layout(hip: bool) -> TrialLayout {
     l
 }
 
-fn fes_trial(source: &str, rate: f64, tr: FesTrial, hip: bool) -> SimulatedTrial<Vec<Record>> {
+fn fes_trial<R>(source: &str, rate: f64, tr: FesTrial<R>, hip: bool) -> SimulatedTrial<R> {
     let mut m = meta(source, rate);
     m.set("leg", "right");
     for (k, v) in &tr.metadata {
@@ -191,8 +191,8 @@ fn fes_trial(source: &str, rate: f64, tr: FesTrial, hip: bool) -> SimulatedTrial
 pub fn knee_fes(
     cfg: &KneeFesConfig,
     source: &str,
-) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
-    let tr = simulate_knee_fes(cfg).map_err(|e| sim_err("knee-fes")(&e))?;
+) -> Result<SimulatedTrial<impl Iterator<Item = Record>>, SimulatedTrialError> {
+    let tr = knee_fes_stream(cfg).map_err(|e| sim_err("knee-fes")(&e))?;
     Ok(fes_trial(source, cfg.rate_hz, tr, false))
 }
 
@@ -218,8 +218,10 @@ pub fn knee_fes_calibration(
 }
 
 /// Fixed-hip swing, paper 004 (`simulate fixed-hip`).
-pub fn fixed_hip(cfg: &FixedHipConfig) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
-    let tr = simulate_fixed_hip(cfg).map_err(|e| sim_err("fixed-hip")(&e))?;
+pub fn fixed_hip(
+    cfg: &FixedHipConfig,
+) -> Result<SimulatedTrial<impl Iterator<Item = Record>>, SimulatedTrialError> {
+    let tr = fixed_hip_stream(cfg).map_err(|e| sim_err("fixed-hip")(&e))?;
     Ok(fes_trial(
         "limbfuse simulate fixed-hip",
         cfg.rate_hz,
