@@ -374,24 +374,10 @@ fn gait_library<'py>(
                 speeds.len()
             )));
         }
-        use limbfuse_methods::body_ranges::{within, LEG_LENGTH_M, MASS_KG};
+        use limbfuse_methods::body_ranges::{leg_length_m, mass_kg};
         // A human's, as the CLI's `gait-library build` checks.
-        if within(mass, MASS_KG).is_none() {
-            return Err(user_msg(format!(
-                "gait_library: mass {}: expected a human's body mass, {} to {} kg",
-                limbfuse_methods::shown(mass),
-                MASS_KG.0,
-                MASS_KG.1
-            )));
-        }
-        if within(leg_length, LEG_LENGTH_M).is_none() {
-            return Err(user_msg(format!(
-                "gait_library: leg_length {}: expected a human's leg (rest) length, {} to {} m",
-                limbfuse_methods::shown(leg_length),
-                LEG_LENGTH_M.0,
-                LEG_LENGTH_M.1
-            )));
-        }
+        let mass = mass_kg("gait_library: mass", mass).map_err(user_msg)?;
+        let leg_length = leg_length_m("gait_library: leg_length", leg_length).map_err(user_msg)?;
         let body = BslipParams {
             mass,
             rest_length: leg_length,

@@ -19,3 +19,43 @@ pub const MASS_KG: (f64, f64) = (20.0, 250.0);
 pub fn within(v: f64, (lo, hi): (f64, f64)) -> Option<f64> {
     (lo..=hi).contains(&v).then_some(v)
 }
+
+/// A body mass from a flag or option `name` (kg): the value, or the message
+/// "`name V`: expected a human's body mass, 20 to 250 kg".
+pub fn mass_kg(name: &str, v: f64) -> Result<f64, String> {
+    human(name, v, MASS_KG, "body mass", "kg")
+}
+
+/// A leg (rest) length from a flag or option `name` (m), as [`mass_kg`].
+pub fn leg_length_m(name: &str, v: f64) -> Result<f64, String> {
+    human(name, v, LEG_LENGTH_M, "leg (rest) length", "m")
+}
+
+fn human(name: &str, v: f64, range: (f64, f64), what: &str, unit: &str) -> Result<f64, String> {
+    within(v, range).ok_or_else(|| {
+        format!(
+            "{name} {}: expected a human's {what}, {} to {} {unit}",
+            crate::shown(v),
+            range.0,
+            range.1
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn body_sizes_outside_a_humans_are_named() {
+        assert_eq!(mass_kg("--mass", 70.0), Ok(70.0));
+        assert_eq!(
+            mass_kg("--mass", 1e9).unwrap_err(),
+            "--mass 1e9: expected a human's body mass, 20 to 250 kg"
+        );
+        assert_eq!(leg_length_m("leg_length", 0.95), Ok(0.95));
+        assert!(leg_length_m("leg_length", f64::NAN)
+            .unwrap_err()
+            .starts_with("leg_length NaN: expected a human's leg (rest) length, 0.5 to 1.4 m"));
+    }
+}

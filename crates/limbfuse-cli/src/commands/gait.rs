@@ -51,25 +51,11 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
 }
 
 fn body(mass: f64, leg: f64) -> Result<BslipParams> {
-    use limbfuse_methods::body_ranges::{within, LEG_LENGTH_M, MASS_KG};
+    use limbfuse_methods::body_ranges::{leg_length_m, mass_kg};
     // A human's (an audit: `--leg-length 0.01` or `--mass 1e9` failed with
     // "no periodic gait at 1 m/s", a speed that was not asked for).
-    if within(mass, MASS_KG).is_none() {
-        bail!(
-            "--mass {}: expected a human's body mass, {} to {} kg",
-            limbfuse_methods::shown(mass),
-            MASS_KG.0,
-            MASS_KG.1
-        );
-    }
-    if within(leg, LEG_LENGTH_M).is_none() {
-        bail!(
-            "--leg-length {}: expected a human's leg (rest) length, {} to {} m",
-            limbfuse_methods::shown(leg),
-            LEG_LENGTH_M.0,
-            LEG_LENGTH_M.1
-        );
-    }
+    let mass = mass_kg("--mass", mass).map_err(anyhow::Error::msg)?;
+    let leg = leg_length_m("--leg-length", leg).map_err(anyhow::Error::msg)?;
     Ok(BslipParams {
         mass,
         rest_length: leg,

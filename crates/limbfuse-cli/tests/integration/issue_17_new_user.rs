@@ -9,6 +9,13 @@ fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
+/// `evaluate`'s `mean RMSE:` line and its figure.
+fn mean_rmse(out: &str) -> (f64, &str) {
+    let line = out.lines().find(|l| l.starts_with("mean RMSE:")).unwrap();
+    let mean = line.split_whitespace().nth(2).unwrap().parse().unwrap();
+    (mean, line)
+}
+
 fn assert_ok(o: &Output) {
     assert_eq!(o.status.code(), Some(0), "stderr: {}", text(&o.stderr));
 }
@@ -121,13 +128,7 @@ fn evaluate_keeps_diagnostics_behind_a_flag_and_fes_mean_leaves_out_the_fixed_th
     };
     assert_eq!(rmse("thigh"), 0.0, "{out}");
     assert!(rmse("shank") > 0.0, "{out}");
-    let mean_line = out.lines().find(|l| l.starts_with("mean RMSE:")).unwrap();
-    let mean: f64 = mean_line
-        .split_whitespace()
-        .nth(2)
-        .unwrap()
-        .parse()
-        .unwrap();
+    let (mean, mean_line) = mean_rmse(&out);
     assert_eq!(mean, rmse("shank"), "{out}");
     assert!(mean_line.contains("without thigh"), "{mean_line}");
 
@@ -170,13 +171,7 @@ fn issue_17_fes_mean_leaves_out_the_fixed_thigh_written_to_8_decimals() {
         .unwrap()
         .parse()
         .unwrap();
-    let mean_line = out.lines().find(|l| l.starts_with("mean RMSE:")).unwrap();
-    let mean: f64 = mean_line
-        .split_whitespace()
-        .nth(2)
-        .unwrap()
-        .parse()
-        .unwrap();
+    let (mean, mean_line) = mean_rmse(&out);
     assert!(knee > 0.0, "{out}");
     assert_eq!(mean, knee, "{out}");
     assert!(mean_line.contains("without thigh"), "{mean_line}");
