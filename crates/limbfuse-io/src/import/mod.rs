@@ -165,17 +165,29 @@ impl<'a> Header<'a> {
         }
     }
 
-    /// 0-based index of a required column.
+    /// 0-based index of a required column; a column named twice is an
+    /// error naming both places (it was reported as another column missing).
     pub fn require(&self, name: &str, expected: &str) -> Result<usize, ImportError> {
-        self.names
-            .iter()
-            .position(|n| n == name)
-            .ok_or_else(|| ImportError::MissingColumn {
-                path: self.path.to_path_buf(),
-                line: self.line,
-                name: name.to_string(),
-                expected: expected.to_string(),
-            })
+        let mut at = self.names.iter().enumerate().filter(|(_, n)| *n == name);
+        let first = at.next().map(|(i, _)| i);
+        if let (Some(i), Some((j, _))) = (first, at.next()) {
+            return Err(ImportError::line(
+                self.path,
+                self.line,
+                format!(
+                    "header: column `{name}` twice (columns {} and {})",
+                    i + 1,
+                    j + 1
+                ),
+                format!("each column once; {expected}"),
+            ));
+        }
+        first.ok_or_else(|| ImportError::MissingColumn {
+            path: self.path.to_path_buf(),
+            line: self.line,
+            name: name.to_string(),
+            expected: expected.to_string(),
+        })
     }
 
     /// The cells of a data row, checked to be as many as the header's
