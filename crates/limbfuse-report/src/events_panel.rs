@@ -106,14 +106,20 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
 /// The numbers of `limbfuse evaluate` for gait-event and speed estimates.
 pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -> String {
     let mut s = String::from(
-        r#"<table class="numbers" id="events-table"><thead><tr><th>estimate</th><th>initial contacts found / reference (missed, extra)</th><th>IC |error| median / p95 ms</th><th>final contacts found / reference (missed, extra)</th><th>FC |error| median / p95 ms</th><th>contact accuracy %</th><th>stride speed MAE (bias) m/s</th><th>strides</th><th>stride length error %</th></tr></thead><tbody>"#,
+        r#"<table class="numbers" id="events-table"><thead><tr><th>estimate</th><th>initial contacts found / reference (missed, extra)</th><th>IC |error| median / p95 ms</th><th>final contacts found / reference (missed, extra)</th><th>FC |error| median / p95 ms</th><th>contact accuracy %</th><th>phase accuracy %</th><th>stride speed MAE (bias) m/s</th><th>strides</th><th>stride length error % (strides)</th></tr></thead><tbody>"#,
     );
     let f = |v: Option<f64>, p: usize| v.map_or("-".to_string(), |v| format!("{v:.p$}"));
+    // (an audit: "0 / 0 (0, 0)" where `evaluate` says there is no
+    // reference event to score against)
     let count = |e: &EventTiming| {
-        format!(
-            "{} / {} ({}, {})",
-            e.n_matched, e.n_reference, e.missed, e.extra
-        )
+        if e.n_reference == 0 {
+            "no reference event".to_string()
+        } else {
+            format!(
+                "{} / {} ({}, {})",
+                e.n_matched, e.n_reference, e.missed, e.extra
+            )
+        }
     };
     let timing = |e: &EventTiming| format!("{} / {}", f(e.median_abs_ms, 1), f(e.p95_abs_ms, 1));
     for (i, e) in evals {
@@ -126,17 +132,19 @@ pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -
         let st = &e.per_stride;
         let _ = write!(
             s,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{} ({})</td></tr>",
             esc(&labels[*i]),
             count(&e.initial_contact),
             timing(&e.initial_contact),
             fc_count,
             fc_timing,
             f(e.contact_accuracy_pct, 1),
+            f(e.phase_accuracy_pct, 1),
             f(st.speed_mae_mps, 3),
             f(st.speed_bias_mps, 3),
             st.n_strides,
             f(st.stride_length_error_pct, 2),
+            st.n_lengths,
         );
     }
     s.push_str("</tbody></table>");

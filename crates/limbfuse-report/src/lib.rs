@@ -70,6 +70,17 @@ pub enum ReportError {
     /// No estimate file was given.
     #[error("a report needs at least one estimate file")]
     NoEstimate,
+    /// One estimate file given twice (an audit: two identical columns and
+    /// legends, nothing said).
+    #[error(
+        "{second}: the same file as the estimate {first} given before it; give each estimate once"
+    )]
+    RepeatedEstimate {
+        /// The first time it was given.
+        first: String,
+        /// The repeat.
+        second: String,
+    },
     /// An estimate does not have its trial's number of samples.
     #[error("{estimate}: {n_estimate} samples, but the trial {trial} has {n_trial}")]
     Length {

@@ -24,6 +24,19 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     if input.estimates.is_empty() {
         return Err(ReportError::NoEstimate);
     }
+    let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize())
+    {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    };
+    for (k, b) in input.estimates.iter().enumerate() {
+        if let Some(a) = input.estimates[..k].iter().find(|a| same(a, b)) {
+            return Err(ReportError::RepeatedEstimate {
+                first: a.display().to_string(),
+                second: b.display().to_string(),
+            });
+        }
+    }
     let trial = TrialData::read(&input.trial)?;
     let angle_trial = trial.reference.iter().any(Option::is_some);
     let mut evals = Vec::new();
@@ -85,7 +98,20 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         x_scale: if rate > 1000.0 { 1e6 } else { 1e3 },
     };
     let mut body = String::new();
-    header(&mut body, &trial, &estimates, rate, input.buckets);
+    let checks: Vec<String> = evals
+        .iter()
+        .map(|e| &e.trial_check)
+        .chain(gait_evals.iter().map(|e| &e.trial_check))
+        .chain(event_evals.iter().map(|(_, e)| &e.trial_check))
+        .filter_map(|c| c.warning())
+        .collect();
+    header(
+        &mut body,
+        &trial,
+        &estimates,
+        (rate, input.buckets),
+        &checks,
+    );
     angle_section(&mut body, &trial, &estimates, &tp);
     cycle_section(&mut body, &trial, &estimates);
     let event_estimates: Vec<bool> = estimates.iter().map(is_event_estimate).collect();
@@ -123,8 +149,8 @@ fn header(
     s: &mut String,
     trial: &TrialData,
     estimates: &[EstimateData],
-    rate: f64,
-    buckets: usize,
+    (rate, buckets): (f64, usize),
+    checks: &[String],
 ) {
     let dur = trial
         .t
@@ -147,7 +173,9 @@ fn header(
             .join(", "),
         buckets
     );
-    for w in &trial.unit_warnings {
+    // The trial checks' warnings, as `evaluate` prints them (an audit: an
+    // estimate of another trial, evaluated as asked, left no trace here).
+    for w in trial.unit_warnings.iter().chain(checks) {
         let _ = write!(s, r#"<p class="warning">warning: {}</p>"#, esc(w));
     }
     // `estimate`'s raw-frame warning, for the estimates it applied to.
@@ -282,7 +310,7 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
     let cycles = match find_cycles(trial) {
         Ok(c) if !channels.is_empty() => c,
         Ok(_) => {
-            s.push_str(r#"<p class="note" id="gait-events">No angle channel to show over the gait cycle.</p></section>"#);
+            s.push_str(r#"<p class="note" id="gait-events" data-source="none">No angle channel to show over the gait cycle.</p></section>"#);
             return;
         }
         Err(why) => {
@@ -389,7 +417,9 @@ fn error_section(
     }
     if !gait.is_empty() {
         s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate</code> on a gait trial (paper 003).</p>"#);
-        s.push_str(&tables::gait_table(labels, gait));
+        // (one evaluation per estimate given: every label, not only the
+        // angle estimates' — an audit found the table empty for imm-bslip)
+        s.push_str(&tables::gait_table(labels_all, gait));
     }
     if !events.is_empty() {
         s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code> for gait events and walking speed (docs/GAIT_EVENTS.md): events paired within 0.25 s, each stride's speed against the mean <code>speed_ref</code> over its rows.</p>"#);

@@ -44,7 +44,10 @@ pub fn wanted_diagnostic(name: &str) -> bool {
     is_weight(name)
         || name.starts_with("j_thigh_")
         || name.starts_with("j_shank_")
-        || matches!(name, "speed_mean" | "sign_confidence" | "p11")
+        || matches!(
+            name,
+            "speed_mean" | "sign_confidence" | "p11" | "activation"
+        )
 }
 
 fn is_weight(name: &str) -> bool {
@@ -346,24 +349,47 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
         .filter(|(k, _)| k.starts_with("u_") || k.starts_with("a_"))
         .collect();
     let has_activation = inputs.iter().any(|(k, _)| k.starts_with("a_"));
+    // The activation an estimate carries as a state (`diag_activation`),
+    // dashed, after the trial's columns.
+    let estimated: Vec<(usize, &Column)> = estimates
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| Some((i, e.diag.get("activation")?)))
+        .collect();
+    let mut series: Vec<(String, String, String, &Column, bool)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(k, (name, col))| {
+            (
+                name.to_string(),
+                name.to_string(),
+                color(k),
+                *col,
+                name.starts_with("a_"),
+            )
+        })
+        .collect();
+    for (i, col) in &estimated {
+        let label = &estimates[*i].label;
+        series.push((
+            format!("est-{i}-activation"),
+            format!("{label}: estimated activation"),
+            color(inputs.len() + i),
+            col,
+            true,
+        ));
+    }
     let mut plots = vec![tp.plot(
         "plot-fes-stimulation".into(),
         "fes-stimulation",
-        "Stimulation (u_*) and activation (a_*) from the trial".into(),
+        if estimated.is_empty() {
+            "Stimulation (u_*) and activation (a_*) from the trial".into()
+        } else {
+            "Stimulation (u_*) and activation (a_*) from the trial; activation estimated (dashed)"
+                .into()
+        },
         "normalised",
-        inputs
-            .iter()
-            .enumerate()
-            .map(|(k, (name, col))| {
-                (
-                    name.to_string(),
-                    name.to_string(),
-                    color(k),
-                    *col,
-                    name.starts_with("a_"),
-                )
-            })
-            .collect(),
+        series,
     )];
     let sd: Vec<(usize, Column)> = estimates
         .iter()
@@ -383,7 +409,8 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
             tp.plot(
                 "plot-fes-sd".into(),
                 "fes-sd",
-                "Angle standard deviation sqrt(P_11) of the Riccati solution (paper 004 eq 4.16)"
+                "Angle standard deviation sqrt(P_11) of each filter's covariance (the Riccati \
+                 solution of sdre, paper 004 eq 4.16; the EKF's P for ekf and knee-kinematic)"
                     .into(),
                 "deg",
                 sd.iter()
@@ -400,17 +427,29 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
             ),
         );
     }
-    let note = if has_activation {
-        "Stimulation commands and muscle activation as recorded in the trial."
+    let mut note = if has_activation {
+        "Stimulation commands and muscle activation as recorded in the trial.".to_string()
     } else {
-        "Stimulation commands as recorded in the trial. The trial has no activation column \
-         (a_*); the knee-FES models of sdre and ekf take activation = stimulation."
+        "Stimulation commands as recorded in the trial (no activation column a_*).".to_string()
     };
+    // How each model-based estimate treats activation, from its own header
+    // (an audit: the note said "activation = stimulation" for filters run
+    // with activation as a state).
+    let models: Vec<String> = estimates
+        .iter()
+        .filter_map(|e| Some(format!("{}: {}", e.label, e.meta.get("activation")?)))
+        .collect();
+    if !models.is_empty() {
+        note += &format!(
+            " Activation in each estimate's model: {}.",
+            models.join("; ")
+        );
+    }
     Panel {
         id: "panel-fes".into(),
         kind: "fes".into(),
         title: "FES stimulation and activation".into(),
-        note: note.into(),
+        note,
         plots,
         table: String::new(),
     }

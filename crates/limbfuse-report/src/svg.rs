@@ -105,7 +105,12 @@ impl Plot {
             x[1] = x[0] + 1.0;
         }
         let pad = 0.05 * (y[1] - y[0]).max(1e-9);
-        let (lo, hi) = if y[1] > y[0] {
+        // A spread below 1e-6 of the values is a constant written with
+        // rounding (an independent simulator's fixed thigh, 1.57079633 rad
+        // against the estimate's 1.570796327): scaled to it, the plot's
+        // coordinates (9e11) went beyond a browser's float precision and no
+        // line was drawn. It is plotted as a constant.
+        let (lo, hi) = if y[1] - y[0] > 1e-6 * y[0].abs().max(y[1].abs()) {
             (y[0] - pad, y[1] + pad)
         } else {
             (y[0] - 0.5, y[0] + 0.5)
@@ -401,5 +406,41 @@ mod tests {
         let ([x0, x1], [y0, y1]) = plot.ranges().unwrap();
         assert_eq!((x0, x1), (0.0, 3.0));
         assert!(y0 <= 1.0 && y1 >= 1.2);
+    }
+
+    /// A constant written with rounding (reference 90.0000002 deg, estimate
+    /// 89.99999998) is plotted as a constant: 90 +- 0.5, y scale 1e4 (it was
+    /// 1e10, coordinates of 9e11 that a browser could not draw).
+    #[test]
+    fn a_constant_with_rounding_is_plotted_as_a_constant() {
+        let line = |key: &str, v: f64| Line {
+            key: key.into(),
+            label: String::new(),
+            color: String::new(),
+            points: vec![(0.0, Some(v)), (1.0, Some(v))],
+            dashed: false,
+        };
+        let plot = Plot {
+            id: "p".into(),
+            kind: "angle".into(),
+            title: String::new(),
+            x_label: String::new(),
+            y_label: String::new(),
+            x_scale: 1.0,
+            zoomable: true,
+            lines: vec![line("ref", 90.000_000_2), line("e0", 89.999_999_98)],
+            bands: Vec::new(),
+        };
+        let (_, [y0, y1]) = plot.ranges().unwrap();
+        assert!(
+            (y0 - 89.5).abs() < 1e-6 && (y1 - 90.5).abs() < 1e-6,
+            "{y0} {y1}"
+        );
+        assert!(plot.render().contains(r#"data-y-scale="10000""#));
+        // a real spread keeps its own scale
+        let mut small = plot.clone();
+        small.lines[1] = line("e0", 89.99);
+        let (_, [y0, y1]) = small.ranges().unwrap();
+        assert!(y0 < 89.99 && y1 > 90.0 && y1 - y0 < 0.02, "{y0} {y1}");
     }
 }

@@ -37,7 +37,15 @@ pub fn run(a: &ReportArgs) -> Result<()> {
 
 /// Renders `input` into `output` (atomically); returns its size in bytes.
 pub fn write(input: &ReportInput, output: &Path) -> Result<usize> {
-    let html = render(input)?;
+    let html = render(input).map_err(|e| match e {
+        limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::TrialMismatch(_)) => {
+            anyhow::anyhow!(e).context(
+                "refusing to report an estimate made from another trial \
+                 (--allow-trial-mismatch reports it anyway, with a warning)",
+            )
+        }
+        e => e.into(),
+    })?;
     super::write_file(output, &html)?;
     Ok(html.len())
 }

@@ -74,6 +74,21 @@ fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
             "{f}"
         );
     }
+    // The B-SLIP report's table has the estimate's row with the phase
+    // accuracy the terminal prints (an audit found its body empty: the rows
+    // were zipped with the angle estimates' labels, of which it has none).
+    let html = std::fs::read_to_string(d.path().join("out").join("report-bslip.html")).unwrap();
+    let table = &html[html.find("id=\"gait-table\"").expect("gait table")..];
+    let body = &table[table.find("<tbody>").unwrap()..table.find("</tbody>").unwrap()];
+    let accuracy = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("phase accuracy"))
+        .and_then(|r| r.split_whitespace().next())
+        .expect("phase accuracy printed");
+    assert!(
+        body.contains("<td>bslip_imm.csv</td>") && body.contains(&format!("<td>{accuracy}</td>")),
+        "{body}"
+    );
 }
 
 #[test]

@@ -384,3 +384,83 @@ fn a_trial_without_references_still_shows_its_estimates() {
         "note"
     );
 }
+
+/// An audit of reports on real recordings: an estimate of another trial
+/// reported with `--allow-trial-mismatch` left no trace in the page (and the
+/// refusal did not name the flag); one estimate given twice gave two
+/// identical columns; the FES note said "activation = stimulation" whatever
+/// the estimate's model.
+#[test]
+fn report_says_what_evaluate_says_and_refuses_a_repeat() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    for (seed, name) in [("1", "a.csv"), ("2", "b.csv")] {
+        limbfuse(
+            &[
+                "simulate",
+                "walking",
+                "--duration",
+                "3",
+                "--seed",
+                seed,
+                "-o",
+                name,
+            ],
+            p,
+        );
+    }
+    limbfuse(
+        &["estimate", "--method", "local", "b.csv", "-o", "eb.csv"],
+        p,
+    );
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_limbfuse"))
+            .args(args)
+            .current_dir(p)
+            .output()
+            .unwrap()
+    };
+    let o = run(&["report", "a.csv", "eb.csv", "-o", "r.html"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--allow-trial-mismatch"));
+    limbfuse(
+        &[
+            "report",
+            "--allow-trial-mismatch",
+            "a.csv",
+            "eb.csv",
+            "-o",
+            "r.html",
+        ],
+        p,
+    );
+    let html = std::fs::read_to_string(p.join("r.html")).unwrap();
+    assert!(
+        html.contains(r#"<p class="warning">warning: eb.csv was made from the trial `b.csv`"#)
+            && html.contains("(evaluated anyway, as asked)"),
+        "the page says so"
+    );
+    let o = run(&["report", "b.csv", "eb.csv", "./eb.csv", "-o", "r2.html"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("give each estimate once"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!p.join("r2.html").exists());
+    limbfuse(
+        &["simulate", "knee-fes", "--duration", "2", "-o", "fes.csv"],
+        p,
+    );
+    limbfuse(
+        &["estimate", "--method", "sdre", "fes.csv", "-o", "s.csv"],
+        p,
+    );
+    limbfuse(&["report", "fes.csv", "s.csv", "-o", "f.html"], p);
+    let html = std::fs::read_to_string(p.join("f.html")).unwrap();
+    assert!(
+        html.contains("Activation in each estimate&#39;s model: s.csv: a_ke = u_ke")
+            || html.contains("Activation in each estimate's model: s.csv: a_ke = u_ke"),
+        "the note reads the estimate's own activation line"
+    );
+}

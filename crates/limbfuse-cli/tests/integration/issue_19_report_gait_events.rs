@@ -53,4 +53,14 @@ fn issue_19_report_of_gait_events_on_the_gaitmap_walk() {
         v["n_strides"]
     );
     assert!(html.contains(&speed), "no {speed} in the events table");
+    // the phase accuracy, and the strides the length error is over (an
+    // audit: both missing; the 56 strides of the speed shown alone)
+    let phase = format!("<td>{:.1}</td>", v["phase_accuracy_pct"].as_f64().unwrap());
+    assert!(html.contains(&phase), "no {phase} in the events table");
+    let length = format!(
+        "<td>{:.2} ({})</td>",
+        v["stride_length_error_pct"].as_f64().unwrap(),
+        v["n_lengths"]
+    );
+    assert!(html.contains(&length), "no {length} in the events table");
 }
