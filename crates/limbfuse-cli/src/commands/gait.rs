@@ -87,7 +87,9 @@ pub fn build(body: &BslipParams, speeds: &[f64], show_progress: bool) -> Result<
 pub fn library_build(a: &GaitLibraryBuildArgs) -> Result<()> {
     let speeds = parse_speeds(&a.speeds)?;
     let body = body(a.mass, a.leg_length)?;
-    super::refuse_stdout(&a.output)?;
+    // The output's folder is tried before the search (an audit: `-o
+    // /proc/x.json` failed only after it); the probe leaves nothing behind.
+    drop(super::create_file(&a.output)?);
     let t0 = std::time::Instant::now();
     let lib = build(&body, &speeds, true)?;
     let file = gait_library_file(&body, &lib);
