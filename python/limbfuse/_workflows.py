@@ -4,6 +4,7 @@ functions."""
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from typing import TYPE_CHECKING, Any, Dict, List, Sequence, Union
 
@@ -149,9 +150,18 @@ def report(
         paths = []
         for k, e in enumerate(estimates):
             if isinstance(e, Estimate):
-                name = f"{e.method}.csv"
+                if any(e is x for x in estimates[:k]):
+                    raise _native.LimbfuseError(
+                        f"report: estimate {k} is estimate {next(j for j, x in enumerate(estimates) if x is e)} "
+                        "given again; give each estimate once"
+                    )
+                # (the method names a file in the temporary folder: only
+                # name characters, never a path; an audit wrote outside it
+                # with method="../x")
+                stem = re.sub(r"[^A-Za-z0-9_.-]", "_", e.method).lstrip(".") or "estimate"
+                name = f"{stem}.csv"
                 if any(os.path.basename(p) == name for p in paths):
-                    name = f"{e.method}-{k}.csv"
+                    name = f"{stem}-{k}.csv"
                 p = os.path.join(tmp, name)
                 e.write(p)
                 paths.append(p)

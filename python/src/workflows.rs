@@ -77,6 +77,10 @@ fn collect<R: IntoIterator<Item = Record>>(
 
 /// Simulates a trial: `kind` is `walking`, `knee`, `knee-fes` or
 /// `fixed-hip` (the `limbfuse simulate` subcommands), with their options.
+/// The seed `limbfuse simulate` uses without `--seed` (the Python defaults
+/// are the CLI's; an audit found walking, knee and calibration at 0).
+const CLI_DEFAULT_SEED: u64 = 1;
+
 #[pyfunction]
 #[pyo3(signature = (kind, options=None))]
 fn simulate<'py>(
@@ -86,7 +90,6 @@ fn simulate<'py>(
 ) -> PyResult<TrialTuple<'py>> {
     guarded(|| {
         let mut o = Options::new("simulate", options);
-        let sim_err = |e: &dyn std::error::Error| user_msg(format!("simulate {kind}: {e}"));
         let (meta, cols) = match kind {
             "walking" | "knee" => {
                 let d = WalkingConfig::default();
@@ -96,7 +99,7 @@ fn simulate<'py>(
                     speed_mps: o.f64("speed")?.unwrap_or(d.speed_mps),
                     duration_s: duration,
                     imu_rate_hz: rate,
-                    seed: o.u64("seed")?.unwrap_or(d.seed),
+                    seed: o.u64("seed")?.unwrap_or(CLI_DEFAULT_SEED),
                     noise: o.bool("noise")?.unwrap_or(d.noise),
                     out_of_plane: o.bool("out_of_plane")?.unwrap_or(d.out_of_plane),
                     ..d
@@ -153,7 +156,7 @@ fn simulate<'py>(
                 let tr = py.detach(|| {
                     simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
                 });
-                tr.map_err(|e| sim_err(&e))?
+                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
             }
             "fixed-hip" => {
                 let d = FixedHipConfig::default();
@@ -168,7 +171,7 @@ fn simulate<'py>(
                 };
                 o.finish()?;
                 let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
-                tr.map_err(|e| sim_err(&e))?
+                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
             }
             "calibration" => {
                 // `limbfuse simulate calibration`: the sensors of `simulate
@@ -182,7 +185,7 @@ fn simulate<'py>(
                 }
                 let cfg = PoseRecordingConfig {
                     sensors: WalkingConfig {
-                        seed: o.u64("seed")?.unwrap_or(d.sensors.seed),
+                        seed: o.u64("seed")?.unwrap_or(CLI_DEFAULT_SEED),
                         imu_rate_hz: rate,
                         noise: o.bool("noise")?.unwrap_or(d.sensors.noise),
                         ..d.sensors
@@ -200,7 +203,7 @@ fn simulate<'py>(
                     )));
                 }
                 let tr = py.detach(|| simulated_trials::calibration_poses(cfg).map(collect));
-                tr.map_err(|e| sim_err(&e))?
+                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
             }
             other => {
                 return Err(user_msg(format!(
@@ -367,6 +370,16 @@ fn gait_library<'py>(
                 "gait_library: speeds: expected one or more speeds in (0, 2] m/s",
             ));
         }
+        // (an audit: a repeated speed was searched for and written, and the
+        // library then refused at read)
+        let mut sorted = speeds.clone();
+        sorted.sort_by(f64::total_cmp);
+        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+            return Err(user_msg(format!(
+                "gait_library: speeds: {} m/s given twice; each speed once",
+                w[0]
+            )));
+        }
         let max = limbfuse_estimators::imm_bslip::MAX_GAITS;
         if speeds.len() > max {
             return Err(user_msg(format!(
@@ -422,6 +435,18 @@ fn report(
             return Err(user_msg(
                 "report: buckets: expected a positive number of display buckets, found 0",
             ));
+        }
+        // As the CLI: an output naming an input would replace it (an audit:
+        // `report("c.csv", ["e.csv"], "c.csv")` wrote the HTML over the trial).
+        for input in std::iter::once(&trial).chain(&estimates) {
+            if limbfuse_io::file_identity::same_file(input, &path) {
+                return Err(user_msg(format!(
+                    "report: path {}: that is the input file {}; writing would replace it: give \
+                     the report another name",
+                    path.display(),
+                    input.display()
+                )));
+            }
         }
         let input = limbfuse_report::ReportInput {
             buckets,

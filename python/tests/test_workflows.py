@@ -224,3 +224,56 @@ def test_filter_with_a_calibration_equals_estimate(tmp_path):
         b = np.ma.filled(ref.channels[name], np.nan).view(np.uint64)
         assert np.array_equal(a, b), name
     assert np.array_equal(np.array(stepped, dtype=float), np.ma.filled(ref.channels["thigh"], np.nan))
+
+
+def test_report_protects_its_inputs_and_names_files_safely(tmp_path):
+    """An audit: `report` wrote its HTML over the trial or an estimate given
+    as the output; an in-memory estimate's method named a file outside the
+    temporary folder (`method="../x"`); the same object twice gave two
+    identical columns. The CLI refuses the first and the last."""
+    tr = limbfuse.simulate("walking", duration=3, seed=4)
+    trial = tmp_path / "w.csv"
+    tr.write(trial)
+    est = limbfuse.estimate(tr, "mjls")
+    est_path = tmp_path / "e.csv"
+    est.write(est_path)
+    before = trial.read_bytes()
+    for out in (trial, est_path):
+        with pytest.raises(LimbfuseError, match="that is the input file"):
+            limbfuse.report(trial, [est_path], out)
+    assert trial.read_bytes() == before
+    with pytest.raises(LimbfuseError, match="give each estimate once"):
+        limbfuse.report(trial, [est, est], tmp_path / "r.html")
+    odd = limbfuse.Estimate(est.t, {"knee": est.channels["knee"]}, method="../../escaped")
+    n = limbfuse.report(trial, [odd], tmp_path / "r.html", allow_trial_mismatch=True)
+    assert n > 0
+    assert not list(tmp_path.parent.glob("escaped*"))
+    assert "escaped.csv" in (tmp_path / "r.html").read_text()
+
+
+def test_simulate_defaults_are_the_clis(cli, tmp_path):
+    """Without a seed, `simulate` gives the CLI's trial (seed 1; an audit
+    found walking, knee and calibration at seed 0)."""
+    cli("simulate", "walking", "--duration", "2", "-o", tmp_path / "c.csv")
+    a = limbfuse.read_trial(tmp_path / "c.csv")
+    b = limbfuse.simulate("walking", duration=2)
+    for k, v in a.channels.items():
+        np.testing.assert_array_equal(v, b.channels[k], err_msg=k)
+
+
+def test_gait_library_refuses_a_repeated_speed(tmp_path):
+    with pytest.raises(LimbfuseError, match="0.7 m/s given twice"):
+        limbfuse.gait_library(tmp_path / "x.json", [0.7, 0.7])
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_simulate_names_the_option_in_its_unit():
+    """An audit: `simulate("walking", speed=10)` said `speed_mps`, and the
+    FES and calibration errors said "simulate calibration: simulate
+    calibration: hold_s = 0"."""
+    with pytest.raises(LimbfuseError, match=r"option `speed` = 10: outside the allowed range \[0.4, 1.8\] m/s"):
+        limbfuse.simulate("walking", speed=10)
+    with pytest.raises(LimbfuseError) as e:
+        limbfuse.simulate("calibration", hold=700)
+    msg = str(e.value)
+    assert "option `hold` = 700" in msg and msg.count("simulate calibration") == 1, msg

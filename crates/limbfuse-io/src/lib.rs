@@ -19,6 +19,7 @@ mod csv_lines;
 pub mod diagnostic_columns;
 pub mod error;
 pub mod estimate_file;
+pub mod file_identity;
 pub mod gait_library;
 pub mod import;
 pub mod layout;

@@ -20,5 +20,6 @@ pub mod monte_carlo;
 pub mod monte_carlo_plot;
 pub mod protocol;
 pub mod simulated_trials;
+pub mod simulator_options;
 pub mod tune_validate;
 pub mod tuning;

@@ -41,6 +41,15 @@ pub enum SimulatedTrialError {
         /// Why.
         message: String,
     },
+    /// A setting of `simulate walking`, `knee` or `calibration` out of range,
+    /// named as the option (`crate::simulator_options`).
+    #[error("simulate {scenario}: option `{}` = {}: outside the allowed range {}", option.option, option.value, option.range)]
+    Option {
+        /// Which simulator.
+        scenario: &'static str,
+        /// The option.
+        option: crate::simulator_options::OptionOutOfRange,
+    },
     /// The output file.
     #[error("{}: cannot write: {source}", path.display())]
     Write {
@@ -49,6 +58,19 @@ pub enum SimulatedTrialError {
         /// Underlying error.
         source: std::io::Error,
     },
+}
+
+/// A simulator's configuration error, as the option when it is one
+/// ([`SimulatedTrialError::Option`]).
+pub fn config_error(scenario: &'static str, e: limbfuse_sim::SimError) -> SimulatedTrialError {
+    match crate::simulator_options::OptionOutOfRange::of(&e) {
+        Some(option) => SimulatedTrialError::Option { scenario, option },
+        None => sim_err(scenario)(&e),
+    }
+}
+
+fn config_err(scenario: &'static str) -> impl Fn(limbfuse_sim::SimError) -> SimulatedTrialError {
+    move |e| config_error(scenario, e)
 }
 
 fn sim_err(scenario: &'static str) -> impl Fn(&dyn std::fmt::Display) -> SimulatedTrialError {
@@ -70,7 +92,7 @@ fn meta(source: &str, rate_hz: f64) -> TrialMeta {
 pub fn walking(
     cfg: WalkingConfig,
 ) -> Result<SimulatedTrial<WalkingSimulator>, SimulatedTrialError> {
-    let sim = WalkingSimulator::new(cfg).map_err(|e| sim_err("walking")(&e))?;
+    let sim = WalkingSimulator::new(cfg).map_err(config_err("walking"))?;
     let mut m = meta("limbfuse simulate walking", cfg.imu_rate_hz);
     m.set("leg", "right");
     m.set("g", cfg.g);
@@ -117,7 +139,7 @@ pub fn with_gait_reference(
 pub fn calibration_poses(
     cfg: PoseRecordingConfig,
 ) -> Result<SimulatedTrial<PoseRecording>, SimulatedTrialError> {
-    let rec = PoseRecording::new(cfg).map_err(|e| sim_err("calibration")(&e))?;
+    let rec = PoseRecording::new(cfg).map_err(config_err("calibration"))?;
     let mut m = meta("limbfuse simulate calibration", cfg.sensors.imu_rate_hz);
     for (k, v) in rec.metadata() {
         m.set(k, v);
@@ -135,7 +157,7 @@ pub fn calibration_poses(
 
 /// The paper-002 knee scenario (`simulate knee`).
 pub fn knee(sc: KneeScenario) -> Result<SimulatedTrial<KneeSimulator>, SimulatedTrialError> {
-    let sim = KneeSimulator::new(sc).map_err(|e| sim_err("knee")(&e))?;
+    let sim = KneeSimulator::new(sc).map_err(config_err("knee"))?;
     let mut m = meta("limbfuse simulate knee", sc.walking.imu_rate_hz);
     m.set("leg", "right");
     m.set("g", sc.walking.g);

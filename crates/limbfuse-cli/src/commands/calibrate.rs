@@ -136,7 +136,8 @@ pub fn simulate(a: &CalibrationSimArgs) -> Result<()> {
         a.imu_rate,
         a.cap.force,
     )?;
-    let trial = simulated_trials::calibration_poses(cfg)?;
+    let trial =
+        simulated_trials::calibration_poses(cfg).map_err(super::simulate::simulation_error)?;
     let mut out = super::create_file(&a.output)?;
     let n = simulated_trials::write_trial(&mut out, trial, &a.output)?;
     super::commit(out)?;

@@ -11,28 +11,12 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-/// `path` as the file it names: its canonical path when it exists,
-/// otherwise its canonical parent directory joined with its name (so
-/// `./c.csv` and `c.csv` are one file before either is written). `None`
-/// for standard input or output, or a path whose directory does not exist
-/// (said later, when it is opened).
-fn resolved(path: &Path) -> Option<PathBuf> {
-    if crate::stdio::is_stdio(path) {
-        return None;
-    }
-    if let Ok(p) = path.canonicalize() {
-        return Some(p);
-    }
-    let parent = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    Some(parent.canonicalize().ok()?.join(path.file_name()?))
-}
-
-/// Whether `a` and `b` name the same file ([`resolved`]).
+/// Whether `a` and `b` name the same file; standard input and output
+/// (`-`) never do.
 fn same_file(a: &Path, b: &Path) -> bool {
-    matches!((resolved(a), resolved(b)), (Some(x), Some(y)) if x == y)
+    !crate::stdio::is_stdio(a)
+        && !crate::stdio::is_stdio(b)
+        && limbfuse_io::file_identity::same_file(a, b)
 }
 
 /// An output that names the input file would replace the recording with

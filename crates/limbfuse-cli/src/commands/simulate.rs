@@ -2,9 +2,9 @@
 
 use anyhow::Result;
 use limbfuse_core::Leg;
-use limbfuse_sim::config::{Mounting, SimError, WalkingConfig};
+use limbfuse_sim::config::{Mounting, WalkingConfig};
 use limbfuse_sim::Turns;
-use limbfuse_workflows::simulated_trials;
+use limbfuse_workflows::simulated_trials::{self, SimulatedTrialError};
 
 use crate::cli::{LegArg, MountingArg, WalkingArgs};
 
@@ -48,25 +48,21 @@ pub fn walking_config(a: &WalkingArgs) -> WalkingConfig {
 /// audit: the simulator's own messages said `turns.angle_rad` for
 /// `--turn-deg`, in radians, with 300 digits for `1e300`).
 pub fn check_walking(cfg: &WalkingConfig) -> Result<()> {
-    let Err(e) = cfg.validate() else {
-        return Ok(());
-    };
-    let SimError::OutOfRange { name, value, range } = e else {
-        return Err(e.into());
-    };
-    let (flag, value, range) = match name {
-        "speed_mps" => ("--speed", value, range),
-        "duration_s" => ("--duration", value, range),
-        "imu_rate_hz" => ("--imu-rate", value, range),
-        "turns.duration_s" => ("--turn-s", value, "> 0 s"),
-        "turns.every_s" => ("--turn-every", value, "(--turn-s, 1e9] s"),
-        "turns.angle_rad" => ("--turn-deg", value.to_degrees(), "[-1800, 1800] deg"),
-        _ => return Err(SimError::OutOfRange { name, value, range }.into()),
-    };
-    anyhow::bail!(
-        "{flag} {}: outside the allowed range {range}",
-        limbfuse_methods::shown(value)
-    )
+    cfg.validate()
+        .map_err(|e| simulation_error(simulated_trials::config_error("walking", e)))
+}
+
+/// A simulated trial's error, an out-of-range setting named by its flag.
+pub fn simulation_error(e: SimulatedTrialError) -> anyhow::Error {
+    match e {
+        SimulatedTrialError::Option { option, .. } => anyhow::anyhow!(
+            "{} {}: outside the allowed range {}",
+            option.flag(),
+            limbfuse_methods::shown(option.value),
+            option.range
+        ),
+        e => e.into(),
+    }
 }
 
 /// `simulate walking`.
@@ -80,8 +76,7 @@ pub fn walking(a: &WalkingArgs) -> Result<()> {
 pub fn write_walking(a: &WalkingArgs) -> Result<String> {
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = walking_config(a);
-    check_walking(&cfg)?;
-    let trial = simulated_trials::walking(cfg)?;
+    let trial = simulated_trials::walking(cfg).map_err(simulation_error)?;
     let summary = format!(
         "{:.0} s of walking at {} m/s (seed {}, {} Hz IMUs, {} mounting, noise {})",
         a.duration,

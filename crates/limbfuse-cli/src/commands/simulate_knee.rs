@@ -50,7 +50,7 @@ pub fn write(a: &KneeSimArgs) -> Result<String> {
         );
     }
     let sc = scenario(a);
-    let trial = simulated_trials::knee(sc)?;
+    let trial = simulated_trials::knee(sc).map_err(super::simulate::simulation_error)?;
     let summary = format!(
         "{:.0} s of walking at {} m/s (seed {}, random IMU orientations and positions{})",
         a.duration,

@@ -24,6 +24,11 @@ fn user_error(o: &Output, needles: &[&str]) {
         "gyro_drift",
         "min_pose_s",
         "1745329251994",
+        "ap_offset_sd_m",
+        "remount.",
+        "lever_arm_m",
+        "hold_s",
+        "0000001e",
     ] {
         assert!(!e.contains(internal), "internal name `{internal}` in: {e}");
     }
@@ -125,6 +130,51 @@ fn errors_name_the_flag_in_its_unit() {
                 "k.csv",
             ],
             &["--remount-at 1000", "within the trial"],
+        ),
+        (
+            &["simulate", "knee", "--speed", "10", "-o", "k.csv"],
+            &["--speed 10", "[0.4, 1.8] m/s"],
+        ),
+        (
+            &[
+                "simulate",
+                "knee",
+                "--ap-offset-sd-cm",
+                "1e9",
+                "-o",
+                "k.csv",
+            ],
+            &["--ap-offset-sd-cm 1e9", "[0, 5] cm"],
+        ),
+        (
+            &[
+                "simulate",
+                "knee",
+                "--remount-at",
+                "2",
+                "--remount-deg",
+                "1e9",
+                "--duration",
+                "5",
+                "-o",
+                "k.csv",
+            ],
+            &["--remount-deg 1e9:", "[-180, 180] deg"],
+        ),
+        (
+            &[
+                "simulate",
+                "calibration",
+                "--lever-arm",
+                "100",
+                "-o",
+                "c.csv",
+            ],
+            &["--lever-arm 100", "[0, 1] m"],
+        ),
+        (
+            &["simulate", "calibration", "--hold", "700", "-o", "c.csv"],
+            &["--hold 700", "(0, 600] s"],
         ),
     ];
     for (args, needles) in cases {
