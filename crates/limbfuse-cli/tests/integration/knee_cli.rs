@@ -88,7 +88,7 @@ fn knee_flags_are_validated() {
     );
     user_error(
         &limbfuse(&["simulate", "knee", "-o", "k.csv", "--remount-at=-3"], p),
-        "remount.t_s",
+        "--remount-at -3: expected a time within the trial",
     );
 }
 
