@@ -165,24 +165,30 @@ impl<'a> Header<'a> {
         }
     }
 
-    /// 0-based index of a required column; a column named twice is an
-    /// error naming both places (it was reported as another column missing).
+    /// 0-based index of a required column (its first occurrence). A
+    /// missing column is an error; when another column is named twice, the
+    /// error says so (an audit: a `G1Y` renamed `G1X` was reported only as
+    /// `G1Y` missing).
     pub fn require(&self, name: &str, expected: &str) -> Result<usize, ImportError> {
-        let mut at = self.names.iter().enumerate().filter(|(_, n)| *n == name);
-        let first = at.next().map(|(i, _)| i);
-        if let (Some(i), Some((j, _))) = (first, at.next()) {
+        if let Some(i) = self.names.iter().position(|n| n == name) {
+            return Ok(i);
+        }
+        let twice = self.names.iter().enumerate().find_map(|(i, n)| {
+            let j = self.names[i + 1..].iter().position(|m| m == n)?;
+            Some((n, i + 1, i + j + 2))
+        });
+        if let Some((dup, i, j)) = twice {
             return Err(ImportError::line(
                 self.path,
                 self.line,
                 format!(
-                    "header: column `{name}` twice (columns {} and {})",
-                    i + 1,
-                    j + 1
+                    "header: missing column `{name}`, and column `{dup}` is there twice \
+                     (columns {i} and {j}: one renamed?)"
                 ),
                 format!("each column once; {expected}"),
             ));
         }
-        first.ok_or_else(|| ImportError::MissingColumn {
+        Err(ImportError::MissingColumn {
             path: self.path.to_path_buf(),
             line: self.line,
             name: name.to_string(),

@@ -237,14 +237,16 @@ fn a_row_with_a_cell_too_few_or_too_many_is_refused() {
     assert_eq!(import_knee_rig(&path).unwrap().records.len(), 2);
 }
 
-/// A column named twice (`G1Y` renamed `G1X`) was reported as `G1Y`
-/// missing; the message now names the duplicate and both places.
+/// A column named twice (`G1Y` renamed `G1X`) was reported only as `G1Y`
+/// missing; the message now also names the duplicate and both places.
 #[test]
 fn a_column_named_twice_is_named() {
     let text = format!("{}{}", HEAD.replace(",G1X,G1Y,", ",G1X,G1X,"), row(0, 0));
     let msg = import_err(&text);
     assert!(
-        msg.contains(":5:") && msg.contains("column `G1X` twice (columns 4 and 5)"),
+        msg.contains(":5:")
+            && msg.contains("missing column `G1Y`")
+            && msg.contains("column `G1X` is there twice (columns 4 and 5"),
         "{msg}"
     );
 }
