@@ -271,7 +271,9 @@ impl NativeFilter {
                 let value: Option<f64> = if v.is_none() || v.is(self.masked.bind(py)) {
                     None
                 } else if v.is_instance_of::<PyBool>() {
-                    return Err(user_msg(format!(
+                    // (a `TypeError`, as for a string: an audit found a bool
+                    // raising `LimbfuseError` against the docs)
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                         "sample `{key}`: expected a number or None, found a bool"
                     )));
                 } else {

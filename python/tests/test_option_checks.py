@@ -51,6 +51,8 @@ def test_filter_step_takes_masked_and_names_a_string(walking_trial):
             assert f.step(s) == g.step(s)
     with pytest.raises(TypeError, match="sample `thigh_gyr_z`: expected a number or None"):
         f.step({"t": 1.0, "thigh_gyr_z": "abc"})
+    with pytest.raises(TypeError, match="sample `thigh_gyr_z`: expected a number or None, found a bool"):
+        f.step({"t": 1.0, "thigh_gyr_z": True})
     with pytest.raises(LimbfuseError, match="NaN|nan"):
         f.step({"t": 1.0, "thigh_gyr_z": float("nan")})
 
