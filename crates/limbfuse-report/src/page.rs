@@ -24,13 +24,9 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     if input.estimates.is_empty() {
         return Err(ReportError::NoEstimate);
     }
-    let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize())
-    {
-        (Ok(x), Ok(y)) => x == y,
-        _ => a == b,
-    };
     for (k, b) in input.estimates.iter().enumerate() {
-        if let Some(a) = input.estimates[..k].iter().find(|a| same(a, b)) {
+        let same = |a: &&std::path::PathBuf| limbfuse_io::file_identity::same_file(a, b);
+        if let Some(a) = input.estimates[..k].iter().find(same) {
             return Err(ReportError::RepeatedEstimate {
                 first: a.display().to_string(),
                 second: b.display().to_string(),

@@ -10,14 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-
-/// Whether `a` and `b` name the same file; standard input and output
-/// (`-`) never do.
-fn same_file(a: &Path, b: &Path) -> bool {
-    !crate::stdio::is_stdio(a)
-        && !crate::stdio::is_stdio(b)
-        && limbfuse_io::file_identity::same_file(a, b)
-}
+use limbfuse_io::file_identity::same_file;
 
 /// An output that names the input file would replace the recording with
 /// what was made from it: refused, exit 1.
