@@ -18,20 +18,30 @@ if TYPE_CHECKING:
 def simulate(kind: str = "walking", **options: Any) -> Trial:
     """Simulates a trial in memory, as ``limbfuse simulate KIND`` does.
 
-    kinds and options (defaults are the CLI's):
+    kinds and options (defaults are the CLI's; each option is the CLI flag
+    with ``_`` for ``-``, and ``noise=False`` for ``--no-noise``):
         walking: speed, duration, imu_rate, seed, mounting ("aligned" or
-            "random"), noise, out_of_plane, variability, gait_reference
-            (``--gait-reference``: the feet's contact and the per-stride
-            speed as ``contact_*_ref`` / ``speed_ref``, for ``gait-events``
-            and ``lowback-speed``).
-        knee: speed, duration, imu_rate, seed, noise, out_of_plane (paper 002
-            scenario: random IMU orientations and positions).
+            "random"), noise, out_of_plane, variability, misalignment,
+            leg ("right" or "left"), turn_every (s between turn starts;
+            with turn_deg, default 180, and turn_s, default 2.5),
+            gait_reference (``--gait-reference``: the feet's contact and
+            the per-stride speed as ``contact_*_ref`` / ``speed_ref``, for
+            ``gait-events`` and ``lowback-speed``).
+        knee: speed, duration, imu_rate, seed, noise, out_of_plane,
+            ap_offset_sd_cm, remount_at (s; with remount_deg, default 50)
+            (paper 002 scenario: random IMU orientations and positions).
         knee-fes: subject ("P1-L" ... "P3-R"), duration, rate, seed, noise,
-            mounting (paper 004).
-        fixed-hip: duration, rate, seed, noise (paper 004).
-        calibration: seed, imu_rate, noise, poses, hold, transition (the
-            sensors of ``simulate("walking", seed=N)`` held still in poses,
-            for ``calibrate``).
+            mounting, gyro_drift (deg/s), activation_dynamics (paper 004).
+        fixed-hip: duration, rate, seed, noise, gyro_drift (deg/s),
+            activation_t_a (s) (paper 004).
+        bslip: speed (m/s, default 0.7), library (a gait-library file to
+            take the gait from; else it is searched now for mass, default
+            80 kg, and leg_length, default 1.0 m), duration, rate, seed,
+            position_only (paper 003).
+        calibration: seed, imu_rate, noise, poses, hold, transition,
+            lever_arm, wobble_pose (numbered from 1) (the sensors of
+            ``simulate("walking", seed=N)`` held still in poses, for
+            ``calibrate``).
     """
     return Trial._from_native(_native.simulate(kind, options or None))
 

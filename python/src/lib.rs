@@ -29,6 +29,7 @@ mod estimate_columns;
 mod evaluate;
 mod filter;
 mod options;
+mod simulate;
 mod trial;
 mod workflows;
 
@@ -192,6 +193,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trial::register(m)?;
     estimate::register(m)?;
     evaluate::register(m)?;
+    simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;
     Ok(())

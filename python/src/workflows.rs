@@ -1,4 +1,4 @@
-//! `simulate`, `align`, `calibrate` and `gait_library`: the CLI's workflows
+//! `align`, `calibrate`, `gait_library` and `report`: the CLI's workflows
 //! as functions (`limbfuse-workflows`, `limbfuse-signal`, `limbfuse-sim`).
 
 use std::path::PathBuf;
@@ -6,16 +6,11 @@ use std::path::PathBuf;
 use limbfuse_core::{Record, Segment};
 use limbfuse_io::calibration::CalibrationModel;
 use limbfuse_models::bslip::BslipParams;
-use limbfuse_models::KneeSubject;
 use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
 use limbfuse_signal::calibration::CalibrationParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
-use limbfuse_sim::fixed_hip::FixedHipConfig;
-use limbfuse_sim::knee_fes::KneeFesConfig;
-use limbfuse_sim::{KneeScenario, Mounting, PoseRecordingConfig, WalkingConfig};
 use limbfuse_workflows::gait_library::gait_library_file;
-use limbfuse_workflows::simulated_trials::{self, SimulatedTrial};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -23,197 +18,6 @@ use crate::columns::OwnedColumns;
 use crate::options::Options;
 use crate::trial::{trial_tuple, TrialArgs, TrialTuple};
 use crate::{chain_message, guarded, user_error, user_msg};
-
-/// The most samples `simulate` makes in memory (24 h at 1 kHz, the CLI's
-/// cap on a simulated trial).
-const MAX_SAMPLES: f64 = 86_400_000.0;
-
-fn rate_and_duration(
-    o: &mut Options<'_>,
-    rate_key: &'static str,
-    d: (f64, f64),
-) -> PyResult<(f64, f64)> {
-    let duration = o.f64("duration")?.unwrap_or(d.0);
-    let rate = o.f64(rate_key)?.unwrap_or(d.1);
-    if duration <= 0.0 {
-        return Err(user_msg(format!(
-            "simulate: option `duration`: expected a positive number of seconds, found {duration}"
-        )));
-    }
-    if rate <= 0.0 {
-        return Err(user_msg(format!(
-            "simulate: option `{rate_key}`: expected a positive number of Hz, found {rate}"
-        )));
-    }
-    if duration * rate > MAX_SAMPLES {
-        return Err(user_msg(format!(
-            "simulate: {duration} s at {rate} Hz is {:.3e} samples, more than the cap of {MAX_SAMPLES:.3e}",
-            duration * rate
-        )));
-    }
-    Ok((duration, rate))
-}
-
-fn mounting(o: &mut Options<'_>) -> PyResult<Option<Mounting>> {
-    match o.string("mounting")?.as_deref() {
-        None => Ok(None),
-        Some("aligned") => Ok(Some(Mounting::Aligned)),
-        Some("random") => Ok(Some(Mounting::Random)),
-        Some(other) => Err(user_msg(format!(
-            "simulate: option `mounting`: expected \"aligned\" or \"random\", found \"{other}\""
-        ))),
-    }
-}
-
-fn collect<R: IntoIterator<Item = Record>>(
-    tr: SimulatedTrial<R>,
-) -> (limbfuse_io::TrialMeta, OwnedColumns) {
-    let (mut cols, channels) = OwnedColumns::new(&tr.layout, 1024);
-    for r in tr.records {
-        cols.push(&channels, &r);
-    }
-    (tr.meta, cols)
-}
-
-/// Simulates a trial: `kind` is `walking`, `knee`, `knee-fes` or
-/// `fixed-hip` (the `limbfuse simulate` subcommands), with their options.
-/// The seed `limbfuse simulate` uses without `--seed` (the Python defaults
-/// are the CLI's; an audit found walking, knee and calibration at 0).
-const CLI_DEFAULT_SEED: u64 = 1;
-
-#[pyfunction]
-#[pyo3(signature = (kind, options=None))]
-fn simulate<'py>(
-    py: Python<'py>,
-    kind: &str,
-    options: Option<Bound<'py, PyDict>>,
-) -> PyResult<TrialTuple<'py>> {
-    guarded(|| {
-        let mut o = Options::new("simulate", options);
-        let (meta, cols) = match kind {
-            "walking" | "knee" => {
-                let d = WalkingConfig::default();
-                let (duration, rate) =
-                    rate_and_duration(&mut o, "imu_rate", (d.duration_s, d.imu_rate_hz))?;
-                let walking = WalkingConfig {
-                    speed_mps: o.f64("speed")?.unwrap_or(d.speed_mps),
-                    duration_s: duration,
-                    imu_rate_hz: rate,
-                    seed: o.u64("seed")?.unwrap_or(CLI_DEFAULT_SEED),
-                    noise: o.bool("noise")?.unwrap_or(d.noise),
-                    out_of_plane: o.bool("out_of_plane")?.unwrap_or(d.out_of_plane),
-                    ..d
-                };
-                if kind == "walking" {
-                    let walking = WalkingConfig {
-                        mounting: mounting(&mut o)?.unwrap_or(d.mounting),
-                        variability: if o.bool("variability")?.unwrap_or(true) {
-                            d.variability
-                        } else {
-                            None
-                        },
-                        ..walking
-                    };
-                    let gait_reference = o.bool("gait_reference")?.unwrap_or(false);
-                    o.finish()?;
-                    let tr = py.detach(|| {
-                        simulated_trials::walking(walking).map(|t| match gait_reference {
-                            true => collect(simulated_trials::with_gait_reference(t)),
-                            false => collect(t),
-                        })
-                    });
-                    tr.map_err(|e| user_error(&e))?
-                } else {
-                    o.finish()?;
-                    let sc = KneeScenario {
-                        walking,
-                        ..KneeScenario::default()
-                    };
-                    let tr = py.detach(|| simulated_trials::knee(sc).map(collect));
-                    tr.map_err(|e| user_error(&e))?
-                }
-            }
-            "knee-fes" => {
-                let d = KneeFesConfig::default();
-                let (duration, rate) =
-                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
-                let subject = match o.string("subject")? {
-                    None => d.subject,
-                    Some(s) => KneeSubject::parse(&s).ok_or_else(|| {
-                        user_msg(format!("simulate knee-fes: option `subject`: unknown leg `{s}`; use P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6"))
-                    })?,
-                };
-                let cfg = KneeFesConfig {
-                    subject,
-                    duration_s: duration,
-                    rate_hz: rate,
-                    seed: o.u64("seed")?.unwrap_or(d.seed),
-                    noise: o.bool("noise")?.unwrap_or(d.noise),
-                    mounting: mounting(&mut o)?.unwrap_or(d.mounting),
-                    ..d
-                };
-                o.finish()?;
-                let tr = py.detach(|| {
-                    simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
-                });
-                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
-            }
-            "fixed-hip" => {
-                let d = FixedHipConfig::default();
-                let (duration, rate) =
-                    rate_and_duration(&mut o, "rate", (d.duration_s, d.rate_hz))?;
-                let cfg = FixedHipConfig {
-                    duration_s: duration,
-                    rate_hz: rate,
-                    seed: o.u64("seed")?.unwrap_or(d.seed),
-                    noise: o.bool("noise")?.unwrap_or(d.noise),
-                    ..d
-                };
-                o.finish()?;
-                let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
-                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
-            }
-            "calibration" => {
-                // `limbfuse simulate calibration`: the sensors of `simulate
-                // walking --seed N` held still in poses on a board.
-                let d = PoseRecordingConfig::default();
-                let rate = o.f64("imu_rate")?.unwrap_or(d.sensors.imu_rate_hz);
-                if !(rate.is_finite() && rate > 0.0) {
-                    return Err(user_msg(format!(
-                        "simulate calibration: option `imu_rate`: expected a positive number of Hz, found {rate}"
-                    )));
-                }
-                let cfg = PoseRecordingConfig {
-                    sensors: WalkingConfig {
-                        seed: o.u64("seed")?.unwrap_or(CLI_DEFAULT_SEED),
-                        imu_rate_hz: rate,
-                        noise: o.bool("noise")?.unwrap_or(d.sensors.noise),
-                        ..d.sensors
-                    },
-                    poses: o.u64("poses")?.map_or(d.poses, |v| v as usize),
-                    hold_s: o.f64("hold")?.unwrap_or(d.hold_s),
-                    transition_s: o.f64("transition")?.unwrap_or(d.transition_s),
-                    ..d
-                };
-                o.finish()?;
-                if cfg.duration_s() * rate > MAX_SAMPLES {
-                    return Err(user_msg(format!(
-                        "simulate calibration: {:.0} s at {rate} Hz is more than the cap of {MAX_SAMPLES:.3e} samples",
-                        cfg.duration_s()
-                    )));
-                }
-                let tr = py.detach(|| simulated_trials::calibration_poses(cfg).map(collect));
-                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
-            }
-            other => {
-                return Err(user_msg(format!(
-                "simulate: unknown kind `{other}` (expected walking, knee, knee-fes, fixed-hip or calibration)"
-            )))
-            }
-        };
-        Ok(trial_tuple(py, &meta, cols, None))
-    })
-}
 
 /// Sensor-to-segment alignment from walking data (`limbfuse align`):
 /// returns the aligned trial, its metadata annotated with the rotations.
@@ -464,7 +268,6 @@ fn report(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(report, m)?)?;
-    m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(align, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(gait_library, m)?)?;

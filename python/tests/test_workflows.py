@@ -173,8 +173,8 @@ def test_calibrate_bad_input():
         limbfuse.calibrate("poses.csv")
     with pytest.raises(LimbfuseError, match="option `imu_rate`"):
         limbfuse.simulate("calibration", imu_rate=0)
-    with pytest.raises(LimbfuseError, match="unknown option"):
-        limbfuse.simulate("calibration", lever_arm=0.1)
+    with pytest.raises(LimbfuseError, match="unknown option `lever_arms`"):
+        limbfuse.simulate("calibration", lever_arms=0.1)
 
 
 def test_estimate_with_a_calibration_equals_the_cli(cli, tmp_path):
@@ -277,3 +277,78 @@ def test_simulate_names_the_option_in_its_unit():
         limbfuse.simulate("calibration", hold=700)
     msg = str(e.value)
     assert "option `hold` = 700" in msg and msg.count("simulate calibration") == 1, msg
+
+
+@pytest.mark.parametrize(
+    "kind, options, flags",
+    [
+        (
+            "walking",
+            dict(duration=12, leg="left", turn_every=5, turn_deg=90, turn_s=2, misalignment=False),
+            ["--duration", "12", "--leg", "left", "--turn-every", "5", "--turn-deg", "90", "--turn-s", "2", "--no-misalignment"],
+        ),
+        (
+            "knee",
+            dict(duration=10, ap_offset_sd_cm=1, remount_at=5, remount_deg=30),
+            ["--duration", "10", "--ap-offset-sd-cm", "1", "--remount-at", "5", "--remount-deg", "30"],
+        ),
+        (
+            "knee-fes",
+            dict(duration=5, gyro_drift=2, activation_dynamics=False),
+            ["--duration", "5", "--gyro-drift", "2", "--no-activation-dynamics"],
+        ),
+        (
+            "fixed-hip",
+            dict(duration=5, gyro_drift=1, activation_t_a=0.1),
+            ["--duration", "5", "--gyro-drift", "1", "--activation-t-a", "0.1"],
+        ),
+        (
+            "calibration",
+            dict(lever_arm=0.1, wobble_pose=3, poses=6),
+            ["--lever-arm", "0.1", "--wobble-pose", "3", "--poses", "6"],
+        ),
+        (
+            "bslip",
+            dict(speed=0.8, position_only=True, seed=3, duration=3),
+            ["--speed", "0.8", "--position-only", "--seed", "3", "--duration", "3"],
+        ),
+    ],
+)
+def test_simulate_has_every_cli_option(cli, tmp_path, kind, options, flags):
+    """Every `limbfuse simulate` subcommand and flag is a `simulate` kind and
+    option giving the CLI's file byte for byte (an audit: Python had no
+    `bslip`, no turns, leg, re-mounting, gyro drift or activation options)."""
+    p, q = tmp_path / "cli.csv", tmp_path / "py.csv"
+    cli("simulate", kind, *flags, "-o", p)
+    limbfuse.simulate(kind, **options).write(q)
+    assert p.read_bytes() == q.read_bytes()
+
+
+def test_simulate_bslip_from_a_library_and_bad_options(tmp_path):
+    lib = tmp_path / "lib.json"
+    limbfuse.gait_library(lib, [0.6, 0.7])
+    t = limbfuse.simulate("bslip", speed=0.6, library=lib, duration=2)
+    assert float(t.meta["bslip_speed_mps"]) == 0.6 and len(t) == 201
+    with pytest.raises(LimbfuseError, match=r"lib.json: no gait at 0.65 m/s"):
+        limbfuse.simulate("bslip", speed=0.65, library=lib)
+    with pytest.raises(LimbfuseError, match="give one or the other"):
+        limbfuse.simulate("bslip", library=lib, mass=70)
+    with pytest.raises(LimbfuseError, match=r"option `speed`: expected a walking speed in \(0, 2\] m/s, found 3"):
+        limbfuse.simulate("bslip", speed=3)
+    with pytest.raises(LimbfuseError, match="option `mass` 1e9: expected a human's body mass"):
+        limbfuse.simulate("bslip", mass=1e9)
+
+
+def test_simulate_new_options_name_themselves():
+    cases = [
+        ("walking", dict(leg="up"), 'option `leg`: expected "right" or "left"'),
+        ("walking", dict(turn_deg=90), "give it too"),
+        ("walking", dict(turn_every=5, turn_deg=1e300), r"option `turn_deg` = 1e300: outside the allowed range"),
+        ("knee", dict(remount_at=100), "option `remount_at` = 100: expected a time within the trial"),
+        ("knee-fes", dict(gyro_drift=100), r"option `gyro_drift` = 100: outside the allowed range \[-57.3, 57.3\] deg/s"),
+        ("fixed-hip", dict(activation_t_a=0), "option `activation_t_a` = 0: outside the allowed range > 0 s"),
+        ("calibration", dict(wobble_pose=20), r"option `wobble_pose` = 20: expected a pose from 1 to 14"),
+    ]
+    for kind, options, message in cases:
+        with pytest.raises(LimbfuseError, match=message):
+            limbfuse.simulate(kind, **options)

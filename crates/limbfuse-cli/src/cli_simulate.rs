@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, Subcommand, ValueEnum};
 
 use crate::cli::LengthCap;
+use limbfuse_workflows::simulator_options;
 
 /// Options of `simulate bslip`.
 #[derive(Debug, Args)]
@@ -85,7 +86,7 @@ pub struct KneeSimArgs {
     #[arg(long, value_name = "SECONDS")]
     pub remount_at: Option<f64>,
     /// Angle of the re-mounting (deg); paper 002: 50.
-    #[arg(long, default_value_t = 50.0, requires = "remount_at")]
+    #[arg(long, default_value_t = simulator_options::DEFAULT_REMOUNT_DEG, requires = "remount_at")]
     pub remount_deg: f64,
     /// Ideal sensors: no noise, bias, scale-factor error or misalignment.
     #[arg(long)]
@@ -214,10 +215,10 @@ pub struct WalkingArgs {
     #[arg(long, value_name = "SECONDS")]
     pub turn_every: Option<f64>,
     /// Heading change of each turn (deg; positive = to the left).
-    #[arg(long, default_value_t = 180.0, requires = "turn_every")]
+    #[arg(long, default_value_t = simulator_options::DEFAULT_TURN_DEG, requires = "turn_every")]
     pub turn_deg: f64,
     /// Duration of each turn (s).
-    #[arg(long, default_value_t = 2.5, requires = "turn_every")]
+    #[arg(long, default_value_t = simulator_options::DEFAULT_TURN_S, requires = "turn_every")]
     pub turn_s: f64,
     /// No mounting misalignment (the ~1 deg no calibration can observe); every other sensor error unchanged.
     #[arg(long)]

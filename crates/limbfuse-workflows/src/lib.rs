@@ -8,10 +8,12 @@
 //! ([`tune_validate`]), paper 000's Monte Carlo ([`monte_carlo`], plot in
 //! [`monte_carlo_plot`]), simulated trials with their metadata and columns
 //! ([`simulated_trials`]), a built gait library as its file
-//! ([`gait_library`]), and `imm-bslip`'s library extended to a trial's
+//! ([`gait_library`]), the gait a simulated B-SLIP trial walks on
+//! ([`bslip_gait`]), and `imm-bslip`'s library extended to a trial's
 //! speeds ([`imm_library_extension`]).
 #![deny(missing_docs)]
 
+pub mod bslip_gait;
 pub mod coverage;
 pub mod fes_pulse_cv;
 pub mod gait_library;

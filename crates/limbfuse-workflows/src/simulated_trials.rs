@@ -43,7 +43,7 @@ pub enum SimulatedTrialError {
     },
     /// A setting of `simulate walking`, `knee` or `calibration` out of range,
     /// named as the option (`crate::simulator_options`).
-    #[error("simulate {scenario}: option `{}` = {}: outside the allowed range {}", option.option, option.value, option.range)]
+    #[error("simulate {scenario}: option `{}` = {}: outside the allowed range {}", option.option, limbfuse_methods::shown(option.value), option.range)]
     Option {
         /// Which simulator.
         scenario: &'static str,

@@ -6,6 +6,13 @@
 
 use limbfuse_sim::SimError;
 
+/// `turn_deg` / `--turn-deg` when not given: a U-turn (deg).
+pub const DEFAULT_TURN_DEG: f64 = 180.0;
+/// `turn_s` / `--turn-s` when not given: the duration of one turn (s).
+pub const DEFAULT_TURN_S: f64 = 2.5;
+/// `remount_deg` / `--remount-deg` when not given: paper 002's 50 deg.
+pub const DEFAULT_REMOUNT_DEG: f64 = 50.0;
+
 /// A setting out of range, in the option's name and unit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptionOutOfRange {
@@ -56,6 +63,37 @@ impl OptionOutOfRange {
     }
 }
 
+/// The gyro drift option of `simulate knee-fes` / `fixed-hip`, given in
+/// deg/s, in rad/s: within the simulators' +-1 rad/s (an audit: `--gyro-drift
+/// 100` was reported as `gyro_drift = 1.745 ... [-1, 1] rad/s`).
+pub fn gyro_drift_rad_s(deg_s: f64) -> Result<f64, OptionOutOfRange> {
+    let rad_s = deg_s.to_radians();
+    if rad_s.is_finite() && rad_s.abs() <= 1.0 {
+        Ok(rad_s)
+    } else {
+        Err(OptionOutOfRange {
+            option: "gyro_drift",
+            value: deg_s,
+            range: "[-57.3, 57.3] deg/s (1 rad/s)",
+        })
+    }
+}
+
+/// The muscles' activation time constant of `simulate fixed-hip` (s): a
+/// positive number (an audit: `--activation-t-a 0` said "a limb needs
+/// positive mass").
+pub fn activation_t_a_s(t_a: f64) -> Result<f64, OptionOutOfRange> {
+    if t_a.is_finite() && t_a > 0.0 {
+        Ok(t_a)
+    } else {
+        Err(OptionOutOfRange {
+            option: "activation_t_a",
+            value: t_a,
+            range: "> 0 s (the muscles' activation time constant, e.g. 0.1)",
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -86,5 +124,17 @@ mod tests {
             range: "[1, 20] m/s^2",
         };
         assert_eq!(OptionOutOfRange::of(&other), None);
+    }
+
+    #[test]
+    fn gyro_drift_and_activation_are_checked_in_the_options_unit() {
+        assert!((gyro_drift_rad_s(57.0).unwrap() - 57f64.to_radians()).abs() < 1e-15);
+        let e = gyro_drift_rad_s(-58.0).unwrap_err();
+        assert_eq!((e.flag().as_str(), e.value), ("--gyro-drift", -58.0));
+        assert!(gyro_drift_rad_s(f64::INFINITY).is_err());
+        assert_eq!(activation_t_a_s(0.1), Ok(0.1));
+        for bad in [0.0, -0.1, f64::NAN] {
+            assert_eq!(activation_t_a_s(bad).unwrap_err().option, "activation_t_a");
+        }
     }
 }

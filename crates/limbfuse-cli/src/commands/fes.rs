@@ -2,6 +2,9 @@
 //! trial-dependent construction of `sdre`, `ekf`, `rmx` for `estimate`.
 
 use anyhow::{bail, Result};
+use limbfuse_workflows::simulator_options::{activation_t_a_s, gyro_drift_rad_s};
+
+use super::simulate::option_error;
 use limbfuse_models::KneeSubject;
 use limbfuse_sim::fixed_hip::FixedHipConfig;
 use limbfuse_sim::knee_fes::KneeFesConfig;
@@ -9,23 +12,9 @@ use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{FixedHipArgs, KneeFesArgs};
 
-/// `--gyro-drift` (deg/s) within the simulators' +-1 rad/s, named in the
-/// flag's unit (the simulator's own message said `gyro_drift = 1.745 ...
-/// [-1, 1] rad/s` for `--gyro-drift 100`).
-fn check_gyro_drift(deg_s: f64) -> Result<()> {
-    let limit = 1f64.to_degrees();
-    if !(deg_s.is_finite() && deg_s.abs() <= limit) {
-        bail!(
-            "--gyro-drift {}: expected a constant gyro offset in deg/s within +-{limit:.1} (1 rad/s)",
-            limbfuse_methods::shown(deg_s)
-        );
-    }
-    Ok(())
-}
-
 /// The knee-FES configuration of the flags.
 pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
-    check_gyro_drift(a.gyro_drift)?;
+    let gyro_drift = gyro_drift_rad_s(a.gyro_drift).map_err(option_error)?;
     let Some(subject) = KneeSubject::parse(&a.subject) else {
         bail!(
             "--subject {}: unknown leg; use P1-L, P1-R, P2-L, P2-R, P3-L, P3-R or 1-6",
@@ -38,7 +27,7 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
         rate_hz: a.imu_rate,
         seed: a.seed,
         noise: !a.no_noise,
-        gyro_drift: a.gyro_drift.to_radians(),
+        gyro_drift,
         activation_dynamics: !a.no_activation_dynamics,
         mounting: match a.mounting {
             crate::cli::MountingArg::Aligned => limbfuse_sim::Mounting::Aligned,
@@ -86,23 +75,19 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
 /// `simulate fixed-hip`.
 pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
-    check_gyro_drift(a.gyro_drift)?;
-    if let Some(t_a) = a.activation_t_a {
-        if !(t_a.is_finite() && t_a > 0.0) {
-            bail!(
-                "--activation-t-a {}: expected the muscles' activation time constant in seconds, \
-                 a positive number (e.g. 0.1)",
-                limbfuse_methods::shown(t_a)
-            );
-        }
-    }
+    let gyro_drift = gyro_drift_rad_s(a.gyro_drift).map_err(option_error)?;
+    let activation_t_a = a
+        .activation_t_a
+        .map(activation_t_a_s)
+        .transpose()
+        .map_err(option_error)?;
     let cfg = FixedHipConfig {
         duration_s: a.duration,
         rate_hz: a.imu_rate,
         seed: a.seed,
         noise: !a.no_noise,
-        gyro_drift: a.gyro_drift.to_radians(),
-        activation_t_a: a.activation_t_a,
+        gyro_drift,
+        activation_t_a,
         ..FixedHipConfig::default()
     };
     let trial = simulated_trials::fixed_hip(&cfg)?;

@@ -11,14 +11,11 @@ use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::{build_library, LibraryGait};
 use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{BslipTrialConfig, ComChannels};
+use limbfuse_workflows::bslip_gait::{bslip_gait, BslipGaitError, GaitSource, MAX_GAIT_SPEED};
 use limbfuse_workflows::gait_library::gait_library_file;
 use limbfuse_workflows::simulated_trials;
 
 use crate::cli::{BslipArgs, GaitLibraryBuildArgs};
-
-/// Fastest gait speed searched (m/s): B-SLIP walking beyond it runs into
-/// Froude numbers where walking gives way to running.
-const MAX_GAIT_SPEED: f64 = 2.0;
 
 /// Parses `START:END:STEP` (inclusive) into speeds.
 pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
@@ -132,24 +129,23 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
             a.speed
         );
     }
-    let template = match &a.library {
-        Some(p) => {
-            let t = limbfuse_methods::imm_params::load_templates(p, None)?;
-            t.into_iter()
-                .find(|g| (g.speed - a.speed).abs() < 1e-6)
-                .with_context(|| format!("{}: no gait at {} m/s", p.display(), a.speed))?
-        }
+    let searched_body;
+    let source = match &a.library {
+        Some(p) => GaitSource::Library(p),
         None => {
-            let body = body(a.mass, a.leg_length)?;
-            let lib = build(&body, &[a.speed], false).with_context(|| {
-                format!(
-                    "--speed {}: no periodic B-SLIP gait found at this speed for a {} kg body with {} m legs",
-                    a.speed, a.mass, a.leg_length
-                )
-            })?;
-            lib[0].template(&body)
+            searched_body = body(a.mass, a.leg_length)?;
+            GaitSource::Search(&searched_body)
         }
     };
+    let template = bslip_gait(a.speed, source).map_err(|e| match e {
+        BslipGaitError::Search { source, .. } => anyhow::Error::new(source)
+            .context("gait library search")
+            .context(format!(
+                "--speed {}: no periodic B-SLIP gait found at this speed for a {} kg body with {} m legs",
+                a.speed, a.mass, a.leg_length
+            )),
+        other => anyhow::Error::new(other),
+    })?;
     let cfg = BslipTrialConfig {
         duration: a.duration,
         sample_rate: a.rate,

@@ -5,6 +5,7 @@ use limbfuse_core::Leg;
 use limbfuse_sim::config::{Mounting, WalkingConfig};
 use limbfuse_sim::Turns;
 use limbfuse_workflows::simulated_trials::{self, SimulatedTrialError};
+use limbfuse_workflows::simulator_options::OptionOutOfRange;
 
 use crate::cli::{LegArg, MountingArg, WalkingArgs};
 
@@ -55,14 +56,19 @@ pub fn check_walking(cfg: &WalkingConfig) -> Result<()> {
 /// A simulated trial's error, an out-of-range setting named by its flag.
 pub fn simulation_error(e: SimulatedTrialError) -> anyhow::Error {
     match e {
-        SimulatedTrialError::Option { option, .. } => anyhow::anyhow!(
-            "{} {}: outside the allowed range {}",
-            option.flag(),
-            limbfuse_methods::shown(option.value),
-            option.range
-        ),
+        SimulatedTrialError::Option { option, .. } => option_error(option),
         e => e.into(),
     }
+}
+
+/// An out-of-range setting named by its flag, in the flag's unit.
+pub fn option_error(option: OptionOutOfRange) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{} {}: outside the allowed range {}",
+        option.flag(),
+        limbfuse_methods::shown(option.value),
+        option.range
+    )
 }
 
 /// `simulate walking`.
