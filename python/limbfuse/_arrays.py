@@ -25,9 +25,21 @@ def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
     if np.ma.isMaskedArray(values):
         data = np.ma.getdata(values)
         mask = np.ma.getmaskarray(values)
+    elif _is_pandas(values):
+        # pandas' missing marker is NaN (or NA/None): missing here too (an
+        # audit: `Trial(df["t"], {c: df[c]})` and `Filter.run(df)` refused
+        # the NaN `from_pandas` takes).
+        if getattr(values.dtype, "kind", "O") in "biuf":  # numpy or pandas (Int64, boolean) numbers
+            data = values.to_numpy(dtype=np.float64, na_value=np.nan)
+            mask = np.isnan(data)
+        else:
+            data = np.asarray(values)
+            mask = None
     else:
         data = np.asarray(values)
         mask = None
+    if data.dtype.kind == "b":
+        data = data.astype(np.float64)  # contact columns: True = on the ground
     if data.dtype.kind not in "fiu":
         raise TypeError(
             f"channel `{name}`: expected a numeric (float or int) array, found dtype {data.dtype}"
@@ -56,11 +68,52 @@ def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
     return data
 
 
+def _is_pandas(values: Any) -> bool:
+    """A pandas Series or Index (not imported: pandas is optional)."""
+    return type(values).__module__.startswith("pandas") and hasattr(values, "to_numpy")
+
+
+def fingerprint(t: np.ndarray, channels: Any) -> dict:
+    """Digests of a trial's samples, for telling two in-memory trials apart:
+    ``"t"`` (its length and values) and one per input channel (references
+    such as ``knee_ref`` and the CoM truth left out), each over 257
+    evenly spaced rows (NaN where masked): cheap for an hour-long trial.
+    Compare with ``same_samples``."""
+    import hashlib
+
+    n = int(t.shape[0])
+    idx = np.unique(np.linspace(0, max(n - 1, 0), num=min(n, 257)).astype(np.int64))
+
+    def digest(*parts: bytes) -> bytes:
+        h = hashlib.blake2b(digest_size=16)
+        for b in parts:
+            h.update(b)
+        return h.digest()
+
+    out = {"t": digest(np.int64(n).tobytes(), np.ascontiguousarray(t[idx], dtype=np.float64).tobytes())}
+    for name, a in channels.items():
+        if name.endswith("_ref") or (name.startswith("com_") and not name.startswith("com_meas")):
+            continue  # references, not inputs: correcting them keeps the trial
+        rows = np.ma.filled(np.ma.asarray(a[idx]).astype(np.float64), np.nan)
+        out[name] = digest(np.ascontiguousarray(rows).tobytes())
+    return out
+
+
+def same_samples(a: dict, b: dict) -> bool:
+    """Whether two ``fingerprint``s are of one trial: the same time base and
+    the same values in every channel both have (a reference column added
+    afterwards is still the same trial)."""
+    return a["t"] == b["t"] and all(a[k] == b[k] for k in a.keys() & b.keys())
+
+
 def as_time(t: Any) -> np.ndarray:
     """The time array: 1-D, numeric, finite (order is checked in Rust)."""
     if np.ma.isMaskedArray(t) and np.ma.getmaskarray(t).any():
         raise LimbfuseError("`t`: time cannot be missing (masked)")
     arr = as_column("t", np.ma.getdata(t) if np.ma.isMaskedArray(t) else t, None)
+    if np.ma.isMaskedArray(arr):  # (NaN in a pandas time column)
+        i = int(np.flatnonzero(np.ma.getmaskarray(arr))[0])
+        raise LimbfuseError(f"`t`, sample {i}: time cannot be missing (NaN)")
     return np.asarray(arr)
 
 

@@ -11,7 +11,18 @@ from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, 
 import numpy as np
 
 from . import _native
-from ._arrays import as_column, as_time, filled, from_native, frozen, phase_array, phase_cells, split_header
+from ._arrays import (
+    as_column,
+    as_time,
+    filled,
+    fingerprint,
+    from_native,
+    frozen,
+    phase_array,
+    phase_cells,
+    same_samples,
+    split_header,
+)
 from ._trial import PathLike, Trial
 from ._workflows import calibration_options
 
@@ -41,7 +52,7 @@ class Estimate:
             the header.
     """
 
-    __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns")
+    __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns", "_trial_fingerprint")
 
     def __init__(
         self,
@@ -65,6 +76,8 @@ class Estimate:
         self._check()
 
     def _set(self, t, cols, phase, header, order) -> None:
+        # (set by `estimate`: which in-memory trial it was made from)
+        self._trial_fingerprint = None
         self.t = frozen(t)
         self.channels = MappingProxyType({n: frozen(a) for n, a in cols.items()})
         self.phase = phase
@@ -138,8 +151,20 @@ class Estimate:
     def __len__(self) -> int:
         return int(self.t.shape[0])
 
+    def __reduce__(self) -> tuple:
+        # pickle, copy.deepcopy, multiprocessing (as `Trial`)
+        state = (self.t, dict(self.channels), self.phase, self.header, self.columns, self._trial_fingerprint)
+        return (_estimate_from_state, state)
+
     def __repr__(self) -> str:
         return f"<Estimate {self.method}: {len(self)} samples, columns {', '.join(self.columns[1:8])}{'...' if len(self.columns) > 8 else ''}>"
+
+
+def _estimate_from_state(t, channels, phase, header, columns, made_from) -> Estimate:
+    e = Estimate(t, channels, phase=phase, header=header)
+    e.columns = list(columns)
+    e._trial_fingerprint = made_from
+    return e
 
 
 def estimate(
@@ -186,7 +211,9 @@ def estimate(
         raise TypeError(f"estimate: expected a limbfuse.Trial, found {type(trial).__name__}")
     p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
     options = calibration_options(options)
-    return Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
+    e = Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
+    e._trial_fingerprint = fingerprint(trial.t, trial.channels)
+    return e
 
 
 def read_estimate(path: PathLike) -> Estimate:
@@ -265,19 +292,49 @@ def evaluate(
         raise _native.LimbfuseError(f"max_lag: expected a non-negative integer, found {max_lag!r}")
     # (the extension bounds it by half the trial; beyond 2**32 no trial is that long)
     max_lag = min(int(max_lag), 2**32)
+    allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
+    mismatch = _trial_mismatch(trial, estimate)
+    if mismatch is not None:
+        if not allow_trial_mismatch:
+            raise _native.LimbfuseError(
+                f"{mismatch}: refusing to evaluate an estimate made from another trial "
+                "(allow_trial_mismatch=True evaluates it anyway)"
+            )
+        # (the CLI's warning; an audit: Python said nothing)
+        warnings.warn(f"{mismatch} (evaluated anyway, as asked)", LimbfuseWarning, stacklevel=2)
     text = _native.evaluate(
         trial._native(),
         estimate._native(),
         _window_text(window),
         flag("offset_free", offset_free),
         max_lag,
-        flag("allow_trial_mismatch", allow_trial_mismatch),
+        allow_trial_mismatch,
     )
     result = json.loads(text)
     # (references that look like degrees: the CLI's stderr warning)
     for w in result.get("warnings", []):
         warnings.warn(w, LimbfuseWarning, stacklevel=2)
     return result
+
+
+def _trial_mismatch(trial: Trial, estimate: Estimate) -> Optional[str]:
+    """Why `estimate` was not made from `trial`, if it was not: an estimate
+    made in memory by ``estimate`` against another in-memory trial (an
+    audit: scored silently), or, as ``limbfuse evaluate`` checks, one whose
+    header records another trial file's hash."""
+    if len(trial) != len(estimate):
+        return None  # (the extension says which lengths differ)
+    entries = split_header(estimate.header)[0]
+    recorded = entries.get("trial_hash")
+    if trial.source is not None and recorded not in (None, "streamed"):
+        if recorded == trial.source[1]:
+            return None
+        made = entries.get("trial", "another trial")
+        return f"the estimate was made from `{made}` ({recorded}) but the trial is `{trial.source[0]}` ({trial.source[1]})"
+    made_from = estimate._trial_fingerprint
+    if made_from is None or same_samples(made_from, fingerprint(trial.t, trial.channels)):
+        return None
+    return "the estimate was made from another trial than the one given (their samples differ)"
 
 
 def methods() -> List[Tuple[str, str]]:

@@ -101,8 +101,10 @@ class Trial:
     def from_pandas(cls, df: "pd.DataFrame", meta: Optional[Mapping[str, Any]] = None) -> "Trial":
         """A trial from a DataFrame with a ``t`` column and SPEC channel
         columns (NaN = missing sample); ``meta`` defaults to ``df.attrs["meta"]``."""
+        if "t" not in df.columns and df.index.name == "t":
+            df = df.reset_index()  # (time as the index, as `set_index("t")` leaves it)
         if "t" not in df.columns:
-            raise _native.LimbfuseError("the DataFrame has no `t` column (time in seconds)")
+            raise _native.LimbfuseError("the DataFrame has no `t` column or index (time in seconds)")
         channels: Dict[str, Any] = {}
         phase = None
         for name in df.columns:
@@ -112,13 +114,11 @@ class Trial:
             if name == PHASE_REF:
                 phase = col.to_numpy(dtype=object)
                 continue
-            if col.dtype.kind not in "fiu":
+            if getattr(col.dtype, "kind", "O") not in "biuf":
                 raise TypeError(
-                    f"channel `{name}`: expected a numeric column, found dtype {col.dtype}"
+                    f"channel `{name}`: expected a numeric (or bool) column, found dtype {col.dtype}"
                 )
-            values = col.to_numpy(dtype=np.float64, na_value=np.nan)
-            missing = np.isnan(values)
-            channels[str(name)] = np.ma.MaskedArray(values, mask=missing) if missing.any() else values
+            channels[str(name)] = col  # NaN = missing (`as_column`)
         if meta is None:
             meta = df.attrs.get("meta", {})
         return cls(df["t"].to_numpy(), channels, meta, phase)
@@ -144,9 +144,18 @@ class Trial:
     def __len__(self) -> int:
         return int(self.t.shape[0])
 
+    def __reduce__(self) -> tuple:
+        # pickle, copy.deepcopy, multiprocessing (an audit: "cannot pickle
+        # 'mappingproxy' object"); the arrays are checked again on the way in.
+        return (_trial_from_state, (self.t, dict(self.channels), self.meta, self.phase_ref, self.source))
+
     def __repr__(self) -> str:
         src = f" from {self.source[0]}" if self.source else ""
         return f"<Trial{src}: {len(self)} samples, {len(self.channels)} channels>"
+
+
+def _trial_from_state(t, channels, meta, phase_ref, source) -> Trial:
+    return Trial(t, channels, meta, phase_ref, source=source)
 
 
 def read_trial(path: PathLike) -> Trial:

@@ -8,7 +8,7 @@
 use limbfuse_core::runner::RunError;
 use limbfuse_core::{Estimate, Estimator, OfflineEstimator, Sample};
 use limbfuse_eval::output_watch::AnyOutputWatch;
-use limbfuse_eval::{GaitWatch, KneeWatch, ResetWatch};
+use limbfuse_eval::{GaitWatch, KneeWatch, RejectionWatch, ResetWatch};
 use limbfuse_io::Calibration;
 
 use crate::column_samples::SampleColumns;
@@ -27,6 +27,8 @@ pub struct RunWatches {
     pub knee: Option<KneeWatch>,
     /// Any value at all.
     pub any_output: AnyOutputWatch,
+    /// Readings the sensor-range gate rejected (the CLI's warning).
+    pub rejections: RejectionWatch,
 }
 
 /// Runs `est` over every sample of `inputs`, pushing each estimate to
@@ -110,6 +112,7 @@ impl RunWatches {
             gait: GaitWatch::default(),
             knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
             any_output: AnyOutputWatch::default(),
+            rejections: RejectionWatch::new(est.diagnostic_names()),
         }
     }
 
@@ -118,6 +121,7 @@ impl RunWatches {
         self.resets.push(estimate);
         self.gait.push(estimate);
         self.any_output.push(estimate);
+        self.rejections.push(estimate);
         if let Some(k) = self.knee.as_mut() {
             k.push(sample, estimate);
         }

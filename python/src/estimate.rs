@@ -288,14 +288,25 @@ fn estimate<'py>(
                     chain_message(&e)
                 ))
             })?;
+            // The CLI's warning of readings the range gate rejected (an
+            // audit: Python users never saw it, not even in the error when
+            // every reading was rejected).
+            let rejected = watches
+                .rejections
+                .rejected()
+                .map(|r| format!("{} on {label}: {r}", spec.method()));
+            let with_rejected = |message: String| match &rejected {
+                Some(r) => user_msg(format!("{message}\n{r}")),
+                None => user_msg(message),
+            };
             // As `limbfuse estimate`: nothing estimated is an error.
             if let Some(k) = &watches.knee {
                 if let Err(why) = k.verdict(knee_window) {
-                    return Err(user_msg(format!("{label}: `{}`: {why}", spec.method())));
+                    return Err(with_rejected(format!("{label}: `{}`: {why}", spec.method())));
                 }
             }
             if gait_method && !watches.gait.found {
-                return Err(user_msg(limbfuse_eval::gait_watch::no_gait_message(
+                return Err(with_rejected(limbfuse_eval::gait_watch::no_gait_message(
                     &label,
                     spec.method().name(),
                     inputs.len() as u64,
@@ -303,7 +314,7 @@ fn estimate<'py>(
                 )));
             }
             if !watches.any_output.found {
-                return Err(user_msg(limbfuse_eval::output_watch::no_output_message(
+                return Err(with_rejected(limbfuse_eval::output_watch::no_output_message(
                     &label,
                     spec.method().name(),
                     inputs.len() as u64,
@@ -317,6 +328,7 @@ fn estimate<'py>(
             let warning = [
                 frame_note.clone(),
                 resets,
+                rejected,
                 unit_note.clone(),
                 thigh_note.clone(),
             ]
@@ -363,7 +375,18 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
     guarded(|| {
         let table = TableReader::open(&path).map_err(|e| user_error(&e))?;
         let header_names = table.header().to_vec();
-        let header = comment_lines(&path)?;
+        // An Arrow file's `# key: value` lines are its metadata (docs/ARROW.md;
+        // an audit: reading one as text failed with "stream did not contain
+        // valid UTF-8").
+        let header = match limbfuse_io::arrow_file::is_arrow_path(&path) {
+            true => table
+                .meta()
+                .entries()
+                .iter()
+                .map(|(k, v)| format!("{k}: {v}"))
+                .collect(),
+            false => comment_lines(&path)?,
+        };
         drop(table);
         let mut reader = EstimateReader::open(&path).map_err(|e| user_error(&e))?;
         let known = |n: &str| {

@@ -302,10 +302,11 @@ fn toml_value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
     }
     if v.is_instance_of::<PyFloat>() {
         let x: f64 = v.extract()?;
-        if !x.is_finite() {
-            return Err(user_msg(format!(
-                "{at}: expected a finite number, found {x}"
-            )));
+        // `inf` passes as the TOML file's `inf` (the defaults use it for
+        // "off", e.g. `accel_max_rate`; an audit: the defaults read back as a
+        // dict were refused); the parameter file's checks judge it.
+        if x.is_nan() {
+            return Err(user_msg(format!("{at}: expected a number, found nan")));
         }
         return Ok(toml::Value::Float(x));
     }

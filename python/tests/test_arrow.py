@@ -64,3 +64,19 @@ def test_estimate_write_refuses_an_arrow_name(tmp_path):
     with pytest.raises(limbfuse.LimbfuseError, match="writes CSV"):
         est.write(tmp_path / "e.arrow")
     assert not (tmp_path / "e.arrow").exists()
+
+
+def test_read_estimate_reads_the_clis_arrow_estimate(cli, tmp_path):
+    """An audit: `read_estimate("e.arrow")` failed with "stream did not
+    contain valid UTF-8" (its header was read as text lines); an Arrow
+    estimate reads as the CSV one, header and columns."""
+    limbfuse.simulate("walking", duration=3, seed=4).write(tmp_path / "w.csv")
+    for out in ("e.csv", "e.arrow"):
+        cli("estimate", "--method", "mjls", tmp_path / "w.csv", "-o", tmp_path / out)
+    a = limbfuse.read_estimate(tmp_path / "e.arrow")
+    c = limbfuse.read_estimate(tmp_path / "e.csv")
+    assert a.method == c.method == "mjls" and len(a) == len(c) == 300
+    assert set(a.header) - set(c.header) == {l for l in a.header if l.startswith("command:")}
+    assert a.channels.keys() == c.channels.keys()
+    for name in c.channels:
+        np.testing.assert_array_equal(np.ma.filled(a.channels[name], np.nan), np.ma.filled(c.channels[name], np.nan))
