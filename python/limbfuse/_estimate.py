@@ -179,15 +179,19 @@ def estimate(
         trial: the trial.
         method: a method name (``limbfuse.METHODS``).
         params: None (defaults), a TOML parameter file
-            (``limbfuse params --method NAME``) or a dict of the same keys.
+            (``limbfuse params --method NAME``), its text (a string with a
+            line break, e.g. ``default_params(NAME)`` edited) or a dict of
+            the same keys.
         **options: the method's ``limbfuse estimate`` flags: ``window``,
             ``order`` (knee-selfalign), ``library``, ``kappa``,
             ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
             ``imm_extend_library``, ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
             (``--diagnostics``): ``"all"`` (default), ``"none"``, or
             diagnostic names (a comma-separated string or a list, e.g.
-            ``["sd_thigh", "sd_shank"]``; ``limbfuse methods NAME`` lists
-            a method's). Fewer columns make a smaller, faster call.
+            ``["sd_thigh", "sd_shank"]``: the ``diag_`` columns of an
+            estimate with ``"all"``; a name the method lacks is refused with
+            the list of its diagnostics). Fewer columns make a smaller,
+            faster call.
             ``backfill=True`` (``--backfill``; knee-selfalign,
             knee-gyro-axis): the knee angle before the first identified
             window, filled offline (docs/KNEE_SELFALIGN.md "Backfill").

@@ -19,9 +19,12 @@ import os
 import sys
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
-from ._estimate import estimate, evaluate
+from ._estimate import estimate, evaluate, methods
 from ._native import LimbfuseError
-from ._trial import read_trial
+from ._trial import Trial, read_trial
+
+#: The trial files a directory contributes (CSV, Arrow IPC / Feather).
+TRIAL_SUFFIXES = (".csv", ".arrow", ".feather")
 
 #: The per-channel metrics of ``limbfuse evaluate --json`` (degrees).
 METRICS = ("rmse_deg", "max_abs_err_deg", "mean_err_deg", "corr")
@@ -42,13 +45,16 @@ GAIT_METRICS = ("phase_accuracy_pct", "com_pos_rmse_m", "com_pos_max_m", "speed_
                 "speed_ref_mps", "speed_error_mps")
 
 
-def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> List[str]:
-    """The trial files: a glob pattern, a directory (its ``*.csv``), a file,
-    or a list of files; sorted when from a pattern or directory."""
+def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> List[Any]:
+    """The trials: a glob pattern, a directory (its ``*.csv``, ``*.arrow``
+    and ``*.feather`` files), a file, or a list of files or in-memory
+    ``Trial``s; sorted when from a pattern or directory."""
+    if isinstance(paths_or_glob, Trial):
+        return [paths_or_glob]
     if isinstance(paths_or_glob, (str, os.PathLike)):
         p = os.fspath(paths_or_glob)
         if os.path.isdir(p):
-            found = sorted(glob.glob(os.path.join(p, "*.csv")))
+            found = sorted(f for f in glob.glob(os.path.join(p, "*")) if f.endswith(TRIAL_SUFFIXES))
         elif any(ch in p for ch in "*?["):
             found = sorted(glob.glob(p))
         else:
@@ -56,14 +62,22 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
         if not found:
             raise LimbfuseError(f"cohort: no trial file matches `{p}`")
         return found
-    found = [os.fspath(x) for x in paths_or_glob]
+    found = [x if isinstance(x, Trial) else os.fspath(x) for x in paths_or_glob]
     if not found:
         raise LimbfuseError("cohort: the list of trial files is empty")
     return found
 
 
+def trial_name(trial: Any, index: int) -> str:
+    """How a cohort row names its trial: the path given, an in-memory
+    trial's file name (``Trial.source``), else ``<trial N>``."""
+    if not isinstance(trial, Trial):
+        return str(trial)
+    return trial.source[0] if trial.source else f"<trial {index}>"
+
+
 def evaluate_trial(
-    path: str,
+    path: Any,
     method: str,
     params: Any = None,
     options: Optional[Mapping[str, Any]] = None,
@@ -72,15 +86,16 @@ def evaluate_trial(
     """One task: read, estimate, evaluate one trial; its rows. An error
     names the trial by the path given (messages from estimating name the
     file only: in a cohort, `s2/trial.csv` is not `s1/trial.csv`)."""
+    name = trial_name(path, 0) if isinstance(path, Trial) else str(path)
     try:
-        trial = read_trial(path)
+        trial = path if isinstance(path, Trial) else read_trial(path)
         est = estimate(trial, method, params, **dict(options or {}))
         ev = evaluate(trial, est, **dict(eval_options or {}))
     except LimbfuseError as e:
-        if str(path) in str(e):
+        if name in str(e):
             raise
-        raise LimbfuseError(f"{path}: {e}") from e
-    return rows_of(path, ev)
+        raise LimbfuseError(f"{name}: {e}") from e
+    return rows_of(name, ev)
 
 
 def evaluate_trials(
@@ -90,8 +105,16 @@ def evaluate_trials(
     options: Optional[Mapping[str, Any]] = None,
     eval_options: Optional[Mapping[str, Any]] = None,
 ) -> List[Dict[str, Any]]:
-    """One task over several trials, in order: their rows."""
-    return [row for p in paths for row in evaluate_trial(p, method, params, options, eval_options)]
+    """One task over several trials, in order: their rows (an in-memory
+    trial without a file name is a ``(name, Trial)`` pair)."""
+    rows = []
+    for p in paths:
+        name, trial = p if isinstance(p, tuple) else (None, p)
+        for row in evaluate_trial(trial, method, params, options, eval_options):
+            if name is not None:
+                row["trial"] = name
+            rows.append(row)
+    return rows
 
 
 def chunks(paths: Sequence[str], slots: int) -> List[List[str]]:
@@ -143,6 +166,7 @@ def run(
     eval_options: Optional[Mapping[str, Any]] = None,
     scheduler: str = "threads",
     progress: bool = False,
+    **estimate_options: Any,
 ):
     """Estimates and evaluates every trial; one DataFrame row per trial and
     channel (``trial, method, channel, n_samples, rmse_deg,
@@ -152,8 +176,11 @@ def run(
     the ``GAIT_METRICS`` ones (``rows_of``).
 
     Args:
-        paths_or_glob: a glob pattern, a directory, or a list of files.
-        method, params: as ``limbfuse.estimate``; ``options`` are its flags.
+        paths_or_glob: a glob pattern, a directory, a list of files or of
+            in-memory ``Trial``s (rows name them by ``Trial.source`` or
+            ``<trial N>``, N their place in the list).
+        method, params: as ``limbfuse.estimate``; its flags are keywords
+            (``diagnostics="none"``) or the ``options`` dict.
         client: a ``dask.distributed.Client``; None uses the local
             ``scheduler`` (``"threads"``, ``"processes"`` or ``"sync"``).
         eval_options: ``limbfuse.evaluate`` keywords (window, offset_free, ...).
@@ -164,7 +191,16 @@ def run(
     import dask
     import pandas as pd
 
-    paths = trial_paths(paths_or_glob)
+    # (an audit: a misspelt method was reported as the first trial's error)
+    known = [name for name, _ in methods()]
+    if method not in known:
+        raise LimbfuseError(f"cohort: unknown method `{method}` (one of: {', '.join(known)})")
+    if estimate_options:
+        options = dict(options or {}, **estimate_options)
+    paths = [
+        (trial_name(x, i), x) if isinstance(x, Trial) and not x.source else x
+        for i, x in enumerate(trial_paths(paths_or_glob))
+    ]
     p = os.fspath(params) if isinstance(params, os.PathLike) else params
     if client is not None:
         parts = chunks(paths, sum(client.nthreads().values()))
@@ -240,6 +276,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                  scheduler=a.scheduler, progress=progress)
     except LimbfuseError as e:
         print(f"error: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:  # (an unreachable --address: a traceback before)
+        where = f"the Dask scheduler at {a.address}" if a.address else "the Dask cluster"
+        print(f"error: cannot reach {where}: {e}", file=sys.stderr)
         return 1
     finally:
         if client is not None:

@@ -22,6 +22,7 @@ use pyo3::types::PyDict;
 
 use crate::column_run::{run_columns, run_columns_offline, RunWatches};
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
+use crate::options::python_spelling;
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
 
@@ -256,7 +257,7 @@ fn estimate<'py>(
             let est = built.header();
             let chosen = diagnostics
                 .resolve(est.name(), est.diagnostic_names())
-                .map_err(|e| user_msg(format!("{label}: {e}")))?;
+                .map_err(|e| user_msg(format!("{label}: {}", python_spelling(&e.to_string()))))?;
             let mut out = EstimateColumns::with_diagnostics(est, cols.len(), &chosen)
                 .map_err(|_| user_msg("cannot describe the estimator's parameters"))?;
             if let Some((name, hash)) = trial.source() {
@@ -302,7 +303,10 @@ fn estimate<'py>(
             // As `limbfuse estimate`: nothing estimated is an error.
             if let Some(k) = &watches.knee {
                 if let Err(why) = k.verdict(knee_window) {
-                    return Err(with_rejected(format!("{label}: `{}`: {why}", spec.method())));
+                    return Err(with_rejected(format!(
+                        "{label}: `{}`: {why}",
+                        spec.method()
+                    )));
                 }
             }
             if gait_method && !watches.gait.found {
@@ -314,12 +318,14 @@ fn estimate<'py>(
                 )));
             }
             if !watches.any_output.found {
-                return Err(with_rejected(limbfuse_eval::output_watch::no_output_message(
-                    &label,
-                    spec.method().name(),
-                    inputs.len() as u64,
-                    "nothing to return",
-                )));
+                return Err(with_rejected(
+                    limbfuse_eval::output_watch::no_output_message(
+                        &label,
+                        spec.method().name(),
+                        inputs.len() as u64,
+                        "nothing to return",
+                    ),
+                ));
             }
             let resets = watches
                 .resets

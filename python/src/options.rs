@@ -9,7 +9,7 @@ use limbfuse_methods::{MethodFlags, MethodName, MethodSpec};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use crate::{user_error, user_msg};
+use crate::{chain_message, user_error, user_msg};
 
 /// The options of one call, read one by one.
 pub struct Options<'py> {
@@ -223,7 +223,8 @@ pub fn estimate_spec(
                      names (a comma-separated string or a list of strings)",
                 ));
             };
-            DiagnosticColumns::parse(&text).map_err(|e| user_error(&e))?
+            DiagnosticColumns::parse(&text)
+                .map_err(|e| user_msg(python_spelling(&chain_message(&e))))?
         }
     };
     Ok(EstimateRun {
@@ -262,14 +263,69 @@ fn method_spec_from(
             let label = PathBuf::from("<params dict>");
             MethodSpec::from_parts(name, Some((&text, &label)), &flags)
         }
+        // A parameter file's text (e.g. `default_params(...)` edited): a
+        // path never holds a line break (an audit: the text was taken for a
+        // file name and "not found").
+        Some(p) if p.extract::<String>().is_ok_and(|t| t.contains('\n')) => {
+            let text: String = p.extract()?;
+            let label = PathBuf::from("<params text>");
+            MethodSpec::from_parts(name, Some((&text, &label)), &flags)
+        }
         Some(p) => {
             let path: PathBuf = p.extract().map_err(|_| {
-                user_msg("params: expected None, a parameter file path or a dict of parameters")
+                user_msg(
+                    "params: expected None, a parameter file path, a parameter file's text or a \
+                     dict of parameters",
+                )
             })?;
             MethodSpec::resolve(name, Some(&path), &flags)
         }
     };
-    spec.map_err(|e| user_error(&e))
+    spec.map_err(|e| user_msg(python_spelling(&chain_message(&e))))
+}
+
+/// The method layer's messages name `limbfuse estimate`'s flags
+/// (`--window`, `--rescale-height`); here they are keywords (`window`,
+/// `rescale_height`: an audit found `estimate(..., window=500)` answered
+/// with "--window and --order apply to ...").
+pub(crate) fn python_spelling(message: &str) -> String {
+    const FLAGS: [&str; 16] = [
+        "window",
+        "order",
+        "library",
+        "kappa",
+        "rescale-height",
+        "imm-weights",
+        "imm-touchdown",
+        "imm-config",
+        "imm-extend-library",
+        "leg-length",
+        "mass",
+        "diagnostics",
+        "smooth",
+        "backfill",
+        "calibration",
+        "params",
+    ];
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(i) = rest.find("--") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 2..];
+        let word_end = after
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+            .unwrap_or(after.len());
+        let word = &after[..word_end];
+        if FLAGS.contains(&word) {
+            out.push_str(&word.replace('-', "_"));
+        } else {
+            out.push_str("--");
+            out.push_str(word);
+        }
+        rest = &after[word_end..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// A dict of parameters as the text of a TOML parameter file.
@@ -331,4 +387,26 @@ fn toml_value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
         "{at}: expected a number, string, bool, list or dict, found {}",
         v.get_type().name()?
     )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::python_spelling;
+
+    #[test]
+    fn method_flags_become_keywords_and_nothing_else_changes() {
+        assert_eq!(
+            python_spelling("--window and --order apply to method knee-selfalign only"),
+            "window and order apply to method knee-selfalign only"
+        );
+        assert_eq!(
+            python_spelling("--rescale-height 0: expected a positive height; see --help"),
+            "rescale_height 0: expected a positive height; see --help"
+        );
+        assert_eq!(
+            python_spelling("(file keys or --window/--order)"),
+            "(file keys or window/order)"
+        );
+        assert_eq!(python_spelling("a -- b --"), "a -- b --");
+    }
 }

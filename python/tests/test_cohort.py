@@ -85,3 +85,26 @@ def test_issue_19_gait_event_cohort_has_one_row_per_trial(tmp_path):
         tr = limbfuse.read_trial(p)
         rows += cohort.rows_of(p, limbfuse.evaluate(tr, limbfuse.estimate(tr, "gait-events")))
     pd.testing.assert_frame_equal(df, pd.DataFrame(rows, columns=cohort.columns_of(rows)), check_exact=True)
+
+
+def test_in_memory_trials_arrow_files_and_estimate_keywords(tmp_path, cohort_dir):
+    """An audit: a list of `Trial`s raised TypeError, a directory skipped its
+    `.arrow` files, `diagnostics="none"` was an unexpected keyword, and a
+    misspelt method was reported as the first trial's error."""
+    trials = [limbfuse.read_trial(cohort_dir / "s00.csv"), limbfuse.simulate("walking", duration=4.0, seed=3)]
+    df = cohort.run(trials, "mjls", diagnostics="none", scheduler="sync")
+    assert list(df["trial"].unique()) == ["s00.csv", "<trial 1>"]
+    ref = cohort.run([cohort_dir / "s00.csv"], "mjls", scheduler="sync")
+    pd.testing.assert_frame_equal(
+        df[df["trial"] == "s00.csv"].drop(columns="trial").reset_index(drop=True),
+        ref.drop(columns="trial"),
+        check_exact=True,
+    )
+    d = tmp_path / "mixed"
+    d.mkdir()
+    trials[1].write(d / "a.csv")
+    trials[1].write(d / "b.arrow")
+    mixed = cohort.run(d, "mjls", scheduler="sync")
+    assert [p.rsplit("/", 1)[-1] for p in mixed["trial"].unique()] == ["a.csv", "b.arrow"]
+    with pytest.raises(LimbfuseError, match=r"^cohort: unknown method `mjlss` \(one of: gyro-integration"):
+        cohort.run(d, "mjlss")

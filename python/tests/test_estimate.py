@@ -614,3 +614,29 @@ def _leaves(d):
             yield from v
         else:
             yield v
+
+
+def test_params_may_be_a_parameter_files_text():
+    """An audit: `estimate(trial, m, default_params(m))` took the text for a
+    file name; a string with a line break is the file's text (a path never
+    holds one), named `<params text>` in errors."""
+    tr = limbfuse.simulate("walking", duration=5, seed=2)
+    text = limbfuse.default_params("mjls")
+    a = limbfuse.estimate(tr, "mjls", text, diagnostics="none")
+    b = limbfuse.estimate(tr, "mjls", diagnostics="none")
+    for k in b.channels:
+        np.testing.assert_array_equal(np.ma.filled(a.channels[k], 0), np.ma.filled(b.channels[k], 0))
+    with pytest.raises(LimbfuseError, match=r"<params text>: `gravity` = -1: must be finite and > 0"):
+        limbfuse.estimate(tr, "mjls", text.replace("gravity = 9.81", "gravity = -1"))
+    assert "gravity = 9.81" in text
+    Filter.for_trial(tr, "mjls", text)  # the streaming filter too
+
+
+def test_method_flags_are_named_as_keywords():
+    """An audit: `estimate(trial, "mjls", window=500)` said "--window and
+    --order apply to ..."; Python names its keywords."""
+    tr = limbfuse.simulate("walking", duration=3, seed=2)
+    with pytest.raises(LimbfuseError, match=r"^window and order apply to method knee-selfalign only, not to `mjls`"):
+        limbfuse.estimate(tr, "mjls", window=500)
+    with pytest.raises(LimbfuseError, match=r": diagnostics: `bogus` is not a diagnostic of `mjls`"):
+        limbfuse.estimate(tr, "mjls", diagnostics=["bogus"])

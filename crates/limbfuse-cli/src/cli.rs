@@ -318,8 +318,9 @@ pub struct EstimateArgs {
     #[arg(long, conflicts_with = "smooth")]
     pub backfill: bool,
     /// Diagnostic columns to write: `all` (default), `none`, or names
-    /// separated by commas (`limbfuse methods NAME` lists a method's), for example
-    /// `sd_thigh,sd_shank`.
+    /// separated by commas, for example `sd_thigh,sd_shank` (the `diag_` columns
+    /// of an estimate with `all`; a name the method lacks is refused with the
+    /// list of its diagnostics).
     #[arg(long, value_name = "all|none|NAMES")]
     pub diagnostics: Option<String>,
 }

@@ -75,11 +75,19 @@ pub fn check_info(info: &MethodInfo, layout: &TrialLayout) -> Result<(), MethodE
     if missing.is_empty() {
         return Ok(());
     }
+    // The hint (mjls: "use `local` or `global` on trials without
+    // encoders") is about encoders: said only when one is missing (an audit:
+    // a trial with every encoder and no thigh gyro was told to do without
+    // encoders).
+    let hint = match missing.iter().any(|m| m.ends_with("_enc")) {
+        true => info.needs_hint,
+        false => "",
+    };
     Err(MethodError::MissingChannels {
         method: info.name,
         why: info.needs_why,
         missing,
-        hint: info.needs_hint,
+        hint,
     })
 }
 
@@ -98,5 +106,24 @@ mod tests {
         let m = MethodName::Mjls.required_channels().missing(&l);
         assert_eq!(m, ["shank_gyr_x/y/z", "knee_enc"]);
         assert!(MethodName::Global.required_channels().missing(&l).len() == 1);
+    }
+
+    #[test]
+    fn the_encoder_hint_is_given_only_when_an_encoder_is_missing() {
+        let info = MethodName::Mjls.info();
+        let no_thigh_gyro = TrialLayout {
+            acc: [true; 4],
+            gyr: [true, false, true, true],
+            encoder: [true; 3],
+            ..Default::default()
+        };
+        let e = check_info(&info, &no_thigh_gyro).unwrap_err().to_string();
+        assert!(e.contains("thigh_gyr_x/y/z") && !e.contains("without encoders"), "{e}");
+        let no_knee = TrialLayout {
+            encoder: [true, false, true],
+            ..no_thigh_gyro
+        };
+        let e = check_info(&info, &no_knee).unwrap_err().to_string();
+        assert!(e.contains("without encoders"), "{e}");
     }
 }
