@@ -25,6 +25,7 @@ pub mod plausibility;
 pub mod sample;
 pub mod sample_gate;
 pub mod screening;
+pub mod shown_number;
 
 #[cfg(feature = "std")]
 pub mod runner;
@@ -37,6 +38,7 @@ pub use plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};
 pub use sample_gate::{Rejections, SampleGate, SensorRanges};
 pub use screening::Screening;
+pub use shown_number::ShownNumber;
 
 /// Standard gravity used when a trial does not say otherwise (m/s^2), SPEC section 1.
 pub const STANDARD_GRAVITY: f64 = 9.81;

@@ -39,16 +39,36 @@ pub struct GeometryFile {
     /// Knee-ankle distance (m).
     pub shank_length: Option<f64>,
     /// Trunk IMU position (m), trunk frame from the hip joint.
+    #[serde(default, deserialize_with = "exactly")]
     pub imu_trunk: Option<[f64; 3]>,
     /// Thigh IMU position (m), thigh frame from the hip joint.
+    #[serde(default, deserialize_with = "exactly")]
     pub imu_thigh: Option<[f64; 3]>,
     /// Shank IMU position (m), shank frame from the knee.
+    #[serde(default, deserialize_with = "exactly")]
     pub imu_shank: Option<[f64; 3]>,
     /// Foot IMU position (m), foot frame from the ankle.
+    #[serde(default, deserialize_with = "exactly")]
     pub imu_foot: Option<[f64; 3]>,
     /// Sensor-frame angle relative to the anatomical frame per segment
     /// (trunk, thigh, shank, foot), deg (`ChainGeometry::frame_offset`).
+    #[serde(default, deserialize_with = "exactly")]
     pub frame_offset_deg: Option<[f64; 4]>,
+}
+
+/// An array of exactly `N` numbers (an audit: serde read the first 3 of
+/// `imu_trunk = [-0.1, 0.08, 0, 42]` and dropped the 4th without a word).
+fn exactly<'de, D, const N: usize>(d: D) -> Result<Option<[f64; N]>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    use serde::de::Error;
+    let Some(v) = Option::<Vec<f64>>::deserialize(d)? else {
+        return Ok(None);
+    };
+    <[f64; N]>::try_from(v.as_slice())
+        .map(Some)
+        .map_err(|_| D::Error::custom(format!("expected {N} numbers, found {}", v.len())))
 }
 
 /// A `chain` parameter file.

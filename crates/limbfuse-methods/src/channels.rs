@@ -118,7 +118,10 @@ mod tests {
             ..Default::default()
         };
         let e = check_info(&info, &no_thigh_gyro).unwrap_err().to_string();
-        assert!(e.contains("thigh_gyr_x/y/z") && !e.contains("without encoders"), "{e}");
+        assert!(
+            e.contains("thigh_gyr_x/y/z") && !e.contains("without encoders"),
+            "{e}"
+        );
         let no_knee = TrialLayout {
             encoder: [true, false, true],
             ..no_thigh_gyro

@@ -139,11 +139,7 @@ pub enum MethodError {
 /// `v` as an error message shows it: as Rust prints it, but a huge or tiny
 /// magnitude in exponent form (`1e300`, not 301 digits).
 pub fn shown(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
+    limbfuse_core::ShownNumber(v).to_string()
 }
 
 #[cfg(test)]

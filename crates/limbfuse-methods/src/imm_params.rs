@@ -212,6 +212,33 @@ pub fn imm_spec(file: Option<(&str, &Path)>, flags: &MethodFlags) -> Result<ImmS
             })
         }
     };
+    // The body sizes, whichever configuration reads them (an audit:
+    // `rescale_height = 1e300` gave a constant phase, and with it in the
+    // file `mass = nan` passed unchecked).
+    use crate::body_ranges::{leg_length_m, mass_kg};
+    let named = |by_flag: bool, flag: &str, key: &str| match by_flag {
+        true => flag.to_string(),
+        false => match file {
+            Some((_, path)) => format!("{}: `{key}`", path.display()),
+            None => format!("the parameter file's `{key}`"),
+        },
+    };
+    if let Some(h) = flags.rescale_height.or(f.rescale_height) {
+        let name = named(
+            flags.rescale_height.is_some(),
+            "--rescale-height",
+            "rescale_height",
+        );
+        leg_length_m(&name, h).map_err(MethodError::ImmParams)?;
+    }
+    if let Some(l) = flags.leg_length.or(f.leg_length) {
+        let name = named(flags.leg_length.is_some(), "--leg-length", "leg_length");
+        leg_length_m(&name, l).map_err(MethodError::ImmParams)?;
+    }
+    if let Some(m) = flags.mass.or(f.mass) {
+        let name = named(flags.mass.is_some(), "--mass", "mass");
+        mass_kg(&name, m).map_err(MethodError::ImmParams)?;
+    }
     let templates = load_templates(&library, flags.rescale_height.or(f.rescale_height))?;
     let weights = match (&flags.imm_weights, &f.weights) {
         (Some(w), _) => weights("--imm-weights", w)?,

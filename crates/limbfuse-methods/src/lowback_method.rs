@@ -88,8 +88,25 @@ impl MethodDef for LowbackSpeedMethod {
         let f: LowbackFile = read_file::<Self, _>(file)?;
         let bad = |message: String| bad_value(file, Self::INFO.name, message);
         let mut p = LowbackParams::default();
-        positive("leg_length", f.leg_length, &mut p.leg_length).map_err(&bad)?;
-        positive("correction", f.correction, &mut p.correction).map_err(&bad)?;
+        // The pendulum's length and correction within a human's (an audit:
+        // `correction = 1e300` gave speeds of 7e299 m/s, `leg_length =
+        // 1e-300` a speed of 0 everywhere, both with exit 0).
+        in_range(
+            "leg_length",
+            f.leg_length,
+            LEG_LENGTH_M,
+            "m: a leg length or a lower-back sensor height",
+            &mut p.leg_length,
+        )
+        .map_err(&bad)?;
+        in_range(
+            "correction",
+            f.correction,
+            CORRECTION,
+            "(the published factors: 1.0-1.25)",
+            &mut p.correction,
+        )
+        .map_err(&bad)?;
         positive("wavelet_scale", f.wavelet_scale, &mut p.wavelet_scale).map_err(&bad)?;
         positive("walking_rms", f.walking_rms, &mut p.walking_rms).map_err(&bad)?;
         positive("speed_hold", f.speed_hold, &mut p.speed_hold).map_err(&bad)?;
@@ -201,6 +218,31 @@ impl PendulumSource {
 
 /// A metadata length refused outside its plausible range
 /// ([`crate::body_ranges`]).
+/// The pendulum correction factors accepted: around the published 1.0
+/// (the bare pendulum), 1.147-1.185 (mobgap's, Mobilise-D) and 1.25
+/// (Zijlstra & Hof 2003), with room either side.
+const CORRECTION: (f64, f64) = (0.5, 2.0);
+
+/// A parameter-file value within `(lo, hi)`, written into `into`.
+fn in_range(
+    key: &'static str,
+    v: Option<f64>,
+    (lo, hi): (f64, f64),
+    unit: &str,
+    into: &mut f64,
+) -> Result<(), String> {
+    if let Some(v) = v {
+        if !(lo..=hi).contains(&v) {
+            return Err(format!(
+                "`{key}` = {}: expected {lo} to {hi} {unit}",
+                crate::shown(v)
+            ));
+        }
+        *into = v;
+    }
+    Ok(())
+}
+
 fn plausible(key: &str, what: &str, v: f64, (lo, hi): (f64, f64)) -> Result<f64, MethodError> {
     within(v, (lo, hi)).ok_or_else(|| MethodError::GaitParams {
         method: LowbackSpeedMethod::INFO.name,

@@ -34,7 +34,7 @@
 
 use nalgebra::{SMatrix, SVector, Vector2};
 
-use crate::error::{finite, positive, ModelError};
+use crate::error::{finite, limits, positive, within_limit, ModelError};
 use crate::sdc::{sinc, SdcModel};
 
 /// Parameters of one leg in the leg-extension machine (SI units).
@@ -178,9 +178,13 @@ impl KneeFesParams {
         positive("mass", self.mass)?;
         positive("l_c", self.l_c)?;
         positive("g", self.g)?;
+        within_limit("inertia", self.inertia, limits::INERTIA)?;
+        within_limit("mass", self.mass, limits::MASS)?;
+        within_limit("l_c", self.l_c, limits::LENGTH)?;
+        within_limit("g", self.g, limits::G)?;
         positive("t_a", self.t_a)?;
-        finite("phi0", self.phi0)?;
-        finite("theta_eq", self.theta_eq)?;
+        within_limit("phi0", self.phi0, limits::ANGLE)?;
+        within_limit("theta_eq", self.theta_eq, limits::ANGLE)?;
         const D: [&str; 6] = ["d1", "d2", "d3", "d4", "d5", "d6"];
         for (n, v) in D.iter().zip(self.d) {
             finite(n, v)?;

@@ -49,7 +49,7 @@
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2, Vector4};
 
-use crate::error::{finite, positive, ModelError};
+use crate::error::{finite, limits, positive, within_limit, ModelError};
 use crate::fes_knee::{KneeFesParams, KneeSubject};
 use crate::sdc::{sinc, SdcModel};
 
@@ -126,6 +126,18 @@ impl FixedHipParams {
         positive("leg_com", self.leg_com)?;
         positive("leg_inertia", self.leg_inertia)?;
         positive("g", self.g)?;
+        for (name, v, limit) in [
+            ("thigh_mass", self.thigh_mass, limits::MASS),
+            ("thigh_length", self.thigh_length, limits::LENGTH),
+            ("thigh_com", self.thigh_com, limits::LENGTH),
+            ("thigh_inertia", self.thigh_inertia, limits::INERTIA),
+            ("leg_mass", self.leg_mass, limits::MASS),
+            ("leg_com", self.leg_com, limits::LENGTH),
+            ("leg_inertia", self.leg_inertia, limits::INERTIA),
+            ("g", self.g, limits::G),
+        ] {
+            within_limit(name, v, limit)?;
+        }
         if self.thigh_com >= self.thigh_length {
             return Err(ModelError::OutOfRange {
                 name: "thigh_com",

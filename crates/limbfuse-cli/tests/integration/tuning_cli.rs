@@ -238,7 +238,11 @@ fn bad_input_exits_1_with_a_message() {
             ],
             d,
         ),
-        &["neg.toml", "segments.foot.accel_angle_sigma", "> 0"],
+        &[
+            "neg.toml",
+            "segments.foot.accel_angle_sigma",
+            "must be from 1e-12 to 1e12",
+        ],
     );
     user_error(
         &limbfuse(&["evaluate", "t50.csv"], d),

@@ -96,7 +96,7 @@ impl Default for ChainGeometry {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ChainParamsError {
     /// `name` = `value` is outside `range`.
-    #[error("chain parameter `{name}` = {value} is outside {range}")]
+    #[error("chain parameter `{name}` = {} is outside {range}", limbfuse_core::ShownNumber(*value))]
     OutOfRange {
         /// Parameter name (the parameter-file key).
         name: &'static str,
@@ -232,12 +232,15 @@ impl ChainParams {
             ("turn_tau_s", self.turn_tau_s),
             ("turn_rate_min", self.turn_rate_min),
         ];
+        // (an audit: 1e300 and 1e-300 were accepted; squared into the
+        // covariances they overflow or underflow, and the chain then gave
+        // no estimate, reported as inputs missing)
         for (name, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
+            if !crate::segment_kf::params::SIGMA_RANGE.contains(&value) {
                 return Err(ChainParamsError::OutOfRange {
                     name,
                     value,
-                    range: "positive finite numbers",
+                    range: "1e-12 to 1e12 (squared into a covariance, a smaller value underflows and a larger one swamps every other term)",
                 });
             }
         }
@@ -276,6 +279,21 @@ impl ChainParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tiny_and_huge_noise_levels_are_refused_in_exponent_form() {
+        for (v, said) in [(1e300, "1e300"), (1e-300, "1e-300")] {
+            let p = ChainParams {
+                leg_jerk: v,
+                ..Default::default()
+            };
+            let e = p.validate().unwrap_err().to_string();
+            assert!(
+                e.contains(&format!("`leg_jerk` = {said} is outside 1e-12 to 1e12")),
+                "{e}"
+            );
+        }
+    }
 
     #[test]
     fn defaults_validate_and_bad_values_are_named() {

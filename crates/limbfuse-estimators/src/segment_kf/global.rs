@@ -25,7 +25,7 @@ use super::criteria::{count_reliable, psi, upsilon, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
 use super::gain_shares::{after_update, RowKind};
 use super::model::{Mat8, GLOBAL_ROWS};
-use super::params::{check_min_reliable, positive, CommonParams, ParamError};
+use super::params::{check_min_reliable, sigma, CommonParams, ParamError};
 use super::structured::Gain;
 
 /// Parameters of [`GlobalKf`].
@@ -83,7 +83,7 @@ impl GlobalKfParams {
         self.common.validate()?;
         check_min_reliable(self.min_reliable)?;
         for s in self.relative_sigma.iter().flatten() {
-            positive("relative_sigma", *s)?;
+            sigma("relative_sigma", *s)?;
         }
         Ok(())
     }

@@ -26,7 +26,7 @@ use super::criteria::{mjls_select, AccelGateState};
 use super::diagnostics::{write_segment_diagnostics, SegmentDiag};
 use super::gain_shares::{after_update, RowKind};
 use super::model::{mjls_rows, Mat8};
-use super::params::{default_encoder_sigma, positive, CommonParams, ParamError};
+use super::params::{default_encoder_sigma, sigma, CommonParams, ParamError};
 use super::structured::Gain;
 
 /// What the MJLS filter does when no accelerometer is reliable.
@@ -88,7 +88,7 @@ impl MarkovJumpKfParams {
     pub fn validate(&self) -> Result<(), ParamError> {
         self.common.validate()?;
         for s in self.encoder_sigma {
-            positive("encoder_sigma", s)?;
+            sigma("encoder_sigma", s)?;
         }
         Ok(())
     }

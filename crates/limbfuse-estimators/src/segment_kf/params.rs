@@ -323,23 +323,31 @@ impl CommonParams {
     /// Checks that every value is finite and in range.
     pub fn validate(&self) -> Result<(), ParamError> {
         for s in &self.segments {
-            positive_or_zero("gyro_noise", s.gyro_noise)?;
-            positive_or_zero("bias_drive", s.bias_drive)?;
+            density("gyro_noise", s.gyro_noise)?;
+            density("bias_drive", s.bias_drive)?;
             if s.bias_tau.is_nan() || s.bias_tau <= 0.0 {
                 return Err(ParamError::new(
                     "bias_tau",
                     "must be > 0 (infinity allowed)",
                 ));
             }
-            positive("accel_angle_sigma", s.accel_angle_sigma)?;
+            sigma("accel_angle_sigma", s.accel_angle_sigma)?;
             positive("zeta", s.zeta)?;
         }
-        positive("gravity", self.gravity)?;
-        positive("p0_angle_sigma", self.p0_angle_sigma)?;
-        positive("p0_bias_sigma", self.p0_bias_sigma)?;
+        if !(GRAVITY_RANGE.contains(&self.gravity)) {
+            return Err(ParamError::new(
+                "gravity",
+                "must be from 1 to 20 (Earth's: 9.78-9.83)",
+            ));
+        }
+        sigma("p0_angle_sigma", self.p0_angle_sigma)?;
+        sigma("p0_bias_sigma", self.p0_bias_sigma)?;
         for b in self.initial_gyro_bias {
-            if !b.is_finite() {
-                return Err(ParamError::new("initial_gyro_bias", "must be finite"));
+            if !(b.is_finite() && b.abs() <= MAX_GYRO_BIAS) {
+                return Err(ParamError::new(
+                    "initial_gyro_bias",
+                    "must be within +-1 rad/s (57 deg/s; a MEMS gyro's zero-rate offset is a few deg/s)",
+                ));
             }
         }
         let g = &self.accel_gate;
@@ -427,6 +435,45 @@ impl fmt::Display for ParamError {
 
 #[cfg(feature = "std")]
 impl std::error::Error for ParamError {}
+
+/// The gravity a filter may be given (m/s^2): the simulators' range, wide
+/// around Earth's 9.78-9.83 (an audit: 1e-300 and 1e300 were accepted and
+/// turned every accelerometer row off).
+const GRAVITY_RANGE: core::ops::RangeInclusive<f64> = 1.0..=20.0;
+
+/// The largest initial gyro bias (rad/s): the simulators' drift bound.
+const MAX_GYRO_BIAS: f64 = 1.0;
+
+/// The range of a standard deviation (or noise density) in its SI unit:
+/// squared into a covariance, a value below 1e-12 underflows towards 0 or
+/// swamps nothing (an audit: `encoder_sigma = 1e-300` squared to 0 and then
+/// acted exactly as `1e300`, whose square is infinite: no update ever), and
+/// one above 1e12 leaves no digit of the other terms in double precision.
+pub const SIGMA_RANGE: core::ops::RangeInclusive<f64> = 1e-12..=1e12;
+
+/// A standard deviation: within [`SIGMA_RANGE`].
+pub(crate) fn sigma(field: &'static str, v: f64) -> Result<(), ParamError> {
+    if SIGMA_RANGE.contains(&v) {
+        Ok(())
+    } else {
+        Err(ParamError::new(
+            field,
+            "must be from 1e-12 to 1e12 (squared into a covariance, a smaller value underflows and a larger one swamps every other term)",
+        ))
+    }
+}
+
+/// A process-noise density: 0 (none) or within [`SIGMA_RANGE`].
+pub(crate) fn density(field: &'static str, v: f64) -> Result<(), ParamError> {
+    if v == 0.0 || SIGMA_RANGE.contains(&v) {
+        Ok(())
+    } else {
+        Err(ParamError::new(
+            field,
+            "must be 0 (none) or from 1e-12 to 1e12 (squared into a covariance, a smaller value underflows and a larger one swamps every other term)",
+        ))
+    }
+}
 
 pub(crate) fn positive(field: &'static str, v: f64) -> Result<(), ParamError> {
     if v.is_finite() && v > 0.0 {

@@ -329,6 +329,9 @@ impl Applier<'_> {
         f: impl FnOnce(&mut FilterParams),
     ) -> Result<(), ParamsFileError> {
         f(&mut self.params);
+        // (numbers as `shown`: `1e-300`, not 300 zeros)
+        let shown = shown.to_string();
+        let shown = shown.parse::<f64>().map_or(shown, crate::shown);
         self.params
             .validate()
             .map_err(|e| ParamsFileError::Invalid {
