@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import re
 import tempfile
+import warnings
 from typing import TYPE_CHECKING, Any, Dict, List, Sequence, Union
 
 from . import _native
@@ -47,15 +48,48 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
 
 
 def align(trial: Trial, **options: Any) -> Trial:
-    """Sensor-to-segment alignment from walking data (``limbfuse align``):
-    the aligned trial, its metadata annotated with the rotations.
+    """Sensor-to-segment alignment (``limbfuse align``): the aligned trial,
+    its metadata annotated with the rotations (and the detected leg).
 
-    options: hinge (bool), partial (bool), mean_angle ({segment: degrees},
-    the walking mean angle when the trial has no quiet standing).
+    options:
+        procedure: "walking" (default: from walking data, docs/ALIGNMENT.md)
+            or "static-rotation" (paper 004 sec 3.3: quiet standing + hip
+            flexion/extension rotations).
+        hinge (bool), partial (bool), mean_angle ({segment: degrees}, the
+            walking mean angle when the trial has no quiet standing): the
+            walking procedure's (``--hinge``, ``--partial``, ``--mean-angle``).
+        calibration: static-rotation only, the recording of quiet standing
+            and rotations of the same sensors (a ``Trial``; default: the
+            calibration segment at the start of `trial`).
+        imu_calibration: an IMU calibration (a ``Calibration`` from
+            ``calibrate`` or its file) applied to the raw channels first
+            (``--imu-calibration``).
+
+    The CLI's warnings (readings left out of the alignment, a detected leg
+    replacing the declared one) are ``LimbfuseWarning``s.
     """
+    from ._estimate import LimbfuseWarning
+
     if not isinstance(trial, Trial):
         raise TypeError(f"align: expected a limbfuse.Trial, found {type(trial).__name__}")
-    return Trial._from_native(_native.align(trial._native(), options or None))
+    options = dict(options)
+    if "calibration" in options:
+        rec = options.pop("calibration")
+        if not isinstance(rec, Trial):
+            raise TypeError(
+                "align: `calibration` is the static-rotation recording (a limbfuse.Trial), found "
+                f"{type(rec).__name__}; an IMU calibration is `imu_calibration=`"
+            )
+        options["calibration_trial"] = rec._native()
+    cal = options.get("imu_calibration")
+    if isinstance(cal, Calibration):
+        options["imu_calibration_toml"] = options.pop("imu_calibration").toml
+    elif isinstance(cal, os.PathLike):
+        options["imu_calibration"] = os.fspath(cal)
+    tup, said = _native.align(trial._native(), options or None)
+    for line in said:
+        warnings.warn(line, LimbfuseWarning, stacklevel=2)
+    return Trial._from_native(tup)
 
 
 class Calibration:
@@ -63,8 +97,9 @@ class Calibration:
     text, ``sensors`` one summary dict per calibrated IMU (segment, poses,
     residual_mg, acc_bias_mg, acc_scale, gyro_bias_rad_s, rejected).
     ``write(path)`` writes the file ``limbfuse estimate --calibration``,
-    ``import --calibration`` and ``align --calibration`` read
-    (docs/CALIBRATION.md)."""
+    ``import --calibration`` and ``align --imu-calibration`` read
+    (docs/CALIBRATION.md); ``estimate(..., calibration=cal)`` and
+    ``align(..., imu_calibration=cal)`` take it as it is."""
 
     def __init__(self, toml: str, sensors: List[Dict[str, Any]]):
         self.toml = toml

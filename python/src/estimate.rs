@@ -148,6 +148,18 @@ pub(crate) fn calibration_for_trial(
     meta: &limbfuse_io::TrialMeta,
     layout: &limbfuse_io::TrialLayout,
 ) -> PyResult<Calibration> {
+    calibration_and_frame(text, name, label, meta, layout).map(|(c, _)| c)
+}
+
+/// [`calibration_for_trial`] and the frame it applies in, for the metadata
+/// (`Calibration::annotate`, as `limbfuse align --imu-calibration` writes it).
+pub(crate) fn calibration_and_frame(
+    text: &str,
+    name: &str,
+    label: &str,
+    meta: &limbfuse_io::TrialMeta,
+    layout: &limbfuse_io::TrialLayout,
+) -> PyResult<(Calibration, &'static str)> {
     let (path, trial) = (Path::new(name), Path::new(label));
     let cal = Calibration::from_toml(text, path).map_err(|e| user_error(&e))?;
     Calibration::check_not_calibrated(meta, trial).map_err(|e| user_error(&e))?;
@@ -156,9 +168,12 @@ pub(crate) fn calibration_for_trial(
     let rotations = rotations_from_metadata(meta)
         .map_err(|e| user_msg(format!("{label}: reading the alignment rotations: {e}")))?;
     Ok(if rotations.iter().any(Option::is_some) {
-        cal.rotated(&rotations)
+        (
+            cal.rotated(&rotations),
+            "raw sensor frame, rotated with the alignment",
+        )
     } else {
-        cal
+        (cal, "raw sensor frame")
     })
 }
 

@@ -6,83 +6,175 @@ use std::path::PathBuf;
 use limbfuse_core::{Record, Segment};
 use limbfuse_io::calibration::CalibrationModel;
 use limbfuse_models::bslip::BslipParams;
-use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions};
+use limbfuse_signal::align::{apply_alignment, apply_rotations, AlignOptions};
 use limbfuse_signal::calibration::CalibrationParams;
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_workflows::gait_library::gait_library_file;
+use limbfuse_workflows::trial_alignment::{
+    align_static_rotation, align_walking, TrialAlignmentError,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::columns::OwnedColumns;
+use crate::estimate::calibration_and_frame;
 use crate::options::Options;
 use crate::trial::{trial_tuple, TrialArgs, TrialTuple};
 use crate::{chain_message, guarded, user_error, user_msg};
 
-/// Sensor-to-segment alignment from walking data (`limbfuse align`):
-/// returns the aligned trial, its metadata annotated with the rotations.
+/// Sensor-to-segment alignment (`limbfuse align`): the aligned trial, its
+/// metadata annotated with the rotations, and the CLI's warnings (readings
+/// left out, a detected leg replacing the declared one).
 #[pyfunction]
 #[pyo3(signature = (trial, options=None))]
 fn align<'py>(
     py: Python<'py>,
     trial: TrialArgs<'py>,
     options: Option<Bound<'py, PyDict>>,
-) -> PyResult<TrialTuple<'py>> {
+) -> PyResult<(TrialTuple<'py>, Vec<String>)> {
     guarded(|| {
         let mut o = Options::new("align", options);
+        let static_rotation = match o.string("procedure")?.as_deref() {
+            None | Some("walking") => false,
+            Some("static-rotation") => true,
+            Some(other) => {
+                return Err(user_msg(format!(
+                    "align: option `procedure`: expected \"walking\" or \"static-rotation\", found \"{other}\""
+                )))
+            }
+        };
         let mut opts = AlignOptions {
             hinge: o.bool("hinge")?.unwrap_or(false),
             partial: o.bool("partial")?.unwrap_or(false),
             ..AlignOptions::default()
         };
         if let Some(m) = o.any("mean_angle")? {
-            let d = m.downcast::<PyDict>().map_err(|_| {
-                user_msg("align: option `mean_angle`: expected a dict {segment: degrees}, e.g. {\"thigh\": 7}")
-            })?;
-            for (k, v) in d.iter() {
-                let seg: String = k.extract()?;
-                let s = Segment::ALL.into_iter().find(|s| s.name() == seg).ok_or_else(|| {
-                    user_msg(format!("align: option `mean_angle`: unknown segment `{seg}` (expected trunk, thigh, shank or foot)"))
-                })?;
-                let deg: f64 = v
-                    .extract()
-                    .ok()
-                    .filter(|x: &f64| x.is_finite())
-                    .ok_or_else(|| {
-                        user_msg(format!(
-                            "align: option `mean_angle`: expected a number of degrees for `{seg}`"
-                        ))
-                    })?;
-                opts.mean_angle_rad[s.index()] = deg.to_radians();
-            }
+            opts.mean_angle_rad = mean_angles(&m)?;
         }
+        let imu_calibration = match (
+            o.string("imu_calibration")?,
+            o.string("imu_calibration_toml")?,
+        ) {
+            (Some(path), None) => Some((
+                std::fs::read_to_string(&path)
+                    .map_err(|e| user_msg(format!("imu_calibration: cannot read {path}: {e}")))?,
+                path,
+            )),
+            (None, Some(text)) => Some((text, "<Calibration>".to_string())),
+            (None, None) => None,
+            (Some(_), Some(_)) => {
+                return Err(user_msg(
+                    "align: give `imu_calibration` (a file) or `imu_calibration_toml`, not both",
+                ))
+            }
+        };
+        let recording = o.any("calibration_trial")?;
         o.finish()?;
+        if !static_rotation && recording.is_some() {
+            return Err(user_msg(
+                "align: `calibration` (the recording of quiet standing and rotations) is for \
+                 procedure=\"static-rotation\"",
+            ));
+        }
         let cols = trial.columns()?;
         let layout = *cols.layout();
         let label = trial.label();
-        if !layout.gyr.iter().any(|&g| g) {
-            return Err(user_msg(format!(
-                "{label}: the trial has no gyroscope channels (`<segment>_gyr_x` ...), which alignment needs"
-            )));
-        }
         let mut meta = trial.meta();
-        let records: Vec<Record> = cols.records().collect();
-        let (meta, out) = py
-            .detach(|| {
-                let alignment = estimate_alignment(&records, &opts)?;
-                alignment.annotate(&mut meta);
-                let aligned: Vec<Record> = records
-                    .iter()
-                    .map(|r| apply_alignment(r, &alignment))
-                    .collect();
-                Ok::<_, limbfuse_signal::align::AlignError>((
-                    meta,
-                    OwnedColumns::of_records(&layout, &aligned),
-                ))
-            })
-            .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
-        Ok(trial_tuple(py, &meta, out, None))
+        let mut records: Vec<Record> = cols.records().collect();
+        let mut said = Vec::new();
+        let cal = match &imu_calibration {
+            Some((text, name)) => {
+                let (cal, frame) = calibration_and_frame(text, name, &label, &meta, &layout)?;
+                records.iter_mut().for_each(|r| cal.apply(r));
+                // (the file's name, as `limbfuse align --imu-calibration` writes it)
+                let file = std::path::Path::new(name)
+                    .file_name()
+                    .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+                cal.annotate(&mut meta, &file, frame);
+                Some(cal)
+            }
+            None => None,
+        };
+        let out = if static_rotation {
+            let (cal_records, cal_name) = match &recording {
+                Some(r) => {
+                    let r: TrialArgs<'_> = r.extract().map_err(|_| {
+                        user_msg("align: `calibration`: expected a limbfuse.Trial (the recording of quiet standing and rotations)")
+                    })?;
+                    let mut rec: Vec<Record> = r.columns()?.records().collect();
+                    if let Some(c) = &cal {
+                        rec.iter_mut().for_each(|x| c.apply(x));
+                    }
+                    (rec, r.label())
+                }
+                None => (records.clone(), label.clone()),
+            };
+            let al = py
+                .detach(|| align_static_rotation(&cal_records, &cal_name, &layout, &mut meta))
+                .map_err(|e| {
+                    user_msg(format!(
+                        "{cal_name}: static-rotation alignment: {}",
+                        chain_message(&e)
+                    ))
+                })?;
+            let aligned: Vec<Record> = records
+                .iter()
+                .map(|r| apply_rotations(r, &al.rotations))
+                .collect();
+            OwnedColumns::of_records(&layout, &aligned)
+        } else {
+            let (w, aligned) = py
+                .detach(|| {
+                    let w = align_walking(&records, &layout, &mut meta, &opts)?;
+                    let aligned: Vec<Record> = records
+                        .iter()
+                        .map(|r| apply_alignment(r, &w.alignment))
+                        .collect();
+                    Ok::<_, TrialAlignmentError>((w, aligned))
+                })
+                .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
+            if let Some((gyro, acc, first_t)) = w.left_out {
+                said.push(format!(
+                    "{label}: {gyro} gyroscope and {acc} accelerometer readings out of the sensors' \
+                     range or implausible (first at t = {first_t} s) left out of the alignment, as \
+                     `estimate` leaves them out (the aligned trial keeps them)"
+                ));
+            }
+            if w.leg_replaced {
+                said.push(format!("{label}: {}", w.leg_line));
+            }
+            OwnedColumns::of_records(&layout, &aligned)
+        };
+        Ok((trial_tuple(py, &meta, out, None), said))
     })
+}
+
+/// `mean_angle={segment: degrees}`.
+fn mean_angles(m: &Bound<'_, PyAny>) -> PyResult<[f64; 4]> {
+    let d = m.downcast::<PyDict>().map_err(|_| {
+        user_msg(
+            "align: option `mean_angle`: expected a dict {segment: degrees}, e.g. {\"thigh\": 7}",
+        )
+    })?;
+    let mut out = [0.0; 4];
+    for (k, v) in d.iter() {
+        let seg: String = k.extract()?;
+        let s = Segment::ALL.into_iter().find(|s| s.name() == seg).ok_or_else(|| {
+            user_msg(format!("align: option `mean_angle`: unknown segment `{seg}` (expected trunk, thigh, shank or foot)"))
+        })?;
+        let deg: f64 = v
+            .extract()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| {
+                user_msg(format!(
+                    "align: option `mean_angle`: expected a number of degrees for `{seg}`"
+                ))
+            })?;
+        out[s.index()] = deg.to_radians();
+    }
+    Ok(out)
 }
 
 /// The calibration of every IMU of a pose recording (`limbfuse calibrate`):

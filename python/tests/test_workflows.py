@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import limbfuse
-from limbfuse import LimbfuseError
+from limbfuse import LimbfuseError, Trial
 
 
 def test_simulate_is_seeded_and_matches_the_cli(cli, tmp_path):
@@ -352,3 +352,55 @@ def test_simulate_new_options_name_themselves():
     for kind, options, message in cases:
         with pytest.raises(LimbfuseError, match=message):
             limbfuse.simulate(kind, **options)
+
+
+def _cli_align(cli, tmp_path, trial, *flags):
+    trial.write(tmp_path / "raw.csv")
+    cli("align", tmp_path / "raw.csv", *flags, "-o", tmp_path / "cli.csv")
+    return (tmp_path / "cli.csv").read_bytes()
+
+
+def test_align_is_the_clis_with_its_gate_and_leg_detection(cli, tmp_path):
+    """An audit: the Python `align` lacked the CLI's reading gate (one
+    1e308 gyro cell made it blame the sensor's placement) and its leg
+    detection (a left leg declared right kept `leg: right`); both now give
+    the CLI's file byte for byte, the CLI's warnings as LimbfuseWarnings."""
+    raw = limbfuse.simulate("walking", duration=30, mounting="random", leg="left", seed=4)
+    ch = {k: np.ma.array(v, copy=True) for k, v in raw.channels.items()}
+    ch["thigh_gyr_x"][700] = 1e308
+    meta = dict(raw.meta, leg="right")
+    glitchy = Trial(raw.t, ch, meta)
+    want = _cli_align(cli, tmp_path, glitchy)
+    with pytest.warns(limbfuse.LimbfuseWarning) as said:
+        got = limbfuse.align(glitchy)
+    text = " | ".join(str(w.message) for w in said)
+    assert "1 gyroscope and 0 accelerometer readings" in text and "leg: left (detected" in text, text
+    assert got.meta["leg"] == "left" and got.meta["leg_declared"] == "right"
+    got.write(tmp_path / "py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == want
+
+
+def test_align_static_rotation_and_imu_calibration_are_the_clis(cli, tmp_path, monkeypatch):
+    """`procedure="static-rotation"` with a `calibration` recording
+    (`--procedure static-rotation --calibration`) and `imu_calibration=`
+    (`--imu-calibration`) give the CLI's files."""
+    monkeypatch.chdir(tmp_path)  # (the metadata names the files as given)
+    cli("simulate", "knee-fes", "--duration", "10", "--mounting", "random", "--calibration", "rec.csv", "-o", "fes.csv")
+    fes, rec = limbfuse.read_trial("fes.csv"), limbfuse.read_trial("rec.csv")
+    cli("align", "fes.csv", "--procedure", "static-rotation", "--calibration", "rec.csv", "-o", "cli.csv")
+    limbfuse.align(fes, procedure="static-rotation", calibration=rec).write("py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    cal = limbfuse.calibrate(limbfuse.simulate("calibration", seed=4))
+    cal.write("cal.toml")
+    limbfuse.simulate("walking", duration=30, mounting="random", seed=4).write("raw.csv")
+    cli("align", "raw.csv", "--imu-calibration", "cal.toml", "-o", "cli.csv")
+    raw = limbfuse.read_trial("raw.csv")
+    limbfuse.align(raw, imu_calibration=tmp_path / "cal.toml").write("py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    by_object = limbfuse.align(raw, imu_calibration=cal)
+    assert by_object.meta["imu_calibration"].startswith("<Calibration>")
+    np.testing.assert_array_equal(by_object.channels["thigh_gyr_z"], limbfuse.read_trial("py.csv").channels["thigh_gyr_z"])
+    with pytest.raises(TypeError, match="an IMU calibration is `imu_calibration=`"):
+        limbfuse.align(raw, calibration=cal)
+    with pytest.raises(LimbfuseError, match="`calibration` .* is for procedure=\"static-rotation\""):
+        limbfuse.align(raw, calibration=rec)

@@ -9,7 +9,8 @@
 //! [`monte_carlo_plot`]), simulated trials with their metadata and columns
 //! ([`simulated_trials`]), a built gait library as its file
 //! ([`gait_library`]), the gait a simulated B-SLIP trial walks on
-//! ([`bslip_gait`]), and `imm-bslip`'s library extended to a trial's
+//! ([`bslip_gait`]), a trial's sensor alignment by either procedure
+//! ([`trial_alignment`]), and `imm-bslip`'s library extended to a trial's
 //! speeds ([`imm_library_extension`]).
 #![deny(missing_docs)]
 
@@ -23,5 +24,6 @@ pub mod monte_carlo_plot;
 pub mod protocol;
 pub mod simulated_trials;
 pub mod simulator_options;
+pub mod trial_alignment;
 pub mod tune_validate;
 pub mod tuning;

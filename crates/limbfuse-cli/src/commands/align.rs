@@ -1,9 +1,10 @@
 //! `limbfuse align TRIAL -o ALIGNED`: sensor-to-segment rotations from walking data.
 
 use anyhow::{bail, Context, Result};
-use limbfuse_core::{Leg, Record, Segment};
-use limbfuse_io::{TrialMeta, TrialReader, TrialWriter};
-use limbfuse_signal::align::{apply_alignment, estimate_alignment, AlignOptions, Alignment};
+use limbfuse_core::{Record, Segment};
+use limbfuse_io::{TrialReader, TrialWriter};
+use limbfuse_signal::align::{apply_alignment, AlignOptions, Alignment};
+use limbfuse_workflows::trial_alignment::{align_walking, TrialAlignmentError};
 
 use crate::cli::AlignArgs;
 
@@ -60,7 +61,11 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();
     if !layout.gyr.iter().any(|&g| g) {
-        bail!("{}: the trial has no gyroscope channels (`<segment>_gyr_x` ...), which alignment needs", a.trial.display());
+        bail!(
+            "{}: {}",
+            a.trial.display(),
+            TrialAlignmentError::NoGyroscope
+        );
     }
     let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     super::warn_input_units(&a.trial, &meta, &records);
@@ -69,33 +74,19 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         records.iter_mut().for_each(|r| cal.apply(r));
         cal.annotate(&mut meta, &super::calibrate::file_name(path), frame);
     }
-    // The axes come from the readings `estimate` would keep: an audit found
-    // one 1e308 gyro cell made `align` blame the sensor's placement ("axis
-    // undetermined"). The written trial keeps every reading.
-    let mut gate = limbfuse_core::SampleGate::new(limbfuse_methods::gated::sensor_ranges(&meta)?);
-    let screened: Vec<Record> = records
-        .iter()
-        .map(|r| Record {
-            sample: gate.screen(&r.sample),
-            ..*r
-        })
-        .collect();
-    let rej = gate.rejections();
-    if rej.gyro + rej.acc > 0 {
+    let w = align_walking(&records, &layout, &mut meta, &opts)
+        .with_context(|| format!("aligning {}", a.trial.display()))?;
+    if let Some((gyro, acc, first_t)) = w.left_out {
         eprintln!(
-            "warning: {}: {} gyroscope and {} accelerometer readings out of the sensors' range or \
-             implausible (first at t = {} s) left out of the alignment, as `estimate` leaves them \
-             out (the written trial keeps them)",
+            "warning: {}: {}",
             a.trial.display(),
-            rej.gyro,
-            rej.acc,
-            rej.first_t.unwrap_or(f64::NAN)
+            left_out_message(gyro, acc, first_t)
         );
     }
-    let alignment = estimate_alignment(&screened, &opts)
-        .with_context(|| format!("aligning {}", a.trial.display()))?;
-    alignment.annotate(&mut meta);
-    let leg_line = leg_report(&mut meta, &alignment);
+    if w.leg_replaced {
+        eprintln!("warning: {}", w.leg_line);
+    }
+    let (alignment, leg_line) = (w.alignment, w.leg_line);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
@@ -152,37 +143,14 @@ fn confidence_table(a: &Alignment) -> String {
     t
 }
 
-/// The detected leg against the trial's `# leg:` line; a detected leg that
-/// differs replaces it (the declared one is kept as `leg_declared`).
-fn leg_report(meta: &mut TrialMeta, a: &Alignment) -> String {
-    let declared = meta.get("leg").map(str::to_string);
-    let Some(d) = a.leg else {
-        return "leg: not detected (no thigh or shank sensor aligned)".into();
-    };
-    let what = format!("score {:+.2}; right > 0, left < 0", d.score);
-    match (d.leg, declared.as_deref().and_then(Leg::parse)) {
-        (None, _) => format!(
-            "leg: undetermined from the data ({what}); trial says {}",
-            declared.as_deref().unwrap_or("nothing")
-        ),
-        (Some(l), Some(dl)) if l == dl => {
-            format!("leg: {} (detected, {what}; as the trial says)", l.name())
-        }
-        (Some(l), _) => {
-            let line = format!(
-                "leg: {} (detected, {what}); the trial says {}: `leg` set to {}, the declared value kept as `leg_declared`",
-                l.name(),
-                declared.as_deref().unwrap_or("nothing"),
-                l.name()
-            );
-            if let Some(dv) = declared {
-                meta.set("leg_declared", dv);
-                eprintln!("warning: {line}");
-            }
-            meta.set("leg", l.name());
-            line
-        }
-    }
+/// Readings the gate left out of the alignment (the CLI's warning and the
+/// Python `LimbfuseWarning`).
+pub fn left_out_message(gyro: u64, acc: u64, first_t: f64) -> String {
+    format!(
+        "{gyro} gyroscope and {acc} accelerometer readings out of the sensors' range or \
+         implausible (first at t = {first_t} s) left out of the alignment, as `estimate` leaves them \
+         out (the written trial keeps them)"
+    )
 }
 
 #[cfg(test)]
