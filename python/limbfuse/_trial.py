@@ -144,6 +144,30 @@ class Trial:
     def __len__(self) -> int:
         return int(self.t.shape[0])
 
+    def __getitem__(self, rows: slice) -> "Trial":
+        """Consecutive samples as a new trial: ``trial[100:600]`` (by sample
+        index; ``trial.window(t0, t1)`` by time). The metadata is kept, the
+        file it came from is not (``source`` is None: an estimate of the
+        slice does not record the file's hash)."""
+        if not isinstance(rows, slice):
+            raise TypeError(f"a Trial is sliced by samples, trial[a:b]; found {type(rows).__name__}")
+        if rows.step not in (None, 1):
+            raise _native.LimbfuseError(
+                f"trial[a:b:{rows.step}]: a step would change the sample rate; use `limbfuse resample`"
+            )
+        rows = slice(rows.start, rows.stop)
+        if len(self.t[rows]) == 0:
+            raise _native.LimbfuseError(f"trial[{rows.start}:{rows.stop}]: no samples (the trial has {len(self)})")
+        phase = None if self.phase_ref is None else self.phase_ref[rows]
+        return Trial(self.t[rows], {k: v[rows] for k, v in self.channels.items()}, self.meta, phase)
+
+    def window(self, start: Optional[float] = None, end: Optional[float] = None) -> "Trial":
+        """The samples with ``start <= t < end`` (s; either end open), as
+        ``trial[a:b]``."""
+        a = 0 if start is None else int(np.searchsorted(self.t, start, side="left"))
+        b = len(self) if end is None else int(np.searchsorted(self.t, end, side="left"))
+        return self[a:b]
+
     def __reduce__(self) -> tuple:
         # pickle, copy.deepcopy, multiprocessing (an audit: "cannot pickle
         # 'mappingproxy' object"); the arrays are checked again on the way in.

@@ -172,3 +172,26 @@ def test_cli_trial_reads_and_writes_back_byte_for_byte(cli, tmp_path):
     q = tmp_path / "w2.csv"
     tr.write(q)
     assert p.read_bytes() == q.read_bytes()
+
+
+def test_a_trial_slices_by_samples_and_by_time(tmp_path):
+    """An audit: `trial[100:200]` raised "'Trial' object is not
+    subscriptable"; a slice is a new trial of those samples (metadata kept,
+    no longer the file: `source` None), `window(t0, t1)` the same by time."""
+    tr = limbfuse.simulate("walking", duration=6, seed=2)
+    tr.write(tmp_path / "w.csv")
+    tr = limbfuse.read_trial(tmp_path / "w.csv")
+    part = tr[100:350]
+    assert len(part) == 250 and part.source is None and part.meta == tr.meta
+    np.testing.assert_array_equal(part.t, tr.t[100:350])
+    np.testing.assert_array_equal(part.channels["knee_enc"], tr.channels["knee_enc"][100:350])
+    by_time = tr.window(1.0, 3.5)
+    np.testing.assert_array_equal(by_time.t, part.t)
+    est = limbfuse.estimate(part, "mjls", diagnostics="none")
+    assert len(est) == 250 and limbfuse.evaluate(part, est)["n_samples"] == 250
+    with pytest.raises(TypeError, match="sliced by samples"):
+        tr[5]
+    with pytest.raises(limbfuse.LimbfuseError, match="a step would change the sample rate"):
+        tr[::2]
+    with pytest.raises(limbfuse.LimbfuseError, match="no samples"):
+        tr.window(100, 200)

@@ -58,6 +58,28 @@ pub(crate) fn positive(key: &'static str, v: Option<f64>, into: &mut f64) -> Res
     Ok(())
 }
 
+/// A parameter-file value within `(lo, hi)`, written into `into` (an
+/// audit: thresholds at 1e300 were accepted and found no gait, or a speed
+/// of 7e299 m/s).
+pub(crate) fn in_range(
+    key: &'static str,
+    v: Option<f64>,
+    (lo, hi): (f64, f64),
+    unit: &str,
+    into: &mut f64,
+) -> Result<(), String> {
+    if let Some(v) = v {
+        if !(lo..=hi).contains(&v) {
+            return Err(format!(
+                "`{key}` = {}: expected {lo} to {hi} {unit}",
+                crate::shown(v)
+            ));
+        }
+        *into = v;
+    }
+    Ok(())
+}
+
 /// A bad value of `method`'s parameter file (naming the file when there is
 /// one) or of the trial's metadata.
 pub(crate) fn bad_value(
@@ -127,16 +149,32 @@ impl MethodDef for GaitEventsMethod {
             }
         };
         let mut p = GaitEventsParams::default();
-        positive("swing_rate", f.swing_rate, &mut p.swing_rate).map_err(&bad)?;
-        positive("min_swing_time", f.min_swing_time, &mut p.min_swing_time).map_err(&bad)?;
-        if let Some(v) = f.min_rest_time {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(bad(format!(
-                    "`min_rest_time` = {v}: expected a number of seconds >= 0"
-                )));
-            }
-            p.min_rest_time = v;
-        }
+        // (rad/s: within a 2000 deg/s gyro's range; s: a swing or a foot's
+        // rest of walking lasts well under 2 s)
+        in_range(
+            "swing_rate",
+            f.swing_rate,
+            (1e-3, 35.0),
+            "rad/s (a gyro's range: 2000 deg/s = 34.9 rad/s)",
+            &mut p.swing_rate,
+        )
+        .map_err(&bad)?;
+        in_range(
+            "min_swing_time",
+            f.min_swing_time,
+            (1e-3, 2.0),
+            "s (a walking swing lasts about 0.4 s)",
+            &mut p.min_swing_time,
+        )
+        .map_err(&bad)?;
+        in_range(
+            "min_rest_time",
+            f.min_rest_time,
+            (0.0, 2.0),
+            "s",
+            &mut p.min_rest_time,
+        )
+        .map_err(&bad)?;
         positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma).map_err(&bad)?;
         positive(
             "axis_time_constant",

@@ -18,7 +18,7 @@ use limbfuse_io::{TrialLayout, TrialMeta};
 use serde::Deserialize;
 
 use crate::body_ranges::{within, BODY_HEIGHT_M, LEG_LENGTH_M, LOWER_BACK_SENSOR_M};
-use crate::gait_methods::{bad_value, positive};
+use crate::gait_methods::{bad_value, in_range, positive};
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
 use crate::{MethodError, MethodFlags};
 
@@ -222,26 +222,6 @@ impl PendulumSource {
 /// (the bare pendulum), 1.147-1.185 (mobgap's, Mobilise-D) and 1.25
 /// (Zijlstra & Hof 2003), with room either side.
 const CORRECTION: (f64, f64) = (0.5, 2.0);
-
-/// A parameter-file value within `(lo, hi)`, written into `into`.
-fn in_range(
-    key: &'static str,
-    v: Option<f64>,
-    (lo, hi): (f64, f64),
-    unit: &str,
-    into: &mut f64,
-) -> Result<(), String> {
-    if let Some(v) = v {
-        if !(lo..=hi).contains(&v) {
-            return Err(format!(
-                "`{key}` = {}: expected {lo} to {hi} {unit}",
-                crate::shown(v)
-            ));
-        }
-        *into = v;
-    }
-    Ok(())
-}
 
 fn plausible(key: &str, what: &str, v: f64, (lo, hi): (f64, f64)) -> Result<f64, MethodError> {
     within(v, (lo, hi)).ok_or_else(|| MethodError::GaitParams {

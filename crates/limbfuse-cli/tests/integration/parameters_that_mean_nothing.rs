@@ -5,7 +5,9 @@
 //! `gravity = 1e-300` turned every accelerometer row off; `correction =
 //! 1e300` gave walking speeds of 7e299 m/s; `rescale_height = 1e300` a
 //! constant phase, and with it `mass = nan` went unchecked; `g = 1e300` froze
-//! the FES estimate; `imu_trunk = [a, b, c, d]` was read as its first three.
+//! the FES estimate; `imu_trunk = [a, b, c, d]` was read as its first three;
+//! gait-events thresholds at 1e300 found no contact, `highpass_hz = 1e300`
+//! passed.
 //! Each is now refused with exit 1, naming the file, the key and the range.
 
 use crate::support::limbfuse;
@@ -86,6 +88,20 @@ fn segment_filters_refuse_sigmas_whose_square_means_nothing() {
     );
     refused(
         d,
+        "gait-events",
+        "w.csv",
+        "method = \"gait-events\"\nswing_rate = 1e300\n",
+        &["p.toml", "`swing_rate` = 1e300: expected 0.001 to 35 rad/s"],
+    );
+    refused(
+        d,
+        "gait-events",
+        "w.csv",
+        "method = \"gait-events\"\nmin_swing_time = 1e300\n",
+        &["`min_swing_time` = 1e300: expected 0.001 to 2 s"],
+    );
+    refused(
+        d,
         "lowback-speed",
         "w.csv",
         "method = \"lowback-speed\"\ncorrection = 1e300\n",
@@ -129,6 +145,14 @@ fn gait_and_fes_methods_refuse_bodies_and_models_no_human_has() {
         "b.csv",
         "library = \"lib.json\"\nrescale_height = 0.95\nmass = nan\n",
         &["p.toml: `mass` NaN", "20 to 250 kg"],
+    );
+    simulate(d, &["simulate", "knee", "--duration", "10", "-o", "k.csv"]);
+    refused(
+        d,
+        "knee-selfalign",
+        "k.csv",
+        "method = \"knee-selfalign\"\nhighpass_hz = 1e300\n",
+        &["highpass_hz = 1e300 is outside (0, 10] Hz"],
     );
     simulate(
         d,

@@ -61,7 +61,7 @@ impl Fusion {
 
 /// A parameter value outside its allowed range.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("parameter {name} = {value} is outside {range}")]
+#[error("parameter {name} = {} is outside {range}", limbfuse_core::ShownNumber(*value))]
 pub struct KneeParamError {
     /// Parameter name.
     pub name: &'static str,
@@ -273,7 +273,15 @@ impl KneeSelfAlignParams {
                 "[0, 1]",
             )?;
         }
-        positive("highpass_hz", self.highpass_hz)
+        // (as `knee-gyro-axis`'s `corner_hz`; an audit: 1e300 was accepted)
+        if !(self.highpass_hz > 0.0 && self.highpass_hz <= 10.0) {
+            return Err(KneeParamError {
+                name: "highpass_hz",
+                value: self.highpass_hz,
+                range: "(0, 10] Hz",
+            });
+        }
+        Ok(())
     }
 
     /// Writes the parameters as `key: value` lines.
