@@ -316,7 +316,9 @@ pub(crate) fn python_spelling(message: &str) -> String {
             .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
             .unwrap_or(after.len());
         let word = &after[..word_end];
-        if FLAGS.contains(&word) {
+        // (a flag starts a word: `my--window.csv` is a file name)
+        let starts_word = !out.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_');
+        if starts_word && FLAGS.contains(&word) {
             out.push_str(&word.replace('-', "_"));
         } else {
             out.push_str("--");
@@ -408,5 +410,9 @@ mod tests {
             "(file keys or window/order)"
         );
         assert_eq!(python_spelling("a -- b --"), "a -- b --");
+        assert_eq!(
+            python_spelling("my--window.csv: --window"),
+            "my--window.csv: window"
+        );
     }
 }
