@@ -138,7 +138,8 @@ class Estimate:
 
     def write(self, path: PathLike) -> None:
         """Writes the estimate file (CSV); for an estimate of a trial read
-        from a file, the same bytes as ``limbfuse estimate -o``. An Arrow
+        from a file, the same bytes as ``limbfuse estimate -o`` but its
+        ``# command:`` line (which says how the CLI was called). An Arrow
         name (``.arrow``, ``.feather``, ``.ipc``) is refused: the CLI writes
         those (docs/ARROW.md), or ``to_pandas().to_feather(path)``."""
         if os.path.splitext(os.fspath(path))[1].lower() in (".arrow", ".feather", ".ipc"):
@@ -195,6 +196,8 @@ def estimate(
             ``backfill=True`` (``--backfill``; knee-selfalign,
             knee-gyro-axis): the knee angle before the first identified
             window, filled offline (docs/KNEE_SELFALIGN.md "Backfill").
+            ``smooth=True`` (``--smooth``; chain): the RTS smoother, each
+            estimate final once later samples were seen (docs/CHAIN.md).
             ``calibration`` (``--calibration``): a calibration file or a
             ``Calibration`` from ``calibrate``, applied to every IMU
             reading before the method sees it (docs/CALIBRATION.md).

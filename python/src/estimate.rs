@@ -5,14 +5,15 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_core::Estimator;
+use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::sample_interval::FIRST_INTERVALS;
 use limbfuse_eval::{SampleIntervalWatch, SensorUnitsWatch, SpeedRangeWatch};
 use limbfuse_io::content_hash::{TRIAL_HASH_KEY, TRIAL_KEY};
 use limbfuse_io::estimate_file::COM_COLUMNS;
 use limbfuse_io::table::TableReader;
 use limbfuse_io::{AtomicFile, Calibration, EstimateReader};
-use limbfuse_methods::knee_backfill::{build_backfilled, KneeBackfill};
+use limbfuse_methods::knee_backfill::build_backfilled;
+use limbfuse_methods::smoothed_chain::build_smoothed;
 use limbfuse_methods::MethodSpec;
 use limbfuse_signal::align::rotations_from_metadata;
 use limbfuse_workflows::imm_library_extension;
@@ -177,11 +178,12 @@ pub(crate) fn calibration_and_frame(
     })
 }
 
-/// The estimator of an `estimate` call: real-time, or a knee method
-/// backfilled offline (`backfill=True`, `limbfuse estimate --backfill`).
+/// The estimator of an `estimate` call: real-time, or offline: a knee
+/// method backfilled (`backfill=True`, `limbfuse estimate --backfill`) or
+/// `chain` smoothed (`smooth=True`, `--smooth`).
 enum Built {
     Online(Box<dyn Estimator + Send>),
-    Backfill(Box<KneeBackfill>),
+    Offline(Box<dyn OfflineEstimator + Send>),
 }
 
 impl Built {
@@ -189,7 +191,7 @@ impl Built {
     fn header(&self) -> &dyn Estimator {
         match self {
             Built::Online(e) => e.as_ref(),
-            Built::Backfill(e) => e.as_ref(),
+            Built::Offline(e) => e.header(),
         }
     }
 }
@@ -213,6 +215,7 @@ fn estimate<'py>(
             spec,
             diagnostics,
             backfill,
+            smooth,
             calibration,
         } = crate::options::estimate_spec(method, params, options)?;
         let meta = trial.meta();
@@ -228,11 +231,17 @@ fn estimate<'py>(
             )?),
             None => None,
         };
-        let in_trial =
-            |e: &limbfuse_methods::MethodError| user_msg(format!("{label}: {}", chain_message(e)));
+        let in_trial = |e: &limbfuse_methods::MethodError| {
+            user_msg(format!("{label}: {}", python_spelling(&chain_message(e))))
+        };
         let est = if backfill {
-            Built::Backfill(Box::new(
+            Built::Offline(Box::new(
                 build_backfilled(&spec, &meta, cols.layout()).map_err(|e| in_trial(&e))?,
+            ))
+        } else if smooth {
+            Built::Offline(Box::new(
+                build_smoothed(&spec, &meta, cols.layout(), Default::default())
+                    .map_err(|e| in_trial(&e))?,
             ))
         } else {
             Built::Online(
@@ -289,7 +298,7 @@ fn estimate<'py>(
                     Some(&mut watches),
                     calibration.as_ref(),
                 ),
-                Built::Backfill(est) => run_columns_offline(
+                Built::Offline(est) => run_columns_offline(
                     est.as_mut(),
                     &inputs,
                     &mut out,

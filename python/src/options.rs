@@ -189,6 +189,8 @@ pub struct EstimateRun {
     pub diagnostics: DiagnosticColumns,
     /// `backfill=True`.
     pub backfill: bool,
+    /// `smooth=True` (`chain`'s RTS smoother, `--smooth`).
+    pub smooth: bool,
     /// `calibration=` (a file) or `calibration_toml=` (its text): text, label.
     pub calibration: Option<(String, String)>,
 }
@@ -196,8 +198,8 @@ pub struct EstimateRun {
 /// [`method_spec`] for `estimate`, which also takes the options
 /// `diagnostics` (`limbfuse estimate --diagnostics`): `"all"` (the
 /// default), `"none"`, or diagnostic names (a comma-separated string or a
-/// list of strings, with or without `diag_`); and `backfill`
-/// (`--backfill`, a boolean).
+/// list of strings, with or without `diag_`); `backfill` (`--backfill`)
+/// and `smooth` (`--smooth`), booleans.
 pub fn estimate_spec(
     method: &str,
     params: Option<&Bound<'_, PyAny>>,
@@ -205,6 +207,12 @@ pub fn estimate_spec(
 ) -> PyResult<EstimateRun> {
     let mut o = Options::new("method options", options);
     let backfill = o.bool("backfill")?.unwrap_or(false);
+    let smooth = o.bool("smooth")?.unwrap_or(false);
+    if backfill && smooth {
+        return Err(user_msg(
+            "method options: `backfill` (knee methods) and `smooth` (`chain`) cannot be used together",
+        ));
+    }
     let calibration = calibration_option(&mut o)?;
     let diagnostics = match o.any("diagnostics")? {
         None => DiagnosticColumns::All,
@@ -231,6 +239,7 @@ pub fn estimate_spec(
         spec: method_spec_from(method, params, o)?,
         diagnostics,
         backfill,
+        smooth,
         calibration,
     })
 }

@@ -640,3 +640,39 @@ def test_method_flags_are_named_as_keywords():
         limbfuse.estimate(tr, "mjls", window=500)
     with pytest.raises(LimbfuseError, match=r": diagnostics: `bogus` is not a diagnostic of `mjls`"):
         limbfuse.estimate(tr, "mjls", diagnostics=["bogus"])
+
+
+def test_filter_reset_of_imm_continuous_gives_a_new_filters_estimates(tmp_path):
+    """An audit: after `Filter.reset()` the continuous `imm-bslip` restarted
+    on the previous run's re-targeted gait, so a second run differed from
+    the first (speed, CoM, weights) from sample 0; it now equals a new
+    filter's, bit for bit."""
+    lib = tmp_path / "lib.json"
+    limbfuse.gait_library(lib, [0.6, 0.7, 0.8])
+    tr = limbfuse.simulate("bslip", library=lib)
+    arrays = {"t": tr.t, **tr.channels}
+    opts = dict(library=lib, imm_config="continuous", imm_extend_library="off")
+    f = Filter.for_trial(tr, "imm-bslip", **opts)
+    first = f.run(arrays)
+    f.reset()
+    second = f.run(arrays)
+    new = Filter.for_trial(tr, "imm-bslip", **opts).run(arrays)
+    for other in (second, new):
+        for k in first.channels:
+            np.testing.assert_array_equal(bits(other.channels[k]), bits(first.channels[k]), err_msg=k)
+        assert list(other.phase) == list(first.phase)
+
+
+def test_smooth_is_the_clis_smoothed_chain(cli, tmp_path):
+    """An audit: `estimate(trial, "chain", smooth=True)` was an unknown
+    option where the CLI has `--smooth`; it now writes the CLI's file but
+    its `# command:` line."""
+    limbfuse.simulate("walking", duration=8, seed=2).write(tmp_path / "w.csv")
+    cli("estimate", "--method", "chain", "--smooth", tmp_path / "w.csv", "-o", tmp_path / "cli.csv")
+    limbfuse.estimate(limbfuse.read_trial(tmp_path / "w.csv"), "chain", smooth=True).write(tmp_path / "py.csv")
+    lines = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("# command:")]
+    assert lines(tmp_path / "py.csv") == lines(tmp_path / "cli.csv")
+    with pytest.raises(LimbfuseError, match=r"`mjls` has no offline smoother \(`smooth` applies to `chain`\)"):
+        limbfuse.estimate(limbfuse.read_trial(tmp_path / "w.csv"), "mjls", smooth=True)
+    with pytest.raises(LimbfuseError, match="cannot be used together"):
+        limbfuse.estimate(limbfuse.read_trial(tmp_path / "w.csv"), "chain", smooth=True, backfill=True)

@@ -355,7 +355,14 @@ impl Estimator for ImmContinuous {
     }
 
     fn reset(&mut self) {
+        // As `new` left it: the filters' gait is the family's middle one
+        // again (an audit: the inner filter restarted on the last run's
+        // re-targeted gait, so a reset filter's estimates differed from a
+        // new one's from the first sample).
+        let middle = self.family[self.family.len() / 2];
+        self.inner.templates[0] = middle;
         self.inner.reset();
+        self.steps = StepTracker::new(middle, self.first_side);
         self.start_side = self.first_side;
         self.previous = None;
     }

@@ -4,7 +4,7 @@
 //! reference; gaps restart it without NaN.
 
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights};
+use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart};
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
@@ -88,4 +88,43 @@ fn a_gap_restarts_the_continuous_configuration_without_nan() {
         assert!(e.com_pos.is_some_and(|p| p.iter().all(|v| v.is_finite())));
     }
     assert!(ImmContinuous::new(&[], params()).is_err());
+}
+
+/// `reset` gives a new estimator's estimates, bit for bit (the invariant;
+/// this trial passed before the fix too: the regression test of the audit's
+/// case, a 0.6-0.8 m/s library with the walker's gait in it through the
+/// method layer, is the Python `test_filter_reset_of_imm_continuous_...`).
+#[test]
+fn reset_gives_a_new_estimators_estimates() {
+    let (walker, others) = walker_and_family();
+    // (the walker's gait in the family, as the audit's library was)
+    let family = vec![others[0], walker, others[1]];
+    let records: Vec<Record> = simulate_trial(
+        &walker,
+        &BslipTrialConfig {
+            duration: 6.0,
+            seed: 3,
+            ..Default::default()
+        },
+    );
+    // (as `limbfuse estimate` builds it: behind the sway restart)
+    let new = || SwayRestart::new(ImmContinuous::new(&family, params()).unwrap());
+    let run = |imm: &mut SwayRestart<ImmContinuous>| -> Vec<(u64, Option<u64>, String)> {
+        records
+            .iter()
+            .map(|r| {
+                let e = imm.step(&r.sample).unwrap();
+                let com = e.com_pos.map_or(0, |p| p.x.to_bits());
+                (com, e.speed.map(f64::to_bits), format!("{:?}", e.phase))
+            })
+            .collect()
+    };
+    let mut imm = new();
+    let first = run(&mut imm);
+    imm.reset();
+    let second = run(&mut imm);
+    let fresh = run(&mut new());
+    assert_eq!(first, fresh);
+    let differ = first.iter().zip(&second).position(|(a, b)| a != b);
+    assert_eq!(differ, None, "first difference at sample {differ:?}");
 }
