@@ -54,9 +54,7 @@ pub enum MethodError {
     #[error(transparent)]
     SegmentParams(#[from] ParamError),
     /// A knee-selfalign setting out of range.
-    #[error(
-        "method `{method}`: {source} (--window counts samples: 20 to 100000; --order: 1 to 100)"
-    )]
+    #[error("method `{method}`: {source}{}", window_hint(source.name))]
     KneeParams {
         /// The method (`knee-selfalign` or `knee-gyro-axis`).
         method: crate::MethodName,
@@ -134,6 +132,15 @@ pub enum MethodError {
     /// A library path in a parameter file that is not valid UTF-8 or empty.
     #[error("{}: `library` must name a gait library file", .0.display())]
     BadLibraryPath(PathBuf),
+}
+
+/// What `--window` and `--order` count, after an error about them only (an
+/// audit: it followed every knee setting's error).
+fn window_hint(name: &str) -> &'static str {
+    match name {
+        "window" | "order" => " (--window counts samples: 20 to 100000; --order: 1 to 100)",
+        _ => "",
+    }
 }
 
 /// `v` as an error message shows it: as Rust prints it, but a huge or tiny

@@ -83,6 +83,22 @@ pub(crate) fn out_of_range(method: MethodName) -> impl Fn(KneeParamError) -> Met
     move |source| MethodError::KneeParams { method, source }
 }
 
+/// [`out_of_range`] naming the parameter file when there is one (an audit:
+/// a bad `acc_max_spread` named no file).
+fn out_of_range_in<'a>(
+    method: MethodName,
+    file: Option<(&'a str, &'a Path)>,
+) -> impl Fn(KneeParamError) -> MethodError + 'a {
+    move |source| match file {
+        Some((_, path)) => crate::segment_params::ParamsFileError::Invalid {
+            path: path.to_path_buf(),
+            message: out_of_range(method)(source).to_string(),
+        }
+        .into(),
+        None => out_of_range(method)(source),
+    }
+}
+
 impl KneeSelfAlignSettings {
     /// The parameters for a trial with this metadata (the window in
     /// samples at its rate), validated.
@@ -142,7 +158,7 @@ pub fn knee_params(
         ..d
     };
     p.validate()
-        .map_err(out_of_range(MethodName::KneeSelfAlign))?;
+        .map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
     Ok(KneeSelfAlignSettings { params: p, window })
 }
 
@@ -293,7 +309,7 @@ impl MethodDef for KneeGyroAxisMethod {
             corner_hz: f.corner_hz.unwrap_or(d.corner_hz),
         };
         p.validate()
-            .map_err(out_of_range(MethodName::KneeGyroAxis))?;
+            .map_err(out_of_range_in(MethodName::KneeGyroAxis, file))?;
         Ok(KneeGyroAxisSettings { params: p, window })
     }
 

@@ -152,8 +152,35 @@ fn gait_and_fes_methods_refuse_bodies_and_models_no_human_has() {
         "knee-selfalign",
         "k.csv",
         "method = \"knee-selfalign\"\nhighpass_hz = 1e300\n",
-        &["highpass_hz = 1e300 is outside (0, 10] Hz"],
+        &["p.toml: method `knee-selfalign`: parameter highpass_hz = 1e300 is outside (0, 10] Hz"],
     );
+    // (the file is named, and `--window`'s hint follows window errors only)
+    std::fs::write(
+        d.join("p.toml"),
+        "method = \"knee-selfalign\"\nacc_max_spread = 2\n",
+    )
+    .unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "knee-selfalign",
+            "--params",
+            "p.toml",
+            "k.csv",
+            "-o",
+            "e.csv",
+        ],
+        d,
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains(
+            "p.toml: method `knee-selfalign`: parameter acc_max_spread = 2 is outside [0, 1]"
+        ),
+        "{e}"
+    );
+    assert!(!e.contains("--window counts"), "{e}");
     simulate(
         d,
         &["simulate", "knee-fes", "--duration", "3", "-o", "f.csv"],
