@@ -368,8 +368,11 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
     in seconds, accelerometers in g, gyroscopes in deg/s;
     docs/ROBUST_INPUT.md); ``methods``: {name: (kind, why)} with kind
     ``"runs"``, ``"runs after align"`` (it reads aligned frames, the file
-    declares raw ones), ``"needs a setting"`` (a model, a gait library) or
-    ``"missing columns"``, and why the message ``estimate`` would give;
+    declares raw ones), ``"needs a setting"`` (a model, a gait library),
+    ``"missing columns"`` or ``"no usable data"`` (the columns are there,
+    the data rule it out: an input empty on every row a knee-axis method
+    needs, a trial shorter than its window), and why: the message
+    ``estimate`` would give;
     ``metadata_settings``: one line per method that reads body or sensor
     geometry from the metadata (``lowback-speed``'s pendulum,
     ``knee-kinematic``'s lever arm, ``imm-bslip``'s body, ``chain``'s

@@ -133,7 +133,8 @@ fn inspect(
         let layout = *reader.layout();
         let s = limbfuse_eval::summarise(&mut reader).map_err(|e| user_error(&e))?;
 
-        let available = limbfuse_methods::availability(&meta, &layout);
+        let mut available = limbfuse_methods::availability(&meta, &layout);
+        limbfuse_eval::data_limits::limit_by_data(&mut available, &s, &meta);
         let read = limbfuse_methods::metadata_settings(&meta, &available);
         let motion = limbfuse_eval::fixed_thigh::thigh_motion_notes(s.thigh_spread_deg, &available);
         // `inspect`'s hint: the model file beside the trial, for sdre / ekf.

@@ -451,6 +451,10 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     kind, why = info["methods"]["imm-bslip"]
     assert kind == "missing columns" and "com_meas_x" in why
     assert info["methods"]["sdre"][0] == "needs a setting"
+    # a trial shorter than the knee methods' window: ruled out by its data
+    short = limbfuse.inspect(limbfuse.read_trial(walking_file)[:300])
+    kind, why = short["methods"]["knee-selfalign"]
+    assert kind == "no usable data" and "window (500 samples) is longer than the trial (300 rows)" in why
     # what the simulator's metadata sets in the methods that run on it
     read = info["metadata_settings"]
     assert any(line.startswith("lowback-speed: pendulum length") and "# height_m:" in line for line in read)

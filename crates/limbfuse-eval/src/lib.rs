@@ -8,6 +8,7 @@
 
 pub mod blended_stride_speed;
 pub mod channel_error;
+pub mod data_limits;
 pub mod evaluation;
 pub mod evaluation_kind;
 pub mod fixed_thigh;

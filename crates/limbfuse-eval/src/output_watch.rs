@@ -45,8 +45,8 @@ impl Observer for AnyOutputWatch {
 pub fn no_output_message(trial: &str, method: &str, n_samples: u64, kept: &str) -> String {
     format!(
         "{trial}: `{method}` gave no estimate on any of its {n_samples} samples (the inputs it \
-         reads are missing on every row: `limbfuse inspect` shows the rows each input misses); \
-         {kept}"
+         reads are missing on every row, or rejected as out of range or implausible: `limbfuse \
+         inspect` shows the rows each input misses, a warning the readings rejected); {kept}"
     )
 }
 

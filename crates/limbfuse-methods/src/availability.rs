@@ -21,17 +21,23 @@ pub enum Availability {
     NeedsSetting(String),
     /// The trial lacks columns it needs: the first line of the error.
     MissingColumns(String),
+    /// The columns are there but the data rule it out (an input empty on
+    /// every row, a trial shorter than the method's window):
+    /// `limbfuse_eval::data_limits` says why.
+    NoData(String),
 }
 
 impl Availability {
-    /// `runs`, `runs after align`, `needs a setting` or `missing columns`
-    /// (the kinds of `limbfuse inspect --json` and Python's `inspect`).
+    /// `runs`, `runs after align`, `needs a setting`, `missing columns` or
+    /// `no usable data` (the kinds of `limbfuse inspect --json` and
+    /// Python's `inspect`).
     pub fn kind(&self) -> &'static str {
         match self {
             Availability::Runs { after_align: false } => "runs",
             Availability::Runs { after_align: true } => "runs after align",
             Availability::NeedsSetting(_) => "needs a setting",
             Availability::MissingColumns(_) => "missing columns",
+            Availability::NoData(_) => "no usable data",
         }
     }
 
@@ -39,7 +45,9 @@ impl Availability {
     pub fn reason(&self) -> &str {
         match self {
             Availability::Runs { .. } => "",
-            Availability::NeedsSetting(why) | Availability::MissingColumns(why) => why,
+            Availability::NeedsSetting(why)
+            | Availability::MissingColumns(why)
+            | Availability::NoData(why) => why,
         }
     }
 }

@@ -32,7 +32,8 @@ pub fn run(a: &InspectArgs) -> Result<()> {
             }
         };
         let label = path.display().to_string();
-        let methods = availability(&meta, &layout);
+        let mut methods = availability(&meta, &layout);
+        limbfuse_eval::data_limits::limit_by_data(&mut methods, &s, &meta);
         let read = metadata_settings(&meta, &methods);
         let motion = thigh_motion_notes(s.thigh_spread_deg, &methods);
         if a.json {
@@ -118,7 +119,8 @@ fn print_text(
     model_hint: Option<String>,
 ) {
     print!("{}", describe(label, meta, s));
-    let (mut runs, mut settings, mut not) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut runs, mut settings, mut not, mut no_data) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (m, a) in methods {
         match a {
             Availability::Runs { after_align: false } => runs.push(m.name().to_string()),
@@ -128,6 +130,7 @@ fn print_text(
             )),
             Availability::NeedsSetting(why) => settings.push(format!("  {:<18} {why}", m.name())),
             Availability::MissingColumns(why) => not.push(format!("  {:<18} {why}", m.name())),
+            Availability::NoData(why) => no_data.push(format!("  {:<18} {why}", m.name())),
         }
     }
     if let Some(h) = model_hint {
@@ -143,6 +146,10 @@ fn print_text(
             settings,
         ),
         ("methods missing columns they need:", not),
+        (
+            "methods with their columns and settings that the data rule out:",
+            no_data,
+        ),
     ] {
         if !lines.is_empty() {
             println!("{title}");

@@ -276,3 +276,79 @@ fn inspect_names_a_stated_rate_that_is_not_one() {
         );
     }
 }
+
+/// An audit (164 pairs where `inspect` said "runs" and `estimate` exited 1):
+/// a trial shorter than the knee methods' identification window, and an
+/// input needed on every row that has no reading, are now "no usable data",
+/// with `estimate`'s reason.
+#[test]
+fn inspect_says_when_the_data_rule_a_method_out() {
+    let d = tempfile::tempdir().unwrap();
+    let d = d.path();
+    let (code, _, e) = run(
+        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
+        d,
+    );
+    assert_eq!(code, 0, "{e}");
+    let (code, out, e) = run(&["inspect", "--json", "w.csv"], d);
+    assert_eq!(code, 0, "{e}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let knee = &v[0]["methods"]["knee-selfalign"];
+    assert_eq!(knee[0], "no usable data", "{knee}");
+    assert!(knee[1]
+        .as_str()
+        .unwrap()
+        .contains("window (500 samples) is longer than the trial (300 rows)"));
+    assert_eq!(v[0]["methods"]["mjls"][0], "runs");
+    let (code, _, e) = run(
+        &[
+            "estimate",
+            "--method",
+            "knee-selfalign",
+            "w.csv",
+            "-o",
+            "k.csv",
+        ],
+        d,
+    );
+    assert!(code == 1 && e.contains("longer than the trial"), "{e}");
+    // The thigh gyro empty on every row of a trial long enough for the
+    // window: the knee-axis methods are ruled out; mjls still runs (it
+    // estimates the thigh from its encoders and accelerometer).
+    let (code, _, e) = run(
+        &["simulate", "walking", "--duration", "8", "-o", "w8.csv"],
+        d,
+    );
+    assert_eq!(code, 0, "{e}");
+    let text = std::fs::read_to_string(d.join("w8.csv")).unwrap();
+    let blank = crate::support::edit_cells(&text, |_, name, _| {
+        name.starts_with("thigh_gyr").then(String::new)
+    });
+    std::fs::write(d.join("blank.csv"), blank).unwrap();
+    let (code, out, e) = run(&["inspect", "blank.csv"], d);
+    assert_eq!(code, 0, "{e}");
+    let ruled = out.split("the data rule out:").nth(1).unwrap_or("");
+    assert!(
+        ruled.contains("knee-gyro-axis")
+            && ruled.contains("`thigh gyr` has no reading on any of the 800 rows"),
+        "{out}"
+    );
+    assert!(!ruled.contains("mjls"), "{out}");
+    let (code, _, _) = run(
+        &["estimate", "--method", "mjls", "blank.csv", "-o", "m.csv"],
+        d,
+    );
+    assert_eq!(code, 0);
+    let (code, _, _) = run(
+        &[
+            "estimate",
+            "--method",
+            "knee-gyro-axis",
+            "blank.csv",
+            "-o",
+            "k.csv",
+        ],
+        d,
+    );
+    assert_eq!(code, 1);
+}
