@@ -237,6 +237,23 @@ pub fn knee_fes_stream(
         ("thigh_angle_rad".to_string(), thigh_angle.to_string()),
     ];
     metadata.extend(knee_param_metadata(&params));
+    if cfg.mounting == Mounting::Random {
+        // As `simulate walking --mounting random` and the importers declare
+        // raw frames (an audit: without it `inspect` said sdre / ekf run,
+        // and they restarted 553 times on the raw channels, silently).
+        metadata.push(("mounting".into(), "random".into()));
+        metadata.push((
+            "imu_frame".into(),
+            "raw sensor frames (mounted at random: the `<seg>_mount_quat` lines)".into(),
+        ));
+        for (seg, imu) in ["thigh", "shank"].iter().zip(&imus) {
+            let q = imu.mount_quaternion();
+            metadata.push((
+                format!("{seg}_mount_quat"),
+                format!("{:.9} {:.9} {:.9} {:.9}", q[0], q[1], q[2], q[3]),
+            ));
+        }
+    }
     let records = (0..n).map(move |k| {
         let t = k as f64 * dt;
         if k > 0 {

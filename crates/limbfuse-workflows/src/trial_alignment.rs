@@ -148,6 +148,18 @@ pub fn align_static_rotation(
     };
     let al = static_rotation_alignment(calibration, &segments, &opts)?;
     meta.set("align_method", "static-rotation (paper 004 section 3.3)");
+    // (as the walking procedure restates a declaration of raw frames)
+    if let Some(before) = meta.get("imu_frame").map(str::to_string) {
+        if before.trim_start().to_ascii_lowercase().starts_with("raw") {
+            meta.set(
+                "imu_frame",
+                format!(
+                    "aligned to the segments by limbfuse align --procedure static-rotation \
+                     (segments with a `<seg>_align_quat`); before: {before}"
+                ),
+            );
+        }
+    }
     meta.set("align_calibration", calibration_name);
     meta.set(
         "align_quiet",

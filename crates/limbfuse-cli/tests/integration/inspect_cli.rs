@@ -352,3 +352,55 @@ fn inspect_says_when_the_data_rule_a_method_out() {
     );
     assert_eq!(code, 1);
 }
+
+/// An audit: `simulate knee-fes --mounting random` declared no raw frames,
+/// so `inspect` said sdre / ekf run and they restarted on every sample of
+/// the raw channels without a word. The trial now declares them (as
+/// `simulate walking --mounting random` does); the static-rotation
+/// alignment restates them as aligned.
+#[test]
+fn a_randomly_mounted_fes_trial_declares_raw_frames_until_aligned() {
+    let d = tempfile::tempdir().unwrap();
+    let d = d.path();
+    let (code, _, e) = run(
+        &[
+            "simulate",
+            "knee-fes",
+            "--duration",
+            "10",
+            "--mounting",
+            "random",
+            "--calibration",
+            "rec.csv",
+            "-o",
+            "raw.csv",
+        ],
+        d,
+    );
+    assert_eq!(code, 0, "{e}");
+    let (_, out, _) = run(&["inspect", "--json", "raw.csv"], d);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v[0]["methods"]["sdre"][0], "runs after align", "{out}");
+    let (code, _, e) = run(
+        &[
+            "align",
+            "raw.csv",
+            "--procedure",
+            "static-rotation",
+            "--calibration",
+            "rec.csv",
+            "-o",
+            "aligned.csv",
+        ],
+        d,
+    );
+    assert_eq!(code, 0, "{e}");
+    let (_, out, _) = run(&["inspect", "--json", "aligned.csv"], d);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v[0]["methods"]["sdre"][0], "runs", "{out}");
+    let (code, _, e) = run(
+        &["estimate", "--method", "sdre", "aligned.csv", "-o", "e.csv"],
+        d,
+    );
+    assert!(code == 0 && !e.contains("restarted"), "{e}");
+}
