@@ -160,6 +160,18 @@ fn print_text(
     }
 }
 
+/// A time in seconds as read: to the microsecond, trailing zeros dropped
+/// (an audit: `t = 0 to 19.990000000000002 s`).
+fn seconds(v: f64) -> String {
+    let text = format!("{v:.6}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".into()
+    } else {
+        text.to_string()
+    }
+}
+
 /// `text`, or `none` when empty.
 fn or_none(text: &str) -> &str {
     if text.is_empty() {
@@ -176,9 +188,9 @@ fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
         out += &l;
         out.push('\n');
     };
-    let span = s
-        .span
-        .map_or("no rows".to_string(), |(a, b)| format!("t = {a} to {b} s"));
+    let span = s.span.map_or("no rows".to_string(), |(a, b)| {
+        format!("t = {} to {} s", seconds(a), seconds(b))
+    });
     line(format!("{label}: {} rows, {span}", s.rows));
     if let Some(step) = s.median_step {
         let stated = match (s.stated_hz, meta.get("sample_rate_hz")) {
@@ -194,8 +206,10 @@ fn describe(label: &str, meta: &TrialMeta, s: &TrialSummary) -> String {
         line(match (s.gaps, s.longest_step) {
             (0, _) => "  gaps: none (no step over 1.5 median steps)".into(),
             (n, Some((at, len))) => format!(
-                "  gaps: {n} step{} over 1.5 median steps, the longest {len} s after t = {at} s",
-                if n == 1 { "" } else { "s" }
+                "  gaps: {n} step{} over 1.5 median steps, the longest {} s after t = {} s",
+                if n == 1 { "" } else { "s" },
+                seconds(len),
+                seconds(at)
             ),
             (n, None) => format!("  gaps: {n}"),
         });
