@@ -465,7 +465,8 @@ def test_inspect_a_trial_file(walking_file, tmp_path):
     # a seated leg's thigh does not: no walking for gait-events to find
     seated = limbfuse.inspect(limbfuse.simulate("knee-fes", duration=4.0))
     assert seated["thigh_spread_deg"] < 5.0
-    assert [n.split(":")[0] for n in seated["data_notes"]] == ["gait-events"]
+    kind, why = seated["methods"]["gait-events"]
+    assert kind == "no usable data" and "no walking for it to find" in why and seated["data_notes"] == []
     with pytest.raises(LimbfuseError, match="nothing.csv"):
         limbfuse.inspect(tmp_path / "nothing.csv")
     # an in-memory trial: the same summary

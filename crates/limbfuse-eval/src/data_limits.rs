@@ -1,8 +1,9 @@
 //! What a trial's data (not its columns) rules out, for `limbfuse inspect`
 //! and the Python `inspect`: a method whose columns are all there, and that
 //! builds with its defaults, still estimates nothing when an input it needs
-//! has no reading on any row, or when the trial is shorter than a knee
-//! method's identification window. An audit found `inspect` saying "runs"
+//! has no reading on any row, when the trial is shorter than a knee
+//! method's identification window, or when a method that finds walking
+//! gets a thigh that does not move. An audit found `inspect` saying "runs"
 //! for 164 (trial, method) pairs that `estimate` then refused, these among
 //! them.
 
@@ -26,7 +27,9 @@ pub fn limit_by_data(
         if !matches!(a, Availability::Runs { .. }) {
             continue;
         }
-        if let Some(why) = empty_input(*m, summary).or_else(|| short_for_window(*m, summary, meta))
+        if let Some(why) = empty_input(*m, summary)
+            .or_else(|| short_for_window(*m, summary, meta))
+            .or_else(|| no_walking(*m, summary))
         {
             *a = Availability::NoData(why);
         }
@@ -75,6 +78,19 @@ fn empty_input(m: MethodName, s: &TrialSummary) -> Option<String> {
         "`{}` has no reading on any of the {} rows",
         empty.name, s.rows
     ))
+}
+
+/// A method that finds walking (`gait-events`, `lowback-speed`) on a trial
+/// whose thigh accelerometer barely turns (a seated or fixed thigh: the FES
+/// trials), where `estimate` ends with "no gait found".
+fn no_walking(m: MethodName, s: &TrialSummary) -> Option<String> {
+    let spread = s.thigh_spread_deg?;
+    (m.info().finds_walking && spread <= crate::fixed_thigh::SEATED_SPREAD_DEG).then(|| {
+        format!(
+            "the thigh accelerometer's direction spreads by only {spread:.1} deg (walking turns \
+             it by tens of degrees): no walking for it to find"
+        )
+    })
 }
 
 /// A knee method whose identification window is longer than the trial.
@@ -150,6 +166,19 @@ mod tests {
         // (mjls estimates without the thigh gyro)
         assert_eq!(methods[1].1, runs);
         assert_eq!(methods[2].1, Availability::MissingColumns("x".into()));
+        let mut seated = summary(3000, &[("thigh acc", 0)]);
+        seated.thigh_spread_deg = Some(2.0);
+        let mut walking = vec![
+            (MethodName::GaitEvents, runs.clone()),
+            (MethodName::Rmx, runs.clone()),
+        ];
+        limit_by_data(&mut walking, &seated, &meta);
+        assert!(
+            matches!(&walking[0].1, Availability::NoData(w) if w.contains("spreads by only 2.0 deg")),
+            "{:?}",
+            walking[0].1
+        );
+        assert_eq!(walking[1].1, runs);
         let mut ok = vec![(MethodName::KneeGyroAxis, runs.clone())];
         limit_by_data(&mut ok, &summary(3000, &[("thigh gyr", 2999)]), &meta);
         assert_eq!(ok[0].1, runs);

@@ -210,13 +210,18 @@ fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
             && !notes.contains("gait-events"),
         "{out}"
     );
+    // (since the inspect audit of 2026-12-05 the seated thigh puts
+    // gait-events in the data's group, with the reason, rather than a note)
     let (code, out, err) = run(&["inspect", "seated.csv"], dir);
     assert_eq!(code, 0, "{err}");
-    let notes = out.split(title).nth(1).expect(title);
+    let ruled = out
+        .split("the data rule out:")
+        .nth(1)
+        .expect("a group of methods the data rule out");
     assert!(
-        notes.contains("  gait-events: the thigh accelerometer's direction spreads by only")
-            && notes.contains("no walking for it to find")
-            && !notes.contains("knee-kinematic"),
+        ruled.contains("  gait-events        the thigh accelerometer's direction spreads by only")
+            && ruled.contains("no walking for it to find")
+            && !out.contains(title),
         "{out}"
     );
     // what it foretells: `estimate` finds no gait there
@@ -233,14 +238,15 @@ fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
     );
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("no gait found"), "{err}");
-    // JSON: the spread and the same notes
+    // JSON: the spread, and gait-events ruled out with the reason
     let (code, out, _) = run(&["inspect", "--json", "seated.csv"], dir);
     assert_eq!(code, 0);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(v[0]["thigh_spread_deg"].as_f64().unwrap() < 5.0);
-    let notes = v[0]["data_notes"].as_array().unwrap();
-    assert_eq!(notes.len(), 1);
-    assert!(notes[0].as_str().unwrap().starts_with("gait-events:"));
+    let g = &v[0]["methods"]["gait-events"];
+    assert_eq!(g[0], "no usable data", "{g}");
+    assert!(g[1].as_str().unwrap().contains("no walking for it to find"));
+    assert!(v[0]["data_notes"].as_array().unwrap().is_empty());
 }
 
 /// An audit: `# sample_rate_hz: abc` (or 0, nan) was shown as "the file
