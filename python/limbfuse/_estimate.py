@@ -315,7 +315,9 @@ def evaluate(
         _window_text(window),
         flag("offset_free", offset_free),
         max_lag,
-        allow_trial_mismatch,
+        # (checked above by the samples when this session made the estimate;
+        # the extension's check compares file hashes)
+        allow_trial_mismatch or estimate._trial_fingerprint is not None,
     )
     result = json.loads(text)
     # (references that look like degrees: the CLI's stderr warning)
@@ -331,17 +333,25 @@ def _trial_mismatch(trial: Trial, estimate: Estimate) -> Optional[str]:
     header records another trial file's hash."""
     if len(trial) != len(estimate):
         return None  # (the extension says which lengths differ)
+    # The samples first when this session made the estimate (a trial read
+    # from its CSV and from its Arrow copy are one trial; an audit: their
+    # file hashes differ), else the file hash the estimate records.
     entries = split_header(estimate.header)[0]
-    recorded = entries.get("trial_hash")
-    if trial.source is not None and recorded not in (None, "streamed"):
-        if recorded == trial.source[1]:
-            return None
-        made = entries.get("trial", "another trial")
-        return f"the estimate was made from `{made}` ({recorded}) but the trial is `{trial.source[0]}` ({trial.source[1]})"
     made_from = estimate._trial_fingerprint
-    if made_from is None or same_samples(made_from, fingerprint(trial.t, trial.channels)):
+    if made_from is not None:
+        if same_samples(made_from, fingerprint(trial.t, trial.channels)):
+            return None
+        if "trial" in entries and trial.source is not None:
+            return (
+                f"the estimate was made from `{entries['trial']}` but the trial is "
+                f"`{trial.source[0]}` (their samples differ)"
+            )
+        return "the estimate was made from another trial than the one given (their samples differ)"
+    recorded = entries.get("trial_hash")
+    if trial.source is None or recorded in (None, "streamed") or recorded == trial.source[1]:
         return None
-    return "the estimate was made from another trial than the one given (their samples differ)"
+    made = entries.get("trial", "another trial")
+    return f"the estimate was made from `{made}` ({recorded}) but the trial is `{trial.source[0]}` ({trial.source[1]})"
 
 
 def methods() -> List[Tuple[str, str]]:

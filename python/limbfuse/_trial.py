@@ -164,6 +164,9 @@ class Trial:
     def window(self, start: Optional[float] = None, end: Optional[float] = None) -> "Trial":
         """The samples with ``start <= t < end`` (s; either end open), as
         ``trial[a:b]``."""
+        for name, v in (("start", start), ("end", end)):
+            if v is not None and (isinstance(v, (bool, str, bytes)) or not np.isfinite(v)):
+                raise _native.LimbfuseError(f"window: `{name}` = {v!r}: expected a time in seconds or None (open)")
         a = 0 if start is None else int(np.searchsorted(self.t, start, side="left"))
         b = len(self) if end is None else int(np.searchsorted(self.t, end, side="left"))
         return self[a:b]

@@ -47,6 +47,9 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
     return Trial._from_native(_native.simulate(kind, options or None))
 
 
+_ALIGN_OPTIONS = {"procedure", "hinge", "partial", "mean_angle", "calibration", "imu_calibration"}
+
+
 def align(trial: Trial, **options: Any) -> Trial:
     """Sensor-to-segment alignment (``limbfuse align``): the aligned trial,
     its metadata annotated with the rotations (and the detected leg).
@@ -72,7 +75,12 @@ def align(trial: Trial, **options: Any) -> Trial:
 
     if not isinstance(trial, Trial):
         raise TypeError(f"align: expected a limbfuse.Trial, found {type(trial).__name__}")
-    options = dict(options)
+    options = {k: v for k, v in options.items() if v is not None}  # None: the default
+    unknown = sorted(set(options) - _ALIGN_OPTIONS)
+    if unknown:
+        raise _native.LimbfuseError(
+            f"align: unknown option `{unknown[0]}` (accepted: {', '.join(sorted(_ALIGN_OPTIONS))})"
+        )
     if "calibration" in options:
         rec = options.pop("calibration")
         if not isinstance(rec, Trial):
@@ -84,8 +92,12 @@ def align(trial: Trial, **options: Any) -> Trial:
     cal = options.get("imu_calibration")
     if isinstance(cal, Calibration):
         options["imu_calibration_toml"] = options.pop("imu_calibration").toml
-    elif isinstance(cal, os.PathLike):
+    elif isinstance(cal, (str, os.PathLike)):
         options["imu_calibration"] = os.fspath(cal)
+    elif cal is not None:
+        raise TypeError(
+            f"align: `imu_calibration`: expected a Calibration (limbfuse.calibrate) or its file, found {type(cal).__name__}"
+        )
     tup, said = _native.align(trial._native(), options or None)
     for line in said:
         warnings.warn(line, LimbfuseWarning, stacklevel=2)

@@ -681,3 +681,28 @@ def test_smooth_is_the_clis_smoothed_chain(cli, tmp_path):
         limbfuse.estimate(limbfuse.read_trial(tmp_path / "w.csv"), "mjls", smooth=True)
     with pytest.raises(LimbfuseError, match="cannot be used together"):
         limbfuse.estimate(limbfuse.read_trial(tmp_path / "w.csv"), "chain", smooth=True, backfill=True)
+
+
+def test_second_audit_of_the_new_python_features(tmp_path):
+    """A second audit of this session's additions: a trial's CSV and Arrow
+    copies are one trial for an estimate made in this session (their file
+    hashes differ); `window` refuses NaN and strings; `align` names its own
+    options and refuses a wrong `imu_calibration`; an estimate of
+    `gait-events` without its event diagnostics is scored with a warning."""
+    t = limbfuse.simulate("walking", seed=1, duration=10)
+    t.write(tmp_path / "t.csv")
+    t.write(tmp_path / "t.arrow")
+    est = limbfuse.estimate(limbfuse.read_trial(tmp_path / "t.csv"), "mjls", diagnostics="none")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        limbfuse.evaluate(limbfuse.read_trial(tmp_path / "t.arrow"), est)
+    for start, end in ((float("nan"), 5.0), (2.0, float("nan")), ("2", "5")):
+        with pytest.raises(LimbfuseError, match="expected a time in seconds or None"):
+            t.window(start, end)
+    with pytest.raises(LimbfuseError, match=r"align: unknown option `bogus` \(accepted: calibration, hinge, imu_calibration"):
+        limbfuse.align(t, bogus=1)
+    with pytest.raises(TypeError, match="expected a Calibration"):
+        limbfuse.align(t, imu_calibration=5)
+    g = limbfuse.simulate("walking", gait_reference=True, duration=20)
+    with pytest.warns(limbfuse.LimbfuseWarning, match="no `diag_ic_\\*` / `diag_fc_\\*` / `diag_stride_\\*` columns"):
+        limbfuse.evaluate(g, limbfuse.estimate(g, "gait-events", diagnostics="none"))

@@ -89,6 +89,9 @@ pub struct GaitEventEvaluation {
     /// `speed_ref` column; [`crate::speed_from_com`]); the blended
     /// comparison, made for a per-stride `speed_ref`, is then not made.
     pub speed_from_com: bool,
+    /// What the figures cannot say (an estimate of `gait-events` without
+    /// its event diagnostics).
+    pub warnings: Vec<String>,
 }
 
 /// Times of the `from -> to` steps of a contact column.
@@ -281,11 +284,29 @@ pub fn evaluate_gait_event_files_in(
     let method = er.method().to_string();
     let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
     let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er, window)?;
+    // (an audit: `--diagnostics none` changed the scores silently: 14
+    // strides became 0, the events moved to the causal contact switches)
+    let warnings = (matches!(
+        limbfuse_methods::MethodName::parse(&method),
+        Ok(limbfuse_methods::MethodName::GaitEvents)
+    ) && !has_event_columns)
+        .then(|| {
+            format!(
+                "{}: the estimate has no `diag_ic_*` / `diag_fc_*` / `diag_stride_*` columns \
+                 (written with `--diagnostics none` or a list without them): events are scored \
+                 at the causal contact switches and strides not at all; estimate with the \
+                 default diagnostics to score them as documented",
+                estimate.display()
+            )
+        })
+        .into_iter()
+        .collect();
     let mut ev = GaitEventEvaluation {
         method,
         n_samples: c.n_inside,
         trial_check,
         speed_from_com: c.speed_from_com,
+        warnings,
         ..Default::default()
     };
     let mut ic_sides = Vec::new();

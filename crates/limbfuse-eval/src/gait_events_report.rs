@@ -76,6 +76,9 @@ impl GaitEventEvaluation {
         {
             top.extend(per_stride);
         }
+        if let (Value::Object(top), false) = (&mut v, self.warnings.is_empty()) {
+            top.insert("warnings".into(), json!(self.warnings));
+        }
         v
     }
 

@@ -72,6 +72,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
                 let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in(
                     trial, estimate, mismatch, &window,
                 )?;
+                for w in &ev.warnings {
+                    eprintln!("warning: {w}");
+                }
                 print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
                 return Ok(());
             }

@@ -520,3 +520,59 @@ fn issue_19_one_foot_recording_scores_only_that_foot() {
         assert_eq!(f(&v, &[kind, "n_reference"]), 27.0, "{v}");
     }
 }
+
+/// An audit: `estimate --method gait-events --diagnostics none` changed
+/// `evaluate`'s scores without a word (14 strides became 0, the events
+/// moved to the causal contact switches); evaluate now says so.
+#[test]
+fn an_estimate_without_its_event_diagnostics_is_scored_with_a_warning() {
+    let d = tempfile::tempdir().unwrap();
+    let d = d.path();
+    let run = |args: &[&str]| crate::support::limbfuse(args, d);
+    assert!(run(&[
+        "simulate",
+        "walking",
+        "--gait-reference",
+        "--duration",
+        "20",
+        "-o",
+        "g.csv"
+    ])
+    .status
+    .success());
+    assert!(run(&[
+        "estimate",
+        "--method",
+        "gait-events",
+        "--diagnostics",
+        "none",
+        "g.csv",
+        "-o",
+        "n.csv"
+    ])
+    .status
+    .success());
+    assert!(run(&[
+        "estimate",
+        "--method",
+        "gait-events",
+        "g.csv",
+        "-o",
+        "a.csv"
+    ])
+    .status
+    .success());
+    let o = run(&["evaluate", "g.csv", "n.csv", "--json"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && e.contains("no `diag_ic_*` / `diag_fc_*` / `diag_stride_*` columns"),
+        "{e}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["warnings"][0]
+        .as_str()
+        .unwrap()
+        .contains("strides not at all"));
+    let o = run(&["evaluate", "g.csv", "a.csv"]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("diag_ic_"));
+}
