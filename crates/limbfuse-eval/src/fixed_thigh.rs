@@ -87,10 +87,9 @@ impl FixedThighWatch {
 /// (`limbfuse inspect`, Python's `inspect`), from the spread of
 /// [`FixedThighWatch::spread_deg`]: a method modelling a fixed thigh
 /// ([`limbfuse_methods::MethodInfo::assumes_fixed_thigh`]) on a thigh that
-/// moves, and a method finding walking
-/// ([`limbfuse_methods::MethodInfo::finds_walking`]) on a thigh that does
-/// not (no one walks without turning the thigh: `estimate` then finds no
-/// gait and exits 1). Nothing without a thigh accelerometer.
+/// moves. (A method finding walking on a thigh that does not is ruled out
+/// before, by [`crate::data_limits`].) Nothing without a thigh
+/// accelerometer.
 pub fn thigh_motion_notes(
     spread_deg: Option<f64>,
     methods: &[(MethodName, Availability)],
@@ -109,12 +108,6 @@ pub fn thigh_motion_notes(
                     "{}: models a fixed (seated) thigh, but the thigh accelerometer's direction \
                      spreads by {spread:.1} deg (a thigh on a seat stays within \
                      {SEATED_SPREAD_DEG} deg): its knee would not be this trial's",
-                    m.name()
-                ))
-            } else if info.finds_walking && !moves {
-                Some(format!(
-                    "{}: the thigh accelerometer's direction spreads by only {spread:.1} deg \
-                     (walking turns it by tens of degrees): no walking for it to find",
                     m.name()
                 ))
             } else {
@@ -176,9 +169,9 @@ mod tests {
         assert_eq!(short.spread_deg(), None);
     }
 
-    /// `inspect`'s notes: the fixed-thigh method on a moving thigh, the
-    /// walking methods on a still one, only for methods that run, nothing
-    /// without a spread.
+    /// `inspect`'s notes: the fixed-thigh method on a moving thigh, only
+    /// for methods that run, nothing without a spread (the walking methods on
+    /// a still thigh: `data_limits`).
     #[test]
     fn thigh_motion_notes_name_the_method_the_motion_contradicts() {
         let runs = Availability::Runs { after_align: false };
@@ -194,11 +187,9 @@ mod tests {
         let moving = thigh_motion_notes(Some(12.5), &methods);
         assert_eq!(moving.len(), 1);
         assert!(moving[0].starts_with("knee-kinematic:") && moving[0].contains("12.5 deg"));
-        let still = thigh_motion_notes(Some(0.3), &methods);
-        assert_eq!(still.len(), 1);
-        assert!(still[0].starts_with("gait-events:") && still[0].contains("0.3 deg"));
+        assert!(thigh_motion_notes(Some(0.3), &methods).is_empty());
         // At the threshold the thigh counts as still (as in the warning).
-        assert!(thigh_motion_notes(Some(SEATED_SPREAD_DEG), &methods)[0].starts_with("gait-events"));
+        assert!(thigh_motion_notes(Some(SEATED_SPREAD_DEG), &methods).is_empty());
         assert!(thigh_motion_notes(None, &methods).is_empty());
     }
 }

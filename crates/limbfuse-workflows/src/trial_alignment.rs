@@ -11,6 +11,7 @@
 
 use limbfuse_core::{Leg, Record, SampleGate, Segment};
 use limbfuse_io::{TrialLayout, TrialMeta};
+use limbfuse_methods::raw_frames::IMU_FRAME_KEY;
 use limbfuse_signal::align::static_rotation::{
     quat_wxyz, static_rotation_alignment, StaticRotationAlignment, StaticRotationError,
     StaticRotationOptions,
@@ -149,10 +150,10 @@ pub fn align_static_rotation(
     let al = static_rotation_alignment(calibration, &segments, &opts)?;
     meta.set("align_method", "static-rotation (paper 004 section 3.3)");
     // (as the walking procedure restates a declaration of raw frames)
-    if let Some(before) = meta.get("imu_frame").map(str::to_string) {
+    if let Some(before) = meta.get(IMU_FRAME_KEY).map(str::to_string) {
         if before.trim_start().to_ascii_lowercase().starts_with("raw") {
             meta.set(
-                "imu_frame",
+                IMU_FRAME_KEY,
                 format!(
                     "aligned to the segments by limbfuse align --procedure static-rotation \
                      (segments with a `<seg>_align_quat`); before: {before}"
