@@ -82,13 +82,26 @@ fn empty_input(m: MethodName, s: &TrialSummary) -> Option<String> {
 
 /// A method that finds walking (`gait-events`, `lowback-speed`) on a trial
 /// whose thigh accelerometer barely turns (a seated or fixed thigh: the FES
-/// trials), where `estimate` ends with "no gait found".
+/// trials), where `estimate` ends with "no gait found"; and the knee-axis
+/// methods there, which identify the thigh IMU's axis from the thigh's own
+/// rotation (paper 002 eq 1: a still thigh's gyro says nothing about it),
+/// where `estimate` ends with "the knee axis is unidentifiable" (the shared
+/// independent FES trials and ours: an audit).
 fn no_walking(m: MethodName, s: &TrialSummary) -> Option<String> {
     let spread = s.thigh_spread_deg?;
-    (m.info().finds_walking && spread <= crate::fixed_thigh::SEATED_SPREAD_DEG).then(|| {
-        format!(
+    if spread > crate::fixed_thigh::SEATED_SPREAD_DEG {
+        return None;
+    }
+    if m.info().finds_walking {
+        return Some(format!(
             "the thigh accelerometer's direction spreads by only {spread:.1} deg (walking turns \
              it by tens of degrees): no walking for it to find"
+        ));
+    }
+    matches!(m, MethodName::KneeSelfAlign | MethodName::KneeGyroAxis).then(|| {
+        format!(
+            "the thigh accelerometer's direction spreads by only {spread:.1} deg: the thigh IMU's \
+             knee axis is identified from the thigh's own rotation, which a still thigh does not give"
         )
     })
 }
@@ -179,6 +192,13 @@ mod tests {
             walking[0].1
         );
         assert_eq!(walking[1].1, runs);
+        let mut knee = vec![(MethodName::KneeSelfAlign, runs.clone())];
+        limit_by_data(&mut knee, &seated, &meta);
+        assert!(
+            matches!(&knee[0].1, Availability::NoData(w) if w.contains("a still thigh does not give")),
+            "{:?}",
+            knee[0].1
+        );
         let mut ok = vec![(MethodName::KneeGyroAxis, runs.clone())];
         limit_by_data(&mut ok, &summary(3000, &[("thigh gyr", 2999)]), &meta);
         assert_eq!(ok[0].1, runs);

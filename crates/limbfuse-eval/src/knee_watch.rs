@@ -63,7 +63,9 @@ impl KneeWatch {
             } else {
                 format!(
                     "the knee axis is unidentifiable: no knee motion in any of the {} windows \
-                     ({} samples; every window was unobservable or had too few complete samples)",
+                     ({} samples; every window was unobservable or had too few complete samples; \
+                     each IMU's axis needs that segment to turn: a still thigh, as on a seat or \
+                     a leg-extension machine, leaves the thigh's unidentifiable)",
                     self.last_windows.unwrap_or(0.0),
                     self.samples
                 )

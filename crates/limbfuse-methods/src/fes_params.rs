@@ -113,6 +113,16 @@ pub enum FesBuildError {
     /// The parameters are unphysical.
     #[error("unphysical model parameters: {0}")]
     Model(#[from] ModelError),
+    /// An unphysical parameter and where its value came from (the parameter
+    /// file or the trial's metadata line; an audit: the message named only
+    /// the trial when the file's value was wrong).
+    #[error("{source_name}: unphysical model parameters: {error}")]
+    ModelFrom {
+        /// The file, or the trial's metadata line, that gave the value.
+        source_name: String,
+        /// What is wrong.
+        error: ModelError,
+    },
     /// A value of the parameter file is out of range.
     #[error("{}: {message}", path.display())]
     File {
@@ -474,6 +484,41 @@ pub(crate) fn apply_tuning<const N: usize, const M: usize>(
 /// Builds `sdre`, `ekf` or `rmx` for a trial with the given metadata and
 /// layout, with the overrides of a parameter file.
 pub fn build_fes_estimator(
+    method: FesMethod,
+    meta: &TrialMeta,
+    layout: &TrialLayout,
+    file: &FesParamsFile,
+) -> Result<Box<dyn Estimator + Send>, FesBuildError> {
+    build_unlocated(method, meta, layout, file).map_err(|e| match e {
+        FesBuildError::Model(error) => FesBuildError::ModelFrom {
+            source_name: model_value_source(error.name(), meta, file),
+            error,
+        },
+        e => e,
+    })
+}
+
+/// Where the model's value `key` came from: the parameter file's `[model]`,
+/// else the trial's `# param.KEY:` or `# param_*:` line, else the subject's
+/// preset.
+fn model_value_source(key: &str, meta: &TrialMeta, file: &FesParamsFile) -> String {
+    if file.model.contains_key(key) {
+        return format!("{} [model] `{key}`", file.path.display());
+    }
+    let dotted = format!("param.{key}");
+    let line = crate::fes_param_lines::PARAM_LINE_KEYS
+        .iter()
+        .find(|(_, k)| *k == key)
+        .map(|(line, _)| *line)
+        .filter(|line| meta.get(line).is_some())
+        .or_else(|| meta.get(&dotted).map(|_| dotted.as_str()));
+    match line {
+        Some(line) => format!("the trial's `# {line}:` line"),
+        None => format!("the model's preset `{key}`"),
+    }
+}
+
+fn build_unlocated(
     method: FesMethod,
     meta: &TrialMeta,
     layout: &TrialLayout,

@@ -176,9 +176,13 @@ impl MethodDef for GaitEventsMethod {
         )
         .map_err(&bad)?;
         positive("shoe_gamma", f.shoe_gamma, &mut p.shoe.gamma).map_err(&bad)?;
-        positive(
+        // (below a stride the average follows the swing's own rotation: 0.02 s
+        // missed 14 of 56 contacts on the shared two-foot walk, 1 s none)
+        in_range(
             "axis_time_constant",
             f.axis_time_constant,
+            (1.0, 1e6),
+            "s (an average over whole strides: a walking stride lasts about 1 s)",
             &mut p.axis_time_constant,
         )
         .map_err(&bad)?;

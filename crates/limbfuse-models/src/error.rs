@@ -31,6 +31,17 @@ pub enum ModelError {
     },
 }
 
+impl ModelError {
+    /// The parameter's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ModelError::NonFinite { name, .. }
+            | ModelError::NotPositive { name, .. }
+            | ModelError::OutOfRange { name, .. } => name,
+        }
+    }
+}
+
 /// `Ok` when `value` is finite.
 pub fn finite(name: &'static str, value: f64) -> Result<(), ModelError> {
     if value.is_finite() {

@@ -102,6 +102,13 @@ fn segment_filters_refuse_sigmas_whose_square_means_nothing() {
     );
     refused(
         d,
+        "gait-events",
+        "w.csv",
+        "method = \"gait-events\"\naxis_time_constant = 1e-300\n",
+        &["`axis_time_constant` = 1e-300: expected 1 to 1000000 s"],
+    );
+    refused(
+        d,
         "lowback-speed",
         "w.csv",
         "method = \"lowback-speed\"\ncorrection = 1e300\n",
@@ -190,6 +197,30 @@ fn gait_and_fes_methods_refuse_bodies_and_models_no_human_has() {
         "ekf",
         "f.csv",
         "method = \"ekf\"\n[model]\ng = 1e300\n",
-        &["`g` = 1e300 is outside [1, 20] m/s^2"],
+        &[
+            "p.toml [model] `g`: unphysical",
+            "`g` = 1e300 is outside [1, 20] m/s^2",
+        ],
+    );
+    // A value from the trial's metadata names that line, not a file that did
+    // not give it (the message named only the trial before).
+    let text = std::fs::read_to_string(d.join("f.csv")).unwrap();
+    let text: String = text
+        .lines()
+        .map(|l| match l.starts_with("# param.mass:") {
+            true => "# param.mass: 1e300\n".to_string(),
+            false => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(d.join("f.csv"), text).unwrap();
+    refused(
+        d,
+        "sdre",
+        "f.csv",
+        "method = \"sdre\"\n",
+        &[
+            "the trial's `# param.mass:` line: unphysical",
+            "`mass` = 1e300",
+        ],
     );
 }
