@@ -13,6 +13,9 @@ User errors raise ``LimbfuseError`` (a ``ValueError``) with the CLI's
 message; a limbfuse bug raises ``InternalError``; no Rust panic escapes.
 """
 
+from types import ModuleType
+from typing import TYPE_CHECKING
+
 from ._native import InternalError, LimbfuseError
 from ._trial import Trial, read_trial, write_trial
 from ._estimate import (
@@ -28,14 +31,19 @@ from ._estimate import (
 from ._filter import Filter
 from ._workflows import Calibration, align, calibrate, gait_library, report, simulate
 
-def __getattr__(name: str):
-    # `limbfuse.cohort` without importing it with the package, so that
-    # `python -m limbfuse.cohort` runs it as a fresh module.
-    if name == "cohort":
-        import importlib
+if TYPE_CHECKING:  # pragma: no cover
+    from . import cohort as cohort  # (imported on first use: `__getattr__` below)
+else:
+    # (hidden from type checkers: with it, mypy took a misspelt
+    # `limbfuse.estimat` for a module attribute; an audit)
+    def __getattr__(name: str) -> ModuleType:
+        # `limbfuse.cohort` without importing it with the package, so that
+        # `python -m limbfuse.cohort` runs it as a fresh module.
+        if name == "cohort":
+            import importlib
 
-        return importlib.import_module(".cohort", __name__)
-    raise AttributeError(f"module 'limbfuse' has no attribute {name!r}")
+            return importlib.import_module(".cohort", __name__)
+        raise AttributeError(f"module 'limbfuse' has no attribute {name!r}")
 
 
 #: Every method name, in ``limbfuse methods`` order.

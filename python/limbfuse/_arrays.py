@@ -7,13 +7,34 @@ array is refused: limbfuse never takes NaN for a value.
 
 from __future__ import annotations
 
-from typing import Any, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._native import LimbfuseError
 
 PHASE_LABELS = ("SS1", "DS", "SS2")
+
+
+class SetOnce:
+    """Public attributes set once, when the object is made (``Trial``,
+    ``Estimate``): their arrays were checked together, so replacing one
+    (an audit: ``trial.t = np.zeros(3)`` left 3 times beside 500-sample
+    channels) raises ``AttributeError``; build a new object instead."""
+
+    __slots__ = ()
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if not name.startswith("_") and hasattr(self, name):
+            kind = type(self).__name__
+            raise AttributeError(
+                f"{kind}.{name} is read-only: its arrays were checked together when the "
+                f"{kind} was made; build a new {kind} to change it"
+            )
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"{type(self).__name__}.{name} cannot be deleted")
 
 
 def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
@@ -150,12 +171,12 @@ def from_native(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def phase_cells(name: str, values: Any, n: int) -> list:
+def phase_cells(name: str, values: Any, n: int) -> List[Optional[str]]:
     """Gait-phase cells: ``SS1``, ``DS``, ``SS2``, or missing (None, "", NaN)."""
     cells = list(np.asarray(values, dtype=object))
     if len(cells) != n:
         raise LimbfuseError(f"channel `{name}` has {len(cells)} samples but `t` has {n}")
-    out = []
+    out: List[Optional[str]] = []
     for i, c in enumerate(cells):
         if c is None or (isinstance(c, float) and np.isnan(c)) or c == "" or c is np.ma.masked:
             out.append(None)
@@ -175,9 +196,9 @@ def phase_array(cells: Optional[Sequence[Optional[str]]]) -> Optional[np.ndarray
     return np.array(list(cells), dtype=object)
 
 
-def split_header(lines: Sequence[str]) -> Tuple[dict, dict]:
+def split_header(lines: Sequence[str]) -> Tuple[Dict[str, str], Dict[str, str]]:
     """Header lines ``key: value`` -> (all entries, parameters only)."""
-    entries = {}
+    entries: Dict[str, str] = {}
     for line in lines:
         k, sep, v = line.partition(":")
         if sep:

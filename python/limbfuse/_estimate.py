@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import json
+import operator
 import os
 import warnings
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, SupportsIndex, Tuple, Union
 
 import numpy as np
 
 from . import _native
 from ._arrays import (
+    SetOnce,
     as_column,
     as_time,
     filled,
@@ -36,7 +38,7 @@ class LimbfuseWarning(UserWarning):
     """A warning the CLI prints on stderr (e.g. an estimator restarted)."""
 
 
-class Estimate:
+class Estimate(SetOnce):
     """The output of one method over one trial (SPEC section 3).
 
     Attributes:
@@ -50,9 +52,23 @@ class Estimate:
         header: the estimate file's ``key: value`` header lines.
         method: the method name; ``params``: its parameters as written in
             the header.
+        columns: the file's column names in order (``t`` first).
+
+    Build one from arrays, ``Estimate(t, {"knee": k, ...}, method="mine")``
+    (``phase`` or a ``"phase"`` channel: the gait-phase labels; ``header``:
+    the header lines, default ``["method: METHOD"]``), e.g. to score or
+    report another tool's output. The attributes cannot be replaced.
     """
 
     __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns", "_trial_fingerprint")
+    t: np.ndarray
+    channels: Mapping[str, np.ndarray]
+    phase: Optional[np.ndarray]
+    header: List[str]
+    method: str
+    params: Dict[str, str]
+    columns: List[str]
+    _trial_fingerprint: Optional[Dict[str, Any]]
 
     def __init__(
         self,
@@ -75,7 +91,14 @@ class Estimate:
         )
         self._check()
 
-    def _set(self, t, cols, phase, header, order) -> None:
+    def _set(
+        self,
+        t: np.ndarray,
+        cols: Mapping[str, np.ndarray],
+        phase: Optional[np.ndarray],
+        header: Sequence[str],
+        order: Optional[Sequence[str]],
+    ) -> None:
         # (set by `estimate`: which in-memory trial it was made from)
         self._trial_fingerprint = None
         self.t = frozen(t)
@@ -163,7 +186,7 @@ class Estimate:
 
 def _estimate_from_state(t, channels, phase, header, columns, made_from) -> Estimate:
     e = Estimate(t, channels, phase=phase, header=header)
-    e.columns = list(columns)
+    object.__setattr__(e, "columns", list(columns))  # (the file's order, kept)
     e._trial_fingerprint = made_from
     return e
 
@@ -255,12 +278,18 @@ def flag(name: str, value: Any) -> bool:
     return bool(value)
 
 
-def count(name: str, value: Any, least: int, most: int) -> int:
-    """An integer option in [least, most], checked and named."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+def count(name: str, value: Any, least: int, most: Optional[int]) -> int:
+    """An integer option in [least, most] (``most`` None: no upper bound),
+    checked and named."""
+    if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name}: expected an integer, found {value!r}")
-    if not least <= value <= most:
-        raise _native.LimbfuseError(f"{name}: expected an integer from {least} to {most}, found {value}")
+    try:
+        value = operator.index(value)  # (int, numpy integers: not 1.5 or "3")
+    except TypeError:
+        raise TypeError(f"{name}: expected an integer, found {value!r}") from None
+    if value < least or (most is not None and value > most):
+        upto = f"from {least} to {most}" if most is not None else f"of at least {least}"
+        raise _native.LimbfuseError(f"{name}: expected an integer {upto}, found {value}")
     return int(value)
 
 
@@ -269,7 +298,7 @@ def evaluate(
     estimate: Estimate,
     window: Union[None, str, Tuple[Optional[float], Optional[float]]] = None,
     offset_free: bool = False,
-    max_lag: int = 0,
+    max_lag: SupportsIndex = 0,
     allow_trial_mismatch: bool = False,
 ) -> Dict[str, Any]:
     """Errors of `estimate` against the trial's reference: the same object
@@ -295,10 +324,10 @@ def evaluate(
     """
     if not isinstance(trial, Trial) or not isinstance(estimate, Estimate):
         raise TypeError("evaluate: expected a limbfuse.Trial and a limbfuse.Estimate")
-    if isinstance(max_lag, bool) or not isinstance(max_lag, (int, np.integer)) or max_lag < 0:
-        raise _native.LimbfuseError(f"max_lag: expected a non-negative integer, found {max_lag!r}")
+    # (a wrong type is a TypeError, as every option's; an audit: 1.5 raised LimbfuseError)
+    max_lag = count("max_lag", max_lag, 0, None)
     # (the extension bounds it by half the trial; beyond 2**32 no trial is that long)
-    max_lag = min(int(max_lag), 2**32)
+    max_lag = min(max_lag, 2**32)
     allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
     mismatch = _trial_mismatch(trial, estimate)
     if mismatch is not None:

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Any, Dict, Mapping, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Union, cast
 
 from . import _native
 from ._estimate import Estimate, LimbfuseWarning
 from ._trial import PathLike, Trial
 from ._workflows import calibration_options
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 
 class Filter:
@@ -36,7 +39,7 @@ class Filter:
         method: str,
         params: Union[None, PathLike, Mapping[str, Any]] = None,
         *,
-        channels: Sequence[str],
+        channels: Iterable[str],
         meta: Optional[Mapping[str, Any]] = None,
         **options: Any,
     ) -> None:
@@ -75,16 +78,16 @@ class Filter:
         return cls(method, params, channels=list(trial.channels), meta=trial.meta, **options)
 
     @property
-    def channels(self) -> list:
+    def channels(self) -> List[str]:
         """The channels the filter reads."""
         return list(self._native.channels)
 
     @property
-    def header(self) -> list:
+    def header(self) -> List[str]:
         """The method and its parameters (estimate file header lines)."""
         return list(self._native.header)
 
-    def step(self, sample: Mapping[str, Optional[float]]) -> Dict[str, Any]:
+    def step(self, sample: Mapping[str, Any]) -> Dict[str, Any]:
         """One sample in, one estimate out. A missing value is ``None``,
         ``numpy.ma.masked`` or an absent key (NaN is refused: limbfuse never
         takes NaN for a value); a value that is not a number raises
@@ -98,12 +101,15 @@ class Filter:
                 raise
             raise _busy(e) from None
 
-    def run(self, arrays: Mapping[str, Any]) -> Estimate:
-        """Runs over arrays (``t`` and channels; masked = missing), the GIL
-        released; returns the estimates as an ``Estimate``."""
+    def run(self, arrays: Union[Mapping[str, Any], "pd.DataFrame"]) -> Estimate:
+        """Runs over arrays (``t`` and channels; masked = missing) or a
+        DataFrame's columns (NaN = missing), the GIL released; returns the
+        estimates as an ``Estimate``."""
         if "t" not in arrays:
             raise _native.LimbfuseError("run: the arrays need `t` (time in seconds)")
-        data = Trial(arrays["t"], {k: v for k, v in arrays.items() if k != "t"}, self._meta)
+        # (a column name that is not a string is refused by `Trial`, named)
+        rest = cast(Mapping[str, Any], {k: v for k, v in arrays.items() if k != "t"})
+        data = Trial(arrays["t"], rest, self._meta)
         _, t, names, filled, _, _ = data._native()
         try:
             return Estimate._from_native(self._native.run(t, names, filled))

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Dict, Mapping, Optional, Tuple, Union
 import numpy as np
 
 from . import _native
-from ._arrays import as_column, as_time, filled, from_native, frozen, phase_array, phase_cells
+from ._arrays import SetOnce, as_column, as_time, filled, from_native, frozen, phase_array, phase_cells
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -19,7 +19,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 PHASE_REF = "phase_ref"
 
 
-class Trial:
+class Trial(SetOnce):
     """One recorded or simulated trial.
 
     Attributes:
@@ -29,8 +29,9 @@ class Trial:
             (named after ``meta["leg"]``, right when absent),
             ``contact_left_ref`` (1 / 0), ``speed_ref``, ...) to a float64
             array; an array with missing samples is a ``numpy.ma.MaskedArray``.
-            ``t`` and the arrays are read-only views (checked when the trial
-            was made: build a new ``Trial`` to change them).
+            ``t`` and the arrays are read-only views, and the attributes
+            cannot be replaced (checked when the trial was made: build a
+            new ``Trial`` to change them).
         phase_ref: the gait-phase reference (``"SS1"``, ``"DS"``, ``"SS2"``
             or None) as an object array, or None when the trial has none.
         meta: the ``# key: value`` header (units and conventions of SPEC).
@@ -45,6 +46,11 @@ class Trial:
     """
 
     __slots__ = ("t", "channels", "phase_ref", "meta", "source")
+    t: np.ndarray
+    channels: Mapping[str, np.ndarray]
+    phase_ref: Optional[np.ndarray]
+    meta: Dict[str, str]
+    source: Optional[Tuple[str, str]]
 
     def __init__(
         self,

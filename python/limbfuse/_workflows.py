@@ -7,10 +7,10 @@ import os
 import re
 import tempfile
 import warnings
-from typing import TYPE_CHECKING, Any, Dict, List, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Sequence, SupportsFloat, SupportsIndex, Union
 
 from . import _native
-from ._trial import PathLike, Trial
+from ._trial import PathLike, Trial, read_trial
 
 if TYPE_CHECKING:
     from ._estimate import Estimate
@@ -32,7 +32,10 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
             ap_offset_sd_cm, remount_at (s; with remount_deg, default 50)
             (paper 002 scenario: random IMU orientations and positions).
         knee-fes: subject ("P1-L" ... "P3-R"), duration, rate, seed, noise,
-            mounting, gyro_drift (deg/s), activation_dynamics (paper 004).
+            mounting, gyro_drift (deg/s), activation_dynamics, calibration
+            (a path: also write there the calibration recording of the same
+            sensors, quiet standing + 4 hip rotations, for ``align(...,
+            procedure="static-rotation", calibration=...)``) (paper 004).
         fixed-hip: duration, rate, seed, noise, gyro_drift (deg/s),
             activation_t_a (s) (paper 004).
         bslip: speed (m/s, default 0.7), library (a gait-library file to
@@ -44,6 +47,8 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
             ``simulate("walking", seed=N)`` held still in poses, for
             ``calibrate``).
     """
+    if isinstance(options.get("calibration"), os.PathLike):
+        options["calibration"] = os.fspath(options["calibration"])
     return Trial._from_native(_native.simulate(kind, options or None))
 
 
@@ -62,8 +67,8 @@ def align(trial: Trial, **options: Any) -> Trial:
             walking mean angle when the trial has no quiet standing): the
             walking procedure's (``--hinge``, ``--partial``, ``--mean-angle``).
         calibration: static-rotation only, the recording of quiet standing
-            and rotations of the same sensors (a ``Trial``; default: the
-            calibration segment at the start of `trial`).
+            and rotations of the same sensors (a ``Trial`` or its file;
+            default: the calibration segment at the start of `trial`).
         imu_calibration: an IMU calibration (a ``Calibration`` from
             ``calibrate`` or its file) applied to the raw channels first
             (``--imu-calibration``).
@@ -83,9 +88,11 @@ def align(trial: Trial, **options: Any) -> Trial:
         )
     if "calibration" in options:
         rec = options.pop("calibration")
+        if isinstance(rec, (str, os.PathLike)):
+            rec = read_trial(rec)
         if not isinstance(rec, Trial):
             raise TypeError(
-                "align: `calibration` is the static-rotation recording (a limbfuse.Trial), found "
+                "align: `calibration` is the static-rotation recording (a limbfuse.Trial or its file), found "
                 f"{type(rec).__name__}; an IMU calibration is `imu_calibration=`"
             )
         options["calibration_trial"] = rec._native()
@@ -118,6 +125,7 @@ class Calibration:
         self.sensors = sensors
 
     def write(self, path: PathLike) -> None:
+        """Writes the calibration file (``toml``) to `path`."""
         with open(os.fspath(path), "w", encoding="utf-8") as f:
             f.write(self.toml)
 
@@ -159,7 +167,10 @@ def calibrate(poses: Trial, **options: Any) -> Calibration:
 
 
 def gait_library(
-    path: PathLike, speeds: Sequence[float], mass: float = 80.0, leg_length: float = 1.0
+    path: PathLike,
+    speeds: Iterable[SupportsFloat],
+    mass: SupportsFloat = 80.0,
+    leg_length: SupportsFloat = 1.0,
 ) -> List[Dict[str, float]]:
     """Builds a B-SLIP gait library (``limbfuse gait-library build``) for
     `speeds` (m/s), writes it to `path` (for ``estimate(..., "imm-bslip",
@@ -171,9 +182,9 @@ def gait_library(
 
 def report(
     trial: Union[PathLike, Trial],
-    estimates: Sequence[Union[PathLike, "Estimate"]],
+    estimates: Union[PathLike, "Estimate", Sequence[Union[PathLike, "Estimate"]]],
     path: PathLike,
-    buckets: int = 2000,
+    buckets: SupportsIndex = 2000,
     allow_trial_mismatch: bool = False,
 ) -> int:
     """Writes the self-contained HTML report of ``limbfuse report`` (plots,
@@ -193,8 +204,10 @@ def report(
     """
     from ._estimate import Estimate, count, flag
 
-    if isinstance(estimates, (str, bytes, os.PathLike, Estimate)):
-        estimates = [estimates]  # one estimate (a string is not a list of them)
+    # (one estimate: a string is not a list of them)
+    given: Sequence[Union[PathLike, Estimate]] = (
+        [estimates] if isinstance(estimates, (str, bytes, os.PathLike, Estimate)) else estimates
+    )
     buckets = count("buckets", buckets, 1, 2**31 - 1)
     allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
     with tempfile.TemporaryDirectory(prefix="limbfuse-report-") as tmp:
@@ -204,12 +217,12 @@ def report(
             allow_trial_mismatch = True
         else:
             trial_path = os.fspath(trial)
-        paths = []
-        for k, e in enumerate(estimates):
+        paths: List[str] = []
+        for k, e in enumerate(given):
             if isinstance(e, Estimate):
-                if any(e is x for x in estimates[:k]):
+                if any(e is x for x in given[:k]):
                     raise _native.LimbfuseError(
-                        f"report: estimate {k} is estimate {next(j for j, x in enumerate(estimates) if x is e)} "
+                        f"report: estimate {k} is estimate {next(j for j, x in enumerate(given) if x is e)} "
                         "given again; give each estimate once"
                     )
                 # (the method names a file in the temporary folder: only

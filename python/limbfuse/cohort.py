@@ -17,11 +17,20 @@ import argparse
 import glob
 import os
 import sys
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ._estimate import estimate, evaluate, methods
 from ._native import LimbfuseError
 from ._trial import Trial, read_trial
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+__all__ = ["COLUMNS", "EVENT_METRICS", "GAIT_METRICS", "METRICS", "TRIAL_SUFFIXES", "main", "run"]
+
+#: One cohort item: a trial file, an in-memory trial, or an in-memory
+#: trial without a file and the name its rows give it.
+Item = Union[str, Trial, Tuple[str, Trial]]
 
 #: The trial files a directory contributes (CSV, Arrow IPC / Feather).
 TRIAL_SUFFIXES = (".csv", ".arrow", ".feather")
@@ -45,7 +54,7 @@ GAIT_METRICS = ("phase_accuracy_pct", "com_pos_rmse_m", "com_pos_max_m", "speed_
                 "speed_ref_mps", "speed_error_mps")
 
 
-def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> List[Any]:
+def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> Sequence[Union[str, Trial]]:
     """The trials: a glob pattern, a directory (its ``*.csv``, ``*.arrow``
     and ``*.feather`` files), a file, or a list of files or in-memory
     ``Trial``s; sorted when from a pattern or directory."""
@@ -62,10 +71,10 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
         if not found:
             raise LimbfuseError(f"cohort: no trial file matches `{p}`")
         return found
-    found = [x if isinstance(x, Trial) else os.fspath(x) for x in paths_or_glob]
-    if not found:
+    items: List[Union[str, Trial]] = [x if isinstance(x, Trial) else os.fspath(x) for x in paths_or_glob]
+    if not items:
         raise LimbfuseError("cohort: the list of trial files is empty")
-    return found
+    return items
 
 
 def trial_name(trial: Any, index: int) -> str:
@@ -99,7 +108,7 @@ def evaluate_trial(
 
 
 def evaluate_trials(
-    paths: Sequence[str],
+    paths: Sequence[Item],
     method: str,
     params: Any = None,
     options: Optional[Mapping[str, Any]] = None,
@@ -117,7 +126,7 @@ def evaluate_trials(
     return rows
 
 
-def chunks(paths: Sequence[str], slots: int) -> List[List[str]]:
+def chunks(paths: Sequence[Item], slots: int) -> List[List[Item]]:
     """The trials in consecutive chunks, about four per worker slot: a
     scheduler's cost per task (in the tens of milliseconds for a
     distributed task) is paid per chunk, not per trial, while every slot
@@ -167,7 +176,7 @@ def run(
     scheduler: str = "threads",
     progress: bool = False,
     **estimate_options: Any,
-):
+) -> "pd.DataFrame":
     """Estimates and evaluates every trial; one DataFrame row per trial and
     channel (``trial, method, channel, n_samples, rmse_deg,
     max_abs_err_deg, mean_err_deg, corr, mean_rmse_deg``); for gait events
@@ -197,7 +206,7 @@ def run(
         raise LimbfuseError(f"cohort: unknown method `{method}` (one of: {', '.join(known)})")
     if estimate_options:
         options = dict(options or {}, **estimate_options)
-    paths = [
+    paths: List[Item] = [
         (trial_name(x, i), x) if isinstance(x, Trial) and not x.source else x
         for i, x in enumerate(trial_paths(paths_or_glob))
     ]

@@ -34,13 +34,13 @@ mod trial;
 mod workflows;
 
 create_exception!(
-    _native,
+    limbfuse,
     LimbfuseError,
     PyValueError,
     "A user error: a bad file, array, method name or parameter (the message names it)."
 );
 create_exception!(
-    _native,
+    limbfuse,
     InternalError,
     PyRuntimeError,
     "A limbfuse bug (a Rust panic caught at the boundary); please report it."

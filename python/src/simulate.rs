@@ -72,6 +72,23 @@ fn collect<R: IntoIterator<Item = Record>>(
     (tr.meta, cols)
 }
 
+/// `simulate knee-fes --calibration PATH`: the calibration recording (quiet
+/// standing + 4 hip rotations) of the same sensors, written to `path` (the
+/// CLI's bytes; an audit: Python had no way to make it).
+fn write_knee_fes_calibration(cfg: &KneeFesConfig, path: &Path) -> PyResult<()> {
+    use std::io::Write;
+    let rec = simulated_trials::knee_fes_calibration(cfg).map_err(|e| user_error(&e))?;
+    let io = |e: std::io::Error| {
+        user_msg(format!(
+            "simulate knee-fes: option `calibration`: {}: {e}",
+            path.display()
+        ))
+    };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+    simulated_trials::write_trial(&mut out, rec, path).map_err(|e| user_error(&e))?;
+    out.flush().map_err(io)
+}
+
 /// An out-of-range option, named as the Python keyword.
 fn option_error(scenario: &'static str, option: simulator_options::OptionOutOfRange) -> PyErr {
     user_error(&simulated_trials::SimulatedTrialError::Option { scenario, option })
@@ -238,11 +255,16 @@ fn simulate<'py>(
                         .unwrap_or(d.activation_dynamics),
                     ..d
                 };
+                let calibration = o.string("calibration")?;
                 o.finish()?;
                 let tr = py.detach(|| {
                     simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
                 });
-                tr.map_err(|e| user_error(&e))? // (its message names the simulator)
+                let tr = tr.map_err(|e| user_error(&e))?; // (its message names the simulator)
+                if let Some(path) = calibration {
+                    py.detach(|| write_knee_fes_calibration(&cfg, Path::new(&path)))?;
+                }
+                tr
             }
             "fixed-hip" => {
                 let d = FixedHipConfig::default();

@@ -195,3 +195,25 @@ def test_a_trial_slices_by_samples_and_by_time(tmp_path):
         tr[::2]
     with pytest.raises(limbfuse.LimbfuseError, match="no samples"):
         tr.window(100, 200)
+
+
+def test_attributes_are_set_once_and_errors_pickle(walking_trial):
+    """An audit: `trial.t = np.zeros(3)` was accepted (3 times beside
+    1000-sample channels), and a LimbfuseError raised in a multiprocessing
+    worker came back as a PicklingError (its class lived in `_native`)."""
+    import pickle
+
+    with pytest.raises(AttributeError, match="Trial.t is read-only"):
+        walking_trial.t = np.zeros(3)
+    with pytest.raises(AttributeError, match="cannot be deleted"):
+        del walking_trial.channels
+    est = limbfuse.estimate(walking_trial, "gyro-integration")
+    with pytest.raises(AttributeError, match="Estimate.method is read-only"):
+        est.method = "mjls"
+    assert len(walking_trial.t) == len(walking_trial) and est.method == "gyro-integration"
+    for kind in (limbfuse.LimbfuseError, limbfuse.InternalError):
+        back = pickle.loads(pickle.dumps(kind("trial.csv:3: bad")))
+        assert type(back) is kind and str(back) == "trial.csv:3: bad"
+    with pytest.raises(TypeError, match="max_lag: expected an integer"):
+        limbfuse.evaluate(walking_trial, est, max_lag=1.5)  # (was LimbfuseError; every option: TypeError)
+    assert "sync_lag_samples" in limbfuse.evaluate(walking_trial, est, max_lag=np.int64(2))

@@ -404,3 +404,21 @@ def test_align_static_rotation_and_imu_calibration_are_the_clis(cli, tmp_path, m
         limbfuse.align(raw, calibration=cal)
     with pytest.raises(LimbfuseError, match="`calibration` .* is for procedure=\"static-rotation\""):
         limbfuse.align(raw, calibration=rec)
+
+
+def test_knee_fes_calibration_recording_equals_the_cli(cli, tmp_path):
+    """`simulate("knee-fes", calibration=PATH)` writes the CLI's
+    `--calibration` recording byte for byte, and `align` takes it as a file
+    (an audit: Python could not make it, so docs/python.md's static-rotation
+    line could not run)."""
+    cli("simulate", "knee-fes", "--duration", "5", "--mounting", "random",
+        "--calibration", tmp_path / "cli-cal.csv", "-o", tmp_path / "cli.csv")
+    fes = limbfuse.simulate("knee-fes", duration=5, mounting="random", calibration=tmp_path / "py-cal.csv")
+    assert (tmp_path / "py-cal.csv").read_bytes() == (tmp_path / "cli-cal.csv").read_bytes()
+    by_file = limbfuse.align(fes, procedure="static-rotation", calibration=tmp_path / "py-cal.csv")
+    by_trial = limbfuse.align(
+        fes, procedure="static-rotation", calibration=limbfuse.read_trial(tmp_path / "py-cal.csv")
+    )
+    assert by_file.meta == by_trial.meta
+    with pytest.raises(LimbfuseError, match="option `calibration`: .*missing"):
+        limbfuse.simulate("knee-fes", duration=5, calibration=tmp_path / "missing" / "c.csv")
