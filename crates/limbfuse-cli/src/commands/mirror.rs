@@ -4,7 +4,10 @@
 use anyhow::{Context, Result};
 use limbfuse_core::{Leg, Record};
 use limbfuse_io::{TrialReader, TrialWriter};
-use limbfuse_signal::align::mirror::{mirror_record, remount_rotations_both_legs};
+use limbfuse_signal::align::mirror::{
+    mirror_record_in, remount_rotations_both_legs, world_reflection,
+};
+use limbfuse_signal::align::mirror_truth::mirror_truth_lines;
 use limbfuse_signal::recording_variants::remount_both_legs;
 
 use crate::cli::MirrorArgs;
@@ -45,12 +48,14 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
     // recorded leg now (`foot_right_...` on a mirrored right-leg trial).
     layout.leg = other;
     let two_legs = (0..4).any(|i| layout.other_acc[i] || layout.other_gyr[i]);
+    let world = world_reflection(&records);
     meta.set(
         "mirrored",
         format!(
-            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), quat (w, -x, -y, z); two legs: both mirrored, contact references swapped){}{}",
+            "from {} ({} leg): sensors mirrored across the sagittal plane (acc (x, y, -z), gyro (-x, -y, z), {}; two legs: both mirrored, contact references swapped){}{}",
             a.trial.display(),
             leg.name(),
+            world.formula(),
             a.remount_seed
                 .map_or(String::new(), |s| format!(", re-mounted at random (seed {s})")),
             if two_legs {
@@ -84,11 +89,22 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
         }
     }
     let remount = a.remount_seed.map(remount_rotations_both_legs);
+    // The simulator's truth of each sensor (mounting, biases, positions)
+    // follows the readings (an audit: copied unchanged, it no longer
+    // described them).
+    let dropped = mirror_truth_lines(&mut meta, remount.as_ref().map(|(own, _)| own));
+    if !dropped.is_empty() {
+        eprintln!(
+            "warning: {}: left out metadata lines that could not be mirrored: {}",
+            a.trial.display(),
+            dropped.join(", ")
+        );
+    }
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
         .with_context(|| format!("{}: cannot write", a.output.display()))?;
     for r in &records {
-        let m = mirror_record(r);
+        let m = mirror_record_in(r, world);
         let m = match &remount {
             Some((own, other)) => remount_both_legs(&m, own, other),
             None => m,

@@ -30,6 +30,66 @@ use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 /// leg was left as recorded and the references unswapped, so a mirrored
 /// two-foot walk lost every event (`issue_19_mirror_two_leg_recording`).
 pub fn mirror_record(r: &Record) -> Record {
+    mirror_record_in(r, WorldReflection::Z)
+}
+
+/// The world axis a mirrored device orientation (`S_quat_*`) is reflected
+/// along. The mirror image of a world must stay a world with the same
+/// vertical: SPEC's frame (y up, z medio-lateral) is reflected along z; a
+/// device world with z up (Xsens: the shared gaittoolbox recording) along y
+/// (an audit: reflecting its z turned gravity upside down, `R f` from
+/// +9.90 to -9.90 m/s^2 on the trunk). Any horizontal axis gives a valid
+/// mirror-image world; [`world_reflection`] picks it from the data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WorldReflection {
+    /// Reflect the world's z: quaternion `(w, -x, -y, z)`.
+    Z,
+    /// Reflect the world's y (a z-up world): `S_y R S_z`, i.e. the
+    /// quaternion `(x, w, -z, -y)` (a half turn about x after the z
+    /// reflection).
+    Y,
+}
+
+impl WorldReflection {
+    /// How the quaternion changes, for the trial's metadata.
+    pub const fn formula(self) -> &'static str {
+        match self {
+            WorldReflection::Z => "quat (w, -x, -y, z): world z reflected",
+            WorldReflection::Y => {
+                "quat (x, w, -z, -y): world y reflected (the device world has z up)"
+            }
+        }
+    }
+}
+
+/// The reflection that keeps the device world's vertical: the world axis
+/// along which the accelerometers' specific force, rotated by the device
+/// orientation (`R f`, gravity's reaction when still), has the largest mean
+/// is vertical; y is reflected when that is z, else z. Without a sample
+/// holding both an orientation and an accelerometer reading: z (SPEC).
+pub fn world_reflection(records: &[Record]) -> WorldReflection {
+    let mut sum = Vector3::zeros();
+    for r in records {
+        for imu in r.sample.imu.iter().chain(r.sample.other_leg_imu.iter()) {
+            if let (Some(q), Some(f)) = (imu.quat, imu.acc) {
+                let q = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+                let rf = q * f;
+                if rf.iter().all(|v| v.is_finite()) {
+                    sum += rf;
+                }
+            }
+        }
+    }
+    let vertical = sum.iamax();
+    match (vertical, sum[vertical] != 0.0) {
+        (2, true) => WorldReflection::Y,
+        _ => WorldReflection::Z,
+    }
+}
+
+/// [`mirror_record`] with the device orientations reflected along `world`
+/// ([`world_reflection`]).
+pub fn mirror_record_in(r: &Record, world: WorldReflection) -> Record {
     let mut out = *r;
     for imu in out
         .sample
@@ -37,13 +97,13 @@ pub fn mirror_record(r: &Record) -> Record {
         .iter_mut()
         .chain(out.sample.other_leg_imu.iter_mut())
     {
-        mirror_imu(imu);
+        mirror_imu(imu, world);
     }
     out.reference.contact.swap(0, 1);
     out
 }
 
-fn mirror_imu(imu: &mut ImuSample) {
+fn mirror_imu(imu: &mut ImuSample, world: WorldReflection) {
     imu.acc = imu.acc.map(|a| Vector3::new(a.x, a.y, -a.z));
     imu.gyr = imu.gyr.map(|w| Vector3::new(-w.x, -w.y, w.z));
     // incomplete vectors: each axis maps to itself (issue 18 item 2)
@@ -51,7 +111,10 @@ fn mirror_imu(imu: &mut ImuSample) {
     imu.acc_partial = [ax, ay, az.map(|z| -z)];
     let [wx, wy, wz] = imu.gyr_partial;
     imu.gyr_partial = [wx.map(|x| -x), wy.map(|y| -y), wz];
-    imu.quat = imu.quat.map(|q| [q[0], -q[1], -q[2], q[3]]);
+    imu.quat = imu.quat.map(|[w, x, y, z]| match world {
+        WorldReflection::Z => [w, -x, -y, z],
+        WorldReflection::Y => [x, w, -z, -y],
+    });
 }
 
 /// A uniformly distributed number in `[0, 1)` from the SplitMix64 stream.
@@ -139,6 +202,46 @@ mod tests {
         let [qw, qx, qy, qz] = m.quat.unwrap();
         let ql = UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz));
         assert!((ql.to_rotation_matrix().into_inner() - rl).norm() < 1e-12);
+    }
+
+    /// Issue: `mirror` of the shared gaittoolbox recording (Xsens, world z
+    /// up) turned its world upside down. Reflecting the world's y keeps it
+    /// up: `S_y R S_z`, detected from the data.
+    #[test]
+    fn a_z_up_device_world_keeps_its_vertical() {
+        let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+        let up = Vector3::new(0.0, 0.0, 9.81);
+        let f = r.transpose() * up; // still: R f = gravity's reaction, up
+        let q = UnitQuaternion::from_matrix(&r);
+        let mut rec = Record {
+            sample: Sample::empty(0.0),
+            reference: Default::default(),
+        };
+        rec.sample.imu[0] = ImuSample {
+            acc: Some(f),
+            quat: Some([q.w, q.i, q.j, q.k]),
+            ..Default::default()
+        };
+        let world = world_reflection(std::slice::from_ref(&rec));
+        assert_eq!(world, WorldReflection::Y);
+        let m = mirror_record_in(&rec, world).sample.imu[0];
+        let [qw, qx, qy, qz] = m.quat.unwrap();
+        let ql = UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz));
+        let sy = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0));
+        let sz = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+        assert!((ql.to_rotation_matrix().into_inner() - sy * r * sz).norm() < 1e-12);
+        assert!((ql * m.acc.unwrap() - up).norm() < 1e-9, "still up");
+        // The z reflection (SPEC's y-up world) would have turned it down.
+        let [qw, qx, qy, qz] = mirror_record(&rec).sample.imu[0].quat.unwrap();
+        let qz_refl = UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz));
+        assert!((qz_refl * m.acc.unwrap() + up).norm() < 1e-9);
+        // A y-up world (SPEC's) keeps the z reflection.
+        let f_spec = r.transpose() * Vector3::new(0.0, 9.81, 0.0);
+        rec.sample.imu[0].acc = Some(f_spec);
+        assert_eq!(
+            world_reflection(std::slice::from_ref(&rec)),
+            WorldReflection::Z
+        );
     }
 
     #[test]

@@ -27,6 +27,7 @@ mod gait_window;
 mod leg_side;
 mod legs;
 pub mod mirror;
+pub mod mirror_truth;
 mod series;
 mod sign;
 pub mod static_rotation;
