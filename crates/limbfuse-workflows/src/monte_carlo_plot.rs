@@ -7,13 +7,13 @@ use plotters::prelude::*;
 
 use crate::monte_carlo::{MonteCarloRow, METHODS};
 
-/// Draws the mean RMSE of each filter against the uncertainty level into
-/// the SVG file `path` (whole or not at all, [`limbfuse_io::AtomicFile`]).
-pub fn write_svg(rows: &[MonteCarloRow], path: &Path, title: &str) -> Result<(), String> {
+/// Draws the mean RMSE of each filter against the uncertainty level as SVG
+/// text (`path`, the file it is for, names it in errors); the caller writes
+/// it (`limbfuse montecarlo --svg`, whole or not at all with its CSV).
+pub fn render_svg(rows: &[MonteCarloRow], path: &Path, title: &str) -> Result<String, String> {
     let mut svg = String::new();
     draw_svg(rows, &mut svg, path, title)?;
-    limbfuse_io::AtomicFile::write(path, svg)
-        .map_err(|e| format!("{}: cannot write the plot: {e}", path.display()))
+    Ok(svg)
 }
 
 fn draw_svg(

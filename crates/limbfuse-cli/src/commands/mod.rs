@@ -32,7 +32,7 @@ use limbfuse_core::Record;
 use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
-pub use output_paths::{refuse_input_as_output, refuse_overwrites};
+pub use output_paths::{refuse_input_as_output, refuse_missing_folder, refuse_overwrites};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
@@ -96,6 +96,8 @@ pub fn warn_units(
 /// when [`commit`] succeeds; on any error before, nothing is left behind).
 pub fn create_file(path: &Path) -> Result<AtomicFile> {
     refuse_stdout(path)?;
+    // (before the temporary file's name can appear in the message)
+    refuse_missing_folder("", path)?;
     AtomicFile::create(path)
         .with_context(|| format!("{}: cannot create the output file", path.display()))
 }

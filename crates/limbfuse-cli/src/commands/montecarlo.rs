@@ -1,9 +1,11 @@
 //! `limbfuse montecarlo`: paper 000 Fig. 9 on simulated walking.
 
+use std::io::Write;
+
 use anyhow::{anyhow, bail, Context, Result};
 use limbfuse_sim::WalkingConfig;
 use limbfuse_workflows::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
-use limbfuse_workflows::monte_carlo_plot::write_svg;
+use limbfuse_workflows::monte_carlo_plot::render_svg;
 
 use crate::cli::MonteCarloArgs;
 
@@ -63,21 +65,30 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
         },
     };
     super::simulate::check_walking(&cfg.trial)?;
+    // Both outputs are opened before the study (a folder that does not
+    // exist fails now, not after it) and renamed into place together, once
+    // both are written (an audit: a failing --svg left a new -o behind).
+    let mut out = super::create_file(&a.output)?;
+    let svg_out = a.svg.as_deref().map(super::create_file).transpose()?;
     let bar = crate::progress::bar(
         a.runs as u64,
         "montecarlo {bar:30} {pos}/{len} runs [{elapsed} < {eta}]",
     );
     let rows = monte_carlo(&cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    let mut out = super::create_file(&a.output)?;
     write_csv(&rows, &mut out).with_context(|| format!("{}: cannot write", a.output.display()))?;
-    super::commit(out)?;
-    if let Some(svg) = &a.svg {
+    if let (Some(svg), Some(mut file)) = (&a.svg, svg_out) {
         let title = format!(
             "{} runs per level, {} m/s, {} s trials",
             a.runs, a.speed, a.duration
         );
-        write_svg(&rows, svg, &title).map_err(|e| anyhow!(e))?;
+        let text = render_svg(&rows, svg, &title).map_err(|e| anyhow!(e))?;
+        file.write_all(text.as_bytes())
+            .with_context(|| format!("{}: cannot write the plot", svg.display()))?;
+        super::commit(out)?;
+        super::commit(file)?;
+    } else {
+        super::commit(out)?;
     }
     println!(
         "{:<8}{:>10}{:>16}{:>12}",

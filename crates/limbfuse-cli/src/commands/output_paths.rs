@@ -63,6 +63,24 @@ pub fn refuse_overwrites(
     Ok(())
 }
 
+/// An output whose folder does not exist, refused before a long run (an
+/// audit: `tune ... -o /nonexistent/x.toml` failed after its whole search,
+/// 8 s there).
+pub fn refuse_missing_folder(flag: &str, output: &Path) -> Result<()> {
+    let folder = match output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        let named = match flag {
+            "" => output.display().to_string(),
+            f => format!("{f} {}", output.display()),
+        };
+        anyhow::bail!("{named}: the folder {} does not exist", folder.display());
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

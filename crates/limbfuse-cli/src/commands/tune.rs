@@ -19,6 +19,7 @@ pub fn run(a: &TuneArgs) -> Result<()> {
     super::refuse_stdout(&a.output)?;
     // (`--params p.toml -o p.toml` refines a file in place: allowed)
     super::refuse_input_as_output(&a.trial, &a.output)?;
+    super::refuse_missing_folder("-o", &a.output)?;
     if matches!(name, MethodName::Sdre | MethodName::Ekf) {
         return super::tune_fes::run(a, name);
     }
