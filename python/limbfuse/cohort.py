@@ -113,17 +113,25 @@ def evaluate_trials(
     params: Any = None,
     options: Optional[Mapping[str, Any]] = None,
     eval_options: Optional[Mapping[str, Any]] = None,
-) -> List[Dict[str, Any]]:
+) -> Tuple[List[Dict[str, Any]], Optional[LimbfuseError]]:
     """One task over several trials, in order: their rows (an in-memory
-    trial without a file name is a ``(name, Trial)`` pair)."""
-    rows = []
+    trial without a file name is a ``(name, Trial)`` pair), and the error of
+    the first trial that failed (the task stops there). The error is
+    returned, not raised, so that ``run`` raises the first failing trial's
+    in the cohort's order, whichever task finished first (an audit: a bad
+    argument was blamed on a different trial at every run)."""
+    rows: List[Dict[str, Any]] = []
     for p in paths:
         name, trial = p if isinstance(p, tuple) else (None, p)
-        for row in evaluate_trial(trial, method, params, options, eval_options):
+        try:
+            trial_rows = evaluate_trial(trial, method, params, options, eval_options)
+        except LimbfuseError as e:
+            return rows, e
+        for row in trial_rows:
             if name is not None:
                 row["trial"] = name
             rows.append(row)
-    return rows
+    return rows, None
 
 
 def chunks(paths: Sequence[Item], slots: int) -> List[List[Item]]:
@@ -206,6 +214,7 @@ def run(
         raise LimbfuseError(f"cohort: unknown method `{method}` (one of: {', '.join(known)})")
     if estimate_options:
         options = dict(options or {}, **estimate_options)
+    check_arguments(params, eval_options)
     paths: List[Item] = [
         (trial_name(x, i), x) if isinstance(x, Trial) and not x.source else x
         for i, x in enumerate(trial_paths(paths_or_glob))
@@ -234,8 +243,33 @@ def run(
                 results = dask.compute(*tasks, scheduler=scheduler)
         else:
             results = dask.compute(*tasks, scheduler=scheduler)
-    rows = [row for rs in results for row in rs]
+    for _, error in results:
+        if error is not None:
+            raise error
+    rows = [row for rs, _ in results for row in rs]
     return pd.DataFrame(rows, columns=columns_of(rows))
+
+
+def check_arguments(params: Any, eval_options: Optional[Mapping[str, Any]]) -> None:
+    """What can be checked before any trial runs: a parameter file that
+    does not exist, an evaluation window that is not START:END with START <
+    END (an audit: each failed on every trial, reported as one of them)."""
+    if isinstance(params, os.PathLike) or (isinstance(params, str) and "\n" not in params):
+        if not os.path.isfile(os.fspath(params)):
+            raise LimbfuseError(f"cohort: params `{os.fspath(params)}`: no such file")
+    window = (eval_options or {}).get("window")
+    if isinstance(window, str):
+        start, sep, end = window.partition(":")
+        try:
+            ends = [float(x) if x.strip() else None for x in (start, end)]
+        except ValueError:
+            ends = []
+        a, b = (ends + [None, None])[:2]
+        if not sep or len(ends) != 2 or (a is not None and b is not None and not a < b):
+            raise LimbfuseError(
+                f"cohort: window `{window}`: expected START:END in seconds with START < END "
+                "(either end may be empty)"
+            )
 
 
 def columns_of(rows: Sequence[Mapping[str, Any]]) -> List[str]:
@@ -246,6 +280,18 @@ def columns_of(rows: Sequence[Mapping[str, Any]]) -> List[str]:
         if any(r.get("channel") == channel for r in rows):
             cols += [c for c in extra if c not in cols]
     return cols
+
+
+def worker_count(text: str) -> int:
+    """``--workers N``: a positive number of workers (an audit: -1 hung,
+    0 fell back to threads without a word)."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive number of workers, found {text!r}")
+    return n
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -262,12 +308,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ap.add_argument("--scheduler", default="threads", choices=["threads", "processes", "sync"],
                     help="local Dask scheduler (default threads)")
     ap.add_argument("--address", help="a dask.distributed scheduler address (tcp://host:port)")
-    ap.add_argument("--workers", type=int, help="start a LocalCluster with this many workers")
+    ap.add_argument("--workers", type=worker_count, help="start a LocalCluster with this many workers")
     ap.add_argument("--window", help="evaluation window START:END (s)")
     ap.add_argument("--offset-free", action="store_true", help="remove each channel's mean error")
     ap.add_argument("--max-lag", type=int, default=0, help="synchronise within +-N samples")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     a = ap.parse_args(argv)
+    if a.output:
+        folder = os.path.dirname(a.output) or "."
+        if not os.path.isdir(folder):  # (an audit: found after every trial had run)
+            print(f"error: -o {a.output}: the folder {folder} does not exist", file=sys.stderr)
+            return 1
     paths: Union[str, List[str]] = a.trials[0] if len(a.trials) == 1 else a.trials
     eval_options = {"window": a.window, "offset_free": a.offset_free, "max_lag": a.max_lag}
     progress = not a.quiet and sys.stderr.isatty()
@@ -277,7 +328,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             from distributed import Client, LocalCluster
 
             if a.address:
-                client = Client(a.address)
+                try:
+                    client = Client(a.address)
+                except ValueError as e:  # (an unparsable address: a traceback before)
+                    print(f"error: --address {a.address}: {e}", file=sys.stderr)
+                    return 1
             else:
                 cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True)
                 client = Client(cluster)

@@ -108,3 +108,33 @@ def test_in_memory_trials_arrow_files_and_estimate_keywords(tmp_path, cohort_dir
     assert [p.rsplit("/", 1)[-1] for p in mixed["trial"].unique()] == ["a.csv", "b.arrow"]
     with pytest.raises(LimbfuseError, match=r"^cohort: unknown method `mjlss` \(one of: gyro-integration"):
         cohort.run(d, "mjlss")
+
+
+def test_arguments_are_checked_first_and_the_first_failing_trial_is_named(cohort_dir, tmp_path, capsys):
+    """An audit: `--params missing.toml` and `--window 10:2` failed on every
+    trial and were reported as a different trial's error at every run;
+    `--workers -1` hung, `--workers 0` used threads without a word, `-o` in
+    a missing folder failed after the whole run, an unparsable `--address`
+    gave a traceback."""
+    pattern = str(cohort_dir / "*.csv")
+    with pytest.raises(LimbfuseError, match="params `missing.toml`: no such file"):
+        cohort.run(pattern, "mjls", "missing.toml")
+    with pytest.raises(LimbfuseError, match="window `10:2`: expected START:END"):
+        cohort.run(pattern, "mjls", eval_options={"window": "10:2"})
+    # Trials 3 and 7 fail: whichever task ends first, the error is trial 3's.
+    paths = sorted(str(p) for p in cohort_dir.glob("*.csv"))
+    for k in (3, 7):
+        broken = tmp_path / f"broken{k}.csv"
+        broken.write_text("t,knee_enc\n0,x\n")
+        paths[k] = str(broken)
+    for _ in range(3):
+        with pytest.raises(LimbfuseError, match="broken3.csv:2"):
+            cohort.run(paths, "mjls", scheduler="threads")
+    for argv in (["--workers", "-1"], ["--workers", "0"]):
+        with pytest.raises(SystemExit):
+            cohort.main([pattern, "--method", "mjls", "--quiet", *argv])
+        assert "expected a positive number of workers" in capsys.readouterr().err
+    assert cohort.main([pattern, "--method", "mjls", "--quiet", "-o", str(tmp_path / "no" / "m.csv")]) == 1
+    assert "the folder" in capsys.readouterr().err
+    assert cohort.main([pattern, "--method", "mjls", "--quiet", "--address", "foo"]) == 1
+    assert "--address foo" in capsys.readouterr().err
