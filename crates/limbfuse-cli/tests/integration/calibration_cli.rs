@@ -193,6 +193,13 @@ fn pose_recordings_with_motion_or_too_few_poses_are_refused() {
         &o,
         &["five.csv", "5 distinct static poses", "needs at least 9"],
     );
+    // A gravity off the Earth's would be fitted into the scales (an audit:
+    // `--gravity 5` gave scales of 0.51, exit 0; 1e300 blamed the poses).
+    poses(p, "ten.csv", &["--poses", "10"]);
+    for g in ["5", "1e300"] {
+        let o = limbfuse(&["calibrate", "ten.csv", "--gravity", g, "-o", "g.toml"], p);
+        assert_user_error(&o, &[&format!("`gravity` = {g}: must be 9.7 to 9.9 m/s^2")]);
+    }
     // The reduced scale model needs 6 (the six faces).
     poses(p, "six.csv", &["--poses", "6"]);
     ok(&limbfuse(

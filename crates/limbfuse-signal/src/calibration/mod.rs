@@ -66,7 +66,7 @@ impl Default for CalibrationParams {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CalibrationError {
     /// A setting out of range.
-    #[error("calibration setting `{name}` = {value}: must be {expected}")]
+    #[error("calibration setting `{name}` = {}: must be {expected}", limbfuse_core::ShownNumber(*value))]
     BadParam {
         /// Setting name.
         name: &'static str,
@@ -154,7 +154,15 @@ fn check(p: &CalibrationParams) -> Result<(), CalibrationError> {
             })
         }
     };
-    pos("gravity", p.gravity, "finite and > 0 (m/s^2)")?;
+    // The accelerometers are fitted to it: a value off the Earth's gave
+    // scales of 0.51 (`--gravity 5`) without a word (an audit).
+    if !(9.7..=9.9).contains(&p.gravity) {
+        return Err(CalibrationError::BadParam {
+            name: "gravity",
+            value: p.gravity,
+            expected: "9.7 to 9.9 m/s^2 (gravity at the Earth's surface is 9.78-9.83, which the static poses measure)",
+        });
+    }
     pos("window_s", p.window_s, "finite and > 0 (s)")?;
     pos("acc_std_max", p.acc_std_max, "finite and > 0 (m/s^2)")?;
     pos("gyro_std_max", p.gyro_std_max, "finite and > 0 (rad/s)")?;
