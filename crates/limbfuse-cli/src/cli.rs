@@ -449,16 +449,16 @@ pub struct TuneArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Seed of the optimiser: same seed, same result.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = TuneArgs::SEED)]
     pub seed: u64,
     /// Number of objective evaluations.
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = TuneArgs::BUDGET)]
     pub budget: usize,
     /// Swarm size of the particle swarm optimiser.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = TuneArgs::PARTICLES)]
     pub particles: usize,
     /// Starting points per window (paper 001: 50).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = TuneArgs::STARTS)]
     pub starts: usize,
     /// Length (s) of each run from a starting point (default: half the window).
     #[arg(long, value_name = "SECONDS")]
@@ -468,6 +468,37 @@ pub struct TuneArgs {
     #[arg(long, conflicts_with = "preset")]
     pub params: Option<PathBuf>,
     /// Start from this preset: default or paper-2014.
-    #[arg(long, default_value = "default")]
+    #[arg(long, default_value = TuneArgs::PRESET)]
     pub preset: String,
+}
+
+impl TuneArgs {
+    /// `--seed`'s default.
+    pub const SEED: u64 = 1;
+    /// `--budget`'s default.
+    pub const BUDGET: usize = 400;
+    /// `--particles`'s default.
+    pub const PARTICLES: usize = 20;
+    /// `--starts`'s default.
+    pub const STARTS: usize = 50;
+    /// `--preset`'s default.
+    pub const PRESET: &'static str = "default";
+
+    /// The optimiser's flags given with other than their defaults (`sdre` /
+    /// `ekf` tuning has no optimiser: an audit found them ignored without a
+    /// word).
+    pub fn optimiser_flags(&self) -> Vec<&'static str> {
+        [
+            ("--seed", self.seed != Self::SEED),
+            ("--budget", self.budget != Self::BUDGET),
+            ("--particles", self.particles != Self::PARTICLES),
+            ("--starts", self.starts != Self::STARTS),
+            ("--length", self.length.is_some()),
+            ("--validate", self.validate.is_some()),
+            ("--preset", self.preset != Self::PRESET),
+        ]
+        .into_iter()
+        .filter_map(|(f, given)| given.then_some(f))
+        .collect()
+    }
 }

@@ -76,7 +76,9 @@ pub fn run(a: &TuneArgs) -> Result<()> {
     let r = tune_and_validate(&records, &cfg, &|| bar.inc(1))
         .with_context(|| format!("tuning {} on {}", method.name(), a.trial.display()))?;
     bar.finish_and_clear();
-    let mut header = vec![format!(
+    // Every flag that shaped the result (an audit: --preset, --params,
+    // --length and --validate were left out).
+    let mut command = format!(
         "tuned by: limbfuse tune --method {} {} --window {} --seed {} --budget {} --particles {} --starts {}",
         method.name(),
         a.trial.display(),
@@ -85,7 +87,18 @@ pub fn run(a: &TuneArgs) -> Result<()> {
         a.budget,
         a.particles,
         a.starts
-    )];
+    );
+    match &a.params {
+        Some(p) => command += &format!(" --params {}", p.display()),
+        None => command += &format!(" --preset {}", a.preset),
+    }
+    if let Some(l) = a.length {
+        command += &format!(" --length {l}");
+    }
+    if let Some(v) = &a.validate {
+        command += &format!(" --validate {v}");
+    }
+    let mut header = vec![command];
     header.extend(r.provenance());
     save_params(&a.output, &r.params, &header)?;
 

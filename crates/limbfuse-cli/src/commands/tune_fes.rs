@@ -28,6 +28,20 @@ pub fn run(a: &TuneArgs, name: MethodName) -> Result<()> {
              belongs to the extended knee model (docs/FES_ESTIMATION.md)"
         );
     };
+    let ignored = a.optimiser_flags();
+    if !ignored.is_empty() {
+        bail!(
+            "tune --method {name}: {} {} to local, mjls and global only; sdre and ekf choose the \
+             torque error among fixed candidates by leave-one-pulse-out cross-validation within \
+             --window (docs/FES_ESTIMATION.md)",
+            ignored.join(", "),
+            if ignored.len() == 1 {
+                "applies"
+            } else {
+                "apply"
+            }
+        );
+    }
     let spec = MethodSpec::resolve(name, Some(params), &MethodFlags::default())?;
     let file = match &spec {
         MethodSpec::Sdre(f) | MethodSpec::Ekf(f) => f.clone(),
@@ -43,6 +57,13 @@ pub fn run(a: &TuneArgs, name: MethodName) -> Result<()> {
     }
     let window = TimeWindow::parse(&a.window).map_err(|m| anyhow!("--window: {m}"))?;
     let trial = super::protocol::read_trial(&a.trial, name)?;
+    if !trial.layout.stim[0] {
+        bail!(
+            "{}: no `u_ke` column: the pre-trial needs the quadriceps stimulation (its pulses are \
+             the cross-validation folds)",
+            a.trial.display()
+        );
+    }
     let records: Vec<_> = trial
         .records
         .into_iter()
@@ -110,7 +131,11 @@ pub fn run(a: &TuneArgs, name: MethodName) -> Result<()> {
     );
     for (c, r) in TORQUE_ERRORS.iter().zip(&cv.rmse_deg) {
         let mark = if *c == e { "  <- chosen" } else { "" };
-        println!("  torque_error {c:>5}: {r:.3}{mark}");
+        match r.is_finite() {
+            true => println!("  torque_error {c:>5}: {r:.3}{mark}"),
+            // (an audit: printed `inf` without a word)
+            false => println!("  torque_error {c:>5}: diverged (the filter restarted){mark}"),
+        }
     }
     println!(
         "cross-validated knee RMSE {:.3} deg (each pulse scored with the choice made on the others)",

@@ -145,6 +145,32 @@ fn issue_16_tune_fes_refuses_what_it_cannot_tune() {
         &tune(&["--params", "ext.toml", "--window", "0:3"]),
         &["pre.csv", "fewer than two stimulation pulses"],
     );
+    // The optimiser's flags do not apply, and a trial without `u_ke` says so
+    // (an audit: both were ignored or blamed on the pulses, exit 0).
+    user_error(
+        &tune(&[
+            "--params",
+            "ext.toml",
+            "--budget",
+            "5",
+            "--validate",
+            "none",
+        ]),
+        &["--budget, --validate apply to local, mjls and global only"],
+    );
+    ok(&limbfuse(
+        &["simulate", "walking", "--duration", "5", "-o", "walk.csv"],
+        p,
+    ));
+    user_error(
+        &limbfuse(
+            &[
+                "tune", "--method", "sdre", "walk.csv", "--params", "ext.toml", "-o", "t.toml",
+            ],
+            p,
+        ),
+        &["walk.csv: no `u_ke` column"],
+    );
     assert!(!p.join("t.toml").exists(), "no file written on error");
     // the key itself: only for the extended model, and positive
     std::fs::write(p.join("k.toml"), "[tuning]\ntorque_error = 0.1\n").unwrap();

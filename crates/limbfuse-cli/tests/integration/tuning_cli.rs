@@ -101,6 +101,11 @@ fn resample_tune_estimate_and_multi_start_evaluate() {
     );
     let toml = std::fs::read_to_string(d.join("tuned.toml")).unwrap();
     assert!(toml.contains("method = \"mjls\"") && toml.contains("# tuned by: limbfuse tune"));
+    // every flag that shaped it (an audit: --preset and --validate were left out)
+    assert!(
+        toml.contains("--starts 3 --preset default --validate 6:12\n"),
+        "{toml}"
+    );
 
     // The tuned file drives estimate and evaluate.
     ok(&limbfuse(
