@@ -295,6 +295,22 @@ fn missing_log_interval() {
     assert!(msg.contains("LOG INTERVAL"), "{msg}");
 }
 
+/// An audit: `LOG INTERVAL,1` over a log whose TIME steps by 4000 us was
+/// trusted: 51 987 empty rows were inserted between 14 real ones and the
+/// trial said 1 MHz, without a word.
+#[test]
+fn a_log_interval_the_time_column_contradicts_is_refused() {
+    let rows: String = (0..14).map(|k| row(k, 4000 * k as u64)).collect();
+    let msg = import_err(&format!(
+        "{}{rows}",
+        HEAD.replacen("LOG INTERVAL,4000", "LOG INTERVAL,1", 1)
+    ));
+    assert!(
+        msg.contains(":1:") && msg.contains("says 1 us, but the TIME column steps by 4000 us"),
+        "{msg}"
+    );
+}
+
 #[test]
 fn missing_file() {
     let e = import_knee_rig(Path::new("/nonexistent/Trial_99.csv")).unwrap_err();
