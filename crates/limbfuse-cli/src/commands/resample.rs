@@ -1,7 +1,7 @@
 //! `limbfuse resample TRIAL --rate HZ -o OUT`.
 
 use anyhow::{Context, Result};
-use limbfuse_signal::resample::{resample_file, AntiAlias, ResampleOptions};
+use limbfuse_signal::resample::{anti_alias_said, resample_file, AntiAlias, ResampleOptions};
 
 use crate::cli::{AntiAliasArg, ResampleArgs};
 
@@ -18,8 +18,13 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
             AntiAliasArg::None => AntiAlias::None,
         },
     };
-    let s = resample_file(&a.trial, &a.output, &opts)
-        .with_context(|| format!("resampling {} to {} Hz", a.trial.display(), a.rate))?;
+    let s = resample_file(&a.trial, &a.output, &opts).with_context(|| {
+        format!(
+            "resampling {} to {} Hz",
+            a.trial.display(),
+            limbfuse_methods::shown(a.rate)
+        )
+    })?;
     let rej = s.rejections;
     if rej.total() > 0 {
         eprintln!(
@@ -34,10 +39,10 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
         );
     }
     eprintln!(
-        "resampled {} to {} Hz ({} anti-alias on IMU channels): {} samples, {} s to {} s -> {}",
+        "resampled {} to {} Hz (IMU anti-alias: {}): {} samples, {} s to {} s -> {}",
         a.trial.display(),
         a.rate,
-        opts.anti_alias.label(),
+        anti_alias_said(opts.anti_alias, s.imu_filtered),
         s.n_samples,
         s.span.0,
         s.span.1,

@@ -56,7 +56,7 @@ mod anti_alias;
 mod interpolation;
 mod trial;
 
-pub use trial::{resample_file, resample_trial, ResampleSummary, ResampledTrial};
+pub use trial::{anti_alias_said, resample_file, resample_trial, ResampleSummary, ResampledTrial};
 
 /// Cut-off of the windowed-sinc anti-alias filter as a fraction of the
 /// output rate: 0.35 (17.5 Hz at 50 Hz, 0.7 of the output Nyquist frequency).
@@ -166,6 +166,15 @@ pub fn uniform_grid(t_first: f64, t_last: f64, rate_hz: f64) -> Result<Vec<f64>,
         )));
     }
     let n = ((t_last - t_first) * rate_hz + 1e-9).floor() + 1.0;
+    if n < 2.0 && t_last > t_first {
+        // (an audit: `--rate 1e-300` wrote a one-sample trial, exit 0)
+        return Err(ResampleError::Invalid(format!(
+            "rate {} Hz: the trial's {} s give one sample at it; expected at least {} Hz (two samples)",
+            limbfuse_core::ShownNumber(rate_hz),
+            t_last - t_first,
+            limbfuse_core::ShownNumber(1.0 / (t_last - t_first))
+        )));
+    }
     if n > MAX_OUTPUT_SAMPLES as f64 {
         return Err(ResampleError::Invalid(format!(
             "{t_first} s to {t_last} s at {rate_hz} Hz is {n} samples, more than the limit of {MAX_OUTPUT_SAMPLES}"
@@ -182,7 +191,8 @@ pub(super) fn check_rate(rate_hz: f64) -> Result<(), ResampleError> {
         Ok(())
     } else {
         Err(ResampleError::Invalid(format!(
-            "rate: expected a rate in Hz above 0 and at most 100000, found {rate_hz}"
+            "rate: expected a rate in Hz above 0 and at most 100000, found {}",
+            limbfuse_core::ShownNumber(rate_hz)
         )))
     }
 }

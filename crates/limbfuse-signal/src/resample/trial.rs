@@ -8,7 +8,7 @@ use limbfuse_core::{PlausibilityLimits, Record, Rejections, SampleGate};
 use limbfuse_io::{FileError, TrialLayout, TrialMeta, TrialReader, TrialWriter};
 use nalgebra::Vector3;
 
-use super::interpolation::{resample_phase, resample_quat};
+use super::interpolation::{nominal_period, resample_phase, resample_quat};
 use super::{
     check_rate, resample_series, uniform_grid, AntiAlias, ChannelMethod, ResampleError,
     ResampleOptions, Series,
@@ -28,6 +28,11 @@ pub struct ResampledTrial {
     /// finite (not for the plausibility checks, [`PlausibilityLimits::off`]):
     /// interpolated, one such reading would spread into its neighbours.
     pub rejections: Rejections,
+    /// Whether an IMU channel was low-pass filtered (`opts.anti_alias` on
+    /// a channel whose input rate is above the output rate); interpolated
+    /// only otherwise (an audit: upsampling said "windowed-sinc
+    /// anti-alias").
+    pub imu_filtered: bool,
 }
 
 /// A scalar cell of a record.
@@ -200,7 +205,12 @@ pub fn resample_trial(
     let mut com = vec![[[None; 3]; 2]; grid.len()];
     let mut other_acc = vec![[[None; 3]; 4]; grid.len()];
     let mut other_gyr = vec![[[None; 3]; 4]; grid.len()];
+    let mut imu_filtered = false;
     for (s, &slot) in series.iter().zip(&slots) {
+        if let ChannelMethod::Decimate(a) = slot.method(opts.anti_alias) {
+            imu_filtered |= a != AntiAlias::None
+                && nominal_period(&s.t).is_some_and(|p| p < (1.0 - 1e-9) / opts.rate_hz);
+        }
         let out = resample_series(s, &grid, opts.rate_hz, slot.method(opts.anti_alias));
         for (k, v) in out.into_iter().enumerate() {
             let r = &mut records[k];
@@ -269,7 +279,7 @@ pub fn resample_trial(
         format!(
             "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear{left_out})",
             reader.path().display(),
-            opts.anti_alias.label()
+            anti_alias_said(opts.anti_alias, imu_filtered)
         ),
     );
     Ok(ResampledTrial {
@@ -277,6 +287,7 @@ pub fn resample_trial(
         layout,
         records,
         rejections,
+        imu_filtered,
     })
 }
 
@@ -289,6 +300,18 @@ pub struct ResampleSummary {
     pub span: (f64, f64),
     /// The input readings left out ([`ResampledTrial::rejections`]).
     pub rejections: Rejections,
+    /// [`ResampledTrial::imu_filtered`].
+    pub imu_filtered: bool,
+}
+
+/// How the IMU channels were treated, in words: the filter's name, or that
+/// none was needed.
+pub fn anti_alias_said(anti_alias: AntiAlias, imu_filtered: bool) -> &'static str {
+    match (imu_filtered, anti_alias) {
+        (true, a) => a.label(),
+        (false, AntiAlias::None) => AntiAlias::None.label(),
+        (false, _) => "none needed (no IMU channel downsampled: interpolated)",
+    }
 }
 
 /// Resamples the trial file `input` into the trial file `output`.
@@ -317,5 +340,6 @@ pub fn resample_file(
             trial.records.last().map_or(0.0, |r| r.sample.t),
         ),
         rejections: trial.rejections,
+        imu_filtered: trial.imu_filtered,
     })
 }
