@@ -44,6 +44,7 @@ mod knee_bad_input;
 mod knee_cli;
 mod parameters_that_mean_nothing;
 mod raw_frames_warning;
+mod report_audit_dec05;
 mod results_commands;
 mod s02_support;
 mod simulate_gait_reference;
