@@ -205,7 +205,11 @@ fn gaps_in_time_are_stated_and_break_the_lines() {
     );
     for series in ["reference", "est-0"] {
         let d = &paths_of(&html, "plot-angle-knee", series)[0];
-        assert_eq!(d.matches('M').count(), 2, "{series}: two runs, none across the gap");
+        assert_eq!(
+            d.matches('M').count(),
+            2,
+            "{series}: two runs, none across the gap"
+        );
     }
     // a trial without gaps says nothing
     ok(
@@ -247,7 +251,10 @@ fn an_estimate_that_scores_nothing_says_why() {
     );
     assert!(!html.contains(r#"id="rmse-table""#), "no empty table");
     // with a scored estimate beside it, its table stays
-    ok(&["report", "w.csv", "e.csv", "empty.csv", "-o", "r2.html"], dir);
+    ok(
+        &["report", "w.csv", "e.csv", "empty.csv", "-o", "r2.html"],
+        dir,
+    );
     let html = read(dir, "r2.html");
     assert!(html.contains(r#"id="rmse-table""#) && html.contains(r#"id="nothing-scored-1""#));
 }
