@@ -7,7 +7,9 @@ use std::fmt::Write as _;
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::gait_evaluation::{evaluate_gait_files, GaitEvaluation};
 use limbfuse_eval::gait_events_evaluation::{evaluate_gait_event_files, GaitEventEvaluation};
+use limbfuse_eval::trial_check::check_trial;
 use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
+use limbfuse_io::{EstimateReader, TrialFingerprint};
 
 use crate::data::{file_name, Column, EstimateData, TrialData};
 use crate::events_panel::{events_table, has_event_reference, is_event_estimate};
@@ -17,8 +19,6 @@ use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
 use crate::svg::{esc, Band, Line, Plot};
 use crate::time_base::TimeBase;
 use crate::{tables, ReportError, ReportInput};
-use limbfuse_eval::trial_check::check_trial;
-use limbfuse_io::{EstimateReader, TrialFingerprint};
 
 const STYLE: &str = include_str!("report.css");
 const SCRIPT: &str = include_str!("report.js");
