@@ -16,8 +16,9 @@ use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch, FIRST_INTERV
 use crate::sensor_units::{SensorUnitsWatch, UnitSuspect};
 
 /// A step longer than this many median steps is a gap (a dropped sample
-/// at the least: 2 steps; jitter stays well below).
-const GAP_STEPS: f64 = 1.5;
+/// at the least: 2 steps; jitter stays well below). `limbfuse report` uses
+/// the same rule.
+pub const GAP_STEPS: f64 = 1.5;
 
 /// The inputs a trial holds and how many of its rows miss each.
 #[derive(Debug, Clone, PartialEq)]

@@ -13,10 +13,12 @@ pub mod data;
 pub mod decimate;
 pub mod events_panel;
 pub mod gait_cycle;
+mod header;
 mod page;
 pub mod panels;
 pub mod svg;
 pub mod tables;
+pub mod time_base;
 
 use std::path::{Path, PathBuf};
 

@@ -7,13 +7,17 @@ use std::fmt::Write as _;
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::gait_evaluation::{evaluate_gait_files, GaitEvaluation};
 use limbfuse_eval::gait_events_evaluation::{evaluate_gait_event_files, GaitEventEvaluation};
+use limbfuse_eval::trial_check::check_trial;
 use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
+use limbfuse_io::{EstimateReader, TrialFingerprint};
 
 use crate::data::{file_name, Column, EstimateData, TrialData};
 use crate::events_panel::{events_table, has_event_reference, is_event_estimate};
 use crate::gait_cycle::{cycle_mean_sd, find_cycles};
+use crate::header::header;
 use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
 use crate::svg::{esc, Band, Line, Plot};
+use crate::time_base::TimeBase;
 use crate::{tables, ReportError, ReportInput};
 
 const STYLE: &str = include_str!("report.css");
@@ -34,6 +38,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         }
     }
     let trial = TrialData::read(&input.trial)?;
+    let checks = check_trials(input)?;
     let angle_trial = trial.reference.iter().any(Option::is_some);
     let mut evals = Vec::new();
     let mut gait_evals = Vec::new();
@@ -88,22 +93,17 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         e.label = l.clone();
     }
     let rate = trial.sample_rate().unwrap_or(100.0);
+    let time_base = TimeBase::new(&trial.t);
     let tp = TimePlot {
-        t: &trial.t,
+        t: &time_base.relative,
+        gaps: &time_base.gaps,
         buckets: input.buckets,
         x_scale: if rate > 1000.0 { 1e6 } else { 1e3 },
     };
     let mut body = String::new();
-    let checks: Vec<String> = evals
-        .iter()
-        .map(|e| &e.trial_check)
-        .chain(gait_evals.iter().map(|e| &e.trial_check))
-        .chain(event_evals.iter().map(|(_, e)| &e.trial_check))
-        .filter_map(|c| c.warning())
-        .collect();
     header(
         &mut body,
-        &trial,
+        (&trial, &time_base),
         &estimates,
         (rate, input.buckets),
         &checks,
@@ -111,9 +111,22 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     angle_section(&mut body, &trial, &estimates, &tp);
     cycle_section(&mut body, &trial, &estimates);
     let event_estimates: Vec<bool> = estimates.iter().map(is_event_estimate).collect();
+    let nothing_scored: Vec<Option<String>> = evals
+        .iter()
+        .zip(&estimates)
+        .map(|(ev, e)| {
+            limbfuse_eval::evaluation::nothing_scored(
+                ev,
+                e.angle.iter().any(Option::is_some),
+                &limbfuse_eval::TimeWindow::default(),
+                &input.trial.display().to_string(),
+                &e.path.display().to_string(),
+            )
+        })
+        .collect();
     error_section(
         &mut body,
-        &labels,
+        (&labels, &nothing_scored),
         &evals,
         &gait_evals,
         (&event_estimates, &event_evals),
@@ -124,6 +137,27 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>limbfuse report: {}</title><style>{STYLE}</style></head><body>{body}<script>{SCRIPT}</script></body></html>\n",
         esc(&trial.name())
     ))
+}
+
+/// Each estimate's trial check, made whatever the trial holds (an audit
+/// 2026-12-05: it was made only by the evaluations, so an estimate of
+/// another trial passed silently when the trial had no reference to
+/// evaluate against): an estimate recording another trial is refused
+/// unless `allow_trial_mismatch`; returns the warnings to show.
+fn check_trials(input: &ReportInput) -> Result<Vec<String>, ReportError> {
+    let trial_hash = TrialFingerprint::of_file(&input.trial)?.hash;
+    let mut warnings = Vec::new();
+    for path in &input.estimates {
+        let reader = EstimateReader::open(path)?;
+        let check = check_trial(
+            &input.trial,
+            trial_hash,
+            &reader,
+            input.allow_trial_mismatch,
+        )?;
+        warnings.extend(check.warning());
+    }
+    Ok(warnings)
 }
 
 /// Legend labels: file names, with the directory added where two are equal.
@@ -139,69 +173,6 @@ fn unique_labels(estimates: &[EstimateData]) -> Vec<String> {
             }
         })
         .collect()
-}
-
-fn header(
-    s: &mut String,
-    trial: &TrialData,
-    estimates: &[EstimateData],
-    (rate, buckets): (f64, usize),
-    checks: &[String],
-) {
-    let dur = trial
-        .t
-        .last()
-        .zip(trial.t.first())
-        .map_or(0.0, |(b, a)| b - a);
-    let _ = write!(
-        s,
-        r##"<header><h1>limbfuse report</h1><p id="summary">Trial <code>{}</code>: {} samples, {:.1} s, {:.1} Hz. {} estimate{}: {}.</p><p class="note">Plots show at most 2 x {} points per line (min/max per run of samples, docs/REPORT.md); tables use every sample.</p></header><nav><a href="#angles">angles</a> <a href="#gait-cycle">gait cycle</a> <a href="#errors">errors</a> <a href="#methods">method panels</a> <a href="#commands">commands</a></nav>"##,
-        esc(&trial.name()),
-        trial.t.len(),
-        dur,
-        rate,
-        estimates.len(),
-        if estimates.len() == 1 { "" } else { "s" },
-        estimates
-            .iter()
-            .map(|e| format!("<code>{}</code> ({})", esc(&e.label), esc(&e.method)))
-            .collect::<Vec<_>>()
-            .join(", "),
-        buckets
-    );
-    // The trial checks' warnings, as `evaluate` prints them (an audit: an
-    // estimate of another trial, evaluated as asked, left no trace here).
-    for w in trial.unit_warnings.iter().chain(checks) {
-        let _ = write!(s, r#"<p class="warning">warning: {}</p>"#, esc(w));
-    }
-    // `estimate`'s raw-frame warning, for the estimates it applied to.
-    for e in estimates {
-        let note = limbfuse_methods::MethodName::parse(&e.method)
-            .ok()
-            .and_then(|m| limbfuse_methods::raw_frame_note(m, &trial.meta, &trial.name()));
-        if let Some(w) = note {
-            let w = w.strip_prefix("warning: ").unwrap_or(&w);
-            let _ = write!(
-                s,
-                r#"<p class="warning">warning ({}): {}</p>"#,
-                esc(&e.label),
-                esc(w)
-            );
-        }
-    }
-    window_controls(s, trial);
-}
-
-/// The time window shared by every time plot (the page's script acts on it).
-fn window_controls(s: &mut String, trial: &TrialData) {
-    let (t0, t1) = (
-        trial.t.first().copied().unwrap_or(0.0),
-        trial.t.last().copied().unwrap_or(0.0),
-    );
-    let _ = write!(
-        s,
-        r#"<div class="controls" id="window-controls">window <input id="win-start" type="number" step="any" value="{t0}"> to <input id="win-end" type="number" step="any" value="{t1}"> s <button id="win-apply">show</button> <button id="win-in">zoom in</button> <button id="win-out">zoom out</button> <button id="win-left">&larr;</button> <button id="win-right">&rarr;</button> <button id="win-all">whole trial</button> <span class="note">(or scroll on a plot to zoom, drag to pan; click a legend entry to hide a line)</span></div>"#
-    );
 }
 
 fn degrees(c: &Column) -> Column {
@@ -389,15 +360,27 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
 
 fn error_section(
     s: &mut String,
-    labels: &[String],
+    (labels, nothing_scored): (&[String], &[Option<String>]),
     evals: &[Evaluation],
     gait: &[GaitEvaluation],
     (is_event, events): (&[bool], &[(usize, GaitEventEvaluation)]),
 ) {
     s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
     // Angle tables only for estimates of angles (a speed or event estimate
-    // of a trial with angle references is scored below, if it can be).
-    let angle_rows: Vec<usize> = (0..evals.len()).filter(|&i| !is_event[i]).collect();
+    // of a trial with angle references is scored below, if it can be), and
+    // only for those that scored a sample: for the others, `evaluate`'s
+    // sentence (audit 2026-12-05: an estimate of empty cells gave an empty
+    // table, unexplained).
+    let angle_estimates: Vec<usize> = (0..evals.len()).filter(|&i| !is_event[i]).collect();
+    let unscored: Vec<(usize, &String)> = angle_estimates
+        .iter()
+        .filter_map(|&i| Some((i, nothing_scored.get(i)?.as_ref()?)))
+        .collect();
+    let angle_rows: Vec<usize> = angle_estimates
+        .iter()
+        .copied()
+        .filter(|i| unscored.iter().all(|(k, _)| k != i))
+        .collect();
     let (labels_a, evals_a): (Vec<String>, Vec<Evaluation>) = angle_rows
         .iter()
         .map(|&i| (labels[i].clone(), evals[i].clone()))
@@ -411,6 +394,14 @@ fn error_section(
         s.push_str(&tables::error_details(labels, evals));
         s.push_str("</details>");
     }
+    for (i, why) in &unscored {
+        let _ = write!(
+            s,
+            r#"<p class="warning" id="nothing-scored-{i}" data-estimate="{}">{}</p>"#,
+            esc(&labels_all[*i]),
+            esc(why)
+        );
+    }
     if !gait.is_empty() {
         s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate</code> on a gait trial (paper 003).</p>"#);
         // (one evaluation per estimate given: every label, not only the
@@ -423,7 +414,7 @@ fn error_section(
     }
     if events.is_empty() && is_event.iter().any(|&e| e) {
         s.push_str(r#"<p class="note">The trial has no contact or speed reference (<code>contact_*_ref</code>, <code>speed_ref</code>) to score the gait events and walking speed against.</p>"#);
-    } else if evals.is_empty() && gait.is_empty() && events.is_empty() {
+    } else if evals.is_empty() && unscored.is_empty() && gait.is_empty() && events.is_empty() {
         s.push_str(r#"<p class="note">The trial has no reference to evaluate against.</p>"#);
     }
     s.push_str("</section>");

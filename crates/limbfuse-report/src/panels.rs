@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use crate::data::{Column, EstimateData, TrialData};
 use crate::decimate::min_max;
 use crate::svg::{esc, Line, Plot};
+use crate::time_base::{break_at_gaps, TimeGap};
 
 /// Colours of successive lines (Tableau 10).
 pub const PALETTE: [&str; 10] = [
@@ -17,9 +18,18 @@ pub const PALETTE: [&str; 10] = [
     "#bcbd22", "#17becf",
 ];
 
-/// The colour of line `k`.
+/// The colour of line `k`: the [`PALETTE`], then (audit 2026-12-05: the
+/// 11th estimate took the first one's colour) hues a golden angle apart,
+/// each distinct from every other line's.
 pub fn color(k: usize) -> String {
-    PALETTE[k % PALETTE.len()].to_string()
+    match PALETTE.get(k) {
+        Some(c) => c.to_string(),
+        None => {
+            let hue = ((k - PALETTE.len()) as f64 * 137.508 + 15.0) % 360.0;
+            let lightness = [38, 52, 30][(k - PALETTE.len()) % 3];
+            format!("hsl({hue:.1},70%,{lightness}%)")
+        }
+    }
 }
 
 /// One panel: a heading, a sentence, plots and an optional table (HTML).
@@ -62,10 +72,13 @@ fn parse_weight(name: &str) -> Option<(usize, usize)> {
     Some((gait.parse().ok()?, phase))
 }
 
-/// A time plot of columns sampled at `t`, decimated to `buckets`.
+/// A time plot of columns sampled at `t`, decimated to `buckets`, the
+/// lines broken at `gaps`.
 pub struct TimePlot<'a> {
-    /// Sample times.
+    /// Sample times (s since the first sample, [`crate::time_base`]).
     pub t: &'a [f64],
+    /// The gaps in `t` (no line is drawn across one).
+    pub gaps: &'a [TimeGap],
     /// Display buckets.
     pub buckets: usize,
     /// x units per second.
@@ -96,7 +109,7 @@ impl TimePlot<'_> {
                     key,
                     label,
                     color,
-                    points: min_max(self.t, col, self.buckets),
+                    points: break_at_gaps(min_max(self.t, col, self.buckets), self.gaps),
                     dashed,
                 })
                 .collect(),
@@ -465,6 +478,13 @@ mod tests {
         assert_eq!(parse_weight("w_g12_ss2"), Some((12, 2)));
         assert_eq!(parse_weight("w_gx_ds"), None);
         assert_eq!(parse_weight("speed_mean"), None);
+    }
+
+    #[test]
+    fn forty_lines_have_forty_colours() {
+        let colours: std::collections::BTreeSet<String> = (0..40).map(color).collect();
+        assert_eq!(colours.len(), 40);
+        assert_eq!(color(0), PALETTE[0]);
     }
 
     #[test]

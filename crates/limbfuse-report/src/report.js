@@ -93,8 +93,12 @@
         });
       });
       if (!isFinite(lo)) { var f = area.getAttribute('data-full').split(' ').map(Number); lo = f[1]; hi = f[1] + f[3]; }
-      var pad = Math.max((hi - lo) * 0.05, 1);
-      area.setAttribute('viewBox', [xa, lo - pad, xb - xa, hi - lo + 2 * pad].join(' '));
+      var pad = Math.max((hi - lo) * 0.05, 1), y0 = lo - pad, y1 = hi + pad;
+      // never narrower than the plot's minimum span (svg.rs min_y_span):
+      // a constant keeps its +-0.5 unit window
+      var minSpan = +svg.dataset.minYSpan || 0;
+      if (y1 - y0 < minSpan) { var mid = (lo + hi) / 2; y0 = mid - minSpan / 2; y1 = mid + minSpan / 2; }
+      area.setAttribute('viewBox', [xa, y0, xb - xa, y1 - y0].join(' '));
       drawAxes(svg);
     });
     var s = document.getElementById('win-start'), e = document.getElementById('win-end');

@@ -122,16 +122,19 @@ impl Plot {
     pub fn render(&self) -> String {
         let ([x0, x1], [y0, y1]) = self.ranges().unwrap_or(([0.0, 1.0], [0.0, 1.0]));
         let ys = y_scale(y1 - y0);
+        let min_span = (min_y_span(y1 - y0) * ys).round();
         let xs = self.x_scale;
-        let (bx, by) = ((x0 * xs).floor(), (-y1 * ys).floor());
+        // x as the paths round it (a time of 29.990000000005 s is 29990 ms
+        // there, and the box ends with it)
+        let (bx, by) = ((x0 * xs).round(), (-y1 * ys).floor());
         let (bw, bh) = (
-            ((x1 * xs).ceil() - bx).max(1.0),
+            ((x1 * xs).round() - bx).max(1.0),
             ((-y0 * ys).ceil() - by).max(1.0),
         );
         let mut s = String::new();
         let _ = write!(
             s,
-            r#"<svg class="plot{zoom}" id="{id}" data-plot="{kind}" data-x-scale="{xs}" data-y-scale="{ys}" data-x-label="{xl}" data-y-label="{yl}" viewBox="0 0 {WIDTH} {HEIGHT}" role="img" aria-label="{title}">"#,
+            r#"<svg class="plot{zoom}" id="{id}" data-plot="{kind}" data-x-scale="{xs}" data-y-scale="{ys}" data-min-y-span="{min_span}" data-x-label="{xl}" data-y-label="{yl}" viewBox="0 0 {WIDTH} {HEIGHT}" role="img" aria-label="{title}">"#,
             zoom = if self.zoomable { " time" } else { "" },
             id = esc(&self.id),
             kind = esc(&self.kind),
@@ -182,6 +185,19 @@ impl Plot {
         }
         s.push_str("</div>");
         s
+    }
+}
+
+/// The narrowest y range (data units) the page's script shows when it
+/// refits the y axis to a time window: one unit (deg, m/s, ...), or the
+/// plot's whole range `full_span` when that is smaller. A constant series
+/// (plotted +-0.5 around it) keeps its 1-unit window; before (audit
+/// 2026-12-05) the script refitted it to 2e-4 deg and no line was seen.
+pub fn min_y_span(full_span: f64) -> f64 {
+    if full_span.is_finite() && full_span > 0.0 {
+        full_span.min(1.0)
+    } else {
+        1.0
     }
 }
 
@@ -377,6 +393,14 @@ mod tests {
     }
 
     #[test]
+    fn the_minimum_y_span_is_one_unit_or_the_whole_range() {
+        assert_eq!(min_y_span(60.0), 1.0);
+        assert_eq!(min_y_span(1.0), 1.0);
+        assert_eq!(min_y_span(0.05), 0.05);
+        assert_eq!(min_y_span(0.0), 1.0);
+    }
+
+    #[test]
     fn text_is_escaped() {
         assert_eq!(
             esc(r#"<a href="x">&'"#),
@@ -437,6 +461,8 @@ mod tests {
             "{y0} {y1}"
         );
         assert!(plot.render().contains(r#"data-y-scale="10000""#));
+        // the page's script keeps that 1 deg window (1e4 y units)
+        assert!(plot.render().contains(r#"data-min-y-span="10000""#));
         // a real spread keeps its own scale
         let mut small = plot.clone();
         small.lines[1] = line("e0", 89.99);

@@ -46,6 +46,7 @@ mod long_runs_check_outputs_first;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
 mod raw_frames_warning;
+mod report_audit_dec05;
 mod resample_cli;
 mod results_commands;
 mod s02_support;
