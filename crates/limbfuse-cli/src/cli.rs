@@ -172,7 +172,8 @@ pub struct MonteCarloArgs {
     /// Uncertainty levels in percent as START:END:STEP.
     #[arg(long, default_value = "0:20:2")]
     pub levels: String,
-    /// Base seed (run r simulates with seed + r).
+    /// Base seed: run r simulates its trial with seed + r; its parameter
+    /// errors come from a stream keyed by (seed, r, level).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Walking speed of the simulated trials (m/s).

@@ -36,6 +36,17 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>> {
         bail!("--speeds {text}: need 0 < START <= END <= {MAX_GAIT_SPEED} m/s and STEP > 0");
     }
     let n = ((b - a) / s + 1e-9).floor() as usize + 1;
+    let last = a + (n - 1) as f64 * s;
+    if (b - last).abs() > 1e-6 * s.max(1e-3) {
+        // (an audit: 0.4:0.65:0.1 stopped at 0.6 without a word)
+        bail!(
+            "--speeds {text}: END is not START + k STEP (the last speed would be {}); give an END \
+             on that grid, e.g. {} or {}",
+            (last * 1e6).round() / 1e6,
+            (last * 1e6).round() / 1e6,
+            ((last + s) * 1e6).round() / 1e6
+        );
+    }
     if n > limbfuse_estimators::imm_bslip::MAX_GAITS {
         bail!(
             "--speeds {text}: {n} gaits; at most {} are supported",

@@ -31,6 +31,14 @@ fn parse_levels(text: &str) -> Result<Vec<f64>> {
         bail!("--levels: need 0 <= START <= END < 100 and STEP > 0, found `{text}`");
     }
     let n = ((b - a) / step + 1e-9).floor() as usize;
+    let last = a + n as f64 * step;
+    if (b - last).abs() > 1e-6 * step.max(1e-3) {
+        bail!(
+            "--levels {text}: END is not START + k STEP (the last level would be {}); give an END \
+             on that grid",
+            (last * 1e9).round() / 1e9
+        );
+    }
     if n > 1000 {
         bail!("--levels: {} levels is too many (at most 1000)", n + 1);
     }
