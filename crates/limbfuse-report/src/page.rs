@@ -457,10 +457,17 @@ fn command_section(
         esc(&trial.name()),
         esc(trial.meta.get("source").unwrap_or("no `# source:` line"))
     );
-    for e in estimates {
+    for (k, e) in estimates.iter().enumerate() {
         match e.meta.get(limbfuse_io::estimate_file::COMMAND_KEY) {
             Some(c) => {
-                let _ = writeln!(s, "\n# {}\n{}", esc(&e.label), esc(c));
+                // (an audit: run from the report's folder, an estimate's
+                // command failed, the trial being elsewhere)
+                let note = if k == 0 {
+                    " (an estimate records its files by name: run it in the trial's folder)"
+                } else {
+                    ""
+                };
+                let _ = writeln!(s, "\n# {}{note}\n{}", esc(&e.label), esc(c));
             }
             None => {
                 let _ = writeln!(

@@ -278,10 +278,11 @@ fn estimate_pass(
 /// writes the same file).
 fn command_line(a: &EstimateArgs) -> String {
     let name = |p: &Path| {
-        p.file_name().map_or_else(
+        let n = p.file_name().map_or_else(
             || p.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
-        )
+        );
+        super::shell_word(&n).into_owned()
     };
     let mut c = format!("limbfuse estimate --method {}", a.method);
     if let Some(p) = &a.params {

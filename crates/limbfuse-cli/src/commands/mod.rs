@@ -20,6 +20,7 @@ mod output_paths;
 mod protocol;
 mod report;
 mod resample;
+mod shell_word;
 mod simulate;
 mod simulate_knee;
 mod tune;
@@ -33,6 +34,7 @@ use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 pub use output_paths::{refuse_input_as_output, refuse_missing_folder, refuse_overwrites};
+pub use shell_word::shell_word;
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {

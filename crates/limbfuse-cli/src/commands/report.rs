@@ -52,12 +52,13 @@ pub fn write(input: &ReportInput, output: &Path) -> Result<usize> {
 
 /// The command as the report records it (paths as given).
 pub fn command_line(trial: &Path, estimates: &[PathBuf], output: &Path, buckets: usize) -> String {
-    let mut c = format!("limbfuse report {}", trial.display());
+    let word = |p: &Path| super::shell_word(&p.display().to_string()).into_owned();
+    let mut c = format!("limbfuse report {}", word(trial));
     for e in estimates {
         c.push(' ');
-        c.push_str(&e.display().to_string());
+        c.push_str(&word(e));
     }
-    c.push_str(&format!(" -o {}", output.display()));
+    c.push_str(&format!(" -o {}", word(output)));
     if buckets != limbfuse_report::DEFAULT_BUCKETS {
         c.push_str(&format!(" --buckets {buckets}"));
     }

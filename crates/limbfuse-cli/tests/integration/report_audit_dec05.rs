@@ -282,3 +282,53 @@ fn a_constant_series_keeps_its_window() {
         "{tag}"
     );
 }
+
+/// The recorded commands paste into a shell (an audit: a name with a space,
+/// `<`, `&` or a quote was written bare), and the report says an
+/// estimate's command names files only.
+#[test]
+fn recorded_commands_quote_what_a_shell_would_split() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "3",
+            "-o",
+            "my walk.csv",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "local",
+            "my walk.csv",
+            "-o",
+            "it's.csv",
+        ],
+        p,
+    );
+    let est = read(p, "it's.csv");
+    assert!(
+        est.contains(r"# command: limbfuse estimate --method local 'my walk.csv' -o 'it'\''s.csv'"),
+        "{}",
+        est.lines()
+            .find(|l| l.starts_with("# command"))
+            .unwrap_or("")
+    );
+    ok(&["report", "my walk.csv", "it's.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    assert!(
+        html.contains("limbfuse report &#39;my walk.csv&#39;")
+            || html.contains("limbfuse report 'my walk.csv'"),
+        "report command"
+    );
+    assert!(
+        html.contains("run it in the trial&#39;s folder")
+            || html.contains("run it in the trial's folder")
+    );
+}
