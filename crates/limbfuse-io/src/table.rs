@@ -208,6 +208,20 @@ impl TableReader {
     /// Names present, none empty (but the last), none twice.
     fn check_header(&self, line: u64) -> Result<(), FileError> {
         let header = &self.header;
+        // (an audit: a gait library given as a trial was reported as
+        // "duplicate column `rest_length:1.0`")
+        if header
+            .first()
+            .is_some_and(|h| h.starts_with('{') || h.starts_with('['))
+        {
+            return Err(FileError::Header {
+                path: self.path.clone(),
+                line,
+                message: "a JSON file (e.g. a gait library), not a CSV table: expected a \
+                          header row of column names (`t,...`)"
+                    .to_string(),
+            });
+        }
         if header.iter().all(String::is_empty) {
             return Err(FileError::Empty {
                 path: self.path.clone(),

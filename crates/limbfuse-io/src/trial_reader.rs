@@ -165,6 +165,26 @@ impl TrialReader {
             plan.com_meas[k] = table.column(name);
             layout.com_meas[k] = plan.com_meas[k].is_some();
         }
+        // An estimate file where a trial is expected (an audit: `tune` said
+        // "no reference angle column").
+        if let (Some(method), Some(_)) = (
+            table.meta().get("method"),
+            table.meta().get(crate::content_hash::TRIAL_HASH_KEY),
+        ) {
+            return Err(FileError::Header {
+                path: table.path().to_path_buf(),
+                line: table.header_line(),
+                message: format!(
+                    "an estimate file (`# method: {}`), not a trial: give the trial it was made \
+                     from{}",
+                    method.trim(),
+                    table
+                        .meta()
+                        .get(crate::content_hash::TRIAL_KEY)
+                        .map_or(String::new(), |t| format!(" (`{}`)", t.trim()))
+                ),
+            });
+        }
         // A later version of the format (an audit: `# format:
         // limbfuse-trial/99` was read as version 1 with nothing said).
         if let Some(f) = table.meta().get("format") {

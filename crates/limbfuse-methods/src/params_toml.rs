@@ -81,6 +81,19 @@ pub fn check_method_line(text: &str, path: &Path, expected: &str) -> Result<(), 
     let Ok(table) = text.parse::<toml::Table>() else {
         return Ok(());
     };
+    // (an audit: a calibration file given as --params was "unknown field
+    // `format`")
+    if let Some(format) = table.get("format").and_then(toml::Value::as_str) {
+        if format.starts_with("limbfuse-imu-calibration") {
+            return Err(ParamsFileError::Invalid {
+                path: path.to_path_buf(),
+                message: format!(
+                    "a sensor calibration file (`format = \"{format}\"`, limbfuse calibrate), not \
+                     a parameter file: give it with --calibration"
+                ),
+            });
+        }
+    }
     match table.get("method").and_then(toml::Value::as_str) {
         Some(found) => crate::name::check_file_method(found, expected, path),
         None => Ok(()),

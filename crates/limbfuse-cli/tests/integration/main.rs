@@ -56,3 +56,4 @@ mod streaming_estimate;
 mod support;
 mod tuning_cli;
 mod units_of_a_trial;
+mod wrong_kind_of_file;
