@@ -119,7 +119,17 @@ impl<'py> Options<'py> {
         for k in d.keys() {
             let k: String = k.extract()?;
             if !self.read.iter().any(|r| *r == k) {
-                let mut known = self.read.clone();
+                // (internal `*_toml` names hidden, and `Filter`'s
+                // `calibration`, taken out before, listed: an audit)
+                let mut known: Vec<&str> = self
+                    .read
+                    .iter()
+                    .copied()
+                    .filter(|r| !r.ends_with("_toml"))
+                    .collect();
+                if self.what == "method options" && !known.contains(&"calibration") {
+                    known.push("calibration");
+                }
                 known.sort_unstable();
                 return Err(user_msg(format!(
                     "{}: unknown option `{k}` (accepted here: {})",

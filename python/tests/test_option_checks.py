@@ -142,3 +142,14 @@ def test_no_measurement_no_estimate():
     trial = Trial(seated.t, masked, seated.meta)
     with pytest.raises(LimbfuseError, match="gave no estimate on any of its"):
         limbfuse.estimate(trial, "knee-kinematic")
+
+
+def test_unknown_options_list_what_the_call_accepts(walking_trial):
+    """An audit: `Filter(..., bogus=1)` did not list `calibration`, which it
+    takes, and `estimate`'s list showed the internal `calibration_toml`."""
+    with pytest.raises(LimbfuseError, match="unknown option `bogus`") as e:
+        Filter.for_trial(walking_trial, "mjls", bogus=1)
+    assert "calibration" in str(e.value) and "_toml" not in str(e.value)
+    with pytest.raises(LimbfuseError, match="unknown option `bogus`") as e:
+        limbfuse.estimate(walking_trial, "mjls", bogus=1)
+    assert "calibration" in str(e.value) and "_toml" not in str(e.value)

@@ -122,7 +122,14 @@ impl TimePlot<'_> {
 pub fn panels(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Vec<Panel> {
     let mut out = Vec::new();
     for (i, e) in estimates.iter().enumerate() {
-        if e.diag.keys().any(|k| is_weight(k)) {
+        // (an `imm-bslip` estimate written with `--diagnostics none` keeps
+        // its phase and speed panels: an audit found the whole panel gone)
+        let imm = matches!(
+            limbfuse_methods::MethodName::parse(&e.method),
+            Ok(limbfuse_methods::MethodName::ImmBslip)
+        );
+        if e.diag.keys().any(|k| is_weight(k)) || (imm && (e.speed.is_some() || e.phase.is_some()))
+        {
             out.push(imm_panel(trial, e, i, tp));
         }
         if e.diag.contains_key("j_thigh_x") {
@@ -179,22 +186,24 @@ fn imm_panel(trial: &TrialData, e: &EstimateData, i: usize, tp: &TimePlot) -> Pa
         .enumerate()
         .map(|(k, (p, c))| (p.to_string(), p.to_string(), color(k), c, false))
         .collect();
-    let mut plots = vec![
-        tp.plot(
+    let has_weights = !by_gait.is_empty();
+    let mut plots = Vec::new();
+    if has_weights {
+        plots.push(tp.plot(
             format!("plot-imm-gait-{i}"),
             "imm-gait",
             format!("{}: IMM weight per gait (summed over phases)", e.label),
             "weight",
             gait_lines,
-        ),
-        tp.plot(
+        ));
+        plots.push(tp.plot(
             format!("plot-imm-phase-{i}"),
             "imm-phase",
             format!("{}: IMM weight per phase (summed over gaits)", e.label),
             "weight",
             phase_lines,
-        ),
-    ];
+        ));
+    }
     let mut speed_lines = Vec::new();
     if let Some(s) = &e.speed {
         speed_lines.push(("speed".into(), "estimated speed".into(), color(0), s, false));
@@ -259,11 +268,16 @@ fn imm_panel(trial: &TrialData, e: &EstimateData, i: usize, tp: &TimePlot) -> Pa
         id: format!("panel-imm-{i}"),
         kind: "imm".into(),
         title: format!("IMM over the gait library: {}", e.label),
-        note: "The weight (mode probability, paper 003 eq 8) of each (gait, phase) model, \
-               summed per gait and per phase; the table gives each model's mean weight over the trial."
-            .into(),
+        note: match has_weights {
+            true => "The weight (mode probability, paper 003 eq 8) of each (gait, phase) model, \
+                     summed per gait and per phase; the table gives each model's mean weight over the trial."
+                .into(),
+            false => "The estimate file has no IMM weights (`diag_w_*`: it was written with \
+                      `--diagnostics none` or a list without them): only its phase and speed are shown."
+                .into(),
+        },
         plots,
-        table,
+        table: if has_weights { table } else { String::new() },
     }
 }
 

@@ -332,3 +332,65 @@ fn recorded_commands_quote_what_a_shell_would_split() {
             || html.contains("run it in the trial's folder")
     );
 }
+
+/// An `imm-bslip` estimate written with `--diagnostics none` keeps its
+/// phase and speed plots and says why the weights are missing (an audit:
+/// "No method-specific panel applies").
+#[test]
+fn an_imm_estimate_without_diagnostics_keeps_its_phase_and_speed() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.6:0.8:0.1",
+            "-o",
+            "lib.json",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "0.7",
+            "--library",
+            "lib.json",
+            "--duration",
+            "4",
+            "-o",
+            "b.csv",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "--diagnostics",
+            "none",
+            "b.csv",
+            "-o",
+            "nd.csv",
+        ],
+        p,
+    );
+    ok(&["report", "b.csv", "nd.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    assert!(html.contains(r#"id="panel-imm-0""#), "the panel");
+    assert!(
+        html.contains(r#"id="plot-imm-phase-track-0""#),
+        "the phase track"
+    );
+    assert!(
+        !html.contains(r#"id="plot-imm-gait-0""#),
+        "no weights to plot"
+    );
+    assert!(html.contains("has no IMM weights"), "says why");
+}
