@@ -53,6 +53,17 @@ CHECK_JS = r"""
     var changed = before.filter(function (b, i) { return b !== after[i]; }).length;
     document.getElementById('win-all').click();
     out.zoom = { plots: time.length, changed: changed, window: document.body.dataset.window };
+    // typed windows: an end before the start is swapped, an empty field keeps the window's
+    var w = document.body.dataset.window.split(':').map(Number), span = w[1] - w[0];
+    var lo = (w[0] + 0.3 * span).toFixed(3), hi = (w[0] + 0.6 * span).toFixed(3);
+    document.getElementById('win-start').value = hi;
+    document.getElementById('win-end').value = lo;
+    document.getElementById('win-apply').click();
+    var swapped = document.body.dataset.window;
+    document.getElementById('win-start').value = '';  // (a number field holds no text: empty)
+    document.getElementById('win-apply').click();
+    out.typed = { expected: lo + ':' + hi, swapped: swapped, after_text: document.body.dataset.window };
+    document.getElementById('win-all').click();
   }
   return JSON.stringify(out);
 })
@@ -185,6 +196,11 @@ def main():
                 z = r["zoom"]
                 if z is not None and z["changed"] != z["plots"]:
                     bad.append(f"zoom changed {z['changed']} of {z['plots']} time plots")
+                typed = r.get("typed")
+                if typed is not None and not (
+                    typed["swapped"] == typed["expected"] and typed["after_text"] == typed["expected"]
+                ):
+                    bad.append(f"typed window: {typed}")
                 print(f"{path}: {r['plots']} plots, {len(ids)} ids checked, zoom {z}, "
                       f"{'OK' if not bad else 'FAILED'}")
                 failures += [f"{path}: {x}" for x in bad]

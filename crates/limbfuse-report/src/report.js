@@ -77,7 +77,7 @@
   function setWindow(a, b) {
     if (!full) return;
     var span = Math.max(b - a, 1e-3);
-    span = Math.min(span, full[1] - full[0]);
+    span = Math.min(span, Math.max(full[1] - full[0], 1e-3));
     a = Math.max(full[0], Math.min(a, full[1] - span));
     b = a + span;
     timePlots.forEach(function (svg) {
@@ -111,7 +111,17 @@
     return w.length === 2 && isFinite(w[0]) ? w : full;
   }
   function on(id, f) { var b = document.getElementById(id); if (b) b.addEventListener('click', f); }
-  on('win-apply', function () { setWindow(+document.getElementById('win-start').value, +document.getElementById('win-end').value); });
+  // (an audit: start 10 and end 5, or an emptied field, gave a 1 ms window;
+  // now an end before the start is swapped and an empty field keeps the
+  // current window's end)
+  on('win-apply', function () {
+    var w = current(), a = parseFloat(document.getElementById('win-start').value),
+      b = parseFloat(document.getElementById('win-end').value);
+    if (!isFinite(a)) a = w[0];
+    if (!isFinite(b)) b = w[1];
+    if (b < a) { var t = a; a = b; b = t; }
+    setWindow(a, b);
+  });
   on('win-all', function () { setWindow(full[0], full[1]); });
   on('win-in', function () { var w = current(), c = (w[0] + w[1]) / 2, h = (w[1] - w[0]) / 4; setWindow(c - h, c + h); });
   on('win-out', function () { var w = current(), c = (w[0] + w[1]) / 2, h = (w[1] - w[0]); setWindow(c - h, c + h); });
