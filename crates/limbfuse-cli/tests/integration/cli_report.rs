@@ -348,26 +348,7 @@ fn a_trial_without_references_still_shows_its_estimates() {
         &["simulate", "walking", "--duration", "4", "-o", "w.csv"],
         dir,
     );
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let keep: Vec<bool> = names.iter().map(|n| !n.ends_with("_ref")).collect();
-    let mut out = String::new();
-    for (i, l) in text.lines().enumerate() {
-        if i < header {
-            out += l;
-        } else {
-            let cells: Vec<&str> = l
-                .split(',')
-                .zip(&keep)
-                .filter(|(_, k)| **k)
-                .map(|(c, _)| c)
-                .collect();
-            out += &cells.join(",");
-        }
-        out.push('\n');
-    }
-    std::fs::write(dir.join("noref.csv"), out).unwrap();
+    crate::support::without_references(dir, "w.csv", "noref.csv");
     limbfuse(
         &["estimate", "--method", "local", "noref.csv", "-o", "e.csv"],
         dir,

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::support::{edit_cells, limbfuse};
+use crate::support::{edit_cells, limbfuse, without_references};
 
 /// Runs `limbfuse args` in `dir`, which must succeed.
 fn ok(args: &[&str], dir: &Path) {
@@ -91,30 +91,6 @@ fn a_trial_starting_late_is_plotted_from_its_first_sample() {
         assert!(html.contains(r#"id="win-end" type="number" step="any" value="5.990""#));
     }
     assert!(!plain.contains("t = 0 is"), "nothing to say at 0");
-}
-
-/// A copy of the trial `from` without its `*_ref` columns, as `to`.
-fn without_references(dir: &Path, from: &str, to: &str) {
-    let text = read(dir, from);
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let keep: Vec<bool> = names.iter().map(|n| !n.ends_with("_ref")).collect();
-    let mut out = String::new();
-    for (i, l) in text.lines().enumerate() {
-        if i < header {
-            out += l;
-        } else {
-            let cells: Vec<&str> = l
-                .split(',')
-                .zip(&keep)
-                .filter(|(_, k)| **k)
-                .map(|(c, _)| c)
-                .collect();
-            out += &cells.join(",");
-        }
-        out.push('\n');
-    }
-    std::fs::write(dir.join(to), out).unwrap();
 }
 
 /// The trial check was made only by the evaluations: a trial without

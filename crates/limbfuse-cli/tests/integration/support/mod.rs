@@ -57,3 +57,27 @@ pub fn edit_cells(text: &str, f: impl Fn(usize, &str, &str) -> Option<String>) -
     }
     out
 }
+
+/// A copy of the trial `from` without its `*_ref` columns, as `to`.
+pub fn without_references(dir: &Path, from: &str, to: &str) {
+    let text = std::fs::read_to_string(dir.join(from)).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    let keep: Vec<bool> = names.iter().map(|n| !n.ends_with("_ref")).collect();
+    let mut out = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i < header {
+            out += l;
+        } else {
+            let cells: Vec<&str> = l
+                .split(',')
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
+                .collect();
+            out += &cells.join(",");
+        }
+        out.push('\n');
+    }
+    std::fs::write(dir.join(to), out).unwrap();
+}
