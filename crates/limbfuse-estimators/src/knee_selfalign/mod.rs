@@ -215,6 +215,8 @@ pub struct KneeSelfAlign {
     spread: f64,
     sign_confidence: f64,
     sign_committed: bool,
+    /// The gyro-angle skewness pooled while the sign is open (ours).
+    flexion: sign::FlexionEvidence,
     acc_trusted: bool,
     fixed: bool,
 }
@@ -262,6 +264,7 @@ impl KneeSelfAlign {
             spread: 1.0,
             sign_confidence: 0.0,
             sign_committed: false,
+            flexion: sign::FlexionEvidence::default(),
             acc_trusted: true,
             fixed: false,
         }
@@ -340,7 +343,7 @@ impl KneeSelfAlign {
             &self.params,
         ) {
             WindowOutcome::Identified {
-                geometry,
+                mut geometry,
                 rms_axis,
                 rms_position,
                 information,
@@ -350,6 +353,9 @@ impl KneeSelfAlign {
                 axis_source,
                 fused,
             } => {
+                let open = !self.sign_committed && acc_trusted == Some(false);
+                self.flexion
+                    .pool(&self.window, self.geometry.as_ref(), &mut geometry, open);
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     // A new pair of sides (first window, or an uncommitted
                     // sign that changed) changes what eq 4 integrates: the
@@ -457,6 +463,7 @@ impl Estimator for KneeSelfAlign {
         self.spread = 1.0;
         self.sign_confidence = 0.0;
         self.sign_committed = false;
+        self.flexion = sign::FlexionEvidence::default();
         self.acc_trusted = true;
         self.fixed = false;
     }

@@ -324,3 +324,36 @@ fn issue_15_knee_gyro_axis_gaittoolbox_within_4_deg() {
     );
     assert!(best.0 <= 4.0, "{best:?}");
 }
+
+/// Generalisation audit (2026-12-05): the knee rig's trials started 5.5 or
+/// 6.1 s later gave the knee angle negated on all five (offset-free 2.4 ->
+/// 20 deg, correlation -0.99): with the relative sign never committed (the
+/// rig's accelerometer angle is never trusted), the first window's
+/// gyro-angle skewness chose the flexion side for the whole trial, and a
+/// 5 s window is part of the rig's cycle. The skewness is now pooled over
+/// the windows while the sign is open (`sign::FlexionEvidence`).
+#[test]
+fn rig_started_late_still_flexes_positive() {
+    let Some(dir) = data_dir() else { return };
+    let k = Joint::Knee.index();
+    for trial in 1..=5 {
+        let records = rig(&dir, trial);
+        for start in [5.5, 6.1] {
+            let mut est = KneeSelfAlign::new(rig_params()).unwrap();
+            let (mut e, mut r) = (Vec::new(), Vec::new());
+            for rec in records.iter().filter(|rec| rec.sample.t >= start) {
+                let out = est.step(&rec.sample).unwrap();
+                if rec.sample.t < 30.0 {
+                    continue;
+                }
+                if let (Some(a), Some(b)) = (out.joint[k], rec.reference.joint[k]) {
+                    e.push(a);
+                    r.push(b);
+                }
+            }
+            let c = pearson(&e, &r);
+            println!("Trial_0{trial} from {start} s: corr {c:.4}");
+            assert!(c >= 0.95, "Trial_0{trial} from {start} s: {c}");
+        }
+    }
+}
