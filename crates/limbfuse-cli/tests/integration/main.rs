@@ -16,6 +16,7 @@ mod cli_smooth;
 mod closed_pipe;
 mod crate_layers;
 mod dash_output;
+mod fes_start_in_a_pulse;
 mod flags_named_in_errors;
 mod inspect_cli;
 mod issue_14_chain_device_orientation;

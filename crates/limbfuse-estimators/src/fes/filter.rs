@@ -29,6 +29,11 @@ pub trait Plant<const N: usize, const M: usize, const U: usize> {
     fn input(&self, s: &Sample) -> [Option<f64>; U];
     /// Initial state from the first sample (static accelerometer inclination).
     fn initial_state(&self, s: &Sample) -> SVector<f64, N>;
+    /// Initial covariance diagonal for a start at `s`: the tuning's `p0`
+    /// unless the plant knows better from the sample.
+    fn initial_covariance(&self, _s: &Sample, p0: &SVector<f64, N>) -> SVector<f64, N> {
+        *p0
+    }
     /// Which estimate channels [`Plant::fill`] sets.
     fn outputs(&self) -> Outputs;
     /// Writes the state into the estimate's angle channels.
@@ -212,9 +217,10 @@ where
 
     fn restart(&mut self, s: &Sample) {
         let x = self.plant.initial_state(s);
+        let p0 = self.plant.initial_covariance(s, &self.tuning.p0);
         self.state = Some(FilterState {
             x,
-            p: SMatrix::from_diagonal(&self.tuning.p0),
+            p: SMatrix::from_diagonal(&p0),
         });
     }
 }

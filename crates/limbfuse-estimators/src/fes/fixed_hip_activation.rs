@@ -145,12 +145,32 @@ impl Plant<8, 4, 6> for FixedHipActivationPlant {
         hip_input(s)
     }
 
-    /// Angles and rates as the fixed hip; each activation at the first
-    /// sample's stimulation (the muscle in steady state; 0 when missing).
+    /// Angles and rates as the fixed hip; each activation half the first
+    /// sample's stimulation, with the variance of a uniform between 0 and it
+    /// ([`Plant::initial_covariance`]): a start during a pulse knows only
+    /// that the activation is on its way there (as the knee's,
+    /// `knee_extended`); 0 without stimulation or when missing.
     fn initial_state(&self, s: &Sample) -> SVector<f64, 8> {
         let q = hip_initial_state(s);
-        let u = hip_input(s).map(|v| v.unwrap_or(0.0));
-        SVector::<f64, 8>::from_row_slice(&[q[0], q[1], q[2], q[3], u[0], u[1], u[2], u[3]])
+        let u = start_stimulation(s);
+        SVector::<f64, 8>::from_row_slice(&[
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            0.5 * u[0],
+            0.5 * u[1],
+            0.5 * u[2],
+            0.5 * u[3],
+        ])
+    }
+
+    fn initial_covariance(&self, s: &Sample, p0: &SVector<f64, 8>) -> SVector<f64, 8> {
+        let mut p = *p0;
+        for (k, u) in start_stimulation(s).iter().enumerate() {
+            p[4 + k] = p[4 + k].max(u * u / 12.0);
+        }
+        p
     }
 
     fn outputs(&self) -> Outputs {
@@ -191,4 +211,11 @@ impl Plant<8, 4, 6> for FixedHipActivationPlant {
         }
         d.value(D::Resets, f64::from(resets));
     }
+}
+
+/// Each muscle's stimulation at the first sample (the first four inputs;
+/// 0 when missing).
+fn start_stimulation(s: &Sample) -> [f64; 4] {
+    let u = hip_input(s);
+    core::array::from_fn(|k| u[k].filter(|v| v.is_finite()).unwrap_or(0.0).max(0.0))
 }

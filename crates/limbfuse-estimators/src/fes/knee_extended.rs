@@ -210,6 +210,14 @@ pub fn extended_knee_tuning<const N: usize>(
     }
 }
 
+/// The stimulation at the first sample (0 when missing).
+fn start_stimulation(s: &Sample) -> f64 {
+    s.inputs.stim[0]
+        .filter(|u| u.is_finite())
+        .unwrap_or(0.0)
+        .max(0.0)
+}
+
 fn shank_start(s: &Sample, fallback: f64) -> (f64, f64) {
     let imu = s.imu(Segment::Shank);
     let x1 = imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(fallback);
@@ -274,10 +282,27 @@ impl<const N: usize> Plant<N, 2, 1> for ExtendedKneePlant<N> {
         x[0] = x1;
         x[1] = x2;
         if let Some(i) = self.model.layout.activation {
-            // Activation at rest is the stimulation's steady state.
-            x[i] = s.inputs.stim[0].filter(|u| u.is_finite()).unwrap_or(0.0);
+            // Without stimulation, activation at rest is 0. A start during a
+            // pulse (stimulation on at the first sample) knows only that the
+            // activation lies between 0 and the stimulation (it rises towards
+            // it with T_a): the middle, with the variance of a uniform over
+            // that range ([`Plant::initial_covariance`]). A generalisation
+            // audit started the shared FES trials 3.5 s in, during a pulse:
+            // with activation = u and p0 = 1e-4 the ekf carried the start's
+            // error into its bias states, 0.28 deg off 25 s later (0.06 from
+            // the trial's start).
+            x[i] = 0.5 * start_stimulation(s);
         }
         x
+    }
+
+    fn initial_covariance(&self, s: &Sample, p0: &SVector<f64, N>) -> SVector<f64, N> {
+        let mut p = *p0;
+        if let Some(i) = self.model.layout.activation {
+            let u = start_stimulation(s);
+            p[i] = p[i].max(u * u / 12.0);
+        }
+        p
     }
 
     fn outputs(&self) -> Outputs {
