@@ -255,7 +255,7 @@ impl FlexionEvidence {
         }
         let (m2, m3) = gyro_angle_moments(ring, geometry);
         if m2 > 0.0 {
-            self.skew_sum += m3 / (m2 * m2.sqrt());
+            self.skew_sum += m3 / (m2 * libm::sqrt(m2));
         }
         if self.skew_sum < 0.0 {
             geometry.axis = [-geometry.axis[0], -geometry.axis[1]];
