@@ -36,3 +36,34 @@ fn resample_says_whether_it_filtered_and_refuses_one_sample() {
         assert!(e.contains(needle) && e.len() < 300, "{rate}: {e}");
     }
 }
+
+/// A reference contact marked on one row (the shared HA001 files' last
+/// initial contact of a bout) survives a lower rate (an audit: 7 reference
+/// initial contacts became 6 at 60 Hz; `resample::short_runs`).
+#[test]
+fn a_one_row_reference_contact_survives_resampling() {
+    let Some(walk) = crate::support::shared_data("mobgap-lowerback/HA001-test5-trial2.csv") else {
+        eprintln!("skipped: ../shared/data/mobgap-lowerback is absent");
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let w = walk.display().to_string();
+    for args in [
+        &["resample", &w, "--rate", "60", "-o", "r.csv"][..],
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "r.csv",
+            "-o",
+            "e.csv",
+        ],
+    ] {
+        let o = limbfuse(args, p);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = limbfuse(&["evaluate", "r.csv", "e.csv", "--json"], p);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["initial_contact"]["n_reference"], 7, "{v}");
+}

@@ -54,6 +54,7 @@ use limbfuse_io::FileError;
 
 mod anti_alias;
 mod interpolation;
+mod short_runs;
 mod trial;
 
 pub use trial::{anti_alias_said, resample_file, resample_trial, ResampleSummary, ResampledTrial};
@@ -210,7 +211,9 @@ pub fn resample_series(
     let anti_alias = match method {
         ChannelMethod::Decimate(a) => a,
         ChannelMethod::Linear => AntiAlias::None,
-        ChannelMethod::Nearest => return interpolation::nearest(&s.t, &s.v, grid, period_out),
+        ChannelMethod::Nearest => {
+            return short_runs::nearest_keeping_runs(&s.t, &s.v, grid, period_out)
+        }
     };
     let Some(p_in) = interpolation::nominal_period(&s.t) else {
         return interpolation::linear(s, grid, period_out);
