@@ -29,7 +29,7 @@ pub fn limit_by_data(
         }
         if let Some(why) = empty_input(*m, summary)
             .or_else(|| short_for_window(*m, summary, meta))
-            .or_else(|| no_walking(*m, summary))
+            .or_else(|| still_thigh(*m, summary))
         {
             *a = Availability::NoData(why);
         }
@@ -87,7 +87,7 @@ fn empty_input(m: MethodName, s: &TrialSummary) -> Option<String> {
 /// rotation (paper 002 eq 1: a still thigh's gyro says nothing about it),
 /// where `estimate` ends with "the knee axis is unidentifiable" (the shared
 /// independent FES trials and ours: an audit).
-fn no_walking(m: MethodName, s: &TrialSummary) -> Option<String> {
+fn still_thigh(m: MethodName, s: &TrialSummary) -> Option<String> {
     let spread = s.thigh_spread_deg?;
     if spread > crate::fixed_thigh::SEATED_SPREAD_DEG {
         return None;

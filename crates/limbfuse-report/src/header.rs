@@ -67,9 +67,10 @@ fn gap_summary(time_base: &TimeBase) -> String {
     };
     let n = time_base.gaps.len();
     format!(
-        r#", <span id="time-gaps" data-gaps="{n}" data-longest-s="{:.3}">{n} gap{} in time (a step over 1.5 median steps; longest {:.3} s, after t = {:.3} s): the lines break there</span>"#,
+        r#", <span id="time-gaps" data-gaps="{n}" data-longest-s="{:.3}">{n} gap{} in time (a step over {} median steps; longest {:.3} s, after t = {:.3} s): the lines break there</span>"#,
         longest.length(),
         if n == 1 { "" } else { "s" },
+        limbfuse_eval::trial_summary::GAP_STEPS,
         longest.length(),
         longest.start
     )
