@@ -11,6 +11,15 @@
 //! Default gains `k_p = 0.5`, `k_i = 0` are those of the widely used
 //! reference implementation (S. Madgwick, `MahonyAHRS.c`, x-io
 //! Technologies, 2011: `twoKp = 2 * 0.5`, `twoKi = 0`).
+//!
+//! Step size (ours, not the paper's, which is continuous-time): one explicit
+//! Euler step turns a small tilt error `x` into `(1 - k_p dt) x`, and with
+//! the bias integral the error follows `z^2 - (2 - a) z + (1 - a + b)`,
+//! `a = k_p dt`, `b = k_i dt^2`, stable only for `a < 2` and `b < a` (Jury).
+//! So per step `k_p dt` is capped at 1 (a step corrects at most the whole
+//! error: the accelerometer's tilt) and `k_i dt^2` at `k_p dt / 2`; gains
+//! within those bounds are used as given (an audit: `kp = 1e6` at 100 Hz
+//! gave a 40 deg knee error, `ki = 1000` 93 deg).
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
@@ -21,6 +30,24 @@ pub struct MahonyGains {
     pub kp: f64,
     /// Integral gain `k_i` (rad/s^2 per unit error).
     pub ki: f64,
+}
+
+impl MahonyGains {
+    /// The gains one step of `dt` uses: `k_p dt` at most 1 and `k_i dt^2` at
+    /// most `k_p dt / 2` (module doc); within them, the gains as given.
+    pub fn for_step(&self, dt: f64) -> (f64, f64) {
+        let kp = if self.kp * dt > 1.0 {
+            1.0 / dt
+        } else {
+            self.kp
+        };
+        let ki = if self.ki * dt * dt > 0.5 * kp * dt {
+            0.5 * kp / dt
+        } else {
+            self.ki
+        };
+        (kp, ki)
+    }
 }
 
 impl Default for MahonyGains {
@@ -67,8 +94,9 @@ impl Mahony {
             if n > 1e-6 {
                 let up_est = self.q.inverse_transform_vector(&Vector3::y());
                 let e = (a / n).cross(&up_est);
-                self.bias -= e * (gains.ki * dt);
-                omega += e * gains.kp;
+                let (kp, ki) = gains.for_step(dt);
+                self.bias -= e * (ki * dt);
+                omega += e * kp;
             }
         }
         let dq = self.q.quaternion() * Quaternion::from_imag(omega * 0.5);
@@ -117,6 +145,36 @@ mod tests {
         // The accelerometer leads the estimate by one step (1 mrad), which the
         // proportional term turns into k_p * dt * 1 mrad per step: 2.5e-4 rad.
         assert!((angle - (th + 0.5)).abs() < 3e-4, "{angle}");
+    }
+
+    #[test]
+    fn gains_beyond_the_stable_step_are_capped() {
+        let g = MahonyGains { kp: 0.5, ki: 0.1 };
+        assert_eq!(g.for_step(0.01), (0.5, 0.1));
+        // k_p dt = 1e4 -> 1 (k_p = 1/dt); k_i dt^2 = 0.1 < k_p dt / 2 = 0.5: kept.
+        let g = MahonyGains { kp: 1e6, ki: 1e3 };
+        assert_eq!(g.for_step(0.01), (100.0, 1e3));
+        // k_i dt^2 = 1e4 > 0.5: k_i = (k_p dt / 2) / dt^2 = 5000.
+        let g = MahonyGains { kp: 1e6, ki: 1e8 };
+        assert_eq!(g.for_step(0.01), (100.0, 5000.0));
+        // k_p dt = 0.005, k_i dt^2 = 0.1 > 0.0025: k_i = 0.0025 / dt^2 = 25.
+        let g = MahonyGains { kp: 0.5, ki: 1e3 };
+        assert_eq!(g.for_step(0.01), (0.5, 25.0));
+        // One step at the cap lands on the accelerometer's tilt up to the
+        // small-angle term: error x -> x - sin x.
+        let x: f64 = 0.1;
+        let mut m = Mahony::from_accel(&Vector3::new(0.0, 9.81, 0.0));
+        let a = Vector3::new(9.81 * x.sin(), 9.81 * x.cos(), 0.0);
+        m.update(
+            &Vector3::zeros(),
+            Some(&a),
+            0.01,
+            &MahonyGains { kp: 1e9, ki: 0.0 },
+        );
+        let angle = -sagittal_joint_angle(&UnitQuaternion::identity(), &m.q);
+        let expected = (x.sin() * 0.5).atan() * 2.0; // RK1 on q, renormalised
+        assert!((angle - expected).abs() < 1e-12, "{angle} {expected}");
+        assert!((angle - x).abs() < 3e-4, "{angle}"); // x^3/6 + the atan term
     }
 
     #[test]

@@ -86,6 +86,10 @@ impl Estimator for RotationMatrixKnee {
         writeln!(out, "orientation: device quaternions when both thigh and shank have them, else Mahony filter (Mahony et al. 2008)")?;
         writeln!(out, "kp: {}", self.gains.kp)?;
         writeln!(out, "ki: {}", self.gains.ki)?;
+        writeln!(
+            out,
+            "per step: kp dt capped at 1 and ki dt^2 at kp dt / 2 (explicit Euler's stability bound)"
+        )?;
         writeln!(out, "knee: minus the z twist of q_thigh^-1 q_shank")?;
         writeln!(
             out,

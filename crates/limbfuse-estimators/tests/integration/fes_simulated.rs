@@ -47,6 +47,31 @@ fn knee_filters_track_simulated_trials() {
     }
 }
 
+/// Regression (twenty-seventh session's audit of left-alone items): Mahony
+/// gains beyond the explicit Euler step's stability bound (`k_p dt > 2` or
+/// `k_i dt^2 > k_p dt`) gave a 40 deg (`kp = 1e6`) or 93 deg (`ki = 1000`)
+/// knee on this trial without a word; per step they are now capped at the
+/// bound (`MahonyGains::for_step`), which leaves the default gains as given.
+#[test]
+fn rmx_gains_beyond_the_stable_step_are_capped() {
+    use limbfuse_estimators::fes::mahony::MahonyGains;
+    let tr = simulate_knee_fes(&KneeFesConfig {
+        seed: 3,
+        ..KneeFesConfig::default()
+    })
+    .unwrap();
+    let default = rmse(&mut RotationMatrixKnee::new(), &tr.records, 1);
+    for (kp, ki) in [(1e6, 0.0), (0.5, 1e3), (1e300, 1e300)] {
+        let e = rmse(
+            &mut RotationMatrixKnee::with_gains(MahonyGains { kp, ki }),
+            &tr.records,
+            1,
+        );
+        eprintln!("kp {kp:e} ki {ki:e}: {e:.3} deg (default gains {default:.3})");
+        assert!(e < 3.0 * default.max(1.0), "kp {kp} ki {ki}: {e} deg");
+    }
+}
+
 #[test]
 fn fixed_hip_sdre_meets_the_thesis_accuracy() {
     let m = FixedHipModel::new(FixedHipParams::default()).unwrap();
