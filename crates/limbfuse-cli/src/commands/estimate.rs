@@ -255,12 +255,22 @@ fn estimate_pass(
             let _ = std::fs::remove_file(&a.output);
             "no estimate written"
         };
-        anyhow::bail!(message(
+        let mut why = message(
             &a.trial.display().to_string(),
             spec.method().name(),
             report.n_samples,
-            kept
-        ));
+            kept,
+        );
+        // A parameter far from its default (`shoe_gamma = 1e12`) finds
+        // nothing either: name the file that set them.
+        if let Some(p) = &a.params {
+            why += &format!(
+                " (the method's settings came from --params {}; `limbfuse params {}` writes the defaults)",
+                p.display(),
+                spec.method().name()
+            );
+        }
+        anyhow::bail!(why);
     }
     let moving_thigh = thigh
         .as_ref()

@@ -576,3 +576,58 @@ fn an_estimate_without_its_event_diagnostics_is_scored_with_a_warning() {
     let o = run(&["evaluate", "g.csv", "a.csv"]);
     assert!(!String::from_utf8_lossy(&o.stderr).contains("diag_ic_"));
 }
+
+/// Twenty-seventh session: a walk on which `shoe_gamma = 1e12` (the
+/// zero-velocity threshold 3e7 times its default) finds no gait blamed the
+/// recording alone ("the recording has no walking, or the IMU is not where
+/// the method expects it"); the message now names the parameter file and
+/// how to get the defaults.
+#[test]
+fn no_gait_found_names_the_parameter_file() {
+    let d = tempfile::tempdir().unwrap();
+    succeed(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "8",
+            "--seed",
+            "2",
+            "-o",
+            "w.csv",
+        ],
+        d.path(),
+    );
+    succeed(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "w.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    std::fs::write(d.path().join("g.toml"), "shoe_gamma = 1e12\n").unwrap();
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "w.csv",
+            "--params",
+            "g.toml",
+            "-o",
+            "e2.csv",
+        ],
+        d.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("no gait found"), "{err}");
+    assert!(
+        err.contains("--params g.toml") && err.contains("limbfuse params gait-events"),
+        "{err}"
+    );
+}
