@@ -1,6 +1,9 @@
 //! Missing data and divergence in the chain EKF beyond docs/CHAIN.md's
 //! model (ours, issue 18; docs/ROBUST_INPUT.md section 2b): the rate bound
-//! that marks a diverged state, and the trunk hold over a gap of every IMU.
+//! that marks a diverged state, the trunk hold over a gap of every IMU, and
+//! the longest run without any reading the chain predicts through.
+
+use limbfuse_core::Sample;
 
 use super::covariance::{scalar_update, Covariance, StateVector};
 use super::state::{alpha, omega, SparseRow};
@@ -40,4 +43,26 @@ pub fn hold_trunk(x: &mut StateVector, p: &mut Covariance) {
         let nu = -x[state];
         scalar_update(x, p, &row, nu, sigma[k] * sigma[k], f64::INFINITY);
     }
+}
+
+/// Whether a sample gives the chain nothing at all: no IMU cell, no device
+/// quaternion, no encoder reading.
+pub fn is_blind(sample: &Sample) -> bool {
+    sample.imu.iter().all(|imu| imu.is_empty()) && sample.encoder.iter().all(Option::is_none)
+}
+
+/// The longest run of blind samples ([`is_blind`]) the chain predicts
+/// through (s): the time after which the leg segments' angular-jerk noise
+/// alone (`leg_jerk` = `q`, rad^2/s^5; the constant-angular-acceleration
+/// model's angle variance grows as `q t^5 / 20`) makes a leg angle's 1-sigma
+/// exceed `sigma0`, the start-up window's (`initial::ANGLE`). Past it a
+/// restart knows the angles better than the prediction. With the defaults
+/// (`q` = 1e4, 0.5 rad): 0.22 s. Ours, beyond docs/CHAIN.md's model: an audit
+/// (twenty-seventh session) emptied every IMU cell of a walk without encoders
+/// for 0.8-1.5 s; the chain extrapolated the leg angles quadratically
+/// (shank -39 -> +603 deg in 0.8 s of a real walk) and re-locked after the
+/// gap whole turns off or upside down (foot 158 deg off for the remaining 28
+/// s), where rows removed instead (a time gap over `LONG_GAP_S`) restart it.
+pub fn blind_limit_s(leg_jerk: f64, sigma0: f64) -> f64 {
+    libm::pow(20.0 * sigma0 * sigma0 / leg_jerk, 0.2)
 }

@@ -127,6 +127,9 @@ pub struct ChainEkf {
     /// Factor on every measurement variance at the recording's nominal
     /// sample period ([`sample_period`]).
     variance_scale: f64,
+    /// Time of the first sample of the current run of blind samples
+    /// ([`missing_data::is_blind`]).
+    blind_since: Option<f64>,
 }
 
 /// How a step's filtered state follows from the previous step's (what an
@@ -189,6 +192,7 @@ impl ChainEkf {
             link: Link::None,
             widening: 0.0,
             variance_scale: 1.0,
+            blind_since: None,
         })
     }
 
@@ -511,6 +515,7 @@ impl Estimator for ChainEkf {
         self.link = Link::None;
         self.widening = 0.0;
         self.variance_scale = 1.0;
+        self.blind_since = None;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -525,6 +530,17 @@ impl Estimator for ChainEkf {
             self.restart_startup();
             dt = None;
         }
+        if missing_data::is_blind(sample) {
+            let since = *self.blind_since.get_or_insert(sample.t);
+            let limit = missing_data::blind_limit_s(self.params.leg_jerk, initial::ANGLE);
+            if self.running && sample.t - since > limit {
+                // Nothing measured for longer than the prediction is worth:
+                // the start-up window begins again, as after a time gap.
+                self.restart_startup();
+            }
+        } else {
+            self.blind_since = None;
+        }
         let mut est = Estimate::empty(sample.t);
         let (mut stance, mut rejected) = (false, 0);
         self.link = Link::None;
@@ -536,6 +552,9 @@ impl Estimator for ChainEkf {
                     widening: self.widening,
                 };
             }
+            // A blind sample ([`missing_data::is_blind`]) holds nothing for
+            // the start-up window: it opens at the next reading.
+            _ if self.blind_since.is_some() => {}
             _ => {
                 self.startup.observe(sample, dt);
                 if self.held < self.window.len() {
