@@ -186,18 +186,18 @@ mod tests {
         let mut P = P0;
         let q = [1e-2, 1e-1, 1e-2];
         let mut Q = Cov::zeros();
-        for i in 0..3 {
-            Q[(i + 3, i + 3)] = q[i];
+        for (i, qi) in q.iter().enumerate() {
+            Q[(i + 3, i + 3)] = *qi;
         }
         let t = 0.3;
         propagate(&p, &stance, &mut x, &mut P, &Q, t, 0.01);
         let mut want = Cov::zeros();
-        for i in 0..3 {
-            let (a, v) = (i, i + 3);
-            want[(a, a)] = 1e-3 * (1.0 + t * t) + q[i] * t * t * t / 3.0;
-            want[(a, v)] = 1e-3 * t + q[i] * t * t / 2.0;
+        for (a, qa) in q.iter().enumerate() {
+            let v = a + 3;
+            want[(a, a)] = 1e-3 * (1.0 + t * t) + qa * t * t * t / 3.0;
+            want[(a, v)] = 1e-3 * t + qa * t * t / 2.0;
             want[(v, a)] = want[(a, v)];
-            want[(v, v)] = 1e-3 + q[i] * t;
+            want[(v, v)] = 1e-3 + qa * t;
         }
         assert!((want[(1, 1)] - 1.99e-3).abs() < 1e-15);
         assert!((want[(1, 4)] - 4.8e-3).abs() < 1e-15);
