@@ -376,3 +376,76 @@ impl SdcModel<2, 2, 1> for KneeFesModel {
         SMatrix::<f64, 2, 2>::new(0.0, 1.0, self.p.g * libm::cos(x[0]), 0.0)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Paper 004 eqs 4.1-4.3 and 4.6 evaluated by hand (numpy, from the
+    /// printed equations, not this code): P1-L of Table 1 (`phi0` 0.40,
+    /// `d` = 4.05, 3.05, 1.48e-9, 14.10, 8.90, -1.76, `c` = 76.71, 3.12,
+    /// -15.36, 0.28) with Winter's lower leg for 75 kg, 1.75 m
+    /// (`J` = 0.458049, `m` = 4.575, `l_c` = 0.260883, g = 9.81), at
+    /// `x = (0.5, 0.2)`, `u = 0.3`: `phi = pi/2 - x1` = 1.070796,
+    /// `phi_dot = -x2`; `T_p` = 0.760245, `T_ke` = 17.682735,
+    /// `G = m g l_c sin x1` = 5.613414 N m, so
+    /// `x2_dot = (T_p + T_ke - G) / J` = 28.009148 rad/s^2.
+    /// Second point, P3-L (large `d3`, negative `c0`), `x = (-0.2, -0.5)`,
+    /// `u = 0.8`: `T_p` = 28.684016, `T_ke` = -89.935090, `G` = -2.326145,
+    /// `x2_dot` = -128.643246.
+    #[test]
+    fn f_matches_hand_evaluation_of_eqs_4_1_to_4_6() {
+        let p = KneeFesParams::subject(KneeSubject::P1L);
+        assert!((p.inertia - 0.458_049_156_951).abs() < 1e-9);
+        assert_eq!((p.mass, p.l_c), (4.575, 0.260_883));
+        let m = KneeFesModel::new(p).unwrap();
+        let f = m.f(&Vector2::new(0.5, 0.2), &SVector::<f64, 1>::new(0.3));
+        assert_eq!(f[0], 0.2);
+        assert!((f[1] - 28.009_147_791_254_85).abs() < 1e-9, "{}", f[1]);
+
+        let m = KneeFesModel::new(KneeFesParams::subject(KneeSubject::P3L)).unwrap();
+        let f = m.f(&Vector2::new(-0.2, -0.5), &SVector::<f64, 1>::new(0.8));
+        assert_eq!(f[0], -0.5);
+        assert!((f[1] + 128.643_245_555_301_66).abs() < 1e-8, "{}", f[1]);
+    }
+
+    /// Physics check of eq 4.6's sign conventions: with the passive torque
+    /// and stimulation off (`d = 0`, `u = 0`) the leg is a compound
+    /// pendulum, whose small oscillations about hanging (`x1 = 0`) have
+    /// period `T = 2 pi sqrt(J / (m g l_c))` (1.242748 s for Winter's lower
+    /// leg). Integrated here by a plain RK4 (1 ms) from `x1 = 1e-3` rad;
+    /// the period is the time between the first and third downward zero
+    /// crossings (linear interpolation). A wrong gravity sign would diverge,
+    /// a wrong `beta` would change `T`.
+    #[test]
+    fn small_oscillations_have_the_compound_pendulum_period() {
+        let mut p = KneeFesParams::subject(KneeSubject::P1L);
+        p.d = [0.0; 6];
+        let model = KneeFesModel::new(p).unwrap();
+        let u = SVector::<f64, 1>::zeros();
+        let want = 2.0 * core::f64::consts::PI * libm::sqrt(p.inertia / (p.mass * p.g * p.l_c));
+        assert!((want - 1.242_747_704_342).abs() < 1e-9);
+        let h = 1e-3;
+        let mut x = Vector2::new(1e-3, 0.0);
+        let mut t = 0.0;
+        let mut crossings = [0.0; 3];
+        let mut n = 0;
+        while n < 3 && t < 10.0 {
+            let k1 = model.f(&x, &u);
+            let k2 = model.f(&(x + k1 * (h / 2.0)), &u);
+            let k3 = model.f(&(x + k2 * (h / 2.0)), &u);
+            let k4 = model.f(&(x + k3 * h), &u);
+            let next = x + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+            assert!(next[0].abs() <= 1.0001e-3, "not a stable equilibrium");
+            if x[0] > 0.0 && next[0] <= 0.0 {
+                crossings[n] = t + h * x[0] / (x[0] - next[0]);
+                n += 1;
+            }
+            x = next;
+            t += h;
+        }
+        assert_eq!(n, 3);
+        let period = (crossings[2] - crossings[0]) / 2.0;
+        assert!((period - want).abs() < 1e-6 * want, "{period} vs {want}");
+    }
+}

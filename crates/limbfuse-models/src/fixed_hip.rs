@@ -401,3 +401,117 @@ impl SdcModel<4, 4, 6> for FixedHipModel {
         c
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Default leg with the passive terms off (hip spring-damper and eq 4.2
+    /// knee torque zero); muscles are off whenever `u[0..4] = 0`.
+    fn unpowered() -> FixedHipModel {
+        FixedHipModel::new(FixedHipParams {
+            hip_stiffness: 0.0,
+            hip_damping: 0.0,
+            knee_d: [0.0; 6],
+            ..FixedHipParams::default()
+        })
+        .unwrap()
+    }
+
+    /// Statics of eq 4.18/4.23 (`q_dot = 0`, so `V = 0`): the motors hold the
+    /// leg when the generalised torques `(tau_h - tau_k, tau_k)` equal
+    /// `G = (b2 sin q1, b3 sin q2)`. By hand from Winter's segments
+    /// (75 kg, 1.75 m: `m1` 7.5, `L1` 0.42875, `lc1` 0.18564875, `m2` 4.575,
+    /// `lc2` 0.260883, g 9.81): `b2 = (m1 lc1 + m2 L1) g` = 32.90172834,
+    /// `b3 = m2 lc2 g` = 11.70862470; at `q = (0.3, -0.2)`:
+    /// `tau_k = b3 sin q2` = -2.32614463, `tau_h = b2 sin q1 + b3 sin q2`
+    /// = 7.39698093 N m, and `f` must vanish. Half the torque must let the
+    /// leg fall back towards hanging (`q1_ddot < 0` at `q1 > 0`).
+    #[test]
+    fn motor_torques_balancing_gravity_give_zero_acceleration() {
+        let m = unpowered();
+        let (_, b2, b3) = m.constants();
+        assert!((b2 - 32.901_728_343_75).abs() < 1e-9);
+        assert!((b3 - 11.708_624_702_25).abs() < 1e-9);
+        let x = Vector4::new(0.3, -0.2, 0.0, 0.0);
+        let u = SVector::<f64, 6>::from_column_slice(&[
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            7.396_980_925_533_724,
+            -2.326_144_634_126_531,
+        ]);
+        let f = m.f(&x, &u);
+        assert!(f.amax() < 1e-12, "{f}");
+        let acc = m.f(&x, &(u * 0.5));
+        assert!(acc[2] < 0.0 && acc[3] > 0.0, "{acc}");
+    }
+
+    /// The mass matrix of eq 4.18 against the Lagrangian of two rigid
+    /// segments: kinetic energy `1/2 m1 |v1|^2 + 1/2 I1 q1_dot^2 +
+    /// 1/2 m2 |v2|^2 + 1/2 I2 q2_dot^2` with the centres of mass at
+    /// `lc1 (sin q1, -cos q1)` and `L1 (sin q1, -cos q1) + lc2 (sin q2,
+    /// -cos q2)` gives `M11 = I1 + m1 lc1^2 + m2 L1^2` = 1.24333577,
+    /// `M12 = m2 L1 lc2 cos(q1 - q2)` = 0.44908546 at `q = (0.3, -0.2)`,
+    /// `M22 = I2 + m2 lc2^2` = 0.45810597 (`I1 = m1 (0.323 L1)^2`,
+    /// `I2 = m2 (0.416 l2)^2`); numpy's polarisation of the kinetic energy
+    /// with finite-difference velocities agrees to 1e-11.
+    #[test]
+    fn mass_matrix_matches_the_lagrangian_entries() {
+        let m = unpowered();
+        let mm = m.mass_matrix(&Vector4::new(0.3, -0.2, 0.0, 0.0));
+        let want = Matrix2::new(
+            1.243_335_772_054_687_4,
+            0.449_085_462_258_895_95,
+            0.449_085_462_258_895_95,
+            0.458_105_965_305_974_9,
+        );
+        assert!((mm - want).amax() < 1e-12, "{mm}");
+    }
+
+    /// Conservation of the independently written mechanical energy
+    /// (kinetic energy as above, potential `-m1 g lc1 cos q1 - m2 g
+    /// (L1 cos q1 + lc2 cos q2)`) along an unpowered swing integrated with a
+    /// plain RK4 (0.1 ms, 2 s) from `q = (0.5, -0.3)`, `q_dot = (1, -2)`:
+    /// checks `V`'s signs and its consistency with `M` and `G`, which the
+    /// statics above cannot see.
+    #[test]
+    fn unpowered_swing_conserves_mechanical_energy() {
+        let m = unpowered();
+        let p = m.p;
+        let energy = |x: &Vector4<f64>| {
+            let (s1, c1, s2, c2) = (
+                libm::sin(x[0]),
+                libm::cos(x[0]),
+                libm::sin(x[1]),
+                libm::cos(x[1]),
+            );
+            let v1 = Vector2::new(c1, s1) * (p.thigh_com * x[2]);
+            let v2 = Vector2::new(c1, s1) * (p.thigh_length * x[2])
+                + Vector2::new(c2, s2) * (p.leg_com * x[3]);
+            let kinetic = 0.5 * p.thigh_mass * v1.norm_squared()
+                + 0.5 * p.thigh_inertia * x[2] * x[2]
+                + 0.5 * p.leg_mass * v2.norm_squared()
+                + 0.5 * p.leg_inertia * x[3] * x[3];
+            let potential = -p.thigh_mass * p.g * p.thigh_com * c1
+                - p.leg_mass * p.g * (p.thigh_length * c1 + p.leg_com * c2);
+            kinetic + potential
+        };
+        let u = SVector::<f64, 6>::zeros();
+        let mut x = Vector4::new(0.5, -0.3, 1.0, -2.0);
+        let e0 = energy(&x);
+        let h = 1e-4;
+        let mut swing = 0.0_f64;
+        for _ in 0..20_000 {
+            let k1 = m.f(&x, &u);
+            let k2 = m.f(&(x + k1 * (h / 2.0)), &u);
+            let k3 = m.f(&(x + k2 * (h / 2.0)), &u);
+            let k4 = m.f(&(x + k3 * h), &u);
+            x += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+            swing = swing.max((x[0] - x[1]).abs());
+        }
+        assert!(swing > 1.0, "the knee must move: {swing}");
+        assert!((energy(&x) - e0).abs() < 1e-8, "{} vs {e0}", energy(&x));
+    }
+}

@@ -168,4 +168,40 @@ mod tests {
         }
         assert!((P - phi * P0 * phi.transpose()).amax() < 1e-12);
     }
+
+    /// Table I's covariance propagation with process noise, `P_dot = F P +
+    /// P F^T + G Q G^T` (continuous white noise of spectral density `q_i`
+    /// on velocity `i`, G = I, Q zero on positions as in eqs 16 and 18), in
+    /// free fall: the closed form is `P(t) = Phi P0 Phi^T + int_0^t Phi(s)
+    /// Q Phi(s)^T ds`, per axis `[[q t^3/3, q t^2/2], [q t^2/2, q t]]` added
+    /// to the Q = 0 solution. By hand for eq 18's vertical density q = 0.1,
+    /// t = 0.3 s, P0 = 1e-3 I: position 1e-3 (1 + 0.09) + 0.1 * 0.009 =
+    /// 1.99e-3, cross 3e-4 + 4.5e-3 = 4.8e-3, velocity 1e-3 + 0.03 = 0.031.
+    #[test]
+    fn propagation_of_free_fall_with_process_noise_matches_the_closed_form() {
+        let p = BslipParams::default();
+        let stance = Stance::default();
+        let mut x = State::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0);
+        let P0 = Cov::identity() * 1e-3;
+        let mut P = P0;
+        let q = [1e-2, 1e-1, 1e-2];
+        let mut Q = Cov::zeros();
+        for (i, qi) in q.iter().enumerate() {
+            Q[(i + 3, i + 3)] = *qi;
+        }
+        let t = 0.3;
+        propagate(&p, &stance, &mut x, &mut P, &Q, t, 0.01);
+        let mut want = Cov::zeros();
+        for (a, qa) in q.iter().enumerate() {
+            let v = a + 3;
+            want[(a, a)] = 1e-3 * (1.0 + t * t) + qa * t * t * t / 3.0;
+            want[(a, v)] = 1e-3 * t + qa * t * t / 2.0;
+            want[(v, a)] = want[(a, v)];
+            want[(v, v)] = 1e-3 + qa * t;
+        }
+        assert!((want[(1, 1)] - 1.99e-3).abs() < 1e-15);
+        assert!((want[(1, 4)] - 4.8e-3).abs() < 1e-15);
+        assert!((want[(4, 4)] - 0.031).abs() < 1e-15);
+        assert!((P - want).amax() < 1e-12, "{P}");
+    }
 }

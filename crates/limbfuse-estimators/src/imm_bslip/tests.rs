@@ -5,7 +5,7 @@ use limbfuse_models::bslip::{BslipParams, GaitParameters, Side};
 
 /// A gait whose touchdown height (`sin(1.2) cos(0.05)` = 0.931 m) lies
 /// below the level CoM path of [`level_walk`] (0.96 m).
-fn template() -> GaitTemplate {
+pub(super) fn template() -> GaitTemplate {
     let gait = GaitParameters {
         phi: 1.2,
         theta: 0.05,

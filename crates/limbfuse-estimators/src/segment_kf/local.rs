@@ -239,3 +239,53 @@ impl Estimator for LocalKf {
         Ok(est)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    /// Paper 000 eqs 5-6 with a finite correlation time, integrated
+    /// outside the filter: with every accelerometer unreliable (norm 1.5 g,
+    /// `rho` = 4.9 m/s^2 > zeta) no update happens and the angle is the
+    /// integral of `theta_dot = gyro + b_hat` (eq 5) with `b_hat' = -b_hat /
+    /// tau` (eq 6): for a gyro reading `r = c0 + c1 t` (exact under the
+    /// trapezoid rule) and `b_hat(0) = b0`,
+    /// `theta = theta0 + c0 t + c1 t^2 / 2 + b0 tau (1 - e^(-t/tau))`.
+    /// Here theta0 = 0.1 rad, c0 = 0.2 rad/s, c1 = -0.01 rad/s^2, tau = 30 s,
+    /// and the sensor-convention bias 0.02 rad/s (gyro reads true + bias),
+    /// i.e. the papers' `b0 = -0.02`; by hand (numpy) 0.88288903 rad at 5 s,
+    /// 1.80805027 rad at 20 s.
+    #[test]
+    fn unaided_angle_integrates_a_linear_rate_and_a_decaying_bias() {
+        let (theta0, c0, c1, beta, tau) = (0.1, 0.2, -0.01, 0.02, 30.0);
+        let mut common = CommonParams::default();
+        common.segments[0].bias_tau = tau;
+        common.initial_gyro_bias[0] = beta;
+        let mut f = LocalKf::new(LocalKfParams {
+            common,
+            min_reliable: 1,
+        })
+        .unwrap();
+        let g = common.gravity;
+        let acc = Vector3::new(libm::sin(theta0), libm::cos(theta0), 0.0) * (1.5 * g);
+        let dt = 0.01;
+        for k in 0..=2000 {
+            let t = k as f64 * dt;
+            let mut s = Sample::empty(t);
+            s.imu[0].acc = Some(acc);
+            s.imu[0].gyr = Some(Vector3::new(0.0, 0.0, c0 + c1 * t));
+            let est = f.step(&s).unwrap();
+            let b0 = -beta;
+            let want = theta0 + c0 * t + c1 * t * t / 2.0 + b0 * tau * (1.0 - libm::exp(-t / tau));
+            let got = est.segment[0].unwrap();
+            assert!((got - want).abs() < 1e-11, "t = {t}: {got} vs {want}");
+            if k == 500 {
+                assert!((want - 0.882_889_034_9).abs() < 1e-9);
+            }
+            if k == 2000 {
+                assert!((want - 1.808_050_271_4).abs() < 1e-9);
+            }
+        }
+    }
+}
