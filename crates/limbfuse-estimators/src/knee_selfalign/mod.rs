@@ -205,6 +205,8 @@ pub struct KneeSelfAlign {
     last_rate: Option<f64>,
     /// How long the gyro knee rate has been missing (s).
     gyro_gap: f64,
+    /// Shortest time step so far (s): the sampling period.
+    period: f64,
     kf: Fuser,
     windows: usize,
     status: WindowStatus,
@@ -255,6 +257,7 @@ impl KneeSelfAlign {
             alpha_gyro: 0.0,
             last_rate: None,
             gyro_gap: 0.0,
+            period: f64::INFINITY,
             kf: Fuser::new(&params),
             windows: 0,
             status: WindowStatus::NoWindowYet,
@@ -454,6 +457,7 @@ impl Estimator for KneeSelfAlign {
         self.alpha_gyro = 0.0;
         self.last_rate = None;
         self.gyro_gap = 0.0;
+        self.period = f64::INFINITY;
         self.kf = Fuser::new(&self.params);
         self.windows = 0;
         self.status = WindowStatus::NoWindowYet;
@@ -511,6 +515,15 @@ impl Estimator for KneeSelfAlign {
             let r0 = held(gap).or(r1);
             if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
                 self.alpha_gyro += 0.5 * (r0 + r1) * dt;
+            }
+            // A time gap (rows missing: `sign::GAP_SPLIT_S` and
+            // `GAP_SPLIT_PERIODS` periods) is a dropout of its length too
+            // (an audit: 0.5 s of rows removed, 30 deg for 0.7 s after it).
+            let time_gap = step > sign::GAP_SPLIT_S && step > sign::GAP_SPLIT_PERIODS * self.period;
+            if time_gap {
+                gap_growth = held_rate_variance(step);
+            } else if step > 0.0 {
+                self.period = self.period.min(step);
             }
             if rate.is_some() {
                 self.last_rate = rate;
