@@ -42,7 +42,10 @@ pub fn run_columns(
     calibration: Option<&Calibration>,
 ) -> Result<(), RunError> {
     if let Some(w) = watches.as_deref_mut() {
+        // (a `Filter` continues its estimator's rejection counts)
+        let carried = w.rejections.counts();
         *w = RunWatches::for_estimator(est);
+        w.rejections.carry(carried);
     }
     let mut sample = Sample::default();
     let mut estimate = Estimate::empty(0.0);
@@ -106,7 +109,7 @@ pub fn run_columns_offline(
 
 impl RunWatches {
     /// Fresh watches for `est`'s diagnostics.
-    fn for_estimator(est: &dyn Estimator) -> Self {
+    pub fn for_estimator(est: &dyn Estimator) -> Self {
         RunWatches {
             resets: ResetWatch::new(est.diagnostic_names().iter()),
             gait: GaitWatch::default(),

@@ -13,7 +13,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
-use crate::column_run::run_columns;
+use crate::column_run::{run_columns, RunWatches};
 use crate::column_samples::SampleColumns;
 use crate::columns::{leg_of, Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
@@ -45,6 +45,21 @@ pub struct NativeFilter {
     frame_note: Option<String>,
     /// `numpy.ma.masked`, a missing value in a sample as in arrays.
     masked: Py<PyAny>,
+    /// `estimate`'s watches, kept between `run`s: the sensor gate's
+    /// rejection counts (warned once per `run`, and once per stream of
+    /// `step`s until `reset`).
+    watches: RunWatches,
+    /// Whether the rejections of the `step`s were warned of.
+    step_rejections_said: bool,
+}
+
+/// The `LimbfuseWarning` of `text`.
+fn warn_user(py: Python<'_>, text: String) -> PyResult<()> {
+    let category = py
+        .import("limbfuse._estimate")?
+        .getattr("LimbfuseWarning")?;
+    let text = std::ffi::CString::new(text).unwrap_or_default();
+    PyErr::warn(py, &category, &text, 2)
 }
 
 /// The unit checks of `estimate` (`limbfuse_eval::unit_warnings`) over a
@@ -128,15 +143,8 @@ impl StreamUnits {
                 texts.push(w);
             }
         }
-        if texts.is_empty() {
-            return Ok(());
-        }
-        let category = py
-            .import("limbfuse._estimate")?
-            .getattr("LimbfuseWarning")?;
         for text in texts {
-            let text = std::ffi::CString::new(text).unwrap_or_default();
-            PyErr::warn(py, &category, &text, 2)?;
+            warn_user(py, text)?;
         }
         Ok(())
     }
@@ -207,6 +215,7 @@ impl NativeFilter {
                 .enumerate()
                 .map(|(k, c)| (c.clone(), k))
                 .collect();
+            let watches = RunWatches::for_estimator(est.as_ref());
             Ok(NativeFilter {
                 est: Mutex::new(est),
                 method: spec.method().to_string(),
@@ -223,6 +232,8 @@ impl NativeFilter {
                     "the filter's metadata",
                 ),
                 masked: py.import("numpy.ma")?.getattr("masked")?.unbind(),
+                watches,
+                step_rejections_said: false,
             })
         })
     }
@@ -249,6 +260,8 @@ impl NativeFilter {
     fn reset(&mut self) -> PyResult<()> {
         guarded(|| {
             self.estimator().reset();
+            self.watches = RunWatches::for_estimator(self.estimator());
+            self.step_rejections_said = false;
             Ok(())
         })
     }
@@ -323,6 +336,14 @@ impl NativeFilter {
                 .estimator()
                 .step(&sample)
                 .map_err(|e| step_error(&self.method, t, &e))?;
+            // `estimate`'s warning of rejected readings, once per stream.
+            self.watches.rejections.push(&e);
+            if !self.step_rejections_said {
+                if let Some(r) = self.watches.rejections.rejected() {
+                    self.step_rejections_said = true;
+                    warn_user(py, format!("{}: the filter's samples: {r}", self.method))?;
+                }
+            }
             let out = PyDict::new(py);
             for (name, v) in self.template.row(&e) {
                 out.set_item(name, v)?;
@@ -377,9 +398,27 @@ impl NativeFilter {
                 }
                 self.units.warn(py, &method, true)?;
             }
+            let mut watches = std::mem::take(&mut self.watches);
             let est = self.estimator();
-            py.detach(|| run_columns(est, &inputs, &mut out, None, calibration.as_ref()))
-                .map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
+            let run = py.detach(|| {
+                run_columns(
+                    est,
+                    &inputs,
+                    &mut out,
+                    Some(&mut watches),
+                    calibration.as_ref(),
+                )
+            });
+            // (the counts carry on, also past an error)
+            let rejected = watches.rejections.rejected();
+            let counts = watches.rejections.counts();
+            watches.rejections.carry(counts);
+            self.watches = watches;
+            run.map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
+            // `estimate`'s warning of rejected readings, once per run.
+            if let Some(r) = rejected {
+                warn_user(py, format!("{method}: the filter's samples: {r}"))?;
+            }
             crate::estimate::estimate_tuple(py, out, None)
         })
     }

@@ -69,6 +69,19 @@ impl RejectionWatch {
         self.last = now;
     }
 
+    /// Continues from `counts` (the cumulative counts an earlier run of the
+    /// same estimator ended at): only a rise above them is a rejection from
+    /// now on (the time of an earlier one is forgotten).
+    pub fn carry(&mut self, counts: [u64; 3]) {
+        self.last = counts;
+        self.first_t = None;
+    }
+
+    /// The cumulative counts of the last estimate.
+    pub fn counts(&self) -> [u64; 3] {
+        self.last
+    }
+
     /// What was rejected; `None` when nothing was.
     pub fn rejected(&self) -> Option<Rejected> {
         self.first_t.map(|first_t| Rejected {
