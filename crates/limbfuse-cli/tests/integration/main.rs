@@ -46,6 +46,7 @@ mod knee_bad_input;
 mod knee_cli;
 mod knee_time_gap;
 mod long_runs_check_outputs_first;
+mod lowback_time_stamps;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
 mod raw_frames_warning;

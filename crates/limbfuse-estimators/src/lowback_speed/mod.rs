@@ -225,6 +225,9 @@ pub struct LowbackSpeed {
     kernel: Vec<f64>,
     half: usize,
     dt: Option<f64>,
+    /// Sum and count of the time steps so far that are not gaps (over
+    /// `min_step_time`): the sampling period is their mean.
+    period: (f64, u64),
     elapsed: f64,
     n: u64,
     rms_sq: f64,
@@ -235,6 +238,10 @@ pub struct LowbackSpeed {
     speed: Option<(f64, f64)>,
     last_reading: Option<f64>,
 }
+
+/// Steps after which the smoothing kernel is set again from the mean
+/// period (the first step alone may be off by a time stamp's jitter).
+const PERIOD_STEPS: u64 = 64;
 
 impl LowbackSpeed {
     /// A new estimator.
@@ -249,6 +256,7 @@ impl LowbackSpeed {
             kernel: Vec::with_capacity(HISTORY),
             half: 0,
             dt: None,
+            period: (0.0, 0),
             elapsed: 0.0,
             n: 0,
             rms_sq: 0.0,
@@ -358,17 +366,23 @@ impl Estimator for LowbackSpeed {
         {
             self.restart_steps();
         }
-        let dt = match (step, self.dt) {
-            (Some(dt), None) => {
+        // The sampling period: the mean of the steps so far, not the first
+        // step alone (an audit, 2026-12-05: the first time stamp 3 ms off,
+        // as a Bluetooth receiver's arrival stamps are, scaled every speed
+        // of the HA001 walk by the squared ratio, -0.29 m/s). The smoothing
+        // kernel is set at the first step and again at `PERIOD_STEPS`.
+        if let Some(s) = step.filter(|s| *s <= self.params.min_step_time) {
+            self.period.0 += s;
+            self.period.1 += 1;
+            let dt = self.period.0 / self.period.1 as f64;
+            if self.period.1 == 1 || self.period.1 == PERIOD_STEPS {
                 self.set_kernel(dt);
-                self.dt = Some(dt);
-                dt
             }
-            (_, Some(dt)) => dt,
-            (None, None) => {
-                self.gravity = Some(acc);
-                return Ok(e);
-            }
+            self.dt = Some(dt);
+        }
+        let Some(dt) = self.dt else {
+            self.gravity = Some(acc);
+            return Ok(e);
         };
         // Running mean over the samples so far, exponential once the time
         // constant has passed (a first sample carrying a step's dynamic
