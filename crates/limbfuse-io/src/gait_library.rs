@@ -217,7 +217,12 @@ impl GaitLibraryFile {
 
     /// Reads and checks a library file.
     pub fn read(path: &Path) -> Result<Self, LibraryFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| LibraryFileError::Io {
+        let text = crate::bounded_text::read_text_at_most(
+            path,
+            crate::bounded_text::MAX_LIBRARY_FILE_BYTES,
+            "a gait-library file (JSON, tens of MB at most)",
+        )
+        .map_err(|source| LibraryFileError::Io {
             path: path.to_path_buf(),
             source,
         })?;

@@ -52,7 +52,12 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 
 /// Reads a parameter file's text.
 pub fn read(path: &Path) -> Result<String, ParamsFileError> {
-    std::fs::read_to_string(path).map_err(|source| ParamsFileError::Io {
+    limbfuse_io::bounded_text::read_text_at_most(
+        path,
+        limbfuse_io::bounded_text::MAX_SETTINGS_FILE_BYTES,
+        "a parameter file (TOML, a few KB)",
+    )
+    .map_err(|source| ParamsFileError::Io {
         path: path.to_path_buf(),
         source,
     })
