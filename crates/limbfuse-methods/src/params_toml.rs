@@ -18,7 +18,7 @@ pub enum ParamsFileError {
         source: std::io::Error,
     },
     /// Not valid TOML, an unknown key or a value of the wrong type.
-    #[error("{}:{line}:{column}: {message}", path.display())]
+    #[error("{}:{line}:{column}: {}", path.display(), crate::clip_echoes(message))]
     Syntax {
         /// File path.
         path: PathBuf,
@@ -30,7 +30,7 @@ pub enum ParamsFileError {
         message: String,
     },
     /// A key that does not apply or a value out of range.
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {}", path.display(), crate::clip_echoes(message))]
     Invalid {
         /// File path.
         path: PathBuf,

@@ -246,3 +246,39 @@ fn simulate_bslip_needs_a_rate_of_at_least_1_hz() {
     assert_user_error(&o, &["--rate 1e-300", "at least 1 Hz"]);
     assert!(!d.path().join("f.csv").exists());
 }
+
+/// Item 8: a 2,000,000-number `encoder_sigma` in --params was echoed whole
+/// (a 12 MB message); a 5 MB `method` name likewise. Echoed values are cut
+/// with their full length.
+#[test]
+fn long_values_in_a_params_file_are_not_echoed_whole() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path());
+    let numbers = vec!["0.01"; 2_000_000].join(",");
+    std::fs::write(
+        d.path().join("es.toml"),
+        format!("encoder_sigma = [{numbers}]\n"),
+    )
+    .unwrap();
+    let o = limbfuse(
+        &[
+            "estimate", "--method", "mjls", "--params", "es.toml", "w.csv", "-o", "e.csv",
+        ],
+        d.path(),
+    );
+    assert_user_error(
+        &o,
+        &["es.toml", "`encoder_sigma`", "0.01, ...] (2000000 numbers)"],
+    );
+    assert!(o.stderr.len() < 2000, "{} bytes", o.stderr.len());
+    let name = "m".repeat(5_000_000);
+    std::fs::write(d.path().join("m.toml"), format!("method = \"{name}\"\n")).unwrap();
+    let o = limbfuse(
+        &[
+            "estimate", "--method", "mjls", "--params", "m.toml", "w.csv", "-o", "e.csv",
+        ],
+        d.path(),
+    );
+    assert_user_error(&o, &["m.toml", "... (5000000 characters)"]);
+    assert!(o.stderr.len() < 4000, "{} bytes", o.stderr.len());
+}
