@@ -375,7 +375,12 @@ impl Calibration {
 
     /// Reads a calibration file.
     pub fn read(path: &Path) -> Result<Self, CalibrationFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| CalibrationFileError::Io {
+        let text = crate::bounded_text::read_text_at_most(
+            path,
+            crate::bounded_text::MAX_SETTINGS_FILE_BYTES,
+            "a calibration file (TOML, a few KB)",
+        )
+        .map_err(|source| CalibrationFileError::Io {
             path: path.to_path_buf(),
             source,
         })?;

@@ -217,7 +217,12 @@ impl GaitLibraryFile {
 
     /// Reads and checks a library file.
     pub fn read(path: &Path) -> Result<Self, LibraryFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| LibraryFileError::Io {
+        let text = crate::bounded_text::read_text_at_most(
+            path,
+            crate::bounded_text::MAX_LIBRARY_FILE_BYTES,
+            "a gait-library file (JSON, tens of MB at most)",
+        )
+        .map_err(|source| LibraryFileError::Io {
             path: path.to_path_buf(),
             source,
         })?;
@@ -254,10 +259,12 @@ impl GaitLibraryFile {
                 ),
             });
         }
+        // (the JSON path of a bad value: an audit found "invalid length 6,
+        // expected an array of length 7" without which gait or row)
         let lib: GaitLibraryFile =
-            serde_json::from_value(value).map_err(|e| LibraryFileError::Content {
+            serde_path_to_error::deserialize(value).map_err(|e| LibraryFileError::Content {
                 path: p(),
-                message: e.to_string(),
+                message: format!("at `{}`: {}", e.path(), e.inner()),
             })?;
         lib.validate(path)?;
         Ok(lib)
@@ -408,6 +415,28 @@ mod tests {
         );
         let e = GaitLibraryFile::parse(Path::new("x.json"), "{\"a\": 1}").unwrap_err();
         assert!(e.to_string().contains("format"), "{e}");
+    }
+
+    /// An audit shortened one row of a phase trajectory to 6 numbers: the
+    /// message was "invalid length 6, expected an array of length 7" with
+    /// no gait, phase or row. Now the JSON path of the value is named.
+    #[test]
+    fn a_bad_value_is_named_by_its_json_path() {
+        let mut lib = sample();
+        lib.gaits[0].trajectory.ds = vec![[0.0; 7], [0.0; 7]];
+        let text = serde_json::to_string(&lib).unwrap().replacen(
+            "[0.0,0.0,0.0,0.0,0.0,0.0,0.0]]",
+            "[0.0,0.0,0.0,0.0,0.0,0.0]]",
+            1,
+        );
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, LibraryFileError::Content { .. }), "{msg}");
+        assert!(
+            msg.contains("at `gaits[0].trajectory.DS[1]`")
+                && msg.contains("invalid length 6, expected an array of length 7"),
+            "{msg}"
+        );
     }
 
     #[test]

@@ -11,6 +11,7 @@ pub mod arrow_file;
 mod arrow_source;
 pub mod atomic_file;
 pub mod body_meta;
+pub mod bounded_text;
 pub mod calibration;
 mod cell_format;
 mod cell_sink;

@@ -149,8 +149,96 @@ pub fn shown(v: f64) -> String {
     limbfuse_core::ShownNumber(v).to_string()
 }
 
+/// Longest value a message echoes whole (characters): longer ones are cut
+/// with `...` and their full length.
+pub const MAX_ECHO_CHARS: usize = 120;
+
+/// Longest message [`clip_echoes`] returns (characters).
+const MAX_MESSAGE_CHARS: usize = 2000;
+
+/// `message` with every value it quotes (between backticks or double
+/// quotes) longer than [`MAX_ECHO_CHARS`] cut short: an array to its first
+/// numbers and `... (N numbers)`, other text to its start and `... (N
+/// characters)`; a message still longer than 2000 characters is cut too.
+/// An audit found a 2,000,000-number `encoder_sigma` echoed as a 12 MB
+/// message, a 1 MB key and a 5 MB `method` likewise.
+pub fn clip_echoes(message: &str) -> String {
+    let mut out = String::new();
+    let mut rest = message;
+    while let Some(open) = rest.find(['`', '"']) {
+        let quote = rest.as_bytes()[open] as char;
+        let Some(len) = rest[open + 1..].find(quote) else {
+            break;
+        };
+        let inner = &rest[open + 1..open + 1 + len];
+        out.push_str(&rest[..=open]);
+        out.push_str(&clip_value(inner));
+        out.push(quote);
+        rest = &rest[open + len + 2..];
+    }
+    out.push_str(rest);
+    let n = out.chars().count();
+    if n > MAX_MESSAGE_CHARS {
+        let cut: String = out.chars().take(MAX_MESSAGE_CHARS).collect();
+        return format!("{cut}... ({n} characters)");
+    }
+    out
+}
+
+/// One quoted value, cut as [`clip_echoes`] says.
+fn clip_value(v: &str) -> String {
+    let n = v.chars().count();
+    if n <= MAX_ECHO_CHARS {
+        return v.to_string();
+    }
+    if let Some(items) = v.strip_prefix('[').and_then(|s| s.strip_suffix(']')) {
+        let items: Vec<&str> = items.split(',').map(str::trim).collect();
+        let numbers = items.iter().all(|s| s.parse::<f64>().is_ok());
+        let head = items[..items.len().min(5)].join(", ");
+        return format!(
+            "[{head}, ...] ({} {})",
+            items.len(),
+            if numbers { "numbers" } else { "items" }
+        );
+    }
+    let head: String = v.chars().take(MAX_ECHO_CHARS / 2).collect();
+    format!("{head}... ({n} characters)")
+}
+
 #[cfg(test)]
 mod tests {
+    /// An audit: a 2,000,000-number array, a 1 MB key and a 5 MB method
+    /// name were echoed whole (a 12 MB message). Each is cut with its
+    /// full length; short values are kept.
+    #[test]
+    fn long_echoed_values_are_cut_with_their_length() {
+        let array = format!("[{}]", vec!["0.01"; 2_000_000].join(", "));
+        let m = super::clip_echoes(&format!(
+            "`encoder_sigma`: expected 3 numbers, found `{array}`"
+        ));
+        assert_eq!(
+            m,
+            "`encoder_sigma`: expected 3 numbers, found `[0.01, 0.01, 0.01, 0.01, 0.01, ...] (2000000 numbers)`"
+        );
+        let key = "k".repeat(1_000_000);
+        let m = super::clip_echoes(&format!("unknown field `{key}`, expected `a`"));
+        assert!(m.starts_with("unknown field `kkk"), "{m}");
+        assert!(
+            m.ends_with("kkk... (1000000 characters)`, expected `a`"),
+            "{m}"
+        );
+        assert!(m.len() < 200, "{m}");
+        let name = "m".repeat(5_000_000);
+        let m = super::clip_echoes(&format!("`method` = \"{name}\": unknown method `{name}`"));
+        assert!(
+            m.len() < 300 && m.contains("(5000000 characters)\": unknown"),
+            "{m}"
+        );
+        let unquoted = "x".repeat(10_000);
+        assert!(super::clip_echoes(&unquoted).ends_with("... (10000 characters)"));
+        assert_eq!(super::clip_echoes("`a` = \"b\" `c"), "`a` = \"b\" `c");
+    }
+
     /// Huge and tiny magnitudes in exponent form, the rest as Rust prints.
     #[test]
     fn shown_numbers_stay_short() {

@@ -64,7 +64,7 @@ pub use availability::{availability, Availability};
 pub use baseline_methods::{AccelInclinationMethod, GyroIntegrationMethod};
 pub use build::{build, check_channels, gate};
 pub use channels::ChannelNeeds;
-pub use error::{shown, MethodError};
+pub use error::{clip_echoes, shown, MethodError};
 pub use metadata_settings::metadata_settings;
 pub use method_def::{build_with, read_file, resolve_with, MethodDef, MethodFile, MethodInfo};
 pub use name::{check_file_method, UnknownMethod};

@@ -18,7 +18,7 @@ pub enum ParamsFileError {
         source: std::io::Error,
     },
     /// Not valid TOML, an unknown key or a value of the wrong type.
-    #[error("{}:{line}:{column}: {message}", path.display())]
+    #[error("{}:{line}:{column}: {}", path.display(), crate::clip_echoes(message))]
     Syntax {
         /// File path.
         path: PathBuf,
@@ -30,7 +30,7 @@ pub enum ParamsFileError {
         message: String,
     },
     /// A key that does not apply or a value out of range.
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {}", path.display(), crate::clip_echoes(message))]
     Invalid {
         /// File path.
         path: PathBuf,
@@ -52,7 +52,12 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 
 /// Reads a parameter file's text.
 pub fn read(path: &Path) -> Result<String, ParamsFileError> {
-    std::fs::read_to_string(path).map_err(|source| ParamsFileError::Io {
+    limbfuse_io::bounded_text::read_text_at_most(
+        path,
+        limbfuse_io::bounded_text::MAX_SETTINGS_FILE_BYTES,
+        "a parameter file (TOML, a few KB)",
+    )
+    .map_err(|source| ParamsFileError::Io {
         path: path.to_path_buf(),
         source,
     })

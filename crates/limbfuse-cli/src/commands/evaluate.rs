@@ -32,6 +32,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             "evaluate needs an ESTIMATE file, or --method NAME [--params FILE] [--starts N] to run the method on the trial"
         );
     };
+    super::refuse_read_twice_from_a_stream("evaluate", &[&a.trial, estimate])?;
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),

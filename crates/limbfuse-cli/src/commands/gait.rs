@@ -134,10 +134,18 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
         &[("-o", Some(&a.output))],
     )?;
     crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
+    // (an audit: `--rate 1e-300` wrote a one-row trial, exit 0; the other
+    // simulators take at least 1 Hz)
+    if a.rate < 1.0 {
+        bail!(
+            "--rate {}: expected a sample rate of at least 1 Hz (as the other simulators)",
+            limbfuse_methods::shown(a.rate)
+        );
+    }
     if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= MAX_GAIT_SPEED) {
         bail!(
             "--speed {}: expected a walking speed in (0, {MAX_GAIT_SPEED}] m/s (the range `gait-library build --speeds` accepts)",
-            a.speed
+            limbfuse_methods::shown(a.speed)
         );
     }
     let searched_body;

@@ -138,3 +138,21 @@ pub fn warn_resets(what: &str, resets: Option<&limbfuse_eval::Resets>) {
         eprintln!("warning: {what}: {r}");
     }
 }
+
+/// Refuses an input that `command` opens more than once when it is not a
+/// regular file (a FIFO, a device, `/dev/stdin`): its second open would
+/// wait forever for a writer, or read nothing (an audit: `evaluate FIFO
+/// e.csv` hung, `report w.csv FIFO` blamed the FIFO's header). A path that
+/// cannot be inspected is left to the reader's own error.
+pub fn refuse_read_twice_from_a_stream(command: &str, paths: &[&Path]) -> Result<()> {
+    for path in paths {
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            anyhow::bail!(
+                "{}: a pipe or other non-regular file: `{command}` reads its inputs twice; \
+                 write it to a file first",
+                path.display()
+            );
+        }
+    }
+    Ok(())
+}

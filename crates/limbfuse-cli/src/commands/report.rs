@@ -12,6 +12,8 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut inputs = vec![("", Some(a.trial.as_path()))];
     inputs.extend(a.estimates.iter().map(|e| ("", Some(e.as_path()))));
     super::refuse_overwrites(&inputs, &[("-o", Some(&a.output))])?;
+    let read: Vec<&Path> = inputs.iter().filter_map(|(_, p)| *p).collect();
+    super::refuse_read_twice_from_a_stream("report", &read)?;
     if a.buckets == 0 {
         bail!("--buckets: expected a positive number of display buckets, found 0");
     }

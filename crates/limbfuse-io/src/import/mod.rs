@@ -12,7 +12,7 @@
 //! column, and what was expected.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
 use limbfuse_core::Record;
@@ -119,24 +119,46 @@ impl ImportError {
 }
 
 /// Reads a text file as numbered lines (1-based), `\r` and a leading
-/// byte-order mark stripped.
+/// byte-order mark stripped. A line longer than the trial reader's bound
+/// ([`crate::csv_lines::MAX_LINE_BYTES`], 64 MiB) is an error naming its
+/// line: a file without line breaks (`/dev/zero`) is not read whole into
+/// one string (an audit: `import --format knee-rig /dev/zero` grew memory
+/// without bound).
 pub(crate) fn read_lines(path: &Path) -> Result<Vec<(u64, String)>, ImportError> {
     let file = File::open(path).map_err(|e| ImportError::io(path, e))?;
+    let mut reader = BufReader::new(file);
     let mut out = Vec::new();
-    for (i, line) in BufReader::new(file).lines().enumerate() {
-        let n = i as u64 + 1;
-        let line = line.map_err(|e| match e.kind() {
-            std::io::ErrorKind::InvalidData => {
-                ImportError::line(path, n, "not UTF-8 text", "UTF-8 text")
-            }
-            _ => ImportError::io(path, e),
-        })?;
+    let mut buf = Vec::new();
+    for n in 1u64.. {
+        buf.clear();
+        let read = (&mut reader)
+            .take(crate::csv_lines::MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| ImportError::io(path, e))?;
+        if read == 0 {
+            break;
+        }
+        if buf.last() == Some(&b'\n') {
+            buf.pop();
+        } else if buf.len() > crate::csv_lines::MAX_LINE_BYTES {
+            return Err(ImportError::line(
+                path,
+                n,
+                "no line break found",
+                format!(
+                    "a line of at most {} MiB",
+                    crate::csv_lines::MAX_LINE_BYTES >> 20
+                ),
+            ));
+        }
+        let line = std::str::from_utf8(&buf)
+            .map_err(|_| ImportError::line(path, n, "not UTF-8 text", "UTF-8 text"))?;
         // (a UTF-8 byte-order mark before the first line, as spreadsheet
         // programs write it, is not part of the text)
         let line = if n == 1 {
-            line.strip_prefix('\u{feff}').unwrap_or(&line)
+            line.strip_prefix('\u{feff}').unwrap_or(line)
         } else {
-            &line
+            line
         };
         out.push((n, line.trim_end_matches('\r').to_string()));
     }

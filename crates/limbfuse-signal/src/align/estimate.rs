@@ -159,6 +159,16 @@ pub fn estimate_alignment(
     } else {
         1.0
     };
+    // The most walking the trial can hold: its samples times `dt`. Shorter
+    // than needed is said as such (an audit: times of 1e-20 s per sample
+    // made the stride lag overflow in `walking_mask`).
+    let span_s = n as f64 * dt;
+    if span_s < opts.min_walking_s {
+        return Err(AlignError::TooShort {
+            span_s,
+            needed_s: opts.min_walking_s,
+        });
+    }
     let half = (0.5 * opts.turn_window_s / dt).round() as usize;
     let turning = turning_mask(records, &present, half, opts.turn_max_rate);
     let walking = walking_mask(records, &present, dt, opts);

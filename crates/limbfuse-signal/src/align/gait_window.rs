@@ -34,7 +34,8 @@ fn best_autocorr(x: &[f64], lags: std::ops::RangeInclusive<usize>, min_sd: f64) 
     }
     let mut best = f64::NEG_INFINITY;
     for lag in lags {
-        if lag + 10 > n {
+        // (a lag of usize::MAX, from a time step of 1e-20 s, overflowed here)
+        if lag.saturating_add(10) > n {
             break;
         }
         let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
@@ -90,7 +91,7 @@ pub(crate) fn walking_mask(
     let mut c = 0;
     while c < n {
         centres.push(c);
-        c += step;
+        c = c.saturating_add(step);
     }
     let verdict: Vec<bool> = centres
         .iter()
@@ -110,7 +111,7 @@ pub(crate) fn walking_mask(
         })
         .collect();
     (0..n)
-        .map(|k| verdict[((k + step / 2) / step).min(verdict.len() - 1)])
+        .map(|k| verdict[(k.saturating_add(step / 2) / step).min(verdict.len() - 1)])
         .collect()
 }
 
@@ -141,5 +142,36 @@ mod tests {
         assert!(r < 0.3, "{r}");
         // Still: below the noise floor.
         assert_eq!(best_autocorr(&[1.0; 400], lags, 0.1), Some(0.0));
+    }
+
+    /// An audit multiplied a walking trial's times by 1e-20: the stride lag
+    /// (stride period / dt) saturated to `usize::MAX` and `lag + 10`
+    /// overflowed into an index out of bounds. Such a trial has no
+    /// walking: every sample is `false`, nothing panics.
+    #[test]
+    fn a_time_step_of_1e_minus_20_s_finds_no_walking_without_overflow() {
+        let records: Vec<Record> = (0..500)
+            .map(|k| {
+                let mut r = Record::default();
+                r.sample.t = k as f64 * 1e-20;
+                for imu in &mut r.sample.imu {
+                    imu.gyr = Some(nalgebra::Vector3::new(
+                        0.0,
+                        0.0,
+                        (k as f64 * 0.3).sin() * 3.0,
+                    ));
+                }
+                r
+            })
+            .collect();
+        let opts = AlignOptions::default();
+        for dt in [1e-20, 1e-300, f64::MIN_POSITIVE] {
+            let mask = walking_mask(&records, &[true; 4], dt, &opts);
+            assert_eq!(mask, vec![false; 500]);
+        }
+        assert_eq!(
+            best_autocorr(&[0.0, 1.0, 0.0, 1.0], usize::MAX - 5..=usize::MAX, 0.0),
+            None
+        );
     }
 }

@@ -59,7 +59,10 @@ fn high_passed_integral(rate: &[f64], times: &[f64], half: usize) -> Vec<f64> {
     }
     (0..n)
         .map(|k| {
-            let (a, b) = (k.saturating_sub(half), (k + half + 1).min(n));
+            let (a, b) = (
+                k.saturating_sub(half),
+                k.saturating_add(half).saturating_add(1).min(n),
+            );
             psi[k] - (cum[b] - cum[a]) / (b - a) as f64
         })
         .collect()

@@ -301,6 +301,14 @@ pub enum AlignError {
         /// Required (s).
         needed_s: f64,
     },
+    /// The whole trial is shorter than the walking alignment needs.
+    #[error("no walking found: the trial's samples span {} s (column `t`), less than the {} s of walking alignment needs; are its times in seconds?", limbfuse_core::ShownNumber(*.span_s), limbfuse_core::ShownNumber(*.needed_s))]
+    TooShort {
+        /// Samples times the mean sample interval (s).
+        span_s: f64,
+        /// Required walking (s).
+        needed_s: f64,
+    },
     /// The sensor rotates about two axes about equally: no sagittal axis.
     #[error("{}: axis undetermined: the sensor rotates about two horizontal axes about equally (second/largest energy {ratio:.2}, need <= {max}); is it on a walking leg?", .segment.name())]
     AxisUndetermined {

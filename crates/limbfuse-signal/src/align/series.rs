@@ -138,7 +138,10 @@ pub(crate) fn turning_mask(
         smoothed.push(
             (0..n)
                 .map(|k| {
-                    let (a, b) = (k.saturating_sub(half), (k + half + 1).min(n));
+                    let (a, b) = (
+                        k.saturating_sub(half),
+                        k.saturating_add(half).saturating_add(1).min(n),
+                    );
                     ((cum[b] - cum[a]) / (b - a) as f64).abs()
                 })
                 .collect(),
@@ -161,7 +164,8 @@ pub(crate) fn turning_mask(
     }
     let core = turn.clone();
     for (k, _) in core.iter().enumerate().filter(|(_, &c)| c) {
-        for t in &mut turn[k.saturating_sub(half)..(k + half + 1).min(n)] {
+        for t in &mut turn[k.saturating_sub(half)..k.saturating_add(half).saturating_add(1).min(n)]
+        {
             *t = true;
         }
     }

@@ -176,7 +176,10 @@ fn knee_skew(thigh: &[Option<f64>], shank: &[Option<f64>], s2: f64, times: &[f64
     }
     let hp: Vec<f64> = (0..n)
         .map(|k| {
-            let (a, b) = (k.saturating_sub(half), (k + half + 1).min(n));
+            let (a, b) = (
+                k.saturating_sub(half),
+                k.saturating_add(half).saturating_add(1).min(n),
+            );
             psi[k] - (cum[b] - cum[a]) / (b - a) as f64
         })
         .collect();

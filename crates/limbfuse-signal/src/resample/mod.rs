@@ -57,7 +57,10 @@ mod interpolation;
 mod short_runs;
 mod trial;
 
-pub use trial::{anti_alias_said, resample_file, resample_trial, ResampleSummary, ResampledTrial};
+pub use trial::{
+    anti_alias_said, bytes_per_output_sample, resample_file, resample_trial, ResampleSummary,
+    ResampledTrial, MAX_RESAMPLE_BYTES,
+};
 
 /// Cut-off of the windowed-sinc anti-alias filter as a fraction of the
 /// output rate: 0.35 (17.5 Hz at 50 Hz, 0.7 of the output Nyquist frequency).
@@ -67,7 +70,9 @@ pub const SINC_HALF_WIDTH_PERIODS: f64 = 10.0;
 /// Two successive present samples further apart than this many nominal
 /// input periods are separated by a gap (no interpolation across it).
 pub const GAP_FACTOR: f64 = 1.5;
-/// Largest number of output samples [`resample_trial`] produces.
+/// Largest number of output times [`uniform_grid`] produces (a grid of
+/// times only; [`resample_trial`] is bounded further by the memory of its
+/// records, [`MAX_RESAMPLE_BYTES`]).
 pub const MAX_OUTPUT_SAMPLES: usize = 100_000_000;
 
 /// How IMU accelerometer and gyro channels are low-passed before decimation.
@@ -163,7 +168,9 @@ pub fn uniform_grid(t_first: f64, t_last: f64, rate_hz: f64) -> Result<Vec<f64>,
     check_rate(rate_hz)?;
     if !(t_first.is_finite() && t_last.is_finite()) || t_last < t_first {
         return Err(ResampleError::Invalid(format!(
-            "cannot build a time grid from {t_first} s to {t_last} s"
+            "cannot build a time grid from {} s to {} s",
+            limbfuse_core::ShownNumber(t_first),
+            limbfuse_core::ShownNumber(t_last)
         )));
     }
     let n = ((t_last - t_first) * rate_hz + 1e-9).floor() + 1.0;
@@ -178,7 +185,11 @@ pub fn uniform_grid(t_first: f64, t_last: f64, rate_hz: f64) -> Result<Vec<f64>,
     }
     if n > MAX_OUTPUT_SAMPLES as f64 {
         return Err(ResampleError::Invalid(format!(
-            "{t_first} s to {t_last} s at {rate_hz} Hz is {n} samples, more than the limit of {MAX_OUTPUT_SAMPLES}"
+            "{} s to {} s at {} Hz is {} samples, more than the limit of {MAX_OUTPUT_SAMPLES}",
+            limbfuse_core::ShownNumber(t_first),
+            limbfuse_core::ShownNumber(t_last),
+            limbfuse_core::ShownNumber(rate_hz),
+            limbfuse_core::ShownNumber(n)
         )));
     }
     Ok((0..n as usize)

@@ -190,6 +190,7 @@ pub fn resample_trial(
     }
     // TrialReader errors on a file without rows, so t_first is set.
     let t_first = t_first.unwrap_or(t_last);
+    check_memory(reader.path(), t_first, t_last, opts.rate_hz)?;
     let grid = uniform_grid(t_first, t_last, opts.rate_hz)?;
     let mut records: Vec<Record> = grid
         .iter()
@@ -200,11 +201,9 @@ pub fn resample_trial(
         })
         .collect();
     // Scalars; vectors are assembled per axis, present when all axes are.
-    let mut acc = vec![[[None; 3]; 4]; grid.len()];
-    let mut gyr = vec![[[None; 3]; 4]; grid.len()];
+    // (IMU axes are set one at a time in the records, each keeping the
+    // vector partial until its last axis arrives: no per-sample buffer)
     let mut com = vec![[[None; 3]; 2]; grid.len()];
-    let mut other_acc = vec![[[None; 3]; 4]; grid.len()];
-    let mut other_gyr = vec![[[None; 3]; 4]; grid.len()];
     let mut imu_filtered = false;
     for (s, &slot) in series.iter().zip(&slots) {
         if let ChannelMethod::Decimate(a) = slot.method(opts.anti_alias) {
@@ -215,8 +214,8 @@ pub fn resample_trial(
         for (k, v) in out.into_iter().enumerate() {
             let r = &mut records[k];
             match slot {
-                Slot::Acc(i, a) => acc[k][i][a] = v,
-                Slot::Gyr(i, a) => gyr[k][i][a] = v,
+                Slot::Acc(i, a) => set_axis(&mut r.sample.imu[i], Axis::Acc, a, v),
+                Slot::Gyr(i, a) => set_axis(&mut r.sample.imu[i], Axis::Gyr, a, v),
                 Slot::Encoder(j) => r.sample.encoder[j] = v,
                 Slot::Stim(j) => r.sample.inputs.stim[j] = v,
                 Slot::Motor(j) => r.sample.inputs.motor_torque[j] = v,
@@ -224,8 +223,8 @@ pub fn resample_trial(
                 Slot::JointRef(j) => r.reference.joint[j] = v,
                 Slot::ComPos(a) => com[k][0][a] = v,
                 Slot::ComVel(a) => com[k][1][a] = v,
-                Slot::OtherAcc(i, a) => other_acc[k][i][a] = v,
-                Slot::OtherGyr(i, a) => other_gyr[k][i][a] = v,
+                Slot::OtherAcc(i, a) => set_axis(&mut r.sample.other_leg_imu[i], Axis::Acc, a, v),
+                Slot::OtherGyr(i, a) => set_axis(&mut r.sample.other_leg_imu[i], Axis::Gyr, a, v),
                 Slot::ContactRef(side) => r.reference.contact[side] = v.map(|c| c >= 0.5),
                 Slot::SpeedRef => r.reference.speed = v,
                 Slot::ComMeas(a) => r.sample.com.set(a, v),
@@ -234,13 +233,6 @@ pub fn resample_trial(
     }
     let vec3 = |v: [Option<f64>; 3]| Some(Vector3::new(v[0]?, v[1]?, v[2]?));
     for (k, r) in records.iter_mut().enumerate() {
-        for i in 0..4 {
-            // per axis: an incomplete vector keeps its axes (issue 18)
-            r.sample.imu[i].set_acc_axes(acc[k][i]);
-            r.sample.imu[i].set_gyr_axes(gyr[k][i]);
-            r.sample.other_leg_imu[i].set_acc_axes(other_acc[k][i]);
-            r.sample.other_leg_imu[i].set_gyr_axes(other_gyr[k][i]);
-        }
         r.reference.com_pos = vec3(com[k][0]);
         r.reference.com_vel = vec3(com[k][1]);
     }
@@ -289,6 +281,82 @@ pub fn resample_trial(
         rejections,
         imu_filtered,
     })
+}
+
+/// Which vector of an IMU sample [`set_axis`] sets.
+#[derive(Clone, Copy)]
+enum Axis {
+    Acc,
+    Gyr,
+}
+
+/// Sets axis `a` of `imu`'s specific force or angular rate; the vector is
+/// complete once all three axes are present, else partial (per axis: an
+/// incomplete vector keeps its axes, issue 18).
+fn set_axis(imu: &mut limbfuse_core::ImuSample, which: Axis, a: usize, v: Option<f64>) {
+    match which {
+        Axis::Acc => {
+            let mut cells = imu.acc_axes();
+            cells[a] = v;
+            imu.set_acc_axes(cells);
+        }
+        Axis::Gyr => {
+            let mut cells = imu.gyr_axes();
+            cells[a] = v;
+            imu.set_gyr_axes(cells);
+        }
+    }
+}
+
+/// Memory [`resample_trial`] may take for its output (10 GiB): the records
+/// and their working buffers, [`bytes_per_output_sample`] each (about
+/// 2.2 KB). An hour at 1 kHz (3.6 million samples, the longest real
+/// recording resampled, ~7.5 GiB) fits; an audit's trial with a 1e6 s jump
+/// in `t` asked for 103 GB at 50 Hz and was killed by the allocator. The
+/// records are held whole (the filters look ahead), so the output is
+/// bounded here rather than streamed.
+pub const MAX_RESAMPLE_BYTES: u64 = 10 << 30;
+
+/// Memory one output sample of [`resample_trial`] takes at most (bytes):
+/// its record, its grid time, its CoM buffer, one channel's resampled
+/// value and one quaternion.
+pub fn bytes_per_output_sample() -> u64 {
+    (std::mem::size_of::<Record>()
+        + std::mem::size_of::<f64>()
+        + std::mem::size_of::<[[Option<f64>; 3]; 2]>()
+        + std::mem::size_of::<Option<f64>>()
+        + std::mem::size_of::<Option<[f64; 4]>>()) as u64
+}
+
+/// Refuses, before anything is allocated, an output grid from `t_first` to
+/// `t_last` s at `rate_hz` whose records would take more than
+/// [`MAX_RESAMPLE_BYTES`]; `input` names the trial.
+fn check_memory(
+    input: &Path,
+    t_first: f64,
+    t_last: f64,
+    rate_hz: f64,
+) -> Result<(), ResampleError> {
+    let n = ((t_last - t_first) * rate_hz).floor() + 1.0;
+    let per = bytes_per_output_sample();
+    let max_samples = MAX_RESAMPLE_BYTES / per;
+    // (times that give no grid at all are said by `uniform_grid`)
+    if !n.is_finite() || n <= max_samples as f64 {
+        return Ok(());
+    }
+    let shown = limbfuse_core::ShownNumber;
+    Err(ResampleError::Invalid(format!(
+        "{}: its times run from {} s to {} s: at --rate {} Hz that is {} output samples, \
+         {} GB in memory ({per} bytes each), more than the limit of {} GiB \
+         ({max_samples} samples); is there a jump in its `t` column, or resample at a lower --rate",
+        input.display(),
+        shown(t_first),
+        shown(t_last),
+        shown(rate_hz),
+        shown(n),
+        shown((n * per as f64 / 1e9 * 10.0).round() / 10.0),
+        MAX_RESAMPLE_BYTES >> 30
+    )))
 }
 
 /// What [`resample_file`] did.

@@ -332,3 +332,35 @@ fn response_table() {
         }
     }
 }
+
+/// An audit added 1e6 s to `t` from row 251 on: `resample --rate 50` went
+/// on to allocate ~103 GB (50 million records of ~2 KB) and was aborted by
+/// the allocator. Now refused before anything is allocated, with the
+/// file, the rate, the size in memory and the limit.
+#[test]
+fn a_jump_in_t_is_refused_before_allocating_with_the_memory_it_would_take() {
+    let d = tempfile::tempdir().unwrap();
+    let path = d.path().join("jump.csv");
+    std::fs::write(&path, "t,hip_enc\n0,0\n0.1,1\n1000000,2\n").unwrap();
+    let e = resample_trial(
+        TrialReader::open(&path).unwrap(),
+        &ResampleOptions::new(50.0),
+    )
+    .unwrap_err()
+    .to_string();
+    for needle in [
+        "jump.csv",
+        "--rate 50 Hz",
+        "50000001 output samples",
+        "GB in memory",
+        "limit of 10 GiB",
+    ] {
+        assert!(e.contains(needle), "`{needle}` in: {e}");
+    }
+    // The largest legitimate resample, an hour at 1 kHz, stays within it.
+    let hour = 3600.0 * 1000.0 + 1.0;
+    assert!(
+        hour * limbfuse_signal::resample::bytes_per_output_sample() as f64
+            <= limbfuse_signal::resample::MAX_RESAMPLE_BYTES as f64
+    );
+}
