@@ -147,8 +147,10 @@ impl<'a> SampleColumns<'a> {
                     continue;
                 }
                 match slot {
-                    VectorSlot::Acc(_) | VectorSlot::OtherAcc(_) => units.push_acc(&v),
-                    VectorSlot::Gyr(_) | VectorSlot::OtherGyr(_) => units.push_gyr(&v),
+                    VectorSlot::Acc(k) => units.push_acc(k, &v),
+                    VectorSlot::OtherAcc(k) => units.push_acc(4 + k, &v),
+                    VectorSlot::Gyr(k) => units.push_gyr(k, &v),
+                    VectorSlot::OtherGyr(k) => units.push_gyr(4 + k, &v),
                 }
             }
         }

@@ -12,7 +12,11 @@
 //!   angles are 67-83 deg RMSE off, and the warnings speak of rejected
 //!   readings and restarts, not of units.
 //!
-//! [`SensorUnitsWatch`] counts, over all IMUs of both legs:
+//! [`SensorUnitsWatch`] counts, for each IMU of both legs (each IMU on its
+//! own since 2026-12-05: pooled, one trunk gyroscope in deg/s or one shank
+//! accelerometer in g among SI readings passed, and `chain` came out 99 deg
+//! off, `sdre` 7 deg; an IMU with fewer than [`MIN_READINGS`] readings
+//! counts only in the pool of all of them):
 //! - accelerometer readings whose norm lies in 0.5-2 (in the file's unit):
 //!   for a body-worn accelerometer in m/s^2 that is near free fall, which
 //!   walking, standing or sitting never sustains (the mean specific force
@@ -33,7 +37,7 @@
 use std::fmt;
 
 use limbfuse_core::runner::{BoxError, Observer};
-use limbfuse_core::{Estimate, ImuSample, Record};
+use limbfuse_core::{Estimate, ImuSample, Record, Segment};
 use nalgebra::Vector3;
 
 use crate::sample_interval::SampleIntervalWatch;
@@ -54,6 +58,42 @@ const FASTER_THAN_ANY_SEGMENT: f64 = 25.0;
 /// says deg/s.
 const DEGREES_SHARE: f64 = 0.05;
 
+/// IMU slots of [`SensorUnitsWatch`]: the trial's leg's trunk, thigh,
+/// shank and foot, then the other leg's.
+const IMU_SLOTS: usize = 8;
+
+/// The IMUs a [`UnitSuspect`] is about: bit `k` is IMU slot `k` (0-3 the
+/// trial's leg's trunk to foot, 4-7 the other leg's); `every` when it is
+/// every IMU with readings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ImuSet {
+    /// One bit per IMU slot.
+    pub bits: u8,
+    /// Every IMU with readings is in the set.
+    pub every: bool,
+}
+
+impl fmt::Display for ImuSet {
+    /// `""` for every IMU, else `"trunk "`, `"thigh and other leg's shank "`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.every {
+            return Ok(());
+        }
+        let names: Vec<String> = (0..IMU_SLOTS)
+            .filter(|k| self.bits & (1 << k) != 0)
+            .map(|k| {
+                let name = Segment::ALL[k % 4].name();
+                if k < 4 {
+                    name.to_string()
+                } else {
+                    format!("other leg's {name}")
+                }
+            })
+            .collect();
+        write!(f, "{} ", names.join(" and "))
+    }
+}
+
 /// An IMU unit that does not look like SPEC's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum UnitSuspect {
@@ -62,12 +102,16 @@ pub enum UnitSuspect {
     AccelerometerInG {
         /// Share of the readings (0-1).
         share: f64,
+        /// Which accelerometers.
+        which: ImuSet,
     },
     /// Gyroscopes that look like deg/s (`share` of their readings is
     /// faster than 25).
     GyroscopeInDegrees {
         /// Share of the readings (0-1).
         share: f64,
+        /// Which gyroscopes.
+        which: ImuSet,
     },
     /// Joint encoders that look like degrees (`share` of their readings
     /// beyond pi in magnitude).
@@ -80,18 +124,18 @@ pub enum UnitSuspect {
 impl fmt::Display for UnitSuspect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            UnitSuspect::AccelerometerInG { share } => write!(
+            UnitSuspect::AccelerometerInG { share, which } => write!(
                 f,
-                "{:.0} % of the accelerometer readings have a norm of {}-{}, where a body-worn \
+                "{:.0} % of the {which}accelerometer readings have a norm of {}-{}, where a body-worn \
                  accelerometer in m/s^2 reads about g = 9.81: accelerometers must be in m/s^2 \
                  (SPEC section 2); these look like g (multiply them by 9.81)",
                 100.0 * share,
                 G_UNIT_NORMS.0,
                 G_UNIT_NORMS.1
             ),
-            UnitSuspect::GyroscopeInDegrees { share } => write!(
+            UnitSuspect::GyroscopeInDegrees { share, which } => write!(
                 f,
-                "{:.0} % of the gyroscope readings turn faster than {FASTER_THAN_ANY_SEGMENT} \
+                "{:.0} % of the {which}gyroscope readings turn faster than {FASTER_THAN_ANY_SEGMENT} \
                  (rad/s: 1430 deg/s), which no body segment does: gyroscopes must be in rad/s \
                  (SPEC section 2); these look like deg/s (multiply them by pi/180 = 0.017453)",
                 100.0 * share
@@ -161,10 +205,11 @@ impl ReferenceUnitsWatch {
 /// readings beyond pi.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SensorUnitsWatch {
-    acc: u64,
-    acc_in_g_range: u64,
-    gyr: u64,
-    gyr_too_fast: u64,
+    /// Accelerometer readings, and those in [`G_UNIT_NORMS`], per IMU slot.
+    acc: [(u64, u64); IMU_SLOTS],
+    /// Gyroscope readings, and those beyond [`FASTER_THAN_ANY_SEGMENT`],
+    /// per IMU slot.
+    gyr: [(u64, u64); IMU_SLOTS],
     enc: u64,
     enc_beyond_pi: u64,
     /// Which records the [`Observer`] counts.
@@ -175,22 +220,25 @@ impl SensorUnitsWatch {
     /// Samples counted: sample 0, `STRIDE`, `2 STRIDE`, ... of a run.
     pub const STRIDE: usize = 8;
 
-    /// Adds an accelerometer reading (a non-finite norm is not counted).
-    pub fn push_acc(&mut self, a: &Vector3<f64>) {
+    /// Adds a reading of IMU slot `imu`'s accelerometer (0-3 the trial's
+    /// leg's trunk to foot, 4-7 the other leg's; a non-finite norm is not
+    /// counted).
+    pub fn push_acc(&mut self, imu: usize, a: &Vector3<f64>) {
         let n2 = a.norm_squared();
-        if n2.is_finite() {
+        if let (true, Some(c)) = (n2.is_finite(), self.acc.get_mut(imu)) {
             let (lo, hi) = G_UNIT_NORMS;
-            self.acc += 1;
-            self.acc_in_g_range += u64::from((lo * lo..=hi * hi).contains(&n2));
+            c.0 += 1;
+            c.1 += u64::from((lo * lo..=hi * hi).contains(&n2));
         }
     }
 
-    /// Adds a gyroscope reading (a non-finite norm is not counted).
-    pub fn push_gyr(&mut self, w: &Vector3<f64>) {
+    /// Adds a reading of IMU slot `imu`'s gyroscope (a non-finite norm is
+    /// not counted).
+    pub fn push_gyr(&mut self, imu: usize, w: &Vector3<f64>) {
         let n2 = w.norm_squared();
-        if n2.is_finite() {
-            self.gyr += 1;
-            self.gyr_too_fast += u64::from(n2 > FASTER_THAN_ANY_SEGMENT * FASTER_THAN_ANY_SEGMENT);
+        if let (true, Some(c)) = (n2.is_finite(), self.gyr.get_mut(imu)) {
+            c.0 += 1;
+            c.1 += u64::from(n2 > FASTER_THAN_ANY_SEGMENT * FASTER_THAN_ANY_SEGMENT);
         }
     }
 
@@ -202,20 +250,20 @@ impl SensorUnitsWatch {
         }
     }
 
-    /// Adds the complete vectors of one IMU reading.
-    pub fn push_imu(&mut self, imu: &ImuSample) {
+    /// Adds the complete vectors of one reading of IMU slot `slot`.
+    pub fn push_imu(&mut self, slot: usize, imu: &ImuSample) {
         if let Some(a) = &imu.acc {
-            self.push_acc(a);
+            self.push_acc(slot, a);
         }
         if let Some(w) = &imu.gyr {
-            self.push_gyr(w);
+            self.push_gyr(slot, w);
         }
     }
 
     /// Adds a sample's IMU readings (both legs) and encoder readings.
     pub fn push_sample(&mut self, s: &limbfuse_core::Sample) {
-        for imu in s.imu.iter().chain(&s.other_leg_imu) {
-            self.push_imu(imu);
+        for (slot, imu) in s.imu.iter().chain(&s.other_leg_imu).enumerate() {
+            self.push_imu(slot, imu);
         }
         for e in s.encoder.iter().flatten() {
             self.push_encoder(*e);
@@ -225,17 +273,52 @@ impl SensorUnitsWatch {
     /// What looks wrong, accelerometers first.
     pub fn suspects(&self) -> impl Iterator<Item = UnitSuspect> {
         let share = |k: u64, n: u64| (n >= MIN_READINGS).then(|| k as f64 / n as f64);
-        let acc = share(self.acc_in_g_range, self.acc)
-            .filter(|s| *s >= G_UNIT_SHARE)
-            .map(|share| UnitSuspect::AccelerometerInG { share });
-        let gyr = share(self.gyr_too_fast, self.gyr)
-            .filter(|s| *s >= DEGREES_SHARE)
-            .map(|share| UnitSuspect::GyroscopeInDegrees { share });
+        let acc = flagged(&self.acc, G_UNIT_SHARE)
+            .map(|(share, which)| UnitSuspect::AccelerometerInG { share, which });
+        let gyr = flagged(&self.gyr, DEGREES_SHARE)
+            .map(|(share, which)| UnitSuspect::GyroscopeInDegrees { share, which });
         let enc = share(self.enc_beyond_pi, self.enc)
             .filter(|s| *s >= DEGREES_ANGLE_SHARE)
             .map(|share| UnitSuspect::EncoderInDegrees { share });
         acc.into_iter().chain(gyr).chain(enc)
     }
+}
+
+/// The IMU slots whose share of suspect readings (`(readings, suspect)`
+/// per slot) reaches `threshold`, each judged on its own readings when it
+/// has [`MIN_READINGS`], and the share pooled over them; when no slot has
+/// enough readings, all of them pooled.
+fn flagged(counts: &[(u64, u64); IMU_SLOTS], threshold: f64) -> Option<(f64, ImuSet)> {
+    let with_readings = (0..IMU_SLOTS).filter(|&k| counts[k].0 > 0);
+    let present: u8 = with_readings.fold(0, |b, k| b | (1 << k));
+    let judged: Vec<usize> = (0..IMU_SLOTS)
+        .filter(|&k| counts[k].0 >= MIN_READINGS)
+        .collect();
+    let bits: u8 = if judged.is_empty() {
+        let (n, k) = counts.iter().fold((0, 0), |(n, k), c| (n + c.0, k + c.1));
+        if n < MIN_READINGS || (k as f64) < threshold * n as f64 {
+            return None;
+        }
+        present
+    } else {
+        judged
+            .into_iter()
+            .filter(|&k| counts[k].1 as f64 >= threshold * counts[k].0 as f64)
+            .fold(0, |b, k| b | (1 << k))
+    };
+    if bits == 0 {
+        return None;
+    }
+    let (n, k) = (0..IMU_SLOTS)
+        .filter(|k| bits & (1 << k) != 0)
+        .fold((0, 0), |(n, s), j| (n + counts[j].0, s + counts[j].1));
+    Some((
+        k as f64 / n as f64,
+        ImuSet {
+            bits,
+            every: bits == present,
+        },
+    ))
 }
 
 /// The warnings of both unit checks, time column first: what `estimate`,
@@ -276,8 +359,8 @@ mod tests {
         let mut u = SensorUnitsWatch::default();
         for k in 0..1000 {
             let (a, w) = walking(k, peak);
-            u.push_acc(&(a * acc_scale));
-            u.push_gyr(&(w * gyr_scale));
+            u.push_acc(0, &(a * acc_scale));
+            u.push_gyr(0, &(w * gyr_scale));
         }
         u.suspects().collect()
     }
@@ -291,7 +374,7 @@ mod tests {
     #[test]
     fn accelerometers_in_g_are_named() {
         let s = watch(1.0 / 9.81, 1.0, 3.0);
-        assert!(matches!(s[..], [UnitSuspect::AccelerometerInG { share }] if share > 0.9));
+        assert!(matches!(s[..], [UnitSuspect::AccelerometerInG { share, .. }] if share > 0.9));
         assert!(s[0]
             .to_string()
             .contains("look like g (multiply them by 9.81)"));
@@ -300,7 +383,7 @@ mod tests {
     #[test]
     fn gyroscopes_in_degrees_are_named() {
         let s = watch(1.0, 180.0 / core::f64::consts::PI, 3.0);
-        assert!(matches!(s[..], [UnitSuspect::GyroscopeInDegrees { share }] if share > 0.5));
+        assert!(matches!(s[..], [UnitSuspect::GyroscopeInDegrees { share, .. }] if share > 0.5));
         assert!(s[0].to_string().contains("look like deg/s"));
         // both at once, accelerometers first
         let s = watch(1.0 / 9.81, 180.0 / core::f64::consts::PI, 3.0);
@@ -317,12 +400,12 @@ mod tests {
     fn too_few_readings_say_nothing() {
         let mut u = SensorUnitsWatch::default();
         for _ in 0..MIN_READINGS - 1 {
-            u.push_acc(&Vector3::new(0.0, 1.0, 0.0));
-            u.push_gyr(&Vector3::new(0.0, 0.0, 100.0));
+            u.push_acc(0, &Vector3::new(0.0, 1.0, 0.0));
+            u.push_gyr(0, &Vector3::new(0.0, 0.0, 100.0));
         }
         assert_eq!(u.suspects().count(), 0);
-        u.push_acc(&Vector3::new(0.0, 1.0, 0.0));
-        u.push_gyr(&Vector3::new(0.0, 0.0, 100.0));
+        u.push_acc(0, &Vector3::new(0.0, 1.0, 0.0));
+        u.push_gyr(0, &Vector3::new(0.0, 0.0, 100.0));
         assert_eq!(u.suspects().count(), 2);
     }
 
@@ -350,12 +433,49 @@ mod tests {
         assert_eq!(rad.warning(), None);
     }
 
+    /// Twenty-seventh session's audit: pooled over every IMU, one trunk
+    /// gyroscope in deg/s (walking trunk: up to ~30 deg/s) or one shank
+    /// accelerometer in g among SI readings passed; each IMU is judged on
+    /// its own now, and the message names it.
+    #[test]
+    fn one_imu_in_the_wrong_unit_is_named() {
+        let mut u = SensorUnitsWatch::default();
+        for k in 0..400 {
+            let (a, w) = walking(k, 8.0);
+            for slot in 0..4 {
+                let gyr = if slot == 0 {
+                    w * 0.1 * 180.0 / core::f64::consts::PI
+                } else {
+                    w
+                };
+                let acc = if slot == 2 { a / 9.81 } else { a };
+                u.push_gyr(slot, &gyr);
+                u.push_acc(slot, &acc);
+            }
+        }
+        let s: Vec<String> = u.suspects().map(|x| x.to_string()).collect();
+        assert_eq!(s.len(), 2, "{s:?}");
+        assert!(
+            s[0].contains("of the shank accelerometer readings"),
+            "{}",
+            s[0]
+        );
+        assert!(s[1].contains("of the trunk gyroscope readings"), "{}", s[1]);
+        // Every IMU in the wrong unit: said of all of them, as before.
+        let s = watch(1.0 / 9.81, 1.0, 3.0);
+        assert!(
+            s[0].to_string().contains("of the accelerometer readings"),
+            "{}",
+            s[0]
+        );
+    }
+
     #[test]
     fn rare_glitches_are_not_degrees() {
         let mut u = SensorUnitsWatch::default();
         for k in 0..1000 {
             let fast = if k % 40 == 0 { 1e3 } else { 1.0 };
-            u.push_gyr(&Vector3::new(0.0, 0.0, fast));
+            u.push_gyr(0, &Vector3::new(0.0, 0.0, fast));
         }
         assert_eq!(u.suspects().count(), 0);
     }

@@ -180,3 +180,36 @@ fn encoders_and_references_in_degrees_are_named() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(v.get("warnings").is_none());
 }
+
+/// Twenty-seventh session's generalisation audit: the checks pooled every
+/// IMU, so one IMU in the wrong unit among SI ones passed without a word
+/// (the independent 1.2 m/s walk with the trunk gyroscope in deg/s: `chain`
+/// 99 deg off, `mjls` 39). Each IMU is judged on its own now, and the
+/// warning names it.
+#[test]
+fn one_imu_in_the_wrong_unit_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let text = walk(dir);
+    let trunk_deg = scaled(
+        &text,
+        |n| n.starts_with("trunk_gyr_"),
+        180.0 / std::f64::consts::PI,
+    );
+    std::fs::write(dir.join("td.csv"), trunk_deg).unwrap();
+    let err = estimate_stderr(dir, "td.csv");
+    assert!(
+        err.contains("of the trunk gyroscope readings turn faster")
+            && err.contains("look like deg/s"),
+        "{err}"
+    );
+    let shank_g = scaled(&text, |n| n.starts_with("shank_acc_"), 1.0 / 9.81);
+    std::fs::write(dir.join("sg.csv"), shank_g).unwrap();
+    let o = limbfuse(&["inspect", "sg.csv"], dir);
+    let out = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(
+        out.contains("of the shank accelerometer readings have a norm")
+            && out.contains("look like g"),
+        "{out}"
+    );
+}
