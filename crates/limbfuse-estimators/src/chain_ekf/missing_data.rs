@@ -51,6 +51,32 @@ pub fn is_blind(sample: &Sample) -> bool {
     sample.imu.iter().all(|imu| imu.is_empty()) && sample.encoder.iter().all(Option::is_none)
 }
 
+/// The current run of blind samples ([`is_blind`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BlindRun {
+    since: Option<f64>,
+}
+
+impl BlindRun {
+    /// Adds a sample: whether it is blind and the run has lasted longer
+    /// than `limit` seconds.
+    pub fn observe(&mut self, sample: &Sample, limit: f64) -> bool {
+        if is_blind(sample) {
+            let since = *self.since.get_or_insert(sample.t);
+            sample.t - since > limit
+        } else {
+            self.since = None;
+            false
+        }
+    }
+
+    /// Whether the last sample was blind: it holds nothing for the start-up
+    /// window, which opens at the next reading.
+    pub fn active(&self) -> bool {
+        self.since.is_some()
+    }
+}
+
 /// The longest run of blind samples ([`is_blind`]) the chain predicts
 /// through (s): the time after which the leg segments' angular-jerk noise
 /// alone (`leg_jerk` = `q`, rad^2/s^5; the constant-angular-acceleration

@@ -39,7 +39,7 @@ use covariance::{predict_covariance, predict_state, scalar_update, Covariance, S
 pub use kinematics::{ChainGeometry, OutOfPlane};
 pub use missing_data::DIVERGED_RATE_RAD_S;
 pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
-use startup::Startup;
+use startup::{initial, Startup};
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
     MEAN_SPEED,
@@ -69,22 +69,6 @@ diagnostic_set! {
         /// 1-sigma of the foot angle (rad).
         SdFoot = "sd_foot",
     }
-}
-
-/// Initial 1-sigma of the state after the start-up window.
-mod initial {
-    /// Segment angles (rad): the start-up mean is good to a few degrees.
-    pub const ANGLE: f64 = 0.5;
-    /// Rates (rad/s) about the latest gyro reading.
-    pub const RATE: f64 = 0.1;
-    /// Angular accelerations (rad/s^2).
-    pub const ANGULAR_ACCELERATION: f64 = 20.0;
-    /// Hip velocity and mean speed (m/s): walking speed is unknown.
-    pub const VELOCITY: f64 = 1.0;
-    /// Hip acceleration (m/s^2).
-    pub const ACCELERATION: f64 = 3.0;
-    /// Encoder offsets about the start-up estimate (rad).
-    pub const ENCODER_OFFSET: f64 = 0.05;
 }
 
 /// Typical angular acceleration of the foot at heel-off (rad/s^2), for the
@@ -127,9 +111,8 @@ pub struct ChainEkf {
     /// Factor on every measurement variance at the recording's nominal
     /// sample period ([`sample_period`]).
     variance_scale: f64,
-    /// Time of the first sample of the current run of blind samples
-    /// ([`missing_data::is_blind`]).
-    blind_since: Option<f64>,
+    /// The current run of samples without any reading.
+    blind: missing_data::BlindRun,
 }
 
 /// How a step's filtered state follows from the previous step's (what an
@@ -192,7 +175,7 @@ impl ChainEkf {
             link: Link::None,
             widening: 0.0,
             variance_scale: 1.0,
-            blind_since: None,
+            blind: Default::default(),
         })
     }
 
@@ -515,7 +498,7 @@ impl Estimator for ChainEkf {
         self.link = Link::None;
         self.widening = 0.0;
         self.variance_scale = 1.0;
-        self.blind_since = None;
+        self.blind = Default::default();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -530,16 +513,11 @@ impl Estimator for ChainEkf {
             self.restart_startup();
             dt = None;
         }
-        if missing_data::is_blind(sample) {
-            let since = *self.blind_since.get_or_insert(sample.t);
-            let limit = missing_data::blind_limit_s(self.params.leg_jerk, initial::ANGLE);
-            if self.running && sample.t - since > limit {
-                // Nothing measured for longer than the prediction is worth:
-                // the start-up window begins again, as after a time gap.
-                self.restart_startup();
-            }
-        } else {
-            self.blind_since = None;
+        let limit = missing_data::blind_limit_s(self.params.leg_jerk, initial::ANGLE);
+        if self.blind.observe(sample, limit) && self.running {
+            // Nothing measured for longer than the prediction is worth:
+            // the start-up window begins again, as after a time gap.
+            self.restart_startup();
         }
         let mut est = Estimate::empty(sample.t);
         let (mut stance, mut rejected) = (false, 0);
@@ -552,9 +530,7 @@ impl Estimator for ChainEkf {
                     widening: self.widening,
                 };
             }
-            // A blind sample ([`missing_data::is_blind`]) holds nothing for
-            // the start-up window: it opens at the next reading.
-            _ if self.blind_since.is_some() => {}
+            _ if self.blind.active() => {} // (`BlindRun::active`)
             _ => {
                 self.startup.observe(sample, dt);
                 if self.held < self.window.len() {

@@ -112,6 +112,22 @@ impl Startup {
     }
 }
 
+/// Initial 1-sigma of the state after the start-up window.
+pub mod initial {
+    /// Segment angles (rad): the start-up mean is good to a few degrees.
+    pub const ANGLE: f64 = 0.5;
+    /// Rates (rad/s) about the latest gyro reading.
+    pub const RATE: f64 = 0.1;
+    /// Angular accelerations (rad/s^2).
+    pub const ANGULAR_ACCELERATION: f64 = 20.0;
+    /// Hip velocity and mean speed (m/s): walking speed is unknown.
+    pub const VELOCITY: f64 = 1.0;
+    /// Hip acceleration (m/s^2).
+    pub const ACCELERATION: f64 = 3.0;
+    /// Encoder offsets about the start-up estimate (rad).
+    pub const ENCODER_OFFSET: f64 = 0.05;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
