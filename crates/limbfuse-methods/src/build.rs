@@ -20,7 +20,10 @@ pub fn build(
     meta: &TrialMeta,
     layout: &TrialLayout,
 ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-    let ranges = crate::gated::sensor_ranges(meta)?;
+    let mut ranges = crate::gated::sensor_ranges(meta)?;
+    if spec.method().info().keeps_clipped_gyro {
+        ranges.gyro_full_scale_rad_s = None;
+    }
     let inner = spec.build_estimator(meta, layout)?;
     Ok(Box::new(crate::gated::GatedEstimator::new(inner, ranges)))
 }
