@@ -15,7 +15,7 @@
 use std::fmt;
 
 use limbfuse_core::runner::{BoxError, Observer};
-use limbfuse_core::{Estimate, Record};
+use limbfuse_core::{Estimate, Record, ShownNumber};
 
 /// Steps looked at: the first 64 (0.64 s at 100 Hz; enough for a median
 /// that one dropout or a jittered clock does not move).
@@ -68,15 +68,17 @@ impl fmt::Display for IntervalMismatch {
         let step = self.median_step;
         write!(
             f,
-            "the time column `t` steps by a median {step} over its first {} samples, i.e. {} Hz if `t` is in seconds",
+            "the time column `t` steps by a median {} over its first {} samples, i.e. {} Hz if `t` is in seconds",
+            ShownNumber(step),
             self.steps + 1,
-            1.0 / step
+            ShownNumber(1.0 / step)
         )?;
         match self.stated_hz {
             Some(hz) => write!(
                 f,
-                ", but the trial's `# sample_rate_hz: {hz}` means steps of {} s",
-                1.0 / hz
+                ", but the trial's `# sample_rate_hz: {}` means steps of {} s",
+                ShownNumber(hz),
+                ShownNumber(1.0 / hz)
             )?,
             None => write!(
                 f,

@@ -1,0 +1,226 @@
+//! The fuzz audit of session 27, its messages: numbers printed with every
+//! digit (`1e308` as 309 digits) and internal names (`mean_angle_rad[1]`,
+//! `rate_hz`, `duration_s * imu_rate_hz`, "starts:") instead of the flag
+//! the user gave. Now: the flag, and the number as `ShownNumber` shows it.
+
+use std::path::Path;
+use std::process::Output;
+
+use crate::support::{edit_cells, limbfuse};
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The longest run of digits in `s`.
+fn longest_digit_run(s: &str) -> usize {
+    s.split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0)
+}
+
+/// Exit 1, every needle in stderr, no number written out with more than 20
+/// digits, none of the `hidden` internal names.
+fn assert_short_user_error(o: &Output, needles: &[&str], hidden: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
+    assert!(!e.contains("panicked"), "{e}");
+    for n in needles {
+        assert!(e.contains(n), "expected `{n}` in: {e}");
+    }
+    for h in hidden {
+        assert!(!e.contains(h), "`{h}` (an internal name) in: {e}");
+    }
+    assert!(longest_digit_run(&e) <= 20, "a long number in: {e}");
+}
+
+/// A simulated walk of `seconds` s, `name` in `dir`.
+fn walk(dir: &Path, seconds: &str, name: &str) {
+    let o = limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            seconds,
+            "--seed",
+            "1",
+            "-o",
+            name,
+        ],
+        dir,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// `align --mean-angle thigh=1e308` printed a 300-digit number of radians
+/// and named `option mean_angle_rad[1]`.
+#[test]
+fn align_mean_angle_of_1e308_names_the_flag_with_the_number_short() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "5", "w.csv");
+    let o = limbfuse(
+        &[
+            "align",
+            "--mean-angle",
+            "thigh=1e308",
+            "w.csv",
+            "-o",
+            "o.csv",
+        ],
+        d.path(),
+    );
+    assert_short_user_error(
+        &o,
+        &["--mean-angle thigh=1e308", "[-180, 180]"],
+        &["mean_angle_rad"],
+    );
+}
+
+/// `simulate walking --imu-rate 1e308`, `knee-fes --rate 1e-300` (named
+/// `rate_hz`), `knee-fes --rate 5` (named `rate_hz`), `walking --duration
+/// 1e-300` and `montecarlo --duration 1e-300` ("duration_s * imu_rate_hz =
+/// 0") named internal fields or printed every digit.
+#[test]
+fn simulation_rates_and_durations_far_out_of_range_name_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &[&str]); 6] = [
+        (
+            &["simulate", "walking", "--imu-rate", "1e308", "-o", "x.csv"],
+            &["--imu-rate 1e308", "--force"],
+        ),
+        (
+            &["simulate", "knee-fes", "--rate", "1e-300", "-o", "x.csv"],
+            &["--imu-rate 1e-300", "less than one sample"],
+        ),
+        (
+            &["simulate", "knee-fes", "--rate", "5", "-o", "x.csv"],
+            &["--imu-rate 5", "[10, 2000] Hz"],
+        ),
+        (
+            &["simulate", "fixed-hip", "--rate", "5", "-o", "x.csv"],
+            &["--imu-rate 5", "[10, 2000] Hz"],
+        ),
+        (
+            &["simulate", "walking", "--duration", "1e-300", "-o", "x.csv"],
+            &[
+                "--duration 1e-300",
+                "--imu-rate 100",
+                "less than one sample",
+            ],
+        ),
+        (
+            &["montecarlo", "--duration", "1e-300", "-o", "mc.csv"],
+            &["--duration 1e-300", "less than one sample"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let o = limbfuse(args, d.path());
+        assert_short_user_error(&o, needles, &["rate_hz", "duration_s"]);
+    }
+    assert!(!d.path().join("x.csv").exists());
+}
+
+/// `evaluate --method mjls --starts 0` and `tune --starts 0` said
+/// "starting points: starts: ...", `tune --particles 0` "particles: ...":
+/// no flag named.
+#[test]
+fn starts_and_particles_of_zero_name_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "30", "w.csv");
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["evaluate", "w.csv", "--method", "mjls", "--starts", "0"],
+            "--starts 0",
+        ),
+        (
+            &[
+                "tune", "w.csv", "--method", "mjls", "--starts", "0", "-o", "p.toml",
+            ],
+            "--starts 0",
+        ),
+        (
+            &[
+                "tune",
+                "w.csv",
+                "--method",
+                "mjls",
+                "--particles",
+                "0",
+                "-o",
+                "p.toml",
+            ],
+            "--particles 0",
+        ),
+    ];
+    for (args, flag) in cases {
+        let o = limbfuse(args, d.path());
+        assert_short_user_error(&o, &[flag], &["starts: ", "particles: "]);
+    }
+}
+
+/// `tune --window 0:1e308`, `--validate 1e308:1e308` and `evaluate --starts
+/// 3 --length 1e-300` printed their numbers with every digit.
+#[test]
+fn windows_and_lengths_far_out_of_range_show_their_numbers_short() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "30", "w.csv");
+    let tune = |flag: &str, value: &str| {
+        limbfuse(
+            &[
+                "tune", "w.csv", "--method", "mjls", flag, value, "-o", "p.toml",
+            ],
+            d.path(),
+        )
+    };
+    assert_short_user_error(&tune("--window", "0:1e308"), &["1e308 s"], &[]);
+    assert_short_user_error(
+        &tune("--validate", "1e308:1e308"),
+        &["--validate", "1e308"],
+        &[],
+    );
+    let o = limbfuse(
+        &[
+            "evaluate", "w.csv", "--method", "mjls", "--starts", "3", "--length", "1e-300",
+        ],
+        d.path(),
+    );
+    assert_short_user_error(&o, &["1e-300 s"], &[]);
+}
+
+/// `estimate` of a walk whose `t` is scaled by 1e-300 warned that `t`
+/// "steps by a median 0.000...0001" (300 zeros), and the rejection warning
+/// said "first at t = 0.000...".
+#[test]
+fn the_time_unit_warning_shows_a_tiny_step_short() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "5", "w.csv");
+    let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
+    let tiny = edit_cells(&text, |_, name, cell| {
+        (name == "t").then(|| format!("{:e}", cell.parse::<f64>().unwrap() * 1e-300))
+    });
+    std::fs::write(d.path().join("tiny.csv"), tiny).unwrap();
+    let o = limbfuse(
+        &["estimate", "tiny.csv", "--method", "mjls", "-o", "e.csv"],
+        d.path(),
+    );
+    let e = stderr(&o);
+    assert!(e.contains("steps by a median 1"), "{e}");
+    assert!(e.contains("e-302"), "{e}");
+    assert!(longest_digit_run(&e) <= 20, "a long number in: {e}");
+}
+
+/// A `chain` parameter file with `height_m = 1e30` printed 31 digits.
+#[test]
+fn a_chain_height_of_1e30_is_shown_short() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "5", "w.csv");
+    std::fs::write(d.path().join("p.toml"), "[geometry]\nheight_m = 1e30\n").unwrap();
+    let o = limbfuse(
+        &[
+            "estimate", "w.csv", "--method", "chain", "--params", "p.toml", "-o", "e.csv",
+        ],
+        d.path(),
+    );
+    assert_short_user_error(&o, &["p.toml", "height_m = 1e30", "1 to 2.5 m"], &[]);
+}
