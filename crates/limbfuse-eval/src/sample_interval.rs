@@ -124,6 +124,13 @@ impl SampleIntervalWatch {
         )
     }
 
+    /// [`Self::for_trial`] for a command that uses the stated rate: a
+    /// `# sample_rate_hz:` that is not a positive number is an error naming
+    /// the line ([`limbfuse_io::TrialMeta::sample_rate_hz`]).
+    pub fn checked_for_trial(meta: &limbfuse_io::TrialMeta) -> Result<Self, String> {
+        Ok(Self::new(meta.sample_rate_hz()?))
+    }
+
     /// The rate the trial states, if it is a positive finite number.
     pub fn stated_hz(&self) -> Option<f64> {
         self.stated_hz

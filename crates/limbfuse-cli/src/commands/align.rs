@@ -77,7 +77,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         );
     }
     let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
-    super::warn_input_units(&a.trial, &meta, &records);
+    super::warn_input_units(&a.trial, &meta, &records)?;
     if let Some(path) = &a.imu_calibration {
         let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;
         records.iter_mut().for_each(|r| cal.apply(r));

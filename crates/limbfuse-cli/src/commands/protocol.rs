@@ -35,7 +35,7 @@ pub fn read_trial(path: &std::path::Path, method: MethodName) -> Result<TrialInM
     let (meta, layout) = (reader.meta().clone(), *reader.layout());
     let records = reader.collect::<Result<Vec<_>, _>>()?;
     // (`tune` and `evaluate --starts` run the method over these records)
-    super::warn_input_units(path, &meta, &records);
+    super::warn_input_units(path, &meta, &records)?;
     Ok(TrialInMemory {
         meta,
         layout,
