@@ -66,7 +66,7 @@ impl OptionOutOfRange {
         };
         let (option, range) = match name {
             "duration_s" => ("duration", "[1, 3600] s"),
-            "rate_hz" => ("imu_rate", "[10, 2000] Hz"),
+            "rate_hz" => ("rate", "[10, 2000] Hz"),
             _ => return None,
         };
         Some(OptionOutOfRange {

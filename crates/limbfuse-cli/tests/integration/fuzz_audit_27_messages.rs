@@ -78,7 +78,8 @@ fn align_mean_angle_of_1e308_names_the_flag_with_the_number_short() {
 }
 
 /// `simulate walking --imu-rate 1e308`, `knee-fes --rate 1e-300` (named
-/// `rate_hz`), `knee-fes --rate 5` (named `rate_hz`), `walking --duration
+/// `rate_hz`), `knee-fes` / `fixed-hip --rate 5` (named `rate_hz`; now
+/// `--rate`, the flag's alias and the Python option), `walking --duration
 /// 1e-300` and `montecarlo --duration 1e-300` ("duration_s * imu_rate_hz =
 /// 0") named internal fields or printed every digit.
 #[test]
@@ -95,11 +96,11 @@ fn simulation_rates_and_durations_far_out_of_range_name_the_flag() {
         ),
         (
             &["simulate", "knee-fes", "--rate", "5", "-o", "x.csv"],
-            &["--imu-rate 5", "[10, 2000] Hz"],
+            &["--rate 5", "[10, 2000] Hz"],
         ),
         (
             &["simulate", "fixed-hip", "--rate", "5", "-o", "x.csv"],
-            &["--imu-rate 5", "[10, 2000] Hz"],
+            &["--rate 5", "[10, 2000] Hz"],
         ),
         (
             &["simulate", "walking", "--duration", "1e-300", "-o", "x.csv"],
