@@ -18,7 +18,10 @@ pub const MAX_SAMPLES: f64 = 86_400_000.0;
 /// `value` of `flag` must be a finite number > 0.
 pub fn positive(flag: &str, value: f64, unit: &str) -> Result<()> {
     if !(value.is_finite() && value > 0.0) {
-        bail!("{flag} {value}: expected a positive number of {unit}");
+        bail!(
+            "{flag} {}: expected a positive number of {unit}",
+            limbfuse_methods::shown(value)
+        );
     }
     Ok(())
 }
@@ -42,10 +45,20 @@ pub fn simulated_length(
 ) -> Result<()> {
     positive(duration, duration_s, "seconds")?;
     positive(rate_flag, rate_hz, "Hz")?;
+    let d = limbfuse_methods::shown(duration_s);
+    let r = limbfuse_methods::shown(rate_hz);
+    // (an audit: `--duration 1e-300` was reported as the simulator's
+    // `duration_s * imu_rate_hz = 0`, naming neither flag)
+    if (duration_s * rate_hz).round() < 1.0 {
+        bail!(
+            "{duration} {d} at {rate_flag} {r}: less than one sample; expected at least one \
+             sample period ({} s)",
+            limbfuse_methods::shown(1.0 / rate_hz)
+        );
+    }
     if force {
         return Ok(());
     }
-    let d = limbfuse_methods::shown(duration_s);
     if duration_s > MAX_DURATION_S {
         bail!(
             "{duration} {d}: longer than the cap of {MAX_DURATION_S} s (24 h of simulated time; \
@@ -55,7 +68,7 @@ pub fn simulated_length(
     let samples = duration_s * rate_hz;
     if samples > MAX_SAMPLES {
         bail!(
-            "{duration} {d} at {rate_flag} {rate_hz}: {samples:.3e} samples, more than the cap of \
+            "{duration} {d} at {rate_flag} {r}: {samples:.3e} samples, more than the cap of \
              {MAX_SAMPLES:.3e} (24 h at 1 kHz); pass --force to simulate it anyway"
         );
     }

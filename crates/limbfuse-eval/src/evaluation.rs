@@ -3,6 +3,7 @@
 use std::fmt;
 use std::path::Path;
 
+use limbfuse_core::ShownNumber;
 use limbfuse_io::{EstimateReader, FileError, TrialFingerprint, TrialReader};
 
 use crate::metrics::{AngleMetrics, Evaluation};
@@ -46,7 +47,11 @@ impl TimeWindow {
         };
         if let (Some(s), Some(e)) = (w.start, w.end) {
             if e <= s {
-                return Err(format!("window end {e} s is not after its start {s} s"));
+                return Err(format!(
+                    "window end {} s is not after its start {} s",
+                    ShownNumber(e),
+                    ShownNumber(s)
+                ));
             }
         }
         Ok(w)
@@ -55,8 +60,12 @@ impl TimeWindow {
 
 impl fmt::Display for TimeWindow {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let s = self.start.map_or(String::new(), |v| v.to_string());
-        let e = self.end.map_or(String::new(), |v| v.to_string());
+        let s = self
+            .start
+            .map_or(String::new(), |v| ShownNumber(v).to_string());
+        let e = self
+            .end
+            .map_or(String::new(), |v| ShownNumber(v).to_string());
         write!(f, "{s}:{e} s")
     }
 }

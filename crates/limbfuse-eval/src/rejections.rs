@@ -31,7 +31,7 @@ impl fmt::Display for Rejected {
              (first at t = {} s): outside the sensors' range, a non-physical jump, a stuck sensor or an \
              innovation beyond the filter's chi-square gate; they were treated as missing (the trial's \
              `# gyro_range_rad_s:` and `# acc_range_m_s2:` set the range; docs/ROBUST_INPUT.md)",
-            self.first_t
+            limbfuse_core::ShownNumber(self.first_t)
         )
     }
 }

@@ -46,7 +46,7 @@ impl fmt::Display for Resets {
             if self.count == 1 { "" } else { "s" },
             self.samples,
             self.of_samples,
-            self.first_t
+            limbfuse_core::ShownNumber(self.first_t)
         )
     }
 }

@@ -15,7 +15,7 @@
 use std::fmt;
 
 use limbfuse_core::runner::{BoxError, Observer};
-use limbfuse_core::{Estimate, Record};
+use limbfuse_core::{Estimate, Record, ShownNumber};
 
 /// Steps looked at: the first 64 (0.64 s at 100 Hz; enough for a median
 /// that one dropout or a jittered clock does not move).
@@ -68,15 +68,17 @@ impl fmt::Display for IntervalMismatch {
         let step = self.median_step;
         write!(
             f,
-            "the time column `t` steps by a median {step} over its first {} samples, i.e. {} Hz if `t` is in seconds",
+            "the time column `t` steps by a median {} over its first {} samples, i.e. {} Hz if `t` is in seconds",
+            ShownNumber(step),
             self.steps + 1,
-            1.0 / step
+            ShownNumber(1.0 / step)
         )?;
         match self.stated_hz {
             Some(hz) => write!(
                 f,
-                ", but the trial's `# sample_rate_hz: {hz}` means steps of {} s",
-                1.0 / hz
+                ", but the trial's `# sample_rate_hz: {}` means steps of {} s",
+                ShownNumber(hz),
+                ShownNumber(1.0 / hz)
             )?,
             None => write!(
                 f,
@@ -120,6 +122,13 @@ impl SampleIntervalWatch {
             meta.get("sample_rate_hz")
                 .and_then(|v| v.trim().parse().ok()),
         )
+    }
+
+    /// [`Self::for_trial`] for a command that uses the stated rate: a
+    /// `# sample_rate_hz:` that is not a positive number is an error naming
+    /// the line ([`limbfuse_io::TrialMeta::sample_rate_hz`]).
+    pub fn checked_for_trial(meta: &limbfuse_io::TrialMeta) -> Result<Self, String> {
+        Ok(Self::new(meta.sample_rate_hz()?))
     }
 
     /// The rate the trial states, if it is a positive finite number.

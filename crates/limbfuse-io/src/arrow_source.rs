@@ -283,11 +283,18 @@ impl ArrowSource {
         }
     }
 
-    /// The cell as text, for an error message.
+    /// The cell as text, for an error message: a text cell as written (an
+    /// audit: `1e999` in a `Utf8` column was shown as `inf`, where the CSV
+    /// reader shows `1e999`), a number as `ShownNumber` writes it.
     pub(crate) fn found(&self, col: usize) -> String {
-        match self.number(col) {
-            Ok(Some(v)) => v.to_string(),
-            _ => String::from_utf8_lossy(self.text(col)).into_owned(),
+        match &self.columns[col] {
+            ColumnView::Text(_) | ColumnView::LargeText(_) => {
+                String::from_utf8_lossy(self.text(col)).into_owned()
+            }
+            _ => match self.number(col) {
+                Ok(Some(v)) => limbfuse_core::ShownNumber(v).to_string(),
+                _ => String::new(),
+            },
         }
     }
 }

@@ -346,6 +346,8 @@ impl Calibration {
                     return Err(value(key("gyro_bias"), "three finite numbers (rad/s)"));
                 }
             }
+            crate::calibration_bounds::check(&e.acc_bias, &m, e.gyro_bias)
+                .map_err(|(k, expected)| value(key(k), &expected))?;
             let fit = e.poses.map(|poses| FitSummary {
                 poses,
                 residual_rms: e.residual_rms.unwrap_or(f64::NAN),

@@ -335,6 +335,30 @@ impl GaitLibraryFile {
                     g.speed
                 )));
             }
+            // (an audit: empty SS1/DS/SS2 and all-zero times were accepted)
+            let t = &g.trajectory;
+            for (phase, rows) in [("SS1", &t.ss1), ("DS", &t.ds), ("SS2", &t.ss2)] {
+                let times_rise = rows.windows(2).all(|w| w[1][0] >= w[0][0]);
+                let span = rows.last().zip(rows.first()).map(|(l, f)| l[0] - f[0]);
+                if rows.len() < 2
+                    || rows.iter().flatten().any(|v| !v.is_finite())
+                    || !times_rise
+                    || !span.is_some_and(|s| s > 0.0)
+                {
+                    return Err(bad(format!(
+                        "`gaits[{i}].trajectory.{phase}` (speed {} m/s): expected at least two \
+                         finite rows [t, x, y, z, vx, vy, vz] with times rising over the phase, \
+                         found {} row(s){}",
+                        g.speed,
+                        rows.len(),
+                        if rows.len() >= 2 {
+                            " whose times do not rise"
+                        } else {
+                            ""
+                        }
+                    )));
+                }
+            }
         }
         Ok(())
     }
@@ -377,7 +401,11 @@ mod tests {
                 periodicity_residual: 1e-9,
                 vertical_excursion: 0.03,
                 lateral_excursion: 0.05,
-                trajectory: PhaseTrajectories::default(),
+                trajectory: PhaseTrajectories {
+                    ss1: vec![[0.0; 7], [0.32, 0.2, 0.0, 0.95, 0.6, 0.0, 0.0]],
+                    ds: vec![[0.32, 0.2, 0.0, 0.95, 0.6, 0.0, 0.0], [0.49; 7]],
+                    ss2: vec![[0.49; 7], [0.81; 7]],
+                },
             }],
         }
     }
@@ -463,5 +491,33 @@ mod tests {
             e.to_string().contains("increasing speed, each speed once"),
             "{e}"
         );
+    }
+
+    /// An audit: a library with an empty `SS1`/`DS`/`SS2` trajectory or
+    /// with all-zero trajectory times was accepted by `estimate --method
+    /// imm-bslip` and `simulate bslip`. Now refused with the JSON path.
+    #[test]
+    fn empty_or_timeless_trajectories_are_refused_with_the_json_path() {
+        let text = serde_json::to_string(&sample()).unwrap();
+        assert!(GaitLibraryFile::parse(Path::new("lib.json"), &text).is_ok());
+        let mut lib = sample();
+        lib.gaits[0].trajectory.ds.clear();
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("lib.json") && e.contains("`gaits[0].trajectory.DS`"),
+            "{e}"
+        );
+        let mut lib = sample();
+        for row in &mut lib.gaits[0].trajectory.ss2 {
+            row[0] = 0.0;
+        }
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`gaits[0].trajectory.SS2`"), "{e}");
     }
 }

@@ -13,6 +13,7 @@ pub mod atomic_file;
 pub mod body_meta;
 pub mod bounded_text;
 pub mod calibration;
+pub mod calibration_bounds;
 mod cell_format;
 mod cell_sink;
 pub mod content_hash;

@@ -90,6 +90,29 @@ impl TrialMeta {
         }
     }
 
+    /// The stated sample rate (Hz): the `sample_rate_hz` entry, `None`
+    /// without one. An entry that is not a positive finite number is an
+    /// error naming it (an audit found `# sample_rate_hz: abc`, `nan`,
+    /// `-100` and `0` taken for no rate by `estimate`, in CSV and Arrow
+    /// trials alike).
+    pub fn sample_rate_hz(&self) -> Result<Option<f64>, String> {
+        match self.get("sample_rate_hz") {
+            None => Ok(None),
+            Some(text) => text
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|hz| hz.is_finite() && *hz > 0.0)
+                .map(Some)
+                .ok_or_else(|| {
+                    format!(
+                        "metadata `# sample_rate_hz: {text}`: expected the sample rate in Hz, \
+                         a positive number (e.g. 100)"
+                    )
+                }),
+        }
+    }
+
     /// The sensor ranges of the trial: its `gyro_range_rad_s` and
     /// `acc_range_m_s2` entries where given, the datasheet defaults of
     /// [`SensorRanges::default`] otherwise. A gyroscope range given is the
@@ -127,6 +150,19 @@ mod tests {
 
     /// `# g:` that is not a positive finite number is an error naming the
     /// line (it was taken for 9.81 with nothing said); absent, 9.81.
+    #[test]
+    fn sample_rate_is_the_line_or_an_error() {
+        let mut m = TrialMeta::trial_v1();
+        assert_eq!(m.sample_rate_hz(), Ok(None));
+        m.set("sample_rate_hz", " 50 ");
+        assert_eq!(m.sample_rate_hz(), Ok(Some(50.0)));
+        for bad in ["abc", "0", "-100", "nan", "inf", ""] {
+            m.set("sample_rate_hz", bad);
+            let e = m.sample_rate_hz().unwrap_err();
+            assert!(e.contains(&format!("`# sample_rate_hz: {bad}`")), "{e}");
+        }
+    }
+
     #[test]
     fn gravity_is_the_g_line_or_an_error() {
         let mut m = TrialMeta::trial_v1();

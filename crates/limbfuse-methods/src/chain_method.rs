@@ -180,7 +180,7 @@ pub enum GeometryError {
     #[error(transparent)]
     Range(#[from] limbfuse_estimators::chain_ekf::ChainParamsError),
     /// The height is not 1-2.5 m.
-    #[error("height_m = {0}: expected a body height of 1 to 2.5 m")]
+    #[error("height_m = {}: expected a body height of 1 to 2.5 m", crate::shown(*.0))]
     Height(f64),
 }
 

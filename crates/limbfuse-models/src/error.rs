@@ -4,7 +4,7 @@
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum ModelError {
     /// A parameter is NaN or infinite.
-    #[error("model parameter `{name}` is not a finite number ({value})")]
+    #[error("model parameter `{name}` is not a finite number ({})", limbfuse_core::ShownNumber(*value))]
     NonFinite {
         /// Parameter name.
         name: &'static str,

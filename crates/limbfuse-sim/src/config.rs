@@ -5,7 +5,7 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimError {
     /// A parameter is outside its allowed range (or not a finite number).
-    #[error("{name} = {value} is outside the allowed range {range}")]
+    #[error("{name} = {} is outside the allowed range {range}", limbfuse_core::ShownNumber(*value))]
     OutOfRange {
         /// Parameter name, as in the config struct (e.g. `speed_mps`).
         name: &'static str,

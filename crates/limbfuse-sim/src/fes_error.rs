@@ -9,7 +9,7 @@ pub enum FesSimError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// A configuration value is outside its range.
-    #[error("{name} = {value} is outside the allowed range {range}")]
+    #[error("{name} = {} is outside the allowed range {range}", limbfuse_core::ShownNumber(*value))]
     OutOfRange {
         /// Config field name.
         name: &'static str,

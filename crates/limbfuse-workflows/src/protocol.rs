@@ -56,6 +56,11 @@ pub enum ProtocolError {
     Filter(String),
 }
 
+/// `v` as messages show it (`1e300`, not 301 digits).
+fn shown(v: f64) -> limbfuse_core::ShownNumber {
+    limbfuse_core::ShownNumber(v)
+}
+
 /// The intervals `[s_k, s_k + L]` of `plan` over `records` (sorted by time).
 pub fn plan_intervals(
     records: &[Record],
@@ -79,9 +84,11 @@ pub fn plan_intervals(
     let (a, b) = (a.max(t0), b.min(t1));
     if bad || b <= a {
         return Err(ProtocolError::Config(format!(
-            "window {} s to {} s: the trial covers {t0} s to {t1} s, the window must lie inside it and have an end after its start",
-            plan.window.start.unwrap_or(t0),
-            plan.window.end.unwrap_or(t1),
+            "window {} s to {} s: the trial covers {} s to {} s, the window must lie inside it and have an end after its start",
+            shown(plan.window.start.unwrap_or(t0)),
+            shown(plan.window.end.unwrap_or(t1)),
+            shown(t0),
+            shown(t1),
         )));
     }
     if plan.starts == 0 || plan.starts > MAX_STARTS {
@@ -96,13 +103,17 @@ pub fn plan_intervals(
         .unwrap_or(if plan.starts == 1 { span } else { 0.5 * span });
     if !(len.is_finite() && len > 0.0 && len <= span + 2.0 * tol) {
         return Err(ProtocolError::Config(format!(
-            "length: each interval must last more than 0 s and at most the window's {span} s, found {len} s"
+            "length: each interval must last more than 0 s and at most the window's {} s, found {} s",
+            shown(span),
+            shown(len)
         )));
     }
     if len < period {
         return Err(ProtocolError::Config(format!(
-            "length: each interval of {len} s is shorter than one sample period ({period} s): \
-             it must hold at least two samples"
+            "length: each interval of {} s is shorter than one sample period ({} s): \
+             it must hold at least two samples",
+            shown(len),
+            shown(period)
         )));
     }
     let len = len.min(span);

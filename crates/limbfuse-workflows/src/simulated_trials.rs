@@ -73,6 +73,16 @@ fn config_err(scenario: &'static str) -> impl Fn(limbfuse_sim::SimError) -> Simu
     move |e| config_error(scenario, e)
 }
 
+/// An FES simulator's error, a setting the user gave named as its option.
+fn fes_err(
+    scenario: &'static str,
+) -> impl Fn(limbfuse_sim::fes_error::FesSimError) -> SimulatedTrialError {
+    move |e| match crate::simulator_options::OptionOutOfRange::of_fes(&e) {
+        Some(option) => SimulatedTrialError::Option { scenario, option },
+        None => sim_err(scenario)(&e),
+    }
+}
+
 fn sim_err(scenario: &'static str) -> impl Fn(&dyn std::fmt::Display) -> SimulatedTrialError {
     move |e| SimulatedTrialError::Simulator {
         scenario,
@@ -214,7 +224,7 @@ pub fn knee_fes(
     cfg: &KneeFesConfig,
     source: &str,
 ) -> Result<SimulatedTrial<impl Iterator<Item = Record>>, SimulatedTrialError> {
-    let tr = knee_fes_stream(cfg).map_err(|e| sim_err("knee-fes")(&e))?;
+    let tr = knee_fes_stream(cfg).map_err(fes_err("knee-fes"))?;
     Ok(fes_trial(source, cfg.rate_hz, tr, false))
 }
 
@@ -223,7 +233,7 @@ pub fn knee_fes(
 pub fn knee_fes_calibration(
     cfg: &KneeFesConfig,
 ) -> Result<SimulatedTrial<Vec<Record>>, SimulatedTrialError> {
-    let tr = simulate_calibration(cfg).map_err(|e| sim_err("calibration")(&e))?;
+    let tr = simulate_calibration(cfg).map_err(fes_err("calibration"))?;
     let mut m = TrialMeta::trial_v1();
     m.set("sample_rate_hz", cfg.rate_hz);
     for (k, v) in &tr.metadata {
@@ -243,7 +253,7 @@ pub fn knee_fes_calibration(
 pub fn fixed_hip(
     cfg: &FixedHipConfig,
 ) -> Result<SimulatedTrial<impl Iterator<Item = Record>>, SimulatedTrialError> {
-    let tr = fixed_hip_stream(cfg).map_err(|e| sim_err("fixed-hip")(&e))?;
+    let tr = fixed_hip_stream(cfg).map_err(fes_err("fixed-hip"))?;
     Ok(fes_trial(
         "limbfuse simulate fixed-hip",
         cfg.rate_hz,

@@ -57,6 +57,25 @@ impl OptionOutOfRange {
         })
     }
 
+    /// The FES simulators' error `e` as the option a user set (`simulate
+    /// knee-fes`, `fixed-hip`: an audit found `--rate 1e-300` reported as
+    /// `rate_hz` = 301 digits).
+    pub fn of_fes(e: &limbfuse_sim::fes_error::FesSimError) -> Option<Self> {
+        let limbfuse_sim::fes_error::FesSimError::OutOfRange { name, value, .. } = *e else {
+            return None;
+        };
+        let (option, range) = match name {
+            "duration_s" => ("duration", "[1, 3600] s"),
+            "rate_hz" => ("rate", "[10, 2000] Hz"),
+            _ => return None,
+        };
+        Some(OptionOutOfRange {
+            option,
+            value,
+            range,
+        })
+    }
+
     /// The CLI flag: `--turn-deg`.
     pub fn flag(&self) -> String {
         format!("--{}", self.option.replace('_', "-"))

@@ -30,6 +30,15 @@ fn parse_mean_angles(items: &[String]) -> Result<[f64; 4]> {
             .with_context(|| {
                 format!("--mean-angle: expected a number of degrees after `{seg}=`, found `{deg}`")
             })?;
+        // (an audit: `thigh=1e308` was reported as the library's option
+        // `mean_angle_rad[1]` with 300 digits)
+        if v.abs() > 180.0 {
+            bail!(
+                "--mean-angle {}={}: expected degrees within [-180, 180]",
+                seg.trim(),
+                limbfuse_methods::shown(v)
+            );
+        }
         out[s.index()] = v.to_radians();
     }
     Ok(out)
@@ -68,7 +77,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         );
     }
     let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
-    super::warn_input_units(&a.trial, &meta, &records);
+    super::warn_input_units(&a.trial, &meta, &records)?;
     if let Some(path) = &a.imu_calibration {
         let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;
         records.iter_mut().for_each(|r| cal.apply(r));
@@ -148,8 +157,9 @@ fn confidence_table(a: &Alignment) -> String {
 pub fn left_out_message(gyro: u64, acc: u64, first_t: f64) -> String {
     format!(
         "{gyro} gyroscope and {acc} accelerometer readings out of the sensors' range or \
-         implausible (first at t = {first_t} s) left out of the alignment, as `estimate` leaves them \
-         out (the written trial keeps them)"
+         implausible (first at t = {} s) left out of the alignment, as `estimate` leaves them \
+         out (the written trial keeps them)",
+        limbfuse_methods::shown(first_t)
     )
 }
 

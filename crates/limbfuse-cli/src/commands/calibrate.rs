@@ -29,7 +29,7 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
     let meta = reader.meta().clone();
     let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
     // (accelerometers in g would be fitted a scale of 9.81: say why first)
-    super::warn_input_units(&a.poses, &meta, &records);
+    super::warn_input_units(&a.poses, &meta, &records)?;
     // The flags by their names (an audit: `--min-pose 0` was "calibration
     // setting `min_pose_s`", `--min-pose 1e9` "the sensor moves throughout").
     crate::bounds::positive("--min-pose", a.min_pose, "seconds")?;

@@ -501,7 +501,8 @@ fn run_observed<W: std::io::Write>(
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();
-    let mut intervals = SampleIntervalWatch::for_trial(reader.meta());
+    let mut intervals = SampleIntervalWatch::checked_for_trial(reader.meta())
+        .map_err(|e| anyhow::anyhow!("{}: {e}", trial.display()))?;
     let mut units = SensorUnitsWatch::default();
     let summary = {
         let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(6 + extra.len());

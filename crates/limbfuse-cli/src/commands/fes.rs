@@ -48,12 +48,14 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
     )?;
     crate::bounds::simulated_trial(a.duration, "--imu-rate", a.imu_rate, a.cap.force)?;
     let cfg = knee_config(a)?;
-    let trial = simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes")?;
+    let trial = simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes")
+        .map_err(super::simulate::simulation_error)?;
     let mut out = super::create_file(&a.output)?;
     simulated_trials::write_trial(&mut out, trial, &a.output)?;
     super::commit(out)?;
     if let Some(cal) = &a.calibration {
-        let c = simulated_trials::knee_fes_calibration(&cfg)?;
+        let c = simulated_trials::knee_fes_calibration(&cfg)
+            .map_err(super::simulate::simulation_error)?;
         let mut out = super::create_file(cal)?;
         simulated_trials::write_trial(&mut out, c, cal)?;
         super::commit(out)?;
@@ -90,7 +92,7 @@ pub fn simulate_hip(a: &FixedHipArgs) -> Result<()> {
         activation_t_a,
         ..FixedHipConfig::default()
     };
-    let trial = simulated_trials::fixed_hip(&cfg)?;
+    let trial = simulated_trials::fixed_hip(&cfg).map_err(super::simulate::simulation_error)?;
     let mut out = super::create_file(&a.output)?;
     simulated_trials::write_trial(&mut out, trial, &a.output)?;
     super::commit(out)?;

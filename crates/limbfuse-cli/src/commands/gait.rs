@@ -133,15 +133,16 @@ pub fn simulate(a: &BslipArgs) -> Result<()> {
         &[("--library", a.library.as_deref())],
         &[("-o", Some(&a.output))],
     )?;
-    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     // (an audit: `--rate 1e-300` wrote a one-row trial, exit 0; the other
-    // simulators take at least 1 Hz)
+    // simulators take at least 1 Hz; checked before the length, which would
+    // say "less than one sample")
     if a.rate < 1.0 {
         bail!(
             "--rate {}: expected a sample rate of at least 1 Hz (as the other simulators)",
             limbfuse_methods::shown(a.rate)
         );
     }
+    crate::bounds::simulated_trial(a.duration, "--rate", a.rate, a.cap.force)?;
     if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= MAX_GAIT_SPEED) {
         bail!(
             "--speed {}: expected a walking speed in (0, {MAX_GAIT_SPEED}] m/s (the range `gait-library build --speeds` accepts)",

@@ -68,9 +68,17 @@ pub fn run(cli: Cli) -> Result<()> {
 /// readings that do not look like SPEC units (`limbfuse_eval::
 /// sample_interval`, `limbfuse_eval::sensor_units`), as `estimate` does
 /// while it streams.
-pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[Record]) {
+///
+/// A `# sample_rate_hz:` that is not a positive number is an error naming
+/// the file and the line.
+pub fn warn_input_units(
+    trial: &Path,
+    meta: &limbfuse_io::TrialMeta,
+    records: &[Record],
+) -> anyhow::Result<()> {
     use limbfuse_core::runner::Observer;
-    let mut intervals = limbfuse_eval::SampleIntervalWatch::for_trial(meta);
+    let mut intervals = limbfuse_eval::SampleIntervalWatch::checked_for_trial(meta)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", trial.display()))?;
     let mut units = limbfuse_eval::SensorUnitsWatch::default();
     let none = limbfuse_core::Estimate::empty(0.0);
     for r in records {
@@ -79,6 +87,7 @@ pub fn warn_input_units(trial: &Path, meta: &limbfuse_io::TrialMeta, records: &[
         let _ = units.observe(r, &none);
     }
     warn_units(trial, &intervals, &units);
+    Ok(())
 }
 
 /// Prints the unit checks' warnings (`limbfuse_eval::unit_warnings`) for

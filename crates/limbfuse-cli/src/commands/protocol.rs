@@ -35,7 +35,7 @@ pub fn read_trial(path: &std::path::Path, method: MethodName) -> Result<TrialInM
     let (meta, layout) = (reader.meta().clone(), *reader.layout());
     let records = reader.collect::<Result<Vec<_>, _>>()?;
     // (`tune` and `evaluate --starts` run the method over these records)
-    super::warn_input_units(path, &meta, &records);
+    super::warn_input_units(path, &meta, &records)?;
     Ok(TrialInMemory {
         meta,
         layout,
@@ -59,6 +59,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
     };
+    check_starts(a.starts.unwrap_or(1))?;
     let trial = read_trial(&a.trial, spec.method())?;
     let records = &trial.records;
     let plan = StartPlan {
@@ -79,6 +80,17 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         println!("{}", r.to_json());
     } else {
         print!("{}", r.to_text());
+    }
+    Ok(())
+}
+
+/// `--starts` of `evaluate --method` and `tune`: 1 to
+/// [`limbfuse_workflows::protocol::MAX_STARTS`] (an audit: `--starts 0` was
+/// reported as "starting points: starts: ...", naming no flag).
+pub fn check_starts(starts: usize) -> Result<()> {
+    let max = limbfuse_workflows::protocol::MAX_STARTS;
+    if starts == 0 || starts > max {
+        bail!("--starts {starts}: expected 1 to {max} starting points");
     }
     Ok(())
 }

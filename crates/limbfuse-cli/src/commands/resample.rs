@@ -35,7 +35,7 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
             rej.gyro,
             rej.acc,
             rej.encoder,
-            rej.first_t.unwrap_or(f64::NAN)
+            limbfuse_methods::shown(rej.first_t.unwrap_or(f64::NAN))
         );
     }
     eprintln!(

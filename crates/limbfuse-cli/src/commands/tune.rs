@@ -41,6 +41,15 @@ pub fn run(a: &TuneArgs) -> Result<()> {
         }
     };
     let window = TimeWindow::parse(&a.window).map_err(|m| anyhow!("--window: {m}"))?;
+    super::protocol::check_starts(a.starts)?;
+    // (an audit: `--particles 0` was reported as "particles: ...", naming no
+    // flag; the bounds are the tuner's)
+    if !(2..=10_000).contains(&a.particles) {
+        bail!(
+            "--particles {}: expected a swarm of 2 to 10000 particles",
+            a.particles
+        );
+    }
     let validation = match a.validate.as_deref() {
         Some("none") => Validation::None,
         Some(w) => {

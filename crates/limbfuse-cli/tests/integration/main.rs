@@ -20,6 +20,7 @@ mod dash_output;
 mod fes_start_in_a_pulse;
 mod flags_named_in_errors;
 mod fuzz_audit_27;
+mod fuzz_audit_27_messages;
 mod gait_events_clipped_gyro;
 mod inspect_cli;
 mod issue_14_chain_device_orientation;

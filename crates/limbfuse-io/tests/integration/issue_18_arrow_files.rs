@@ -322,3 +322,32 @@ fn issue_18_corrupted_arrow_bytes_are_errors_not_panics() {
         }
     }
 }
+
+/// Fuzz audit 27: a `Utf8` `knee_enc` cell holding `1e999` (it overflows to
+/// infinity) was reported as "found `inf`", where the CSV reader shows
+/// `1e999`. Now both show the cell's text.
+#[test]
+fn an_overflowing_text_cell_is_shown_as_written_as_in_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let arrow = dir.path().join("big.arrow");
+    write_batch(
+        &arrow,
+        vec![
+            Field::new("t", DataType::Float64, false),
+            Field::new("knee_enc", DataType::Utf8, true),
+        ],
+        vec![
+            Arc::new(Float64Array::from(vec![0.0, 0.01])),
+            Arc::new(StringArray::from(vec!["0.5", "1e999"])),
+        ],
+    );
+    let e = first_error(&arrow);
+    assert!(
+        e.contains("big.arrow:2: column 2 (`knee_enc`)") && e.contains("found `1e999`"),
+        "{e}"
+    );
+    let csv = dir.path().join("big.csv");
+    std::fs::write(&csv, "t,knee_enc\n0,0.5\n0.01,1e999\n").unwrap();
+    let e = first_error(&csv);
+    assert!(e.contains("found `1e999`"), "{e}");
+}

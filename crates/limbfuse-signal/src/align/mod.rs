@@ -337,7 +337,7 @@ pub enum AlignError {
         segment: Segment,
     },
     /// An option is outside its range.
-    #[error("option {name} = {value} is outside {range}")]
+    #[error("option {name} = {} is outside {range}", limbfuse_core::ShownNumber(*value))]
     BadOption {
         /// Field name of [`AlignOptions`].
         name: &'static str,
