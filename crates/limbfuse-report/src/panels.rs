@@ -56,7 +56,7 @@ pub fn wanted_diagnostic(name: &str) -> bool {
         || name.starts_with("j_shank_")
         || matches!(
             name,
-            "speed_mean" | "sign_confidence" | "p11" | "activation"
+            "speed_mean" | "sign_confidence" | "p11" | "activation" | "ic"
         )
 }
 

@@ -1,0 +1,105 @@
+//! `limbfuse report`, review 27: the initial contacts of `lowback-speed`,
+//! the knee-axis panel of `knee-gyro-axis`, the CoM velocity as the IMM
+//! speed plot's reference on B-SLIP trials, and plot titles that fit their
+//! plots (`plot-fes-sd`'s ran past the right edge).
+
+use std::path::Path;
+
+use crate::cli_report::{by_id, parse, series_of};
+use crate::support::limbfuse;
+
+/// Runs `limbfuse args` in `dir`, which must succeed.
+fn ok(args: &[&str], dir: &Path) {
+    let o = limbfuse(args, dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "limbfuse {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+fn read(dir: &Path, name: &str) -> String {
+    std::fs::read_to_string(dir.join(name)).expect("written")
+}
+
+/// The `d` of the path of `series` in plot `id`.
+fn path_of(html: &str, id: &str, series: &str) -> String {
+    let start = html.find(&format!(r#"id="{id}""#)).expect("the plot");
+    let plot = &html[start..start + html[start..].find("</svg></svg>").expect("its end")];
+    let rest = plot
+        .split(&format!(r#"data-series="{series}""#))
+        .nth(1)
+        .expect("the series");
+    let d = rest.split(r#"d=""#).nth(1).expect("its path");
+    d[..d.find('"').unwrap()].to_string()
+}
+
+/// A `lowback-speed` estimate of a simulated walk with gait references:
+/// its initial contacts (`diag_ic`, scored in the events table) were not
+/// drawn, only its speed. The events panel now has `plot-initial-contacts`:
+/// the reference contacts (`contact_*_ref` 0 -> 1) up, the estimate's down.
+#[test]
+fn report_draws_the_initial_contacts_of_lowback_speed() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "20",
+            "--gait-reference",
+            "-o",
+            "w.csv",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "w.csv",
+            "-o",
+            "lb.csv",
+        ],
+        p,
+    );
+    ok(&["report", "w.csv", "lb.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    by_id(&parse(&html), "plot-initial-contacts");
+    assert_eq!(series_of(&html, "plot-initial-contacts"), ["ref", "e0"]);
+    // Each line goes up (reference) or down (estimate) from 0 and back:
+    // a spike is a vertical step of the path; there are as many downward
+    // spikes as the estimate has contacts (within the decimation, which
+    // keeps each bucket's minimum).
+    let n_ic = read(p, "lb.csv")
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .filter(|l| !l.split(',').nth(2).unwrap_or("").is_empty())
+        .count();
+    assert!(n_ic > 20, "{n_ic} contacts in 20 s");
+    for series in ["ref", "e0"] {
+        let d = path_of(&html, "plot-initial-contacts", series);
+        assert!(d.len() > 40, "{series}: {d}");
+    }
+    // Without the estimate's contacts (`--diagnostics none`) there is no
+    // such plot.
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "w.csv",
+            "--diagnostics",
+            "none",
+            "-o",
+            "lb0.csv",
+        ],
+        p,
+    );
+    ok(&["report", "w.csv", "lb0.csv", "-o", "r0.html"], p);
+    assert!(!read(p, "r0.html").contains(r#"id="plot-initial-contacts""#));
+}
