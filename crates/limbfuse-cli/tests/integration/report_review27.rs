@@ -103,3 +103,36 @@ fn report_draws_the_initial_contacts_of_lowback_speed() {
     ok(&["report", "w.csv", "lb0.csv", "-o", "r0.html"], p);
     assert!(!read(p, "r0.html").contains(r#"id="plot-initial-contacts""#));
 }
+
+/// `knee-gyro-axis` (the inner `knee-selfalign`'s axes) had no knee-axis
+/// panel: it wrote no `diag_j_*`. It now writes the axes in use, and the
+/// report draws them as for `knee-selfalign`.
+#[test]
+fn report_has_the_knee_axis_panel_of_knee_gyro_axis() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&["simulate", "knee", "--duration", "20", "-o", "k.csv"], p);
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "knee-gyro-axis",
+            "k.csv",
+            "-o",
+            "kg.csv",
+        ],
+        p,
+    );
+    ok(&["report", "k.csv", "kg.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    let tags = parse(&html);
+    for id in [
+        "panel-knee-0",
+        "plot-knee-axis-thigh-0",
+        "plot-knee-axis-shank-0",
+        "plot-knee-axis-change-0",
+    ] {
+        by_id(&tags, id);
+    }
+    assert_eq!(series_of(&html, "plot-knee-axis-thigh-0"), ["x", "y", "z"]);
+}
