@@ -217,14 +217,21 @@ fn imm_panel(trial: &TrialData, e: &EstimateData, i: usize, tp: &TimePlot) -> Pa
             false,
         ));
     }
-    if let Some(s) = trial.columns.get("speed_ref") {
-        speed_lines.push((
-            "reference".into(),
-            "speed_ref".into(),
-            "#000".into(),
-            s,
-            true,
-        ));
+    // The reference: `speed_ref`, else the CoM velocity of a B-SLIP trial
+    // (`com_vx`, which has no `speed_ref`; review 27: the plot had no
+    // reference on them).
+    let reference = trial
+        .columns
+        .get("speed_ref")
+        .map(|s| ("speed_ref", s))
+        .or_else(|| {
+            trial
+                .columns
+                .get("com_vx")
+                .map(|s| ("com_vx (forward CoM velocity, reference)", s))
+        });
+    if let Some((label, s)) = reference {
+        speed_lines.push(("reference".into(), label.into(), "#000".into(), s, true));
     }
     if !speed_lines.is_empty() {
         plots.push(tp.plot(

@@ -136,3 +136,57 @@ fn report_has_the_knee_axis_panel_of_knee_gyro_axis() {
     }
     assert_eq!(series_of(&html, "plot-knee-axis-thigh-0"), ["x", "y", "z"]);
 }
+
+/// The IMM speed plot of a B-SLIP trial (CoM velocity `com_vx`, no
+/// `speed_ref`) had no reference line; `com_vx` is now drawn as it,
+/// labelled so.
+#[test]
+fn imm_speed_plot_has_com_vx_as_reference() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.6:0.8:0.1",
+            "-o",
+            "lib.json",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "simulate",
+            "bslip",
+            "--library",
+            "lib.json",
+            "--speed",
+            "0.7",
+            "--duration",
+            "4",
+            "-o",
+            "b.csv",
+        ],
+        p,
+    );
+    assert!(!read(p, "b.csv").contains("speed_ref"));
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "b.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
+    ok(&["report", "b.csv", "e.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    let series = series_of(&html, "plot-imm-speed-0");
+    assert!(series.contains(&"reference".to_string()), "{series:?}");
+    assert!(html.contains("com_vx (forward CoM velocity, reference)"));
+}
