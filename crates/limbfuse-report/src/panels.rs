@@ -443,9 +443,9 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
             tp.plot(
                 "plot-fes-sd".into(),
                 "fes-sd",
-                "Angle standard deviation sqrt(P_11) of each filter's covariance (the Riccati \
-                 solution of sdre, paper 004 eq 4.16; the EKF's P for ekf and knee-kinematic)"
-                    .into(),
+                // (review 27: the whole sentence ran past the plot's right
+                // edge; its explanation is in the panel's note)
+                "Angle standard deviation sqrt(P_11) of each filter's covariance".into(),
                 "deg",
                 sd.iter()
                     .map(|(i, c)| {
@@ -473,6 +473,10 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
         .iter()
         .filter_map(|e| Some(format!("{}: {}", e.label, e.meta.get("activation")?)))
         .collect();
+    if !sd.is_empty() {
+        note += " The angle standard deviation is sqrt(P_11) of each filter's covariance: the \
+                 Riccati solution of sdre (paper 004 eq 4.16), the EKF's P for ekf and knee-kinematic.";
+    }
     if !models.is_empty() {
         note += &format!(
             " Activation in each estimate's model: {}.",

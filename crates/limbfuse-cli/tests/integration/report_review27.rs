@@ -190,3 +190,52 @@ fn imm_speed_plot_has_com_vx_as_reference() {
     assert!(series.contains(&"reference".to_string()), "{series:?}");
     assert!(html.contains("com_vx (forward CoM velocity, reference)"));
 }
+
+/// Every plot title of a knee-FES report with sdre and ekf fits its plot:
+/// `plot-fes-sd`'s title was a 150-character sentence, clipped at the
+/// right edge (the plot is 900 px wide, the title starts at 64 px, 13 px
+/// bold: about 110 characters fit). The explanation is in the panel note.
+#[test]
+fn fes_plot_titles_fit_their_plots() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &["simulate", "knee-fes", "--duration", "10", "-o", "f.csv"],
+        p,
+    );
+    for m in ["sdre", "ekf"] {
+        ok(
+            &[
+                "estimate",
+                "--method",
+                m,
+                "f.csv",
+                "-o",
+                &format!("{m}.csv"),
+            ],
+            p,
+        );
+    }
+    ok(
+        &["report", "f.csv", "sdre.csv", "ekf.csv", "-o", "r.html"],
+        p,
+    );
+    let html = read(p, "r.html");
+    by_id(&parse(&html), "plot-fes-sd");
+    let titles: Vec<&str> = html
+        .split(r#"<text class="title""#)
+        .skip(1)
+        .map(|s| {
+            let s = &s[s.find('>').unwrap() + 1..];
+            &s[..s.find("</text>").unwrap()]
+        })
+        .collect();
+    assert!(titles.len() >= 4, "{titles:?}");
+    for t in titles {
+        assert!(t.chars().count() <= 100, "too long for its plot: {t}");
+    }
+    assert!(
+        html.contains("Riccati solution of sdre"),
+        "the note explains P_11"
+    );
+}
