@@ -35,6 +35,29 @@ fn path_of(html: &str, id: &str, series: &str) -> String {
     d[..d.find('"').unwrap()].to_string()
 }
 
+/// Spikes of a path `M x y l dx dy dx dy ...` (integers, a `-` may follow
+/// a digit) that leaves 0 and comes back: half its vertical moves.
+fn spikes(d: &str) -> usize {
+    let mut moves = 0;
+    for segment in d.split('M').skip(1) {
+        let Some((_, rel)) = segment.split_once('l') else {
+            continue;
+        };
+        let numbers: Vec<i64> = rel
+            .replace('-', " -")
+            .split_whitespace()
+            .map(|v| v.parse().expect("an integer"))
+            .collect();
+        moves += numbers
+            .iter()
+            .skip(1)
+            .step_by(2)
+            .filter(|dy| **dy != 0)
+            .count();
+    }
+    moves / 2
+}
+
 /// A `lowback-speed` estimate of a simulated walk with gait references:
 /// its initial contacts (`diag_ic`, scored in the events table) were not
 /// drawn, only its speed. The events panel now has `plot-initial-contacts`:
@@ -71,9 +94,8 @@ fn report_draws_the_initial_contacts_of_lowback_speed() {
     by_id(&parse(&html), "plot-initial-contacts");
     assert_eq!(series_of(&html, "plot-initial-contacts"), ["ref", "e0"]);
     // Each line goes up (reference) or down (estimate) from 0 and back:
-    // a spike is a vertical step of the path; there are as many downward
-    // spikes as the estimate has contacts (within the decimation, which
-    // keeps each bucket's minimum).
+    // two vertical moves of the path per spike (20 s at 100 Hz: no
+    // decimation), as many on the estimate's line as it has contacts.
     let n_ic = read(p, "lb.csv")
         .lines()
         .filter(|l| !l.starts_with('#'))
@@ -81,10 +103,9 @@ fn report_draws_the_initial_contacts_of_lowback_speed() {
         .filter(|l| !l.split(',').nth(2).unwrap_or("").is_empty())
         .count();
     assert!(n_ic > 20, "{n_ic} contacts in 20 s");
-    for series in ["ref", "e0"] {
-        let d = path_of(&html, "plot-initial-contacts", series);
-        assert!(d.len() > 40, "{series}: {d}");
-    }
+    assert_eq!(spikes(&path_of(&html, "plot-initial-contacts", "e0")), n_ic);
+    let reference = spikes(&path_of(&html, "plot-initial-contacts", "ref"));
+    assert!(reference > 20, "{reference} reference contacts in 20 s");
     // Without the estimate's contacts (`--diagnostics none`) there is no
     // such plot.
     ok(
