@@ -3,7 +3,7 @@
 #
 # Installs Debian's chromium when it is missing (the CI machine runs as
 # root), writes reports of short simulated trials (walking with five segment
-# estimates, knee-FES with sdre/ekf/rmx, the self-aligning knee, B-SLIP with
+# estimates, knee-FES with sdre/ekf/rmx, knee-selfalign and knee-gyro-axis, B-SLIP with
 # imm-bslip, gait-events and lowback-speed on the walk), opens each in headless Chromium through the DevTools protocol
 # (scripts/report_browser_check.py, Python standard library only) and fails
 # on any console error, uncaught exception, network request, missing element
@@ -56,11 +56,14 @@ for m in sdre ekf rmx; do lf estimate --method "$m" fes.csv -o "fes-$m.csv"; don
 lf report fes.csv fes-sdre.csv fes-ekf.csv fes-rmx.csv -o fes.html
 fes_ids="plot-angle-knee,plot-angle-shank,rmse-table,panel-fes,plot-fes-stimulation,plot-fes-sd"
 
-# Self-aligning knee (paper 002): knee-axis convergence.
+# Self-aligning knee (paper 002): knee-axis convergence, of knee-selfalign
+# and of knee-gyro-axis (its inner knee-selfalign's axes, review 27).
 lf simulate knee --duration 20 -o knee.csv
 lf estimate --method knee-selfalign knee.csv -o knee-est.csv
-lf report knee.csv knee-est.csv -o knee.html
-knee_ids="plot-angle-knee,plot-cycle-knee,panel-knee-0,plot-knee-axis-thigh-0,plot-knee-axis-shank-0,plot-knee-axis-change-0"
+lf estimate --method knee-gyro-axis knee.csv -o knee-gyro.csv
+lf report knee.csv knee-est.csv knee-gyro.csv -o knee.html
+knee_ids="plot-angle-knee,plot-cycle-knee"
+for k in 0 1; do knee_ids+=",panel-knee-$k,plot-knee-axis-thigh-$k,plot-knee-axis-shank-$k,plot-knee-axis-change-$k"; done
 
 # B-SLIP gait (paper 003): IMM weights per gait and phase.
 lf gait-library build --speeds 0.6:0.8:0.1 -o lib.json
@@ -73,7 +76,7 @@ bslip_ids="gait-table,panel-imm-0,plot-imm-gait-0,plot-imm-phase-0,plot-imm-spee
 lf estimate --method gait-events walk.csv -o walk-events.csv
 lf estimate --method lowback-speed walk.csv -o walk-lowback.csv
 lf report walk.csv walk-events.csv walk-lowback.csv -o events.html
-events_ids="panel-events,plot-contact-right,plot-speed"
+events_ids="panel-events,plot-contact-right,plot-initial-contacts,plot-speed"
 
 python3 "$root/scripts/report_browser_check.py" "$chromium" "$shot" \
   "walk.html:$walk_ids" "fes.html:$fes_ids" "knee.html:$knee_ids" "bslip.html:$bslip_ids" \

@@ -7,7 +7,7 @@ only, no websocket client, no selenium, no network.
 
 For each report: no console error, no uncaught exception, no failed
 request; every expected element id present; every plot drawn (its script-made
-axis ticks and a non-empty line); the time window responds (zoom in changes
+axis ticks and a non-empty line) with its title inside its box; the time window responds (zoom in changes
 every time plot's viewBox). Optionally saves a screenshot of the first report.
 
 usage: report_browser_check.py CHROMIUM OUT.png REPORT.html:ID,ID,... [REPORT.html:...]
@@ -36,7 +36,7 @@ FLAGS = [
 
 CHECK_JS = r"""
 (function (ids) {
-  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], plots: 0, zoom: null };
+  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], clipped: [], plots: 0, zoom: null };
   ids.forEach(function (id) { if (!document.getElementById(id)) out.missing.push(id); });
   document.querySelectorAll('svg.plot').forEach(function (svg) {
     out.plots++;
@@ -44,6 +44,12 @@ CHECK_JS = r"""
     var lines = Array.prototype.filter.call(svg.querySelectorAll('svg.area path'),
       function (p) { return (p.getAttribute('d') || '').length > 2; }).length;
     if (ticks < 3 || lines < 1) out.undrawn.push(svg.id + ' ticks=' + ticks + ' lines=' + lines);
+    // the title inside the plot's box (review 27: plot-fes-sd's ran past its right edge)
+    var title = svg.querySelector('text.title'), box = svg.viewBox.baseVal;
+    if (title) {
+      var bb = title.getBBox();
+      if (bb.x + bb.width > box.x + box.width) out.clipped.push(svg.id + ' title ends at ' + Math.round(bb.x + bb.width) + ' of ' + box.width);
+    }
   });
   var time = document.querySelectorAll('svg.plot.time svg.area');
   if (time.length) {
@@ -193,6 +199,7 @@ def main():
                     bad.append("the page script did not finish (body[data-ready] unset)")
                 bad += ["missing #" + i for i in r["missing"]]
                 bad += ["not drawn: " + u for u in r["undrawn"]]
+                bad += ["clipped: " + u for u in r["clipped"]]
                 z = r["zoom"]
                 if z is not None and z["changed"] != z["plots"]:
                     bad.append(f"zoom changed {z['changed']} of {z['plots']} time plots")

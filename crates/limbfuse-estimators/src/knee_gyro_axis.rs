@@ -63,7 +63,37 @@ diagnostic_set! {
         SignConfidence = "sign_confidence",
         /// Windows completed.
         Windows = "windows",
+        /// Thigh joint axis `j_1` in use, x (sensor frame; the inner
+        /// `knee-selfalign`'s, sides as used; review 27: the report's
+        /// knee-axis panel).
+        JThighX = "j_thigh_x",
+        /// Thigh joint axis `j_1`, y.
+        JThighY = "j_thigh_y",
+        /// Thigh joint axis `j_1`, z.
+        JThighZ = "j_thigh_z",
+        /// Shank joint axis `j_2` in use, x (sensor frame).
+        JShankX = "j_shank_x",
+        /// Shank joint axis `j_2`, y.
+        JShankY = "j_shank_y",
+        /// Shank joint axis `j_2`, z.
+        JShankZ = "j_shank_z",
     }
+}
+
+impl KneeGyroDiag {
+    /// `j_thigh_*`, `j_shank_*` (`[sensor][component]`).
+    pub const AXIS: [[KneeGyroDiag; 3]; 2] = [
+        [
+            KneeGyroDiag::JThighX,
+            KneeGyroDiag::JThighY,
+            KneeGyroDiag::JThighZ,
+        ],
+        [
+            KneeGyroDiag::JShankX,
+            KneeGyroDiag::JShankY,
+            KneeGyroDiag::JShankZ,
+        ],
+    ];
 }
 
 /// Time constant (s) of the smoothing of `alpha_inc - alpha_gyro` before
@@ -416,6 +446,13 @@ impl Estimator for KneeGyroAxis {
             d.value(KneeGyroDiag::Correction, self.x);
             d.value(KneeGyroDiag::IncGyroSpread, self.last_spread);
             d.value(KneeGyroDiag::SignConfidence, confidence);
+        }
+        if let Some(axes) = &self.axes {
+            for (names, axis) in KneeGyroDiag::AXIS.iter().zip(axes) {
+                for (name, v) in names.iter().zip(axis.iter()) {
+                    d.value(*name, *v);
+                }
+            }
         }
         Ok(est)
     }

@@ -28,7 +28,7 @@ pub struct TrialData {
     /// Reference angle per [`AngleChannel::ALL`] entry (rad), when the trial has it.
     pub reference: [Option<Column>; 7],
     /// Other numeric columns by name: gait references (`contact_*_ref`,
-    /// `speed_ref`), shank and foot sagittal gyros, stimulation `u_*`,
+    /// `speed_ref`, the B-SLIP trials' CoM velocity `com_vx`), shank and foot sagittal gyros, stimulation `u_*`,
     /// activation `a_*`.
     pub columns: BTreeMap<String, Column>,
     /// `phase_ref` as 0 (SS1), 1 (DS), 2 (SS2), when present.
@@ -63,10 +63,11 @@ pub struct EstimateData {
 }
 
 /// The numeric trial columns kept besides the references (exact names).
-const TRIAL_EXTRA: [&str; 5] = [
+const TRIAL_EXTRA: [&str; 6] = [
     "contact_left_ref",
     "contact_right_ref",
     "speed_ref",
+    "com_vx",
     "shank_gyr_z",
     "foot_gyr_z",
 ];

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use limbfuse_core::Side;
 use limbfuse_eval::gait_events_evaluation::{EventTiming, GaitEventEvaluation};
 
-use crate::data::{EstimateData, TrialData};
+use crate::data::{Column, EstimateData, TrialData};
 use crate::panels::{color, Panel, TimePlot};
 use crate::svg::esc;
 
@@ -66,6 +66,7 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
             ));
         }
     }
+    plots.extend(initial_contacts_plot(trial, &shown, tp));
     let mut lines = Vec::new();
     if let Some(r) = trial.columns.get("speed_ref") {
         lines.push((
@@ -97,10 +98,103 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
         id: "panel-events".into(),
         kind: "events".into(),
         title: "Gait events and walking speed".into(),
-        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed) where it has them. The numbers are in the errors section.".into(),
+        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section.".into(),
         plots,
         table: String::new(),
     })
+}
+
+/// The initial contacts of the estimates that decide them without a foot
+/// (`diag_ic`, the back-dated contact times of `lowback-speed`) against the
+/// reference ones (the 0 -> 1 steps of `contact_*_ref`, either foot), as
+/// spikes: the reference's up to 1 (dashed), each estimate's down to -1, so
+/// a detected contact sits under its reference one. Before (review 27), a
+/// `lowback-speed` estimate showed only its speed: its contacts, scored in
+/// the events table, were not drawn.
+fn initial_contacts_plot(
+    trial: &TrialData,
+    shown: &[(usize, &EstimateData)],
+    tp: &TimePlot,
+) -> Option<crate::svg::Plot> {
+    let detected: Vec<(usize, &EstimateData, &Column)> = shown
+        .iter()
+        .filter_map(|(i, e)| Some((*i, *e, e.diag.get("ic")?)))
+        .collect();
+    if detected.is_empty() {
+        return None;
+    }
+    let n = trial.t.len();
+    let refs: Vec<&Column> = Side::BOTH
+        .iter()
+        .filter_map(|s| trial.columns.get(&format!("contact_{}_ref", s.name())))
+        .collect();
+    let mut columns: Vec<(String, String, String, Column, bool)> = Vec::new();
+    if !refs.is_empty() {
+        let mut r: Column = (0..n)
+            .map(|k| refs.iter().any(|c| c[k].is_some()).then_some(0.0))
+            .collect();
+        for c in &refs {
+            for k in 1..n {
+                if let (Some(a), Some(b)) = (c[k - 1], c[k]) {
+                    if a < 0.5 && b >= 0.5 {
+                        r[k] = Some(1.0);
+                    }
+                }
+            }
+        }
+        columns.push((
+            "ref".into(),
+            "reference initial contacts (contact_*_ref 0 -> 1, either foot)".into(),
+            "#000000".into(),
+            r,
+            true,
+        ));
+    }
+    for (i, e, ic) in detected {
+        let mut c: Column = vec![Some(0.0); n];
+        for t_ic in ic.iter().flatten() {
+            if let Some(k) = nearest_sample(&trial.t, *t_ic) {
+                c[k] = Some(-1.0);
+            }
+        }
+        columns.push((
+            format!("e{i}"),
+            format!("{}: initial contacts", e.label),
+            color(i),
+            c,
+            false,
+        ));
+    }
+    Some(
+        tp.plot(
+            "plot-initial-contacts".into(),
+            "initial-contacts",
+            "initial contacts (reference up, estimated down; either foot)".into(),
+            "contact",
+            columns
+                .iter()
+                .map(|(k, l, c, col, d)| (k.clone(), l.clone(), c.clone(), col, *d))
+                .collect(),
+        ),
+    )
+}
+
+/// The sample nearest to time `t` (s, the trial's clock), when `t` is
+/// within the trial.
+fn nearest_sample(times: &[f64], t: f64) -> Option<usize> {
+    let (first, last) = (*times.first()?, *times.last()?);
+    if !t.is_finite() || t < first || t > last {
+        return None;
+    }
+    let k = times.partition_point(|x| *x < t);
+    if k == 0 {
+        return Some(0);
+    }
+    if k == times.len() || t - times[k - 1] <= times[k] - t {
+        Some(k - 1)
+    } else {
+        Some(k)
+    }
 }
 
 /// The numbers of `limbfuse evaluate` for gait-event and speed estimates.
@@ -149,4 +243,20 @@ pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -
     }
     s.push_str("</tbody></table>");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nearest_sample;
+
+    #[test]
+    fn nearest_sample_of_a_time() {
+        let t = [10.0, 10.01, 10.02, 10.03];
+        assert_eq!(nearest_sample(&t, 10.0), Some(0));
+        assert_eq!(nearest_sample(&t, 10.014), Some(1));
+        assert_eq!(nearest_sample(&t, 10.016), Some(2));
+        assert_eq!(nearest_sample(&t, 10.03), Some(3));
+        assert_eq!(nearest_sample(&t, 9.99), None);
+        assert_eq!(nearest_sample(&t, f64::NAN), None);
+    }
 }

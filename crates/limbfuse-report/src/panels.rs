@@ -56,7 +56,7 @@ pub fn wanted_diagnostic(name: &str) -> bool {
         || name.starts_with("j_shank_")
         || matches!(
             name,
-            "speed_mean" | "sign_confidence" | "p11" | "activation"
+            "speed_mean" | "sign_confidence" | "p11" | "activation" | "ic"
         )
 }
 
@@ -217,14 +217,21 @@ fn imm_panel(trial: &TrialData, e: &EstimateData, i: usize, tp: &TimePlot) -> Pa
             false,
         ));
     }
-    if let Some(s) = trial.columns.get("speed_ref") {
-        speed_lines.push((
-            "reference".into(),
-            "speed_ref".into(),
-            "#000".into(),
-            s,
-            true,
-        ));
+    // The reference: `speed_ref`, else the CoM velocity of a B-SLIP trial
+    // (`com_vx`, which has no `speed_ref`; review 27: the plot had no
+    // reference on them).
+    let reference = trial
+        .columns
+        .get("speed_ref")
+        .map(|s| ("speed_ref", s))
+        .or_else(|| {
+            trial
+                .columns
+                .get("com_vx")
+                .map(|s| ("com_vx (forward CoM velocity, reference)", s))
+        });
+    if let Some((label, s)) = reference {
+        speed_lines.push(("reference".into(), label.into(), "#000".into(), s, true));
     }
     if !speed_lines.is_empty() {
         plots.push(tp.plot(
@@ -436,9 +443,9 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
             tp.plot(
                 "plot-fes-sd".into(),
                 "fes-sd",
-                "Angle standard deviation sqrt(P_11) of each filter's covariance (the Riccati \
-                 solution of sdre, paper 004 eq 4.16; the EKF's P for ekf and knee-kinematic)"
-                    .into(),
+                // (review 27: the whole sentence ran past the plot's right
+                // edge; its explanation is in the panel's note)
+                "Angle standard deviation sqrt(P_11) of each filter's covariance".into(),
                 "deg",
                 sd.iter()
                     .map(|(i, c)| {
@@ -466,6 +473,10 @@ fn fes_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Pa
         .iter()
         .filter_map(|e| Some(format!("{}: {}", e.label, e.meta.get("activation")?)))
         .collect();
+    if !sd.is_empty() {
+        note += " The angle standard deviation is sqrt(P_11) of each filter's covariance: the \
+                 Riccati solution of sdre (paper 004 eq 4.16), the EKF's P for ekf and knee-kinematic.";
+    }
     if !models.is_empty() {
         note += &format!(
             " Activation in each estimate's model: {}.",
