@@ -54,6 +54,7 @@ mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
 mod raw_frames_warning;
 mod report_audit_dec05;
+mod report_audit_dec06;
 mod report_review27;
 mod resample_cli;
 mod results_commands;
