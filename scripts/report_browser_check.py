@@ -51,13 +51,13 @@ CHECK_JS = r"""
       var bb = title.getBBox();
       if (bb.x + bb.width > box.x + box.width) out.clipped.push(svg.id + ' title ends at ' + Math.round(bb.x + bb.width) + ' of ' + box.width);
     }
-    // no "-0", "-0.0" tick (audit 2026-12-06: ticks summed from a negative
+    // no "-0", "-0.0" tick (audit 2026-12-05: ticks summed from a negative
     // start gave -2.8e-17, printed "-0.0") and no NaN/Infinity tick
     svg.querySelectorAll('g.axes text.ticklabel').forEach(function (t) {
       if (/^-0(\.0*)?$|NaN|Infinity|undefined/.test(t.textContent)) out.ticks.push(svg.id + ' tick "' + t.textContent + '"');
     });
   });
-  // every legend entry on one line (audit 2026-12-06: a long estimate
+  // every legend entry on one line (audit 2026-12-05: a long estimate
   // file name broke at its hyphens, half an entry on the next line)
   document.querySelectorAll('.legend .key').forEach(function (k) {
     var r = k.getBoundingClientRect(), h = parseFloat(getComputedStyle(k).fontSize) * 1.9;

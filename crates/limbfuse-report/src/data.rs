@@ -151,7 +151,7 @@ impl TrialData {
         let mut columns: BTreeMap<String, Column> =
             extra.into_iter().map(|(n, _)| n).zip(columns).collect();
         if speed_from_com {
-            // (an audit 2026-12-06: `evaluate` scored `gait-events` and
+            // (an audit 2026-12-05: `evaluate` scored `gait-events` and
             // `lowback-speed` on the independent walks against this speed,
             // the report said the trial had no reference to score them)
             let speed = match (columns.get("com_vx"), columns.get("com_vz")) {

@@ -22,7 +22,7 @@ pub fn is_event_estimate(e: &EstimateData) -> bool {
 
 /// Whether the trial has a reference these estimates can be scored against:
 /// `contact_*_ref`, `speed_ref`, or a CoM velocity that `evaluate` takes as
-/// the speed reference ([`TrialData::speed_from_com`]; an audit 2026-12-06:
+/// the speed reference ([`TrialData::speed_from_com`]; an audit 2026-12-05:
 /// the independent walks' events and speeds went unscored in the report).
 pub fn has_event_reference(trial: &TrialData) -> bool {
     trial.speed_from_com
@@ -184,7 +184,7 @@ fn initial_contacts_plot(
         tp.plot(
             "plot-initial-contacts".into(),
             "initial-contacts",
-            // (an audit 2026-12-06: the title spoke of a reference on
+            // (an audit 2026-12-05: the title spoke of a reference on
             // trials without one)
             if refs.is_empty() {
                 "initial contacts (estimated, down; either foot; the trial has no contact_*_ref)"

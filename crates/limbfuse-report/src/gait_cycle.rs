@@ -113,7 +113,7 @@ fn cycles_from(t: &[f64], events: &[usize], source: EventSource) -> Result<GaitC
             source_name(&source)
         ));
     }
-    // (an audit 2026-12-06: on the knee rig's raw shank gyro, 14 of 23
+    // (an audit 2026-12-05: on the knee rig's raw shank gyro, 14 of 23
     // cycles were left out and the 9 kept, 2.9 s each, were pieces of the
     // rig's 18.7 s cycle, drawn as "the gait cycle")
     let rejected = all.len() - cycles.len();
@@ -279,7 +279,7 @@ mod tests {
         }
     }
 
-    /// Audit 2026-12-06, the knee rig: events whose intervals are mostly
+    /// Audit 2026-12-05, the knee rig: events whose intervals are mostly
     /// off their median (here 2 long intervals and 3 short ones for every
     /// kept one, as the rig's raw shank gyro gave) were drawn as gait
     /// cycles, the 2.9 s pieces of an 18.7 s cycle. Now no cycle, and the

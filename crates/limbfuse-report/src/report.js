@@ -28,7 +28,7 @@
     var raw = span / n, p = Math.pow(10, Math.floor(Math.log10(raw))), f = raw / p;
     return (f < 1.5 ? 1 : f < 3.5 ? 2 : f < 7.5 ? 5 : 10) * p;
   }
-  // (audit 2026-12-06: a tick summed up from a negative start is -2.8e-17,
+  // (audit 2026-12-05: a tick summed up from a negative start is -2.8e-17,
   // which printed "-0.0": zero is "0")
   function fmt(v, step) {
     var dec = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));

@@ -1,4 +1,4 @@
-//! `limbfuse report`, audit 2026-12-06 (every shared recording's report
+//! `limbfuse report`, audit 2026-12-05 (every shared recording's report
 //! opened in Chromium, docs/REPORT.md): the gait events and walking speeds
 //! of the independent walks, which `evaluate` scores against the CoM
 //! velocity, went unscored in the report; the initial-contacts plot spoke
