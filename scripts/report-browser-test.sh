@@ -31,7 +31,7 @@ fi
 
 if [[ -z "${LIMBFUSE:-}" ]]; then
   cargo build --quiet --profile test -p limbfuse-cli --bin limbfuse
-  LIMBFUSE="$root/target/debug/limbfuse"
+  LIMBFUSE="${CARGO_TARGET_DIR:-$root/target}/debug/limbfuse"
 fi
 
 work=$(mktemp -d)
@@ -39,12 +39,14 @@ trap 'rm -rf "$work"' EXIT
 cd "$work"
 lf() { "$LIMBFUSE" "$@" >/dev/null 2>&1 || { echo "failed: limbfuse $*" >&2; "$LIMBFUSE" "$@"; exit 1; }; }
 
-# Walking: every segment method (seed 1, 20 s).
+# Walking: every segment method (seed 1, 20 s). The estimates are named as
+# a user names them (trial, seed, method): the legends are long enough to
+# wrap, which the check requires to happen between entries, not inside one.
 lf simulate walking --duration 20 --seed 1 -o walk.csv
 walk_est=()
 for m in gyro-integration accel-inclination local mjls global; do
-  lf estimate --method "$m" walk.csv -o "walk-$m.csv"
-  walk_est+=("walk-$m.csv")
+  lf estimate --method "$m" walk.csv -o "walk-seed1-$m.csv"
+  walk_est+=("walk-seed1-$m.csv")
 done
 lf report walk.csv "${walk_est[@]}" -o walk.html
 walk_ids="window-controls,win-start,win-end,rmse-table,error-table,gait-events,command-list"

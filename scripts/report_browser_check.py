@@ -7,7 +7,8 @@ only, no websocket client, no selenium, no network.
 
 For each report: no console error, no uncaught exception, no failed
 request; every expected element id present; every plot drawn (its script-made
-axis ticks and a non-empty line) with its title inside its box; the time window responds (zoom in changes
+axis ticks and a non-empty line) with its title inside its box, no tick
+label "-0" / "-0.0" / NaN, every legend entry on one line; the time window responds (zoom in changes
 every time plot's viewBox). Optionally saves a screenshot of the first report.
 
 usage: report_browser_check.py CHROMIUM OUT.png REPORT.html:ID,ID,... [REPORT.html:...]
@@ -36,7 +37,7 @@ FLAGS = [
 
 CHECK_JS = r"""
 (function (ids) {
-  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], clipped: [], plots: 0, zoom: null };
+  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], clipped: [], ticks: [], wrapped: [], plots: 0, zoom: null };
   ids.forEach(function (id) { if (!document.getElementById(id)) out.missing.push(id); });
   document.querySelectorAll('svg.plot').forEach(function (svg) {
     out.plots++;
@@ -50,6 +51,17 @@ CHECK_JS = r"""
       var bb = title.getBBox();
       if (bb.x + bb.width > box.x + box.width) out.clipped.push(svg.id + ' title ends at ' + Math.round(bb.x + bb.width) + ' of ' + box.width);
     }
+    // no "-0", "-0.0" tick (audit 2026-12-05: ticks summed from a negative
+    // start gave -2.8e-17, printed "-0.0") and no NaN/Infinity tick
+    svg.querySelectorAll('g.axes text.ticklabel').forEach(function (t) {
+      if (/^-0(\.0*)?$|NaN|Infinity|undefined/.test(t.textContent)) out.ticks.push(svg.id + ' tick "' + t.textContent + '"');
+    });
+  });
+  // every legend entry on one line (audit 2026-12-05: a long estimate
+  // file name broke at its hyphens, half an entry on the next line)
+  document.querySelectorAll('.legend .key').forEach(function (k) {
+    var r = k.getBoundingClientRect(), h = parseFloat(getComputedStyle(k).fontSize) * 1.9;
+    if (k.getClientRects().length > 1 || r.height > h) out.wrapped.push((k.closest('figure').querySelector('svg.plot') || {}).id + ': ' + k.textContent);
   });
   var time = document.querySelectorAll('svg.plot.time svg.area');
   if (time.length) {
@@ -200,6 +212,8 @@ def main():
                 bad += ["missing #" + i for i in r["missing"]]
                 bad += ["not drawn: " + u for u in r["undrawn"]]
                 bad += ["clipped: " + u for u in r["clipped"]]
+                bad += ["tick label: " + u for u in r["ticks"]]
+                bad += ["legend entry on two lines: " + u for u in r["wrapped"]]
                 z = r["zoom"]
                 if z is not None and z["changed"] != z["plots"]:
                     bad.append(f"zoom changed {z['changed']} of {z['plots']} time plots")

@@ -36,7 +36,18 @@ pub struct TrialData {
     /// The unit checks `estimate` makes (a time column not in seconds,
     /// accelerometers in g, gyroscopes in deg/s; `limbfuse_eval::unit_warnings`).
     pub unit_warnings: Vec<String>,
+    /// The trial's walking-speed reference is its CoM velocity
+    /// (`limbfuse_eval::speed_from_com`: `com_vx` .. `com_vz`, no
+    /// `speed_ref`, no `phase_ref`, as the independent simulator's walks);
+    /// [`COM_SPEED`] then holds the horizontal CoM speed `evaluate` scores
+    /// the gait-event and walking-speed estimates against.
+    pub speed_from_com: bool,
 }
+
+/// The column of [`TrialData::columns`] holding the horizontal CoM speed
+/// `hypot(com_vx, com_vz)` (m/s; y is up) on a trial whose speed reference
+/// is its CoM velocity ([`TrialData::speed_from_com`]).
+pub const COM_SPEED: &str = "com_speed_horizontal";
 
 /// One estimate file.
 #[derive(Debug, Clone)]
@@ -63,11 +74,12 @@ pub struct EstimateData {
 }
 
 /// The numeric trial columns kept besides the references (exact names).
-const TRIAL_EXTRA: [&str; 6] = [
+const TRIAL_EXTRA: [&str; 7] = [
     "contact_left_ref",
     "contact_right_ref",
     "speed_ref",
     "com_vx",
+    "com_vz",
     "shank_gyr_z",
     "foot_gyr_z",
 ];
@@ -133,15 +145,34 @@ impl TrialData {
             }
         }
         // (a second pass, over records: the checks read the IMU vectors)
-        let unit_warnings = limbfuse_eval::summarise(&mut TrialReader::open(path)?)?.warnings;
+        let mut reader = TrialReader::open(path)?;
+        let speed_from_com = limbfuse_eval::speed_from_com(reader.layout());
+        let unit_warnings = limbfuse_eval::summarise(&mut reader)?.warnings;
+        let mut columns: BTreeMap<String, Column> =
+            extra.into_iter().map(|(n, _)| n).zip(columns).collect();
+        if speed_from_com {
+            // (an audit 2026-12-05: `evaluate` scored `gait-events` and
+            // `lowback-speed` on the independent walks against this speed,
+            // the report said the trial had no reference to score them)
+            let speed = match (columns.get("com_vx"), columns.get("com_vz")) {
+                (Some(x), Some(z)) => x
+                    .iter()
+                    .zip(z)
+                    .map(|(x, z)| Some(x.as_ref()?.hypot(*z.as_ref()?)))
+                    .collect(),
+                _ => vec![None; t.len()],
+            };
+            columns.insert(COM_SPEED.to_string(), speed);
+        }
         Ok(TrialData {
             path: path.to_path_buf(),
             meta,
             t,
             reference,
-            columns: extra.into_iter().map(|(n, _)| n).zip(columns).collect(),
+            columns,
             phase_ref,
             unit_warnings,
+            speed_from_com,
         })
     }
 

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use limbfuse_core::Side;
 use limbfuse_eval::gait_events_evaluation::{EventTiming, GaitEventEvaluation};
 
-use crate::data::{Column, EstimateData, TrialData};
+use crate::data::{Column, EstimateData, TrialData, COM_SPEED};
 use crate::panels::{color, Panel, TimePlot};
 use crate::svg::esc;
 
@@ -20,11 +20,15 @@ pub fn is_event_estimate(e: &EstimateData) -> bool {
     e.contact.iter().any(Option::is_some) || (e.speed.is_some() && e.phase.is_none())
 }
 
-/// Whether the trial has a reference these estimates can be scored against.
+/// Whether the trial has a reference these estimates can be scored against:
+/// `contact_*_ref`, `speed_ref`, or a CoM velocity that `evaluate` takes as
+/// the speed reference ([`TrialData::speed_from_com`]; an audit 2026-12-05:
+/// the independent walks' events and speeds went unscored in the report).
 pub fn has_event_reference(trial: &TrialData) -> bool {
-    ["contact_left_ref", "contact_right_ref", "speed_ref"]
-        .iter()
-        .any(|k| trial.columns.contains_key(*k))
+    trial.speed_from_com
+        || ["contact_left_ref", "contact_right_ref", "speed_ref"]
+            .iter()
+            .any(|k| trial.columns.contains_key(*k))
 }
 
 /// The panel, when some estimate carries events or a speed
@@ -68,10 +72,21 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
     }
     plots.extend(initial_contacts_plot(trial, &shown, tp));
     let mut lines = Vec::new();
-    if let Some(r) = trial.columns.get("speed_ref") {
+    let speed_ref = trial
+        .columns
+        .get("speed_ref")
+        .map(|r| ("speed_ref", r))
+        .or_else(|| {
+            let r = trial
+                .columns
+                .get(COM_SPEED)
+                .filter(|_| trial.speed_from_com)?;
+            Some(("horizontal CoM speed hypot(com_vx, com_vz) (reference)", r))
+        });
+    if let Some((label, r)) = speed_ref {
         lines.push((
             "ref".to_string(),
-            "speed_ref".to_string(),
+            label.to_string(),
             "#000000".to_string(),
             r,
             true,
@@ -98,7 +113,7 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
         id: "panel-events".into(),
         kind: "events".into(),
         title: "Gait events and walking speed".into(),
-        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section.".into(),
+        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed; without <code>speed_ref</code>, its horizontal CoM speed when <code>evaluate</code> scores against it) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section.".into(),
         plots,
         table: String::new(),
     })
@@ -169,7 +184,14 @@ fn initial_contacts_plot(
         tp.plot(
             "plot-initial-contacts".into(),
             "initial-contacts",
-            "initial contacts (reference up, estimated down; either foot)".into(),
+            // (an audit 2026-12-05: the title spoke of a reference on
+            // trials without one)
+            if refs.is_empty() {
+                "initial contacts (estimated, down; either foot; the trial has no contact_*_ref)"
+                    .into()
+            } else {
+                "initial contacts (reference up, estimated down; either foot)".into()
+            },
             "contact",
             columns
                 .iter()

@@ -18,8 +18,9 @@
 //! Detection is not attempted on trials with stimulation inputs (`u_*`
 //! columns): those are seated or fixed-hip FES trials, not gait. Cycles
 //! shorter than half or longer than 1.5 times the median cycle (a missed or
-//! spurious event, a turn, a stop) are left out, and at least two cycles must
-//! remain.
+//! spurious event, a turn, a stop) are left out, at least two cycles must
+//! remain, and no more cycles may be left out than kept (the events are
+//! then too irregular for their median interval to be a gait cycle).
 
 use crate::data::{Column, TrialData};
 
@@ -112,8 +113,20 @@ fn cycles_from(t: &[f64], events: &[usize], source: EventSource) -> Result<GaitC
             source_name(&source)
         ));
     }
+    // (an audit 2026-12-05: on the knee rig's raw shank gyro, 14 of 23
+    // cycles were left out and the 9 kept, 2.9 s each, were pieces of the
+    // rig's 18.7 s cycle, drawn as "the gait cycle")
+    let rejected = all.len() - cycles.len();
+    if rejected > cycles.len() {
+        return Err(format!(
+            "the events from `{}` are irregular: {rejected} of the {} cycles between them are off their median ({:.3} s) by more than 50 %, so the median is not a gait cycle",
+            source_name(&source),
+            all.len(),
+            median
+        ));
+    }
     Ok(GaitCycles {
-        rejected: all.len() - cycles.len(),
+        rejected,
         source,
         cycles,
     })
@@ -266,6 +279,31 @@ mod tests {
         }
     }
 
+    /// Audit 2026-12-05, the knee rig: events whose intervals are mostly
+    /// off their median (here 2 long intervals and 3 short ones for every
+    /// kept one, as the rig's raw shank gyro gave) were drawn as gait
+    /// cycles, the 2.9 s pieces of an 18.7 s cycle. Now no cycle, and the
+    /// reason; a trial with a few spurious events keeps its cycles.
+    #[test]
+    fn mostly_irregular_events_give_no_gait_cycle() {
+        let t: Vec<f64> = (0..20_000).map(|i| i as f64 * 0.01).collect();
+        // intervals (s): 3, 3, 3, 1, 1, 1, 1, 10, 10, 10, 3, 1, 10 ...: the
+        // median is 3 s; 3-s cycles are fewer than the others
+        let mut events = vec![0usize];
+        for d in [
+            3.0, 1.0, 1.0, 10.0, 3.0, 1.0, 10.0, 1.0, 10.0, 3.0, 1.0, 10.0,
+        ] {
+            events.push(events.last().unwrap() + (d * 100.0) as usize);
+        }
+        let why = cycles_from(&t, &events, EventSource::Gyro("shank_gyr_z".into())).unwrap_err();
+        assert!(why.contains("irregular"), "{why}");
+        assert!(why.contains("shank_gyr_z"), "{why}");
+        // 1.2 s cycles with 2 spurious events: 8 kept, the 2 short ones left out
+        let events = [0, 120, 240, 360, 480, 510, 600, 720, 820, 840, 960];
+        let c = cycles_from(&t, &events, EventSource::Gyro("shank_gyr_z".into())).unwrap();
+        assert_eq!((c.cycles.len(), c.rejected), (8, 2));
+    }
+
     #[test]
     fn contact_column_gives_the_cycles() {
         let n = 500;
@@ -279,6 +317,7 @@ mod tests {
             columns: Default::default(),
             phase_ref: None,
             unit_warnings: Vec::new(),
+            speed_from_com: false,
         };
         trial.columns.insert("contact_right_ref".into(), c);
         let cy = find_cycles(&trial).unwrap();

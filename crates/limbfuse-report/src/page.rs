@@ -130,6 +130,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         &evals,
         &gait_evals,
         (&event_estimates, &event_evals),
+        trial.speed_from_com,
     );
     panel_section(&mut body, &panels(&trial, &estimates, &tp));
     command_section(&mut body, input, &trial, &estimates);
@@ -364,6 +365,7 @@ fn error_section(
     evals: &[Evaluation],
     gait: &[GaitEvaluation],
     (is_event, events): (&[bool], &[(usize, GaitEventEvaluation)]),
+    speed_from_com: bool,
 ) {
     s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
     // Angle tables only for estimates of angles (a speed or event estimate
@@ -409,11 +411,15 @@ fn error_section(
         s.push_str(&tables::gait_table(labels_all, gait));
     }
     if !events.is_empty() {
-        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code> for gait events and walking speed (docs/GAIT_EVENTS.md): events paired within 0.25 s, each stride's speed against the mean <code>speed_ref</code> over its rows.</p>"#);
+        s.push_str(r#"<p class="note" id="events-note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code> for gait events and walking speed (docs/GAIT_EVENTS.md): events paired within 0.25 s, each stride's speed against the mean <code>speed_ref</code> over its rows"#);
+        if speed_from_com {
+            s.push_str(r#" (the trial has no <code>speed_ref</code>: its horizontal CoM speed <code>hypot(com_vx, com_vz)</code> instead, as <code>evaluate</code> takes it)"#);
+        }
+        s.push_str(".</p>");
         s.push_str(&events_table(labels_all, events));
     }
     if events.is_empty() && is_event.iter().any(|&e| e) {
-        s.push_str(r#"<p class="note">The trial has no contact or speed reference (<code>contact_*_ref</code>, <code>speed_ref</code>) to score the gait events and walking speed against.</p>"#);
+        s.push_str(r#"<p class="note">The trial has no contact or speed reference (<code>contact_*_ref</code>, <code>speed_ref</code>, or a CoM velocity <code>com_vx</code> .. <code>com_vz</code> without <code>phase_ref</code>) to score the gait events and walking speed against.</p>"#);
     } else if evals.is_empty() && unscored.is_empty() && gait.is_empty() && events.is_empty() {
         s.push_str(r#"<p class="note">The trial has no reference to evaluate against.</p>"#);
     }

@@ -28,8 +28,11 @@
     var raw = span / n, p = Math.pow(10, Math.floor(Math.log10(raw))), f = raw / p;
     return (f < 1.5 ? 1 : f < 3.5 ? 2 : f < 7.5 ? 5 : 10) * p;
   }
+  // (audit 2026-12-05: a tick summed up from a negative start is -2.8e-17,
+  // which printed "-0.0": zero is "0")
   function fmt(v, step) {
     var dec = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
+    if (Math.abs(v) < step * 1e-6) v = 0;
     return v.toFixed(Math.min(dec, 6));
   }
   function el(name, attrs, text) {
@@ -47,13 +50,13 @@
     while (g.firstChild) g.removeChild(g.firstChild);
     var x0 = vb.x / xs, x1 = (vb.x + vb.width) / xs;
     var y1 = -vb.y / ys, y0 = -(vb.y + vb.height) / ys;
-    var sx = niceStep(x1 - x0, 8), sy = niceStep(y1 - y0, 5), v, px;
-    for (v = Math.ceil(x0 / sx) * sx; v <= x1 + 1e-9 * sx; v += sx) {
+    var sx = niceStep(x1 - x0, 8), sy = niceStep(y1 - y0, 5), v, px, k;
+    for (k = Math.ceil(x0 / sx); (v = k * sx) <= x1 + 1e-9 * sx; k++) {
       px = ax + (v - x0) / (x1 - x0) * aw;
       g.appendChild(el('line', { 'class': 'tick', x1: px, x2: px, y1: ay, y2: ay + ah }));
       g.appendChild(el('text', { 'class': 'ticklabel', x: px, y: ay + ah + 13, 'text-anchor': 'middle' }, fmt(v, sx)));
     }
-    for (v = Math.ceil(y0 / sy) * sy; v <= y1 + 1e-9 * sy; v += sy) {
+    for (k = Math.ceil(y0 / sy); (v = k * sy) <= y1 + 1e-9 * sy; k++) {
       px = ay + (y1 - v) / (y1 - y0) * ah;
       g.appendChild(el('line', { 'class': 'tick', x1: ax, x2: ax + aw, y1: px, y2: px }));
       g.appendChild(el('text', { 'class': 'ticklabel', x: ax - 4, y: px + 4, 'text-anchor': 'end' }, fmt(v, sy)));

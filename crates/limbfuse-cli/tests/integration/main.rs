@@ -53,6 +53,7 @@ mod lowback_time_stamps;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
 mod raw_frames_warning;
+mod report_audit_28;
 mod report_audit_dec05;
 mod report_review27;
 mod resample_cli;
