@@ -224,10 +224,6 @@ impl DelayLine {
             let Ok(fit) = fit_positions(scratch, None, p) else {
                 continue;
             };
-            #[cfg(feature = "std")]
-            if std::env::var_os("LF_DELAY_DEBUG").is_some() {
-                std::eprintln!("delay {d}: rms_e_o {:.5}", fit.rms);
-            }
             self.curve[(d + max as isize) as usize] = fit.rms;
             if d == self.delay {
                 current = Some(fit.rms);
@@ -264,5 +260,109 @@ impl DelayLine {
         } else {
             false
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_core::Sample;
+
+    /// A planar two-link leg (hip fixed, sensors on the segments' long
+    /// axes, frames aligned with the segments), computed in closed form with
+    /// central differences; the shank's readings `late` rows late.
+    fn leg(rows: usize, late: usize) -> alloc::vec::Vec<Sample> {
+        let dt = 0.01;
+        let (len, r1, r2) = (0.43, 0.2, 0.2);
+        let theta = |t: f64| {
+            let th = 0.4 * libm::sin(core::f64::consts::TAU * t);
+            let knee = 0.5 * (1.0 - libm::cos(core::f64::consts::TAU * t + 0.7));
+            [th, th - knee]
+        };
+        let pos = |t: f64| {
+            let [a, b] = theta(t);
+            let down = |x: f64| Vector3::new(libm::sin(x), -libm::cos(x), 0.0);
+            [down(a) * r1, down(a) * len + down(b) * r2]
+        };
+        let h = 1e-4;
+        let reading = |t: f64, seg: usize| {
+            let acc = (pos(t + h)[seg] - 2.0 * pos(t)[seg] + pos(t - h)[seg]) / (h * h);
+            let f = acc + Vector3::new(0.0, 9.81, 0.0);
+            let a = theta(t)[seg];
+            let rate = (theta(t + h)[seg] - theta(t - h)[seg]) / (2.0 * h);
+            let (s, c) = (libm::sin(a), libm::cos(a));
+            let f_sensor = Vector3::new(c * f.x + s * f.y, -s * f.x + c * f.y, 0.0);
+            ImuSample {
+                acc: Some(f_sensor),
+                gyr: Some(Vector3::new(0.0, 0.0, rate)),
+                ..Default::default()
+            }
+        };
+        (0..rows)
+            .map(|k| {
+                let t = k as f64 * dt;
+                let mut s = Sample::empty(t);
+                s.imu[Segment::Thigh.index()] = reading(t, 0);
+                if k >= late {
+                    s.imu[Segment::Shank.index()] = reading(t - late as f64 * dt, 1);
+                }
+                s
+            })
+            .collect()
+    }
+
+    fn params() -> KneeSelfAlignParams {
+        KneeSelfAlignParams {
+            window: 400,
+            max_delay: 5,
+            ..KneeSelfAlignParams::default()
+        }
+    }
+
+    #[test]
+    fn the_search_finds_the_offset_the_leg_was_built_with() {
+        for late in [0usize, 1, 3] {
+            let mut line = DelayLine::new(5, 400);
+            for s in leg(500, late) {
+                line.push(&s);
+            }
+            let found = line.search(&params()).unwrap();
+            assert_eq!(found.best, late as isize, "{found:?}");
+            assert!(found.rms_best <= SHARPNESS * found.rms_neighbours, "{found:?}");
+            assert_eq!(line.adopt(&found), late != 0);
+            assert_eq!(line.delay(), late as isize);
+        }
+    }
+
+    #[test]
+    fn the_stream_that_runs_ahead_is_taken_back_by_the_offset() {
+        let rows = leg(20, 0);
+        let mut line = DelayLine::new(3, 40);
+        for s in &rows {
+            line.push(s);
+        }
+        let at = |k: usize, seg: Segment| rows[k].imu(seg).gyr;
+        // Shank late by 2: this row's shank with the thigh of 2 rows back.
+        line.delay = 2;
+        let (t, [thigh, shank]) = line.paired(0).unwrap();
+        assert_eq!((t, thigh.gyr, shank.gyr), (rows[19].t, at(17, Segment::Thigh), at(19, Segment::Shank)));
+        // Thigh late by 2 (offset -2): this row's thigh, the shank 2 back.
+        line.delay = -2;
+        let (t, [thigh, shank]) = line.paired(1).unwrap();
+        assert_eq!((t, thigh.gyr, shank.gyr), (rows[18].t, at(18, Segment::Thigh), at(16, Segment::Shank)));
+        assert!(line.paired(18).is_none());
+        assert!((line.period().unwrap() - 0.01).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_bad_max_delay_is_named() {
+        let e = KneeSelfAlignParams {
+            window: 100,
+            max_delay: 26,
+            ..KneeSelfAlignParams::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!(e.name, "max_delay");
     }
 }
