@@ -33,9 +33,7 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{
-    diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, TimeStep,
-};
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, TimeStep};
 use nalgebra::Vector3;
 
 use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};

@@ -183,8 +183,8 @@ pub fn knee_params(
     };
     p.validate()
         .map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
-    let max_delay_s =
-        max_delay_s(f.max_sensor_delay_s).map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
+    let max_delay_s = max_delay_s(f.max_sensor_delay_s)
+        .map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
     Ok(KneeSelfAlignSettings {
         params: p,
         window,

@@ -43,7 +43,10 @@ fn a_shank_two_rows_late_is_found_on_the_shared_walk() {
             return None;
         }
         let c = names.iter().position(|n| *n == col).unwrap();
-        Some(row.checked_sub(2).map_or(String::new(), |r| data[r][c].to_string()))
+        Some(
+            row.checked_sub(2)
+                .map_or(String::new(), |r| data[r][c].to_string()),
+        )
     });
     std::fs::write(d.path().join("late.csv"), late).unwrap();
     std::fs::write(d.path().join("delay.toml"), "max_sensor_delay_s = 0.05\n").unwrap();
@@ -56,13 +59,24 @@ fn a_shank_two_rows_late_is_found_on_the_shared_walk() {
         ("knee-selfalign", "delay.toml"),
         ("knee-gyro-axis", "delay-kga.toml"),
     ] {
-        run_ok(&["estimate", "--method", method, "late.csv", "-o", "off.csv"], d.path());
-        let off = knee_rmse(d.path(), &["evaluate", "late.csv", "off.csv", "--max-lag", "3"]);
         run_ok(
-            &["estimate", "--method", method, "--params", params, "late.csv", "-o", "on.csv"],
+            &["estimate", "--method", method, "late.csv", "-o", "off.csv"],
             d.path(),
         );
-        let on = knee_rmse(d.path(), &["evaluate", "late.csv", "on.csv", "--max-lag", "3"]);
+        let off = knee_rmse(
+            d.path(),
+            &["evaluate", "late.csv", "off.csv", "--max-lag", "3"],
+        );
+        run_ok(
+            &[
+                "estimate", "--method", method, "--params", params, "late.csv", "-o", "on.csv",
+            ],
+            d.path(),
+        );
+        let on = knee_rmse(
+            d.path(),
+            &["evaluate", "late.csv", "on.csv", "--max-lag", "3"],
+        );
         let out = std::fs::read_to_string(d.path().join("on.csv")).unwrap();
         let mut lines = out.lines().filter(|l| !l.starts_with('#'));
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -70,8 +84,17 @@ fn a_shank_two_rows_late_is_found_on_the_shared_walk() {
             .iter()
             .position(|h| *h == "diag_sensor_delay_s")
             .expect("diag_sensor_delay_s column");
-        let last: f64 = lines.last().unwrap().split(',').nth(col).unwrap().parse().unwrap();
-        eprintln!("{method}: knee RMSE {off:.3} deg without the search, {on:.3} with; delay {last} s");
+        let last: f64 = lines
+            .last()
+            .unwrap()
+            .split(',')
+            .nth(col)
+            .unwrap()
+            .parse()
+            .unwrap();
+        eprintln!(
+            "{method}: knee RMSE {off:.3} deg without the search, {on:.3} with; delay {last} s"
+        );
         assert!((last - 0.02).abs() < 1e-6, "{method}: delay {last}");
         assert!(on < 1.5, "{method}: {on} deg ({off} without the search)");
         assert!(off > 10.0, "{method}: {off} deg without the search");

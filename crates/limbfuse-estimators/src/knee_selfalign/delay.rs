@@ -134,7 +134,11 @@ impl DelayLine {
     /// windows of `window` rows (holds `window + 2 max` rows and a window;
     /// nothing for `max = 0`, the search off).
     pub fn new(max: usize, window: usize) -> Self {
-        let (cap, scratch) = if max == 0 { (0, 1) } else { (window + 2 * max, window) };
+        let (cap, scratch) = if max == 0 {
+            (0, 1)
+        } else {
+            (window + 2 * max, window)
+        };
         DelayLine {
             rows: Rows {
                 rows: alloc::vec![RawRow::default(); cap],
@@ -189,7 +193,8 @@ impl DelayLine {
     /// taken `|d|` rows back, the time is the other stream's row's. `None`
     /// when those rows are not held.
     pub fn paired(&self, back: usize) -> Option<(f64, [ImuSample; 2])> {
-        self.rows.pair(back + self.delay.max(0) as usize, self.delay)
+        self.rows
+            .pair(back + self.delay.max(0) as usize, self.delay)
     }
 
     /// Mean time step over the rows held (s; `None` with fewer than two).
@@ -328,7 +333,10 @@ mod tests {
             }
             let found = line.search(&params()).unwrap();
             assert_eq!(found.best, late as isize, "{found:?}");
-            assert!(found.rms_best <= SHARPNESS * found.rms_neighbours, "{found:?}");
+            assert!(
+                found.rms_best <= SHARPNESS * found.rms_neighbours,
+                "{found:?}"
+            );
             assert_eq!(line.adopt(&found), late != 0);
             assert_eq!(line.delay(), late as isize);
         }
@@ -345,11 +353,17 @@ mod tests {
         // Shank late by 2: this row's shank with the thigh of 2 rows back.
         line.delay = 2;
         let (t, [thigh, shank]) = line.paired(0).unwrap();
-        assert_eq!((t, thigh.gyr, shank.gyr), (rows[19].t, at(17, Segment::Thigh), at(19, Segment::Shank)));
+        assert_eq!(
+            (t, thigh.gyr, shank.gyr),
+            (rows[19].t, at(17, Segment::Thigh), at(19, Segment::Shank))
+        );
         // Thigh late by 2 (offset -2): this row's thigh, the shank 2 back.
         line.delay = -2;
         let (t, [thigh, shank]) = line.paired(1).unwrap();
-        assert_eq!((t, thigh.gyr, shank.gyr), (rows[18].t, at(18, Segment::Thigh), at(16, Segment::Shank)));
+        assert_eq!(
+            (t, thigh.gyr, shank.gyr),
+            (rows[18].t, at(18, Segment::Thigh), at(16, Segment::Shank))
+        );
         assert!(line.paired(18).is_none());
         assert!((line.period().unwrap() - 0.01).abs() < 1e-12);
     }

@@ -42,7 +42,10 @@ fn delayed(records: &[Record], seg: Segment, d: usize) -> Vec<Record> {
 /// Knee RMSE (deg) after 15 s against the truth `lag` rows earlier, and the
 /// last `diag_sensor_delay_s`.
 fn score(records: &[Record], est: &mut dyn Estimator, delay_diag: usize, lag: usize) -> (f64, f64) {
-    let out: Vec<Estimate> = records.iter().map(|r| est.step(&r.sample).unwrap()).collect();
+    let out: Vec<Estimate> = records
+        .iter()
+        .map(|r| est.step(&r.sample).unwrap())
+        .collect();
     let (mut s, mut n) = (0.0, 0usize);
     for k in 1500..out.len() {
         let e = out[k].joint[Joint::Knee.index()].unwrap();
