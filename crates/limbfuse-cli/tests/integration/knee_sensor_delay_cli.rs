@@ -85,7 +85,7 @@ fn a_shank_two_rows_late_is_found_on_the_shared_walk() {
             .position(|h| *h == "diag_sensor_delay_s")
             .expect("diag_sensor_delay_s column");
         let last: f64 = lines
-            .last()
+            .next_back()
             .unwrap()
             .split(',')
             .nth(col)

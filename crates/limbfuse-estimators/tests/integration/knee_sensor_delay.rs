@@ -30,8 +30,8 @@ fn walk() -> Vec<Record> {
 /// `seg`'s readings `d` rows late (row k gets row k - d's; the first rows empty).
 fn delayed(records: &[Record], seg: Segment, d: usize) -> Vec<Record> {
     let mut out = records.to_vec();
-    for k in 0..out.len() {
-        out[k].sample.imu[seg.index()] = match k.checked_sub(d) {
+    for (k, r) in out.iter_mut().enumerate() {
+        r.sample.imu[seg.index()] = match k.checked_sub(d) {
             Some(j) => records[j].sample.imu[seg.index()],
             None => Default::default(),
         };
@@ -83,7 +83,8 @@ fn check(seg: Segment, expected_s: f64) {
     let late = delayed(&records, seg, 2);
     let ksa_diag = index(&KneeDiag::NAMES, "sensor_delay_s");
     let kga_diag = index(&KneeGyroDiag::NAMES, "sensor_delay_s");
-    let runs: [(&str, fn(usize) -> Box<dyn Estimator>, usize); 2] = [
+    type Build = fn(usize) -> Box<dyn Estimator>;
+    let runs: [(&str, Build, usize); 2] = [
         ("knee-selfalign", |m| Box::new(selfalign(m)), ksa_diag),
         ("knee-gyro-axis", |m| Box::new(gyro_axis(m)), kga_diag),
     ];
