@@ -33,9 +33,7 @@
 use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
-use limbfuse_core::{
-    diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep,
-};
+use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, TimeStep};
 use nalgebra::Vector3;
 
 use crate::knee_selfalign::angle::{gyro_angle_rate, wrap};
@@ -77,6 +75,9 @@ diagnostic_set! {
         JShankY = "j_shank_y",
         /// Shank joint axis `j_2`, z.
         JShankZ = "j_shank_z",
+        /// Thigh-shank time offset in use (s; the inner `knee-selfalign`'s
+        /// delay search, positive: the shank lags).
+        SensorDelay = "sensor_delay_s",
     }
 }
 
@@ -323,8 +324,9 @@ impl Estimator for KneeGyroAxis {
                 backfill = Some(self.inner.recent_gyro_angles());
             }
             self.axes = Some(g.axis);
-            let thigh = sample.imu(Segment::Thigh);
-            let shank = sample.imu(Segment::Shank);
+            // The readings as the inner estimator paired them (its delay
+            // search; the input's own without an offset).
+            let [thigh, shank] = self.inner.aligned();
             let rate = match (thigh.gyr, shank.gyr) {
                 (Some(gt), Some(gs)) => Some(gyro_angle_rate(&gt, &gs, &g.axis[0], &g.axis[1])),
                 _ => None,
@@ -439,6 +441,7 @@ impl Estimator for KneeGyroAxis {
         let mut d = est.diagnostics_mut::<KneeGyroDiag>();
         d.flag(KneeGyroDiag::Identified, identified);
         d.value(KneeGyroDiag::Windows, self.windows as f64);
+        d.value(KneeGyroDiag::SensorDelay, self.inner.sensor_delay_s());
         if identified {
             d.flag(KneeGyroDiag::InclinationUsed, self.use_inclination);
             d.value(KneeGyroDiag::AlphaGyro, self.alpha);

@@ -13,6 +13,7 @@
 //! highpass_hz = 0.02          # drift removal while the accelerometer angle is not trusted
 //! axis_prior = "upright"      # or "none": paper 002's eq 2 alone
 //! upright_min_hinge_ratio = 0.15  # the prior applies where RMS e_j >= this x RMS rate
+//! max_sensor_delay_s = 0.0    # thigh-shank time offset searched up to this, either way (0: off)
 //! ```
 
 use std::path::Path;
@@ -26,7 +27,7 @@ use serde::Deserialize;
 use limbfuse_core::Estimator;
 use limbfuse_io::{TrialLayout, TrialMeta};
 
-use crate::knee_window::WindowLength;
+use crate::knee_window::{delay_samples, WindowLength};
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
 use crate::{ChannelNeeds, MethodError, MethodFlags, MethodName};
 
@@ -64,6 +65,7 @@ struct KneeSelfAlignFile {
     highpass_hz: Option<f64>,
     axis_prior: Option<AxisPriorName>,
     upright_min_hinge_ratio: Option<f64>,
+    max_sensor_delay_s: Option<f64>,
 }
 
 /// `knee-selfalign` settings: the estimator's parameters and its window as
@@ -76,6 +78,27 @@ pub struct KneeSelfAlignSettings {
     pub params: KneeSelfAlignParams,
     /// The window as the file or `--window` gives it.
     pub window: WindowLength,
+    /// The largest thigh-shank time offset searched (s; 0: off), counted
+    /// in samples at the trial's rate into `params.max_delay`.
+    pub max_delay_s: f64,
+}
+
+/// Default `max_sensor_delay_s` of both knee methods (s).
+pub const DEFAULT_MAX_SENSOR_DELAY_S: f64 = 0.0;
+
+/// `max_sensor_delay_s` of a file, checked: the delay search's bound, 0
+/// to 1 s (docs/KNEE_SELFALIGN.md "Sensor time offset").
+fn max_delay_s(v: Option<f64>) -> Result<f64, KneeParamError> {
+    let s = v.unwrap_or(DEFAULT_MAX_SENSOR_DELAY_S);
+    if s.is_finite() && (0.0..=1.0).contains(&s) {
+        Ok(s)
+    } else {
+        Err(KneeParamError {
+            name: "max_sensor_delay_s",
+            value: s,
+            range: "[0, 1] s",
+        })
+    }
 }
 
 /// A knee setting out of range, as the method named reports it.
@@ -105,6 +128,7 @@ impl KneeSelfAlignSettings {
     pub fn for_trial(&self, meta: &TrialMeta) -> Result<KneeSelfAlignParams, MethodError> {
         let p = KneeSelfAlignParams {
             window: self.window.samples(MethodName::KneeSelfAlign, meta)?,
+            max_delay: delay_samples(self.max_delay_s, MethodName::KneeSelfAlign, meta)?,
             ..self.params
         };
         p.validate()
@@ -159,7 +183,13 @@ pub fn knee_params(
     };
     p.validate()
         .map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
-    Ok(KneeSelfAlignSettings { params: p, window })
+    let max_delay_s = max_delay_s(f.max_sensor_delay_s)
+        .map_err(out_of_range_in(MethodName::KneeSelfAlign, file))?;
+    Ok(KneeSelfAlignSettings {
+        params: p,
+        window,
+        max_delay_s,
+    })
 }
 
 impl MethodFile for KneeSelfAlignFile {
@@ -177,7 +207,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window_s (default 5 s at the trial's rate) or window (samples), order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio (file keys or --window/--order)",
+        "window_s (default 5 s at the trial's rate) or window (samples), order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio, max_sensor_delay_s (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -223,7 +253,8 @@ pub fn default_file() -> String {
          acc_min_motion = {}  # ... judged only in windows whose gyro angle spreads at least this (0 to 1; limbfuse)\n\
          highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n\
          axis_prior = \"upright\"  # \"upright\" (limbfuse, issue 15) or \"none\" (paper 002: eq 2 alone)\n\
-         upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n",
+         upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n\
+         max_sensor_delay_s = {:?}  # thigh-shank time offset searched up to this either way (0 to 1 s; 0: off; limbfuse)\n",
         WindowLength::default().file_line(),
         d.order,
         d.zero.name(),
@@ -232,7 +263,8 @@ pub fn default_file() -> String {
         d.acc_max_spread,
         d.acc_min_motion,
         d.highpass_hz,
-        d.axis_prior.unwrap_or_default().min_hinge_ratio
+        d.axis_prior.unwrap_or_default().min_hinge_ratio,
+        DEFAULT_MAX_SENSOR_DELAY_S
     )
 }
 
@@ -244,6 +276,8 @@ pub struct KneeGyroAxisSettings {
     pub params: KneeGyroAxisParams,
     /// The window as the file or `--window` gives it.
     pub window: WindowLength,
+    /// As [`KneeSelfAlignSettings::max_delay_s`].
+    pub max_delay_s: f64,
 }
 
 impl KneeGyroAxisSettings {
@@ -251,6 +285,7 @@ impl KneeGyroAxisSettings {
     pub fn for_trial(&self, meta: &TrialMeta) -> Result<KneeGyroAxisParams, MethodError> {
         let mut p = self.params;
         p.axes.window = self.window.samples(MethodName::KneeGyroAxis, meta)?;
+        p.axes.max_delay = delay_samples(self.max_delay_s, MethodName::KneeGyroAxis, meta)?;
         p.validate()
             .map_err(out_of_range(MethodName::KneeGyroAxis))?;
         Ok(p)
@@ -266,6 +301,7 @@ struct KneeGyroAxisFile {
     window_s: Option<f64>,
     order: Option<usize>,
     corner_hz: Option<f64>,
+    max_sensor_delay_s: Option<f64>,
 }
 
 impl MethodFile for KneeGyroAxisFile {
@@ -284,7 +320,7 @@ impl MethodDef for KneeGyroAxisMethod {
         "knee-gyro-axis",
         "knee angle from the relative gyro rate about the identified knee axes, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
         "raw thigh and shank IMUs (any mounting)",
-        "window_s (default 5 s at the trial's rate) or window (samples), order, corner_hz (file keys or --window/--order)",
+        "window_s (default 5 s at the trial's rate) or window (samples), order, corner_hz, max_sensor_delay_s (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -310,7 +346,13 @@ impl MethodDef for KneeGyroAxisMethod {
         };
         p.validate()
             .map_err(out_of_range_in(MethodName::KneeGyroAxis, file))?;
-        Ok(KneeGyroAxisSettings { params: p, window })
+        let max_delay_s = max_delay_s(f.max_sensor_delay_s)
+            .map_err(out_of_range_in(MethodName::KneeGyroAxis, file))?;
+        Ok(KneeGyroAxisSettings {
+            params: p,
+            window,
+            max_delay_s,
+        })
     }
 
     fn build(
@@ -331,10 +373,12 @@ impl MethodDef for KneeGyroAxisMethod {
              method = \"knee-gyro-axis\"\n\
              {}  # s_w of the axis identification as a duration (s), in samples at the trial's rate: 500 at 100 Hz; or `window = N` samples as given; --window N overrides\n\
              order = {}  # parameter-EKF iterations per window; --order overrides\n\
-             corner_hz = {}  # drift-removal corner frequency (Hz, 0 to 10)\n",
+             corner_hz = {}  # drift-removal corner frequency (Hz, 0 to 10)\n\
+             max_sensor_delay_s = {:?}  # thigh-shank time offset searched up to this either way (0 to 1 s; 0: off)\n",
             WindowLength::default().file_line(),
             d.axes.order,
-            d.corner_hz
+            d.corner_hz,
+            DEFAULT_MAX_SENSOR_DELAY_S
         )
     }
 }

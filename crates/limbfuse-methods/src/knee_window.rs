@@ -135,6 +135,37 @@ impl WindowLength {
     }
 }
 
+/// `max_sensor_delay_s` (the largest thigh-shank time offset the knee
+/// methods search) in samples at the trial's rate, rounded (a trial
+/// without `# sample_rate_hz:` at the paper's 100 Hz); 0 s is 0 (the
+/// search off).
+pub fn delay_samples(
+    seconds: f64,
+    method: MethodName,
+    meta: &TrialMeta,
+) -> Result<usize, MethodError> {
+    if seconds == 0.0 {
+        return Ok(0);
+    }
+    let rate = match meta.get("sample_rate_hz") {
+        None => PAPER_RATE_HZ,
+        Some(v) => v
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .ok_or_else(|| MethodError::KneeWindow {
+                method,
+                message: format!(
+                    "trial metadata `# sample_rate_hz: {v}`: expected a positive rate in Hz \
+                     (max_sensor_delay_s = {seconds} is counted in samples at it)"
+                ),
+            })?,
+    };
+    // (beyond any window: the estimator's check names `max_delay`)
+    Ok((seconds * rate).round().min(1e9) as usize)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

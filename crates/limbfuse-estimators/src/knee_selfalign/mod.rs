@@ -26,6 +26,8 @@
 
 pub mod acc_scale;
 pub mod angle;
+pub mod delay;
+mod diag;
 mod fuser;
 pub mod param_ekf;
 pub mod params;
@@ -40,7 +42,7 @@ use core::fmt;
 
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{
-    diagnostic_set, Estimate, Estimator, EstimatorError, Joint, Sample, Segment, TimeStep,
+    Estimate, Estimator, EstimatorError, ImuSample, Joint, Sample, Segment, TimeStep,
 };
 use nalgebra::Vector3;
 
@@ -48,116 +50,13 @@ use crate::segment_kf::robust::{
     held_rate_variance, HELD_RATE_CORRELATION_S, HELD_RATE_VARIANCE_CAP,
 };
 use angle::{accel_angle, gyro_angle_rate, PlaneBasis};
+use delay::{saturated, slot, DelayLine};
+pub use diag::KneeDiag;
 use fuser::Fuser;
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 use position_fusion::FusedPositions;
 pub use window::Geometry;
-use window::{identify, Ring, Slot, WindowOutcome};
-
-diagnostic_set! {
-    /// Diagnostics of [`KneeSelfAlign`].
-    pub enum KneeDiag {
-        /// 1 once a window has identified the geometry (the knee angle is output), else 0.
-        Identified = "identified",
-        /// Status of the last window, [`WindowStatus::code`].
-        WindowStatus = "window_status",
-        /// 1 when the last window did not determine the axes, else 0.
-        Unobservable = "unobservable",
-        /// Number of windows completed.
-        Windows = "windows",
-        /// Complete, unsaturated samples of the last window.
-        WindowUsable = "window_usable",
-        /// 1 when a gyro of this sample is saturated, else 0.
-        Saturated = "saturated",
-        /// Gyro knee angle, eq 4 integrated (rad).
-        AlphaGyro = "alpha_gyro",
-        /// Accelerometer knee angle, eqs 5-7, of the lagged sample (rad).
-        AlphaAcc = "alpha_acc",
-        /// Correction state of the fusion filter, Algorithm 1 (rad).
-        KfX = "kf_x",
-        /// Variance of that correction (rad^2).
-        KfP = "kf_p",
-        /// Thigh joint axis `j_1`, x (eq 1, sensor frame).
-        JThighX = "j_thigh_x",
-        /// Thigh joint axis `j_1`, y.
-        JThighY = "j_thigh_y",
-        /// Thigh joint axis `j_1`, z.
-        JThighZ = "j_thigh_z",
-        /// Shank joint axis `j_2`, x (eq 1, sensor frame).
-        JShankX = "j_shank_x",
-        /// Shank joint axis `j_2`, y.
-        JShankY = "j_shank_y",
-        /// Shank joint axis `j_2`, z.
-        JShankZ = "j_shank_z",
-        /// Thigh sensor position `o_1`, x (eq 3, m).
-        OThighX = "o_thigh_x",
-        /// Thigh sensor position `o_1`, y (m).
-        OThighY = "o_thigh_y",
-        /// Thigh sensor position `o_1`, z (m).
-        OThighZ = "o_thigh_z",
-        /// Shank sensor position `o_2`, x (eq 3, m).
-        OShankX = "o_shank_x",
-        /// Shank sensor position `o_2`, y (m).
-        OShankY = "o_shank_y",
-        /// Shank sensor position `o_2`, z (m).
-        OShankZ = "o_shank_z",
-        /// RMS of the axis residual `e_j` (eq 2) over the last identified window (rad/s).
-        RmsEJ = "rms_e_j",
-        /// RMS of the position residual `e_o` (eq 3) over the last identified window (m/s^2).
-        RmsEO = "rms_e_o",
-        /// Information of the axes in the last window: smallest eigenvalue of
-        /// `H_j^T H_j / N` ((rad/s)^2).
-        Information = "information",
-        /// Lag of the accelerometer angle behind the gyro angle (samples).
-        AlphaAccLag = "alpha_acc_lag",
-        /// Rate-bias state of the [`Fusion::RateBias`] filter (rad/s).
-        KfRateBias = "kf_rate_bias",
-        /// Circular spread (1 - mean resultant length, 0..1) of `alpha_acc -
-        /// integral(alpha_gyro')` over the last identified window.
-        AccGyroSpread = "acc_gyro_spread",
-        /// Confidence (-1..1) in the relative sign of the two axes from the
-        /// last identified window ([`sign::confidence`]): near 1 when the
-        /// accelerometer angle follows the gyro angle far better with the
-        /// chosen pair than with the other, near 0 when the window cannot
-        /// tell them apart, negative when it prefers the other pair.
-        SignConfidence = "sign_confidence",
-        /// 1 once the relative axis sign is committed (kept from then on), else 0.
-        SignCommitted = "sign_committed",
-        /// 1 when the last identified window's accelerometer angle follows the
-        /// gyro angle (`acc_gyro_spread <= acc_max_spread`) and corrects it
-        /// (Algorithm 1); 0 when the angle is the high-passed gyro angle.
-        AccTrusted = "acc_trusted",
-        /// How long the gyro knee rate has been missing (s; 0 with both
-        /// gyros present). Over such a gap the held rate decays and the
-        /// fusion's variance grows (ours, issue 18 item 2), so the first
-        /// accelerometer angles after it re-anchor the knee angle.
-        GyroGap = "gyro_gap",
-        /// Where the last identified window's axes came from (ours, issue 15):
-        /// 0 eq 2, 1 the upright-leg prior, 2 kept from the window before.
-        AxisSource = "axis_source",
-        /// Relative scale of the accelerometers (thigh over shank) applied
-        /// to the shank's specific force (ours, issue 15 item 3,
-        /// [`acc_scale`]); exactly 1 when the last identified window could not
-        /// tell it from 1 (within 3 standard deviations).
-        AccScaleRatio = "acc_scale_ratio",
-        /// Windows whose positions are fused in the current ones (ours,
-        /// issue 15 item 3, [`position_fusion`]; 1 after a restart).
-        PositionWindows = "position_windows",
-    }
-}
-
-impl KneeDiag {
-    /// `j_thigh_*`, `j_shank_*` (`[sensor][component]`).
-    pub const AXIS: [[KneeDiag; 3]; 2] = [
-        [KneeDiag::JThighX, KneeDiag::JThighY, KneeDiag::JThighZ],
-        [KneeDiag::JShankX, KneeDiag::JShankY, KneeDiag::JShankZ],
-    ];
-    /// `o_thigh_*`, `o_shank_*` (`[sensor][component]`).
-    pub const POSITION: [[KneeDiag; 3]; 2] = [
-        [KneeDiag::OThighX, KneeDiag::OThighY, KneeDiag::OThighZ],
-        [KneeDiag::OShankX, KneeDiag::OShankY, KneeDiag::OShankZ],
-    ];
-}
+use window::{identify, Ring, WindowOutcome};
 
 /// What the last identification window (Algorithm 3) gave.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -221,6 +120,10 @@ pub struct KneeSelfAlign {
     flexion: sign::FlexionEvidence,
     acc_trusted: bool,
     fixed: bool,
+    /// The raw rows and the thigh-shank offset in use ([`delay`], ours).
+    delay: DelayLine,
+    /// This sample's thigh and shank readings as paired by that offset.
+    aligned: [ImuSample; 2],
 }
 
 impl Default for KneeSelfAlign {
@@ -270,6 +173,8 @@ impl KneeSelfAlign {
             flexion: sign::FlexionEvidence::default(),
             acc_trusted: true,
             fixed: false,
+            delay: DelayLine::new(params.max_delay, params.window),
+            aligned: [ImuSample::default(); 2],
         }
     }
 
@@ -326,8 +231,51 @@ impl KneeSelfAlign {
     }
 
     fn saturated(&self, g: &Option<Vector3<f64>>) -> bool {
-        let limit = 0.999 * self.params.gyro_range;
-        g.is_some_and(|g| g.iter().any(|c| c.abs() >= limit))
+        saturated(g, self.params.gyro_range)
+    }
+
+    /// This sample's thigh and shank readings paired by the offset in use
+    /// ([`delay`]; the input's own with the search off or no offset found).
+    /// Before the sample that ends a window, the offset is searched over
+    /// the window; a new offset re-pairs the samples of the window and of
+    /// the rate derivative.
+    fn align(&mut self, sample: &Sample) -> [ImuSample; 2] {
+        let raw = [*sample.imu(Segment::Thigh), *sample.imu(Segment::Shank)];
+        if self.delay.max() == 0 {
+            return raw;
+        }
+        self.delay.push(sample);
+        if self.counter + 1 >= self.params.window && !self.fixed {
+            let found = self.delay.search(&self.params);
+            if found.is_some_and(|s| self.delay.adopt(&s)) {
+                let range = self.params.gyro_range;
+                for ring in [&mut self.window, &mut self.recent] {
+                    let n = ring.len();
+                    ring.clear();
+                    for back in (1..=n).rev() {
+                        if let Some((t, imu)) = self.delay.paired(back) {
+                            ring.push(slot(t, &imu, range));
+                        }
+                    }
+                }
+            }
+        }
+        self.delay.paired(0).map_or(raw, |(_, imu)| imu)
+    }
+
+    /// The thigh and shank readings of the last sample stepped, paired by
+    /// the offset in use ([`delay`]).
+    pub fn aligned(&self) -> [ImuSample; 2] {
+        self.aligned
+    }
+
+    /// The thigh-shank offset in use (s; positive: the shank lags;
+    /// `diag_sensor_delay_s`).
+    pub fn sensor_delay_s(&self) -> f64 {
+        match self.delay.delay() {
+            0 => 0.0,
+            d => d as f64 * self.delay.period().unwrap_or(0.0),
+        }
     }
 
     fn end_window(&mut self) {
@@ -470,6 +418,7 @@ impl Estimator for KneeSelfAlign {
         self.flexion = sign::FlexionEvidence::default();
         self.acc_trusted = true;
         self.fixed = false;
+        self.delay.clear();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -480,14 +429,11 @@ impl Estimator for KneeSelfAlign {
         finite(&thigh.acc, "thigh_acc")?;
         finite(&shank.acc, "shank_acc")?;
         let dt = self.time.advance(sample.t)?;
+        self.aligned = self.align(sample);
+        let [thigh, shank] = &self.aligned;
+        let (thigh, shank) = (*thigh, *shank);
         let saturated = self.saturated(&thigh.gyr) || self.saturated(&shank.gyr);
-        let slot = Slot {
-            t: sample.t,
-            gyr: [thigh.gyr.unwrap_or_default(), shank.gyr.unwrap_or_default()],
-            acc: [thigh.acc.unwrap_or_default(), shank.acc.unwrap_or_default()],
-            gyr_ok: thigh.gyr.is_some() && shank.gyr.is_some() && !saturated,
-            acc_ok: thigh.acc.is_some() && shank.acc.is_some(),
-        };
+        let slot = slot(sample.t, &self.aligned, self.params.gyro_range);
         self.window.push(slot);
         self.counter += 1;
         if self.counter >= self.params.window && !self.fixed {
@@ -592,6 +538,7 @@ impl Estimator for KneeSelfAlign {
         d.value(KneeDiag::GyroGap, self.gyro_gap);
         d.value(KneeDiag::Information, self.information);
         d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
+        d.value(KneeDiag::SensorDelay, self.sensor_delay_s());
         Ok(est)
     }
 }

@@ -154,6 +154,11 @@ pub struct KneeSelfAlignParams {
     /// ([`super::upright`]) in windows where the hinge does not explain the
     /// gyros and the legs are upright (a limbfuse extension, issue 15).
     pub axis_prior: Option<UprightPrior>,
+    /// Largest time offset (samples) between the thigh and shank streams
+    /// that the delay search considers, either way ([`super::delay`], a
+    /// limbfuse extension); 0 turns the search off. At most a quarter of
+    /// the window.
+    pub max_delay: usize,
 }
 
 impl Default for KneeSelfAlignParams {
@@ -176,6 +181,7 @@ impl Default for KneeSelfAlignParams {
             acc_min_motion: 1.0 - libm::cos(10f64.to_radians()),
             highpass_hz: 0.02,
             axis_prior: Some(UprightPrior::default()),
+            max_delay: 0,
         }
     }
 }
@@ -273,6 +279,13 @@ impl KneeSelfAlignParams {
                 "[0, 1]",
             )?;
         }
+        if self.max_delay > self.window / 4 {
+            return Err(KneeParamError {
+                name: "max_delay",
+                value: self.max_delay as f64,
+                range: "0..=window/4 samples",
+            });
+        }
         // (as `knee-gyro-axis`'s `corner_hz`; an audit: 1e300 was accepted)
         if !(self.highpass_hz > 0.0 && self.highpass_hz <= 10.0) {
             return Err(KneeParamError {
@@ -326,6 +339,13 @@ impl KneeSelfAlignParams {
                 out,
                 "axis_prior: upright (min_hinge_ratio={} min_perpendicular_fraction={})",
                 u.min_hinge_ratio, u.min_perpendicular_fraction
+            )?,
+        }
+        match self.max_delay {
+            0 => writeln!(out, "sensor_delay: not searched")?,
+            m => writeln!(
+                out,
+                "sensor_delay: searched within +-{m} samples per window (hinge residual e_j)"
             )?,
         }
         writeln!(

@@ -8,7 +8,7 @@ use limbfuse_estimators::imm_bslip::{
     ImmBslip, ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart, TouchdownRule,
 };
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
-use limbfuse_estimators::knee_selfalign::KneeSelfAlign;
+use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_estimators::segment_kf::{
     AccelGate, CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
     MarkovJumpKfParams,
@@ -153,6 +153,37 @@ fn step_never_allocates() {
             e.name(),
             after - before,
             records.len()
+        );
+    }
+    // The delay search (session 28) runs at each window's end and, with the
+    // shank's readings two rows late, re-pairs the window inside `step`.
+    let mut late = records.clone();
+    for k in (2..late.len()).rev() {
+        let shank = limbfuse_core::Segment::Shank.index();
+        late[k].sample.imu[shank] = late[k - 2].sample.imu[shank];
+    }
+    let delay = KneeSelfAlignParams {
+        max_delay: 5,
+        ..KneeSelfAlignParams::default()
+    };
+    let mut gyro_axis = KneeGyroAxisParams::default();
+    gyro_axis.axes.max_delay = 5;
+    let delayed: [Box<dyn Estimator>; 2] = [
+        Box::new(KneeSelfAlign::new(delay).unwrap()),
+        Box::new(KneeGyroAxis::new(gyro_axis).unwrap()),
+    ];
+    for mut e in delayed {
+        let before = allocations();
+        let mut sum = 0.0;
+        for r in &late {
+            sum += e.step(&r.sample).unwrap().joint[1].unwrap_or(0.0);
+        }
+        assert!(sum.is_finite());
+        assert_eq!(
+            allocations() - before,
+            0,
+            "{} with the delay search allocated",
+            e.name()
         );
     }
 }
