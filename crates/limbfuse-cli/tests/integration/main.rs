@@ -52,6 +52,7 @@ mod long_runs_check_outputs_first;
 mod lowback_time_stamps;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
+mod provenance_of_outputs;
 mod raw_frames_warning;
 mod report_audit_dec05;
 mod report_review27;
