@@ -328,8 +328,9 @@ impl Calibration {
                 &format!("`{FORMAT}`, found `{}`", file.format),
             ));
         }
-        if !(file.gravity.is_finite() && file.gravity > 0.0) {
-            return Err(value("gravity".into(), "a finite number > 0 (m/s^2)"));
+        // (an audit: any finite positive number was accepted, 1e300 too)
+        if let Some(expected) = crate::calibration_bounds::check_gravity(file.gravity) {
+            return Err(value("gravity".into(), &expected));
         }
         let SensorsToml {
             trunk,
