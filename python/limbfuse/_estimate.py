@@ -25,11 +25,14 @@ from ._arrays import (
     same_samples,
     split_header,
 )
+from ._calibration import calibration_options
+from ._lazy import LazyModule
 from ._trial import PathLike, Trial
-from ._workflows import calibration_options
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+else:  # (pandas is imported on first use; `_lazy`)
+    pd = LazyModule("pandas")
 
 PHASE = "phase"
 

@@ -7,12 +7,15 @@ import warnings
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Union, cast
 
 from . import _native
+from ._calibration import calibration_options
 from ._estimate import Estimate, LimbfuseWarning
+from ._lazy import LazyModule
 from ._trial import PathLike, Trial
-from ._workflows import calibration_options
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+else:  # (pandas is imported on first use; `_lazy`)
+    pd = LazyModule("pandas")
 
 
 class Filter:

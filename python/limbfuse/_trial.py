@@ -10,9 +10,12 @@ import numpy as np
 
 from . import _native
 from ._arrays import SetOnce, as_column, as_time, filled, from_native, frozen, phase_array, phase_cells
+from ._lazy import LazyModule
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+else:  # (pandas is imported on first use; `_lazy`)
+    pd = LazyModule("pandas")
 
 PathLike = Union[str, "os.PathLike[str]"]
 

@@ -7,13 +7,12 @@ import os
 import re
 import tempfile
 import warnings
-from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Sequence, SupportsFloat, SupportsIndex, Union
+from typing import Any, Dict, Iterable, List, Sequence, SupportsFloat, SupportsIndex, Union
 
 from . import _native
+from ._calibration import Calibration
+from ._estimate import Estimate, LimbfuseWarning, count, flag
 from ._trial import PathLike, Trial, read_trial
-
-if TYPE_CHECKING:
-    from ._estimate import Estimate
 
 
 def simulate(kind: str = "walking", **options: Any) -> Trial:
@@ -76,8 +75,6 @@ def align(trial: Trial, **options: Any) -> Trial:
     The CLI's warnings (readings left out of the alignment, a detected leg
     replacing the declared one) are ``LimbfuseWarning``s.
     """
-    from ._estimate import LimbfuseWarning
-
     if not isinstance(trial, Trial):
         raise TypeError(f"align: expected a limbfuse.Trial, found {type(trial).__name__}")
     options = {k: v for k, v in options.items() if v is not None}  # None: the default
@@ -109,42 +106,6 @@ def align(trial: Trial, **options: Any) -> Trial:
     for line in said:
         warnings.warn(line, LimbfuseWarning, stacklevel=2)
     return Trial._from_native(tup)
-
-
-class Calibration:
-    """A sensor calibration (``limbfuse calibrate``): ``toml`` is the file's
-    text, ``sensors`` one summary dict per calibrated IMU (segment, poses,
-    residual_mg, acc_bias_mg, acc_scale, gyro_bias_rad_s, rejected).
-    ``write(path)`` writes the file ``limbfuse estimate --calibration``,
-    ``import --calibration`` and ``align --imu-calibration`` read
-    (docs/CALIBRATION.md); ``estimate(..., calibration=cal)`` and
-    ``align(..., imu_calibration=cal)`` take it as it is."""
-
-    def __init__(self, toml: str, sensors: List[Dict[str, Any]]):
-        self.toml = toml
-        self.sensors = sensors
-
-    def write(self, path: PathLike) -> None:
-        """Writes the calibration file (``toml``) to `path`."""
-        with open(os.fspath(path), "w", encoding="utf-8") as f:
-            f.write(self.toml)
-
-    def __repr__(self) -> str:
-        names = ", ".join(str(s["segment"]) for s in self.sensors)
-        return f"<Calibration of {names}>"
-
-
-def calibration_options(options: Dict[str, Any]) -> Dict[str, Any]:
-    """The native options of ``calibration=`` (``estimate``, ``Filter``): a
-    ``Calibration`` passes its text as ``calibration_toml``, a path as a
-    string; anything else is left for the native layer to reject."""
-    cal = options.get("calibration")
-    if isinstance(cal, Calibration):
-        options = dict(options)
-        options["calibration_toml"] = options.pop("calibration").toml
-    elif isinstance(cal, os.PathLike):
-        options = dict(options, calibration=os.fspath(cal))
-    return options
 
 
 def calibrate(poses: Trial, **options: Any) -> Calibration:
@@ -182,7 +143,7 @@ def gait_library(
 
 def report(
     trial: Union[PathLike, Trial],
-    estimates: Union[PathLike, "Estimate", Sequence[Union[PathLike, "Estimate"]]],
+    estimates: Union[PathLike, Estimate, Sequence[Union[PathLike, Estimate]]],
     path: PathLike,
     buckets: SupportsIndex = 2000,
     allow_trial_mismatch: bool = False,
@@ -202,8 +163,6 @@ def report(
         LimbfuseError: unreadable file, an estimate of another trial or of
             another length, ``buckets`` < 1.
     """
-    from ._estimate import Estimate, count, flag
-
     # (one estimate: a string is not a list of them)
     given: Sequence[Union[PathLike, Estimate]] = (
         [estimates] if isinstance(estimates, (str, bytes, os.PathLike, Estimate)) else estimates

@@ -20,11 +20,14 @@ import sys
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ._estimate import estimate, evaluate, methods
+from ._lazy import LazyModule
 from ._native import LimbfuseError
 from ._trial import Trial, read_trial
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+else:  # (pandas is imported on first use; `_lazy`)
+    pd = LazyModule("pandas")
 
 __all__ = ["COLUMNS", "EVENT_METRICS", "GAIT_METRICS", "METRICS", "TRIAL_SUFFIXES", "main", "run"]
 

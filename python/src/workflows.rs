@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use limbfuse_core::{Record, Segment};
 use limbfuse_io::calibration::CalibrationModel;
+use limbfuse_io::provenance::{LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_signal::align::{apply_alignment, apply_rotations, AlignOptions};
 use limbfuse_signal::calibration::CalibrationParams;
@@ -241,7 +242,16 @@ fn calibrate<'py>(
             }
             sensors.push(dict);
         }
-        Ok((cal.to_toml(), sensors))
+        // The CLI's provenance lines but `# command:` (docs/OUTPUTS.md
+        // section 3): the hash when the recording came from a file.
+        let mut provenance = vec![
+            (VERSION_KEY, LIMBFUSE_VERSION.to_string()),
+            ("fit_settings", params.settings()),
+        ];
+        if let Some((_, hash)) = trial.source() {
+            provenance.push(("source_hash", hash.clone()));
+        }
+        Ok((cal.to_toml_with_provenance(&provenance), sensors))
     })
 }
 

@@ -276,6 +276,15 @@ impl Calibration {
 
     /// The file text (TOML, every number in its shortest round-trip form).
     pub fn to_toml(&self) -> String {
+        self.to_toml_with_provenance(&[])
+    }
+
+    /// [`Calibration::to_toml`] with provenance lines (`# key: value`
+    /// comments after the format comment, [`crate::provenance`]): the
+    /// limbfuse version, the command, the fit's settings, the pose
+    /// recording's hash. Comments, so every reader of the format reads the
+    /// file as before, and a file without them reads as well.
+    pub fn to_toml_with_provenance(&self, provenance: &[(&str, String)]) -> String {
         let [trunk, thigh, shank, foot] =
             self.sensors.each_ref().map(|s| s.as_ref().map(to_sensor));
         let file = FileToml {
@@ -292,7 +301,8 @@ impl Calibration {
         };
         let body = toml::to_string(&file).unwrap_or_default();
         format!(
-            "# limbfuse IMU calibration (docs/CALIBRATION.md), raw sensor frames:\n# a_cal = acc_matrix * (a_raw - acc_bias), w_cal = w_raw - gyro_bias\n{body}"
+            "# limbfuse IMU calibration (docs/CALIBRATION.md), raw sensor frames:\n# a_cal = acc_matrix * (a_raw - acc_bias), w_cal = w_raw - gyro_bias\n{}{body}",
+            crate::provenance::comment_lines(provenance)
         )
     }
 
@@ -318,8 +328,9 @@ impl Calibration {
                 &format!("`{FORMAT}`, found `{}`", file.format),
             ));
         }
-        if !(file.gravity.is_finite() && file.gravity > 0.0) {
-            return Err(value("gravity".into(), "a finite number > 0 (m/s^2)"));
+        // (an audit: any finite positive number was accepted, 1e300 too)
+        if let Some(expected) = crate::calibration_bounds::check_gravity(file.gravity) {
+            return Err(value("gravity".into(), &expected));
         }
         let SensorsToml {
             trunk,

@@ -22,6 +22,32 @@ pub const MAX_GYRO_BIAS_RAD_S: f64 = 1.0;
 /// that.
 pub const MAX_ACC_BIAS_M_S2: f64 = 9.81;
 
+/// The range of a file's top-level `gravity` (m/s^2). Gravity at the
+/// Earth's surface is 9.76-9.84 m/s^2 (latitude, altitude, local geology);
+/// `limbfuse calibrate` fits to 9.7-9.9 only. A file's value is the norm
+/// its fit gave the static readings and is not used when the calibration is
+/// applied (`acc_matrix` and `acc_bias` carry the fit), so the bound only
+/// has to catch what is not the Earth's gravity in m/s^2: a unit slip (1 in
+/// g, 32.17 in ft/s^2, 981 in cm/s^2), 0, a negative or absurd number (an
+/// audit: 1e300 was accepted). Some 7 % either side of the Earth's range
+/// leaves a file written by other software or by hand with a rounded or
+/// differently measured local value readable.
+pub const GRAVITY_RANGE_M_S2: (f64, f64) = (9.0, 10.5);
+
+/// What a file's `gravity` out of [`GRAVITY_RANGE_M_S2`] should have been
+/// (`None`: within it).
+pub(crate) fn check_gravity(gravity: f64) -> Option<String> {
+    let (lo, hi) = GRAVITY_RANGE_M_S2;
+    if (lo..=hi).contains(&gravity) {
+        return None;
+    }
+    Some(format!(
+        "the gravity the fit used, in m/s^2, within {lo} to {hi} (the Earth's surface gravity \
+         is 9.76-9.84 m/s^2; found {})",
+        limbfuse_core::ShownNumber(gravity)
+    ))
+}
+
 /// The key of a sensor entry out of its physical range and what was
 /// expected (the entry's finiteness is checked before).
 pub(crate) fn check(
@@ -82,6 +108,32 @@ mod tests {
     const M: &str = "[[1.01, 0.0, 0.0], [0.0, 0.99, 0.0], [0.0, 0.0, 1.0]]";
     const G: &str = "[0.01, 0.0, -0.02]";
     const B: &str = "[0.1, 0.0, 0.0]";
+
+    /// An audit (session 28): a file's top-level `gravity` of 1e300, 0, a
+    /// negative number or 1 (g for m/s^2) was accepted (1e300, 0 and
+    /// negatives were refused as "a finite number > 0" only when not
+    /// finite or not positive). Now an error naming the file, the key and
+    /// the range; 9.0 and 10.5 still read.
+    #[test]
+    fn a_gravity_off_the_earths_is_refused_with_the_key() {
+        let p = Path::new("c.toml");
+        for ok in ["9.0", "9.81", "10.5"] {
+            let text = file(M, G, B).replace("gravity = 9.81", &format!("gravity = {ok}"));
+            let c = Calibration::from_toml(&text, p);
+            assert!(c.is_ok(), "{ok}: {:?}", c.err().map(|e| e.to_string()));
+        }
+        for bad in [
+            "1e300", "0.0", "-9.81", "1.0", "32.17", "981.0", "8.99", "10.51",
+        ] {
+            let text = file(M, G, B).replace("gravity = 9.81", &format!("gravity = {bad}"));
+            let e = Calibration::from_toml(&text, p).unwrap_err().to_string();
+            assert!(
+                e.starts_with("c.toml:") && e.contains("`gravity`") && e.contains("9 to 10.5"),
+                "{bad}: {e}"
+            );
+            assert!(!e.contains("00000000000"), "{e}");
+        }
+    }
 
     /// An audit: an `acc_matrix` diagonal of 1e308 or a `gyro_bias` of 1e308
     /// was accepted. Now an error naming the file and the key, the number

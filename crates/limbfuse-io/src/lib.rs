@@ -27,6 +27,7 @@ pub mod import;
 pub mod layout;
 mod mapped_file;
 pub mod meta;
+pub mod provenance;
 pub mod table;
 pub mod trial_reader;
 pub mod trial_writer;

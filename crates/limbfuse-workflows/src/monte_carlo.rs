@@ -230,8 +230,16 @@ pub fn monte_carlo(
     Ok(rows)
 }
 
-/// Writes `method,level_pct,mean_rmse_deg,std_rmse_deg,runs` rows.
-pub fn write_csv(rows: &[MonteCarloRow], mut w: impl Write) -> std::io::Result<()> {
+/// Writes `method,level_pct,mean_rmse_deg,std_rmse_deg,runs` rows after
+/// the `provenance` lines (`# key: value` comments,
+/// `limbfuse_io::provenance`: the limbfuse version, command and seeds that
+/// made the file; none: the file as before them).
+pub fn write_csv(
+    rows: &[MonteCarloRow],
+    provenance: &[(&str, String)],
+    mut w: impl Write,
+) -> std::io::Result<()> {
+    w.write_all(limbfuse_io::provenance::comment_lines(provenance).as_bytes())?;
     writeln!(w, "method,level_pct,mean_rmse_deg,std_rmse_deg,runs")?;
     for r in rows {
         writeln!(

@@ -9,11 +9,46 @@ use crate::monte_carlo::{MonteCarloRow, METHODS};
 
 /// Draws the mean RMSE of each filter against the uncertainty level as SVG
 /// text (`path`, the file it is for, names it in errors); the caller writes
-/// it (`limbfuse montecarlo --svg`, whole or not at all with its CSV).
-pub fn render_svg(rows: &[MonteCarloRow], path: &Path, title: &str) -> Result<String, String> {
+/// it (`limbfuse montecarlo --svg`, whole or not at all with its CSV). The
+/// `provenance` lines (`key: value`, as the CSV's comments) go in the
+/// plot's `<metadata id="limbfuse-provenance">`, one a line.
+pub fn render_svg(
+    rows: &[MonteCarloRow],
+    path: &Path,
+    title: &str,
+    provenance: &[(&str, String)],
+) -> Result<String, String> {
     let mut svg = String::new();
     draw_svg(rows, &mut svg, path, title)?;
-    Ok(svg)
+    Ok(with_metadata(svg, provenance))
+}
+
+/// `svg` with the provenance lines in a `<metadata>` element right after
+/// the opening `<svg ...>` tag (SVG's element for data about the drawing:
+/// not drawn, kept by editors), XML-escaped.
+fn with_metadata(mut svg: String, provenance: &[(&str, String)]) -> String {
+    if provenance.is_empty() {
+        return svg;
+    }
+    let Some(end) = svg
+        .find("<svg")
+        .and_then(|i| svg[i..].find('>').map(|j| i + j + 1))
+    else {
+        return svg;
+    };
+    let escape = |l: &str| {
+        l.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
+    let mut meta = String::from("\n<metadata id=\"limbfuse-provenance\">\n");
+    for l in limbfuse_io::provenance::lines(provenance) {
+        meta += &escape(&l);
+        meta.push('\n');
+    }
+    meta += "</metadata>";
+    svg.insert_str(end, &meta);
+    svg
 }
 
 fn draw_svg(

@@ -7,6 +7,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use limbfuse_core::Record;
 use limbfuse_io::calibration::CalibrationModel;
+use limbfuse_io::provenance::{COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_io::{Calibration, TrialLayout, TrialMeta, TrialReader};
 use limbfuse_signal::align::rotations_from_metadata;
 use limbfuse_signal::calibration::{calibrate, CalibrationParams};
@@ -27,7 +28,10 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
             .map_err(|e| anyhow::anyhow!("{}: {e}", a.poses.display()))?,
     };
     let meta = reader.meta().clone();
-    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let mut reader = reader;
+    let records: Vec<Record> = reader.by_ref().collect::<Result<_, _>>()?;
+    // (hashed as it was read, like an estimate's trial)
+    let source_hash = reader.content_hash();
     // (accelerometers in g would be fitted a scale of 9.81: say why first)
     super::warn_input_units(&a.poses, &meta, &records)?;
     // The flags by their names (an audit: `--min-pose 0` was "calibration
@@ -63,7 +67,16 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
         .poses
         .file_name()
         .map(|n| n.to_string_lossy().into_owned());
-    super::write_file(&a.output, cal.to_toml())?;
+    let provenance = [
+        (VERSION_KEY, LIMBFUSE_VERSION.to_string()),
+        (COMMAND_KEY, command_line(a, params.model)),
+        ("fit_settings", params.settings()),
+        (
+            "source_hash",
+            source_hash.map_or_else(|| "unknown".into(), |h| h.to_string()),
+        ),
+    ];
+    super::write_file(&a.output, cal.to_toml_with_provenance(&provenance))?;
     for (seg, c) in limbfuse_core::Segment::ALL.iter().zip(&cal.sensors) {
         let Some(c) = c else { continue };
         let b = c.acc_bias * (1000.0 / gravity);
@@ -92,6 +105,23 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
+}
+
+/// The `# command:` line of a calibration file: every flag of the fit, the
+/// defaults included, with file names only (as an estimate's `# command:`).
+fn command_line(a: &CalibrateArgs, model: CalibrationModel) -> String {
+    let mut c = format!("limbfuse calibrate --model {}", model.name());
+    if let Some(g) = a.gravity {
+        c += &format!(" --gravity {g}");
+    }
+    c + &format!(
+        " --acc-std-max {} --gyro-std-max {} --min-pose {} {} -o {}",
+        a.acc_std_max,
+        a.gyro_std_max,
+        a.min_pose,
+        super::file_word(&a.poses),
+        super::file_word(&a.output)
+    )
 }
 
 /// `simulate calibration`.

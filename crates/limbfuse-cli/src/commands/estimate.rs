@@ -287,13 +287,7 @@ fn estimate_pass(
 /// names only (like `# trial:`, so that the same run in another directory
 /// writes the same file).
 fn command_line(a: &EstimateArgs) -> String {
-    let name = |p: &Path| {
-        let n = p.file_name().map_or_else(
-            || p.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        super::shell_word(&n).into_owned()
-    };
+    let name = super::file_word;
     let mut c = format!("limbfuse estimate --method {}", a.method);
     if let Some(p) = &a.params {
         c += &format!(" --params {}", name(p));

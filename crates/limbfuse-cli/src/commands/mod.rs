@@ -34,7 +34,7 @@ use limbfuse_io::AtomicFile;
 
 use crate::cli::{Cli, Command, GaitLibraryCommand, SimulateCommand};
 pub use output_paths::{refuse_input_as_output, refuse_missing_folder, refuse_overwrites};
-pub use shell_word::shell_word;
+pub use shell_word::{file_word, shell_word};
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {

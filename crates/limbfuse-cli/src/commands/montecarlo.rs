@@ -3,6 +3,7 @@
 use std::io::Write;
 
 use anyhow::{anyhow, bail, Context, Result};
+use limbfuse_io::provenance::{COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_sim::WalkingConfig;
 use limbfuse_workflows::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
 use limbfuse_workflows::monte_carlo_plot::render_svg;
@@ -48,6 +49,40 @@ fn parse_levels(text: &str) -> Result<Vec<f64>> {
         .collect())
 }
 
+/// The provenance lines of the CSV and SVG (docs/OUTPUTS.md section 3): the
+/// limbfuse version, the command with every setting (the defaults
+/// included; file names only, as an estimate's `# command:`), and the
+/// seeds of the simulated trials.
+fn provenance(a: &MonteCarloArgs) -> Vec<(&'static str, String)> {
+    let mut command = format!(
+        "limbfuse montecarlo --runs {} --levels {} --seed {} --speed {} --duration {}",
+        a.runs,
+        super::shell_word(&a.levels),
+        a.seed,
+        a.speed,
+        a.duration
+    );
+    if a.cap.force {
+        command += " --force";
+    }
+    command += &format!(" -o {}", super::file_word(&a.output));
+    if let Some(svg) = &a.svg {
+        command += &format!(" --svg {}", super::file_word(svg));
+    }
+    let last = a.seed.wrapping_add(a.runs.saturating_sub(1) as u64);
+    vec![
+        (VERSION_KEY, LIMBFUSE_VERSION.to_string()),
+        (COMMAND_KEY, command),
+        (
+            "trial_seeds",
+            format!(
+                "{} to {last} (run r: --seed + r; its parameter errors from the stream keyed by (--seed, r, level))",
+                a.seed
+            ),
+        ),
+    ]
+}
+
 /// Runs the study and writes the CSV (and SVG).
 pub fn run(a: &MonteCarloArgs) -> Result<()> {
     let levels = parse_levels(&a.levels)?;
@@ -84,13 +119,15 @@ pub fn run(a: &MonteCarloArgs) -> Result<()> {
     );
     let rows = monte_carlo(&cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    write_csv(&rows, &mut out).with_context(|| format!("{}: cannot write", a.output.display()))?;
+    let provenance = provenance(a);
+    write_csv(&rows, &provenance, &mut out)
+        .with_context(|| format!("{}: cannot write", a.output.display()))?;
     if let (Some(svg), Some(mut file)) = (&a.svg, svg_out) {
         let title = format!(
             "{} runs per level, {} m/s, {} s trials",
             a.runs, a.speed, a.duration
         );
-        let text = render_svg(&rows, svg, &title).map_err(|e| anyhow!(e))?;
+        let text = render_svg(&rows, svg, &title, &provenance).map_err(|e| anyhow!(e))?;
         file.write_all(text.as_bytes())
             .with_context(|| format!("{}: cannot write the plot", svg.display()))?;
         super::commit(out)?;

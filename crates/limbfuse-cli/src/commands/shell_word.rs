@@ -19,6 +19,16 @@ pub fn shell_word(text: &str) -> Cow<'_, str> {
     }
 }
 
+/// The file name of `path` (not its directory, so the same run in another
+/// directory records the same command) as one shell word.
+pub fn file_word(path: &std::path::Path) -> String {
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    shell_word(&name).into_owned()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -50,6 +50,17 @@ pub fn run(a: &TuneArgs) -> Result<()> {
             a.particles
         );
     }
+    // (the same audit for `--budget 5`: "budget: expected at least two
+    // generations ...", the tuner's field; its bounds)
+    if a.budget < 2 * a.particles || a.budget > 10_000_000 {
+        bail!(
+            "--budget {}: expected at least two generations of the swarm (2 x --particles {} = {} \
+             evaluations) and at most 10000000 evaluations",
+            a.budget,
+            a.particles,
+            2 * a.particles
+        );
+    }
     let validation = match a.validate.as_deref() {
         Some("none") => Validation::None,
         Some(w) => {

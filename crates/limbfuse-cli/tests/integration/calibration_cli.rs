@@ -316,3 +316,72 @@ fn simulate_calibration_names_the_flag_that_is_wrong() {
         assert!(!stderr(&o).contains("--duration"), "{}", stderr(&o));
     }
 }
+
+/// An audit (session 28): a calibration file's top-level `gravity` took any
+/// finite positive number (1e300, 1 for g); 0 and negatives said only "a
+/// finite number > 0". Now `estimate --calibration` and `align
+/// --imu-calibration` refuse anything off 9.0-10.5 m/s^2 with the file, the
+/// key and the range, the number short; 9.0 and 10.5 load.
+#[test]
+fn a_calibration_gravity_off_the_earths_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&limbfuse(
+        &["simulate", "walking", "--duration", "2", "-o", "walk.csv"],
+        p,
+    ));
+    let identity = "acc_bias = [0.0, 0.0, 0.0]\nacc_matrix = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n";
+    let file = |g: &str| {
+        let mut text =
+            format!("format = \"limbfuse-imu-calibration/1\"\nmodel = \"full\"\ngravity = {g}\n");
+        for seg in ["trunk", "thigh", "shank", "foot"] {
+            text += &format!("\n[sensors.{seg}]\n{identity}");
+        }
+        std::fs::write(p.join("g.toml"), text).unwrap();
+    };
+    let estimate = || {
+        limbfuse(
+            &[
+                "estimate",
+                "--method",
+                "mjls",
+                "walk.csv",
+                "--calibration",
+                "g.toml",
+                "-o",
+                "e.csv",
+            ],
+            p,
+        )
+    };
+    for g in ["9.0", "9.81", "10.5"] {
+        file(g);
+        ok(&estimate());
+    }
+    std::fs::remove_file(p.join("e.csv")).unwrap();
+    for (g, shown) in [
+        ("1e300", "1e300"),
+        ("0.0", "found 0"),
+        ("-9.81", "-9.81"),
+        ("1.0", "found 1"),
+        ("981.0", "981"),
+        ("nan", "NaN"),
+    ] {
+        file(g);
+        let align = limbfuse(
+            &[
+                "align",
+                "walk.csv",
+                "--imu-calibration",
+                "g.toml",
+                "-o",
+                "a.csv",
+            ],
+            p,
+        );
+        for o in [estimate(), align] {
+            assert_user_error(&o, &["g.toml", "`gravity`", "within 9 to 10.5", shown]);
+        }
+        assert!(!p.join("e.csv").exists() && !p.join("a.csv").exists());
+    }
+}

@@ -1,25 +1,7 @@
 //! The `limbfuse` binary on bad input: exit status 1, a message naming the
 //! file, line and column, never a panic.
 
-use std::process::Output;
-
-use crate::support::{edit_cells, limbfuse};
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn assert_user_error(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
-    assert!(
-        !e.contains("panicked") && !e.contains("RUST_BACKTRACE"),
-        "{e}"
-    );
-    for n in needles {
-        assert!(e.contains(n), "expected `{n}` in: {e}");
-    }
-}
+use crate::support::{assert_user_error, edit_cells, limbfuse, stderr};
 
 #[test]
 fn nan_in_trial_names_file_line_and_column() {

@@ -7,24 +7,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::support::{edit_cells, limbfuse};
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Exit 1 (not a panic's 101, not an abort), every needle in stderr.
-fn assert_user_error(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
-    assert!(
-        !e.contains("internal error") && !e.contains("panicked"),
-        "{e}"
-    );
-    for n in needles {
-        assert!(e.contains(n), "expected `{n}` in: {e}");
-    }
-}
+use crate::support::{assert_user_error, edit_cells, limbfuse, stderr};
 
 /// A 5 s simulated walk, `w.csv` in `dir`.
 fn walk(dir: &Path) {

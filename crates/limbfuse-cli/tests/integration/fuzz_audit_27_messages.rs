@@ -160,6 +160,44 @@ fn starts_and_particles_of_zero_name_the_flag() {
     }
 }
 
+/// Left open by that audit (session 28): `tune --budget 5` (fewer than two
+/// generations of the swarm) and `--budget 20000000` said "tuning mjls on
+/// w.csv: budget: expected at least two generations ...", the tuner's field
+/// and not the flag. Now the flag with its value, the bound from
+/// `--particles`, before the trial is read.
+#[test]
+fn a_tuning_budget_out_of_range_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    walk(d.path(), "30", "w.csv");
+    let tune = |extra: &[&str]| {
+        let mut args = vec!["tune", "w.csv", "--method", "mjls", "-o", "p.toml"];
+        args.extend_from_slice(extra);
+        limbfuse(&args, d.path())
+    };
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &["--budget", "5"],
+            &[
+                "--budget 5: expected at least two generations",
+                "2 x --particles 20 = 40",
+            ],
+        ),
+        (
+            &["--budget", "15", "--particles", "10"],
+            &["--budget 15:", "2 x --particles 10 = 20"],
+        ),
+        (
+            &["--budget", "20000000"],
+            &["--budget 20000000:", "at most 10000000 evaluations"],
+        ),
+    ];
+    for (extra, needles) in cases {
+        let o = tune(extra);
+        assert_short_user_error(&o, needles, &["budget: ", "tuning mjls on"]);
+        assert!(!d.path().join("p.toml").exists());
+    }
+}
+
 /// `tune --window 0:1e308`, `--validate 1e308:1e308` and `evaluate --starts
 /// 3 --length 1e-300` printed their numbers with every digit.
 #[test]

@@ -53,6 +53,7 @@ mod long_runs_check_outputs_first;
 mod lowback_time_stamps;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
+mod provenance_of_outputs;
 mod raw_frames_warning;
 mod report_audit_28;
 mod report_audit_dec05;

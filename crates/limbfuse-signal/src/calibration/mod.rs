@@ -45,6 +45,27 @@ pub struct CalibrationParams {
     pub max_residual: f64,
 }
 
+impl CalibrationParams {
+    /// Every setting as `name=value` words (the `# fit_settings:` line of a
+    /// calibration file, docs/CALIBRATION.md: what thresholds made it).
+    pub fn settings(&self) -> String {
+        format!(
+            "model={} gravity={} window_s={} acc_std_max={} gyro_std_max={} hold_rate_max={} \
+             min_pose_s={} distinct_rad={} min_eigenvalue={} max_residual={}",
+            self.model.name(),
+            self.gravity,
+            self.window_s,
+            self.acc_std_max,
+            self.gyro_std_max,
+            self.hold_rate_max,
+            self.min_pose_s,
+            self.distinct_rad,
+            self.min_eigenvalue,
+            self.max_residual
+        )
+    }
+}
+
 impl Default for CalibrationParams {
     fn default() -> Self {
         CalibrationParams {

@@ -29,7 +29,7 @@ fn same_seed_same_result_bit_for_bit() {
     assert_eq!(a, b);
     assert_eq!(a.len(), 3 * 2);
     let mut csv = Vec::new();
-    write_csv(&a, &mut csv).unwrap();
+    write_csv(&a, &[], &mut csv).unwrap();
     assert_eq!(String::from_utf8(csv).unwrap().lines().count(), 7);
     let c = monte_carlo(
         &MonteCarloConfig {

@@ -15,6 +15,26 @@ pub fn limbfuse(args: &[&str], dir: &Path) -> Output {
         .expect("the binary runs")
 }
 
+/// The standard error of a run, as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A user error: exit status 1 (not a panic's 101, not an abort's 134, not
+/// clap's 2), no panic, backtrace hint or internal error in stderr, and
+/// every needle in it.
+pub fn assert_user_error(o: &Output, needles: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
+    assert!(
+        !e.contains("panicked") && !e.contains("RUST_BACKTRACE") && !e.contains("internal error"),
+        "{e}"
+    );
+    for n in needles {
+        assert!(e.contains(n), "expected `{n}` in: {e}");
+    }
+}
+
 /// `../shared/data/REL` (or under `LIMBFUSE_DATA`) when it exists; `None`
 /// with a skip message otherwise.
 pub fn shared_data(rel: &str) -> Option<PathBuf> {
