@@ -86,21 +86,7 @@ impl WindowLength {
         match self {
             WindowLength::Samples(n) => Ok(n),
             WindowLength::Seconds(s) => {
-                let rate = match meta.get("sample_rate_hz") {
-                    None => PAPER_RATE_HZ,
-                    Some(v) => v
-                        .trim()
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|r| r.is_finite() && *r > 0.0)
-                        .ok_or_else(|| MethodError::KneeWindow {
-                            method,
-                            message: format!(
-                                "trial metadata `# sample_rate_hz: {v}`: expected a positive rate \
-                                 in Hz (the window of {s} s is counted in samples at it)"
-                            ),
-                        })?,
-                };
+                let rate = trial_rate(meta, method, &format!("the window of {s} s"))?;
                 let n = (s * rate).round();
                 let (lo, hi) = WINDOW_SAMPLES;
                 if !(lo as f64..=hi as f64).contains(&n) {
@@ -147,8 +133,16 @@ pub fn delay_samples(
     if seconds == 0.0 {
         return Ok(0);
     }
-    let rate = match meta.get("sample_rate_hz") {
-        None => PAPER_RATE_HZ,
+    let rate = trial_rate(meta, method, &format!("max_sensor_delay_s = {seconds}"))?;
+    // (beyond any window: the estimator's check names `max_delay`)
+    Ok((seconds * rate).round().min(1e9) as usize)
+}
+
+/// The trial's `# sample_rate_hz:` (the paper's 100 Hz without it), which
+/// `what` (a duration in seconds) is counted in samples at.
+fn trial_rate(meta: &TrialMeta, method: MethodName, what: &str) -> Result<f64, MethodError> {
+    match meta.get("sample_rate_hz") {
+        None => Ok(PAPER_RATE_HZ),
         Some(v) => v
             .trim()
             .parse::<f64>()
@@ -158,12 +152,10 @@ pub fn delay_samples(
                 method,
                 message: format!(
                     "trial metadata `# sample_rate_hz: {v}`: expected a positive rate in Hz \
-                     (max_sensor_delay_s = {seconds} is counted in samples at it)"
+                     ({what} is counted in samples at it)"
                 ),
-            })?,
-    };
-    // (beyond any window: the estimator's check names `max_delay`)
-    Ok((seconds * rate).round().min(1e9) as usize)
+            }),
+    }
 }
 
 #[cfg(test)]
