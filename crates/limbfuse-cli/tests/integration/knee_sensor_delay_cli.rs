@@ -6,18 +6,8 @@
 //! allowing the output's documented latency of 2 samples (`--max-lag 3`),
 //! is that of the synchronous walk (1.06 / 0.84).
 
-use crate::s02_support::run_ok;
-use crate::support::{edit_cells, limbfuse, shared_data};
-
-fn knee_rmse(dir: &std::path::Path, args: &[&str]) -> f64 {
-    let o = limbfuse(args, dir);
-    let out = String::from_utf8_lossy(&o.stdout);
-    out.lines()
-        .find(|l| l.starts_with("knee "))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no knee row in\n{out}"))
-}
+use crate::s02_support::{evaluated_knee_rmse as knee_rmse, run_ok};
+use crate::support::{edit_cells, shared_data};
 
 #[test]
 fn a_shank_two_rows_late_is_found_on_the_shared_walk() {

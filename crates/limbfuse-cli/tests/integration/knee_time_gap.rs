@@ -2,19 +2,13 @@
 //! knee-selfalign on the independent simulator's walks with 0.5 s of rows
 //! removed (a time gap).
 
-use crate::s02_support::run_ok;
-use crate::support::{limbfuse, shared_data};
+use crate::s02_support::{evaluated_knee_rmse, run_ok};
+use crate::support::shared_data;
 
 /// Knee RMSE (deg) of `method` on `dir/trial`.
 fn knee_rmse(dir: &std::path::Path, method: &str, trial: &str) -> f64 {
     run_ok(&["estimate", "--method", method, trial, "-o", "e.csv"], dir);
-    let o = limbfuse(&["evaluate", trial, "e.csv"], dir);
-    let out = String::from_utf8_lossy(&o.stdout);
-    out.lines()
-        .find(|l| l.starts_with("knee "))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no knee row in\n{out}"))
+    evaluated_knee_rmse(dir, &["evaluate", trial, "e.csv"])
 }
 
 /// The rows of 30.3-30.8 s removed. knee-gyro-axis: before the fix 8.78 /

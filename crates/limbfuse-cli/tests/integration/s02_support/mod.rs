@@ -89,3 +89,15 @@ pub fn gaitmap_events(dir: &Path) -> Option<String> {
     );
     Some(trial)
 }
+
+/// The knee row's RMSE (deg) of `limbfuse evaluate ARGS...` run in `dir`
+/// (`args` starts with `evaluate`).
+pub fn evaluated_knee_rmse(dir: &Path, args: &[&str]) -> f64 {
+    let o = crate::support::limbfuse(args, dir);
+    let out = String::from_utf8_lossy(&o.stdout);
+    out.lines()
+        .find(|l| l.starts_with("knee "))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no knee row in\n{out}"))
+}
