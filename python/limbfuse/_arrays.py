@@ -46,6 +46,14 @@ def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
     if np.ma.isMaskedArray(values):
         data = np.ma.getdata(values)
         mask = np.ma.getmaskarray(values)
+    elif _is_pandas(values) and getattr(values, "ndim", 1) != 1:
+        # (a DataFrame: `df[["knee_enc"]]`, or a name given twice in a
+        # DataFrame; an audit: AttributeError "'DataFrame' object has no
+        # attribute 'dtype'")
+        raise TypeError(
+            f"channel `{name}`: expected one column (a Series or a 1-D array), found a "
+            f"{type(values).__name__} of {getattr(values, 'shape', '?')}"
+        )
     elif _is_pandas(values):
         # pandas' missing marker is NaN (or NA/None): missing here too (an
         # audit: `Trial(df["t"], {c: df[c]})` and `Filter.run(df)` refused
@@ -128,7 +136,25 @@ def same_samples(a: dict, b: dict) -> bool:
 
 
 def as_time(t: Any) -> np.ndarray:
-    """The time array: 1-D, numeric, finite (order is checked in Rust)."""
+    """The time array: 1-D, numeric, finite (order is checked in Rust).
+    Durations (``timedelta64``, a pandas ``TimedeltaIndex`` or Timedelta
+    column) are converted to seconds; dates (``datetime64``) are refused
+    with how to convert them."""
+    kind = getattr(getattr(t, "dtype", None), "kind", None)
+    if kind == "m":  # (an audit: a Timedelta `t` was "not numeric")
+        seconds = np.asarray(t, dtype="timedelta64[ns]")
+        missing = np.isnat(seconds)
+        if missing.any():
+            i = int(np.flatnonzero(missing)[0])
+            raise LimbfuseError(f"`t`, sample {i}: time cannot be missing (NaT)")
+        t = seconds / np.timedelta64(1, "s")
+    elif kind == "M" or str(getattr(t, "dtype", "")).startswith("datetime64"):
+        raise TypeError(
+            "`t`: expected time in seconds, found dates and times "
+            f"({getattr(t, 'dtype', '?')}); convert them to seconds from the start, e.g. "
+            "`(ts - ts[0]) / numpy.timedelta64(1, 's')`, or for pandas "
+            "`(df.index - df.index[0]).total_seconds()`"
+        )
     if np.ma.isMaskedArray(t) and np.ma.getmaskarray(t).any():
         raise LimbfuseError("`t`: time cannot be missing (masked)")
     arr = as_column("t", np.ma.getdata(t) if np.ma.isMaskedArray(t) else t, None)

@@ -168,12 +168,12 @@ class Estimate(SetOnce):
         ``# command:`` line (which says how the CLI was called). An Arrow
         name (``.arrow``, ``.feather``, ``.ipc``) is refused: the CLI writes
         those (docs/ARROW.md), or ``to_pandas().to_feather(path)``."""
-        if os.path.splitext(os.fspath(path))[1].lower() in (".arrow", ".feather", ".ipc"):
+        if os.path.splitext(os.fsdecode(path))[1].lower() in (".arrow", ".feather", ".ipc"):
             raise _native.LimbfuseError(
-                f"{os.fspath(path)}: Estimate.write writes CSV files; for an Arrow file use "
+                f"{os.fsdecode(path)}: Estimate.write writes CSV files; for an Arrow file use "
                 "`limbfuse estimate ... -o NAME.arrow` or `estimate.to_pandas().to_feather(path)`"
             )
-        _native.write_estimate(os.fspath(path), self._native())
+        _native.write_estimate(os.fsdecode(path), self._native())
 
     def __len__(self) -> int:
         return int(self.t.shape[0])
@@ -242,7 +242,7 @@ def estimate(
     """
     if not isinstance(trial, Trial):
         raise TypeError(f"estimate: expected a limbfuse.Trial, found {type(trial).__name__}")
-    p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+    p = os.fsdecode(params) if isinstance(params, (str, bytes, os.PathLike)) else params
     options = calibration_options(options)
     e = Estimate._from_native(_native.estimate(trial._native(), method, p, options or None))
     e._trial_fingerprint = fingerprint(trial.t, trial.channels)
@@ -251,7 +251,7 @@ def estimate(
 
 def read_estimate(path: PathLike) -> Estimate:
     """Reads an estimate file."""
-    return Estimate._from_native(_native.read_estimate(os.fspath(path)))
+    return Estimate._from_native(_native.read_estimate(os.fsdecode(path)))
 
 
 def _window_text(window: Union[None, str, Tuple[Optional[float], Optional[float]]]) -> Optional[str]:
@@ -437,7 +437,7 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
             path.write(file)
             return inspect(file)
     (rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read, spread, notes) = _native.inspect(
-        os.fspath(path)
+        os.fsdecode(path)
     )
     return {
         "rows": rows,

@@ -46,13 +46,18 @@ class Filter:
         meta: Optional[Mapping[str, Any]] = None,
         **options: Any,
     ) -> None:
-        p = os.fspath(params) if isinstance(params, (str, os.PathLike)) else params
+        p = os.fsdecode(params) if isinstance(params, (str, bytes, os.PathLike)) else params
         if isinstance(channels, (str, bytes)):
             raise TypeError(
                 f"channels: expected a sequence of channel names, found the string {channels!r} "
                 "(one channel: [name])"
             )
-        names = [str(c) for c in channels]
+        try:
+            names = [str(c) for c in channels]
+        except TypeError:
+            raise TypeError(
+                f"channels: expected a sequence of channel names, found {type(channels).__name__}"
+            ) from None
         # `run` checks its arrays as a trial with this metadata (the `leg`
         # names the other leg's channels).
         self._meta = {str(k): str(v) for k, v in (meta or {}).items()}
@@ -96,7 +101,12 @@ class Filter:
         takes NaN for a value); a value that is not a number raises
         ``TypeError``."""
         if not isinstance(sample, dict):
-            sample = dict(sample)
+            try:
+                sample = dict(sample)
+            except (TypeError, ValueError):
+                raise TypeError(
+                    f"step: expected a dict of channel name -> value (and `t`), found {type(sample).__name__}"
+                ) from None
         try:
             return self._native.step(sample)
         except RuntimeError as e:
@@ -124,6 +134,26 @@ class Filter:
     def reset(self) -> None:
         """Forgets the state: the next sample starts a new run."""
         self._native.reset()
+
+    # A filter is a running estimator's state (in the extension): it is
+    # neither copied nor pickled. An audit: `copy.copy(f)` shared that state,
+    # so stepping the copy moved the original; `pickle` and `deepcopy`
+    # said only "cannot pickle 'limbfuse._native.NativeFilter' object".
+    def __copy__(self) -> "Filter":
+        raise TypeError(_NOT_COPIED)
+
+    def __deepcopy__(self, memo: Any) -> "Filter":
+        raise TypeError(_NOT_COPIED)
+
+    def __reduce__(self) -> Any:
+        raise TypeError(_NOT_COPIED)
+
+
+_NOT_COPIED = (
+    "a limbfuse.Filter cannot be copied or pickled: it holds a running estimator's state; "
+    "make another with Filter(...) or Filter.for_trial(...) (e.g. one per process) and feed "
+    "it the samples"
+)
 
 
 def _busy(e: RuntimeError) -> RuntimeError:

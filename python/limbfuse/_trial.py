@@ -64,11 +64,17 @@ class Trial(SetOnce):
         *,
         source: Optional[Tuple[str, str]] = None,
     ) -> None:
+        if not hasattr(channels, "items"):
+            raise TypeError(
+                f"channels: expected a mapping of channel name to array, found {type(channels).__name__}"
+            )
+        index = _pandas_index(t)
         t = as_time(t)
         cols: Dict[str, np.ndarray] = {}
         for name, values in channels.items():
             if not isinstance(name, str):
                 raise TypeError(f"channel names must be str, found {name!r}")
+            _check_rows(name, values, index)
             if name == PHASE_REF:
                 if phase_ref is not None:
                     raise _native.LimbfuseError("`phase_ref` is given twice")
@@ -110,10 +116,32 @@ class Trial(SetOnce):
     def from_pandas(cls, df: "pd.DataFrame", meta: Optional[Mapping[str, Any]] = None) -> "Trial":
         """A trial from a DataFrame with a ``t`` column and SPEC channel
         columns (NaN = missing sample); ``meta`` defaults to ``df.attrs["meta"]``."""
+        if not hasattr(df, "columns") or not hasattr(df, "attrs"):
+            raise TypeError(f"from_pandas: expected a pandas DataFrame, found {type(df).__name__}")
+        if df.columns.nlevels > 1:
+            raise _native.LimbfuseError(
+                f"the DataFrame's columns have {df.columns.nlevels} levels (a MultiIndex); "
+                "expected one name per column (`t` and SPEC channel names): flatten them first, "
+                "e.g. `df.columns = df.columns.get_level_values(-1)`"
+            )
         if "t" not in df.columns and df.index.name == "t":
             df = df.reset_index()  # (time as the index, as `set_index("t")` leaves it)
         if "t" not in df.columns:
-            raise _native.LimbfuseError("the DataFrame has no `t` column or index (time in seconds)")
+            kind = getattr(df.index.dtype, "kind", "")
+            hint = (
+                f"; its index `{df.index.name}` holds {df.index.dtype} times: name it `t` "
+                "(`df.rename_axis(\"t\")`; durations are taken as seconds, dates are refused)"
+                if kind in "mM" and kind
+                else ""
+            )
+            raise _native.LimbfuseError(f"the DataFrame has no `t` column or index (time in seconds){hint}")
+        repeated = df.columns[df.columns.duplicated()]
+        if len(repeated):
+            # (an audit: AttributeError "'DataFrame' object has no attribute 'dtype'")
+            raise _native.LimbfuseError(
+                f"the DataFrame has the column `{repeated[0]}` more than once; keep one "
+                "(e.g. `df.loc[:, ~df.columns.duplicated()]`)"
+            )
         channels: Dict[str, Any] = {}
         phase = None
         for name in df.columns:
@@ -130,7 +158,8 @@ class Trial(SetOnce):
             channels[str(name)] = col  # NaN = missing (`as_column`)
         if meta is None:
             meta = df.attrs.get("meta", {})
-        return cls(df["t"].to_numpy(), channels, meta, phase)
+        # (the Series: its dtype names a Timedelta / datetime / Float64 `t`)
+        return cls(df["t"], channels, meta, phase)
 
     def to_pandas(self) -> "pd.DataFrame":
         """The trial as a DataFrame (missing samples are NaN; ``attrs["meta"]``
@@ -148,7 +177,7 @@ class Trial(SetOnce):
 
     def write(self, path: PathLike) -> None:
         """Writes the trial file (the same bytes ``limbfuse`` writes)."""
-        _native.write_trial(os.fspath(path), self._native())
+        _native.write_trial(os.fsdecode(path), self._native())
 
     def __len__(self) -> int:
         return int(self.t.shape[0])
@@ -190,13 +219,37 @@ class Trial(SetOnce):
         return f"<Trial{src}: {len(self)} samples, {len(self.channels)} channels>"
 
 
+def _pandas_index(values: Any) -> Any:
+    """The row labels of a pandas Series (None for anything else)."""
+    if type(values).__module__.startswith("pandas") and getattr(values, "ndim", 0) == 1:
+        return getattr(values, "index", None)
+    return None
+
+
+def _check_rows(name: str, values: Any, index: Any) -> None:
+    """A channel given as a pandas Series beside a Series `t`: its rows
+    must be `t`'s, label for label. Arrays pair by position, so a Series
+    from another (filtered, sorted, re-indexed) DataFrame would silently
+    pair `t[i]` with another row's value (an audit: `Trial(df["t"],
+    {"knee_enc": other["knee_enc"]})` with `other` sorted otherwise was
+    accepted)."""
+    theirs = _pandas_index(values)
+    if index is None or theirs is None or index.equals(theirs):
+        return
+    raise _native.LimbfuseError(
+        f"channel `{name}`: its pandas index is not `t`'s (rows from another DataFrame, or "
+        "reordered); values pair with times by position: take both from one DataFrame, "
+        "align them (`.reindex(t.index)`), or pass `.to_numpy()` to pair by position"
+    )
+
+
 def _trial_from_state(t, channels, meta, phase_ref, source) -> Trial:
     return Trial(t, channels, meta, phase_ref, source=source)
 
 
 def read_trial(path: PathLike) -> Trial:
     """Reads a trial file. Errors name the file, line and column."""
-    return Trial._from_native(_native.read_trial(os.fspath(path)))
+    return Trial._from_native(_native.read_trial(os.fsdecode(path)))
 
 
 def write_trial(trial: Trial, path: PathLike) -> None:

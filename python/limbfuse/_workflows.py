@@ -138,7 +138,30 @@ def gait_library(
     library=path)``) and returns one summary per gait."""
     if isinstance(speeds, (str, bytes)):
         raise TypeError(f"speeds: expected a sequence of speeds in m/s, found the string {speeds!r}")
-    return list(_native.gait_library(os.fspath(path), [float(s) for s in speeds], float(mass), float(leg_length)))
+    return list(
+        _native.gait_library(
+            os.fsdecode(path), _numbers("speeds", speeds), _number("mass", mass), _number("leg_length", leg_length)
+        )
+    )
+
+
+def _number(name: str, value: Any) -> float:
+    """A number option of ``gait_library``, named when it is not one (an
+    audit: "could not convert string to float: 'a'")."""
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected a number, found {value!r}") from None
+
+
+def _numbers(name: str, values: Any) -> List[float]:
+    try:
+        items = list(values)
+    except TypeError:
+        raise TypeError(f"{name}: expected a sequence of numbers, found {values!r}") from None
+    return [_number(f"{name}[{i}]", v) for i, v in enumerate(items)]
 
 
 def report(
@@ -175,7 +198,7 @@ def report(
             trial.write(trial_path)
             allow_trial_mismatch = True
         else:
-            trial_path = os.fspath(trial)
+            trial_path = os.fsdecode(trial)
         paths: List[str] = []
         for k, e in enumerate(given):
             if isinstance(e, Estimate):
@@ -195,10 +218,10 @@ def report(
                 e.write(p)
                 paths.append(p)
             else:
-                paths.append(os.fspath(e))
+                paths.append(os.fsdecode(e))
         command = f"limbfuse.report({os.path.basename(trial_path)!r}, {len(paths)} estimate(s)) (Python)"
         return int(
             _native.report(
-                trial_path, paths, os.fspath(path), buckets, allow_trial_mismatch, command
+                trial_path, paths, os.fsdecode(path), buckets, allow_trial_mismatch, command
             )
         )

@@ -13,6 +13,7 @@ use limbfuse_io::Calibration;
 
 use crate::column_samples::SampleColumns;
 use crate::estimate_columns::EstimateColumns;
+use crate::interrupt::Interrupt;
 
 /// What a run watches besides writing the estimates: restarts, whether a
 /// gait method found gait, whether a knee-axis method identified the axis
@@ -33,13 +34,15 @@ pub struct RunWatches {
 
 /// Runs `est` over every sample of `inputs`, pushing each estimate to
 /// `out` and, when given, to `watches` (restarted for `est`'s
-/// diagnostics). Errors as `runner::run_from`'s.
+/// diagnostics). Errors as `runner::run_from`'s. Stops early, with `out`
+/// part-filled, when a signal handler raised (`interrupt`: Ctrl-C).
 pub fn run_columns(
     est: &mut dyn Estimator,
     inputs: &SampleColumns<'_>,
     out: &mut EstimateColumns,
     mut watches: Option<&mut RunWatches>,
     calibration: Option<&Calibration>,
+    interrupt: &mut Interrupt,
 ) -> Result<(), RunError> {
     if let Some(w) = watches.as_deref_mut() {
         // (a `Filter` continues its estimator's rejection counts)
@@ -64,19 +67,23 @@ pub fn run_columns(
         if let Some(w) = watches.as_deref_mut() {
             w.push(&sample, &estimate);
         }
+        if interrupt.poll() {
+            break;
+        }
     }
     Ok(())
 }
 
 /// As [`run_columns`] for an offline estimator (`estimate(..., backfill=True)`):
 /// each estimate is written when the estimator releases it, and watched
-/// with its own sample.
+/// with its own sample; stopped early as [`run_columns`].
 pub fn run_columns_offline(
     est: &mut dyn OfflineEstimator,
     inputs: &SampleColumns<'_>,
     out: &mut EstimateColumns,
     watches: &mut RunWatches,
     calibration: Option<&Calibration>,
+    interrupt: &mut Interrupt,
 ) -> Result<(), RunError> {
     *watches = RunWatches::for_estimator(est.header());
     let mut sample = Sample::default();
@@ -101,6 +108,9 @@ pub fn run_columns_offline(
             source,
         })?;
         release(est, &mut own);
+        if interrupt.poll() {
+            return Ok(());
+        }
     }
     est.finish();
     release(est, &mut own);

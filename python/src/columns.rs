@@ -18,7 +18,7 @@
 //! ([`crate::column_records`]).
 
 use limbfuse_core::sample::{ComMeasurement, GaitPhase, ModelInputs};
-use limbfuse_core::{Joint, Record, Segment, Side};
+use limbfuse_core::{Joint, Record, Segment, ShownNumber, Side};
 use limbfuse_io::layout::{contact_ref_column, other_leg_prefix, AXES, QUAT, SPEED_REF};
 use limbfuse_io::{TrialLayout, TrialMeta};
 
@@ -355,13 +355,15 @@ pub fn check_time(t: &[f64]) -> Result<(), String> {
     for (i, w) in t.iter().enumerate() {
         if !w.is_finite() {
             return Err(format!(
-                "`t`, sample {i}: time must be a finite number, found {w}"
+                "`t`, sample {i}: time must be a finite number, found {}",
+                ShownNumber(*w)
             ));
         }
         if i > 0 && *w <= t[i - 1] {
             return Err(format!(
-                "`t`, sample {i}: time must increase strictly, but {w} follows {}",
-                t[i - 1]
+                "`t`, sample {i}: time must increase strictly, but {} follows {}",
+                ShownNumber(*w),
+                ShownNumber(t[i - 1])
             ));
         }
     }

@@ -23,6 +23,7 @@ use pyo3::types::PyDict;
 
 use crate::column_run::{run_columns, run_columns_offline, RunWatches};
 use crate::estimate_columns::{EstimateColumns, EstimateView, PHASE};
+use crate::interrupt::Interrupt;
 use crate::options::python_spelling;
 use crate::trial::{slice, TrialArgs};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -290,6 +291,7 @@ fn estimate<'py>(
             }
             let mut watches = RunWatches::default();
             let gait_method = limbfuse_eval::gait_watch::is_gait_method(&est.outputs());
+            let mut interrupt = Interrupt::new(py)?;
             let run = py.detach(|| match &mut built {
                 Built::Online(est) => run_columns(
                     est.as_mut(),
@@ -297,6 +299,7 @@ fn estimate<'py>(
                     &mut out,
                     Some(&mut watches),
                     calibration.as_ref(),
+                    &mut interrupt,
                 ),
                 Built::Offline(est) => run_columns_offline(
                     est.as_mut(),
@@ -304,8 +307,13 @@ fn estimate<'py>(
                     &mut out,
                     &mut watches,
                     calibration.as_ref(),
+                    &mut interrupt,
                 ),
             });
+            // Ctrl-C (a signal handler's exception) stops the run.
+            if let Some(e) = interrupt.raised() {
+                return Err(e);
+            }
             run.map_err(|e| {
                 user_msg(format!(
                     "estimating {label} with {}: {}",

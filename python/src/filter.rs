@@ -11,13 +11,14 @@ use limbfuse_io::{Calibration, TrialMeta};
 use limbfuse_methods::MethodName;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict};
+use pyo3::types::PyDict;
 
 use crate::column_run::{run_columns, RunWatches};
 use crate::column_samples::SampleColumns;
 use crate::columns::{leg_of, Channel, TrialColumns};
 use crate::estimate::EstimateTuple;
 use crate::estimate_columns::EstimateColumns;
+use crate::interrupt::Interrupt;
 use crate::trial::slice;
 use crate::{chain_message, guarded, user_msg};
 
@@ -148,6 +149,15 @@ impl StreamUnits {
         }
         Ok(())
     }
+}
+
+/// Whether `v` is pandas' missing marker `pd.NA` (pandas not imported).
+fn is_pandas_na(v: &Bound<'_, PyAny>) -> bool {
+    let ty = v.get_type();
+    ty.name().is_ok_and(|n| n.to_string() == "NAType")
+        && ty
+            .module()
+            .is_ok_and(|m| m.to_string().starts_with("pandas"))
 }
 
 fn step_error(method: &str, t: f64, e: &dyn std::error::Error) -> PyErr {
@@ -283,19 +293,24 @@ impl NativeFilter {
                     .map_err(|_| user_msg("sample: every key must be a channel name (str)"))?;
                 let value: Option<f64> = if v.is_none() || v.is(self.masked.bind(py)) {
                     None
-                } else if v.is_instance_of::<PyBool>() {
+                } else if crate::options::is_bool(&v) {
                     // (a `TypeError`, as for a string: an audit found a bool
                     // raising `LimbfuseError` against the docs)
                     return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                         "sample `{key}`: expected a number or None, found a bool"
                     )));
+                } else if let Ok(x) = v.extract::<f64>() {
+                    Some(x)
+                } else if is_pandas_na(&v) {
+                    // (pandas' missing marker, as in a row of a `Float64`
+                    // DataFrame, `df.iloc[i].to_dict()`; an audit found it
+                    // refused as "not a number")
+                    None
                 } else {
-                    Some(v.extract().map_err(|_| {
-                        pyo3::exceptions::PyTypeError::new_err(format!(
-                            "sample `{key}`: expected a number or None, found {}",
-                            v.repr().map_or("?".into(), |r| r.to_string())
-                        ))
-                    })?)
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                        "sample `{key}`: expected a number or None, found {}",
+                        crate::options::shown(&v)
+                    )));
                 };
                 if let Some(x) = value {
                     if !x.is_finite() {
@@ -399,6 +414,7 @@ impl NativeFilter {
                 self.units.warn(py, &method, true)?;
             }
             let mut watches = std::mem::take(&mut self.watches);
+            let mut interrupt = Interrupt::new(py)?;
             let est = self.estimator();
             let run = py.detach(|| {
                 run_columns(
@@ -407,6 +423,7 @@ impl NativeFilter {
                     &mut out,
                     Some(&mut watches),
                     calibration.as_ref(),
+                    &mut interrupt,
                 )
             });
             // (the counts carry on, also past an error)
@@ -414,6 +431,10 @@ impl NativeFilter {
             let counts = watches.rejections.counts();
             watches.rejections.carry(counts);
             self.watches = watches;
+            // Ctrl-C stops the run, the filter part-way through it.
+            if let Some(e) = interrupt.raised() {
+                return Err(e);
+            }
             run.map_err(|e| user_msg(format!("{method}: {}", chain_message(&e))))?;
             // `estimate`'s warning of rejected readings, once per run.
             if let Some(r) = rejected {

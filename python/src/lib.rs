@@ -28,6 +28,7 @@ mod estimate;
 mod estimate_columns;
 mod evaluate;
 mod filter;
+mod interrupt;
 mod options;
 mod simulate;
 mod trial;

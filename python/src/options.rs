@@ -11,6 +11,30 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use crate::{chain_message, user_error, user_msg};
 
+/// Whether `v` is a bool: Python's or numpy's (`numpy.bool_`, e.g. from
+/// `array.any()`).
+pub(crate) fn is_bool(v: &Bound<'_, PyAny>) -> bool {
+    if v.is_instance_of::<PyBool>() {
+        return true;
+    }
+    let ty = v.get_type();
+    ty.module().is_ok_and(|m| m.to_string() == "numpy")
+        && ty
+            .name()
+            .is_ok_and(|n| n.to_string() == "bool" || n.to_string() == "bool_")
+}
+
+/// `repr(v)` for a message, shortened (a 400-digit integer).
+pub(crate) fn shown(v: &Bound<'_, PyAny>) -> String {
+    let r = v.repr().map_or_else(|_| "?".to_string(), |r| r.to_string());
+    if r.chars().count() > 40 {
+        let head: String = r.chars().take(37).collect();
+        format!("{head}...")
+    } else {
+        r
+    }
+}
+
 /// The options of one call, read one by one.
 pub struct Options<'py> {
     what: &'static str,
@@ -41,12 +65,8 @@ impl<'py> Options<'py> {
         let Some(v) = self.raw(key)? else {
             return Ok(None);
         };
-        let x: f64 = if v.is_instance_of::<PyBool>() {
-            None
-        } else {
-            v.extract().ok()
-        }
-        .ok_or_else(|| user_msg(format!("{}: option `{key}`: expected a number", self.what)))?;
+        let x: f64 = if is_bool(&v) { None } else { v.extract().ok() }
+            .ok_or_else(|| user_msg(format!("{}: option `{key}`: expected a number", self.what)))?;
         if !x.is_finite() {
             return Err(user_msg(format!(
                 "{}: option `{key}`: expected a finite number, found {x}",
@@ -61,16 +81,18 @@ impl<'py> Options<'py> {
         let Some(v) = self.raw(key)? else {
             return Ok(None);
         };
-        if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
-            return Err(user_msg(format!(
-                "{}: option `{key}`: expected a non-negative integer",
-                self.what
-            )));
-        }
-        v.extract().map(Some).map_err(|_| {
+        // (a Python int or a numpy integer, `__index__`: an audit found
+        // `window=np.int64(500)` refused as "expected a non-negative integer")
+        let n = if is_bool(&v) {
+            None
+        } else {
+            v.extract::<u64>().ok()
+        };
+        n.map(Some).ok_or_else(|| {
             user_msg(format!(
-                "{}: option `{key}`: expected a non-negative integer",
-                self.what
+                "{}: option `{key}`: expected a non-negative integer, found {}",
+                self.what,
+                shown(&v)
             ))
         })
     }
@@ -80,13 +102,14 @@ impl<'py> Options<'py> {
         let Some(v) = self.raw(key)? else {
             return Ok(None);
         };
-        if !v.is_instance_of::<PyBool>() {
+        if !is_bool(&v) {
             return Err(user_msg(format!(
-                "{}: option `{key}`: expected True or False",
-                self.what
+                "{}: option `{key}`: expected True or False, found {}",
+                self.what,
+                shown(&v)
             )));
         }
-        Ok(Some(v.extract()?))
+        Ok(Some(v.is_truthy()?))
     }
 
     /// A string (or a path, for `PathLike` objects).
@@ -368,8 +391,8 @@ fn toml_table(d: &Bound<'_, PyDict>, at: &str) -> PyResult<toml::Table> {
 }
 
 fn toml_value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
-    if v.is_instance_of::<PyBool>() {
-        return Ok(toml::Value::Boolean(v.extract()?));
+    if is_bool(v) {
+        return Ok(toml::Value::Boolean(v.is_truthy()?));
     }
     if v.is_instance_of::<PyInt>() {
         let i: i64 = v
@@ -400,7 +423,12 @@ fn toml_value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
         }
         return Ok(toml::Value::Array(out));
     }
-    // numpy scalars and other numbers
+    // numpy scalars and other numbers: an integer (`__index__`, numpy's
+    // int64) stays an integer (an audit: `{"window": np.int64(500)}` was
+    // written `500.0` and refused for a float)
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(toml::Value::Integer(i));
+    }
     if let Ok(x) = v.extract::<f64>() {
         return toml_value(&PyFloat::new(v.py(), x).into_any(), at);
     }
