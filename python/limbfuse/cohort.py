@@ -63,8 +63,10 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
     ``Trial``s; sorted when from a pattern or directory."""
     if isinstance(paths_or_glob, Trial):
         return [paths_or_glob]
-    if isinstance(paths_or_glob, (str, os.PathLike)):
-        p = os.fspath(paths_or_glob)
+    if isinstance(paths_or_glob, (str, bytes, os.PathLike)):
+        # (bytes: one path, not a list of its byte values; an audit: "expected
+        # str, bytes or os.PathLike object, not int")
+        p = os.fsdecode(paths_or_glob)
         if os.path.isdir(p):
             found = sorted(f for f in glob.glob(os.path.join(p, "*")) if f.endswith(TRIAL_SUFFIXES))
         elif any(ch in p for ch in "*?["):
@@ -74,7 +76,24 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
         if not found:
             raise LimbfuseError(f"cohort: no trial file matches `{p}`")
         return found
-    items: List[Union[str, Trial]] = [x if isinstance(x, Trial) else os.fspath(x) for x in paths_or_glob]
+    try:
+        given = list(paths_or_glob)
+    except TypeError:
+        raise TypeError(
+            "cohort: expected a glob pattern, a directory, a trial file or a list of files or "
+            f"limbfuse.Trials, found {type(paths_or_glob).__name__}"
+        ) from None
+    items: List[Union[str, Trial]] = []
+    for i, x in enumerate(given):
+        if isinstance(x, Trial):
+            items.append(x)
+        elif isinstance(x, (str, bytes, os.PathLike)):
+            items.append(os.fsdecode(x))
+        else:
+            raise TypeError(
+                f"cohort: item {i} of the list: expected a trial file path or a limbfuse.Trial, "
+                f"found {type(x).__name__}"
+            )
     if not items:
         raise LimbfuseError("cohort: the list of trial files is empty")
     return items
@@ -217,6 +236,17 @@ def run(
         raise LimbfuseError(f"cohort: unknown method `{method}` (one of: {', '.join(known)})")
     if estimate_options:
         options = dict(options or {}, **estimate_options)
+    for k in EVALUATE_ONLY:
+        if k in (options or {}):
+            raise LimbfuseError(
+                f"cohort: `{k}` is an option of evaluate, not of estimate: pass it as "
+                f"eval_options={{{k!r}: ...}}"
+            )
+    if client is not None and not callable(getattr(client, "nthreads", None)):
+        raise TypeError(
+            f"cohort: client: expected a dask.distributed Client (or None: local threads), "
+            f"found {type(client).__name__}"
+        )
     check_arguments(params, eval_options)
     paths: List[Item] = [
         (trial_name(x, i), x) if isinstance(x, Trial) and not x.source else x
@@ -251,6 +281,11 @@ def run(
             raise error
     rows = [row for rs, _ in results for row in rs]
     return pd.DataFrame(rows, columns=columns_of(rows))
+
+
+#: ``evaluate``'s keywords that ``estimate`` does not take (``window`` is
+#: both: the knee methods' window there).
+EVALUATE_ONLY = ("offset_free", "max_lag", "allow_trial_mismatch")
 
 
 def check_arguments(params: Any, eval_options: Optional[Mapping[str, Any]]) -> None:

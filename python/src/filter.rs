@@ -11,7 +11,7 @@ use limbfuse_io::{Calibration, TrialMeta};
 use limbfuse_methods::MethodName;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyFloat};
 
 use crate::column_run::{run_columns, RunWatches};
 use crate::column_samples::SampleColumns;
@@ -154,7 +154,7 @@ impl StreamUnits {
 /// Whether `v` is pandas' missing marker `pd.NA` (pandas not imported).
 fn is_pandas_na(v: &Bound<'_, PyAny>) -> bool {
     let ty = v.get_type();
-    ty.name().is_ok_and(|n| n.to_string() == "NAType")
+    ty.name().is_ok_and(|n| n == "NAType")
         && ty
             .module()
             .is_ok_and(|m| m.to_string().starts_with("pandas"))
@@ -293,6 +293,9 @@ impl NativeFilter {
                     .map_err(|_| user_msg("sample: every key must be a channel name (str)"))?;
                 let value: Option<f64> = if v.is_none() || v.is(self.masked.bind(py)) {
                     None
+                } else if v.is_exact_instance_of::<PyFloat>() {
+                    // (the common case first: no look at the type's name)
+                    Some(v.extract::<f64>()?)
                 } else if crate::options::is_bool(&v) {
                     // (a `TypeError`, as for a string: an audit found a bool
                     // raising `LimbfuseError` against the docs)

@@ -18,10 +18,7 @@ pub(crate) fn is_bool(v: &Bound<'_, PyAny>) -> bool {
         return true;
     }
     let ty = v.get_type();
-    ty.module().is_ok_and(|m| m.to_string() == "numpy")
-        && ty
-            .name()
-            .is_ok_and(|n| n.to_string() == "bool" || n.to_string() == "bool_")
+    ty.module().is_ok_and(|m| m == "numpy") && ty.name().is_ok_and(|n| n == "bool" || n == "bool_")
 }
 
 /// `repr(v)` for a message, shortened (a 400-digit integer).

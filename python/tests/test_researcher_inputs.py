@@ -202,3 +202,21 @@ def test_gait_library_names_a_speed_that_is_not_a_number(tmp_path):
         limbfuse.gait_library(tmp_path / "lib.json", [0.6, "a"])
     with pytest.raises(TypeError, match="mass: expected a number, found '80'"):
         limbfuse.gait_library(tmp_path / "lib.json", [0.6], mass="80")
+
+
+def test_cohort_names_a_bytes_path_a_bad_item_a_bad_client_and_evaluate_options(walking_file):
+    """`cohort.run(b"walk.csv", ...)` took the bytes for a list of paths and
+    said "expected str, bytes or os.PathLike object, not int" (so did a list
+    holding a number); `client="tcp://..."` raised AttributeError "'str'
+    object has no attribute 'nthreads'"; `max_lag=3` among the keywords was
+    "unknown option" of estimate, without saying it belongs to evaluate."""
+    from limbfuse import cohort
+
+    df = cohort.run(os.fsencode(str(walking_file)), "gyro-integration", scheduler="sync")
+    assert set(df["trial"]) == {str(walking_file)}
+    with pytest.raises(TypeError, match="item 1 of the list: expected a trial file path or a limbfuse.Trial, found int"):
+        cohort.run([str(walking_file), 3], "gyro-integration")
+    with pytest.raises(TypeError, match="client: expected a dask.distributed Client"):
+        cohort.run(str(walking_file), "gyro-integration", client="tcp://127.0.0.1:8786")
+    with pytest.raises(LimbfuseError, match=r"`max_lag` is an option of evaluate.*eval_options=\{'max_lag': \.\.\.\}"):
+        cohort.run(str(walking_file), "gyro-integration", max_lag=3)
