@@ -131,8 +131,9 @@ pub struct AlignArgs {
     /// Alignment procedure: from walking data, or paper 004's quiet standing + flexion/extension rotations.
     #[arg(long, value_enum, default_value_t = AlignProcedure::Walking)]
     pub procedure: AlignProcedure,
-    /// static-rotation: calibration recording (quiet standing + rotations) of the same sensors;
-    /// default: the calibration segment at the start of TRIAL.
+    /// --procedure static-rotation only (refused otherwise): the calibration recording (quiet
+    /// standing + rotations) of the same sensors; default: the calibration segment at the start
+    /// of TRIAL. An IMU calibration file (`limbfuse calibrate`) is --imu-calibration.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
     /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels (and to a

@@ -65,4 +65,5 @@ mod streaming_estimate;
 mod support;
 mod tuning_cli;
 mod units_of_a_trial;
+mod ux_audit_28;
 mod wrong_kind_of_file;
