@@ -75,3 +75,28 @@ fn align_refuses_calibration_outside_the_static_rotation_procedure() {
     // The IMU calibration where it belongs still aligns.
     ok(&["align", "raw.csv", "--imu-calibration", "cal.toml", "-o", "a.csv"], p);
 }
+
+/// Item 2: `scripts/test-all` (the README's test command) hard-coded
+/// `target/debug/limbfuse` and `target/pyvenv`, and failed with
+/// `CARGO_TARGET_DIR` set. Now every path under the target directory comes
+/// from `${CARGO_TARGET_DIR:-target}`.
+#[test]
+fn test_all_takes_the_target_directory_from_cargo_target_dir() {
+    let script = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scripts/test-all"
+    ))
+    .unwrap();
+    assert!(
+        script.contains("${CARGO_TARGET_DIR:-target}"),
+        "scripts/test-all does not read CARGO_TARGET_DIR"
+    );
+    for line in script.lines().filter(|l| !l.trim_start().starts_with('#')) {
+        for fixed in ["target/debug", "target/pyvenv", "target/release"] {
+            assert!(
+                !line.contains(fixed),
+                "scripts/test-all hard-codes `{fixed}`: {line}"
+            );
+        }
+    }
+}
