@@ -100,3 +100,76 @@ fn test_all_takes_the_target_directory_from_cargo_target_dir() {
         }
     }
 }
+
+/// A copy of the trial `from` keeping `t` and the columns `keep` accepts.
+fn keep_columns(dir: &Path, from: &str, to: &str, keep: impl Fn(&str) -> bool) {
+    let text = std::fs::read_to_string(dir.join(from)).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
+    let kept: Vec<bool> = names.iter().map(|n| *n == "t" || keep(n)).collect();
+    let mut out = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i < header {
+            out += l;
+        } else {
+            let cells: Vec<&str> = l
+                .split(',')
+                .zip(&kept)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
+                .collect();
+            out += &cells.join(",");
+        }
+        out.push('\n');
+    }
+    std::fs::write(dir.join(to), out).unwrap();
+}
+
+/// Item 3: on a trial with a lower-back (trunk) IMU only, `inspect` listed
+/// `gyro-integration (after limbfuse align ...)` and `align` failed with
+/// "no walking found" (the cause: no leg IMU); on the imported knee rig
+/// `inspect` listed `rmx (after limbfuse align)` and `align` failed with
+/// "thigh: not enough motion". Now `align` names the missing leg IMUs and
+/// `inspect` says that `align` cannot align the trial, and why.
+#[test]
+fn inspect_says_when_align_cannot_align_the_trial() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &["simulate", "walking", "--duration", "12", "--mounting", "random", "-o", "raw.csv"],
+        p,
+    );
+    keep_columns(p, "raw.csv", "back.csv", |n| n.starts_with("trunk_"));
+    let o = limbfuse(&["align", "back.csv", "-o", "a.csv"], p);
+    user_error(&o, &["back.csv", "no leg IMU", "thigh, shank or foot", "trunk IMU only"]);
+    assert!(!stderr(&o).contains("no walking found"), "{}", stderr(&o));
+    let out = stdout(&ok(&["inspect", "back.csv"], p));
+    assert!(
+        out.contains("`limbfuse align` cannot align this trial: no leg IMU"),
+        "{out}"
+    );
+    assert!(!out.contains("after `limbfuse align`"), "{out}");
+    // A trial align can align keeps the promise.
+    let out = stdout(&ok(&["inspect", "raw.csv"], p));
+    assert!(out.contains("mjls (after `limbfuse align`"), "{out}");
+    assert!(!out.contains("cannot align"), "{out}");
+    // The shared recordings of the audit.
+    if let Some(back) = shared_data("mobgap-lowerback/HA001-test5-trial1.csv") {
+        let back = back.to_str().unwrap();
+        let out = stdout(&ok(&["inspect", back], p));
+        assert!(out.contains("cannot align this trial: no leg IMU"), "{out}");
+        user_error(&limbfuse(&["align", back, "-o", "b.csv"], p), &["no leg IMU"]);
+    }
+    if let Some(rig) = shared_data("knee-rig/Trial_01.csv") {
+        ok(
+            &["import", "--format", "knee-rig", rig.to_str().unwrap(), "-o", "rig01.csv"],
+            p,
+        );
+        let out = stdout(&ok(&["inspect", "rig01.csv"], p));
+        assert!(
+            out.contains("`limbfuse align` cannot align this trial: thigh: not enough motion"),
+            "{out}"
+        );
+        assert!(!out.contains("rmx (after `limbfuse align`"), "{out}");
+    }
+}
