@@ -257,11 +257,13 @@ pub struct EstimateArgs {
     /// Parameter overrides (TOML).
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// knee-selfalign / knee-gyro-axis: window length s_w in samples, used as given (default: 5 s at
-    /// the trial's rate, i.e. paper 002's 500 samples at 100 Hz).
-    #[arg(long, value_name = "SAMPLES")]
+    /// knee-selfalign / knee-gyro-axis: identification window length s_w in samples (a whole
+    /// number, e.g. 500), used as given (default: 5 s at the trial's rate, i.e. paper 002's 500
+    /// samples at 100 Hz); in seconds: `window_s` in a --params file. Not a time span (that is
+    /// `evaluate --window START:END`).
+    #[arg(long, value_name = "SAMPLES", value_parser = knee_window_samples)]
     pub window: Option<usize>,
-    /// knee-selfalign: parameter-EKF iterations per window (paper 002 default 6).
+    /// knee-selfalign / knee-gyro-axis: parameter-EKF iterations per window (paper 002 default 6).
     #[arg(long)]
     pub order: Option<usize>,
     /// imm-bslip: gait library file (`limbfuse gait-library build`).
@@ -325,6 +327,21 @@ pub struct EstimateArgs {
     /// list of its diagnostics).
     #[arg(long, value_name = "all|none|NAMES")]
     pub diagnostics: Option<String>,
+}
+
+/// `estimate --window`: the knee methods' identification window in samples.
+/// A time span or a duration (`0:20`, `5s`: what `evaluate --window` and
+/// `tune --window` take) was clap's "invalid digit found in string" (a
+/// fresh-user audit, session 28); now the message says what it is.
+fn knee_window_samples(text: &str) -> Result<usize, String> {
+    text.trim().parse().map_err(|_| {
+        format!(
+            "expected the knee methods' (knee-selfalign, knee-gyro-axis) identification window in \
+             samples, a whole number such as 500 (5 s at 100 Hz); for seconds give `window_s = 5.0` \
+             in a --params file (`limbfuse params --method knee-selfalign`); a time span START:END \
+             is `evaluate --window`"
+        )
+    })
 }
 
 /// Options of `evaluate`.

@@ -173,3 +173,24 @@ fn inspect_says_when_align_cannot_align_the_trial() {
         assert!(!out.contains("rmx (after `limbfuse align`"), "{out}");
     }
 }
+
+/// Item 4: `estimate --window 0:20` / `--window 5s` gave clap's "invalid
+/// digit found in string". Now the message says that `--window` is the
+/// knee methods' identification window in samples, and where seconds go.
+#[test]
+fn estimate_window_that_is_not_a_sample_count_says_what_window_is() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::write(p.join("t.csv"), "t\n0\n0.01\n").unwrap();
+    for w in ["0:20", "5s"] {
+        let o = limbfuse(
+            &["estimate", "--method", "knee-selfalign", "t.csv", "--window", w, "-o", "e.csv"],
+            p,
+        );
+        user_error(
+            &o,
+            &["--window", w, "identification window in", "samples", "500", "window_s", "evaluate --window"],
+        );
+        assert!(!stderr(&o).contains("invalid digit"), "{}", stderr(&o));
+    }
+}
