@@ -207,7 +207,7 @@ def estimate(
             line break, e.g. ``default_params(NAME)`` edited) or a dict of
             the same keys.
         **options: the method's ``limbfuse estimate`` flags: ``window``,
-            ``order`` (knee-selfalign), ``library``, ``kappa``,
+            ``order`` (knee-selfalign, knee-gyro-axis), ``library``, ``kappa``,
             ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
             ``imm_extend_library``, ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
             (``--diagnostics``): ``"all"`` (default), ``"none"``, or

@@ -194,3 +194,33 @@ fn estimate_window_that_is_not_a_sample_count_says_what_window_is() {
         assert!(!stderr(&o).contains("invalid digit"), "{}", stderr(&o));
     }
 }
+
+/// Item 5: `--order` on another method said "--window and --order apply to
+/// method knee-selfalign only", though knee-gyro-axis takes both (and
+/// `limbfuse methods` lists them); now the message names both methods, and
+/// knee-gyro-axis accepts `--order`.
+#[test]
+fn order_and_window_name_both_knee_axis_methods() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::write(p.join("t.csv"), "t\n0\n0.01\n").unwrap();
+    let o = limbfuse(
+        &["estimate", "--method", "local", "t.csv", "--order", "4", "-o", "e.csv"],
+        p,
+    );
+    user_error(
+        &o,
+        &["--window and --order apply to methods knee-selfalign and knee-gyro-axis only, not to `local`"],
+    );
+    // knee-gyro-axis takes --order: its error is about the trial, not the flag.
+    let o = limbfuse(
+        &["estimate", "--method", "knee-gyro-axis", "t.csv", "--order", "4", "-o", "e.csv"],
+        p,
+    );
+    assert!(!stderr(&o).contains("apply to"), "{}", stderr(&o));
+    let help = stdout(&ok(&["estimate", "--help"], p));
+    assert!(
+        help.contains("knee-selfalign / knee-gyro-axis: parameter-EKF iterations"),
+        "{help}"
+    );
+}
