@@ -224,3 +224,43 @@ fn order_and_window_name_both_knee_axis_methods() {
         "{help}"
     );
 }
+
+/// Item 6: `evaluate walk-v1.2-s301.csv EST.csv` (a gait-events estimate
+/// of the independent simulator's walk) said "no reference event to score
+/// against (the trial's contact_*_ref has no transition)" though the trial
+/// has no contact_*_ref column. Now it says the columns are absent; "has
+/// no transition" stays for a column without one.
+#[test]
+fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &["simulate", "walking", "--duration", "12", "--gait-reference", "-o", "g.csv"],
+        p,
+    );
+    ok(&["estimate", "--method", "gait-events", "g.csv", "-o", "e.csv"], p);
+    // Neither column: the CoM velocity is the speed reference.
+    keep_columns(p, "g.csv", "nocontact.csv", |n| !n.starts_with("contact_"));
+    ok(&["estimate", "--method", "gait-events", "nocontact.csv", "-o", "e2.csv"], p);
+    let out = stdout(&ok(&["evaluate", "nocontact.csv", "e2.csv"], p));
+    assert!(
+        out.contains("no reference event to score against (the trial has no contact_left_ref / contact_right_ref column)"),
+        "{out}"
+    );
+    assert!(!out.contains("has no transition"), "{out}");
+    // Columns without a transition (the right foot always down).
+    let text = std::fs::read_to_string(p.join("g.csv")).unwrap();
+    let flat = crate::support::edit_cells(&text, |_, name, _| {
+        name.starts_with("contact_").then(|| "1".to_string())
+    });
+    std::fs::write(p.join("flat.csv"), flat).unwrap();
+    ok(&["estimate", "--method", "gait-events", "flat.csv", "-o", "e3.csv"], p);
+    let out = stdout(&ok(&["evaluate", "flat.csv", "e3.csv"], p));
+    assert!(out.contains("contact_*_ref has no transition"), "{out}");
+    if let Some(walk) = shared_data("independent-sim/walk-v1.2-s301.csv") {
+        let walk = walk.to_str().unwrap();
+        ok(&["estimate", "--method", "gait-events", walk, "-o", "ind.csv"], p);
+        let out = stdout(&ok(&["evaluate", walk, "ind.csv"], p));
+        assert!(out.contains("the trial has no contact_left_ref / contact_right_ref column"), "{out}");
+    }
+}
