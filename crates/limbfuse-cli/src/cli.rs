@@ -357,7 +357,8 @@ pub struct EvaluateArgs {
     /// Evaluate only START:END seconds (either side may be empty).
     #[arg(long)]
     pub window: Option<String>,
-    /// Remove the mean error of each channel before computing the RMSE.
+    /// Remove the mean error of each channel before computing the RMSE (max|e| and mean e,
+    /// `max_abs_err_deg` and `mean_err_deg` in --json, stay as measured, before the mean is removed).
     #[arg(long)]
     pub offset_free: bool,
     /// Synchronise: per channel, shift the estimate by the lag within +-N samples

@@ -264,3 +264,30 @@ fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
         assert!(out.contains("the trial has no contact_left_ref / contact_right_ref column"), "{out}");
     }
 }
+
+/// Item 7: `evaluate --offset-free` printed max|e| and mean e, which are
+/// not offset-free, unlabelled ("(mean error shown)"). The numbers stay;
+/// the note says they are as measured, before the mean is removed; the
+/// RMSE is the offset-free one.
+#[test]
+fn offset_free_evaluation_says_max_and_mean_error_are_as_measured() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&["simulate", "walking", "--duration", "8", "-o", "w.csv"], p);
+    ok(&["estimate", "--method", "local", "w.csv", "-o", "e.csv"], p);
+    let plain = stdout(&ok(&["evaluate", "w.csv", "e.csv"], p));
+    let free = stdout(&ok(&["evaluate", "w.csv", "e.csv", "--offset-free"], p));
+    assert!(
+        free.contains("max|e| and mean e as measured, before the mean is removed"),
+        "{free}"
+    );
+    // Same max|e| and mean e columns in both tables.
+    let cols = |t: &str| -> Vec<String> {
+        t.lines()
+            .filter(|l| l.starts_with("thigh") || l.starts_with("shank"))
+            .map(|l| l.split_whitespace().skip(2).take(2).collect::<Vec<_>>().join(" "))
+            .collect()
+    };
+    assert_eq!(cols(&plain), cols(&free), "{plain}\n{free}");
+    assert!(!cols(&plain).is_empty(), "{plain}");
+}
