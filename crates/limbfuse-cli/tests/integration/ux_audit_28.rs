@@ -291,3 +291,31 @@ fn offset_free_evaluation_says_max_and_mean_error_are_as_measured() {
     assert_eq!(cols(&plain), cols(&free), "{plain}\n{free}");
     assert!(!cols(&plain).is_empty(), "{plain}");
 }
+
+/// Item 8: `estimate --method mjls` on a foot-only trial (the gaitmap foot
+/// walk) ended "use `local` or `global` on trials without encoders", which
+/// fail there too (no trunk, thigh or shank IMU). Now that hint comes only
+/// when they could run; otherwise the message names the methods that run
+/// on the trial (as `inspect` lists them).
+#[test]
+fn a_foot_only_trial_is_told_the_methods_that_run_on_it() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&["simulate", "walking", "--duration", "8", "-o", "w.csv"], p);
+    keep_columns(p, "w.csv", "foot.csv", |n| n.starts_with("foot_"));
+    let o = limbfuse(&["estimate", "--method", "mjls", "foot.csv", "-o", "x.csv"], p);
+    user_error(&o, &["foot.csv", "methods that run on it:", "gait-events", "limbfuse inspect foot.csv"]);
+    assert!(!stderr(&o).contains("use `local` or `global`"), "{}", stderr(&o));
+    // Every IMU, no encoder: the hint holds and stays.
+    keep_columns(p, "w.csv", "imus.csv", |n| !n.ends_with("_enc"));
+    let o = limbfuse(&["estimate", "--method", "mjls", "imus.csv", "-o", "x.csv"], p);
+    user_error(&o, &["use `local` or `global` on trials without encoders"]);
+    if let Some(gaitmap) = shared_data("gaitmap-foot-walk/trial.csv") {
+        let o = limbfuse(
+            &["estimate", "--method", "mjls", gaitmap.to_str().unwrap(), "-o", "x.csv"],
+            p,
+        );
+        user_error(&o, &["methods that run on it:", "gait-events"]);
+        assert!(!stderr(&o).contains("use `local` or `global`"), "{}", stderr(&o));
+    }
+}
