@@ -197,8 +197,8 @@ pub struct MonteCarloArgs {
 /// Options of `demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
-    /// Directory for the trial, the estimates and the report.
-    #[arg(long, default_value = "limbfuse-demo")]
+    /// Directory for the trial, the estimates and the report (`-o` / `--output` are accepted too).
+    #[arg(long, short = 'o', visible_alias = "output", default_value = "limbfuse-demo")]
     pub out: PathBuf,
     /// Random seed of the simulated trial.
     #[arg(long, default_value_t = 1)]

@@ -73,8 +73,8 @@ pub struct KneeSimArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
     pub imu_rate: f64,
     /// Random seed: same seed, same file, bit for bit.
     #[arg(long, default_value_t = 1)]
@@ -189,8 +189,8 @@ pub struct WalkingArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
     pub imu_rate: f64,
     /// Random seed: same seed, same file, bit for bit.
     #[arg(long, default_value_t = 1)]

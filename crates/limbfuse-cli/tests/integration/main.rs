@@ -66,4 +66,5 @@ mod support;
 mod tuning_cli;
 mod units_of_a_trial;
 mod ux_audit_28;
+mod ux_audit_28_flags;
 mod wrong_kind_of_file;
