@@ -293,12 +293,11 @@ pub fn pendulum_for_trial(
     if let Some((key, _)) = crate::leg_length_keys::stated(meta, keys) {
         if let Some(l) = metadata_metres(meta, key, "a leg length")? {
             let l = plausible(key, "a leg length", l, LEG_LENGTH_M)?;
-            positive(&format!("{key} (trial metadata)"), Some(l), &mut p.leg_length)
-                .map_err(gait_error)?;
-            let source = match key == keys[0] {
-                true => PendulumSource::LegLength,
-                false => PendulumSource::LegLengthM,
+            let (name, source) = match key == keys[0] {
+                true => ("leg_length (trial metadata)", PendulumSource::LegLength),
+                false => ("leg_length_m (trial metadata)", PendulumSource::LegLengthM),
             };
+            positive(name, Some(l), &mut p.leg_length).map_err(gait_error)?;
             return Ok((p, source));
         }
     }

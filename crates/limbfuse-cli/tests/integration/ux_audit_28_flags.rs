@@ -107,7 +107,7 @@ fn leg_length_metadata_is_read_under_either_key() {
         p,
     );
     let e = stderr(&o);
-    assert!(e.contains("l0 0.95 m") && e.contains("# leg_length)"), "{e}");
+    assert!(e.contains("l0 0.95 m") && e.contains("from # body_mass_kg / # leg_length,"), "{e}");
     with_metadata(p, "b.csv", "bb.csv", &["leg_length: 0.95", "leg_length_m: 0.9"]);
     let o = ok(
         &["estimate", "--method", "imm-bslip", "--library", "lib.json", "bb.csv", "-o", "i.csv"],
