@@ -28,6 +28,7 @@ pub mod layout;
 mod mapped_file;
 pub mod meta;
 pub mod table;
+mod trial_hints;
 pub mod trial_reader;
 pub mod trial_writer;
 
