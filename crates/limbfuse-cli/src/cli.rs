@@ -370,7 +370,8 @@ pub struct EvaluateArgs {
     /// instead of refusing it.
     #[arg(long)]
     pub allow_trial_mismatch: bool,
-    /// Also print the mean of each estimator diagnostic (`diag_*` columns) over the trial.
+    /// Also print the mean of each estimator diagnostic (`diag_*` columns) over the trial (over
+    /// --window when given).
     #[arg(long)]
     pub diagnostics: bool,
     /// Run this method on the trial instead of reading an estimate file

@@ -103,3 +103,60 @@ fn a_raw_recording_given_as_a_trial_names_its_importer() {
         );
     }
 }
+
+fn ok(args: &[&str], dir: &Path) -> String {
+    let o = limbfuse(args, dir);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Item 11: `simulate walking --gait-reference`'s help said it writes
+/// `contact_right_ref` "(or `_left_`)", but the file has both; `evaluate
+/// --window` said its diagnostics were "averaged over the trial".
+#[test]
+fn help_and_evaluate_say_what_the_output_holds() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let help = ok(&["simulate", "walking", "--help"], p);
+    assert!(
+        help.contains("`contact_left_ref` and `contact_right_ref`") && !help.contains("(or `_left_`"),
+        "{help}"
+    );
+    ok(&["simulate", "walking", "--duration", "6", "--gait-reference", "-o", "w.csv"], p);
+    let text = std::fs::read_to_string(p.join("w.csv")).unwrap();
+    let header = text.lines().find(|l| l.starts_with("t,")).unwrap();
+    assert!(header.contains("contact_left_ref") && header.contains("contact_right_ref"));
+    ok(&["estimate", "--method", "local", "w.csv", "-o", "e.csv"], p);
+    let whole = ok(&["evaluate", "w.csv", "e.csv"], p);
+    assert!(whole.contains("estimator diagnostics averaged over the trial"), "{whole}");
+    let window = ok(&["evaluate", "w.csv", "e.csv", "--window", "1:4"], p);
+    assert!(window.contains("estimator diagnostics averaged over the window"), "{window}");
+}
+
+/// Item 13: `limbfuse methods` tagged every method with where it comes
+/// from ("paper NNN", "beyond the papers", "baseline") but knee-gyro-axis.
+#[test]
+fn every_method_says_where_it_comes_from() {
+    let d = tempfile::tempdir().unwrap();
+    let out = ok(&["methods"], d.path());
+    let lines: Vec<&str> = out.lines().collect();
+    let mut seen = 0;
+    for (i, l) in lines.iter().enumerate() {
+        if !l.starts_with(' ') && !l.is_empty() && !l.starts_with('`') {
+            let summary = lines[i + 1].trim();
+            assert!(
+                ["paper ", "papers ", "beyond the papers", "baseline"]
+                    .iter()
+                    .any(|t| summary.starts_with(t)),
+                "{l}: {summary}"
+            );
+            seen += 1;
+        }
+    }
+    assert!(seen >= 15, "{out}");
+    assert!(out.contains("knee-gyro-axis\n    beyond the papers:"), "{out}");
+}
