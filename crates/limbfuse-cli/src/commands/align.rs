@@ -96,6 +96,9 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     if w.leg_replaced {
         eprintln!("warning: {}", w.leg_line);
     }
+    if let Some(note) = &w.other_leg_raw {
+        eprintln!("warning: {}: {note}", a.trial.display());
+    }
     let (alignment, leg_line) = (w.alignment, w.leg_line);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
