@@ -198,7 +198,12 @@ pub struct MonteCarloArgs {
 #[derive(Debug, Args)]
 pub struct DemoArgs {
     /// Directory for the trial, the estimates and the report (`-o` / `--output` are accepted too).
-    #[arg(long, short = 'o', visible_alias = "output", default_value = "limbfuse-demo")]
+    #[arg(
+        long,
+        short = 'o',
+        visible_alias = "output",
+        default_value = "limbfuse-demo"
+    )]
     pub out: PathBuf,
     /// Random seed of the simulated trial.
     #[arg(long, default_value_t = 1)]
@@ -335,12 +340,11 @@ pub struct EstimateArgs {
 /// fresh-user audit, session 28); now the message says what it is.
 fn knee_window_samples(text: &str) -> Result<usize, String> {
     text.trim().parse().map_err(|_| {
-        format!(
-            "expected the knee methods' (knee-selfalign, knee-gyro-axis) identification window in \
-             samples, a whole number such as 500 (5 s at 100 Hz); for seconds give `window_s = 5.0` \
-             in a --params file (`limbfuse params --method knee-selfalign`); a time span START:END \
-             is `evaluate --window`"
-        )
+        "expected the knee methods' (knee-selfalign, knee-gyro-axis) identification window in \
+         samples, a whole number such as 500 (5 s at 100 Hz); for seconds give `window_s = 5.0` in \
+         a --params file (`limbfuse params --method knee-selfalign`); a time span START:END is \
+         `evaluate --window`"
+            .to_string()
     })
 }
 

@@ -104,7 +104,12 @@ pub fn trial_body(
     // `# leg_length_m:`, else lowback-speed's `# leg_length:` (an optional
     // `m` unit; crate::leg_length_keys).
     let key_leg = match meta_number(meta, crate::leg_length_keys::IMM_KEY)? {
-        Some(l) => Some(plausible("trial metadata # leg_length_m", l, LEG_LENGTH_M, "m")?),
+        Some(l) => Some(plausible(
+            "trial metadata # leg_length_m",
+            l,
+            LEG_LENGTH_M,
+            "m",
+        )?),
         None => match meta.get(crate::leg_length_keys::LOWBACK_KEY) {
             None => None,
             Some(text) => {
@@ -114,7 +119,12 @@ pub fn trial_body(
                     ))
                 })?;
                 let l = positive("# leg_length", l)?;
-                Some(plausible("trial metadata # leg_length", l, LEG_LENGTH_M, "m")?)
+                Some(plausible(
+                    "trial metadata # leg_length",
+                    l,
+                    LEG_LENGTH_M,
+                    "m",
+                )?)
             }
         },
     };

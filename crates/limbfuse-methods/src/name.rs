@@ -146,7 +146,10 @@ mod tests {
             assert!(e.contains("; did you mean `"), "{typo}: {e}");
         }
         let e = MethodName::parse("mjsl").unwrap_err().to_string();
-        assert!(e.starts_with("unknown method `mjsl`; did you mean `mjls`?; available methods: "), "{e}");
+        assert!(
+            e.starts_with("unknown method `mjsl`; did you mean `mjls`?; available methods: "),
+            "{e}"
+        );
         let e = MethodName::parse("magic").unwrap_err().to_string();
         assert!(!e.contains("did you mean"), "{e}");
     }

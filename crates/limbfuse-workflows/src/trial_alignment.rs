@@ -132,7 +132,13 @@ fn state_raw_sensors(
         .map(|(s, _)| s.name().to_string())
         .collect();
     raw.extend(other_leg.iter().cloned());
-    let list = |v: &[String]| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+    let list = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
     let before = match meta.get(IMU_FRAME_KEY) {
         Some(b) => format!("; before: {b}"),
         None => "; before: raw sensor frames (said in `# sensors:`)".to_string(),

@@ -42,12 +42,31 @@ fn align_refuses_calibration_outside_the_static_rotation_procedure() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     ok(
-        &["simulate", "walking", "--duration", "10", "--mounting", "random", "-o", "raw.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "10",
+            "--mounting",
+            "random",
+            "-o",
+            "raw.csv",
+        ],
         p,
     );
     ok(&["simulate", "calibration", "-o", "poses.csv"], p);
     ok(&["calibrate", "poses.csv", "-o", "cal.toml"], p);
-    let o = limbfuse(&["align", "raw.csv", "--calibration", "cal.toml", "-o", "a.csv"], p);
+    let o = limbfuse(
+        &[
+            "align",
+            "raw.csv",
+            "--calibration",
+            "cal.toml",
+            "-o",
+            "a.csv",
+        ],
+        p,
+    );
     user_error(
         &o,
         &[
@@ -60,20 +79,53 @@ fn align_refuses_calibration_outside_the_static_rotation_procedure() {
     );
     assert!(!p.join("a.csv").exists());
     // A recording (not an IMU calibration) is refused too, without the hint.
-    let o = limbfuse(&["align", "raw.csv", "--calibration", "poses.csv", "-o", "a.csv"], p);
+    let o = limbfuse(
+        &[
+            "align",
+            "raw.csv",
+            "--calibration",
+            "poses.csv",
+            "-o",
+            "a.csv",
+        ],
+        p,
+    );
     user_error(&o, &["--calibration", "--procedure static-rotation"]);
     assert!(!stderr(&o).contains("--imu-calibration"), "{}", stderr(&o));
     // Static rotation with an IMU calibration as the recording.
     let o = limbfuse(
         &[
-            "align", "raw.csv", "--procedure", "static-rotation", "--calibration", "cal.toml", "-o",
+            "align",
+            "raw.csv",
+            "--procedure",
+            "static-rotation",
+            "--calibration",
+            "cal.toml",
+            "-o",
             "a.csv",
         ],
         p,
     );
-    user_error(&o, &["--calibration cal.toml", "IMU calibration file", "--imu-calibration"]);
+    user_error(
+        &o,
+        &[
+            "--calibration cal.toml",
+            "IMU calibration file",
+            "--imu-calibration",
+        ],
+    );
     // The IMU calibration where it belongs still aligns.
-    ok(&["align", "raw.csv", "--imu-calibration", "cal.toml", "-o", "a.csv"], p);
+    ok(
+        &[
+            "align",
+            "raw.csv",
+            "--imu-calibration",
+            "cal.toml",
+            "-o",
+            "a.csv",
+        ],
+        p,
+    );
 }
 
 /// Item 2: `scripts/test-all` (the README's test command) hard-coded
@@ -137,12 +189,29 @@ fn inspect_says_when_align_cannot_align_the_trial() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     ok(
-        &["simulate", "walking", "--duration", "12", "--mounting", "random", "-o", "raw.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "12",
+            "--mounting",
+            "random",
+            "-o",
+            "raw.csv",
+        ],
         p,
     );
     keep_columns(p, "raw.csv", "back.csv", |n| n.starts_with("trunk_"));
     let o = limbfuse(&["align", "back.csv", "-o", "a.csv"], p);
-    user_error(&o, &["back.csv", "no leg IMU", "thigh, shank or foot", "trunk IMU only"]);
+    user_error(
+        &o,
+        &[
+            "back.csv",
+            "no leg IMU",
+            "thigh, shank or foot",
+            "trunk IMU only",
+        ],
+    );
     assert!(!stderr(&o).contains("no walking found"), "{}", stderr(&o));
     let out = stdout(&ok(&["inspect", "back.csv"], p));
     assert!(
@@ -159,11 +228,21 @@ fn inspect_says_when_align_cannot_align_the_trial() {
         let back = back.to_str().unwrap();
         let out = stdout(&ok(&["inspect", back], p));
         assert!(out.contains("cannot align this trial: no leg IMU"), "{out}");
-        user_error(&limbfuse(&["align", back, "-o", "b.csv"], p), &["no leg IMU"]);
+        user_error(
+            &limbfuse(&["align", back, "-o", "b.csv"], p),
+            &["no leg IMU"],
+        );
     }
     if let Some(rig) = shared_data("knee-rig/Trial_01.csv") {
         ok(
-            &["import", "--format", "knee-rig", rig.to_str().unwrap(), "-o", "rig01.csv"],
+            &[
+                "import",
+                "--format",
+                "knee-rig",
+                rig.to_str().unwrap(),
+                "-o",
+                "rig01.csv",
+            ],
             p,
         );
         let out = stdout(&ok(&["inspect", "rig01.csv"], p));
@@ -185,12 +264,29 @@ fn estimate_window_that_is_not_a_sample_count_says_what_window_is() {
     std::fs::write(p.join("t.csv"), "t\n0\n0.01\n").unwrap();
     for w in ["0:20", "5s"] {
         let o = limbfuse(
-            &["estimate", "--method", "knee-selfalign", "t.csv", "--window", w, "-o", "e.csv"],
+            &[
+                "estimate",
+                "--method",
+                "knee-selfalign",
+                "t.csv",
+                "--window",
+                w,
+                "-o",
+                "e.csv",
+            ],
             p,
         );
         user_error(
             &o,
-            &["--window", w, "identification window in", "samples", "500", "window_s", "evaluate --window"],
+            &[
+                "--window",
+                w,
+                "identification window in",
+                "samples",
+                "500",
+                "window_s",
+                "evaluate --window",
+            ],
         );
         assert!(!stderr(&o).contains("invalid digit"), "{}", stderr(&o));
     }
@@ -206,7 +302,9 @@ fn order_and_window_name_both_knee_axis_methods() {
     let p = d.path();
     std::fs::write(p.join("t.csv"), "t\n0\n0.01\n").unwrap();
     let o = limbfuse(
-        &["estimate", "--method", "local", "t.csv", "--order", "4", "-o", "e.csv"],
+        &[
+            "estimate", "--method", "local", "t.csv", "--order", "4", "-o", "e.csv",
+        ],
         p,
     );
     user_error(
@@ -215,7 +313,16 @@ fn order_and_window_name_both_knee_axis_methods() {
     );
     // knee-gyro-axis takes --order: its error is about the trial, not the flag.
     let o = limbfuse(
-        &["estimate", "--method", "knee-gyro-axis", "t.csv", "--order", "4", "-o", "e.csv"],
+        &[
+            "estimate",
+            "--method",
+            "knee-gyro-axis",
+            "t.csv",
+            "--order",
+            "4",
+            "-o",
+            "e.csv",
+        ],
         p,
     );
     assert!(!stderr(&o).contains("apply to"), "{}", stderr(&o));
@@ -236,13 +343,41 @@ fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     ok(
-        &["simulate", "walking", "--duration", "12", "--gait-reference", "-o", "g.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "12",
+            "--gait-reference",
+            "-o",
+            "g.csv",
+        ],
         p,
     );
-    ok(&["estimate", "--method", "gait-events", "g.csv", "-o", "e.csv"], p);
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "g.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
     // Neither column: the CoM velocity is the speed reference.
     keep_columns(p, "g.csv", "nocontact.csv", |n| !n.starts_with("contact_"));
-    ok(&["estimate", "--method", "gait-events", "nocontact.csv", "-o", "e2.csv"], p);
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "nocontact.csv",
+            "-o",
+            "e2.csv",
+        ],
+        p,
+    );
     let out = stdout(&ok(&["evaluate", "nocontact.csv", "e2.csv"], p));
     assert!(
         out.contains("no reference event to score against (the trial has no contact_left_ref / contact_right_ref column)"),
@@ -255,14 +390,30 @@ fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
         name.starts_with("contact_").then(|| "1".to_string())
     });
     std::fs::write(p.join("flat.csv"), flat).unwrap();
-    ok(&["estimate", "--method", "gait-events", "flat.csv", "-o", "e3.csv"], p);
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "flat.csv",
+            "-o",
+            "e3.csv",
+        ],
+        p,
+    );
     let out = stdout(&ok(&["evaluate", "flat.csv", "e3.csv"], p));
     assert!(out.contains("contact_*_ref has no transition"), "{out}");
     if let Some(walk) = shared_data("independent-sim/walk-v1.2-s301.csv") {
         let walk = walk.to_str().unwrap();
-        ok(&["estimate", "--method", "gait-events", walk, "-o", "ind.csv"], p);
+        ok(
+            &["estimate", "--method", "gait-events", walk, "-o", "ind.csv"],
+            p,
+        );
         let out = stdout(&ok(&["evaluate", walk, "ind.csv"], p));
-        assert!(out.contains("the trial has no contact_left_ref / contact_right_ref column"), "{out}");
+        assert!(
+            out.contains("the trial has no contact_left_ref / contact_right_ref column"),
+            "{out}"
+        );
     }
 }
 
@@ -274,8 +425,14 @@ fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
 fn offset_free_evaluation_says_max_and_mean_error_are_as_measured() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    ok(&["simulate", "walking", "--duration", "8", "-o", "w.csv"], p);
-    ok(&["estimate", "--method", "local", "w.csv", "-o", "e.csv"], p);
+    ok(
+        &["simulate", "walking", "--duration", "8", "-o", "w.csv"],
+        p,
+    );
+    ok(
+        &["estimate", "--method", "local", "w.csv", "-o", "e.csv"],
+        p,
+    );
     let plain = stdout(&ok(&["evaluate", "w.csv", "e.csv"], p));
     let free = stdout(&ok(&["evaluate", "w.csv", "e.csv", "--offset-free"], p));
     assert!(
@@ -286,7 +443,13 @@ fn offset_free_evaluation_says_max_and_mean_error_are_as_measured() {
     let cols = |t: &str| -> Vec<String> {
         t.lines()
             .filter(|l| l.starts_with("thigh") || l.starts_with("shank"))
-            .map(|l| l.split_whitespace().skip(2).take(2).collect::<Vec<_>>().join(" "))
+            .map(|l| {
+                l.split_whitespace()
+                    .skip(2)
+                    .take(2)
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
             .collect()
     };
     assert_eq!(cols(&plain), cols(&free), "{plain}\n{free}");
@@ -302,88 +465,53 @@ fn offset_free_evaluation_says_max_and_mean_error_are_as_measured() {
 fn a_foot_only_trial_is_told_the_methods_that_run_on_it() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    ok(&["simulate", "walking", "--duration", "8", "-o", "w.csv"], p);
+    ok(
+        &["simulate", "walking", "--duration", "8", "-o", "w.csv"],
+        p,
+    );
     keep_columns(p, "w.csv", "foot.csv", |n| n.starts_with("foot_"));
-    let o = limbfuse(&["estimate", "--method", "mjls", "foot.csv", "-o", "x.csv"], p);
-    user_error(&o, &["foot.csv", "methods that run on it:", "gait-events", "limbfuse inspect foot.csv"]);
-    assert!(!stderr(&o).contains("use `local` or `global`"), "{}", stderr(&o));
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "foot.csv", "-o", "x.csv"],
+        p,
+    );
+    user_error(
+        &o,
+        &[
+            "foot.csv",
+            "methods that run on it:",
+            "gait-events",
+            "limbfuse inspect foot.csv",
+        ],
+    );
+    assert!(
+        !stderr(&o).contains("use `local` or `global`"),
+        "{}",
+        stderr(&o)
+    );
     // Every IMU, no encoder: the hint holds and stays.
     keep_columns(p, "w.csv", "imus.csv", |n| !n.ends_with("_enc"));
-    let o = limbfuse(&["estimate", "--method", "mjls", "imus.csv", "-o", "x.csv"], p);
+    let o = limbfuse(
+        &["estimate", "--method", "mjls", "imus.csv", "-o", "x.csv"],
+        p,
+    );
     user_error(&o, &["use `local` or `global` on trials without encoders"]);
     if let Some(gaitmap) = shared_data("gaitmap-foot-walk/trial.csv") {
         let o = limbfuse(
-            &["estimate", "--method", "mjls", gaitmap.to_str().unwrap(), "-o", "x.csv"],
+            &[
+                "estimate",
+                "--method",
+                "mjls",
+                gaitmap.to_str().unwrap(),
+                "-o",
+                "x.csv",
+            ],
             p,
         );
         user_error(&o, &["methods that run on it:", "gait-events"]);
-        assert!(!stderr(&o).contains("use `local` or `global`"), "{}", stderr(&o));
-    }
-}
-
-/// A copy of the trial `from` with the foot IMU's columns repeated as the
-/// left foot's (`foot_left_...`): a two-leg recording.
-fn with_left_foot(dir: &Path, from: &str, to: &str) {
-    let text = std::fs::read_to_string(dir.join(from)).unwrap();
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let foot: Vec<usize> = (0..names.len())
-        .filter(|&i| names[i].starts_with("foot_acc_") || names[i].starts_with("foot_gyr_"))
-        .collect();
-    let mut out = String::new();
-    for (i, l) in text.lines().enumerate() {
-        out += l;
-        if i == header {
-            for &k in &foot {
-                out += &format!(",{}", names[k].replacen("foot_", "foot_left_", 1));
-            }
-        } else if i > header {
-            let cells: Vec<&str> = l.split(',').collect();
-            for &k in &foot {
-                out += &format!(",{}", cells[k]);
-            }
-        }
-        out.push('\n');
-    }
-    std::fs::write(dir.join(to), out).unwrap();
-}
-
-/// Item 12: `align` of the gaitmap two-foot walk aligned `foot_` only,
-/// left `foot_left_` raw, kept "RAW sensor frames" in `# sensors:`, and
-/// `inspect` of the output said "IMU frames: not stated". Now the output's
-/// `# imu_frame:` lists the aligned and the raw IMUs, `# sensors:` points
-/// to it, and `align` warns how to align the other leg.
-#[test]
-fn two_leg_alignment_states_which_imus_are_raw() {
-    let d = tempfile::tempdir().unwrap();
-    let p = d.path();
-    ok(
-        &["simulate", "walking", "--duration", "12", "--mounting", "random", "-o", "raw.csv"],
-        p,
-    );
-    with_left_foot(p, "raw.csv", "two.csv");
-    let o = ok(&["align", "two.csv", "-o", "a.csv"], p);
-    let e = stderr(&o);
-    assert!(e.contains("warning: two.csv:") && e.contains("foot_left stays in its raw sensor frame"), "{e}");
-    assert!(e.contains("--leg left"), "{e}");
-    let text = std::fs::read_to_string(p.join("a.csv")).unwrap();
-    let frame = text.lines().find(|l| l.starts_with("# imu_frame:")).unwrap();
-    assert!(
-        frame.contains("trunk, thigh, shank, foot; raw sensor frames (not aligned): foot_left"),
-        "{frame}"
-    );
-    // A one-leg trial keeps its metadata as before.
-    ok(&["align", "raw.csv", "-o", "b.csv"], p);
-    let text = std::fs::read_to_string(p.join("b.csv")).unwrap();
-    assert!(!text.contains("not aligned"), "{text}");
-    if let Some(gaitmap) = shared_data("gaitmap-foot-walk/trial.csv") {
-        let o = ok(&["align", gaitmap.to_str().unwrap(), "-o", "g.csv"], p);
-        assert!(stderr(&o).contains("foot_left stays in its raw sensor frame"), "{}", stderr(&o));
-        let text = std::fs::read_to_string(p.join("g.csv")).unwrap();
-        let sensors = text.lines().find(|l| l.starts_with("# sensors:")).unwrap();
-        assert!(sensors.ends_with("[as recorded; after limbfuse align: see imu_frame]"), "{sensors}");
-        let out = stdout(&ok(&["inspect", "g.csv"], p));
-        assert!(!out.contains("IMU frames: not stated"), "{out}");
-        assert!(out.contains("raw sensor frames (not aligned): foot_left"), "{out}");
+        assert!(
+            !stderr(&o).contains("use `local` or `global`"),
+            "{}",
+            stderr(&o)
+        );
     }
 }

@@ -82,38 +82,122 @@ fn with_metadata(dir: &Path, from: &str, to: &str, lines: &[&str]) {
 fn leg_length_metadata_is_read_under_either_key() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    ok(&["simulate", "walking", "--duration", "12", "-o", "w.csv"], p);
+    ok(
+        &["simulate", "walking", "--duration", "12", "-o", "w.csv"],
+        p,
+    );
     with_metadata(p, "w.csv", "m.csv", &["leg_length_m: 0.95"]);
-    let o = ok(&["estimate", "--method", "lowback-speed", "m.csv", "-o", "e.csv"], p);
+    let o = ok(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "m.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
     assert!(
         stderr(&o).contains("pendulum length 0.95 m from the trial's `# leg_length_m:`"),
         "{}",
         stderr(&o)
     );
-    with_metadata(p, "w.csv", "both.csv", &["leg_length_m: 0.95", "leg_length: 0.85"]);
-    let o = ok(&["estimate", "--method", "lowback-speed", "both.csv", "-o", "e.csv"], p);
+    with_metadata(
+        p,
+        "w.csv",
+        "both.csv",
+        &["leg_length_m: 0.95", "leg_length: 0.85"],
+    );
+    let o = ok(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "both.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
     let e = stderr(&o);
-    assert!(e.contains("pendulum length 0.85 m from the trial's `# leg_length:`"), "{e}");
-    assert!(e.contains("warning: both.csv states `# leg_length: 0.85` and `# leg_length_m: 0.95`"), "{e}");
+    assert!(
+        e.contains("pendulum length 0.85 m from the trial's `# leg_length:`"),
+        "{e}"
+    );
+    assert!(
+        e.contains("warning: both.csv states `# leg_length: 0.85` and `# leg_length_m: 0.95`"),
+        "{e}"
+    );
 
-    ok(&["gait-library", "build", "--speeds", "0.7:0.7:0.1", "-o", "lib.json"], p);
     ok(
-        &["simulate", "bslip", "--speed", "0.7", "--library", "lib.json", "--duration", "2", "-o", "b.csv"],
+        &[
+            "gait-library",
+            "build",
+            "--speeds",
+            "0.7:0.7:0.1",
+            "-o",
+            "lib.json",
+        ],
+        p,
+    );
+    ok(
+        &[
+            "simulate",
+            "bslip",
+            "--speed",
+            "0.7",
+            "--library",
+            "lib.json",
+            "--duration",
+            "2",
+            "-o",
+            "b.csv",
+        ],
         p,
     );
     with_metadata(p, "b.csv", "bl.csv", &["leg_length: 0.95"]);
     let o = ok(
-        &["estimate", "--method", "imm-bslip", "--library", "lib.json", "bl.csv", "-o", "i.csv"],
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "bl.csv",
+            "-o",
+            "i.csv",
+        ],
         p,
     );
     let e = stderr(&o);
-    assert!(e.contains("l0 0.95 m") && e.contains("from # body_mass_kg / # leg_length,"), "{e}");
-    with_metadata(p, "b.csv", "bb.csv", &["leg_length: 0.95", "leg_length_m: 0.9"]);
+    assert!(
+        e.contains("l0 0.95 m") && e.contains("from # body_mass_kg / # leg_length,"),
+        "{e}"
+    );
+    with_metadata(
+        p,
+        "b.csv",
+        "bb.csv",
+        &["leg_length: 0.95", "leg_length_m: 0.9"],
+    );
     let o = ok(
-        &["estimate", "--method", "imm-bslip", "--library", "lib.json", "bb.csv", "-o", "i.csv"],
+        &[
+            "estimate",
+            "--method",
+            "imm-bslip",
+            "--library",
+            "lib.json",
+            "bb.csv",
+            "-o",
+            "i.csv",
+        ],
         p,
     );
     let e = stderr(&o);
     assert!(e.contains("l0 0.9 m"), "{e}");
-    assert!(e.contains("`imm-bslip` reads `# leg_length_m:`, its own key"), "{e}");
+    assert!(
+        e.contains("`imm-bslip` reads `# leg_length_m:`, its own key"),
+        "{e}"
+    );
 }

@@ -31,7 +31,10 @@ fn a_mistyped_method_gets_a_suggestion() {
     for typo in ["mjsl", "MJLS"] {
         user_error(
             &estimate(p, typo, "t.csv"),
-            &[&format!("unknown method `{typo}`; did you mean `mjls`?"), "available methods"],
+            &[
+                &format!("unknown method `{typo}`; did you mean `mjls`?"),
+                "available methods",
+            ],
         );
     }
     let o = estimate(p, "magic", "t.csv");
@@ -60,7 +63,10 @@ fn a_directory_given_as_a_trial_says_so() {
     std::fs::write(p.join("gt/imu-Pelvis.csv"), "// fs=100\nori_1\n").unwrap();
     user_error(
         &limbfuse(&["inspect", "gt"], p),
-        &["gt: is a directory", "limbfuse import --format gaittoolbox gt"],
+        &[
+            "gt: is a directory",
+            "limbfuse import --format gaittoolbox gt",
+        ],
     );
 }
 
@@ -77,10 +83,17 @@ fn a_raw_recording_given_as_a_trial_names_its_importer() {
     )
     .unwrap();
     let hint = "limbfuse import --format knee-rig Trial_01.csv";
-    user_error(&limbfuse(&["inspect", "Trial_01.csv"], p), &["missing required column `t`", hint]);
+    user_error(
+        &limbfuse(&["inspect", "Trial_01.csv"], p),
+        &["missing required column `t`", hint],
+    );
     user_error(&estimate(p, "knee-selfalign", "Trial_01.csv"), &[hint]);
     std::fs::create_dir(p.join("gt")).unwrap();
-    std::fs::write(p.join("gt/imu-Pelvis.csv"), "// fs=100 nSamples=2\nori_1,acc_1\n1,2\n").unwrap();
+    std::fs::write(
+        p.join("gt/imu-Pelvis.csv"),
+        "// fs=100 nSamples=2\nori_1,acc_1\n1,2\n",
+    )
+    .unwrap();
     user_error(
         &limbfuse(&["inspect", "gt/imu-Pelvis.csv"], p),
         &["limbfuse import --format gaittoolbox gt"],
@@ -93,7 +106,11 @@ fn a_raw_recording_given_as_a_trial_names_its_importer() {
         let folder = rig.parent().unwrap().to_str().unwrap();
         user_error(
             &limbfuse(&["inspect", folder], p),
-            &["is a directory", "raw knee-rig logs", "limbfuse import --format knee-rig"],
+            &[
+                "is a directory",
+                "raw knee-rig logs",
+                "limbfuse import --format knee-rig",
+            ],
         );
     }
     if let Some(gt) = shared_data("gaittoolbox-s02-walk") {
@@ -123,18 +140,39 @@ fn help_and_evaluate_say_what_the_output_holds() {
     let p = d.path();
     let help = ok(&["simulate", "walking", "--help"], p);
     assert!(
-        help.contains("`contact_left_ref` and `contact_right_ref`") && !help.contains("(or `_left_`"),
+        help.contains("`contact_left_ref` and `contact_right_ref`")
+            && !help.contains("(or `_left_`"),
         "{help}"
     );
-    ok(&["simulate", "walking", "--duration", "6", "--gait-reference", "-o", "w.csv"], p);
+    ok(
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "6",
+            "--gait-reference",
+            "-o",
+            "w.csv",
+        ],
+        p,
+    );
     let text = std::fs::read_to_string(p.join("w.csv")).unwrap();
     let header = text.lines().find(|l| l.starts_with("t,")).unwrap();
     assert!(header.contains("contact_left_ref") && header.contains("contact_right_ref"));
-    ok(&["estimate", "--method", "local", "w.csv", "-o", "e.csv"], p);
+    ok(
+        &["estimate", "--method", "local", "w.csv", "-o", "e.csv"],
+        p,
+    );
     let whole = ok(&["evaluate", "w.csv", "e.csv"], p);
-    assert!(whole.contains("estimator diagnostics averaged over the trial"), "{whole}");
+    assert!(
+        whole.contains("estimator diagnostics averaged over the trial"),
+        "{whole}"
+    );
     let window = ok(&["evaluate", "w.csv", "e.csv", "--window", "1:4"], p);
-    assert!(window.contains("estimator diagnostics averaged over the window"), "{window}");
+    assert!(
+        window.contains("estimator diagnostics averaged over the window"),
+        "{window}"
+    );
 }
 
 /// Item 13: `limbfuse methods` tagged every method with where it comes
@@ -158,5 +196,8 @@ fn every_method_says_where_it_comes_from() {
         }
     }
     assert!(seen >= 15, "{out}");
-    assert!(out.contains("knee-gyro-axis\n    beyond the papers:"), "{out}");
+    assert!(
+        out.contains("knee-gyro-axis\n    beyond the papers:"),
+        "{out}"
+    );
 }
