@@ -263,7 +263,7 @@ pub struct EstimateArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// knee-selfalign / knee-gyro-axis: identification window length s_w in samples (a whole
-    /// number, e.g. 500), used as given (default: 5 s at the trial's rate, i.e. paper 002's 500
+    /// number such as 500), used as given (default: 5 s at the trial's rate, i.e. paper 002's 500
     /// samples at 100 Hz); in seconds: `window_s` in a --params file. Not a time span (that is
     /// `evaluate --window START:END`).
     #[arg(long, value_name = "SAMPLES", value_parser = knee_window_samples)]
