@@ -131,7 +131,15 @@ mod tests {
             encoder: [true, false, true],
             ..no_thigh_gyro
         };
+        // `local` and `global` need the thigh gyro too: no hint to use them
+        // (a fresh-user audit, session 28).
         let e = check_info(&info, &no_knee).unwrap_err().to_string();
+        assert!(!e.contains("without encoders"), "{e}");
+        let every_imu = TrialLayout {
+            gyr: [true; 4],
+            ..no_knee
+        };
+        let e = check_info(&info, &every_imu).unwrap_err().to_string();
         assert!(e.contains("without encoders"), "{e}");
     }
 }
