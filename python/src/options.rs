@@ -417,7 +417,9 @@ mod tests {
     #[test]
     fn method_flags_become_keywords_and_nothing_else_changes() {
         assert_eq!(
-            python_spelling("--window and --order apply to methods knee-selfalign and knee-gyro-axis only"),
+            python_spelling(
+                "--window and --order apply to methods knee-selfalign and knee-gyro-axis only"
+            ),
             "window and order apply to methods knee-selfalign and knee-gyro-axis only"
         );
         assert_eq!(
