@@ -210,7 +210,7 @@ def estimate(
             line break, e.g. ``default_params(NAME)`` edited) or a dict of
             the same keys.
         **options: the method's ``limbfuse estimate`` flags: ``window``,
-            ``order`` (knee-selfalign), ``library``, ``kappa``,
+            ``order`` (knee-selfalign, knee-gyro-axis), ``library``, ``kappa``,
             ``rescale_height``, ``imm_weights``, ``imm_touchdown``, ``imm_config``,
             ``imm_extend_library``, ``leg_length``, ``mass`` (imm-bslip); and ``diagnostics``
             (``--diagnostics``): ``"all"`` (default), ``"none"``, or
@@ -316,7 +316,9 @@ def evaluate(
         window: ``"10:40"`` or ``(10, 40)`` (s); either end may be open.
             For an event evaluation, only the rows inside it are scored.
         offset_free: remove each channel's mean error before the RMSE
-            (angles only: refused for an event or gait evaluation).
+            (angles only: refused for an event or gait evaluation);
+            ``max_abs_err_deg`` and ``mean_err_deg`` stay as measured,
+            before the mean is removed.
         max_lag: synchronise each channel within +-max_lag samples (angles
             only, likewise).
         allow_trial_mismatch: evaluate an estimate recording another trial.

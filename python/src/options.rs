@@ -442,8 +442,10 @@ mod tests {
     #[test]
     fn method_flags_become_keywords_and_nothing_else_changes() {
         assert_eq!(
-            python_spelling("--window and --order apply to method knee-selfalign only"),
-            "window and order apply to method knee-selfalign only"
+            python_spelling(
+                "--window and --order apply to methods knee-selfalign and knee-gyro-axis only"
+            ),
+            "window and order apply to methods knee-selfalign and knee-gyro-axis only"
         );
         assert_eq!(
             python_spelling("--rescale-height 0: expected a positive height; see --help"),

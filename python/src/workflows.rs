@@ -145,6 +145,9 @@ fn align<'py>(
             if w.leg_replaced {
                 said.push(format!("{label}: {}", w.leg_line));
             }
+            if let Some(note) = &w.other_leg_raw {
+                said.push(format!("{label}: {note}"));
+            }
             OwnedColumns::of_records(&layout, &aligned)
         };
         Ok((trial_tuple(py, &meta, out, None), said))

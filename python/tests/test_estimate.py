@@ -642,7 +642,7 @@ def test_method_flags_are_named_as_keywords():
     """An audit: `estimate(trial, "mjls", window=500)` said "--window and
     --order apply to ..."; Python names its keywords."""
     tr = limbfuse.simulate("walking", duration=3, seed=2)
-    with pytest.raises(LimbfuseError, match=r"^window and order apply to method knee-selfalign only, not to `mjls`"):
+    with pytest.raises(LimbfuseError, match=r"^window and order apply to methods knee-selfalign and knee-gyro-axis only, not to `mjls`"):
         limbfuse.estimate(tr, "mjls", window=500)
     with pytest.raises(LimbfuseError, match=r": diagnostics: `bogus` is not a diagnostic of `mjls`"):
         limbfuse.estimate(tr, "mjls", diagnostics=["bogus"])

@@ -131,8 +131,9 @@ pub struct AlignArgs {
     /// Alignment procedure: from walking data, or paper 004's quiet standing + flexion/extension rotations.
     #[arg(long, value_enum, default_value_t = AlignProcedure::Walking)]
     pub procedure: AlignProcedure,
-    /// static-rotation: calibration recording (quiet standing + rotations) of the same sensors;
-    /// default: the calibration segment at the start of TRIAL.
+    /// --procedure static-rotation only (refused otherwise): the calibration recording (quiet
+    /// standing + rotations) of the same sensors; default: the calibration segment at the start
+    /// of TRIAL. An IMU calibration file (`limbfuse calibrate`) is --imu-calibration.
     #[arg(long)]
     pub calibration: Option<PathBuf>,
     /// IMU calibration file (`limbfuse calibrate`, TOML) applied to the raw channels (and to a
@@ -196,8 +197,13 @@ pub struct MonteCarloArgs {
 /// Options of `demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
-    /// Directory for the trial, the estimates and the report.
-    #[arg(long, default_value = "limbfuse-demo")]
+    /// Directory for the trial, the estimates and the report (`-o` / `--output` are accepted too).
+    #[arg(
+        long,
+        short = 'o',
+        visible_alias = "output",
+        default_value = "limbfuse-demo"
+    )]
     pub out: PathBuf,
     /// Random seed of the simulated trial.
     #[arg(long, default_value_t = 1)]
@@ -256,11 +262,13 @@ pub struct EstimateArgs {
     /// Parameter overrides (TOML).
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// knee-selfalign / knee-gyro-axis: window length s_w in samples, used as given (default: 5 s at
-    /// the trial's rate, i.e. paper 002's 500 samples at 100 Hz).
-    #[arg(long, value_name = "SAMPLES")]
+    /// knee-selfalign / knee-gyro-axis: identification window length s_w in samples (a whole
+    /// number such as 500), used as given (default: 5 s at the trial's rate, i.e. paper 002's 500
+    /// samples at 100 Hz); in seconds: `window_s` in a --params file. Not a time span (that is
+    /// `evaluate --window START:END`).
+    #[arg(long, value_name = "SAMPLES", value_parser = knee_window_samples)]
     pub window: Option<usize>,
-    /// knee-selfalign: parameter-EKF iterations per window (paper 002 default 6).
+    /// knee-selfalign / knee-gyro-axis: parameter-EKF iterations per window (paper 002 default 6).
     #[arg(long)]
     pub order: Option<usize>,
     /// imm-bslip: gait library file (`limbfuse gait-library build`).
@@ -326,6 +334,20 @@ pub struct EstimateArgs {
     pub diagnostics: Option<String>,
 }
 
+/// `estimate --window`: the knee methods' identification window in samples.
+/// A time span or a duration (`0:20`, `5s`: what `evaluate --window` and
+/// `tune --window` take) was clap's "invalid digit found in string" (a
+/// fresh-user audit, session 28); now the message says what it is.
+fn knee_window_samples(text: &str) -> Result<usize, String> {
+    text.trim().parse().map_err(|_| {
+        "expected the knee methods' (knee-selfalign, knee-gyro-axis) identification window in \
+         samples, a whole number such as 500 (5 s at 100 Hz); for seconds give `window_s = 5.0` in \
+         a --params file (`limbfuse params --method knee-selfalign`); a time span START:END is \
+         `evaluate --window`"
+            .to_string()
+    })
+}
+
 /// Options of `evaluate`.
 #[derive(Debug, Args)]
 pub struct EvaluateArgs {
@@ -339,7 +361,8 @@ pub struct EvaluateArgs {
     /// Evaluate only START:END seconds (either side may be empty).
     #[arg(long)]
     pub window: Option<String>,
-    /// Remove the mean error of each channel before computing the RMSE.
+    /// Remove the mean error of each channel before computing the RMSE (max|e| and mean e,
+    /// `max_abs_err_deg` and `mean_err_deg` in --json, stay as measured, before the mean is removed).
     #[arg(long)]
     pub offset_free: bool,
     /// Synchronise: per channel, shift the estimate by the lag within +-N samples
@@ -351,7 +374,8 @@ pub struct EvaluateArgs {
     /// instead of refusing it.
     #[arg(long)]
     pub allow_trial_mismatch: bool,
-    /// Also print the mean of each estimator diagnostic (`diag_*` columns) over the trial.
+    /// Also print the mean of each estimator diagnostic (`diag_*` columns) over the trial (over
+    /// --window when given).
     #[arg(long)]
     pub diagnostics: bool,
     /// Run this method on the trial instead of reading an estimate file

@@ -4,8 +4,6 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::LengthCap;
-
 /// What `calibrate` estimates per accelerometer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ModelArg {
@@ -51,8 +49,8 @@ pub struct CalibrationSimArgs {
     /// Random seed: the same four sensors as `simulate walking --seed` with this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
     pub imu_rate: f64,
     /// Number of poses (1-14: the six faces, then the eight corners).
     #[arg(long, default_value_t = 14)]
@@ -74,5 +72,16 @@ pub struct CalibrationSimArgs {
     pub no_noise: bool,
     /// Lift the cap on the simulated length.
     #[command(flatten)]
-    pub cap: LengthCap,
+    pub cap: RecordingCap,
+}
+
+/// `--force` of `simulate calibration`, whose length is --poses x (--hold +
+/// --transition): it has no --duration, which [`crate::cli::LengthCap`]'s
+/// help names (a fresh-user audit, session 28).
+#[derive(Debug, Clone, Copy, Default, Args)]
+pub struct RecordingCap {
+    /// Allow a recording longer than 24 h of simulated time (--poses x (--hold + --transition))
+    /// or 86.4 M samples: the cap keeps a typo from filling the disk.
+    #[arg(long)]
+    pub force: bool,
 }

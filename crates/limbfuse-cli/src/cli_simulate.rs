@@ -73,8 +73,8 @@ pub struct KneeSimArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
     pub imu_rate: f64,
     /// Random seed: same seed, same file, bit for bit.
     #[arg(long, default_value_t = 1)]
@@ -189,8 +189,8 @@ pub struct WalkingArgs {
     /// Duration (s); at most 86400 (24 h) without --force.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// IMU sample rate (Hz).
-    #[arg(long, default_value_t = 100.0)]
+    /// IMU sample rate (Hz); `--rate` is accepted as an alias.
+    #[arg(long, alias = "rate", default_value_t = 100.0)]
     pub imu_rate: f64,
     /// Random seed: same seed, same file, bit for bit.
     #[arg(long, default_value_t = 1)]
@@ -223,9 +223,10 @@ pub struct WalkingArgs {
     /// No mounting misalignment (the ~1 deg no calibration can observe); every other sensor error unchanged.
     #[arg(long)]
     pub no_misalignment: bool,
-    /// Also write the gait truth: `contact_right_ref` (or `_left_`: the simulated leg on the
-    /// ground from heel strike to toe off at 60 % of the stride) and `speed_ref` (per stride),
-    /// so that `gait-events` and `lowback-speed` estimates can be evaluated.
+    /// Also write the gait truth: `contact_left_ref` and `contact_right_ref` (each foot on the
+    /// ground from heel strike to toe off at 60 % of its stride; the foot without sensors half a
+    /// stride after the simulated one) and `speed_ref` (per stride), so that `gait-events` and
+    /// `lowback-speed` estimates can be evaluated.
     #[arg(long)]
     pub gait_reference: bool,
     /// Lift the cap on the simulated length.

@@ -49,8 +49,40 @@ pub fn build_for(spec: &MethodSpec, reader: &TrialReader) -> Result<Box<dyn Esti
         let path = reader.path().display();
         match model_file_beside(&e, reader.path()) {
             Some(hint) => anyhow::anyhow!("{path}: {e}; {hint}"),
-            None => anyhow::Error::new(e).context(path.to_string()),
+            None => match methods_that_run(&e, reader) {
+                Some(list) => anyhow::anyhow!("{path}: {e}; {list}"),
+                None => anyhow::Error::new(e).context(path.to_string()),
+            },
         }
+    })
+}
+
+/// A method refused for missing columns, with no hint of its own: the
+/// methods that run on the trial with their defaults, as `inspect` lists
+/// them (`limbfuse_methods::availability`; a fresh-user audit, session 28:
+/// `mjls` on a foot-only trial was sent to `local` or `global`, which fail
+/// too).
+fn methods_that_run(e: &limbfuse_methods::MethodError, reader: &TrialReader) -> Option<String> {
+    use limbfuse_methods::availability::{availability, Availability};
+    let limbfuse_methods::MethodError::MissingChannels { hint: "", .. } = e else {
+        return None;
+    };
+    let runs: Vec<&str> = availability(reader.meta(), reader.layout())
+        .into_iter()
+        .filter(|(_, a)| matches!(a, Availability::Runs { .. }))
+        .map(|(m, _)| m.name())
+        .collect();
+    let inspect = format!(
+        "`limbfuse inspect {}`",
+        crate::commands::shell_word(&reader.path().display().to_string())
+    );
+    Some(if runs.is_empty() {
+        format!("no method runs on it with its defaults ({inspect} says why)")
+    } else {
+        format!(
+            "methods that run on it: {} ({inspect} says more)",
+            runs.join(", ")
+        )
     })
 }
 
@@ -98,6 +130,16 @@ pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
     let label = reader.path().display().to_string();
     if let Some(note) = limbfuse_methods::raw_frame_note(spec.method(), reader.meta(), &label) {
         eprintln!("{note}");
+    }
+    if let Some(w) =
+        limbfuse_methods::leg_length_keys::conflict_warning(spec.method(), reader.meta(), &label)
+    {
+        eprintln!("{w}");
+    }
+    if let Some(w) =
+        limbfuse_methods::leg_length_keys::conflict_warning(spec.method(), reader.meta(), &label)
+    {
+        eprintln!("{w}");
     }
     if let MethodSpec::Sdre(f) | MethodSpec::Ekf(f) = spec {
         let from_lines = limbfuse_methods::fes_param_lines::model_from_param_lines(reader.meta())

@@ -92,6 +92,10 @@ pub struct GaitEventEvaluation {
     /// What the figures cannot say (an estimate of `gait-events` without
     /// its event diagnostics).
     pub warnings: Vec<String>,
+    /// Which of `contact_left_ref`, `contact_right_ref` the trial has (by
+    /// [`limbfuse_core::Side::index`]): with neither, no event can be scored
+    /// and the text says that the columns are absent.
+    pub contact_ref_columns: [bool; 2],
 }
 
 /// Times of the `from -> to` steps of a contact column.
@@ -283,6 +287,7 @@ pub fn evaluate_gait_event_files_in(
     let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
     let method = er.method().to_string();
     let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
+    let contact_columns = tr.layout().contact_ref;
     let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er, window)?;
     // (an audit: `--diagnostics none` changed the scores silently: 14
     // strides became 0, the events moved to the causal contact switches)
@@ -307,6 +312,7 @@ pub fn evaluate_gait_event_files_in(
         trial_check,
         speed_from_com: c.speed_from_com,
         warnings,
+        contact_ref_columns: contact_columns,
         ..Default::default()
     };
     let mut ic_sides = Vec::new();

@@ -33,12 +33,28 @@ impl EventTiming {
         })
     }
 
-    /// One line of the text table.
-    pub fn to_text(&self, name: &str) -> String {
+    /// One line of the text table; `columns`: which of `contact_left_ref`,
+    /// `contact_right_ref` the trial has (what to blame when there is no
+    /// reference event: the columns' absence, or no transition in them).
+    pub fn to_text(&self, name: &str, columns: [bool; 2]) -> String {
         if self.n_reference == 0 {
-            return format!(
-                "{name:<16} no reference event to score against (the trial's contact_*_ref has no transition)\n"
-            );
+            // (an audit: a trial without either column was told its
+            // `contact_*_ref` had no transition)
+            let why = match columns {
+                [false, false] => {
+                    "the trial has no contact_left_ref / contact_right_ref column".to_string()
+                }
+                [true, true] => "the trial's contact_*_ref has no transition".to_string(),
+                [left, _] => format!(
+                    "the trial's {} has no transition",
+                    limbfuse_io::layout::contact_ref_column(if left {
+                        limbfuse_core::Side::Left
+                    } else {
+                        limbfuse_core::Side::Right
+                    })
+                ),
+            };
+            return format!("{name:<16} no reference event to score against ({why})\n");
         }
         let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
         format!(
@@ -88,9 +104,11 @@ impl GaitEventEvaluation {
             v.map_or("-".to_string(), |v| format!("{v:.d$} {unit}"))
         };
         let mut s = format!("method {} ({} samples)\n", self.method, self.n_samples);
-        s += &self.initial_contact.to_text("initial contact");
+        s += &self
+            .initial_contact
+            .to_text("initial contact", self.contact_ref_columns);
         match &self.final_contact {
-            Some(fc) => s += &fc.to_text("final contact"),
+            Some(fc) => s += &fc.to_text("final contact", self.contact_ref_columns),
             None => s += "final contact    not estimated by this method\n",
         }
         if !self.per_foot {

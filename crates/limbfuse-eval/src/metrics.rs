@@ -363,7 +363,9 @@ impl Evaluation {
         }
         s += "\n";
         if self.offset_free {
-            s += "offset-free: the mean error of each channel is removed before the RMSE (mean error shown)\n";
+            // (an audit: max|e| and mean e are not offset-free, and nothing
+            // said so; RESULTS quotes them as they are)
+            s += "offset-free: the mean error of each channel is removed before the RMSE; max|e| and mean e as measured, before the mean is removed\n";
         }
         if let Some(lags) = &self.sync_lag {
             let list: Vec<String> = lags.iter().map(|(c, l)| format!("{c} {l:+}")).collect();
@@ -418,8 +420,13 @@ impl Evaluation {
                 &format!("samples with a missing input (predicted without its update): {m:.1} %\n");
         }
         if !self.diag_mean.is_empty() {
+            // (an audit: "over the trial" was said with --window too)
+            let over = match self.window.start.is_some() || self.window.end.is_some() {
+                true => "the window",
+                false => "the trial",
+            };
             s += &format!(
-                "({} estimator diagnostics averaged over the trial: `--diagnostics` lists them)\n",
+                "({} estimator diagnostics averaged over {over}: `--diagnostics` lists them)\n",
                 self.diag_mean.len()
             );
         }
@@ -449,7 +456,8 @@ impl Evaluation {
         })
     }
 
-    /// The mean of each estimator diagnostic over the trial, one line each
+    /// The mean of each estimator diagnostic over the trial (over the
+    /// window with `--window`), one line each
     /// (`evaluate --diagnostics`; what each means: docs/OUTPUTS.md and the
     /// method's page).
     pub fn diagnostics_text(&self) -> String {

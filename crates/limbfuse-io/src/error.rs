@@ -14,6 +14,15 @@ pub enum FileError {
         /// Underlying error.
         source: std::io::Error,
     },
+    /// A directory where a trial file is expected (`hint`: what it holds,
+    /// or the importer that reads it; may be empty).
+    #[error("{}: is a directory; a trial file is expected{hint}", path.display())]
+    Directory {
+        /// The directory.
+        path: PathBuf,
+        /// `; it holds trial.csv`, `; ... limbfuse import --format gaittoolbox ...`.
+        hint: String,
+    },
     /// The file has no header row.
     #[error("{}:{line}: the file is empty: expected a header row (e.g. `t,thigh_gyr_x,...`)", path.display())]
     Empty {

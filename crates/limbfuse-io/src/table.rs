@@ -332,8 +332,9 @@ impl TableReader {
             path: self.path.clone(),
             line: self.header_line(),
             message: format!(
-                "missing required column `t` (time in seconds){}",
-                self.separator_hint()
+                "missing required column `t` (time in seconds){}{}",
+                self.separator_hint(),
+                crate::trial_hints::importer_hint(&self.path, &self.header)
             ),
         })
     }

@@ -118,6 +118,12 @@ fn group<const K: usize>(
 impl TrialReader {
     /// Opens a trial file.
     pub fn open(path: &Path) -> Result<Self, FileError> {
+        if path.is_dir() {
+            return Err(FileError::Directory {
+                path: path.to_path_buf(),
+                hint: crate::trial_hints::directory_hint(path),
+            });
+        }
         Self::from_table(TableReader::open(path)?)
     }
 

@@ -79,7 +79,12 @@ pub fn check_info(info: &MethodInfo, layout: &TrialLayout) -> Result<(), MethodE
     // encoders") is about encoders: said only when one is missing (an audit:
     // a trial with every encoder and no thigh gyro was told to do without
     // encoders).
-    let hint = match missing.iter().any(|m| m.ends_with("_enc")) {
+    // It is said only when `local` and `global` have their columns (a
+    // fresh-user audit, session 28: a foot-only trial was sent to them).
+    let others_run = [MethodName::Local, MethodName::Global]
+        .into_iter()
+        .all(|m| m.required_channels().missing(layout).is_empty());
+    let hint = match missing.iter().any(|m| m.ends_with("_enc")) && others_run {
         true => info.needs_hint,
         false => "",
     };
@@ -126,7 +131,15 @@ mod tests {
             encoder: [true, false, true],
             ..no_thigh_gyro
         };
+        // `local` and `global` need the thigh gyro too: no hint to use them
+        // (a fresh-user audit, session 28).
         let e = check_info(&info, &no_knee).unwrap_err().to_string();
+        assert!(!e.contains("without encoders"), "{e}");
+        let every_imu = TrialLayout {
+            gyr: [true; 4],
+            ..no_knee
+        };
+        let e = check_info(&info, &every_imu).unwrap_err().to_string();
         assert!(e.contains("without encoders"), "{e}");
     }
 }

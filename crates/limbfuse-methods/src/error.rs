@@ -23,12 +23,13 @@ pub enum MethodError {
     #[error(transparent)]
     ParamsFile(#[from] ParamsFileError),
     /// A command-line flag that the method does not take.
-    #[error("{flags} apply to method {owner} only, not to `{method}`")]
+    #[error("{flags} apply to {owners} only, not to `{method}`")]
     FlagNotForMethod {
         /// The flags, as typed.
         flags: &'static str,
-        /// The method they belong to.
-        owner: MethodName,
+        /// The methods they belong to (`method imm-bslip`, `methods
+        /// knee-selfalign and knee-gyro-axis`).
+        owners: &'static str,
         /// The method being configured.
         method: MethodName,
     },

@@ -101,13 +101,39 @@ pub fn trial_body(
     let key_mass = meta_number(meta, "body_mass_kg")?
         .map(|m| plausible("trial metadata # body_mass_kg", m, MASS_KG, "kg"))
         .transpose()?;
-    let key_leg = meta_number(meta, "leg_length_m")?
-        .map(|l| plausible("trial metadata # leg_length_m", l, LEG_LENGTH_M, "m"))
-        .transpose()?;
+    // `# leg_length_m:`, else lowback-speed's `# leg_length:` (an optional
+    // `m` unit; crate::leg_length_keys).
+    let key_leg = match meta_number(meta, crate::leg_length_keys::IMM_KEY)? {
+        Some(l) => Some(plausible(
+            "trial metadata # leg_length_m",
+            l,
+            LEG_LENGTH_M,
+            "m",
+        )?),
+        None => match meta.get(crate::leg_length_keys::LOWBACK_KEY) {
+            None => None,
+            Some(text) => {
+                let l = crate::leg_length_keys::metres(text).ok_or_else(|| {
+                    bad(format!(
+                        "trial metadata `# leg_length: {text}`: expected a number (m)"
+                    ))
+                })?;
+                let l = positive("# leg_length", l)?;
+                Some(plausible(
+                    "trial metadata # leg_length",
+                    l,
+                    LEG_LENGTH_M,
+                    "m",
+                )?)
+            }
+        },
+    };
     let model_mass = model.and_then(|t| number_after(t, "mass", "kg"));
     let model_leg = model.and_then(|t| number_after(t, "rest length", "m"));
     let source = if leg_length.is_some() || (mass.is_some() && key_leg.or(model_leg).is_none()) {
         "--leg-length / --mass"
+    } else if key_leg.is_some() && meta.get(crate::leg_length_keys::IMM_KEY).is_none() {
+        "# body_mass_kg / # leg_length"
     } else if key_leg.is_some() || (key_mass.is_some() && model_leg.is_none()) {
         "# body_mass_kg / # leg_length_m"
     } else {

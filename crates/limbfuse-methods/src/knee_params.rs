@@ -318,7 +318,7 @@ pub struct KneeGyroAxisMethod;
 impl MethodDef for KneeGyroAxisMethod {
     const INFO: MethodInfo = MethodInfo::new(
         "knee-gyro-axis",
-        "knee angle from the relative gyro rate about the identified knee axes, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
+        "beyond the papers: knee angle from the relative gyro rate about the knee axes identified as in paper 002, drift removed by the segments' inclination or a high-pass (cross-check of knee-selfalign)",
         "raw thigh and shank IMUs (any mounting)",
         "window_s (default 5 s at the trial's rate) or window (samples), order, corner_hz, max_sensor_delay_s (file keys or --window/--order)",
     )

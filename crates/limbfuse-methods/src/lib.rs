@@ -48,6 +48,7 @@ pub mod imm_params;
 pub mod knee_backfill;
 pub mod knee_params;
 pub mod knee_window;
+pub mod leg_length_keys;
 pub mod lowback_method;
 pub mod metadata_settings;
 pub mod method_def;

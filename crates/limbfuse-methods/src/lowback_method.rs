@@ -189,6 +189,8 @@ pub enum PendulumSource {
     SensorHeightInSubject,
     /// The trial's `# leg_length:`.
     LegLength,
+    /// The trial's `# leg_length_m:` (imm-bslip's key), without `# leg_length:`.
+    LegLengthM,
     /// 0.530 x the trial's `# height_m:`.
     BodyHeight,
     /// 0.530 x `height N cm` in the trial's free-text `# subject:` line.
@@ -207,6 +209,7 @@ impl PendulumSource {
                 "the sensor height stated in the trial's `# subject:` line"
             }
             PendulumSource::LegLength => "the trial's `# leg_length:`",
+            PendulumSource::LegLengthM => "the trial's `# leg_length_m:` (imm-bslip's key)",
             PendulumSource::BodyHeight => "0.530 x the trial's `# height_m:` (Winter 2009)",
             PendulumSource::BodyHeightInSubject => {
                 "0.530 x the body height stated in the trial's `# subject:` line (Winter 2009)"
@@ -282,10 +285,21 @@ pub fn pendulum_for_trial(
         }
         return Ok((p, source));
     }
-    if let Some(l) = metadata_metres(meta, "leg_length", "a leg length")? {
-        let l = plausible("leg_length", "a leg length", l, LEG_LENGTH_M)?;
-        positive("leg_length (trial metadata)", Some(l), &mut p.leg_length).map_err(gait_error)?;
-        return Ok((p, PendulumSource::LegLength));
+    // `# leg_length:`, else imm-bslip's `# leg_length_m:` (crate::leg_length_keys).
+    let keys = [
+        crate::leg_length_keys::LOWBACK_KEY,
+        crate::leg_length_keys::IMM_KEY,
+    ];
+    if let Some((key, _)) = crate::leg_length_keys::stated(meta, keys) {
+        if let Some(l) = metadata_metres(meta, key, "a leg length")? {
+            let l = plausible(key, "a leg length", l, LEG_LENGTH_M)?;
+            let (name, source) = match key == keys[0] {
+                true => ("leg_length (trial metadata)", PendulumSource::LegLength),
+                false => ("leg_length_m (trial metadata)", PendulumSource::LegLengthM),
+            };
+            positive(name, Some(l), &mut p.leg_length).map_err(gait_error)?;
+            return Ok((p, source));
+        }
     }
     let (height, source) = match meta.body().map_err(|e| gait_error(e.to_string()))?.height {
         Some(h) => (Some(h), PendulumSource::BodyHeight),

@@ -83,8 +83,44 @@ pub fn check_file_method(found: &str, expected: &str, path: &Path) -> Result<(),
 
 /// A method name limbfuse does not know.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown method `{0}`; available methods: {list}", list = MethodName::list())]
+#[error("unknown method `{0}`{hint}; available methods: {list}", hint = did_you_mean(.0), list = MethodName::list())]
 pub struct UnknownMethod(pub String);
+
+/// `; did you mean `NAME`?` for a name that differs from a method's only
+/// in case or by at most two edits (a fresh-user audit, session 28:
+/// `mjsl`, `MJLS`); empty otherwise.
+fn did_you_mean(text: &str) -> String {
+    let lower = text.trim().to_ascii_lowercase();
+    let best = MethodName::ALL
+        .into_iter()
+        .map(|m| (edit_distance(&lower, m.name()), m))
+        .min_by_key(|(d, _)| *d);
+    match best {
+        Some((d, m)) if d <= 2 && d < lower.chars().count() => {
+            format!("; did you mean `{}`?", m.name())
+        }
+        _ => String::new(),
+    }
+}
+
+/// Levenshtein distance (insertions, deletions, substitutions) of two
+/// short strings, by characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1)
+                .min(row[j] + 1)
+                .min(diagonal + usize::from(ca != *cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
 
 #[cfg(test)]
 mod tests {
@@ -99,6 +135,23 @@ mod tests {
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), MethodName::ALL.len());
+    }
+
+    #[test]
+    fn near_names_get_a_suggestion() {
+        assert_eq!(edit_distance("mjsl", "mjls"), 2);
+        assert_eq!(edit_distance("", "abc"), 3);
+        for typo in ["mjsl", "MJLS", "Local", "globl", "knee-selfalgn"] {
+            let e = MethodName::parse(typo).unwrap_err().to_string();
+            assert!(e.contains("; did you mean `"), "{typo}: {e}");
+        }
+        let e = MethodName::parse("mjsl").unwrap_err().to_string();
+        assert!(
+            e.starts_with("unknown method `mjsl`; did you mean `mjls`?; available methods: "),
+            "{e}"
+        );
+        let e = MethodName::parse("magic").unwrap_err().to_string();
+        assert!(!e.contains("did you mean"), "{e}");
     }
 
     #[test]

@@ -40,7 +40,7 @@ impl MethodFlags {
         if knee && !matches!(method, MethodName::KneeSelfAlign | MethodName::KneeGyroAxis) {
             return Err(MethodError::FlagNotForMethod {
                 flags: "--window and --order",
-                owner: MethodName::KneeSelfAlign,
+                owners: "methods knee-selfalign and knee-gyro-axis",
                 method,
             });
         }
@@ -56,7 +56,7 @@ impl MethodFlags {
         if imm && method != MethodName::ImmBslip {
             return Err(MethodError::FlagNotForMethod {
                 flags: "--library, --kappa, --rescale-height, --imm-weights, --imm-touchdown, --imm-config, --imm-extend-library, --leg-length and --mass",
-                owner: MethodName::ImmBslip,
+                owners: "method imm-bslip",
                 method,
             });
         }

@@ -51,6 +51,10 @@ pub struct WalkingAlignment {
     /// that were left out of the estimate (the trial keeps them), and the
     /// time of the first.
     pub left_out: Option<(u64, u64, f64)>,
+    /// The other leg's IMUs (`foot_left_...` of a right-leg trial), which
+    /// `align` leaves in their raw sensor frames: what to do about them
+    /// (the CLI's warning and Python's `LimbfuseWarning`).
+    pub other_leg_raw: Option<String>,
 }
 
 /// The rotations from walking data; `meta` gets them (`<segment>_align_quat`
@@ -80,11 +84,101 @@ pub fn align_walking(
     let alignment = estimate_alignment(&screened, opts)?;
     alignment.annotate(meta);
     let (leg_line, leg_replaced) = leg_report(meta, &alignment);
+    let other_leg_raw = state_raw_sensors(meta, layout, &alignment);
     Ok(WalkingAlignment {
         alignment,
         leg_line,
         leg_replaced,
         left_out,
+        other_leg_raw,
+    })
+}
+
+/// When the trial has IMUs `align` leaves raw (the other leg's, or sensors
+/// skipped with `--partial`) and declares raw frames in words only
+/// (`# sensors: ... RAW sensor frames`) or has the other leg's IMUs, its
+/// `# imu_frame:` says which are aligned and which raw, and `# sensors:`
+/// points to it (a fresh-user audit, session 28: the gaitmap two-foot walk
+/// came out with `foot_` aligned, `foot_left_` raw and "RAW sensor frames"
+/// still in `# sensors:`, and `inspect` said "IMU frames: not stated").
+/// Returns the warning about the other leg's IMUs.
+fn state_raw_sensors(
+    meta: &mut TrialMeta,
+    layout: &TrialLayout,
+    alignment: &Alignment,
+) -> Option<String> {
+    use limbfuse_methods::raw_frames::SENSORS_KEY;
+    let other = layout.other_leg();
+    let other_leg: Vec<String> = Segment::ALL
+        .into_iter()
+        .filter(|s| layout.other_acc[s.index()] || layout.other_gyr[s.index()])
+        .map(|s| format!("{}_{}", s.name(), other.name()))
+        .collect();
+    let in_words = meta.get(IMU_FRAME_KEY).is_none()
+        && meta
+            .get(SENSORS_KEY)
+            .is_some_and(|v| v.to_ascii_lowercase().contains("raw sensor frame"));
+    if other_leg.is_empty() && !in_words {
+        return None;
+    }
+    let aligned: Vec<&str> = Segment::ALL
+        .into_iter()
+        .filter(|s| alignment.per_segment[s.index()].is_some())
+        .map(Segment::name)
+        .collect();
+    let mut raw: Vec<String> = alignment
+        .skipped
+        .iter()
+        .map(|(s, _)| s.name().to_string())
+        .collect();
+    raw.extend(other_leg.iter().cloned());
+    let list = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    let before = match meta.get(IMU_FRAME_KEY) {
+        Some(b) => format!("; before: {b}"),
+        None => "; before: raw sensor frames (said in `# sensors:`)".to_string(),
+    };
+    meta.set(
+        IMU_FRAME_KEY,
+        format!(
+            "aligned to the segments by limbfuse align (SPEC section 1): {}; raw sensor frames \
+             (not aligned): {}{before}",
+            list(&aligned.iter().map(|s| s.to_string()).collect::<Vec<_>>()),
+            list(&raw)
+        ),
+    );
+    if in_words {
+        if let Some(s) = meta.get(SENSORS_KEY).map(str::to_string) {
+            meta.set(
+                SENSORS_KEY,
+                format!("{s} [as recorded; after limbfuse align: see imu_frame]"),
+            );
+        }
+    }
+    (!other_leg.is_empty()).then(|| {
+        format!(
+            "`align` aligns the IMUs of the trial's leg ({}: the columns without a side); {} \
+             stay{} in {} raw sensor frame{} (`# imu_frame:` says so). To align {}, make a trial \
+             whose leg is the {} (its `{}_...` columns renamed without the side, `# leg: {}`) and \
+             align that; `limbfuse import --format gaittoolbox --leg {}` imports a gaittoolbox \
+             recording's {} leg that way",
+            layout.leg.name(),
+            other_leg.join(", "),
+            if other_leg.len() == 1 { "s" } else { "" },
+            if other_leg.len() == 1 { "its" } else { "their" },
+            if other_leg.len() == 1 { "" } else { "s" },
+            if other_leg.len() == 1 { "it" } else { "them" },
+            other.name(),
+            other_leg[0],
+            other.name(),
+            other.name(),
+            other.name()
+        )
     })
 }
 

@@ -46,6 +46,7 @@ fn parse_mean_angles(items: &[String]) -> Result<[f64; 4]> {
 
 /// Reads the trial, estimates the rotations, writes the aligned trial.
 pub fn run(a: &AlignArgs) -> Result<()> {
+    check_calibration_flag(a)?;
     if a.joint_axis {
         return super::align_joint_axis::run(a);
     }
@@ -95,6 +96,9 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     if w.leg_replaced {
         eprintln!("warning: {}", w.leg_line);
     }
+    if let Some(note) = &w.other_leg_raw {
+        eprintln!("warning: {}: {note}", a.trial.display());
+    }
     let (alignment, leg_line) = (w.alignment, w.leg_line);
     let mut out = super::create_file(&a.output)?;
     let mut w = TrialWriter::for_path(&a.output, &mut out, &meta, layout)
@@ -123,6 +127,62 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
+}
+
+/// `--calibration` is the static-rotation procedure's recording of quiet
+/// standing and rotations: refused under the walking procedure and
+/// `--joint-axis` (an audit: `align --calibration cal.toml` exited 0 with
+/// the file ignored, while `estimate` / `import` take an IMU calibration
+/// as `--calibration`), with `--imu-calibration` named when the file is an
+/// IMU calibration (the wording of Python's `align`).
+fn check_calibration_flag(a: &AlignArgs) -> Result<()> {
+    let Some(path) = &a.calibration else {
+        return Ok(());
+    };
+    let imu = is_imu_calibration_file(path);
+    let static_rotation = a.procedure == crate::cli::AlignProcedure::StaticRotation;
+    if a.joint_axis || !static_rotation {
+        let hint = if imu {
+            format!(
+                "; {} is an IMU calibration file (`limbfuse calibrate`): give it as --imu-calibration",
+                path.display()
+            )
+        } else {
+            String::new()
+        };
+        bail!(
+            "--calibration (the recording of quiet standing and rotations) is for --procedure \
+             static-rotation, and this `align` {}{hint}",
+            if a.joint_axis {
+                "identifies the joint axis (--joint-axis)"
+            } else {
+                "runs the walking procedure (the default --procedure walking)"
+            }
+        );
+    }
+    if imu {
+        bail!(
+            "--calibration {}: an IMU calibration file (`limbfuse calibrate`), not the recording \
+             of quiet standing and rotations --procedure static-rotation reads: give it as \
+             --imu-calibration",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Whether the file at `path` declares itself an IMU calibration
+/// (`format = "limbfuse-imu-calibration/1"` within its first 4 KB).
+fn is_imu_calibration_file(path: &std::path::Path) -> bool {
+    use std::io::Read;
+    let mut head = Vec::new();
+    let read = std::fs::File::open(path).and_then(|f| f.take(4096).read_to_end(&mut head));
+    read.is_ok()
+        && String::from_utf8_lossy(&head).lines().any(|l| {
+            let l = l.trim_start();
+            l.starts_with("format")
+                && l.contains(limbfuse_io::calibration::FORMAT.trim_end_matches(char::is_numeric))
+        })
 }
 
 /// Per-sensor confidence: share of the gyro energy on the chosen axis,

@@ -42,7 +42,13 @@ pub fn run(a: &InspectArgs) -> Result<()> {
             let hint = limbfuse_methods::availability::needs_a_model(&methods)
                 .then(|| limbfuse_methods::availability::model_file_hint(path))
                 .flatten();
-            print_text(&label, &meta, &s, methods, hint);
+            let after_align = methods
+                .iter()
+                .any(|(_, a)| matches!(a, Availability::Runs { after_align: true }));
+            let align_fails = after_align
+                .then(|| super::inspect_align::align_failure(path, &meta, &layout, s.rows))
+                .flatten();
+            print_text(&label, &meta, &s, methods, hint, align_fails);
             for (title, lines) in [
                 (
                     "what the metadata sets (or its defaults, when it says nothing):",
@@ -117,6 +123,7 @@ fn print_text(
     s: &TrialSummary,
     methods: Vec<(limbfuse_methods::MethodName, Availability)>,
     model_hint: Option<String>,
+    align_fails: Option<String>,
 ) {
     print!("{}", describe(label, meta, s));
     let (mut runs, mut settings, mut not, mut no_data) =
@@ -124,10 +131,16 @@ fn print_text(
     for (m, a) in methods {
         match a {
             Availability::Runs { after_align: false } => runs.push(m.name().to_string()),
-            Availability::Runs { after_align: true } => runs.push(format!(
-                "{} (after `limbfuse align`: it reads aligned frames)",
-                m.name()
-            )),
+            Availability::Runs { after_align: true } => runs.push(match &align_fails {
+                None => format!(
+                    "{} (after `limbfuse align`: it reads aligned frames)",
+                    m.name()
+                ),
+                Some(_) => format!(
+                    "{} (reads aligned frames, but `limbfuse align` cannot align this trial: below)",
+                    m.name()
+                ),
+            }),
             Availability::NeedsSetting(why) => settings.push(format!("  {:<18} {why}", m.name())),
             Availability::MissingColumns(why) => not.push(format!("  {:<18} {why}", m.name())),
             Availability::NoData(why) => no_data.push(format!("  {:<18} {why}", m.name())),
@@ -140,6 +153,9 @@ fn print_text(
         "methods that run on it with their defaults: {}",
         or_none(&runs.join(", "))
     );
+    if let Some(why) = &align_fails {
+        println!("`limbfuse align` cannot align this trial: {why}");
+    }
     for (title, lines) in [
         (
             "methods with the columns they need, but not their defaults' settings:",

@@ -84,7 +84,7 @@ fn knee_flags_are_validated() {
     user_error(&run(&["--order", "0"], "knee-selfalign"), "order = 0");
     user_error(
         &run(&["--window", "100"], "local"),
-        "--window and --order apply to method knee-selfalign only",
+        "--window and --order apply to methods knee-selfalign and knee-gyro-axis only",
     );
     user_error(
         &limbfuse(&["simulate", "knee", "-o", "k.csv", "--remount-at=-3"], p),

@@ -67,4 +67,8 @@ mod streaming_estimate;
 mod support;
 mod tuning_cli;
 mod units_of_a_trial;
+mod ux_audit_28;
+mod ux_audit_28_align;
+mod ux_audit_28_flags;
+mod ux_audit_28_messages;
 mod wrong_kind_of_file;

@@ -149,6 +149,9 @@ pub fn estimate_alignment(
     if !present.iter().any(|&p| p) {
         return Err(AlignError::NoImu);
     }
+    if !present[Segment::Trunk.index() + 1..].iter().any(|&p| p) {
+        return Err(AlignError::NoLegImu);
+    }
     let quiet = if opts.use_quiet {
         quiet_window(records, &present, opts)
     } else {

@@ -252,6 +252,11 @@ pub enum AlignError {
     /// No segment has any IMU reading.
     #[error("no IMU data: no segment has accelerometer or gyroscope samples")]
     NoImu,
+    /// No thigh, shank or foot IMU (a lower-back sensor alone): the walking
+    /// and every axis are found from the leg sensors, the trunk through the
+    /// thigh (an audit: a lower-back trial was told "no walking found").
+    #[error("no leg IMU: walking alignment finds the walking and each sensor's axis from thigh, shank or foot IMUs (`thigh_gyr_x` ..., `shank_...`, `foot_...`; the trunk is aligned through the thigh), and the trial has a trunk IMU only")]
+    NoLegImu,
     /// Sample times are not finite and increasing.
     #[error("bad time base: sample times must be finite and increasing")]
     BadTime,
