@@ -251,6 +251,9 @@ fn estimate<'py>(
         };
         let inputs = cols.inputs();
         let frame_note = limbfuse_methods::raw_frame_note(spec.method(), &meta, &label);
+        // As `limbfuse estimate`: a trial stating both leg-length keys.
+        let leg_note =
+            limbfuse_methods::leg_length_keys::conflict_warning(spec.method(), &meta, &label);
         // As `limbfuse estimate`: a time column, IMU or encoder readings
         // that do not look like SPEC units.
         let unit_note = {
@@ -365,6 +368,7 @@ fn estimate<'py>(
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
             let warning = [
                 frame_note.clone(),
+                leg_note.clone(),
                 resets,
                 rejected,
                 unit_note.clone(),

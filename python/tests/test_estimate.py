@@ -735,3 +735,15 @@ def test_filter_warns_of_rejected_readings(walking_trial):
     with pytest.warns(limbfuse.LimbfuseWarning, match="were rejected"):
         for i in range(300):
             g.step({"t": float(t[i]), **{n: (None if ch[n][i] is np.ma.masked else float(ch[n][i])) for n in names}})
+
+
+def test_both_leg_length_keys_with_different_values_warn_as_the_cli(walking_trial):
+    """Review 28: `limbfuse estimate` warned (twice) when a trial stated both
+    `# leg_length:` and `# leg_length_m:` with different values, Python not
+    at all. Now both warn once, naming the key the method keeps."""
+    meta = {**walking_trial.meta, "leg_length": "0.85", "leg_length_m": "0.95"}
+    trial = limbfuse.Trial(walking_trial.t, walking_trial.channels, meta)
+    with pytest.warns(limbfuse.LimbfuseWarning) as caught:
+        limbfuse.estimate(trial, "lowback-speed")
+    said = [str(w.message) for w in caught if "leg_length" in str(w.message)]
+    assert len(said) == 1 and "`lowback-speed` reads `# leg_length:`" in said[0], said

@@ -136,11 +136,6 @@ pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
     {
         eprintln!("{w}");
     }
-    if let Some(w) =
-        limbfuse_methods::leg_length_keys::conflict_warning(spec.method(), reader.meta(), &label)
-    {
-        eprintln!("{w}");
-    }
     if let MethodSpec::Sdre(f) | MethodSpec::Ekf(f) = spec {
         let from_lines = limbfuse_methods::fes_param_lines::model_from_param_lines(reader.meta())
             .with_context(|| reader.path().display().to_string())?;
