@@ -72,3 +72,4 @@ mod ux_audit_28_align;
 mod ux_audit_28_flags;
 mod ux_audit_28_messages;
 mod wrong_kind_of_file;
+mod small_leftovers_28;

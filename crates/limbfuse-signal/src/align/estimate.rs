@@ -157,11 +157,13 @@ pub fn estimate_alignment(
     } else {
         None
     };
-    let dt = if n > 1 {
-        (records[n - 1].sample.t - records[0].sample.t) / (n - 1) as f64
-    } else {
-        1.0
-    };
+    // One sample has no interval (an audit: it was said to "span 1 s").
+    if n < 2 {
+        return Err(AlignError::OneSample {
+            needed_s: opts.min_walking_s,
+        });
+    }
+    let dt = (records[n - 1].sample.t - records[0].sample.t) / (n - 1) as f64;
     // The most walking the trial can hold: its samples times `dt`. Shorter
     // than needed is said as such (an audit: times of 1e-20 s per sample
     // made the stride lag overflow in `walking_mask`).

@@ -306,6 +306,12 @@ pub enum AlignError {
         /// Required (s).
         needed_s: f64,
     },
+    /// The trial has a single sample: no sample interval, no walking.
+    #[error("no walking found: the trial has only one sample (one row); alignment needs at least {} s of walking, i.e. many rows with increasing times in seconds (column `t`)", limbfuse_core::ShownNumber(*.needed_s))]
+    OneSample {
+        /// Required walking (s).
+        needed_s: f64,
+    },
     /// The whole trial is shorter than the walking alignment needs.
     #[error("no walking found: the trial's samples span {} s (column `t`), less than the {} s of walking alignment needs; are its times in seconds?", limbfuse_core::ShownNumber(*.span_s), limbfuse_core::ShownNumber(*.needed_s))]
     TooShort {

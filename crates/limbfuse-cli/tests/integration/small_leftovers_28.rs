@@ -1,0 +1,40 @@
+//! Small leftovers of session 28's audits: messages that named nonsense
+//! or came late.
+
+use std::path::Path;
+use std::process::Output;
+
+use crate::support::{assert_user_error, limbfuse, stderr};
+
+/// Runs `args` in `dir` and expects success.
+fn ok(args: &[&str], dir: &Path) -> Output {
+    let o = limbfuse(args, dir);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    o
+}
+
+/// The trial `from` cut to its comment lines, header and first `rows`
+/// data rows, written to `to`.
+fn first_rows(dir: &Path, from: &str, to: &str, rows: usize) {
+    let text = std::fs::read_to_string(dir.join(from)).unwrap();
+    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
+    let kept: Vec<&str> = text.lines().take(header + 1 + rows).collect();
+    std::fs::write(dir.join(to), kept.join("\n") + "\n").unwrap();
+}
+
+/// `align` of a trial with one data row said "the trial's samples span
+/// 1 s" (a made-up interval). Now it says the trial has only one sample
+/// and how much walking alignment needs.
+#[test]
+fn align_of_one_sample_says_one_sample() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(
+        &["simulate", "walking", "--duration", "2", "-o", "raw.csv"],
+        p,
+    );
+    first_rows(p, "raw.csv", "one.csv", 1);
+    let o = limbfuse(&["align", "one.csv", "-o", "a.csv"], p);
+    assert_user_error(&o, &["one.csv", "only one sample", "3 s of walking"]);
+    assert!(!stderr(&o).contains("span 1 s"), "{}", stderr(&o));
+}
