@@ -38,3 +38,23 @@ fn align_of_one_sample_says_one_sample() {
     assert_user_error(&o, &["one.csv", "only one sample", "3 s of walking"]);
     assert!(!stderr(&o).contains("span 1 s"), "{}", stderr(&o));
 }
+
+/// `calibrate --acc-std-max 1e-30` (and Python's `calibrate(min_pose=1e30)`,
+/// which reaches the same message) printed the limit with 31 digits
+/// (`0.000000000000000000000000000001`) in "no static pose" and in every
+/// rejected hold. Now the settings are shown short, as in other messages.
+#[test]
+fn calibrate_shows_extreme_settings_short() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    ok(&["simulate", "calibration", "-o", "cal.csv"], p);
+    let o = limbfuse(
+        &["calibrate", "cal.csv", "--acc-std-max", "1e-30", "-o", "c.toml"],
+        p,
+    );
+    assert_user_error(
+        &o,
+        &["cal.csv", "no static pose", "below 1e-30 m/s^2", "(limit 1e-30)"],
+    );
+    assert!(!stderr(&o).contains("0.00000000000"), "{}", stderr(&o));
+}

@@ -100,7 +100,7 @@ pub enum CalibrationError {
     #[error("the recording has no accelerometer channels (`<segment>_acc_x`, ...): nothing to calibrate")]
     NoAccelerometer,
     /// No static pose at all.
-    #[error("{sensor}: no static pose in the recording (a pose: at least {min_pose_s} s with accelerometer std below {acc_std_max} m/s^2 and gyro std below {gyro_std_max} rad/s); the sensor moves throughout{rejected}")]
+    #[error("{sensor}: no static pose in the recording (a pose: at least {} s with accelerometer std below {} m/s^2 and gyro std below {} rad/s); the sensor moves throughout{rejected}", limbfuse_core::ShownNumber(*.min_pose_s), limbfuse_core::ShownNumber(*.acc_std_max), limbfuse_core::ShownNumber(*.gyro_std_max))]
     NoStaticPose {
         /// Sensor (segment name).
         sensor: &'static str,
@@ -144,7 +144,7 @@ pub enum CalibrationError {
         limit: f64,
     },
     /// The poses do not fit one ellipsoid (a moving or mislabelled pose).
-    #[error("{sensor}: the poses do not fit one calibration: RMS residual {rms:.4} m/s^2 > {limit} m/s^2; worst pose {start:.2}-{end:.2} s ({worst:+.4} m/s^2): was the sensor moving or saturated, or is the {model} model too small for it?")]
+    #[error("{sensor}: the poses do not fit one calibration: RMS residual {rms:.4} m/s^2 > {} m/s^2; worst pose {start:.2}-{end:.2} s ({worst:+.4} m/s^2): was the sensor moving or saturated, or is the {model} model too small for it?", limbfuse_core::ShownNumber(*.limit))]
     Residual {
         /// Sensor.
         sensor: &'static str,

@@ -9,7 +9,7 @@
 //! at least `min_pose_s`, else it is *rejected* with its time span and the
 //! spreads measured there (a pose that was not held still).
 
-use limbfuse_core::Record;
+use limbfuse_core::{Record, ShownNumber};
 use nalgebra::Vector3;
 
 use super::CalibrationParams;
@@ -42,11 +42,14 @@ impl RejectedHold {
     /// `12.00-16.00 s: accelerometer std 0.180 m/s^2 (limit 0.05), gyro std ...`.
     pub fn describe(&self, p: &CalibrationParams) -> String {
         let g = self.gyro_std.map_or(String::new(), |g| {
-            format!(", gyro std {g:.4} rad/s (limit {})", p.gyro_std_max)
+            format!(", gyro std {g:.4} rad/s (limit {})", ShownNumber(p.gyro_std_max))
         });
         format!(
             "{:.2}-{:.2} s: not static: accelerometer std {:.4} m/s^2 (limit {}){g}",
-            self.span.0, self.span.1, self.acc_std, p.acc_std_max
+            self.span.0,
+            self.span.1,
+            self.acc_std,
+            ShownNumber(p.acc_std_max)
         )
     }
 }
