@@ -63,20 +63,27 @@ pub fn refuse_overwrites(
     Ok(())
 }
 
-/// An output whose folder does not exist, refused before a long run (an
-/// audit: `tune ... -o /nonexistent/x.toml` failed after its whole search,
-/// 8 s there).
+/// An output whose folder does not exist, or that is an existing folder,
+/// refused before a long run (an audit: `tune ... -o /nonexistent/x.toml`
+/// failed after its whole search, 8 s there; `gait-library build -o DIR`
+/// after its 3 s search, with "Is a directory (os error 21)").
 pub fn refuse_missing_folder(flag: &str, output: &Path) -> Result<()> {
     let folder = match output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    let named = match flag {
+        "" => output.display().to_string(),
+        f => format!("{f} {}", output.display()),
+    };
     if !folder.is_dir() {
-        let named = match flag {
-            "" => output.display().to_string(),
-            f => format!("{f} {}", output.display()),
-        };
         anyhow::bail!("{named}: the folder {} does not exist", folder.display());
+    }
+    if output.is_dir() {
+        anyhow::bail!(
+            "{named}: that is a folder; the output is a file: give a file name (e.g. {})",
+            output.join("out").display()
+        );
     }
     Ok(())
 }

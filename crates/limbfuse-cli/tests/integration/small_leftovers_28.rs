@@ -58,3 +58,27 @@ fn calibrate_shows_extreme_settings_short() {
     );
     assert!(!stderr(&o).contains("0.00000000000"), "{}", stderr(&o));
 }
+
+/// `gait-library build --speeds 0.6:0.8:0.1 -o DIR` with DIR an existing
+/// folder searched its gaits for seconds, then failed with "DIR: Is a
+/// directory (os error 21)". Now it is refused at once, naming the path;
+/// an output in a missing folder likewise.
+#[test]
+fn gait_library_build_into_a_folder_fails_fast() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::create_dir(p.join("adir")).unwrap();
+    for (out, needle) in [
+        ("adir", "adir: that is a folder"),
+        ("nodir/x.json", "the folder nodir does not exist"),
+    ] {
+        let t0 = std::time::Instant::now();
+        let o = limbfuse(
+            &["gait-library", "build", "--speeds", "0.6:0.8:0.1", "-q", "-o", out],
+            p,
+        );
+        let took = t0.elapsed().as_secs_f64();
+        assert_user_error(&o, &[needle]);
+        assert!(took < 1.0, "{out}: refused after {took} s");
+    }
+}
