@@ -86,7 +86,22 @@ impl AtomicFile {
             // As `File::create`: read-write for everyone the umask allows.
             builder.permissions(std::fs::Permissions::from_mode(0o666));
         }
-        let tmp = builder.tempfile_in(dir)?;
+        // The errors name the output's folder, never the temporary file (an
+        // audit: Python's `write_trial(t, "/no/such/dir/x.csv")` said
+        // "No such file or directory (os error 2) at path
+        // \"/no/such/dir/.x.csv.XXXXXX.tmp\"").
+        if !dir.is_dir() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!("the folder {} does not exist", dir.display()),
+            ));
+        }
+        let tmp = builder.tempfile_in(dir).map_err(|e| {
+            std::io::Error::new(
+                e.kind(),
+                format!("cannot create a file in the folder {}: {}", dir.display(), e.kind()),
+            )
+        })?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
             out: Target::Temporary(BufWriter::with_capacity(1 << 16, tmp)),
@@ -183,6 +198,24 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         assert!(AtomicFile::create(&dir.path().join("no/such/dir/a.csv")).is_err());
         assert!(AtomicFile::create(Path::new("/")).is_err());
+    }
+
+    /// A write into a missing folder (`/no/such/dir/x.csv`, e.g. Python's
+    /// `write_trial`) named the temporary file `.x.csv.XXXXXX.tmp` as well
+    /// as the target. Now the error says the folder does not exist, and no
+    /// temporary name.
+    #[test]
+    fn a_missing_folder_is_named_without_the_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("no/such/dir");
+        let e = AtomicFile::create(&folder.join("x.csv")).unwrap_err();
+        let m = e.to_string();
+        assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
+        assert!(
+            m.contains(&format!("the folder {} does not exist", folder.display())),
+            "{m}"
+        );
+        assert!(!m.contains(".x.csv.") && !m.contains("temporary"), "{m}");
     }
 
     /// Regression test for the CI runs that failed with cargo's "failed to
