@@ -94,13 +94,18 @@ pub fn align_walking(
     })
 }
 
+/// The metadata key describing a two-leg recording's column naming.
+const LEGS_KEY: &str = "legs";
+
 /// When the trial has IMUs `align` leaves raw (the other leg's, or sensors
 /// skipped with `--partial`) and declares raw frames in words only
-/// (`# sensors: ... RAW sensor frames`) or has the other leg's IMUs, its
-/// `# imu_frame:` says which are aligned and which raw, and `# sensors:`
-/// points to it (a fresh-user audit, session 28: the gaitmap two-foot walk
-/// came out with `foot_` aligned, `foot_left_` raw and "RAW sensor frames"
-/// still in `# sensors:`, and `inspect` said "IMU frames: not stated").
+/// (`# sensors: ... RAW sensor frames`, or `# legs:`) or has the other
+/// leg's IMUs, its `# imu_frame:` says which are aligned and which raw, and
+/// each of `# sensors:` and `# legs:` that says raw points to it (a
+/// fresh-user audit, session 28: the gaitmap two-foot walk came out with
+/// `foot_` aligned, `foot_left_` raw and "RAW sensor frames" still in
+/// `# sensors:` and `# legs:`, and `inspect` said "IMU frames: not
+/// stated").
 /// Returns the warning about the other leg's IMUs.
 fn state_raw_sensors(
     meta: &mut TrialMeta,
@@ -114,10 +119,17 @@ fn state_raw_sensors(
         .filter(|s| layout.other_acc[s.index()] || layout.other_gyr[s.index()])
         .map(|s| format!("{}_{}", s.name(), other.name()))
         .collect();
-    let in_words = meta.get(IMU_FRAME_KEY).is_none()
-        && meta
-            .get(SENSORS_KEY)
-            .is_some_and(|v| v.to_ascii_lowercase().contains("raw sensor frame"));
+    // `# sensors:` and `# legs:` may say "RAW sensor frames" (the gaitmap
+    // trial says it in both; `# legs:` was left as it was, session 28).
+    let says_raw = |key: &str| {
+        meta.get(key)
+            .is_some_and(|v| v.to_ascii_lowercase().contains("raw sensor frame"))
+    };
+    let raw_in: Vec<&str> = [SENSORS_KEY, LEGS_KEY]
+        .into_iter()
+        .filter(|&k| says_raw(k))
+        .collect();
+    let in_words = meta.get(IMU_FRAME_KEY).is_none() && !raw_in.is_empty();
     if other_leg.is_empty() && !in_words {
         return None;
     }
@@ -153,11 +165,13 @@ fn state_raw_sensors(
         ),
     );
     if in_words {
-        if let Some(s) = meta.get(SENSORS_KEY).map(str::to_string) {
-            meta.set(
-                SENSORS_KEY,
-                format!("{s} [as recorded; after limbfuse align: see imu_frame]"),
-            );
+        for key in raw_in {
+            if let Some(s) = meta.get(key).map(str::to_string) {
+                meta.set(
+                    key,
+                    format!("{s} [as recorded; after limbfuse align: see imu_frame]"),
+                );
+            }
         }
     }
     (!other_leg.is_empty()).then(|| {

@@ -52,7 +52,8 @@ fn with_left_foot(dir: &Path, from: &str, to: &str) {
 /// left `foot_left_` raw, kept "RAW sensor frames" in `# sensors:`, and
 /// `inspect` of the output said "IMU frames: not stated". Now the output's
 /// `# imu_frame:` lists the aligned and the raw IMUs, `# sensors:` points
-/// to it, and `align` warns how to align the other leg.
+/// to it (and `# legs:`, which says "RAW sensor frames" too and was kept
+/// as recorded), and `align` warns how to align the other leg.
 #[test]
 fn two_leg_alignment_states_which_imus_are_raw() {
     let d = tempfile::tempdir().unwrap();
@@ -103,6 +104,14 @@ fn two_leg_alignment_states_which_imus_are_raw() {
         assert!(
             sensors.ends_with("[as recorded; after limbfuse align: see imu_frame]"),
             "{sensors}"
+        );
+        // `# legs:` says "RAW sensor frames" too: annotated alike (it was
+        // left as recorded).
+        let legs = text.lines().find(|l| l.starts_with("# legs:")).unwrap();
+        assert!(
+            legs.contains("RAW sensor frames")
+                && legs.ends_with("[as recorded; after limbfuse align: see imu_frame]"),
+            "{legs}"
         );
         let out = stdout(&ok(&["inspect", "g.csv"], p));
         assert!(!out.contains("IMU frames: not stated"), "{out}");
