@@ -99,7 +99,11 @@ impl AtomicFile {
         let tmp = builder.tempfile_in(dir).map_err(|e| {
             std::io::Error::new(
                 e.kind(),
-                format!("cannot create a file in the folder {}: {}", dir.display(), e.kind()),
+                format!(
+                    "cannot create a file in the folder {}: {}",
+                    dir.display(),
+                    e.kind()
+                ),
             )
         })?;
         Ok(AtomicFile {

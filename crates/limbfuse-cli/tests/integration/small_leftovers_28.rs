@@ -49,12 +49,24 @@ fn calibrate_shows_extreme_settings_short() {
     let p = d.path();
     ok(&["simulate", "calibration", "-o", "cal.csv"], p);
     let o = limbfuse(
-        &["calibrate", "cal.csv", "--acc-std-max", "1e-30", "-o", "c.toml"],
+        &[
+            "calibrate",
+            "cal.csv",
+            "--acc-std-max",
+            "1e-30",
+            "-o",
+            "c.toml",
+        ],
         p,
     );
     assert_user_error(
         &o,
-        &["cal.csv", "no static pose", "below 1e-30 m/s^2", "(limit 1e-30)"],
+        &[
+            "cal.csv",
+            "no static pose",
+            "below 1e-30 m/s^2",
+            "(limit 1e-30)",
+        ],
     );
     assert!(!stderr(&o).contains("0.00000000000"), "{}", stderr(&o));
 }
@@ -74,7 +86,15 @@ fn gait_library_build_into_a_folder_fails_fast() {
     ] {
         let t0 = std::time::Instant::now();
         let o = limbfuse(
-            &["gait-library", "build", "--speeds", "0.6:0.8:0.1", "-q", "-o", out],
+            &[
+                "gait-library",
+                "build",
+                "--speeds",
+                "0.6:0.8:0.1",
+                "-q",
+                "-o",
+                out,
+            ],
             p,
         );
         let took = t0.elapsed().as_secs_f64();

@@ -42,7 +42,10 @@ impl RejectedHold {
     /// `12.00-16.00 s: accelerometer std 0.180 m/s^2 (limit 0.05), gyro std ...`.
     pub fn describe(&self, p: &CalibrationParams) -> String {
         let g = self.gyro_std.map_or(String::new(), |g| {
-            format!(", gyro std {g:.4} rad/s (limit {})", ShownNumber(p.gyro_std_max))
+            format!(
+                ", gyro std {g:.4} rad/s (limit {})",
+                ShownNumber(p.gyro_std_max)
+            )
         });
         format!(
             "{:.2}-{:.2} s: not static: accelerometer std {:.4} m/s^2 (limit {}){g}",
