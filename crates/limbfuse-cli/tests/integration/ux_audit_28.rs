@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::support::{limbfuse, shared_data};
+use crate::support::{keep_columns, limbfuse, shared_data};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -152,30 +152,6 @@ fn test_all_takes_the_target_directory_from_cargo_target_dir() {
             assert!(!hard_coded, "scripts/test-all hard-codes `{fixed}`: {line}");
         }
     }
-}
-
-/// A copy of the trial `from` keeping `t` and the columns `keep` accepts.
-fn keep_columns(dir: &Path, from: &str, to: &str, keep: impl Fn(&str) -> bool) {
-    let text = std::fs::read_to_string(dir.join(from)).unwrap();
-    let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
-    let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let kept: Vec<bool> = names.iter().map(|n| *n == "t" || keep(n)).collect();
-    let mut out = String::new();
-    for (i, l) in text.lines().enumerate() {
-        if i < header {
-            out += l;
-        } else {
-            let cells: Vec<&str> = l
-                .split(',')
-                .zip(&kept)
-                .filter(|(_, k)| **k)
-                .map(|(c, _)| c)
-                .collect();
-            out += &cells.join(",");
-        }
-        out.push('\n');
-    }
-    std::fs::write(dir.join(to), out).unwrap();
 }
 
 /// Item 3: on a trial with a lower-back (trunk) IMU only, `inspect` listed
@@ -351,17 +327,6 @@ fn gait_evaluation_says_the_trial_has_no_contact_reference_column() {
             "--gait-reference",
             "-o",
             "g.csv",
-        ],
-        p,
-    );
-    ok(
-        &[
-            "estimate",
-            "--method",
-            "gait-events",
-            "g.csv",
-            "-o",
-            "e.csv",
         ],
         p,
     );

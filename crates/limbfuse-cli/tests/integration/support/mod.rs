@@ -80,10 +80,16 @@ pub fn edit_cells(text: &str, f: impl Fn(usize, &str, &str) -> Option<String>) -
 
 /// A copy of the trial `from` without its `*_ref` columns, as `to`.
 pub fn without_references(dir: &Path, from: &str, to: &str) {
+    keep_columns(dir, from, to, |n| !n.ends_with("_ref"));
+}
+
+/// A copy of the trial `from` keeping `t` and the columns `keep` accepts,
+/// as `to`.
+pub fn keep_columns(dir: &Path, from: &str, to: &str, keep: impl Fn(&str) -> bool) {
     let text = std::fs::read_to_string(dir.join(from)).unwrap();
     let header = text.lines().position(|l| l.starts_with("t,")).unwrap();
     let names: Vec<&str> = text.lines().nth(header).unwrap().split(',').collect();
-    let keep: Vec<bool> = names.iter().map(|n| !n.ends_with("_ref")).collect();
+    let kept: Vec<bool> = names.iter().map(|n| *n == "t" || keep(n)).collect();
     let mut out = String::new();
     for (i, l) in text.lines().enumerate() {
         if i < header {
@@ -91,7 +97,7 @@ pub fn without_references(dir: &Path, from: &str, to: &str) {
         } else {
             let cells: Vec<&str> = l
                 .split(',')
-                .zip(&keep)
+                .zip(&kept)
                 .filter(|(_, k)| **k)
                 .map(|(c, _)| c)
                 .collect();
