@@ -383,7 +383,7 @@ def run_distributed(client: Any, paths: List[Item], kw: Dict[str, Any], progress
     from distributed import wait
 
     parts = chunks(paths, sum(client.nthreads().values()))
-    futures = client.map(evaluate_trials, parts, pure=False, **kw)
+    futures = client.map(evaluate_trials, [scattered(client, part) for part in parts], pure=False, **kw)
     try:
         if progress:
             from distributed import progress as dist_progress
@@ -411,7 +411,7 @@ def run_distributed_one_by_one(client: Any, part: List[Item], kw: Dict[str, Any]
     fails again recorded (``run_distributed``)."""
     from distributed import wait
 
-    futures = client.map(evaluate_trials, [[x] for x in part], pure=False, **kw)
+    futures = client.map(evaluate_trials, [scattered(client, [x]) for x in part], pure=False, **kw)
     wait(futures)
     rows: List[Dict[str, Any]] = []
     for x, future in zip(part, futures):
@@ -423,6 +423,17 @@ def run_distributed_one_by_one(client: Any, part: List[Item], kw: Dict[str, Any]
         else:
             rows.extend(future.result()[0])
     return rows, None
+
+
+def scattered(client: Any, part: List[Item]) -> List[Any]:
+    """A chunk with its in-memory trials sent to the workers first, each on
+    its own (an audit: a 10-minute in-memory trial went in the task graph,
+    Dask's "Sending large graph of size 16.03 MiB" warning)."""
+    return [
+        (x[0], client.scatter(x[1], hash=False)) if isinstance(x, tuple)
+        else client.scatter(x, hash=False) if isinstance(x, Trial) else x
+        for x in part
+    ]
 
 
 def task_failure(error: BaseException) -> str:

@@ -8,6 +8,7 @@ import time
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -186,10 +187,11 @@ def test_ctrl_c_stops_the_threads_before_their_next_trial(monkeypatch):
 
 
 def test_a_trial_that_kills_its_worker(trials):
-    """On a LocalCluster, a trial that makes its worker process exit: with
-    "raise" a LimbfuseError names the trials of the task; with "record"
-    its row says the worker died and the other trials' rows are there, in
-    order (before: `KilledWorker` naming a task key, and the run lost)."""
+    """On a LocalCluster, a large in-memory trial, and a trial that makes its
+    worker process exit: with
+    "record" its row says the worker died and the other trials' rows are
+    there, in order; with "raise" a LimbfuseError names the trials of the
+    task (before: `KilledWorker` naming a task key, and the run lost)."""
     distributed = pytest.importorskip("distributed")
     import dask
 
@@ -197,11 +199,19 @@ def test_a_trial_that_kills_its_worker(trials):
     killer = ExitingTrial(tr.t, tr.channels, tr.meta)
     paths = [good(trials)[2], killer]
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        n_workers=3, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster, distributed.Client(cluster) as client:
+        # a large in-memory trial (12 MB) is scattered, not put in the task
+        # graph (before: "Sending large graph of size 12 MiB")
+        big = limbfuse.Trial(np.arange(750_000) / 100.0, {"knee_enc": np.zeros(750_000)})
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            bigdf = cohort.run([big], "gyro-integration", client=client, on_error="record")
+        assert not [x for x in w if "large graph" in str(x.message)]
+        assert bigdf["error"].iloc[0].startswith("<trial 0>: ")
+        df = cohort.run(paths, "mjls", client=client, on_error="record")
         with pytest.raises(LimbfuseError, match=r"^cohort: <trial 0>: the Dask worker running it died"):
             cohort.run([killer], "mjls", client=client)
-        df = cohort.run(paths, "mjls", client=client, on_error="record")
     assert list(df["trial"].unique()) == [paths[0], "<trial 1>"] and len(df) == 8
     assert df["error"].iloc[7] == "<trial 1>: the Dask worker running it died (KilledWorker; the worker's log may say why)"
     assert df["error"].iloc[:7].isna().all()
