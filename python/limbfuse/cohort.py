@@ -17,9 +17,11 @@ import argparse
 import glob
 import os
 import sys
+import uuid
+import warnings
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
-from ._estimate import estimate, evaluate, methods
+from ._estimate import LimbfuseWarning, estimate, evaluate, methods
 from ._lazy import LazyModule
 from ._native import LimbfuseError
 from ._trial import Trial, read_trial
@@ -57,25 +59,41 @@ GAIT_METRICS = ("phase_accuracy_pct", "com_pos_rmse_m", "com_pos_max_m", "speed_
                 "speed_ref_mps", "speed_error_mps")
 
 
+def expand(p: str) -> List[str]:
+    """One path given: a directory's trial files (``TRIAL_SUFFIXES``, not
+    its README.md or parameter .toml files), a glob pattern's matches
+    (folders skipped), else the file itself; sorted. An error when nothing
+    matches."""
+    if os.path.isdir(p):
+        found = sorted(
+            f for f in glob.glob(os.path.join(p, "*")) if f.endswith(TRIAL_SUFFIXES) and os.path.isfile(f)
+        )
+        if not found:
+            raise LimbfuseError(
+                f"cohort: the folder `{p}` holds no trial file ({', '.join('*' + s for s in TRIAL_SUFFIXES)})"
+            )
+        return found
+    if any(ch in p for ch in "*?[") and not os.path.isfile(p):
+        # (an audit: `data/*` matched the sub-folders too, each then a failed trial)
+        found = sorted(f for f in glob.glob(p) if not os.path.isdir(f))
+        if not found:
+            raise LimbfuseError(f"cohort: no trial file matches `{p}`")
+        return found
+    return [p]
+
+
 def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) -> Sequence[Union[str, Trial]]:
     """The trials: a glob pattern, a directory (its ``*.csv``, ``*.arrow``
-    and ``*.feather`` files), a file, or a list of files or in-memory
-    ``Trial``s; sorted when from a pattern or directory."""
+    and ``*.feather`` files), a file, or a list of those or of in-memory
+    ``Trial``s (each path expanded in place, ``expand``). A file given
+    twice (under the same or another spelling, or matched by two patterns)
+    runs once, where it first appears, with a ``LimbfuseWarning``."""
     if isinstance(paths_or_glob, Trial):
         return [paths_or_glob]
     if isinstance(paths_or_glob, (str, bytes, os.PathLike)):
         # (bytes: one path, not a list of its byte values; an audit: "expected
         # str, bytes or os.PathLike object, not int")
-        p = os.fsdecode(paths_or_glob)
-        if os.path.isdir(p):
-            found = sorted(f for f in glob.glob(os.path.join(p, "*")) if f.endswith(TRIAL_SUFFIXES))
-        elif any(ch in p for ch in "*?["):
-            found = sorted(glob.glob(p))
-        else:
-            found = [p]
-        if not found:
-            raise LimbfuseError(f"cohort: no trial file matches `{p}`")
-        return found
+        return unique(expand(os.fsdecode(paths_or_glob)))
     try:
         given = list(paths_or_glob)
     except TypeError:
@@ -88,7 +106,9 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
         if isinstance(x, Trial):
             items.append(x)
         elif isinstance(x, (str, bytes, os.PathLike)):
-            items.append(os.fsdecode(x))
+            # (an audit: `limbfuse-cohort "a/*.csv" "b/*.csv"` and a list of
+            # folders were read as file names, each "no such file")
+            items.extend(expand(os.fsdecode(x)))
         else:
             raise TypeError(
                 f"cohort: item {i} of the list: expected a trial file path or a limbfuse.Trial, "
@@ -96,7 +116,25 @@ def trial_paths(paths_or_glob: Union[str, "os.PathLike[str]", Iterable[Any]]) ->
             )
     if not items:
         raise LimbfuseError("cohort: the list of trial files is empty")
-    return items
+    return unique(items)
+
+
+def unique(items: Sequence[Union[str, Trial]]) -> List[Union[str, Trial]]:
+    """The items without a file given twice (the same real path), with a
+    warning naming it (an audit: `data/*.csv data/w1.csv` ran w1 twice, and
+    its rows counted twice in every mean)."""
+    seen: Dict[str, str] = {}
+    out: List[Union[str, Trial]] = []
+    for x in items:
+        if isinstance(x, str):
+            key = os.path.realpath(x)
+            if key in seen:
+                same = f" (as `{seen[key]}`)" if seen[key] != x else ""
+                warnings.warn(f"cohort: `{x}` is given twice{same}: it runs once", LimbfuseWarning, stacklevel=3)
+                continue
+            seen[key] = x
+        out.append(x)
+    return out
 
 
 def trial_name(trial: Any, index: int) -> str:
@@ -113,20 +151,38 @@ def evaluate_trial(
     params: Any = None,
     options: Optional[Mapping[str, Any]] = None,
     eval_options: Optional[Mapping[str, Any]] = None,
+    name: Optional[str] = None,
 ) -> List[Dict[str, Any]]:
     """One task: read, estimate, evaluate one trial; its rows. An error
     names the trial by the path given (messages from estimating name the
-    file only: in a cohort, `s2/trial.csv` is not `s1/trial.csv`)."""
-    name = trial_name(path, 0) if isinstance(path, Trial) else str(path)
+    file only: in a cohort, `s2/trial.csv` is not `s1/trial.csv`), or by
+    ``name`` (an in-memory trial's ``<trial N>``)."""
+    if name is None:
+        name = trial_name(path, 0) if isinstance(path, Trial) else str(path)
     try:
         trial = path if isinstance(path, Trial) else read_trial(path)
         est = estimate(trial, method, params, **dict(options or {}))
         ev = evaluate(trial, est, **dict(eval_options or {}))
     except LimbfuseError as e:
-        if name in str(e):
-            raise
-        raise LimbfuseError(f"{name}: {e}") from e
-    return rows_of(name, ev)
+        text = str(e)
+        # (evaluate calls every trial in memory: "s.csv: <in-memory trial>: ...",
+        # and estimate names the file alone: "d/s.csv: s.csv: ...")
+        for prefix in (IN_MEMORY, os.path.basename(name) + ": "):
+            if text.startswith(prefix):
+                text = text[len(prefix):]
+        if name in text:
+            raise (e if text == str(e) else LimbfuseError(text)) from None
+        raise LimbfuseError(f"{name}: {text}") from e
+    rows = rows_of(name, ev)
+    if not rows:  # (never a trial without a row: its absence would go unseen)
+        raise LimbfuseError(f"{name}: evaluate scored no channel of the `{method}` estimate")
+    return rows
+
+
+IN_MEMORY = "<in-memory trial>: "
+
+#: The runs interrupted (Ctrl-C): their tasks stop before their next trial.
+_cancelled: "set[str]" = set()
 
 
 def evaluate_trials(
@@ -135,25 +191,46 @@ def evaluate_trials(
     params: Any = None,
     options: Optional[Mapping[str, Any]] = None,
     eval_options: Optional[Mapping[str, Any]] = None,
+    record: bool = False,
+    token: Optional[str] = None,
 ) -> Tuple[List[Dict[str, Any]], Optional[LimbfuseError]]:
     """One task over several trials, in order: their rows (an in-memory
     trial without a file name is a ``(name, Trial)`` pair), and the error of
     the first trial that failed (the task stops there). The error is
     returned, not raised, so that ``run`` raises the first failing trial's
     in the cohort's order, whichever task finished first (an audit: a bad
-    argument was blamed on a different trial at every run)."""
+    argument was blamed on a different trial at every run).
+
+    With ``record``, a failing trial is one row, ``error_row``, and the task
+    goes on. A task of an interrupted run (``token`` in ``_cancelled``)
+    stops before its next trial (an audit: after Ctrl-C the threads went on
+    through their chunks, 25 trials each in a cohort of 200 on 2 cores)."""
     rows: List[Dict[str, Any]] = []
-    for p in paths:
+    for i, p in enumerate(paths):
+        if token is not None and token in _cancelled:
+            return rows, LimbfuseError("cohort: interrupted")
         name, trial = p if isinstance(p, tuple) else (None, p)
+        label = name if name is not None else trial_name(trial, i)
         try:
-            trial_rows = evaluate_trial(trial, method, params, options, eval_options)
+            trial_rows = evaluate_trial(trial, method, params, options, eval_options, label)
         except LimbfuseError as e:
-            return rows, e
-        for row in trial_rows:
-            if name is not None:
-                row["trial"] = name
-            rows.append(row)
+            if not record:
+                return rows, e
+            trial_rows = [error_row(label, method, str(e))]
+        except (KeyboardInterrupt, SystemExit):
+            raise
+        except BaseException as e:  # (a Rust panic is a BaseException)
+            if not record:
+                raise
+            trial_rows = [error_row(label, method, f"{label}: {type(e).__name__}: {e}")]
+        rows.extend(trial_rows)
     return rows, None
+
+
+def error_row(name: str, method: str, message: str) -> Dict[str, Any]:
+    """The row of a trial that failed (``on_error="record"``): no channel,
+    no figures, the message in ``error`` (it names the file)."""
+    return {"trial": name, "method": method, "channel": None, "error": message}
 
 
 def chunks(paths: Sequence[Item], slots: int) -> List[List[Item]]:
@@ -205,6 +282,7 @@ def run(
     eval_options: Optional[Mapping[str, Any]] = None,
     scheduler: str = "threads",
     progress: bool = False,
+    on_error: str = "raise",
     **estimate_options: Any,
 ) -> "pd.DataFrame":
     """Estimates and evaluates every trial; one DataFrame row per trial and
@@ -212,7 +290,9 @@ def run(
     max_abs_err_deg, mean_err_deg, corr, mean_rmse_deg``); for gait events
     and walking speed one row per trial (channel ``events``) with the
     ``EVENT_METRICS`` columns, for a paper-003 gait trial (channel ``gait``)
-    the ``GAIT_METRICS`` ones (``rows_of``).
+    the ``GAIT_METRICS`` ones (``rows_of``). The rows are in the order of
+    the trials given (a pattern's or folder's: sorted), whatever the
+    scheduler.
 
     Args:
         paths_or_glob: a glob pattern, a directory, a list of files or of
@@ -224,12 +304,20 @@ def run(
             ``scheduler`` (``"threads"``, ``"processes"`` or ``"sync"``).
         eval_options: ``limbfuse.evaluate`` keywords (window, offset_free, ...).
         progress: show a progress bar on stderr.
+        on_error: ``"raise"``: a trial that fails raises its error (which
+            names the file), the first in the cohort's order. ``"record"``:
+            it gives one row, ``channel`` None, its message in an ``error``
+            column (None in the other trials' rows), and the others run.
 
-    A trial that fails raises its error (which names the file).
+    A trial fails when it cannot be read, estimated or scored (evaluate
+    finds no reference to score against), or when the Dask worker running
+    it dies.
     """
     import dask
     import pandas as pd
 
+    if on_error not in ("raise", "record"):
+        raise LimbfuseError(f'cohort: on_error: expected "raise" or "record", found {on_error!r}')
     # (an audit: a misspelt method was reported as the first trial's error)
     known = [name for name, _ in methods()]
     if method not in known:
@@ -252,35 +340,113 @@ def run(
         (trial_name(x, i), x) if isinstance(x, Trial) and not x.source else x
         for i, x in enumerate(trial_paths(paths_or_glob))
     ]
+    record = on_error == "record"
     p = os.fspath(params) if isinstance(params, os.PathLike) else params
+    kw = dict(method=method, params=p, options=options, eval_options=eval_options, record=record)
     if client is not None:
-        parts = chunks(paths, sum(client.nthreads().values()))
-        futures = client.map(
-            evaluate_trials, parts, method=method, params=p, options=options,
-            eval_options=eval_options, pure=False,
-        )
-        if progress:
-            from distributed import progress as dist_progress
-
-            dist_progress(futures)
-        results = client.gather(futures)
+        results = run_distributed(client, paths, kw, progress)
     else:
+        token = uuid.uuid4().hex
         tasks = [
-            dask.delayed(evaluate_trials, pure=False)(part, method, p, options, eval_options)
+            dask.delayed(evaluate_trials, pure=False)(part, token=token, **kw)
             for part in chunks(paths, os.cpu_count() or 1)
         ]
-        if progress:
-            from dask.diagnostics import ProgressBar
+        try:
+            if progress:
+                from dask.diagnostics import ProgressBar
 
-            with ProgressBar(out=sys.stderr):
+                with ProgressBar(out=sys.stderr):
+                    results = dask.compute(*tasks, scheduler=scheduler)
+            else:
                 results = dask.compute(*tasks, scheduler=scheduler)
-        else:
-            results = dask.compute(*tasks, scheduler=scheduler)
+        except KeyboardInterrupt:
+            _cancelled.add(token)  # (the running tasks stop before their next trial)
+            raise
     for _, error in results:
         if error is not None:
             raise error
     rows = [row for rs, _ in results for row in rs]
-    return pd.DataFrame(rows, columns=columns_of(rows))
+    if record:
+        for row in rows:
+            row.setdefault("error", None)
+    columns = columns_of(rows) + (["error"] if record else [])
+    return pd.DataFrame(rows, columns=columns)
+
+
+def run_distributed(client: Any, paths: List[Item], kw: Dict[str, Any], progress: bool) -> List[Any]:
+    """The chunks' results on a ``dask.distributed`` client, in order. A
+    chunk whose worker died (``KilledWorker``, after Dask's retries):
+    raised naming its trials, or with ``record`` run again one trial per
+    task (a task that was waiting on the dying worker fails with it), the
+    trial that kills its worker again recorded (an audit: it was a
+    ``KilledWorker`` naming a task key, no trial, and lost the run)."""
+    from distributed import wait
+
+    parts = chunks(paths, sum(client.nthreads().values()))
+    futures = client.map(evaluate_trials, [scattered(client, part) for part in parts], pure=False, **kw)
+    try:
+        if progress:
+            from distributed import progress as dist_progress
+
+            dist_progress(futures)
+        wait(futures)
+        results = []
+        for part, future in zip(parts, futures):
+            if future.status != "error":
+                results.append(future.result())
+                continue
+            error = future.exception()
+            names = [item_name(x) for x in part]
+            if not kw["record"]:
+                raise LimbfuseError(f"cohort: {', '.join(names)}: {task_failure(error)}") from error
+            results.append(run_distributed_one_by_one(client, part, kw))
+        return results
+    except KeyboardInterrupt:
+        client.cancel(futures)
+        raise
+
+
+def run_distributed_one_by_one(client: Any, part: List[Item], kw: Dict[str, Any]) -> Tuple[List[Any], None]:
+    """A chunk again, one trial per task: its rows, the trial whose task
+    fails again recorded (``run_distributed``)."""
+    from distributed import wait
+
+    futures = client.map(evaluate_trials, [scattered(client, [x]) for x in part], pure=False, **kw)
+    wait(futures)
+    rows: List[Dict[str, Any]] = []
+    for x, future in zip(part, futures):
+        if future.status == "error":
+            error = future.exception()
+            name = item_name(x)
+            message = f"{name}: {task_failure(error)}"
+            rows.append(error_row(name, kw["method"], message))
+        else:
+            rows.extend(future.result()[0])
+    return rows, None
+
+
+def scattered(client: Any, part: List[Item]) -> List[Any]:
+    """A chunk with its in-memory trials sent to the workers first, each on
+    its own (an audit: a 10-minute in-memory trial went in the task graph,
+    Dask's "Sending large graph of size 16.03 MiB" warning)."""
+    return [
+        (x[0], client.scatter(x[1], hash=False)) if isinstance(x, tuple)
+        else client.scatter(x, hash=False) if isinstance(x, Trial) else x
+        for x in part
+    ]
+
+
+def task_failure(error: BaseException) -> str:
+    """What a failed Dask task says: a worker that died is said in words
+    (``KilledWorker``'s text names a task key and a worker address)."""
+    if type(error).__name__ == "KilledWorker":
+        return "the Dask worker running it died (KilledWorker; the worker's log may say why)"
+    return f"its Dask task failed: {type(error).__name__}: {error}"
+
+
+def item_name(x: Item) -> str:
+    """How an item of ``run``'s list is named (``trial_name``)."""
+    return x[0] if isinstance(x, tuple) else trial_name(x, 0)
 
 
 #: ``evaluate``'s keywords that ``estimate`` does not take (``window`` is
@@ -333,13 +499,15 @@ def worker_count(text: str) -> int:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``limbfuse-cohort TRIALS --method NAME [-o metrics.csv]``."""
+    """``limbfuse-cohort TRIALS --method NAME [-o metrics.csv]``: exit
+    status 0, 1 on an error (or with ``--keep-going`` when some trial
+    failed), 130 when interrupted (Ctrl-C)."""
     ap = argparse.ArgumentParser(
         prog="limbfuse-cohort",
         description="Estimate and evaluate every trial of a cohort on Dask; "
         "one row per trial and channel (degrees), as CSV.",
     )
-    ap.add_argument("trials", nargs="+", help="trial files, a directory or a glob pattern (quoted)")
+    ap.add_argument("trials", nargs="+", help="trial files, directories or glob patterns (quoted)")
     ap.add_argument("--method", required=True, help="method name (limbfuse methods)")
     ap.add_argument("--params", help="parameter file (limbfuse params --method NAME)")
     ap.add_argument("-o", "--output", help="output CSV (default: print to stdout)")
@@ -350,6 +518,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ap.add_argument("--window", help="evaluation window START:END (s)")
     ap.add_argument("--offset-free", action="store_true", help="remove each channel's mean error")
     ap.add_argument("--max-lag", type=int, default=0, help="synchronise within +-N samples")
+    ap.add_argument("-k", "--keep-going", action="store_true",
+                    help="a trial that fails gets a row with its message in an `error` column and the "
+                    "others run; a summary on stderr, exit status 1 if any failed")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     a = ap.parse_args(argv)
     if a.output:
@@ -362,20 +533,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     progress = not a.quiet and sys.stderr.isatty()
     client = cluster = None
     try:
-        if a.address or a.workers:
-            from distributed import Client, LocalCluster
+        with warnings.catch_warnings():
+            warnings.showwarning = show_warning
+            if a.address or a.workers:
+                from distributed import Client, LocalCluster
 
-            if a.address:
-                try:
-                    client = Client(a.address)
-                except ValueError as e:  # (an unparsable address: a traceback before)
-                    print(f"error: --address {a.address}: {e}", file=sys.stderr)
-                    return 1
-            else:
-                cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True)
-                client = Client(cluster)
-        df = run(paths, a.method, a.params, client, eval_options=eval_options,
-                 scheduler=a.scheduler, progress=progress)
+                if a.address:
+                    try:
+                        client = Client(a.address)
+                    except ValueError as e:  # (an unparsable address: a traceback before)
+                        print(f"error: --address {a.address}: {e}", file=sys.stderr)
+                        return 1
+                else:
+                    cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True)
+                    client = Client(cluster)
+            df = run(paths, a.method, a.params, client, eval_options=eval_options, scheduler=a.scheduler,
+                     progress=progress, on_error="record" if a.keep_going else "raise")
     except LimbfuseError as e:
         print(f"error: {e}", file=sys.stderr)
         return 1
@@ -383,6 +556,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         where = f"the Dask scheduler at {a.address}" if a.address else "the Dask cluster"
         print(f"error: cannot reach {where}: {e}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        # (an audit: a traceback, then the threads ran on through their chunks)
+        print("limbfuse-cohort: interrupted; no output written", file=sys.stderr)
+        return 130
     finally:
         if client is not None:
             client.close()
@@ -393,7 +570,27 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"{df['trial'].nunique()} trials, {len(df)} rows -> {a.output}", file=sys.stderr)
     else:
         df.to_csv(sys.stdout, index=False)
+    if a.keep_going:
+        failed = df[df["error"].notna()]
+        if len(failed):
+            print(failure_summary(list(failed["error"]), df["trial"].nunique()), file=sys.stderr)
+            return 1
     return 0
+
+
+def failure_summary(errors: Sequence[str], n_trials: int, shown: int = 10) -> str:
+    """``--keep-going``'s last words: "3 of 200 trials failed:" and the
+    first ``shown`` messages."""
+    lines = [f"{len(errors)} of {n_trials} trials failed:"]
+    lines += [f"  {e}" for e in errors[:shown]]
+    if len(errors) > shown:
+        lines.append(f"  ... and {len(errors) - shown} more (the `error` column of the output)")
+    return "\n".join(lines)
+
+
+def show_warning(message: Any, category: Any, filename: str, lineno: int, file: Any = None, line: Any = None) -> None:
+    """A warning as the command prints it: ``warning: TEXT`` on stderr."""
+    print(f"warning: {message}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover
