@@ -425,7 +425,12 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
     direction (deg; None without a thigh accelerometer), and
     ``data_notes``: what it says about the methods that run
     (``knee-kinematic`` models a fixed thigh and the thigh moves; a walking
-    method on a thigh that does not move, where it finds no gait).
+    method on a thigh that does not move, where it finds no gait);
+    ``align``: whether ``limbfuse align`` can align the trial, as
+    ``limbfuse inspect`` says it: {``"needed"``: some method runs only after
+    it (``"runs after align"``), ``"possible"``: True (it aligns the
+    trial), False (it cannot: ``"reason"``, its error) or None (not checked:
+    not needed, or over 200 000 rows), ``"reason"``: str or None}.
 
     Raises:
         LimbfuseError: the file cannot be read (the message names the file
@@ -438,8 +443,8 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
             file = os.path.join(tmp, "trial.arrow")
             path.write(file)
             return inspect(file)
-    (rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read, spread, notes) = _native.inspect(
-        os.fsdecode(path)
+    (rows, span, step, stated, gaps, longest, inputs, warnings_, methods_, read, spread, (notes, align)) = (
+        _native.inspect(os.fsdecode(path))
     )
     return {
         "rows": rows,
@@ -454,4 +459,5 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
         "metadata_settings": list(read),
         "thigh_spread_deg": spread,
         "data_notes": list(notes),
+        "align": {"needed": align[0], "possible": align[1], "reason": align[2]},
     }

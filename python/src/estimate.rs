@@ -389,9 +389,14 @@ fn estimate<'py>(
             return Ok(tuple);
         };
         let mut said = Vec::new();
-        let extension = py.detach(|| {
-            imm_library_extension::extend_for_trial(&spec, &meta, cols.layout(), &watch)
-        });
+        // (the gait search: seconds to minutes; Ctrl-C stops it)
+        let search = limbfuse_sim::bslip::search::SearchSettings {
+            cancel: Some(crate::interrupt::cancelled),
+            ..Default::default()
+        };
+        let extension = crate::interrupt::detach(py, || {
+            imm_library_extension::extend_for_trial(&spec, &meta, cols.layout(), &watch, &search)
+        })?;
         if let Some(ext) = extension.map_err(|e| in_trial(&e))? {
             said.push(format!("{} on {label}: {}", spec.method(), ext.message));
             if let Some(est) = ext.estimator {
@@ -518,7 +523,7 @@ fn write_estimate(py: Python<'_>, path: PathBuf, estimate: EstimateArgs<'_>) -> 
         let view = estimate.view()?;
         let header = &estimate.0;
         let err = |e: std::io::Error| user_msg(format!("{}: cannot write: {e}", path.display()));
-        py.detach(|| {
+        crate::interrupt::detach(py, || {
             let mut file = AtomicFile::create(&path).map_err(err)?;
             let mut head = String::new();
             for l in header {
@@ -533,9 +538,13 @@ fn write_estimate(py: Python<'_>, path: PathBuf, estimate: EstimateArgs<'_>) -> 
                 line.clear();
                 view.write_row(i, &mut line, &mut buf);
                 file.write_all(&line).map_err(err)?;
+                // (Ctrl-C: nothing written, `detach` raises)
+                if crate::interrupt::poll_current() {
+                    return Ok(());
+                }
             }
             file.commit().map_err(err)
-        })
+        })?
     })
 }
 

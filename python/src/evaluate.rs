@@ -113,7 +113,7 @@ fn evaluate(
             max_lag,
             allow_trial_mismatch,
         };
-        py.detach(|| {
+        crate::interrupt::detach(py, || {
             let mut metrics = AngleMetrics::new(method, options);
             metrics.set_diagnostic_names(view.diag.iter().map(|(n, _)| n.as_str()));
             for (i, r) in cols.records().enumerate() {
@@ -126,6 +126,10 @@ fn evaluate(
                     )));
                 }
                 metrics.push(&r, &e);
+                // (Ctrl-C: `detach` raises)
+                if crate::interrupt::poll_current() {
+                    return Ok(String::new());
+                }
             }
             let ev = metrics.evaluation();
             let angles = view.content().angles;
@@ -133,7 +137,7 @@ fn evaluate(
                 return Err(user_msg(why));
             }
             Ok(ev.to_json().to_string())
-        })
+        })?
     })
 }
 

@@ -126,7 +126,8 @@ fn inspect(
     Vec<(&'static str, &'static str, String)>,
     Vec<String>,
     Option<f64>,
-    Vec<String>,
+    // the data notes and `limbfuse align`'s verdict (needed, possible, reason)
+    (Vec<String>, (bool, Option<bool>, Option<String>)),
 )> {
     guarded(|| {
         let mut reader = limbfuse_io::TrialReader::open(&path).map_err(|e| user_error(&e))?;
@@ -138,6 +139,10 @@ fn inspect(
         limbfuse_eval::data_limits::limit_by_data(&mut available, &s, &meta);
         let read = limbfuse_methods::metadata_settings(&meta, &available);
         let motion = limbfuse_eval::fixed_thigh::thigh_motion_notes(s.thigh_spread_deg, &available);
+        // Whether `limbfuse align` can align it (`inspect`'s line, the JSON's `align`).
+        let align = limbfuse_workflows::align_verdict::align_verdict(
+            &path, &meta, &layout, s.rows, &available,
+        );
         // `inspect`'s hint: the model file beside the trial, for sdre / ekf.
         let hint = limbfuse_methods::availability::needs_a_model(&available)
             .then(|| limbfuse_methods::availability::model_file_hint(&path))
@@ -172,7 +177,7 @@ fn inspect(
             methods,
             read,
             s.thigh_spread_deg,
-            motion,
+            (motion, (align.needed, align.possible, align.reason)),
         ))
     })
 }

@@ -6,17 +6,19 @@ use std::path::Path;
 use limbfuse_core::{Leg, Record};
 use limbfuse_models::bslip::BslipParams;
 use limbfuse_models::KneeSubject;
+use limbfuse_sim::bslip::search::SearchSettings;
 use limbfuse_sim::bslip::trial::{BslipTrialConfig, ComChannels};
 use limbfuse_sim::fixed_hip::FixedHipConfig;
 use limbfuse_sim::knee_fes::KneeFesConfig;
 use limbfuse_sim::{KneeScenario, Mounting, PoseRecordingConfig, Remount, Turns, WalkingConfig};
-use limbfuse_workflows::bslip_gait::{bslip_gait, BslipGaitError, GaitSource};
+use limbfuse_workflows::bslip_gait::{bslip_gait, bslip_gait_with, BslipGaitError, GaitSource};
 use limbfuse_workflows::simulated_trials::{self, SimulatedTrial};
 use limbfuse_workflows::simulator_options;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::columns::OwnedColumns;
+use crate::interrupt::detach;
 use crate::options::Options;
 use crate::trial::{trial_tuple, TrialTuple};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -68,6 +70,10 @@ fn collect<R: IntoIterator<Item = Record>>(
     let (mut cols, channels) = OwnedColumns::new(&tr.layout, 1024);
     for r in tr.records {
         cols.push(&channels, &r);
+        // (Ctrl-C: `detach` raises; the part made is dropped)
+        if crate::interrupt::poll_current() {
+            break;
+        }
     }
     (tr.meta, cols)
 }
@@ -218,17 +224,17 @@ fn simulate<'py>(
                     let walking = walking_options(&mut o, walking)?;
                     let gait_reference = o.bool("gait_reference")?.unwrap_or(false);
                     o.finish()?;
-                    let tr = py.detach(|| {
+                    let tr = detach(py, || {
                         simulated_trials::walking(walking).map(|t| match gait_reference {
                             true => collect(simulated_trials::with_gait_reference(t)),
                             false => collect(t),
                         })
-                    });
+                    })?;
                     tr.map_err(|e| user_error(&e))?
                 } else {
                     let sc = knee_options(&mut o, walking)?;
                     o.finish()?;
-                    let tr = py.detach(|| simulated_trials::knee(sc).map(collect));
+                    let tr = detach(py, || simulated_trials::knee(sc).map(collect))?;
                     tr.map_err(|e| user_error(&e))?
                 }
             }
@@ -257,12 +263,12 @@ fn simulate<'py>(
                 };
                 let calibration = o.string("calibration")?;
                 o.finish()?;
-                let tr = py.detach(|| {
+                let tr = detach(py, || {
                     simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
-                });
+                })?;
                 let tr = tr.map_err(|e| user_error(&e))?; // (its message names the simulator)
                 if let Some(path) = calibration {
-                    py.detach(|| write_knee_fes_calibration(&cfg, Path::new(&path)))?;
+                    detach(py, || write_knee_fes_calibration(&cfg, Path::new(&path)))??;
                 }
                 tr
             }
@@ -286,7 +292,7 @@ fn simulate<'py>(
                     ..d
                 };
                 o.finish()?;
-                let tr = py.detach(|| simulated_trials::fixed_hip(&cfg).map(collect));
+                let tr = detach(py, || simulated_trials::fixed_hip(&cfg).map(collect))?;
                 tr.map_err(|e| user_error(&e))? // (its message names the simulator)
             }
             "bslip" => {
@@ -332,22 +338,28 @@ fn simulate<'py>(
                         }
                     }
                 };
-                let template = py
-                    .detach(|| match &library {
-                        Some(p) => bslip_gait(speed, GaitSource::Library(Path::new(p))),
-                        None => bslip_gait(speed, GaitSource::Search(&body)),
-                    })
-                    .map_err(|e| match e {
+                // (the search: seconds; Ctrl-C stops it, `SearchSettings::cancel`)
+                let search = SearchSettings {
+                    cancel: Some(crate::interrupt::cancelled),
+                    ..SearchSettings::default()
+                };
+                let template = detach(py, || match &library {
+                    Some(p) => bslip_gait(speed, GaitSource::Library(Path::new(p))),
+                    None => bslip_gait_with(speed, GaitSource::Search(&body), &search),
+                })?
+                .map_err(|e| match e {
                         BslipGaitError::Speed(_) => {
                             user_msg(format!("simulate bslip: option `speed`: {e}"))
                         }
                         e => user_msg(format!("simulate bslip: {}", chain_message(&e))),
                     })?;
-                collect(simulated_trials::bslip(
-                    &template,
-                    &cfg,
-                    "limbfuse simulate bslip",
-                ))
+                detach(py, || {
+                    collect(simulated_trials::bslip(
+                        &template,
+                        &cfg,
+                        "limbfuse simulate bslip",
+                    ))
+                })?
             }
             "calibration" => {
                 // `limbfuse simulate calibration`: the sensors of `simulate
@@ -395,7 +407,7 @@ fn simulate<'py>(
                         cfg.duration_s()
                     )));
                 }
-                let tr = py.detach(|| simulated_trials::calibration_poses(cfg).map(collect));
+                let tr = detach(py, || simulated_trials::calibration_poses(cfg).map(collect))?;
                 tr.map_err(|e| user_error(&e))? // (its message names the simulator)
             }
             other => {

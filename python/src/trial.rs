@@ -110,16 +110,19 @@ pub fn trial_tuple<'py>(
 #[pyfunction]
 fn read_trial(py: Python<'_>, path: PathBuf) -> PyResult<TrialTuple<'_>> {
     guarded(|| {
-        let (meta, cols, hash) = py
-            .detach(|| -> Result<_, limbfuse_io::FileError> {
+        let (meta, cols, hash) =
+            crate::interrupt::detach(py, || -> Result<_, limbfuse_io::FileError> {
                 let mut reader = TrialReader::open(&path)?;
                 let meta = reader.meta().clone();
                 let (mut cols, channels) = OwnedColumns::new(reader.layout(), 1024);
                 while let Some(r) = reader.next_record()? {
                     cols.push(&channels, &r);
+                    if crate::interrupt::poll_current() {
+                        break;
+                    }
                 }
                 Ok((meta, cols, reader.content_hash()))
-            })
+            })?
             .map_err(|e| user_error(&e))?;
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
@@ -137,18 +140,22 @@ fn write_trial(py: Python<'_>, path: PathBuf, trial: TrialArgs<'_>) -> PyResult<
         let meta = trial.meta();
         let cols = trial.columns()?;
         let err = |e: std::io::Error| user_msg(format!("{}: cannot write: {e}", path.display()));
-        py.detach(|| {
+        crate::interrupt::detach(py, || {
             let mut file = AtomicFile::create(&path).map_err(err)?;
             {
                 let mut w =
                     TrialWriter::for_path(&path, &mut file, &meta, *cols.layout()).map_err(err)?;
                 for r in cols.records() {
                     w.write(&r).map_err(err)?;
+                    // (Ctrl-C: nothing written, `detach` raises)
+                    if crate::interrupt::poll_current() {
+                        return Ok(());
+                    }
                 }
                 w.finish().map_err(err)?;
             }
             file.commit().map_err(err)
-        })
+        })?
     })
 }
 

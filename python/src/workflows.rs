@@ -305,9 +305,14 @@ fn gait_library<'py>(
             rest_length: leg_length,
             ..BslipParams::default()
         };
-        let lib = py
-            .detach(|| build_library(&body, &speeds, &SearchSettings::default(), |_, _| {}))
-            .map_err(|e| user_msg(format!("gait library search: {}", chain_message(&e))))?;
+        // (minutes for many speeds; Ctrl-C stops the search)
+        let search = SearchSettings {
+            cancel: Some(crate::interrupt::cancelled),
+            ..SearchSettings::default()
+        };
+        let lib =
+            crate::interrupt::detach(py, || build_library(&body, &speeds, &search, |_, _| {}))?
+                .map_err(|e| user_msg(format!("gait library search: {}", chain_message(&e))))?;
         let file = gait_library_file(&body, &lib);
         file.write(&path).map_err(|e| user_error(&e))?;
         file.gaits

@@ -217,3 +217,26 @@ def test_attributes_are_set_once_and_errors_pickle(walking_trial):
     with pytest.raises(TypeError, match="max_lag: expected an integer"):
         limbfuse.evaluate(walking_trial, est, max_lag=1.5)  # (was LimbfuseError; every option: TypeError)
     assert "sync_lag_samples" in limbfuse.evaluate(walking_trial, est, max_lag=np.int64(2))
+
+
+def test_inspect_gives_the_align_verdict(cli, tmp_path):
+    """`limbfuse inspect` says when `limbfuse align` cannot align a trial
+    (a trunk IMU alone: no leg IMU), but `limbfuse.inspect` had no such key
+    (session 29). It now has `align`, the CLI's `--json` object: needed,
+    possible (True / False / None: not checked) and the reason, the text
+    the CLI prints."""
+    raw = limbfuse.simulate("walking", duration=12, mounting="random")
+    back = Trial(raw.t, {k: v for k, v in raw.channels.items() if k.startswith("trunk_")}, raw.meta)
+    assert limbfuse.inspect(raw)["align"] == {"needed": True, "possible": True, "reason": None}
+    aligned = limbfuse.simulate("walking", duration=12)
+    assert limbfuse.inspect(aligned)["align"] == {"needed": False, "possible": None, "reason": None}
+    verdict = limbfuse.inspect(back)["align"]
+    assert verdict["needed"] is True and verdict["possible"] is False
+    assert verdict["reason"].startswith("no leg IMU")
+    back.write(tmp_path / "back.csv")
+    text = cli("inspect", tmp_path / "back.csv").stdout
+    assert f"`limbfuse align` cannot align this trial: {verdict['reason']}\n" in text
+    import json
+
+    (cli_json,) = json.loads(cli("inspect", "--json", tmp_path / "back.csv").stdout)
+    assert cli_json["align"] == verdict

@@ -55,6 +55,16 @@ pub enum BslipGaitError {
 
 /// The gait at `speed` (m/s) from `source`.
 pub fn bslip_gait(speed: f64, source: GaitSource<'_>) -> Result<GaitTemplate, BslipGaitError> {
+    bslip_gait_with(speed, source, &SearchSettings::default())
+}
+
+/// [`bslip_gait`], a searched gait searched with `settings` (Python's
+/// `simulate("bslip")` hands in its Ctrl-C hook, `SearchSettings::cancel`).
+pub fn bslip_gait_with(
+    speed: f64,
+    source: GaitSource<'_>,
+    settings: &SearchSettings,
+) -> Result<GaitTemplate, BslipGaitError> {
     if !(speed.is_finite() && speed > 0.0 && speed <= MAX_GAIT_SPEED) {
         return Err(BslipGaitError::Speed(speed));
     }
@@ -67,13 +77,14 @@ pub fn bslip_gait(speed: f64, source: GaitSource<'_>) -> Result<GaitTemplate, Bs
                 speed,
             }),
         GaitSource::Search(body) => {
-            let lib = build_library(body, &[speed], &SearchSettings::default(), |_, _| {})
-                .map_err(|source| BslipGaitError::Search {
+            let lib = build_library(body, &[speed], settings, |_, _| {}).map_err(|source| {
+                BslipGaitError::Search {
                     speed,
                     mass: body.mass,
                     leg_length: body.rest_length,
                     source,
-                })?;
+                }
+            })?;
             Ok(lib[0].template(body))
         }
     }

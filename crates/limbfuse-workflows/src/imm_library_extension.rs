@@ -115,12 +115,14 @@ fn list(speeds: &[f64]) -> String {
 /// counted: when most lie outside the library's range ([`wanted`]), the
 /// missing gaits searched for the trial's body and the estimator over the
 /// extended family; `None` when the trial is inside the range (or the
-/// method, configuration or setting does not extend).
+/// method, configuration or setting does not extend). `settings`: the
+/// gait search's (`SearchSettings::default()`, or with Python's Ctrl-C hook).
 pub fn extend_for_trial(
     spec: &MethodSpec,
     meta: &TrialMeta,
     layout: &TrialLayout,
     watch: &SpeedRangeWatch,
+    settings: &SearchSettings,
 ) -> Result<Option<LibraryExtension>, MethodError> {
     let (Some(outside), MethodSpec::ImmBslip(s)) = (wanted(spec, watch), spec) else {
         return Ok(None);
@@ -149,14 +151,7 @@ pub fn extend_for_trial(
         step
     );
     let started = Instant::now();
-    let found = extend_library(
-        &body,
-        &end.gait,
-        end.speed,
-        &speeds,
-        outside.mean,
-        &SearchSettings::default(),
-    );
+    let found = extend_library(&body, &end.gait, end.speed, &speeds, outside.mean, settings);
     let seconds = started.elapsed().as_secs_f64();
     // (the continuation from the end gait failed: searched from the start
     // speed as `gait-library build` does)

@@ -14,6 +14,7 @@
 //! speeds ([`imm_library_extension`]).
 #![deny(missing_docs)]
 
+pub mod align_verdict;
 pub mod bslip_gait;
 pub mod coverage;
 pub mod fes_pulse_cv;

@@ -66,9 +66,14 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
                     spec.method()
                 );
             }
-        } else if let Some(ext) =
-            imm_library_extension::extend_for_trial(&spec, &meta, &layout, watch)
-                .with_context(|| a.trial.display().to_string())?
+        } else if let Some(ext) = imm_library_extension::extend_for_trial(
+            &spec,
+            &meta,
+            &layout,
+            watch,
+            &limbfuse_sim::bslip::search::SearchSettings::default(),
+        )
+        .with_context(|| a.trial.display().to_string())?
         {
             eprintln!("{}: {}", spec.method(), ext.message);
             if let Some(est) = ext.estimator {

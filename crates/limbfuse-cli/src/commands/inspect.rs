@@ -6,6 +6,7 @@ use limbfuse_eval::fixed_thigh::thigh_motion_notes;
 use limbfuse_eval::{summarise, TrialSummary};
 use limbfuse_io::{TrialMeta, TrialReader};
 use limbfuse_methods::{availability, metadata_settings, Availability};
+use limbfuse_workflows::align_verdict::{align_verdict, AlignVerdict};
 
 use crate::cli::InspectArgs;
 
@@ -36,19 +37,14 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         limbfuse_eval::data_limits::limit_by_data(&mut methods, &s, &meta);
         let read = metadata_settings(&meta, &methods);
         let motion = thigh_motion_notes(s.thigh_spread_deg, &methods);
+        let align = align_verdict(path, &meta, &layout, s.rows, &methods);
         if a.json {
-            json.push(to_json(&label, &s, &methods, &read, &motion));
+            json.push(to_json(&label, &s, &methods, &read, &motion, &align));
         } else {
             let hint = limbfuse_methods::availability::needs_a_model(&methods)
                 .then(|| limbfuse_methods::availability::model_file_hint(path))
                 .flatten();
-            let after_align = methods
-                .iter()
-                .any(|(_, a)| matches!(a, Availability::Runs { after_align: true }));
-            let align_fails = after_align
-                .then(|| super::inspect_align::align_failure(path, &meta, &layout, s.rows))
-                .flatten();
-            print_text(&label, &meta, &s, methods, hint, align_fails);
+            print_text(&label, &meta, &s, methods, hint, &align);
             for (title, lines) in [
                 (
                     "what the metadata sets (or its defaults, when it says nothing):",
@@ -84,6 +80,7 @@ fn to_json(
     methods: &[(limbfuse_methods::MethodName, Availability)],
     read: &[String],
     motion: &[String],
+    align: &AlignVerdict,
 ) -> serde_json::Value {
     let methods: serde_json::Map<String, serde_json::Value> = methods
         .iter()
@@ -113,6 +110,11 @@ fn to_json(
         "metadata_settings": read,
         "thigh_spread_deg": s.thigh_spread_deg,
         "data_notes": motion,
+        "align": {
+            "needed": align.needed,
+            "possible": align.possible,
+            "reason": align.reason,
+        },
     })
 }
 
@@ -123,7 +125,7 @@ fn print_text(
     s: &TrialSummary,
     methods: Vec<(limbfuse_methods::MethodName, Availability)>,
     model_hint: Option<String>,
-    align_fails: Option<String>,
+    align: &AlignVerdict,
 ) {
     print!("{}", describe(label, meta, s));
     let (mut runs, mut settings, mut not, mut no_data) =
@@ -131,7 +133,7 @@ fn print_text(
     for (m, a) in methods {
         match a {
             Availability::Runs { after_align: false } => runs.push(m.name().to_string()),
-            Availability::Runs { after_align: true } => runs.push(match &align_fails {
+            Availability::Runs { after_align: true } => runs.push(match &align.reason {
                 None => format!(
                     "{} (after `limbfuse align`: it reads aligned frames)",
                     m.name()
@@ -153,8 +155,8 @@ fn print_text(
         "methods that run on it with their defaults: {}",
         or_none(&runs.join(", "))
     );
-    if let Some(why) = &align_fails {
-        println!("`limbfuse align` cannot align this trial: {why}");
+    if let Some(line) = align.line() {
+        println!("{line}");
     }
     for (title, lines) in [
         (

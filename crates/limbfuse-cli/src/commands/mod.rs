@@ -12,7 +12,6 @@ mod fes;
 mod gait;
 mod import;
 mod inspect;
-mod inspect_align;
 mod knee_demo;
 mod method_list;
 mod mirror;

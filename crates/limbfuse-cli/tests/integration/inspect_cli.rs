@@ -410,3 +410,53 @@ fn a_randomly_mounted_fes_trial_declares_raw_frames_until_aligned() {
     );
     assert!(code == 0 && !e.contains("restarted"), "{e}");
 }
+
+/// `inspect` printed "`limbfuse align` cannot align this trial: WHY" (a
+/// trunk IMU alone: no leg IMU), but `inspect --json` had no such key: a
+/// script could not tell that the methods listed "runs after align" would
+/// never run (session 29). Each trial's object now has `align`: `needed`,
+/// `possible` (true / false / null: not checked) and `reason`, the text
+/// the human output prints.
+#[test]
+fn inspect_json_gives_the_align_verdict() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    for (mounting, file) in [("random", "raw.csv"), ("aligned", "w.csv")] {
+        let args = [
+            "simulate",
+            "walking",
+            "--duration",
+            "12",
+            "--mounting",
+            mounting,
+            "-o",
+            file,
+        ];
+        assert_eq!(run(&args, dir).0, 0);
+    }
+    crate::support::keep_columns(dir, "raw.csv", "back.csv", |n| n.starts_with("trunk_"));
+    let (code, out, err) = run(&["inspect", "--json", "raw.csv", "back.csv", "w.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let align = |i: usize| v[i]["align"].clone();
+    assert_eq!(
+        align(0),
+        serde_json::json!({"needed": true, "possible": true, "reason": null})
+    );
+    assert_eq!(align(1)["needed"], true);
+    assert_eq!(align(1)["possible"], false);
+    let reason = align(1)["reason"].as_str().unwrap().to_string();
+    assert!(reason.starts_with("no leg IMU"), "{reason}");
+    assert_eq!(
+        align(2),
+        serde_json::json!({"needed": false, "possible": null, "reason": null})
+    );
+    // the same text as the human output
+    let (code, text, _) = run(&["inspect", "back.csv"], dir);
+    assert_eq!(code, 0);
+    assert!(
+        text.lines()
+            .any(|l| l == format!("`limbfuse align` cannot align this trial: {reason}")),
+        "{text}"
+    );
+}

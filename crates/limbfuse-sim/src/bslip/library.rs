@@ -99,7 +99,7 @@ pub fn build_library(
     settings: &SearchSettings,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<LibraryGait>, SearchError> {
-    let sim = StepSimulator::new(*body);
+    let sim = StepSimulator::new(*body).with_cancel(settings.cancel);
     let mut targets: Vec<f64> = speeds.to_vec();
     targets.sort_by(|a, b| b.total_cmp(a));
     let mut out: Vec<LibraryGait> = Vec::with_capacity(targets.len());
@@ -165,7 +165,7 @@ pub fn extend_library(
     reach: f64,
     settings: &SearchSettings,
 ) -> LibraryExtension {
-    let sim = StepSimulator::new(*body);
+    let sim = StepSimulator::new(*body).with_cancel(settings.cancel);
     let outwards = speeds.first().map_or(1.0, |v| (v - end_speed).signum());
     let covers = |v: f64| (v - reach) * outwards >= -1e-9;
     let mut out = LibraryExtension {

@@ -31,7 +31,7 @@ use super::step::{initial_state, StepFailure, StepOutcome, StepSimulator};
 use super::step_law;
 
 /// Settings of the gait search.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct SearchSettings {
     /// Upper stiffness limit `k_max` (N/m).
     pub k_max: f64,
@@ -43,6 +43,11 @@ pub struct SearchSettings {
     pub k_bracket: f64,
     /// Brent iteration limit.
     pub max_iterations: u64,
+    /// A cancellation hook, polled before every simulated step of the
+    /// search (a few hundred microseconds each): once it returns true,
+    /// every step fails with [`StepFailure::Cancelled`] and the search
+    /// ends within milliseconds (Python's Ctrl-C; `None`: never).
+    pub cancel: Option<fn() -> bool>,
 }
 
 impl Default for SearchSettings {
@@ -58,6 +63,7 @@ impl Default for SearchSettings {
             periodic_tol: 1e-8,
             k_bracket: 0.3,
             max_iterations: 30,
+            cancel: None,
         }
     }
 }

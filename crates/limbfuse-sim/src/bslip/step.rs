@@ -24,6 +24,9 @@ pub enum StepFailure {
     /// A parameter is not finite or not positive.
     #[error("invalid gait parameters")]
     InvalidParameters,
+    /// The simulator's cancellation hook asked to stop.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// Outcome of one step starting at MS with the trailing foot at the origin.
@@ -98,6 +101,9 @@ pub struct StepSimulator {
     pub body: BslipParams,
     /// Integration tolerances.
     pub tol: Tolerances,
+    /// Polled before every step: true fails it with
+    /// [`StepFailure::Cancelled`] (`SearchSettings::cancel`).
+    pub cancel: Option<fn() -> bool>,
 }
 
 impl StepSimulator {
@@ -106,7 +112,13 @@ impl StepSimulator {
         StepSimulator {
             body,
             tol: Tolerances::default(),
+            cancel: None,
         }
+    }
+
+    /// This simulator with the search's cancellation hook.
+    pub fn with_cancel(self, cancel: Option<fn() -> bool>) -> Self {
+        StepSimulator { cancel, ..self }
     }
 
     /// Simulates one step of `gait` from its MS initial state (`Left` side).
@@ -121,6 +133,9 @@ impl StepSimulator {
         x0: &State,
         side: Side,
     ) -> Result<StepOutcome, StepFailure> {
+        if self.cancel.is_some_and(|c| c()) {
+            return Err(StepFailure::Cancelled);
+        }
         let p = gait.model(&self.body);
         let a = gait.to_array();
         if a.iter().any(|v| !v.is_finite()) || p.stiffness <= 0.0 || gait.height <= 0.0 {
