@@ -192,12 +192,19 @@ fn sweep_rig() {
         let records = import_knee_rig(&dir.join(format!("knee-rig/Trial_0{k}.csv")))
             .unwrap()
             .records;
+        let window = std::env::var("LATE_WINDOW")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(1250);
         let p = KneeSelfAlignParams {
-            window: 1250,
+            window,
             ..Default::default()
         };
         for (m, mut est) in methods(p) {
-            for s in starts() {
+            let only: Option<f64> = std::env::var("LATE_START")
+                .ok()
+                .and_then(|s| s.parse().ok());
+            for s in only.map_or_else(starts, |s| vec![s]) {
                 let a = score(&records, est.as_mut(), s, &[(30.0, 1e9)], 0);
                 println!(
                     "rig{k} {m} start {s:.1}: abs {:.3} free {:.3} r {:.4} n {}",
