@@ -53,7 +53,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         bail!("{}: no samples", a.trial.display());
     };
     let diag = |key: KneeDiag| last.diagnostic(key);
-    let Some(g) = est.geometry() else {
+    let Some(g) = est.geometry_or_deferred() else {
         let why = match est.last_window().0 {
             WindowStatus::Unobservable => format!(
                 "the motion does not determine the axes (information {:.2e} < {:.0e} (rad/s)^2): record some walking or knee flexion",

@@ -26,6 +26,8 @@
 
 pub mod acc_scale;
 pub mod angle;
+#[cfg(test)]
+mod deferral_tests;
 pub mod delay;
 mod diag;
 mod fuser;
@@ -55,6 +57,7 @@ pub use diag::KneeDiag;
 use fuser::Fuser;
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 use position_fusion::FusedPositions;
+use upright::UprightAxes;
 pub use window::Geometry;
 use window::{identify, Ring, WindowOutcome};
 
@@ -120,6 +123,9 @@ pub struct KneeSelfAlign {
     flexion: sign::FlexionEvidence,
     acc_trusted: bool,
     fixed: bool,
+    /// A first window's geometry not taken because the window showed no
+    /// flexion axis ([`Self::defers`], ours); `Some` once deferred.
+    deferred: Option<Geometry>,
     /// The raw rows and the thigh-shank offset in use ([`delay`], ours).
     delay: DelayLine,
     /// This sample's thigh and shank readings as paired by that offset.
@@ -173,6 +179,7 @@ impl KneeSelfAlign {
             flexion: sign::FlexionEvidence::default(),
             acc_trusted: true,
             fixed: false,
+            deferred: None,
             delay: DelayLine::new(params.max_delay, params.window),
             aligned: [ImuSample::default(); 2],
         }
@@ -230,6 +237,14 @@ impl KneeSelfAlign {
         self.geometry.as_ref()
     }
 
+    /// [`Self::geometry`], or else the geometry of a first window that was
+    /// not taken because it showed no flexion axis (docs/KNEE_SELFALIGN.md,
+    /// "A first window without a flexion axis"):
+    /// what a single window (`limbfuse align --joint-axis`) identified.
+    pub fn geometry_or_deferred(&self) -> Option<&Geometry> {
+        self.geometry.as_ref().or(self.deferred.as_ref())
+    }
+
     fn saturated(&self, g: &Option<Vector3<f64>>) -> bool {
         saturated(g, self.params.gyro_range)
     }
@@ -278,6 +293,26 @@ impl KneeSelfAlign {
         }
     }
 
+    /// Ours (2026-12-05): a *first* window whose hinge does not fit and in which
+    /// a segment turns mainly about its long axis (the upright prior's "no
+    /// flexion", [`UprightAxes::NoFlexion`]) while the segments turn about
+    /// their long axes by more than [`upright::TURN_NET`] in all (a turn on
+    /// the spot: a recording that starts turning) shows no flexion axis; its eq-2 axes were taken
+    /// anyway, and every later window kept their sides by continuity and eq 4
+    /// integrated the turn about them. On the shared S02 walk started 0.8-3.4 s
+    /// later (a turn inside the first 3 s window) the knee came out 8-36 deg
+    /// offset-free, up to 94 deg off in absolute terms, or negated. Such a
+    /// window is now not taken (no angle, `diag_window_status` 3): the next
+    /// window is identified as a first window. Only once per run: if that one
+    /// shows no flexion either, its eq-2 axes are taken as before (a recording
+    /// that never shows one still gets an angle, one window later).
+    fn defers(&self, axis_source: f64) -> bool {
+        self.geometry.is_none()
+            && self.deferred.is_none()
+            && axis_source == UprightAxes::NoFlexion.code()
+            && upright::net_turn(&self.window) > upright::TURN_NET
+    }
+
     fn end_window(&mut self) {
         self.windows += 1;
         self.usable = (0..self.window.len())
@@ -304,6 +339,12 @@ impl KneeSelfAlign {
                 axis_source,
                 fused,
             } => {
+                if self.defers(axis_source) {
+                    self.deferred = Some(geometry);
+                    self.status = WindowStatus::Unobservable;
+                    self.information = information;
+                    return;
+                }
                 let open = !self.sign_committed && acc_trusted == Some(false);
                 self.flexion
                     .pool(&self.window, self.geometry.as_ref(), &mut geometry, open);
@@ -418,6 +459,7 @@ impl Estimator for KneeSelfAlign {
         self.flexion = sign::FlexionEvidence::default();
         self.acc_trusted = true;
         self.fixed = false;
+        self.deferred = None;
         self.delay.clear();
     }
 

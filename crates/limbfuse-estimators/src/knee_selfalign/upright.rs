@@ -50,6 +50,14 @@ pub const TURN_BLOCK_S: f64 = 1.0;
 /// on the spot is 65-110 deg/s.
 pub const TURN_RATE: f64 = 45.0 * core::f64::consts::PI / 180.0;
 
+/// A window whose segments turn about their long axes by more than this in
+/// all ([`net_turn`], rad; 30 deg) holds a turn on the spot, a change of
+/// heading. Measured on first windows: 0-17 deg on the S02 walk's straight
+/// passes, 6-23 deg on the free 3D hinge of the tests (an oscillating axial
+/// rotation), 40-185 deg on the S02 walk started 0.8-3.4 s later (its turn
+/// in the window).
+pub const TURN_NET: f64 = 30.0 * core::f64::consts::PI / 180.0;
+
 /// Settings of the upright-leg axis prior.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UprightPrior {
@@ -169,6 +177,27 @@ impl Sums {
         }
         libm::fabs(rate / 2.0) > TURN_RATE
     }
+}
+
+/// The net turn of the window about the segments' long axes (rad): the
+/// mean of the thigh's and the shank's mean rate about their mean specific
+/// force, times the window's span. A turn on the spot (a change of heading)
+/// adds up; the axial rotation of walking, or of a free hinge, is an
+/// oscillation whose net turn stays small.
+pub fn net_turn(ring: &Ring) -> f64 {
+    let s = sums(ring);
+    if s.n_gyr < 2 || ring.len() < 2 {
+        return 0.0;
+    }
+    let span = ring.get(ring.len() - 1).t - ring.get(0).t;
+    let mut rate = 0.0;
+    for seg in 0..2 {
+        let Some(a) = s.acc[seg].try_normalize(1e-9) else {
+            return 0.0;
+        };
+        rate += a.dot(&s.gyr[seg]) / s.n_gyr as f64;
+    }
+    libm::fabs(rate / 2.0) * span
 }
 
 fn sums(ring: &Ring) -> Sums {
