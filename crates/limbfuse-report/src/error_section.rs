@@ -34,10 +34,14 @@ pub(crate) fn check_scoring(
         .any(|(_, e)| !is_event_estimate(e));
     let why = if gait_trial {
         "the trial is a gait trial (paper 003), scored for gait phase, CoM and speed"
-    } else if !events.is_empty() {
-        "its estimates are scored for gait events and walking speed"
+    } else if !estimates.is_empty() && estimates.iter().all(is_event_estimate) {
+        if events.is_empty() {
+            "the estimates are of gait events and walking speed, and the trial has no contact or speed reference"
+        } else {
+            "the estimates are scored for gait events and walking speed"
+        }
     } else {
-        "no estimate of this report is scored against a reference"
+        "the trial has no reference angle to score against"
     };
     if !angles {
         let options: Vec<_> = scoring

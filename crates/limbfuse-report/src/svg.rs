@@ -164,7 +164,7 @@ impl Plot {
             let (top, bottom) = ((-c.all[1] * ys).floor(), (-c.all[0] * ys).ceil());
             let _ = write!(
                 s,
-                r#"<rect class="clipped" x="{bx}" y="{top}" width="{}" height="{}"><title>values beyond the y range (start transient)</title></rect>"#,
+                r#"<rect class="clipped" x="{bx}" y="{top}" width="{}" height="{}"/>"#,
                 ((c.until_s * xs).round() - bx).max(1.0),
                 (bottom - top).max(1.0)
             );

@@ -120,7 +120,7 @@ mod tests {
         assert!((c.lo + 10.0).abs() < 0.01 && (c.hi - 11.0).abs() < 0.01, "{c:?}");
         assert!(c.all[1] > 90.0);
         assert_eq!(c.exceeding, vec![0]);
-        assert!(c.until_s > 0.8 && c.until_s < 1.0, "{}", c.until_s);
+        assert!(c.until_s > 0.5 && c.until_s < 1.0, "{}", c.until_s);
         // the same input, the same answer
         assert_eq!(start_clip(&t, Some(&r), &[&e]), Some(c));
     }
