@@ -380,14 +380,22 @@ fn report(
         let html = py
             .detach(|| limbfuse_report::render(&input))
             .map_err(|e| match &e {
-                limbfuse_report::ReportError::ScoringNotApplicable { options, why } => user_msg(
-                    format!(
+                limbfuse_report::ReportError::ScoringNotApplicable { options, why } => {
+                    user_msg(format!(
                         "report: {}: {} {}",
-                        options.iter().map(|o| o.keyword()).collect::<Vec<_>>().join(", "),
-                        if options.len() == 1 { "applies" } else { "apply" },
+                        options
+                            .iter()
+                            .map(|o| o.keyword())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        if options.len() == 1 {
+                            "applies"
+                        } else {
+                            "apply"
+                        },
                         why.replace("--window", "window")
-                    ),
-                ),
+                    ))
+                }
                 limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::MaxLagTooLong {
                     ..
                 }) => user_msg(format!("report: max_lag {max_lag}: {e}")),

@@ -18,7 +18,10 @@ impl Evaluation {
             .flatten()
             .collect();
         if self.mean_rmse().is_some() {
-            notes.extend(self.exact_channels_phrase().map(|p| format!("mean RMSE {p}")));
+            notes.extend(
+                self.exact_channels_phrase()
+                    .map(|p| format!("mean RMSE {p}")),
+            );
         }
         notes.extend(self.knee_zero_note().map(|n| format!("note: {n}")));
         notes.extend(self.rate_notes());
@@ -47,11 +50,7 @@ impl Evaluation {
     /// "without thigh: equal to the reference ...": the channels left out
     /// of the mean RMSE ([`Evaluation::exact_channels`]), `None` when none is.
     pub(crate) fn exact_channels_phrase(&self) -> Option<String> {
-        let exact: Vec<&str> = self
-            .exact_channels()
-            .iter()
-            .map(|c| c.name())
-            .collect();
+        let exact: Vec<&str> = self.exact_channels().iter().map(|c| c.name()).collect();
         (!exact.is_empty()).then(|| {
             format!(
                 "without {}: equal to the reference on every sample to 1e-6 rad, a value the estimator was given",
@@ -88,7 +87,9 @@ impl Evaluation {
     pub(crate) fn rate_notes(&self) -> Vec<String> {
         let mut s = Vec::new();
         if let Some(ar) = self.accel_reliability_pct {
-            s.push(format!("accelerometer reliability AR: {ar:.1} % of samples"));
+            s.push(format!(
+                "accelerometer reliability AR: {ar:.1} % of samples"
+            ));
         }
         if let Some(agr) = self.accel_global_reliability_pct {
             s.push(format!(

@@ -53,7 +53,11 @@ pub(crate) fn check_scoring(
             return Err(ReportError::ScoringNotApplicable {
                 why: format!(
                     "to angle errors only{}; {why}",
-                    if events.is_empty() { "" } else { " (--window to gait events too)" }
+                    if events.is_empty() {
+                        ""
+                    } else {
+                        " (--window to gait events too)"
+                    }
                 ),
                 options,
             });
@@ -84,11 +88,12 @@ fn evaluate_notes(
 ) {
     // (text, warning?, the estimates it is about)
     let mut notes: Vec<(String, bool, Vec<usize>)> = Vec::new();
-    let mut add = |text: String, warning: bool, label: usize| {
-        match notes.iter_mut().find(|(t, _, _)| *t == text) {
-            Some((_, _, l)) => l.push(label),
-            None => notes.push((text, warning, vec![label])),
-        }
+    let mut add = |text: String, warning: bool, label: usize| match notes
+        .iter_mut()
+        .find(|(t, _, _)| *t == text)
+    {
+        Some((_, _, l)) => l.push(label),
+        None => notes.push((text, warning, vec![label])),
     };
     for (l, ev) in evals.iter().enumerate() {
         if let Some(r) = &ev.resets {
@@ -200,7 +205,11 @@ pub(crate) fn error_section(
         }
         s.push_str(".");
         if scoring.has_window() {
-            let _ = write!(s, " Window {} (<code>--window</code>).", esc(&scoring.window.to_string()));
+            let _ = write!(
+                s,
+                " Window {} (<code>--window</code>).",
+                esc(&scoring.window.to_string())
+            );
         }
         if scoring.offset_free || scoring.max_lag > 0 {
             s.push_str(" <code>--offset-free</code> and <code>--max-lag</code> apply to angle errors only, not to this table.");
@@ -215,4 +224,3 @@ pub(crate) fn error_section(
     }
     s.push_str("</section>");
 }
-

@@ -16,9 +16,9 @@ use crate::events_panel::{has_event_reference, is_event_estimate};
 use crate::gait_cycle::{cycle_mean_sd, find_cycles};
 use crate::header::header;
 use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
+use crate::scoring::{error_column, Scoring};
 use crate::svg::{esc, Band, Line, Plot};
 use crate::time_base::TimeBase;
-use crate::scoring::{error_column, Scoring};
 use crate::{ReportError, ReportInput};
 
 const STYLE: &str = include_str!("report.css");
@@ -96,7 +96,13 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         }
         estimates.push(e);
     }
-    crate::error_section::check_scoring(input, &evals, &estimates, &event_evals, !gait_evals.is_empty())?;
+    crate::error_section::check_scoring(
+        input,
+        &evals,
+        &estimates,
+        &event_evals,
+        !gait_evals.is_empty(),
+    )?;
     let labels: Vec<String> = unique_labels(&estimates);
     for (e, l) in estimates.iter_mut().zip(&labels) {
         e.label = l.clone();

@@ -142,7 +142,13 @@ pub fn error_column(
         .unwrap_or(0);
     let offset = ev
         .filter(|ev| ev.offset_free)
-        .and_then(|ev| ev.channels.iter().find(|(c, _)| *c == channel)?.1.mean_error())
+        .and_then(|ev| {
+            ev.channels
+                .iter()
+                .find(|(c, _)| *c == channel)?
+                .1
+                .mean_error()
+        })
         .unwrap_or(0.0);
     (0..reference.len())
         .map(|i| {
@@ -166,7 +172,9 @@ mod tests {
     #[test]
     fn the_error_column_is_the_error_the_evaluation_scored() {
         let thigh = AngleChannel::Segment(Segment::Thigh);
-        let reference: Column = (0..50).map(|k| Some(0.1 * (k as f64 * 0.3).sin())).collect();
+        let reference: Column = (0..50)
+            .map(|k| Some(0.1 * (k as f64 * 0.3).sin()))
+            .collect();
         // the estimate trails by 2 samples and sits 0.05 rad high
         let estimate: Column = (0..50)
             .map(|k| Some(0.1 * ((k as f64 - 2.0) * 0.3).sin() + 0.05))

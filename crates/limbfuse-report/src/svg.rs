@@ -140,10 +140,9 @@ impl Plot {
             ((-y0 * ys).ceil() - by).max(1.0),
         );
         let mut s = String::new();
-        let clip_until = self
-            .y_clip
-            .as_ref()
-            .map_or(String::new(), |c| format!(r#" data-clip-until="{}""#, (c.until_s * xs).round()));
+        let clip_until = self.y_clip.as_ref().map_or(String::new(), |c| {
+            format!(r#" data-clip-until="{}""#, (c.until_s * xs).round())
+        });
         let _ = write!(
             s,
             r#"<svg class="plot{zoom}" id="{id}" data-plot="{kind}" data-x-scale="{xs}" data-y-scale="{ys}" data-min-y-span="{min_span}"{clip_until} data-x-label="{xl}" data-y-label="{yl}" viewBox="0 0 {WIDTH} {HEIGHT}" role="img" aria-label="{title}">"#,

@@ -117,7 +117,10 @@ mod tests {
     fn a_start_transient_is_clipped_and_named() {
         let (t, r, e) = walk(3000, 90.0, 100);
         let c = start_clip(&t, Some(&r), &[&e]).expect("clipped");
-        assert!((c.lo + 10.0).abs() < 0.01 && (c.hi - 11.0).abs() < 0.01, "{c:?}");
+        assert!(
+            (c.lo + 10.0).abs() < 0.01 && (c.hi - 11.0).abs() < 0.01,
+            "{c:?}"
+        );
         assert!(c.all[1] > 90.0);
         assert_eq!(c.exceeding, vec![0]);
         assert!(c.until_s > 0.5 && c.until_s < 1.0, "{}", c.until_s);

@@ -65,11 +65,30 @@ fn report_scores_with_evaluates_options_and_states_them() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     run_ok(
-        &["simulate", "walking", "--duration", "20", "--seed", "3", "-o", "w.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "20",
+            "--seed",
+            "3",
+            "-o",
+            "w.csv",
+        ],
         dir,
     );
     for m in ["local", "global"] {
-        run_ok(&["estimate", "--method", m, "w.csv", "-o", &format!("{m}.csv")], dir);
+        run_ok(
+            &[
+                "estimate",
+                "--method",
+                m,
+                "w.csv",
+                "-o",
+                &format!("{m}.csv"),
+            ],
+            dir,
+        );
     }
     let flags = ["--window", "5:15", "--offset-free", "--max-lag", "3"];
     let mut args = vec!["report", "w.csv", "local.csv", "global.csv", "-o", "r.html"];
@@ -84,7 +103,10 @@ fn report_scores_with_evaluates_options_and_states_them() {
     assert!(html.contains(
         "limbfuse report w.csv local.csv global.csv -o r.html --window 5:15 --offset-free --max-lag 3"
     ));
-    assert!(html.contains("Scored as the tables:"), "the gait-cycle note");
+    assert!(
+        html.contains("Scored as the tables:"),
+        "the gait-cycle note"
+    );
     let page_notes = notes(&html);
     for (col, m) in ["local", "global"].iter().enumerate() {
         let est = format!("{m}.csv");
@@ -97,7 +119,10 @@ fn report_scores_with_evaluates_options_and_states_them() {
         }
         let plain = run_ok(&["evaluate", "w.csv", &est, "--json"], dir);
         let plain: serde_json::Value = serde_json::from_slice(&plain).unwrap();
-        assert_ne!(plain["rmse_deg"]["trunk"], v["rmse_deg"]["trunk"], "the flags change it");
+        assert_ne!(
+            plain["rmse_deg"]["trunk"], v["rmse_deg"]["trunk"],
+            "the flags change it"
+        );
         // evaluate's text notes are on the page, word for word
         a.retain(|x| *x != "--json");
         let text = String::from_utf8(run_ok(&a, dir)).unwrap();
@@ -105,7 +130,10 @@ fn report_scores_with_evaluates_options_and_states_them() {
             .lines()
             .filter(|l| l.starts_with("offset-free:") || l.starts_with("synchronised:"))
         {
-            assert!(page_notes.iter().any(|n| n == line), "{line} not in {page_notes:?}");
+            assert!(
+                page_notes.iter().any(|n| n == line),
+                "{line} not in {page_notes:?}"
+            );
         }
     }
     // Without flags: the note says every sample, and the command has none.
@@ -123,18 +151,45 @@ fn report_refuses_scoring_options_as_evaluate_does() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     run_ok(
-        &["simulate", "walking", "--duration", "6", "--gait-reference", "-o", "w.csv"],
+        &[
+            "simulate",
+            "walking",
+            "--duration",
+            "6",
+            "--gait-reference",
+            "-o",
+            "w.csv",
+        ],
         dir,
     );
-    run_ok(&["estimate", "--method", "local", "w.csv", "-o", "l.csv"], dir);
-    run_ok(&["estimate", "--method", "gait-events", "w.csv", "-o", "g.csv"], dir);
+    run_ok(
+        &["estimate", "--method", "local", "w.csv", "-o", "l.csv"],
+        dir,
+    );
+    run_ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "w.csv",
+            "-o",
+            "g.csv",
+        ],
+        dir,
+    );
     let report = |extra: &[&str], est: &str| {
         let mut a = vec!["report", "w.csv", est, "-o", "r.html"];
         a.extend(extra);
         limbfuse(&a, dir)
     };
-    assert_user_error(&report(&["--window", "9:2"], "l.csv"), &["--window", "not after its start"]);
-    assert_user_error(&report(&["--window", "x"], "l.csv"), &["--window: expected START:END"]);
+    assert_user_error(
+        &report(&["--window", "9:2"], "l.csv"),
+        &["--window", "not after its start"],
+    );
+    assert_user_error(
+        &report(&["--window", "x"], "l.csv"),
+        &["--window: expected START:END"],
+    );
     assert_user_error(
         &report(&["--max-lag", "100000"], "l.csv"),
         &["--max-lag 100000", "longer than half the trial"],
@@ -145,7 +200,10 @@ fn report_refuses_scoring_options_as_evaluate_does() {
     );
     assert_user_error(
         &report(&["--offset-free"], "g.csv"),
-        &["--offset-free: applies to angle errors only", "scored for gait events"],
+        &[
+            "--offset-free: applies to angle errors only",
+            "scored for gait events",
+        ],
     );
     assert!(!dir.join("r.html").exists());
     // --window applies to gait events: accepted, and stated in their note
@@ -155,10 +213,25 @@ fn report_refuses_scoring_options_as_evaluate_does() {
     // on a trial without an event reference nothing is scored: refused
     crate::support::without_references(dir, "w.csv", "n.csv");
     let o = limbfuse(
-        &["report", "n.csv", "g.csv", "-o", "n.html", "--window", "1:5", "--allow-trial-mismatch"],
+        &[
+            "report",
+            "n.csv",
+            "g.csv",
+            "-o",
+            "n.html",
+            "--window",
+            "1:5",
+            "--allow-trial-mismatch",
+        ],
         dir,
     );
-    assert_user_error(&o, &["--window: applies to angle errors only", "no contact or speed reference"]);
+    assert_user_error(
+        &o,
+        &[
+            "--window: applies to angle errors only",
+            "no contact or speed reference",
+        ],
+    );
 }
 
 /// `evaluate`'s notes beside the table: on a knee-FES trial, `sdre`'s
@@ -168,8 +241,14 @@ fn report_refuses_scoring_options_as_evaluate_does() {
 fn report_shows_evaluates_notes_beside_the_table() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    run_ok(&["simulate", "knee-fes", "--duration", "4", "-o", "f.csv"], dir);
-    run_ok(&["estimate", "--method", "sdre", "f.csv", "-o", "s.csv"], dir);
+    run_ok(
+        &["simulate", "knee-fes", "--duration", "4", "-o", "f.csv"],
+        dir,
+    );
+    run_ok(
+        &["estimate", "--method", "sdre", "f.csv", "-o", "s.csv"],
+        dir,
+    );
     run_ok(&["report", "f.csv", "s.csv", "-o", "r.html"], dir);
     let html = read(dir, "r.html");
     let text = String::from_utf8(run_ok(&["evaluate", "f.csv", "s.csv"], dir)).unwrap();
@@ -195,15 +274,46 @@ fn s02_report_notes_aligns_assumed_zero_as_evaluate_does() {
         return;
     }
     for m in ["chain", "global"] {
-        run_ok(&["estimate", "--method", m, "s02al.csv", "-o", &format!("{m}.csv")], dir);
+        run_ok(
+            &[
+                "estimate",
+                "--method",
+                m,
+                "s02al.csv",
+                "-o",
+                &format!("{m}.csv"),
+            ],
+            dir,
+        );
     }
     let text = String::from_utf8(run_ok(&["evaluate", "s02al.csv", "chain.csv"], dir)).unwrap();
-    let note = text.lines().find(|l| l.starts_with("note: `align`")).expect("evaluate's note");
-    run_ok(&["report", "s02al.csv", "chain.csv", "global.csv", "-o", "r.html"], dir);
+    let note = text
+        .lines()
+        .find(|l| l.starts_with("note: `align`"))
+        .expect("evaluate's note");
+    run_ok(
+        &[
+            "report",
+            "s02al.csv",
+            "chain.csv",
+            "global.csv",
+            "-o",
+            "r.html",
+        ],
+        dir,
+    );
     let n = notes(&read(dir, "r.html"));
     assert_eq!(n.iter().filter(|x| *x == note).count(), 1, "{n:?}");
     run_ok(
-        &["report", "s02al.csv", "chain.csv", "global.csv", "-o", "o.html", "--offset-free"],
+        &[
+            "report",
+            "s02al.csv",
+            "chain.csv",
+            "global.csv",
+            "-o",
+            "o.html",
+            "--offset-free",
+        ],
         dir,
     );
     let n = notes(&read(dir, "o.html"));
@@ -220,8 +330,14 @@ fn s02_report_notes_aligns_assumed_zero_as_evaluate_does() {
 fn a_start_transient_does_not_set_the_y_range() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    run_ok(&["simulate", "walking", "--duration", "20", "-o", "w.csv"], dir);
-    run_ok(&["estimate", "--method", "local", "w.csv", "-o", "l.csv"], dir);
+    run_ok(
+        &["simulate", "walking", "--duration", "20", "-o", "w.csv"],
+        dir,
+    );
+    run_ok(
+        &["estimate", "--method", "local", "w.csv", "-o", "l.csv"],
+        dir,
+    );
     let text = read(dir, "l.csv");
     let edited = edit_cells(&text, |row, name, cell| {
         (name == "trunk" && row < 100).then(|| {
@@ -238,7 +354,10 @@ fn a_start_transient_does_not_set_the_y_range() {
     assert!(until > 0.5 && until < 1.0, "{until}");
     let start = html.find(r#"id="clip-note-trunk""#).unwrap();
     let sentence = &html[start..start + html[start..].find("</p>").unwrap()];
-    assert!(sentence.contains("the first 1.0 s of <code>t.csv</code>"), "{sentence}");
+    assert!(
+        sentence.contains("the first 1.0 s of <code>t.csv</code>"),
+        "{sentence}"
+    );
     // the plot's y range (viewBox, in 1/y-scale deg) stays within the walk's
     let svg = &html[html.find(r#"id="plot-angle-trunk""#).unwrap()..];
     let ys: f64 = svg["data-y-scale=\"".len() + svg.find("data-y-scale=\"").unwrap()..]
