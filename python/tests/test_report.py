@@ -59,7 +59,7 @@ def test_report_scores_with_evaluates_options_as_the_cli(walking_file, tmp_path,
     html = out.read_text()
     ev = limbfuse.evaluate(trial, limbfuse.read_estimate(est), window="2:8", offset_free=True, max_lag=3)
     assert f"<td>{ev['rmse_deg']['thigh']:.3f}</td>" in html
-    assert "window='2.0:8.0', offset_free=True, max_lag=3" in html, "the recorded call"
+    assert "window=&#39;2.0:8.0&#39;, offset_free=True, max_lag=3" in html, "the recorded call (escaped)"
     cli("report", walking_file, est, "-o", tmp_path / "cli.html", "--window", "2:8", "--offset-free", "--max-lag", "3")
     cli_html = (tmp_path / "cli.html").read_text()
     assert _section(html, "rmse-table") == _section(cli_html, "rmse-table"), "tables and notes as the CLI's"

@@ -203,7 +203,7 @@ pub(crate) fn error_section(
         if speed_from_com {
             s.push_str(r#" (the trial has no <code>speed_ref</code>: its horizontal CoM speed <code>hypot(com_vx, com_vz)</code> instead, as <code>evaluate</code> takes it)"#);
         }
-        s.push_str(".");
+        s.push('.');
         if scoring.has_window() {
             let _ = write!(
                 s,

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use crate::cli_report::{by_id, parse};
 use crate::s02_support::run_ok;
-use crate::support::{assert_user_error, edit_cells, limbfuse, shared_data};
+use crate::support::{assert_user_error, edit_cells, limbfuse};
 
 fn read(dir: &Path, name: &str) -> String {
     std::fs::read_to_string(dir.join(name)).unwrap()
