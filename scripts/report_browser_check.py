@@ -9,7 +9,8 @@ For each report: no console error, no uncaught exception, no failed
 request; every expected element id present; every plot drawn (its script-made
 axis ticks and a non-empty line) with its title inside its box, no tick
 label "-0" / "-0.0" / NaN, every legend entry on one line; the time window responds (zoom in changes
-every time plot's viewBox). Optionally saves a screenshot of the first report.
+every time plot's viewBox); a plot whose y range leaves out a start transient
+keeps it over the whole trial and shows the transient on a window over the start. Optionally saves a screenshot of the first report.
 
 usage: report_browser_check.py CHROMIUM OUT.png REPORT.html:ID,ID,... [REPORT.html:...]
 """
@@ -37,7 +38,7 @@ FLAGS = [
 
 CHECK_JS = r"""
 (function (ids) {
-  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], clipped: [], ticks: [], wrapped: [], plots: 0, zoom: null };
+  var out = { ready: document.body.dataset.ready || null, missing: [], undrawn: [], clipped: [], ticks: [], wrapped: [], clip: [], plots: 0, zoom: null };
   ids.forEach(function (id) { if (!document.getElementById(id)) out.missing.push(id); });
   document.querySelectorAll('svg.plot').forEach(function (svg) {
     out.plots++;
@@ -63,6 +64,28 @@ CHECK_JS = r"""
     var r = k.getBoundingClientRect(), h = parseFloat(getComputedStyle(k).fontSize) * 1.9;
     if (k.getClientRects().length > 1 || r.height > h) out.wrapped.push((k.closest('figure').querySelector('svg.plot') || {}).id + ': ' + k.textContent);
   });
+  // a clipped start transient (y_range.rs): the whole trial keeps the
+  // clipped range, a window on the start shows the transient whole
+  out.clip = [];
+  var clipPlots = document.querySelectorAll('svg.plot[data-clip-until]');
+  function heights() {
+    return Array.prototype.map.call(clipPlots, function (p) { return p.querySelector('svg.area').viewBox.baseVal.height; });
+  }
+  if (clipPlots.length) {
+    var whole = heights(), full = Array.prototype.map.call(clipPlots, function (p) {
+      return +p.querySelector('svg.area').getAttribute('data-full').split(' ')[3];
+    });
+    clipPlots.forEach(function (p, i) {
+      var until = +p.dataset.clipUntil / +p.dataset.xScale;
+      document.getElementById('win-start').value = '0';
+      document.getElementById('win-end').value = String(Math.max(until * 1.5, 0.1));
+      document.getElementById('win-apply').click();
+      var start = heights()[i];
+      if (whole[i] > 1.3 * full[i]) out.clip.push(p.id + ': whole trial ' + whole[i] + ' high, clipped range ' + full[i]);
+      if (start <= whole[i]) out.clip.push(p.id + ': the start window (' + start + ') does not show the transient beyond ' + whole[i]);
+    });
+    document.getElementById('win-all').click();
+  }
   var time = document.querySelectorAll('svg.plot.time svg.area');
   if (time.length) {
     var before = Array.prototype.map.call(time, function (a) { return a.getAttribute('viewBox'); });
@@ -214,6 +237,7 @@ def main():
                 bad += ["clipped: " + u for u in r["clipped"]]
                 bad += ["tick label: " + u for u in r["ticks"]]
                 bad += ["legend entry on two lines: " + u for u in r["wrapped"]]
+                bad += ["start transient: " + u for u in r["clip"]]
                 z = r["zoom"]
                 if z is not None and z["changed"] != z["plots"]:
                     bad.append(f"zoom changed {z['changed']} of {z['plots']} time plots")

@@ -7,11 +7,11 @@ import os
 import re
 import tempfile
 import warnings
-from typing import Any, Dict, Iterable, List, Sequence, SupportsFloat, SupportsIndex, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, SupportsFloat, SupportsIndex, Tuple, Union
 
 from . import _native
 from ._calibration import Calibration
-from ._estimate import Estimate, LimbfuseWarning, count, flag
+from ._estimate import Estimate, LimbfuseWarning, _window_text, count, flag
 from ._trial import PathLike, Trial, read_trial
 
 
@@ -170,6 +170,9 @@ def report(
     path: PathLike,
     buckets: SupportsIndex = 2000,
     allow_trial_mismatch: bool = False,
+    window: Union[None, str, Tuple[Optional[float], Optional[float]]] = None,
+    offset_free: bool = False,
+    max_lag: SupportsIndex = 0,
 ) -> int:
     """Writes the self-contained HTML report of ``limbfuse report`` (plots,
     error tables, method panels; docs/REPORT.md) to `path` and returns its
@@ -182,9 +185,15 @@ def report(
     compares the trial file's content hash), as ``allow_trial_mismatch``
     does.
 
+    ``window``, ``offset_free`` and ``max_lag`` are ``evaluate``'s (and the
+    CLI's ``--window``, ``--offset-free``, ``--max-lag``): the error tables
+    and the error over the gait cycle are scored with them, and the page
+    states them.
+
     Raises:
         LimbfuseError: unreadable file, an estimate of another trial or of
-            another length, ``buckets`` < 1.
+            another length, ``buckets`` < 1, a scoring option that applies
+            to no estimate, a ``max_lag`` over half the trial.
     """
     # (one estimate: a string is not a list of them)
     given: Sequence[Union[PathLike, Estimate]] = (
@@ -192,6 +201,10 @@ def report(
     )
     buckets = count("buckets", buckets, 1, 2**31 - 1)
     allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
+    # (as `evaluate`'s checks)
+    max_lag = min(count("max_lag", max_lag, 0, None), 2**32)
+    offset_free = flag("offset_free", offset_free)
+    window_text = _window_text(window)
     with tempfile.TemporaryDirectory(prefix="limbfuse-report-") as tmp:
         if isinstance(trial, Trial):
             trial_path = os.path.join(tmp, "trial.csv")
@@ -219,9 +232,27 @@ def report(
                 paths.append(p)
             else:
                 paths.append(os.fsdecode(e))
-        command = f"limbfuse.report({os.path.basename(trial_path)!r}, {len(paths)} estimate(s)) (Python)"
+        # (the scoring options as given, so that the page states them)
+        scoring = "".join(
+            f", {k}={v!r}"
+            for k, v, given in (
+                ("window", window_text, window_text is not None),
+                ("offset_free", offset_free, offset_free),
+                ("max_lag", max_lag, max_lag > 0),
+            )
+            if given
+        )
+        command = f"limbfuse.report({os.path.basename(trial_path)!r}, {len(paths)} estimate(s){scoring}) (Python)"
         return int(
             _native.report(
-                trial_path, paths, os.fsdecode(path), buckets, allow_trial_mismatch, command
+                trial_path,
+                paths,
+                os.fsdecode(path),
+                buckets,
+                allow_trial_mismatch,
+                command,
+                window_text,
+                offset_free,
+                max_lag,
             )
         )

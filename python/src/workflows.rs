@@ -334,7 +334,8 @@ fn gait_library<'py>(
 /// Writes the HTML report of a trial file and estimate files (`limbfuse
 /// report`) to `path`; returns its size in bytes.
 #[pyfunction]
-#[pyo3(signature = (trial, estimates, path, buckets, allow_trial_mismatch, command))]
+#[pyo3(signature = (trial, estimates, path, buckets, allow_trial_mismatch, command, window=None, offset_free=false, max_lag=0))]
+#[allow(clippy::too_many_arguments)]
 fn report(
     py: Python<'_>,
     trial: PathBuf,
@@ -343,6 +344,9 @@ fn report(
     buckets: usize,
     allow_trial_mismatch: bool,
     command: String,
+    window: Option<&str>,
+    offset_free: bool,
+    max_lag: usize,
 ) -> PyResult<usize> {
     guarded(|| {
         if buckets == 0 {
@@ -362,14 +366,46 @@ fn report(
                 )));
             }
         }
+        // `evaluate`'s options, parsed and named as Python's `evaluate` does
+        let scoring = limbfuse_report::Scoring {
+            window: match window {
+                Some(w) => limbfuse_eval::TimeWindow::parse(w)
+                    .map_err(|m| user_msg(format!("report: window: {m}")))?,
+                None => limbfuse_eval::TimeWindow::default(),
+            },
+            offset_free,
+            max_lag,
+        };
         let input = limbfuse_report::ReportInput {
             buckets,
             allow_trial_mismatch,
+            scoring,
             ..limbfuse_report::ReportInput::new(&trial, &estimates, command)
         };
         let html = py
             .detach(|| limbfuse_report::render(&input))
-            .map_err(|e| user_error(&e))?;
+            .map_err(|e| match &e {
+                limbfuse_report::ReportError::ScoringNotApplicable { options, why } => {
+                    user_msg(format!(
+                        "report: {}: {} {}",
+                        options
+                            .iter()
+                            .map(|o| o.keyword())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        if options.len() == 1 {
+                            "applies"
+                        } else {
+                            "apply"
+                        },
+                        why.replace("--window", "window")
+                    ))
+                }
+                limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::MaxLagTooLong {
+                    ..
+                }) => user_msg(format!("report: max_lag {max_lag}: {e}")),
+                _ => user_error(&e),
+            })?;
         limbfuse_io::AtomicFile::write(&path, &html)
             .map_err(|e| user_msg(format!("{}: cannot write: {e}", path.display())))?;
         Ok(html.len())

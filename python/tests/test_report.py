@@ -39,3 +39,37 @@ def test_report_bad_input(walking_trial, tmp_path):
         limbfuse.report(walking_trial, [], tmp_path / "x.html")
     with pytest.raises(LimbfuseError, match="nope.csv"):
         limbfuse.report(tmp_path / "nope.csv", [est], tmp_path / "x.html")
+
+
+def _section(html, start_id):
+    """The text from element `start_id` to the end of its section."""
+    start = html.index(f'id="{start_id}"')
+    return html[start : html.index("</section>", start)]
+
+
+def test_report_scores_with_evaluates_options_as_the_cli(walking_file, tmp_path, cli):
+    """window=, offset_free=, max_lag= (session 29; before, report took
+    none): the tables are evaluate's with the same options, and equal to
+    the CLI's report with --window --offset-free --max-lag; the page states them."""
+    trial = limbfuse.read_trial(walking_file)
+    est = tmp_path / "local.csv"
+    limbfuse.estimate(trial, "local").write(est)
+    out = tmp_path / "py.html"
+    limbfuse.report(walking_file, [est], out, window=(2, 8), offset_free=True, max_lag=3)
+    html = out.read_text()
+    ev = limbfuse.evaluate(trial, limbfuse.read_estimate(est), window="2:8", offset_free=True, max_lag=3)
+    assert f"<td>{ev['rmse_deg']['thigh']:.3f}</td>" in html
+    assert "window=&#39;2.0:8.0&#39;, offset_free=True, max_lag=3" in html, "the recorded call (escaped)"
+    cli("report", walking_file, est, "-o", tmp_path / "cli.html", "--window", "2:8", "--offset-free", "--max-lag", "3")
+    cli_html = (tmp_path / "cli.html").read_text()
+    assert _section(html, "rmse-table") == _section(cli_html, "rmse-table"), "tables and notes as the CLI's"
+    with pytest.raises(LimbfuseError, match="max_lag 100000"):
+        limbfuse.report(walking_file, [est], tmp_path / "x.html", max_lag=100000)
+    with pytest.raises(LimbfuseError, match="window: "):
+        limbfuse.report(walking_file, [est], tmp_path / "x.html", window="8:2")
+    with pytest.raises(TypeError, match="offset_free"):
+        limbfuse.report(walking_file, [est], tmp_path / "x.html", offset_free="yes")
+    events = tmp_path / "events.csv"
+    limbfuse.estimate(trial, "gait-events").write(events)
+    with pytest.raises(LimbfuseError, match="offset_free: applies to angle errors only"):
+        limbfuse.report(walking_file, [events], tmp_path / "x.html", offset_free=True)

@@ -412,6 +412,18 @@ pub struct ReportArgs {
     /// Include estimates whose header records another trial (as `evaluate --allow-trial-mismatch`).
     #[arg(long)]
     pub allow_trial_mismatch: bool,
+    /// Score only START:END seconds of the trial's `t` (either side may be empty), as
+    /// `evaluate --window`: the error tables and the error over the gait cycle.
+    #[arg(long)]
+    pub window: Option<String>,
+    /// Remove the mean error of each channel before the RMSE, as `evaluate --offset-free`
+    /// (tables and the error over the gait cycle; max|e| and mean e stay as measured).
+    #[arg(long)]
+    pub offset_free: bool,
+    /// Synchronise each channel by the lag within +-N samples that minimises its RMSE, as
+    /// `evaluate --max-lag` (tables and the error over the gait cycle). At most half the trial's samples.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub max_lag: usize,
 }
 
 /// Low-pass of the IMU channels in `resample`.

@@ -20,6 +20,7 @@ pub mod gait_watch;
 pub mod knee_errors;
 pub mod knee_watch;
 pub mod metrics;
+pub mod notes;
 pub mod output_watch;
 pub mod rejections;
 pub mod resets;

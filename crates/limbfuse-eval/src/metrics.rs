@@ -355,24 +355,20 @@ impl Evaluation {
         v
     }
 
-    /// A human-readable table (degrees).
+    /// A human-readable table (degrees), with [`Evaluation::notes`] where
+    /// `evaluate` prints them.
     pub fn to_text(&self) -> String {
         let mut s = format!("method: {}   samples: {}", self.method, self.n_samples);
         if self.window.start.is_some() || self.window.end.is_some() {
             s += &format!("   window: {}", self.window);
         }
         s += "\n";
-        if self.offset_free {
-            // (an audit: max|e| and mean e are not offset-free, and nothing
-            // said so; RESULTS quotes them as they are)
-            s += "offset-free: the mean error of each channel is removed before the RMSE; max|e| and mean e as measured, before the mean is removed\n";
-        }
-        if let Some(lags) = &self.sync_lag {
-            let list: Vec<String> = lags.iter().map(|(c, l)| format!("{c} {l:+}")).collect();
-            s += &format!(
-                "synchronised: each channel's estimate shifted by the lag (samples, + = estimate trails) that minimises its RMSE: {}\n",
-                list.join(", ")
-            );
+        for note in [self.offset_free_note(), self.sync_lag_note()]
+            .into_iter()
+            .flatten()
+        {
+            s += &note;
+            s += "\n";
         }
         s += &format!(
             "{:<8}{:>10}{:>12}{:>12}{:>9}{:>9}\n",
@@ -397,27 +393,17 @@ impl Evaluation {
         }
         if let Some(m) = self.mean_rmse() {
             s += &format!("mean RMSE: {:.3} deg", m.to_degrees());
-            let exact: Vec<&str> = self.exact_channels().iter().map(|c| c.name()).collect();
-            if !exact.is_empty() {
-                s += &format!(
-                    " (without {}: equal to the reference on every sample to 1e-6 rad, a value the estimator was given)",
-                    exact.join(", ")
-                );
+            if let Some(exact) = self.exact_channels_phrase() {
+                s += &format!(" ({exact})");
             }
             s += "\n";
         }
         if let Some(note) = self.knee_zero_note() {
-            s += &note;
+            s += &format!("note: {note}\n");
         }
-        if let Some(ar) = self.accel_reliability_pct {
-            s += &format!("accelerometer reliability AR: {ar:.1} % of samples\n");
-        }
-        if let Some(agr) = self.accel_global_reliability_pct {
-            s += &format!("coupled accelerometer reliability AGR: {agr:.1} % of samples\n");
-        }
-        if let Some(m) = self.missing_input_pct {
-            s +=
-                &format!("samples with a missing input (predicted without its update): {m:.1} %\n");
+        for line in self.rate_notes() {
+            s += &line;
+            s += "\n";
         }
         if !self.diag_mean.is_empty() {
             // (an audit: "over the trial" was said with --window too)
@@ -431,29 +417,6 @@ impl Evaluation {
             );
         }
         s
-    }
-
-    /// A knee-axis estimate whose accelerometer angle set the zero in under
-    /// half of the samples (`acc_trusted` of knee-selfalign,
-    /// `inclination_used` of knee-gyro-axis): elsewhere its zero is the
-    /// high-pass's, the trial mean, so the mean error there is that zero,
-    /// not the estimator's shape (the knee rig: 3 % and 0 %, mean error
-    /// -9.4 deg, offset-free 2.2). Not said when offset-free already.
-    fn knee_zero_note(&self) -> Option<String> {
-        let knee = AngleChannel::Joint(limbfuse_core::Joint::Knee);
-        let evaluated = self.channels.iter().any(|(c, st)| *c == knee && st.n() > 0);
-        if self.offset_free || !evaluated {
-            return None;
-        }
-        let (name, used) = ["acc_trusted", "inclination_used"]
-            .into_iter()
-            .find_map(|n| self.diag_mean.get(n).map(|v| (n, *v)))?;
-        (used < 0.5).then(|| {
-            format!(
-                "note: the accelerometer angle set the knee angle's zero in {:.0} % of the samples (`diag_{name}`); elsewhere the zero is the high-pass's (the trial mean), so the mean error is largely that zero: `--offset-free` compares the shape\n",
-                100.0 * used
-            )
-        })
     }
 
     /// The mean of each estimator diagnostic over the trial (over the

@@ -11,14 +11,17 @@
 
 pub mod data;
 pub mod decimate;
+mod error_section;
 pub mod events_panel;
 pub mod gait_cycle;
 mod header;
 mod page;
 pub mod panels;
+pub mod scoring;
 pub mod svg;
 pub mod tables;
 pub mod time_base;
+pub mod y_range;
 
 use std::path::{Path, PathBuf};
 
@@ -26,6 +29,7 @@ use limbfuse_eval::EvalError;
 use limbfuse_io::FileError;
 
 pub use page::render;
+pub use scoring::{Scoring, ScoringOption};
 
 /// Display buckets per series by default: at most 2 x 2000 points per line
 /// (docs/REPORT.md, "Decimation").
@@ -45,6 +49,9 @@ pub struct ReportInput {
     /// Include estimates whose header records another trial (as
     /// `evaluate --allow-trial-mismatch`).
     pub allow_trial_mismatch: bool,
+    /// `evaluate`'s scoring options, applied to the error tables and the
+    /// error over the gait cycle.
+    pub scoring: Scoring,
 }
 
 impl ReportInput {
@@ -56,6 +63,7 @@ impl ReportInput {
             command: command.into(),
             buckets: DEFAULT_BUCKETS,
             allow_trial_mismatch: false,
+            scoring: Scoring::default(),
         }
     }
 }
@@ -82,6 +90,15 @@ pub enum ReportError {
         first: String,
         /// The repeat.
         second: String,
+    },
+    /// Scoring options given where no estimate of the report is scored
+    /// in a way they apply to (as `evaluate` refuses them).
+    #[error("{}: {} {why}", options.iter().map(|o| o.flag()).collect::<Vec<_>>().join(", "), if options.len() == 1 { "applies" } else { "apply" })]
+    ScoringNotApplicable {
+        /// The options that apply to nothing.
+        options: Vec<ScoringOption>,
+        /// To what they apply, and what the report scores instead.
+        why: String,
     },
     /// An estimate does not have its trial's number of samples.
     #[error("{estimate}: {n_estimate} samples, but the trial {trial} has {n_trial}")]

@@ -5,20 +5,21 @@
 use std::fmt::Write as _;
 
 use limbfuse_core::sample::AngleChannel;
-use limbfuse_eval::gait_evaluation::{evaluate_gait_files, GaitEvaluation};
-use limbfuse_eval::gait_events_evaluation::{evaluate_gait_event_files, GaitEventEvaluation};
+use limbfuse_eval::gait_evaluation::evaluate_gait_files;
+use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in;
 use limbfuse_eval::trial_check::check_trial;
 use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
 use limbfuse_io::{EstimateReader, TrialFingerprint};
 
 use crate::data::{file_name, Column, EstimateData, TrialData};
-use crate::events_panel::{events_table, has_event_reference, is_event_estimate};
+use crate::events_panel::{has_event_reference, is_event_estimate};
 use crate::gait_cycle::{cycle_mean_sd, find_cycles};
 use crate::header::header;
 use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
+use crate::scoring::{error_column, Scoring};
 use crate::svg::{esc, Band, Line, Plot};
 use crate::time_base::TimeBase;
-use crate::{tables, ReportError, ReportInput};
+use crate::{ReportError, ReportInput};
 
 const STYLE: &str = include_str!("report.css");
 const SCRIPT: &str = include_str!("report.js");
@@ -48,7 +49,9 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         if angle_trial {
             let options = EvalOptions {
                 allow_trial_mismatch: input.allow_trial_mismatch,
-                ..EvalOptions::default()
+                window: input.scoring.window,
+                offset_free: input.scoring.offset_free,
+                max_lag: input.scoring.max_lag,
             };
             evals.push(evaluate_files(&input.trial, path, options)?);
         } else if trial.phase_ref.is_some() {
@@ -83,11 +86,23 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         if is_event_estimate(&e) && has_event_reference(&trial) {
             event_evals.push((
                 estimates.len(),
-                evaluate_gait_event_files(&input.trial, path, input.allow_trial_mismatch)?,
+                evaluate_gait_event_files_in(
+                    &input.trial,
+                    path,
+                    input.allow_trial_mismatch,
+                    &input.scoring.window,
+                )?,
             ));
         }
         estimates.push(e);
     }
+    crate::error_section::check_scoring(
+        input,
+        &evals,
+        &estimates,
+        &event_evals,
+        !gait_evals.is_empty(),
+    )?;
     let labels: Vec<String> = unique_labels(&estimates);
     for (e, l) in estimates.iter_mut().zip(&labels) {
         e.label = l.clone();
@@ -109,7 +124,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         &checks,
     );
     angle_section(&mut body, &trial, &estimates, &tp);
-    cycle_section(&mut body, &trial, &estimates);
+    cycle_section(&mut body, &trial, &estimates, (&evals, &input.scoring));
     let event_estimates: Vec<bool> = estimates.iter().map(is_event_estimate).collect();
     let nothing_scored: Vec<Option<String>> = evals
         .iter()
@@ -118,16 +133,16 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
             limbfuse_eval::evaluation::nothing_scored(
                 ev,
                 e.angle.iter().any(Option::is_some),
-                &limbfuse_eval::TimeWindow::default(),
+                &input.scoring.window,
                 &input.trial.display().to_string(),
                 &e.path.display().to_string(),
             )
         })
         .collect();
-    error_section(
+    crate::error_section::error_section(
         &mut body,
         (&labels, &nothing_scored),
-        &evals,
+        (&evals, &input.scoring, &trial.meta),
         &gait_evals,
         (&event_estimates, &event_evals),
         trial.speed_from_com,
@@ -250,14 +265,37 @@ fn angle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData], 
                 false,
             ));
         }
-        let plot = tp.plot(
+        let est_cols: Vec<&Column> = est.iter().map(|(_, col)| col).collect();
+        let clip = crate::y_range::start_clip(tp.t, reference.as_ref(), &est_cols);
+        let mut plot = tp.plot(
             format!("plot-angle-{}", c.name()),
             "angle",
             format!("{} angle", c.name()),
             "deg",
             lines,
         );
+        plot.y_clip = clip.clone();
         figure(s, &plot, c.name());
+        if let Some(clip) = clip {
+            let names: Vec<String> = clip
+                .exceeding
+                .iter()
+                .map(|&j| format!("<code>{}</code>", esc(&estimates[est[j].0].label)))
+                .collect();
+            let settle = crate::y_range::settle_s(tp.t.last().copied().unwrap_or(0.0));
+            let _ = write!(
+                s,
+                r#"<p class="note clip-note" id="clip-note-{}" data-clip-until-s="{:.3}">y range clipped to the reference and the estimates after the first {:.1} s: the first {:.1} s of {} exceed it (values from {:.1} to {:.1} deg; shaded). Zoom into 0 to {:.1} s to see them whole.</p>"#,
+                c.name(),
+                clip.until_s,
+                settle,
+                clip.until_s,
+                names.join(", "),
+                clip.all[0],
+                clip.all[1],
+                clip.until_s.max(0.1) * 1.5
+            );
+        }
     }
     s.push_str("</section>");
 }
@@ -272,11 +310,30 @@ fn figure(s: &mut String, plot: &Plot, channel: &str) {
     );
 }
 
-fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) {
+fn cycle_section(
+    s: &mut String,
+    trial: &TrialData,
+    estimates: &[EstimateData],
+    (evals, scoring): (&[Evaluation], &Scoring),
+) {
     s.push_str(r#"<section id="gait-cycle" data-section="gait-cycle"><h2>Error over the normalised gait cycle</h2>"#);
     let channels = compared_channels(trial, estimates);
     let cycles = match find_cycles(trial) {
-        Ok(c) if !channels.is_empty() => c,
+        Ok(mut c) if !channels.is_empty() => {
+            // (`--window`: the cycles wholly inside it, as the tables)
+            let w = &scoring.window;
+            c.cycles
+                .retain(|&(a, b)| w.contains(trial.t[a]) && w.contains(trial.t[b]));
+            if c.cycles.is_empty() {
+                let _ = write!(
+                    s,
+                    r#"<p class="note" id="gait-events" data-source="none">No whole gait cycle inside the window {} (<code>--window</code>).</p></section>"#,
+                    esc(&w.to_string())
+                );
+                return;
+            }
+            c
+        }
         Ok(_) => {
             s.push_str(r#"<p class="note" id="gait-events" data-source="none">No angle channel to show over the gait cycle.</p></section>"#);
             return;
@@ -299,7 +356,7 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
     let median_s = durations[durations.len() / 2];
     let _ = write!(
         s,
-        r#"<p class="note" id="gait-events" data-source="{}" data-cycles="{}" data-median-s="{:.4}">{}; {} cycles (median {:.3} s){}. Error = estimate - reference, interpolated at 0, 1, ..., 100 % of each cycle; line = mean, band = mean +- sd over the cycles.</p>"#,
+        r#"<p class="note" id="gait-events" data-source="{}" data-cycles="{}" data-median-s="{:.4}">{}; {} cycles (median {:.3} s){}. Error = estimate - reference, interpolated at 0, 1, ..., 100 % of each cycle; line = mean, band = mean +- sd over the cycles.{}</p>"#,
         match &cycles.source {
             crate::gait_cycle::EventSource::Contact(_) => "contact",
             crate::gait_cycle::EventSource::Gyro(_) => "gyro",
@@ -316,6 +373,11 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
             )
         } else {
             String::new()
+        },
+        if scoring.given().is_empty() {
+            String::new()
+        } else {
+            format!(" Scored as the tables: {}.", scoring.describe())
         }
     );
     for (k, c) in channels {
@@ -332,14 +394,11 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
             zoomable: false,
             lines: Vec::new(),
             bands: Vec::new(),
+            y_clip: None,
         };
         for (i, e) in estimates.iter().enumerate() {
             let Some(a) = &e.angle[k] else { continue };
-            let err: Column = a
-                .iter()
-                .zip(r)
-                .map(|(e, r)| Some((e.as_ref()? - r.as_ref()?).to_degrees()))
-                .collect();
+            let err = error_column(a, r, c, evals.get(i));
             let ms = cycle_mean_sd(&trial.t, &err, &cycles.cycles);
             plot.bands.push(Band {
                 key: format!("est-{i}"),
@@ -355,73 +414,6 @@ fn cycle_section(s: &mut String, trial: &TrialData, estimates: &[EstimateData]) 
             });
         }
         figure(s, &plot, c.name());
-    }
-    s.push_str("</section>");
-}
-
-fn error_section(
-    s: &mut String,
-    (labels, nothing_scored): (&[String], &[Option<String>]),
-    evals: &[Evaluation],
-    gait: &[GaitEvaluation],
-    (is_event, events): (&[bool], &[(usize, GaitEventEvaluation)]),
-    speed_from_com: bool,
-) {
-    s.push_str(r#"<section id="errors" data-section="errors"><h2>Errors</h2>"#);
-    // Angle tables only for estimates of angles (a speed or event estimate
-    // of a trial with angle references is scored below, if it can be), and
-    // only for those that scored a sample: for the others, `evaluate`'s
-    // sentence (audit 2026-12-05: an estimate of empty cells gave an empty
-    // table, unexplained).
-    let angle_estimates: Vec<usize> = (0..evals.len()).filter(|&i| !is_event[i]).collect();
-    let unscored: Vec<(usize, &String)> = angle_estimates
-        .iter()
-        .filter_map(|&i| Some((i, nothing_scored.get(i)?.as_ref()?)))
-        .collect();
-    let angle_rows: Vec<usize> = angle_estimates
-        .iter()
-        .copied()
-        .filter(|i| unscored.iter().all(|(k, _)| k != i))
-        .collect();
-    let (labels_a, evals_a): (Vec<String>, Vec<Evaluation>) = angle_rows
-        .iter()
-        .map(|&i| (labels[i].clone(), evals[i].clone()))
-        .unzip();
-    let labels_all = labels;
-    let (labels, evals) = (&labels_a[..], &evals_a[..]);
-    if !evals.is_empty() {
-        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code>: every sample, no window, no offset removal or lag. The mean RMSE is over the segment angles estimated (over the joint angles when no segment is), leaving out channels equal to their reference in every sample when another channel has an error (a value the method is given, not an estimate).</p>"#);
-        s.push_str(&tables::rmse_matrix(labels, evals));
-        s.push_str("<details><summary>All columns of <code>evaluate</code></summary>");
-        s.push_str(&tables::error_details(labels, evals));
-        s.push_str("</details>");
-    }
-    for (i, why) in &unscored {
-        let _ = write!(
-            s,
-            r#"<p class="warning" id="nothing-scored-{i}" data-estimate="{}">{}</p>"#,
-            esc(&labels_all[*i]),
-            esc(why)
-        );
-    }
-    if !gait.is_empty() {
-        s.push_str(r#"<p class="note">The numbers of <code>limbfuse evaluate</code> on a gait trial (paper 003).</p>"#);
-        // (one evaluation per estimate given: every label, not only the
-        // angle estimates' — an audit found the table empty for imm-bslip)
-        s.push_str(&tables::gait_table(labels_all, gait));
-    }
-    if !events.is_empty() {
-        s.push_str(r#"<p class="note" id="events-note">The numbers of <code>limbfuse evaluate TRIAL ESTIMATE</code> for gait events and walking speed (docs/GAIT_EVENTS.md): events paired within 0.25 s, each stride's speed against the mean <code>speed_ref</code> over its rows"#);
-        if speed_from_com {
-            s.push_str(r#" (the trial has no <code>speed_ref</code>: its horizontal CoM speed <code>hypot(com_vx, com_vz)</code> instead, as <code>evaluate</code> takes it)"#);
-        }
-        s.push_str(".</p>");
-        s.push_str(&events_table(labels_all, events));
-    }
-    if events.is_empty() && is_event.iter().any(|&e| e) {
-        s.push_str(r#"<p class="note">The trial has no contact or speed reference (<code>contact_*_ref</code>, <code>speed_ref</code>, or a CoM velocity <code>com_vx</code> .. <code>com_vz</code> without <code>phase_ref</code>) to score the gait events and walking speed against.</p>"#);
-    } else if evals.is_empty() && unscored.is_empty() && gait.is_empty() && events.is_empty() {
-        s.push_str(r#"<p class="note">The trial has no reference to evaluate against.</p>"#);
     }
     s.push_str("</section>");
 }

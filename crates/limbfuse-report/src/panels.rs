@@ -114,6 +114,7 @@ impl TimePlot<'_> {
                 })
                 .collect(),
             bands: Vec::new(),
+            y_clip: None,
         }
     }
 }

@@ -86,12 +86,18 @@
     timePlots.forEach(function (svg) {
       var area = svg.querySelector('svg.area'), xs = +svg.dataset.xScale;
       var lo = Infinity, hi = -Infinity, xa = a * xs, xb = b * xs;
+      // A clipped start transient (y_range.rs) stays out of the y range
+      // while it is under a quarter of the window: the estimates' points up
+      // to data-clip-until are not fitted (the reference always is).
+      var cu = svg.dataset.clipUntil === undefined ? -Infinity : +svg.dataset.clipUntil;
+      var skip = cu > xa && xb - cu >= 3 * (cu - xa);
       area.querySelectorAll('path').forEach(function (p) {
         if (p.classList.contains('off')) return;
+        var until = skip && p.dataset.series !== 'reference' ? cu : -Infinity;
         runsOf(p).forEach(function (run) {
           for (var i = 0; i < run.length; i++) {
             var q = run[i];
-            if (q[0] >= xa && q[0] <= xb) { if (q[1] < lo) lo = q[1]; if (q[1] > hi) hi = q[1]; }
+            if (q[0] >= xa && q[0] <= xb && q[0] > until) { if (q[1] < lo) lo = q[1]; if (q[1] > hi) hi = q[1]; }
           }
         });
       });

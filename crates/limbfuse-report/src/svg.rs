@@ -65,6 +65,11 @@ pub struct Plot {
     pub lines: Vec<Line>,
     /// Bands, drawn under the lines.
     pub bands: Vec<Band>,
+    /// A y range clipped to leave out the estimates' start transient
+    /// ([`crate::y_range`]): the clipped start is shaded and the page's
+    /// script keeps the clipped range while the start is a small part of
+    /// the window.
+    pub y_clip: Option<crate::y_range::YClip>,
 }
 
 impl Plot {
@@ -100,6 +105,9 @@ impl Plot {
         if !x[0].is_finite() {
             return None;
         }
+        if let Some(c) = &self.y_clip {
+            y = [c.lo, c.hi];
+        }
         x = [x[0].min(gaps[0]), x[1].max(gaps[1])];
         if x[1] <= x[0] {
             x[1] = x[0] + 1.0;
@@ -132,9 +140,12 @@ impl Plot {
             ((-y0 * ys).ceil() - by).max(1.0),
         );
         let mut s = String::new();
+        let clip_until = self.y_clip.as_ref().map_or(String::new(), |c| {
+            format!(r#" data-clip-until="{}""#, (c.until_s * xs).round())
+        });
         let _ = write!(
             s,
-            r#"<svg class="plot{zoom}" id="{id}" data-plot="{kind}" data-x-scale="{xs}" data-y-scale="{ys}" data-min-y-span="{min_span}" data-x-label="{xl}" data-y-label="{yl}" viewBox="0 0 {WIDTH} {HEIGHT}" role="img" aria-label="{title}">"#,
+            r#"<svg class="plot{zoom}" id="{id}" data-plot="{kind}" data-x-scale="{xs}" data-y-scale="{ys}" data-min-y-span="{min_span}"{clip_until} data-x-label="{xl}" data-y-label="{yl}" viewBox="0 0 {WIDTH} {HEIGHT}" role="img" aria-label="{title}">"#,
             zoom = if self.zoomable { " time" } else { "" },
             id = esc(&self.id),
             kind = esc(&self.kind),
@@ -148,6 +159,15 @@ impl Plot {
             r#"<text class="title" x="{ax}" y="16">{}</text><rect class="frame" x="{ax}" y="{ay}" width="{aw}" height="{ah}"/><g class="axes"></g><svg class="area" x="{ax}" y="{ay}" width="{aw}" height="{ah}" viewBox="{bx} {by} {bw} {bh}" preserveAspectRatio="none" data-full="{bx} {by} {bw} {bh}">"#,
             esc(&self.title)
         );
+        if let Some(c) = &self.y_clip {
+            let (top, bottom) = ((-c.all[1] * ys).floor(), (-c.all[0] * ys).ceil());
+            let _ = write!(
+                s,
+                r#"<rect class="clipped" x="{bx}" y="{top}" width="{}" height="{}"/>"#,
+                ((c.until_s * xs).round() - bx).max(1.0),
+                (bottom - top).max(1.0)
+            );
+        }
         for b in &self.bands {
             let _ = write!(
                 s,
@@ -426,6 +446,7 @@ mod tests {
                 dashed: false,
             }],
             bands: Vec::new(),
+            y_clip: None,
         };
         let ([x0, x1], [y0, y1]) = plot.ranges().unwrap();
         assert_eq!((x0, x1), (0.0, 3.0));
@@ -454,6 +475,7 @@ mod tests {
             zoomable: true,
             lines: vec![line("ref", 90.000_000_2), line("e0", 89.999_999_98)],
             bands: Vec::new(),
+            y_clip: None,
         };
         let (_, [y0, y1]) = plot.ranges().unwrap();
         assert!(

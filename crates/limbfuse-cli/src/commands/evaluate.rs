@@ -89,7 +89,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             }
             EvaluationKind::Angles => {}
         }
-        segments_zeroed_by_assumption(reader.meta())
+        limbfuse_eval::notes::assumed_zero_note(reader.meta(), a.offset_free)
     };
     let ev = evaluate_files_scored(
         &a.trial,
@@ -118,33 +118,14 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         println!("{}", ev.to_json());
     } else {
         print!("{}", ev.to_text());
-        if !a.offset_free && !assumed_zero.is_empty() {
-            println!(
-                "note: `align` found no quiet standing and set the zero of {} from an assumed mean angle over the walking \
-                 data (0 deg unless `align --mean-angle SEGMENT=DEG` gave it): their absolute errors include how far the true mean is from that assumption; `--offset-free` scores without it",
-                assumed_zero.join(", ")
-            );
+        if let Some(note) = &assumed_zero {
+            println!("note: {note}");
         }
         if a.diagnostics {
             print!("{}", ev.diagnostics_text());
         }
     }
     Ok(())
-}
-
-/// The segments whose zero angle `align` set from an assumed mean angle
-/// over walking (`<segment>_align_zero: mean-inclination ...`), not from
-/// quiet standing (issue 17 item 6: a 9-10 deg error on every segment
-/// without a word why).
-fn segments_zeroed_by_assumption(meta: &limbfuse_io::TrialMeta) -> Vec<&'static str> {
-    limbfuse_core::Segment::ALL
-        .iter()
-        .map(|s| s.name())
-        .filter(|name| {
-            meta.get(&format!("{name}_align_zero"))
-                .is_some_and(|z| z.starts_with("mean-inclination"))
-        })
-        .collect()
 }
 
 /// Prints the trial check's warning, if any.

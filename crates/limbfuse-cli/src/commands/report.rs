@@ -2,8 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Result};
-use limbfuse_report::{render, ReportInput};
+use anyhow::{anyhow, bail, Result};
+use limbfuse_eval::TimeWindow;
+use limbfuse_report::{render, ReportInput, Scoring};
 
 use crate::cli::ReportArgs;
 
@@ -17,13 +18,23 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     if a.buckets == 0 {
         bail!("--buckets: expected a positive number of display buckets, found 0");
     }
+    let scoring = Scoring {
+        window: match &a.window {
+            Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
+            None => TimeWindow::default(),
+        },
+        offset_free: a.offset_free,
+        max_lag: a.max_lag,
+    };
     let mut command = command_line(&a.trial, &a.estimates, &a.output, a.buckets);
     if a.allow_trial_mismatch {
         command.push_str(" --allow-trial-mismatch");
     }
+    command.push_str(&scoring.flags());
     let input = ReportInput {
         buckets: a.buckets,
         allow_trial_mismatch: a.allow_trial_mismatch,
+        scoring,
         ..ReportInput::new(&a.trial, &a.estimates, command)
     };
     let n = write(&input, &a.output)?;
@@ -45,6 +56,9 @@ pub fn write(input: &ReportInput, output: &Path) -> Result<usize> {
                 "refusing to report an estimate made from another trial \
                  (--allow-trial-mismatch reports it anyway, with a warning)",
             )
+        }
+        limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::MaxLagTooLong { .. }) => {
+            anyhow::anyhow!(e).context(format!("--max-lag {}", input.scoring.max_lag))
         }
         e => e.into(),
     })?;

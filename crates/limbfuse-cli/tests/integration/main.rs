@@ -58,6 +58,7 @@ mod raw_frames_warning;
 mod report_audit_28;
 mod report_audit_dec05;
 mod report_review27;
+mod report_scoring_29;
 mod resample_cli;
 mod results_commands;
 mod s02_support;
