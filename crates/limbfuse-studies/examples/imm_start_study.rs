@@ -96,16 +96,17 @@ fn phase_name(p: Option<GaitPhase>) -> &'static str {
     }
 }
 
-fn summary(label: &str, what: &str, scores: &[f64]) {
+fn summary(label: &str, what: &str, scores: &[f64], digits: usize) {
     let mut s = scores.to_vec();
     s.sort_by(f64::total_cmp);
     let mean = s.iter().sum::<f64>() / s.len().max(1) as f64;
     println!(
-        "    {label:<16} {what:<14}: min {:.1}, median {:.1}, mean {:.1}, max {:.1}",
+        "    {label:<16} {what:<14}: min {:.d$}, median {:.d$}, mean {:.d$}, max {:.d$}",
         s[0],
         s[s.len() / 2],
         mean,
-        s[s.len() - 1]
+        s[s.len() - 1],
+        d = digits
     );
 }
 
@@ -178,8 +179,8 @@ fn main() {
                 println!("{line}");
             }
             for (i, name) in names.iter().enumerate() {
-                summary(name, "phase %", &all[i]);
-                summary(name, "median speed", &speeds[i]);
+                summary(name, "phase %", &all[i], 1);
+                summary(name, "median speed", &speeds[i], 3);
             }
         }
     }

@@ -21,6 +21,7 @@ mod issue_18_imm_restart_after_gap;
 mod issue_18_missing_data;
 mod issue_18_partial_imu_cells;
 mod issue_19_long_trials;
+mod issue_29_imm_start_mid_step;
 mod issue_19_off_grid_branches;
 mod knee_hinge;
 mod knee_real_conditions;
