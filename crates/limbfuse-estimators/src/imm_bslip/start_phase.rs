@@ -66,7 +66,14 @@ pub(super) fn locate_in_step(g: &GaitTemplate, y: f64, vy: f64) -> (StepPoint, f
         a * a + b * b
     };
     let at_ms = cost(x[1], x[4]);
-    let mut best = (f64::INFINITY, StepPoint { t: 0.0, x: 0.0, vx: x[3] });
+    let mut best = (
+        f64::INFINITY,
+        StepPoint {
+            t: 0.0,
+            x: 0.0,
+            vx: x[3],
+        },
+    );
     let mut consider = |c: f64, p: StepPoint| {
         if c < best.0 {
             best = (c, p);
@@ -74,7 +81,14 @@ pub(super) fn locate_in_step(g: &GaitTemplate, y: f64, vy: f64) -> (StepPoint, f
     };
     for k in 0..=STEPS {
         let t = k as f64 * h;
-        consider(cost(x[1], x[4]), StepPoint { t, x: x[0], vx: x[3] });
+        consider(
+            cost(x[1], x[4]),
+            StepPoint {
+                t,
+                x: x[0],
+                vx: x[3],
+            },
+        );
         if k > 0 {
             // The mirror point in SS2.
             consider(
