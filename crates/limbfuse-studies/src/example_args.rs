@@ -399,7 +399,7 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
 
 fn stride_percent(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
-    if v.is_finite() && v >= 0.5 && v <= 50.0 {
+    if (0.5..=50.0).contains(&v) {
         Ok(v)
     } else {
         Err(format!("{v}: must be in [0.5, 50] % of a stride"))
