@@ -12,7 +12,7 @@ pub use crate::recorded_trial_args::{
 };
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 29] = [
+pub const EXAMPLES: [&str; 30] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -34,6 +34,7 @@ pub const EXAMPLES: [&str; 29] = [
     "imm_continuous_study",
     "imm_gap_study",
     "imm_offgrid_study",
+    "imm_start_study",
     "knee_study",
     "recording_variant",
     "robust_input_study",
@@ -91,6 +92,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "imm_continuous_study" => parse::<ImmContinuousStudyArgs>(example, args),
         "imm_gap_study" => parse::<ImmGapStudyArgs>(example, args),
         "imm_offgrid_study" => parse::<ImmOffgridStudyArgs>(example, args),
+        "imm_start_study" => parse::<ImmStartStudyArgs>(example, args),
         "knee_study" => parse::<KneeStudyArgs>(example, args),
         "recording_variant" => parse::<RecordingVariantArgs>(example, args),
         "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
@@ -348,6 +350,17 @@ pub struct ImmGapStudyArgs {
     pub data: String,
 }
 
+/// `imm_start_study [--every PCT] [--data DIR]`.
+#[derive(Debug, Parser)]
+pub struct ImmStartStudyArgs {
+    /// Start (and end) points every PCT % of a stride over two strides.
+    #[arg(long, default_value_t = 2.5, value_parser = stride_percent)]
+    pub every: f64,
+    /// The shared data directory.
+    #[arg(long, default_value = "../shared/data")]
+    pub data: String,
+}
+
 /// `imm_offgrid_study [SEEDS] [--speeds V,V,...] [--duration S]`.
 #[derive(Debug, Parser)]
 pub struct ImmOffgridStudyArgs {
@@ -381,6 +394,15 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!("{v}: must be in (0, 5] s"))
+    }
+}
+
+fn stride_percent(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if (0.5..=50.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v}: must be in [0.5, 50] % of a stride"))
     }
 }
 

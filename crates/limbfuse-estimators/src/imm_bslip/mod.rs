@@ -34,6 +34,7 @@ mod height_crossings;
 mod mode_probabilities;
 mod names;
 pub mod params;
+mod start_phase;
 mod sway_extremum;
 pub mod sway_restart;
 mod weight_support;

@@ -108,6 +108,7 @@ impl RestartOnSide for ImmContinuous {
     fn restart_on(&mut self, side: Side) {
         self.reset();
         self.start_side = side;
+        self.start_at_mid_stance = true;
     }
 
     fn max_gap(&self) -> f64 {

@@ -26,7 +26,8 @@ pub enum ComChannels {
 /// Settings of a simulated B-SLIP trial.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BslipTrialConfig {
-    /// Duration (s).
+    /// Duration (s): the trial holds `round(duration * sample_rate)`
+    /// samples, at `k / sample_rate` for `k = 0, 1, ...`.
     pub duration: f64,
     /// Sample rate (Hz).
     pub sample_rate: f64,
@@ -73,7 +74,12 @@ pub fn trial_records(
     let pos_noise = Normal::new(0.0, cfg.position_variance.max(0.0).sqrt()).ok();
     let vel_noise = Normal::new(0.0, cfg.velocity_variance.max(0.0).sqrt()).ok();
     let mut walker = Walker::new(*template, Side::Left, 0.0);
-    let n = (cfg.duration * cfg.sample_rate).floor() as usize + 1;
+    // `round(duration x rate)` samples at `k / rate`, as every other
+    // simulator writes (`simulate walking`, `knee`, `knee-fes`,
+    // `fixed-hip`; the shared independent trials: 10 s at 100 Hz, 1000
+    // rows to 9.99 s). It wrote `floor(duration x rate) + 1` (401 rows for
+    // 4 s at 100 Hz, the last at t = duration).
+    let n = (cfg.duration * cfg.sample_rate).round() as usize;
     (0..n).map(move |k| {
         let t = k as f64 / cfg.sample_rate;
         walker.advance_to(t);

@@ -11,6 +11,7 @@ use limbfuse_sim::bslip::periodic::periodicity_error;
 use limbfuse_sim::bslip::search::{optimise_gait, SearchSettings};
 use limbfuse_sim::bslip::step::StepSimulator;
 use limbfuse_sim::bslip::trial::{simulate_trial, trial_records, BslipTrialConfig};
+use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
 fn body() -> BslipParams {
     BslipParams::default()
@@ -136,8 +137,44 @@ fn trial_records_stream_without_holding_the_trial() {
         duration: 1e9,
         ..Default::default()
     };
-    let first: Vec<_> = trial_records(&tpl, &huge).take(6).collect();
+    let first: Vec<_> = trial_records(&tpl, &huge).take(5).collect();
     assert_eq!(first, simulate_trial(&tpl, &short));
+}
+
+/// `simulate bslip`'s end sample: a trial of `duration` s at `rate` Hz held
+/// `floor(duration x rate) + 1` samples (401 for 4 s at 100 Hz, the last at
+/// t = 4 s), one more than `simulate walking` (and `knee`, `knee-fes`,
+/// `fixed-hip`, and the shared independent trials: 10 s at 100 Hz are
+/// 1000 rows to 9.99 s) for the same duration and rate. Expected: the
+/// same `round(duration x rate)` samples at `k / rate`.
+#[test]
+fn a_trial_holds_duration_times_rate_samples_as_the_walking_simulator() {
+    let tpl = gait_at_start_speed().template(&body());
+    for (duration, rate) in [(4.0, 100.0), (3.0, 250.0), (2.5, 60.0), (1.0, 1.0)] {
+        let trial = simulate_trial(
+            &tpl,
+            &BslipTrialConfig {
+                duration,
+                sample_rate: rate,
+                ..Default::default()
+            },
+        );
+        let walking = WalkingSimulator::new(WalkingConfig {
+            duration_s: duration,
+            imu_rate_hz: rate,
+            ..Default::default()
+        })
+        .unwrap();
+        let n = (duration * rate).round() as usize;
+        assert_eq!(
+            (trial.len(), walking.sample_count() as usize),
+            (n, n),
+            "{duration} s at {rate} Hz"
+        );
+        let last = walking.last().unwrap().sample.t;
+        assert_eq!(trial.last().unwrap().sample.t, last);
+        assert!((last - (n - 1) as f64 / rate).abs() < 1e-12);
+    }
 }
 
 #[test]

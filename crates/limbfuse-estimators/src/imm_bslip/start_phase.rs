@@ -1,0 +1,127 @@
+//! Where in the step a trial starts (configuration `continuous`;
+//! docs/GAIT_IMM.md, "Restart after a gap or a mid-stride start").
+//!
+//! The bank used to take its first sample as mid-stance (MS): true of paper
+//! 003's simulated trials, not of a recording cut anywhere in the stride.
+//! The CoM's vertical motion tells where in the step it is: highest at MS,
+//! falling in SS1, lowest in the middle of double support (DS), rising in
+//! SS2. The first sample's measured height and vertical velocity are
+//! matched against the gait's own step: SS1 integrated from MS to
+//! touchdown (B-SLIP, one leg), the rest by the step's symmetry in time
+//! about MS (`y(T - t) = y(t)`, `vy(T - t) = -vy(t)`, `x(T - t) = L -
+//! x(t)`), DS between them a parabola through the touchdown and lift-off
+//! states (its vertex at `T / 2`).
+
+use limbfuse_models::bslip::{derivative, GaitTemplate, Side, Stance, State};
+
+/// A point of the step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct StepPoint {
+    /// Time since MS (s), in `[0, step_time)`.
+    pub t: f64,
+    /// The CoM's forward advance from the trailing (SS1) foot (m).
+    pub x: f64,
+    /// The CoM's forward velocity there (m/s).
+    pub vx: f64,
+}
+
+/// RK4 steps over SS1 (MS to touchdown); as many DS points.
+const STEPS: usize = 200;
+
+/// Standard deviations of the match (m, m/s): the measurement noise of
+/// paper 003 eq 15 (7 and 22 mm/s) and the gait's own mismatch with the
+/// walker (a family gait's MS height is within about 1 cm of another
+/// gait search's at the same speed).
+const SIGMA_Y: f64 = 0.012;
+const SIGMA_VY: f64 = 0.03;
+
+fn rk4(g: &GaitTemplate, stance: &Stance, x: &State, h: f64) -> State {
+    let f = |s: &State| derivative(&g.body, s, stance);
+    let k1 = f(x);
+    let k2 = f(&(x + k1 * (0.5 * h)));
+    let k3 = f(&(x + k2 * (0.5 * h)));
+    let k4 = f(&(x + k3 * h));
+    x + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0)
+}
+
+/// The point of `g`'s step (from MS on its trailing foot) whose height and
+/// vertical velocity are nearest to the measured `y`, `vy`, and how much
+/// worse MS itself fits: the squared normalised distance at MS less that
+/// at the best point (a chi-square difference with two degrees of
+/// freedom). Near MS the top of the arc is flat (`vy` within one noise
+/// standard deviation for about a tenth of a step either side), so a single
+/// sample cannot tell MS from its neighbours there.
+pub(super) fn locate_in_step(g: &GaitTemplate, y: f64, vy: f64) -> (StepPoint, f64) {
+    let t_td = g.t_touchdown.clamp(0.0, 0.5 * g.step_time);
+    let half = 0.5 * g.step_time;
+    let stance = Stance {
+        trailing: Some([0.0, -Side::Left.sign() * g.gait.lateral]),
+        leading: None,
+    };
+    let mut x = State::new(0.0, g.gait.height, 0.0, g.gait.forward_speed, 0.0, 0.0);
+    let h = t_td / STEPS as f64;
+    let cost = |py: f64, pvy: f64| {
+        let a = (y - py) / SIGMA_Y;
+        let b = (vy - pvy) / SIGMA_VY;
+        a * a + b * b
+    };
+    let at_ms = cost(x[1], x[4]);
+    let mut best = (
+        f64::INFINITY,
+        StepPoint {
+            t: 0.0,
+            x: 0.0,
+            vx: x[3],
+        },
+    );
+    let mut consider = |c: f64, p: StepPoint| {
+        if c < best.0 {
+            best = (c, p);
+        }
+    };
+    for k in 0..=STEPS {
+        let t = k as f64 * h;
+        consider(
+            cost(x[1], x[4]),
+            StepPoint {
+                t,
+                x: x[0],
+                vx: x[3],
+            },
+        );
+        if k > 0 {
+            // The mirror point in SS2.
+            consider(
+                cost(x[1], -x[4]),
+                StepPoint {
+                    t: g.step_time - t,
+                    x: g.step_length - x[0],
+                    vx: x[3],
+                },
+            );
+        }
+        if k < STEPS {
+            x = rk4(g, &stance, &x, h);
+        }
+    }
+    // DS: y = y_min + a (t - T/2)^2 through the touchdown state.
+    let (x_td, y_td, vx_td, vy_td) = (x[0], x[1], x[3], x[4]);
+    if half > t_td {
+        let a = -vy_td / (2.0 * (half - t_td));
+        let y_min = y_td - a * (half - t_td) * (half - t_td);
+        for k in 1..STEPS {
+            let t = t_td + (g.step_time - 2.0 * t_td) * k as f64 / STEPS as f64;
+            let s = t - half;
+            let f = (t - t_td) / (g.step_time - 2.0 * t_td);
+            consider(
+                cost(y_min + a * s * s, 2.0 * a * s),
+                StepPoint {
+                    t,
+                    x: x_td + f * (g.step_length - 2.0 * x_td),
+                    vx: vx_td,
+                },
+            );
+        }
+    }
+    (best.1, at_ms - best.0)
+}
