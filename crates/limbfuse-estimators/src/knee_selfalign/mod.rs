@@ -345,7 +345,15 @@ impl KneeSelfAlign {
                     self.information = information;
                     return;
                 }
-                let open = !self.sign_committed && acc_trusted == Some(false);
+                // The skewness counts in every window where it may choose
+                // the flexion side: an untrusted accelerometer angle, and
+                // in the first window also one without the motion to judge
+                // it (`flexion_side` reads the skewness unless the angle is
+                // trusted); else the first window's choice is not in the
+                // sum and the next window alone overturns it.
+                let open = !self.sign_committed
+                    && (acc_trusted == Some(false)
+                        || (self.geometry.is_none() && acc_trusted.is_none()));
                 self.flexion
                     .pool(&self.window, self.geometry.as_ref(), &mut geometry, open);
                 if let Some(bases) = geometry.bases(self.params.zero) {
