@@ -334,7 +334,7 @@ def test_simulate_bslip_from_a_library_and_bad_options(tmp_path):
     lib = tmp_path / "lib.json"
     limbfuse.gait_library(lib, [0.6, 0.7])
     t = limbfuse.simulate("bslip", speed=0.6, library=lib, duration=2)
-    assert float(t.meta["bslip_speed_mps"]) == 0.6 and len(t) == 201
+    assert float(t.meta["bslip_speed_mps"]) == 0.6 and len(t) == 200
     with pytest.raises(LimbfuseError, match=r"lib.json: no gait at 0.65 m/s"):
         limbfuse.simulate("bslip", speed=0.65, library=lib)
     with pytest.raises(LimbfuseError, match="give one or the other"):

@@ -208,18 +208,13 @@ impl TableReader {
     /// Names present, none empty (but the last), none twice.
     fn check_header(&self, line: u64) -> Result<(), FileError> {
         let header = &self.header;
-        // (an audit: a gait library given as a trial was reported as
-        // "duplicate column `rest_length:1.0`")
-        if header
-            .first()
-            .is_some_and(|h| h.starts_with('{') || h.starts_with('['))
-        {
+        if let Some(kind) = crate::trial_hints::other_format(&self.path, header) {
             return Err(FileError::Header {
                 path: self.path.clone(),
                 line,
-                message: "a JSON file (e.g. a gait library), not a CSV table: expected a \
-                          header row of column names (`t,...`)"
-                    .to_string(),
+                message: format!(
+                    "{kind}, not a CSV table: expected a header row of column names (`t,...`)"
+                ),
             });
         }
         if header.iter().all(String::is_empty) {

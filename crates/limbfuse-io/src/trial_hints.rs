@@ -88,3 +88,64 @@ pub(crate) fn importer_hint(path: &Path, header: &[String]) -> String {
         String::new()
     }
 }
+
+/// What a header row shows of a file of another format given as a CSV
+/// table, or `None`. Audits: a gait library given as a trial was
+/// "duplicate column `rest_length:1.0`" (2026-12-05, now "a JSON file"); an
+/// FES model or a parameter file (`.toml`) was "a JSON file" (its `[model]`
+/// line) or "missing required column `t`" (its `key = value` line).
+pub(crate) fn other_format(path: &Path, header: &[String]) -> Option<&'static str> {
+    let first = header.first()?.trim();
+    let one_cell = header.len() == 1;
+    let toml_extension = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let bare_key = |k: &str| {
+        !k.is_empty()
+            && k.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_-.\"".contains(c))
+    };
+    // `[model]`, `[[segments]]`; `key = value`
+    let table_header = first.len() > 2
+        && first.starts_with('[')
+        && first.ends_with(']')
+        && bare_key(first.trim_matches(|c| c == '[' || c == ']').trim());
+    let key_value = first
+        .split_once('=')
+        .is_some_and(|(k, _)| bare_key(k.trim()));
+    if one_cell && (toml_extension || table_header || key_value) {
+        Some("a TOML file (e.g. a parameter file or an FES model)")
+    } else if first.starts_with('{') || first.starts_with('[') {
+        Some("a JSON file (e.g. a gait library)")
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::other_format;
+    use std::path::Path;
+
+    fn of(path: &str, line: &str) -> Option<&'static str> {
+        let header: Vec<String> = line.split(',').map(str::to_string).collect();
+        other_format(Path::new(path), &header)
+    }
+
+    #[test]
+    fn toml_json_and_csv_headers_are_told_apart() {
+        let toml = Some("a TOML file (e.g. a parameter file or an FES model)");
+        let json = Some("a JSON file (e.g. a gait library)");
+        assert_eq!(of("m.toml", "[model]"), toml);
+        assert_eq!(of("m.txt", "[model]"), toml);
+        assert_eq!(of("m.txt", "[[segments]]"), toml);
+        assert_eq!(of("p.txt", "method = \"mjls\""), toml);
+        assert_eq!(of("p.toml", "anything"), toml);
+        assert_eq!(of("lib.json", "{\"format\": 1"), json);
+        assert_eq!(of("lib.json", "[1.0"), json);
+        assert_eq!(of("a.json", "[{\"a\": 1}]"), json);
+        assert_eq!(of("w.csv", "t,thigh_gyr_x"), None);
+        assert_eq!(of("w.toml", "t,thigh_gyr_x"), None);
+        assert_eq!(of("w.csv", "t"), None);
+    }
+}

@@ -2,7 +2,9 @@
 //! says what it is (an audit, 2026-12-05): a gait library given as a trial
 //! was "duplicate column `rest_length:1.0`", an estimate given to `tune` "no
 //! reference angle column", a calibration file given as `--params` "unknown
-//! field `format`".
+//! field `format`"; a parameter file or an FES model (`.toml`) given as a
+//! trial "missing required column `t`" or "a JSON file" (its `[model]`
+//! line; session 29).
 
 use crate::support::limbfuse;
 
@@ -30,6 +32,7 @@ fn each_kind_of_file_is_named_where_another_is_expected() {
         ],
         &["simulate", "calibration", "-o", "poses.csv"],
         &["calibrate", "poses.csv", "-o", "cal.toml"],
+        &["params", "--method", "sdre", "-o", "sdre.toml"],
     ] {
         let o = limbfuse(args, p);
         assert!(
@@ -55,4 +58,16 @@ fn each_kind_of_file_is_named_where_another_is_expected() {
         p,
         "cal.toml: a sensor calibration file",
     );
+    std::fs::write(
+        p.join("model.toml"),
+        "# knee-fes model parameters\n[model]\ninertia = 0.45\n",
+    )
+    .unwrap();
+    for toml in ["cal.toml", "sdre.toml", "model.toml"] {
+        refused(
+            &["estimate", "--method", "mjls", toml, "-o", "x.csv"],
+            p,
+            "a TOML file (e.g. a parameter file or an FES model), not a CSV table",
+        );
+    }
 }
