@@ -5,6 +5,7 @@
 //! Figures: `cargo test --release -p limbfuse-estimators --test integration
 //! -- knee_late_start:: --nocapture --include-ignored`.
 
+use crate::knee_selfalign_real::pearson;
 use crate::shared_data_support::{data_dir, read};
 use limbfuse_core::{Estimator, Joint, Record};
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
@@ -55,18 +56,6 @@ pub fn score(
         .sqrt()
         .to_degrees();
     (abs, free, pearson(&e, &r), n)
-}
-
-fn pearson(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len() as f64;
-    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        sab += (x - ma) * (y - mb);
-        saa += (x - ma) * (x - ma);
-        sbb += (y - mb) * (y - mb);
-    }
-    sab / (saa * sbb).sqrt()
 }
 
 /// The best of lags 0..=2 by offset-free RMSE.
