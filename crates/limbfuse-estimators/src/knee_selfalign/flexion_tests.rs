@@ -45,10 +45,23 @@ fn axes(side: f64) -> Geometry {
 
 /// Pools one window as `end_window` does and returns the axes' side (+1:
 /// the knee flexes to positive angles about +x).
-fn pool(ev: &mut FlexionEvidence, ring: &Ring, old: Option<f64>, side: f64, trusted: Option<bool>) -> f64 {
+fn pool(
+    ev: &mut FlexionEvidence,
+    ring: &Ring,
+    old: Option<f64>,
+    side: f64,
+    trusted: Option<bool>,
+) -> f64 {
     let mut g = axes(side);
     let old = old.map(axes);
-    ev.pool_window(ring, old.as_ref(), &mut g, false, trusted, AngleZero::SensorPositions);
+    ev.pool_window(
+        ring,
+        old.as_ref(),
+        &mut g,
+        false,
+        trusted,
+        AngleZero::SensorPositions,
+    );
     g.axis[0].x
 }
 
@@ -77,7 +90,10 @@ fn a_trusted_flexion_side_is_not_undone_by_earlier_skewness() {
     side = pool(&mut ev, &right, Some(side), -side, Some(true));
     assert_eq!(side, 1.0);
     side = pool(&mut ev, &right, Some(side), side, Some(false));
-    assert_eq!(side, 1.0, "a window with the flexion side's skewness flipped the knee");
+    assert_eq!(
+        side, 1.0,
+        "a window with the flexion side's skewness flipped the knee"
+    );
     side = pool(&mut ev, &wrong, Some(side), side, Some(false));
     assert_eq!(side, 1.0, "an untrusted window overturned the trusted side");
 }
@@ -88,8 +104,22 @@ fn a_trusted_flexion_side_is_not_undone_by_earlier_skewness() {
 fn with_the_paper_zero_the_skewness_still_pools() {
     let mut ev = FlexionEvidence::default();
     let mut g = axes(1.0);
-    ev.pool_window(&window(1.0), None, &mut g, false, Some(true), AngleZero::PaperC);
+    ev.pool_window(
+        &window(1.0),
+        None,
+        &mut g,
+        false,
+        Some(true),
+        AngleZero::PaperC,
+    );
     let old = g;
-    ev.pool_window(&window(-1.0), Some(&old), &mut g, false, Some(false), AngleZero::PaperC);
+    ev.pool_window(
+        &window(-1.0),
+        Some(&old),
+        &mut g,
+        false,
+        Some(false),
+        AngleZero::PaperC,
+    );
     assert_eq!(g.axis[0].x, -1.0);
 }

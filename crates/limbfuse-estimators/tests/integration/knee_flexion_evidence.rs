@@ -25,9 +25,12 @@ fn slot(r: &Record) -> Slot {
     }
 }
 
-/// Per identified, uncommitted window: (skewness in the sense of the axes
-/// the estimator chose, range of the gyro angle in deg, sd in deg).
-fn windows(records: &[Record], window: usize) -> Vec<(f64, f64, f64)> {
+/// One window: skewness in the sense of the axes the estimator chose, range
+/// of the gyro angle (deg), its standard deviation (deg).
+type WindowSkew = (f64, f64, f64);
+
+/// [`WindowSkew`] of every identified, uncommitted window.
+fn windows(records: &[Record], window: usize) -> Vec<WindowSkew> {
     let mut est = KneeSelfAlign::new(KneeSelfAlignParams {
         window,
         ..Default::default()
@@ -42,7 +45,9 @@ fn windows(records: &[Record], window: usize) -> Vec<(f64, f64, f64)> {
         }
         let g = *est.geometry().unwrap();
         let mut ring = Ring::new(window);
-        records[i + 1 - window..=i].iter().for_each(|r| ring.push(slot(r)));
+        records[i + 1 - window..=i]
+            .iter()
+            .for_each(|r| ring.push(slot(r)));
         let (m2, m3) = gyro_angle_moments(&ring, &g);
         let (mut a, mut lo, mut hi) = (0.0f64, 0.0f64, 0.0f64);
         for k in 1..ring.len() {
@@ -63,7 +68,7 @@ fn skewness_against_motion_size() {
     let Some(dir) = data_dir(&["knee-rig", "gaittoolbox-s02-walk", "independent-sim"]) else {
         return;
     };
-    let mut runs: Vec<(String, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut runs: Vec<(String, Vec<WindowSkew>)> = Vec::new();
     for k in 1..=5 {
         let records = import_knee_rig(&dir.join(format!("knee-rig/Trial_0{k}.csv")))
             .unwrap()
@@ -72,7 +77,9 @@ fn skewness_against_motion_size() {
             runs.push((format!("rig0{k} w{w}"), windows(&records, w)));
         }
     }
-    let s02 = import_gaittoolbox(&dir.join("gaittoolbox-s02-walk")).unwrap().records;
+    let s02 = import_gaittoolbox(&dir.join("gaittoolbox-s02-walk"))
+        .unwrap()
+        .records;
     for w in [300, 500] {
         runs.push((format!("s02 w{w}"), windows(&s02, w)));
     }
@@ -89,7 +96,10 @@ fn skewness_against_motion_size() {
             sum += skew;
             wsum += skew * sd * sd;
             (min, wmin) = (min.min(sum), wmin.min(wsum));
-            let b = bins.iter().position(|&(lo, hi)| range >= lo && range < hi).unwrap();
+            let b = bins
+                .iter()
+                .position(|&(lo, hi)| range >= lo && range < hi)
+                .unwrap();
             tally[b].0 += 1;
             tally[b].2 += skew;
             if skew < 0.0 {
