@@ -30,6 +30,8 @@ pub mod angle;
 mod deferral_tests;
 pub mod delay;
 mod diag;
+#[cfg(test)]
+mod flexion_tests;
 mod fuser;
 pub mod param_ekf;
 pub mod params;
@@ -345,17 +347,14 @@ impl KneeSelfAlign {
                     self.information = information;
                     return;
                 }
-                // The skewness counts in every window where it may choose
-                // the flexion side: an untrusted accelerometer angle, and
-                // in the first window also one without the motion to judge
-                // it (`flexion_side` reads the skewness unless the angle is
-                // trusted); else the first window's choice is not in the
-                // sum and the next window alone overturns it.
-                let open = !self.sign_committed
-                    && (acc_trusted == Some(false)
-                        || (self.geometry.is_none() && acc_trusted.is_none()));
-                self.flexion
-                    .pool(&self.window, self.geometry.as_ref(), &mut geometry, open);
+                self.flexion.pool_window(
+                    &self.window,
+                    self.geometry.as_ref(),
+                    &mut geometry,
+                    self.sign_committed,
+                    acc_trusted,
+                    self.params.zero,
+                );
                 if let Some(bases) = geometry.bases(self.params.zero) {
                     // A new pair of sides (first window, or an uncommitted
                     // sign that changed) changes what eq 4 integrates: the

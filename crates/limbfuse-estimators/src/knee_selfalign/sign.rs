@@ -225,23 +225,55 @@ pub fn gyro_angle_moments(ring: &Ring, g: &Geometry) -> (f64, f64) {
 /// five (offset-free 2.4 -> 20 deg, r -0.99; a generalisation audit). The
 /// skewness (`m3 / m2^1.5`) of every such window is summed in the current
 /// axes' sense, and both axes flip when the sum turns negative.
+///
+/// A window whose trusted accelerometer angle read the side from its level
+/// (`identify`'s `flexion_side` with the sensor-position zero) *anchors* it
+/// (ours, 2026-12-05): the skewness stops counting, and the side changes
+/// only when another trusted window reads it again. The skewness is a prior
+/// about legs, the level a measurement of the angle. Before, such a window
+/// only turned the sum to the new side: after untrusted windows had pooled
+/// `S` for the other side it left `-S`, and the next untrusted window, whose
+/// skewness is added, flipped the knee back unless it alone outweighed `S`
+/// (test `a_trusted_flexion_side_is_not_undone_by_earlier_skewness`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct FlexionEvidence {
     skew_sum: f64,
+    anchored: bool,
 }
 
 impl FlexionEvidence {
-    /// Adds the window's skewness for `geometry` when it `counts`, after
-    /// bringing the sum to `geometry`'s sense (`old`: the previous
-    /// windows' axes), and flips both axes when the sum says the knee
-    /// would flex to negative angles.
-    pub(crate) fn pool(
+    /// Pools the window in `ring` after `identify` gave it `geometry` and
+    /// `acc_trusted` (`old`: the previous windows' axes, `None` for the
+    /// first; `committed`: the relative sign before this window): the
+    /// skewness counts in every window where it may choose the flexion
+    /// side, an untrusted accelerometer angle, and in the first window also
+    /// one without the motion to judge it (`flexion_side` reads the skewness
+    /// unless the angle is trusted; else the first window's choice is not in
+    /// the sum and the next window alone overturns it). A trusted window of
+    /// an open pair with the sensor-position `zero` anchors the side.
+    pub(crate) fn pool_window(
         &mut self,
         ring: &Ring,
         old: Option<&Geometry>,
         geometry: &mut Geometry,
-        counts: bool,
+        committed: bool,
+        acc_trusted: Option<bool>,
+        zero: AngleZero,
     ) {
+        if !committed && acc_trusted == Some(true) && zero == AngleZero::SensorPositions {
+            self.anchored = true;
+        }
+        let counts = !committed
+            && !self.anchored
+            && (acc_trusted == Some(false) || (old.is_none() && acc_trusted.is_none()));
+        self.pool(ring, old, geometry, counts);
+    }
+
+    /// Adds the window's skewness for `geometry` when it `counts`, after
+    /// bringing the sum to `geometry`'s sense (`old`: the previous
+    /// windows' axes), and flips both axes when the sum says the knee
+    /// would flex to negative angles.
+    fn pool(&mut self, ring: &Ring, old: Option<&Geometry>, geometry: &mut Geometry, counts: bool) {
         if let Some(old) = old {
             let same = [0, 1].map(|k| old.axis[k].dot(&geometry.axis[k]) >= 0.0);
             match same {

@@ -23,6 +23,7 @@ mod issue_18_partial_imu_cells;
 mod issue_19_long_trials;
 mod issue_19_off_grid_branches;
 mod issue_29_imm_start_mid_step;
+mod knee_flexion_evidence;
 mod knee_hinge;
 mod knee_late_start;
 mod knee_real_conditions;
