@@ -123,3 +123,27 @@ fn with_the_paper_zero_the_skewness_still_pools() {
     );
     assert_eq!(g.axis[0].x, -1.0);
 }
+
+/// An anchor belongs to its pair of sides (2026-12-05, on merging): when
+/// the open relative sign changes the pair (one axis turned), the new
+/// pair's skewness counts again, as its sum starts again.
+#[test]
+fn a_new_pair_of_sides_is_not_held_by_the_old_anchor() {
+    let mut ev = FlexionEvidence::default();
+    let mut side = pool(&mut ev, &window(1.0), None, 1.0, Some(true));
+    assert_eq!(side, 1.0);
+    // The next window turns only the shank's axis: another pair.
+    let old = axes(side);
+    let mut g = axes(side);
+    g.axis[1] = -g.axis[1];
+    ev.pool_window(
+        &window(-1.0),
+        Some(&old),
+        &mut g,
+        false,
+        Some(false),
+        AngleZero::SensorPositions,
+    );
+    side = g.axis[0].x;
+    assert_eq!(side, -1.0, "the new pair's own skewness chose no side");
+}

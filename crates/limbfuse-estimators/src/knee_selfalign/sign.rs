@@ -229,7 +229,8 @@ pub fn gyro_angle_moments(ring: &Ring, g: &Geometry) -> (f64, f64) {
 /// A window whose trusted accelerometer angle read the side from its level
 /// (`identify`'s `flexion_side` with the sensor-position zero) *anchors* it
 /// (ours, 2026-12-05): the skewness stops counting, and the side changes
-/// only when another trusted window reads it again. The skewness is a prior
+/// only when another trusted window reads it again (or the open relative
+/// sign changes the pair: its sum and anchor start again). The skewness is a prior
 /// about legs, the level a measurement of the angle. Before, such a window
 /// only turned the sum to the new side: after untrusted windows had pooled
 /// `S` for the other side it left `-S`, and the next untrusted window, whose
@@ -260,13 +261,21 @@ impl FlexionEvidence {
         acc_trusted: Option<bool>,
         zero: AngleZero,
     ) {
-        if !committed && acc_trusted == Some(true) && zero == AngleZero::SensorPositions {
-            self.anchored = true;
+        let anchors = !committed && acc_trusted == Some(true) && zero == AngleZero::SensorPositions;
+        // Another pair of sides (an open relative sign that changed) has
+        // its own evidence: the old pair's anchor goes, as its sum does.
+        if old.is_some_and(|old| {
+            let same = [0, 1].map(|k| old.axis[k].dot(&geometry.axis[k]) >= 0.0);
+            same[0] != same[1]
+        }) {
+            self.anchored = false;
         }
         let counts = !committed
+            && !anchors
             && !self.anchored
             && (acc_trusted == Some(false) || (old.is_none() && acc_trusted.is_none()));
         self.pool(ring, old, geometry, counts);
+        self.anchored |= anchors;
     }
 
     /// Adds the window's skewness for `geometry` when it `counts`, after
