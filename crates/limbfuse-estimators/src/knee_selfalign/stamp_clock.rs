@@ -27,6 +27,8 @@
 //! are not scored: there both time bases agree and the derivative is the
 //! five-point formula as before.
 
+use core::cmp::Ordering;
+
 use nalgebra::Vector3;
 
 use super::position::{uniform_step, MAX_STEP_RATIO};
@@ -79,7 +81,7 @@ impl StampClock {
     /// last one seen (a re-pushed window) is ignored.
     pub fn observe(&mut self, s: &Slot) {
         let steps = match self.last_t {
-            Some(last) if !(s.t > last) => return,
+            Some(last) if s.t.partial_cmp(&last) != Some(Ordering::Greater) => return,
             Some(last) => self.steps_since(last, s.t),
             None => {
                 self.first_t = s.t;
@@ -145,11 +147,11 @@ impl StampClock {
 
     /// The line `t - first_t = a + b index` (`None` before two indices).
     fn line(&self) -> Option<(f64, f64)> {
-        if !(self.c_ii > 0.0) {
+        if self.c_ii.is_nan() || self.c_ii <= 0.0 {
             return None;
         }
         let b = self.c_it / self.c_ii;
-        (b > 0.0).then(|| (self.mean_time - b * self.mean_index, b))
+        (b > 0.0).then_some((self.mean_time - b * self.mean_index, b))
     }
 
     /// Scores the five samples held when their stamps are uneven (not
@@ -186,7 +188,9 @@ impl StampClock {
     /// fits the rates better than the stamps (after [`MIN_SCORED_RUNS`]
     /// runs), else `None` (the stamps are taken at their word).
     pub fn grid_step(&self) -> Option<f64> {
-        if self.scored < MIN_SCORED_RUNS || !(self.miss_grid < self.miss_stamps) {
+        let grid_fits_better =
+            self.miss_grid.partial_cmp(&self.miss_stamps) == Some(Ordering::Less);
+        if self.scored < MIN_SCORED_RUNS || !grid_fits_better {
             return None;
         }
         self.line().map(|(_, b)| b)

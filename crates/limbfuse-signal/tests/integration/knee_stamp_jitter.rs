@@ -162,7 +162,7 @@ fn interpolated(fine: &[Record], t: f64) -> Record {
     let i = ((t - fine[0].sample.t) / dt).floor() as usize;
     let (a, b) = (&fine[i], &fine[i + 1]);
     let w = (t - a.sample.t) / (b.sample.t - a.sample.t);
-    let mut out = a.clone();
+    let mut out = *a;
     out.sample.t = t;
     for seg in [Segment::Thigh, Segment::Shank] {
         let k = seg.index();
