@@ -289,6 +289,7 @@ impl Estimator for KneeGyroAxis {
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
         self.inner.step(sample)?;
         let dt = self.time.advance(sample.t)?;
+        let dt = dt.map(|d| self.inner.on_stamp_grid(d));
         // A time gap (rows missing: a step over `GAP_SPLIT_S` and
         // `GAP_SPLIT_PERIODS` sampling periods) is a dropout too: no
         // trapezoid across it (an audit: 0.5 s of rows removed from the

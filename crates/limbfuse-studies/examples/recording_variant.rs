@@ -3,11 +3,13 @@
 //! recordings"): rows removed (a time gap), IMU cells emptied over a time
 //! window or on every N-th row (dropped packets), the other leg's IMU
 //! columns removed, or the two legs' IMU columns and contact references
-//! exchanged without mirroring the readings. Other rates and the mirror
+//! exchanged without mirroring the readings, or the time stamps jittered.
+//! Other rates and the mirror
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
 //! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-every N
-//! [--blank-first K]] [--drop-other-leg] [--swap-legs]`
+//! [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
+//! [--jitter-seed S]]`
 
 use std::io::BufWriter;
 use std::path::Path;
@@ -15,6 +17,7 @@ use std::path::Path;
 use clap::Parser;
 use limbfuse_core::ImuSample;
 use limbfuse_io::TrialWriter;
+use limbfuse_signal::recording_variants::jitter_times;
 use limbfuse_studies::example_args::RecordingVariantArgs;
 use limbfuse_studies::recorded_trial::RecordedTrial;
 
@@ -52,6 +55,9 @@ fn main() {
             r.reference.contact.swap(0, 1);
         }
         out.push(r);
+    }
+    if let Some(ms) = args.jitter_ms {
+        jitter_times(&mut out, ms / 1000.0, args.jitter_seed);
     }
     if args.drop_other_leg {
         layout.other_acc = [false; 4];

@@ -36,6 +36,14 @@ pub struct RecordingVariantArgs {
     /// recording whose two sensors are mounted alike).
     #[arg(long)]
     pub swap_legs: bool,
+    /// Every time stamp moved by a seeded uniform amount within +-MS
+    /// milliseconds, the readings left where they are (a receiver's stamp
+    /// jitter; `limbfuse_signal::recording_variants::jitter_times`).
+    #[arg(long, value_name = "MS")]
+    pub jitter_ms: Option<f64>,
+    /// Seed of `--jitter-ms`.
+    #[arg(long, default_value_t = 1)]
+    pub jitter_seed: u64,
 }
 
 /// `final_contact_floor [TRIAL [OTHER_TRIAL ...]]`.

@@ -39,6 +39,7 @@ pub mod position;
 pub mod position_fit;
 pub mod position_fusion;
 pub mod sign;
+pub mod stamp_clock;
 pub mod upright;
 pub mod window;
 
@@ -442,8 +443,8 @@ impl Estimator for KneeSelfAlign {
     }
 
     fn reset(&mut self) {
-        self.window.clear();
-        self.recent.clear();
+        self.window.reset();
+        self.recent.reset();
         self.time.reset();
         self.counter = 0;
         self.recent_gyro_angle = [None; 5];
@@ -484,6 +485,7 @@ impl Estimator for KneeSelfAlign {
         let saturated = self.saturated(&thigh.gyr) || self.saturated(&shank.gyr);
         let slot = slot(sample.t, &self.aligned, self.params.gyro_range);
         self.window.push(slot);
+        let dt = dt.map(|d| self.on_stamp_grid(d));
         self.counter += 1;
         if self.counter >= self.params.window && !self.fixed {
             self.counter = 0;

@@ -115,15 +115,22 @@ pub const MAX_STEP_RATIO: f64 = 1.5;
 
 /// The rate derivative at the middle of five samples at times `t`: the
 /// five-point formula ([`central_derivative`]) when the times are equally
-/// spaced (within 1 %), else the derivative of the degree-4 interpolating
-/// polynomial through the five samples (Lagrange weights: exact for
-/// polynomials up to degree 4, as the five-point formula is), as long as
-/// every step lies within `[1 / MAX_STEP_RATIO, MAX_STEP_RATIO]` mean steps
-/// (jittered timestamps, not a gap). `None` across a gap or out-of-order
-/// times. Until issue 15's invariance audit a step more than 1 % off the
-/// mean refused the sample, so timestamps with 1 ms of jitter at 100 Hz
-/// left the estimator without any window (`issue_15_knee_jittered_timestamps`).
-pub fn rate_derivative(t: &[f64; 5], g: &[Vector3<f64>; 5]) -> Option<Vector3<f64>> {
+/// spaced (within 1 %); otherwise, as long as every step lies within
+/// `[1 / MAX_STEP_RATIO, MAX_STEP_RATIO]` mean steps (jittered timestamps,
+/// not a gap), the five-point formula with step `grid` when the samples are
+/// taken as regularly spaced ([`super::stamp_clock::StampClock`]: their
+/// stamps are jittered), else the derivative of the degree-4 interpolating
+/// polynomial through the five samples at their stamps (Lagrange weights:
+/// exact for polynomials up to degree 4, as the five-point formula is).
+/// `None` across a gap or out-of-order times. Until issue 15's invariance
+/// audit a step more than 1 % off the mean refused the sample, so
+/// timestamps with 1 ms of jitter at 100 Hz left the estimator without any
+/// window (`issue_15_knee_jittered_timestamps`).
+pub fn rate_derivative(
+    t: &[f64; 5],
+    g: &[Vector3<f64>; 5],
+    grid: Option<f64>,
+) -> Option<Vector3<f64>> {
     if let Some(dt) = uniform_step(t) {
         return Some(central_derivative(g, dt));
     }
@@ -137,6 +144,9 @@ pub fn rate_derivative(t: &[f64; 5], g: &[Vector3<f64>; 5]) -> Option<Vector3<f6
     });
     if !regular {
         return None;
+    }
+    if let Some(dt) = grid {
+        return Some(central_derivative(g, dt));
     }
     // d/dt of the Lagrange basis at the middle node x = t[2]:
     // L_j'(t2) = prod_{m != j, 2} (t2 - t_m) / prod_{m != j} (t_j - t_m)
@@ -296,15 +306,15 @@ mod tests {
         let p = |t: f64| Vector3::new(t.powi(4), 2.0 * t.powi(3) - t, 3.0 * t * t);
         let dp = |t: f64| Vector3::new(4.0 * t.powi(3), 6.0 * t * t - 1.0, 6.0 * t);
         let tj = [0.7, 0.7108, 0.7193, 0.7301, 0.7395];
-        let d = rate_derivative(&tj, &tj.map(p)).unwrap();
+        let d = rate_derivative(&tj, &tj.map(p), None).unwrap();
         assert!((d - dp(tj[2])).norm() < 1e-9, "{d} vs {}", dp(tj[2]));
         let tu = [0.7, 0.71, 0.72, 0.73, 0.74];
         assert_eq!(
-            rate_derivative(&tu, &tu.map(p)),
+            rate_derivative(&tu, &tu.map(p), None),
             Some(central_derivative(&tu.map(p), uniform_step(&tu).unwrap()))
         );
         assert_eq!(
-            rate_derivative(&[0.0, 0.01, 0.02, 0.04, 0.05], &tu.map(p)),
+            rate_derivative(&[0.0, 0.01, 0.02, 0.04, 0.05], &tu.map(p), None),
             None
         );
     }

@@ -17,6 +17,7 @@ use super::position::{rate_derivative, Kinematics};
 use super::position_fit::{fit_positions, PositionResiduals};
 use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
+use super::stamp_clock::StampClock;
 use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
 
@@ -35,12 +36,14 @@ pub struct Slot {
     pub acc_ok: bool,
 }
 
-/// The last `capacity` samples, oldest first.
+/// The last `capacity` samples, oldest first, and the time base of their
+/// rate derivatives ([`StampClock`], which sees every sample pushed).
 #[derive(Debug, Clone)]
 pub struct Ring {
     slots: Vec<Slot>,
     head: usize,
     len: usize,
+    clock: StampClock,
 }
 
 impl Ring {
@@ -50,11 +53,13 @@ impl Ring {
             slots: alloc::vec![Slot::default(); capacity.max(1)],
             head: 0,
             len: 0,
+            clock: StampClock::default(),
         }
     }
 
     /// Appends a sample, dropping the oldest when full.
     pub fn push(&mut self, s: Slot) {
+        self.clock.observe(&s);
         let cap = self.slots.len();
         let idx = (self.head + self.len) % cap;
         self.slots[idx] = s;
@@ -75,10 +80,22 @@ impl Ring {
         self.len == 0
     }
 
-    /// Forgets every sample.
+    /// Forgets every sample; the time base stays (samples pushed again
+    /// are not newer than the last one, and [`StampClock`] ignores them).
     pub fn clear(&mut self) {
         self.head = 0;
         self.len = 0;
+    }
+
+    /// [`StampClock::last_grid_step`] of the samples pushed.
+    pub fn last_grid_step(&self) -> Option<f64> {
+        self.clock.last_grid_step()
+    }
+
+    /// Forgets every sample and the time base.
+    pub fn reset(&mut self) {
+        self.clear();
+        self.clock.reset();
     }
 
     /// The `i`-th oldest sample.
@@ -89,7 +106,8 @@ impl Ring {
     /// Thigh and shank kinematics (with the five-point rate derivative) at
     /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros,
     /// sample `i` complete accelerometers, and the times are equally spaced
-    /// or jittered without a gap ([`rate_derivative`]).
+    /// or jittered without a gap ([`rate_derivative`], on the time base of
+    /// [`StampClock`]).
     pub fn kinematics(&self, i: usize) -> Option<[Kinematics; 2]> {
         if i < 2 || i + 2 >= self.len || !self.get(i).acc_ok {
             return None;
@@ -99,9 +117,10 @@ impl Ring {
             return None;
         }
         let t = w.map(|s| s.t);
+        let grid = self.clock.grid_step();
         let gyr_dot = [
-            rate_derivative(&t, &w.map(|x| x.gyr[0]))?,
-            rate_derivative(&t, &w.map(|x| x.gyr[1]))?,
+            rate_derivative(&t, &w.map(|x| x.gyr[0]), grid)?,
+            rate_derivative(&t, &w.map(|x| x.gyr[1]), grid)?,
         ];
         let s = w[2];
         Some(core::array::from_fn(|seg| Kinematics {

@@ -8,4 +8,5 @@ mod align_legs;
 mod align_sim;
 mod calibration_sim;
 mod invariance_unseen;
+mod knee_stamp_jitter;
 mod resample;

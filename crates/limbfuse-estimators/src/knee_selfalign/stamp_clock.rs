@@ -1,0 +1,341 @@
+//! Which times the rate derivative uses when the time stamps are not evenly
+//! spaced (ours, beyond paper 002, which assumes a regular sample rate).
+//!
+//! Uneven stamps mean one of two things:
+//! * the samples really were taken at those times (the stamps are right), or
+//! * the sensor sampled on its own regular clock and the stamps were given
+//!   later, by a receiver or a logging host, with jitter (the stamps are
+//!   wrong by up to a few milliseconds; usual for wireless IMUs).
+//!
+//! The five-point derivative of the angular rate (paper 002's "third-order"
+//! derivative, [`super::position::rate_derivative`]) divides by the spacing,
+//! so taking jittered stamps at their word turns the jitter into noise on the
+//! angular acceleration: +-3 ms at 100 Hz put the knee 25 deg off on the
+//! shared 0.7 m/s walk (`knee_stamp_jitter` tests). Taking real uneven
+//! sampling as regular does the same the other way round.
+//!
+//! The data decide between the two. Between samples the angular rate of a
+//! body segment is smooth (its spectrum ends far below the sample rate), so
+//! on the right time base the middle of five consecutive samples is close to
+//! the cubic through the other four, and on the wrong one it is off by about
+//! the rate's slope times the time error. [`StampClock`] sums, over every
+//! run of five unevenly stamped samples, the squared miss of that cubic
+//! prediction on both gyroscopes, once with the stamps and once with the
+//! samples evenly spaced, and takes the regular grid when its sum is the
+//! smaller (no threshold: the better-fitting time base). Its step is then
+//! the mean step since the first sample. Evenly stamped samples (within 1 %)
+//! are not scored: there both time bases agree and the derivative is the
+//! five-point formula as before.
+
+use core::cmp::Ordering;
+
+use nalgebra::Vector3;
+
+use super::position::{uniform_step, MAX_STEP_RATIO};
+use super::window::Slot;
+use super::KneeSelfAlign;
+
+/// Uneven runs of five samples scored before the verdict may say "grid":
+/// two strides' worth would be more, one run is too few to be a verdict;
+/// ten runs of five samples cover at least 50 samples (0.5 s at 100 Hz).
+pub const MIN_SCORED_RUNS: u32 = 10;
+
+/// Samples before the line through the stamps counts missing samples from
+/// its prediction (before, a step over [`MAX_STEP_RATIO`] mean steps is
+/// that many): eight points pin a line's slope to a quarter of one stamp's
+/// jitter over the step.
+pub const MIN_LINE_POINTS: f64 = 8.0;
+
+/// Watches the sample times and gyroscope rates of a stream (see the
+/// module documentation) and says which spacing the rate derivative uses.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StampClock {
+    /// The last five samples (oldest first) with both gyroscopes usable,
+    /// consecutive in the stream; `held` of them are valid.
+    last: [(f64, [Vector3<f64>; 2]); 5],
+    held: usize,
+    /// Time of the first and of the last sample seen (`None` before one).
+    first_t: f64,
+    last_t: Option<f64>,
+    /// Sample index of the last sample (missing samples counted) and the
+    /// running least-squares line `t - first_t = a + b index` (Welford
+    /// sums: points, means, co-moments).
+    index: f64,
+    points: f64,
+    mean_index: f64,
+    mean_time: f64,
+    c_ii: f64,
+    c_it: f64,
+    /// Sums of the squared cubic-prediction misses with the stamps and with
+    /// the regular grid, and the number of runs scored.
+    miss_stamps: f64,
+    miss_grid: f64,
+    scored: u32,
+    /// The last sample's step from the one before on the regular grid
+    /// (`None` unless the verdict is the grid).
+    grid_step_last: Option<f64>,
+}
+
+impl StampClock {
+    /// Observes the next sample of the stream. A sample not later than the
+    /// last one seen (a re-pushed window) is ignored.
+    pub fn observe(&mut self, s: &Slot) {
+        let steps = match self.last_t {
+            Some(last) if s.t.partial_cmp(&last) != Some(Ordering::Greater) => return,
+            Some(last) => self.steps_since(last, s.t),
+            None => {
+                self.first_t = s.t;
+                0.0
+            }
+        };
+        self.last_t = Some(s.t);
+        self.index += steps;
+        self.add_point(self.index, s.t - self.first_t);
+        if steps > 1.0 {
+            self.held = 0;
+        }
+        self.grid_step_last = match self.grid_step() {
+            Some(b) if steps >= 1.0 => Some(steps * b),
+            _ => None,
+        };
+        if !s.gyr_ok {
+            self.held = 0;
+            return;
+        }
+        if self.held == 5 {
+            self.last.rotate_left(1);
+            self.held = 4;
+        }
+        self.last[self.held] = (s.t, s.gyr);
+        self.held += 1;
+        if self.held == 5 {
+            self.score();
+        }
+    }
+
+    /// Sample steps from the last sample (at `last`) to one at `t`: from
+    /// the line through the stamps once it has [`MIN_LINE_POINTS`] (the
+    /// nearest whole number of steps after the last sample's place on the
+    /// line, at least one), else one unless the step exceeds
+    /// [`MAX_STEP_RATIO`] mean steps.
+    fn steps_since(&self, last: f64, t: f64) -> f64 {
+        match self.line() {
+            Some((a, b)) if self.points >= MIN_LINE_POINTS => {
+                let on_line = a + b * self.index;
+                libm::round((t - self.first_t - on_line) / b).max(1.0)
+            }
+            _ => {
+                let mean = (last - self.first_t) / self.index;
+                let step = t - last;
+                if self.index > 0.0 && step > MAX_STEP_RATIO * mean {
+                    libm::round(step / mean)
+                } else {
+                    1.0
+                }
+            }
+        }
+    }
+
+    fn add_point(&mut self, i: f64, t: f64) {
+        self.points += 1.0;
+        let di = i - self.mean_index;
+        self.mean_index += di / self.points;
+        self.mean_time += (t - self.mean_time) / self.points;
+        self.c_ii += di * (i - self.mean_index);
+        self.c_it += di * (t - self.mean_time);
+    }
+
+    /// The line `t - first_t = a + b index` (`None` before two indices).
+    fn line(&self) -> Option<(f64, f64)> {
+        if self.c_ii.is_nan() || self.c_ii <= 0.0 {
+            return None;
+        }
+        let b = self.c_it / self.c_ii;
+        (b > 0.0).then_some((self.mean_time - b * self.mean_index, b))
+    }
+
+    /// Scores the five samples held when their stamps are uneven (not
+    /// within 1 %) but without a gap.
+    fn score(&mut self) {
+        let t: [f64; 5] = core::array::from_fn(|k| self.last[k].0);
+        if uniform_step(&t).is_some() {
+            return;
+        }
+        let mean = (t[4] - t[0]) / 4.0;
+        let regular = (0..4).all(|i| {
+            let step = t[i + 1] - t[i];
+            step >= mean / MAX_STEP_RATIO && step <= mean * MAX_STEP_RATIO
+        });
+        if !regular {
+            return;
+        }
+        let w_stamps = middle_cubic_weights(&t);
+        // Evenly spaced nodes -2, -1, 1, 2 around 0: (-1, 4, 4, -1) / 6.
+        let w_grid = [-1.0 / 6.0, 4.0 / 6.0, 4.0 / 6.0, -1.0 / 6.0];
+        for seg in 0..2 {
+            let g: [Vector3<f64>; 5] = core::array::from_fn(|k| self.last[k].1[seg]);
+            let miss = |w: &[f64; 4]| {
+                (g[2] - (g[0] * w[0] + g[1] * w[1] + g[3] * w[2] + g[4] * w[3])).norm_squared()
+            };
+            self.miss_stamps += miss(&w_stamps);
+            self.miss_grid += miss(&w_grid);
+        }
+        self.scored = self.scored.saturating_add(1);
+    }
+
+    /// The step the rate derivative takes for unevenly stamped samples:
+    /// `Some(slope of the line through the stamps)` when the regular grid
+    /// fits the rates better than the stamps (after [`MIN_SCORED_RUNS`]
+    /// runs), else `None` (the stamps are taken at their word).
+    pub fn grid_step(&self) -> Option<f64> {
+        let grid_fits_better =
+            self.miss_grid.partial_cmp(&self.miss_stamps) == Some(Ordering::Less);
+        if self.scored < MIN_SCORED_RUNS || !grid_fits_better {
+            return None;
+        }
+        self.line().map(|(_, b)| b)
+    }
+
+    /// The step from the sample before to the last sample observed, on the
+    /// regular grid (a whole number of grid steps), when the verdict is the
+    /// grid; `None` otherwise (and after a gap).
+    pub fn last_grid_step(&self) -> Option<f64> {
+        self.grid_step_last
+    }
+
+    /// Forgets everything (estimator reset).
+    pub fn reset(&mut self) {
+        *self = StampClock::default();
+    }
+}
+
+impl KneeSelfAlign {
+    /// The step `dt` between the last two time stamps as the samples' own
+    /// clock has it: whole grid steps when the stamps are jittered
+    /// ([`StampClock::last_grid_step`] of the window's clock), else `dt`.
+    pub fn on_stamp_grid(&self, dt: f64) -> f64 {
+        self.window.last_grid_step().unwrap_or(dt)
+    }
+}
+
+/// Lagrange weights of the cubic through the samples at `t[0]`, `t[1]`,
+/// `t[3]`, `t[4]`, evaluated at `t[2]`.
+fn middle_cubic_weights(t: &[f64; 5]) -> [f64; 4] {
+    let nodes = [t[0], t[1], t[3], t[4]];
+    core::array::from_fn(|j| {
+        let mut w = 1.0;
+        for (m, tm) in nodes.iter().enumerate() {
+            if m != j {
+                w *= (t[2] - tm) / (nodes[j] - tm);
+            }
+        }
+        w
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn slot(t: f64, rate: f64) -> Slot {
+        Slot {
+            t,
+            gyr: [Vector3::new(rate, 0.0, 0.0), Vector3::new(0.0, -rate, 0.0)],
+            gyr_ok: true,
+            acc_ok: true,
+            ..Slot::default()
+        }
+    }
+
+    /// A deterministic +-`amp` s pattern (no random generator in the crate).
+    fn jitter(k: usize, amp: f64) -> f64 {
+        let u = ((k * 7919 + 13) % 101) as f64 / 100.0;
+        amp * (2.0 * u - 1.0)
+    }
+
+    fn rate(t: f64) -> f64 {
+        3.0 * libm::sin(2.0 * core::f64::consts::PI * 1.1 * t) + libm::sin(9.0 * t)
+    }
+
+    #[test]
+    fn the_cubic_weights_reproduce_a_cubic() {
+        let t = [0.0, 0.011, 0.019, 0.032, 0.04];
+        let f = |x: f64| 1.0 - 2.0 * x + 30.0 * x * x - 500.0 * x * x * x;
+        let w = middle_cubic_weights(&t);
+        let p = w[0] * f(t[0]) + w[1] * f(t[1]) + w[2] * f(t[3]) + w[3] * f(t[4]);
+        assert!((p - f(t[2])).abs() < 1e-12, "{p} vs {}", f(t[2]));
+        let even = middle_cubic_weights(&[0.0, 1.0, 2.0, 3.0, 4.0]);
+        for (a, b) in even
+            .iter()
+            .zip([-1.0 / 6.0, 4.0 / 6.0, 4.0 / 6.0, -1.0 / 6.0])
+        {
+            assert!((a - b).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn jittered_stamps_of_regular_samples_choose_the_grid() {
+        let mut c = StampClock::default();
+        for k in 0..500 {
+            let t_true = k as f64 * 0.01;
+            c.observe(&slot(t_true + jitter(k, 0.003), rate(t_true)));
+        }
+        let step = c.grid_step().expect("the grid fits better");
+        assert!((step - 0.01).abs() < 1e-4, "{step}");
+        // Every jittered step (4-16 ms) is one grid step; a dropped sample two.
+        let mut steps = Vec::new();
+        for k in 500..900 {
+            if k % 97 == 0 {
+                continue;
+            }
+            let t_true = k as f64 * 0.01;
+            c.observe(&slot(t_true + jitter(k, 0.003), rate(t_true)));
+            let n = c.last_grid_step().expect("grid") / c.grid_step().expect("grid");
+            steps.push((k, libm::round(n) as usize, (n - libm::round(n)).abs()));
+        }
+        for (k, n, off) in steps {
+            assert_eq!(n, if k % 97 == 1 { 2 } else { 1 }, "sample {k}");
+            assert!(off < 1e-12);
+        }
+    }
+
+    #[test]
+    fn truly_uneven_sampling_keeps_the_stamps() {
+        let mut c = StampClock::default();
+        for k in 0..500 {
+            let t = k as f64 * 0.01 + jitter(k, 0.003);
+            c.observe(&slot(t, rate(t)));
+        }
+        assert!(c.scored >= MIN_SCORED_RUNS);
+        assert_eq!(c.grid_step(), None);
+    }
+
+    #[test]
+    fn even_stamps_are_not_scored() {
+        let mut c = StampClock::default();
+        for k in 0..500 {
+            let t = k as f64 * 0.01;
+            c.observe(&slot(t, rate(t)));
+        }
+        assert_eq!(c.scored, 0);
+        assert_eq!(c.grid_step(), None);
+    }
+
+    #[test]
+    fn samples_missing_are_counted_and_earlier_times_are_ignored() {
+        let mut c = StampClock::default();
+        for k in (0..400).filter(|k| !(300..350).contains(k)) {
+            let t_true = k as f64 * 0.01;
+            c.observe(&slot(t_true + jitter(k, 0.003), rate(t_true)));
+            if k == 350 {
+                let gap = c.last_grid_step().expect("grid");
+                assert!((gap - 0.51).abs() < 1e-3, "{gap}");
+            }
+        }
+        let step = c.grid_step().expect("grid");
+        assert!((step - 0.01).abs() < 2e-5, "{step}");
+        let before = c;
+        c.observe(&slot(1.0, 0.0));
+        assert_eq!(c, before);
+    }
+}
