@@ -11,12 +11,14 @@
 //! signal handlers on: a worker thread (a threaded cohort) never takes the
 //! GIL back, so it adds no contention.
 //!
-//! The other long calls (`simulate`, `align`, `gait_library`, the IMM
-//! library extension, reading and writing files, ...; an audit, session
-//! 29: none stopped before its end) run in [`detach`], which installs the
+//! The other long calls (`simulate`, `align`, `report`, `inspect`,
+//! `gait_library`, the IMM library extension, reading and writing files,
+//! ...; audits, sessions 29 and 30: none stopped before its end) run in
+//! [`detach`], which installs the
 //! run's check for this thread: loops of this crate call [`poll_current`]
 //! per sample, and the workspace crates' searches get [`cancelled`] as
-//! their cancellation hook (`SearchSettings::cancel`: a plain `fn`, so the
+//! their cancellation hook (`SearchSettings::cancel`, `AlignOptions::cancel`,
+//! `ReportInput::cancel`: a plain `fn`, so the
 //! no_std-minded crates see no Python and no signal).
 
 use std::cell::RefCell;

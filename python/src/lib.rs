@@ -113,6 +113,7 @@ fn default_params(method: &str) -> PyResult<String> {
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn inspect(
+    py: Python<'_>,
     path: std::path::PathBuf,
 ) -> PyResult<(
     u64,
@@ -130,38 +131,37 @@ fn inspect(
     (Vec<String>, (bool, Option<bool>, Option<String>)),
 )> {
     guarded(|| {
-        let mut reader = limbfuse_io::TrialReader::open(&path).map_err(|e| user_error(&e))?;
-        let meta = reader.meta().clone();
-        let layout = *reader.layout();
-        let s = limbfuse_eval::summarise(&mut reader).map_err(|e| user_error(&e))?;
-
-        let mut available = limbfuse_methods::availability(&meta, &layout);
-        limbfuse_eval::data_limits::limit_by_data(&mut available, &s, &meta);
-        let read = limbfuse_methods::metadata_settings(&meta, &available);
-        let motion = limbfuse_eval::fixed_thigh::thigh_motion_notes(s.thigh_spread_deg, &available);
-        // Whether `limbfuse align` can align it (`inspect`'s line, the JSON's `align`).
-        let align = limbfuse_workflows::align_verdict::align_verdict(
-            &path, &meta, &layout, s.rows, &available,
-        );
-        // `inspect`'s hint: the model file beside the trial, for sdre / ekf.
-        let hint = limbfuse_methods::availability::needs_a_model(&available)
-            .then(|| limbfuse_methods::availability::model_file_hint(&path))
-            .flatten();
-        let methods = available
-            .into_iter()
-            .map(|(m, a)| {
-                let mut why = a.reason().to_string();
-                if let (Some(h), limbfuse_methods::Availability::NeedsSetting(_)) = (&hint, &a) {
-                    if matches!(
-                        m,
-                        limbfuse_methods::MethodName::Sdre | limbfuse_methods::MethodName::Ekf
-                    ) {
-                        why = format!("{why}; {h}");
-                    }
-                }
-                (m.name(), a.kind(), why)
-            })
-            .collect();
+        // (Ctrl-C, session 30: it ran holding the GIL; the alignment check
+        // of a raw-frame trial under 200 000 rows took 2 s of CPU)
+        let (s, methods, read, motion, align) = interrupt::detach(py, || {
+            let mut reader = limbfuse_io::TrialReader::open(&path)?;
+            let meta = reader.meta().clone();
+            let layout = *reader.layout();
+            let s = limbfuse_eval::summarise(&mut reader)?;
+            let mut available = limbfuse_methods::availability(&meta, &layout);
+            limbfuse_eval::data_limits::limit_by_data(&mut available, &s, &meta);
+            let read = limbfuse_methods::metadata_settings(&meta, &available);
+            let motion =
+                limbfuse_eval::fixed_thigh::thigh_motion_notes(s.thigh_spread_deg, &available);
+            // Whether `limbfuse align` can align it (`inspect`'s line, the JSON's `align`).
+            let align = limbfuse_workflows::align_verdict::align_verdict(
+                &path,
+                &meta,
+                &layout,
+                s.rows,
+                &available,
+                Some(interrupt::cancelled),
+            );
+            // (the reasons with the model file's hint, as `inspect --json`'s)
+            let why = limbfuse_methods::availability::inspect_reasons(&available, &path);
+            let methods: Vec<_> = available
+                .into_iter()
+                .zip(why)
+                .map(|((m, a), why)| (m.name(), a.kind(), why))
+                .collect();
+            Ok::<_, limbfuse_io::FileError>((s, methods, read, motion, align))
+        })?
+        .map_err(|e| user_error(&e))?;
         Ok((
             s.rows,
             s.span,

@@ -20,6 +20,7 @@ use pyo3::types::PyDict;
 
 use crate::columns::OwnedColumns;
 use crate::estimate::calibration_and_frame;
+use crate::interrupt::detach;
 use crate::options::Options;
 use crate::trial::{trial_tuple, TrialArgs, TrialTuple};
 use crate::{chain_message, guarded, user_error, user_msg};
@@ -82,7 +83,9 @@ fn align<'py>(
         let layout = *cols.layout();
         let label = trial.label();
         let mut meta = trial.meta();
-        let mut records: Vec<Record> = cols.records().collect();
+        // (Ctrl-C, session 30: an hour took 5 s of CPU, 30 s on a loaded
+        // machine, and nothing stopped it; each step below polls it)
+        let mut records: Vec<Record> = detach(py, || polled(cols.records()))?;
         let mut said = Vec::new();
         let cal = match &imu_calibration {
             Some((text, name)) => {
@@ -103,7 +106,8 @@ fn align<'py>(
                     let r: TrialArgs<'_> = r.extract().map_err(|_| {
                         user_msg("align: `calibration`: expected a limbfuse.Trial (the recording of quiet standing and rotations)")
                     })?;
-                    let mut rec: Vec<Record> = r.columns()?.records().collect();
+                    let r_cols = r.columns()?;
+                    let mut rec: Vec<Record> = detach(py, || polled(r_cols.records()))?;
                     if let Some(c) = &cal {
                         rec.iter_mut().for_each(|x| c.apply(x));
                     }
@@ -111,30 +115,27 @@ fn align<'py>(
                 }
                 None => (records.clone(), label.clone()),
             };
-            let al = py
-                .detach(|| align_static_rotation(&cal_records, &cal_name, &layout, &mut meta))
-                .map_err(|e| {
-                    user_msg(format!(
-                        "{cal_name}: static-rotation alignment: {}",
-                        chain_message(&e)
-                    ))
-                })?;
-            let aligned: Vec<Record> = records
-                .iter()
-                .map(|r| apply_rotations(r, &al.rotations))
-                .collect();
-            OwnedColumns::of_records(&layout, &aligned)
+            let al = detach(py, || {
+                align_static_rotation(&cal_records, &cal_name, &layout, &mut meta)
+            })?
+            .map_err(|e| {
+                user_msg(format!(
+                    "{cal_name}: static-rotation alignment: {}",
+                    chain_message(&e)
+                ))
+            })?;
+            detach(py, || {
+                let aligned = polled(records.iter().map(|r| apply_rotations(r, &al.rotations)));
+                OwnedColumns::of_records(&layout, &aligned)
+            })?
         } else {
-            let (w, aligned) = py
-                .detach(|| {
-                    let w = align_walking(&records, &layout, &mut meta, &opts)?;
-                    let aligned: Vec<Record> = records
-                        .iter()
-                        .map(|r| apply_alignment(r, &w.alignment))
-                        .collect();
-                    Ok::<_, TrialAlignmentError>((w, aligned))
-                })
-                .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
+            opts.cancel = Some(crate::interrupt::cancelled);
+            let (w, out) = detach(py, || {
+                let w = align_walking(&records, &layout, &mut meta, &opts)?;
+                let aligned = polled(records.iter().map(|r| apply_alignment(r, &w.alignment)));
+                Ok::<_, TrialAlignmentError>((w, OwnedColumns::of_records(&layout, &aligned)))
+            })?
+            .map_err(|e| user_msg(format!("aligning {label}: {}", chain_message(&e))))?;
             if let Some((gyro, acc, first_t)) = w.left_out {
                 said.push(format!(
                     "{label}: {gyro} gyroscope and {acc} accelerometer readings out of the sensors' \
@@ -148,10 +149,23 @@ fn align<'py>(
             if let Some(note) = &w.other_leg_raw {
                 said.push(format!("{label}: {note}"));
             }
-            OwnedColumns::of_records(&layout, &aligned)
+            out
         };
         Ok((trial_tuple(py, &meta, out, None), said))
     })
+}
+
+/// The records of `it` until Ctrl-C (in a run of [`detach`], which then
+/// raises `KeyboardInterrupt`).
+fn polled(it: impl Iterator<Item = Record>) -> Vec<Record> {
+    let mut out = Vec::with_capacity(it.size_hint().0);
+    for r in it {
+        out.push(r);
+        if crate::interrupt::poll_current() {
+            break;
+        }
+    }
+    out
 }
 
 /// `mean_angle={segment: degrees}`.
@@ -310,9 +324,8 @@ fn gait_library<'py>(
             cancel: Some(crate::interrupt::cancelled),
             ..SearchSettings::default()
         };
-        let lib =
-            crate::interrupt::detach(py, || build_library(&body, &speeds, &search, |_, _| {}))?
-                .map_err(|e| user_msg(format!("gait library search: {}", chain_message(&e))))?;
+        let lib = detach(py, || build_library(&body, &speeds, &search, |_, _| {}))?
+            .map_err(|e| user_msg(format!("gait library search: {}", chain_message(&e))))?;
         let file = gait_library_file(&body, &lib);
         file.write(&path).map_err(|e| user_error(&e))?;
         file.gaits
@@ -380,32 +393,32 @@ fn report(
             buckets,
             allow_trial_mismatch,
             scoring,
+            // (Ctrl-C, session 30: 2 s of CPU per estimate of an hour)
+            cancel: Some(crate::interrupt::cancelled),
             ..limbfuse_report::ReportInput::new(&trial, &estimates, command)
         };
-        let html = py
-            .detach(|| limbfuse_report::render(&input))
-            .map_err(|e| match &e {
-                limbfuse_report::ReportError::ScoringNotApplicable { options, why } => {
-                    user_msg(format!(
-                        "report: {}: {} {}",
-                        options
-                            .iter()
-                            .map(|o| o.keyword())
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                        if options.len() == 1 {
-                            "applies"
-                        } else {
-                            "apply"
-                        },
-                        why.replace("--window", "window")
-                    ))
-                }
-                limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::MaxLagTooLong {
-                    ..
-                }) => user_msg(format!("report: max_lag {max_lag}: {e}")),
-                _ => user_error(&e),
-            })?;
+        let html = detach(py, || limbfuse_report::render(&input))?.map_err(|e| match &e {
+            limbfuse_report::ReportError::ScoringNotApplicable { options, why } => {
+                user_msg(format!(
+                    "report: {}: {} {}",
+                    options
+                        .iter()
+                        .map(|o| o.keyword())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    if options.len() == 1 {
+                        "applies"
+                    } else {
+                        "apply"
+                    },
+                    why.replace("--window", "window")
+                ))
+            }
+            limbfuse_report::ReportError::Eval(limbfuse_eval::EvalError::MaxLagTooLong {
+                ..
+            }) => user_msg(format!("report: max_lag {max_lag}: {e}")),
+            _ => user_error(&e),
+        })?;
         limbfuse_io::AtomicFile::write(&path, &html)
             .map_err(|e| user_msg(format!("{}: cannot write: {e}", path.display())))?;
         Ok(html.len())

@@ -747,3 +747,22 @@ def test_both_leg_length_keys_with_different_values_warn_as_the_cli(walking_tria
         limbfuse.estimate(trial, "lowback-speed")
     said = [str(w.message) for w in caught if "leg_length" in str(w.message)]
     assert len(said) == 1 and "`lowback-speed` reads `# leg_length:`" in said[0], said
+
+
+def test_inspect_names_the_model_file_as_inspect_json_does(cli, tmp_path):
+    """Session 30: with a parameter file with a [model] table beside the
+    trial, Python's `inspect` added its hint to `sdre`'s and `ekf`'s reasons
+    and `limbfuse inspect --json` did not; both now take the reasons from
+    one function."""
+    import json
+
+    trial = limbfuse.simulate("knee-fes", duration=4.0)
+    meta = {k: v for k, v in trial.meta.items() if k != "model"}
+    path = tmp_path / "bare.csv"
+    Trial(trial.t, dict(trial.channels), meta).write(path)
+    (tmp_path / "bare.toml").write_text("[model]\nt_a = 1.0\n")
+    py = limbfuse.inspect(path)
+    js = json.loads(cli("inspect", "--json", path).stdout)[0]
+    assert "bare.toml" in py["methods"]["sdre"][1]
+    assert {k: list(v) for k, v in py["methods"].items()} == js["methods"]
+    assert py["align"] == js["align"]

@@ -7,7 +7,10 @@ before the fix (SIGINT at 0.3 s): `simulate("walking", duration=3600)`
 11 s, `gait_library` of 4 speeds 34 s, `Trial.write` / `read_trial` of an
 hour 4 s each. Each now raises `KeyboardInterrupt` within a fraction of a
 second (the check of `estimate`, every 0.1 s; the gait search polls it
-before every simulated step)."""
+before every simulated step). Session 30 (branch py30): `align` (5 s of CPU
+per hour), `report` (2 s per estimate of an hour) and `inspect`'s alignment
+check (2 s for 199 000 rows) likewise; `read_estimate` (0.3 s per hour) and
+`calibrate` (0.6 s) are over within a second and have no check."""
 
 import os
 import signal
@@ -114,3 +117,46 @@ def test_ctrl_c_stops_a_long_estimate_within_a_second():
         lambda: Filter.for_trial(big, "chain").run({"t": big.t, **big.channels}),
     ):
         _stops_within_a_second(run, cpu_s=1.5)
+
+
+def test_ctrl_c_stops_align(hour_trial):
+    """`align` of an hour (session 30): 5 s of CPU (30 s on a loaded
+    machine) holding on to Ctrl-C until the end, by either procedure (the
+    walking detection's windows; the records copied and rotated). Now the
+    alignment polls the check (`AlignOptions::cancel`) and so do the loops
+    over the records."""
+    _stops_within_a_second(lambda: limbfuse.align(hour_trial))
+    _stops_within_a_second(lambda: limbfuse.align(hour_trial, procedure="static-rotation", calibration=hour_trial))
+
+
+@pytest.fixture(scope="module")
+def hour_files(hour_trial, tmp_path_factory):
+    """The hour written, with two estimates of it."""
+    d = tmp_path_factory.mktemp("hour")
+    hour_trial.write(d / "hour.csv")
+    for m in ("chain", "gyro-integration"):
+        limbfuse.estimate(hour_trial, m).write(d / f"hour.{m}.csv")
+    return d
+
+
+def test_ctrl_c_stops_a_report_and_leaves_no_file(hour_files, tmp_path):
+    """`report` of two estimates of an hour (session 30): 4 s of CPU before
+    `KeyboardInterrupt`. Now the report polls the check between its steps
+    (`ReportInput::cancel`) and writes nothing."""
+    d = hour_files
+    out = tmp_path / "r.html"
+    _stops_within_a_second(lambda: limbfuse.report(d / "hour.csv", [d / "hour.chain.csv", d / "hour.gyro-integration.csv"], out))
+    assert os.listdir(tmp_path) == []
+
+
+def test_ctrl_c_stops_inspect_checking_the_alignment(tmp_path):
+    """`inspect` of a trial in raw sensor frames under 200 000 rows runs
+    the alignment to say whether `align` can align it (session 30: 2 s of
+    CPU for 199 000 rows, holding the GIL, so Ctrl-C waited). Now it runs
+    with the check, which the alignment polls."""
+    raw = limbfuse.simulate("walking", duration=600, seed=2, mounting="random")
+    long = _long_trial(raw, 3)  # 180 000 rows
+    path = tmp_path / "raw.csv"
+    long.write(path)
+    assert limbfuse.inspect(path)["align"]["possible"] is True  # (it is checked)
+    _stops_within_a_second(lambda: limbfuse.inspect(path))

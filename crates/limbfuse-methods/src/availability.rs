@@ -94,6 +94,31 @@ pub fn model_file_hint(trial: &std::path::Path) -> Option<String> {
     })
 }
 
+/// Each method's reason as `inspect` gives it ([`Availability::reason`]),
+/// `sdre` and `ekf` needing a setting with the hint of the model file
+/// beside `trial` ([`model_file_hint`]) after it: one text for the CLI's
+/// `inspect --json` and Python's `limbfuse.inspect` (session 30: only
+/// Python's had the hint).
+pub fn inspect_reasons(
+    methods: &[(MethodName, Availability)],
+    trial: &std::path::Path,
+) -> Vec<String> {
+    let hint = needs_a_model(methods)
+        .then(|| model_file_hint(trial))
+        .flatten();
+    methods
+        .iter()
+        .map(|(m, a)| match (&hint, a) {
+            (Some(h), Availability::NeedsSetting(why))
+                if matches!(m, MethodName::Sdre | MethodName::Ekf) =>
+            {
+                format!("{why}; {h}")
+            }
+            _ => a.reason().to_string(),
+        })
+        .collect()
+}
+
 /// Whether `methods` has `sdre` or `ekf` needing a setting (a model).
 pub fn needs_a_model(methods: &[(MethodName, Availability)]) -> bool {
     methods.iter().any(|(m, a)| {

@@ -52,6 +52,11 @@ pub struct ReportInput {
     /// `evaluate`'s scoring options, applied to the error tables and the
     /// error over the gait cycle.
     pub scoring: Scoring,
+    /// A cancellation hook (Python's Ctrl-C), polled between the steps
+    /// (reading the trial, each estimate's evaluation and reading, the
+    /// sections): once it returns true, [`render`] ends with
+    /// [`ReportError::Cancelled`]. `None` (the CLI): never.
+    pub cancel: Option<fn() -> bool>,
 }
 
 impl ReportInput {
@@ -64,6 +69,7 @@ impl ReportInput {
             buckets: DEFAULT_BUCKETS,
             allow_trial_mismatch: false,
             scoring: Scoring::default(),
+            cancel: None,
         }
     }
 }
@@ -100,6 +106,9 @@ pub enum ReportError {
         /// To what they apply, and what the report scores instead.
         why: String,
     },
+    /// The cancellation hook ([`ReportInput::cancel`]) stopped it.
+    #[error("cancelled")]
+    Cancelled,
     /// An estimate does not have its trial's number of samples.
     #[error("{estimate}: {n_estimate} samples, but the trial {trial} has {n_trial}")]
     Length {

@@ -38,7 +38,12 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
             });
         }
     }
+    let stop = || match input.cancel.is_some_and(|f| f()) {
+        true => Err(ReportError::Cancelled),
+        false => Ok(()),
+    };
     let trial = TrialData::read(&input.trial)?;
+    stop()?;
     let checks = check_trials(input)?;
     let angle_trial = trial.reference.iter().any(Option::is_some);
     let mut evals = Vec::new();
@@ -46,6 +51,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     let mut event_evals = Vec::new();
     let mut estimates = Vec::new();
     for path in &input.estimates {
+        stop()?;
         if angle_trial {
             let options = EvalOptions {
                 allow_trial_mismatch: input.allow_trial_mismatch,
@@ -61,6 +67,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
                 input.allow_trial_mismatch,
             )?);
         }
+        stop()?;
         let e = EstimateData::read(path, wanted_diagnostic)?;
         let n_estimate = e
             .angle
@@ -123,8 +130,11 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         (rate, input.buckets),
         &checks,
     );
+    stop()?;
     angle_section(&mut body, &trial, &estimates, &tp);
+    stop()?;
     cycle_section(&mut body, &trial, &estimates, (&evals, &input.scoring));
+    stop()?;
     let event_estimates: Vec<bool> = estimates.iter().map(is_event_estimate).collect();
     let nothing_scored: Vec<Option<String>> = evals
         .iter()
@@ -147,6 +157,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         (&event_estimates, &event_evals),
         trial.speed_from_com,
     );
+    stop()?;
     panel_section(&mut body, &panels(&trial, &estimates, &tp));
     command_section(&mut body, input, &trial, &estimates);
     Ok(format!(

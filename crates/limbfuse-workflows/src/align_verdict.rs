@@ -11,7 +11,7 @@ use limbfuse_io::{TrialLayout, TrialMeta, TrialReader};
 use limbfuse_methods::{Availability, MethodName};
 use limbfuse_signal::align::{AlignError, AlignOptions};
 
-use crate::trial_alignment::align_walking;
+use crate::trial_alignment::{align_walking, TrialAlignmentError};
 
 /// The longest trial (rows) on which `inspect` runs the alignment to see
 /// whether it succeeds (it reads the trial whole: about 0.5 s and 30 MB
@@ -46,13 +46,17 @@ impl AlignVerdict {
 /// The verdict on the trial at `path` (metadata `meta`, columns `layout`,
 /// `rows` rows) whose methods have the availability `methods`: first from
 /// the columns (no thigh, shank or foot IMU), then by running the
-/// alignment.
+/// alignment. `cancel` (Python's Ctrl-C; the CLI: `None`) is polled while
+/// reading the trial and by the alignment
+/// ([`AlignOptions::cancel`]); once it says so the verdict is "not
+/// checked".
 pub fn align_verdict(
     path: &Path,
     meta: &TrialMeta,
     layout: &TrialLayout,
     rows: u64,
     methods: &[(MethodName, Availability)],
+    cancel: Option<fn() -> bool>,
 ) -> AlignVerdict {
     let needed = methods
         .iter()
@@ -74,15 +78,28 @@ pub fn align_verdict(
     if rows > MAX_ROWS {
         return verdict(None, None);
     }
-    let records: Option<Vec<Record>> = TrialReader::open(path)
-        .ok()
-        .and_then(|r| r.collect::<Result<_, _>>().ok());
+    let stop = || cancel.is_some_and(|f| f());
+    let records: Option<Vec<Record>> = TrialReader::open(path).ok().and_then(|r| {
+        let mut out = Vec::new();
+        for (k, rec) in r.enumerate() {
+            if k % 4096 == 4095 && stop() {
+                return None;
+            }
+            out.push(rec.ok()?);
+        }
+        Some(out)
+    });
     let Some(records) = records else {
         return verdict(None, None);
     };
     let mut meta = meta.clone();
-    match align_walking(&records, layout, &mut meta, &AlignOptions::default()) {
+    let opts = AlignOptions {
+        cancel,
+        ..AlignOptions::default()
+    };
+    match align_walking(&records, layout, &mut meta, &opts) {
         Ok(_) => verdict(Some(true), None),
+        Err(TrialAlignmentError::Align(AlignError::Cancelled)) => verdict(None, None),
         Err(e) => verdict(Some(false), Some(e.to_string())),
     }
 }

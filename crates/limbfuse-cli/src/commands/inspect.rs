@@ -37,9 +37,9 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         limbfuse_eval::data_limits::limit_by_data(&mut methods, &s, &meta);
         let read = metadata_settings(&meta, &methods);
         let motion = thigh_motion_notes(s.thigh_spread_deg, &methods);
-        let align = align_verdict(path, &meta, &layout, s.rows, &methods);
+        let align = align_verdict(path, &meta, &layout, s.rows, &methods, None);
         if a.json {
-            json.push(to_json(&label, &s, &methods, &read, &motion, &align));
+            json.push(to_json(path, &label, &s, &methods, &read, &motion, &align));
         } else {
             let hint = limbfuse_methods::availability::needs_a_model(&methods)
                 .then(|| limbfuse_methods::availability::model_file_hint(path))
@@ -75,6 +75,7 @@ pub fn run(a: &InspectArgs) -> Result<()> {
 
 /// The JSON form of one trial (the keys of Python's `limbfuse.inspect`).
 fn to_json(
+    path: &std::path::Path,
     label: &str,
     s: &TrialSummary,
     methods: &[(limbfuse_methods::MethodName, Availability)],
@@ -82,14 +83,12 @@ fn to_json(
     motion: &[String],
     align: &AlignVerdict,
 ) -> serde_json::Value {
+    // (the reasons with the model file's hint, as Python's)
+    let reasons = limbfuse_methods::availability::inspect_reasons(methods, path);
     let methods: serde_json::Map<String, serde_json::Value> = methods
         .iter()
-        .map(|(m, a)| {
-            (
-                m.name().to_string(),
-                serde_json::json!([a.kind(), a.reason()]),
-            )
-        })
+        .zip(reasons)
+        .map(|((m, a), why)| (m.name().to_string(), serde_json::json!([a.kind(), why])))
         .collect();
     let inputs: serde_json::Map<String, serde_json::Value> = s
         .inputs

@@ -108,6 +108,14 @@ fn check_options(o: &AlignOptions) -> Result<(), AlignError> {
     Ok(())
 }
 
+/// [`AlignError::Cancelled`] once the hook [`AlignOptions::cancel`] says so.
+fn check_cancel(o: &AlignOptions) -> Result<(), AlignError> {
+    match o.cancel.is_some_and(|f| f()) {
+        true => Err(AlignError::Cancelled),
+        false => Ok(()),
+    }
+}
+
 /// `x` wrapped to (-pi, pi].
 fn wrap(x: f64) -> f64 {
     let y = (x + PI).rem_euclid(2.0 * PI) - PI;
@@ -157,6 +165,7 @@ pub fn estimate_alignment(
     } else {
         None
     };
+    check_cancel(opts)?;
     // One sample has no interval (an audit: it was said to "span 1 s").
     if n < 2 {
         return Err(AlignError::OneSample {
@@ -177,6 +186,7 @@ pub fn estimate_alignment(
     let half = (0.5 * opts.turn_window_s / dt).round() as usize;
     let turning = turning_mask(records, &present, half, opts.turn_max_rate);
     let walking = walking_mask(records, &present, dt, opts);
+    check_cancel(opts)?;
     let moving: Vec<usize> = (0..n)
         .filter(|&k| walking[k] && !turning[k] && !quiet.as_ref().is_some_and(|q| q.contains(&k)))
         .collect();
@@ -209,6 +219,7 @@ pub fn estimate_alignment(
         axis_ratio,
         gyro_only,
     } = leg_axes(records, &moving, &present, &mut fail, opts);
+    check_cancel(opts)?;
 
     // 3. In-plane zero of the leg sensors, then the trunk (through the thigh).
     let mut out = Alignment {
@@ -253,6 +264,7 @@ pub fn estimate_alignment(
             Err(e) => fail[i] = Some(e),
         }
     }
+    check_cancel(opts)?;
     let rot = out.per_segment.map(|a| a.map(|a| *a.rotation.matrix()));
     out.leg = Some(detect_leg(records, &moving, &rot, opts.leg_min_score));
     let (tr, th) = (Segment::Trunk.index(), Segment::Thigh.index());

@@ -93,10 +93,13 @@ pub(crate) fn walking_mask(
         centres.push(c);
         c = c.saturating_add(step);
     }
+    // (cancelled: no window is walking; the caller then checks the hook)
+    let mut cancelled = false;
     let verdict: Vec<bool> = centres
         .iter()
         .map(|&c| {
-            if n < win {
+            cancelled = cancelled || opts.cancel.is_some_and(|f| f());
+            if n < win || cancelled {
                 return false;
             }
             let a = c.saturating_sub(win / 2).min(n - win);

@@ -39,7 +39,7 @@ pub use estimate::estimate_alignment;
 pub use leg_side::LegDetection;
 
 /// Parameters of [`estimate_alignment`]. `Default` gives the documented values.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct AlignOptions {
     /// Look for a quiet-standing period and take the in-plane zero from it.
     pub use_quiet: bool,
@@ -108,6 +108,11 @@ pub struct AlignOptions {
     pub min_sign_margin: f64,
     /// Smallest |score| for which the leg (left/right) is reported as detected.
     pub leg_min_score: f64,
+    /// A cancellation hook (Python's Ctrl-C), polled per window of the
+    /// walking detection (the long step: seconds per hour of data) and
+    /// between the steps; once it returns true the estimate ends with
+    /// [`AlignError::Cancelled`]. `None` (the CLI): never.
+    pub cancel: Option<fn() -> bool>,
 }
 
 impl Default for AlignOptions {
@@ -137,6 +142,7 @@ impl Default for AlignOptions {
             max_axis_ratio: 0.5,
             min_sign_margin: 0.1,
             leg_min_score: 0.2,
+            cancel: None,
         }
     }
 }
@@ -357,6 +363,9 @@ pub enum AlignError {
         /// Allowed range.
         range: &'static str,
     },
+    /// The cancellation hook ([`AlignOptions::cancel`]) stopped it.
+    #[error("cancelled")]
+    Cancelled,
     /// A metadata entry does not hold what it should.
     #[error("metadata `{key}`: expected {expected}, found `{found}`")]
     BadMetadata {

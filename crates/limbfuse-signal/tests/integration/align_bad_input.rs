@@ -319,3 +319,25 @@ fn issue_14_leg_side_with_missing_gyro_cells_and_an_absent_sensor() {
     println!("thigh skipped: leg {:?} ({:+.2})", leg.leg, leg.score);
     assert!(leg.per_segment[th].is_none() && leg.per_segment[sh].is_some());
 }
+
+/// Session 30: nothing stopped an alignment before its end (Python's Ctrl-C
+/// waited 5 s of CPU per hour). With a cancellation hook that says stop,
+/// it ends with `Cancelled`, without one (the CLI) it aligns as before.
+#[test]
+fn a_cancellation_hook_stops_the_alignment() {
+    let rec = walk(30.0);
+    let stop = AlignOptions {
+        cancel: Some(|| true),
+        ..opts()
+    };
+    assert_eq!(estimate_alignment(&rec, &stop), Err(AlignError::Cancelled));
+    let go = AlignOptions {
+        cancel: Some(|| false),
+        ..opts()
+    };
+    assert_eq!(
+        estimate_alignment(&rec, &go),
+        estimate_alignment(&rec, &opts())
+    );
+    assert!(estimate_alignment(&rec, &go).is_ok());
+}
