@@ -169,7 +169,10 @@ pub(super) fn vy_slope(samples: &[(f64, f64)], noise: f64) -> Option<(f64, f64)>
     let n = samples.len() as f64;
     let t_mean = samples.iter().map(|s| s.0).sum::<f64>() / n;
     let v_mean = samples.iter().map(|s| s.1).sum::<f64>() / n;
-    let sxx: f64 = samples.iter().map(|s| (s.0 - t_mean) * (s.0 - t_mean)).sum();
+    let sxx: f64 = samples
+        .iter()
+        .map(|s| (s.0 - t_mean) * (s.0 - t_mean))
+        .sum();
     let sxy: f64 = samples
         .iter()
         .map(|s| (s.0 - t_mean) * (s.1 - v_mean))
