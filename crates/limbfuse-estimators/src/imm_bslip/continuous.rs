@@ -50,60 +50,12 @@ use limbfuse_models::bslip::family::{gait_at_speed, speed_at_mid_stance_velocity
 use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
 
 use super::height_crossings::{FootFix, HeightCrossings};
-use super::start_phase::{locate_in_step, mid_double_support, vy_slope, StepPoint};
+use super::start_phase::{
+    locate_in_step, mid_double_support, vy_slope, Placement, StepPoint, MS_REJECTED, MS_SNAP_STEPS,
+    NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE, VY_EVIDENCE, WINDOW_CAPACITY,
+};
 use super::weight_support::WeightSupport;
 use super::{ImmBslip, ImmBslipError, ImmBslipParams};
-
-/// A start is located in the step only when its vertical velocity is this
-/// far from zero (m/s; three standard deviations of paper 003's eq 15
-/// noise): with `vy` near zero it is MS or the middle of double support,
-/// told apart by the absolute height alone, which depends on the gait
-/// branch (a 34 % double-support walker at 0.8 m/s tracked with the
-/// default library rescaled was located in double support at its MS:
-/// 24.4 % phase accuracy instead of 95 %).
-const VY_EVIDENCE: f64 = 0.066;
-
-/// A start located within this share of a step from MS is taken as MS.
-const MS_SNAP_STEPS: f64 = 0.06;
-
-/// A start is taken as MS unless MS fits the first sample this much worse
-/// than the best point of the step (squared normalised distance, chi-square
-/// with two degrees of freedom: 9.2 is its 1 % tail). The top of the arc is
-/// flat: on the shared 0.85 m/s trial cut at its mid-stances, a single
-/// sample placed the start up to a sixth of a step off (phase 96.8 / 97.1 /
-/// 94.2 % -> 92.9 / 90.9 / 91.3 % when always located).
-const MS_REJECTED: f64 = 9.2;
-
-/// The samples over which a start with `vy` near zero is placed again (s;
-/// [`ImmContinuous::place_from_window`]). The top of the arc (MS) and the
-/// trough of double support both have `vy` near zero; at the top `vy`
-/// cannot rise, at the trough it does (+1.0-3.0 m/s^2 over the family's
-/// gaits, 0.4-1.0 m/s, default and 70 kg / 0.95 m bodies, but 0 at 0.9
-/// m/s, whose DS is flat). Over 0.1 s at 100 Hz (11 samples) the slope of
-/// `vy` is known to 0.21 m/s^2 (one standard deviation in eq 15's 22 mm/s
-/// noise); a seventh of a step or less, over which the provisional MS
-/// start's error costs little.
-const START_WINDOW_S: f64 = 0.1;
-
-/// Most samples kept in the window (allocated once per start; at rates
-/// over 1.2 kHz the window is cut short).
-const WINDOW_CAPACITY: usize = 128;
-
-/// The measurement noise of `vy` (m/s, paper 003 eq 15).
-const NOISE_VY: f64 = 0.022;
-
-/// A rise of `vy` over the window this many standard deviations above
-/// zero places the start in the middle of DS (one-sided tail 0.13 %).
-const TROUGH_EVIDENCE: f64 = 3.0;
-
-/// Where a start is placed: MS (`located` `None`), or a point of the step
-/// with the step time and length of the gait it was located on; the
-/// walking speed guessed there.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Placement {
-    located: Option<(StepPoint, f64, f64)>,
-    speed: f64,
-}
 
 /// Feet, phase and speed from the data (module docs).
 #[derive(Debug, Clone, Copy)]
