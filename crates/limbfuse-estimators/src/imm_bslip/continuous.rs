@@ -50,29 +50,12 @@ use limbfuse_models::bslip::family::{gait_at_speed, speed_at_mid_stance_velocity
 use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
 
 use super::height_crossings::{FootFix, HeightCrossings};
-use super::start_phase::locate_in_step;
+use super::start_phase::{
+    locate_in_step, mid_double_support, vy_slope, Placement, StepPoint, MS_REJECTED, MS_SNAP_STEPS,
+    NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE, VY_EVIDENCE, WINDOW_CAPACITY,
+};
 use super::weight_support::WeightSupport;
 use super::{ImmBslip, ImmBslipError, ImmBslipParams};
-
-/// A start is located in the step only when its vertical velocity is this
-/// far from zero (m/s; three standard deviations of paper 003's eq 15
-/// noise): with `vy` near zero it is MS or the middle of double support,
-/// told apart by the absolute height alone, which depends on the gait
-/// branch (a 34 % double-support walker at 0.8 m/s tracked with the
-/// default library rescaled was located in double support at its MS:
-/// 24.4 % phase accuracy instead of 95 %).
-const VY_EVIDENCE: f64 = 0.066;
-
-/// A start located within this share of a step from MS is taken as MS.
-const MS_SNAP_STEPS: f64 = 0.06;
-
-/// A start is taken as MS unless MS fits the first sample this much worse
-/// than the best point of the step (squared normalised distance, chi-square
-/// with two degrees of freedom: 9.2 is its 1 % tail). The top of the arc is
-/// flat: on the shared 0.85 m/s trial cut at its mid-stances, a single
-/// sample placed the start up to a sixth of a step off (phase 96.8 / 97.1 /
-/// 94.2 % -> 92.9 / 90.9 / 91.3 % when always located).
-const MS_REJECTED: f64 = 9.2;
 
 /// Feet, phase and speed from the data (module docs).
 #[derive(Debug, Clone, Copy)]
@@ -191,6 +174,12 @@ pub struct ImmContinuous {
     /// extremum), else where in the step it is comes from the data.
     pub(super) start_at_mid_stance: bool,
     previous: Option<(f64, State)>,
+    /// Since a start taken as MS for want of vertical velocity: the
+    /// samples since, until they span
+    /// [`START_WINDOW_S`].
+    window: Option<Vec<Sample>>,
+    /// The placement of the start being replayed from its window.
+    replay_placement: Option<Placement>,
 }
 
 impl ImmContinuous {
@@ -211,6 +200,8 @@ impl ImmContinuous {
             start_side: params.first_side,
             start_at_mid_stance: false,
             previous: None,
+            window: None,
+            replay_placement: None,
         })
     }
 
@@ -253,33 +244,90 @@ impl ImmContinuous {
         }
     }
 
-    /// The first sample of a run: where in the step it lies (its measured
-    /// height and vertical velocity against the gait's step,
-    /// `start_phase`), unless it is known to be MS; a start within
-    /// [`MS_SNAP_STEPS`] of MS is taken as MS. The feet, the phase and the
-    /// last MS follow; the speed from the forward velocity at that point.
-    fn start(&mut self, now: f64, x: &State, measured: &[Option<f64>; 6]) {
+    /// The family's gait at the speed whose MS forward velocity is the
+    /// measured `vx` (the family's middle speed without one).
+    fn speed_guess(&self, vx: Option<f64>) -> (f64, GaitTemplate) {
         let middle = self.family[self.family.len() / 2].speed;
-        let at_ms = |vx: f64| speed_at_mid_stance_velocity(&self.family, vx);
-        let mut speed = measured[3].and_then(at_ms).unwrap_or(middle);
-        let known = core::mem::replace(&mut self.start_at_mid_stance, false);
-        let located = match (known, measured[1], measured[4]) {
+        let speed = vx
+            .and_then(|vx| speed_at_mid_stance_velocity(&self.family, vx))
+            .unwrap_or(middle);
+        let gait = gait_at_speed(&self.family, speed).unwrap_or(self.steps.gait);
+        (speed, gait)
+    }
+
+    /// `p` on `gait` as a start, the speed from the forward velocity `vx`
+    /// measured there scaled to MS by the gait's own ratio.
+    fn located(&self, p: StepPoint, gait: &GaitTemplate, vx: Option<f64>, speed: f64) -> Placement {
+        let vx_ms = vx.map(|vx| vx * gait.gait.forward_speed / p.vx);
+        Placement {
+            located: Some((p, gait.step_time, gait.step_length)),
+            speed: vx_ms
+                .and_then(|v| speed_at_mid_stance_velocity(&self.family, v))
+                .unwrap_or(speed),
+        }
+    }
+
+    /// Where the first sample of a run lies from itself alone: its measured
+    /// height and vertical velocity against the gait's step
+    /// (`start_phase`), unless it is `known` to be MS; a start within
+    /// [`MS_SNAP_STEPS`] of MS is taken as MS.
+    fn place(&self, known: bool, measured: &[Option<f64>; 6]) -> Placement {
+        let (speed, gait) = self.speed_guess(measured[3]);
+        match (known, measured[1], measured[4]) {
             (false, Some(y), Some(vy)) if vy.abs() > VY_EVIDENCE => {
-                let gait = gait_at_speed(&self.family, speed).unwrap_or(self.steps.gait);
                 let (p, worse_at_ms) = locate_in_step(&gait, y, vy);
                 let from_ms = p.t.min(gait.step_time - p.t);
                 let off_ms = from_ms > MS_SNAP_STEPS * gait.step_time;
-                (off_ms && worse_at_ms > MS_REJECTED).then(|| {
-                    // The forward velocity at MS, from the one measured here.
-                    let vx_ms = measured[3].map(|vx| vx * gait.gait.forward_speed / p.vx);
-                    if let Some(v) = vx_ms.and_then(at_ms) {
-                        speed = v;
-                    }
-                    (p, gait.step_time, gait.step_length)
-                })
+                if off_ms && worse_at_ms > MS_REJECTED {
+                    return self.located(p, &gait, measured[3], speed);
+                }
             }
-            _ => None,
+            _ => {}
+        }
+        Placement {
+            located: None,
+            speed,
+        }
+    }
+
+    /// A start taken as MS for want of vertical velocity (`vy` near zero:
+    /// MS or the middle of DS) placed again from the first
+    /// [`START_WINDOW_S`] of samples: in the middle of DS when `vy` rises
+    /// over them, its slope over [`TROUGH_EVIDENCE`] standard deviations
+    /// above zero (at the top of the arc it cannot rise, whatever the
+    /// gait branch), else `None` (MS stays).
+    fn place_from_window(&self, samples: &[Sample]) -> Option<Placement> {
+        let first = samples.first()?;
+        let measured = first.com.values();
+        let seen: Vec<_> = samples
+            .iter()
+            .filter_map(|s| Some((s.t - first.t, s.com.values()[4]?)))
+            .collect();
+        let (slope, sd) = vy_slope(&seen, NOISE_VY)?;
+        (slope > TROUGH_EVIDENCE * sd).then(|| {
+            let (speed, gait) = self.speed_guess(measured[3]);
+            self.located(mid_double_support(&gait), &gait, measured[3], speed)
+        })
+    }
+
+    /// The first sample of a run: placed in the step ([`Self::place`];
+    /// the replay's placement from the window, if there is one) and, unless
+    /// it is known to be MS, the window of samples opened that places it
+    /// again. The feet, the phase and the last MS follow.
+    fn start(&mut self, now: f64, x: &State, measured: &[Option<f64>; 6]) {
+        let placement = match self.replay_placement.take() {
+            Some(p) => p,
+            None => {
+                let known = core::mem::replace(&mut self.start_at_mid_stance, false);
+                let p = self.place(known, measured);
+                let flat = measured[4].is_some_and(|vy| vy.abs() <= VY_EVIDENCE);
+                if !known && p.located.is_none() && flat {
+                    self.window = Some(Vec::with_capacity(WINDOW_CAPACITY));
+                }
+                p
+            }
         };
+        let Placement { located, speed } = placement;
         // `start_side` is the stance side of the MS nearest to the start:
         // past the middle of the step that is the coming MS, whose stance
         // foot is the leading one (so that a start just before MS keeps
@@ -321,6 +369,32 @@ impl ImmContinuous {
                 self.steps.ms = Some((now - share * g.step_time, trailing));
             }
         }
+    }
+
+    /// Keeps `sample` in the start's window; once the window spans
+    /// [`START_WINDOW_S`], the start is placed from it and, if that differs
+    /// from where it was placed, the run is started again there and the
+    /// window replayed: the last sample's estimate.
+    fn keep_in_window(&mut self, sample: &Sample) -> Option<Result<Estimate, EstimatorError>> {
+        let samples = self.window.as_mut()?;
+        samples.push(*sample);
+        if sample.t - samples[0].t < START_WINDOW_S - 1e-9 && samples.len() < WINDOW_CAPACITY {
+            return None;
+        }
+        let samples = self.window.take()?;
+        let placement = self.place_from_window(&samples)?;
+        let side = self.start_side;
+        self.reset();
+        self.start_side = side;
+        self.replay_placement = Some(placement);
+        let mut last = None;
+        for s in &samples {
+            match self.step(s) {
+                Ok(e) => last = Some(e),
+                Err(e) => return Some(Err(e)),
+            }
+        }
+        last.map(Ok)
     }
 
     /// After the ensemble update: the stance foot located by the mid-height
@@ -452,6 +526,8 @@ impl Estimator for ImmContinuous {
         self.start_side = self.first_side;
         self.start_at_mid_stance = false;
         self.previous = None;
+        self.window = None;
+        self.replay_placement = None;
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -462,15 +538,20 @@ impl Estimator for ImmContinuous {
         let mut e = self.inner.step(sample)?;
         if !self.inner.running {
             self.previous = None;
+            self.window = None;
             return Ok(e);
         }
         let x = self.inner.ensemble.0;
         if !was_running || gap {
             self.previous = None;
+            self.window = None;
             self.start(sample.t, &x, &sample.com.values());
         }
         self.advance(sample.t, &x);
         self.previous = Some((sample.t, x));
+        if let Some(replayed) = self.keep_in_window(sample) {
+            return replayed;
+        }
         let st = &self.steps;
         self.inner.set_feet(st.stance, st.leading);
         e.phase = Some(st.phase);

@@ -78,3 +78,45 @@ fn a_trial_started_anywhere_in_the_step_is_tracked_from_its_start() {
         "worst {worst:.1} %, mean {mean:.1} %:\n{report}"
     );
 }
+
+/// Found in session 30 (2026-12-05): a start near the trough of double
+/// support (DS) has a vertical velocity near zero, as mid-stance (MS) has,
+/// and one sample cannot tell the two apart without the absolute height
+/// (which depends on the gait branch), so it was taken as MS. The shared
+/// 0.85 m/s trial cut there (0.31, 1.00, 1.69, 2.41 s, in DS): 89.4, 90.1,
+/// 88.9, 87.0 %. Now the first 0.1 s decide: `vy` rising over them (its
+/// slope over three standard deviations of eq 15's noise) cannot be the top
+/// of the arc, and the start is placed in the middle of DS. Expected: each
+/// at least 92.5 % (measured 96.3, 96.1, 95.8, 92.8 %).
+#[test]
+fn a_trial_started_in_the_trough_of_double_support_is_placed_there() {
+    let Some(dir) = data_dir(&["independent-sim"]) else {
+        eprintln!("skipped: ../shared/data/independent-sim is absent");
+        return;
+    };
+    let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
+    let body = BslipParams {
+        mass: 70.0,
+        rest_length: 0.95,
+        ..BslipParams::default()
+    };
+    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+    let family: Vec<_> = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {})
+        .unwrap()
+        .iter()
+        .map(|g| g.template(&body))
+        .collect();
+    let mut report = Vec::new();
+    let mut worst = f64::INFINITY;
+    for cut in [0.31, 1.0, 1.69, 2.41] {
+        let variant: Vec<_> = records
+            .iter()
+            .filter(|r| r.sample.t >= cut - 1e-9)
+            .cloned()
+            .collect();
+        let acc = accuracy(&family, &variant);
+        report.push(format!("first {cut:.2} s removed: {acc:.1} %"));
+        worst = worst.min(acc);
+    }
+    assert!(worst >= 92.5, "{}", report.join("\n"));
+}
