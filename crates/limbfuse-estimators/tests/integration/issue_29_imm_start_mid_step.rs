@@ -5,6 +5,8 @@
 //! most of a stride later. The first sample is now located in the step
 //! from its measured height and vertical velocity (`start_phase`).
 
+use std::sync::OnceLock;
+
 use limbfuse_core::{Estimator, Record};
 use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights, SwayRestart};
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
@@ -39,22 +41,9 @@ fn accuracy(family: &[GaitTemplate], records: &[Record]) -> f64 {
 /// 93 %, their mean at least 95 % (measured: 95.4 %, worst 93.2 %).
 #[test]
 fn a_trial_started_anywhere_in_the_step_is_tracked_from_its_start() {
-    let Some(dir) = data_dir(&["independent-sim"]) else {
-        eprintln!("skipped: ../shared/data/independent-sim is absent");
+    let Some((records, family)) = shared_trial_and_family() else {
         return;
     };
-    let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
-    let body = BslipParams {
-        mass: 70.0,
-        rest_length: 0.95,
-        ..BslipParams::default()
-    };
-    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
-    let family: Vec<_> = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {})
-        .unwrap()
-        .iter()
-        .map(|g| g.template(&body))
-        .collect();
     let stride = 2.0 * 0.688_821_504_362_046_1;
     let mut report = Vec::new();
     let mut all = Vec::new();
@@ -90,22 +79,9 @@ fn a_trial_started_anywhere_in_the_step_is_tracked_from_its_start() {
 /// at least 92.5 % (measured 96.3, 96.1, 95.8, 92.8 %).
 #[test]
 fn a_trial_started_in_the_trough_of_double_support_is_placed_there() {
-    let Some(dir) = data_dir(&["independent-sim"]) else {
-        eprintln!("skipped: ../shared/data/independent-sim is absent");
+    let Some((records, family)) = shared_trial_and_family() else {
         return;
     };
-    let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
-    let body = BslipParams {
-        mass: 70.0,
-        rest_length: 0.95,
-        ..BslipParams::default()
-    };
-    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
-    let family: Vec<_> = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {})
-        .unwrap()
-        .iter()
-        .map(|g| g.template(&body))
-        .collect();
     let mut report = Vec::new();
     let mut worst = f64::INFINITY;
     for cut in [0.31, 1.0, 1.69, 2.41] {
@@ -119,4 +95,31 @@ fn a_trial_started_in_the_trough_of_double_support_is_placed_there() {
         worst = worst.min(acc);
     }
     assert!(worst >= 92.5, "{}", report.join("\n"));
+}
+
+/// The shared 0.85 m/s B-SLIP trial and a family built for the body in its
+/// metadata (70 kg, 0.95 m), built once for both tests; `None` (with a
+/// message) without the data.
+fn shared_trial_and_family() -> Option<(Vec<Record>, Vec<GaitTemplate>)> {
+    static BUILT: OnceLock<Option<(Vec<Record>, Vec<GaitTemplate>)>> = OnceLock::new();
+    let built = BUILT.get_or_init(|| {
+        let dir = data_dir(&["independent-sim"])?;
+        let records = read(&dir.join("independent-sim/bslip-v0.85-s21.csv"));
+        let body = BslipParams {
+            mass: 70.0,
+            rest_length: 0.95,
+            ..BslipParams::default()
+        };
+        let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+        let family = build_library(&body, &speeds, &SearchSettings::default(), |_, _| {})
+            .unwrap()
+            .iter()
+            .map(|g| g.template(&body))
+            .collect();
+        Some((records, family))
+    });
+    if built.is_none() {
+        eprintln!("skipped: ../shared/data/independent-sim is absent");
+    }
+    built.clone()
 }

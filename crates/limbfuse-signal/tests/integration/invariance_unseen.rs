@@ -54,7 +54,7 @@ fn read(path: &Path, seconds: f64) -> Vec<Record> {
     out
 }
 
-fn run(mut est: impl Estimator, records: &[Record]) -> Vec<Estimate> {
+pub(crate) fn run(mut est: impl Estimator, records: &[Record]) -> Vec<Estimate> {
     records
         .iter()
         .map(|r| est.step(&r.sample).unwrap())
@@ -306,7 +306,7 @@ fn lowback_speed_same_answer_on_remounted_sensor() {
 }
 
 /// RMSE (deg) of the knee from `from_s` after the first sample.
-fn knee_rmse(rec: &[Record], est: &[Estimate], from_s: f64) -> f64 {
+pub(crate) fn knee_rmse(rec: &[Record], est: &[Estimate], from_s: f64) -> f64 {
     let t0 = rec[0].sample.t;
     let (mut s, mut n) = (0.0, 0usize);
     for (r, e) in rec.iter().zip(est) {

@@ -12,7 +12,9 @@
 
 use std::path::PathBuf;
 
-use limbfuse_core::{Estimate, Estimator, Joint, Record, Segment};
+use limbfuse_core::{Joint, Record, Segment};
+
+use crate::invariance_unseen::{knee_rmse, run};
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
 use limbfuse_estimators::knee_selfalign::stamp_clock::StampClock;
 use limbfuse_estimators::knee_selfalign::window::Slot;
@@ -40,28 +42,6 @@ fn shared_walk(name: &str) -> Option<Vec<Record>> {
         out.push(rec);
     }
     Some(out)
-}
-
-fn run(mut est: impl Estimator, records: &[Record]) -> Vec<Estimate> {
-    records
-        .iter()
-        .map(|r| est.step(&r.sample).unwrap())
-        .collect()
-}
-
-fn knee_rmse(rec: &[Record], est: &[Estimate], from_s: f64) -> f64 {
-    let t0 = rec[0].sample.t;
-    let (mut s, mut n) = (0.0, 0usize);
-    for (r, e) in rec.iter().zip(est) {
-        if let (Some(a), Some(b)) = (e.joint[KNEE], r.reference.joint[KNEE]) {
-            if r.sample.t - t0 >= from_s {
-                s += (a - b) * (a - b);
-                n += 1;
-            }
-        }
-    }
-    assert!(n > 0, "no knee estimate after {from_s} s");
-    (s / n as f64).sqrt().to_degrees()
 }
 
 fn selfalign(rec: &[Record]) -> f64 {
