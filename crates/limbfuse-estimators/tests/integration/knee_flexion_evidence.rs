@@ -14,16 +14,7 @@ use limbfuse_estimators::knee_selfalign::window::{Ring, Slot};
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams, WindowStatus};
 use limbfuse_io::import::{import_gaittoolbox, import_knee_rig};
 
-fn slot(r: &Record) -> Slot {
-    let (t, s) = (r.sample.imu[1], r.sample.imu[2]);
-    Slot {
-        t: r.sample.t,
-        gyr: [t.gyr.unwrap_or_default(), s.gyr.unwrap_or_default()],
-        acc: [t.acc.unwrap_or_default(), s.acc.unwrap_or_default()],
-        gyr_ok: t.gyr.is_some() && s.gyr.is_some(),
-        acc_ok: t.acc.is_some() && s.acc.is_some(),
-    }
-}
+use crate::knee_selfalign_real::slot;
 
 /// One window: skewness in the sense of the axes the estimator chose, range
 /// of the gyro angle (deg), its standard deviation (deg).

@@ -43,7 +43,7 @@ fn rig_params() -> KneeSelfAlignParams {
     }
 }
 
-fn slot(r: &Record) -> Slot {
+pub(crate) fn slot(r: &Record) -> Slot {
     let (t, s) = (r.sample.imu[1], r.sample.imu[2]);
     Slot {
         t: r.sample.t,
