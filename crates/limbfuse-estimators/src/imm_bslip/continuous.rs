@@ -51,8 +51,8 @@ use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
 
 use super::height_crossings::{FootFix, HeightCrossings};
 use super::start_phase::{
-    locate_in_step, mid_double_support, vy_slope, Placement, StepPoint, MS_REJECTED, MS_SNAP_STEPS,
-    NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE, VY_EVIDENCE, WINDOW_CAPACITY,
+    locate_in_step, mid_double_support, vy_slope, Placement, StepPoint, StepProfile, MS_REJECTED,
+    MS_SNAP_STEPS, NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE, VY_EVIDENCE, WINDOW_CAPACITY,
 };
 use super::weight_support::WeightSupport;
 use super::{ImmBslip, ImmBslipError, ImmBslipParams};
@@ -174,10 +174,14 @@ pub struct ImmContinuous {
     /// extremum), else where in the step it is comes from the data.
     pub(super) start_at_mid_stance: bool,
     previous: Option<(f64, State)>,
-    /// Since a start taken as MS for want of vertical velocity: the
-    /// samples since, until they span
-    /// [`START_WINDOW_S`].
-    window: Option<Vec<Sample>>,
+    /// Since a start taken as MS for want of vertical velocity (while
+    /// `window_open`): the samples since, until they span
+    /// [`START_WINDOW_S`] (a buffer of [`WINDOW_CAPACITY`], allocated here
+    /// once).
+    window: Vec<Sample>,
+    window_open: bool,
+    /// The points of a gait's step, for placing a start.
+    profile: StepProfile,
     /// The placement of the start being replayed from its window.
     replay_placement: Option<Placement>,
 }
@@ -200,7 +204,9 @@ impl ImmContinuous {
             start_side: params.first_side,
             start_at_mid_stance: false,
             previous: None,
-            window: None,
+            window: Vec::with_capacity(WINDOW_CAPACITY),
+            window_open: false,
+            profile: StepProfile::new(),
             replay_placement: None,
         })
     }
@@ -271,11 +277,11 @@ impl ImmContinuous {
     /// height and vertical velocity against the gait's step
     /// (`start_phase`), unless it is `known` to be MS; a start within
     /// [`MS_SNAP_STEPS`] of MS is taken as MS.
-    fn place(&self, known: bool, measured: &[Option<f64>; 6]) -> Placement {
+    fn place(&mut self, known: bool, measured: &[Option<f64>; 6]) -> Placement {
         let (speed, gait) = self.speed_guess(measured[3]);
         match (known, measured[1], measured[4]) {
             (false, Some(y), Some(vy)) if vy.abs() > VY_EVIDENCE => {
-                let (p, worse_at_ms) = locate_in_step(&gait, y, vy);
+                let (p, worse_at_ms) = locate_in_step(&gait, y, vy, &mut self.profile);
                 let from_ms = p.t.min(gait.step_time - p.t);
                 let off_ms = from_ms > MS_SNAP_STEPS * gait.step_time;
                 if off_ms && worse_at_ms > MS_REJECTED {
@@ -296,18 +302,19 @@ impl ImmContinuous {
     /// over them, its slope over [`TROUGH_EVIDENCE`] standard deviations
     /// above zero (at the top of the arc it cannot rise, whatever the
     /// gait branch), else `None` (MS stays).
-    fn place_from_window(&self, samples: &[Sample]) -> Option<Placement> {
+    fn place_from_window(&mut self, samples: &[Sample]) -> Option<Placement> {
         let first = samples.first()?;
         let measured = first.com.values();
-        let seen: Vec<_> = samples
+        let seen = samples
             .iter()
-            .filter_map(|s| Some((s.t - first.t, s.com.values()[4]?)))
-            .collect();
-        let (slope, sd) = vy_slope(&seen, NOISE_VY)?;
-        (slope > TROUGH_EVIDENCE * sd).then(|| {
-            let (speed, gait) = self.speed_guess(measured[3]);
-            self.located(mid_double_support(&gait), &gait, measured[3], speed)
-        })
+            .filter_map(|s| Some((s.t - first.t, s.com.values()[4]?)));
+        let (slope, sd) = vy_slope(seen, NOISE_VY)?;
+        if slope <= TROUGH_EVIDENCE * sd {
+            return None;
+        }
+        let (speed, gait) = self.speed_guess(measured[3]);
+        let p = mid_double_support(&gait, &mut self.profile);
+        Some(self.located(p, &gait, measured[3], speed))
     }
 
     /// The first sample of a run: placed in the step ([`Self::place`];
@@ -322,7 +329,8 @@ impl ImmContinuous {
                 let p = self.place(known, measured);
                 let flat = measured[4].is_some_and(|vy| vy.abs() <= VY_EVIDENCE);
                 if !known && p.located.is_none() && flat {
-                    self.window = Some(Vec::with_capacity(WINDOW_CAPACITY));
+                    self.window.clear();
+                    self.window_open = true;
                 }
                 p
             }
@@ -376,19 +384,34 @@ impl ImmContinuous {
     /// from where it was placed, the run is started again there and the
     /// window replayed: the last sample's estimate.
     fn keep_in_window(&mut self, sample: &Sample) -> Option<Result<Estimate, EstimatorError>> {
-        let samples = self.window.as_mut()?;
-        samples.push(*sample);
-        if sample.t - samples[0].t < START_WINDOW_S - 1e-9 && samples.len() < WINDOW_CAPACITY {
+        if !self.window_open {
             return None;
         }
-        let samples = self.window.take()?;
-        let placement = self.place_from_window(&samples)?;
+        self.window.push(*sample);
+        let span = sample.t - self.window[0].t;
+        if span < START_WINDOW_S - 1e-9 && self.window.len() < WINDOW_CAPACITY {
+            return None;
+        }
+        self.window_open = false;
+        // The buffer is lent out while it is read and replayed (nothing
+        // opens a window during the replay) and put back, cleared.
+        let mut samples = core::mem::take(&mut self.window);
+        let replayed = self.replay_from(&samples);
+        samples.clear();
+        self.window = samples;
+        replayed
+    }
+
+    /// Places the start again from the window's `samples` and, if that
+    /// differs from MS, starts the run again there and replays them.
+    fn replay_from(&mut self, samples: &[Sample]) -> Option<Result<Estimate, EstimatorError>> {
+        let placement = self.place_from_window(samples)?;
         let side = self.start_side;
         self.reset();
         self.start_side = side;
         self.replay_placement = Some(placement);
         let mut last = None;
-        for s in &samples {
+        for s in samples {
             match self.step(s) {
                 Ok(e) => last = Some(e),
                 Err(e) => return Some(Err(e)),
@@ -526,7 +549,8 @@ impl Estimator for ImmContinuous {
         self.start_side = self.first_side;
         self.start_at_mid_stance = false;
         self.previous = None;
-        self.window = None;
+        self.window.clear();
+        self.window_open = false;
         self.replay_placement = None;
     }
 
@@ -538,13 +562,13 @@ impl Estimator for ImmContinuous {
         let mut e = self.inner.step(sample)?;
         if !self.inner.running {
             self.previous = None;
-            self.window = None;
+            self.window_open = false;
             return Ok(e);
         }
         let x = self.inner.ensemble.0;
         if !was_running || gap {
             self.previous = None;
-            self.window = None;
+            self.window_open = false;
             self.start(sample.t, &x, &sample.com.values());
         }
         self.advance(sample.t, &x);

@@ -56,9 +56,33 @@ struct Profiled {
     vy: f64,
 }
 
+/// A buffer for the points of a gait's step, allocated once with the
+/// estimator (a start is placed inside `step`, which allocates nothing).
+#[derive(Debug, Clone)]
+pub(super) struct StepProfile {
+    points: Vec<Profiled>,
+}
+
+impl StepProfile {
+    /// An empty buffer holding any step's points.
+    pub(super) fn new() -> Self {
+        StepProfile {
+            points: Vec::with_capacity(3 * STEPS),
+        }
+    }
+
+    /// The points of `g`'s step ([`fill_step_points`]).
+    fn filled(&mut self, g: &GaitTemplate) -> &[Profiled] {
+        fill_step_points(g, &mut self.points);
+        &self.points
+    }
+}
+
 /// The points of `g`'s step (from MS on its trailing foot): SS1 from MS
-/// to touchdown interleaved with its mirror in SS2, then DS (MS first).
-fn step_points(g: &GaitTemplate) -> Vec<Profiled> {
+/// to touchdown interleaved with its mirror in SS2, then DS (MS first),
+/// into `points` (cleared; at most `3 STEPS` of them, so a buffer of that
+/// capacity never grows).
+fn fill_step_points(g: &GaitTemplate, points: &mut Vec<Profiled>) {
     let t_td = g.t_touchdown.clamp(0.0, 0.5 * g.step_time);
     let half = 0.5 * g.step_time;
     let stance = Stance {
@@ -67,7 +91,7 @@ fn step_points(g: &GaitTemplate) -> Vec<Profiled> {
     };
     let mut x = State::new(0.0, g.gait.height, 0.0, g.gait.forward_speed, 0.0, 0.0);
     let h = t_td / STEPS as f64;
-    let mut points = Vec::with_capacity(3 * STEPS);
+    points.clear();
     for k in 0..=STEPS {
         let t = k as f64 * h;
         points.push(Profiled {
@@ -115,7 +139,6 @@ fn step_points(g: &GaitTemplate) -> Vec<Profiled> {
             });
         }
     }
-    points
 }
 
 /// The point of `g`'s step (from MS on its trailing foot) whose height and
@@ -125,16 +148,21 @@ fn step_points(g: &GaitTemplate) -> Vec<Profiled> {
 /// freedom). Near MS the top of the arc is flat (`vy` within one noise
 /// standard deviation for about a tenth of a step either side), so a single
 /// sample cannot tell MS from its neighbours there.
-pub(super) fn locate_in_step(g: &GaitTemplate, y: f64, vy: f64) -> (StepPoint, f64) {
+pub(super) fn locate_in_step(
+    g: &GaitTemplate,
+    y: f64,
+    vy: f64,
+    profile: &mut StepProfile,
+) -> (StepPoint, f64) {
     let cost = |py: f64, pvy: f64| {
         let a = (y - py) / SIGMA_Y;
         let b = (vy - pvy) / SIGMA_VY;
         a * a + b * b
     };
-    let points = step_points(g);
+    let points = profile.filled(g);
     let at_ms = cost(points[0].y, points[0].vy);
     let mut best = (f64::INFINITY, points[0].p);
-    for q in &points {
+    for q in points {
         let c = cost(q.y, q.vy);
         if c < best.0 {
             best = (c, q.p);
@@ -146,10 +174,11 @@ pub(super) fn locate_in_step(g: &GaitTemplate, y: f64, vy: f64) -> (StepPoint, f
 /// The middle of double support of `g`'s step: the trough of the CoM's
 /// height, half a step after MS, the CoM half a step length past the
 /// trailing foot (the step's symmetry about MS).
-pub(super) fn mid_double_support(g: &GaitTemplate) -> StepPoint {
+pub(super) fn mid_double_support(g: &GaitTemplate, profile: &mut StepProfile) -> StepPoint {
     let half = 0.5 * g.step_time;
-    let nearest = step_points(g)
-        .into_iter()
+    let nearest = profile
+        .filled(g)
+        .iter()
         .min_by(|a, b| (a.p.t - half).abs().total_cmp(&(b.p.t - half).abs()))
         .map_or(g.gait.forward_speed, |q| q.p.vx);
     StepPoint {
@@ -162,21 +191,25 @@ pub(super) fn mid_double_support(g: &GaitTemplate) -> StepPoint {
 /// The slope (m/s^2) of a straight line fitted to `samples` (time,
 /// vertical velocity) and its standard deviation in independent noise
 /// `noise` (m/s); `None` with fewer than three samples or one instant.
-pub(super) fn vy_slope(samples: &[(f64, f64)], noise: f64) -> Option<(f64, f64)> {
-    if samples.len() < 3 {
+pub(super) fn vy_slope<I>(samples: I, noise: f64) -> Option<(f64, f64)>
+where
+    I: Iterator<Item = (f64, f64)> + Clone,
+{
+    let (mut n, mut t_sum, mut v_sum) = (0usize, 0.0, 0.0);
+    for (t, v) in samples.clone() {
+        n += 1;
+        t_sum += t;
+        v_sum += v;
+    }
+    if n < 3 {
         return None;
     }
-    let n = samples.len() as f64;
-    let t_mean = samples.iter().map(|s| s.0).sum::<f64>() / n;
-    let v_mean = samples.iter().map(|s| s.1).sum::<f64>() / n;
-    let sxx: f64 = samples
-        .iter()
-        .map(|s| (s.0 - t_mean) * (s.0 - t_mean))
-        .sum();
-    let sxy: f64 = samples
-        .iter()
-        .map(|s| (s.0 - t_mean) * (s.1 - v_mean))
-        .sum();
+    let (t_mean, v_mean) = (t_sum / n as f64, v_sum / n as f64);
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for (t, v) in samples {
+        sxx += (t - t_mean) * (t - t_mean);
+        sxy += (t - t_mean) * (v - v_mean);
+    }
     (sxx > 0.0).then(|| (sxy / sxx, noise / libm::sqrt(sxx)))
 }
 
@@ -211,8 +244,8 @@ pub(super) const MS_REJECTED: f64 = 9.2;
 /// start's error costs little.
 pub(super) const START_WINDOW_S: f64 = 0.1;
 
-/// Most samples kept in the window (allocated once per start; at rates
-/// over 1.2 kHz the window is cut short).
+/// Most samples kept in the window (allocated once with the estimator; at
+/// rates over 1.2 kHz the window is cut short).
 pub(super) const WINDOW_CAPACITY: usize = 128;
 
 /// The measurement noise of `vy` (m/s, paper 003 eq 15).
