@@ -51,8 +51,9 @@ use limbfuse_models::bslip::{leg_length, GaitTemplate, Side, State};
 
 use super::height_crossings::{FootFix, HeightCrossings};
 use super::start_phase::{
-    locate_in_step, mid_double_support, vy_slope, Placement, StepPoint, StepProfile, MS_REJECTED,
-    MS_SNAP_STEPS, NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE, VY_EVIDENCE, WINDOW_CAPACITY,
+    locate_in_step, mid_double_support, ms_worse_than_trough, vy_slope, Placement, StepPoint,
+    StepProfile, MS_REJECTED, MS_SNAP_STEPS, NOISE_VY, START_WINDOW_S, TROUGH_EVIDENCE,
+    VY_EVIDENCE, WINDOW_CAPACITY,
 };
 use super::weight_support::WeightSupport;
 use super::{ImmBslip, ImmBslipError, ImmBslipParams};
@@ -300,19 +301,23 @@ impl ImmContinuous {
     /// MS or the middle of DS) placed again from the first
     /// [`START_WINDOW_S`] of samples: in the middle of DS when `vy` rises
     /// over them, its slope over [`TROUGH_EVIDENCE`] standard deviations
-    /// above zero (at the top of the arc it cannot rise, whatever the
-    /// gait branch), else `None` (MS stays).
+    /// above zero, and the gait's step followed from the middle of DS fits
+    /// them better than followed from MS (by [`MS_REJECTED`],
+    /// [`ms_worse_than_trough`]), else `None` (MS stays).
     fn place_from_window(&mut self, samples: &[Sample]) -> Option<Placement> {
         let first = samples.first()?;
         let measured = first.com.values();
         let seen = samples
             .iter()
             .filter_map(|s| Some((s.t - first.t, s.com.values()[4]?)));
-        let (slope, sd) = vy_slope(seen, NOISE_VY)?;
+        let (slope, sd) = vy_slope(seen.clone(), NOISE_VY)?;
         if slope <= TROUGH_EVIDENCE * sd {
             return None;
         }
         let (speed, gait) = self.speed_guess(measured[3]);
+        if ms_worse_than_trough(&gait, seen, &mut self.profile) <= MS_REJECTED {
+            return None;
+        }
         let p = mid_double_support(&gait, &mut self.profile);
         Some(self.located(p, &gait, measured[3], speed))
     }

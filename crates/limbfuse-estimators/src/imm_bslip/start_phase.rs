@@ -188,6 +188,35 @@ pub(super) fn mid_double_support(g: &GaitTemplate, profile: &mut StepProfile) ->
     }
 }
 
+/// How much worse the window's vertical velocities `seen` (time since the
+/// start, `vy`) fit `g`'s step followed from MS than followed from the
+/// middle of DS: the difference of their squared normalised misses (a
+/// chi-square difference, [`SIGMA_VY`]). A rising `vy` alone does not tell
+/// the trough: on a slow gait the CoM is pushed up again soon after MS
+/// (limbfuse's 0.5 m/s walker, a start in SS1 0.05 s after MS: `vy` from
+/// -0.05 rising at 0.7 m/s^2, 3.4 standard deviations, taken for the
+/// trough; 56.5 -> 39.4 % after that gap).
+pub(super) fn ms_worse_than_trough<I>(g: &GaitTemplate, seen: I, profile: &mut StepProfile) -> f64
+where
+    I: Iterator<Item = (f64, f64)>,
+{
+    let points = profile.filled(g);
+    let vy_at = |t: f64| {
+        points
+            .iter()
+            .min_by(|a, b| (a.p.t - t).abs().total_cmp(&(b.p.t - t).abs()))
+            .map_or(0.0, |q| q.vy)
+    };
+    let half = 0.5 * g.step_time;
+    let mut worse = 0.0;
+    for (dt, vy) in seen {
+        let at_ms = (vy - vy_at(dt)) / SIGMA_VY;
+        let at_ds = (vy - vy_at(half + dt)) / SIGMA_VY;
+        worse += at_ms * at_ms - at_ds * at_ds;
+    }
+    worse
+}
+
 /// The slope (m/s^2) of a straight line fitted to `samples` (time,
 /// vertical velocity) and its standard deviation in independent noise
 /// `noise` (m/s); `None` with fewer than three samples or one instant.

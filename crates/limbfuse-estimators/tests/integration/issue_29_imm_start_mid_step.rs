@@ -12,6 +12,7 @@ use limbfuse_estimators::imm_bslip::{ImmBslipParams, ImmContinuous, ImmWeights, 
 use limbfuse_models::bslip::{BslipParams, GaitTemplate};
 use limbfuse_sim::bslip::library::build_library;
 use limbfuse_sim::bslip::search::SearchSettings;
+use limbfuse_sim::bslip::trial::{simulate_trial, BslipTrialConfig};
 
 use crate::shared_data_support::{data_dir, read};
 
@@ -122,4 +123,56 @@ fn shared_trial_and_family() -> Option<(Vec<Record>, Vec<GaitTemplate>)> {
         eprintln!("skipped: ../shared/data/independent-sim is absent");
     }
     built.clone()
+}
+
+/// Found on merging session 30's trough rule: limbfuse's 0.5 m/s walker
+/// (default body, its gait in the 0.4-1.0 m/s family) with its rows of
+/// 3.9-4.9 s removed restarts 0.05 s after MS, in SS1, `vy` -0.05 m/s and
+/// rising at 0.72 m/s^2 (3.4 standard deviations): on a slow gait the CoM
+/// is pushed up again soon after MS, and the rising `vy` alone was taken
+/// for the trough of DS: 56.5 -> 39.4 % phase accuracy after the gap.
+/// Expected: the gait's own step followed from MS fits those samples
+/// better than from the middle of DS, so the start stays at MS (at least
+/// 56 %, measured 56.5 %).
+#[test]
+fn a_slow_gait_rising_soon_after_mid_stance_is_not_taken_for_the_trough() {
+    let body = BslipParams::default();
+    let speeds = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+    let family: Vec<GaitTemplate> =
+        build_library(&body, &speeds, &SearchSettings::default(), |_, _| {})
+            .unwrap()
+            .iter()
+            .map(|g| g.template(&body))
+            .collect();
+    let walker = *family
+        .iter()
+        .find(|t| (t.speed - 0.5).abs() < 1e-9)
+        .unwrap();
+    let trial = simulate_trial(
+        &walker,
+        &BslipTrialConfig {
+            duration: 10.0,
+            ..Default::default()
+        },
+    );
+    let records: Vec<Record> = trial
+        .into_iter()
+        .filter(|r| !(3.9..4.9).contains(&r.sample.t))
+        .collect();
+    let params = ImmBslipParams {
+        weights: ImmWeights::Recursive,
+        ..ImmBslipParams::full_com()
+    };
+    let mut imm = ImmContinuous::new(&family, params).unwrap();
+    let (mut ok, mut n) = (0usize, 0usize);
+    for r in &records {
+        let e = imm.step(&r.sample).unwrap();
+        if r.sample.t >= 4.9 && r.reference.phase.is_some() {
+            n += 1;
+            ok += usize::from(e.phase == r.reference.phase);
+        }
+    }
+    let acc = 100.0 * ok as f64 / n as f64;
+    println!("0.5 m/s, rows of 3.9-4.9 s removed: {acc:.1} % after the gap");
+    assert!(acc >= 56.0, "{acc:.1} % after the gap");
 }
