@@ -301,7 +301,8 @@ pub fn pendulum_for_trial(
             return Ok((p, source));
         }
     }
-    let (height, source) = match meta.body().map_err(|e| gait_error(e.to_string()))?.height {
+    // (the height alone: the IMU mounts and segment lengths are not read here)
+    let (height, source) = match meta.body_height().map_err(|e| gait_error(e.to_string()))? {
         Some(h) => (Some(h), PendulumSource::BodyHeight),
         None => (
             subject_length(meta, "height").and_then(|h| within(h, BODY_HEIGHT_M)),
@@ -417,6 +418,30 @@ mod tests {
         bad.set("height_m", "tall");
         let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
         let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
+            .err()
+            .unwrap();
+        assert!(err.to_string().contains("height_m"), "{err}");
+    }
+
+    /// Session 31 audit: a trial stating its IMU mounts in words (the
+    /// independent simulator's FES trials: `thigh: static; ...`) made
+    /// lowback-speed, which reads no mount, fail on that line (so a cohort
+    /// over such a folder blamed the metadata, not the missing trunk IMU).
+    /// Only `# height_m:` is read; a bad height is still refused.
+    #[test]
+    fn imu_mounts_it_does_not_read_do_not_stop_lowback_speed() {
+        let mut meta = TrialMeta::new();
+        meta.set("imu_mounts_m", "thigh: static; shank: on the shank axis");
+        meta.set("height_m", "1.6");
+        let l: f64 = leg_length_line(&meta, None)
+            .trim_start_matches("leg_length: ")
+            .trim_end_matches(" m")
+            .parse()
+            .unwrap();
+        assert!((l - 0.530 * 1.6).abs() < 1e-12, "{l}");
+        meta.set("height_m", "tall");
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        let err = LowbackSpeedMethod::build(&settings, &meta, &TrialLayout::default())
             .err()
             .unwrap();
         assert!(err.to_string().contains("height_m"), "{err}");
