@@ -111,11 +111,12 @@ class Filter:
             # (an audit, session 31: a row of `trial.to_pandas()` raised
             # "NaN is not a value" for its unknown references, and "found
             # 'SS1'" for a gait trial's `phase_ref`)
-            sample = {
+            row: Dict[Any, Any] = {
                 k: (None if isinstance(v, (float, np.floating)) and math.isnan(v) else v)
                 for k, v in sample.items()
                 if k != "phase_ref"
             }
+            sample = row
         if not isinstance(sample, dict):
             try:
                 sample = dict(sample)
