@@ -412,7 +412,9 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
     in seconds, accelerometers in g, gyroscopes in deg/s;
     docs/ROBUST_INPUT.md); ``methods``: {name: (kind, why)} with kind
     ``"runs"``, ``"runs after align"`` (it reads aligned frames, the file
-    declares raw ones), ``"needs a setting"`` (a model, a gait library),
+    declares raw ones; why: ``align`` first, or why ``align`` cannot align
+    the trial, as ``limbfuse inspect`` says on the method's line),
+    ``"needs a setting"`` (a model, a gait library),
     ``"missing columns"`` or ``"no usable data"`` (the columns are there,
     the data rule it out: an input empty on every row a knee-axis method
     needs, a trial shorter than its window), and why: the message
@@ -455,9 +457,21 @@ def inspect(path: Union[PathLike, Trial]) -> Dict[str, Any]:
         "longest_step": longest,
         "inputs": dict(inputs),
         "warnings": list(warnings_),
-        "methods": {name: (kind, why) for name, kind, why in methods_},
+        "methods": {name: (kind, _after_align(kind, why, align)) for name, kind, why in methods_},
         "metadata_settings": list(read),
         "thigh_spread_deg": spread,
         "data_notes": list(notes),
         "align": {"needed": align[0], "possible": align[1], "reason": align[2]},
     }
+
+
+def _after_align(kind: str, why: str, align: Tuple[Any, Any, Any]) -> str:
+    """The reason of a method that runs after ``align`` (empty from the
+    extension): whether ``align`` can (an audit, session 31: a trunk-only
+    raw trial said ``("runs after align", "")`` while ``align`` refuses it;
+    the CLI says so on that line)."""
+    if kind != "runs after align" or why:
+        return why
+    if align[1] is False:
+        return f"reads aligned frames, but `limbfuse.align` cannot align this trial: {align[2]}"
+    return "reads aligned frames and the trial declares raw ones: `limbfuse.align(trial)` first"

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Union, cast
 
+import numpy as np
+
 from . import _native
+from ._arrays import _is_pandas
 from ._calibration import calibration_options
 from ._estimate import Estimate, LimbfuseWarning
 from ._lazy import LazyModule
@@ -95,11 +99,24 @@ class Filter:
         """The method and its parameters (estimate file header lines)."""
         return list(self._native.header)
 
-    def step(self, sample: Mapping[str, Any]) -> Dict[str, Any]:
+    def step(self, sample: Union[Mapping[str, Any], "pd.Series"]) -> Dict[str, Any]:
         """One sample in, one estimate out. A missing value is ``None``,
         ``numpy.ma.masked`` or an absent key (NaN is refused: limbfuse never
         takes NaN for a value); a value that is not a number raises
-        ``TypeError``."""
+        ``TypeError``. A pandas Series (a DataFrame's row, ``df.iloc[i]``)
+        is read as ``run`` reads a DataFrame: NaN is missing, and a
+        ``phase_ref`` label (a reference, which no method reads) is left
+        out."""
+        if _is_pandas(sample) and getattr(sample, "ndim", 0) == 1:
+            # (an audit, session 31: a row of `trial.to_pandas()` raised
+            # "NaN is not a value" for its unknown references, and "found
+            # 'SS1'" for a gait trial's `phase_ref`)
+            row: Dict[Any, Any] = {
+                k: (None if isinstance(v, (float, np.floating)) and math.isnan(v) else v)
+                for k, v in sample.items()
+                if k != "phase_ref"
+            }
+            sample = row
         if not isinstance(sample, dict):
             try:
                 sample = dict(sample)

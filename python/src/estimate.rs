@@ -331,21 +331,36 @@ fn estimate<'py>(
                 .rejections
                 .rejected()
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
-            let with_rejected = |message: String| match &rejected {
-                Some(r) => user_msg(format!("{message}\n{r}")),
-                None => user_msg(message),
+            // ... and the other warnings the CLI prints before that error: the
+            // unit checks above all (an audit, session 31: foot IMUs in deg/s
+            // and g, as peers' tools give them, were "no gait found" with
+            // nothing about their units).
+            let with_warnings = |message: String| {
+                let said = [
+                    rejected.clone(),
+                    unit_note.clone(),
+                    frame_note.clone(),
+                    leg_note.clone(),
+                    thigh_note.clone(),
+                ];
+                user_msg(
+                    std::iter::once(message)
+                        .chain(said.into_iter().flatten())
+                        .collect::<Vec<_>>()
+                        .join("\n"),
+                )
             };
             // As `limbfuse estimate`: nothing estimated is an error.
             if let Some(k) = &watches.knee {
                 if let Err(why) = k.verdict(knee_window) {
-                    return Err(with_rejected(format!(
+                    return Err(with_warnings(format!(
                         "{label}: `{}`: {why}",
                         spec.method()
                     )));
                 }
             }
             if gait_method && !watches.gait.found {
-                return Err(with_rejected(limbfuse_eval::gait_watch::no_gait_message(
+                return Err(with_warnings(limbfuse_eval::gait_watch::no_gait_message(
                     &label,
                     spec.method().name(),
                     inputs.len() as u64,
@@ -353,7 +368,7 @@ fn estimate<'py>(
                 )));
             }
             if !watches.any_output.found {
-                return Err(with_rejected(
+                return Err(with_warnings(
                     limbfuse_eval::output_watch::no_output_message(
                         &label,
                         spec.method().name(),

@@ -326,7 +326,8 @@ fn method_spec_from(
 /// The method layer's messages name `limbfuse estimate`'s flags
 /// (`--window`, `--rescale-height`); here they are keywords (`window`,
 /// `rescale_height`: an audit found `estimate(..., window=500)` answered
-/// with "--window and --order apply to ...").
+/// with "--window and --order apply to ..."); a CLI subcommand with a Python
+/// function is that function's call.
 pub(crate) fn python_spelling(message: &str) -> String {
     const FLAGS: [&str; 16] = [
         "window",
@@ -366,6 +367,16 @@ pub(crate) fn python_spelling(message: &str) -> String {
         rest = &after[word_end..];
     }
     out.push_str(rest);
+    // The CLI subcommands a message sends the user to that are Python
+    // calls here (an audit, session 31: `estimate(t, "imm-bslip")` without
+    // a library said "build one with `limbfuse gait-library build`").
+    const COMMANDS: [(&str, &str); 1] = [(
+        "`limbfuse gait-library build`",
+        "`limbfuse.gait_library(path, speeds)`",
+    )];
+    for (cli, python) in COMMANDS {
+        out = out.replace(cli, python);
+    }
     out
 }
 
@@ -456,6 +467,12 @@ mod tests {
             "(file keys or window/order)"
         );
         assert_eq!(python_spelling("a -- b --"), "a -- b --");
+        assert_eq!(
+            python_spelling(
+                "method `imm-bslip` needs --library LIB.json (build one with `limbfuse gait-library build`)"
+            ),
+            "method `imm-bslip` needs library LIB.json (build one with `limbfuse.gait_library(path, speeds)`)"
+        );
         assert_eq!(
             python_spelling("my--window.csv: --window"),
             "my--window.csv: window"

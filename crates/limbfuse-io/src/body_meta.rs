@@ -207,10 +207,18 @@ impl TrialMeta {
         if let Some(v) = self.get(SEGMENT_LENGTHS_KEY) {
             (b.thigh_length, b.shank_length) = parse_segment_lengths(v)?;
         }
-        if let Some(v) = self.get(HEIGHT_KEY) {
-            b.height = Some(number(HEIGHT_KEY, v, v)?);
-        }
+        b.height = self.body_height()?;
         Ok(b)
+    }
+
+    /// The body height `# height_m:` alone (`None` when absent), for a
+    /// method that reads no other geometry: it does not fail on an
+    /// `imu_mounts_m` it does not use (an audit, session 31:
+    /// `lowback-speed` on a trial stating its mounts in words).
+    pub fn body_height(&self) -> Result<Option<f64>, BodyMetaError> {
+        self.get(HEIGHT_KEY)
+            .map(|v| number(HEIGHT_KEY, v, v))
+            .transpose()
     }
 }
 

@@ -301,7 +301,8 @@ pub fn pendulum_for_trial(
             return Ok((p, source));
         }
     }
-    let (height, source) = match meta.body().map_err(|e| gait_error(e.to_string()))?.height {
+    // (the height alone: the IMU mounts and segment lengths are not read here)
+    let (height, source) = match meta.body_height().map_err(|e| gait_error(e.to_string()))? {
         Some(h) => (Some(h), PendulumSource::BodyHeight),
         None => (
             subject_length(meta, "height").and_then(|h| within(h, BODY_HEIGHT_M)),
@@ -377,6 +378,24 @@ mod tests {
         parameter_line(meta, file, "leg_length")
     }
 
+    /// The pendulum length (m) of the defaults on a trial with `meta`.
+    fn leg_length_m(meta: &TrialMeta) -> f64 {
+        leg_length_line(meta, None)
+            .trim_start_matches("leg_length: ")
+            .trim_end_matches(" m")
+            .parse()
+            .unwrap()
+    }
+
+    /// The message of the defaults refusing a trial with `meta`.
+    fn build_error(meta: &TrialMeta) -> String {
+        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
+        match LowbackSpeedMethod::build(&settings, meta, &TrialLayout::default()) {
+            Ok(_) => panic!("built"),
+            Err(e) => e.to_string(),
+        }
+    }
+
     /// `limbfuse params --method lowback-speed` writes `turn_rate = 15.0`
     /// (was 14.999999999999998, the radian round trip), and the file read
     /// back gives the default parameters bit for bit.
@@ -401,11 +420,7 @@ mod tests {
         let mut meta = TrialMeta::new();
         assert_eq!(leg_length_line(&meta, None), "leg_length: 0.9 m");
         meta.set("height_m", "1.6");
-        let l: f64 = leg_length_line(&meta, None)
-            .trim_start_matches("leg_length: ")
-            .trim_end_matches(" m")
-            .parse()
-            .unwrap();
+        let l = leg_length_m(&meta);
         assert!((l - 0.530 * 1.6).abs() < 1e-12, "{l}");
         meta.set("leg_length", "0.8");
         assert_eq!(leg_length_line(&meta, None), "leg_length: 0.8 m");
@@ -415,11 +430,25 @@ mod tests {
         );
         let mut bad = TrialMeta::new();
         bad.set("height_m", "tall");
-        let settings = LowbackSpeedMethod::resolve(None, &MethodFlags::default()).unwrap();
-        let err = LowbackSpeedMethod::build(&settings, &bad, &TrialLayout::default())
-            .err()
-            .unwrap();
-        assert!(err.to_string().contains("height_m"), "{err}");
+        let err = build_error(&bad);
+        assert!(err.contains("height_m"), "{err}");
+    }
+
+    /// Session 31 audit: a trial stating its IMU mounts in words (the
+    /// independent simulator's FES trials: `thigh: static; ...`) made
+    /// lowback-speed, which reads no mount, fail on that line (so a cohort
+    /// over such a folder blamed the metadata, not the missing trunk IMU).
+    /// Only `# height_m:` is read; a bad height is still refused.
+    #[test]
+    fn imu_mounts_it_does_not_read_do_not_stop_lowback_speed() {
+        let mut meta = TrialMeta::new();
+        meta.set("imu_mounts_m", "thigh: static; shank: on the shank axis");
+        meta.set("height_m", "1.6");
+        let l = leg_length_m(&meta);
+        assert!((l - 0.530 * 1.6).abs() < 1e-12, "{l}");
+        meta.set("height_m", "tall");
+        let err = build_error(&meta);
+        assert!(err.contains("height_m"), "{err}");
     }
 
     /// Issue 19 (`lowback4`): `# sensor_height_m:` is the pendulum length with
