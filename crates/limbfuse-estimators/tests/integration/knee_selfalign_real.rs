@@ -122,7 +122,8 @@ fn rig_first_window_pairs_the_z_axes() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let WindowOutcome::Identified { geometry: g, .. } = identify(&ring, None, None, false, &p)
+        let WindowOutcome::Identified { geometry: g, .. } =
+            identify(&ring, None, None, false, false, &p)
         else {
             panic!("trial {k}: first window not identified");
         };
