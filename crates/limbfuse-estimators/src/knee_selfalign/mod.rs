@@ -229,6 +229,11 @@ impl KneeSelfAlign {
         self.acc_trusted
     }
 
+    /// The rest check of the accelerometers ([`rest_gravity`]).
+    pub fn rest_check(&self) -> &RestGravityCheck {
+        &self.rest
+    }
+
     /// Windows completed so far.
     pub fn windows(&self) -> usize {
         self.windows
