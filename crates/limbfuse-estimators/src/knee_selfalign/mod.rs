@@ -16,6 +16,7 @@
 //! | [`acc_scale`] | ours (issue 15 item 3): a relative accelerometer scale in eqs 3 and 7 |
 //! | [`position_fit`] | Algorithm 2 on eq 3 for one window (with the relative scale: ours) |
 //! | [`position_fusion`] | ours (issue 15 item 3): the positions fused over windows by their information |
+//! | [`rest_gravity`] | ours (issue knee31b): no trust in an accelerometer whose norm at rest is off g |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
 //! `sample.imu[shank]`, any sensor orientation and position). Output: the
