@@ -24,9 +24,12 @@
 //! `acc_max_spread` while `alpha_gyro` itself spread at least
 //! `acc_min_motion` (the same test as `knee-selfalign`'s, without the
 //! sensor positions) and `knee-selfalign`'s own test passed on that window
-//! (its accelerometer angle, with the joint acceleration, is trusted). It fails when the joint axis is near vertical (no
-//! gravity in the joint plane: the knee rig), when the accelerometers are
-//! far off, or when the knee is not a hinge (the gaittoolbox trial). With
+//! (its accelerometer angle, with the joint acceleration, is trusted; never
+//! after a rest whose accelerometer norm was off g, `knee_selfalign::rest_gravity`).
+//! It fails when the joint axis is near vertical (no gravity in the joint
+//! plane), when the accelerometers are far off (the knee rig: 1.1-1.24 g at
+//! rest, a ~1 g offset along its joint axis, which is not vertical), or when
+//! the knee is not a hinge (the gaittoolbox trial). With
 //! the high-pass the zero is the mean angle: compare offset-free.
 //! Details and measured figures: `docs/KNEE_SELFALIGN.md`.
 

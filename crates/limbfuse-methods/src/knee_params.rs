@@ -10,6 +10,7 @@
 //! sign_floor = 0.00061        # spread of the sign evidence that noise alone gives
 //! acc_max_spread = 0.0152     # accelerometer angle trusted up to this spread about the gyro angle
 //! acc_min_motion = 0.0152     # ... in windows where the gyro angle spreads at least this much
+//! acc_rest_tolerance = 0.1    # ... until a rest reads an accelerometer norm off g by more than this (x g)
 //! highpass_hz = 0.02          # drift removal while the accelerometer angle is not trusted
 //! axis_prior = "upright"      # or "none": paper 002's eq 2 alone
 //! upright_min_hinge_ratio = 0.15  # the prior applies where RMS e_j >= this x RMS rate
@@ -62,6 +63,7 @@ struct KneeSelfAlignFile {
     sign_floor: Option<f64>,
     acc_max_spread: Option<f64>,
     acc_min_motion: Option<f64>,
+    acc_rest_tolerance: Option<f64>,
     highpass_hz: Option<f64>,
     axis_prior: Option<AxisPriorName>,
     upright_min_hinge_ratio: Option<f64>,
@@ -168,6 +170,7 @@ pub fn knee_params(
         sign_floor: f.sign_floor.unwrap_or(d.sign_floor),
         acc_max_spread: f.acc_max_spread.unwrap_or(d.acc_max_spread),
         acc_min_motion: f.acc_min_motion.unwrap_or(d.acc_min_motion),
+        acc_rest_tolerance: f.acc_rest_tolerance.unwrap_or(d.acc_rest_tolerance),
         highpass_hz: f.highpass_hz.unwrap_or(d.highpass_hz),
         axis_prior: match f.axis_prior {
             Some(AxisPriorName::None) => None,
@@ -207,7 +210,7 @@ impl MethodDef for KneeSelfAlignMethod {
         "knee-selfalign",
         "paper 002: knee angle from raw thigh + shank IMUs, self-identified joint axis and position",
         "raw thigh and shank IMUs (any mounting)",
-        "window_s (default 5 s at the trial's rate) or window (samples), order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, highpass_hz, axis_prior, upright_min_hinge_ratio, max_sensor_delay_s (file keys or --window/--order)",
+        "window_s (default 5 s at the trial's rate) or window (samples), order, zero, sign_commit, sign_floor, acc_max_spread, acc_min_motion, acc_rest_tolerance, highpass_hz, axis_prior, upright_min_hinge_ratio, max_sensor_delay_s (file keys or --window/--order)",
     )
     .needing(
         ChannelNeeds::imus([false, true, true, false]),
@@ -251,6 +254,7 @@ pub fn default_file() -> String {
          sign_floor = {}  # spread of the sign evidence noise alone gives (0 to 1; limbfuse)\n\
          acc_max_spread = {}  # accelerometer angle trusted up to this spread about the gyro angle (0 to 1; limbfuse)\n\
          acc_min_motion = {}  # ... judged only in windows whose gyro angle spreads at least this (0 to 1; limbfuse)\n\
+         acc_rest_tolerance = {}  # ... until a rest reads an accelerometer norm off g by more than this x g ((0, 1]; limbfuse)\n\
          highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n\
          axis_prior = \"upright\"  # \"upright\" (limbfuse, issue 15) or \"none\" (paper 002: eq 2 alone)\n\
          upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n\
@@ -262,6 +266,7 @@ pub fn default_file() -> String {
         d.sign_floor,
         d.acc_max_spread,
         d.acc_min_motion,
+        d.acc_rest_tolerance,
         d.highpass_hz,
         d.axis_prior.unwrap_or_default().min_hinge_ratio,
         DEFAULT_MAX_SENSOR_DELAY_S

@@ -194,7 +194,7 @@ fn demo_has_a_knee_section() {
 
 /// `evaluate` says when a knee estimate's zero is its high-pass's (the
 /// accelerometer angle trusted in under half the samples): the shared knee
-/// rig (joint axis near vertical: 3 % trusted, mean error -9.4 deg, 2.2
+/// rig (accelerometers off g: 1-3 % trusted, mean error -9.4 deg, 2.2
 /// offset-free); not on a simulated walk (trusted from the first window),
 /// nor with `--offset-free`.
 #[test]

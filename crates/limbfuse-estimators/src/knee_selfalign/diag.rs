@@ -1,6 +1,8 @@
 //! Diagnostics of [`super::KneeSelfAlign`] (the `diag_*` columns, docs/OUTPUTS.md).
 
-use limbfuse_core::diagnostic_set;
+use limbfuse_core::{diagnostic_set, Estimate};
+
+use super::{position, KneeSelfAlign, WindowStatus};
 
 diagnostic_set! {
     /// Diagnostics of [`super::KneeSelfAlign`].
@@ -73,7 +75,9 @@ diagnostic_set! {
         SignCommitted = "sign_committed",
         /// 1 when the last identified window's accelerometer angle follows the
         /// gyro angle (`acc_gyro_spread <= acc_max_spread`) and corrects it
-        /// (Algorithm 1); 0 when the angle is the high-passed gyro angle.
+        /// (Algorithm 1) and no rest has read a norm off g
+        /// ([`super::rest_gravity`]); 0 when the angle is the high-passed gyro
+        /// angle.
         AccTrusted = "acc_trusted",
         /// How long the gyro knee rate has been missing (s; 0 with both
         /// gyros present). Over such a gap the held rate decays and the
@@ -96,6 +100,12 @@ diagnostic_set! {
         /// search ([`super::delay`]; ours). 0 with the search off
         /// (`max_delay = 0`) or while none has been found.
         SensorDelay = "sensor_delay_s",
+        /// The last rest's `|norm/g - 1|` of the accelerometer, the larger
+        /// of thigh and shank (ours, issue knee31b,
+        /// [`super::rest_gravity`]); above `acc_rest_tolerance` the
+        /// accelerometer angle is not trusted from then on. Empty until a
+        /// rest was seen.
+        RestNormError = "rest_norm_error",
     }
 }
 
@@ -110,4 +120,56 @@ impl KneeDiag {
         [KneeDiag::OThighX, KneeDiag::OThighY, KneeDiag::OThighZ],
         [KneeDiag::OShankX, KneeDiag::OShankY, KneeDiag::OShankZ],
     ];
+}
+
+impl KneeSelfAlign {
+    /// Writes this sample's `diag_*` values into `est`.
+    pub(super) fn write_diagnostics(
+        &self,
+        est: &mut Estimate,
+        saturated: bool,
+        alpha_acc: Option<f64>,
+    ) {
+        let mut d = est.diagnostics_mut::<KneeDiag>();
+        d.flag(KneeDiag::Identified, self.geometry.is_some());
+        d.value(KneeDiag::WindowStatus, self.status.code());
+        d.flag(
+            KneeDiag::Unobservable,
+            self.status == WindowStatus::Unobservable,
+        );
+        d.value(KneeDiag::Windows, self.windows as f64);
+        d.value(KneeDiag::WindowUsable, self.usable as f64);
+        d.flag(KneeDiag::Saturated, saturated);
+        if let Some(g) = &self.geometry {
+            d.value(KneeDiag::AlphaGyro, self.alpha_gyro);
+            d.set(KneeDiag::AlphaAcc, alpha_acc);
+            let (x, p, bias) = self.kf.state();
+            d.value(KneeDiag::KfX, x);
+            d.value(KneeDiag::KfP, p);
+            d.set(KneeDiag::KfRateBias, bias);
+            for sensor in 0..2 {
+                for k in 0..3 {
+                    d.value(KneeDiag::AXIS[sensor][k], g.axis[sensor][k]);
+                    d.value(KneeDiag::POSITION[sensor][k], g.position[sensor][k]);
+                }
+            }
+            d.value(KneeDiag::RmsEJ, self.rms[0]);
+            d.value(KneeDiag::RmsEO, self.rms[1]);
+            d.value(KneeDiag::AxisSource, self.rms[2]);
+            d.value(KneeDiag::AccScaleRatio, g.acc_scale);
+            d.set(
+                KneeDiag::PositionWindows,
+                self.fused.map(|f| f.windows as f64),
+            );
+            d.value(KneeDiag::AccGyroSpread, self.spread);
+            d.value(KneeDiag::SignConfidence, self.sign_confidence);
+        }
+        d.flag(KneeDiag::SignCommitted, self.sign_committed);
+        d.flag(KneeDiag::AccTrusted, self.acc_trusted);
+        d.value(KneeDiag::GyroGap, self.gyro_gap);
+        d.value(KneeDiag::Information, self.information);
+        d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
+        d.value(KneeDiag::SensorDelay, self.sensor_delay_s());
+        d.set(KneeDiag::RestNormError, self.rest.last_error());
+    }
 }

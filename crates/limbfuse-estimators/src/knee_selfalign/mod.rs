@@ -16,6 +16,7 @@
 //! | [`acc_scale`] | ours (issue 15 item 3): a relative accelerometer scale in eqs 3 and 7 |
 //! | [`position_fit`] | Algorithm 2 on eq 3 for one window (with the relative scale: ours) |
 //! | [`position_fusion`] | ours (issue 15 item 3): the positions fused over windows by their information |
+//! | [`rest_gravity`] | ours (issue knee31b): no trust in an accelerometer whose norm at rest is off g |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
 //! `sample.imu[shank]`, any sensor orientation and position). Output: the
@@ -38,6 +39,7 @@ pub mod params;
 pub mod position;
 pub mod position_fit;
 pub mod position_fusion;
+pub mod rest_gravity;
 pub mod sign;
 pub mod stamp_clock;
 pub mod upright;
@@ -60,6 +62,7 @@ pub use diag::KneeDiag;
 use fuser::Fuser;
 pub use params::{AngleZero, Fusion, KneeParamError, KneeSelfAlignParams};
 use position_fusion::FusedPositions;
+use rest_gravity::RestGravityCheck;
 use upright::UprightAxes;
 pub use window::Geometry;
 use window::{identify, Ring, WindowOutcome};
@@ -133,6 +136,8 @@ pub struct KneeSelfAlign {
     delay: DelayLine,
     /// This sample's thigh and shank readings as paired by that offset.
     aligned: [ImuSample; 2],
+    /// Whether the accelerometers read g at rest ([`rest_gravity`], ours).
+    rest: RestGravityCheck,
 }
 
 impl Default for KneeSelfAlign {
@@ -185,6 +190,7 @@ impl KneeSelfAlign {
             deferred: None,
             delay: DelayLine::new(params.max_delay, params.window),
             aligned: [ImuSample::default(); 2],
+            rest: RestGravityCheck::new(params.acc_rest_tolerance, limbfuse_core::STANDARD_GRAVITY),
         }
     }
 
@@ -222,6 +228,11 @@ impl KneeSelfAlign {
     /// Whether the accelerometer angle is trusted now (`diag_acc_trusted`).
     pub fn acc_trusted(&self) -> bool {
         self.acc_trusted
+    }
+
+    /// The rest check of the accelerometers ([`rest_gravity`]).
+    pub fn rest_check(&self) -> &RestGravityCheck {
+        &self.rest
     }
 
     /// Windows completed so far.
@@ -329,6 +340,7 @@ impl KneeSelfAlign {
             self.geometry.as_ref(),
             self.fused.as_ref(),
             self.sign_committed,
+            self.rest.miscalibrated(),
             &self.params,
         ) {
             WindowOutcome::Identified {
@@ -469,6 +481,7 @@ impl Estimator for KneeSelfAlign {
         self.fixed = false;
         self.deferred = None;
         self.delay.clear();
+        self.rest.reset();
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -480,6 +493,9 @@ impl Estimator for KneeSelfAlign {
         finite(&shank.acc, "shank_acc")?;
         let dt = self.time.advance(sample.t)?;
         self.aligned = self.align(sample);
+        // A sensor that does not read g at rest is not trusted from now on.
+        self.rest.step(sample.t, &self.aligned);
+        self.acc_trusted &= !self.rest.miscalibrated();
         let [thigh, shank] = &self.aligned;
         let (thigh, shank) = (*thigh, *shank);
         let saturated = self.saturated(&thigh.gyr) || self.saturated(&shank.gyr);
@@ -550,46 +566,7 @@ impl Estimator for KneeSelfAlign {
             // not wrapped, so eq 4 stays continuous).
             est.joint[Joint::Knee.index()] = Some(angle::wrap(self.alpha_gyro + self.kf.state().0));
         }
-        let mut d = est.diagnostics_mut::<KneeDiag>();
-        d.flag(KneeDiag::Identified, self.geometry.is_some());
-        d.value(KneeDiag::WindowStatus, self.status.code());
-        d.flag(
-            KneeDiag::Unobservable,
-            self.status == WindowStatus::Unobservable,
-        );
-        d.value(KneeDiag::Windows, self.windows as f64);
-        d.value(KneeDiag::WindowUsable, self.usable as f64);
-        d.flag(KneeDiag::Saturated, saturated);
-        if let Some(g) = &self.geometry {
-            d.value(KneeDiag::AlphaGyro, self.alpha_gyro);
-            d.set(KneeDiag::AlphaAcc, alpha_acc);
-            let (x, p, bias) = self.kf.state();
-            d.value(KneeDiag::KfX, x);
-            d.value(KneeDiag::KfP, p);
-            d.set(KneeDiag::KfRateBias, bias);
-            for sensor in 0..2 {
-                for k in 0..3 {
-                    d.value(KneeDiag::AXIS[sensor][k], g.axis[sensor][k]);
-                    d.value(KneeDiag::POSITION[sensor][k], g.position[sensor][k]);
-                }
-            }
-            d.value(KneeDiag::RmsEJ, self.rms[0]);
-            d.value(KneeDiag::RmsEO, self.rms[1]);
-            d.value(KneeDiag::AxisSource, self.rms[2]);
-            d.value(KneeDiag::AccScaleRatio, g.acc_scale);
-            d.set(
-                KneeDiag::PositionWindows,
-                self.fused.map(|f| f.windows as f64),
-            );
-            d.value(KneeDiag::AccGyroSpread, self.spread);
-            d.value(KneeDiag::SignConfidence, self.sign_confidence);
-        }
-        d.flag(KneeDiag::SignCommitted, self.sign_committed);
-        d.flag(KneeDiag::AccTrusted, self.acc_trusted);
-        d.value(KneeDiag::GyroGap, self.gyro_gap);
-        d.value(KneeDiag::Information, self.information);
-        d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
-        d.value(KneeDiag::SensorDelay, self.sensor_delay_s());
+        self.write_diagnostics(&mut est, saturated, alpha_acc);
         Ok(est)
     }
 }

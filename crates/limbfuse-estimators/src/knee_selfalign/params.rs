@@ -143,6 +143,14 @@ pub struct KneeSelfAlignParams {
     /// this (a still window agrees trivially). Default `1 - cos(10 deg)`, the
     /// same scale as `acc_max_spread` (a limbfuse extension).
     pub acc_min_motion: f64,
+    /// The accelerometer angle is not trusted from the first rest of a
+    /// segment (gyro and specific force quiet for 0.2 s,
+    /// [`super::rest_gravity`]) whose accelerometer norm is off g by more
+    /// than this fraction, for the rest of the run: such a sensor does not
+    /// measure gravity (a limbfuse extension, issue knee31b). Default
+    /// [`super::rest_gravity::ACC_REST_TOLERANCE_G`] = 0.10, the data-sheet
+    /// errors' worst-case sum; (0, 1].
+    pub acc_rest_tolerance: f64,
     /// Corner frequency (Hz) of the first-order high-pass that removes the
     /// gyro angle's drift while the accelerometer angle is not trusted
     /// (instead of Algorithm 1's correction). Default 0.02 Hz (time constant
@@ -179,6 +187,7 @@ impl Default for KneeSelfAlignParams {
             sign_commit: 0.9,
             acc_max_spread: 1.0 - libm::cos(10f64.to_radians()),
             acc_min_motion: 1.0 - libm::cos(10f64.to_radians()),
+            acc_rest_tolerance: super::rest_gravity::ACC_REST_TOLERANCE_G,
             highpass_hz: 0.02,
             axis_prior: Some(UprightPrior::default()),
             max_delay: 0,
@@ -263,6 +272,13 @@ impl KneeSelfAlignParams {
         check("sign_commit", self.sign_commit, 0.0, 1.0, "[0, 1]")?;
         check("acc_max_spread", self.acc_max_spread, 0.0, 1.0, "[0, 1]")?;
         check("acc_min_motion", self.acc_min_motion, 0.0, 1.0, "[0, 1]")?;
+        if !(self.acc_rest_tolerance > 0.0 && self.acc_rest_tolerance <= 1.0) {
+            return Err(KneeParamError {
+                name: "acc_rest_tolerance",
+                value: self.acc_rest_tolerance,
+                range: "(0, 1]",
+            });
+        }
         if let Some(u) = self.axis_prior {
             check(
                 "upright_min_hinge_ratio",
@@ -330,8 +346,8 @@ impl KneeSelfAlignParams {
         )?;
         writeln!(
             out,
-            "accelerometer angle trusted when spread <= {} and motion >= {}; else high-pass at {} Hz",
-            self.acc_max_spread, self.acc_min_motion, self.highpass_hz
+            "accelerometer angle trusted when spread <= {} and motion >= {}, until a rest reads |norm/g - 1| > {}; else high-pass at {} Hz",
+            self.acc_max_spread, self.acc_min_motion, self.acc_rest_tolerance, self.highpass_hz
         )?;
         match self.axis_prior {
             None => writeln!(out, "axis_prior: none (paper 002 eq 2 alone)")?,

@@ -25,7 +25,9 @@
 //! prior's axes; if not, the window shows no flexion to find the axis from
 //! (a turn on the spot: 79 % of the gaittoolbox thigh's energy along
 //! `a_bar` in the turn window; a knee axis along the long axis, e.g. lying
-//! legs or the knee rig, 89-97 %) and the previous window's axes are kept
+//! legs, or the knee rig, 89-97 %, whose accelerometers read a ~1 g offset
+//! along the knee axis that `a_bar` takes for gravity) and the previous
+//! window's axes are kept
 //! (eq 2's in a first window), unless the window without its turn blocks
 //! ([`TURN_BLOCK_S`], [`TURN_RATE`]) holds most of it and passes the test:
 //! a window of walking with a turn on the spot (the gaittoolbox walk at the

@@ -324,7 +324,9 @@ pub enum WindowOutcome {
 /// angles (SPEC section 1; `flexion_side`). In later windows each axis
 /// keeps the side of its `previous` axis, unless the relative sign is not
 /// `committed` and the window's trusted accelerometer angle prefers the
-/// other pair with at least `sign_commit` confidence.
+/// other pair with at least `sign_commit` confidence. With
+/// `acc_miscalibrated` (a rest read a norm off g, [`super::rest_gravity`])
+/// no accelerometer angle is trusted.
 ///
 /// The positions (and the relative accelerometer scale) are ours beyond the
 /// paper: [`fit_positions`], then fused with `fused`, the positions of
@@ -334,8 +336,19 @@ pub fn identify(
     previous: Option<&Geometry>,
     fused: Option<&FusedPositions>,
     committed: bool,
+    acc_miscalibrated: bool,
     p: &KneeSelfAlignParams,
 ) -> WindowOutcome {
+    // A sensor that read a norm off g at rest ([`super::rest_gravity`]):
+    // no window's agreement is evidence, it is chance.
+    let trusted = |c: &SignChoice| {
+        if acc_miscalibrated {
+            Some(false)
+        } else {
+            c.acc_trusted(p.acc_max_spread, p.acc_min_motion)
+        }
+    };
+    let flexion_side = |c: SignChoice| flexion_side(ring, c, trusted(&c) == Some(true), p.zero);
     let usable = (0..ring.len())
         .filter(|&i| ring.get(i).gyr_ok && ring.get(i).acc_ok)
         .count();
@@ -413,7 +426,7 @@ pub fn identify(
         information,
         spread: c.spread,
         sign_confidence: c.confidence,
-        acc_trusted: c.acc_trusted(p.acc_max_spread, p.acc_min_motion),
+        acc_trusted: trusted(&c),
         axis_source: source.code(),
         fused: fusion,
     };
@@ -429,10 +442,7 @@ pub fn identify(
         ) else {
             return WindowOutcome::TooFewSamples { usable: 0 };
         };
-        let decisive = |c: &SignChoice| {
-            c.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true)
-                && c.confidence >= p.sign_commit
-        };
+        let decisive = |c: &SignChoice| trusted(c) == Some(true) && c.confidence >= p.sign_commit;
         let pick = if decisive(&same) {
             same
         } else if decisive(&flipped) {
@@ -445,7 +455,7 @@ pub fn identify(
                 flipped
             }
         };
-        return identified(flexion_side(ring, pick, p));
+        return identified(flexion_side(pick));
     };
     // Continuity: a sensor does not turn its axis to the other side between
     // two windows (a re-mounting by less than 90 deg keeps j_new . j_old >
@@ -461,8 +471,8 @@ pub fn identify(
     // eq 4's integral every window on the gaittoolbox trial and the knee rig).
     if !committed && keep.confidence <= -p.sign_commit {
         if let Some(other) = score(jj, Some(false)) {
-            if other.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
-                return identified(flexion_side(ring, other, p));
+            if trusted(&other) == Some(true) {
+                return identified(flexion_side(other));
             }
         }
     }
@@ -473,8 +483,8 @@ pub fn identify(
     // hinge motion the first window was untrusted, its skewness picked the
     // extension side, and the trusted second window committed the pair with
     // the knee flexing to negative angles).
-    if !committed && keep.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
-        return identified(flexion_side(ring, keep, p));
+    if !committed && trusted(&keep) == Some(true) {
+        return identified(flexion_side(keep));
     }
     identified(keep)
 }
@@ -483,9 +493,9 @@ pub fn identify(
 /// section 1): from the circular mean of the accelerometer angle when it is
 /// trusted and the zero is the sensor positions, else from the skewness of
 /// the gyro angle ([`gyro_angle_moments`]).
-fn flexion_side(ring: &Ring, mut c: SignChoice, p: &KneeSelfAlignParams) -> SignChoice {
-    let flip = if c.acc_trusted(p.acc_max_spread, p.acc_min_motion) == Some(true) {
-        match p.zero {
+fn flexion_side(ring: &Ring, mut c: SignChoice, trusted: bool, zero: AngleZero) -> SignChoice {
+    let flip = if trusted {
+        match zero {
             AngleZero::SensorPositions => c.level < 0.0,
             AngleZero::PaperC => false,
         }

@@ -16,7 +16,7 @@ use limbfuse_estimators::segment_kf::{
 use limbfuse_models::{FixedHipModel, FixedHipParams, KneeFesModel, KneeFesParams, KneeSubject};
 use limbfuse_sim::fixed_hip::{simulate_fixed_hip, FixedHipConfig};
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
-use limbfuse_sim::{Mounting, WalkingConfig, WalkingSimulator};
+use limbfuse_sim::{Motion, Mounting, WalkingConfig, WalkingSimulator};
 
 /// Checks a declared set: unique names, `ALL[i]` is column `i` and has name
 /// `NAMES[i]`, at most [`MAX_DIAG`] columns.
@@ -93,15 +93,24 @@ fn segment_filters_write_every_declared_diagnostic_on_simulated_walking() {
 
 #[test]
 fn knee_selfalign_writes_every_declared_diagnostic_with_the_rate_bias_fusion() {
-    // `kf_rate_bias` exists only with the rate-bias fusion.
-    let records: Vec<Record> = WalkingSimulator::new(WalkingConfig {
-        duration_s: 8.0,
-        seed: 11,
-        mounting: Mounting::Random,
-        ..WalkingConfig::default()
-    })
-    .unwrap()
-    .collect();
+    // `kf_rate_bias` exists only with the rate-bias fusion; `rest_norm_error`
+    // only after a rest: 1 s of standing, then the walk.
+    let sim = |motion, duration_s| {
+        WalkingSimulator::new(WalkingConfig {
+            duration_s,
+            seed: 11,
+            mounting: Mounting::Random,
+            motion,
+            ..WalkingConfig::default()
+        })
+        .unwrap()
+    };
+    let mut records: Vec<Record> = sim(Motion::Stand, 1.0).collect();
+    let start = records.last().unwrap().sample.t + 0.01;
+    records.extend(sim(Motion::Walk, 8.0).map(|mut r| {
+        r.sample.t += start;
+        r
+    }));
     let params = KneeSelfAlignParams {
         window: 300,
         fusion: Fusion::RATE_BIAS,

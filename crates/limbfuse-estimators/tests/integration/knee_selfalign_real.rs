@@ -15,7 +15,7 @@ use limbfuse_estimators::knee_selfalign::window::{identify, Ring, Slot, WindowOu
 use limbfuse_estimators::knee_selfalign::{KneeSelfAlign, KneeSelfAlignParams};
 use limbfuse_io::import::{import_gaittoolbox, import_knee_rig};
 
-fn data_dir() -> Option<PathBuf> {
+pub(crate) fn data_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("LIMBFUSE_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| {
@@ -29,7 +29,7 @@ fn data_dir() -> Option<PathBuf> {
     }
 }
 
-fn rig(dir: &std::path::Path, k: usize) -> Vec<Record> {
+pub(crate) fn rig(dir: &std::path::Path, k: usize) -> Vec<Record> {
     import_knee_rig(&dir.join(format!("knee-rig/Trial_0{k}.csv")))
         .unwrap()
         .records
@@ -69,7 +69,7 @@ pub(crate) fn pearson(a: &[f64], b: &[f64]) -> f64 {
 
 /// Knee estimate and reference over the samples with both, from `from_s` to
 /// `to_s`, the estimate taken `lag` samples later than the reference.
-fn paired(
+pub(crate) fn paired(
     records: &[Record],
     params: KneeSelfAlignParams,
     span: (f64, f64),
@@ -122,7 +122,8 @@ fn rig_first_window_pairs_the_z_axes() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let WindowOutcome::Identified { geometry: g, .. } = identify(&ring, None, None, false, &p)
+        let WindowOutcome::Identified { geometry: g, .. } =
+            identify(&ring, None, None, false, false, &p)
         else {
             panic!("trial {k}: first window not identified");
         };

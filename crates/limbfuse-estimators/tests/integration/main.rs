@@ -27,6 +27,7 @@ mod knee_flexion_evidence;
 mod knee_hinge;
 mod knee_late_start;
 mod knee_real_conditions;
+mod knee_rest_gravity;
 mod knee_selfalign_hinge;
 mod knee_selfalign_properties;
 mod knee_selfalign_real;
