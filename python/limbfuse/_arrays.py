@@ -75,7 +75,7 @@ def as_column(name: str, values: Any, n: Optional[int]) -> np.ndarray:
         )
     if data.ndim != 1:
         raise LimbfuseError(
-            f"channel `{name}`: expected a 1-D array, found shape {data.shape}"
+            f"channel `{name}`: expected a 1-D array, found shape {data.shape}{_axes_hint(name, data)}"
         )
     if n is not None and data.shape[0] != n:
         raise LimbfuseError(
@@ -231,3 +231,17 @@ def split_header(lines: Sequence[str]) -> Tuple[Dict[str, str], Dict[str, str]]:
             entries[k.strip()] = v.strip()
     params = {k: v for k, v in entries.items() if k not in ("method", "trial", "trial_hash", "command")}
     return entries, params
+
+
+def _axes_hint(name, data):
+    """What to say of an N x 3 block given as one channel (peers' tools keep a
+    sensor's three axes in one array; SPEC names one column per axis)."""
+    if data.ndim != 2 or 3 not in data.shape:
+        return ""
+    base = name[:-2] if name[-2:] in ("_x", "_y", "_z") else name
+    cols = "a[:, {}]" if data.shape[1] == 3 else "a[{}]"
+    pairs = ", ".join(f"'{base}_{axis}': {cols.format(k)}" for k, axis in enumerate("xyz"))
+    return (
+        f"; a sensor's three axes are three channels `{base}_x`, `{base}_y`, `{base}_z` "
+        f"(SPEC column names): pass {{{pairs}}}"
+    )

@@ -146,10 +146,28 @@ def test_unknown_channel_incomplete_group_and_time_order():
     t2[5] = t2[4]
     with pytest.raises(LimbfuseError, match="time must increase strictly"):
         Trial(t2, ch)
-    with pytest.raises(LimbfuseError, match="expected a 1-D array"):
+    with pytest.raises(LimbfuseError, match="expected a 1-D array") as e:
         Trial(t, {"knee_enc": np.zeros((10, 2))})
+    assert "three axes" not in str(e.value)
     with pytest.raises(LimbfuseError, match="gait phase"):
         Trial(t, ch, phase_ref=["XX"] * 10)
+
+
+def test_a_three_axis_block_is_told_to_split_into_channels():
+    """Session 31 audit: peers' tools hold a sensor's axes in one N x 3
+    array; the message named only the shape. It now names the three SPEC
+    channels and how to split the block (either orientation)."""
+    t, _ = gyro_trial()
+    for name, block, split in (
+        ("thigh_gyr", np.zeros((10, 3)), "'thigh_gyr_y': a[:, 1]"),
+        ("shank_acc_x", np.zeros((3, 10)), "'shank_acc_z': a[2]"),
+    ):
+        with pytest.raises(LimbfuseError, match="expected a 1-D array") as e:
+            Trial(t, {name: block})
+        msg = str(e.value)
+        base = name.removesuffix("_x")
+        assert f"`{base}_x`, `{base}_y`, `{base}_z`" in msg, msg
+        assert split in msg, msg
 
 
 def test_read_errors_name_file_line_and_column(tmp_path):
