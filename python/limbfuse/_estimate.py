@@ -204,10 +204,11 @@ class Estimate(SetOnce):
         foot, withheld, numbers = _native.strides(
             self._native(), None if trial is None else trial._native(), True
         )
-        data: Dict[str, Any] = {"foot": pd.Series(foot, dtype=object)}
+        # (text columns take pandas' default string dtype, as `read_csv` of the CLI's file)
+        data: Dict[str, Any] = {"foot": pd.Series(foot)}
         for name, values in numbers:
             if name == "ic_ref_s":
-                data["speed_withheld"] = pd.Series([w if w else np.nan for w in withheld], dtype=object)
+                data["speed_withheld"] = pd.Series([w if w else np.nan for w in withheld])
             data[name] = np.asarray(values, dtype=np.float64)
         return pd.DataFrame(data)
 
