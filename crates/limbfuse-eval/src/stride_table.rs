@@ -114,6 +114,8 @@ pub struct StrideRow {
     pub speed_ref_m_s: Option<f64>,
     /// `speed_ref_m_s` x `stride_time_ref_s` (m).
     pub stride_length_ref_m: Option<f64>,
+    /// The row of `decided_s` (where the stride's diagnostics are).
+    decided_row: usize,
 }
 
 /// The table's CSV columns, in order.
@@ -319,6 +321,7 @@ fn placed(
         stride_time_ref_s,
         speed_ref_m_s,
         stride_length_ref_m: speed_ref_m_s.zip(stride_time_ref_s).map(|(v, t)| v * t),
+        decided_row: row,
     }
 }
 
@@ -344,14 +347,11 @@ pub(crate) fn unknown_foot_strides(
         r.speed_withheld = SpeedWithheld::from_code(code);
         scored.push(r);
     }
-    let at = |v: &[(usize, f64)], t: f64| {
-        v.iter()
-            .position(|&(row, _)| c.t[row] == t)
-            .map(|k| (k, v[k].1))
-    };
+    let at =
+        |v: &[(usize, f64)], row: usize| v.iter().position(|&(r, _)| r == row).map(|k| (k, v[k].1));
     for r in &mut scored {
-        r.turn_rate_rad_s = at(&c.turn_rate_any, r.decided_s).map(|x| x.1);
-        if let Some((k, second)) = at(&c.steps_any, r.decided_s) {
+        r.turn_rate_rad_s = at(&c.turn_rate_any, r.decided_row).map(|x| x.1);
+        if let Some((k, second)) = at(&c.steps_any, r.decided_row) {
             r.step_length_2_m = Some(second);
             r.step_length_1_m = k.checked_sub(1).map(|k| c.steps_any[k].1);
         }
