@@ -162,6 +162,56 @@ class Estimate(SetOnce):
         df.attrs["header"] = list(self.header)
         return df
 
+    def strides(self, trial: Optional[Trial] = None, allow_trial_mismatch: bool = False) -> "pd.DataFrame":
+        """One row per stride of a ``gait-events`` or ``lowback-speed``
+        estimate, as ``limbfuse evaluate TRIAL EST --strides FILE`` writes
+        them (docs/GAIT_EVENTS.md "Stride table"): the strides the method
+        writes as sparse ``diag_*`` cells, put back together.
+
+        Columns: ``foot`` (``left``, ``right``; ``unknown`` for
+        ``lowback-speed``, which does not tell the feet apart), ``ic_s``
+        (start: the back-dated initial contact), ``fc_s`` (the foot's final
+        contact inside the stride), ``end_s`` (the next initial contact of
+        that foot), ``decided_s`` (when the method decided the stride),
+        ``stride_time_s``, ``stride_length_m``, ``speed_m_s``;
+        ``lowback-speed`` only: ``step_length_1_m``, ``step_length_2_m``,
+        ``turn_rate_rad_s``, ``speed_withheld`` (``turn`` / ``after_turn``:
+        why the stride has no speed). With ``trial`` (its references), what
+        ``evaluate`` pairs with each stride: ``ic_ref_s`` (the reference
+        initial contact paired with ``ic_s``), ``stride_time_ref_s``,
+        ``speed_ref_m_s`` (mean ``speed_ref`` over the stride),
+        ``stride_length_ref_m``; ``evaluate``'s per-stride ``speed_mae_mps``
+        is the mean of ``|speed_m_s - speed_ref_m_s|`` over the rows with
+        both. NaN: not known. Sorted by ``ic_s``.
+
+        Raises ``LimbfuseError`` for an estimate without strides (another
+        method, or estimated with ``diagnostics`` that leave out the stride
+        columns) and, unless ``allow_trial_mismatch``, for a trial the
+        estimate was not made from.
+        """
+        import pandas as pd
+
+        if trial is not None and not isinstance(trial, Trial):
+            raise TypeError("Estimate.strides: trial must be a limbfuse.Trial or None")
+        allow_trial_mismatch = flag("allow_trial_mismatch", allow_trial_mismatch)
+        if trial is not None:
+            mismatch = _trial_mismatch(trial, self)
+            if mismatch is not None and not allow_trial_mismatch:
+                raise _native.LimbfuseError(
+                    f"{mismatch}: refusing to pair the strides with another trial's references "
+                    "(allow_trial_mismatch=True pairs them anyway)"
+                )
+        foot, withheld, numbers = _native.strides(
+            self._native(), None if trial is None else trial._native(), True
+        )
+        # (text columns take pandas' default string dtype, as `read_csv` of the CLI's file)
+        data: Dict[str, Any] = {"foot": pd.Series(foot)}
+        for name, values in numbers:
+            if name == "ic_ref_s":
+                data["speed_withheld"] = pd.Series([w if w else np.nan for w in withheld])
+            data[name] = np.asarray(values, dtype=np.float64)
+        return pd.DataFrame(data)
+
     def write(self, path: PathLike) -> None:
         """Writes the estimate file (CSV); for an estimate of a trial read
         from a file, the same bytes as ``limbfuse estimate -o`` but its

@@ -6,7 +6,7 @@
 
 use std::io::Write;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use limbfuse_eval::evaluation::nothing_scored;
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
@@ -143,7 +143,7 @@ fn evaluate(
 
 /// Refuses an estimate whose header records another trial than this one
 /// (both hashes known), unless allowed, as `limbfuse evaluate` does.
-fn check_same_trial(
+pub(crate) fn check_same_trial(
     trial: &TrialArgs<'_>,
     estimate: &EstimateArgs<'_>,
     allow: bool,
@@ -170,42 +170,61 @@ fn gait(
     view: &EstimateView<'_>,
     evaluate_files: impl FnOnce(&Path, &Path) -> PyResult<String>,
 ) -> PyResult<String> {
-    let io = |e: std::io::Error| user_msg(format!("temporary files: {e}"));
-    let dir = tempfile::tempdir().map_err(io)?;
-    let tp = dir
-        .path()
-        .join(trial.source().map_or("trial.csv", |s| s.0.as_str()));
-    let ep = dir.path().join("estimate.csv");
-    {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io)?);
-        let mut w =
-            TrialWriter::for_path(&tp, &mut f, &trial.meta(), *cols.layout()).map_err(io)?;
-        for r in cols.records() {
-            w.write(&r).map_err(io)?;
-        }
-        w.finish().map_err(io)?;
-    }
-    {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&ep).map_err(io)?);
-        for l in &estimate.0 {
-            // The temporary trial is not the file the estimate recorded:
-            // the trial check was done above.
-            if l.starts_with("trial") {
-                continue;
-            }
-            writeln!(f, "# {l}").map_err(io)?;
-        }
-        writeln!(f, "{}", view.file_columns().join(",")).map_err(io)?;
-        let mut line = Vec::new();
-        let mut buf = ryu::Buffer::new();
-        for i in 0..view.len() {
-            line.clear();
-            view.write_row(i, &mut line, &mut buf);
-            f.write_all(&line).map_err(io)?;
-        }
-        f.flush().map_err(io)?;
-    }
+    let dir = tempfile::tempdir().map_err(temporary_files)?;
+    let tp = write_trial(dir.path(), trial, cols)?;
+    let ep = write_estimate(dir.path(), estimate, view)?;
     evaluate_files(&tp, &ep)
+}
+
+fn temporary_files(e: std::io::Error) -> PyErr {
+    user_msg(format!("temporary files: {e}"))
+}
+
+/// Writes `trial` to a file in `dir` (named as its source when it has one); its path.
+pub(crate) fn write_trial(
+    dir: &Path,
+    trial: &TrialArgs<'_>,
+    cols: &TrialColumns<'_>,
+) -> PyResult<PathBuf> {
+    let io = temporary_files;
+    let tp = dir.join(trial.source().map_or("trial.csv", |s| s.0.as_str()));
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io)?);
+    let mut w = TrialWriter::for_path(&tp, &mut f, &trial.meta(), *cols.layout()).map_err(io)?;
+    for r in cols.records() {
+        w.write(&r).map_err(io)?;
+    }
+    w.finish().map_err(io)?;
+    Ok(tp)
+}
+
+/// Writes `estimate` to `dir/estimate.csv` without its `trial` header
+/// lines (the caller checks the trial); its path.
+pub(crate) fn write_estimate(
+    dir: &Path,
+    estimate: &EstimateArgs<'_>,
+    view: &EstimateView<'_>,
+) -> PyResult<PathBuf> {
+    let io = temporary_files;
+    let ep = dir.join("estimate.csv");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&ep).map_err(io)?);
+    for l in &estimate.0 {
+        // The temporary trial is not the file the estimate recorded:
+        // the trial check was done by the caller.
+        if l.starts_with("trial") {
+            continue;
+        }
+        writeln!(f, "# {l}").map_err(io)?;
+    }
+    writeln!(f, "{}", view.file_columns().join(",")).map_err(io)?;
+    let mut line = Vec::new();
+    let mut buf = ryu::Buffer::new();
+    for i in 0..view.len() {
+        line.clear();
+        view.write_row(i, &mut line, &mut buf);
+        f.write_all(&line).map_err(io)?;
+    }
+    f.flush().map_err(io)?;
+    Ok(ep)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

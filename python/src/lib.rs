@@ -31,6 +31,7 @@ mod filter;
 mod interrupt;
 mod options;
 mod simulate;
+mod strides;
 mod trial;
 mod workflows;
 
@@ -200,6 +201,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trial::register(m)?;
     estimate::register(m)?;
     evaluate::register(m)?;
+    strides::register(m)?;
     simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;

@@ -378,6 +378,10 @@ pub struct EvaluateArgs {
     /// --window when given).
     #[arg(long)]
     pub diagnostics: bool,
+    /// Also write the estimate's strides (gait-events, lowback-speed) as CSV, one row per
+    /// stride with the reference evaluate pairs with it (docs/GAIT_EVENTS.md "Stride table").
+    #[arg(long, value_name = "FILE")]
+    pub strides: Option<PathBuf>,
     /// Run this method on the trial instead of reading an estimate file
     /// (paper 001 protocol: see --starts, docs/TUNING.md).
     #[arg(long)]

@@ -139,6 +139,10 @@ pub enum EvalError {
     /// any angle: nothing was scored (the message says why).
     #[error("{0}")]
     NothingScored(String),
+    /// The estimate has no strides to tabulate (a method without strides,
+    /// or written without its stride diagnostics): the message says which.
+    #[error("{0}")]
+    NoStrides(String),
 }
 
 impl EvalError {

@@ -38,18 +38,26 @@ pub(crate) struct Columns {
     pub(crate) ic_any: Vec<f64>,
     /// Strides of either foot (`diag_stride_length`, `diag_stride_time`).
     pub(crate) strides_any: Vec<(usize, f64, f64)>,
+    /// (row, `diag_step_length`): steps of either foot (`lowback-speed`).
+    pub(crate) steps_any: Vec<(usize, f64)>,
+    /// (row, `diag_stride_turn_rate`) (`lowback-speed`).
+    pub(crate) turn_rate_any: Vec<(usize, f64)>,
+    /// (row, `diag_stride_withheld`): strides without a speed (`lowback-speed`).
+    pub(crate) withheld_any: Vec<(usize, f64)>,
+    /// (row, `diag_ic`): the row where each initial contact of either foot is decided.
+    pub(crate) ic_any_rows: Vec<usize>,
 }
 
 fn diag_index(er: &EstimateReader, name: &str) -> Option<usize> {
     er.diagnostic_names().position(|n| n == name)
 }
 
-/// Reads `tr` and `er` whole; `true` with the columns when the estimate
-/// has per-foot event columns.
+/// Reads `tr` (when a trial is given: its path and reader) and `er` whole;
+/// `true` with the columns when the estimate has per-foot event columns.
+/// Without a trial every reference is unknown.
 pub(crate) fn read_columns(
-    trial: &Path,
+    mut trial: Option<(&Path, &mut TrialReader)>,
     estimate: &Path,
-    tr: &mut TrialReader,
     er: &mut EstimateReader,
     window: &TimeWindow,
 ) -> Result<(Columns, bool), EvalError> {
@@ -64,28 +72,59 @@ pub(crate) fn read_columns(
         diag_index(er, "stride_length"),
         diag_index(er, "stride_time"),
     );
+    let (step_any_col, turn_any_col, withheld_any_col) = (
+        diag_index(er, "step_length"),
+        diag_index(er, "stride_turn_rate"),
+        diag_index(er, "stride_withheld"),
+    );
     let has_event_columns = ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
-    c.speed_from_com = crate::speed_from_com(tr.layout());
+    c.speed_from_com = trial
+        .as_ref()
+        .is_some_and(|(_, tr)| crate::speed_from_com(tr.layout()));
     let mut row = 0usize;
     loop {
-        match (tr.next_record()?, er.next_estimate()?) {
-            (None, None) => break,
-            (Some(r), Some((line, e))) => {
-                EvalError::check_same_time(estimate, line, row as u64, e.t, r.sample.t)?;
+        let record = match trial.as_mut() {
+            Some((_, tr)) => Some(tr.next_record()?),
+            None => None,
+        };
+        match (record, er.next_estimate()?) {
+            (Some(None), None) | (None, None) => break,
+            (Some(Some(_)), None) | (Some(None), Some(_)) => {
+                return Err(EvalError::LengthMismatch(format!(
+                    "{} and {} have different numbers of samples (mismatch after {row})",
+                    trial.map_or_else(String::new, |(p, _)| p.display().to_string()),
+                    estimate.display()
+                )))
+            }
+            (record, Some((line, e))) => {
+                let r = record.flatten();
+                if let Some(r) = &r {
+                    EvalError::check_same_time(estimate, line, row as u64, e.t, r.sample.t)?;
+                }
                 // Outside the window the reference counts as unknown: no
                 // event, stride or row there is scored.
-                let inside = window.contains(r.sample.t);
+                let t_row = r.as_ref().map_or(e.t, |r| r.sample.t);
+                let inside = window.contains(t_row);
                 c.n_inside += u64::from(inside);
-                c.t.push(r.sample.t);
-                let speed = match c.speed_from_com {
+                c.t.push(t_row);
+                let speed = r.as_ref().and_then(|r| match c.speed_from_com {
                     true => r.reference.com_vel.map(|v| v.x.hypot(v.z)),
                     false => r.reference.speed,
-                };
+                });
                 c.speed_ref.push(speed.filter(|_| inside));
                 c.phase.push(e.phase);
                 if let Some(v) = ic_any_col.and_then(|k| e.diag[k]) {
                     c.ic_any.push(v);
+                    c.ic_any_rows.push(row);
                 }
+                let at_row = |col: Option<usize>, out: &mut Vec<(usize, f64)>| {
+                    if let Some(v) = col.and_then(|k| e.diag[k]) {
+                        out.push((row, v));
+                    }
+                };
+                at_row(step_any_col, &mut c.steps_any);
+                at_row(turn_any_col, &mut c.turn_rate_any);
+                at_row(withheld_any_col, &mut c.withheld_any);
                 if let (Some(l), Some(tm)) = (
                     len_any_col.and_then(|k| e.diag[k]),
                     time_any_col.and_then(|k| e.diag[k]),
@@ -93,7 +132,8 @@ pub(crate) fn read_columns(
                     c.strides_any.push((row, l, tm));
                 }
                 for s in 0..2 {
-                    c.reference[s].push(r.reference.contact[s].filter(|_| inside));
+                    let reference = r.as_ref().and_then(|r| r.reference.contact[s]);
+                    c.reference[s].push(reference.filter(|_| inside));
                     c.contact[s].push(e.contact[s]);
                     if let Some(v) = ic_col[s].and_then(|k| e.diag[k]) {
                         c.ic[s].push(v);
@@ -108,13 +148,6 @@ pub(crate) fn read_columns(
                         c.strides[s].push((row, l, tm));
                     }
                 }
-            }
-            _ => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{} and {} have different numbers of samples (mismatch after {row})",
-                    trial.display(),
-                    estimate.display()
-                )))
             }
         }
         row += 1;

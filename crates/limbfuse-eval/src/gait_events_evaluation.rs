@@ -34,6 +34,9 @@ use crate::blended_stride_speed::{
 };
 use crate::evaluation::{EvalError, TimeWindow};
 use crate::gait_event_columns::{read_columns, Columns};
+use crate::stride_table::{
+    track_strides, unknown_foot_strides, StrideFoot, StrideRow, TrackEvents,
+};
 
 /// Largest time difference (s) at which an estimated event can pair with a
 /// reference event: a quarter of a typical 1.0-1.2 s stride, under half the
@@ -173,6 +176,16 @@ struct SideEvents {
     pairs: Vec<(usize, usize)>,
 }
 
+impl SideEvents {
+    fn track(&self) -> TrackEvents<'_> {
+        TrackEvents {
+            estimated: &self.estimated,
+            reference: &self.reference,
+            pairs: &self.pairs,
+        }
+    }
+}
+
 /// Timing over tracks; `side_of[i]`: the reference side of track `i`
 /// (`None`: either side).
 fn timing(sides: &[SideEvents], c: &Columns, side_of: &[Option<usize>]) -> EventTiming {
@@ -281,17 +294,40 @@ pub fn evaluate_gait_event_files_in(
     allow_trial_mismatch: bool,
     window: &TimeWindow,
 ) -> Result<GaitEventEvaluation, EvalError> {
-    let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
-    let mut tr = TrialReader::open(trial)?;
+    evaluate_with_strides(Some(trial), estimate, allow_trial_mismatch, window).map(|(ev, _)| ev)
+}
+
+/// The evaluation and the strides it scores ([`crate::stride_table`]);
+/// without a trial every reference is unknown (nothing is scored) and the
+/// sides are those the estimate has events for.
+pub(crate) fn evaluate_with_strides(
+    trial: Option<&Path>,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+    window: &TimeWindow,
+) -> Result<(GaitEventEvaluation, Vec<StrideRow>), EvalError> {
     let mut er = EstimateReader::open(estimate)?;
-    let trial_check = crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
     let method = er.method().to_string();
-    let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
-    let contact_columns = tr.layout().contact_ref;
-    let (c, has_event_columns) = read_columns(trial, estimate, &mut tr, &mut er, window)?;
+    let mut ev = GaitEventEvaluation::default();
+    let (c, has_event_columns, with_imu) = match trial {
+        Some(trial) => {
+            let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
+            let mut tr = TrialReader::open(trial)?;
+            ev.trial_check =
+                crate::trial_check::check_trial(trial, hash, &er, allow_trial_mismatch)?;
+            let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
+            ev.contact_ref_columns = tr.layout().contact_ref;
+            let (c, has) = read_columns(Some((trial, &mut tr)), estimate, &mut er, window)?;
+            (c, has, with_imu)
+        }
+        None => {
+            let (c, has) = read_columns(None, estimate, &mut er, window)?;
+            (c, has, [false; 2])
+        }
+    };
     // (an audit: `--diagnostics none` changed the scores silently: 14
     // strides became 0, the events moved to the causal contact switches)
-    let warnings = (matches!(
+    ev.warnings = (matches!(
         limbfuse_methods::MethodName::parse(&method),
         Ok(limbfuse_methods::MethodName::GaitEvents)
     ) && !has_event_columns)
@@ -306,15 +342,9 @@ pub fn evaluate_gait_event_files_in(
         })
         .into_iter()
         .collect();
-    let mut ev = GaitEventEvaluation {
-        method,
-        n_samples: c.n_inside,
-        trial_check,
-        speed_from_com: c.speed_from_com,
-        warnings,
-        contact_ref_columns: contact_columns,
-        ..Default::default()
-    };
+    ev.method = method;
+    ev.n_samples = c.n_inside;
+    ev.speed_from_com = c.speed_from_com;
     let mut ic_sides = Vec::new();
     let mut fc_sides = Vec::new();
     let pooled = !has_event_columns && !c.ic_any.is_empty();
@@ -336,13 +366,10 @@ pub fn evaluate_gait_event_files_in(
         };
         ev.initial_contact = timing(core::slice::from_ref(&se), &c, &[None]);
         accuracies(&c, &mut ev);
-        let mut acc = Acc::default();
-        stride_errors_track(&c.strides_any, &se, &c, &mut acc);
-        acc.finish(&mut ev);
-        if !c.speed_from_com {
-            ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
-        }
-        return Ok(ev);
+        let track = se.track();
+        let rows = track_strides(StrideFoot::Unknown, &c.strides_any, &track, &[], &c);
+        score_strides(&rows, &c, &mut ev);
+        return Ok((ev, unknown_foot_strides(rows, &track, &c)));
     }
     let estimated = [0, 1].map(|s| {
         c.contact[s].iter().any(Option::is_some) || !c.ic[s].is_empty() || !c.fc[s].is_empty()
@@ -376,15 +403,19 @@ pub fn evaluate_gait_event_files_in(
     ev.initial_contact = timing(&ic_sides, &c, &side_of);
     ev.final_contact = Some(timing(&fc_sides, &c, &side_of));
     accuracies(&c, &mut ev);
-    let mut acc = Acc::default();
-    for (&s, se) in sides.iter().zip(&ic_sides) {
-        stride_errors_track(&c.strides[s], se, &c, &mut acc);
+    let mut rows = Vec::new();
+    for ((&s, se), fe) in sides.iter().zip(&ic_sides).zip(&fc_sides) {
+        let foot = StrideFoot::of_side(s);
+        rows.extend(track_strides(
+            foot,
+            &c.strides[s],
+            &se.track(),
+            &fe.estimated,
+            &c,
+        ));
     }
-    acc.finish(&mut ev);
-    if !c.speed_from_com {
-        ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &acc.strides);
-    }
-    Ok(ev)
+    score_strides(&rows, &c, &mut ev);
+    Ok((ev, rows))
 }
 
 fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {
@@ -408,72 +439,31 @@ fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {
     ev.phase_accuracy_pct = (n > 0).then(|| 100.0 * ok as f64 / n as f64);
 }
 
-/// Per-stride errors collected over tracks.
-#[derive(Debug, Default)]
-struct Acc {
-    /// Signed speed errors (m/s).
-    speed: Vec<f64>,
-    /// (signed length error, reference length) (m).
-    length: Vec<(f64, f64)>,
-    /// Every estimated stride located on its track (for the blended comparison).
-    strides: Vec<TrackStride>,
-}
-
-impl Acc {
-    fn finish(&self, ev: &mut GaitEventEvaluation) {
-        ev.per_stride = StrideFigures::from_errors(&self.speed, &self.length);
-    }
-}
-
-/// The strides `(row, length, time)` of one track, ending at its initial contacts `se`.
-fn stride_errors_track(strides: &[(usize, f64, f64)], se: &SideEvents, c: &Columns, acc: &mut Acc) {
-    {
-        for &(row, length, time) in strides {
-            // The stride ends at this side's last estimated initial contact at or before `row`.
-            let t_row = c.t[row];
-            let Some(end_j) = se
-                .estimated
-                .iter()
-                .rposition(|&x| x <= t_row + ROW_TOLERANCE_S)
-            else {
-                continue;
-            };
-            let end = se.estimated[end_j];
-            let start = end - time;
-            // Reference stride time from the reference contacts paired with both ends.
-            let start_j = se.estimated.iter().position(|&x| (x - start).abs() < 1e-6);
-            let ref_of = |j: usize| {
-                se.pairs
-                    .iter()
-                    .find(|p| p.1 == j)
-                    .map(|p| se.reference[p.0])
-            };
-            let reference_time = match (ref_of(end_j), start_j.and_then(ref_of)) {
-                (Some(r1), Some(r0)) => Some(r1 - r0),
-                _ => None,
-            };
-            acc.strides.push(TrackStride {
-                start,
-                end,
-                length,
-                reference_time,
-            });
-            let (k0, k1) = (row_at(&c.t, start), row_at(&c.t, end));
-            if k1 <= k0 {
-                continue;
-            }
-            let refs: Option<Vec<f64>> = c.speed_ref[k0..k1].iter().copied().collect();
-            let Some(refs) = refs else { continue };
-            let v_ref = refs.iter().sum::<f64>() / refs.len() as f64;
-            let v = length / time;
-            acc.speed.push(v - v_ref);
-            if let Some(tr) = reference_time {
-                let l_ref = v_ref * tr;
-                if l_ref > 0.0 {
-                    acc.length.push((length - l_ref, l_ref));
-                }
-            }
+/// The per-stride and blended figures of the strides `rows` (every track;
+/// the withheld strides of `lowback-speed`, without a length, are not among them).
+fn score_strides(rows: &[StrideRow], c: &Columns, ev: &mut GaitEventEvaluation) {
+    let (mut speed, mut length, mut strides) = (Vec::new(), Vec::new(), Vec::new());
+    for r in rows {
+        let (Some(l), Some(v)) = (r.stride_length_m, r.speed_m_s) else {
+            continue;
+        };
+        strides.push(TrackStride {
+            start: r.ic_s,
+            end: r.end_s,
+            length: l,
+            reference_time: r.stride_time_ref_s,
+        });
+        let Some(v_ref) = r.speed_ref_m_s else {
+            continue;
+        };
+        speed.push(v - v_ref);
+        if let Some(l_ref) = r.stride_length_ref_m.filter(|&x| x > 0.0) {
+            length.push((l - l_ref, l_ref));
         }
+    }
+    ev.per_stride = StrideFigures::from_errors(&speed, &length);
+    if !c.speed_from_com {
+        ev.blended = blended_stride_speed(&c.t, &c.speed_ref, &strides);
     }
 }
 

@@ -29,6 +29,7 @@ pub mod scored_feet;
 pub mod sensor_units;
 pub mod speed_range;
 pub mod stats;
+pub mod stride_table;
 pub mod strided;
 pub mod sync_lag;
 pub mod trial_check;

@@ -22,9 +22,46 @@ fn print_gait(
     }
 }
 
+/// Writes the stride table of `estimate` with the references of `trial`
+/// (`--strides`; docs/GAIT_EVENTS.md "Stride table") atomically.
+fn write_strides(
+    path: &std::path::Path,
+    trial: &std::path::Path,
+    estimate: &std::path::Path,
+    mismatch: bool,
+    window: &TimeWindow,
+) -> Result<()> {
+    let table = limbfuse_eval::stride_table::stride_table_of_files(
+        Some(trial),
+        estimate,
+        mismatch,
+        window,
+    )?;
+    let mut file = super::create_file(path)?;
+    let mut w = std::io::BufWriter::new(&mut file);
+    table
+        .write_csv(&mut w)
+        .and_then(|()| std::io::Write::flush(&mut w))
+        .map_err(|e| anyhow!("{}: cannot write the output file: {e}", path.display()))?;
+    drop(w);
+    super::commit(file)
+}
+
+/// `--strides` with an estimate scored for `what` (no strides): refused.
+fn strides_refused(a: &EvaluateArgs, what: &str) -> Result<()> {
+    if a.strides.is_some() {
+        anyhow::bail!(
+            "--strides: the estimate is scored for {what} and has no strides (a stride table is \
+             made from `gait-events` and `lowback-speed` estimates)"
+        );
+    }
+    Ok(())
+}
+
 /// Prints the errors of an estimate against its trial's reference.
 pub fn run(a: &EvaluateArgs) -> Result<()> {
     if a.method.is_some() || a.starts.is_some() {
+        strides_refused(a, "the joint angles of --method")?;
         return super::protocol::run(a);
     }
     let Some(estimate) = &a.estimate else {
@@ -33,6 +70,10 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         );
     };
     super::refuse_read_twice_from_a_stream("evaluate", &[&a.trial, estimate])?;
+    super::refuse_overwrites(
+        &[("", Some(&a.trial)), ("", Some(estimate))],
+        &[("--strides", a.strides.as_deref())],
+    )?;
     let window = match &a.window {
         Some(w) => TimeWindow::parse(w).map_err(|m| anyhow!("--window: {m}"))?,
         None => TimeWindow::default(),
@@ -73,6 +114,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
                 let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in(
                     trial, estimate, mismatch, &window,
                 )?;
+                if let Some(path) = &a.strides {
+                    write_strides(path, trial, estimate, mismatch, &window)?;
+                }
                 for w in &ev.warnings {
                     eprintln!("warning: {w}");
                 }
@@ -82,6 +126,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             EvaluationKind::Gait => {
                 // A gait trial (paper 003): phase, CoM and speed errors.
                 angle_only("gait phase, CoM and speed (paper 003)", true)?;
+                strides_refused(a, "gait phase, CoM and speed (paper 003)")?;
                 let ev =
                     limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
                 print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
@@ -89,6 +134,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             }
             EvaluationKind::Angles => {}
         }
+        strides_refused(a, "its joint angles")?;
         limbfuse_eval::notes::assumed_zero_note(reader.meta(), a.offset_free)
     };
     let ev = evaluate_files_scored(

@@ -66,6 +66,7 @@ mod simulate_gait_reference;
 mod small_leftovers_28;
 mod source_file_length;
 mod streaming_estimate;
+mod strides_table;
 mod support;
 mod tuning_cli;
 mod units_of_a_trial;

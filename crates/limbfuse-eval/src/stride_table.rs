@@ -1,0 +1,364 @@
+//! One row per stride of a `gait-events` or `lowback-speed` estimate (the
+//! per-stride table of gaitmap and mobgap; docs/GAIT_EVENTS.md "Stride
+//! table"): the strides the methods write as sparse `diag_*` cells, put
+//! back together, and when a trial is given the reference `evaluate` pairs
+//! with each one.
+//!
+//! The rows are built by the code that scores them
+//! ([`crate::gait_events_evaluation`]), so the table holds exactly the
+//! strides and numbers `evaluate` scores: the per-stride speed error of
+//! `evaluate --json` (`speed_mae_mps`) is the mean of
+//! `|speed_m_s - speed_ref_m_s|` over the rows that have both. The table
+//! adds, for `lowback-speed`, the strides whose speed the method withholds
+//! (turns; no speed, so not scored).
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::blended_stride_speed::{row_at, ROW_TOLERANCE_S};
+use crate::evaluation::{EvalError, TimeWindow};
+use crate::gait_event_columns::Columns;
+
+/// Which foot a stride belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StrideFoot {
+    /// Left foot.
+    Left,
+    /// Right foot.
+    Right,
+    /// A method that does not tell left from right (`lowback-speed`: its
+    /// stride is two steps, initial contact to the second next).
+    Unknown,
+}
+
+impl StrideFoot {
+    /// `left`, `right` or `unknown` (the table's `foot` column).
+    pub fn name(self) -> &'static str {
+        match self {
+            StrideFoot::Left => "left",
+            StrideFoot::Right => "right",
+            StrideFoot::Unknown => "unknown",
+        }
+    }
+
+    /// The foot of side index `s` ([`limbfuse_core::Side::index`]).
+    pub(crate) fn of_side(s: usize) -> Self {
+        if s == 0 {
+            StrideFoot::Left
+        } else {
+            StrideFoot::Right
+        }
+    }
+}
+
+/// Why `lowback-speed` gives a stride no speed (`diag_stride_withheld`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpeedWithheld {
+    /// The stride turns (mean heading rate above `turn_rate`): `turn`.
+    Turn,
+    /// The stride before it turned (`withhold_after_turn`): `after_turn`.
+    AfterTurn,
+}
+
+impl SpeedWithheld {
+    /// `turn` or `after_turn`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpeedWithheld::Turn => "turn",
+            SpeedWithheld::AfterTurn => "after_turn",
+        }
+    }
+
+    fn from_code(code: f64) -> Option<Self> {
+        match code as i64 {
+            1 => Some(SpeedWithheld::Turn),
+            2 => Some(SpeedWithheld::AfterTurn),
+            _ => None,
+        }
+    }
+}
+
+/// One stride. Times in s, lengths in m, speeds in m/s; `None`: not known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrideRow {
+    /// Foot.
+    pub foot: StrideFoot,
+    /// Start: the back-dated initial contact (s).
+    pub ic_s: f64,
+    /// The foot's final contact inside the stride (s), `gait-events` only.
+    pub fc_s: Option<f64>,
+    /// End: the next initial contact of the same foot (s).
+    pub end_s: f64,
+    /// The row time at which the method decided the stride (s).
+    pub decided_s: f64,
+    /// Stride time (s).
+    pub stride_time_s: Option<f64>,
+    /// Stride length (m).
+    pub stride_length_m: Option<f64>,
+    /// Speed: stride length / stride time (m/s).
+    pub speed_m_s: Option<f64>,
+    /// `lowback-speed`: the stride's first step length (m).
+    pub step_length_1_m: Option<f64>,
+    /// `lowback-speed`: its second step length (m).
+    pub step_length_2_m: Option<f64>,
+    /// `lowback-speed`: mean heading rate over the stride (rad/s, signed).
+    pub turn_rate_rad_s: Option<f64>,
+    /// `lowback-speed`: why the stride has no speed.
+    pub speed_withheld: Option<SpeedWithheld>,
+    /// The reference initial contact paired with `ic_s` (s).
+    pub ic_ref_s: Option<f64>,
+    /// Reference stride time: between the reference contacts paired with
+    /// `ic_s` and `end_s` (s).
+    pub stride_time_ref_s: Option<f64>,
+    /// Mean `speed_ref` over the stride's rows, all known (m/s).
+    pub speed_ref_m_s: Option<f64>,
+    /// `speed_ref_m_s` x `stride_time_ref_s` (m).
+    pub stride_length_ref_m: Option<f64>,
+    /// The row of `decided_s` (where the stride's diagnostics are).
+    decided_row: usize,
+}
+
+/// The table's CSV columns, in order.
+pub const STRIDE_COLUMNS: [&str; 16] = [
+    "foot",
+    "ic_s",
+    "fc_s",
+    "end_s",
+    "decided_s",
+    "stride_time_s",
+    "stride_length_m",
+    "speed_m_s",
+    "step_length_1_m",
+    "step_length_2_m",
+    "turn_rate_rad_s",
+    "speed_withheld",
+    "ic_ref_s",
+    "stride_time_ref_s",
+    "speed_ref_m_s",
+    "stride_length_ref_m",
+];
+
+impl StrideRow {
+    /// The numeric cells, in [`STRIDE_COLUMNS`] order without `foot` and
+    /// `speed_withheld`.
+    pub fn numbers(&self) -> [(&'static str, Option<f64>); 14] {
+        [
+            ("ic_s", Some(self.ic_s)),
+            ("fc_s", self.fc_s),
+            ("end_s", Some(self.end_s)),
+            ("decided_s", Some(self.decided_s)),
+            ("stride_time_s", self.stride_time_s),
+            ("stride_length_m", self.stride_length_m),
+            ("speed_m_s", self.speed_m_s),
+            ("step_length_1_m", self.step_length_1_m),
+            ("step_length_2_m", self.step_length_2_m),
+            ("turn_rate_rad_s", self.turn_rate_rad_s),
+            ("ic_ref_s", self.ic_ref_s),
+            ("stride_time_ref_s", self.stride_time_ref_s),
+            ("speed_ref_m_s", self.speed_ref_m_s),
+            ("stride_length_ref_m", self.stride_length_ref_m),
+        ]
+    }
+}
+
+/// The strides of one estimate, by start time.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StrideTable {
+    /// Method name.
+    pub method: String,
+    /// One row per stride, sorted by `ic_s` (then foot).
+    pub rows: Vec<StrideRow>,
+}
+
+impl StrideTable {
+    /// Writes the table as CSV: a header line of [`STRIDE_COLUMNS`], then
+    /// one line per stride; unknown cells empty.
+    pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
+        writeln!(w, "{}", STRIDE_COLUMNS.join(","))?;
+        for r in &self.rows {
+            let cell = |v: Option<f64>| v.map_or_else(String::new, |x| x.to_string());
+            let n = r.numbers();
+            let mut line = vec![r.foot.name().to_string()];
+            line.extend(n[..10].iter().map(|&(_, v)| cell(v)));
+            line.push(r.speed_withheld.map_or("", SpeedWithheld::name).to_string());
+            line.extend(n[10..].iter().map(|&(_, v)| cell(v)));
+            writeln!(w, "{}", line.join(","))?;
+        }
+        Ok(())
+    }
+}
+
+/// The stride table of `estimate` (`gait-events`, `lowback-speed`), with
+/// the references of `trial` when given (over `window`, as `evaluate
+/// --window` scores them). An estimate without stride columns (another
+/// method, or `--diagnostics none`) is [`EvalError::NoStrides`].
+pub fn stride_table_of_files(
+    trial: Option<&Path>,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+    window: &TimeWindow,
+) -> Result<StrideTable, EvalError> {
+    let er = limbfuse_io::EstimateReader::open(estimate)?;
+    let stride_columns = er
+        .diagnostic_names()
+        .any(|n| n.starts_with("stride_length") || n == "stride_withheld");
+    if !stride_columns {
+        return Err(EvalError::NoStrides(format!(
+            "{}: the estimate (method `{}`) has no stride columns (`diag_stride_length*`): \
+             strides come from `gait-events` and `lowback-speed` estimates written with their \
+             default diagnostics",
+            estimate.display(),
+            er.method()
+        )));
+    }
+    drop(er);
+    let (ev, mut rows) = crate::gait_events_evaluation::evaluate_with_strides(
+        trial,
+        estimate,
+        allow_trial_mismatch,
+        window,
+    )?;
+    rows.sort_by(|a, b| a.ic_s.total_cmp(&b.ic_s));
+    Ok(StrideTable {
+        method: ev.method,
+        rows,
+    })
+}
+
+/// The initial contacts of one track and the reference paired with them.
+pub(crate) struct TrackEvents<'a> {
+    /// Estimated initial contacts (s).
+    pub(crate) estimated: &'a [f64],
+    /// Reference initial contacts (s).
+    pub(crate) reference: &'a [f64],
+    /// (reference index, estimated index) pairs.
+    pub(crate) pairs: &'a [(usize, usize)],
+}
+
+impl TrackEvents<'_> {
+    fn reference_of(&self, j: usize) -> Option<f64> {
+        self.pairs
+            .iter()
+            .find(|p| p.1 == j)
+            .map(|p| self.reference[p.0])
+    }
+}
+
+/// The strides `(row, length, time)` of one track, each ending at the
+/// track's last initial contact at or before its row (a stride whose end is
+/// not found is left out, as `evaluate` leaves it out); `fc`: the foot's
+/// final contacts (empty when unknown).
+pub(crate) fn track_strides(
+    foot: StrideFoot,
+    strides: &[(usize, f64, f64)],
+    ev: &TrackEvents<'_>,
+    fc: &[f64],
+    c: &Columns,
+) -> Vec<StrideRow> {
+    let mut rows = Vec::new();
+    for &(row, length, time) in strides {
+        let t_row = c.t[row];
+        let Some(end_j) = ev
+            .estimated
+            .iter()
+            .rposition(|&x| x <= t_row + ROW_TOLERANCE_S)
+        else {
+            continue;
+        };
+        let end = ev.estimated[end_j];
+        let mut r = placed(foot, end - time, end, row, ev, end_j, c);
+        r.fc_s = fc.iter().copied().find(|&x| x > r.ic_s && x < end);
+        r.stride_time_s = Some(time);
+        r.stride_length_m = Some(length);
+        r.speed_m_s = Some(length / time);
+        rows.push(r);
+    }
+    rows
+}
+
+/// A stride from `start` to the estimated contact `end_j` of `ev`, decided
+/// on `row`, with its reference (no length, time or speed yet).
+fn placed(
+    foot: StrideFoot,
+    start: f64,
+    end: f64,
+    row: usize,
+    ev: &TrackEvents<'_>,
+    end_j: usize,
+    c: &Columns,
+) -> StrideRow {
+    // Reference stride time from the reference contacts paired with both ends.
+    let start_j = ev.estimated.iter().position(|&x| (x - start).abs() < 1e-6);
+    let ic_ref_s = start_j.and_then(|j| ev.reference_of(j));
+    let stride_time_ref_s = match (ev.reference_of(end_j), ic_ref_s) {
+        (Some(r1), Some(r0)) => Some(r1 - r0),
+        _ => None,
+    };
+    let (k0, k1) = (row_at(&c.t, start), row_at(&c.t, end));
+    let speed_ref_m_s = (k1 > k0)
+        .then(|| {
+            c.speed_ref[k0..k1]
+                .iter()
+                .copied()
+                .collect::<Option<Vec<f64>>>()
+        })
+        .flatten()
+        .map(|refs| refs.iter().sum::<f64>() / refs.len() as f64);
+    StrideRow {
+        foot,
+        ic_s: start,
+        fc_s: None,
+        end_s: end,
+        decided_s: c.t[row],
+        stride_time_s: None,
+        stride_length_m: None,
+        speed_m_s: None,
+        step_length_1_m: None,
+        step_length_2_m: None,
+        turn_rate_rad_s: None,
+        speed_withheld: None,
+        ic_ref_s,
+        stride_time_ref_s,
+        speed_ref_m_s,
+        stride_length_ref_m: speed_ref_m_s.zip(stride_time_ref_s).map(|(v, t)| v * t),
+        decided_row: row,
+    }
+}
+
+/// `lowback-speed`'s strides (scored ones from [`track_strides`]) with the
+/// withheld ones added, each with its step lengths and turn rate.
+pub(crate) fn unknown_foot_strides(
+    mut scored: Vec<StrideRow>,
+    ev: &TrackEvents<'_>,
+    c: &Columns,
+) -> Vec<StrideRow> {
+    for &(row, code) in &c.withheld_any {
+        // The stride ends at the contact decided on this row and starts two
+        // contacts before: a contact that replaces a too-close one restarts
+        // the step chain, so a stride's three contacts are consecutive.
+        let Some(end_j) = c.ic_any_rows.iter().position(|&r| r == row) else {
+            continue;
+        };
+        if end_j < 2 || end_j >= ev.estimated.len() {
+            continue;
+        }
+        let (start, end) = (ev.estimated[end_j - 2], ev.estimated[end_j]);
+        let mut r = placed(StrideFoot::Unknown, start, end, row, ev, end_j, c);
+        r.speed_withheld = SpeedWithheld::from_code(code);
+        scored.push(r);
+    }
+    let at =
+        |v: &[(usize, f64)], row: usize| v.iter().position(|&(r, _)| r == row).map(|k| (k, v[k].1));
+    for r in &mut scored {
+        r.turn_rate_rad_s = at(&c.turn_rate_any, r.decided_row).map(|x| x.1);
+        if let Some((k, second)) = at(&c.steps_any, r.decided_row) {
+            r.step_length_2_m = Some(second);
+            r.step_length_1_m = k.checked_sub(1).map(|k| c.steps_any[k].1);
+        }
+    }
+    scored
+}
+
+#[cfg(test)]
+#[path = "stride_table_tests.rs"]
+mod tests;

@@ -1,0 +1,95 @@
+"""`Estimate.strides`: the per-stride table (docs/GAIT_EVENTS.md "Stride
+table"), the same rows and numbers as ``limbfuse evaluate --strides`` and
+the strides ``evaluate`` scores; bad input raises clear errors."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import limbfuse
+from limbfuse import LimbfuseError
+
+pd = pytest.importorskip("pandas")
+
+SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "data"
+COLUMNS = [
+    "foot", "ic_s", "fc_s", "end_s", "decided_s", "stride_time_s", "stride_length_m", "speed_m_s",
+    "step_length_1_m", "step_length_2_m", "turn_rate_rad_s", "speed_withheld",
+    "ic_ref_s", "stride_time_ref_s", "speed_ref_m_s", "stride_length_ref_m",
+]
+
+
+def shared(rel):
+    path = SHARED / rel
+    if not path.exists():
+        pytest.skip(f"the shared data {path} is absent (../shared/data next to the repository)")
+    return path
+
+
+@pytest.mark.parametrize(
+    "rel, method", [("gaitmap-foot-walk/trial.csv", "gait-events"), ("mobgap-lowerback/HA001-test11-trial1.csv", "lowback-speed")]
+)
+def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path):
+    trial = limbfuse.read_trial(shared(rel))
+    est = limbfuse.estimate(trial, method)
+    df = est.strides(trial)
+    assert list(df.columns) == COLUMNS
+    assert len(df) > 10 and df["ic_s"].is_monotonic_increasing
+    ev = limbfuse.evaluate(trial, est)
+    scored = df.dropna(subset=["speed_m_s", "speed_ref_m_s"])
+    assert len(scored) == ev["n_strides"]
+    assert abs((scored["speed_m_s"] - scored["speed_ref_m_s"]).abs().mean() - ev["speed_mae_mps"]) < 1e-12
+    # the CLI's table, same rows and numbers
+    est.write(tmp_path / "e.csv")
+    cli("evaluate", shared(rel), tmp_path / "e.csv", "--strides", tmp_path / "s.csv")
+    csv = pd.read_csv(tmp_path / "s.csv")
+    assert list(csv.columns) == COLUMNS
+    text = ["foot", "speed_withheld"]
+    pd.testing.assert_frame_equal(df.drop(columns=text), csv.drop(columns=text), check_exact=True)
+    for name in text:
+        cells = [[x if isinstance(x, str) else "" for x in f[name]] for f in (df, csv)]
+        assert cells[0] == cells[1], name
+    if method == "lowback-speed":
+        assert set(df["foot"]) == {"unknown"}
+        withheld = df[df["speed_withheld"].notna()]
+        assert len(withheld) > 0 and withheld["speed_m_s"].isna().all()
+        assert set(withheld["speed_withheld"]) <= {"turn", "after_turn"}
+    else:
+        assert set(df["foot"]) == {"left", "right"}
+        assert df["fc_s"].notna().all() and df["step_length_1_m"].isna().all()
+
+
+def test_strides_without_a_trial_have_no_reference():
+    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    est = limbfuse.estimate(trial, "gait-events")
+    df = est.strides()
+    assert len(df) == len(est.strides(trial))
+    assert df[["ic_ref_s", "stride_time_ref_s", "speed_ref_m_s", "stride_length_ref_m"]].isna().all().all()
+    assert np.allclose(df["speed_m_s"], df["stride_length_m"] / df["stride_time_s"])
+
+
+def test_strides_of_a_method_without_strides_is_a_clear_error(walking_trial):
+    est = limbfuse.estimate(walking_trial, "mjls")
+    with pytest.raises(LimbfuseError, match="no stride columns"):
+        est.strides()
+    with pytest.raises(LimbfuseError, match="no stride columns"):
+        est.strides(walking_trial)
+
+
+def test_strides_bad_arguments(walking_trial):
+    est = limbfuse.estimate(walking_trial, "mjls")
+    with pytest.raises(TypeError, match="trial must be a limbfuse.Trial"):
+        est.strides("walk.csv")
+    with pytest.raises(TypeError):
+        est.strides(walking_trial, allow_trial_mismatch="yes")
+
+
+def test_strides_refuse_another_trial(walking_trial):
+    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    est = limbfuse.estimate(trial, "gait-events")
+    other = limbfuse.Trial(trial.t, {n: v * 1.01 if "_ref" not in n else v for n, v in trial.channels.items()}, meta=trial.meta)
+    with pytest.raises(LimbfuseError, match="another trial"):
+        est.strides(other)
+    with pytest.raises(LimbfuseError):
+        est.strides(walking_trial)  # (other length)
