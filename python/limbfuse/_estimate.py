@@ -56,6 +56,13 @@ class Estimate(SetOnce):
         method: the method name; ``params``: its parameters as written in
             the header.
         columns: the file's column names in order (``t`` first).
+        summary: for a knee-axis method (``knee-selfalign``,
+            ``knee-gyro-axis``) run by ``estimate``, the line ``limbfuse
+            estimate`` prints: when the axis was identified, the sign
+            confidence and whether the sign is committed (if not, the knee
+            may come out negated: weak evidence), how often the
+            accelerometer angle corrected the drift; None otherwise (and
+            for an estimate read from a file).
 
     Build one from arrays, ``Estimate(t, {"knee": k, ...}, method="mine")``
     (``phase`` or a ``"phase"`` channel: the gait-phase labels; ``header``:
@@ -63,7 +70,7 @@ class Estimate(SetOnce):
     report another tool's output. The attributes cannot be replaced.
     """
 
-    __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns", "_trial_fingerprint")
+    __slots__ = ("t", "channels", "phase", "header", "method", "params", "columns", "summary", "_trial_fingerprint")
     t: np.ndarray
     channels: Mapping[str, np.ndarray]
     phase: Optional[np.ndarray]
@@ -71,6 +78,7 @@ class Estimate(SetOnce):
     method: str
     params: Dict[str, str]
     columns: List[str]
+    summary: Optional[str]
     _trial_fingerprint: Optional[Dict[str, Any]]
 
     def __init__(
@@ -101,6 +109,7 @@ class Estimate(SetOnce):
         phase: Optional[np.ndarray],
         header: Sequence[str],
         order: Optional[Sequence[str]],
+        summary: Optional[str] = None,
     ) -> None:
         # (set by `estimate`: which in-memory trial it was made from)
         self._trial_fingerprint = None
@@ -117,6 +126,7 @@ class Estimate(SetOnce):
             if phase is not None:
                 order.append(PHASE)
         self.columns = list(order)
+        self.summary = summary
 
     def _check(self) -> None:
         # The extension checks names and lengths when it reads the columns.
@@ -134,13 +144,13 @@ class Estimate(SetOnce):
 
     @classmethod
     def _from_native(cls, tup: tuple) -> "Estimate":
-        header, order, t, names, arrays, phase, resets, has_nan = tup
+        header, order, t, names, arrays, phase, resets, has_nan, summary = tup
         if has_nan is None:
             cols = {n: from_native(a) for n, a in zip(names, arrays)}
         else:
             cols = {n: from_native(a) if nan else a for n, a, nan in zip(names, arrays, has_nan)}
         e = cls.__new__(cls)
-        e._set(t, cols, phase_array(phase), header, order)
+        e._set(t, cols, phase_array(phase), header, order, summary)
         if resets:
             warnings.warn(resets, LimbfuseWarning, stacklevel=3)
         return e

@@ -26,6 +26,7 @@ EstimateTuple = Tuple[
     Optional[List[Optional[str]]],
     Optional[str],
     Optional[List[bool]],
+    Optional[str],
 ]
 
 class LimbfuseError(ValueError): ...

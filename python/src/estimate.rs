@@ -68,7 +68,9 @@ impl<'py> EstimateArgs<'py> {
 /// file column order, `t`, numeric names and arrays, `phase` cells, a
 /// restart warning (issue 16) when the estimator restarted, and whether
 /// each numeric array holds a NaN (`None`: not known, the Python layer
-/// looks).
+/// looks), and the run's summary line (`Estimate.summary`: what `limbfuse
+/// estimate` prints of a knee-axis method's identification; `None` for
+/// other methods and for a file read back).
 pub type EstimateTuple<'py> = (
     Vec<String>,
     Vec<String>,
@@ -78,6 +80,7 @@ pub type EstimateTuple<'py> = (
     Option<Vec<Option<&'static str>>>,
     Option<String>,
     Option<Vec<bool>>,
+    Option<String>,
 );
 
 fn file_order(names: &[String], has_phase: bool) -> Vec<String> {
@@ -99,6 +102,7 @@ pub(crate) fn estimate_tuple(
     py: Python<'_>,
     cols: EstimateColumns,
     resets: Option<String>,
+    summary: Option<String>,
 ) -> PyResult<EstimateTuple<'_>> {
     let order = file_order(&cols.names, cols.phase.is_some());
     let (mut arrays, mut nan) = cols.values.into_numpy(py)?;
@@ -117,6 +121,7 @@ pub(crate) fn estimate_tuple(
         cols.phase,
         resets,
         Some(nan),
+        summary,
     ))
 }
 
@@ -195,6 +200,18 @@ impl Built {
             Built::Offline(e) => e.header(),
         }
     }
+}
+
+/// `Estimate.summary` of a knee-axis method: the line `limbfuse estimate`
+/// prints ([`limbfuse_eval::KneeWatch::verdict`]), with the backfill said
+/// in Python's spelling.
+fn knee_summary(method: &str, verdict: &str, backfill: bool) -> String {
+    let before = if backfill {
+        "; knee backfilled before it (gyro angle)"
+    } else {
+        "; no knee angle before it (`backfill=True` fills it offline)"
+    };
+    format!("{method}: {verdict}{before}")
 }
 
 /// Runs `method` over the trial, in memory, with the GIL released.
@@ -351,12 +368,16 @@ fn estimate<'py>(
                 )
             };
             // As `limbfuse estimate`: nothing estimated is an error.
+            let mut summary = None;
             if let Some(k) = &watches.knee {
-                if let Err(why) = k.verdict(knee_window) {
-                    return Err(with_warnings(format!(
-                        "{label}: `{}`: {why}",
-                        spec.method()
-                    )));
+                match k.verdict(knee_window) {
+                    Ok(line) => summary = Some(knee_summary(spec.method().name(), &line, backfill)),
+                    Err(why) => {
+                        return Err(with_warnings(format!(
+                            "{label}: `{}`: {why}",
+                            spec.method()
+                        )))
+                    }
                 }
             }
             if gait_method && !watches.gait.found {
@@ -392,7 +413,7 @@ fn estimate<'py>(
             .into_iter()
             .flatten()
             .reduce(|a, b| format!("{a}\n{b}"));
-            estimate_tuple(py, out, warning)
+            estimate_tuple(py, out, warning, summary)
         };
         let mut tuple = run(est)?;
         let MethodSpec::ImmBslip(s) = &spec else {
@@ -509,6 +530,7 @@ fn read_estimate(py: Python<'_>, path: PathBuf) -> PyResult<EstimateTuple<'_>> {
             names[1..].to_vec(),
             values.map(|v| PyArray1::from_vec(py, v)).collect(),
             phase,
+            None,
             None,
             None,
         ))

@@ -443,7 +443,7 @@ impl NativeFilter {
             if let Some(r) = rejected {
                 warn_user(py, format!("{method}: the filter's samples: {r}"))?;
             }
-            crate::estimate::estimate_tuple(py, out, None)
+            crate::estimate::estimate_tuple(py, out, None, None)
         })
     }
 }

@@ -147,3 +147,27 @@ def test_inspect_says_why_a_method_that_runs_after_align_cannot(gait_walk):
     kind, why = whole["methods"]["gyro-integration"]
     assert kind == "runs after align"
     assert "limbfuse.align" in why, why
+
+
+def test_knee_estimate_carries_the_summary_line_of_the_cli(tmp_path, cli):
+    """Session 31 audit: `limbfuse estimate` prints a knee-axis method's
+    identification line (sign confidence, committed or not: a knee that may
+    come out negated); Python dropped it. `Estimate.summary` holds it, the
+    CLI's line word for word up to the backfill's spelling."""
+    trial = limbfuse.simulate("knee", seed=3, duration=20.0)
+    path = tmp_path / "knee.csv"
+    limbfuse.write_trial(trial, path)
+    est = limbfuse.estimate(trial, "knee-selfalign")
+    assert est.summary is not None
+    assert est.summary.startswith("knee-selfalign: knee axis identified at t = "), est.summary
+    assert "sign confidence" in est.summary
+    assert est.summary.endswith("(`backfill=True` fills it offline)"), est.summary
+    said = cli("estimate", "--method", "knee-selfalign", path, "-o", tmp_path / "k.csv").stderr
+    line = next(x for x in said.splitlines() if x.startswith("knee-selfalign: knee axis identified"))
+    assert line.split("; no knee angle")[0] == est.summary.split("; no knee angle")[0]
+    back = limbfuse.estimate(trial, "knee-selfalign", backfill=True)
+    assert back.summary.endswith("knee backfilled before it (gyro angle)"), back.summary
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (the raw-frames warning: not what is tested)
+        assert limbfuse.estimate(trial, "gyro-integration").summary is None
+    assert limbfuse.read_estimate(tmp_path / "k.csv").summary is None
