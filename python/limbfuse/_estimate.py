@@ -7,7 +7,20 @@ import operator
 import os
 import warnings
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, SupportsIndex, Tuple, Union
+from typing import (
+    TYPE_CHECKING,
+    Any,
+    Dict,
+    List,
+    Literal,
+    Mapping,
+    Optional,
+    Sequence,
+    SupportsIndex,
+    Tuple,
+    Union,
+    overload,
+)
 
 import numpy as np
 
@@ -448,9 +461,26 @@ def _trial_mismatch(trial: Trial, estimate: Estimate) -> Optional[str]:
     return f"the estimate was made from `{made}` ({recorded}) but the trial is `{trial.source[0]}` ({trial.source[1]})"
 
 
-def methods() -> List[Tuple[str, str]]:
-    """Every method: (name, one-line summary), as ``limbfuse methods`` lists them."""
-    return list(_native.methods())
+@overload
+def methods() -> List[Tuple[str, str]]: ...
+@overload
+def methods(details: Literal[False]) -> List[Tuple[str, str]]: ...
+@overload
+def methods(details: Literal[True]) -> List[Dict[str, str]]: ...
+
+
+def methods(details: bool = False) -> Union[List[Tuple[str, str]], List[Dict[str, str]]]:
+    """Every method: (name, one-line summary), as ``limbfuse methods`` lists
+    them; with ``details=True`` a dict per method with ``name``,
+    ``summary``, ``reads`` (the channels it reads) and ``settings`` (what
+    its parameter file or options set), the lines of ``limbfuse methods``."""
+    if not isinstance(details, bool):
+        raise TypeError(f"details: expected True or False, found {details!r}")
+    if not details:
+        return list(_native.methods())
+    return [
+        {"name": n, "summary": s, "reads": r, "settings": st} for n, s, r, st in _native.method_details()
+    ]
 
 
 def default_params(method: str) -> str:

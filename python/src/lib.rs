@@ -100,6 +100,19 @@ fn methods() -> Vec<(&'static str, &'static str)> {
         .collect()
 }
 
+/// Every method with what `limbfuse methods` says of it: (name, summary,
+/// what it reads, its settings).
+#[pyfunction]
+fn method_details() -> Vec<(&'static str, &'static str, &'static str, &'static str)> {
+    limbfuse_methods::MethodName::ALL
+        .iter()
+        .map(|m| {
+            let i = m.info();
+            (m.name(), i.summary, i.inputs, i.settings)
+        })
+        .collect()
+}
+
 /// A method's default parameter file, commented (`limbfuse params`).
 #[pyfunction]
 fn default_params(method: &str) -> PyResult<String> {
@@ -195,6 +208,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("LimbfuseError", py.get_type::<LimbfuseError>())?;
     m.add("InternalError", py.get_type::<InternalError>())?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(method_details, m)?)?;
     m.add_function(wrap_pyfunction!(default_params, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;

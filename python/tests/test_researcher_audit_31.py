@@ -171,3 +171,17 @@ def test_knee_estimate_carries_the_summary_line_of_the_cli(tmp_path, cli):
         warnings.simplefilter("ignore")  # (the raw-frames warning: not what is tested)
         assert limbfuse.estimate(trial, "gyro-integration").summary is None
     assert limbfuse.read_estimate(tmp_path / "k.csv").summary is None
+
+
+def test_methods_with_details_gives_what_the_cli_lists(cli):
+    """Session 31 audit: `limbfuse methods` says what each method reads and
+    what sets it; Python's `methods()` gave only names and summaries."""
+    listed = cli("methods").stdout
+    details = limbfuse.methods(details=True)
+    assert [d["name"] for d in details] == [n for n, _ in limbfuse.methods()]
+    for d in details:
+        assert set(d) == {"name", "summary", "reads", "settings"}
+        block = f"{d['name']}\n    {d['summary']}\n    reads:    {d['reads']}\n    settings: {d['settings']}\n"
+        assert block in listed, block
+    with pytest.raises(TypeError, match="details"):
+        limbfuse.methods(details="yes")
