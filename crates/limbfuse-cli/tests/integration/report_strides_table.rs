@@ -99,24 +99,20 @@ fn report_strides_equal_evaluate(
     counts
 }
 
+/// `g.csv` in `dir`: `duration` s of simulated walking with its contacts
+/// and stride speeds as references (`--gait-reference`).
+fn gait_reference_walk(dir: &Path, duration: &str) {
+    let walk = "simulate walking --seed 2 --gait-reference -o g.csv --duration";
+    let mut args: Vec<&str> = walk.split(' ').collect();
+    args.push(duration);
+    run_ok(&args, dir);
+}
+
 #[test]
 fn report_stride_table_equals_evaluate_strides_on_a_simulated_walk() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    run_ok(
-        &[
-            "simulate",
-            "walking",
-            "--duration",
-            "20",
-            "--seed",
-            "2",
-            "--gait-reference",
-            "-o",
-            "g.csv",
-        ],
-        p,
-    );
+    gait_reference_walk(p, "20");
     for (m, out) in [("gait-events", "ge.csv"), ("lowback-speed", "lb.csv")] {
         run_ok(&["estimate", "--method", m, "g.csv", "-o", out], p);
     }
@@ -142,33 +138,9 @@ fn report_stride_table_equals_evaluate_strides_on_the_gaitmap_walk() {
 fn report_says_why_an_estimate_without_stride_columns_has_no_stride_table() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    run_ok(
-        &[
-            "simulate",
-            "walking",
-            "--duration",
-            "10",
-            "--seed",
-            "2",
-            "--gait-reference",
-            "-o",
-            "g.csv",
-        ],
-        p,
-    );
-    run_ok(
-        &[
-            "estimate",
-            "--method",
-            "gait-events",
-            "--diagnostics",
-            "none",
-            "g.csv",
-            "-o",
-            "ge.csv",
-        ],
-        p,
-    );
+    gait_reference_walk(p, "10");
+    let without_strides = "estimate --method gait-events --diagnostics none g.csv -o ge.csv";
+    run_ok(&without_strides.split(' ').collect::<Vec<_>>(), p);
     run_ok(&["report", "g.csv", "ge.csv", "-o", "r.html"], p);
     let html = std::fs::read_to_string(p.join("r.html")).unwrap();
     let tags = parse(&html);
