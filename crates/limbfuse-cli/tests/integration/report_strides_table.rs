@@ -148,3 +148,32 @@ fn report_says_why_an_estimate_without_stride_columns_has_no_stride_table() {
     assert_eq!(note.attrs["data-estimate"], "ge.csv");
     assert!(!html.contains("id=\"strides-0\""));
 }
+
+#[test]
+fn report_stride_table_without_references_has_no_reference_columns() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    run_ok(
+        &"simulate walking --seed 2 --duration 10 -o w.csv"
+            .split(' ')
+            .collect::<Vec<_>>(),
+        p,
+    );
+    run_ok(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "w.csv",
+            "-o",
+            "ge.csv",
+        ],
+        p,
+    );
+    run_ok(&["report", "w.csv", "ge.csv", "-o", "r.html"], p);
+    let html = std::fs::read_to_string(p.join("r.html")).unwrap();
+    let rows = table_rows(&html, "strides-table-0");
+    assert!(rows.len() > 4, "{} strides", rows.len());
+    assert!(rows.iter().all(|r| r.len() == 6), "{rows:?}");
+    assert!(!html.contains("<th>reference speed m/s</th>"));
+}
