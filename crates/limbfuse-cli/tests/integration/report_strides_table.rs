@@ -153,23 +153,12 @@ fn report_says_why_an_estimate_without_stride_columns_has_no_stride_table() {
 fn report_stride_table_without_references_has_no_reference_columns() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
-    run_ok(
-        &"simulate walking --seed 2 --duration 10 -o w.csv"
-            .split(' ')
-            .collect::<Vec<_>>(),
-        p,
-    );
-    run_ok(
-        &[
-            "estimate",
-            "--method",
-            "gait-events",
-            "w.csv",
-            "-o",
-            "ge.csv",
-        ],
-        p,
-    );
+    for command in [
+        "simulate walking --seed 2 --duration 10 -o w.csv",
+        "estimate --method gait-events w.csv -o ge.csv",
+    ] {
+        run_ok(&command.split(' ').collect::<Vec<_>>(), p);
+    }
     run_ok(&["report", "w.csv", "ge.csv", "-o", "r.html"], p);
     let html = std::fs::read_to_string(p.join("r.html")).unwrap();
     let rows = table_rows(&html, "strides-table-0");
