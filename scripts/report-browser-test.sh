@@ -81,7 +81,7 @@ bslip_ids="gait-table,panel-imm-0,plot-imm-gait-0,plot-imm-phase-0,plot-imm-spee
 lf estimate --method gait-events walk.csv -o walk-events.csv
 lf estimate --method lowback-speed walk.csv -o walk-lowback.csv
 lf report walk.csv walk-events.csv walk-lowback.csv -o events.html
-events_ids="panel-events,plot-contact-right,plot-initial-contacts,plot-speed"
+events_ids="panel-events,plot-contact-right,plot-initial-contacts,plot-speed,strides-0,strides-table-0,strides-1,strides-table-1"
 
 python3 "$root/scripts/report_browser_check.py" "$chromium" "$shot" \
   "walk.html:$walk_ids" "fes.html:$fes_ids" "knee.html:$knee_ids" "bslip.html:$bslip_ids" \

@@ -11,6 +11,7 @@ use limbfuse_eval::gait_events_evaluation::{EventTiming, GaitEventEvaluation};
 
 use crate::data::{Column, EstimateData, TrialData, COM_SPEED};
 use crate::panels::{color, Panel, TimePlot};
+use crate::strides_table::{strides_details, EstimateStrides};
 use crate::svg::esc;
 
 /// Whether an estimate carries gait events or a walking speed of its own
@@ -32,8 +33,14 @@ pub fn has_event_reference(trial: &TrialData) -> bool {
 }
 
 /// The panel, when some estimate carries events or a speed
-/// ([`is_event_estimate`]).
-pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Option<Panel> {
+/// ([`is_event_estimate`]), with the stride table of each such estimate
+/// (`strides`, [`crate::strides_table`]) under its plots.
+pub fn events_panel(
+    trial: &TrialData,
+    estimates: &[EstimateData],
+    tp: &TimePlot,
+    strides: &[EstimateStrides],
+) -> Option<Panel> {
     let shown: Vec<(usize, &EstimateData)> = estimates
         .iter()
         .enumerate()
@@ -113,9 +120,12 @@ pub fn events_panel(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot
         id: "panel-events".into(),
         kind: "events".into(),
         title: "Gait events and walking speed".into(),
-        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed; without <code>speed_ref</code>, its horizontal CoM speed when <code>evaluate</code> scores against it) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section.".into(),
+        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed; without <code>speed_ref</code>, its horizontal CoM speed when <code>evaluate</code> scores against it) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section; each estimate's strides, one row per stride as <code>limbfuse evaluate --strides</code> writes them, are in the tables under the plots (click to open).".into(),
         plots,
-        table: String::new(),
+        table: strides
+            .iter()
+            .filter_map(|s| Some(strides_details(&estimates.get(s.estimate)?.label, s)))
+            .collect(),
     })
 }
 

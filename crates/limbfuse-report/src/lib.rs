@@ -18,6 +18,7 @@ mod header;
 mod page;
 pub mod panels;
 pub mod scoring;
+pub mod strides_table;
 pub mod svg;
 pub mod tables;
 pub mod time_base;

@@ -17,6 +17,7 @@ use crate::gait_cycle::{cycle_mean_sd, find_cycles};
 use crate::header::header;
 use crate::panels::{color, panels, wanted_diagnostic, Panel, TimePlot};
 use crate::scoring::{error_column, Scoring};
+use crate::strides_table::EstimateStrides;
 use crate::svg::{esc, Band, Line, Plot};
 use crate::time_base::TimeBase;
 use crate::{ReportError, ReportInput};
@@ -49,6 +50,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
     let mut evals = Vec::new();
     let mut gait_evals = Vec::new();
     let mut event_evals = Vec::new();
+    let mut strides = Vec::new();
     let mut estimates = Vec::new();
     for path in &input.estimates {
         stop()?;
@@ -89,6 +91,17 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
                 trial: input.trial.display().to_string(),
                 n_trial: trial.t.len(),
             });
+        }
+        if is_event_estimate(&e) {
+            // (the rows of `evaluate --strides`, with the references when
+            // the events are scored against them)
+            strides.push(EstimateStrides::read(
+                estimates.len(),
+                has_event_reference(&trial).then_some(input.trial.as_path()),
+                path,
+                input.allow_trial_mismatch,
+                &input.scoring.window,
+            )?);
         }
         if is_event_estimate(&e) && has_event_reference(&trial) {
             event_evals.push((
@@ -158,7 +171,7 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
         trial.speed_from_com,
     );
     stop()?;
-    panel_section(&mut body, &panels(&trial, &estimates, &tp));
+    panel_section(&mut body, &panels(&trial, &estimates, &tp, &strides));
     command_section(&mut body, input, &trial, &estimates);
     Ok(format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>limbfuse report: {}</title><style>{STYLE}</style></head><body>{body}<script>{SCRIPT}</script></body></html>\n",

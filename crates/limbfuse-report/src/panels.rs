@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 
 use crate::data::{Column, EstimateData, TrialData};
 use crate::decimate::min_max;
+use crate::strides_table::EstimateStrides;
 use crate::svg::{esc, Line, Plot};
 use crate::time_base::{break_at_gaps, TimeGap};
 
@@ -119,8 +120,14 @@ impl TimePlot<'_> {
     }
 }
 
-/// Every panel for this trial and these estimates.
-pub fn panels(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> Vec<Panel> {
+/// Every panel for this trial and these estimates;
+/// `strides`: the stride tables of the gait-event estimates, for their panel.
+pub fn panels(
+    trial: &TrialData,
+    estimates: &[EstimateData],
+    tp: &TimePlot,
+    strides: &[EstimateStrides],
+) -> Vec<Panel> {
     let mut out = Vec::new();
     for (i, e) in estimates.iter().enumerate() {
         // (an `imm-bslip` estimate written with `--diagnostics none` keeps
@@ -140,7 +147,9 @@ pub fn panels(trial: &TrialData, estimates: &[EstimateData], tp: &TimePlot) -> V
     if trial.columns.keys().any(|k| k.starts_with("u_")) {
         out.push(fes_panel(trial, estimates, tp));
     }
-    out.extend(crate::events_panel::events_panel(trial, estimates, tp));
+    out.extend(crate::events_panel::events_panel(
+        trial, estimates, tp, strides,
+    ));
     out
 }
 

@@ -59,6 +59,7 @@ mod report_audit_28;
 mod report_audit_dec05;
 mod report_review27;
 mod report_scoring_29;
+mod report_strides_table;
 mod resample_cli;
 mod results_commands;
 mod s02_support;
