@@ -18,6 +18,7 @@ use std::path::Path;
 use crate::blended_stride_speed::{row_at, ROW_TOLERANCE_S};
 use crate::evaluation::{EvalError, TimeWindow};
 use crate::gait_event_columns::Columns;
+use crate::gait_events_evaluation::GaitEventEvaluation;
 
 /// Which foot a stride belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -188,6 +189,31 @@ impl StrideTable {
     }
 }
 
+/// Why `estimate` can give no stride table (no `diag_stride_length*` or
+/// `diag_stride_withheld` column: another method, or `--diagnostics
+/// none`), or `None` when it can.
+fn why_no_strides(estimate: &Path) -> Result<Option<String>, EvalError> {
+    let er = limbfuse_io::EstimateReader::open(estimate)?;
+    let stride_columns = er
+        .diagnostic_names()
+        .any(|n| n.starts_with("stride_length") || n == "stride_withheld");
+    Ok((!stride_columns).then(|| {
+        format!(
+            "{}: the estimate (method `{}`) has no stride columns (`diag_stride_length*`): \
+             strides come from `gait-events` and `lowback-speed` estimates written with their \
+             default diagnostics",
+            estimate.display(),
+            er.method()
+        )
+    }))
+}
+
+/// The table of the `rows` [`crate::gait_events_evaluation`] scored.
+fn table_of(method: String, mut rows: Vec<StrideRow>) -> StrideTable {
+    rows.sort_by(|a, b| a.ic_s.total_cmp(&b.ic_s));
+    StrideTable { method, rows }
+}
+
 /// The stride table of `estimate` (`gait-events`, `lowback-speed`), with
 /// the references of `trial` when given (over `window`, as `evaluate
 /// --window` scores them). An estimate without stride columns (another
@@ -198,31 +224,42 @@ pub fn stride_table_of_files(
     allow_trial_mismatch: bool,
     window: &TimeWindow,
 ) -> Result<StrideTable, EvalError> {
-    let er = limbfuse_io::EstimateReader::open(estimate)?;
-    let stride_columns = er
-        .diagnostic_names()
-        .any(|n| n.starts_with("stride_length") || n == "stride_withheld");
-    if !stride_columns {
-        return Err(EvalError::NoStrides(format!(
-            "{}: the estimate (method `{}`) has no stride columns (`diag_stride_length*`): \
-             strides come from `gait-events` and `lowback-speed` estimates written with their \
-             default diagnostics",
-            estimate.display(),
-            er.method()
-        )));
+    if let Some(why) = why_no_strides(estimate)? {
+        return Err(EvalError::NoStrides(why));
     }
-    drop(er);
-    let (ev, mut rows) = crate::gait_events_evaluation::evaluate_with_strides(
+    let (ev, rows) = crate::gait_events_evaluation::evaluate_with_strides(
         trial,
         estimate,
         allow_trial_mismatch,
         window,
     )?;
-    rows.sort_by(|a, b| a.ic_s.total_cmp(&b.ic_s));
-    Ok(StrideTable {
-        method: ev.method,
-        rows,
-    })
+    Ok(table_of(ev.method, rows))
+}
+
+/// The evaluation of [`crate::gait_events_evaluation::evaluate_gait_event_files_in`]
+/// and the stride table of [`stride_table_of_files`] from one pass over the
+/// files (`evaluate --strides` and the report need both; scoring twice cost
+/// a report about a second per ten minutes of walking and estimate). The
+/// table is the message of [`EvalError::NoStrides`] when the estimate has no
+/// stride columns; any other error is returned.
+pub fn evaluation_and_stride_table(
+    trial: Option<&Path>,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+    window: &TimeWindow,
+) -> Result<(GaitEventEvaluation, Result<StrideTable, String>), EvalError> {
+    let why = why_no_strides(estimate)?;
+    let (ev, rows) = crate::gait_events_evaluation::evaluate_with_strides(
+        trial,
+        estimate,
+        allow_trial_mismatch,
+        window,
+    )?;
+    let table = match why {
+        Some(why) => Err(why),
+        None => Ok(table_of(ev.method.clone(), rows)),
+    };
+    Ok((ev, table))
 }
 
 /// The initial contacts of one track and the reference paired with them.

@@ -6,7 +6,6 @@ use std::fmt::Write as _;
 
 use limbfuse_core::sample::AngleChannel;
 use limbfuse_eval::gait_evaluation::evaluate_gait_files;
-use limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in;
 use limbfuse_eval::trial_check::check_trial;
 use limbfuse_eval::{evaluate_files, EvalOptions, Evaluation};
 use limbfuse_io::{EstimateReader, TrialFingerprint};
@@ -93,26 +92,20 @@ pub fn render(input: &ReportInput) -> Result<String, ReportError> {
             });
         }
         if is_event_estimate(&e) {
-            // (the rows of `evaluate --strides`, with the references when
-            // the events are scored against them)
-            strides.push(EstimateStrides::read(
+            // The rows of `evaluate --strides`, with the references when the
+            // events are scored against them: one scoring for both tables.
+            let scored = has_event_reference(&trial).then_some(input.trial.as_path());
+            let (ev, s) = EstimateStrides::read(
                 estimates.len(),
-                has_event_reference(&trial).then_some(input.trial.as_path()),
+                scored,
                 path,
                 input.allow_trial_mismatch,
                 &input.scoring.window,
-            )?);
-        }
-        if is_event_estimate(&e) && has_event_reference(&trial) {
-            event_evals.push((
-                estimates.len(),
-                evaluate_gait_event_files_in(
-                    &input.trial,
-                    path,
-                    input.allow_trial_mismatch,
-                    &input.scoring.window,
-                )?,
-            ));
+            )?;
+            strides.push(s);
+            if scored.is_some() {
+                event_evals.push((estimates.len(), ev));
+            }
         }
         estimates.push(e);
     }

@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use limbfuse_eval::evaluation::TimeWindow;
+use limbfuse_eval::gait_events_evaluation::GaitEventEvaluation;
 use limbfuse_eval::stride_table::{
-    stride_table_of_files, SpeedWithheld, StrideFoot, StrideRow, StrideTable,
+    evaluation_and_stride_table, SpeedWithheld, StrideFoot, StrideRow, StrideTable,
 };
 use limbfuse_eval::EvalError;
 
@@ -30,25 +31,24 @@ pub struct EstimateStrides {
 impl EstimateStrides {
     /// The strides of `estimate` (index `k` in the report) as `evaluate
     /// --strides` gives them, against `trial` when given (the trial has a
-    /// reference for them), over `window`. Any error but "no stride
-    /// columns" is returned.
+    /// reference for them), over `window`, with the evaluation they were
+    /// scored in (the events table's, when `trial` is given). Any error but
+    /// "no stride columns" is returned.
     pub fn read(
         k: usize,
         trial: Option<&Path>,
         estimate: &Path,
         allow_trial_mismatch: bool,
         window: &TimeWindow,
-    ) -> Result<Self, EvalError> {
-        let table = match stride_table_of_files(trial, estimate, allow_trial_mismatch, window) {
-            Ok(t) => Ok(t),
-            Err(EvalError::NoStrides(why)) => Err(why),
-            Err(e) => return Err(e),
-        };
-        Ok(EstimateStrides {
+    ) -> Result<(GaitEventEvaluation, Self), EvalError> {
+        let (ev, table) =
+            evaluation_and_stride_table(trial, estimate, allow_trial_mismatch, window)?;
+        let strides = EstimateStrides {
             estimate: k,
             table,
             with_reference: trial.is_some(),
-        })
+        };
+        Ok((ev, strides))
     }
 }
 

@@ -5,6 +5,8 @@ use limbfuse_eval::{
     evaluate_files_scored, EvalError, EvalOptions, EvaluationKind, TimeWindow, TrialCheck,
 };
 
+use limbfuse_eval::stride_table::{evaluation_and_stride_table, StrideTable};
+
 use crate::cli::EvaluateArgs;
 
 /// Prints a gait evaluation (JSON or text) after the trial-check warning.
@@ -24,19 +26,7 @@ fn print_gait(
 
 /// Writes the stride table of `estimate` with the references of `trial`
 /// (`--strides`; docs/GAIT_EVENTS.md "Stride table") atomically.
-fn write_strides(
-    path: &std::path::Path,
-    trial: &std::path::Path,
-    estimate: &std::path::Path,
-    mismatch: bool,
-    window: &TimeWindow,
-) -> Result<()> {
-    let table = limbfuse_eval::stride_table::stride_table_of_files(
-        Some(trial),
-        estimate,
-        mismatch,
-        window,
-    )?;
+fn write_strides(path: &std::path::Path, table: &StrideTable) -> Result<()> {
     let mut file = super::create_file(path)?;
     let mut w = std::io::BufWriter::new(&mut file);
     table
@@ -111,12 +101,18 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
             EvaluationKind::GaitEvents => {
                 // Gait events, contacts, phase and stride speed (docs/GAIT_EVENTS.md).
                 angle_only("gait events and walking speed", false)?;
-                let ev = limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in(
-                    trial, estimate, mismatch, &window,
-                )?;
-                if let Some(path) = &a.strides {
-                    write_strides(path, trial, estimate, mismatch, &window)?;
-                }
+                let ev = match &a.strides {
+                    // One scoring for both (the table holds the strides it scores).
+                    Some(path) => {
+                        let (ev, table) =
+                            evaluation_and_stride_table(Some(trial), estimate, mismatch, &window)?;
+                        write_strides(path, &table.map_err(EvalError::NoStrides)?)?;
+                        ev
+                    }
+                    None => limbfuse_eval::gait_events_evaluation::evaluate_gait_event_files_in(
+                        trial, estimate, mismatch, &window,
+                    )?,
+                };
                 for w in &ev.warnings {
                     eprintln!("warning: {w}");
                 }
@@ -133,6 +129,21 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
                 return Ok(());
             }
             EvaluationKind::Angles => {}
+        }
+        if content.events_or_speed && !content.angles && a.strides.is_some() {
+            // An event estimate on a trial with no reference of its events:
+            // "scored for its joint angles" would name the wrong cause.
+            anyhow::bail!(
+                "--strides: {} has no reference of the events and speed of {} \
+                 (`contact_left_ref` / `contact_right_ref`, `speed_ref`, or `com_vx`..`com_vz`), \
+                 so `evaluate` has nothing to score; the stride table without references: \
+                 `limbfuse report {} {} -o report.html` (gait-events panel) or, in Python, \
+                 `limbfuse.read_estimate(...).strides()`",
+                trial.display(),
+                estimate.display(),
+                trial.display(),
+                estimate.display()
+            );
         }
         strides_refused(a, "its joint angles")?;
         limbfuse_eval::notes::assumed_zero_note(reader.meta(), a.offset_free)

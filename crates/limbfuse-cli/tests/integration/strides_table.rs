@@ -137,3 +137,38 @@ fn strides_refused_over_an_input_or_without_strides() {
     assert_user_error(&o, &["--strides", "no strides"]);
     assert!(!d.path().join("s.csv").exists());
 }
+
+/// A gait-events estimate of a trial with no reference of its events:
+/// `--strides` names that cause and where the table without references
+/// is (it said the estimate "is scored for its joint angles", which a
+/// gait-events estimate has none of; found in session 32).
+#[test]
+fn strides_without_a_reference_name_the_missing_reference() {
+    let d = tempfile::tempdir().unwrap();
+    succeed(
+        &["simulate", "walking", "--duration", "10", "-o", "w.csv"],
+        d.path(),
+    );
+    succeed(
+        &[
+            "estimate",
+            "--method",
+            "gait-events",
+            "w.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    let o = limbfuse(
+        &["evaluate", "w.csv", "e.csv", "--strides", "s.csv"],
+        d.path(),
+    );
+    assert_user_error(
+        &o,
+        &["--strides", "no reference of the events", "limbfuse report"],
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!e.contains("joint angles"), "{e}");
+    assert!(!d.path().join("s.csv").exists());
+}
