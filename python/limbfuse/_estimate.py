@@ -185,7 +185,12 @@ class Estimate(SetOnce):
         df.attrs["header"] = list(self.header)
         return df
 
-    def strides(self, trial: Optional[Trial] = None, allow_trial_mismatch: bool = False) -> "pd.DataFrame":
+    def strides(
+        self,
+        trial: Optional[Trial] = None,
+        allow_trial_mismatch: bool = False,
+        window: Union[None, str, Tuple[Optional[float], Optional[float]]] = None,
+    ) -> "pd.DataFrame":
         """One row per stride of a ``gait-events`` or ``lowback-speed``
         estimate, as ``limbfuse evaluate TRIAL EST --strides FILE`` writes
         them (docs/GAIT_EVENTS.md "Stride table"): the strides the method
@@ -207,6 +212,11 @@ class Estimate(SetOnce):
         is the mean of ``|speed_m_s - speed_ref_m_s|`` over the rows with
         both. NaN: not known. Sorted by ``ic_s``.
 
+        ``window`` (``"10:40"`` or ``(10, 40)``, s; with ``trial`` only):
+        the references outside it count as unknown, as ``evaluate(trial,
+        estimate, window=...)`` scores them (``limbfuse evaluate --window
+        A:B --strides FILE``); every stride is listed.
+
         Raises ``LimbfuseError`` for an estimate without strides (another
         method, or estimated with ``diagnostics`` that leave out the stride
         columns) and, unless ``allow_trial_mismatch``, for a trial the
@@ -224,8 +234,12 @@ class Estimate(SetOnce):
                     f"{mismatch}: refusing to pair the strides with another trial's references "
                     "(allow_trial_mismatch=True pairs them anyway)"
                 )
+        if window is not None and trial is None:
+            raise ValueError(
+                "Estimate.strides: window selects the references that are scored; give the trial too"
+            )
         foot, withheld, numbers = _native.strides(
-            self._native(), None if trial is None else trial._native(), True
+            self._native(), None if trial is None else trial._native(), True, _window_text(window)
         )
         # (text columns take pandas' default string dtype, as `read_csv` of the CLI's file)
         data: Dict[str, Any] = {"foot": pd.Series(foot)}

@@ -20,13 +20,18 @@ type StrideColumns = (Vec<String>, Vec<String>, Vec<(String, Vec<f64>)>);
 
 /// The strides of `estimate`, with the references of `trial` when given.
 #[pyfunction]
-#[pyo3(signature = (estimate, trial=None, allow_trial_mismatch=false))]
+#[pyo3(signature = (estimate, trial=None, allow_trial_mismatch=false, window=None))]
 fn strides(
     estimate: EstimateArgs<'_>,
     trial: Option<TrialArgs<'_>>,
     allow_trial_mismatch: bool,
+    window: Option<&str>,
 ) -> PyResult<StrideColumns> {
     guarded(|| {
+        let window = match window {
+            Some(w) => TimeWindow::parse(w).map_err(|m| user_msg(format!("window: {m}")))?,
+            None => TimeWindow::default(),
+        };
         let view = estimate.view()?;
         let dir = tempfile::tempdir().map_err(|e| user_msg(format!("temporary files: {e}")))?;
         let ep = write_estimate(dir.path(), &estimate, &view)?;
@@ -38,8 +43,8 @@ fn strides(
             }
             None => None,
         };
-        let table = stride_table_of_files(tp.as_deref(), &ep, true, &TimeWindow::default())
-            .map_err(|e| user_error(&e))?;
+        let table =
+            stride_table_of_files(tp.as_deref(), &ep, true, &window).map_err(|e| user_error(&e))?;
         Ok(columns(&table))
     })
 }

@@ -93,3 +93,27 @@ def test_strides_refuse_another_trial(walking_trial):
         est.strides(other)
     with pytest.raises(LimbfuseError):
         est.strides(walking_trial)  # (other length)
+
+
+def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_path):
+    # (session 32: `evaluate` took a window, `strides` did not, so the table
+    # paired references `evaluate(..., window=...)` had not scored)
+    rel = "gaitmap-foot-walk/trial.csv"
+    trial = limbfuse.read_trial(shared(rel))
+    est = limbfuse.estimate(trial, "gait-events")
+    whole = est.strides(trial)
+    df = est.strides(trial, window=(5, 15))
+    assert len(df) == len(whole)
+    ev = limbfuse.evaluate(trial, est, window="5:15")
+    scored = df.dropna(subset=["speed_m_s", "speed_ref_m_s"])
+    assert 0 < len(scored) == ev["n_strides"] < len(whole.dropna(subset=["speed_m_s", "speed_ref_m_s"]))
+    assert abs((scored["speed_m_s"] - scored["speed_ref_m_s"]).abs().mean() - ev["speed_mae_mps"]) < 1e-12
+    est.write(tmp_path / "e.csv")
+    cli("evaluate", shared(rel), tmp_path / "e.csv", "--window", "5:15", "--strides", tmp_path / "s.csv")
+    csv = pd.read_csv(tmp_path / "s.csv")
+    text = ["foot", "speed_withheld"]
+    pd.testing.assert_frame_equal(df.drop(columns=text), csv.drop(columns=text), check_exact=True)
+    with pytest.raises(ValueError, match="give the trial"):
+        est.strides(window=(5, 15))
+    with pytest.raises(LimbfuseError, match="window"):
+        est.strides(trial, window="15:5")
