@@ -224,16 +224,13 @@ pub fn stride_table_of_files(
     allow_trial_mismatch: bool,
     window: &TimeWindow,
 ) -> Result<StrideTable, EvalError> {
+    // (refused before any scoring, as before the evaluation was shared)
     if let Some(why) = why_no_strides(estimate)? {
         return Err(EvalError::NoStrides(why));
     }
-    let (ev, rows) = crate::gait_events_evaluation::evaluate_with_strides(
-        trial,
-        estimate,
-        allow_trial_mismatch,
-        window,
-    )?;
-    Ok(table_of(ev.method, rows))
+    evaluation_and_stride_table(trial, estimate, allow_trial_mismatch, window)?
+        .1
+        .map_err(EvalError::NoStrides)
 }
 
 /// The evaluation of [`crate::gait_events_evaluation::evaluate_gait_event_files_in`]

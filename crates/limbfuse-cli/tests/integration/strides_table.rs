@@ -145,21 +145,12 @@ fn strides_refused_over_an_input_or_without_strides() {
 #[test]
 fn strides_without_a_reference_name_the_missing_reference() {
     let d = tempfile::tempdir().unwrap();
-    succeed(
-        &["simulate", "walking", "--duration", "10", "-o", "w.csv"],
-        d.path(),
-    );
-    succeed(
-        &[
-            "estimate",
-            "--method",
-            "gait-events",
-            "w.csv",
-            "-o",
-            "e.csv",
-        ],
-        d.path(),
-    );
+    for command in [
+        "simulate walking --duration 10 -o w.csv",
+        "estimate --method gait-events w.csv -o e.csv",
+    ] {
+        succeed(&command.split(' ').collect::<Vec<_>>(), d.path());
+    }
     let o = limbfuse(
         &["evaluate", "w.csv", "e.csv", "--strides", "s.csv"],
         d.path(),
