@@ -70,10 +70,18 @@ class Trial(SetOnce):
             )
         index = _pandas_index(t)
         t = as_time(t)
-        cols: Dict[str, np.ndarray] = {}
-        for name, values in channels.items():
+        for name in channels:
             if not isinstance(name, str):
                 raise TypeError(f"channel names must be str, found {name!r}")
+        # (the names before the arrays: a misspelt channel holding a NaN was
+        # reported as the NaN; session 32. A block of axes keeps its shape
+        # message, which names the channels to split it into.)
+        _native.check_channel_names(
+            [(str(k), str(v)) for k, v in (meta or {}).items()],
+            [n for n, v in channels.items() if n != PHASE_REF and getattr(v, "ndim", 1) == 1],
+        )
+        cols: Dict[str, np.ndarray] = {}
+        for name, values in channels.items():
             _check_rows(name, values, index)
             if name == PHASE_REF:
                 if phase_ref is not None:

@@ -336,6 +336,22 @@ pub fn phase_cells(
     Ok(out)
 }
 
+/// The first of `names` that is no trial channel of a trial whose
+/// single-leg columns are of `leg`, as [`TrialColumns::new`] names it
+/// (checked before the arrays are converted, so that a misspelt name is
+/// what a user is told, not the NaN in its array).
+pub fn check_names<'n>(names: impl IntoIterator<Item = &'n str>, leg: Side) -> Result<(), String> {
+    let other = TrialLayout {
+        leg,
+        ..TrialLayout::default()
+    }
+    .other_leg();
+    for name in names {
+        Channel::parse(name, other).ok_or_else(|| unknown_column(name, other))?;
+    }
+    Ok(())
+}
+
 fn unknown_column(name: &str, other: Side) -> String {
     if name == "t" {
         return "`t` is the time array, not a channel".into();

@@ -8,7 +8,7 @@ use limbfuse_io::{AtomicFile, TrialMeta, TrialReader, TrialWriter};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
-use crate::columns::{leg_of, OwnedColumns, TrialColumns};
+use crate::columns::{check_names, leg_of, OwnedColumns, TrialColumns};
 use crate::{guarded, user_error, user_msg};
 
 /// What the Python `Trial._native()` returns: metadata items, `t`, channel
@@ -165,7 +165,22 @@ fn check_trial(trial: TrialArgs<'_>) -> PyResult<()> {
     guarded(|| trial.columns().map(|_| ()))
 }
 
+/// Checks the channel names of a trial with metadata `meta` (before its
+/// arrays are converted: a misspelt name is reported before a NaN in it).
+#[pyfunction]
+fn check_channel_names(meta: Vec<(String, String)>, names: Vec<String>) -> PyResult<()> {
+    guarded(|| {
+        let mut m = TrialMeta::new();
+        for (k, v) in &meta {
+            m.set(k.clone(), v);
+        }
+        let leg = leg_of(&m).map_err(user_msg)?;
+        check_names(names.iter().map(String::as_str), leg).map_err(user_msg)
+    })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(check_channel_names, m)?)?;
     m.add_function(wrap_pyfunction!(read_trial, m)?)?;
     m.add_function(wrap_pyfunction!(write_trial, m)?)?;
     m.add_function(wrap_pyfunction!(check_trial, m)?)?;

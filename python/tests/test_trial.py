@@ -140,6 +140,9 @@ def test_unknown_channel_incomplete_group_and_time_order():
     t, ch = gyro_trial()
     with pytest.raises(LimbfuseError, match="unknown channel `thigh_gyro_x`"):
         Trial(t, {"thigh_gyro_x": np.zeros(10)})
+    # (session 32: a misspelt channel holding a NaN was reported as the NaN)
+    with pytest.raises(LimbfuseError, match="unknown channel `thigh_gyro_x`"):
+        Trial(t, {**ch, "thigh_gyro_x": np.r_[np.nan, np.zeros(9)]})
     with pytest.raises(LimbfuseError, match="incomplete channel group: channel `thigh_gyr_z` is missing"):
         Trial(t, {"thigh_gyr_x": np.zeros(10), "thigh_gyr_y": np.zeros(10)})
     t2 = t.copy()
