@@ -54,15 +54,27 @@ fn pool(
 ) -> f64 {
     let mut g = axes(side);
     let old = old.map(axes);
-    ev.pool_window(
+    pool_into(
+        ev,
         ring,
         old.as_ref(),
         &mut g,
-        false,
         trusted,
         AngleZero::SensorPositions,
     );
     g.axis[0].x
+}
+
+/// Pools `ring` (no level-only window) into `g`, the axes before it `old`.
+fn pool_into(
+    ev: &mut FlexionEvidence,
+    ring: &Ring,
+    old: Option<&Geometry>,
+    g: &mut Geometry,
+    trusted: Option<bool>,
+    zero: AngleZero,
+) {
+    ev.pool_window(ring, old, g, false, trusted, zero);
 }
 
 /// Found by reading the code (2026-12-05): four untrusted windows of a
@@ -104,20 +116,20 @@ fn a_trusted_flexion_side_is_not_undone_by_earlier_skewness() {
 fn with_the_paper_zero_the_skewness_still_pools() {
     let mut ev = FlexionEvidence::default();
     let mut g = axes(1.0);
-    ev.pool_window(
+    pool_into(
+        &mut ev,
         &window(1.0),
         None,
         &mut g,
-        false,
         Some(true),
         AngleZero::PaperC,
     );
     let old = g;
-    ev.pool_window(
+    pool_into(
+        &mut ev,
         &window(-1.0),
         Some(&old),
         &mut g,
-        false,
         Some(false),
         AngleZero::PaperC,
     );
@@ -136,11 +148,11 @@ fn a_new_pair_of_sides_is_not_held_by_the_old_anchor() {
     let old = axes(side);
     let mut g = axes(side);
     g.axis[1] = -g.axis[1];
-    ev.pool_window(
+    pool_into(
+        &mut ev,
         &window(-1.0),
         Some(&old),
         &mut g,
-        false,
         Some(false),
         AngleZero::SensorPositions,
     );
