@@ -116,18 +116,19 @@ fn one_default_body_height_for_every_method() {
             .unwrap_or_else(|| panic!("no `{method}` line in:\n{out}"))
             .to_string()
     };
-    // The body height (m) a line names right after `before`.
+    // The length (m) a line names after `before`: the last word before " m".
     let height_after = |line: &str, before: &str| -> f64 {
         let rest = line
             .split(before)
             .nth(1)
             .unwrap_or_else(|| panic!("no `{before}` in `{line}`"));
-        rest.split(" m").next().unwrap().parse().unwrap()
+        let words = rest.split(" m").next().unwrap();
+        words.rsplit(' ').next().unwrap().parse().unwrap()
     };
     let chain = height_after(&line("chain"), "the default height ");
     let knee = height_after(&line("knee-kinematic"), "0.5 x 0.246 x ");
     let lowback_line = line("lowback-speed");
-    let lowback = height_after(&lowback_line, "0.530 x the default body height ");
+    let lowback = height_after(&lowback_line, "(from the default (0.530 x ");
     assert_eq!(
         [chain, knee, lowback],
         [DEFAULT_BODY_HEIGHT_M; 3],
