@@ -193,7 +193,10 @@ pub fn resolve_geometry(
     file: &GeometryFile,
 ) -> Result<ChainGeometry, GeometryError> {
     let body = meta.body()?;
-    let height = body.height.or(file.height_m).unwrap_or(DEFAULT_BODY_HEIGHT_M);
+    let height = body
+        .height
+        .or(file.height_m)
+        .unwrap_or(DEFAULT_BODY_HEIGHT_M);
     if crate::body_ranges::within(height, crate::body_ranges::BODY_HEIGHT_M).is_none() {
         return Err(GeometryError::Height(height));
     }

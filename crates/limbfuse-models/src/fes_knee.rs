@@ -124,7 +124,6 @@ impl KneeSubject {
     }
 }
 
-
 /// Table 1 of paper 004, one array per row, columns P1-L, P1-R, P2-L, P2-R, P3-L, P3-R.
 #[allow(clippy::approx_constant)] // 3.14 is a measured damping (Table 1), not pi
 mod table1 {
