@@ -14,6 +14,16 @@ fn run(args: &[&str], dir: &std::path::Path) -> (i32, String, String) {
     )
 }
 
+/// A simulated walk of `seconds` written to `w.csv` in `dir`, as text.
+fn simulated_walk(dir: &std::path::Path, seconds: &str) -> String {
+    let (code, ..) = run(
+        &["simulate", "walking", "--duration", seconds, "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(code, 0);
+    std::fs::read_to_string(dir.join("w.csv")).unwrap()
+}
+
 #[test]
 fn inspect_a_walking_trial_and_its_gaps() {
     let tmp = tempfile::tempdir().unwrap();
@@ -94,13 +104,8 @@ fn one_default_body_height_for_every_method() {
     use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let (code, ..) = run(
-        &["simulate", "walking", "--duration", "3", "-o", "w.csv"],
-        dir,
-    );
-    assert_eq!(code, 0);
-    // The same walk without a word about the body.
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    // A simulated walk without a word about the body.
+    let text = simulated_walk(dir, "3");
     let body_keys = ["# height_m:", "# segment_lengths_m:", "# imu_mounts_m:"];
     let kept: String = text
         .lines()
@@ -309,12 +314,7 @@ fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
 fn inspect_names_a_stated_rate_that_is_not_one() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let (code, ..) = run(
-        &["simulate", "walking", "--duration", "2", "-o", "w.csv"],
-        dir,
-    );
-    assert_eq!(code, 0);
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let text = simulated_walk(dir, "2");
     assert!(text.contains("# sample_rate_hz: 100\n"));
     for bad in ["abc", "0", "nan"] {
         let name = format!("r-{bad}.csv");
