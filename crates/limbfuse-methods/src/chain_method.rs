@@ -13,15 +13,17 @@
 //! Geometry, per quantity: the trial's metadata (`imu_mounts_m`,
 //! `segment_lengths_m`, `height_m`; `limbfuse_io::body_meta`), else the
 //! parameter file's `[geometry]`, else Winter's proportions for the height
-//! (`ChainGeometry::from_height`, 1.75 m when no height is known).
+//! (`ChainGeometry::from_height`; when no height is known, the default body
+//! of every method, `limbfuse_models::DEFAULT_BODY_HEIGHT_M`, 1.75 m).
 
 use std::path::Path;
 
 use limbfuse_core::Estimator;
 use limbfuse_estimators::chain_ekf::{
-    ChainEkf, ChainGeometry, ChainParams, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG,
+    ChainEkf, ChainGeometry, ChainParams, WALKING_MEAN_ANGLE_DEG,
 };
 use limbfuse_io::{TrialLayout, TrialMeta};
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use serde::Deserialize;
 
 use crate::method_def::{read_file, MethodDef, MethodFile, MethodInfo};
@@ -191,7 +193,10 @@ pub fn resolve_geometry(
     file: &GeometryFile,
 ) -> Result<ChainGeometry, GeometryError> {
     let body = meta.body()?;
-    let height = body.height.or(file.height_m).unwrap_or(DEFAULT_HEIGHT_M);
+    let height = body
+        .height
+        .or(file.height_m)
+        .unwrap_or(DEFAULT_BODY_HEIGHT_M);
     if crate::body_ranges::within(height, crate::body_ranges::BODY_HEIGHT_M).is_none() {
         return Err(GeometryError::Height(height));
     }
@@ -335,7 +340,7 @@ pub fn default_file() -> String {
          # Geometry: the trial's metadata wins (imu_mounts_m, segment_lengths_m, height_m);\n\
          # these keys fill what it lacks; the rest comes from Winter's proportions.\n\
          [geometry]\n\
-         # height_m = {DEFAULT_HEIGHT_M}\n\
+         # height_m = {DEFAULT_BODY_HEIGHT_M}\n\
          # thigh_length = {}\n\
          # shank_length = {}\n\
          # imu_trunk = {}\n\

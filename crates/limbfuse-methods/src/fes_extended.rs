@@ -20,7 +20,6 @@
 use std::path::Path;
 
 use limbfuse_core::Estimator;
-use limbfuse_estimators::chain_ekf::DEFAULT_HEIGHT_M;
 use limbfuse_estimators::fes::knee_extended::{
     extended_knee_default_tuning, extended_knee_tuning, extended_shift, kinematic_default_tuning,
     ExtendedKneePlant, KinematicKneePlant,
@@ -28,6 +27,7 @@ use limbfuse_estimators::fes::knee_extended::{
 use limbfuse_estimators::fes::{FesFilter, Linearisation};
 use limbfuse_io::body_meta::HEIGHT_KEY;
 use limbfuse_io::TrialMeta;
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use limbfuse_models::{
     ExtendedKneeModel, KinematicKneeModel, KneeFesModel, KneeFesParams, KneeStateOptions,
     KneeSubject,
@@ -342,7 +342,8 @@ pub const PARAM_R_IMU_KEY: &str = "param_r_imu";
 /// The shank accelerometer's lever arm as the trial states it: `#
 /// shank_imu_m:` (limbfuse's key), else `# param_r_imu:` (the independent FES
 /// simulator's), else mid-shank for the trial's `# height_m:` (default
-/// 1.75 m): `0.5 x 0.246 H` (Winter 2009). A stated value outside [0, 1] m
+/// [`DEFAULT_BODY_HEIGHT_M`], 1.75 m, the body of every method's defaults):
+/// `0.5 x 0.246 H` (Winter 2009). A stated value outside [0, 1] m
 /// is an error naming the key.
 pub fn stated_lever_arm(meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
     for (key, source) in [
@@ -367,7 +368,7 @@ pub fn stated_lever_arm(meta: &TrialMeta) -> Result<LeverArm, FesBuildError> {
             "anthropometric default: mid-shank, 0.5 x 0.246 x # height_m, Winter 2009 Table 4.1",
         ),
         None => (
-            DEFAULT_HEIGHT_M,
+            DEFAULT_BODY_HEIGHT_M,
             "anthropometric default: mid-shank, 0.5 x 0.246 x 1.75 m, Winter 2009 Table 4.1; the trial states neither # shank_imu_m, # param_r_imu nor # height_m",
         ),
     };

@@ -3,7 +3,7 @@
 //!
 //! ```toml
 //! method = "lowback-speed"   # optional
-//! leg_length = 0.90          # m: pendulum length (else from the trial metadata)
+//! leg_length = 0.9275        # m: pendulum length (else from the trial metadata)
 //! correction = 1.25          # Zijlstra & Hof 2003 factor K
 //! ```
 
@@ -15,6 +15,7 @@ use limbfuse_estimators::lowback_speed::{
 };
 use limbfuse_io::body_meta::subject_length;
 use limbfuse_io::{TrialLayout, TrialMeta};
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use serde::Deserialize;
 
 use crate::body_ranges::{within, BODY_HEIGHT_M, LEG_LENGTH_M, LOWER_BACK_SENSOR_M};
@@ -146,7 +147,8 @@ impl MethodDef for LowbackSpeedMethod {
              # Pendulum length, m. Left unset, it is the trial's `# sensor_height_m:` (lower-back sensor\n\
              # above the ground; then correction = 4.587 / 4, Mobilise-D) or a `sensor height N cm` in its\n\
              # `# subject:` line, else its `# leg_length:`, else 0.530 x its `# height_m:` or a `height N cm`\n\
-             # in its `# subject:` line, else {:?} (0.530 x 1.70 m, Winter 2009 Table 4.1).\n\
+             # in its `# subject:` line, else {:?} (0.530 x {} m, Winter 2009 Table 4.1: the default body\n\
+             # of every limbfuse method).\n\
              # leg_length = {:?}\n\
              # Zijlstra & Hof 2003 correction factor K (left unset with `# sensor_height_m:`: 4.587 / 4).\n\
              # correction = {:?}\n\
@@ -164,6 +166,7 @@ impl MethodDef for LowbackSpeedMethod {
              # The gravity mean is rotated with the trunk gyroscope (follows posture changes).\n\
              gravity_follows_gyro = {:?}\n",
             p.leg_length,
+            DEFAULT_BODY_HEIGHT_M,
             p.leg_length,
             p.correction,
             p.wavelet_scale,
@@ -195,7 +198,9 @@ pub enum PendulumSource {
     BodyHeight,
     /// 0.530 x `height N cm` in the trial's free-text `# subject:` line.
     BodyHeightInSubject,
-    /// The default (0.530 x 1.70 m).
+    /// The default: 0.530 x the default body height
+    /// ([`DEFAULT_BODY_HEIGHT_M`], 1.75 m), the body of every method's
+    /// defaults.
     Default,
 }
 
@@ -214,7 +219,9 @@ impl PendulumSource {
             PendulumSource::BodyHeightInSubject => {
                 "0.530 x the body height stated in the trial's `# subject:` line (Winter 2009)"
             }
-            PendulumSource::Default => "the default (0.530 x 1.70 m, Winter 2009)",
+            PendulumSource::Default => {
+                "the default (0.530 x the default body height 1.75 m, Winter 2009)"
+            }
         }
     }
 }
@@ -414,11 +421,12 @@ mod tests {
     }
 
     /// The pendulum length: the parameter file, else `# leg_length:`, else
-    /// 0.530 x `# height_m:` (Winter 2009), else 0.90 m.
+    /// 0.530 x `# height_m:` (Winter 2009), else 0.530 x the default body
+    /// height, 0.9275 m (0.90 m = 0.530 x 1.70 m until 2026-12-05).
     #[test]
     fn leg_length_from_the_body_height() {
         let mut meta = TrialMeta::new();
-        assert_eq!(leg_length_line(&meta, None), "leg_length: 0.9 m");
+        assert_eq!(leg_length_line(&meta, None), "leg_length: 0.9275 m");
         meta.set("height_m", "1.6");
         let l = leg_length_m(&meta);
         assert!((l - 0.530 * 1.6).abs() < 1e-12, "{l}");

@@ -5,8 +5,8 @@
 //! that a user sees before estimating which of the file's lines are read
 //! and what a missing one falls back to.
 
-use limbfuse_estimators::chain_ekf::DEFAULT_HEIGHT_M;
 use limbfuse_io::TrialMeta;
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 
 use crate::chain_method::{resolve_geometry, GeometryFile};
 use crate::fes_params::FesParamsFile;
@@ -104,7 +104,7 @@ fn chain(meta: &TrialMeta) -> String {
     } else if let Some(h) = body.height {
         format!("Winter's proportions of `# height_m: {h}`")
     } else {
-        format!("Winter's proportions of the default height {DEFAULT_HEIGHT_M} m")
+        format!("Winter's proportions of the default height {DEFAULT_BODY_HEIGHT_M} m")
     };
     let mounts = if body.imu_position.iter().any(Option::is_some) {
         "`# imu_mounts_m:` (mid-segment where it names no IMU)"
@@ -146,7 +146,12 @@ mod tests {
             "{got:?}"
         );
         let got = lines(&[], &layout);
-        assert!(got[0].contains("the default (0.530 x 1.70 m"), "{got:?}");
+        let default_body = format!("0.530 x the default body height {DEFAULT_BODY_HEIGHT_M} m");
+        assert!(
+            got[0].starts_with("lowback-speed: pendulum length 0.9275 m, correction factor 1.25")
+                && got[0].contains(&default_body),
+            "{got:?}"
+        );
     }
 
     /// An independent-simulator FES trial: sdre and ekf take the model from

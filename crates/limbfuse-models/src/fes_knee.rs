@@ -34,6 +34,7 @@
 
 use nalgebra::{SMatrix, SVector, Vector2};
 
+use crate::default_body::{DEFAULT_BODY_HEIGHT_M, DEFAULT_BODY_MASS_KG};
 use crate::error::{finite, limits, positive, within_limit, ModelError};
 use crate::sdc::{sinc, SdcModel};
 
@@ -122,11 +123,6 @@ impl KneeSubject {
         self as usize
     }
 }
-
-/// Body mass assumed for the anthropometric defaults (kg).
-pub const DEFAULT_BODY_MASS_KG: f64 = 75.0;
-/// Body height assumed for the anthropometric defaults (m).
-pub const DEFAULT_BODY_HEIGHT_M: f64 = 1.75;
 
 /// Table 1 of paper 004, one array per row, columns P1-L, P1-R, P2-L, P2-R, P3-L, P3-R.
 #[allow(clippy::approx_constant)] // 3.14 is a measured damping (Table 1), not pi

@@ -49,6 +49,7 @@
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2, Vector4};
 
+use crate::default_body::{DEFAULT_BODY_HEIGHT_M, DEFAULT_BODY_MASS_KG};
 use crate::error::{finite, limits, positive, within_limit, ModelError};
 use crate::fes_knee::{KneeFesParams, KneeSubject};
 use crate::sdc::{sinc, SdcModel};
@@ -88,7 +89,7 @@ pub struct FixedHipParams {
 
 impl Default for FixedHipParams {
     fn default() -> Self {
-        let (bm, h) = (75.0, 1.75);
+        let (bm, h) = (DEFAULT_BODY_MASS_KG, DEFAULT_BODY_HEIGHT_M);
         let l1 = 0.245 * h;
         let l2 = 0.246 * h;
         let m1 = 0.100 * bm;

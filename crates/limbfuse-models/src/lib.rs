@@ -10,6 +10,7 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 
+pub mod default_body;
 pub mod error;
 pub mod fes_knee;
 pub mod fes_knee_extended;
@@ -18,6 +19,7 @@ pub mod fixed_hip_activation;
 pub mod kinematic_knee;
 pub mod sdc;
 
+pub use default_body::{DEFAULT_BODY_HEIGHT_M, DEFAULT_BODY_MASS_KG};
 pub use error::ModelError;
 pub use fes_knee::{KneeFesModel, KneeFesParams, KneeSubject};
 pub use fes_knee_extended::{

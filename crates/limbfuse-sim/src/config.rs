@@ -234,7 +234,7 @@ impl Default for WalkingConfig {
             imu_rate_hz: 100.0,
             encoder_rate_hz: 1000.0,
             seed: 0,
-            height_m: 1.75,
+            height_m: limbfuse_models::DEFAULT_BODY_HEIGHT_M,
             g: limbfuse_core::STANDARD_GRAVITY,
             motion: Motion::Walk,
             start_phase: 0.0,

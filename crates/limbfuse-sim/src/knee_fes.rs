@@ -21,7 +21,7 @@
 //!   `shank_ref = x1`, `knee_ref = pi/2 - x1`; stimulation `u_ke`.
 
 use limbfuse_core::{Record, Reference, Sample, Segment};
-use limbfuse_models::{KneeFesModel, KneeFesParams, KneeSubject};
+use limbfuse_models::{KneeFesModel, KneeFesParams, KneeSubject, DEFAULT_BODY_HEIGHT_M};
 use nalgebra::{Vector2, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -308,7 +308,7 @@ pub fn knee_fes_stream(
 /// standing, then 4 straight-leg hip flexion/extension rotations (1 s
 /// forward to 30 deg, 0.5 s hold, 1 s back, 0.5 s hold). Thigh IMU 0.2 m
 /// below the hip, shank IMU `shank_imu_m` below the knee (thigh 0.245 H,
-/// H = 1.75 m, Winter).
+/// H = [`DEFAULT_BODY_HEIGHT_M`], 1.75 m, Winter).
 pub fn simulate_calibration(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError> {
     in_range("rate_hz", cfg.rate_hz, 10.0, 2000.0, "[10, 2000]")?;
     let g = cfg.params.map_or(9.81, |p| p.g);
@@ -317,7 +317,7 @@ pub fn simulate_calibration(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError
         Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
         Imu::draw(&mut rng, &cfg.imu, cfg.mounting, cfg.rate_hz, cfg.noise),
     ];
-    let thigh_len = 0.245 * DEFAULT_HEIGHT_M;
+    let thigh_len = 0.245 * DEFAULT_BODY_HEIGHT_M;
     let amp = 30f64.to_radians();
     // theta(t), rate, acceleration of the straight leg.
     let motion = |t: f64| -> (f64, f64, f64) {
@@ -392,9 +392,6 @@ pub fn simulate_calibration(cfg: &KneeFesConfig) -> Result<FesTrial, FesSimError
     ];
     Ok(FesTrial { records, metadata })
 }
-
-/// Body height behind the calibration geometry (m).
-const DEFAULT_HEIGHT_M: f64 = 1.75;
 
 /// One classical RK4 step of `x_dot = f(t, x)`.
 pub fn rk4<const N: usize>(

@@ -14,6 +14,16 @@ fn run(args: &[&str], dir: &std::path::Path) -> (i32, String, String) {
     )
 }
 
+/// A simulated walk of `seconds` written to `w.csv` in `dir`, as text.
+fn simulated_walk(dir: &std::path::Path, seconds: &str) -> String {
+    let (code, ..) = run(
+        &["simulate", "walking", "--duration", seconds, "-o", "w.csv"],
+        dir,
+    );
+    assert_eq!(code, 0);
+    std::fs::read_to_string(dir.join("w.csv")).unwrap()
+}
+
 #[test]
 fn inspect_a_walking_trial_and_its_gaps() {
     let tmp = tempfile::tempdir().unwrap();
@@ -82,6 +92,55 @@ fn inspect_a_walking_trial_and_its_gaps() {
         "{out}"
     );
     assert!(out.contains("thigh gyr (12.0 % of rows missing)"), "{out}");
+}
+
+/// Session 32: on a trial that states no body (no `# height_m:`, segment
+/// lengths, leg or sensor height), `inspect` named a 1.75 m body for `chain`
+/// and `knee-kinematic` but a 1.70 m one for `lowback-speed` (pendulum
+/// 0.9 m = 0.530 x 1.70 m). Every method's defaults now assume the one body
+/// `limbfuse_models::DEFAULT_BODY_HEIGHT_M`, and the pendulum is 0.530 x it.
+#[test]
+fn one_default_body_height_for_every_method() {
+    use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // A simulated walk without a word about the body.
+    let text = simulated_walk(dir, "3");
+    let body_keys = ["# height_m:", "# segment_lengths_m:", "# imu_mounts_m:"];
+    let kept: String = text
+        .lines()
+        .filter(|l| !body_keys.iter().any(|k| l.starts_with(k)))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.join("nobody.csv"), kept).unwrap();
+    let (code, out, err) = run(&["inspect", "nobody.csv"], dir);
+    assert_eq!(code, 0, "{err}");
+    let line = |method: &str| {
+        out.lines()
+            .find(|l| l.starts_with(&format!("  {method}: ")))
+            .unwrap_or_else(|| panic!("no `{method}` line in:\n{out}"))
+            .to_string()
+    };
+    // The length (m) a line names after `before`: the last word before " m".
+    let height_after = |line: &str, before: &str| -> f64 {
+        let rest = line
+            .split(before)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no `{before}` in `{line}`"));
+        let words = rest.split(" m").next().unwrap();
+        words.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let chain = height_after(&line("chain"), "the default height ");
+    let knee = height_after(&line("knee-kinematic"), "0.5 x 0.246 x ");
+    let lowback_line = line("lowback-speed");
+    let lowback = height_after(&lowback_line, "(from the default (0.530 x ");
+    assert_eq!(
+        [chain, knee, lowback],
+        [DEFAULT_BODY_HEIGHT_M; 3],
+        "chain, knee-kinematic and lowback-speed assume different bodies:\n{out}"
+    );
+    let pendulum = height_after(&lowback_line, "pendulum length ");
+    assert_eq!(pendulum, 0.530 * DEFAULT_BODY_HEIGHT_M, "{lowback_line}");
 }
 
 #[test]
@@ -255,12 +314,7 @@ fn inspect_says_what_the_thighs_motion_means_for_the_methods() {
 fn inspect_names_a_stated_rate_that_is_not_one() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let (code, ..) = run(
-        &["simulate", "walking", "--duration", "2", "-o", "w.csv"],
-        dir,
-    );
-    assert_eq!(code, 0);
-    let text = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let text = simulated_walk(dir, "2");
     assert!(text.contains("# sample_rate_hz: 100\n"));
     for bad in ["abc", "0", "nan"] {
         let name = format!("r-{bad}.csv");

@@ -38,7 +38,7 @@ pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
 pub use kinematics::{ChainGeometry, OutOfPlane};
 pub use missing_data::DIVERGED_RATE_RAD_S;
-pub use params::{ChainParams, ChainParamsError, DEFAULT_HEIGHT_M, WALKING_MEAN_ANGLE_DEG};
+pub use params::{ChainParams, ChainParamsError, WALKING_MEAN_ANGLE_DEG};
 use startup::{initial, Startup};
 use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,

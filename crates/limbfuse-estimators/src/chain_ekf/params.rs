@@ -1,11 +1,9 @@
 //! Parameters of the chain EKF, their defaults and where they come from
 //! (docs/CHAIN.md, "Defaults").
 
-use super::kinematics::ChainGeometry;
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 
-/// Body height of the anthropometric defaults when none is known (m): the
-/// height the walking simulator and Winter's tables are scaled to.
-pub const DEFAULT_HEIGHT_M: f64 = 1.75;
+use super::kinematics::ChainGeometry;
 
 /// Mean segment angle over a walking stride (deg; trunk, thigh, shank,
 /// foot), from the normative curves limbfuse's walking simulator is built on
@@ -88,7 +86,7 @@ impl ChainGeometry {
 
 impl Default for ChainGeometry {
     fn default() -> Self {
-        Self::from_height(DEFAULT_HEIGHT_M)
+        Self::from_height(DEFAULT_BODY_HEIGHT_M)
     }
 }
 

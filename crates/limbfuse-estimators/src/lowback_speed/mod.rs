@@ -37,8 +37,11 @@
 //!    contact): `a_v` integrated twice over the step, the velocity made
 //!    zero-mean and the position detrended linearly (a periodic step ends
 //!    where it starts), `h = max - min`. `l` is the leg length (parameter,
-//!    default 0.90 m: 0.530 x 1.70 m, the greater-trochanter height fraction
-//!    of Winter 2009 Table 4.1 for a 1.70 m adult), `K` = 1.25 Zijlstra &
+//!    default 0.9275 m: [`LEG_LENGTH_PER_HEIGHT`] x the default body height
+//!    of every limbfuse method, `limbfuse_models::DEFAULT_BODY_HEIGHT_M` =
+//!    1.75 m, i.e. the greater-trochanter height fraction 0.530 of Winter
+//!    2009 Table 4.1; until 2026-12-05 0.90 m = 0.530 x 1.70 m, the only
+//!    default of limbfuse assuming another body), `K` = 1.25 Zijlstra &
 //!    Hof's correction factor for the under-estimate of the pendulum model.
 //!    With the lower-back sensor's height as `l` (the Mobilise-D reading,
 //!    trial metadata `# sensor_height_m:`), `K` is
@@ -74,6 +77,7 @@ use limbfuse_core::estimator::Outputs;
 use limbfuse_core::{
     diagnostic_set, Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep,
 };
+use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use nalgebra::{Rotation3, Vector3};
 
 /// Leg (greater-trochanter) height as a fraction of body height: 0.530
@@ -81,6 +85,12 @@ use nalgebra::{Rotation3, Vector3};
 /// ed., Table 4.1 / fig. 4.1), the pendulum length when only the body
 /// height is known.
 pub const LEG_LENGTH_PER_HEIGHT: f64 = 0.530;
+
+/// The pendulum length (m) when a trial states no length and no height:
+/// [`LEG_LENGTH_PER_HEIGHT`] x `limbfuse_models::DEFAULT_BODY_HEIGHT_M`
+/// (1.75 m, the body every limbfuse default assumes), 0.9275 m. Chosen for
+/// that consistency, not fitted to any recording.
+pub const DEFAULT_LEG_LENGTH_M: f64 = LEG_LENGTH_PER_HEIGHT * DEFAULT_BODY_HEIGHT_M;
 
 /// Zijlstra & Hof's model scaled for the *sensor height* as the pendulum
 /// length: the Mobilise-D stride-length algorithm (Soltani et al. 2021, IEEE
@@ -123,7 +133,7 @@ diagnostic_set! {
 /// Parameters (sources in the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LowbackParams {
-    /// Pendulum (leg) length `l` (m).
+    /// Pendulum (leg) length `l` (m); default [`DEFAULT_LEG_LENGTH_M`].
     pub leg_length: f64,
     /// Zijlstra & Hof's correction factor `K`.
     pub correction: f64,
@@ -152,7 +162,7 @@ pub struct LowbackParams {
 impl Default for LowbackParams {
     fn default() -> Self {
         LowbackParams {
-            leg_length: 0.90,
+            leg_length: DEFAULT_LEG_LENGTH_M,
             correction: 1.25,
             wavelet_scale: 0.16,
             gravity_time_constant: 2.0,
