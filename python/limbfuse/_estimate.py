@@ -201,16 +201,23 @@ class Estimate(SetOnce):
         (start: the back-dated initial contact), ``fc_s`` (the foot's final
         contact inside the stride), ``end_s`` (the next initial contact of
         that foot), ``decided_s`` (when the method decided the stride),
-        ``stride_time_s``, ``stride_length_m``, ``speed_m_s``;
-        ``lowback-speed`` only: ``step_length_1_m``, ``step_length_2_m``,
-        ``turn_rate_rad_s``, ``speed_withheld`` (``turn`` / ``after_turn``:
-        why the stride has no speed). With ``trial`` (its references), what
-        ``evaluate`` pairs with each stride: ``ic_ref_s`` (the reference
-        initial contact paired with ``ic_s``), ``stride_time_ref_s``,
-        ``speed_ref_m_s`` (mean ``speed_ref`` over the stride),
-        ``stride_length_ref_m``; ``evaluate``'s per-stride ``speed_mae_mps``
-        is the mean of ``|speed_m_s - speed_ref_m_s|`` over the rows with
-        both. NaN: not known. Sorted by ``ic_s``.
+        ``stride_time_s``, ``stance_time_s`` (``fc_s - ic_s``),
+        ``swing_time_s`` (``end_s - fc_s``; both ``gait-events`` only),
+        ``stride_length_m``, ``speed_m_s``; ``lowback-speed`` only:
+        ``step_length_1_m``, ``step_length_2_m``, ``turn_rate_rad_s``,
+        ``speed_withheld`` (``turn`` / ``after_turn``: why the stride has no
+        speed). With ``trial`` (its references), what ``evaluate`` pairs with
+        each stride: ``ic_ref_s`` (the reference initial contact paired with
+        ``ic_s``), ``fc_ref_s`` (the reference final contact paired with
+        ``fc_s``), ``stride_time_ref_s``, ``stance_time_ref_s`` (``fc_ref_s -
+        ic_ref_s``), ``swing_time_ref_s`` (the reference contact paired with
+        ``end_s`` minus ``fc_ref_s``), ``speed_ref_m_s`` (mean ``speed_ref``
+        over the stride), ``stride_length_ref_m``; ``evaluate``'s per-stride
+        ``speed_mae_mps`` is the mean of ``|speed_m_s - speed_ref_m_s|`` over
+        the rows with both, its ``stance_time_mae_ms`` / ``swing_time_mae_ms``
+        (and ``_bias_ms``) those of the stance and swing time errors over the
+        ``n_stance_swing`` rows with both reference times. NaN: not known.
+        Sorted by ``ic_s``.
 
         ``window`` (``"10:40"`` or ``(10, 40)``, s; with ``trial`` only):
         the references outside it count as unknown, as ``evaluate(trial,

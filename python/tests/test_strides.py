@@ -14,9 +14,10 @@ pd = pytest.importorskip("pandas")
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 COLUMNS = [
-    "foot", "ic_s", "fc_s", "end_s", "decided_s", "stride_time_s", "stride_length_m", "speed_m_s",
-    "step_length_1_m", "step_length_2_m", "turn_rate_rad_s", "speed_withheld",
-    "ic_ref_s", "stride_time_ref_s", "speed_ref_m_s", "stride_length_ref_m",
+    "foot", "ic_s", "fc_s", "end_s", "decided_s", "stride_time_s", "stance_time_s", "swing_time_s",
+    "stride_length_m", "speed_m_s", "step_length_1_m", "step_length_2_m", "turn_rate_rad_s",
+    "speed_withheld", "ic_ref_s", "fc_ref_s", "stride_time_ref_s", "stance_time_ref_s",
+    "swing_time_ref_s", "speed_ref_m_s", "stride_length_ref_m",
 ]
 
 
@@ -55,9 +56,30 @@ def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path):
         withheld = df[df["speed_withheld"].notna()]
         assert len(withheld) > 0 and withheld["speed_m_s"].isna().all()
         assert set(withheld["speed_withheld"]) <= {"turn", "after_turn"}
+        assert df["stance_time_s"].isna().all() and ev["n_stance_swing"] == 0
     else:
         assert set(df["foot"]) == {"left", "right"}
         assert df["fc_s"].notna().all() and df["step_length_1_m"].isna().all()
+
+
+def test_strides_stance_and_swing_errors_are_evaluates():
+    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    est = limbfuse.estimate(trial, "gait-events")
+    df = est.strides(trial)
+    ev = limbfuse.evaluate(trial, est)
+    assert np.allclose(df["stance_time_s"], df["fc_s"] - df["ic_s"])
+    assert np.allclose(df["swing_time_s"], df["end_s"] - df["fc_s"])
+    ref = df.dropna(subset=["fc_ref_s", "ic_ref_s"])
+    assert np.allclose(ref["stance_time_ref_s"], ref["fc_ref_s"] - ref["ic_ref_s"])
+    scored = df.dropna(subset=["stance_time_ref_s", "swing_time_ref_s"])
+    assert len(scored) == ev["n_stance_swing"] > 10
+    stance = 1e3 * (scored["stance_time_s"] - scored["stance_time_ref_s"])
+    swing = 1e3 * (scored["swing_time_s"] - scored["swing_time_ref_s"])
+    for got, key in [
+        (stance.abs().mean(), "stance_time_mae_ms"), (stance.mean(), "stance_time_bias_ms"),
+        (swing.abs().mean(), "swing_time_mae_ms"), (swing.mean(), "swing_time_bias_ms"),
+    ]:
+        assert abs(got - ev[key]) < 1e-9, key
 
 
 def test_strides_without_a_trial_have_no_reference():
@@ -65,7 +87,9 @@ def test_strides_without_a_trial_have_no_reference():
     est = limbfuse.estimate(trial, "gait-events")
     df = est.strides()
     assert len(df) == len(est.strides(trial))
-    assert df[["ic_ref_s", "stride_time_ref_s", "speed_ref_m_s", "stride_length_ref_m"]].isna().all().all()
+    refs = ["ic_ref_s", "fc_ref_s", "stride_time_ref_s", "stance_time_ref_s", "swing_time_ref_s",
+            "speed_ref_m_s", "stride_length_ref_m"]
+    assert df[refs].isna().all().all() and df["stance_time_s"].notna().all()
     assert np.allclose(df["speed_m_s"], df["stride_length_m"] / df["stride_time_s"])
 
 

@@ -23,6 +23,8 @@
 //!   length against `speed_ref` x the reference stride time (the reference
 //!   contacts paired with the stride's two initial contacts). The same with
 //!   the estimate blended as `speed_ref` is: [`crate::blended_stride_speed`].
+//! - **Stance and swing time, per stride** (methods with final contacts):
+//!   [`crate::stance_swing`], from the contacts paired above.
 
 use std::path::Path;
 
@@ -34,6 +36,7 @@ use crate::blended_stride_speed::{
 };
 use crate::evaluation::{EvalError, TimeWindow};
 use crate::gait_event_columns::{read_columns, Columns};
+use crate::stance_swing::StanceSwingFigures;
 use crate::stride_table::{
     track_strides, unknown_foot_strides, StrideFoot, StrideRow, TrackEvents,
 };
@@ -83,6 +86,8 @@ pub struct GaitEventEvaluation {
     /// Stride speed and length, each estimated stride against the mean
     /// `speed_ref` over its rows.
     pub per_stride: StrideFigures,
+    /// Stance and swing time per stride (methods with final contacts).
+    pub stance_swing: StanceSwingFigures,
     /// Stride speed and length with the estimate blended as the reference is
     /// ([`crate::blended_stride_speed`]).
     pub blended: StrideFigures,
@@ -367,7 +372,7 @@ pub(crate) fn evaluate_with_strides(
         ev.initial_contact = timing(core::slice::from_ref(&se), &c, &[None]);
         accuracies(&c, &mut ev);
         let track = se.track();
-        let rows = track_strides(StrideFoot::Unknown, &c.strides_any, &track, &[], &c);
+        let rows = track_strides(StrideFoot::Unknown, &c.strides_any, &track, None, &c);
         score_strides(&rows, &c, &mut ev);
         return Ok((ev, unknown_foot_strides(rows, &track, &c)));
     }
@@ -410,11 +415,12 @@ pub(crate) fn evaluate_with_strides(
             foot,
             &c.strides[s],
             &se.track(),
-            &fe.estimated,
+            Some(&fe.track()),
             &c,
         ));
     }
     score_strides(&rows, &c, &mut ev);
+    ev.stance_swing = StanceSwingFigures::of_strides(&rows);
     Ok((ev, rows))
 }
 

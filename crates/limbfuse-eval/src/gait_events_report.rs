@@ -88,9 +88,10 @@ impl GaitEventEvaluation {
             "blended": self.blended.to_json(),
             "speed_reference": if self.speed_from_com { "com_velocity" } else { "speed_ref" },
         });
-        if let (Value::Object(top), Value::Object(per_stride)) = (&mut v, self.per_stride.to_json())
-        {
-            top.extend(per_stride);
+        for fields in [self.per_stride.to_json(), self.stance_swing.to_json()] {
+            if let (Value::Object(top), Value::Object(fields)) = (&mut v, fields) {
+                top.extend(fields);
+            }
         }
         if let (Value::Object(top), false) = (&mut v, self.warnings.is_empty()) {
             top.insert("warnings".into(), json!(self.warnings));
@@ -108,7 +109,10 @@ impl GaitEventEvaluation {
             .initial_contact
             .to_text("initial contact", self.contact_ref_columns);
         match &self.final_contact {
-            Some(fc) => s += &fc.to_text("final contact", self.contact_ref_columns),
+            Some(fc) => {
+                s += &fc.to_text("final contact", self.contact_ref_columns);
+                s += &self.stance_swing.to_text();
+            }
             None => s += "final contact    not estimated by this method\n",
         }
         if !self.per_foot {

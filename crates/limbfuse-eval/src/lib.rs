@@ -28,6 +28,7 @@ pub mod sample_interval;
 pub mod scored_feet;
 pub mod sensor_units;
 pub mod speed_range;
+pub mod stance_swing;
 pub mod stats;
 pub mod stride_table;
 pub mod strided;

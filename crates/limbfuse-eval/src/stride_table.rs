@@ -94,6 +94,10 @@ pub struct StrideRow {
     pub decided_s: f64,
     /// Stride time (s).
     pub stride_time_s: Option<f64>,
+    /// Stance time: `fc_s - ic_s` (s), `gait-events` only.
+    pub stance_time_s: Option<f64>,
+    /// Swing time: `end_s - fc_s` (s), `gait-events` only.
+    pub swing_time_s: Option<f64>,
     /// Stride length (m).
     pub stride_length_m: Option<f64>,
     /// Speed: stride length / stride time (m/s).
@@ -108,9 +112,17 @@ pub struct StrideRow {
     pub speed_withheld: Option<SpeedWithheld>,
     /// The reference initial contact paired with `ic_s` (s).
     pub ic_ref_s: Option<f64>,
+    /// The reference final contact paired with `fc_s` (s): the pairing
+    /// that scores `evaluate`'s final-contact timing.
+    pub fc_ref_s: Option<f64>,
     /// Reference stride time: between the reference contacts paired with
     /// `ic_s` and `end_s` (s).
     pub stride_time_ref_s: Option<f64>,
+    /// Reference stance time: `fc_ref_s - ic_ref_s` (s).
+    pub stance_time_ref_s: Option<f64>,
+    /// Reference swing time: the reference initial contact paired with
+    /// `end_s` minus `fc_ref_s` (s).
+    pub swing_time_ref_s: Option<f64>,
     /// Mean `speed_ref` over the stride's rows, all known (m/s).
     pub speed_ref_m_s: Option<f64>,
     /// `speed_ref_m_s` x `stride_time_ref_s` (m).
@@ -120,13 +132,15 @@ pub struct StrideRow {
 }
 
 /// The table's CSV columns, in order.
-pub const STRIDE_COLUMNS: [&str; 16] = [
+pub const STRIDE_COLUMNS: [&str; 21] = [
     "foot",
     "ic_s",
     "fc_s",
     "end_s",
     "decided_s",
     "stride_time_s",
+    "stance_time_s",
+    "swing_time_s",
     "stride_length_m",
     "speed_m_s",
     "step_length_1_m",
@@ -134,7 +148,10 @@ pub const STRIDE_COLUMNS: [&str; 16] = [
     "turn_rate_rad_s",
     "speed_withheld",
     "ic_ref_s",
+    "fc_ref_s",
     "stride_time_ref_s",
+    "stance_time_ref_s",
+    "swing_time_ref_s",
     "speed_ref_m_s",
     "stride_length_ref_m",
 ];
@@ -142,20 +159,25 @@ pub const STRIDE_COLUMNS: [&str; 16] = [
 impl StrideRow {
     /// The numeric cells, in [`STRIDE_COLUMNS`] order without `foot` and
     /// `speed_withheld`.
-    pub fn numbers(&self) -> [(&'static str, Option<f64>); 14] {
+    pub fn numbers(&self) -> [(&'static str, Option<f64>); 19] {
         [
             ("ic_s", Some(self.ic_s)),
             ("fc_s", self.fc_s),
             ("end_s", Some(self.end_s)),
             ("decided_s", Some(self.decided_s)),
             ("stride_time_s", self.stride_time_s),
+            ("stance_time_s", self.stance_time_s),
+            ("swing_time_s", self.swing_time_s),
             ("stride_length_m", self.stride_length_m),
             ("speed_m_s", self.speed_m_s),
             ("step_length_1_m", self.step_length_1_m),
             ("step_length_2_m", self.step_length_2_m),
             ("turn_rate_rad_s", self.turn_rate_rad_s),
             ("ic_ref_s", self.ic_ref_s),
+            ("fc_ref_s", self.fc_ref_s),
             ("stride_time_ref_s", self.stride_time_ref_s),
+            ("stance_time_ref_s", self.stance_time_ref_s),
+            ("swing_time_ref_s", self.swing_time_ref_s),
             ("speed_ref_m_s", self.speed_ref_m_s),
             ("stride_length_ref_m", self.stride_length_ref_m),
         ]
@@ -176,13 +198,18 @@ impl StrideTable {
     /// one line per stride; unknown cells empty.
     pub fn write_csv(&self, mut w: impl Write) -> std::io::Result<()> {
         writeln!(w, "{}", STRIDE_COLUMNS.join(","))?;
+        // (the numbers before `speed_withheld`: its column less `foot`)
+        let before_withheld = STRIDE_COLUMNS
+            .iter()
+            .position(|&c| c == "speed_withheld")
+            .map_or(0, |k| k - 1);
         for r in &self.rows {
             let cell = |v: Option<f64>| v.map_or_else(String::new, |x| x.to_string());
             let n = r.numbers();
             let mut line = vec![r.foot.name().to_string()];
-            line.extend(n[..10].iter().map(|&(_, v)| cell(v)));
+            line.extend(n[..before_withheld].iter().map(|&(_, v)| cell(v)));
             line.push(r.speed_withheld.map_or("", SpeedWithheld::name).to_string());
-            line.extend(n[10..].iter().map(|&(_, v)| cell(v)));
+            line.extend(n[before_withheld..].iter().map(|&(_, v)| cell(v)));
             writeln!(w, "{}", line.join(","))?;
         }
         Ok(())
@@ -281,12 +308,13 @@ impl TrackEvents<'_> {
 /// The strides `(row, length, time)` of one track, each ending at the
 /// track's last initial contact at or before its row (a stride whose end is
 /// not found is left out, as `evaluate` leaves it out); `fc`: the foot's
-/// final contacts (empty when unknown).
+/// final contacts and the reference paired with them (the pairing of
+/// `evaluate`'s final-contact timing), `None` when the method has none.
 pub(crate) fn track_strides(
     foot: StrideFoot,
     strides: &[(usize, f64, f64)],
     ev: &TrackEvents<'_>,
-    fc: &[f64],
+    fc: Option<&TrackEvents<'_>>,
     c: &Columns,
 ) -> Vec<StrideRow> {
     let mut rows = Vec::new();
@@ -301,13 +329,33 @@ pub(crate) fn track_strides(
         };
         let end = ev.estimated[end_j];
         let mut r = placed(foot, end - time, end, row, ev, end_j, c);
-        r.fc_s = fc.iter().copied().find(|&x| x > r.ic_s && x < end);
+        if let Some(fc) = fc {
+            with_stance_and_swing(&mut r, fc, ev.reference_of(end_j));
+        }
         r.stride_time_s = Some(time);
         r.stride_length_m = Some(length);
         r.speed_m_s = Some(length / time);
         rows.push(r);
     }
     rows
+}
+
+/// Sets the stride's final contact (the first of `fc` strictly between its
+/// two initial contacts), its stance and swing times, and their references
+/// from the reference final contact paired with it, the reference initial
+/// contact paired with the stride's start (`r.ic_ref_s`) and `end_ref` (the
+/// one paired with its end).
+fn with_stance_and_swing(r: &mut StrideRow, fc: &TrackEvents<'_>, end_ref: Option<f64>) {
+    let Some(j) = fc.estimated.iter().position(|&x| x > r.ic_s && x < r.end_s) else {
+        return;
+    };
+    let at = fc.estimated[j];
+    r.fc_s = Some(at);
+    r.stance_time_s = Some(at - r.ic_s);
+    r.swing_time_s = Some(r.end_s - at);
+    r.fc_ref_s = fc.reference_of(j);
+    r.stance_time_ref_s = r.fc_ref_s.zip(r.ic_ref_s).map(|(f, i)| f - i);
+    r.swing_time_ref_s = end_ref.zip(r.fc_ref_s).map(|(e, f)| e - f);
 }
 
 /// A stride from `start` to the estimated contact `end_j` of `ev`, decided
@@ -345,6 +393,8 @@ fn placed(
         end_s: end,
         decided_s: c.t[row],
         stride_time_s: None,
+        stance_time_s: None,
+        swing_time_s: None,
         stride_length_m: None,
         speed_m_s: None,
         step_length_1_m: None,
@@ -352,7 +402,10 @@ fn placed(
         turn_rate_rad_s: None,
         speed_withheld: None,
         ic_ref_s,
+        fc_ref_s: None,
         stride_time_ref_s,
+        stance_time_ref_s: None,
+        swing_time_ref_s: None,
         speed_ref_m_s,
         stride_length_ref_m: speed_ref_m_s.zip(stride_time_ref_s).map(|(v, t)| v * t),
         decided_row: row,

@@ -63,6 +63,16 @@ fn speed_error(r: &StrideRow) -> Option<f64> {
     Some(r.speed_m_s? - r.speed_ref_m_s?)
 }
 
+/// Estimated minus reference stance and swing time (ms), each when both
+/// are known (`evaluate` scores the strides that have both).
+fn stance_swing_errors_ms(r: &StrideRow) -> [Option<f64>; 2] {
+    let error = |e: Option<f64>, x: Option<f64>| Some(1e3 * (e? - x?));
+    [
+        error(r.stance_time_s, r.stance_time_ref_s),
+        error(r.swing_time_s, r.swing_time_ref_s),
+    ]
+}
+
 /// The `<details>` element holding the stride table of one estimate
 /// (`label`), or the note saying why it has none.
 pub fn strides_details(label: &str, s: &EstimateStrides) -> String {
@@ -80,15 +90,24 @@ pub fn strides_details(label: &str, s: &EstimateStrides) -> String {
     };
     // (`lowback-speed`'s strides: no foot, and a speed it may withhold)
     let withheld_column = table.rows.iter().any(|r| r.foot == StrideFoot::Unknown);
+    // (stance and swing: strides with a final contact, `gait-events`')
+    let phase_columns = table.rows.iter().any(|r| r.fc_s.is_some());
     let mut out = format!(
-        r#"<details class="strides" id="strides-{k}" data-estimate="{}" data-strides="{}"><summary>Strides of {}: {} (the rows of <code>limbfuse evaluate TRIAL ESTIMATE --strides FILE</code>; times in the trial's own <code>t</code>)</summary><table class="numbers" id="strides-table-{k}"><thead><tr><th>foot</th><th>IC s</th><th>FC s</th><th>stride time s</th><th>stride length m</th><th>speed m/s</th>"#,
+        r#"<details class="strides" id="strides-{k}" data-estimate="{}" data-strides="{}"><summary>Strides of {}: {} (the rows of <code>limbfuse evaluate TRIAL ESTIMATE --strides FILE</code>; times in the trial's own <code>t</code>)</summary><table class="numbers" id="strides-table-{k}"><thead><tr><th>foot</th><th>IC s</th><th>FC s</th><th>stride time s</th>"#,
         esc(label),
         table.rows.len(),
         esc(label),
         table.rows.len()
     );
+    if phase_columns {
+        out.push_str("<th>stance s</th><th>swing s</th>");
+    }
+    out.push_str("<th>stride length m</th><th>speed m/s</th>");
     if s.with_reference {
         out.push_str("<th>reference speed m/s</th><th>speed error m/s</th>");
+    }
+    if s.with_reference && phase_columns {
+        out.push_str("<th>stance error ms</th><th>swing error ms</th>");
     }
     if withheld_column {
         out.push_str("<th>speed withheld</th>");
@@ -97,11 +116,19 @@ pub fn strides_details(label: &str, s: &EstimateStrides) -> String {
     for r in &table.rows {
         let _ = write!(
             out,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
             r.foot.name(),
             cell(Some(r.ic_s), 3),
             cell(r.fc_s, 3),
             cell(r.stride_time_s, 3),
+        );
+        if phase_columns {
+            let (stance, swing) = (cell(r.stance_time_s, 3), cell(r.swing_time_s, 3));
+            let _ = write!(out, "<td>{stance}</td><td>{swing}</td>");
+        }
+        let _ = write!(
+            out,
+            "<td>{}</td><td>{}</td>",
             cell(r.stride_length_m, 3),
             cell(r.speed_m_s, 3),
         );
@@ -112,6 +139,10 @@ pub fn strides_details(label: &str, s: &EstimateStrides) -> String {
                 cell(r.speed_ref_m_s, 3),
                 cell(speed_error(r), 3)
             );
+        }
+        if s.with_reference && phase_columns {
+            let [stance, swing] = stance_swing_errors_ms(r).map(|e| cell(e, 1));
+            let _ = write!(out, "<td>{stance}</td><td>{swing}</td>");
         }
         if withheld_column {
             let _ = write!(
@@ -159,6 +190,8 @@ mod tests {
         assert!(html.contains(r#"data-strides="0""#));
         assert!(html.contains("<th>speed error m/s</th>"));
         assert!(!html.contains("<th>speed withheld</th>"));
+        // (no stride with a final contact: no stance or swing column)
+        assert!(!html.contains("<th>stance s</th>"), "{html}");
         assert!(html.ends_with("<tbody></tbody></table></details>"));
     }
 }

@@ -30,8 +30,10 @@ fn table_rows(html: &str, id: &str) -> Vec<Vec<String>> {
 }
 
 /// The rows `evaluate --strides` writes for `estimate`, as the report
-/// shows them: foot, IC, FC, stride time, length, speed, reference speed,
-/// speed error (and the withheld reason when `withheld`).
+/// shows them: foot, IC, FC, stride time, (stance, swing time,) length,
+/// speed, reference speed, speed error, (stance and swing time error in
+/// ms,) and the withheld reason when `withheld`; stance and swing when a
+/// stride has a final contact.
 fn csv_rows(dir: &Path, trial: &str, estimate: &str, withheld: bool) -> Vec<Vec<String>> {
     run_ok(
         &["evaluate", trial, estimate, "--strides", "s.csv", "--json"],
@@ -41,27 +43,34 @@ fn csv_rows(dir: &Path, trial: &str, estimate: &str, withheld: bool) -> Vec<Vec<
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|&h| h == name).unwrap();
-    lines
-        .map(|l| {
-            let r: Vec<&str> = l.split(',').collect();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let phases = rows.iter().any(|r| !r[col("fc_s")].is_empty());
+    rows.iter()
+        .map(|r| {
             let num = |name: &str| r[col(name)].parse::<f64>().ok();
-            let cell = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.3}"));
+            let cell =
+                |v: Option<f64>, p: usize| v.map_or_else(String::new, |v| format!("{v:.p$}"));
+            let error_ms =
+                |a: &str, b: &str| cell(num(a).zip(num(b)).map(|(a, b)| 1e3 * (a - b)), 1);
             let mut row = vec![r[col("foot")].to_string()];
-            for name in [
-                "ic_s",
-                "fc_s",
-                "stride_time_s",
-                "stride_length_m",
-                "speed_m_s",
-                "speed_ref_m_s",
-            ] {
-                row.push(cell(num(name)));
+            let mut names = vec!["ic_s", "fc_s", "stride_time_s"];
+            if phases {
+                names.extend(["stance_time_s", "swing_time_s"]);
+            }
+            names.extend(["stride_length_m", "speed_m_s", "speed_ref_m_s"]);
+            for name in names {
+                row.push(cell(num(name), 3));
             }
             row.push(cell(
                 num("speed_m_s")
                     .zip(num("speed_ref_m_s"))
                     .map(|(a, b)| a - b),
+                3,
             ));
+            if phases {
+                row.push(error_ms("stance_time_s", "stance_time_ref_s"));
+                row.push(error_ms("swing_time_s", "swing_time_ref_s"));
+            }
             if withheld {
                 row.push(r[col("speed_withheld")].to_string());
             }
@@ -163,6 +172,9 @@ fn report_stride_table_without_references_has_no_reference_columns() {
     let html = std::fs::read_to_string(p.join("r.html")).unwrap();
     let rows = table_rows(&html, "strides-table-0");
     assert!(rows.len() > 4, "{} strides", rows.len());
-    assert!(rows.iter().all(|r| r.len() == 6), "{rows:?}");
+    // foot, IC, FC, stride time, stance, swing, length, speed
+    assert!(rows.iter().all(|r| r.len() == 8), "{rows:?}");
+    assert!(html.contains("<th>stance s</th><th>swing s</th>"));
     assert!(!html.contains("<th>reference speed m/s</th>"));
+    assert!(!html.contains("<th>stance error ms</th>"));
 }

@@ -71,15 +71,64 @@ fn strides_match_evaluate(method: &str, trial: &Path) {
         (want - got).abs() < 1e-12,
         "{method}: length MAE {got} vs {want}"
     );
+    // stance and swing time errors (ms) over the strides with both known in
+    // estimate and reference
+    let phases: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| {
+            let stance = num(r, "stance_time_s")? - num(r, "stance_time_ref_s")?;
+            let swing = num(r, "swing_time_s")? - num(r, "swing_time_ref_s")?;
+            Some((1e3 * stance, 1e3 * swing))
+        })
+        .collect();
+    assert_eq!(
+        phases.len() as u64,
+        v["n_stance_swing"].as_u64().unwrap(),
+        "{v}"
+    );
+    let n = phases.len() as f64;
+    let figures = [
+        (
+            "stance_time_mae_ms",
+            phases.iter().map(|p| p.0.abs()).sum::<f64>() / n,
+        ),
+        (
+            "stance_time_bias_ms",
+            phases.iter().map(|p| p.0).sum::<f64>() / n,
+        ),
+        (
+            "swing_time_mae_ms",
+            phases.iter().map(|p| p.1.abs()).sum::<f64>() / n,
+        ),
+        (
+            "swing_time_bias_ms",
+            phases.iter().map(|p| p.1).sum::<f64>() / n,
+        ),
+    ];
+    for (key, got) in figures {
+        match v[key].as_f64() {
+            Some(want) => assert!((want - got).abs() < 1e-9, "{method}: {key} {got} vs {want}"),
+            // (`lowback-speed` finds no final contacts: nothing scored)
+            None => assert!(phases.is_empty() && method == "lowback-speed", "{v}"),
+        }
+    }
     let feet: Vec<&str> = rows.iter().map(|r| r[col("foot")].as_str()).collect();
     match method {
-        "gait-events" => assert!(feet.contains(&"left") && feet.contains(&"right")),
+        "gait-events" => {
+            assert!(feet.contains(&"left") && feet.contains(&"right"));
+            assert!(
+                phases.len() > 10,
+                "{} strides with stance and swing",
+                phases.len()
+            );
+        }
         _ => assert!(feet.iter().all(|&f| f == "unknown")),
     }
 }
 
 /// The shared gaitmap two-foot walk: the table's per-stride speed and
-/// length errors are `evaluate --json`'s (14 strides of each foot).
+/// length errors, and its stance and swing time errors, are `evaluate
+/// --json`'s (14 strides of each foot).
 #[test]
 fn strides_table_reproduces_evaluate_on_the_gaitmap_walk() {
     let Some(trial) = shared_data("gaitmap-foot-walk/trial.csv") else {
