@@ -142,3 +142,20 @@ def test_arguments_are_checked_first_and_the_first_failing_trial_is_named(cohort
     assert "the folder" in capsys.readouterr().err
     assert cohort.main([pattern, "--method", "mjls", "--quiet", "--address", "foo"]) == 1
     assert "--address foo" in capsys.readouterr().err
+
+
+def test_event_cohort_carries_stance_and_swing_errors(tmp_path):
+    """Session 32: the stance and swing time errors `evaluate` gives a
+    gait-events estimate are cohort columns too (they were left out)."""
+    paths = []
+    for k in range(2):
+        tr = limbfuse.simulate("walking", duration=20.0, seed=300 + k, gait_reference=True)
+        tr.write(tmp_path / f"g{k}.csv")
+        paths.append(str(tmp_path / f"g{k}.csv"))
+    df = cohort.run(paths, "gait-events", scheduler="sync")
+    for p, (_, row) in zip(paths, df.iterrows()):
+        tr = limbfuse.read_trial(p)
+        ev = limbfuse.evaluate(tr, limbfuse.estimate(tr, "gait-events"))
+        assert ev["n_stance_swing"] > 0
+        for k in ("stance_time_mae_ms", "stance_time_bias_ms", "swing_time_mae_ms", "swing_time_bias_ms", "n_stance_swing"):
+            assert row[k] == ev[k], k
