@@ -232,7 +232,7 @@ fn nearest_sample(times: &[f64], t: f64) -> Option<usize> {
 /// The numbers of `limbfuse evaluate` for gait-event and speed estimates.
 pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -> String {
     let mut s = String::from(
-        r#"<table class="numbers" id="events-table"><thead><tr><th>estimate</th><th>initial contacts found / reference (missed, extra)</th><th>IC |error| median / p95 ms</th><th>final contacts found / reference (missed, extra)</th><th>FC |error| median / p95 ms</th><th>contact accuracy %</th><th>phase accuracy %</th><th>stride speed MAE (bias) m/s</th><th>strides</th><th>stride length error % (strides)</th></tr></thead><tbody>"#,
+        r#"<table class="numbers" id="events-table"><thead><tr><th>estimate</th><th>initial contacts found / reference (missed, extra)</th><th>IC |error| median / p95 ms</th><th>final contacts found / reference (missed, extra)</th><th>FC |error| median / p95 ms</th><th>stance / swing time MAE (bias) ms (strides)</th><th>contact accuracy %</th><th>phase accuracy %</th><th>stride speed MAE (bias) m/s</th><th>strides</th><th>stride length error % (strides)</th></tr></thead><tbody>"#,
     );
     let f = |v: Option<f64>, p: usize| v.map_or("-".to_string(), |v| format!("{v:.p$}"));
     // (an audit: "0 / 0 (0, 0)" where `evaluate` says there is no
@@ -256,14 +256,30 @@ pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -
                 (count(fc), timing(fc))
             });
         let st = &e.per_stride;
+        // (`evaluate`'s stance / swing lines; "-" where no stride has both
+        // its reference stance and swing: `lowback-speed`, no reference)
+        let ss = &e.stance_swing;
+        let stance_swing = if ss.n_strides == 0 {
+            "-".to_string()
+        } else {
+            format!(
+                "{} ({}) / {} ({}) ({})",
+                f(ss.stance_time_mae_ms, 1),
+                f(ss.stance_time_bias_ms, 1),
+                f(ss.swing_time_mae_ms, 1),
+                f(ss.swing_time_bias_ms, 1),
+                ss.n_strides
+            )
+        };
         let _ = write!(
             s,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{} ({})</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{} ({})</td></tr>",
             esc(&labels[*i]),
             count(&e.initial_contact),
             timing(&e.initial_contact),
             fc_count,
             fc_timing,
+            stance_swing,
             f(e.contact_accuracy_pct, 1),
             f(e.phase_accuracy_pct, 1),
             f(st.speed_mae_mps, 3),

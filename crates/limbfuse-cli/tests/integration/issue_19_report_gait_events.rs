@@ -63,4 +63,19 @@ fn issue_19_report_of_gait_events_on_the_gaitmap_walk() {
         v["n_lengths"]
     );
     assert!(html.contains(&length), "no {length} in the events table");
+    // the stance and swing time errors (session 32: evaluate had them, the
+    // report's table did not)
+    let ms = |k: &str| format!("{:.1}", v[k].as_f64().unwrap());
+    let stance_swing = format!(
+        "<td>{} ({}) / {} ({}) ({})</td>",
+        ms("stance_time_mae_ms"),
+        ms("stance_time_bias_ms"),
+        ms("swing_time_mae_ms"),
+        ms("swing_time_bias_ms"),
+        v["n_stance_swing"]
+    );
+    assert!(
+        html.contains(&stance_swing),
+        "no {stance_swing} in the events table"
+    );
 }
