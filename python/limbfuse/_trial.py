@@ -78,7 +78,7 @@ class Trial(SetOnce):
         # message, which names the channels to split it into.)
         _native.check_channel_names(
             [(str(k), str(v)) for k, v in (meta or {}).items()],
-            [n for n, v in channels.items() if n != PHASE_REF and getattr(v, "ndim", 1) == 1],
+            [n for n, v in channels.items() if n != PHASE_REF and _ndim(v) == 1],
         )
         cols: Dict[str, np.ndarray] = {}
         for name, values in channels.items():
@@ -249,6 +249,12 @@ def _check_rows(name: str, values: Any, index: Any) -> None:
         "reordered); values pair with times by position: take both from one DataFrame, "
         "align them (`.reindex(t.index)`), or pass `.to_numpy()` to pair by position"
     )
+
+
+def _ndim(values: Any) -> int:
+    """Dimensions of a channel's values (an array's own, else numpy's
+    reading of a list: a list of rows is a block of axes)."""
+    return values.ndim if hasattr(values, "ndim") else np.ndim(values)
 
 
 def _trial_from_state(t, channels, meta, phase_ref, source) -> Trial:

@@ -164,6 +164,7 @@ def test_a_three_axis_block_is_told_to_split_into_channels():
     for name, block, split in (
         ("thigh_gyr", np.zeros((10, 3)), "'thigh_gyr_y': a[:, 1]"),
         ("shank_acc_x", np.zeros((3, 10)), "'shank_acc_z': a[2]"),
+        ("thigh_gyr", np.zeros((10, 3)).tolist(), "'thigh_gyr_y': a[:, 1]"),
     ):
         with pytest.raises(LimbfuseError, match="expected a 1-D array") as e:
             Trial(t, {name: block})

@@ -255,7 +255,7 @@ pub fn stride_table_of_files(
     if let Some(why) = why_no_strides(estimate)? {
         return Err(EvalError::NoStrides(why));
     }
-    evaluation_and_stride_table(trial, estimate, allow_trial_mismatch, window)?
+    scored_table(None, trial, estimate, allow_trial_mismatch, window)?
         .1
         .map_err(EvalError::NoStrides)
 }
@@ -273,6 +273,18 @@ pub fn evaluation_and_stride_table(
     window: &TimeWindow,
 ) -> Result<(GaitEventEvaluation, Result<StrideTable, String>), EvalError> {
     let why = why_no_strides(estimate)?;
+    scored_table(why, trial, estimate, allow_trial_mismatch, window)
+}
+
+/// The evaluation and, unless `why` says the estimate has no strides, its
+/// stride table.
+fn scored_table(
+    why: Option<String>,
+    trial: Option<&Path>,
+    estimate: &Path,
+    allow_trial_mismatch: bool,
+    window: &TimeWindow,
+) -> Result<(GaitEventEvaluation, Result<StrideTable, String>), EvalError> {
     let (ev, rows) = crate::gait_events_evaluation::evaluate_with_strides(
         trial,
         estimate,
