@@ -26,8 +26,20 @@
 //!   interpolation; decided one sample after it.
 //!
 //! The push-off extremum is taken from the latest negative lobe before the
-//! swing (a lobe starts when `w` turns negative), so the loading lobe of
-//! the previous contact is never mistaken for it.
+//! swing, so the loading lobe after the initial contact is never mistaken
+//! for it. A lobe starts when `w` turns negative, or at the first sample
+//! after a rest of the foot: the rest is the foot flat of mid-stance, which
+//! ends the loading response (loading response 0-10 % of the gait cycle,
+//! mid-stance 10-30 % with the foot flat, heel rise in terminal stance
+//! 30-50 %, push-off in pre-swing 50-60 %: Perry & Burnfield, Gait
+//! Analysis, 2nd ed. 2010, ch. 2 and 4), so nothing before it is the
+//! push-off. On straight walking `w` crosses zero between the two lobes
+//! anyway; on a turning step it can stay slightly negative through the
+//! foot flat (the pivoting foot's rotation leaks into the sagittal axis),
+//! and the loading lobe's deeper extremum (the heel-strike impact) was
+//! taken for the toe off, 25 ms after the initial contact (the shared
+//! gaitmap walk, left stride at 16.16 s). A stance without a rest keeps
+//! the zero-crossing rule alone.
 //!
 //! The detector starts (and restarts after a gap) by waiting for a rest of
 //! the foot, or, when it starts in swing (`w > swing_rate`), by ending that
@@ -139,7 +151,11 @@ impl FootEvents {
             }
             State::Stance => {
                 let w_prev = previous.map_or(0.0, |p| p.1);
-                if w < 0.0 {
+                if rest {
+                    // Foot flat: the loading response is over, the
+                    // push-off lobe starts after it.
+                    self.lobe_min = None;
+                } else if w < 0.0 {
                     let new_lobe = w_prev >= 0.0 || self.lobe_min.is_none();
                     let lower = self.lobe_min.is_none_or(|m| w < m.value());
                     if new_lobe || lower {
@@ -266,6 +282,61 @@ mod tests {
         let (decided, t_fc) = fc[0];
         assert!((decided - 0.54).abs() < 1e-9, "decided at {decided}");
         assert!((t_fc - corner).abs() < 1e-9, "toe off at {t_fc}");
+    }
+
+    /// A synthetic turning stride whose loading and push-off lobes do not
+    /// separate: `w` stays slightly negative (-0.1 rad/s) through the foot
+    /// flat (rest at 0.65-0.85 s) between the loading lobe after the initial
+    /// contact at 0.5 s (impact minimum -6.1 rad/s at 0.55 s) and the
+    /// push-off (minimum -4 rad/s at 1.0 s), then the swing.
+    fn turning_stride_w(t: f64) -> f64 {
+        use core::f64::consts::PI;
+        if (0.1..0.5).contains(&t) {
+            6.0 * libm::sin(PI * (t - 0.1) / 0.4)
+        } else if (0.5..0.6).contains(&t) {
+            -0.1 - 6.0 * libm::sin(PI * (t - 0.5) / 0.1)
+        } else if (0.6..0.9).contains(&t) {
+            -0.1
+        } else if (0.9..1.05).contains(&t) {
+            // skewed like the push-off of `w_of`: minimum at 1.0
+            let u = if t < 1.0 {
+                (t - 0.9) / 0.10 * 0.5
+            } else {
+                0.5 + (t - 1.0) / 0.05 * 0.5
+            };
+            -0.1 - 3.9 * libm::sin(PI * u)
+        } else if (1.05..1.45).contains(&t) {
+            -0.1 + 6.1 * libm::sin(PI * (t - 1.05) / 0.40)
+        } else {
+            0.0
+        }
+    }
+
+    /// A turning step's toe off is the push-off extremum after the foot
+    /// flat, not the deeper loading (impact) extremum of the same negative
+    /// stretch of `w`. Before (the gaitmap walk's left stride at 16.16 s)
+    /// the toe off was put at 0.55 s here, 50 ms after the initial contact.
+    #[test]
+    fn a_turning_step_toe_off_is_the_push_off_after_the_foot_flat() {
+        let mut d = FootEvents::new(1.0, 0.15);
+        let dt = 1.0 / 500.0;
+        let (mut ic, mut fc) = (vec![], vec![]);
+        for k in 0..800 {
+            let t = k as f64 * dt;
+            let rest = t < 0.1 || (0.65..=0.85).contains(&t);
+            let e = d.update(t, dt, turning_stride_w(t), rest);
+            ic.extend(e.initial_contact);
+            fc.extend(e.final_contact);
+        }
+        // The turning stride's contact (its swing lobe jumps to -0.1 rad/s:
+        // the crossing is interpolated just before 0.5 s) and the next one.
+        assert_eq!(ic.len(), 2, "{ic:?}");
+        assert!((ic[0] - 0.5).abs() < 2e-3, "initial contact at {ic:?}");
+        // The turning stride's toe off (the one before it, of the swing
+        // that starts from the first rest, has no push-off lobe).
+        let stride: Vec<f64> = fc.into_iter().filter(|&x| x > ic[0] && x < ic[1]).collect();
+        assert_eq!(stride.len(), 1, "{stride:?}");
+        assert!((stride[0] - 1.0).abs() < 1.5e-3, "toe off at {stride:?}");
     }
 
     /// Two synthetic strides (period 1 s) seen from `start` (s): the
