@@ -27,11 +27,10 @@
 //!
 //! The push-off extremum is taken from the latest negative lobe before the
 //! swing, so the loading lobe after the initial contact is never mistaken
-//! for it. A lobe starts when `w` turns negative, or at the first sample
-//! after a foot flat (a rest of the foot that has lasted `min_rest_time`,
-//! as the stride integration's, [`super::GaitEventsParams::min_rest_time`]:
-//! a slow swing can hold still for a moment, a foot flat lasts 0.13 s or
-//! more): the foot flat of mid-stance ends the loading response (loading response 0-10 % of the gait cycle,
+//! for it. A lobe starts when `w` turns negative, or after the stance's
+//! first foot flat (a rest of the foot that has lasted `min_rest_time`, as
+//! for the stride integration, [`super::GaitEventsParams::min_rest_time`]):
+//! the foot flat of mid-stance ends the loading response (loading response 0-10 % of the gait cycle,
 //! mid-stance 10-30 % with the foot flat, heel rise in terminal stance
 //! 30-50 %, push-off in pre-swing 50-60 %: Perry & Burnfield, Gait
 //! Analysis, 2nd ed. 2010, ch. 2 and 4), so nothing before it is the
@@ -40,8 +39,12 @@
 //! foot flat (the pivoting foot's rotation leaks into the sagittal axis),
 //! and the loading lobe's deeper extremum (the heel-strike impact) was
 //! taken for the toe off, 25 ms after the initial contact (the shared
-//! gaitmap walk, left stride at 16.16 s). A stance without a rest keeps
-//! the zero-crossing rule alone.
+//! gaitmap walk, left stride at 16.16 s). Only the first foot flat after
+//! the initial contact counts, and only a rest of `min_rest_time`: a slow
+//! swing's start can hold still for a moment (0.02 s at 0.6-1 m/s, longer
+//! at 0.4 m/s) after the push-off, before the rate passes `swing_rate`,
+//! and such a rest would drop the push-off lobe. A stance without a foot
+//! flat keeps the zero-crossing rule alone.
 //!
 //! The detector starts (and restarts after a gap) by waiting for a rest of
 //! the foot, or, when it starts in swing (`w > swing_rate`), by ending that
@@ -87,6 +90,8 @@ pub struct FootEvents {
     min_rest_time: f64,
     /// How long (s) the foot has been at rest without a break.
     rest_time: f64,
+    /// The current stance has had its foot flat (its loading is over).
+    foot_flat_seen: bool,
     /// The current swing was entered from [`State::Unknown`] (its toe off
     /// not seen).
     swing_seen_from_start: bool,
@@ -103,6 +108,7 @@ impl FootEvents {
             min_swing_time,
             min_rest_time,
             rest_time: 0.0,
+            foot_flat_seen: false,
             state: State::Unknown,
             previous: None,
             before_previous: None,
@@ -152,6 +158,7 @@ impl FootEvents {
             State::Unknown => {
                 if rest {
                     self.state = State::Stance;
+                    self.foot_flat_seen = false;
                 } else if w > self.swing_rate {
                     // Started (or restarted after a gap) in swing: its toe
                     // off is not seen, but its end is an initial contact
@@ -163,10 +170,11 @@ impl FootEvents {
             }
             State::Stance => {
                 let w_prev = previous.map_or(0.0, |p| p.1);
-                if foot_flat {
+                if foot_flat && !self.foot_flat_seen {
                     // The loading response is over: the push-off lobe
                     // starts after the foot flat.
                     self.lobe_min = None;
+                    self.foot_flat_seen = true;
                 } else if w < 0.0 {
                     let new_lobe = w_prev >= 0.0 || self.lobe_min.is_none();
                     let lower = self.lobe_min.is_none_or(|m| w < m.value());
@@ -202,6 +210,7 @@ impl FootEvents {
                         let t_ic = t_prev + (t - t_prev) * w_prev / (w_prev - w);
                         out.initial_contact = Some(t_ic);
                         self.state = State::Stance;
+                        self.foot_flat_seen = false;
                         self.lobe_min = Some(lobe_start());
                     } else if ends && self.swing_seen_from_start {
                         // Too little of a swing seen from the start to
@@ -357,18 +366,24 @@ mod tests {
         assert!((fc[0] - 1.0).abs() < 1.5e-3, "toe off at {fc:?}");
     }
 
-    /// A moment of rest (0.01 s, shorter than `min_rest_time`) between the
-    /// push-off and the swing, as a slow swing's start can hold still, is
-    /// no foot flat: the push-off extremum stays the toe off. (With any
+    /// A moment of rest between the push-off and the swing, as a slow
+    /// swing's start can hold still, is no foot flat: the push-off extremum
+    /// stays the toe off, whether the moment is shorter than `min_rest_time`
+    /// (0.01 s) or not (0.06 s, after the stance's foot flat). (With any
     /// rest sample taken for a foot flat the toe off went to the swing
-    /// crossing, 160-170 ms late, on 8 of 35 strides of a simulated
-    /// 0.6 m/s walk.)
+    /// crossing, 160-170 ms late, on 8 of 35 strides of a simulated 0.6 m/s
+    /// walk.)
     #[test]
     fn a_moment_of_rest_before_the_swing_keeps_the_push_off() {
-        let (_, fc) =
-            turning_stride_events(|t| (0.65..=0.85).contains(&t) || (1.055..1.065).contains(&t));
-        assert_eq!(fc.len(), 1, "{fc:?}");
-        assert!((fc[0] - 1.0).abs() < 1.5e-3, "toe off at {fc:?}");
+        for moment in [1.055..1.065, 1.01..1.07] {
+            let (_, fc) =
+                turning_stride_events(|t| (0.65..=0.85).contains(&t) || moment.contains(&t));
+            assert_eq!(fc.len(), 1, "{moment:?}: {fc:?}");
+            assert!(
+                (fc[0] - 1.0).abs() < 1.5e-3,
+                "{moment:?}: toe off at {fc:?}"
+            );
+        }
     }
 
     /// Two synthetic strides (period 1 s) seen from `start` (s): the
