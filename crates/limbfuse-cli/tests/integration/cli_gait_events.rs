@@ -21,7 +21,7 @@ fn data_dir() -> Option<PathBuf> {
 }
 
 /// Runs `limbfuse` with `args` in `dir`; exit 0 or the test fails with its stderr.
-fn succeed(args: &[&str], dir: &Path) -> std::process::Output {
+pub(crate) fn succeed(args: &[&str], dir: &Path) -> std::process::Output {
     let o = limbfuse(args, dir);
     assert_eq!(
         o.status.code(),

@@ -9,19 +9,8 @@
 
 use std::path::Path;
 
-use crate::support::{limbfuse, shared_data};
-
-/// Runs `limbfuse` with `args` in `dir`; exit 0 or the test fails with its stderr.
-fn succeed(args: &[&str], dir: &Path) -> std::process::Output {
-    let o = limbfuse(args, dir);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o
-}
+use crate::cli_gait_events::succeed;
+use crate::support::shared_data;
 
 /// The rows of a CSV file (comment lines skipped) as name -> cell maps.
 fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
