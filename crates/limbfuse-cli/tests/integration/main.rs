@@ -70,6 +70,7 @@ mod streaming_estimate;
 mod strides_table;
 mod support;
 mod tuning_cli;
+mod turning_step_toe_off;
 mod units_of_a_trial;
 mod ux_audit_28;
 mod ux_audit_28_align;

@@ -26,8 +26,25 @@
 //!   interpolation; decided one sample after it.
 //!
 //! The push-off extremum is taken from the latest negative lobe before the
-//! swing (a lobe starts when `w` turns negative), so the loading lobe of
-//! the previous contact is never mistaken for it.
+//! swing, so the loading lobe after the initial contact is never mistaken
+//! for it. A lobe starts when `w` turns negative, or after the stance's
+//! first foot flat (a rest of the foot that has lasted `min_rest_time`, as
+//! for the stride integration, [`super::GaitEventsParams::min_rest_time`]):
+//! the foot flat of mid-stance ends the loading response (loading response 0-10 % of the gait cycle,
+//! mid-stance 10-30 % with the foot flat, heel rise in terminal stance
+//! 30-50 %, push-off in pre-swing 50-60 %: Perry & Burnfield, Gait
+//! Analysis, 2nd ed. 2010, ch. 2 and 4), so nothing before it is the
+//! push-off. On straight walking `w` crosses zero between the two lobes
+//! anyway; on a turning step it can stay slightly negative through the
+//! foot flat (the pivoting foot's rotation leaks into the sagittal axis),
+//! and the loading lobe's deeper extremum (the heel-strike impact) was
+//! taken for the toe off, 25 ms after the initial contact (the shared
+//! gaitmap walk, left stride at 16.16 s). Only the first foot flat after
+//! the initial contact counts, and only a rest of `min_rest_time`: a slow
+//! swing's start can hold still for a moment (0.02 s at 0.6-1 m/s, longer
+//! at 0.4 m/s) after the push-off, before the rate passes `swing_rate`,
+//! and such a rest would drop the push-off lobe. A stance without a foot
+//! flat keeps the zero-crossing rule alone.
 //!
 //! The detector starts (and restarts after a gap) by waiting for a rest of
 //! the foot, or, when it starts in swing (`w > swing_rate`), by ending that
@@ -69,6 +86,12 @@ pub struct FootEvents {
     /// second sample after.
     pending_final_contact: Option<TroughSamples>,
     swing_start: f64,
+    /// Shortest rest (s) that is a foot flat.
+    min_rest_time: f64,
+    /// How long (s) the foot has been at rest without a break.
+    rest_time: f64,
+    /// The current stance has had its foot flat (its loading is over).
+    foot_flat_seen: bool,
     /// The current swing was entered from [`State::Unknown`] (its toe off
     /// not seen).
     swing_seen_from_start: bool,
@@ -76,11 +99,16 @@ pub struct FootEvents {
 
 impl FootEvents {
     /// A detector: swing is confirmed when `w > swing_rate` (rad/s); an
-    /// initial contact needs at least `min_swing_time` (s) after the toe off.
-    pub fn new(swing_rate: f64, min_swing_time: f64) -> Self {
+    /// initial contact needs at least `min_swing_time` (s) after the toe off;
+    /// a rest of the foot that has lasted `min_rest_time` (s) is a foot flat
+    /// (the push-off lobe is looked for after it).
+    pub fn new(swing_rate: f64, min_swing_time: f64, min_rest_time: f64) -> Self {
         FootEvents {
             swing_rate,
             min_swing_time,
+            min_rest_time,
+            rest_time: 0.0,
+            foot_flat_seen: false,
             state: State::Unknown,
             previous: None,
             before_previous: None,
@@ -93,7 +121,7 @@ impl FootEvents {
 
     /// Forgets the state (dropout, sign change): waits for the next rest.
     pub fn reset(&mut self) {
-        *self = FootEvents::new(self.swing_rate, self.min_swing_time);
+        *self = FootEvents::new(self.swing_rate, self.min_swing_time, self.min_rest_time);
     }
 
     /// Contact state: `Some(true)` in stance, `Some(false)` in swing, `None` before the start.
@@ -123,11 +151,14 @@ impl FootEvents {
                 self.pending_final_contact = Some(m);
             }
         }
+        self.rest_time = if rest { self.rest_time + dt } else { 0.0 };
+        let foot_flat = rest && self.rest_time >= self.min_rest_time - 1e-9;
         let lobe_start = || TroughSamples::new(t, w, dt, [before_previous, previous]);
         match self.state {
             State::Unknown => {
                 if rest {
                     self.state = State::Stance;
+                    self.foot_flat_seen = false;
                 } else if w > self.swing_rate {
                     // Started (or restarted after a gap) in swing: its toe
                     // off is not seen, but its end is an initial contact
@@ -139,7 +170,12 @@ impl FootEvents {
             }
             State::Stance => {
                 let w_prev = previous.map_or(0.0, |p| p.1);
-                if w < 0.0 {
+                if foot_flat && !self.foot_flat_seen {
+                    // The loading response is over: the push-off lobe
+                    // starts after the foot flat.
+                    self.lobe_min = None;
+                    self.foot_flat_seen = true;
+                } else if w < 0.0 {
                     let new_lobe = w_prev >= 0.0 || self.lobe_min.is_none();
                     let lower = self.lobe_min.is_none_or(|m| w < m.value());
                     if new_lobe || lower {
@@ -174,6 +210,7 @@ impl FootEvents {
                         let t_ic = t_prev + (t - t_prev) * w_prev / (w_prev - w);
                         out.initial_contact = Some(t_ic);
                         self.state = State::Stance;
+                        self.foot_flat_seen = false;
                         self.lobe_min = Some(lobe_start());
                     } else if ends && self.swing_seen_from_start {
                         // Too little of a swing seen from the start to
@@ -216,7 +253,7 @@ mod tests {
 
     #[test]
     fn events_are_at_the_landmarks() {
-        let mut d = FootEvents::new(1.0, 0.15);
+        let mut d = FootEvents::new(1.0, 0.15, 0.05);
         let dt = 1.0 / 500.0;
         let (mut ic, mut fc) = (None, None);
         for k in 0..600 {
@@ -239,7 +276,7 @@ mod tests {
     /// in, at the corner of the push-off and release lines.
     #[test]
     fn a_release_crossing_at_the_next_sample_waits_for_the_line() {
-        let mut d = FootEvents::new(1.0, 0.15);
+        let mut d = FootEvents::new(1.0, 0.15, 0.05);
         let dt = 0.02;
         let corner = 0.513;
         let w = |t: f64| {
@@ -268,10 +305,91 @@ mod tests {
         assert!((t_fc - corner).abs() < 1e-9, "toe off at {t_fc}");
     }
 
+    /// A synthetic turning stride whose loading and push-off lobes do not
+    /// separate: `w` stays slightly negative (-0.1 rad/s) through the foot
+    /// flat (rest at 0.65-0.85 s) between the loading lobe after the initial
+    /// contact at 0.5 s (impact minimum -6.1 rad/s at 0.55 s) and the
+    /// push-off (minimum -4 rad/s at 1.0 s), then the swing.
+    fn turning_stride_w(t: f64) -> f64 {
+        use core::f64::consts::PI;
+        if (0.1..0.5).contains(&t) {
+            6.0 * libm::sin(PI * (t - 0.1) / 0.4)
+        } else if (0.5..0.6).contains(&t) {
+            -0.1 - 6.0 * libm::sin(PI * (t - 0.5) / 0.1)
+        } else if (0.6..0.9).contains(&t) {
+            -0.1
+        } else if (0.9..1.05).contains(&t) {
+            // skewed like the push-off of `w_of`: minimum at 1.0
+            let u = if t < 1.0 {
+                (t - 0.9) / 0.10 * 0.5
+            } else {
+                0.5 + (t - 1.0) / 0.05 * 0.5
+            };
+            -0.1 - 3.9 * libm::sin(PI * u)
+        } else if (1.05..1.45).contains(&t) {
+            -0.1 + 6.1 * libm::sin(PI * (t - 1.05) / 0.40)
+        } else {
+            0.0
+        }
+    }
+
+    /// The turning stride's toe offs between its initial contact and the
+    /// next, and its initial contacts, with the foot at rest where `rest`.
+    fn turning_stride_events(rest: impl Fn(f64) -> bool) -> (Vec<f64>, Vec<f64>) {
+        let mut d = FootEvents::new(1.0, 0.15, 0.05);
+        let dt = 1.0 / 500.0;
+        let (mut ic, mut fc) = (vec![], vec![]);
+        for k in 0..800 {
+            let t = k as f64 * dt;
+            let e = d.update(t, dt, turning_stride_w(t), t < 0.1 || rest(t));
+            ic.extend(e.initial_contact);
+            fc.extend(e.final_contact);
+        }
+        // The turning stride's contact (its swing lobe jumps to -0.1 rad/s:
+        // the crossing is interpolated just before 0.5 s) and the next one.
+        assert_eq!(ic.len(), 2, "{ic:?}");
+        assert!((ic[0] - 0.5).abs() < 2e-3, "initial contact at {ic:?}");
+        // The toe off of the swing that starts from the first rest (no
+        // push-off lobe) is not the stride's.
+        fc.retain(|&x| x > ic[0] && x < ic[1]);
+        (ic, fc)
+    }
+
+    /// A turning step's toe off is the push-off extremum after the foot
+    /// flat, not the deeper loading (impact) extremum of the same negative
+    /// stretch of `w`. Before (the gaitmap walk's left stride at 16.16 s)
+    /// the toe off was put at 0.55 s here, 50 ms after the initial contact.
+    #[test]
+    fn a_turning_step_toe_off_is_the_push_off_after_the_foot_flat() {
+        let (_, fc) = turning_stride_events(|t| (0.65..=0.85).contains(&t));
+        assert_eq!(fc.len(), 1, "{fc:?}");
+        assert!((fc[0] - 1.0).abs() < 1.5e-3, "toe off at {fc:?}");
+    }
+
+    /// A moment of rest between the push-off and the swing, as a slow
+    /// swing's start can hold still, is no foot flat: the push-off extremum
+    /// stays the toe off, whether the moment is shorter than `min_rest_time`
+    /// (0.01 s) or not (0.06 s, after the stance's foot flat). (With any
+    /// rest sample taken for a foot flat the toe off went to the swing
+    /// crossing, 160-170 ms late, on 8 of 35 strides of a simulated 0.6 m/s
+    /// walk.)
+    #[test]
+    fn a_moment_of_rest_before_the_swing_keeps_the_push_off() {
+        for moment in [1.055..1.065, 1.01..1.07] {
+            let (_, fc) =
+                turning_stride_events(|t| (0.65..=0.85).contains(&t) || moment.contains(&t));
+            assert_eq!(fc.len(), 1, "{moment:?}: {fc:?}");
+            assert!(
+                (fc[0] - 1.0).abs() < 1.5e-3,
+                "{moment:?}: toe off at {fc:?}"
+            );
+        }
+    }
+
     /// Two synthetic strides (period 1 s) seen from `start` (s): the
     /// events decided, in order.
     fn events_from(start: f64) -> (Vec<f64>, Vec<f64>) {
-        let mut d = FootEvents::new(1.0, 0.15);
+        let mut d = FootEvents::new(1.0, 0.15, 0.05);
         let dt = 1.0 / 500.0;
         let (mut ic, mut fc) = (vec![], vec![]);
         let first = (start / dt).round() as usize;

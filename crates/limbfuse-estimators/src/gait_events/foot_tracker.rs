@@ -45,7 +45,7 @@ impl FootTracker {
         FootTracker {
             shoe: Shoe::new(p.shoe),
             axis: FootAxis::new(p.axis_time_constant),
-            events: FootEvents::new(p.swing_rate, p.min_swing_time),
+            events: FootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
             integrator: StrideIntegrator::new(p.max_moving_time),
             sign: 0,
             ics_in_segment: 0,

@@ -137,7 +137,9 @@ pub struct GaitEventsParams {
     /// on the shared real walk), while a slow swing can hold still in
     /// rotation and acceleration for 0.02 s, which the detector calls a rest
     /// (docs/GAIT_EVENTS.md, "Rest of the foot"). 0 ends a moving period at
-    /// the first rest sample (the behaviour before 2026-12-04).
+    /// the first rest sample (the behaviour before 2026-12-04). The same
+    /// rest is the stance's foot flat, after which the push-off lobe is
+    /// looked for ([`foot_events`]).
     pub min_rest_time: f64,
     /// Averaging time constant (s) of the medio-lateral axis: 10.
     pub axis_time_constant: f64,
