@@ -424,13 +424,20 @@ mod tests {
             .validate()
             .is_ok());
         assert_eq!(KneeSelfAlignParams::window_samples(2.0, 250.0), Ok(500));
-        assert_eq!(KneeSelfAlignParams::window_samples(0.1, 100.0).unwrap_err().name, "window");
+        assert_eq!(
+            KneeSelfAlignParams::window_samples(0.1, 100.0)
+                .unwrap_err()
+                .name,
+            "window"
+        );
         let e = KneeSelfAlignParams::at_rate(1e308).unwrap_err();
         assert_eq!(e.name, "window");
         let e = KneeSelfAlignParams::at_rate(f64::NAN).unwrap_err();
         assert_eq!(e.name, "rate_hz");
         assert_eq!(
-            KneeSelfAlignParams::window_samples(0.0, 100.0).unwrap_err().name,
+            KneeSelfAlignParams::window_samples(0.0, 100.0)
+                .unwrap_err()
+                .name,
             "window_s"
         );
     }
