@@ -34,7 +34,7 @@ pub struct Fault {
 }
 
 /// The faults: each at sample `i` = [`FAULT_T`].
-pub const FAULTS: [Fault; 8] = [
+pub const FAULTS: [Fault; 9] = [
     Fault {
         name: "none",
         apply: |_, _| {},
@@ -76,6 +76,16 @@ pub const FAULTS: [Fault; 8] = [
         apply: |r, i| {
             let again = r[i];
             r.insert(i + 1, again);
+        },
+    },
+    Fault {
+        name: "knee encoder stuck for 0.5 s (not a gate check)",
+        apply: |r, i| {
+            let stuck = r[i].sample.encoder[1];
+            let n = (0.5 * RATE_HZ) as usize;
+            for rec in &mut r[i..i + n] {
+                rec.sample.encoder[1] = stuck;
+            }
         },
     },
     Fault {
