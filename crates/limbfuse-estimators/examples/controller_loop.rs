@@ -42,7 +42,7 @@ pub const FAULTS: [Fault; 9] = [
     Fault {
         name: "knee encoder jumps by 2 pi for one sample",
         apply: |r, i| {
-            r[i].sample.encoder[1] = r[i].sample.encoder[1].map(|x| x + 6.283185307179586)
+            r[i].sample.encoder[1] = r[i].sample.encoder[1].map(|x| x + std::f64::consts::TAU)
         },
     },
     Fault {

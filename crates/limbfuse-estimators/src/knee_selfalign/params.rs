@@ -251,7 +251,7 @@ impl KneeSelfAlignParams {
     pub fn window_samples(seconds: f64, rate_hz: f64) -> Result<usize, KneeParamError> {
         positive("rate_hz", rate_hz)?;
         positive("window_s", seconds)?;
-        let n = (seconds * rate_hz).round();
+        let n = libm::round(seconds * rate_hz);
         check(
             "window",
             n,
