@@ -3,9 +3,9 @@
 //! puts in its sample loop to get the command-line tool's estimates bit for
 //! bit.
 //!
-//! [`EstimatorGate`] is the part in front of the estimator, shared by
-//! [`Gated`] (which owns its estimator: `no_std`, no allocation) and the
-//! method layer's boxed `limbfuse_methods::gated::GatedEstimator`. Per
+//! [`EstimatorGate`] is the part in front of the estimator; [`Gated`] puts
+//! it in front of an owned estimator (`no_std`, no allocation), or a boxed
+//! one (the method layer's `limbfuse_methods::gated::GatedEstimator`). Per
 //! sample it
 //!
 //! 1. refuses a sample whose time is not finite or not after the last
@@ -203,6 +203,19 @@ impl<E: Estimator> Gated<E> {
         &self.inner
     }
 
+    /// As [`Estimator::step_into`]; `seen` becomes the sample as the
+    /// estimator saw it (the readings the gate rejected missing), for an
+    /// offline pass that reuses the readings (the method layer's knee
+    /// backfill).
+    pub fn step_seen(
+        &mut self,
+        sample: &Sample,
+        e: &mut Estimate,
+        seen: &mut Sample,
+    ) -> Result<(), EstimatorError> {
+        self.gate.step_into(&mut self.inner, sample, e, Some(seen))
+    }
+
     /// What the gate rejected since construction or the last reset, by
     /// kind and reason (the estimator's own rejections are in
     /// [`Estimator::rejected_readings`]).
@@ -339,7 +352,7 @@ mod tests {
 
     /// What a controller needs without `std`: the gate in front of an owned
     /// estimator, with the method layer's diagnostics, refusals and
-    /// "finite or missing" rule (before, `GatedEstimator` lived only in
+    /// "finite or missing" rule (before, the gated estimator lived only in
     /// `limbfuse-methods`, which needs `std` and allocates).
     #[test]
     fn gated_screens_counts_refuses_and_keeps_outputs_finite_without_std() {

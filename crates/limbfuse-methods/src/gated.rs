@@ -15,11 +15,7 @@
 //! (docs/ROBUST_INPUT.md). The gate is [`limbfuse_core::EstimatorGate`], the
 //! same code a `no_std` controller runs through [`limbfuse_core::Gated`].
 
-use std::fmt;
-
-use limbfuse_core::{
-    Estimate, Estimator, EstimatorError, EstimatorGate, Outputs, Sample, SensorRanges,
-};
+use limbfuse_core::{Estimator, Gated, SensorRanges};
 use limbfuse_io::TrialMeta;
 
 use crate::MethodError;
@@ -38,90 +34,15 @@ pub fn sensor_ranges(meta: &TrialMeta) -> Result<SensorRanges, MethodError> {
     })
 }
 
-/// An estimator behind a [`SampleGate`](limbfuse_core::SampleGate), boxed
-/// (a trait object: any method); the gate itself is
-/// [`limbfuse_core::EstimatorGate`], which [`limbfuse_core::Gated`] puts in
-/// front of an owned estimator without `std`.
-pub struct GatedEstimator<E: Estimator + ?Sized = dyn Estimator + Send> {
-    inner: Box<E>,
-    gate: EstimatorGate,
-    /// The inner estimator's diagnostic names, then [`REJECTION_DIAGNOSTICS`]
-    /// (when they fit in [`limbfuse_core::MAX_DIAG`]).
-    names: Vec<&'static str>,
-}
-
-impl<E: Estimator + ?Sized> GatedEstimator<E> {
-    /// `inner` behind a gate with `ranges`.
-    pub fn new(inner: Box<E>, ranges: SensorRanges) -> Self {
-        let mut names: Vec<&'static str> = inner.diagnostic_names().to_vec();
-        let gate = EstimatorGate::new(ranges, names.len());
-        if gate.rejections_at().is_some() {
-            names.extend_from_slice(&REJECTION_DIAGNOSTICS);
-        }
-        GatedEstimator { inner, gate, names }
-    }
-
-    /// The estimator behind the gate.
-    pub fn inner(&self) -> &E {
-        &self.inner
-    }
-}
-
-impl<E: Estimator + ?Sized> Estimator for GatedEstimator<E> {
-    fn name(&self) -> &'static str {
-        self.inner.name()
-    }
-
-    fn outputs(&self) -> Outputs {
-        self.inner.outputs()
-    }
-
-    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        self.inner.describe_parameters(out)?;
-        self.gate.describe(out)
-    }
-
-    fn diagnostic_names(&self) -> &[&'static str] {
-        &self.names
-    }
-
-    fn rejected_readings(&self) -> [u64; 3] {
-        self.gate.rejected_readings(&*self.inner)
-    }
-
-    fn reset(&mut self) {
-        self.inner.reset();
-        self.gate.reset();
-    }
-
-    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
-        let mut e = Estimate::empty(sample.t);
-        self.step_into(sample, &mut e)?;
-        Ok(e)
-    }
-
-    fn step_into(&mut self, sample: &Sample, e: &mut Estimate) -> Result<(), EstimatorError> {
-        self.gate.step_into(&mut *self.inner, sample, e, None)
-    }
-}
-
-impl<E: Estimator + ?Sized> GatedEstimator<E> {
-    /// As [`Estimator::step_into`]; `seen` becomes the sample as the
-    /// estimator saw it (the readings the gate rejected missing), for an
-    /// offline pass that reuses the readings ([`crate::knee_backfill`]).
-    pub fn step_seen(
-        &mut self,
-        sample: &Sample,
-        e: &mut Estimate,
-        seen: &mut Sample,
-    ) -> Result<(), EstimatorError> {
-        self.gate.step_into(&mut *self.inner, sample, e, Some(seen))
-    }
-}
+/// An estimator behind the sensor gate, boxed (a trait object: any
+/// method): core's [`Gated`] over a [`Box`], the gate a `no_std`
+/// controller runs over an owned estimator.
+pub type GatedEstimator<E = dyn Estimator + Send> = Gated<Box<E>>;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use limbfuse_core::{EstimatorError, Sample};
     use limbfuse_estimators::baseline::GyroIntegration;
     use nalgebra::Vector3;
 
