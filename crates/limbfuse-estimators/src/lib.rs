@@ -34,11 +34,16 @@
 //!
 //! - Units and frames (SPEC section 1): time in s, specific force in
 //!   m/s^2, angular rate in rad/s, encoders and angles in rad. The segment
-//!   filters and `chain` read IMU frames aligned to the segment (x forward,
-//!   y up along the segment, z to the subject's right: `gyr.z` is the
-//!   sagittal rate); the knee estimators and `gait-events` read raw frames.
-//!   Angles are positive counter-clockwise seen from the subject's right;
-//!   `knee = thigh - shank`.
+//!   filters and `chain` read IMU frames aligned to the segment: z to the
+//!   subject's right, x and y in the sagittal plane such that the
+//!   accelerometer reads (0, +g, 0) in upright quiet standing, so `gyr.z`
+//!   is the segment's angular rate and a still segment's angle is
+//!   `atan2(acc_x, acc_y)`; the knee estimators and `gait-events` read raw
+//!   (arbitrarily mounted) frames. Angles are positive counter-clockwise
+//!   seen from the subject's right (the distal end moving forward and up),
+//!   zero in upright quiet standing; `hip = trunk - thigh`, `knee = thigh -
+//!   shank`, `ankle = shank - foot`, and the encoders measure the same
+//!   joint angles.
 //! - A reading the drivers did not deliver is `None` (never NaN): the
 //!   estimator predicts without it. A NaN or a glitch is made missing by the
 //!   gate.
