@@ -122,6 +122,36 @@ pub trait Estimator {
     }
 }
 
+/// A boxed estimator (a trait object: any method) is an estimator, so that
+/// [`crate::Gated`] puts the method layer's boxed estimators behind the
+/// gate as it puts an owned one.
+impl<E: Estimator + ?Sized> Estimator for alloc::boxed::Box<E> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn outputs(&self) -> Outputs {
+        (**self).outputs()
+    }
+    fn describe_parameters(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        (**self).describe_parameters(out)
+    }
+    fn diagnostic_names(&self) -> &[&'static str] {
+        (**self).diagnostic_names()
+    }
+    fn rejected_readings(&self) -> [u64; 3] {
+        (**self).rejected_readings()
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
+        (**self).step(sample)
+    }
+    fn step_into(&mut self, sample: &Sample, out: &mut Estimate) -> Result<(), EstimatorError> {
+        (**self).step_into(sample, out)
+    }
+}
+
 /// An offline estimator (e.g. a smoother): the estimate of a sample may use
 /// samples after it, so estimates come out later than their samples, in
 /// order, one per sample pushed ([`crate::runner::run_offline`]).

@@ -3,9 +3,14 @@
 //! The `no_std` foundation of limbfuse: the sample and estimate types every
 //! estimator exchanges, the streaming [`Estimator`] trait, linear Kalman
 //! predict/update steps on `nalgebra` fixed-size matrices, exact (matrix
-//! exponential + Van Loan) and Euler discretisation, and (with the `std`
-//! feature) the [`runner`] that drives an estimator over a sample source and
-//! pushes results to observers.
+//! exponential + Van Loan) and Euler discretisation, the sensor gate
+//! ([`SampleGate`]) and an estimator behind it as `limbfuse estimate` runs
+//! every method ([`Gated`], for a controller's loop: `no_std`, no
+//! allocation), and (with the `std` feature) the [`runner`] that drives an
+//! estimator over a sample source and pushes results to observers.
+//!
+//! [`nalgebra`] is re-exported: a [`Sample`]'s vectors are its `Vector3`,
+//! so a user fills one without depending on the same nalgebra release.
 //!
 //! Conventions (SPEC section 1): SI units, sagittal angles about the world
 //! z axis (to the subject's right), positive counter-clockwise seen from the
@@ -14,11 +19,14 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 
+extern crate alloc;
+
 pub mod diagnostics;
 pub mod discretize;
 pub mod estimate;
 pub mod estimator;
 pub mod expm;
+pub mod gated;
 pub mod kalman;
 pub mod limb;
 pub mod plausibility;
@@ -30,9 +38,14 @@ pub mod shown_number;
 #[cfg(feature = "std")]
 pub mod runner;
 
+/// The linear-algebra crate of [`Sample`] and [`Estimate`] (`Vector3`), at
+/// the version limbfuse is built with.
+pub use nalgebra;
+
 pub use diagnostics::{DiagnosticSet, DiagnosticWriter};
 pub use estimate::{Estimate, MAX_DIAG};
 pub use estimator::{Estimator, EstimatorError, OfflineEstimator, Outputs, TimeStep};
+pub use gated::{EstimatorGate, Gated, REJECTION_DIAGNOSTICS};
 pub use limb::{Joint, Leg, Segment, Side};
 pub use plausibility::{Implausible, PlausibilityLimits, VectorTrack};
 pub use sample::{ComMeasurement, GaitPhase, ImuSample, Record, Reference, Sample};

@@ -10,6 +10,13 @@ use crate::limb::{Joint, Segment};
 
 /// One IMU's readings at one instant, in the sensor frame.
 ///
+/// An IMU *aligned* to its segment (what the segment filters and `chain`
+/// read; `limbfuse align` turns raw readings into aligned ones) has z to
+/// the subject's right and x, y in the sagittal plane such that the
+/// accelerometer reads (0, +g, 0) in upright quiet standing: `gyr.z` is the
+/// segment's angular rate, positive counter-clockwise seen from the right,
+/// and a still segment's angle is `atan2(acc.x, acc.y)` (SPEC section 1).
+///
 /// A vector is either complete (`acc`/`gyr`, every consumer reads these) or
 /// incomplete: then `acc`/`gyr` is `None` and the axes that are there are in
 /// `acc_partial`/`gyr_partial` (issue 18 item 2: one dropped cell of a file
@@ -167,7 +174,10 @@ pub struct Sample {
     /// section 2: `S_left_...` when the trial's `# leg:` is right, the
     /// default), indexed by [`Segment::index`]; all empty in one-leg trials.
     pub other_leg_imu: [ImuSample; 4],
-    /// Joint encoders (rad) per joint, indexed by [`Joint::index`].
+    /// Joint encoders (rad) per joint, indexed by [`Joint::index`]: the
+    /// joint angles `hip = theta_trunk - theta_thigh`, `knee = theta_thigh -
+    /// theta_shank`, `ankle = theta_shank - theta_foot`, zero in upright
+    /// quiet standing.
     pub encoder: [Option<f64>; 3],
     /// Model inputs (stimulation, motor torques).
     pub inputs: ModelInputs,

@@ -29,8 +29,10 @@ pub fn identification_window(spec: &MethodSpec, meta: &TrialMeta) -> Result<usiz
     }
 }
 
-/// Paper 002's window, `s_w = 500` samples at its 100 Hz, as a duration (s).
-pub const DEFAULT_WINDOW_S: f64 = 5.0;
+/// Paper 002's window, `s_w = 500` samples at its 100 Hz, as a duration (s)
+/// (the estimators' constant: a controller builds the same window with
+/// `KneeSelfAlignParams::at_rate`).
+pub use limbfuse_estimators::knee_selfalign::params::DEFAULT_WINDOW_S;
 
 /// The rate a trial without `# sample_rate_hz:` is taken at: paper 002's
 /// 100 Hz, so that such a trial gets the paper's `s_w = 500`.

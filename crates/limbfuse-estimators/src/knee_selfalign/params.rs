@@ -225,7 +225,43 @@ fn positive(name: &'static str, value: f64) -> Result<(), KneeParamError> {
 /// `knee-gyro-axis`.
 pub const WINDOW_SAMPLES: (usize, usize) = (20, 100_000);
 
+/// Paper 002's window, `s_w = 500` samples at its exoskeleton's 100 Hz
+/// (section 3.5), as a duration (s): the window must span enough motion to
+/// identify the axes, and motion is measured in seconds (docs/RESULTS.md
+/// "knee-selfalign: the window in seconds"). `limbfuse estimate` uses it at
+/// the trial's `# sample_rate_hz:` unless a window in samples is given.
+pub const DEFAULT_WINDOW_S: f64 = 5.0;
+
 impl KneeSelfAlignParams {
+    /// The defaults at a sample rate of `rate_hz` (Hz): the window is
+    /// [`DEFAULT_WINDOW_S`] at that rate ([`Self::window_samples`]), as
+    /// `limbfuse estimate` sets it from a trial's rate. The default
+    /// [`KneeSelfAlignParams::window`] is 500 *samples*: 0.5 s at 1 kHz.
+    pub fn at_rate(rate_hz: f64) -> Result<Self, KneeParamError> {
+        Ok(KneeSelfAlignParams {
+            window: Self::window_samples(DEFAULT_WINDOW_S, rate_hz)?,
+            ..KneeSelfAlignParams::default()
+        })
+    }
+
+    /// A window of `seconds` at `rate_hz` in samples, `round(seconds *
+    /// rate_hz)` (what `limbfuse estimate` computes); an error names the
+    /// window when it falls outside [`WINDOW_SAMPLES`] (or either value is
+    /// not a positive finite number).
+    pub fn window_samples(seconds: f64, rate_hz: f64) -> Result<usize, KneeParamError> {
+        positive("rate_hz", rate_hz)?;
+        positive("window_s", seconds)?;
+        let n = libm::round(seconds * rate_hz);
+        check(
+            "window",
+            n,
+            WINDOW_SAMPLES.0 as f64,
+            WINDOW_SAMPLES.1 as f64,
+            "20..=100000 samples",
+        )?;
+        Ok(n as usize)
+    }
+
     /// Checks every value; the error names the first bad one.
     pub fn validate(&self) -> Result<(), KneeParamError> {
         check(
@@ -368,5 +404,41 @@ impl KneeSelfAlignParams {
             out,
             "gyro_derivative: five-point symmetric, latency 2 samples"
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A controller builds the estimator from its parameters and its loop
+    /// rate: the default window of 500 samples is paper 002's 5 s only at
+    /// 100 Hz (0.5 s at 1 kHz, where `limbfuse estimate` uses 5000).
+    #[test]
+    fn the_window_at_a_controller_rate_is_five_seconds() {
+        assert_eq!(KneeSelfAlignParams::at_rate(100.0).unwrap().window, 500);
+        assert_eq!(KneeSelfAlignParams::at_rate(500.0).unwrap().window, 2500);
+        assert_eq!(KneeSelfAlignParams::at_rate(1000.0).unwrap().window, 5000);
+        assert!(KneeSelfAlignParams::at_rate(1000.0)
+            .unwrap()
+            .validate()
+            .is_ok());
+        assert_eq!(KneeSelfAlignParams::window_samples(2.0, 250.0), Ok(500));
+        assert_eq!(
+            KneeSelfAlignParams::window_samples(0.1, 100.0)
+                .unwrap_err()
+                .name,
+            "window"
+        );
+        let e = KneeSelfAlignParams::at_rate(1e308).unwrap_err();
+        assert_eq!(e.name, "window");
+        let e = KneeSelfAlignParams::at_rate(f64::NAN).unwrap_err();
+        assert_eq!(e.name, "rate_hz");
+        assert_eq!(
+            KneeSelfAlignParams::window_samples(0.0, 100.0)
+                .unwrap_err()
+                .name,
+            "window_s"
+        );
     }
 }

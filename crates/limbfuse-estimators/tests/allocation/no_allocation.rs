@@ -187,3 +187,55 @@ fn step_never_allocates() {
         );
     }
 }
+
+/// A controller's loop: estimators behind `limbfuse_core::Gated` (the gate
+/// `limbfuse estimate` uses), stepped with `step_into` through glitches the
+/// gate removes (a NaN, an encoder 2 pi off, a saturated gyro, a refused
+/// repeated time), allocate nothing per sample.
+#[test]
+fn gated_controller_loop_never_allocates() {
+    use limbfuse_core::{Estimate, Gated, SensorRanges};
+    let cfg = WalkingConfig {
+        duration_s: 8.0,
+        seed: 6,
+        ..WalkingConfig::default()
+    };
+    let mut records: Vec<Record> = WalkingSimulator::new(cfg).unwrap().collect();
+    for (k, r) in records.iter_mut().enumerate() {
+        match k % 97 {
+            5 => r.sample.imu[1].gyr = r.sample.imu[1].gyr.map(|g| g * f64::NAN),
+            6 => r.sample.encoder[1] = r.sample.encoder[1].map(|x| x + std::f64::consts::TAU),
+            7 => {
+                if let Some(g) = r.sample.imu[2].gyr.as_mut() {
+                    g.z = 2000f64.to_radians();
+                }
+            }
+            8 => r.sample.imu[3] = Default::default(),
+            _ => {}
+        }
+    }
+    let repeated = records[400];
+    records.insert(401, repeated);
+    let r = SensorRanges::default();
+    let mut loops: [Box<dyn Estimator>; 3] = [
+        Box::new(Gated::new(MarkovJumpKf::default(), r)),
+        Box::new(Gated::new(GlobalKf::default(), r)),
+        Box::new(Gated::new(KneeSelfAlign::default(), r)),
+    ];
+    for filter in loops.iter_mut() {
+        let mut out = Estimate::empty(0.0);
+        let before = allocations();
+        let mut refused = 0;
+        for rec in &records {
+            refused += usize::from(filter.step_into(&rec.sample, &mut out).is_err());
+        }
+        assert_eq!(refused, 1);
+        assert!(filter.rejected_readings().iter().sum::<u64>() > 0);
+        assert_eq!(
+            allocations() - before,
+            0,
+            "{} behind the gate allocated",
+            filter.name()
+        );
+    }
+}

@@ -3,6 +3,7 @@
 //! dependency graph again). The allocation-counting tests are the separate
 //! `tests/allocation` binary (they install a global allocator).
 
+mod controller_loop_example;
 mod diagnostics;
 mod fes_no_resets;
 mod fes_simulated;

@@ -3,6 +3,7 @@
 //! dependency graph again).
 
 mod adding_a_method;
+mod embedded_gate;
 mod method_names_parsed_once;
 mod segment_params;
 mod smoothed_chain;
