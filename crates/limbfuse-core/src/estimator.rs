@@ -104,6 +104,16 @@ pub trait Estimator {
         [0; 3]
     }
 
+    /// Whether a gyroscope reading clipped at the full scale is to be passed
+    /// on rather than rejected by the sensor gate ([`crate::Gated`] then
+    /// turns off the gate's clipping test, `SensorRanges::
+    /// gyro_full_scale_rad_s`). Default: `false` (a clipped rate is wrong
+    /// for any estimator that integrates it); `gait-events` keeps them (a
+    /// rate at least the full scale still says the foot swings).
+    fn keeps_clipped_gyro(&self) -> bool {
+        false
+    }
+
     /// Forgets all state; the next sample starts a new recording.
     fn reset(&mut self);
 
@@ -140,6 +150,9 @@ impl<E: Estimator + ?Sized> Estimator for alloc::boxed::Box<E> {
     }
     fn rejected_readings(&self) -> [u64; 3] {
         (**self).rejected_readings()
+    }
+    fn keeps_clipped_gyro(&self) -> bool {
+        (**self).keeps_clipped_gyro()
     }
     fn reset(&mut self) {
         (**self).reset()

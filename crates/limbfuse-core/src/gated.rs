@@ -178,8 +178,13 @@ pub struct Gated<E> {
 
 impl<E: Estimator> Gated<E> {
     /// `inner` behind a gate with `ranges` ([`SensorRanges::default`]: the
-    /// datasheet full scales of gait IMUs, 2000 deg/s and 16 g).
-    pub fn new(inner: E, ranges: SensorRanges) -> Self {
+    /// datasheet full scales of gait IMUs, 2000 deg/s and 16 g), without
+    /// the clipping test when `inner` keeps clipped gyroscope readings
+    /// ([`Estimator::keeps_clipped_gyro`], `gait-events`).
+    pub fn new(inner: E, mut ranges: SensorRanges) -> Self {
+        if inner.keeps_clipped_gyro() {
+            ranges.gyro_full_scale_rad_s = None;
+        }
         let own = inner.diagnostic_names();
         let n_own = own.len().min(MAX_DIAG);
         let gate = EstimatorGate::new(ranges, n_own);
@@ -244,6 +249,10 @@ impl<E: Estimator> Estimator for Gated<E> {
 
     fn rejected_readings(&self) -> [u64; 3] {
         self.gate.rejected_readings(&self.inner)
+    }
+
+    fn keeps_clipped_gyro(&self) -> bool {
+        self.inner.keeps_clipped_gyro()
     }
 
     fn reset(&mut self) {

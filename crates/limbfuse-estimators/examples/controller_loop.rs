@@ -221,16 +221,13 @@ pub fn run() -> Vec<(&'static str, Vec<FaultRun>)> {
             ranges,
         )
     };
-    // gait-events keeps clipped gyroscope readings, as `limbfuse estimate` does
-    let foot_ranges = SensorRanges {
-        gyro_full_scale_rad_s: None,
-        ..ranges
-    };
+    // gait-events keeps clipped gyroscope readings (`Gated` drops the
+    // clipping test for it, as `limbfuse estimate` does)
     let gait = || {
         let p = GaitEventsParams::default();
         Gated::new(
             GaitEvents::new(p, [None, Some(FootSource::OwnLeg)]).unwrap(),
-            foot_ranges,
+            ranges,
         )
     };
     vec![

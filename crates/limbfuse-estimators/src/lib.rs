@@ -107,8 +107,8 @@
 //! let params = GaitEventsParams { gravity: 9.81, ..GaitEventsParams::default() };
 //! // [left, right]: the instrumented leg's foot IMU is the right one
 //! let events = GaitEvents::new(params, [None, Some(FootSource::OwnLeg)])?;
-//! let ranges = SensorRanges { gyro_full_scale_rad_s: None, ..SensorRanges::default() };
-//! let mut filter = Gated::new(events, ranges);
+//! // (gait-events keeps a clipped foot rate: `Gated` drops the clipping test)
+//! let mut filter = Gated::new(events, SensorRanges::default());
 //! let mut estimate = Estimate::empty(0.0);
 //! let mut contacts = 0;
 //! for (k, record) in drivers.enumerate() {

@@ -20,10 +20,9 @@ pub fn build(
     meta: &TrialMeta,
     layout: &TrialLayout,
 ) -> Result<Box<dyn Estimator + Send>, MethodError> {
-    let mut ranges = crate::gated::sensor_ranges(meta)?;
-    if spec.method().info().keeps_clipped_gyro {
-        ranges.gyro_full_scale_rad_s = None;
-    }
+    // (without the clipping test for an estimator that keeps clipped
+    // gyroscope readings, `Estimator::keeps_clipped_gyro`: the gate does it)
+    let ranges = crate::gated::sensor_ranges(meta)?;
     let inner = spec.build_estimator(meta, layout)?;
     Ok(Box::new(crate::gated::GatedEstimator::new(inner, ranges)))
 }

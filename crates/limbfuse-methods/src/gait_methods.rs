@@ -129,11 +129,7 @@ impl MethodDef for GaitEventsMethod {
         "per leg foot_acc/gyr (foot_<other side>_ for the other leg), else shank_gyr; raw sensor frames",
         "swing_rate, min_swing_time, min_rest_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
     )
-    .finding_walking()
-    // (a gyroscope clipped at 250 deg/s with the range stated lost every
-    // swing to the gate: "no gait found" on a simulated walk, 22 of 56
-    // contacts and 0.53 m/s on the gaitmap walk; passed on, 0.14 m/s)
-    .keeping_clipped_gyro();
+    .finding_walking();
     type Settings = GaitEventsSettings;
 
     fn resolve(

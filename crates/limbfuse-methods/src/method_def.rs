@@ -45,11 +45,6 @@ pub struct MethodInfo {
     /// to give on a trial without any (`inspect` says so when the thigh
     /// does not move, `limbfuse_eval::fixed_thigh`).
     pub finds_walking: bool,
-    /// Whether a clipped gyroscope reading (at the full scale) is passed on
-    /// rather than rejected by the sensor gate ([`crate::gated`]): a rate at
-    /// least the full scale still says the foot swings, and a swing of
-    /// missing readings loses the stride.
-    pub keeps_clipped_gyro: bool,
 }
 
 impl MethodInfo {
@@ -73,7 +68,6 @@ impl MethodInfo {
             reads_aligned: false,
             assumes_fixed_thigh: false,
             finds_walking: false,
-            keeps_clipped_gyro: false,
         }
     }
 
@@ -93,12 +87,6 @@ impl MethodInfo {
     /// Marked as finding walking (nothing to give without it).
     pub const fn finding_walking(mut self) -> Self {
         self.finds_walking = true;
-        self
-    }
-
-    /// Marked as keeping clipped gyroscope readings.
-    pub const fn keeping_clipped_gyro(mut self) -> Self {
-        self.keeps_clipped_gyro = true;
         self
     }
 

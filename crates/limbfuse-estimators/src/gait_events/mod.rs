@@ -433,6 +433,15 @@ impl Estimator for GaitEvents {
         "gait-events"
     }
 
+    /// A foot's rate clipped at the gyroscope's full scale still says the
+    /// foot swings, and a swing of missing readings loses the stride (a
+    /// gyroscope clipped at 250 deg/s, its range stated, lost every swing
+    /// to the gate: "no gait found" on a simulated walk, 22 of 56 contacts
+    /// and 0.53 m/s on the gaitmap walk; passed on, 0.14 m/s).
+    fn keeps_clipped_gyro(&self) -> bool {
+        true
+    }
+
     fn outputs(&self) -> Outputs {
         Outputs {
             phase: true,
