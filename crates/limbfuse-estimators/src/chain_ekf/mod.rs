@@ -203,6 +203,11 @@ impl ChainEkf {
         &self.x
     }
 
+    /// The encoder gate's counts (refused rows, re-adopted joints).
+    pub fn encoder_gate(&self) -> &encoder_gate::EncoderGate {
+        &self.encoder_gate
+    }
+
     /// How the last step's state follows from the one before.
     pub fn link(&self) -> Link {
         self.link
