@@ -125,7 +125,8 @@ pub enum Link {
     /// No state: start-up window, after a long gap or a divergence.
     #[default]
     None,
-    /// The filter (re)started at this step: no link to the step before.
+    /// The filter (re)started at this step, or re-adopted an encoder
+    /// offset ([`encoder_gate`]): no link to the step before.
     Start,
     /// Predicted from the previous step's state over `dt` seconds, the turn
     /// widening adding `widening` (rad^2) to every angle's variance, then
@@ -530,10 +531,16 @@ impl Estimator for ChainEkf {
         self.link = Link::None;
         match (self.running, dt) {
             (true, Some(dt)) => {
+                let adopted = self.encoder_gate.readopted();
                 (stance, rejected) = self.filter_step(sample, dt);
-                self.link = Link::Continue {
-                    dt,
-                    widening: self.widening,
+                self.link = if self.encoder_gate.readopted() == adopted {
+                    Link::Continue {
+                        dt,
+                        widening: self.widening,
+                    }
+                } else {
+                    // A re-adopted encoder offset: the smoother stops here.
+                    Link::Start
                 };
             }
             _ if self.blind.active() => {} // (`BlindRun::active`)
