@@ -39,6 +39,18 @@ fn mid_swing(records: &[Record]) -> usize {
         .unwrap()
 }
 
+/// The walk, the same with its knee encoder re-zeroed (+0.3 rad) from
+/// mid-swing on, and the index of that sample.
+fn rezeroed_walk() -> (Vec<Record>, Vec<Record>, usize) {
+    let clean = walk();
+    let start = mid_swing(&clean);
+    let mut rezeroed = clean.clone();
+    for r in &mut rezeroed[start..] {
+        r.sample.encoder[1] = r.sample.encoder[1].map(|e| e + 0.3);
+    }
+    (clean, rezeroed, start)
+}
+
 /// `chain`'s knee angle at every sample (NaN without an estimate) and the
 /// filter after the run.
 fn knee_angles(records: &[Record]) -> (Vec<f64>, ChainEkf) {
@@ -79,12 +91,7 @@ fn chain_encoder_gate_keeps_a_stuck_knee_encoder_out() {
 
 #[test]
 fn chain_encoder_gate_readopts_a_rezeroed_knee_encoder() {
-    let clean = walk();
-    let start = mid_swing(&clean);
-    let mut rezeroed = clean.clone();
-    for r in &mut rezeroed[start..] {
-        r.sample.encoder[1] = r.sample.encoder[1].map(|e| e + 0.3);
-    }
+    let (clean, rezeroed, start) = rezeroed_walk();
     let (reference, _) = knee_angles(&clean);
     let (knee, chain) = knee_angles(&rezeroed);
     let off = largest_difference(&reference, &knee, 0);
@@ -127,12 +134,7 @@ fn smoothed_knee_angles(records: &[Record]) -> Vec<f64> {
 
 #[test]
 fn chain_encoder_gate_readoption_does_not_reach_back_through_the_smoother() {
-    let clean = walk();
-    let start = mid_swing(&clean);
-    let mut rezeroed = clean.clone();
-    for r in &mut rezeroed[start..] {
-        r.sample.encoder[1] = r.sample.encoder[1].map(|e| e + 0.3);
-    }
+    let (clean, rezeroed, start) = rezeroed_walk();
     let reference = smoothed_knee_angles(&clean);
     let knee = smoothed_knee_angles(&rezeroed);
     let off = largest_difference(&reference, &knee, 0);
@@ -140,4 +142,9 @@ fn chain_encoder_gate_readoption_does_not_reach_back_through_the_smoother() {
     // re-adoption (a `Link::Continue` there), the re-adopted offset reached
     // back over the whole trial: 17 deg off before the step.
     assert!(off < 1.0, "smoothed knee {off:.2} deg off the clean run");
+    let before = largest_difference(&reference[..start], &knee[..start], 0);
+    assert!(
+        before < 0.5,
+        "smoothed knee {before:.2} deg off before the step"
+    );
 }
