@@ -14,6 +14,7 @@
 
 pub mod covariance;
 mod device_angle;
+pub mod encoder_gate;
 pub mod kinematics;
 pub mod missing_data;
 pub mod params;
@@ -113,6 +114,8 @@ pub struct ChainEkf {
     variance_scale: f64,
     /// The current run of samples without any reading.
     blind: missing_data::BlindRun,
+    /// The encoder rows' innovation gate ([`encoder_gate`]).
+    encoder_gate: encoder_gate::EncoderGate,
 }
 
 /// How a step's filtered state follows from the previous step's (what an
@@ -122,7 +125,8 @@ pub enum Link {
     /// No state: start-up window, after a long gap or a divergence.
     #[default]
     None,
-    /// The filter (re)started at this step: no link to the step before.
+    /// The filter (re)started at this step, or re-adopted an encoder
+    /// offset ([`encoder_gate`]): no link to the step before.
     Start,
     /// Predicted from the previous step's state over `dt` seconds, the turn
     /// widening adding `widening` (rad^2) to every angle's variance, then
@@ -176,6 +180,7 @@ impl ChainEkf {
             widening: 0.0,
             variance_scale: 1.0,
             blind: Default::default(),
+            encoder_gate: Default::default(),
         })
     }
 
@@ -197,6 +202,11 @@ impl ChainEkf {
     /// The filtered state (zero before the filter runs).
     pub fn state(&self) -> &StateVector {
         &self.x
+    }
+
+    /// The encoder gate's counts (refused rows, re-adopted joints).
+    pub fn encoder_gate(&self) -> &encoder_gate::EncoderGate {
+        &self.encoder_gate
     }
 
     /// How the last step's state follows from the one before.
@@ -289,6 +299,7 @@ impl ChainEkf {
         self.last_xy_rate = [None; 4];
         self.still_since = None;
         self.last_foot_gyro = None;
+        self.encoder_gate.restart();
     }
 
     /// Whether the state is no estimate any more: a state or covariance
@@ -358,17 +369,7 @@ impl ChainEkf {
             }
         }
         if p.use_encoders {
-            for j in 0..3 {
-                if let Some(e) = sample.encoder[j].filter(|e| e.is_finite()) {
-                    let mut row = SparseRow::new();
-                    row.add(theta(j), 1.0);
-                    row.add(theta(j + 1), -1.0);
-                    row.add(encoder_offset(j), 1.0);
-                    let nu =
-                        e - (self.x[theta(j)] - self.x[theta(j + 1)] + self.x[encoder_offset(j)]);
-                    self.apply(&row, nu, p.encoder_noise, inf);
-                }
-            }
+            self.encoder_rows(sample);
         }
         let mut rejected = 0;
         for i in 0..4 {
@@ -474,6 +475,7 @@ impl Estimator for ChainEkf {
         writeln!(out, "stance_min_s: {}", p.stance_min_s)?;
         writeln!(out, "startup_s: {}", p.startup_s)?;
         writeln!(out, "acc_gate: {}", p.acc_gate)?;
+        writeln!(out, "encoder_gate: {}", p.encoder_gate)?;
         writeln!(out, "device_orientation: {}", p.device_orientation)?;
         writeln!(out, "device_angle_noise: {}", p.device_angle_noise)?;
         writeln!(out, "use_encoders: {}", p.use_encoders)?;
@@ -499,6 +501,11 @@ impl Estimator for ChainEkf {
         self.widening = 0.0;
         self.variance_scale = 1.0;
         self.blind = Default::default();
+        self.encoder_gate = Default::default();
+    }
+
+    fn rejected_readings(&self) -> [u64; 3] {
+        [0, 0, self.encoder_gate.refused()]
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
@@ -524,10 +531,16 @@ impl Estimator for ChainEkf {
         self.link = Link::None;
         match (self.running, dt) {
             (true, Some(dt)) => {
+                let adopted = self.encoder_gate.readopted();
                 (stance, rejected) = self.filter_step(sample, dt);
-                self.link = Link::Continue {
-                    dt,
-                    widening: self.widening,
+                self.link = if self.encoder_gate.readopted() == adopted {
+                    Link::Continue {
+                        dt,
+                        widening: self.widening,
+                    }
+                } else {
+                    // A re-adopted encoder offset: the smoother stops here.
+                    Link::Start
                 };
             }
             _ if self.blind.active() => {} // (`BlindRun::active`)

@@ -4,6 +4,7 @@
 use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 
 use super::kinematics::ChainGeometry;
+use crate::segment_kf::robust::INNOVATION_GATE_CHI2;
 
 /// Mean segment angle over a walking stride (deg; trunk, thigh, shank,
 /// foot), from the normative curves limbfuse's walking simulator is built on
@@ -152,6 +153,14 @@ pub struct ChainParams {
     /// Accelerometer rows with |innovation| above this many sigmas are
     /// skipped (infinity: none).
     pub acc_gate: f64,
+    /// Encoder rows with |innovation| above this many sigmas are refused
+    /// (infinity: none); a joint refused for `GATE_LOCKOUT_S` is re-adopted
+    /// ([`super::encoder_gate`]). Default `sqrt(INNOVATION_GATE_CHI2)` =
+    /// 4.89, the segment filters' encoder gate: the `1 - 1e-6` quantile of
+    /// the chi-square distribution with one degree of freedom, so that a
+    /// consistent filter refuses one good row in a million
+    /// ([`crate::segment_kf::robust::INNOVATION_GATE_CHI2`]).
+    pub encoder_gate: f64,
     /// Use the joint encoders when the trial has them.
     pub use_encoders: bool,
     /// Correct for the non-sagittal gyro components (eq C5).
@@ -194,6 +203,7 @@ impl Default for ChainParams {
             stance_min_s: 0.08,
             startup_s: 1.0,
             acc_gate: f64::INFINITY,
+            encoder_gate: libm::sqrt(INNOVATION_GATE_CHI2),
             use_encoders: true,
             out_of_plane: true,
             turn_tau_s: 0.5,
@@ -263,12 +273,17 @@ impl ChainParams {
                 range: "positive finite numbers",
             });
         }
-        if self.acc_gate.is_nan() || self.acc_gate <= 0.0 {
-            return Err(ChainParamsError::OutOfRange {
-                name: "acc_gate",
-                value: self.acc_gate,
-                range: "positive numbers (inf: no gate)",
-            });
+        for (name, value) in [
+            ("acc_gate", self.acc_gate),
+            ("encoder_gate", self.encoder_gate),
+        ] {
+            if value.is_nan() || value <= 0.0 {
+                return Err(ChainParamsError::OutOfRange {
+                    name,
+                    value,
+                    range: "positive numbers (inf: no gate)",
+                });
+            }
         }
         Ok(())
     }

@@ -29,6 +29,15 @@ fn controller_loop_example_survives_every_driver_fault() {
                 assert_eq!(r.contact_diffs, 0, "{what}");
             }
         }
+        if name == "mjls" || name == "chain" {
+            // The stuck knee encoder, refused by their encoder innovation
+            // gates (measured 0.057 / 0.52 deg; chain 11.4 deg before its
+            // gate, docs/CHAIN.md "Encoder gate").
+            let stuck = &runs[7];
+            assert!(example::FAULTS[7].name.contains("stuck"));
+            assert!(stuck.max_dev_deg < 1.0, "{name}: {stuck:?}");
+            assert!(stuck.rejected[2] > 0, "{name}: {stuck:?}");
+        }
         assert_eq!(runs[1].rejected, [0, 0, 1], "{name}: the encoder jump");
         assert_eq!(runs[3].rejected, [1, 0, 0], "{name}: the NaN");
         assert_eq!(runs[4].rejected, [10, 0, 0], "{name}: the saturated gyro");

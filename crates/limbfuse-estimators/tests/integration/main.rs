@@ -3,6 +3,7 @@
 //! dependency graph again). The allocation-counting tests are the separate
 //! `tests/allocation` binary (they install a global allocator).
 
+mod chain_encoder_gate;
 mod controller_loop_example;
 mod diagnostics;
 mod fes_no_resets;
