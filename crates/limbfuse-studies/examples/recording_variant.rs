@@ -3,13 +3,15 @@
 //! recordings"): rows removed (a time gap), IMU cells emptied over a time
 //! window or on every N-th row (dropped packets), the other leg's IMU
 //! columns removed, or the two legs' IMU columns and contact references
-//! exchanged without mirroring the readings, or the time stamps jittered.
+//! exchanged without mirroring the readings, the time stamps jittered, or
+//! an encoder stuck or re-zeroed.
 //! Other rates and the mirror
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
 //! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-every N
 //! [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
-//! [--jitter-seed S]]`
+//! [--jitter-seed S]] [--stick-encoder JOINT:START:END ...]
+//! [--offset-encoder JOINT:START:RAD ...]`
 
 use std::io::BufWriter;
 use std::path::Path;
@@ -35,6 +37,8 @@ fn main() {
         .unwrap_or_else(|e| panic!("{e} (run from the repository root)"));
     let n_in = records.len();
     let mut out = Vec::with_capacity(n_in);
+    // the reading each --stick-encoder window holds, from its first row
+    let mut stuck: Vec<Option<Option<f64>>> = vec![None; args.stick_encoder.len()];
     for (row, mut r) in records.into_iter().enumerate() {
         let t = r.sample.t;
         if inside(&args.drop_rows, t) {
@@ -49,6 +53,16 @@ fn main() {
         }
         if args.drop_other_leg {
             r.sample.other_leg_imu = [ImuSample::default(); 4];
+        }
+        for &(j, (start, rad)) in &args.offset_encoder {
+            if t >= start {
+                r.sample.encoder[j] = r.sample.encoder[j].map(|e| e + rad);
+            }
+        }
+        for (&(j, window), held) in args.stick_encoder.iter().zip(stuck.iter_mut()) {
+            if inside(&[window], t) {
+                r.sample.encoder[j] = *held.get_or_insert(r.sample.encoder[j]);
+            }
         }
         if args.swap_legs {
             core::mem::swap(&mut r.sample.imu, &mut r.sample.other_leg_imu);

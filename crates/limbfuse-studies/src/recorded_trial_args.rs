@@ -6,7 +6,9 @@
 use clap::Parser;
 
 /// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
-/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]`.
+/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
+/// [--jitter-ms MS [--jitter-seed S]] [--stick-encoder JOINT:A:B ...]
+/// [--offset-encoder JOINT:T:RAD ...]`.
 #[derive(Debug, Parser)]
 #[command(name = "recording_variant")]
 pub struct RecordingVariantArgs {
@@ -44,6 +46,38 @@ pub struct RecordingVariantArgs {
     /// Seed of `--jitter-ms`.
     #[arg(long, default_value_t = 1)]
     pub jitter_seed: u64,
+    /// `JOINT:START:END`: the joint's encoder (hip, knee or ankle) repeats
+    /// its reading at the first row of `START <= t < END` (s) over those
+    /// rows: a stuck encoder (repeatable).
+    #[arg(long, value_name = "JOINT:START:END", value_parser = joint_window)]
+    pub stick_encoder: Vec<(usize, (f64, f64))>,
+    /// `JOINT:START:RAD`: the joint's encoder reads RAD more from `START`
+    /// (s) on: a re-zeroed or slipped encoder (repeatable).
+    #[arg(long, value_name = "JOINT:START:RAD", value_parser = joint_window)]
+    pub offset_encoder: Vec<(usize, (f64, f64))>,
+}
+
+/// `JOINT:A:B` with JOINT one of hip, knee, ankle (its index) and two
+/// numbers.
+fn joint_window(s: &str) -> Result<(usize, (f64, f64)), String> {
+    let (joint, rest) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: expected JOINT:A:B (JOINT hip, knee or ankle)"))?;
+    let j = match joint.trim() {
+        "hip" => 0,
+        "knee" => 1,
+        "ankle" => 2,
+        other => return Err(format!("`{s}`: `{other}` is not hip, knee or ankle")),
+    };
+    let (a, b) = rest
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: expected JOINT:A:B"))?;
+    let parse = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{s}`: `{x}` is not a number"))
+    };
+    Ok((j, (parse(a)?, parse(b)?)))
 }
 
 /// `final_contact_floor [TRIAL [OTHER_TRIAL ...]]`.
@@ -108,5 +142,34 @@ pub(crate) fn time_window(s: &str) -> Result<(f64, f64), String> {
         Ok((a, b))
     } else {
         Err(format!("`{s}`: START must be below END"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encoder_faults_name_the_joint_and_two_numbers() {
+        let args = RecordingVariantArgs::try_parse_from([
+            "recording_variant",
+            "t.csv",
+            "-o",
+            "v.csv",
+            "--stick-encoder",
+            "knee:20:20.5",
+            "--offset-encoder",
+            "hip:3:-0.3",
+        ])
+        .unwrap();
+        assert_eq!(args.stick_encoder, vec![(1, (20.0, 20.5))]);
+        assert_eq!(args.offset_encoder, vec![(0, (3.0, -0.3))]);
+        assert!(joint_window("elbow:1:2")
+            .unwrap_err()
+            .contains("not hip, knee or ankle"));
+        assert!(joint_window("knee:1").is_err());
+        assert!(joint_window("knee:a:2")
+            .unwrap_err()
+            .contains("not a number"));
     }
 }
