@@ -72,12 +72,7 @@ fn joint_window(s: &str) -> Result<(usize, (f64, f64)), String> {
     let (a, b) = rest
         .split_once(':')
         .ok_or_else(|| format!("`{s}`: expected JOINT:A:B"))?;
-    let parse = |x: &str| {
-        x.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("`{s}`: `{x}` is not a number"))
-    };
-    Ok((j, (parse(a)?, parse(b)?)))
+    Ok((j, (number_in(s, a, "")?, number_in(s, b, "")?)))
 }
 
 /// `final_contact_floor [TRIAL [OTHER_TRIAL ...]]`.
@@ -127,17 +122,20 @@ pub struct ChainGeometrySensitivityArgs {
     pub search_cm: f64,
 }
 
+/// The number `x` of the argument `s` (`unit` said in the message).
+fn number_in(s: &str, x: &str, unit: &str) -> Result<f64, String> {
+    x.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("`{s}`: `{x}` is not a number{unit}"))
+}
+
 /// `START:END` seconds, `START < END`.
 pub(crate) fn time_window(s: &str) -> Result<(f64, f64), String> {
     let (a, b) = s
         .split_once(':')
         .ok_or_else(|| format!("`{s}`: expected START:END in seconds"))?;
-    let parse = |x: &str| {
-        x.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("`{s}`: `{x}` is not a number of seconds"))
-    };
-    let (a, b) = (parse(a)?, parse(b)?);
+    let unit = " of seconds";
+    let (a, b) = (number_in(s, a, unit)?, number_in(s, b, unit)?);
     if a < b {
         Ok((a, b))
     } else {
