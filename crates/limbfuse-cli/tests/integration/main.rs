@@ -11,6 +11,7 @@ mod cli_fes;
 mod cli_fes_extended;
 mod cli_gait;
 mod cli_gait_events;
+mod cli_lowback_speed;
 mod cli_methods;
 mod cli_report;
 mod cli_smooth;
