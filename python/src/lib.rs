@@ -6,9 +6,9 @@
 //! `limbfuse-signal` for simulation and alignment); the pure-Python layer
 //! (`python/limbfuse/`) wraps these functions in the `Trial`, `Estimate` and
 //! `Filter` classes of the public API. Trials cross the boundary as columns
-//! (numpy arrays, NaN = missing inside this crate: see [`columns`]).
+//! (numpy arrays, NaN = missing inside this crate: see the `columns` module).
 //!
-//! Every entry point runs inside [`guarded`]: a user error becomes a
+//! Every entry point runs inside `guarded`: a user error becomes a
 //! `limbfuse.LimbfuseError` (a `ValueError`) with the CLI's message, a panic
 //! a `limbfuse.InternalError`; no panic unwinds into Python.
 

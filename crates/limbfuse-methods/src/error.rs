@@ -158,7 +158,7 @@ pub const MAX_ECHO_CHARS: usize = 120;
 const MAX_MESSAGE_CHARS: usize = 2000;
 
 /// `message` with every value it quotes (between backticks or double
-/// quotes) longer than [`MAX_ECHO_CHARS`] cut short: an array to its first
+/// quotes) longer than `MAX_ECHO_CHARS` (120 characters) cut short: an array to its first
 /// numbers and `... (N numbers)`, other text to its start and `... (N
 /// characters)`; a message still longer than 2000 characters is cut too.
 /// An audit found a 2,000,000-number `encoder_sigma` echoed as a 12 MB
