@@ -336,28 +336,42 @@ impl GaitLibraryFile {
                 )));
             }
             // (an audit: empty SS1/DS/SS2 and all-zero times were accepted)
+            // Each phase holds at least one row and its times do not fall,
+            // and the step's times rise from its first row to its last. A
+            // phase of one row is accepted: `gait-library build` before
+            // 2026-12-06 wrote a phase shorter than its 10 ms sampling step
+            // (a lift-off just before the end MS) as one row, and a library
+            // limbfuse built must keep loading (the rows are not used by
+            // the estimators).
             let t = &g.trajectory;
+            let mut before: Option<f64> = None;
             for (phase, rows) in [("SS1", &t.ss1), ("DS", &t.ds), ("SS2", &t.ss2)] {
-                let times_rise = rows.windows(2).all(|w| w[1][0] >= w[0][0]);
-                let span = rows.last().zip(rows.first()).map(|(l, f)| l[0] - f[0]);
-                if rows.len() < 2
-                    || rows.iter().flatten().any(|v| !v.is_finite())
-                    || !times_rise
-                    || !span.is_some_and(|s| s > 0.0)
-                {
+                let times_rise = rows.windows(2).all(|w| w[1][0] >= w[0][0])
+                    && rows.first().zip(before).is_none_or(|(r, b)| r[0] >= b);
+                if rows.is_empty() || rows.iter().flatten().any(|v| !v.is_finite()) || !times_rise {
                     return Err(bad(format!(
-                        "`gaits[{i}].trajectory.{phase}` (speed {} m/s): expected at least two \
-                         finite rows [t, x, y, z, vx, vy, vz] with times rising over the phase, \
-                         found {} row(s){}",
+                        "`gaits[{i}].trajectory.{phase}` (speed {} m/s): expected finite rows \
+                         [t, x, y, z, vx, vy, vz] with times that do not fall (from the previous \
+                         phase's last on), found {}",
                         g.speed,
-                        rows.len(),
-                        if rows.len() >= 2 {
-                            " whose times do not rise"
+                        if rows.is_empty() {
+                            "none"
+                        } else if times_rise {
+                            "a non-finite value"
                         } else {
-                            ""
+                            "times that fall"
                         }
                     )));
                 }
+                before = rows.last().map(|r| r[0]);
+            }
+            let (first, last) = (t.ss1[0][0], t.ss2[t.ss2.len() - 1][0]);
+            if last <= first {
+                return Err(bad(format!(
+                    "`gaits[{i}].trajectory` (speed {} m/s): expected the times to rise over the \
+                     step, found {first} s to {last} s",
+                    g.speed
+                )));
             }
         }
         Ok(())
@@ -519,5 +533,33 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("`gaits[0].trajectory.SS2`"), "{e}");
+        let mut lib = sample();
+        let t = &mut lib.gaits[0].trajectory;
+        for phase in [&mut t.ss1, &mut t.ds, &mut t.ss2] {
+            phase.truncate(1);
+            phase[0][0] = 0.0;
+        }
+        let text = serde_json::to_string(&lib).unwrap();
+        let e = GaitLibraryFile::parse(Path::new("lib.json"), &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`gaits[0].trajectory`") && e.contains("rise"),
+            "{e}"
+        );
+    }
+
+    /// `gait-library build` before 2026-12-06 wrote a phase shorter than
+    /// its 10 ms sampling step as one row (a lift-off 4 ms before the end
+    /// MS: `--speeds 0.45:0.85:0.1 --leg-length 0.95 --mass 70`, SS2 = the
+    /// MS row alone), and the reader of 2026-12-05 refused that library;
+    /// such a file must keep loading.
+    #[test]
+    fn a_one_row_phase_of_an_older_build_loads() {
+        let mut lib = sample();
+        lib.gaits[0].trajectory.ss2 = vec![[0.81; 7]];
+        let text = serde_json::to_string(&lib).unwrap();
+        let parsed = GaitLibraryFile::parse(Path::new("lib.json"), &text);
+        assert!(parsed.is_ok(), "{:?}", parsed.err());
     }
 }

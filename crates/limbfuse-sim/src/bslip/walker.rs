@@ -91,6 +91,17 @@ impl Walker {
     /// exactly at `t_end` is handled, so the phase reported at a sample time
     /// is the phase that starts there.
     pub fn advance_to(&mut self, t_end: f64) {
+        while self.advance_to_next_event(t_end).is_some() {}
+    }
+
+    /// Advances to time `t_end` or to the first event before it, whichever
+    /// comes first (an event exactly at `t_end` included), and handles that
+    /// event. Returns the event's time and the CoM state at its instant,
+    /// before the event is handled (the same state after a touchdown or a
+    /// lift-off; at the end MS the walker restarts from the next step's
+    /// mirrored MS state). `None` when `t_end` was reached without one.
+    /// [`Walker::advance_to`] is this in a loop: the same integration.
+    pub fn advance_to_next_event(&mut self, t_end: f64) -> Option<(f64, State)> {
         let p = self.template.body;
         let gait = self.template.gait;
         while self.t < t_end {
@@ -115,9 +126,12 @@ impl Walker {
                 &mut self.h,
             );
             if stop == Stop::Event {
+                let at = (self.t, self.x);
                 self.on_event();
+                return Some(at);
             }
         }
+        None
     }
 
     fn on_event(&mut self) {
@@ -145,39 +159,105 @@ impl Walker {
     }
 }
 
-/// One step's trajectory sampled every `dt` (plus the event instants), as
-/// rows `[t, x, y, z, vx, vy, vz]` per phase (SS1, DS, SS2).
+/// One step's trajectory sampled every `dt` plus the event instants, as
+/// rows `[t, x, y, z, vx, vy, vz]` per phase (SS1, DS, SS2). A phase starts
+/// and ends with the rows of its events (MS, touchdown, lift-off, MS: a
+/// boundary row belongs to both phases), so every phase has at least two
+/// rows however short it is. (Before 2026-12-06 a boundary row was the
+/// first sample after the event: a lift-off less than `dt` before the end
+/// MS left SS2 one row, which the library reader refused.)
 pub fn sample_step(template: &GaitTemplate, dt: f64) -> [Vec<[f64; 7]>; 3] {
     let mut out: [Vec<[f64; 7]>; 3] = Default::default();
     let mut w = Walker::new(*template, Side::Left, 0.0);
-    let row = |w: &Walker| {
-        let x = w.state();
-        [w.time(), x[0], x[1], x[2], x[3], x[4], x[5]]
-    };
+    let row = |t: f64, x: &State| [t, x[0], x[1], x[2], x[3], x[4], x[5]];
     let index = |p: GaitPhase| match p {
         GaitPhase::Ss1 => 0,
         GaitPhase::Ds => 1,
         GaitPhase::Ss2 => 2,
     };
-    out[0].push(row(&w));
+    out[0].push(row(w.time(), &w.state()));
     let mut k = 1;
     loop {
         let t = (k as f64 * dt).min(template.step_time);
-        let before = w.phase();
-        w.advance_to(t);
-        if w.steps() > 0 {
-            // The end MS: the last row of SS2 is the leading-foot MS state.
-            break;
+        loop {
+            let before = w.phase();
+            let Some((te, xe)) = w.advance_to_next_event(t) else {
+                break;
+            };
+            out[index(before)].push(row(te, &xe));
+            if w.steps() > 0 {
+                // The end MS: the last row of SS2.
+                return out;
+            }
+            out[index(w.phase())].push(row(te, &xe));
         }
-        if w.phase() != before {
-            // Boundary rows belong to both phases.
-            out[index(before)].push(row(&w));
+        // (a sample on an event's instant is that event's row)
+        let phase = &mut out[index(w.phase())];
+        if phase.last().is_none_or(|r| r[0] < w.time()) {
+            phase.push(row(w.time(), &w.state()));
         }
-        out[index(w.phase())].push(row(&w));
         if t >= template.step_time {
-            break;
+            return out;
         }
         k += 1;
     }
-    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_models::bslip::{BslipParams, GaitParameters};
+
+    /// The 0.45 m/s gait that `gait-library build --speeds 0.45:0.85:0.1
+    /// --leg-length 0.95 --mass 70` continues to (99 % double support: the
+    /// lift-off 4 ms before the end MS, the touchdown 4 ms after the start).
+    fn short_single_support() -> GaitTemplate {
+        let stiffness = 5204.971841236786;
+        GaitTemplate {
+            speed: 0.45,
+            body: BslipParams {
+                mass: 70.0,
+                rest_length: 0.95,
+                stiffness,
+                gravity: 9.81,
+            },
+            gait: GaitParameters {
+                phi: 1.099869923189541,
+                theta: 0.0751817763478072,
+                stiffness,
+                height: 0.8442157955068942,
+                lateral: 0.03419755291075319,
+                forward_speed: 0.5117284057873384,
+            },
+            step_length: 0.4318757537311837,
+            step_width: 0.10555555555555554,
+            step_time: 0.959723897139858,
+            t_touchdown: 0.004038924716825274,
+            t_lift_off: 0.9556849725434228,
+        }
+    }
+
+    /// Every phase of a sampled step starts and ends at its events, however
+    /// much shorter than `dt` it is. Before the fix SS2 was one row (the
+    /// sample after the lift-off was the end MS) and SS1 ended at 10 ms, not
+    /// at the touchdown; a library holding that step was refused.
+    #[test]
+    fn a_phase_shorter_than_the_sampling_step_keeps_its_event_rows() {
+        let t = short_single_support();
+        let [ss1, ds, ss2] = sample_step(&t, 0.01);
+        let events = [0.0, t.t_touchdown, t.t_lift_off, t.step_time];
+        for (k, rows) in [ss1, ds, ss2].iter().enumerate() {
+            assert!(rows.len() >= 2, "phase {k}: {} row(s)", rows.len());
+            let (first, last) = (rows[0][0], rows[rows.len() - 1][0]);
+            assert!(
+                (first - events[k]).abs() < 1e-6,
+                "phase {k} starts at {first}"
+            );
+            assert!(
+                (last - events[k + 1]).abs() < 1e-6,
+                "phase {k} ends at {last}"
+            );
+            assert!(rows.windows(2).all(|w| w[1][0] > w[0][0]), "phase {k}");
+        }
+    }
 }
