@@ -31,6 +31,34 @@ pub fn start_seed(l0: f64) -> GaitParameters {
     }
 }
 
+/// The seed of [`start_seed`] for the 80 kg body at `gravity` 9.81 m/s^2,
+/// made dynamically similar for `body`: the stiffness scaled so that
+/// `k l0 / (m g)` is the 80 kg / 1 m / 9.81 seed's (dimensionless leg
+/// stiffness; Geyer et al. 2006), the lengths and speed as [`start_seed`].
+pub fn similar_start_seed(body: &BslipParams) -> GaitParameters {
+    let reference = start_seed(body.rest_length);
+    GaitParameters {
+        stiffness: reference.stiffness * (body.mass / 80.0) * (body.gravity / 9.81),
+        ..reference
+    }
+}
+
+/// The gait the library search starts from: eqs 1-2 at [`START_SPEED`] from
+/// [`start_seed`], or, when that finds no gait, from
+/// [`similar_start_seed`]. (The first seed's 20 kN/m suits the 80 kg body
+/// it was chosen for; for a body of 60 kg or less no step from it reached
+/// mid-stance and `gait-library build --mass 60` failed. The first seed is
+/// kept where it works, so every library it built is unchanged.)
+pub fn start_gait(
+    sim: &StepSimulator,
+    settings: &SearchSettings,
+) -> Result<FoundGait, SearchError> {
+    let body = sim.body;
+    optimise_gait(sim, &start_seed(body.rest_length), START_SPEED, settings).or_else(|first| {
+        optimise_gait(sim, &similar_start_seed(&body), START_SPEED, settings).map_err(|_| first)
+    })
+}
+
 /// One library gait: its target speed, parameters and step.
 #[derive(Debug, Clone, Copy)]
 pub struct LibraryGait {
@@ -103,7 +131,7 @@ pub fn build_library(
     let mut targets: Vec<f64> = speeds.to_vec();
     targets.sort_by(|a, b| b.total_cmp(a));
     let mut out: Vec<LibraryGait> = Vec::with_capacity(targets.len());
-    let mut current = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings)?;
+    let mut current = start_gait(&sim, settings)?;
     // Walk from the start speed to each target in turn (down, or up first).
     let mut order: Vec<f64> = targets
         .iter()
@@ -123,7 +151,16 @@ pub fn build_library(
             current = up_start;
         }
         for target in list {
-            current = continue_to(&sim, &current, target, settings)?;
+            let run = continue_towards(&sim, &current, target, settings);
+            if let Some(cause) = run.failed {
+                return Err(SearchError::Unreached {
+                    target,
+                    from: current.speed,
+                    reached: run.last.speed,
+                    cause: Box::new(cause),
+                });
+            }
+            current = run.last;
             out.push(current.into());
             progress(out.len(), targets.len());
         }
@@ -193,7 +230,7 @@ pub fn extend_library(
             if out.restarted.is_none() {
                 out.restarted = run.as_ref().and_then(|r| r.failed.clone());
             }
-            let start = optimise_gait(&sim, &start_seed(body.rest_length), START_SPEED, settings);
+            let start = start_gait(&sim, settings);
             match start {
                 Ok(start) => run = Some(continue_towards(&sim, &start, target, settings)),
                 Err(e) => {

@@ -125,6 +125,20 @@ pub enum SearchError {
     /// The optimiser failed.
     #[error("optimiser: {0}")]
     Optimiser(String),
+    /// A library speed the continuation did not reach.
+    #[error(
+        "no gait at {target} m/s on the branch continued from {from} m/s: it ends at {reached} m/s ({cause})"
+    )]
+    Unreached {
+        /// The library speed asked for (m/s).
+        target: f64,
+        /// Where the continuation started (m/s).
+        from: f64,
+        /// The last speed with a periodic gait on the way (m/s).
+        reached: f64,
+        /// Why the next sub-step failed.
+        cause: Box<SearchError>,
+    },
 }
 
 struct StiffnessProblem<'a> {

@@ -4,4 +4,5 @@
 
 mod bslip;
 mod determinism;
+mod light_body_library;
 mod physics;
