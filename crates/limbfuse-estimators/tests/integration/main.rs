@@ -38,6 +38,7 @@ mod knee_selfalign_sim;
 mod knee_sensor_delay;
 mod segment_kf_golden;
 mod segment_kf_issue_18;
+mod segment_kf_mid_walk_start;
 mod segment_kf_papers;
 mod segment_kf_robustness;
 mod segment_kf_static;

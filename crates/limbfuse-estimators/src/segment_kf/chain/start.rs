@@ -133,8 +133,17 @@ impl StartWindow {
             self.sum[i].0 += a.x * c - a.y * s;
             self.sum[i].1 += a.y * c + a.x * s;
         }
+        let (sx, sy) = self.sum[i];
+        if !(self.phi[i].is_finite() && sx.is_finite() && sy.is_finite()) {
+            // absurd readings (a rate or a force beyond any sensor, found by
+            // tests/integration/issue_18_fuzz.rs): the window begins again
+            self.since[i] = Some(t);
+            self.phi[i] = 0.0;
+            self.sum[i] = (0.0, 0.0);
+        }
         let max_rate = libm::sqrt(zeta / SEGMENT_REACH_M);
-        let still = match (acc, rho, rate) {
+        // (a missing gyro sample holds the last rate, as the filter does)
+        let still = match (acc, rho, rate.or(self.rate[i])) {
             (Some(a), Some(r), Some(w)) if r < zeta && libm::fabs(w) < max_rate => {
                 // the specific force held within zeta of its value at the
                 // hold's first sample (no changing acceleration)
@@ -180,6 +189,10 @@ impl Chain {
         if self.init == [true; 4] {
             return;
         }
+        if self.common.first_sample_start {
+            self.start_at_first_sample(accs, rho, encoder);
+            return;
+        }
         let mut ready = [None; 4];
         for i in 0..4 {
             if !self.init[i] {
@@ -208,6 +221,33 @@ impl Chain {
                 .or(ready.window.map(|th| (th, WINDOW_RHO)))
             {
                 self.initialise(i, th, r);
+            }
+        }
+    }
+
+    /// The start of limbfuse before 2026-12-06
+    /// ([`CommonParams::first_sample_start`](crate::segment_kf::CommonParams)):
+    /// each segment at its first accelerometer inclination, or with the
+    /// encoder start the whole chain from the argmin `rho` segment.
+    fn start_at_first_sample(
+        &mut self,
+        accs: &[Option<Vector3<f64>>; 4],
+        rho: &[Option<f64>; 4],
+        encoder: &[Option<f64>; 3],
+    ) {
+        if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
+            (self.encoder_start, self.init, *encoder)
+        {
+            let best = (0..4)
+                .filter_map(|i| Some((i, rho[i]?, accel_inclination(&accs[i]?))))
+                .min_by(|x, y| x.1.total_cmp(&y.1));
+            if let Some((i, r, th)) = best {
+                self.initialise_from_encoders(i, th, r, [h, k, a], sigma);
+            }
+        }
+        for i in 0..4 {
+            if let (false, Some(a), Some(r)) = (self.init[i], accs[i], rho[i]) {
+                self.initialise(i, accel_inclination(&a), r);
             }
         }
     }
