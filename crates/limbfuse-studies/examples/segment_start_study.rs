@@ -28,7 +28,10 @@ use std::path::Path;
 
 use clap::Parser;
 use limbfuse_core::{Estimator, Record};
-use limbfuse_estimators::segment_kf::{GlobalKf, LocalKf, MarkovJumpKf};
+use limbfuse_estimators::segment_kf::{
+    CommonParams, GlobalKf, GlobalKfParams, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams,
+};
 use limbfuse_io::TrialReader;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 use limbfuse_studies::example_args::SegmentStartStudyArgs;
@@ -45,17 +48,43 @@ const STEADY_FROM_S: f64 = 10.0;
 /// Margin over the steady band (deg).
 const MARGIN_DEG: f64 = 2.0;
 
-fn filter(method: &str) -> Box<dyn Estimator> {
+fn filter(method: &str, first_sample_start: bool) -> Box<dyn Estimator> {
+    let common = CommonParams {
+        first_sample_start,
+        ..CommonParams::default()
+    };
     match method {
-        "mjls" => Box::new(MarkovJumpKf::default()),
-        "global" => Box::new(GlobalKf::default()),
-        _ => Box::new(LocalKf::default()),
+        "mjls" => Box::new(
+            MarkovJumpKf::new(MarkovJumpKfParams {
+                common,
+                ..MarkovJumpKfParams::default()
+            })
+            .expect("defaults"),
+        ),
+        "global" => Box::new(
+            GlobalKf::new(GlobalKfParams {
+                common,
+                ..GlobalKfParams::default()
+            })
+            .expect("defaults"),
+        ),
+        _ => Box::new(
+            LocalKf::new(LocalKfParams {
+                common,
+                ..LocalKfParams::default()
+            })
+            .expect("defaults"),
+        ),
     }
 }
 
 /// Segment estimates per record; `reset_at` resets the filter before that record.
-fn run(method: &str, records: &[Record], reset_at: Option<usize>) -> Vec<[Option<f64>; 4]> {
-    let mut f = filter(method);
+fn run(
+    (method, old): (&str, bool),
+    records: &[Record],
+    reset_at: Option<usize>,
+) -> Vec<[Option<f64>; 4]> {
+    let mut f = filter(method, old);
     records
         .iter()
         .enumerate()
@@ -227,6 +256,7 @@ fn main() {
         let dt = records[1].sample.t - records[0].sample.t;
         let n = (2.0 * stride / args.every).round() as usize;
         for (m, method) in METHODS.iter().enumerate() {
+            let method = (*method, args.first_sample_start);
             let uncut = run(method, records, None);
             let (off, band) = steady(records, &uncut);
             for kind in ["cut", "reset"] {
@@ -268,7 +298,8 @@ fn main() {
                     .map(|o| format!("{:.1}", o.to_degrees()))
                     .collect();
                 println!(
-                    "| {name} | {stride:.2} | {method} | {kind} | {n} | {} | {} | {} | {} | {} |",
+                    "| {name} | {stride:.2} | {} | {kind} | {n} | {} | {} | {} | {} | {} |",
+                    method.0,
                     stats(&mut peak),
                     stats(&mut steady),
                     stats(&mut first),

@@ -122,7 +122,7 @@ pub struct SegmentStudyArgs {
     pub seeds: u64,
 }
 
-/// `segment_start_study [--every S] [--seed N] [--data DIR]`.
+/// `segment_start_study [--every S] [--seed N] [--data DIR] [--first-sample-start]`.
 #[derive(Debug, Parser)]
 pub struct SegmentStartStudyArgs {
     /// Spacing of the starts (s), over two strides.
@@ -134,6 +134,10 @@ pub struct SegmentStartStudyArgs {
     /// The shared data directory (its independent walks are skipped when absent).
     #[arg(long, default_value = "../shared/data")]
     pub data: String,
+    /// The start before 2026-12-06 (`first_sample_start`: each segment at
+    /// its first accelerometer sample), for the "before" figures.
+    #[arg(long)]
+    pub first_sample_start: bool,
 }
 
 /// `segment_error_budget [SEEDS]`.
