@@ -36,6 +36,7 @@ mod knee_selfalign_real;
 mod knee_selfalign_shared;
 mod knee_selfalign_sim;
 mod knee_sensor_delay;
+mod segment_kf_accel_gate;
 mod segment_kf_golden;
 mod segment_kf_issue_18;
 mod segment_kf_mid_walk_start;

@@ -7,22 +7,22 @@ use crate::segment_kf_support::{is_spd, Rng, StaticLimb, G};
 use limbfuse_core::{Estimate, Estimator, Sample};
 use limbfuse_estimators::segment_kf::params::CommonParams;
 use limbfuse_estimators::segment_kf::{
-    AccelGate, GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams,
-    MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable,
+    GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams, MjlsDiag, WhenUnreliable,
 };
 use nalgebra::{SMatrix, Vector3};
 use proptest::prelude::*;
 
 /// The three filters behind one interface, with their covariance.
 #[allow(clippy::large_enum_variant)]
-enum AnyKf {
+pub(crate) enum AnyKf {
     Local(LocalKf),
     Mjls(MarkovJumpKf),
     Global(GlobalKf),
 }
 
 impl AnyKf {
-    fn all(common: CommonParams) -> [AnyKf; 3] {
+    pub(crate) fn all(common: CommonParams) -> [AnyKf; 3] {
         [
             AnyKf::Local(
                 LocalKf::new(LocalKfParams {
@@ -48,7 +48,7 @@ impl AnyKf {
         ]
     }
 
-    fn est(&mut self) -> &mut dyn Estimator {
+    pub(crate) fn est(&mut self) -> &mut dyn Estimator {
         match self {
             AnyKf::Local(f) => f,
             AnyKf::Mjls(f) => f,
@@ -56,7 +56,7 @@ impl AnyKf {
         }
     }
 
-    fn p(&self) -> SMatrix<f64, 8, 8> {
+    pub(crate) fn p(&self) -> SMatrix<f64, 8, 8> {
         match self {
             AnyKf::Local(f) => *f.covariance(),
             AnyKf::Mjls(f) => *f.covariance(),
@@ -64,7 +64,7 @@ impl AnyKf {
         }
     }
 
-    fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             AnyKf::Local(_) => "local",
             AnyKf::Mjls(_) => "mjls",
@@ -72,7 +72,7 @@ impl AnyKf {
         }
     }
 
-    fn diag_names(&self) -> &'static [&'static str] {
+    pub(crate) fn diag_names(&self) -> &'static [&'static str] {
         match self {
             AnyKf::Local(_) => &LocalDiag::NAMES,
             AnyKf::Mjls(_) => &MjlsDiag::NAMES,
@@ -81,7 +81,7 @@ impl AnyKf {
     }
 }
 
-fn diag(e: &Estimate, names: &[&str], name: &str) -> Option<f64> {
+pub(crate) fn diag(e: &Estimate, names: &[&str], name: &str) -> Option<f64> {
     e.diag[names.iter().position(|n| *n == name).unwrap()]
 }
 
@@ -94,7 +94,7 @@ fn all_finite(e: &Estimate) -> bool {
         && e.diag.iter().flatten().all(|v| v.is_finite())
 }
 
-fn limb(seed: u64) -> StaticLimb {
+pub(crate) fn limb(seed: u64) -> StaticLimb {
     StaticLimb {
         theta: [0.1, -0.2, 0.3, -0.1],
         gyro_bias: [0.01, -0.005, 0.002, 0.008],
@@ -539,96 +539,11 @@ proptest! {
     }
 }
 
-#[test]
-fn accel_hold_gate_waits_for_a_quasi_static_run_of_the_given_duration() {
-    // 100 Hz; rho < zeta on samples 0, 2, 3, 4, ...; sample 1 breaks the run.
-    // With hold_s = 0.02 the accelerometer rows may enter again at sample 4
-    // (20 ms after the run restarted at sample 2), not at 2 or 3.
-    let gate = AccelGate {
-        hold_s: 0.02,
-        ..AccelGate::OFF
-    };
-    for (hold, first) in [(AccelGate::OFF, 2usize), (gate, 4)] {
-        let common = CommonParams {
-            accel_gate: hold,
-            ..first_sample_start()
-        };
-        for mut kf in AnyKf::all(common) {
-            let mut l = limb(23);
-            let names = kf.diag_names();
-            kf.est().step(&l.sample(0)).unwrap();
-            let mut s = l.sample(1);
-            for imu in s.imu.iter_mut() {
-                imu.acc = imu.acc.map(|a| a * 1.2); // rho ~ 2 m/s^2
-            }
-            kf.est().step(&s).unwrap();
-            for k in 2..=5 {
-                let e = kf.est().step(&l.sample(k)).unwrap();
-                let upd: f64 = ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"]
-                    .iter()
-                    .map(|n| diag(&e, names, n).unwrap())
-                    .sum();
-                assert_eq!(upd > 0.0, k >= first, "{} k={k} {hold:?}", kf.name());
-            }
-        }
-    }
-}
-
-#[test]
-fn accel_rate_gate_drops_a_rotating_segment() {
-    let common = CommonParams {
-        accel_gate: AccelGate {
-            max_rate: 1.0,
-            ..AccelGate::OFF
-        },
-        ..first_sample_start()
-    };
-    for mut kf in AnyKf::all(common) {
-        if kf.name() == "mjls" {
-            continue; // one row only; checked below
-        }
-        let mut l = limb(29);
-        let names = kf.diag_names();
-        kf.est().step(&l.sample(0)).unwrap();
-        let mut s = l.sample(1);
-        s.imu[0].gyr = Some(Vector3::new(0.0, 0.3, 2.0)); // trunk turns at 2 rad/s
-        s.imu[2].gyr = None; // a missing gyro fails the test
-        let e = kf.est().step(&s).unwrap();
-        assert_eq!(diag(&e, names, "upd_trunk"), Some(0.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_thigh"), Some(1.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_shank"), Some(0.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_foot"), Some(1.0), "{}", kf.name());
-    }
-    // MJLS picks the most reliable among the segments that pass: make the
-    // trunk the argmin of rho but rotating, and check the mode skips it.
-    let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
-        common,
-        ..Default::default()
-    })
-    .unwrap();
-    let mut l = limb(31);
-    l.acc_sigma = 0.0;
-    f.step(&l.sample(0)).unwrap();
-    let mut s = l.sample(1);
-    for (i, imu) in s.imu.iter_mut().enumerate() {
-        imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64)); // trunk best
-    }
-    let e = f.step(&s).unwrap();
-    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(0.0));
-    let mut s = l.sample(2);
-    for (i, imu) in s.imu.iter_mut().enumerate() {
-        imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64));
-    }
-    s.imu[0].gyr = Some(Vector3::new(0.0, 0.0, -1.5));
-    let e = f.step(&s).unwrap();
-    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(1.0));
-}
-
 /// The default parameters with the start of limbfuse before 2026-12-06 (each
 /// segment at its first accelerometer sample): these tests check what
 /// follows a start placed on their first sample
 /// (the start itself: tests/integration/segment_kf_mid_walk_start.rs).
-fn first_sample_start() -> CommonParams {
+pub(crate) fn first_sample_start() -> CommonParams {
     CommonParams {
         first_sample_start: true,
         ..CommonParams::default()
