@@ -320,8 +320,8 @@ impl Chain {
         let usable = self.init;
         self.first_t.get_or_insert(sample.t);
         self.start_segments(sample.t, &accs, &rho, &rate, &encoder);
-        for i in 0..4 {
-            if let Some(r) = rate[i] {
+        for (i, rate) in rate.iter().enumerate() {
+            if let Some(r) = *rate {
                 self.prev_rate[i] = (self.last_rate[i], self.last_rate_t[i]);
                 self.last_rate[i] = Some(r);
                 self.last_rate_t[i] = sample.t;
