@@ -33,11 +33,12 @@ use limbfuse_estimators::segment_kf::{
     MarkovJumpKfParams,
 };
 use limbfuse_io::TrialReader;
+use limbfuse_methods::MethodName;
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 use limbfuse_studies::example_args::SegmentStartStudyArgs;
 use rayon::prelude::*;
 
-const METHODS: [&str; 3] = ["mjls", "global", "local"];
+const METHODS: [MethodName; 3] = [MethodName::Mjls, MethodName::Global, MethodName::Local];
 const SIM_SPEEDS: [f64; 5] = [0.4, 0.7, 1.0, 1.3, 1.6];
 /// Peak window after a start (s).
 const PEAK_S: f64 = 3.0;
@@ -48,20 +49,20 @@ const STEADY_FROM_S: f64 = 10.0;
 /// Margin over the steady band (deg).
 const MARGIN_DEG: f64 = 2.0;
 
-fn filter(method: &str, first_sample_start: bool) -> Box<dyn Estimator> {
+fn filter(method: MethodName, first_sample_start: bool) -> Box<dyn Estimator> {
     let common = CommonParams {
         first_sample_start,
         ..CommonParams::default()
     };
     match method {
-        "mjls" => Box::new(
+        MethodName::Mjls => Box::new(
             MarkovJumpKf::new(MarkovJumpKfParams {
                 common,
                 ..MarkovJumpKfParams::default()
             })
             .expect("defaults"),
         ),
-        "global" => Box::new(
+        MethodName::Global => Box::new(
             GlobalKf::new(GlobalKfParams {
                 common,
                 ..GlobalKfParams::default()
@@ -80,7 +81,7 @@ fn filter(method: &str, first_sample_start: bool) -> Box<dyn Estimator> {
 
 /// Segment estimates per record; `reset_at` resets the filter before that record.
 fn run(
-    (method, old): (&str, bool),
+    (method, old): (MethodName, bool),
     records: &[Record],
     reset_at: Option<usize>,
 ) -> Vec<[Option<f64>; 4]> {
