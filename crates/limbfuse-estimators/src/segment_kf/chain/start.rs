@@ -56,6 +56,11 @@ pub(crate) const START_HOLD_S: f64 = 0.05;
 /// stride of walking at any speed.
 pub(crate) const START_WINDOW_S: f64 = 2.0;
 
+/// Tolerance (s) on those durations, for timestamps that are not exact
+/// multiples of the sample period or are large (at t = 1.7e9 s one unit in
+/// the last place is 2.4e-7 s), as the accelerometer gate's hold.
+const START_EPS_S: f64 = 1e-6;
+
 /// Largest velocity change (m/s) of a leg segment's sensor between the
 /// two ends of a start window: the swing-phase speed of a shank or thigh
 /// point, up to twice a brisk walking speed (1 m/s).
@@ -158,12 +163,12 @@ impl StartWindow {
         if !still {
             self.still_since[i] = None;
         }
-        let held = still && t - *self.still_since[i].get_or_insert(t) >= START_HOLD_S - 1e-9;
+        let held = still && t - *self.still_since[i].get_or_insert(t) >= START_HOLD_S - START_EPS_S;
         let quasi_static = match (held, acc, rho) {
             (true, Some(a), Some(r)) => Some((accel_inclination(&a), r)),
             _ => None,
         };
-        let waited = self.since[i].is_some_and(|t0| t - t0 >= START_WINDOW_S - 1e-9);
+        let waited = self.since[i].is_some_and(|t0| t - t0 >= START_WINDOW_S - START_EPS_S);
         let (sx, sy) = self.sum[i];
         let window =
             (waited && (sx != 0.0 || sy != 0.0)).then(|| wrap(libm::atan2(sx, sy) + self.phi[i]));
