@@ -240,16 +240,7 @@ impl Chain {
     fn restart_segment(&mut self, i: usize) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.init[i] = false;
-        self.angle_g[i] = 0.0;
-        self.bias_hat[i] = -self.common.initial_gyro_bias[i];
-        self.x[a] = 0.0;
-        self.x[b] = 0.0;
-        for k in 0..8 {
-            for s in [a, b] {
-                self.P[(s, k)] = 0.0;
-                self.P[(k, s)] = 0.0;
-            }
-        }
+        self.clear_segment(i, 0.0);
         self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma;
         self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
         self.rate_gap[i] = 0.0;

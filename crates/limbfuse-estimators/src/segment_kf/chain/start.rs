@@ -257,13 +257,10 @@ impl Chain {
         }
     }
 
-    /// Starts segment `i` at the inclination `theta`. The
-    /// initial angle variance is `p0_angle_sigma^2` plus the dynamic-tilt
-    /// allowance for the reliability `rho` of that very sample, `2 rho / (3
-    /// g)` (the tilt admitted by `| ||a|| - g | = rho`, taken uniform, see
-    /// `SegmentNoise::consumer_mems`; a window start counts as
-    /// [`WINDOW_RHO`]), capped at `(pi/2)^2`.
-    pub(super) fn initialise(&mut self, i: usize, theta: f64, rho: f64) {
+    /// Segment `i` at angle `theta` with the initial bias, its error state
+    /// zero and its rows and columns of `P` zero (the caller sets the
+    /// diagonal).
+    pub(super) fn clear_segment(&mut self, i: usize, theta: f64) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.angle_g[i] = theta;
         self.bias_hat[i] = -self.common.initial_gyro_bias[i];
@@ -275,6 +272,17 @@ impl Chain {
                 self.P[(k, s)] = 0.0;
             }
         }
+    }
+
+    /// Starts segment `i` at the inclination `theta`. The
+    /// initial angle variance is `p0_angle_sigma^2` plus the dynamic-tilt
+    /// allowance for the reliability `rho` of that very sample, `2 rho / (3
+    /// g)` (the tilt admitted by `| ||a|| - g | = rho`, taken uniform, see
+    /// `SegmentNoise::consumer_mems`; a window start counts as
+    /// [`WINDOW_RHO`]), capped at `(pi/2)^2`.
+    pub(super) fn initialise(&mut self, i: usize, theta: f64, rho: f64) {
+        let (a, b) = (angle_state(i), bias_state(i));
+        self.clear_segment(i, theta);
         let dynamic = (2.0 * rho / (3.0 * self.common.gravity))
             .min(core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2);
         self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
@@ -330,5 +338,78 @@ impl Chain {
         self.angle_g = angle;
         self.x = SVector::zeros();
         self.init = [true; 4];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::segment_kf::{CommonParams, LocalKf, LocalKfParams};
+    use limbfuse_core::{Estimator, Sample};
+    use nalgebra::Vector3;
+
+    /// One segment (the trunk) swinging `theta = 0.3 sin(2 pi t)` at 1 Hz
+    /// while its sensor accelerates forward by `5 cos(2 pi t)` m/s^2 (zero
+    /// mean over a period): at t = 0 the specific force points 27 deg off
+    /// the segment's inclination, its norm only 1.2 m/s^2 above g.
+    fn swinging(t: f64) -> (Sample, f64) {
+        let w = core::f64::consts::TAU;
+        let theta = 0.3 * libm::sin(w * t);
+        let (fx, fy) = (5.0 * libm::cos(w * t), 9.80665);
+        let (s, c) = (libm::sin(theta), libm::cos(theta));
+        let mut sample = Sample::empty(t);
+        sample.imu[0].acc = Some(Vector3::new(fx * c + fy * s, -fx * s + fy * c, 0.0));
+        sample.imu[0].gyr = Some(Vector3::new(0.0, 0.0, 0.3 * w * libm::cos(w * t)));
+        (sample, theta)
+    }
+
+    fn local(first_sample_start: bool) -> LocalKf {
+        LocalKf::new(LocalKfParams {
+            common: CommonParams {
+                first_sample_start,
+                ..CommonParams::default()
+            },
+            min_reliable: 1,
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_swinging_accelerating_segment_starts_from_its_window_not_its_first_sample() {
+        // first-sample start: 27 deg off at t = 0
+        let (s0, th0) = swinging(0.0);
+        let old = local(true).step(&s0).unwrap().segment[0].unwrap();
+        assert!((old - th0).abs().to_degrees() > 20.0, "{old} vs {th0}");
+        let mut f = local(false);
+        for k in 0..=250 {
+            let t = k as f64 * 0.01;
+            let (s, th) = swinging(t);
+            let e = f.step(&s).unwrap().segment[0];
+            if t < 2.0 - 1e-9 {
+                // never quasi-static: its specific force keeps changing
+                assert_eq!(e, None, "t = {t}");
+            } else if k == 200 {
+                // the window spans two whole periods: the dynamic
+                // acceleration averages out
+                let d = (e.unwrap() - th).abs().to_degrees();
+                assert!(d < 1.0, "{d} deg off at the start");
+            }
+        }
+    }
+
+    #[test]
+    fn a_still_segment_starts_after_its_hold_at_its_inclination() {
+        let mut f = local(false);
+        let a = Vector3::new(libm::sin(0.2), libm::cos(0.2), 0.0) * 9.80665;
+        for k in 0..10 {
+            let mut s = Sample::empty(k as f64 * 0.01);
+            s.imu[0].acc = Some(a);
+            s.imu[0].gyr = Some(Vector3::zeros());
+            let e = f.step(&s).unwrap().segment[0];
+            // quasi-static for 0.05 s from the sixth sample on
+            assert_eq!(e.is_some(), k >= 5, "k = {k}");
+            if let Some(v) = e {
+                assert!((v - 0.2).abs() < 1e-12, "{v}");
+            }
+        }
     }
 }
