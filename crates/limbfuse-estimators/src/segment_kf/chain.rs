@@ -1,6 +1,7 @@
 //! The error-state machinery the three segment filters share: gyro
 //! integration outside the Kalman filter, the 8-state error covariance,
-//! initialisation, missing-data handling, closed/open loop, diagnostics.
+//! initialisation (when and from what a segment starts: [`start`], ours),
+//! missing-data handling, closed/open loop, diagnostics.
 //!
 //! Per segment `i` the filter keeps (000 eqs 5-6, 12-13):
 //! * `theta_g,i`, the gyro-integrated angle: `d theta_g / dt = omega_gyro +
