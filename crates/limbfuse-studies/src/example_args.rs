@@ -12,7 +12,7 @@ pub use crate::recorded_trial_args::{
 };
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 30] = [
+pub const EXAMPLES: [&str; 31] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -39,6 +39,7 @@ pub const EXAMPLES: [&str; 30] = [
     "recording_variant",
     "robust_input_study",
     "segment_error_budget",
+    "segment_start_study",
     "segment_study",
     "segment_validation",
     "soak",
@@ -98,6 +99,7 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         "robust_input_study" => parse::<RobustInputStudyArgs>(example, args),
         "segment_error_budget" => parse::<SegmentErrorBudgetArgs>(example, args),
         "calibration_study" => parse::<CalibrationStudyArgs>(example, args),
+        "segment_start_study" => parse::<SegmentStartStudyArgs>(example, args),
         "segment_study" => parse::<SegmentStudyArgs>(example, args),
         "segment_validation" => parse::<SegmentValidationArgs>(example, args),
         "time_base_study" => parse::<TimeBaseStudyArgs>(example, args),
@@ -118,6 +120,24 @@ pub struct SegmentStudyArgs {
     /// Seeds 1..=SEEDS per speed.
     #[arg(default_value_t = 30)]
     pub seeds: u64,
+}
+
+/// `segment_start_study [--every S] [--seed N] [--data DIR] [--first-sample-start]`.
+#[derive(Debug, Parser)]
+pub struct SegmentStartStudyArgs {
+    /// Spacing of the starts (s), over two strides.
+    #[arg(long, default_value_t = 0.1)]
+    pub every: f64,
+    /// Seed of our simulator's walks.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The shared data directory (its independent walks are skipped when absent).
+    #[arg(long, default_value = "../shared/data")]
+    pub data: String,
+    /// The start before 2026-12-06 (`first_sample_start`: each segment at
+    /// its first accelerometer sample), for the "before" figures.
+    #[arg(long)]
+    pub first_sample_start: bool,
 }
 
 /// `segment_error_budget [SEEDS]`.

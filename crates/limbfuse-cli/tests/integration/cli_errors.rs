@@ -133,8 +133,9 @@ fn estimate_then_evaluate_json_on_a_hand_made_trial() {
 }
 
 /// A hand-made trial with the given IMU segments (acc + gyr, static,
-/// upright), optionally the three encoders, and a `thigh_ref` reference, 5
-/// samples at 100 Hz.
+/// upright), optionally the three encoders, and a `thigh_ref` reference, 10
+/// samples at 100 Hz (a segment filter starts once a segment has been
+/// quasi-static for 0.05 s: from the sixth sample on).
 fn trial_with(segments: &[&str], encoders: bool) -> String {
     let mut header = vec!["t".to_string()];
     for s in segments {
@@ -149,7 +150,7 @@ fn trial_with(segments: &[&str], encoders: bool) -> String {
     }
     header.push("thigh_ref".to_string());
     let mut out = header.join(",") + "\n";
-    for k in 0..5 {
+    for k in 0..10 {
         let mut row = vec![format!("{}", k as f64 * 0.01)];
         for _ in segments {
             row.extend(["0", "9.81", "0", "0", "0", "0"].map(String::from));

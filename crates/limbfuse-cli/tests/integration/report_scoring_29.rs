@@ -334,8 +334,20 @@ fn a_start_transient_does_not_set_the_y_range() {
         &["simulate", "walking", "--duration", "20", "-o", "w.csv"],
         dir,
     );
+    // (started on the first sample, the start before 2026-12-06, so that
+    // every row has an estimate to put the transient on)
+    std::fs::write(dir.join("first.toml"), "first_sample_start = true\n").unwrap();
     run_ok(
-        &["estimate", "--method", "local", "w.csv", "-o", "l.csv"],
+        &[
+            "estimate",
+            "--method",
+            "local",
+            "--params",
+            "first.toml",
+            "w.csv",
+            "-o",
+            "l.csv",
+        ],
         dir,
     );
     let text = read(dir, "l.csv");

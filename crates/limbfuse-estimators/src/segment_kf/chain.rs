@@ -1,6 +1,7 @@
 //! The error-state machinery the three segment filters share: gyro
 //! integration outside the Kalman filter, the 8-state error covariance,
-//! initialisation, missing-data handling, closed/open loop, diagnostics.
+//! initialisation (when and from what a segment starts: [`start`], ours),
+//! missing-data handling, closed/open loop, diagnostics.
 //!
 //! Per segment `i` the filter keeps (000 eqs 5-6, 12-13):
 //! * `theta_g,i`, the gyro-integrated angle: `d theta_g / dt = omega_gyro +
@@ -35,6 +36,9 @@ use super::robust::{
 use super::sequential;
 use super::structured::{self, all_finite, ChainRow, Gain};
 use crate::inclination::{accel_inclination, sagittal_specific_force};
+
+mod start;
+use start::StartWindow;
 
 /// What the filters read from one sample, after cleaning.
 #[derive(Debug, Clone, Copy)]
@@ -112,6 +116,8 @@ pub(crate) struct Chain {
     resets: u64,
     /// Time of the first sample since the (re)start (for `startup_s`).
     first_t: Option<f64>,
+    /// The segments' wait for a start ([`start`]).
+    start: StartWindow,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -153,6 +159,7 @@ impl Chain {
             gated_encoder: 0,
             resets: 0,
             first_t: None,
+            start: StartWindow::default(),
         }
     }
 
@@ -234,19 +241,11 @@ impl Chain {
     fn restart_segment(&mut self, i: usize) {
         let (a, b) = (angle_state(i), bias_state(i));
         self.init[i] = false;
-        self.angle_g[i] = 0.0;
-        self.bias_hat[i] = -self.common.initial_gyro_bias[i];
-        self.x[a] = 0.0;
-        self.x[b] = 0.0;
-        for k in 0..8 {
-            for s in [a, b] {
-                self.P[(s, k)] = 0.0;
-                self.P[(k, s)] = 0.0;
-            }
-        }
+        self.clear_segment(i, 0.0);
         self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma;
         self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
         self.rate_gap[i] = 0.0;
+        self.start.forget(i);
         self.resets += 1;
     }
 
@@ -312,23 +311,9 @@ impl Chain {
         self.restart_diverged();
         let usable = self.init;
         self.first_t.get_or_insert(sample.t);
-        if let (Some(sigma), [false, false, false, false], [Some(h), Some(k), Some(a)]) =
-            (self.encoder_start, self.init, encoder)
-        {
-            let best = (0..4)
-                .filter_map(|i| Some((i, rho[i]?, accel_inclination(&accs[i]?))))
-                .min_by(|x, y| x.1.total_cmp(&y.1));
-            if let Some((i, r, th)) = best {
-                self.initialise_from_encoders(i, th, r, [h, k, a], sigma);
-            }
-        }
-        for i in 0..4 {
-            if !self.init[i] {
-                if let (Some(a), Some(r)) = (accs[i], rho[i]) {
-                    self.initialise(i, accel_inclination(&a), r);
-                }
-            }
-            if let Some(r) = rate[i] {
+        self.start_segments(sample.t, &accs, &rho, &rate, &encoder);
+        for (i, rate) in rate.iter().enumerate() {
+            if let Some(r) = *rate {
                 self.prev_rate[i] = (self.last_rate[i], self.last_rate_t[i]);
                 self.last_rate[i] = Some(r);
                 self.last_rate_t[i] = sample.t;
@@ -341,81 +326,6 @@ impl Chain {
             rate_missing,
             usable,
         })
-    }
-
-    /// Starts segment `i` at the accelerometer inclination `theta`. The
-    /// initial angle variance is `p0_angle_sigma^2` plus the dynamic-tilt
-    /// allowance for the reliability `rho` of that very sample, `2 rho / (3
-    /// g)` (the tilt admitted by `| ||a|| - g | = rho`, taken uniform, see
-    /// `SegmentNoise::consumer_mems`), capped at `(pi/2)^2`: a filter started
-    /// while the limb moves knows its first angle is poor.
-    fn initialise(&mut self, i: usize, theta: f64, rho: f64) {
-        let (a, b) = (angle_state(i), bias_state(i));
-        self.angle_g[i] = theta;
-        self.bias_hat[i] = -self.common.initial_gyro_bias[i];
-        self.x[a] = 0.0;
-        self.x[b] = 0.0;
-        for k in 0..8 {
-            for s in [a, b] {
-                self.P[(s, k)] = 0.0;
-                self.P[(k, s)] = 0.0;
-            }
-        }
-        let dynamic = (2.0 * rho / (3.0 * self.common.gravity))
-            .min(core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2);
-        self.P[(a, a)] = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
-        self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
-        self.init[i] = true;
-    }
-
-    /// Starts all four segments at once: segment `k` at its accelerometer
-    /// inclination `theta` (initial variance as in [`Chain::initialise`]),
-    /// the others through the joint chain `theta_{j+1} = theta_j - enc_j`
-    /// (SPEC section 1). The angle covariance is the exact one of that
-    /// construction: `cov(theta_i, theta_j) = v + sum of the encoder
-    /// variances on the part of the path from `k` that `i` and `j` share`,
-    /// so the started angles are as correlated as they really are. Not in the
-    /// papers (which do not say how the filters start); without it a filter
-    /// started mid-stride carries each distal segment's poor first
-    /// inclination (tens of degrees for the foot in swing) until its own
-    /// accelerometer is next reliable, even though the encoders pin it to its
-    /// neighbours.
-    fn initialise_from_encoders(
-        &mut self,
-        k: usize,
-        theta: f64,
-        rho: f64,
-        enc: [f64; 3],
-        enc_sigma: [f64; 3],
-    ) {
-        let mut angle = [theta; 4];
-        for i in k + 1..4 {
-            angle[i] = angle[i - 1] - enc[i - 1];
-        }
-        for i in (0..k).rev() {
-            angle[i] = angle[i + 1] + enc[i];
-        }
-        // encoder j lies on the path from k to i when it sits between them
-        let on_path = |j: usize, i: usize| (i > k && j >= k && j < i) || (i < k && j >= i && j < k);
-        let dynamic = (2.0 * rho / (3.0 * self.common.gravity))
-            .min(core::f64::consts::FRAC_PI_2 * core::f64::consts::FRAC_PI_2);
-        let v = self.common.p0_angle_sigma * self.common.p0_angle_sigma + dynamic;
-        self.P = Mat8::zeros();
-        for i in 0..4 {
-            for m in 0..4 {
-                let shared: f64 = (0..3)
-                    .filter(|&j| on_path(j, i) && on_path(j, m))
-                    .map(|j| enc_sigma[j] * enc_sigma[j])
-                    .sum();
-                self.P[(angle_state(i), angle_state(m))] = v + shared;
-            }
-            let b = bias_state(i);
-            self.P[(b, b)] = self.common.p0_bias_sigma * self.common.p0_bias_sigma;
-            self.bias_hat[i] = -self.common.initial_gyro_bias[i];
-        }
-        self.angle_g = angle;
-        self.x = SVector::zeros();
-        self.init = [true; 4];
     }
 
     /// Segment `i`'s rate predicted over a dropout of `tau` s from its last

@@ -259,7 +259,11 @@ mod tests {
     #[test]
     fn unaided_angle_integrates_a_linear_rate_and_a_decaying_bias() {
         let (theta0, c0, c1, beta, tau) = (0.1, 0.2, -0.01, 0.02, 30.0);
-        let mut common = CommonParams::default();
+        // (the angle integrated from the first sample on)
+        let mut common = CommonParams {
+            first_sample_start: true,
+            ..CommonParams::default()
+        };
         common.segments[0].bias_tau = tau;
         common.initial_gyro_bias[0] = beta;
         let mut f = LocalKf::new(LocalKfParams {

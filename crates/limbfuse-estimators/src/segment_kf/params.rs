@@ -259,6 +259,14 @@ pub struct CommonParams {
     /// window (ours, issue 14; papers 000/001 do not say how their filters
     /// start; docs/SEGMENT_FILTERS.md, "Run-in").
     pub startup_s: f64,
+    /// `true`: every segment starts at its first accelerometer sample (the
+    /// start of limbfuse before 2026-12-06; mjls: the chain from the argmin
+    /// `rho` segment of its first sample). `false` (default): a segment
+    /// starts from a quasi-static sample or, after a 2 s window, from its
+    /// gyro-derotated mean specific force (ours, not the papers', which do
+    /// not say how their filters start; docs/SEGMENT_FILTERS.md,
+    /// "Initialisation").
+    pub first_sample_start: bool,
 }
 
 impl Default for CommonParams {
@@ -279,6 +287,7 @@ impl Default for CommonParams {
             covariance_update: CovarianceUpdate::Joseph,
             accel_gate: AccelGate::OFF,
             startup_s: 0.0,
+            first_sample_start: false,
         }
     }
 }

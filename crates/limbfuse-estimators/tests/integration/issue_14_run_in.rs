@@ -12,8 +12,12 @@ use limbfuse_estimators::segment_kf::{
 use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 
 fn filters(startup_s: f64) -> Vec<Box<dyn Estimator>> {
+    // (the run-in counted from the first sample, where these filters start:
+    // the start before 2026-12-06; the start from a quasi-static sample is
+    // tested in segment_kf_mid_walk_start.rs)
     let common = CommonParams {
         startup_s,
+        first_sample_start: true,
         ..CommonParams::default()
     };
     vec![

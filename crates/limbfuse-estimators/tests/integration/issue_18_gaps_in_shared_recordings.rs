@@ -32,7 +32,8 @@ fn global_shank(records: &[Record]) -> Vec<(f64, f64)> {
         .iter()
         .map(|r| {
             let e = f.step(&r.sample).unwrap();
-            (r.sample.t, e.segment[shank].unwrap())
+            // (NaN before the shank's start, within the first 2 s)
+            (r.sample.t, e.segment[shank].unwrap_or(f64::NAN))
         })
         .collect()
 }

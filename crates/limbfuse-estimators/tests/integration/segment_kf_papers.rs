@@ -62,6 +62,8 @@ fn paper_000_worked_example_mode_selection() {
 #[test]
 fn paper_000_worked_example_through_the_filter() {
     let mut p = MarkovJumpKfParams::default();
+    // (the worked example starts on its first sample)
+    p.common.first_sample_start = true;
     for s in p.common.segments.iter_mut() {
         s.zeta = 0.2 + 1e-9;
     }
@@ -282,6 +284,8 @@ fn paper_001_printed_k9_k11_are_wrong() {
 /// Parameters that make the first predicted covariance equal to the
 /// identity up to 1e-18: P0 = I, no process noise, Euler, dt = 1e-9.
 fn identity_prior(mut c: CommonParams, sigmas: [f64; 4]) -> CommonParams {
+    // (the gains are those of the filter started on the first sample)
+    c.first_sample_start = true;
     c.p0_angle_sigma = 1.0;
     c.p0_bias_sigma = 1.0;
     c.discretization = limbfuse_core::discretize::Discretization::Euler;

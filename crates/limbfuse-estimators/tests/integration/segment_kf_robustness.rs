@@ -7,22 +7,22 @@ use crate::segment_kf_support::{is_spd, Rng, StaticLimb, G};
 use limbfuse_core::{Estimate, Estimator, Sample};
 use limbfuse_estimators::segment_kf::params::CommonParams;
 use limbfuse_estimators::segment_kf::{
-    AccelGate, GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams,
-    MarkovJumpKf, MarkovJumpKfParams, MjlsDiag, WhenUnreliable,
+    GlobalDiag, GlobalKf, GlobalKfParams, LocalDiag, LocalKf, LocalKfParams, MarkovJumpKf,
+    MarkovJumpKfParams, MjlsDiag, WhenUnreliable,
 };
 use nalgebra::{SMatrix, Vector3};
 use proptest::prelude::*;
 
 /// The three filters behind one interface, with their covariance.
 #[allow(clippy::large_enum_variant)]
-enum AnyKf {
+pub(crate) enum AnyKf {
     Local(LocalKf),
     Mjls(MarkovJumpKf),
     Global(GlobalKf),
 }
 
 impl AnyKf {
-    fn all(common: CommonParams) -> [AnyKf; 3] {
+    pub(crate) fn all(common: CommonParams) -> [AnyKf; 3] {
         [
             AnyKf::Local(
                 LocalKf::new(LocalKfParams {
@@ -48,7 +48,7 @@ impl AnyKf {
         ]
     }
 
-    fn est(&mut self) -> &mut dyn Estimator {
+    pub(crate) fn est(&mut self) -> &mut dyn Estimator {
         match self {
             AnyKf::Local(f) => f,
             AnyKf::Mjls(f) => f,
@@ -56,7 +56,7 @@ impl AnyKf {
         }
     }
 
-    fn p(&self) -> SMatrix<f64, 8, 8> {
+    pub(crate) fn p(&self) -> SMatrix<f64, 8, 8> {
         match self {
             AnyKf::Local(f) => *f.covariance(),
             AnyKf::Mjls(f) => *f.covariance(),
@@ -64,7 +64,7 @@ impl AnyKf {
         }
     }
 
-    fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             AnyKf::Local(_) => "local",
             AnyKf::Mjls(_) => "mjls",
@@ -72,7 +72,7 @@ impl AnyKf {
         }
     }
 
-    fn diag_names(&self) -> &'static [&'static str] {
+    pub(crate) fn diag_names(&self) -> &'static [&'static str] {
         match self {
             AnyKf::Local(_) => &LocalDiag::NAMES,
             AnyKf::Mjls(_) => &MjlsDiag::NAMES,
@@ -81,7 +81,7 @@ impl AnyKf {
     }
 }
 
-fn diag(e: &Estimate, names: &[&str], name: &str) -> Option<f64> {
+pub(crate) fn diag(e: &Estimate, names: &[&str], name: &str) -> Option<f64> {
     e.diag[names.iter().position(|n| *n == name).unwrap()]
 }
 
@@ -94,7 +94,7 @@ fn all_finite(e: &Estimate) -> bool {
         && e.diag.iter().flatten().all(|v| v.is_finite())
 }
 
-fn limb(seed: u64) -> StaticLimb {
+pub(crate) fn limb(seed: u64) -> StaticLimb {
     StaticLimb {
         theta: [0.1, -0.2, 0.3, -0.1],
         gyro_bias: [0.01, -0.005, 0.002, 0.008],
@@ -108,7 +108,7 @@ fn limb(seed: u64) -> StaticLimb {
 
 #[test]
 fn missing_samples_nan_cells_and_a_time_gap_never_give_nan() {
-    for mut f in AnyKf::all(CommonParams::default()) {
+    for mut f in AnyKf::all(first_sample_start()) {
         let mut l = limb(11);
         let mut t_offset = 0.0;
         for k in 0..1500 {
@@ -163,7 +163,7 @@ fn missing_samples_nan_cells_and_a_time_gap_never_give_nan() {
 fn a_segment_without_accelerometer_is_not_estimated() {
     // mjls starts the chain from the encoders (next test), so a segment
     // without an accelerometer is estimated there; local and global only.
-    for mut f in AnyKf::all(CommonParams::default()) {
+    for mut f in AnyKf::all(first_sample_start()) {
         if f.est().name() == "mjls" {
             continue;
         }
@@ -188,7 +188,11 @@ fn a_segment_without_accelerometer_is_not_estimated() {
 
 #[test]
 fn mjls_without_a_foot_accelerometer_estimates_the_foot_through_the_ankle_encoder() {
-    let mut f = MarkovJumpKf::default();
+    let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
+        common: first_sample_start(),
+        ..Default::default()
+    })
+    .unwrap();
     let mut l = limb(12);
     for k in 0..200 {
         let mut s = l.sample(k);
@@ -206,10 +210,14 @@ fn mjls_without_a_foot_accelerometer_estimates_the_foot_through_the_ankle_encode
 
 #[test]
 fn mjls_starts_the_chain_from_the_most_reliable_accelerometer_and_the_encoders() {
-    let mut f = MarkovJumpKf::default();
+    let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
+        common: first_sample_start(),
+        ..Default::default()
+    })
+    .unwrap();
     let mut l = limb(13);
     let s = l.sample(0);
-    let g = CommonParams::default().gravity;
+    let g = first_sample_start().gravity;
     let rho: Vec<f64> = s
         .imu
         .iter()
@@ -232,7 +240,7 @@ fn mjls_starts_the_chain_from_the_most_reliable_accelerometer_and_the_encoders()
 
 #[test]
 fn first_sample_initialises_from_the_accelerometer_without_update() {
-    for mut f in AnyKf::all(CommonParams::default()) {
+    for mut f in AnyKf::all(first_sample_start()) {
         if f.est().name() == "mjls" {
             continue; // previous test
         }
@@ -265,7 +273,7 @@ fn held_rate_over_gyro_dropouts_decays_as_a_second_order_process() {
     // the correlation time HELD_RATE_CORRELATION_S
     // (issue 18, docs/ROBUST_INPUT.md; the papers hold it constant).
     let tau_c = limbfuse_estimators::segment_kf::robust::HELD_RATE_CORRELATION_S;
-    let mut c = CommonParams::default();
+    let mut c = first_sample_start();
     for s in c.segments.iter_mut() {
         s.zeta = 1e-6;
     }
@@ -316,9 +324,9 @@ fn held_rate_over_gyro_dropouts_decays_as_a_second_order_process() {
 
 #[test]
 fn non_increasing_time_is_rejected_and_leaves_the_state_alone() {
-    for (mut f, mut g) in AnyKf::all(CommonParams::default())
+    for (mut f, mut g) in AnyKf::all(first_sample_start())
         .into_iter()
-        .zip(AnyKf::all(CommonParams::default()))
+        .zip(AnyKf::all(first_sample_start()))
     {
         let mut l1 = limb(14);
         let mut l2 = limb(14);
@@ -340,7 +348,7 @@ fn non_increasing_time_is_rejected_and_leaves_the_state_alone() {
         }
         // reset = a fresh filter.
         f.est().reset();
-        let mut h = AnyKf::all(CommonParams::default());
+        let mut h = AnyKf::all(first_sample_start());
         let name = f.name();
         let fresh = h.iter_mut().find(|x| x.name() == name).unwrap();
         let mut l3 = limb(15);
@@ -358,7 +366,7 @@ fn non_increasing_time_is_rejected_and_leaves_the_state_alone() {
 fn angles_near_plus_minus_pi_do_not_jump() {
     // A segment upside down: the inclination flips between +pi and -pi
     // with the noise; the innovation is wrapped so the estimate does not.
-    for mut f in AnyKf::all(CommonParams::default()) {
+    for mut f in AnyKf::all(first_sample_start()) {
         let mut l = limb(16);
         l.theta = [3.13, 3.13, 3.13, 3.13];
         l.gyro_bias = [0.0; 4];
@@ -385,6 +393,7 @@ fn mjls_encoders_only_option_uses_the_encoders_when_no_imu_is_reliable() {
     ] {
         let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
             when_unreliable: opt,
+            common: first_sample_start(),
             ..Default::default()
         })
         .unwrap();
@@ -407,7 +416,7 @@ fn mjls_encoders_only_option_uses_the_encoders_when_no_imu_is_reliable() {
 
 #[test]
 fn gain_shares_are_fractions_and_local_has_only_its_own_rows() {
-    for mut f in AnyKf::all(CommonParams::default()) {
+    for mut f in AnyKf::all(first_sample_start()) {
         let names = f.diag_names();
         let mut l = limb(18);
         let mut seen = false;
@@ -440,11 +449,7 @@ fn gain_shares_are_fractions_and_local_has_only_its_own_rows() {
 fn covariances_stay_spd_over_a_long_random_run() {
     let mut paper_std = CommonParams::paper_2014();
     paper_std.covariance_update = limbfuse_core::kalman::CovarianceUpdate::Standard;
-    for common in [
-        CommonParams::default(),
-        CommonParams::paper_2014(),
-        paper_std,
-    ] {
+    for common in [first_sample_start(), CommonParams::paper_2014(), paper_std] {
         for mut f in AnyKf::all(common) {
             let mut rng = Rng::new(99);
             let mut t = 0.0;
@@ -517,7 +522,7 @@ proptest! {
     /// random data, step lengths, dropouts and reliability.
     #[test]
     fn covariances_stay_spd(seed in any::<u64>(), n in 1usize..600, euler in any::<bool>()) {
-        let mut c = CommonParams::default();
+        let mut c = first_sample_start();
         if euler {
             c.discretization = limbfuse_core::discretize::Discretization::Euler;
         }
@@ -534,87 +539,13 @@ proptest! {
     }
 }
 
-#[test]
-fn accel_hold_gate_waits_for_a_quasi_static_run_of_the_given_duration() {
-    // 100 Hz; rho < zeta on samples 0, 2, 3, 4, ...; sample 1 breaks the run.
-    // With hold_s = 0.02 the accelerometer rows may enter again at sample 4
-    // (20 ms after the run restarted at sample 2), not at 2 or 3.
-    let gate = AccelGate {
-        hold_s: 0.02,
-        ..AccelGate::OFF
-    };
-    for (hold, first) in [(AccelGate::OFF, 2usize), (gate, 4)] {
-        let common = CommonParams {
-            accel_gate: hold,
-            ..CommonParams::default()
-        };
-        for mut kf in AnyKf::all(common) {
-            let mut l = limb(23);
-            let names = kf.diag_names();
-            kf.est().step(&l.sample(0)).unwrap();
-            let mut s = l.sample(1);
-            for imu in s.imu.iter_mut() {
-                imu.acc = imu.acc.map(|a| a * 1.2); // rho ~ 2 m/s^2
-            }
-            kf.est().step(&s).unwrap();
-            for k in 2..=5 {
-                let e = kf.est().step(&l.sample(k)).unwrap();
-                let upd: f64 = ["upd_trunk", "upd_thigh", "upd_shank", "upd_foot"]
-                    .iter()
-                    .map(|n| diag(&e, names, n).unwrap())
-                    .sum();
-                assert_eq!(upd > 0.0, k >= first, "{} k={k} {hold:?}", kf.name());
-            }
-        }
-    }
-}
-
-#[test]
-fn accel_rate_gate_drops_a_rotating_segment() {
-    let common = CommonParams {
-        accel_gate: AccelGate {
-            max_rate: 1.0,
-            ..AccelGate::OFF
-        },
+/// The default parameters with the start of limbfuse before 2026-12-06 (each
+/// segment at its first accelerometer sample): these tests check what
+/// follows a start placed on their first sample
+/// (the start itself: tests/integration/segment_kf_mid_walk_start.rs).
+pub(crate) fn first_sample_start() -> CommonParams {
+    CommonParams {
+        first_sample_start: true,
         ..CommonParams::default()
-    };
-    for mut kf in AnyKf::all(common) {
-        if kf.name() == "mjls" {
-            continue; // one row only; checked below
-        }
-        let mut l = limb(29);
-        let names = kf.diag_names();
-        kf.est().step(&l.sample(0)).unwrap();
-        let mut s = l.sample(1);
-        s.imu[0].gyr = Some(Vector3::new(0.0, 0.3, 2.0)); // trunk turns at 2 rad/s
-        s.imu[2].gyr = None; // a missing gyro fails the test
-        let e = kf.est().step(&s).unwrap();
-        assert_eq!(diag(&e, names, "upd_trunk"), Some(0.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_thigh"), Some(1.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_shank"), Some(0.0), "{}", kf.name());
-        assert_eq!(diag(&e, names, "upd_foot"), Some(1.0), "{}", kf.name());
     }
-    // MJLS picks the most reliable among the segments that pass: make the
-    // trunk the argmin of rho but rotating, and check the mode skips it.
-    let mut f = MarkovJumpKf::new(MarkovJumpKfParams {
-        common,
-        ..Default::default()
-    })
-    .unwrap();
-    let mut l = limb(31);
-    l.acc_sigma = 0.0;
-    f.step(&l.sample(0)).unwrap();
-    let mut s = l.sample(1);
-    for (i, imu) in s.imu.iter_mut().enumerate() {
-        imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64)); // trunk best
-    }
-    let e = f.step(&s).unwrap();
-    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(0.0));
-    let mut s = l.sample(2);
-    for (i, imu) in s.imu.iter_mut().enumerate() {
-        imu.acc = imu.acc.map(|a| a * (1.0 + 0.005 * i as f64));
-    }
-    s.imu[0].gyr = Some(Vector3::new(0.0, 0.0, -1.5));
-    let e = f.step(&s).unwrap();
-    assert_eq!(e.diagnostic(MjlsDiag::Mode), Some(1.0));
 }

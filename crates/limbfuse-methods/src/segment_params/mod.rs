@@ -264,6 +264,7 @@ struct RawFile {
     accel_hold_s: Option<f64>,
     accel_max_rate: Option<f64>,
     startup_s: Option<f64>,
+    first_sample_start: Option<bool>,
     min_reliable: Option<i64>,
     encoder_sigma: Option<toml::Value>,
     when_unreliable: Option<RawWhenUnreliable>,
@@ -309,6 +310,9 @@ fn unit_of(key: &str) -> &'static str {
         "accel_hold_s" => "quasi-static duration of rho < zeta, s (0 = off)",
         "accel_max_rate" => "angular-rate bound of the accelerometer test, rad/s (inf = off)",
         "startup_s" => "start-up window, s (0 = off: the papers' start)",
+        "first_sample_start" => {
+            "start every segment at its first accelerometer sample (the start before 2026-12-06)"
+        }
         "encoder_sigma" => "encoder standard deviation, rad",
         "relative_sigma" => "relative-row standard deviation, rad",
         _ => "",
@@ -460,6 +464,11 @@ pub fn parse_params(
     }
     if let Some(v) = raw.startup_s {
         a.set("startup_s", v, |p| p.common_mut().startup_s = v)?;
+    }
+    if let Some(v) = raw.first_sample_start {
+        a.set("first_sample_start", v, |p| {
+            p.common_mut().first_sample_start = v
+        })?;
     }
     if let Some(segs) = &raw.segments {
         if let Some(s) = &segs.all {

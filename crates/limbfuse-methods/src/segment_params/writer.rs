@@ -78,6 +78,13 @@ pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
         // (written only when on: files of the papers' start stay as they were)
         let _ = writeln!(s, "startup_s = {}  # s, 0 = off", lit(c.startup_s));
     }
+    if c.first_sample_start {
+        // (written only when on, as `startup_s`)
+        let _ = writeln!(
+            s,
+            "first_sample_start = true  # the start before 2026-12-06"
+        );
+    }
     let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
     match params {
         FilterParams::Local(p) => {

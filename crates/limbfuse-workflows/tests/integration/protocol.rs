@@ -113,17 +113,21 @@ fn each_start_is_a_fresh_filter_run_on_its_interval_only() {
     let mut sum = [0.0; 4];
     for &(s, e) in &iv {
         let mut f = params.build().unwrap();
-        let mut sq = [0.0; 4];
+        let (mut sq, mut n) = ([0.0; 4], [0usize; 4]);
         let recs = slice_interval(&records, s, e);
         for rec in recs {
             let est = f.step(&rec.sample).unwrap();
-            for (i, q) in sq.iter_mut().enumerate() {
-                let d = est.segment[i].unwrap() - rec.reference.segment[i].unwrap();
-                *q += d * d;
+            for i in 0..4 {
+                // (a segment waiting for its start has no estimate and is not scored)
+                if let Some(x) = est.segment[i] {
+                    let d = x - rec.reference.segment[i].unwrap();
+                    sq[i] += d * d;
+                    n[i] += 1;
+                }
             }
         }
-        for (m, q) in sum.iter_mut().zip(sq) {
-            *m += (q / recs.len() as f64).sqrt() / iv.len() as f64;
+        for i in 0..4 {
+            sum[i] += (sq[i] / n[i] as f64).sqrt() / iv.len() as f64;
         }
     }
     for s in Segment::ALL {
