@@ -43,20 +43,10 @@ impl Observer for AnyOutputWatch {
 /// The error for `trial`, on which `method` gave no value in `n_samples`;
 /// `kept` says what became of the output ("no estimate written").
 pub fn no_output_message(trial: &str, method: &str, n_samples: u64, kept: &str) -> String {
-    // The segment filters wait for a quasi-static sample or 2 s before a
-    // segment starts (docs/SEGMENT_FILTERS.md, "When a segment starts").
-    let start = match method {
-        "local" | "mjls" | "global" => {
-            "; or the trial ends before any segment starts: a segment starts at a sample at which \
-             it holds still for 0.05 s, else 2 s after the first (docs/SEGMENT_FILTERS.md, \
-             \"When a segment starts\")"
-        }
-        _ => "",
-    };
     format!(
         "{trial}: `{method}` gave no estimate on any of its {n_samples} samples (the inputs it \
          reads are missing on every row, or rejected as out of range or implausible: `limbfuse \
-         inspect` shows the rows each input misses, a warning the readings rejected{start}); {kept}"
+         inspect` shows the rows each input misses, a warning the readings rejected); {kept}"
     )
 }
 
@@ -78,7 +68,5 @@ mod tests {
             no_output_message("t.csv", "imm-bslip", 3, "no estimate written")
                 .starts_with("t.csv: `imm-bslip` gave no estimate on any of its 3 samples")
         );
-        assert!(!no_output_message("t.csv", "imm-bslip", 3, "").contains("holds still"));
-        assert!(no_output_message("t.csv", "global", 3, "").contains("holds still for 0.05 s"));
     }
 }
