@@ -12,7 +12,12 @@
 //!   is that of a symmetric gait (two vertical oscillations per stride,
 //!   item 4): its contact is the same, half a stride later, so that a
 //!   method that finds both feet's contacts (`lowback-speed`) is scored
-//!   against both.
+//!   against both. These are the placed events, which keep the normative
+//!   curves' timing, not the instants the simulated foot meets or leaves
+//!   the floor: outside single support its contact points follow the
+//!   normative angles and differ from them by -119 to +48 ms
+//!   (docs/SIMULATOR.md, "Known limitations";
+//!   `examples/foot_floor_study.rs` in limbfuse-studies).
 //! - **Speed** per stride (heel strike to the next heel strike of the same
 //!   leg: the times at which the unwrapped phase crosses a multiple of
 //!   `2 pi`, found by bisection on the gait clock): the horizontal distance

@@ -12,7 +12,7 @@ pub use crate::recorded_trial_args::{
 };
 
 /// Every example of this crate, by name (the file `examples/NAME.rs`).
-pub const EXAMPLES: [&str; 31] = [
+pub const EXAMPLES: [&str; 32] = [
     "accel_accept_stats",
     "accel_gate_study",
     "attitude_floor",
@@ -27,6 +27,7 @@ pub const EXAMPLES: [&str; 31] = [
     "fes_thesis_protocol",
     "fes_tune_cv",
     "final_contact_floor",
+    "foot_floor_study",
     "gait_library_without",
     "gait_pelvis",
     "gyro_shape_floor",
@@ -82,7 +83,8 @@ pub fn check(example: &str, args: &[String]) -> Result<(), ExampleArgsError> {
         | "fes_figures"
         | "fes_model_study"
         | "fes_thesis_protocol"
-        | "fes_tune_cv" => parse::<NoArgs>(example, args),
+        | "fes_tune_cv"
+        | "foot_floor_study" => parse::<NoArgs>(example, args),
         "chain_geometry_sensitivity" => parse::<ChainGeometrySensitivityArgs>(example, args),
         "chain_study" => parse::<ChainStudyArgs>(example, args),
         "fes_studies" => parse::<FesStudiesArgs>(example, args),
