@@ -72,11 +72,11 @@ fn main() {
         // the floor
         let foot_up = (0..=400)
             .map(|i| 0.4 + i as f64 / STEPS as f64)
-            .filter(|&s| {
+            .rev()
+            .find(|&s| {
                 let (h, m) = heights(&sim, period, s);
                 h.min(m) <= ON_FLOOR_M
-            })
-            .last();
+            });
         let ms = |d: Option<f64>| match d {
             Some(d) => format!("{:+.0}", d * period * 1e3),
             None => "none".into(),
