@@ -292,6 +292,12 @@ impl<'a> EstimateView<'a> {
         }
     }
 
+    /// Which angle channels (in `AngleChannel::ALL` order) the estimate
+    /// has a column of (`AngleMetrics::set_carried_channels`).
+    pub fn carried_angles(&self) -> [bool; 7] {
+        core::array::from_fn(|k| self.angle[k].is_some())
+    }
+
     /// The estimate of sample `i`.
     pub fn estimate(&self, i: usize) -> Estimate {
         let opt = |c: Option<&[f64]>| c.map(|v| v[i]).filter(|x| x.is_finite());

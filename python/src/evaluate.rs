@@ -115,6 +115,7 @@ fn evaluate(
         };
         crate::interrupt::detach(py, || {
             let mut metrics = AngleMetrics::new(method, options);
+            metrics.set_carried_channels(view.carried_angles());
             metrics.set_diagnostic_names(view.diag.iter().map(|(n, _)| n.as_str()));
             for (i, r) in cols.records().enumerate() {
                 let e = view.estimate(i);

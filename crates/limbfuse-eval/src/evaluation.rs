@@ -198,6 +198,9 @@ pub fn evaluate_files(
         });
     }
     let mut metrics = AngleMetrics::new(er.method(), options);
+    metrics.set_carried_channels(core::array::from_fn(|k| {
+        er.has_angle(limbfuse_core::sample::AngleChannel::ALL[k])
+    }));
     metrics.set_diagnostic_names(
         er.diagnostic_names()
             .map(str::to_string)

@@ -44,7 +44,7 @@ pub use evaluation_kind::{evaluation_kind, speed_from_com, EstimateContent, Eval
 pub use fixed_thigh::FixedThighWatch;
 pub use gait_watch::GaitWatch;
 pub use knee_watch::KneeWatch;
-pub use metrics::{AngleMetrics, Evaluation};
+pub use metrics::{AngleMetrics, ChannelCoverage, Evaluation};
 pub use rejections::{Rejected, RejectionWatch};
 pub use resets::{scan_estimate_file, ResetWatch, Resets};
 pub use sample_interval::{IntervalMismatch, SampleIntervalWatch};

@@ -28,6 +28,11 @@ pub struct AngleMetrics {
     reliability: ReliabilityCounter,
     resets: ResetWatch,
     reference_units: crate::ReferenceUnitsWatch,
+    /// Per channel, the rows inside the window with a reference.
+    reference_rows: [u64; 7],
+    /// Which angle channels the estimate carries (`None`: those with any
+    /// estimate).
+    carried: Option<[bool; 7]>,
 }
 
 /// Counts the samples in which accelerometer rows update the estimate
@@ -104,7 +109,19 @@ impl AngleMetrics {
             reliability: ReliabilityCounter::default(),
             resets: ResetWatch::default(),
             reference_units: Default::default(),
+            reference_rows: [0; 7],
+            carried: None,
         }
+    }
+
+    /// Which angle channels (in [`AngleChannel::ALL`] order) the estimate
+    /// carries: its angle columns, or what its estimator outputs
+    /// ([`Observer::start`] sets it from [`Estimator::outputs`]). A carried
+    /// channel with a reference on rows where it has no estimate is
+    /// reported ([`Evaluation::coverage`]); without this call, the channels
+    /// with any estimate count as carried.
+    pub fn set_carried_channels(&mut self, carried: [bool; 7]) {
+        self.carried = Some(carried);
     }
 
     /// Sets the diagnostic names (as the estimator or estimate file gives them).
@@ -130,8 +147,11 @@ impl AngleMetrics {
         }
         self.n_samples += 1;
         for (k, c) in AngleChannel::ALL.iter().enumerate() {
-            if let (Some(e), Some(r)) = (estimate.angle(*c), record.reference.angle(*c)) {
-                self.channels[k].push(e, r);
+            if let Some(r) = record.reference.angle(*c) {
+                self.reference_rows[k] += 1;
+                if let Some(e) = estimate.angle(*c) {
+                    self.channels[k].push(e, r);
+                }
             }
         }
         self.reliability
@@ -152,6 +172,19 @@ impl AngleMetrics {
                 diag_mean.insert(n.clone(), self.diag_sum[i] / self.diag_n[i] as f64);
             }
         }
+        let coverage = AngleChannel::ALL
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| {
+                let carried = self.carried.map_or(self.channels[*k].n() > 0, |c| c[*k]);
+                carried && self.reference_rows[*k] > 0
+            })
+            .map(|(k, c)| ChannelCoverage {
+                channel: *c,
+                scored: self.channels[k].n(),
+                with_reference: self.reference_rows[k],
+            })
+            .collect();
         let mut channels: Vec<(AngleChannel, ChannelError)> = AngleChannel::ALL
             .iter()
             .copied()
@@ -184,6 +217,7 @@ impl AngleMetrics {
             trial_check: Default::default(),
             resets: self.resets.resets(),
             reference_units: self.reference_units.warning(),
+            coverage,
         }
     }
 }
@@ -192,6 +226,11 @@ impl Observer for AngleMetrics {
     fn start(&mut self, estimator: &dyn Estimator) -> Result<(), BoxError> {
         self.method = estimator.name().to_string();
         self.set_diagnostic_names(estimator.diagnostic_names().iter());
+        let o = estimator.outputs();
+        self.set_carried_channels(core::array::from_fn(|k| match k {
+            0..=3 => o.segment[k],
+            _ => o.joint[k - 4],
+        }));
         Ok(())
     }
 
@@ -238,6 +277,24 @@ pub struct Evaluation {
     /// The warning when angle references look like degrees
     /// ([`crate::ReferenceUnitsWatch`]); in the JSON as `warnings`.
     pub reference_units: Option<String>,
+    /// Per angle channel the estimate carries and the trial has a
+    /// reference of (in the window): on how many rows it was scored (no
+    /// lag) out of those with a reference; in the JSON as `rows_scored` /
+    /// `rows_with_reference`.
+    pub coverage: Vec<ChannelCoverage>,
+}
+
+/// How many rows of one channel were scored out of those with a reference
+/// ([`Evaluation::coverage`]): fewer when the estimate is empty on some of
+/// them (before a filter starts, after a restart, a missing input).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChannelCoverage {
+    /// The channel.
+    pub channel: AngleChannel,
+    /// Rows with both an estimate and a reference (without a lag shift).
+    pub scored: u64,
+    /// Rows with a reference.
+    pub with_reference: u64,
 }
 
 impl Evaluation {
@@ -346,6 +403,19 @@ impl Evaluation {
         if let (Some(w), Some(obj)) = (&self.reference_units, v.as_object_mut()) {
             obj.insert("warnings".into(), json!([w]));
         }
+        if let Some(obj) = v.as_object_mut() {
+            let rows = |f: fn(&ChannelCoverage) -> u64| -> Map<String, Value> {
+                self.coverage
+                    .iter()
+                    .map(|c| (c.channel.name().to_string(), json!(f(c))))
+                    .collect()
+            };
+            obj.insert("rows_scored".into(), Value::Object(rows(|c| c.scored)));
+            obj.insert(
+                "rows_with_reference".into(),
+                Value::Object(rows(|c| c.with_reference)),
+            );
+        }
         if let (Some(r), Some(obj)) = (&self.resets, v.as_object_mut()) {
             obj.insert(
                 "resets".into(),
@@ -399,6 +469,9 @@ impl Evaluation {
             s += "\n";
         }
         if let Some(note) = self.knee_zero_note() {
+            s += &format!("note: {note}\n");
+        }
+        if let Some(note) = self.coverage_note() {
             s += &format!("note: {note}\n");
         }
         for line in self.rate_notes() {

@@ -24,6 +24,7 @@ impl Evaluation {
             );
         }
         notes.extend(self.knee_zero_note().map(|n| format!("note: {n}")));
+        notes.extend(self.coverage_note().map(|n| format!("note: {n}")));
         notes.extend(self.rate_notes());
         notes
     }
@@ -82,6 +83,30 @@ impl Evaluation {
         })
     }
 
+    /// The channels scored on fewer rows than have a reference
+    /// ([`Evaluation::coverage`]), `None` when every carried channel was
+    /// scored wherever it has one. Their RMSE and the mean over channels
+    /// cover the scored rows only, so two methods' figures on one trial may
+    /// cover different rows (the segment filters wait up to 2 s for their
+    /// start: docs/SEGMENT_FILTERS.md; `chain` 1 s).
+    pub(crate) fn coverage_note(&self) -> Option<String> {
+        let short: Vec<String> = self
+            .coverage
+            .iter()
+            .filter(|c| c.scored < c.with_reference)
+            .map(|c| format!("{} {} of {}", c.channel.name(), c.scored, c.with_reference))
+            .collect();
+        (!short.is_empty()).then(|| {
+            format!(
+                "scored on fewer rows than have a reference ({}): the estimate is empty on the others \
+                 (before the method has started, after a restart or without its inputs), and the RMSE \
+                 and the mean cover the scored rows only (a `--window` that begins after every start scores \
+                 each method on the same rows)",
+                short.join(", ")
+            )
+        })
+    }
+
     /// AR, AGR and the samples with a missing input, when the estimate has
     /// the diagnostics they count.
     pub(crate) fn rate_notes(&self) -> Vec<String> {
@@ -132,4 +157,89 @@ pub fn assumed_zero_note(meta: &TrialMeta, offset_free: bool) -> Option<String> 
             zeroed.join(", ")
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use limbfuse_core::{Estimate, Record, Segment};
+
+    use crate::{AngleMetrics, ChannelCoverage, EvalOptions};
+
+    use super::*;
+
+    /// Thigh and shank referenced on four rows; the thigh estimated on the
+    /// last two only (a filter that started late), the shank on all, the
+    /// foot carried but never estimated and without a reference.
+    fn late_thigh(carried: Option<[bool; 7]>) -> Evaluation {
+        let mut m = AngleMetrics::new("local", EvalOptions::default());
+        if let Some(c) = carried {
+            m.set_carried_channels(c);
+        }
+        for k in 0..4 {
+            let mut r = Record::default();
+            r.reference.segment[1] = Some(0.1);
+            r.reference.segment[2] = Some(0.2);
+            let mut e = Estimate::empty(0.01 * k as f64);
+            e.segment[1] = (k >= 2).then_some(0.11);
+            e.segment[2] = Some(0.2);
+            m.push(&r, &e);
+        }
+        m.evaluation()
+    }
+
+    #[test]
+    fn a_channel_scored_on_fewer_rows_than_its_reference_is_named() {
+        let ev = late_thigh(Some([false, true, true, true, false, false, false]));
+        let thigh = AngleChannel::Segment(Segment::Thigh);
+        let shank = AngleChannel::Segment(Segment::Shank);
+        assert_eq!(
+            ev.coverage,
+            vec![
+                ChannelCoverage {
+                    channel: thigh,
+                    scored: 2,
+                    with_reference: 4
+                },
+                ChannelCoverage {
+                    channel: shank,
+                    scored: 4,
+                    with_reference: 4
+                },
+            ]
+        );
+        let note = ev.coverage_note().expect("a note");
+        assert!(note.contains("(thigh 2 of 4)"), "{note}");
+        assert!(ev.notes().iter().any(|n| n.contains("thigh 2 of 4")));
+        assert!(ev.to_text().contains("note: scored on fewer rows"));
+        let json = ev.to_json();
+        assert_eq!(json["rows_scored"]["thigh"], 2);
+        assert_eq!(json["rows_with_reference"]["thigh"], 4);
+        assert_eq!(json["rows_scored"]["shank"], 4);
+    }
+
+    #[test]
+    fn a_carried_channel_never_estimated_is_named_and_every_row_scored_is_silent() {
+        // The thigh estimated on no row at all: named "0 of 4".
+        let mut m = AngleMetrics::new("local", EvalOptions::default());
+        m.set_carried_channels([true; 7]);
+        let mut r = Record::default();
+        r.reference.segment[1] = Some(0.1);
+        r.reference.segment[2] = Some(0.2);
+        let mut e = Estimate::empty(0.0);
+        e.segment[2] = Some(0.2);
+        for _ in 0..4 {
+            m.push(&r, &e);
+        }
+        let note = m.evaluation().coverage_note().expect("a note");
+        assert!(note.contains("(thigh 0 of 4)"), "{note}");
+        // Without the carried channels, only the estimated ones count: the
+        // thigh (estimated on two rows) is named, no other channel.
+        let ev = late_thigh(None);
+        assert_eq!(ev.coverage.len(), 2);
+        assert!(ev.coverage_note().unwrap().contains("(thigh 2 of 4)"));
+        // Every carried channel scored wherever it has a reference: no note.
+        let mut m = AngleMetrics::new("local", EvalOptions::default());
+        m.push(&r, &e);
+        assert_eq!(m.evaluation().coverage_note(), None);
+    }
 }

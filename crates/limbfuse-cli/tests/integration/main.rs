@@ -18,6 +18,7 @@ mod cli_smooth;
 mod closed_pipe;
 mod crate_layers;
 mod dash_output;
+mod evaluate_rows_scored;
 mod fes_start_in_a_pulse;
 mod flags_named_in_errors;
 mod fuzz_audit_27;
