@@ -90,11 +90,18 @@ impl Evaluation {
     /// cover different rows (the segment filters wait up to 2 s for their
     /// start: docs/SEGMENT_FILTERS.md; `chain` 1 s).
     pub(crate) fn coverage_note(&self) -> Option<String> {
-        let short: Vec<String> = self
-            .coverage
+        // channels with the same counts in one group: "thigh, knee 156 of 311"
+        let mut groups: Vec<((u64, u64), Vec<&str>)> = Vec::new();
+        for c in self.coverage.iter().filter(|c| c.scored < c.with_reference) {
+            let key = (c.scored, c.with_reference);
+            match groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, names)) => names.push(c.channel.name()),
+                None => groups.push((key, vec![c.channel.name()])),
+            }
+        }
+        let short: Vec<String> = groups
             .iter()
-            .filter(|c| c.scored < c.with_reference)
-            .map(|c| format!("{} {} of {}", c.channel.name(), c.scored, c.with_reference))
+            .map(|((n, of), names)| format!("{} {n} of {of}", names.join(", ")))
             .collect();
         (!short.is_empty()).then(|| {
             format!(
@@ -237,6 +244,22 @@ mod tests {
         let ev = late_thigh(None);
         assert_eq!(ev.coverage.len(), 2);
         assert!(ev.coverage_note().unwrap().contains("(thigh 2 of 4)"));
+        // Channels with the same counts are named together, in channel order.
+        let mut m = AngleMetrics::new("chain", EvalOptions::default());
+        m.set_carried_channels([true; 7]);
+        let mut e2 = Estimate::empty(0.0);
+        e2.segment[1] = Some(0.1);
+        e2.segment[2] = Some(0.2);
+        m.push(&r, &Estimate::empty(0.0));
+        m.push(&r, &e2);
+        m.push(&r, &e);
+        let note = m.evaluation().coverage_note().expect("a note");
+        assert!(note.contains("(thigh 1 of 3, shank 2 of 3)"), "{note}");
+        let mut m = AngleMetrics::new("chain", EvalOptions::default());
+        m.push(&r, &Estimate::empty(0.0));
+        m.push(&r, &e2);
+        let note = m.evaluation().coverage_note().expect("a note");
+        assert!(note.contains("(thigh, shank 1 of 2)"), "{note}");
         // Every carried channel scored wherever it has a reference: no note.
         let mut m = AngleMetrics::new("local", EvalOptions::default());
         m.push(&r, &e);
