@@ -148,8 +148,9 @@ impl StartWindow {
         }
         let max_rate = libm::sqrt(zeta / SEGMENT_REACH_M);
         // (a missing gyro sample holds the last rate, as the filter does)
-        let still = match (acc, rho, rate.or(self.rate[i])) {
-            (Some(a), Some(r), Some(w)) if r < zeta && libm::fabs(w) < max_rate => {
+        let slow = rate.or(self.rate[i]).map(|w| libm::fabs(w) < max_rate);
+        let still = match (acc, rho) {
+            (Some(a), Some(r)) if r < zeta && slow == Some(true) => {
                 // the specific force held within zeta of its value at the
                 // hold's first sample (no changing acceleration)
                 let first = self.still_since[i].is_none();
@@ -158,6 +159,12 @@ impl StartWindow {
                 }
                 first || (a - self.still_acc[i]).norm() < zeta
             }
+            // a sample without its accelerometer vector (an axis missing)
+            // is no evidence either way: a hold goes on through it while
+            // the rate stays slow, and the start waits for a sample that has
+            // one (with 20 % of the cells missing, 6 complete samples in a
+            // row came once in 200: the start fell back to the window)
+            (None, _) | (_, None) => self.still_since[i].is_some() && slow != Some(false),
             _ => false,
         };
         if !still {
