@@ -7,7 +7,7 @@ use limbfuse_core::ImuSample;
 
 use super::foot_axis::FootAxis;
 use super::foot_events::{EventsAt, FootEvents};
-use super::reading_gap::ReadingGap;
+use super::reading_gap::{CellHold, ReadingGap};
 use super::sign_replay::{LateEvents, Reading, UndecidedReadings};
 use super::strapdown::StrideIntegrator;
 use super::zero_velocity::Shoe;
@@ -27,6 +27,7 @@ pub(super) struct FootTracker {
     stride_start_ic: Option<f64>,
     pub(super) swing: SwingTimes,
     gap: ReadingGap,
+    cells: CellHold,
     /// How long (s) the detector has said "rest" without a break.
     rest_time: f64,
     undecided: UndecidedReadings,
@@ -54,6 +55,7 @@ impl FootTracker {
             stride_start_ic: None,
             swing: SwingTimes::default(),
             gap: ReadingGap::default(),
+            cells: CellHold::default(),
             rest_time: 0.0,
             undecided,
             late: LateEvents::default(),
@@ -120,7 +122,7 @@ impl FootTracker {
         dt: f64,
         imu: &ImuSample,
     ) -> FootOutput {
-        let (Some(acc), Some(gyr)) = (imu.acc, imu.gyr) else {
+        let (Some(acc), Some(gyr)) = self.cells.complete(t, imu, p.min_swing_time) else {
             // No reading: bridged, or the pipeline restarts, at the next one.
             return FootOutput::default();
         };
