@@ -21,6 +21,7 @@
 //! | [`baseline`] | - | honest baselines: [`baseline::GyroIntegration`], [`baseline::AccelInclination`] |
 //! | [`hinge_axis`] | 002 | the hinge-axis solver shared by the knee estimators and sensor alignment |
 //! | [`inclination`] | 000 | the accelerometer inclination angle |
+//! | [`cell_hold`] | ours | an empty cell among present ones takes that axis's last value (`gait-events`, `lowback-speed`) |
 //!
 //! ## In a controller's loop
 //!
@@ -139,6 +140,7 @@
 extern crate alloc;
 
 pub mod baseline;
+pub mod cell_hold;
 pub mod chain_ekf;
 pub mod fes;
 pub mod gait_events;

@@ -7,11 +7,12 @@ use limbfuse_core::ImuSample;
 
 use super::foot_axis::FootAxis;
 use super::foot_events::{EventsAt, FootEvents};
-use super::reading_gap::{CellHold, ReadingGap};
+use super::reading_gap::ReadingGap;
 use super::sign_replay::{LateEvents, Reading, UndecidedReadings};
 use super::strapdown::StrideIntegrator;
 use super::zero_velocity::Shoe;
 use super::{FootOutput, GaitEventsParams, Stride, SwingTimes};
+use crate::cell_hold::CellHold;
 
 /// The pipeline of one foot.
 #[derive(Debug, Clone)]

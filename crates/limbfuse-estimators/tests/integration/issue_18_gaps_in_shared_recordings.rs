@@ -158,7 +158,7 @@ fn issue_19_lowback_speed_joins_no_step_across_a_time_gap() {
 /// such sample was stepped over as a gap, and the stride speeds moved by a
 /// median 8.0 % from the clean run's (3.0 % now; stride length error against
 /// motion capture 2.45 -> 15-18 %, now 4.4-5.0 %). A missing axis now takes
-/// its last value (`gait_events::reading_gap::CellHold`).
+/// its last value (`limbfuse_estimators::cell_hold`).
 #[test]
 fn issue_18_an_empty_cell_does_not_drop_the_other_axes_of_the_foot() {
     let Some(dir) = data_dir(&FOLDERS) else {
