@@ -80,6 +80,10 @@ use limbfuse_core::{
 use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use nalgebra::{Rotation3, Vector3};
 
+use crate::cell_hold::CellHold;
+
+mod steps;
+
 /// Leg (greater-trochanter) height as a fraction of body height: 0.530
 /// (Winter 2009, *Biomechanics and Motor Control of Human Movement*, 4th
 /// ed., Table 4.1 / fig. 4.1), the pendulum length when only the body
@@ -247,6 +251,10 @@ pub struct LowbackSpeed {
     last_stride_turned: bool,
     speed: Option<(f64, f64)>,
     last_reading: Option<f64>,
+    /// The last reading's time, vertical acceleration and heading (for
+    /// filling the samples a short gap left out).
+    last_vertical: Option<(f64, f64, f64)>,
+    cells: CellHold,
 }
 
 /// Steps after which the smoothing kernel is set again from the mean
@@ -276,6 +284,8 @@ impl LowbackSpeed {
             last_stride_turned: false,
             speed: None,
             last_reading: None,
+            last_vertical: None,
+            cells: CellHold::default(),
         }
     }
 
@@ -308,6 +318,7 @@ impl LowbackSpeed {
         self.last_ic = None;
         self.last_step = None;
         self.last_stride_turned = false;
+        self.last_vertical = None;
     }
 
     fn at(&self, index: u64) -> f64 {
@@ -361,7 +372,10 @@ impl Estimator for LowbackSpeed {
         let t = sample.t;
         let step = self.time.advance(t)?;
         let mut e = Estimate::empty(t);
-        let Some(acc) = sample.imu[Segment::Trunk.index()].acc else {
+        // (an empty cell takes its axis's last value: `crate::cell_hold`)
+        let trunk = &sample.imu[Segment::Trunk.index()];
+        let (acc, gyr) = self.cells.complete(t, trunk, self.params.min_step_time);
+        let Some(acc) = acc else {
             return Ok(e);
         };
         if !acc.iter().all(|v| v.is_finite()) {
@@ -398,9 +412,7 @@ impl Estimator for LowbackSpeed {
         // constant has passed (a first sample carrying a step's dynamic
         // acceleration does not bias the first seconds).
         self.elapsed = (self.elapsed + dt).min(self.params.gravity_time_constant);
-        let gyr = sample.imu[Segment::Trunk.index()]
-            .gyr
-            .filter(|w| w.iter().all(|v| v.is_finite()));
+        let gyr = gyr.filter(|w| w.iter().all(|v| v.is_finite()));
         let g = self.gravity.get_or_insert(acc);
         if self.params.gravity_follows_gyro {
             if let Some(w) = gyr {
@@ -419,84 +431,32 @@ impl Estimator for LowbackSpeed {
                 self.psi += w.dot(g) / gn * dt;
             }
         }
-        let slot = (self.n % HISTORY as u64) as usize;
-        self.history[slot] = a_v;
-        self.heading[slot] = self.psi;
-        let alpha = (dt / 2.0).min(1.0);
-        self.rms_sq += (a_v * a_v - self.rms_sq) * alpha;
-        self.n += 1;
         let mut d = e.diagnostics_mut::<LowbackDiag>();
         d.value(LowbackDiag::VerticalAcc, a_v);
-        let span = 2 * self.half as u64 + 1;
-        if self.n >= span {
-            // Smoothed value centred `half` samples back.
-            let start = self.n - span;
-            let s: f64 = (0..span)
-                .map(|j| self.kernel[j as usize] * self.at(start + j))
-                .sum();
-            self.smoothed = [self.smoothed[1], self.smoothed[2], s];
-            let centre = self.n - 1 - self.half as u64;
-            let walking = libm::sqrt(self.rms_sq) > self.params.walking_rms;
-            let [s0, s1, s2] = self.smoothed;
-            if self.n > span + 1 && walking && s1 > 0.0 && s1 > s0 && s1 >= s2 {
-                // A maximum at `centre - 1`.
-                let index = centre - 1;
-                let t_ic = t - (self.half + 1) as f64 * dt;
-                let p = &self.params;
-                let mut accept = true;
-                if let Some((i0, t0, s_prev)) = self.last_ic {
-                    let step_time = t_ic - t0;
-                    if step_time < p.min_step_time {
-                        // Too close: keep the larger maximum.
-                        accept = s1 > s_prev;
-                        if accept {
-                            self.last_ic = None;
-                        }
-                    } else if step_time <= p.max_step_time && index - i0 < HISTORY as u64 {
-                        let h = step_excursion((i0..index).map(|i| self.at(i)), dt);
-                        let sl = pendulum_step_length(h, p.leg_length, p.correction);
-                        d.value(LowbackDiag::StepLength, sl);
-                        d.value(LowbackDiag::Excursion, h);
-                        // The previous valid step ended at `t0`: the two make a stride.
-                        let mut turned = false;
-                        if let Some((sl_prev, t_start, i_start)) = self.last_step {
-                            let stride_time = t_ic - t_start;
-                            if stride_time <= 2.0 * p.max_step_time
-                                && index - i_start < HISTORY as u64
-                            {
-                                let turn_rate = (self.heading_at(index) - self.heading_at(i_start))
-                                    / stride_time;
-                                d.value(LowbackDiag::StrideTurnRate, turn_rate);
-                                turned = turn_rate.abs() > p.turn_rate;
-                                let after_turn = p.withhold_after_turn && self.last_stride_turned;
-                                if turned || after_turn {
-                                    let why = if turned { 1.0 } else { 2.0 };
-                                    d.value(LowbackDiag::StrideWithheld, why);
-                                    self.speed = None;
-                                } else {
-                                    d.value(LowbackDiag::StrideLength, sl_prev + sl);
-                                    d.value(LowbackDiag::StrideTime, stride_time);
-                                    self.speed = Some(((sl_prev + sl) / stride_time, t));
-                                }
-                            }
-                        }
-                        self.last_stride_turned = turned;
-                        self.last_step = Some((sl, t0, i0));
-                    } else {
-                        self.last_step = None;
-                        self.last_stride_turned = false;
-                    }
-                }
-                if accept {
-                    d.value(LowbackDiag::Ic, t_ic);
-                    if self.last_ic.is_none() {
-                        self.last_step = None;
-                        self.last_stride_turned = false;
-                    }
-                    self.last_ic = Some((index, t_ic, s1));
+        // Samples missing since the previous reading (rows, or a vector
+        // missing as a whole) in a gap too short to restart: the history
+        // keeps one value per sampling period, so they are filled linearly
+        // between the two readings; without them the step's excursion was
+        // integrated over fewer periods than it lasted.
+        if let Some((t0, a0, psi0)) = self.last_vertical {
+            let missing = libm::round((t - t0) / dt) - 1.0;
+            if missing >= 1.0 && missing < HISTORY as f64 {
+                let k = missing as u64;
+                for j in 1..=k {
+                    let f = j as f64 / (k + 1) as f64;
+                    let at = t0 + (t - t0) * f;
+                    self.push_vertical(
+                        a0 + (a_v - a0) * f,
+                        psi0 + (self.psi - psi0) * f,
+                        at,
+                        dt,
+                        &mut d,
+                    );
                 }
             }
         }
+        self.push_vertical(a_v, self.psi, t, dt, &mut d);
+        self.last_vertical = Some((t, a_v, self.psi));
         e.speed = self
             .speed
             .filter(|(_, at)| t - at <= self.params.speed_hold)
