@@ -8,7 +8,7 @@
 //! (`LIMBFUSE_DATA` overrides the path).
 
 use crate::shared_data_support::{data_dir, read};
-use limbfuse_core::{Estimator, Record, Segment};
+use limbfuse_core::{DiagnosticSet, Estimator, Record, Segment};
 use limbfuse_estimators::gait_events::{FootSource, GaitDiag, GaitEvents, GaitEventsParams};
 use limbfuse_estimators::lowback_speed::{LowbackDiag, LowbackParams, LowbackSpeed};
 use limbfuse_estimators::segment_kf::GlobalKf;
@@ -63,6 +63,26 @@ fn issue_18_a_half_second_time_gap_is_reanchored_within_two_seconds() {
     assert!(worst < 3.0, "shank {worst:.1} deg off after the gap");
 }
 
+/// Stride speeds `(time of decision, m/s)` of estimator `e` over
+/// `records`: each sample at which a pair of its (stride length, stride
+/// time) diagnostics `pairs` is set.
+fn stride_speeds<K: DiagnosticSet + Copy>(
+    e: &mut dyn Estimator,
+    records: &[Record],
+    pairs: &[(K, K)],
+) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for r in records {
+        let est = e.step(&r.sample).unwrap();
+        for &(len, time) in pairs {
+            if let (Some(l), Some(t)) = (est.diagnostic(len), est.diagnostic(time)) {
+                out.push((r.sample.t, l / t));
+            }
+        }
+    }
+    out
+}
+
 /// Strides `(time of decision, speed m/s)` of both feet.
 fn strides(records: &[Record]) -> Vec<(f64, f64)> {
     let mut e = GaitEvents::new(
@@ -70,19 +90,11 @@ fn strides(records: &[Record]) -> Vec<(f64, f64)> {
         [Some(FootSource::OtherLeg), Some(FootSource::OwnLeg)],
     )
     .unwrap();
-    let mut out = Vec::new();
-    for r in records {
-        let est = e.step(&r.sample).unwrap();
-        for (len, time) in [
-            (GaitDiag::StrideLengthLeft, GaitDiag::StrideTimeLeft),
-            (GaitDiag::StrideLengthRight, GaitDiag::StrideTimeRight),
-        ] {
-            if let (Some(l), Some(t)) = (est.diagnostic(len), est.diagnostic(time)) {
-                out.push((r.sample.t, l / t));
-            }
-        }
-    }
-    out
+    let pairs = [
+        (GaitDiag::StrideLengthLeft, GaitDiag::StrideTimeLeft),
+        (GaitDiag::StrideLengthRight, GaitDiag::StrideTimeRight),
+    ];
+    stride_speeds(&mut e, records, &pairs)
 }
 
 #[test]
@@ -225,17 +237,8 @@ fn issue_18_an_empty_cell_does_not_drop_the_other_axes_of_the_foot() {
 /// Stride speeds `(time of decision, m/s)` of `lowback-speed` (defaults).
 fn lowback_strides(records: &[Record]) -> Vec<(f64, f64)> {
     let mut e = LowbackSpeed::new(LowbackParams::default());
-    let mut out = Vec::new();
-    for r in records {
-        let est = e.step(&r.sample).unwrap();
-        if let (Some(l), Some(t)) = (
-            est.diagnostic(LowbackDiag::StrideLength),
-            est.diagnostic(LowbackDiag::StrideTime),
-        ) {
-            out.push((r.sample.t, l / t));
-        }
-    }
-    out
+    let pairs = [(LowbackDiag::StrideLength, LowbackDiag::StrideTime)];
+    stride_speeds(&mut e, records, &pairs)
 }
 
 /// `lowback-speed` kept one history value per reading, not per sampling
