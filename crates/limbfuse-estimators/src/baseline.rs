@@ -77,7 +77,7 @@ impl Estimator for GyroIntegration {
         let mut est = Estimate::empty(sample.t);
         for i in 0..4 {
             let imu = &sample.imu[i];
-            let rate = imu.gyr.map(|g| g.z);
+            let rate = imu.gyr_axis(2);
             match (self.angle[i], dt) {
                 (Some(a), Some(dt)) => {
                     let r1 = rate.or(self.last_rate[i]);
@@ -183,6 +183,27 @@ mod tests {
         assert!((e.segment[0].unwrap() - 0.2).abs() < 1e-12);
         assert_eq!(e.joint[0], Some(0.0));
         assert!(g.step(&sample(0.2, 0.0, Some(1.0))).is_err());
+    }
+
+    /// Gyro integration reads the sagittal rate `z` only: a vector with
+    /// an empty `x` or `y` cell still gives it (2026-12-06; before, the
+    /// rate was held from the previous sample). The rate jumps from 1 to 3
+    /// rad/s at 0.1 s, read from an incomplete vector.
+    #[test]
+    fn an_incomplete_gyro_vector_still_gives_its_z_rate() {
+        let mut g = GyroIntegration::new();
+        g.step(&sample(0.0, 0.0, Some(1.0))).unwrap();
+        let mut s = sample(0.1, 0.0, None);
+        for imu in s.imu.iter_mut() {
+            imu.gyr_partial = [None, Some(0.5), Some(3.0)];
+        }
+        let e = g.step(&s).unwrap();
+        // trapezoid of 1 and 3 rad/s over 0.1 s (the held rate gave 0.1)
+        assert!(
+            (e.segment[0].unwrap() - 0.2).abs() < 1e-12,
+            "{:?}",
+            e.segment[0]
+        );
     }
 
     /// An audit: a 1000 s gap integrated the last rate into a knee of

@@ -159,10 +159,10 @@ pub(crate) fn hip_measurement(s: &Sample) -> [Option<f64>; 4] {
     let th = s.imu(Segment::Thigh);
     let sh = s.imu(Segment::Shank);
     [
-        th.gyr.map(|g| g.z),
-        sh.gyr.map(|g| g.z),
-        th.acc.map(|a| a.x),
-        sh.acc.map(|a| a.x),
+        th.gyr_axis(2),
+        sh.gyr_axis(2),
+        th.acc_axis(0),
+        sh.acc_axis(0),
     ]
 }
 
@@ -180,7 +180,7 @@ pub(crate) fn hip_initial_state(s: &Sample) -> SVector<f64, 4> {
         let imu = s.imu(seg);
         (
             imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(0.0),
-            imu.gyr.map(|g| g.z).unwrap_or(0.0),
+            imu.gyr_axis(2).unwrap_or(0.0),
         )
     };
     let (t, tr) = incl(Segment::Thigh);

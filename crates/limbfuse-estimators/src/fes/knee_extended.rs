@@ -221,12 +221,12 @@ fn start_stimulation(s: &Sample) -> f64 {
 fn shank_start(s: &Sample, fallback: f64) -> (f64, f64) {
     let imu = s.imu(Segment::Shank);
     let x1 = imu.acc.map(|a| libm::atan2(a.x, a.y)).unwrap_or(fallback);
-    (x1, imu.gyr.map(|g| g.z).unwrap_or(0.0))
+    (x1, imu.gyr_axis(2).unwrap_or(0.0))
 }
 
 fn shank_measurement(s: &Sample) -> [Option<f64>; 2] {
     let imu = s.imu(Segment::Shank);
-    [imu.gyr.map(|g| g.z), imu.acc.map(|a| a.x)]
+    [imu.gyr_axis(2), imu.acc_axis(0)]
 }
 
 const KNEE_OUTPUTS: Outputs = Outputs {
