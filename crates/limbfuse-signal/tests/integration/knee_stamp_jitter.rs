@@ -85,6 +85,44 @@ fn jittered_stamps_of_a_regular_recording_keep_the_knee() {
     }
 }
 
+/// The three shared walks with +-3 ms of stamp jitter, twenty jitter
+/// patterns each: both knee methods within 2 deg of the walk as recorded
+/// (measured: at most 1.6 deg over, `knee-gyro-axis` on the 1.2 m/s walk)
+/// (found 2026-12-06: on some patterns the clock's grid step settled a few
+/// % short and the gyro angle integrated short; here the 0.7 m/s walk's
+/// worst pattern gave 22.3 deg before the fix; `StampClock`'s step
+/// counting).
+#[test]
+fn every_jitter_pattern_keeps_the_knee_on_the_shared_walks() {
+    for walk in [
+        "walk-v0.7-s300.csv",
+        "walk-v1.2-s301.csv",
+        "walk-v1.6-s302.csv",
+    ] {
+        let Some(rec) = shared_walk(walk) else {
+            return;
+        };
+        let regular = [selfalign(&rec), gyro_axis(&rec)];
+        let mut worst = [0.0f64; 2];
+        for seed in 1..=20 {
+            let mut jittered = rec.clone();
+            jitter_times(&mut jittered, 0.003, seed);
+            worst[0] = worst[0].max(selfalign(&jittered));
+            worst[1] = worst[1].max(gyro_axis(&jittered));
+        }
+        println!(
+            "{walk}: knee-selfalign {:.3} as recorded, worst jittered {:.3}; knee-gyro-axis {:.3}, {:.3} deg",
+            regular[0], worst[0], regular[1], worst[1]
+        );
+        for k in 0..2 {
+            assert!(
+                worst[k] < regular[k] + 2.0,
+                "{walk}: {worst:?} vs {regular:?}"
+            );
+        }
+    }
+}
+
 /// Readings linearly interpolated from a 1 kHz simulation at uneven times
 /// `k / 100 s + U(-3, 3) ms` (the readings are where the stamps say): the
 /// clock keeps the stamps, and `knee-selfalign` stays within 0.5 deg of
