@@ -84,7 +84,7 @@ impl StampClock {
     pub fn observe(&mut self, s: &Slot) {
         let steps = match self.last_t {
             Some(last) if s.t.partial_cmp(&last) != Some(Ordering::Greater) => return,
-            Some(last) => self.steps_since(last, s.t),
+            Some(_) => self.steps_since(s.t),
             None => {
                 self.first_t = s.t;
                 0.0
@@ -131,7 +131,7 @@ impl StampClock {
     /// first points then made jittered steps count as two, which kept the
     /// line short, a fixed point: 7 % short under +-30 % jitter, test
     /// `the_grid_step_is_the_sampling_period_under_heavy_jitter`.)
-    fn steps_since(&self, _last: f64, t: f64) -> f64 {
+    fn steps_since(&self, t: f64) -> f64 {
         if self.single_steps.1 < MIN_PERIOD_STEPS {
             return 1.0;
         }
