@@ -51,11 +51,15 @@ pub(crate) fn f(v: &serde_json::Value, path: &[&str]) -> f64 {
 /// Issue 19 targets on the shared two-foot walk: contacts within 20 ms
 /// (median) / 40 ms (p95), none missed; measured 4.6 / 12.6 ms (initial),
 /// 3.6 / 8.5 ms (final; 5.8 / 11.2 with the parabolic toe off). Each
-/// stride against the blended reference: length 2.45 % (the 2.5 % target;
-/// 2.81 % before `min_rest_time`, 2026-12-04), speed 0.032 m/s (held to
-/// its measurement, the 0.03 target is not met this way); compared like
-/// with like (blended) 0.022 m/s and 1.95 %, within 0.03 m/s and 2.5 %
-/// (docs/RESULTS.md).
+/// stride against the blended reference: length 2.61 %, speed 0.034 m/s,
+/// both held to their measurement: the issue's 2.5 % and 0.03 m/s are not
+/// met this way. The 2.45 % / 0.032 m/s measured until 2026-12-06 came
+/// from the first-order stride integration, whose bias moved with the
+/// sampling rate (+0.019 m/s at 50 Hz, -0.009 at 800 Hz; the second-order
+/// integration gives -0.011 at every rate, test
+/// `issue_19_stride_speed_does_not_move_with_the_sampling_rate`). Compared
+/// like with like (blended) 0.024 m/s and 2.09 %, within 0.03 m/s and
+/// 2.5 % (docs/RESULTS.md).
 #[test]
 fn foot_recording_meets_the_event_targets() {
     let Some(data) = data_dir() else { return };
@@ -75,10 +79,10 @@ fn foot_recording_meets_the_event_targets() {
     // at 16.2 s, test `a_turning_step_toe_off_is_its_push_off_not_its_loading`).
     assert_eq!(f(&v, &["initial_contact", "extra"]), 0.0, "{v}");
     assert_eq!(f(&v, &["final_contact", "extra"]), 0.0, "{v}");
-    assert!(f(&v, &["speed_mae_mps"]) < 0.034, "{v}");
-    assert!(f(&v, &["stride_length_error_pct"]) <= 2.5, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) < 0.036, "{v}");
+    assert!(f(&v, &["stride_length_error_pct"]) <= 2.65, "{v}");
     // Like with like (the estimate blended as speed_ref is): measured
-    // 0.022 m/s and 1.95 %, the issue's targets 0.03 m/s and 2.5 %.
+    // 0.024 m/s and 2.09 %, the issue's targets 0.03 m/s and 2.5 %.
     assert!(f(&v, &["blended", "speed_mae_mps"]) <= 0.03, "{v}");
     assert!(f(&v, &["blended", "stride_length_error_pct"]) <= 2.5, "{v}");
     assert!(f(&v, &["blended", "n_strides"]) >= 50.0, "{v}");
@@ -121,6 +125,37 @@ fn issue_19_final_contacts_at_50_hz() {
         }
         // No extra (one, the turning step at 16.2 s, until 2026-12-05).
         assert_eq!(f(&v, &["final_contact", "extra"]), 0.0, "{rate} Hz: {v}");
+    }
+}
+
+/// The foot's stride integration is second order (2026-12-06): on the
+/// independent simulator's three walks (CoM speed as the reference) the
+/// stride speed bias is 0.005 / 0.005 / -0.001 m/s at 100 Hz and 0.005 /
+/// 0.007 / 0.001 at 50 Hz (`limbfuse resample`), MAE 0.006-0.017 at both.
+/// The first-order rectangle rule before it read every stride long by a
+/// bias that doubled with the sampling period: 0.021 / 0.023 / 0.020 m/s
+/// at 100 Hz, 0.037 / 0.042 / 0.041 at 50 Hz.
+#[test]
+fn issue_19_stride_speed_does_not_move_with_the_sampling_rate() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    for walk in ["walk-v0.7-s300", "walk-v1.2-s301", "walk-v1.6-s302"] {
+        let trial = data.join(format!("independent-sim/{walk}.csv"));
+        let mut biases = Vec::new();
+        for rate in ["100", "50"] {
+            let file = format!("{walk}-{rate}.csv");
+            let t = trial.to_str().unwrap();
+            succeed(&["resample", t, "--rate", rate, "-o", &file], d.path());
+            let v = evaluate_json("gait-events", &d.path().join(&file), d.path());
+            let bias = f(&v, &["speed_bias_mps"]);
+            assert!(bias.abs() <= 0.01, "{walk} at {rate} Hz: {v}");
+            assert!(
+                f(&v, &["speed_mae_mps"]) <= 0.02,
+                "{walk} at {rate} Hz: {v}"
+            );
+            biases.push(bias);
+        }
+        assert!((biases[0] - biases[1]).abs() <= 0.005, "{walk}: {biases:?}");
     }
 }
 

@@ -80,9 +80,13 @@ fn foot_events_and_stride_length_match_the_simulated_walk() {
             );
         }
         assert!(lengths.len() + 3 >= strides);
+        // Measured: -2.2 to -1.9 % (0.8 m/s), -1.2 to -0.7 % (1.3 m/s) with
+        // the second-order integration; within 0.6 % with the first-order
+        // one before 2026-12-06, by its discretisation bias
+        // (`stride_length_does_not_move_with_the_rate`).
         for l in &lengths {
             assert!(
-                (l - length).abs() < 0.015 * length,
+                (l - length).abs() < 0.025 * length,
                 "{speed} m/s: stride {l} m vs {length} m"
             );
         }
@@ -397,7 +401,9 @@ fn issue_19_events_before_the_axis_sign_are_reported_late() {
 /// early swing, which the zero-velocity detector calls a rest. Each stride
 /// was integrated in two parts: stride lengths 38 % (0.6 m/s) to 51 %
 /// (1.0 m/s, 1 kHz) short. A rest now ends a moving period only after
-/// `min_rest_time` (0.05 s): every stride within 1.5 % at every rate.
+/// `min_rest_time` (0.05 s): every stride within 1.5 % at every rate with
+/// the first-order integration, within 1.5-2.2 % short with the second
+/// order (2026-12-06; test `stride_length_does_not_move_with_the_rate`).
 #[test]
 fn issue_19_a_still_moment_of_a_slow_swing_is_not_a_rest() {
     for (speed, rate) in [(0.6, 200.0), (0.6, 1000.0), (1.0, 1000.0), (0.8, 200.0)] {
@@ -423,7 +429,7 @@ fn issue_19_a_still_moment_of_a_slow_swing_is_not_a_rest() {
         );
         for l in &lengths {
             assert!(
-                (l - length).abs() < 0.015 * length,
+                (l - length).abs() < 0.025 * length,
                 "{speed} m/s at {rate} Hz: stride {l} m vs {length} m"
             );
         }
@@ -471,5 +477,50 @@ fn issue_19_a_shank_recording_that_starts_in_swing() {
                 fc[0]
             );
         }
+    }
+}
+
+/// Median integrated stride length (m) of the right foot on [`trial_at`].
+fn median_stride_length(speed: f64, rate: f64) -> f64 {
+    let (records, _, _) = trial_at(speed, rate);
+    let mut e = GaitEvents::new(
+        GaitEventsParams::default(),
+        [None, Some(FootSource::OwnLeg)],
+    )
+    .unwrap();
+    let mut lengths: Vec<f64> = records
+        .iter()
+        .filter_map(|r| {
+            e.step(&r.sample)
+                .unwrap()
+                .diagnostic(GaitDiag::StrideLengthRight)
+        })
+        .collect();
+    assert!(lengths.len() >= 5, "{speed} m/s at {rate} Hz: {lengths:?}");
+    lengths.sort_by(f64::total_cmp);
+    lengths[lengths.len() / 2]
+}
+
+/// The foot's stride integration is second order (2026-12-06): the same
+/// simulated walk (sensor errors on) sampled at 100 Hz and at 1 kHz gives
+/// median stride lengths within 0.2 % (0.8 m/s: 1.1013 / 1.1031 m; 1.3
+/// m/s: 1.4208 / 1.4206). The first-order rule before it: 0.8 m/s
+/// 1.1195 / 1.1048 m (1.3 %), its 100 Hz
+/// length nearer the simulator's 1.1247 m only through its discretisation
+/// bias (+1.8 % at 100 Hz, +3.1 % at 50 Hz, on ideal sensors). The
+/// continuous limit is 1.1 % short of the stride on ideal sensors at 0.8
+/// m/s, from where the detector's rests begin and end (docs/RESULTS.md,
+/// "gait-events on the walking simulator").
+#[test]
+fn stride_length_does_not_move_with_the_rate() {
+    for speed in [0.8, 1.3] {
+        let (l100, l1000) = (
+            median_stride_length(speed, 100.0),
+            median_stride_length(speed, 1000.0),
+        );
+        assert!(
+            (l100 - l1000).abs() < 0.003 * l1000,
+            "{speed} m/s: {l100} m at 100 Hz, {l1000} m at 1 kHz"
+        );
     }
 }
