@@ -15,12 +15,13 @@
 //! axis_prior = "upright"      # or "none": paper 002's eq 2 alone
 //! upright_min_hinge_ratio = 0.15  # the prior applies where RMS e_j >= this x RMS rate
 //! max_sensor_delay_s = 0.0    # thigh-shank time offset searched up to this, either way (0: off)
+//! fusion = "paper"            # or "rate-bias": Algorithm 1 plus a relative gyro-bias state (ours)
 //! ```
 
 use std::path::Path;
 
 use limbfuse_estimators::knee_gyro_axis::{KneeGyroAxis, KneeGyroAxisParams};
-use limbfuse_estimators::knee_selfalign::params::KneeParamError;
+use limbfuse_estimators::knee_selfalign::params::{Fusion, KneeParamError};
 use limbfuse_estimators::knee_selfalign::upright::UprightPrior;
 use limbfuse_estimators::knee_selfalign::{AngleZero, KneeSelfAlign, KneeSelfAlignParams};
 use serde::Deserialize;
@@ -50,6 +51,15 @@ enum AxisPriorName {
     None,
 }
 
+/// The angle fusion, as written in a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+enum FusionName {
+    #[serde(rename = "paper")]
+    Paper,
+    #[serde(rename = "rate-bias")]
+    RateBias,
+}
+
 /// A `knee-selfalign` parameter file.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -68,6 +78,7 @@ struct KneeSelfAlignFile {
     axis_prior: Option<AxisPriorName>,
     upright_min_hinge_ratio: Option<f64>,
     max_sensor_delay_s: Option<f64>,
+    fusion: Option<FusionName>,
 }
 
 /// `knee-selfalign` settings: the estimator's parameters and its window as
@@ -182,6 +193,11 @@ pub fn knee_params(
                 })
             }
         },
+        fusion: match f.fusion {
+            None => d.fusion,
+            Some(FusionName::Paper) => Fusion::Paper,
+            Some(FusionName::RateBias) => Fusion::RATE_BIAS,
+        },
         ..d
     };
     p.validate()
@@ -258,7 +274,8 @@ pub fn default_file() -> String {
          highpass_hz = {}  # high-pass corner (Hz) removing the drift while it is not trusted (limbfuse)\n\
          axis_prior = \"upright\"  # \"upright\" (limbfuse, issue 15) or \"none\" (paper 002: eq 2 alone)\n\
          upright_min_hinge_ratio = {}  # upright prior only where RMS e_j >= this x RMS gyro rate (limbfuse)\n\
-         max_sensor_delay_s = {:?}  # thigh-shank time offset searched up to this either way (0 to 1 s; 0: off; limbfuse)\n",
+         max_sensor_delay_s = {:?}  # thigh-shank time offset searched up to this either way (0 to 1 s; 0: off; limbfuse)\n\
+         fusion = \"{}\"  # \"paper\" (Algorithm 1, one state) or \"rate-bias\" (plus a relative gyro-bias state; limbfuse)\n",
         WindowLength::default().file_line(),
         d.order,
         d.zero.name(),
@@ -269,7 +286,8 @@ pub fn default_file() -> String {
         d.acc_rest_tolerance,
         d.highpass_hz,
         d.axis_prior.unwrap_or_default().min_hinge_ratio,
-        DEFAULT_MAX_SENSOR_DELAY_S
+        DEFAULT_MAX_SENSOR_DELAY_S,
+        d.fusion.name()
     )
 }
 
@@ -456,5 +474,21 @@ mod tests {
         assert_eq!(p.params.axis_prior.map(|u| u.min_hinge_ratio), Some(0.2));
         let e = knee_params(Some(("upright_min_hinge_ratio = -1\n", path)), &flags).unwrap_err();
         assert!(e.to_string().contains("upright_min_hinge_ratio"), "{e}");
+    }
+
+    #[test]
+    fn fusion_key() {
+        let path = Path::new("k.toml");
+        let flags = MethodFlags::default();
+        assert_eq!(
+            knee_params(None, &flags).unwrap().params.fusion,
+            Fusion::Paper
+        );
+        let p = knee_params(Some(("fusion = \"rate-bias\"\n", path)), &flags).unwrap();
+        assert_eq!(p.params.fusion, Fusion::RATE_BIAS);
+        let p = knee_params(Some(("fusion = \"paper\"\n", path)), &flags).unwrap();
+        assert_eq!(p.params.fusion, Fusion::Paper);
+        let e = knee_params(Some(("fusion = \"bias\"\n", path)), &flags).unwrap_err();
+        assert!(e.to_string().contains("k.toml:1"), "{e}");
     }
 }

@@ -52,6 +52,14 @@ pub enum Fusion {
 }
 
 impl Fusion {
+    /// Name in parameter files: `paper` or `rate-bias`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Fusion::Paper => "paper",
+            Fusion::RateBias { .. } => "rate-bias",
+        }
+    }
+
     /// The rate-bias variant with the suggested values.
     pub const RATE_BIAS: Fusion = Fusion::RateBias {
         q_bias: 1e-10,
