@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use crate::support::limbfuse;
+use crate::support::{limbfuse, with_empty_cells};
 
 fn user_error(o: &Output, needles: &[&str]) {
     let e = String::from_utf8_lossy(&o.stderr);
@@ -435,45 +435,6 @@ fn shared_fes_trials_run_from_their_param_lines() {
             assert_eq!(rows("a.csv"), rows("b.csv"), "{t} {m}");
         }
     }
-}
-
-/// `trial` (a trial file's text) with each accelerometer and gyroscope cell
-/// empty with probability 1/`every` (a fixed linear congruential sequence).
-fn with_empty_cells(trial: &str, every: u64) -> String {
-    let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-    let mut header: Option<Vec<bool>> = None;
-    let mut out = String::new();
-    for line in trial.lines() {
-        if line.starts_with('#') {
-            out += line;
-        } else if let Some(imu) = &header {
-            let cells: Vec<&str> = line.split(',').collect();
-            let kept: Vec<&str> = cells
-                .iter()
-                .zip(imu)
-                .map(|(c, is_imu)| {
-                    state = state
-                        .wrapping_mul(6_364_136_223_846_793_005)
-                        .wrapping_add(1_442_695_040_888_963_407);
-                    if *is_imu && (state >> 33).is_multiple_of(every) {
-                        ""
-                    } else {
-                        c
-                    }
-                })
-                .collect();
-            out += &kept.join(",");
-        } else {
-            header = Some(
-                line.split(',')
-                    .map(|n| n.contains("_acc_") || n.contains("_gyr_"))
-                    .collect(),
-            );
-            out += line;
-        }
-        out.push('\n');
-    }
-    out
 }
 
 /// The FES filters measure gyro z and accelerometer x only, and `rmx`

@@ -49,6 +49,7 @@ mod issue_19_speed_on_a_walk_with_angles;
 mod knee_backfill_cli;
 mod knee_bad_input;
 mod knee_cli;
+mod knee_empty_cells;
 mod knee_rate_bias_cli;
 mod knee_sensor_delay_cli;
 mod knee_time_gap;

@@ -113,6 +113,9 @@ pub struct KneeSelfAlign {
     last_rate: Option<f64>,
     /// How long the gyro knee rate has been missing (s).
     gyro_gap: f64,
+    /// The gyro angle at the last knee rate, from which the first rate after
+    /// a short gap bridges it (`None` after a reset or new axes).
+    alpha_at_rate: Option<f64>,
     /// Shortest time step so far (s): the sampling period.
     period: f64,
     kf: Fuser,
@@ -172,6 +175,7 @@ impl KneeSelfAlign {
             fused: None,
             bases: None,
             alpha_gyro: 0.0,
+            alpha_at_rate: None,
             last_rate: None,
             gyro_gap: 0.0,
             period: f64::INFINITY,
@@ -215,6 +219,7 @@ impl KneeSelfAlign {
         let bases = geometry.bases(self.params.zero)?;
         if self.geometry.is_none() {
             self.alpha_gyro = 0.0;
+            self.alpha_at_rate = None;
             self.last_rate = None;
             self.kf = Fuser::new(&self.params);
         }
@@ -380,6 +385,7 @@ impl KneeSelfAlign {
                         (self.recent_gyro_angle, self.last_rate) =
                             window::recent_gyro_angles(&self.recent, &geometry);
                         self.alpha_gyro = 0.0;
+                        self.alpha_at_rate = None;
                         self.kf = Fuser::new(&self.params);
                     }
                     self.geometry = Some(geometry);
@@ -464,6 +470,7 @@ impl Estimator for KneeSelfAlign {
         self.fused = None;
         self.bases = None;
         self.alpha_gyro = 0.0;
+        self.alpha_at_rate = None;
         self.last_rate = None;
         self.gyro_gap = 0.0;
         self.period = f64::INFINITY;
@@ -527,7 +534,17 @@ impl Estimator for KneeSelfAlign {
             let r1 = rate.or(held(gap + step));
             let r0 = held(gap).or(r1);
             if let (Some(dt), Some(r0), Some(r1)) = (dt, r0, r1) {
-                self.alpha_gyro += 0.5 * (r0 + r1) * dt;
+                self.alpha_gyro = match (rate, self.last_rate, self.alpha_at_rate) {
+                    // The first rate after a short gap: one trapezoid from
+                    // the last rate across the gap replaces the held rate's
+                    // extrapolation (empty cells, 2026-12-06).
+                    (Some(r), Some(last), Some(a))
+                        if gap > 0.0 && gap + dt <= sign::GAP_SPLIT_S =>
+                    {
+                        a + 0.5 * (last + r) * (gap + dt)
+                    }
+                    _ => self.alpha_gyro + 0.5 * (r0 + r1) * dt,
+                };
             }
             // A time gap (rows missing: `sign::GAP_SPLIT_S` and
             // `GAP_SPLIT_PERIODS` periods) is a dropout of its length too
@@ -541,6 +558,7 @@ impl Estimator for KneeSelfAlign {
             if rate.is_some() {
                 self.last_rate = rate;
                 self.gyro_gap = 0.0;
+                self.alpha_at_rate = Some(self.alpha_gyro);
             } else {
                 self.gyro_gap += step;
                 gap_growth = held_rate_variance(self.gyro_gap) - held_rate_variance(gap);
