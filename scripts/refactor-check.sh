@@ -41,6 +41,11 @@ q estimate --method imm-bslip --library lib.json bslip.csv -o imm.csv
 q estimate --method imm-bslip --library lib.json --imm-weights recursive --imm-touchdown mixed bslip.csv -o imm2.csv
 "$BIN" evaluate bslip.csv imm.csv --json > ev-imm.json 2>/dev/null || true
 q resample walk.csv --rate 50 -o walk50.csv
+q simulate walking --duration 20 --seed 5 --gait-reference -o gait.csv
+for m in gait-events lowback-speed; do
+  q estimate --method $m gait.csv -o gait-$m.csv
+  "$BIN" evaluate gait.csv gait-$m.csv --json > ev-gait-$m.json 2>/dev/null
+done
 if [ -d "$SHARED" ]; then
   q import --format gaittoolbox "$SHARED/gaittoolbox-s02-walk" -o s02.csv
   q align s02.csv -o s02al.csv
@@ -48,6 +53,12 @@ if [ -d "$SHARED" ]; then
   for f in "$SHARED"/independent-sim/walk-v1.2-s301.csv; do
     q estimate --method mjls "$f" -o ind-mjls.csv
     q estimate --method knee-selfalign "$f" -o ind-ksa.csv
+    q estimate --method knee-gyro-axis "$f" -o ind-kga.csv
+    q estimate --method gait-events "$f" -o ind-ge.csv
   done
+  q estimate --method gait-events "$SHARED/gaitmap-foot-walk/trial.csv" -o gm-ge.csv
+  "$BIN" evaluate "$SHARED/gaitmap-foot-walk/trial.csv" gm-ge.csv --json > ev-gm-ge.json 2>/dev/null
+  q estimate --method lowback-speed "$SHARED/mobgap-lowerback/HA001-test11-trial1.csv" -o ha-lb.csv
+  "$BIN" evaluate "$SHARED/mobgap-lowerback/HA001-test11-trial1.csv" ha-lb.csv --json > ev-ha-lb.json 2>/dev/null
 fi
 sha256sum -- * | sort -k2

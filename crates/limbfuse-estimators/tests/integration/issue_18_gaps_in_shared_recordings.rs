@@ -168,9 +168,11 @@ fn issue_19_lowback_speed_joins_no_step_across_a_time_gap() {
 /// (found 2026-12-06): with a fifth of the IMU cells empty (the trial
 /// reader keeps the present axes) three vectors in four lack an axis, each
 /// such sample was stepped over as a gap, and the stride speeds moved by a
-/// median 8.0 % from the clean run's (3.0 % now; stride length error against
-/// motion capture 2.45 -> 15-18 %, now 4.4-5.0 %). A missing axis now takes
-/// its last value (`limbfuse_estimators::cell_hold`).
+/// median 8.0 % from the clean run's (3.0 % after the fix; stride length
+/// error against motion capture 2.45 -> 15-18 %, after it 4.4-5.0 %; both
+/// with the first-order stride integration: 2.8 % since the second order
+/// of 2026-12-06, the other figures not re-measured). A missing axis now
+/// takes its last value (`limbfuse_estimators::cell_hold`).
 #[test]
 fn issue_18_an_empty_cell_does_not_drop_the_other_axes_of_the_foot() {
     let Some(dir) = data_dir(&FOLDERS) else {
