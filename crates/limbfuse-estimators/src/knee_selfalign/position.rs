@@ -40,7 +40,7 @@ pub struct Kinematics {
     pub acc: Vector3<f64>,
     /// Angular rate (rad/s).
     pub gyr: Vector3<f64>,
-    /// Angular acceleration (rad/s^2), from [`central_derivative`].
+    /// Angular acceleration (rad/s^2), from [`central_derivative`] (or [`rate_derivative3`]).
     pub gyr_dot: Vector3<f64>,
 }
 
@@ -169,6 +169,41 @@ pub fn rate_derivative(
     Some(d)
 }
 
+/// The rate derivative at the middle of three samples (ours, 2026-12-06):
+/// the fallback of [`rate_derivative`] when an outer sample of its five
+/// lacks a gyro reading (empty cells). The central difference `(g_3 -
+/// g_1) / (t_3 - t_1)` (with the stamp clock's `grid` step instead of the
+/// stamps when they are jittered, as [`rate_derivative`]); exact for a
+/// quadratic rate with equal steps. `None` when the two steps differ by more
+/// than [`MAX_STEP_RATIO`] or either exceeds `MAX_STEP_RATIO` grid steps
+/// (a gap).
+pub fn rate_derivative3(
+    t: &[f64; 3],
+    g: &[Vector3<f64>; 3],
+    grid: Option<f64>,
+) -> Option<Vector3<f64>> {
+    let (h1, h2) = (t[1] - t[0], t[2] - t[1]);
+    let mean = 0.5 * (t[2] - t[0]);
+    let within = |h: f64| h >= mean / MAX_STEP_RATIO && h <= mean * MAX_STEP_RATIO;
+    if mean.is_nan() || mean <= 0.0 || !within(h1) || !within(h2) {
+        return None;
+    }
+    if grid.is_some_and(|d| mean > MAX_STEP_RATIO * d) {
+        return None;
+    }
+    let step = match grid {
+        Some(d) if uniform_step3(h1, h2).is_none() => d,
+        _ => mean,
+    };
+    Some((g[2] - g[0]) / (2.0 * step))
+}
+
+/// Whether two steps are equal within 1 % of their mean.
+fn uniform_step3(h1: f64, h2: f64) -> Option<f64> {
+    let m = 0.5 * (h1 + h2);
+    ((h1 - m).abs() <= 0.01 * m).then_some(m)
+}
+
 /// Moves both positions along their axes to the points of the axis midway
 /// between the sensors (paper 002 after eq 3; Seel et al. 2014):
 /// `o_i <- o_i - j_i (o_T . j_T + o_S . j_S) / 2`. The axes must point to
@@ -239,6 +274,25 @@ pub(crate) fn lifted_row(thigh: &Kinematics, shank: &Kinematics) -> (SVector<f64
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_three_point_derivative_is_exact_for_a_quadratic_rate() {
+        let rate = |t: f64| Vector3::new(1.0 + 2.0 * t - 3.0 * t * t, -t * t, 0.5 * t);
+        let slope = |t: f64| Vector3::new(2.0 - 6.0 * t, -2.0 * t, 0.5);
+        let t = [0.99, 1.0, 1.01];
+        let d = rate_derivative3(&t, &t.map(rate), None).unwrap();
+        assert!((d - slope(1.0)).norm() < 1e-9, "{d}");
+        // jittered stamps of a regular grid: the grid step
+        let d = rate_derivative3(
+            &[0.991, 1.0, 1.0095],
+            &[0.99, 1.0, 1.01].map(rate),
+            Some(0.01),
+        )
+        .unwrap();
+        assert!((d - slope(1.0)).norm() < 1e-9, "{d}");
+        // a gap: no derivative
+        assert!(rate_derivative3(&[0.97, 1.0, 1.01], &t.map(rate), Some(0.01)).is_none());
+    }
+
     use super::*;
 
     fn kin(a: [f64; 3], g: [f64; 3], gd: [f64; 3]) -> Kinematics {

@@ -13,7 +13,7 @@ use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::position::{rate_derivative, Kinematics};
+use super::position::{rate_derivative, rate_derivative3, Kinematics};
 use super::position_fit::{fit_positions, PositionResiduals};
 use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
@@ -104,7 +104,9 @@ impl Ring {
     }
 
     /// Thigh and shank kinematics (with the five-point rate derivative) at
-    /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros,
+    /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros
+    /// (or the three-point one, [`rate_derivative3`], when only `i-1..=i+1`
+    /// have),
     /// sample `i` complete accelerometers, and the times are equally spaced
     /// or jittered without a gap ([`rate_derivative`], on the time base of
     /// [`StampClock`]).
@@ -113,15 +115,25 @@ impl Ring {
             return None;
         }
         let w: [&Slot; 5] = core::array::from_fn(|k| self.get(i + k - 2));
-        if !w.iter().all(|s| s.gyr_ok) {
-            return None;
-        }
-        let t = w.map(|s| s.t);
         let grid = self.clock.grid_step();
-        let gyr_dot = [
-            rate_derivative(&t, &w.map(|x| x.gyr[0]), grid)?,
-            rate_derivative(&t, &w.map(|x| x.gyr[1]), grid)?,
-        ];
+        let gyr_dot = if w.iter().all(|s| s.gyr_ok) {
+            let t = w.map(|s| s.t);
+            [
+                rate_derivative(&t, &w.map(|x| x.gyr[0]), grid)?,
+                rate_derivative(&t, &w.map(|x| x.gyr[1]), grid)?,
+            ]
+        } else if w[1..4].iter().all(|s| s.gyr_ok) {
+            // An outer sample without its gyro (empty cells): the
+            // three-point difference of the inner three.
+            let n: [&Slot; 3] = [w[1], w[2], w[3]];
+            let t = n.map(|s| s.t);
+            [
+                rate_derivative3(&t, &n.map(|x| x.gyr[0]), grid)?,
+                rate_derivative3(&t, &n.map(|x| x.gyr[1]), grid)?,
+            ]
+        } else {
+            return None;
+        };
         let s = w[2];
         Some(core::array::from_fn(|seg| Kinematics {
             acc: s.acc[seg],
