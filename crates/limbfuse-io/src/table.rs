@@ -492,9 +492,13 @@ impl Row<'_> {
 
     /// The time in column `col`: present, finite, and after `previous`.
     pub fn time(&self, col: usize, previous: Option<f64>) -> Result<f64, FileError> {
-        let t = self
-            .number(col)?
-            .ok_or_else(|| self.cell_error(col, "a time in seconds (t cannot be empty)"))?;
+        // Not `number`'s advice to leave a cell empty: `t` must be there.
+        let t = self.number(col).ok().flatten().ok_or_else(|| {
+            self.cell_error(
+                col,
+                "a finite time in seconds (t cannot be empty, NaN or inf)",
+            )
+        })?;
         match previous {
             Some(previous) if t <= previous => Err(FileError::TimeNotIncreasing {
                 path: self.path.to_path_buf(),

@@ -64,6 +64,20 @@ fn empty_time_cell_is_an_error() {
     assert!(m.starts_with("bad.csv:2: column 1 (`t`)"), "{m}");
 }
 
+/// A time that is NaN, inf or not a number is named as a time, without the
+/// advice for other cells to leave a missing value empty (a time cannot
+/// be; 2026-12-06: the NaN message said "leave the cell empty").
+#[test]
+fn a_time_that_is_not_finite_is_named_as_a_time() {
+    for bad in ["NaN", "inf", "abc", "1e400"] {
+        let m = message(&format!("t,knee_enc\n0,0.1\n{bad},0.1\n"));
+        assert!(m.starts_with("bad.csv:3: column 1 (`t`)"), "{m}");
+        assert!(m.contains("t cannot be empty, NaN or inf"), "{m}");
+        assert!(!m.contains("leave the cell empty"), "{m}");
+        assert!(m.contains(&format!("found `{bad}`")), "{m}");
+    }
+}
+
 #[test]
 fn duplicate_column_names_header_line_and_columns() {
     let m = message("# a: b\nt,knee_enc,knee_enc\n0,1,2\n");
