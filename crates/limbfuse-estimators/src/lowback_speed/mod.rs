@@ -81,7 +81,9 @@ use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
 use nalgebra::{Rotation3, Vector3};
 
 use crate::cell_hold::CellHold;
+use sampling_period::SamplingPeriod;
 
+pub mod sampling_period;
 mod steps;
 
 /// Leg (greater-trochanter) height as a fraction of body height: 0.530
@@ -239,9 +241,11 @@ pub struct LowbackSpeed {
     kernel: Vec<f64>,
     half: usize,
     dt: Option<f64>,
-    /// Sum and count of the time steps so far that are not gaps (over
-    /// `min_step_time`): the sampling period is their mean.
-    period: (f64, u64),
+    /// The sampling period from the time steps so far that are not gaps
+    /// (over `min_step_time`), lost rows left out.
+    period: SamplingPeriod,
+    /// Steps the period held at the last reading.
+    period_count: u64,
     elapsed: f64,
     n: u64,
     rms_sq: f64,
@@ -274,7 +278,8 @@ impl LowbackSpeed {
             kernel: Vec::with_capacity(HISTORY),
             half: 0,
             dt: None,
-            period: (0.0, 0),
+            period: SamplingPeriod::default(),
+            period_count: 0,
             elapsed: 0.0,
             n: 0,
             rms_sq: 0.0,
@@ -395,13 +400,13 @@ impl Estimator for LowbackSpeed {
         // as a Bluetooth receiver's arrival stamps are, scaled every speed
         // of the HA001 walk by the squared ratio, -0.29 m/s). The smoothing
         // kernel is set at the first step and again at `PERIOD_STEPS`.
+        // Lost rows are left out of it ([`sampling_period`], 2026-12-06).
         if let Some(s) = step.filter(|s| *s <= self.params.min_step_time) {
-            self.period.0 += s;
-            self.period.1 += 1;
-            let dt = self.period.0 / self.period.1 as f64;
-            if self.period.1 == 1 || self.period.1 == PERIOD_STEPS {
+            let (dt, count) = self.period.add(s);
+            if count != self.period_count && (count == 1 || count == PERIOD_STEPS) {
                 self.set_kernel(dt);
             }
+            self.period_count = count;
             self.dt = Some(dt);
         }
         let Some(dt) = self.dt else {
