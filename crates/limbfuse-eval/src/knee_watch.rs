@@ -19,6 +19,8 @@ pub struct KneeWatch {
     windows: Option<usize>,
     samples: u64,
     gyro_samples: u64,
+    /// Samples with both IMUs complete (accelerometer and gyroscope).
+    complete_samples: u64,
     first: Option<f64>,
     last_confidence: Option<f64>,
     last_committed: Option<f64>,
@@ -60,6 +62,17 @@ impl KneeWatch {
                      (a shorter window identifies the axis from less motion) or a longer trial",
                     self.samples, self.samples
                 )
+            } else if 2 * self.complete_samples < self.samples {
+                format!(
+                    "the knee axis is unidentifiable: only {} of the {} samples ({:.0} %) have both \
+                     IMUs complete (the thigh's and the shank's accelerometer and gyroscope, every \
+                     axis), and a window is used only when at least half of its samples are \
+                     (empty cells or missing readings: `limbfuse inspect` shows what each input \
+                     misses)",
+                    self.complete_samples,
+                    self.samples,
+                    100.0 * self.complete_samples as f64 / self.samples as f64
+                )
             } else {
                 format!(
                     "the knee axis is unidentifiable: no knee motion in any of the {} windows \
@@ -94,6 +107,9 @@ impl KneeWatch {
         self.samples += 1;
         if s.imu(Segment::Thigh).gyr.is_some() && s.imu(Segment::Shank).gyr.is_some() {
             self.gyro_samples += 1;
+            if s.imu(Segment::Thigh).acc.is_some() && s.imu(Segment::Shank).acc.is_some() {
+                self.complete_samples += 1;
+            }
         }
         let get = |c: Option<usize>| c.and_then(|c| e.diag.get(c).copied().flatten());
         if let Some(w) = get(self.windows) {

@@ -164,6 +164,22 @@ fn knee_axis_methods_summarise_and_refuse_bad_trials() {
         &[],
         "the knee axis is unidentifiable: no knee motion",
     );
+    // Too few complete samples (2026-12-06; before, "no knee motion"): the
+    // shank's accelerometer x empty on two rows in three.
+    let holes = |h: &str, k: usize, v: &str| {
+        if h == "shank_acc_x" && k % 3 != 0 {
+            String::new()
+        } else {
+            v.to_string()
+        }
+    };
+    write(p, "holes.csv", &t, |_| true, holes);
+    refused(
+        p,
+        "holes.csv",
+        &[],
+        "only 400 of the 1200 samples (33 %) have both IMUs complete",
+    );
     // A window longer than the trial (1200 samples).
     refused(
         p,
