@@ -167,7 +167,7 @@ fn knee_axis_methods_summarise_and_refuse_bad_trials() {
     // Too few complete samples (2026-12-06; before, "no knee motion"): the
     // shank's accelerometer x empty on two rows in three.
     let holes = |h: &str, k: usize, v: &str| {
-        if h == "shank_acc_x" && k % 3 != 0 {
+        if h == "shank_acc_x" && !k.is_multiple_of(3) {
             String::new()
         } else {
             v.to_string()
