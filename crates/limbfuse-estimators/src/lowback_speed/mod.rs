@@ -242,7 +242,7 @@ pub struct LowbackSpeed {
     half: usize,
     dt: Option<f64>,
     /// The sampling period from the time steps so far that are not gaps
-    /// (over `min_step_time`), lost rows left out.
+    /// (over `min_step_time`), lost rows counted.
     period: SamplingPeriod,
     /// Steps the period held at the last reading.
     period_count: u64,
@@ -400,7 +400,7 @@ impl Estimator for LowbackSpeed {
         // as a Bluetooth receiver's arrival stamps are, scaled every speed
         // of the HA001 walk by the squared ratio, -0.29 m/s). The smoothing
         // kernel is set at the first step and again at `PERIOD_STEPS`.
-        // Lost rows are left out of it ([`sampling_period`], 2026-12-06).
+        // Lost rows are counted as the periods they span ([`sampling_period`], 2026-12-06).
         if let Some(s) = step.filter(|s| *s <= self.params.min_step_time) {
             let (dt, count) = self.period.add(s);
             if count != self.period_count && (count == 1 || count == PERIOD_STEPS) {

