@@ -46,8 +46,6 @@ pub const MIN_SCORED_RUNS: u32 = 10;
 /// three steps made a jittered step count twice).
 pub const MIN_PERIOD_STEPS: f64 = 8.0;
 
-const EARLY: usize = MIN_PERIOD_STEPS as usize;
-
 /// Recent samples whose median place on the line the steps are counted from
 /// (2026-12-06): over the whole stream, the period's error times the
 /// distance to the centroid miscounted steps once lost rows kept the mean
@@ -92,10 +90,6 @@ pub struct StampClock {
     /// of them valid.
     recent: [(f64, f64); RECENT],
     recent_n: usize,
-    /// The first `EARLY + 1` stamps (relative to the first), counted again
-    /// once the period is known ([`StampClock::settle_period`]).
-    early: [f64; EARLY + 1],
-    settled: bool,
 }
 
 impl StampClock {
@@ -119,13 +113,6 @@ impl StampClock {
         self.add_point(self.index, s.t - self.first_t);
         self.recent[self.points as usize % RECENT] = (self.index, s.t - self.first_t);
         self.recent_n = (self.recent_n + 1).min(RECENT);
-        if (self.points as usize) <= EARLY + 1 {
-            self.early[self.points as usize - 1] = s.t - self.first_t;
-        }
-        if !self.settled && self.single_steps.1 >= MIN_PERIOD_STEPS {
-            self.settled = true;
-            self.settle_period();
-        }
         if steps > 1.0 {
             self.held = 0;
         }
@@ -150,7 +137,8 @@ impl StampClock {
 
     /// Sample steps from the last sample to one at `t`: the whole number of
     /// periods from the last sample's place on the line of slope `period`
-    /// through the stamps' centroid (at least one). The period is the mean
+    /// through the median place of the last [`RECENT`] samples (through the
+    /// stamps' centroid until that many are held; at least one). The period is the mean
     /// of the stamp steps counted as one sample so far: it converges to the
     /// sampling period whatever the jitter, as it does not depend on how
     /// the steps were counted; before [`MIN_PERIOD_STEPS`] of them every
@@ -177,72 +165,6 @@ impl StampClock {
             self.mean_time + period * (self.index - self.mean_index)
         };
         libm::round((t - self.first_t - on_line) / period).max(1.0)
-    }
-
-    /// At the [`MIN_PERIOD_STEPS`]-th step, all counted as one sample: the
-    /// first stamps are counted again, each as the whole number of periods
-    /// from the first on the line fitted to them (starting from the median
-    /// step, refitted until the count stands, at most four times), so that a
-    /// sample lost among them is counted (before 2026-12-06 it was one step
-    /// and stayed in the mean single step, an eighth too long).
-    fn settle_period(&mut self) {
-        let n = (self.points as usize).min(EARLY + 1);
-        let t = self.early;
-        let mut sorted: [f64; EARLY] = core::array::from_fn(|k| t[k + 1] - t[k]);
-        sorted.sort_by(f64::total_cmp);
-        let (mut a, mut b) = (t[0], 0.5 * (sorted[EARLY / 2 - 1] + sorted[EARLY / 2]));
-        if b.is_nan() || b <= 0.0 {
-            return;
-        }
-        let mut index = [0.0; EARLY + 1];
-        for _ in 0..4 {
-            let mut changed = false;
-            for k in 1..n {
-                let i = libm::round((t[k] - a) / b).max(index[k - 1] + 1.0);
-                changed |= i != index[k];
-                index[k] = i;
-            }
-            if !changed {
-                break;
-            }
-            // least-squares line through (index, t)
-            let m = n as f64;
-            let (mi, mt) = (
-                index[..n].iter().sum::<f64>() / m,
-                t[..n].iter().sum::<f64>() / m,
-            );
-            let (cii, cit) = (0..n).fold((0.0, 0.0), |(cii, cit), k| {
-                (
-                    cii + (index[k] - mi) * (index[k] - mi),
-                    cit + (index[k] - mi) * (t[k] - mt),
-                )
-            });
-            if cii <= 0.0 || cit <= 0.0 {
-                return;
-            }
-            b = cit / cii;
-            a = mt - b * mi;
-        }
-        if (1..n).all(|k| index[k] == k as f64) {
-            return; // nothing lost: the sums stand as they are
-        }
-        (
-            self.points,
-            self.mean_index,
-            self.mean_time,
-            self.c_ii,
-            self.c_it,
-        ) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        self.single_steps = (0.0, 0.0);
-        for k in 0..n {
-            self.add_point(index[k], t[k]);
-            self.recent[(k + 1) % RECENT] = (index[k], t[k]);
-            if k > 0 && index[k] - index[k - 1] == 1.0 {
-                self.single_steps.0 += t[k] - t[k - 1];
-                self.single_steps.1 += 1.0;
-            }
-        }
-        self.index = index[n - 1];
     }
 
     fn add_point(&mut self, i: f64, t: f64) {
@@ -457,27 +379,38 @@ mod tests {
     /// fixed point. A step of at most `MAX_STEP_RATIO` grid steps between
     /// stamps is now one sample (jitter, not a gap). Twenty jitter
     /// patterns (a linear congruential sequence, uniform +-0.3 periods).
+    /// A fixed sequence of uniform numbers in [0, 1) (linear congruential).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The stamp of sample `k` at period `dt`, moved by up to +-0.3 periods
+    /// (the first one exact).
+    fn jittered(k: usize, dt: f64, u: &mut impl FnMut() -> f64) -> f64 {
+        let t0 = k as f64 * dt;
+        if k == 0 {
+            0.0
+        } else {
+            t0 + 0.3 * dt * (2.0 * u() - 1.0)
+        }
+    }
+
     #[test]
     fn the_grid_step_is_the_sampling_period_under_heavy_jitter() {
         let dt = 0.01;
         let mut worst: f64 = 0.0;
         for seed in 1..=20u64 {
-            let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            let mut u = || {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                (state >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut u = uniform(seed);
             let mut c = StampClock::default();
             for k in 0..3000 {
                 let t0 = k as f64 * dt;
-                let t = if k == 0 {
-                    0.0
-                } else {
-                    t0 + 0.3 * dt * (2.0 * u() - 1.0)
-                };
-                c.observe(&slot(t, rate(t0)));
+                c.observe(&slot(jittered(k, dt, &mut u), rate(t0)));
             }
             let b = c.grid_step().expect("jittered stamps choose the grid");
             worst = worst.max((b / dt - 1.0).abs());
@@ -488,6 +421,7 @@ mod tests {
             100.0 * worst
         );
     }
+
     /// Stamps jittered by up to +-3 ms at 100 Hz with a sample lost among
     /// the first eight steps and every twentieth one after: once the grid is
     /// chosen every step counts the samples it spans.
@@ -496,13 +430,7 @@ mod tests {
         let dt = 0.01;
         let mut bad = 0;
         for seed in 1..=10u64 {
-            let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            let mut u = || {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                (state >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut u = uniform(seed);
             let mut c = StampClock::default();
             let mut last_k = 0usize;
             for k in 0..3000usize {
@@ -510,21 +438,11 @@ mod tests {
                     continue;
                 }
                 let t0 = k as f64 * dt;
-                let t = if k == 0 {
-                    0.0
-                } else {
-                    t0 + 0.3 * dt * (2.0 * u() - 1.0)
-                };
-                c.observe(&slot(t, rate(t0)));
+                c.observe(&slot(jittered(k, dt, &mut u), rate(t0)));
                 if k > 200 {
                     let counted = c.last_grid_step().map(|s| libm::round(s / dt));
                     if counted != Some((k - last_k) as f64) {
                         bad += 1;
-                        eprintln!(
-                            "XX seed {seed} k {k}: counted {counted:?}, true {}, period/dt {}",
-                            k - last_k,
-                            c.single_steps.0 / c.single_steps.1 / dt
-                        );
                     }
                 }
                 last_k = k;

@@ -244,8 +244,6 @@ pub struct LowbackSpeed {
     /// The sampling period from the time steps so far that are not gaps
     /// (over `min_step_time`), lost rows counted.
     period: SamplingPeriod,
-    /// Steps the period held at the last reading.
-    period_count: u64,
     elapsed: f64,
     n: u64,
     rms_sq: f64,
@@ -279,7 +277,6 @@ impl LowbackSpeed {
             half: 0,
             dt: None,
             period: SamplingPeriod::default(),
-            period_count: 0,
             elapsed: 0.0,
             n: 0,
             rms_sq: 0.0,
@@ -403,10 +400,9 @@ impl Estimator for LowbackSpeed {
         // Lost rows are counted as the periods they span ([`sampling_period`], 2026-12-06).
         if let Some(s) = step.filter(|s| *s <= self.params.min_step_time) {
             let (dt, count) = self.period.add(s);
-            if count != self.period_count && (count == 1 || count == PERIOD_STEPS) {
+            if count == 1 || count == PERIOD_STEPS {
                 self.set_kernel(dt);
             }
-            self.period_count = count;
             self.dt = Some(dt);
         }
         let Some(dt) = self.dt else {

@@ -243,6 +243,16 @@ fn lowback_strides(records: &[Record]) -> Vec<(f64, f64)> {
     stride_speeds(&mut e, records, &pairs)
 }
 
+/// The largest relative change of a stride speed from `clean` to `masked`
+/// (strides paired in order).
+fn largest_speed_change(masked: &[(f64, f64)], clean: &[(f64, f64)]) -> f64 {
+    masked
+        .iter()
+        .zip(clean)
+        .map(|((_, v), (_, vc))| (v / vc - 1.0).abs())
+        .fold(0.0f64, f64::max)
+}
+
 /// `lowback-speed` kept one history value per reading, not per sampling
 /// period (found 2026-12-06): a sample without its accelerometer vector (a
 /// dropped packet, or one empty cell, which dropped the vector's other
@@ -273,11 +283,7 @@ fn issue_18_lowback_speed_keeps_its_time_base_across_missing_samples() {
         }
     }
     let masked = lowback_strides(&gappy);
-    let worst = masked
-        .iter()
-        .zip(&clean)
-        .map(|((_, v), (_, vc))| (v / vc - 1.0).abs())
-        .fold(0.0f64, f64::max);
+    let worst = largest_speed_change(&masked, &clean);
     println!(
         "strides: {} clean, {} with a tenth of the vectors and a seventh of the y cells missing; \
          largest |speed change| {:.1} %",
@@ -311,11 +317,7 @@ fn issue_18_lowback_speed_keeps_its_period_when_rows_are_lost() {
         .map(|(_, r)| *r)
         .collect();
     let masked = lowback_strides(&thinned);
-    let worst = masked
-        .iter()
-        .zip(&clean)
-        .map(|((_, v), (_, vc))| (v / vc - 1.0).abs())
-        .fold(0.0f64, f64::max);
+    let worst = largest_speed_change(&masked, &clean);
     println!(
         "strides: {} clean, {} with every twentieth row removed; largest |speed change| {:.1} %",
         clean.len(),
