@@ -109,7 +109,8 @@ impl Ring {
     /// have),
     /// sample `i` complete accelerometers, and the times are equally spaced
     /// or jittered without a gap ([`rate_derivative`], on the time base of
-    /// [`StampClock`]).
+    /// [`StampClock`]; with jittered stamps, no sample lost among them by
+    /// the clock's count, [`StampClock::consecutive`]).
     pub fn kinematics(&self, i: usize) -> Option<[Kinematics; 2]> {
         if i < 2 || i + 2 >= self.len || !self.get(i).acc_ok {
             return None;
@@ -118,6 +119,9 @@ impl Ring {
         let grid = self.clock.grid_step();
         let gyr_dot = if w.iter().all(|s| s.gyr_ok) {
             let t = w.map(|s| s.t);
+            if !self.clock.consecutive(&t) {
+                return None;
+            }
             [
                 rate_derivative(&t, &w.map(|x| x.gyr[0]), grid)?,
                 rate_derivative(&t, &w.map(|x| x.gyr[1]), grid)?,
@@ -127,6 +131,9 @@ impl Ring {
             // three-point difference of the inner three.
             let n: [&Slot; 3] = [w[1], w[2], w[3]];
             let t = n.map(|s| s.t);
+            if !self.clock.consecutive(&t) {
+                return None;
+            }
             [
                 rate_derivative3(&t, &n.map(|x| x.gyr[0]), grid)?,
                 rate_derivative3(&t, &n.map(|x| x.gyr[1]), grid)?,
