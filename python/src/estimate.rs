@@ -394,6 +394,7 @@ fn estimate<'py>(
                         &label,
                         spec.method().name(),
                         inputs.len() as u64,
+                        watches.any_output.span_s(),
                         "nothing to return",
                     ),
                 ));

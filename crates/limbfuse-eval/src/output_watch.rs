@@ -14,6 +14,8 @@ use limbfuse_core::{Estimate, Record};
 pub struct AnyOutputWatch {
     /// Some estimate carried one.
     pub found: bool,
+    /// Time of the first and of the last estimate seen.
+    span: Option<(f64, f64)>,
 }
 
 impl AnyOutputWatch {
@@ -23,6 +25,10 @@ impl AnyOutputWatch {
         if self.found {
             return;
         }
+        self.span = Some(match self.span {
+            Some((first, _)) => (first, e.t),
+            None => (e.t, e.t),
+        });
         self.found = e.segment.iter().any(Option::is_some)
             || e.joint.iter().any(Option::is_some)
             || e.phase.is_some()
@@ -33,6 +39,16 @@ impl AnyOutputWatch {
     }
 }
 
+impl AnyOutputWatch {
+    /// Seconds from the first to the last estimate seen while none carried
+    /// a value (`None` before two).
+    pub fn span_s(&self) -> Option<f64> {
+        self.span
+            .map(|(a, b)| b - a)
+            .filter(|d| d.is_finite() && *d > 0.0)
+    }
+}
+
 impl Observer for AnyOutputWatch {
     fn observe(&mut self, _record: &Record, e: &Estimate) -> Result<(), runner::BoxError> {
         self.push(e);
@@ -40,13 +56,38 @@ impl Observer for AnyOutputWatch {
     }
 }
 
-/// The error for `trial`, on which `method` gave no value in `n_samples`;
-/// `kept` says what became of the output ("no estimate written").
-pub fn no_output_message(trial: &str, method: &str, n_samples: u64, kept: &str) -> String {
+/// Trials shorter than this (s) may end before a method's start-up window
+/// does: the segment filters wait up to 2 s for a quasi-static moment
+/// (`segment_kf::chain::start`), `chain` fills its `startup_s` (1 s by
+/// default) first; with some margin.
+pub const SHORT_TRIAL_S: f64 = 2.5;
+
+/// The error for `trial`, on which `method` gave no value in `n_samples`
+/// spanning `span_s` seconds; `kept` says what became of the output ("no
+/// estimate written"). A trial shorter than [`SHORT_TRIAL_S`] is named as a
+/// possible cause (2026-12-07: a 0.5 s clip of a walk, whose inputs are
+/// complete, was told its inputs were missing or rejected).
+pub fn no_output_message(
+    trial: &str,
+    method: &str,
+    n_samples: u64,
+    span_s: Option<f64>,
+    kept: &str,
+) -> String {
+    let short = match span_s {
+        Some(d) if d < SHORT_TRIAL_S => format!(
+            "the trial lasts {d:.2} s, and a method that starts from a window of data gives \
+             nothing until the window is full (the segment filters wait up to 2 s for a \
+             quasi-static moment, docs/SEGMENT_FILTERS.md \"Initialisation\"; `chain` \
+             fills its `startup_s` first); or "
+        ),
+        _ => String::new(),
+    };
     format!(
-        "{trial}: `{method}` gave no estimate on any of its {n_samples} samples (the inputs it \
-         reads are missing on every row, or rejected as out of range or implausible: `limbfuse \
-         inspect` shows the rows each input misses, a warning the readings rejected); {kept}"
+        "{trial}: `{method}` gave no estimate on any of its {n_samples} samples ({short}the \
+         inputs it reads are missing on every row, or rejected as out of range or implausible: \
+         `limbfuse inspect` shows the rows each input misses, a warning the readings rejected); \
+         {kept}"
     )
 }
 
@@ -65,8 +106,16 @@ mod tests {
         w.push(&e);
         assert!(w.found);
         assert!(
-            no_output_message("t.csv", "imm-bslip", 3, "no estimate written")
-                .starts_with("t.csv: `imm-bslip` gave no estimate on any of its 3 samples")
+            no_output_message("t.csv", "imm-bslip", 3, None, "no estimate written").starts_with(
+                "t.csv: `imm-bslip` gave no estimate on any of its 3 samples (the inputs"
+            )
         );
+        let short = no_output_message("t.csv", "mjls", 50, Some(0.49), "no estimate written");
+        assert!(
+            short.contains("(the trial lasts 0.49 s, and a method"),
+            "{short}"
+        );
+        let long = no_output_message("t.csv", "mjls", 500, Some(4.99), "no estimate written");
+        assert!(!long.contains("the trial lasts"), "{long}");
     }
 }

@@ -23,8 +23,6 @@ use crate::stdio::{self, FlushingStdin, SharedStdout};
 
 /// The message of a run that found nothing: (trial, method, samples, what
 /// became of the output).
-type NothingFound = fn(&str, &str, u64, &str) -> String;
-
 /// Runs one estimator over a trial file, streaming; `-` as the trial reads
 /// standard input, `-` as the output writes standard output as rows arrive
 /// (docs/STREAMING.md). `imm-bslip --imm-config continuous` on a trial
@@ -245,14 +243,8 @@ fn estimate_pass(
     }
     // Nothing found: an error, and the output file removed (standard output
     // cannot be taken back).
-    let message: Option<NothingFound> = if gait_method && !gait.found {
-        Some(limbfuse_eval::gait_watch::no_gait_message)
-    } else if !any_output.found {
-        Some(limbfuse_eval::output_watch::no_output_message)
-    } else {
-        None
-    };
-    if let Some(message) = message {
+    let nothing = (gait_method && !gait.found) || !any_output.found;
+    if nothing {
         report.warn(label);
         let kept = if stdio::is_stdio(&a.output) {
             "the estimate written to standard output holds none"
@@ -260,12 +252,18 @@ fn estimate_pass(
             let _ = std::fs::remove_file(&a.output);
             "no estimate written"
         };
-        let mut why = message(
-            &a.trial.display().to_string(),
-            spec.method().name(),
-            report.n_samples,
-            kept,
-        );
+        let (trial, name) = (a.trial.display().to_string(), spec.method().name());
+        let mut why = if gait_method && !gait.found {
+            limbfuse_eval::gait_watch::no_gait_message(&trial, name, report.n_samples, kept)
+        } else {
+            limbfuse_eval::output_watch::no_output_message(
+                &trial,
+                name,
+                report.n_samples,
+                any_output.span_s(),
+                kept,
+            )
+        };
         // A parameter far from its default (`shoe_gamma = 1e12`) finds
         // nothing either: name the file that set them.
         if let Some(p) = &a.params {

@@ -508,3 +508,44 @@ fn no_measurement_no_estimate() {
         );
     }
 }
+
+/// A sweep over short clips of the shared recordings (2026-12-07): the
+/// segment filters on 0.5 s of a walk (complete inputs, no
+/// quasi-static moment, so no start before their 2 s window) were refused
+/// with "the inputs it reads are missing on every row, or rejected", which
+/// sent the user looking for a data problem. The message now names the
+/// trial's length first.
+#[test]
+fn a_clip_shorter_than_the_start_window_is_named_as_short() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| limbfuse(args, d.path());
+    let o = run(&["simulate", "walking", "--duration", "4", "-o", "w.csv"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
+    // the header and half a second of rows mid-walk (2 <= t < 2.5)
+    let mid_walk = |l: &str| {
+        let t = l.split(',').next().and_then(|t| t.parse::<f64>().ok());
+        t.is_some_and(|t| (2.0..2.5).contains(&t))
+    };
+    let clip: String = text
+        .lines()
+        .filter(|l| l.starts_with('#') || l.starts_with("t,") || mid_walk(l))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(d.path().join("clip.csv"), clip).unwrap();
+    for m in ["local", "mjls", "global"] {
+        let o = run(&["estimate", "--method", m, "clip.csv", "-o", "e.csv"]);
+        assert_user_error(
+            &o,
+            &[
+                "clip.csv",
+                "gave no estimate on any of its",
+                "(the trial lasts 0.",
+                "the segment filters wait up to 2 s",
+            ],
+        );
+    }
+    // the whole walk starts and is not called short
+    let o = run(&["estimate", "--method", "mjls", "w.csv", "-o", "e.csv"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
