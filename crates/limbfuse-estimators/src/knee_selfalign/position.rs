@@ -92,12 +92,14 @@ pub const DERIVATIVE_LATENCY: usize = 2;
 /// `(g[0] - 8 g[1] + 8 g[3] - g[4]) / (12 dt)`. Exact for polynomials up to
 /// degree 4; the estimate for sample `k` needs sample `k + 2`, a latency of
 /// [`DERIVATIVE_LATENCY`] samples.
+#[inline]
 pub fn central_derivative(g: &[Vector3<f64>; 5], dt: f64) -> Vector3<f64> {
     (g[0] - g[1] * 8.0 + g[3] * 8.0 - g[4]) / (12.0 * dt)
 }
 
 /// Whether five sample times are equally spaced (within 1 % of the mean
 /// step), as [`central_derivative`] assumes; returns the mean step.
+#[inline]
 pub fn uniform_step(t: &[f64; 5]) -> Option<f64> {
     let dt = (t[4] - t[0]) / 4.0;
     if dt.is_nan() || dt <= 0.0 {
@@ -113,24 +115,22 @@ pub fn uniform_step(t: &[f64; 5]) -> Option<f64> {
 /// dropped sample among four regular steps is 1.6 mean steps: a gap.
 pub const MAX_STEP_RATIO: f64 = 1.5;
 
-/// The rate derivative at the middle of five samples at times `t`: the
-/// five-point formula ([`central_derivative`]) when the times are equally
-/// spaced (within 1 %); otherwise, as long as every step lies within
-/// `[1 / MAX_STEP_RATIO, MAX_STEP_RATIO]` mean steps (jittered timestamps,
-/// not a gap), the five-point formula with step `grid` when the samples are
-/// taken as regularly spaced ([`super::stamp_clock::StampClock`]: their
-/// stamps are jittered), else the derivative of the degree-4 interpolating
-/// polynomial through the five samples at their stamps (Lagrange weights:
-/// exact for polynomials up to degree 4, as the five-point formula is).
-/// `None` across a gap or out-of-order times. Until issue 15's invariance
-/// audit a step more than 1 % off the mean refused the sample, so
-/// timestamps with 1 ms of jitter at 100 Hz left the estimator without any
-/// window (`issue_15_knee_jittered_timestamps`).
-pub fn rate_derivative(
-    t: &[f64; 5],
-    g: &[Vector3<f64>; 5],
-    grid: Option<f64>,
-) -> Option<Vector3<f64>> {
+/// The rate derivative at the middle of five samples at times `t` taken at
+/// their word (the stamp clock's verdict is not the grid: for a regular
+/// clock with jittered stamps the caller uses [`central_derivative`] with
+/// the grid's step once the clock counts the five consecutive,
+/// `window::Ring::kinematics`): the five-point formula
+/// ([`central_derivative`]) when the times are equally spaced (within 1 %);
+/// otherwise, as long as every step lies within `[1 / MAX_STEP_RATIO,
+/// MAX_STEP_RATIO]` mean steps (uneven sampling, not a gap), the derivative
+/// of the degree-4 interpolating polynomial through the five samples
+/// (Lagrange weights: exact for polynomials up to degree 4, as the
+/// five-point formula is). `None` across a gap or out-of-order times. Until
+/// issue 15's invariance audit a step more than 1 % off the mean refused
+/// the sample, so timestamps with 1 ms of jitter at 100 Hz left the
+/// estimator without any window (`issue_15_knee_jittered_timestamps`).
+#[inline]
+pub fn rate_derivative(t: &[f64; 5], g: &[Vector3<f64>; 5]) -> Option<Vector3<f64>> {
     if let Some(dt) = uniform_step(t) {
         return Some(central_derivative(g, dt));
     }
@@ -144,9 +144,6 @@ pub fn rate_derivative(
     });
     if !regular {
         return None;
-    }
-    if let Some(dt) = grid {
-        return Some(central_derivative(g, dt));
     }
     // d/dt of the Lagrange basis at the middle node x = t[2]:
     // L_j'(t2) = prod_{m != j, 2} (t2 - t_m) / prod_{m != j} (t_j - t_m)
@@ -169,39 +166,25 @@ pub fn rate_derivative(
     Some(d)
 }
 
-/// The rate derivative at the middle of three samples (ours, 2026-12-06):
-/// the fallback of [`rate_derivative`] when an outer sample of its five
-/// lacks a gyro reading (empty cells). The central difference `(g_3 -
-/// g_1) / (t_3 - t_1)` (with the stamp clock's `grid` step instead of the
-/// stamps when they are jittered, as [`rate_derivative`]); exact for a
-/// quadratic rate with equal steps. `None` when the two steps differ by more
-/// than [`MAX_STEP_RATIO`] or either exceeds `MAX_STEP_RATIO` grid steps
-/// (a gap).
-pub fn rate_derivative3(
-    t: &[f64; 3],
-    g: &[Vector3<f64>; 3],
-    grid: Option<f64>,
-) -> Option<Vector3<f64>> {
+/// The central difference `(g_2 - g_0) / (2 dt)` of three samples `dt`
+/// apart: exact for a quadratic rate.
+pub fn central_difference(g: &[Vector3<f64>; 3], dt: f64) -> Vector3<f64> {
+    (g[2] - g[0]) / (2.0 * dt)
+}
+
+/// The rate derivative at the middle of three samples at times `t` taken
+/// at their word (ours, 2026-12-06): the fallback of [`rate_derivative`]
+/// when an outer sample of its five lacks a gyro reading (empty cells).
+/// [`central_difference`] with the mean step; `None` when the two steps
+/// differ by more than [`MAX_STEP_RATIO`] (a gap).
+pub fn rate_derivative3(t: &[f64; 3], g: &[Vector3<f64>; 3]) -> Option<Vector3<f64>> {
     let (h1, h2) = (t[1] - t[0], t[2] - t[1]);
     let mean = 0.5 * (t[2] - t[0]);
     let within = |h: f64| h >= mean / MAX_STEP_RATIO && h <= mean * MAX_STEP_RATIO;
     if mean.is_nan() || mean <= 0.0 || !within(h1) || !within(h2) {
         return None;
     }
-    if grid.is_some_and(|d| mean > MAX_STEP_RATIO * d) {
-        return None;
-    }
-    let step = match grid {
-        Some(d) if uniform_step3(h1, h2).is_none() => d,
-        _ => mean,
-    };
-    Some((g[2] - g[0]) / (2.0 * step))
-}
-
-/// Whether two steps are equal within 1 % of their mean.
-fn uniform_step3(h1: f64, h2: f64) -> Option<f64> {
-    let m = 0.5 * (h1 + h2);
-    ((h1 - m).abs() <= 0.01 * m).then_some(m)
+    Some(central_difference(g, mean))
 }
 
 /// Moves both positions along their axes to the points of the axis midway
@@ -279,18 +262,13 @@ mod tests {
         let rate = |t: f64| Vector3::new(1.0 + 2.0 * t - 3.0 * t * t, -t * t, 0.5 * t);
         let slope = |t: f64| Vector3::new(2.0 - 6.0 * t, -2.0 * t, 0.5);
         let t = [0.99, 1.0, 1.01];
-        let d = rate_derivative3(&t, &t.map(rate), None).unwrap();
+        let d = rate_derivative3(&t, &t.map(rate)).unwrap();
         assert!((d - slope(1.0)).norm() < 1e-9, "{d}");
-        // jittered stamps of a regular grid: the grid step
-        let d = rate_derivative3(
-            &[0.991, 1.0, 1.0095],
-            &[0.99, 1.0, 1.01].map(rate),
-            Some(0.01),
-        )
-        .unwrap();
+        // the samples of a regular grid (jittered stamps): the grid step
+        let d = central_difference(&[0.99, 1.0, 1.01].map(rate), 0.01);
         assert!((d - slope(1.0)).norm() < 1e-9, "{d}");
         // a gap: no derivative
-        assert!(rate_derivative3(&[0.97, 1.0, 1.01], &t.map(rate), Some(0.01)).is_none());
+        assert!(rate_derivative3(&[0.97, 1.0, 1.01], &t.map(rate)).is_none());
     }
 
     use super::*;
@@ -360,15 +338,15 @@ mod tests {
         let p = |t: f64| Vector3::new(t.powi(4), 2.0 * t.powi(3) - t, 3.0 * t * t);
         let dp = |t: f64| Vector3::new(4.0 * t.powi(3), 6.0 * t * t - 1.0, 6.0 * t);
         let tj = [0.7, 0.7108, 0.7193, 0.7301, 0.7395];
-        let d = rate_derivative(&tj, &tj.map(p), None).unwrap();
+        let d = rate_derivative(&tj, &tj.map(p)).unwrap();
         assert!((d - dp(tj[2])).norm() < 1e-9, "{d} vs {}", dp(tj[2]));
         let tu = [0.7, 0.71, 0.72, 0.73, 0.74];
         assert_eq!(
-            rate_derivative(&tu, &tu.map(p), None),
+            rate_derivative(&tu, &tu.map(p)),
             Some(central_derivative(&tu.map(p), uniform_step(&tu).unwrap()))
         );
         assert_eq!(
-            rate_derivative(&[0.0, 0.01, 0.02, 0.04, 0.05], &tu.map(p), None),
+            rate_derivative(&[0.0, 0.01, 0.02, 0.04, 0.05], &tu.map(p)),
             None
         );
     }

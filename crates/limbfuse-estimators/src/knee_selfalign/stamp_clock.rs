@@ -23,7 +23,10 @@
 //! prediction on both gyroscopes, once with the stamps and once with the
 //! samples evenly spaced, and takes the regular grid when its sum is the
 //! smaller (no threshold: the better-fitting time base). Its step is then
-//! the mean step since the first sample. Evenly stamped samples (within 1 %)
+//! the slope of the least-squares line through the stamps against the
+//! samples counted (lost ones included): the sensor's clock is recovered
+//! from the stamps' places on a grid ([`BOOTSTRAP_STAMPS`], `steps_since`),
+//! not from the steps between them. Evenly stamped samples (within 1 %)
 //! are not scored: there both time bases agree and the derivative is the
 //! five-point formula as before.
 
@@ -40,28 +43,25 @@ use super::KneeSelfAlign;
 /// ten runs of five samples cover at least 50 samples (0.5 s at 100 Hz).
 pub const MIN_SCORED_RUNS: u32 = 10;
 
-/// Stamp steps seen before a step may count as more than one sample: the
-/// first period is the mean of those of them within [`PERIOD_BAND`] of
-/// their median (robust to up to three lost samples among the eight); the
-/// mean of `n` steps jittered by +-`j` is off by about `j / sqrt(n)`, so
-/// eight pin it to a third of one stamp's jitter (a mean from two or three
-/// steps made a jittered step count twice).
-pub const MIN_PERIOD_STEPS: usize = 8;
-
-/// The stamp steps the period is the mean of: those within `1 +-
-/// PERIOD_BAND` periods, whatever they were counted as (2026-12-07). The
-/// difference of two independent stamp errors is symmetric, so cutting both
-/// tails at the same distance leaves the mean of single steps unbiased,
-/// while a step over a lost sample (2 periods +- the jitter) stays out.
-/// Until then the period was the mean of the steps *counted* as one, and
-/// with a fifth of the rows lost that mean settled long: a period 5 % long
-/// puts the last sample's place on the line behind its stamp, a step over
-/// a lost row then rounds to one, its length joins the mean and keeps it
-/// long, a fixed point (shared 0.7 m/s walk, +-10 % stamp jitter, 20 % of
-/// the rows lost: period 6.6 % long at 56 s, one step in twenty
-/// miscounted, the knee 4-7 deg off; test
-/// `a_fifth_of_the_samples_lost_under_jitter_are_counted`).
-pub const PERIOD_BAND: f64 = 0.5;
+/// Stamps whose places fix the first period and phase of the sensor's
+/// clock before any step is counted (2026-12-07): the period whose grid
+/// the stamps fit best (`bootstrap`), then the least-squares line through
+/// the stamps against the samples counted. Until then the first period was
+/// a mean of stamp steps: of the steps counted as one (which, with a fifth
+/// of the rows lost, settled long: a long period puts the last sample's
+/// place behind its stamp, a step over a lost row rounds to one, joins the
+/// mean and keeps it long, a fixed point; +-10 % jitter, 20 % lost: period
+/// 6.6 % long at 56 s), then for a day of the steps within 1 +- 0.5
+/// periods (which still settled 3 % long under +-30 % jitter with a fifth
+/// lost, its band catching steps over a lost row). A step of stamps
+/// jittered by +-30 % varies by +-60 % of a period and cannot be counted
+/// on its own; a stamp varies by +-30 % and can, against a grid whose
+/// period and phase are known. 64 stamps span 64-80 periods: the grid's
+/// fit then tells the period within about 0.2 % (a Python model of the
+/// clock, 16 seeds at +-10-30 % jitter and 0-30 % of the samples lost: at
+/// most 3 of 93 000 steps miscounted; with 32 stamps one seed in eight
+/// never recovered).
+pub const BOOTSTRAP_STAMPS: usize = 64;
 
 /// Recent samples whose median place on the line the steps are counted from
 /// (2026-12-06): over the whole stream, the period's error times the
@@ -75,7 +75,7 @@ pub const RECENT: usize = 16;
 
 /// Watches the sample times and gyroscope rates of a stream (see the
 /// module documentation) and says which spacing the rate derivative uses.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StampClock {
     /// The last five samples (oldest first) with both gyroscopes usable,
     /// consecutive in the stream; `held` of them are valid.
@@ -86,7 +86,9 @@ pub struct StampClock {
     last_t: Option<f64>,
     /// Sample index of the last sample (missing samples counted) and the
     /// running least-squares line `t - first_t = a + b index` (Welford
-    /// sums: points, means, co-moments).
+    /// sums: points, means, co-moments) through the samples whose step was
+    /// counted on a period (the first [`BOOTSTRAP_STAMPS`] are counted
+    /// again on the period they fix).
     index: f64,
     points: f64,
     mean_index: f64,
@@ -101,20 +103,49 @@ pub struct StampClock {
     /// The last sample's step from the one before on the regular grid
     /// (`None` unless the verdict is the grid).
     grid_step_last: Option<f64>,
-    /// Sum and count of the stamp steps within [`PERIOD_BAND`] of the
-    /// period (of the first [`MIN_PERIOD_STEPS`]' median for those).
-    single_steps: (f64, f64),
-    /// The first [`MIN_PERIOD_STEPS`] stamp steps; `early_n` of them held.
-    early: [f64; MIN_PERIOD_STEPS],
-    early_n: usize,
+    /// The first [`BOOTSTRAP_STAMPS`] stamps (`t - first_t`); `boot_n` of
+    /// them held, `booted` once they fixed the period.
+    boot: [f64; BOOTSTRAP_STAMPS],
+    boot_n: usize,
+    booted: bool,
     /// The last [`RECENT`] samples' `(index, t - first_t)`, a ring; `recent_n`
     /// of them valid.
     recent: [(f64, f64); RECENT],
     recent_n: usize,
+    /// Samples observed (the ring's position).
+    seen: usize,
     /// The place of index 0 on the line the steps are counted from
     /// (`t - first_t = intercept + period index`; see [`Self::steps_since`]),
     /// as of the last sample observed.
     intercept: f64,
+}
+
+impl Default for StampClock {
+    fn default() -> Self {
+        StampClock {
+            last: Default::default(),
+            held: 0,
+            first_t: 0.0,
+            last_t: None,
+            index: 0.0,
+            points: 0.0,
+            mean_index: 0.0,
+            mean_time: 0.0,
+            c_ii: 0.0,
+            c_it: 0.0,
+            miss_stamps: 0.0,
+            miss_grid: 0.0,
+            scored: 0,
+            grid_step_last: None,
+            boot: [0.0; BOOTSTRAP_STAMPS],
+            boot_n: 0,
+            booted: false,
+            recent: [(0.0, 0.0); RECENT],
+            recent_n: 0,
+            seen: 0,
+            intercept: 0.0,
+        }
+    }
 }
 
 impl StampClock {
@@ -129,16 +160,27 @@ impl StampClock {
                 0.0
             }
         };
-        if let Some(last) = self.last_t {
-            self.note_step(s.t - last);
-        }
+        // whether this sample's step was counted on a period (after the
+        // first `BOOTSTRAP_STAMPS`)
+        let counted = self.booted;
         self.last_t = Some(s.t);
         self.index += steps;
-        self.add_point(self.index, s.t - self.first_t);
-        self.recent[self.points as usize % RECENT] = (self.index, s.t - self.first_t);
+        if counted {
+            self.add_point(self.index, s.t - self.first_t);
+        }
+        self.recent[self.seen % RECENT] = (self.index, s.t - self.first_t);
+        self.seen += 1;
         self.recent_n = (self.recent_n + 1).min(RECENT);
+        if !counted {
+            self.boot[self.boot_n] = s.t - self.first_t;
+            self.boot_n += 1;
+            if self.boot_n == BOOTSTRAP_STAMPS {
+                self.bootstrap();
+            }
+        }
         self.intercept = self.line_intercept();
-        if steps > 1.0 {
+        // runs of five are scored over counted steps only
+        if steps > 1.0 || !counted {
             self.held = 0;
         }
         self.grid_step_last = match self.grid_step() {
@@ -162,82 +204,116 @@ impl StampClock {
 
     /// Sample steps from the last sample to one at `t`: the whole number of
     /// periods from the last sample's place on the line of slope `period`
-    /// through the median place of the last [`RECENT`] samples (through the
-    /// stamps' centroid until that many are held; at least one). The period is the mean
-    /// of the stamp steps within [`PERIOD_BAND`] of it so far: it converges to the
-    /// sampling period whatever the jitter, as it does not depend on how
-    /// the steps were counted; before [`MIN_PERIOD_STEPS`] steps every
-    /// step is one (a gap that early shifts the later indices by its
-    /// missing samples, a slope error that fades as 1 / samples). (Until 2026-12-06 the steps were counted
-    /// from the line through the stamps; a line a few % short after its
-    /// first points then made jittered steps count as two, which kept the
-    /// line short, a fixed point: 7 % short under +-30 % jitter, test
-    /// `the_grid_step_is_the_sampling_period_under_heavy_jitter`.)
+    /// through the median place of the last [`RECENT`] samples (at least
+    /// one). The period is the slope of the least-squares line through the
+    /// stamps against the samples counted, from the [`BOOTSTRAP_STAMPS`]
+    /// on; before them every step is one (they are counted again once they
+    /// fixed the period, `bootstrap`). (Until 2026-12-06 the steps were
+    /// counted from the line's own prediction of the last sample; a line a
+    /// few % short after its first points then made jittered steps count as
+    /// two, which kept the line short, a fixed point: 7 % short under +-30 %
+    /// jitter, test `the_grid_step_is_the_sampling_period_under_heavy_jitter`.
+    /// Counted from the median place of recent samples, the period's error
+    /// matters only over the distance to them.)
     fn steps_since(&self, t: f64) -> f64 {
         match self.period() {
             None => 1.0,
             Some(period) => {
-                let on_line = if self.recent_n == RECENT {
-                    self.intercept + period * self.index
-                } else {
-                    self.mean_time + period * (self.index - self.mean_index)
-                };
+                let on_line = self.intercept + period * self.index;
                 libm::round((t - self.first_t - on_line) / period).max(1.0)
             }
         }
     }
 
-    /// The mean of the stamp steps within [`PERIOD_BAND`] of the period
-    /// (`None` before [`MIN_PERIOD_STEPS`] steps).
+    /// The sampling period: the slope of the line through the counted
+    /// samples (`None` before [`BOOTSTRAP_STAMPS`] stamps).
     fn period(&self) -> Option<f64> {
-        (self.early_n == MIN_PERIOD_STEPS && self.single_steps.1 > 0.0)
-            .then(|| self.single_steps.0 / self.single_steps.1)
-    }
-
-    /// Adds a stamp step to the period's mean when it lies within
-    /// [`PERIOD_BAND`] of the period; the first [`MIN_PERIOD_STEPS`] are
-    /// held and judged against their median.
-    fn note_step(&mut self, step: f64) {
-        let within = |p: f64| (step - p).abs() <= PERIOD_BAND * p;
-        if self.early_n < MIN_PERIOD_STEPS {
-            self.early[self.early_n] = step;
-            self.early_n += 1;
-            if self.early_n == MIN_PERIOD_STEPS {
-                let mut sorted = self.early;
-                sorted.sort_by(f64::total_cmp);
-                let median =
-                    0.5 * (sorted[MIN_PERIOD_STEPS / 2 - 1] + sorted[MIN_PERIOD_STEPS / 2]);
-                for e in self.early {
-                    if (e - median).abs() <= PERIOD_BAND * median {
-                        self.single_steps.0 += e;
-                        self.single_steps.1 += 1.0;
-                    }
-                }
-            }
-        } else if let Some(p) = self.period() {
-            if within(p) {
-                self.single_steps.0 += step;
-                self.single_steps.1 += 1.0;
-            }
+        if self.booted {
+            self.line().map(|(_, b)| b)
+        } else {
+            None
         }
     }
 
+    /// Fixes the first period and phase from the [`BOOTSTRAP_STAMPS`]
+    /// stamps held: the period `p` whose grid they fit best, i.e. whose
+    /// phases `2 pi t / p` are most concentrated (`|sum exp(2 pi i t / p)|`,
+    /// the Rayleigh test's statistic; a lost sample leaves the phases
+    /// alone), searched within 0.6-1.4 times the median stamp step (a
+    /// median of single steps while under half the samples are lost; the
+    /// range leaves out half and twice the period, whose grids fit as
+    /// well), in steps of 1 % and then of 0.05 % around the best; the
+    /// phase is the phases' circular mean. The stamps are then counted on
+    /// that grid and start the line, and the recent places are theirs.
+    fn bootstrap(&mut self) {
+        const N: usize = BOOTSTRAP_STAMPS;
+        let t = self.boot;
+        let mut steps: [f64; N - 1] = core::array::from_fn(|k| t[k + 1] - t[k]);
+        steps.sort_by(f64::total_cmp);
+        let median = steps[(N - 1) / 2];
+        // Evenly stamped (every step within 1 % of the median): the grid is
+        // the stamps' own, no search (such stamps are never scored, so the
+        // verdict cannot be the grid; the search would cost 0.3 ms).
+        let even = steps[0] >= 0.99 * median && steps[N - 2] <= 1.01 * median;
+        let phasor = |p: f64| {
+            t.iter().fold((0.0, 0.0), |(c, s), &x| {
+                let a = core::f64::consts::TAU * x / p;
+                (c + libm::cos(a), s + libm::sin(a))
+            })
+        };
+        let power = |p: f64| {
+            let (c, s) = phasor(p);
+            c * c + s * s
+        };
+        let best_of = |candidates: &mut dyn Iterator<Item = f64>| {
+            candidates.fold((f64::NEG_INFINITY, median), |best, p| {
+                let r = power(p);
+                if r > best.0 {
+                    (r, p)
+                } else {
+                    best
+                }
+            })
+        };
+        let p = if even {
+            (t[N - 1] - t[0]) / (N - 1) as f64
+        } else {
+            let (_, coarse) = best_of(&mut (0..=80).map(|i| median * (0.6 + 0.01 * i as f64)));
+            best_of(&mut (0..=40).map(|i| coarse + median * 0.0005 * (i as f64 - 20.0))).1
+        };
+        let (c, s) = phasor(p);
+        let phase = libm::atan2(s, c) / core::f64::consts::TAU * p;
+        let place = |x: f64| libm::round((x - phase) / p);
+        (
+            self.points,
+            self.mean_index,
+            self.mean_time,
+            self.c_ii,
+            self.c_it,
+        ) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for &x in &t {
+            self.add_point(place(x), x);
+        }
+        self.index = place(t[N - 1]);
+        for j in 0..RECENT {
+            let x = t[N - RECENT + j];
+            self.recent[(self.seen - RECENT + j) % RECENT] = (place(x), x);
+        }
+        self.recent_n = RECENT;
+        self.booted = true;
+    }
+
     /// Where index 0 lies on the line of slope `period` the steps are
-    /// counted from: through the points' centroid; once [`RECENT`] samples
-    /// are held, through the median place of the recent ones (not the
-    /// jittered stamp of any one sample).
+    /// counted from: through the median place of the recent samples (not
+    /// the jittered stamp of any one sample).
     fn line_intercept(&self) -> f64 {
         let Some(period) = self.period() else {
             return 0.0;
         };
-        if self.recent_n == RECENT {
-            let mut at: [f64; RECENT] =
-                core::array::from_fn(|k| self.recent[k].1 - period * self.recent[k].0);
-            at.sort_by(f64::total_cmp);
-            0.5 * (at[RECENT / 2 - 1] + at[RECENT / 2])
-        } else {
-            self.mean_time - period * self.mean_index
-        }
+        let mut at: [f64; RECENT] =
+            core::array::from_fn(|k| self.recent[k].1 - period * self.recent[k].0);
+        at.sort_by(f64::total_cmp);
+        0.5 * (at[RECENT / 2 - 1] + at[RECENT / 2])
     }
 
     /// Whether samples stamped `t` (in time order) are consecutive samples of

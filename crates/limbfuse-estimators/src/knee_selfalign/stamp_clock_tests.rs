@@ -238,33 +238,56 @@ fn five_jittered_stamps_over_a_lost_sample_are_not_consecutive() {
     assert!(wrong * 1000 < runs, "{wrong} of {runs} runs judged wrong");
 }
 
-/// Stamps jittered by up to +-0.1 periods with a fifth of the samples
-/// lost at random: every step counts the samples it spans (before
-/// [`PERIOD_BAND`], the period settled 3-7 % long and hundreds of steps
-/// in 3000 were miscounted on each seed).
-#[test]
-fn a_fifth_of_the_samples_lost_under_jitter_are_counted() {
+/// Steps miscounted (and steps checked) after sample 500 over ten seeds of
+/// 3000 samples at 100 Hz, stamps jittered by up to `+-jitter` periods
+/// (uniform) and each sample lost with probability `lost`. (The grid
+/// verdict takes a few hundred samples with a fifth lost: runs of five
+/// without a lost sample are a third of them.)
+fn miscounted(jitter: f64, lost: f64) -> (usize, usize) {
     let dt = 0.01;
-    let mut bad = 0;
+    let (mut bad, mut steps) = (0, 0);
     for seed in 1..=10u64 {
         let mut u = uniform(seed);
         let mut lose = uniform(seed + 100);
         let mut c = StampClock::default();
         let mut last_k = 0usize;
         for k in 0..3000usize {
-            let t = k as f64 * dt + 0.1 * dt * (2.0 * u() - 1.0);
-            if k > 0 && lose() < 0.2 {
+            let t = k as f64 * dt + jitter * dt * (2.0 * u() - 1.0);
+            if k > 0 && lose() < lost {
                 continue;
             }
             c.observe(&slot(t, rate(k as f64 * dt)));
-            // (the grid verdict takes a few hundred samples here: runs
-            // of five without a lost sample are a third of them)
-            let counted = c.last_grid_step().map(|s| libm::round(s / dt));
-            if k > 500 && counted != Some((k - last_k) as f64) {
-                bad += 1;
+            if k > 500 {
+                steps += 1;
+                let counted = c.last_grid_step().map(|s| libm::round(s / dt));
+                if counted != Some((k - last_k) as f64) {
+                    bad += 1;
+                }
             }
             last_k = k;
         }
     }
-    assert_eq!(bad, 0);
+    (bad, steps)
+}
+
+/// Stamps jittered by up to +-0.1 periods with a fifth of the samples
+/// lost at random: every step counts the samples it spans (with the mean
+/// of the steps counted as one for the period, the period settled 3-7 %
+/// long and hundreds of steps in 3000 were miscounted on each seed).
+#[test]
+fn a_fifth_of_the_samples_lost_under_jitter_are_counted() {
+    assert_eq!(miscounted(0.1, 0.2).0, 0);
+}
+
+/// Stamps jittered by up to +-0.3 periods with a fifth of the samples lost
+/// at random: a step varies by +-0.6 periods and a step over a lost sample
+/// can be shorter than a step between neighbours, so no rule on steps
+/// counts them; the bootstrap's grid and the line through the counted
+/// stamps do (a mean of steps within 1 +- 0.5 periods settled 3 % long
+/// here and miscounted 250 of 19986 steps; found 2026-12-07).
+#[test]
+fn heavy_jitter_with_a_fifth_of_the_samples_lost_is_counted() {
+    let (bad, steps) = miscounted(0.3, 0.2);
+    std::println!("{bad} of {steps} steps miscounted");
+    assert!(bad * 1000 < steps, "{bad} of {steps} steps miscounted");
 }

@@ -13,7 +13,9 @@ use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::position::{rate_derivative, rate_derivative3, Kinematics};
+use super::position::{
+    central_derivative, central_difference, rate_derivative, rate_derivative3, Kinematics,
+};
 use super::position_fit::{fit_positions, PositionResiduals};
 use super::position_fusion::{fuse, FusedPositions};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
@@ -119,25 +121,34 @@ impl Ring {
         let grid = self.clock.grid_step();
         let gyr_dot = if w.iter().all(|s| s.gyr_ok) {
             let t = w.map(|s| s.t);
-            if !self.clock.consecutive(&t) {
-                return None;
+            let g = |seg: usize| w.map(|x| x.gyr[seg]);
+            match grid {
+                // Jittered stamps of a regular clock: the clock's count says
+                // whether the five are consecutive samples, not their
+                // stamps' steps (2026-12-07).
+                Some(dt) => {
+                    if !self.clock.consecutive(&t) {
+                        return None;
+                    }
+                    [central_derivative(&g(0), dt), central_derivative(&g(1), dt)]
+                }
+                None => [rate_derivative(&t, &g(0))?, rate_derivative(&t, &g(1))?],
             }
-            [
-                rate_derivative(&t, &w.map(|x| x.gyr[0]), grid)?,
-                rate_derivative(&t, &w.map(|x| x.gyr[1]), grid)?,
-            ]
         } else if w[1..4].iter().all(|s| s.gyr_ok) {
             // An outer sample without its gyro (empty cells): the
             // three-point difference of the inner three.
             let n: [&Slot; 3] = [w[1], w[2], w[3]];
             let t = n.map(|s| s.t);
-            if !self.clock.consecutive(&t) {
-                return None;
+            let g = |seg: usize| n.map(|x| x.gyr[seg]);
+            match grid {
+                Some(dt) => {
+                    if !self.clock.consecutive(&t) {
+                        return None;
+                    }
+                    [central_difference(&g(0), dt), central_difference(&g(1), dt)]
+                }
+                None => [rate_derivative3(&t, &g(0))?, rate_derivative3(&t, &g(1))?],
             }
-            [
-                rate_derivative3(&t, &n.map(|x| x.gyr[0]), grid)?,
-                rate_derivative3(&t, &n.map(|x| x.gyr[1]), grid)?,
-            ]
         } else {
             return None;
         };
