@@ -22,6 +22,7 @@
 //! | [`hinge_axis`] | 002 | the hinge-axis solver shared by the knee estimators and sensor alignment |
 //! | [`inclination`] | 000 | the accelerometer inclination angle |
 //! | [`cell_hold`] | ours | an empty cell among present ones takes that axis's last value (`gait-events`, `lowback-speed`) |
+//! | [`stamp_grid`] | ours | a sensor's sampling clock from jittered stamps with lost rows (`knee-selfalign`, `knee-gyro-axis`, `lowback-speed`) |
 //!
 //! ## In a controller's loop
 //!
@@ -151,6 +152,7 @@ pub mod knee_gyro_axis;
 pub mod knee_selfalign;
 pub mod lowback_speed;
 pub mod segment_kf;
+pub mod stamp_grid;
 
 #[cfg(test)]
 mod tests {

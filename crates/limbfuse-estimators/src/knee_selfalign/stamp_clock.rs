@@ -25,7 +25,7 @@
 //! smaller (no threshold: the better-fitting time base). Its step is then
 //! the slope of the least-squares line through the stamps against the
 //! samples counted (lost ones included): the sensor's clock is recovered
-//! from the stamps' places on a grid ([`BOOTSTRAP_STAMPS`], `steps_since`),
+//! from the stamps' places on a grid ([`crate::stamp_grid`]),
 //! not from the steps between them. Evenly stamped samples (within 1 %)
 //! are not scored: there both time bases agree and the derivative is the
 //! five-point formula as before.
@@ -37,64 +37,23 @@ use nalgebra::Vector3;
 use super::position::{uniform_step, MAX_STEP_RATIO};
 use super::window::Slot;
 use super::KneeSelfAlign;
+use crate::stamp_grid::{Counted, StampGrid};
 
 /// Uneven runs of five samples scored before the verdict may say "grid":
 /// two strides' worth would be more, one run is too few to be a verdict;
 /// ten runs of five samples cover at least 50 samples (0.5 s at 100 Hz).
 pub const MIN_SCORED_RUNS: u32 = 10;
 
-/// Stamps whose places fix the first period and phase of the sensor's
-/// clock before any step is counted (2026-12-07): the period whose grid
-/// the stamps fit best (`bootstrap`), then the least-squares line through
-/// the stamps against the samples counted. Until then the first period was
-/// a mean of stamp steps: of the steps counted as one (which, with a fifth
-/// of the rows lost, settled long: a long period puts the last sample's
-/// place behind its stamp, a step over a lost row rounds to one, joins the
-/// mean and keeps it long, a fixed point; +-10 % jitter, 20 % lost: period
-/// 6.6 % long at 56 s), then for a day of the steps within 1 +- 0.5
-/// periods (which still settled 3 % long under +-30 % jitter with a fifth
-/// lost, its band catching steps over a lost row). A step of stamps
-/// jittered by +-30 % varies by +-60 % of a period and cannot be counted
-/// on its own; a stamp varies by +-30 % and can, against a grid whose
-/// period and phase are known. 64 stamps span 64-80 periods: the grid's
-/// fit then tells the period within about 0.2 % (a Python model of the
-/// clock, 16 seeds at +-10-30 % jitter and 0-30 % of the samples lost: at
-/// most 3 of 93 000 steps miscounted; with 32 stamps one seed in eight
-/// never recovered).
-pub const BOOTSTRAP_STAMPS: usize = 64;
-
-/// Recent samples whose median place on the line the steps are counted from
-/// (2026-12-06): over the whole stream, the period's error times the
-/// distance to the centroid miscounted steps once lost rows kept the mean
-/// single step from telescoping (a unit test with +-3 ms jitter at 100 Hz
-/// and every twentieth row lost: hundreds of steps in 3000 miscounted,
-/// `a_sample_lost_among_the_first_steps_is_counted`); the median of sixteen
-/// places is as close as a stamp's jitter allows and follows a miscounted
-/// step within eight.
-pub const RECENT: usize = 16;
-
 /// Watches the sample times and gyroscope rates of a stream (see the
 /// module documentation) and says which spacing the rate derivative uses.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StampClock {
     /// The last five samples (oldest first) with both gyroscopes usable,
     /// consecutive in the stream; `held` of them are valid.
     last: [(f64, [Vector3<f64>; 2]); 5],
     held: usize,
-    /// Time of the first and of the last sample seen (`None` before one).
-    first_t: f64,
-    last_t: Option<f64>,
-    /// Sample index of the last sample (missing samples counted) and the
-    /// running least-squares line `t - first_t = a + b index` (Welford
-    /// sums: points, means, co-moments) through the samples whose step was
-    /// counted on a period (the first [`BOOTSTRAP_STAMPS`] are counted
-    /// again on the period they fix).
-    index: f64,
-    points: f64,
-    mean_index: f64,
-    mean_time: f64,
-    c_ii: f64,
-    c_it: f64,
+    /// The sensor's sampling grid recovered from the stamps.
+    grid: StampGrid,
     /// Sums of the squared cubic-prediction misses with the stamps and with
     /// the regular grid, and the number of runs scored.
     miss_stamps: f64,
@@ -103,84 +62,17 @@ pub struct StampClock {
     /// The last sample's step from the one before on the regular grid
     /// (`None` unless the verdict is the grid).
     grid_step_last: Option<f64>,
-    /// The first [`BOOTSTRAP_STAMPS`] stamps (`t - first_t`); `boot_n` of
-    /// them held, `booted` once they fixed the period.
-    boot: [f64; BOOTSTRAP_STAMPS],
-    boot_n: usize,
-    booted: bool,
-    /// The last [`RECENT`] samples' `(index, t - first_t)`, a ring; `recent_n`
-    /// of them valid.
-    recent: [(f64, f64); RECENT],
-    recent_n: usize,
-    /// Samples observed (the ring's position).
-    seen: usize,
-    /// The place of index 0 on the line the steps are counted from
-    /// (`t - first_t = intercept + period index`; see [`Self::steps_since`]),
-    /// as of the last sample observed.
-    intercept: f64,
-}
-
-impl Default for StampClock {
-    fn default() -> Self {
-        StampClock {
-            last: Default::default(),
-            held: 0,
-            first_t: 0.0,
-            last_t: None,
-            index: 0.0,
-            points: 0.0,
-            mean_index: 0.0,
-            mean_time: 0.0,
-            c_ii: 0.0,
-            c_it: 0.0,
-            miss_stamps: 0.0,
-            miss_grid: 0.0,
-            scored: 0,
-            grid_step_last: None,
-            boot: [0.0; BOOTSTRAP_STAMPS],
-            boot_n: 0,
-            booted: false,
-            recent: [(0.0, 0.0); RECENT],
-            recent_n: 0,
-            seen: 0,
-            intercept: 0.0,
-        }
-    }
 }
 
 impl StampClock {
     /// Observes the next sample of the stream. A sample not later than the
     /// last one seen (a re-pushed window) is ignored.
     pub fn observe(&mut self, s: &Slot) {
-        let steps = match self.last_t {
-            Some(last) if s.t.partial_cmp(&last) != Some(Ordering::Greater) => return,
-            Some(_) => self.steps_since(s.t),
-            None => {
-                self.first_t = s.t;
-                0.0
-            }
+        let Some(Counted { steps, on_grid }) = self.grid.observe(s.t) else {
+            return;
         };
-        // whether this sample's step was counted on a period (after the
-        // first `BOOTSTRAP_STAMPS`)
-        let counted = self.booted;
-        self.last_t = Some(s.t);
-        self.index += steps;
-        if counted {
-            self.add_point(self.index, s.t - self.first_t);
-        }
-        self.recent[self.seen % RECENT] = (self.index, s.t - self.first_t);
-        self.seen += 1;
-        self.recent_n = (self.recent_n + 1).min(RECENT);
-        if !counted {
-            self.boot[self.boot_n] = s.t - self.first_t;
-            self.boot_n += 1;
-            if self.boot_n == BOOTSTRAP_STAMPS {
-                self.bootstrap();
-            }
-        }
-        self.intercept = self.line_intercept();
         // runs of five are scored over counted steps only
-        if steps > 1.0 || !counted {
+        if steps > 1.0 || !on_grid {
             self.held = 0;
         }
         self.grid_step_last = match self.grid_step() {
@@ -202,154 +94,17 @@ impl StampClock {
         }
     }
 
-    /// Sample steps from the last sample to one at `t`: the whole number of
-    /// periods from the last sample's place on the line of slope `period`
-    /// through the median place of the last [`RECENT`] samples (at least
-    /// one). The period is the slope of the least-squares line through the
-    /// stamps against the samples counted, from the [`BOOTSTRAP_STAMPS`]
-    /// on; before them every step is one (they are counted again once they
-    /// fixed the period, `bootstrap`). (Until 2026-12-06 the steps were
-    /// counted from the line's own prediction of the last sample; a line a
-    /// few % short after its first points then made jittered steps count as
-    /// two, which kept the line short, a fixed point: 7 % short under +-30 %
-    /// jitter, test `the_grid_step_is_the_sampling_period_under_heavy_jitter`.
-    /// Counted from the median place of recent samples, the period's error
-    /// matters only over the distance to them.)
-    fn steps_since(&self, t: f64) -> f64 {
-        match self.period() {
-            None => 1.0,
-            Some(period) => {
-                let on_line = self.intercept + period * self.index;
-                libm::round((t - self.first_t - on_line) / period).max(1.0)
-            }
-        }
-    }
-
-    /// The sampling period: the slope of the line through the counted
-    /// samples (`None` before [`BOOTSTRAP_STAMPS`] stamps).
-    fn period(&self) -> Option<f64> {
-        if self.booted {
-            self.line().map(|(_, b)| b)
-        } else {
-            None
-        }
-    }
-
-    /// Fixes the first period and phase from the [`BOOTSTRAP_STAMPS`]
-    /// stamps held: the period `p` whose grid they fit best, i.e. whose
-    /// phases `2 pi t / p` are most concentrated (`|sum exp(2 pi i t / p)|`,
-    /// the Rayleigh test's statistic; a lost sample leaves the phases
-    /// alone), searched within 0.6-1.4 times the median stamp step (a
-    /// median of single steps while under half the samples are lost; the
-    /// range leaves out half and twice the period, whose grids fit as
-    /// well), in steps of 1 % and then of 0.05 % around the best; the
-    /// phase is the phases' circular mean. The stamps are then counted on
-    /// that grid and start the line, and the recent places are theirs.
-    fn bootstrap(&mut self) {
-        const N: usize = BOOTSTRAP_STAMPS;
-        let t = self.boot;
-        let mut steps: [f64; N - 1] = core::array::from_fn(|k| t[k + 1] - t[k]);
-        steps.sort_by(f64::total_cmp);
-        let median = steps[(N - 1) / 2];
-        // Evenly stamped (every step within 1 % of the median): the grid is
-        // the stamps' own, no search (such stamps are never scored, so the
-        // verdict cannot be the grid; the search would cost 0.3 ms).
-        let even = steps[0] >= 0.99 * median && steps[N - 2] <= 1.01 * median;
-        let phasor = |p: f64| {
-            t.iter().fold((0.0, 0.0), |(c, s), &x| {
-                let a = core::f64::consts::TAU * x / p;
-                (c + libm::cos(a), s + libm::sin(a))
-            })
-        };
-        let power = |p: f64| {
-            let (c, s) = phasor(p);
-            c * c + s * s
-        };
-        let best_of = |candidates: &mut dyn Iterator<Item = f64>| {
-            candidates.fold((f64::NEG_INFINITY, median), |best, p| {
-                let r = power(p);
-                if r > best.0 {
-                    (r, p)
-                } else {
-                    best
-                }
-            })
-        };
-        let p = if even {
-            (t[N - 1] - t[0]) / (N - 1) as f64
-        } else {
-            let (_, coarse) = best_of(&mut (0..=80).map(|i| median * (0.6 + 0.01 * i as f64)));
-            best_of(&mut (0..=40).map(|i| coarse + median * 0.0005 * (i as f64 - 20.0))).1
-        };
-        let (c, s) = phasor(p);
-        let phase = libm::atan2(s, c) / core::f64::consts::TAU * p;
-        let place = |x: f64| libm::round((x - phase) / p);
-        (
-            self.points,
-            self.mean_index,
-            self.mean_time,
-            self.c_ii,
-            self.c_it,
-        ) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for &x in &t {
-            self.add_point(place(x), x);
-        }
-        self.index = place(t[N - 1]);
-        for j in 0..RECENT {
-            let x = t[N - RECENT + j];
-            self.recent[(self.seen - RECENT + j) % RECENT] = (place(x), x);
-        }
-        self.recent_n = RECENT;
-        self.booted = true;
-    }
-
-    /// Where index 0 lies on the line of slope `period` the steps are
-    /// counted from: through the median place of the recent samples (not
-    /// the jittered stamp of any one sample).
-    fn line_intercept(&self) -> f64 {
-        let Some(period) = self.period() else {
-            return 0.0;
-        };
-        let mut at: [f64; RECENT] =
-            core::array::from_fn(|k| self.recent[k].1 - period * self.recent[k].0);
-        at.sort_by(f64::total_cmp);
-        0.5 * (at[RECENT / 2 - 1] + at[RECENT / 2])
-    }
-
     /// Whether samples stamped `t` (in time order) are consecutive samples of
     /// the sensor's own clock, no sample lost between them, when the verdict
-    /// is the grid ([`Self::grid_step`]): each stamp is placed on the
-    /// line the steps are counted from and rounded to its sample. With
+    /// is the grid ([`Self::grid_step`]): [`StampGrid::consecutive`]. With
     /// jittered stamps a lost sample cannot be told from the stamps of five
     /// samples alone: under +-30 % jitter a step over a lost sample can be
-    /// shorter than a step between neighbours (found 2026-12-07, below
+    /// shorter than a step between neighbours (found 2026-12-07,
     /// `five_jittered_stamps_over_a_lost_sample_are_not_consecutive`).
     /// `true` when the verdict is not the grid (the stamps are then taken
     /// at their word, and their steps tell a gap).
     pub fn consecutive(&self, t: &[f64]) -> bool {
-        let (Some(_), Some(period)) = (self.grid_step(), self.period()) else {
-            return true;
-        };
-        let place = |t: f64| libm::round((t - self.first_t - self.intercept) / period);
-        t.windows(2).all(|w| place(w[1]) - place(w[0]) == 1.0)
-    }
-
-    fn add_point(&mut self, i: f64, t: f64) {
-        self.points += 1.0;
-        let di = i - self.mean_index;
-        self.mean_index += di / self.points;
-        self.mean_time += (t - self.mean_time) / self.points;
-        self.c_ii += di * (i - self.mean_index);
-        self.c_it += di * (t - self.mean_time);
-    }
-
-    /// The line `t - first_t = a + b index` (`None` before two indices).
-    fn line(&self) -> Option<(f64, f64)> {
-        if self.c_ii.is_nan() || self.c_ii <= 0.0 {
-            return None;
-        }
-        let b = self.c_it / self.c_ii;
-        (b > 0.0).then_some((self.mean_time - b * self.mean_index, b))
+        self.grid_step().is_none() || self.grid.consecutive(t)
     }
 
     /// Scores the five samples held when their stamps are uneven (not
@@ -391,7 +146,7 @@ impl StampClock {
         if self.scored < MIN_SCORED_RUNS || !grid_fits_better {
             return None;
         }
-        self.line().map(|(_, b)| b)
+        self.grid.period()
     }
 
     /// The step from the sample before to the last sample observed, on the

@@ -78,6 +78,8 @@ use limbfuse_core::{
     diagnostic_set, Estimate, Estimator, EstimatorError, Sample, Segment, TimeStep,
 };
 use limbfuse_models::DEFAULT_BODY_HEIGHT_M;
+
+use crate::stamp_grid::StampGrid;
 use nalgebra::{Rotation3, Vector3};
 
 use crate::cell_hold::CellHold;
@@ -244,6 +246,10 @@ pub struct LowbackSpeed {
     /// The sampling period from the time steps so far that are not gaps
     /// (over `min_step_time`), lost rows counted.
     period: SamplingPeriod,
+    /// The sensor's sampling grid from the stamps of the readings: its
+    /// period replaces `period` once known when the stamps are not evenly
+    /// spaced ([`crate::stamp_grid`]; 2026-12-07).
+    grid: StampGrid,
     elapsed: f64,
     n: u64,
     rms_sq: f64,
@@ -277,6 +283,7 @@ impl LowbackSpeed {
             half: 0,
             dt: None,
             period: SamplingPeriod::default(),
+            grid: StampGrid::default(),
             elapsed: 0.0,
             n: 0,
             rms_sq: 0.0,
@@ -398,8 +405,18 @@ impl Estimator for LowbackSpeed {
         // of the HA001 walk by the squared ratio, -0.29 m/s). The smoothing
         // kernel is set at the first step and again at `PERIOD_STEPS`.
         // Lost rows are counted as the periods they span ([`sampling_period`], 2026-12-06).
+        // With uneven stamps (jittered, or rows lost) the period is the
+        // sensor's grid's once 64 readings fixed it: counted step by step
+        // (`sampling_period`), a single step jittered past 1.5 periods
+        // counts as two and the period comes out short (HA001 straight walk,
+        // +-30 % jitter: 0.028 -> 0.034-0.045 m/s stride MAE; 2026-12-07).
+        let counted = self.grid.observe(t);
         if let Some(s) = step.filter(|s| *s <= self.params.min_step_time) {
             let (dt, count) = self.period.add(s);
+            let dt = match self.grid.period() {
+                Some(p) if !self.grid.even() => p,
+                _ => dt,
+            };
             if count == 1 || count == PERIOD_STEPS {
                 self.set_kernel(dt);
             }
@@ -439,8 +456,14 @@ impl Estimator for LowbackSpeed {
         // keeps one value per sampling period, so they are filled linearly
         // between the two readings; without them the step's excursion was
         // integrated over fewer periods than it lasted.
+        // Counted on the sensor's grid once it is known: a step counted on
+        // its own turns stamp jitter past half a period into a "missing"
+        // sample (+-30 % jitter: one step in seventy; 2026-12-07).
         if let Some((t0, a0, psi0)) = self.last_vertical {
-            let missing = libm::round((t - t0) / dt) - 1.0;
+            let missing = match counted {
+                Some(c) if c.on_grid => c.steps - 1.0,
+                _ => libm::round((t - t0) / dt) - 1.0,
+            };
             if missing >= 1.0 && missing < HISTORY as f64 {
                 let k = missing as u64;
                 for j in 1..=k {
