@@ -307,11 +307,13 @@ impl StampGrid {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// Uniform numbers in [0, 1) (linear congruential; no generator crate).
-    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    /// A fixed sequence of uniform numbers in [0, 1) (linear congruential;
+    /// no generator crate), for the stamp tests here and in
+    /// `knee_selfalign::stamp_clock`.
+    pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f64 {
         let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
         move || {
             state = state

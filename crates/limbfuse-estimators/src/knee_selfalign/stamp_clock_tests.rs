@@ -3,6 +3,7 @@
 //! and the consecutive-sample check.
 
 use super::*;
+use crate::stamp_grid::tests::uniform;
 
 fn slot(t: f64, rate: f64) -> Slot {
     Slot {
@@ -106,26 +107,6 @@ fn samples_missing_are_counted_and_earlier_times_are_ignored() {
     assert_eq!(c, before);
 }
 
-/// The grid's step settled 7 % short of the sampling period under
-/// +-30 % stamp jitter (found 2026-12-06: the shared 1.2 m/s walk with
-/// +-3 ms at 100 Hz, `knee-gyro-axis` 0.84 -> 3.20 deg, `knee-selfalign`
-/// 1.06 -> 2.93): a line fitted on its first nine stamps came out a few
-/// % short, its prediction then drifted behind the stamps until a
-/// jittered step counted as two samples, which kept the slope short, a
-/// fixed point. A step of at most `MAX_STEP_RATIO` grid steps between
-/// stamps is now one sample (jitter, not a gap). Twenty jitter
-/// patterns (a linear congruential sequence, uniform +-0.3 periods).
-/// A fixed sequence of uniform numbers in [0, 1) (linear congruential).
-fn uniform(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The stamp of sample `k` at period `dt`, moved by up to +-0.3 periods
 /// (the first one exact).
 fn jittered(k: usize, dt: f64, u: &mut impl FnMut() -> f64) -> f64 {
@@ -137,6 +118,15 @@ fn jittered(k: usize, dt: f64, u: &mut impl FnMut() -> f64) -> f64 {
     }
 }
 
+/// The grid's step settled 7 % short of the sampling period under
+/// +-30 % stamp jitter (found 2026-12-06: the shared 1.2 m/s walk with
+/// +-3 ms at 100 Hz, `knee-gyro-axis` 0.84 -> 3.20 deg, `knee-selfalign`
+/// 1.06 -> 2.93): a line fitted on its first nine stamps came out a few
+/// % short, its prediction then drifted behind the stamps until a
+/// jittered step counted as two samples, which kept the slope short, a
+/// fixed point. A step of at most `MAX_STEP_RATIO` grid steps between
+/// stamps is now one sample (jitter, not a gap). Twenty jitter
+/// patterns (a linear congruential sequence, uniform +-0.3 periods).
 #[test]
 fn the_grid_step_is_the_sampling_period_under_heavy_jitter() {
     let dt = 0.01;
