@@ -38,10 +38,16 @@ def _interrupt_after(seconds):
 
 def _stops_within_a_second(run, cpu_s=1.0):
     """The call stops with `KeyboardInterrupt` having used under `cpu_s` of
-    CPU (each runs for many seconds uninterrupted). CPU time, not wall time:
-    on a loaded machine the wall time of the same work grows several-fold
-    (a 1 s wall bound failed at load 11)."""
-    c0 = time.process_time()
+    user CPU (each runs for many seconds uninterrupted). CPU time, not wall
+    time: on a loaded machine the wall time of the same work grows
+    several-fold (a 1 s wall bound failed at load 11). User time, not user +
+    system: on a fresh virtual machine the first touch of memory the process
+    never used costs the kernel's page allocation as system time
+    (docs/PERFORMANCE.md, "Why the first call is three times slower"), and
+    `align` of the hour copies it first: 2.05 s of process time on a
+    clean-clone CI run (2026-12-06) where the same call takes 0.3 s
+    elsewhere. The system time is bounded separately, loosely."""
+    t0 = os.times()
     _interrupt_after(0.3)
     finished = False
     with pytest.raises(KeyboardInterrupt):
@@ -49,8 +55,10 @@ def _stops_within_a_second(run, cpu_s=1.0):
         finished = True  # (finished first: the signal comes in the sleep, and the test fails)
         time.sleep(5)
     assert not finished
-    took = time.process_time() - c0
-    assert took < cpu_s, took
+    t1 = os.times()
+    user, system = t1.user - t0.user, t1.system - t0.system
+    assert user < cpu_s, (user, system)
+    assert system < 5.0 * cpu_s, (user, system)
 
 
 @pytest.mark.parametrize(
