@@ -5,6 +5,7 @@
 mod align_legs_cli;
 mod calibration_cli;
 mod chain_blind_gap;
+mod chain_stamp_jitter;
 mod cli_demo;
 mod cli_errors;
 mod cli_fes;

@@ -25,6 +25,7 @@ pub mod startup;
 pub mod state;
 #[cfg(test)]
 mod tests;
+pub mod time_base;
 mod turn;
 
 use core::fmt;
@@ -45,6 +46,7 @@ use state::{
     alpha, encoder_offset, gyro_bias, hip_acceleration, hip_velocity, omega, theta, SparseRow,
     MEAN_SPEED,
 };
+use time_base::StampTime;
 
 diagnostic_set! {
     /// The `diag_*` columns of `chain`.
@@ -91,6 +93,10 @@ pub struct ChainEkf {
     p: Covariance,
     /// Previous gyro x/y per segment (for their derivative) and its time.
     last_xy_rate: [Option<([f64; 2], f64)>; 4],
+    /// The time base of jittered stamps ([`time_base`]) and the last
+    /// sample's time on it (for the out-of-plane rate derivative).
+    time_base: StampTime,
+    clock_t: f64,
     /// Time since which the foot has been still (`None`: moving).
     still_since: Option<f64>,
     /// Time of the last sample with a foot gyro reading.
@@ -170,6 +176,8 @@ impl ChainEkf {
             x: StateVector::zeros(),
             p: Covariance::zeros(),
             last_xy_rate: [None; 4],
+            time_base: StampTime::default(),
+            clock_t: 0.0,
             still_since: None,
             last_foot_gyro: None,
             window: alloc::vec![Sample::default(); STARTUP_CAPACITY].into_boxed_slice(),
@@ -273,7 +281,7 @@ impl ChainEkf {
         let mut previous = first.t;
         for k in 1..self.held {
             let sample = self.window[k];
-            self.filter_step(&sample, sample.t - previous);
+            self.filter_step(&sample, sample.t - previous, sample.t);
             previous = sample.t;
         }
         self.held = 0;
@@ -310,39 +318,6 @@ impl ChainEkf {
             || (0..4).any(|i| libm::fabs(self.x[omega(i)]) > DIVERGED_RATE_RAD_S)
     }
 
-    /// Records the gyro x/y rates of every sensor (for their derivative).
-    fn out_of_plane_rates(&mut self, sample: &Sample) {
-        for i in 0..4 {
-            self.out_of_plane(i, &sample.imu[i], sample.t);
-        }
-    }
-
-    /// The non-sagittal rotation of segment `i`'s sensor (zero when off or
-    /// without gyro x and y readings, which an incomplete vector without z
-    /// may still hold); remembers the reading for the next derivative.
-    fn out_of_plane(&mut self, i: usize, imu: &ImuSample, t: f64) -> OutOfPlane {
-        let (Some(x), Some(y)) = (imu.gyr_axis(0), imu.gyr_axis(1)) else {
-            return OutOfPlane::default();
-        };
-        let rate = [x, y];
-        let derivative = match self.last_xy_rate[i] {
-            Some((prev, tp)) if t > tp => [
-                (rate[0] - prev[0]) / (t - tp),
-                (rate[1] - prev[1]) / (t - tp),
-            ],
-            _ => [0.0, 0.0],
-        };
-        self.last_xy_rate[i] = Some((rate, t));
-        if self.params.out_of_plane {
-            OutOfPlane {
-                rate,
-                rate_derivative: derivative,
-            }
-        } else {
-            OutOfPlane::default()
-        }
-    }
-
     /// Applies one scalar row; returns whether it was applied.
     fn apply(&mut self, row: &SparseRow, nu: f64, sigma: f64, gate: f64) -> bool {
         let r = sigma * sigma * self.variance_scale;
@@ -351,7 +326,7 @@ impl ChainEkf {
 
     /// One filter step after the start-up: predict, then every scalar row.
     /// Returns (stance applied, accelerometer rows rejected).
-    fn filter_step(&mut self, sample: &Sample, dt: f64) -> (bool, u32) {
+    fn filter_step(&mut self, sample: &Sample, dt: f64, t: f64) -> (bool, u32) {
         let q = self.process_noise();
         predict_state(&mut self.x, dt, &q);
         predict_covariance(&mut self.p, dt, &q);
@@ -374,7 +349,7 @@ impl ChainEkf {
         let mut rejected = 0;
         for i in 0..4 {
             let imu = &sample.imu[i];
-            let oop = self.out_of_plane(i, imu, sample.t);
+            let oop = self.out_of_plane(i, imu, t);
             // Each in-plane axis that is there is its own row (issue 18 item
             // 2: an incomplete vector's x or y too). A complete vector with
             // a non-finite in-plane axis is not used at all.
@@ -509,7 +484,9 @@ impl Estimator for ChainEkf {
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {
-        let mut dt = self.time.advance(sample.t)?;
+        // jittered stamps of a regular clock: whole steps of its grid (ours)
+        let (mut dt, t_grid) = self.time_base.step(sample, self.time.advance(sample.t)?);
+        self.clock_t = t_grid;
         if dt.is_some_and(|d| d > LONG_GAP_S) {
             // A gap in the recording longer than a stride (ours, issue 18
             // item 2, as the segment filters): no prediction over it means
@@ -532,7 +509,7 @@ impl Estimator for ChainEkf {
         match (self.running, dt) {
             (true, Some(dt)) => {
                 let adopted = self.encoder_gate.readopted();
-                (stance, rejected) = self.filter_step(sample, dt);
+                (stance, rejected) = self.filter_step(sample, dt, self.clock_t);
                 self.link = if self.encoder_gate.readopted() == adopted {
                     Link::Continue {
                         dt,
