@@ -21,7 +21,6 @@ use limbfuse_core::Sample;
 use super::kinematics::OutOfPlane;
 use super::ChainEkf;
 use crate::knee_selfalign::stamp_clock::StampClock;
-use crate::knee_selfalign::window::Slot;
 
 /// The stamp clock of a chain's thigh and shank readings and the time of
 /// the last sample on the sensor's grid.
@@ -37,14 +36,9 @@ impl StampTime {
     /// sample's time: whole grid steps from the last sample when the stamps
     /// are jittered, else the stamps' own.
     pub fn step(&mut self, sample: &Sample, dt: Option<f64>) -> (Option<f64>, f64) {
-        let (th, sh) = (&sample.imu[1], &sample.imu[2]);
-        self.clock.observe(&Slot {
-            t: sample.t,
-            gyr: [th.gyr.unwrap_or_default(), sh.gyr.unwrap_or_default()],
-            acc: [th.acc.unwrap_or_default(), sh.acc.unwrap_or_default()],
-            gyr_ok: th.gyr.is_some() && sh.gyr.is_some(),
-            acc_ok: th.acc.is_some() && sh.acc.is_some(),
-        });
+        let (thigh, shank) = (sample.imu[1].gyr, sample.imu[2].gyr);
+        self.clock
+            .observe_rates(sample.t, thigh.zip(shank).map(|(a, b)| [a, b]));
         match (dt, self.clock.last_grid_step()) {
             (Some(_), Some(g)) => {
                 self.t += g;

@@ -68,7 +68,14 @@ impl StampClock {
     /// Observes the next sample of the stream. A sample not later than the
     /// last one seen (a re-pushed window) is ignored.
     pub fn observe(&mut self, s: &Slot) {
-        let Some(Counted { steps, on_grid }) = self.grid.observe(s.t) else {
+        self.observe_rates(s.t, s.gyr_ok.then_some(s.gyr));
+    }
+
+    /// [`Self::observe`] from a time stamp and the two gyroscopes' rates
+    /// (`None` when either is missing or unusable): for a caller without a
+    /// knee window's [`Slot`] (`chain_ekf::time_base`).
+    pub fn observe_rates(&mut self, t: f64, rates: Option<[Vector3<f64>; 2]>) {
+        let Some(Counted { steps, on_grid }) = self.grid.observe(t) else {
             return;
         };
         // runs of five are scored over counted steps only
@@ -79,15 +86,15 @@ impl StampClock {
             Some(b) if steps >= 1.0 => Some(steps * b),
             _ => None,
         };
-        if !s.gyr_ok {
+        let Some(gyr) = rates else {
             self.held = 0;
             return;
-        }
+        };
         if self.held == 5 {
             self.last.rotate_left(1);
             self.held = 4;
         }
-        self.last[self.held] = (s.t, s.gyr);
+        self.last[self.held] = (t, gyr);
         self.held += 1;
         if self.held == 5 {
             self.score();
