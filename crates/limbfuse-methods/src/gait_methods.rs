@@ -254,6 +254,10 @@ impl MethodDef for GaitEventsMethod {
         }
         let mut p = settings.params;
         p.gravity = meta.gravity().map_err(MethodError::Metadata)?;
+        // A stated accelerometer range is the full scale, as for the gyroscope.
+        if meta.get(crate::gated::ACC_RANGE_KEY).is_some() {
+            p.acc_full_scale = crate::gated::sensor_ranges(meta)?.acc_m_s2;
+        }
         GaitEvents::new(p, sources)
             .map(|e| Box::new(e) as Box<dyn Estimator + Send>)
             .map_err(|e| MethodError::GaitParams {

@@ -40,6 +40,7 @@ mod issue_18_fuzz_parsers;
 mod issue_18_fuzz_steps;
 mod issue_18_glitches;
 mod issue_18_resample_glitch;
+mod issue_19_clipped_impacts;
 mod issue_19_clock_origin;
 mod issue_19_event_window;
 mod issue_19_library_extension;

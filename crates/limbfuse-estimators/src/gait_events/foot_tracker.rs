@@ -48,7 +48,7 @@ impl FootTracker {
             shoe: Shoe::new(p.shoe),
             axis: FootAxis::new(p.axis_time_constant),
             events: FootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
-            integrator: StrideIntegrator::new(p.max_moving_time),
+            integrator: StrideIntegrator::new(p.max_moving_time, p.acc_full_scale),
             sign: 0,
             ics_in_segment: 0,
             last_ic: None,

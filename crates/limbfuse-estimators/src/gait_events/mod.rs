@@ -155,6 +155,13 @@ pub struct GaitEventsParams {
     pub speed_hold: f64,
     /// Gravity (m/s^2), from the trial's metadata.
     pub gravity: f64,
+    /// Accelerometer full scale (m/s^2): the trial's `acc_range_m_s2`
+    /// metadata when given, else 16 g (the widest full scale of the IMUs
+    /// used in gait work, the sensor gate's default). An axis at or beyond
+    /// [`strapdown::ACC_CLIP_FRACTION`] of it is clipped, and the stride
+    /// integration attributes the lost velocity change to it
+    /// ([`strapdown`], docs/GAIT_EVENTS.md "Clipped impacts").
+    pub acc_full_scale: f64,
     /// Initial-contact landmark of a shank IMU ([`shank_events`]).
     pub shank_contact: ShankContact,
 }
@@ -173,6 +180,7 @@ impl Default for GaitEventsParams {
             max_stride_time: 3.0,
             speed_hold: 3.0,
             gravity: limbfuse_core::STANDARD_GRAVITY,
+            acc_full_scale: 16.0 * 9.80665,
             shank_contact: ShankContact::ZeroCrossing,
         }
     }
@@ -474,6 +482,12 @@ impl Estimator for GaitEvents {
             p.min_stride_time, p.max_stride_time
         )?;
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
+        writeln!(
+            out,
+            "acc_full_scale: {} m/s^2 (clipped from {} of it)",
+            p.acc_full_scale,
+            strapdown::ACC_CLIP_FRACTION
+        )?;
         if self
             .sources
             .iter()

@@ -20,9 +20,31 @@
 //!    `d = int v dtau - v_N / T int tau dtau`: two running sums, no buffer
 //!    (so the integrator neither allocates nor grows with the stride).
 //!
+//! 4. a clipped accelerometer (an axis at or beyond [`ACC_CLIP_FRACTION`]
+//!    of its full scale, a heel strike's impact on a 16 g or 8 g foot
+//!    sensor) lost part of its velocity change at that instant, along the
+//!    clipped axis: a step in the velocity error, not a drift. Of the
+//!    period's clipped samples, the one with the largest specific force (the
+//!    impact's peak, which loses the most) gives the time `tau_c` and the
+//!    direction `u` (its clipped axes' signed units in the world frame,
+//!    normalised); the part of `v_N` against it, `delta = max(0, -u . v_N)`,
+//!    is put back as a step at `tau_c`, and only the rest drifts:
+//!    `d = int v dtau + u delta (T - tau_c) - (v_N + u delta) / T int tau dtau`
+//!    (docs/GAIT_EVENTS.md, "Clipped impacts"). Without a clipped sample this
+//!    is step 3, bit for bit.
+//!
 //! The stride length is the horizontal norm of `d`.
 
 use nalgebra::{Matrix3, Vector3};
+
+/// Fraction of an accelerometer's full scale from which an axis counts as
+/// clipped. Not 1: a clipped reading is the rail of the raw axis passed
+/// through the sensor's calibration, which moves it by the sensitivity and
+/// cross-axis tolerances (MPU-6050 +-3 % and +-2 %, ICM-20948 +-0.5 % and
+/// +-2 %, BMI160 +-1 % each: datasheets); the shared gaitmap walk's
+/// (NilsPod, 16 g) heel strikes reach 152.3-158.1 m/s^2 and none lies between
+/// 146 and 152.
+pub const ACC_CLIP_FRACTION: f64 = 0.97;
 
 /// Skew-symmetric (cross-product) matrix of `v`.
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
@@ -95,11 +117,21 @@ pub struct StrideIntegrator {
     f_prev: Vector3<f64>,
     /// The previous sample's acceleration in the world frame (m/s^2).
     a_prev: Vector3<f64>,
+    /// From this specific force on an axis (m/s^2) a reading is clipped.
+    clip_level: f64,
+    /// Of this period's clipped samples, the one with the largest specific
+    /// force: its norm (m/s^2; 0 before any), its time `tau` (s) and its
+    /// clipped axes' signed units in the world frame.
+    clip_norm: f64,
+    clip_tau: f64,
+    clip_dir: Vector3<f64>,
 }
 
 impl StrideIntegrator {
-    /// An integrator that gives up on a moving period longer than `max_duration` (s).
-    pub fn new(max_duration: f64) -> Self {
+    /// An integrator that gives up on a moving period longer than
+    /// `max_duration` (s), for an accelerometer of full scale
+    /// `acc_full_scale` (m/s^2; infinite: never clipped).
+    pub fn new(max_duration: f64, acc_full_scale: f64) -> Self {
         StrideIntegrator {
             rest_acc: Vector3::zeros(),
             rest_n: 0,
@@ -114,12 +146,19 @@ impl StrideIntegrator {
             w_prev: Vector3::zeros(),
             f_prev: Vector3::zeros(),
             a_prev: Vector3::zeros(),
+            clip_level: ACC_CLIP_FRACTION * acc_full_scale,
+            clip_norm: 0.0,
+            clip_tau: 0.0,
+            clip_dir: Vector3::zeros(),
         }
     }
 
     /// Forgets everything (dropout): the next moving period starts after a new rest.
     pub fn reset(&mut self) {
-        *self = StrideIntegrator::new(self.max_duration);
+        *self = StrideIntegrator {
+            clip_level: self.clip_level,
+            ..StrideIntegrator::new(self.max_duration, f64::INFINITY)
+        };
     }
 
     /// True while integrating a moving period.
@@ -165,6 +204,7 @@ impl StrideIntegrator {
             self.s1 = Vector3::zeros();
             self.s2 = 0.0;
             self.tau = 0.0;
+            self.clip_norm = 0.0;
             self.moving = true;
             self.a_prev = self.r * self.f_prev - Vector3::new(0.0, 0.0, self.g_rest);
         }
@@ -175,6 +215,7 @@ impl StrideIntegrator {
         self.s2 += (self.tau + 0.5 * dt) * dt;
         self.v = v;
         self.tau += dt;
+        self.note_clipping(acc);
         self.w_prev = *gyr;
         self.f_prev = *acc;
         self.a_prev = a_w;
@@ -184,11 +225,37 @@ impl StrideIntegrator {
         None
     }
 
+    /// Notes this sample if it is clipped (specific force `acc`, the
+    /// attitude already stepped to it) with a larger specific force than
+    /// the period's clipped samples before it.
+    fn note_clipping(&mut self, acc: &Vector3<f64>) {
+        let norm = acc.norm();
+        if norm <= self.clip_norm {
+            return;
+        }
+        let mut axes = Vector3::zeros();
+        for (u, a) in axes.iter_mut().zip(acc.iter()) {
+            if libm::fabs(*a) >= self.clip_level {
+                *u = a.signum();
+            }
+        }
+        if axes != Vector3::zeros() {
+            self.clip_norm = norm;
+            self.clip_tau = self.tau;
+            self.clip_dir = self.r * axes;
+        }
+    }
+
     fn finish(&self) -> Segment {
-        let d = if self.tau > 0.0 {
-            self.s1 - self.v * (self.s2 / self.tau)
-        } else {
+        let d = if self.tau <= 0.0 {
             Vector3::zeros()
+        } else if let (true, Some(u)) = (self.clip_norm > 0.0, self.clip_dir.try_normalize(1e-12)) {
+            // Step 4: the velocity change the clipped impact lost.
+            let delta = (-u.dot(&self.v)).max(0.0);
+            self.s1 + u * (delta * (self.tau - self.clip_tau))
+                - (self.v + u * delta) * (self.s2 / self.tau)
+        } else {
+            self.s1 - self.v * (self.s2 / self.tau)
         };
         let h = Vector3::new(d[0], d[1], 0.0);
         let hn = h.norm();
@@ -244,7 +311,7 @@ mod tests {
         let t_move = 0.8;
         let length = 1.2;
         for bias in [0.0, 0.05] {
-            let mut s = StrideIntegrator::new(5.0);
+            let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
             let up_sensor = tilt.transpose() * Vector3::z();
             for _ in 0..20 {
                 s.update(true, &(up_sensor * g), &Vector3::zeros(), dt);
@@ -296,7 +363,7 @@ mod tests {
         let mut errors = [0.0; 2];
         for (fs, error) in [50.0, 100.0].into_iter().zip(&mut errors) {
             let dt = 1.0 / fs;
-            let mut s = StrideIntegrator::new(5.0);
+            let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
             let up = Vector3::new(0.0, 0.0, g);
             for _ in 0..20 {
                 s.update(true, &up, &Vector3::zeros(), dt);
@@ -325,5 +392,61 @@ mod tests {
         }
         let order = libm::log2(errors[0] / errors[1]);
         assert!((1.7..2.3).contains(&order), "{errors:?}: order {order}");
+    }
+    /// A level sensor moves forward and stops with a heel-strike impulse
+    /// (one sample of -157 m/s^2 along x at 200 Hz, from 0.8 m/s) that an
+    /// accelerometer of 80 m/s^2 full scale clips at -80: the velocity change
+    /// lost, 0.38 m/s, is a step at the impact. The linear drift removal
+    /// alone spreads it over the stride and comes out 111 mm short of the
+    /// unclipped 586 mm (the clipping model off: `acc_full_scale` infinite,
+    /// as before 2026-12-06); the clipped axis's step gives the unclipped
+    /// length within 0.1 mm.
+    #[test]
+    fn a_clipped_impact_is_a_velocity_step_not_a_drift() {
+        use core::f64::consts::PI;
+        let g = 9.81;
+        let dt = 1.0 / 200.0;
+        let (t_move, top) = (0.8, 1.6);
+        let n_i = (0.75 * t_move / dt) as usize;
+        let mut readings = Vec::new();
+        // v(t) = top (1 - cos(2 pi t / T)) / 2 up to the impact.
+        let accel = |t: f64| top * PI / t_move * libm::sin(2.0 * PI * t / t_move);
+        let mut v_trap = 0.0;
+        let mut a_prev = 0.0;
+        for k in 1..=n_i {
+            let a = accel(k as f64 * dt);
+            v_trap += (a_prev + a) * 0.5 * dt;
+            a_prev = a;
+            readings.push(a);
+        }
+        // The impulse that brings the trapezoid's velocity to zero, then
+        // five still moving samples before the rest.
+        let impulse = -(v_trap + a_prev * 0.5 * dt) / dt;
+        assert!((-165.0..-150.0).contains(&impulse), "{impulse}");
+        readings.push(impulse);
+        readings.extend([0.0; 5]);
+        let run = |full_scale: f64, clip: f64| {
+            let mut s = StrideIntegrator::new(5.0, full_scale);
+            for _ in 0..20 {
+                s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
+            }
+            for a in &readings {
+                let f = Vector3::new(a.clamp(-clip, clip), 0.0, g);
+                assert!(s.update(false, &f, &Vector3::zeros(), dt).is_none());
+            }
+            let end = s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
+            end.expect("a finished segment").horizontal_length()
+        };
+        let unclipped = run(f64::INFINITY, f64::INFINITY);
+        let linear = run(f64::INFINITY, 80.0);
+        let stepped = run(80.0, 80.0);
+        assert!(
+            (linear - unclipped + 0.1114).abs() < 0.002,
+            "linear {linear} vs {unclipped}"
+        );
+        assert!(
+            (stepped - unclipped).abs() < 1e-4,
+            "stepped {stepped} vs {unclipped}"
+        );
     }
 }
