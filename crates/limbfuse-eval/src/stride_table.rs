@@ -370,6 +370,27 @@ fn with_stance_and_swing(r: &mut StrideRow, fc: &TrackEvents<'_>, end_ref: Optio
     r.swing_time_ref_s = end_ref.zip(r.fc_ref_s).map(|(e, f)| e - f);
 }
 
+/// Whether a stride of `foot` has its own reference: on a trial with a
+/// contact reference for the foot, it must be paired with a reference
+/// stride (`paired`: both its initial contacts paired with reference ones,
+/// as its reference length needs). `speed_ref` holds in each row the mean
+/// of the reference strides (left and right) that contain it, so over a
+/// stride the reference does not list (before the foot's first listed
+/// contact, after its last, one the reference lost in a turn) the rows'
+/// speed is the other foot's alone, not this stride's: such a stride is not
+/// scored per stride, as it has no reference length either (issue 19,
+/// 2026-12-06; docs/GAIT_EVENTS.md "Evaluation"). On a trial without a
+/// contact reference for the foot, and for a stride of unknown foot, every
+/// stride with a speed reference is scored.
+fn has_own_reference(foot: StrideFoot, paired: bool, c: &Columns) -> bool {
+    let side = match foot {
+        StrideFoot::Left => 0,
+        StrideFoot::Right => 1,
+        StrideFoot::Unknown => return true,
+    };
+    paired || !c.reference[side].iter().any(Option::is_some)
+}
+
 /// A stride from `start` to the estimated contact `end_j` of `ev`, decided
 /// on `row`, with its reference (no length, time or speed yet).
 fn placed(
@@ -389,7 +410,7 @@ fn placed(
         _ => None,
     };
     let (k0, k1) = (row_at(&c.t, start), row_at(&c.t, end));
-    let speed_ref_m_s = (k1 > k0)
+    let speed_ref_m_s = (k1 > k0 && has_own_reference(foot, stride_time_ref_s.is_some(), c))
         .then(|| {
             c.speed_ref[k0..k1]
                 .iter()

@@ -51,10 +51,12 @@ pub(crate) fn f(v: &serde_json::Value, path: &[&str]) -> f64 {
 /// Issue 19 targets on the shared two-foot walk: contacts within 20 ms
 /// (median) / 40 ms (p95), none missed; measured 4.6 / 12.6 ms (initial),
 /// 3.6 / 8.5 ms (final; 5.8 / 11.2 with the parabolic toe off). Each
-/// stride against the blended reference: length 2.47 %, speed 0.033 m/s
+/// stride against the blended reference: length 2.47 %, speed 0.029 m/s
 /// since the clipped heel strikes' velocity steps (2026-12-06; 2.61 % and
-/// 0.034 before, test `issue_19_clipped_foot_accelerometers_keep_the_stride_length`):
-/// the issue's 2.5 % is met, its 0.03 m/s not this way. The 2.45 % / 0.032 m/s measured until 2026-12-06 came
+/// 0.034 before, test `issue_19_clipped_foot_accelerometers_keep_the_stride_length`)
+/// and the speed scored on the strides paired with a reference stride
+/// (0.033 on all 56 with a speed reference): the issue's 2.5 % and 0.03 m/s
+/// are met. The 2.45 % / 0.032 m/s measured until 2026-12-06 came
 /// from the first-order stride integration, whose bias moved with the
 /// sampling rate (+0.019 m/s at 50 Hz, -0.009 at 800 Hz; the second-order
 /// integration gives -0.011 at every rate, test
@@ -80,7 +82,12 @@ fn foot_recording_meets_the_event_targets() {
     // at 16.2 s, test `a_turning_step_toe_off_is_its_push_off_not_its_loading`).
     assert_eq!(f(&v, &["initial_contact", "extra"]), 0.0, "{v}");
     assert_eq!(f(&v, &["final_contact", "extra"]), 0.0, "{v}");
-    assert!(f(&v, &["speed_mae_mps"]) < 0.034, "{v}");
+    // Per stride on the strides paired with a reference stride (53; the
+    // speed was scored on 56 until 2026-12-06, three of them strides the
+    // reference does not list, among them the turn's left stride against
+    // the right foot's speed: 0.033 m/s then), as the length always was.
+    assert!(f(&v, &["speed_mae_mps"]) <= 0.03, "{v}");
+    assert_eq!(f(&v, &["n_strides"]), f(&v, &["n_lengths"]), "{v}");
     assert!(f(&v, &["stride_length_error_pct"]) <= 2.5, "{v}");
     // Like with like (the estimate blended as speed_ref is): measured
     // 0.023 m/s and 2.03 % (0.024 and 2.09 before the clipped impacts'

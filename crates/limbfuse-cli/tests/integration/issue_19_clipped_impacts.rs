@@ -10,9 +10,10 @@ use crate::support::edit_cells;
 /// as a foot sensor of 8 g full scale records it: most heel strikes clip.
 /// The stride integration removed the velocity change the clipped impact
 /// lost as a linear drift over the stride: per-stride length error 2.97 %,
-/// speed MAE 0.039 m/s (bias -0.024), against 2.61 % / 0.034 unclipped.
-/// The clipped axis's step (`strapdown` step 4) gives 2.32 % and 0.031
-/// m/s (bias -0.009). Events do not depend on the accelerometer's range.
+/// speed MAE 0.037 m/s (bias -0.022; the 53 strides paired with a
+/// reference stride), against 2.61 % / 0.031 unclipped. The clipped axis's
+/// step (`strapdown` step 4) gives 2.32 % and 0.028 m/s (bias -0.007).
+/// Events do not depend on the accelerometer's range.
 #[test]
 fn issue_19_clipped_foot_accelerometers_keep_the_stride_length() {
     let Some(data) = data_dir() else { return };
@@ -35,7 +36,7 @@ fn issue_19_clipped_foot_accelerometers_keep_the_stride_length() {
         f(&v, &["speed_mae_mps"])
     );
     assert!(f(&v, &["stride_length_error_pct"]) < 2.5, "{v}");
-    assert!(f(&v, &["speed_mae_mps"]) < 0.033, "{v}");
+    assert!(f(&v, &["speed_mae_mps"]) < 0.031, "{v}");
     assert!(f(&v, &["speed_bias_mps"]).abs() < 0.015, "{v}");
     assert!(f(&v, &["n_strides"]) >= 50.0, "{v}");
     for kind in ["initial_contact", "final_contact"] {
