@@ -229,17 +229,18 @@ impl StrideIntegrator {
     /// attitude already stepped to it) with a larger specific force than
     /// the period's clipped samples before it.
     fn note_clipping(&mut self, acc: &Vector3<f64>) {
-        let norm = acc.norm();
-        if norm <= self.clip_norm {
-            return;
-        }
         let mut axes = Vector3::zeros();
         for (u, a) in axes.iter_mut().zip(acc.iter()) {
             if libm::fabs(*a) >= self.clip_level {
                 *u = a.signum();
             }
         }
-        if axes != Vector3::zeros() {
+        // (the norm only for a clipped sample: nothing else on the hot path)
+        if axes == Vector3::zeros() {
+            return;
+        }
+        let norm = acc.norm();
+        if norm > self.clip_norm {
             self.clip_norm = norm;
             self.clip_tau = self.tau;
             self.clip_dir = self.r * axes;
