@@ -8,7 +8,7 @@
 use limbfuse_core::runner::RunError;
 use limbfuse_core::{Estimate, Estimator, OfflineEstimator, Sample};
 use limbfuse_eval::output_watch::AnyOutputWatch;
-use limbfuse_eval::{GaitWatch, KneeWatch, RejectionWatch, ResetWatch};
+use limbfuse_eval::{ClippedSwingWatch, GaitWatch, KneeWatch, RejectionWatch, ResetWatch};
 use limbfuse_io::Calibration;
 
 use crate::column_samples::SampleColumns;
@@ -30,6 +30,8 @@ pub struct RunWatches {
     pub any_output: AnyOutputWatch,
     /// Readings the sensor-range gate rejected (the CLI's warning).
     pub rejections: RejectionWatch,
+    /// Strides whose foot accelerometer clipped past an impact (the CLI's warning).
+    pub clipped_swings: ClippedSwingWatch,
 }
 
 /// Runs `est` over every sample of `inputs`, pushing each estimate to
@@ -126,6 +128,7 @@ impl RunWatches {
             knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
             any_output: AnyOutputWatch::default(),
             rejections: RejectionWatch::new(est.diagnostic_names()),
+            clipped_swings: ClippedSwingWatch::new(est.diagnostic_names()),
         }
     }
 
@@ -135,6 +138,7 @@ impl RunWatches {
         self.gait.push(estimate);
         self.any_output.push(estimate);
         self.rejections.push(estimate);
+        self.clipped_swings.push(estimate);
         if let Some(k) = self.knee.as_mut() {
             k.push(sample, estimate);
         }

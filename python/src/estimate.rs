@@ -403,11 +403,16 @@ fn estimate<'py>(
                 .resets
                 .resets()
                 .map(|r| format!("{} on {label}: {r}", spec.method()));
+            let clipped = watches
+                .clipped_swings
+                .clipped()
+                .map(|c| format!("{} on {label}: {c}", spec.method()));
             let warning = [
                 frame_note.clone(),
                 leg_note.clone(),
                 resets,
                 rejected,
+                clipped,
                 unit_note.clone(),
                 thigh_note.clone(),
             ]

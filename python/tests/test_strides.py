@@ -2,6 +2,7 @@
 table"), the same rows and numbers as ``limbfuse evaluate --strides`` and
 the strides ``evaluate`` scores; bad input raises clear errors."""
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -141,3 +142,22 @@ def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_pa
         est.strides(window=(5, 15))
     with pytest.raises(LimbfuseError, match="window"):
         est.strides(trial, window="15:5")
+
+
+def test_a_swing_clipped_at_2_g_is_warned_of():
+    """A 2 g foot sensor clips through the swing (the strides come out short,
+    docs/GAIT_EVENTS.md "Clipped swings"): `estimate` warns, as the CLI does,
+    and each stride's clipped time is in the estimate."""
+    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    rail = 2 * 9.80665
+    ch = {k: (np.clip(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan), -rail, rail) if "_acc_" in k else v)
+          for k, v in trial.channels.items()}
+    clipped = limbfuse.Trial(trial.t, ch, {**trial.meta, "acc_range_m_s2": str(rail)})
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"of \d+ strides had a foot accelerometer at its full scale"):
+        est = limbfuse.estimate(clipped, "gait-events")
+    df = est.to_pandas()
+    assert df["diag_stride_clipped_right"].max() > 0.2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        est = limbfuse.estimate(trial, "gait-events")
+    assert est.to_pandas()["diag_stride_clipped_right"].max() <= 0.01

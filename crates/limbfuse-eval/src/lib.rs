@@ -8,6 +8,7 @@
 
 pub mod blended_stride_speed;
 pub mod channel_error;
+pub mod clipped_swings;
 pub mod data_limits;
 pub mod evaluation;
 pub mod evaluation_kind;
@@ -37,6 +38,7 @@ pub mod trial_check;
 pub mod trial_summary;
 
 pub use channel_error::ChannelError;
+pub use clipped_swings::{ClippedSwingWatch, ClippedSwings};
 pub use evaluation::{
     evaluate_files, evaluate_files_scored, max_lag_bound, EvalError, EvalOptions, TimeWindow,
 };

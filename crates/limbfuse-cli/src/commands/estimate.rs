@@ -7,8 +7,8 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{
-    FixedThighWatch, GaitWatch, KneeWatch, RejectionWatch, ResetWatch, SampleIntervalWatch,
-    SensorUnitsWatch, SpeedRangeWatch,
+    ClippedSwingWatch, FixedThighWatch, GaitWatch, KneeWatch, RejectionWatch, ResetWatch,
+    SampleIntervalWatch, SensorUnitsWatch, SpeedRangeWatch,
 };
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
@@ -446,6 +446,7 @@ struct RunReport {
     n_samples: u64,
     resets: ResetWatch,
     rejections: RejectionWatch,
+    clipped_swings: ClippedSwingWatch,
     intervals: SampleIntervalWatch,
     units: SensorUnitsWatch,
 }
@@ -461,6 +462,9 @@ impl RunReport {
         );
         if let Some(r) = self.rejections.rejected() {
             eprintln!("warning: {label} on {}: {r}", trial.display());
+        }
+        if let Some(c) = self.clipped_swings.clipped() {
+            eprintln!("warning: {label} on {}: {c}", trial.display());
         }
         super::warn_units(trial, &self.intervals, &self.units);
     }
@@ -498,15 +502,17 @@ fn run_observed<W: std::io::Write>(
     let mut progress = Progress::new(label);
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();
+    let mut clipped_swings = ClippedSwingWatch::default();
     let mut intervals = SampleIntervalWatch::checked_for_trial(reader.meta())
         .map_err(|e| anyhow::anyhow!("{}: {e}", trial.display()))?;
     let mut units = SensorUnitsWatch::default();
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(6 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(7 + extra.len());
         observers.push(writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
         observers.push(&mut rejections);
+        observers.push(&mut clipped_swings);
         observers.push(&mut intervals);
         observers.push(&mut units);
         for o in extra.iter_mut() {
@@ -549,6 +555,7 @@ fn run_observed<W: std::io::Write>(
         n_samples: summary.n_samples,
         resets,
         rejections,
+        clipped_swings,
         intervals,
         units,
     })

@@ -181,7 +181,11 @@ impl FootTracker {
             if let (Some(end), Some(start)) = (self.ic_in_segment.take(), self.stride_start_ic) {
                 let time = end - start;
                 if one_contact && (p.min_stride_time..=p.max_stride_time).contains(&time) {
-                    out.stride = Some(Stride { length, time });
+                    out.stride = Some(Stride {
+                        length,
+                        time,
+                        clipped_time: seg.clipped_time,
+                    });
                 }
             }
         }

@@ -71,6 +71,13 @@ diagnostic_set! {
         StrideTimeLeft = "stride_time_left",
         /// Right stride time (s).
         StrideTimeRight = "stride_time_right",
+        /// Time (s) the left foot's accelerometer was at its full scale in
+        /// the stride just finished (at the sample of its length): a heel
+        /// strike clips for up to [`strapdown::IMPACT_CLIP_TIME`], a clipped
+        /// swing longer (its stride comes out short).
+        StrideClippedLeft = "stride_clipped_left",
+        /// The same for the right foot (s).
+        StrideClippedRight = "stride_clipped_right",
         /// 1 while the left foot is at rest (zero-velocity detector), else 0
         /// (a stride ends only at a rest that lasted `min_rest_time`).
         RestLeft = "rest_left",
@@ -193,6 +200,9 @@ pub struct Stride {
     pub length: f64,
     /// Initial contact to initial contact (s).
     pub time: f64,
+    /// Time (s) its accelerometer was at full scale while the foot moved
+    /// ([`strapdown::Segment::clipped_time`]).
+    pub clipped_time: f64,
 }
 
 /// What one foot gave at one sample.
@@ -553,6 +563,7 @@ impl Estimator for GaitEvents {
                 GaitDiag::FcLeft,
                 GaitDiag::StrideLengthLeft,
                 GaitDiag::StrideTimeLeft,
+                GaitDiag::StrideClippedLeft,
                 GaitDiag::RestLeft,
                 GaitDiag::RateLeft,
             ),
@@ -561,15 +572,17 @@ impl Estimator for GaitEvents {
                 GaitDiag::FcRight,
                 GaitDiag::StrideLengthRight,
                 GaitDiag::StrideTimeRight,
+                GaitDiag::StrideClippedRight,
                 GaitDiag::RestRight,
                 GaitDiag::RateRight,
             ),
         ];
-        for (o, (ic, fc, len, time, rest, rate)) in outs.iter().zip(keys) {
+        for (o, (ic, fc, len, time, clipped, rest, rate)) in outs.iter().zip(keys) {
             d.set(ic, o.initial_contact);
             d.set(fc, o.final_contact);
             d.set(len, o.stride.map(|s| s.length));
             d.set(time, o.stride.map(|s| s.time));
+            d.set(clipped, o.stride.map(|s| s.clipped_time));
             d.set(rest, o.rest.map(|r| if r { 1.0 } else { 0.0 }));
             d.set(rate, o.rate);
         }

@@ -46,6 +46,20 @@ use nalgebra::{Matrix3, Vector3};
 /// 146 and 152.
 pub const ACC_CLIP_FRACTION: f64 = 0.97;
 
+/// Longest time (s) a stride's accelerometer may sit at its full scale and
+/// still be a heel strike's impact, which step 4 models as a velocity step.
+/// Beyond it the swing itself clipped (a 2-3 g sensor): the velocity lost
+/// there has no one instant or direction, is not put back, and the stride
+/// comes out short. Measured on the shared gaitmap walk with its
+/// accelerometers clipped at 8 / 4 g (range stated): impacts clip for at
+/// most 10 / 34 ms per stride and step 4 keeps the length (2.32 / 2.68 %);
+/// at 3 / 2.5 / 2 g the clipped time is 68 / 156 / 293 ms per stride
+/// (median) and strides clipped for 40-60 ms are 4 % short on average,
+/// 100-150 ms 6 %, 200-300 ms 11 % (docs/GAIT_EVENTS.md "Clipped swings").
+/// A stride past it is counted in the warning of `limbfuse estimate`
+/// (`limbfuse_eval::ClippedSwingWatch`); its length is still given.
+pub const IMPACT_CLIP_TIME: f64 = 0.04;
+
 /// Skew-symmetric (cross-product) matrix of `v`.
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0)
@@ -89,6 +103,11 @@ pub struct Segment {
     pub up_in_sensor: Vector3<f64>,
     /// Duration of the moving period (s).
     pub duration: f64,
+    /// How long (s) an accelerometer axis was at its full scale in the
+    /// period: a heel strike's impact lasts a few samples (step 4 puts its
+    /// lost velocity back); longer is a clipped swing, whose lost velocity is
+    /// not recovered ([`IMPACT_CLIP_TIME`]).
+    pub clipped_time: f64,
 }
 
 impl Segment {
@@ -125,6 +144,8 @@ pub struct StrideIntegrator {
     clip_norm: f64,
     clip_tau: f64,
     clip_dir: Vector3<f64>,
+    /// This period's time (s) with a clipped axis.
+    clipped_time: f64,
 }
 
 impl StrideIntegrator {
@@ -150,6 +171,7 @@ impl StrideIntegrator {
             clip_norm: 0.0,
             clip_tau: 0.0,
             clip_dir: Vector3::zeros(),
+            clipped_time: 0.0,
         }
     }
 
@@ -205,6 +227,7 @@ impl StrideIntegrator {
             self.s2 = 0.0;
             self.tau = 0.0;
             self.clip_norm = 0.0;
+            self.clipped_time = 0.0;
             self.moving = true;
             self.a_prev = self.r * self.f_prev - Vector3::new(0.0, 0.0, self.g_rest);
         }
@@ -215,7 +238,7 @@ impl StrideIntegrator {
         self.s2 += (self.tau + 0.5 * dt) * dt;
         self.v = v;
         self.tau += dt;
-        self.note_clipping(acc);
+        self.note_clipping(acc, dt);
         self.w_prev = *gyr;
         self.f_prev = *acc;
         self.a_prev = a_w;
@@ -227,8 +250,9 @@ impl StrideIntegrator {
 
     /// Notes this sample if it is clipped (specific force `acc`, the
     /// attitude already stepped to it) with a larger specific force than
-    /// the period's clipped samples before it.
-    fn note_clipping(&mut self, acc: &Vector3<f64>) {
+    /// the period's clipped samples before it; a clipped sample's `dt` (s)
+    /// counts as clipped time.
+    fn note_clipping(&mut self, acc: &Vector3<f64>, dt: f64) {
         let mut axes = Vector3::zeros();
         for (u, a) in axes.iter_mut().zip(acc.iter()) {
             if libm::fabs(*a) >= self.clip_level {
@@ -239,6 +263,7 @@ impl StrideIntegrator {
         if axes == Vector3::zeros() {
             return;
         }
+        self.clipped_time += dt;
         let norm = acc.norm();
         if norm > self.clip_norm {
             self.clip_norm = norm;
@@ -270,6 +295,7 @@ impl StrideIntegrator {
             },
             up_in_sensor: rt * Vector3::z(),
             duration: self.tau,
+            clipped_time: self.clipped_time,
         }
     }
 }
