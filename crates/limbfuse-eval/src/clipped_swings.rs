@@ -37,8 +37,9 @@ impl fmt::Display for ClippedSwings {
              clipped swing loses is not recovered, so those strides' lengths and speeds come out \
              short (by 1-17 % on the shared walks clipped at 2-3 g; docs/GAIT_EVENTS.md \
              \"Clipped swings\"); a foot \
-             sensor of 8 g or more avoids it (the trial's `# acc_range_m_s2:` gives the full scale, \
-             16 g when it is absent: a smaller sensor's clipping is then not seen)",
+             sensor of 8 g or more avoids it (clipped: an axis at 97 % of the full scale, the \
+             trial's `# acc_range_m_s2:` or else 16 g, or a reading repeated exactly at 1.5 g or \
+             more; state the range: a calibrated sensor's rail does not repeat exactly)",
             self.clipped,
             self.strides,
             ShownNumber(IMPACT_CLIP_TIME * 1000.0),

@@ -46,6 +46,17 @@ use nalgebra::{Matrix3, Vector3};
 /// 146 and 152.
 pub const ACC_CLIP_FRACTION: f64 = 0.97;
 
+/// From this specific force on an axis (m/s^2: 1.5 g), a reading equal to
+/// the one before it on that axis counts as clipped time
+/// ([`Segment::clipped_time`]; not in step 4) whatever the full scale: a
+/// moving foot's acceleration at 1.5 g or more changes by far more than one
+/// quantisation step per sample, so an exact repeat there is a rail (a
+/// sensor of smaller range than the 16 g assumed when the trial states
+/// none; the smallest in gait work is 2 g, MPU-6050's default). None of the
+/// shared recordings repeats a reading at 1.5 g or more (the knee rig's
+/// 0.01 g steps included).
+pub const RAIL_REPEAT_FLOOR: f64 = 1.5 * 9.80665;
+
 /// Longest time (s) a stride's accelerometer may sit at its full scale and
 /// still be a heel strike's impact, which step 4 models as a velocity step.
 /// Beyond it the swing itself clipped (a 2-3 g sensor): the velocity lost
@@ -251,16 +262,29 @@ impl StrideIntegrator {
     /// Notes this sample if it is clipped (specific force `acc`, the
     /// attitude already stepped to it) with a larger specific force than
     /// the period's clipped samples before it; a clipped sample's `dt` (s)
-    /// counts as clipped time.
+    /// counts as clipped time, and so does a sample on a rail seen only as
+    /// an exact repeat ([`RAIL_REPEAT_FLOOR`]), which step 4 does not use:
+    /// a repeat is seen from a run's second sample, and a single-sample
+    /// impact clip is not seen at all, so the largest clipped specific
+    /// force can then be a swing's, not the impact's (the gaitmap walk
+    /// clipped at 4 g without its range: 3.20 -> 3.34 % had step 4 used
+    /// them, strides up to 0.13 m long).
     fn note_clipping(&mut self, acc: &Vector3<f64>, dt: f64) {
         let mut axes = Vector3::zeros();
-        for (u, a) in axes.iter_mut().zip(acc.iter()) {
-            if libm::fabs(*a) >= self.clip_level {
+        let mut repeats = false;
+        for ((u, a), before) in axes.iter_mut().zip(acc.iter()).zip(self.f_prev.iter()) {
+            let m = libm::fabs(*a);
+            if m >= self.clip_level {
                 *u = a.signum();
+            } else if m >= RAIL_REPEAT_FLOOR && a == before {
+                repeats = true;
             }
         }
         // (the norm only for a clipped sample: nothing else on the hot path)
         if axes == Vector3::zeros() {
+            if repeats {
+                self.clipped_time += dt;
+            }
             return;
         }
         self.clipped_time += dt;
@@ -474,6 +498,58 @@ mod tests {
         assert!(
             (stepped - unclipped).abs() < 1e-4,
             "stepped {stepped} vs {unclipped}"
+        );
+    }
+
+    /// A 2 g accelerometer's rail in a trial that states no range (16 g
+    /// assumed): the swing's readings sit at 19.6133 m/s^2 (a 30 m/s^2
+    /// sine, clipped). The exact repeats count as clipped time, from each
+    /// run's second sample, and step 4 does not use them (the displacement
+    /// is the linear drift removal's, bit for bit); a reading repeated below
+    /// 1.5 g (a still 10 m/s^2 stretch) is not a rail.
+    #[test]
+    fn a_rail_seen_as_exact_repeats_is_clipped_time_not_a_step() {
+        use core::f64::consts::PI;
+        let g = 9.81;
+        let dt = 1.0 / 200.0;
+        let rail = 2.0 * 9.80665;
+        let n = 80;
+        let mut readings: Vec<f64> = (1..=n)
+            .map(|k| (30.0 * libm::sin(2.0 * PI * k as f64 / n as f64)).clamp(-rail, rail))
+            .collect();
+        readings.extend([10.0; 6]);
+        readings.extend([-10.0; 6]);
+        let repeats = readings
+            .windows(2)
+            .filter(|w| w[1] == w[0] && w[1].abs() >= RAIL_REPEAT_FLOOR)
+            .count();
+        assert!((35..=50).contains(&repeats), "{repeats}");
+        let run = |full_scale: f64| {
+            let mut s = StrideIntegrator::new(5.0, full_scale);
+            for _ in 0..20 {
+                s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
+            }
+            for a in &readings {
+                let f = Vector3::new(*a, 0.0, g);
+                assert!(s.update(false, &f, &Vector3::zeros(), dt).is_none());
+            }
+            let end = s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
+            end.expect("a finished segment")
+        };
+        let seen = run(16.0 * 9.80665);
+        assert!(
+            (seen.clipped_time - repeats as f64 * dt).abs() < 1e-12,
+            "{} s for {repeats} repeats",
+            seen.clipped_time
+        );
+        assert_eq!(seen.displacement, run(f64::INFINITY).displacement);
+        // The rail stated as the full scale: every railed sample is clipped
+        // (each run's first too) and step 4 applies.
+        let stated = run(rail);
+        assert!(
+            stated.clipped_time > seen.clipped_time,
+            "{}",
+            stated.clipped_time
         );
     }
 }
