@@ -89,7 +89,11 @@ fn gait_events_warns_of_strides_clipped_through_the_swing() {
             d.path(),
         );
         let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(stderr.contains(warning), warned, "{g} g, range stated {stated}: {stderr}");
+        assert_eq!(
+            stderr.contains(warning),
+            warned,
+            "{g} g, range stated {stated}: {stderr}"
+        );
         let text = std::fs::read_to_string(d.path().join("e.csv")).unwrap();
         let mut rows = text.lines().filter(|l| !l.starts_with('#'));
         let header: Vec<&str> = rows.next().unwrap().split(',').collect();

@@ -276,9 +276,9 @@ impl StrideIntegrator {
             let m = libm::fabs(*a);
             if m >= self.clip_level {
                 *u = a.signum();
-            } else if m >= RAIL_REPEAT_FLOOR && a == before {
-                repeats = true;
             }
+            // (no branch: `m` crosses the floor back and forth in a stride)
+            repeats |= (m >= RAIL_REPEAT_FLOOR) & (a == before);
         }
         // (the norm only for a clipped sample: nothing else on the hot path)
         if axes == Vector3::zeros() {
