@@ -362,6 +362,12 @@ impl NativeFilter {
                     warn_user(py, format!("{}: the filter's samples: {r}", self.method))?;
                 }
             }
+            // ... and of the first stride clipped past an impact.
+            let before = self.watches.clipped_swings.clipped();
+            self.watches.clipped_swings.push(&e);
+            if let (None, Some(c)) = (before, self.watches.clipped_swings.clipped()) {
+                warn_user(py, format!("{}: the filter's samples: {c}", self.method))?;
+            }
             let out = PyDict::new(py);
             for (name, v) in self.template.row(&e) {
                 out.set_item(name, v)?;
@@ -431,6 +437,7 @@ impl NativeFilter {
             });
             // (the counts carry on, also past an error)
             let rejected = watches.rejections.rejected();
+            let clipped = watches.clipped_swings.clipped();
             let counts = watches.rejections.counts();
             watches.rejections.carry(counts);
             self.watches = watches;
@@ -442,6 +449,10 @@ impl NativeFilter {
             // `estimate`'s warning of rejected readings, once per run.
             if let Some(r) = rejected {
                 warn_user(py, format!("{method}: the filter's samples: {r}"))?;
+            }
+            // ... and of strides clipped past an impact (`gait-events`).
+            if let Some(c) = clipped {
+                warn_user(py, format!("{method}: the filter's samples: {c}"))?;
             }
             crate::estimate::estimate_tuple(py, out, None, None)
         })

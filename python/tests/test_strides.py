@@ -161,3 +161,23 @@ def test_a_swing_clipped_at_2_g_is_warned_of():
         warnings.simplefilter("error")
         est = limbfuse.estimate(trial, "gait-events")
     assert est.to_pandas()["diag_stride_clipped_right"].max() <= 0.01
+
+
+def test_a_filter_warns_of_a_swing_clipped_at_2_g():
+    """`Filter` warns of clipped swings as `estimate` does: once per `run`
+    that has them, and once per stream of `step`s."""
+    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    rail = 2 * 9.80665
+    names = [n for n in trial.channels if n.startswith("foot_")]
+    ch = {n: np.clip(np.ma.filled(np.ma.asarray(trial.channels[n], dtype=float), np.nan), -rail, rail)
+          for n in names}
+    meta = {**trial.meta, "acc_range_m_s2": str(rail)}
+    said = r"the filter's samples: \d+ of \d+ strides had a foot accelerometer at its full scale"
+    f = limbfuse.Filter("gait-events", channels=names, meta=meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match=said):
+        f.run({"t": trial.t, **ch})
+    g = limbfuse.Filter("gait-events", channels=names, meta=meta)
+    with pytest.warns(limbfuse.LimbfuseWarning, match=said) as caught:
+        for i in range(1200):
+            g.step({"t": float(trial.t[i]), **{n: (None if np.isnan(ch[n][i]) else float(ch[n][i])) for n in names}})
+    assert len([w for w in caught if issubclass(w.category, limbfuse.LimbfuseWarning)]) == 1
