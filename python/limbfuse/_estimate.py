@@ -203,7 +203,10 @@ class Estimate(SetOnce):
         that foot), ``decided_s`` (when the method decided the stride),
         ``stride_time_s``, ``stance_time_s`` (``fc_s - ic_s``),
         ``swing_time_s`` (``end_s - fc_s``; both ``gait-events`` only),
-        ``stride_length_m``, ``speed_m_s``; ``lowback-speed`` only:
+        ``stride_length_m``, ``speed_m_s``, ``acc_clipped_s``
+        (``gait-events``: how long the stride's accelerometer sat at its
+        full scale; beyond 0.04 s the swing clipped and the stride is
+        short); ``lowback-speed`` only:
         ``step_length_1_m``, ``step_length_2_m``, ``turn_rate_rad_s``,
         ``speed_withheld`` (``turn`` / ``after_turn``: why the stride has no
         speed). With ``trial`` (its references), what ``evaluate`` pairs with

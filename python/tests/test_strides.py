@@ -16,7 +16,7 @@ pd = pytest.importorskip("pandas")
 SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 COLUMNS = [
     "foot", "ic_s", "fc_s", "end_s", "decided_s", "stride_time_s", "stance_time_s", "swing_time_s",
-    "stride_length_m", "speed_m_s", "step_length_1_m", "step_length_2_m", "turn_rate_rad_s",
+    "stride_length_m", "speed_m_s", "acc_clipped_s", "step_length_1_m", "step_length_2_m", "turn_rate_rad_s",
     "speed_withheld", "ic_ref_s", "fc_ref_s", "stride_time_ref_s", "stance_time_ref_s",
     "swing_time_ref_s", "speed_ref_m_s", "stride_length_ref_m",
 ]
@@ -157,10 +157,13 @@ def test_a_swing_clipped_at_2_g_is_warned_of():
         est = limbfuse.estimate(clipped, "gait-events")
     df = est.to_pandas()
     assert df["diag_stride_clipped_right"].max() > 0.2
+    strides = est.strides(clipped)
+    assert (strides["acc_clipped_s"] > 0.04).mean() > 0.9, strides["acc_clipped_s"].describe()
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         est = limbfuse.estimate(trial, "gait-events")
     assert est.to_pandas()["diag_stride_clipped_right"].max() <= 0.01
+    assert est.strides()["acc_clipped_s"].max() <= 0.01
 
 
 def test_a_filter_warns_of_a_swing_clipped_at_2_g():

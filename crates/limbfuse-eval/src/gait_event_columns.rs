@@ -34,6 +34,9 @@ pub(crate) struct Columns {
     pub(crate) fc: [Vec<f64>; 2],
     /// (row, length, time) per side.
     pub(crate) strides: [Vec<(usize, f64, f64)>; 2],
+    /// (row, `diag_stride_clipped_*`) per side: the stride's accelerometer
+    /// time at full scale (`gait-events`).
+    pub(crate) clipped: [Vec<(usize, f64)>; 2],
     /// Initial contacts of either foot (`diag_ic`, methods that do not tell the side).
     pub(crate) ic_any: Vec<f64>,
     /// Strides of either foot (`diag_stride_length`, `diag_stride_time`).
@@ -67,6 +70,7 @@ pub(crate) fn read_columns(
     let fc_col = Side::BOTH.map(|s| diag_index(er, &key("fc", s)));
     let len_col = Side::BOTH.map(|s| diag_index(er, &key("stride_length", s)));
     let time_col = Side::BOTH.map(|s| diag_index(er, &key("stride_time", s)));
+    let clipped_col = Side::BOTH.map(|s| diag_index(er, &key("stride_clipped", s)));
     let (ic_any_col, len_any_col, time_any_col) = (
         diag_index(er, "ic"),
         diag_index(er, "stride_length"),
@@ -146,6 +150,9 @@ pub(crate) fn read_columns(
                         time_col[s].and_then(|k| e.diag[k]),
                     ) {
                         c.strides[s].push((row, l, tm));
+                    }
+                    if let Some(v) = clipped_col[s].and_then(|k| e.diag[k]) {
+                        c.clipped[s].push((row, v));
                     }
                 }
             }

@@ -50,6 +50,15 @@ impl StrideFoot {
             StrideFoot::Right
         }
     }
+
+    /// The side index of a known foot (the inverse of [`StrideFoot::of_side`]).
+    fn side_index(self) -> Option<usize> {
+        match self {
+            StrideFoot::Left => Some(0),
+            StrideFoot::Right => Some(1),
+            StrideFoot::Unknown => None,
+        }
+    }
 }
 
 /// Why `lowback-speed` gives a stride no speed (`diag_stride_withheld`).
@@ -102,6 +111,10 @@ pub struct StrideRow {
     pub stride_length_m: Option<f64>,
     /// Speed: stride length / stride time (m/s).
     pub speed_m_s: Option<f64>,
+    /// `gait-events`: the time its accelerometer was at full scale while
+    /// the foot moved (s; longer than 0.04 s: a clipped swing, the stride
+    /// short, docs/GAIT_EVENTS.md "Clipped swings").
+    pub acc_clipped_s: Option<f64>,
     /// `lowback-speed`: the stride's first step length (m).
     pub step_length_1_m: Option<f64>,
     /// `lowback-speed`: its second step length (m).
@@ -132,7 +145,7 @@ pub struct StrideRow {
 }
 
 /// The table's CSV columns, in order.
-pub const STRIDE_COLUMNS: [&str; 21] = [
+pub const STRIDE_COLUMNS: [&str; 22] = [
     "foot",
     "ic_s",
     "fc_s",
@@ -143,6 +156,7 @@ pub const STRIDE_COLUMNS: [&str; 21] = [
     "swing_time_s",
     "stride_length_m",
     "speed_m_s",
+    "acc_clipped_s",
     "step_length_1_m",
     "step_length_2_m",
     "turn_rate_rad_s",
@@ -159,7 +173,7 @@ pub const STRIDE_COLUMNS: [&str; 21] = [
 impl StrideRow {
     /// The numeric cells, in [`STRIDE_COLUMNS`] order without `foot` and
     /// `speed_withheld`.
-    pub fn numbers(&self) -> [(&'static str, Option<f64>); 19] {
+    pub fn numbers(&self) -> [(&'static str, Option<f64>); 20] {
         [
             ("ic_s", Some(self.ic_s)),
             ("fc_s", self.fc_s),
@@ -170,6 +184,7 @@ impl StrideRow {
             ("swing_time_s", self.swing_time_s),
             ("stride_length_m", self.stride_length_m),
             ("speed_m_s", self.speed_m_s),
+            ("acc_clipped_s", self.acc_clipped_s),
             ("step_length_1_m", self.step_length_1_m),
             ("step_length_2_m", self.step_length_2_m),
             ("turn_rate_rad_s", self.turn_rate_rad_s),
@@ -347,6 +362,13 @@ pub(crate) fn track_strides(
         r.stride_time_s = Some(time);
         r.stride_length_m = Some(length);
         r.speed_m_s = Some(length / time);
+        r.acc_clipped_s = foot.side_index().and_then(|s| {
+            let rows = &c.clipped[s];
+            // (pushed in row order)
+            rows.binary_search_by_key(&row, |&(k, _)| k)
+                .ok()
+                .map(|i| rows[i].1)
+        });
         rows.push(r);
     }
     rows
@@ -430,6 +452,7 @@ fn placed(
         swing_time_s: None,
         stride_length_m: None,
         speed_m_s: None,
+        acc_clipped_s: None,
         step_length_1_m: None,
         step_length_2_m: None,
         turn_rate_rad_s: None,
