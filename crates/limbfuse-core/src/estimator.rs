@@ -114,6 +114,18 @@ pub trait Estimator {
         false
     }
 
+    /// Whether an accelerometer reading clipped at the full scale is to be
+    /// passed on rather than rejected by the sensor gate ([`crate::Gated`]
+    /// then turns off the gate's accelerometer clipping test,
+    /// `SensorRanges::acc_full_scale_m_s2`). Default: `false` (a clipped
+    /// specific force points the wrong way for an inclination or a
+    /// kinematic chain); estimators that integrate the specific force keep
+    /// them (`gait-events`, `lowback-speed`: a clipped impact loses part of
+    /// its velocity change, a missing one all of it).
+    fn keeps_clipped_acc(&self) -> bool {
+        false
+    }
+
     /// Forgets all state; the next sample starts a new recording.
     fn reset(&mut self);
 
@@ -153,6 +165,9 @@ impl<E: Estimator + ?Sized> Estimator for alloc::boxed::Box<E> {
     }
     fn keeps_clipped_gyro(&self) -> bool {
         (**self).keeps_clipped_gyro()
+    }
+    fn keeps_clipped_acc(&self) -> bool {
+        (**self).keeps_clipped_acc()
     }
     fn reset(&mut self) {
         (**self).reset()

@@ -179,11 +179,15 @@ pub struct Gated<E> {
 impl<E: Estimator> Gated<E> {
     /// `inner` behind a gate with `ranges` ([`SensorRanges::default`]: the
     /// datasheet full scales of gait IMUs, 2000 deg/s and 16 g), without
-    /// the clipping test when `inner` keeps clipped gyroscope readings
-    /// ([`Estimator::keeps_clipped_gyro`], `gait-events`).
+    /// the clipping test of the gyroscopes or accelerometers when `inner`
+    /// keeps such clipped readings ([`Estimator::keeps_clipped_gyro`],
+    /// [`Estimator::keeps_clipped_acc`]).
     pub fn new(inner: E, mut ranges: SensorRanges) -> Self {
         if inner.keeps_clipped_gyro() {
             ranges.gyro_full_scale_rad_s = None;
+        }
+        if inner.keeps_clipped_acc() {
+            ranges.acc_full_scale_m_s2 = None;
         }
         let own = inner.diagnostic_names();
         let n_own = own.len().min(MAX_DIAG);
@@ -253,6 +257,10 @@ impl<E: Estimator> Estimator for Gated<E> {
 
     fn keeps_clipped_gyro(&self) -> bool {
         self.inner.keeps_clipped_gyro()
+    }
+
+    fn keeps_clipped_acc(&self) -> bool {
+        self.inner.keeps_clipped_acc()
     }
 
     fn reset(&mut self) {

@@ -28,8 +28,9 @@ impl fmt::Display for Rejected {
         write!(
             f,
             "{g} gyroscope, {a} accelerometer and {e} encoder reading(s) were rejected \
-             (first at t = {} s): outside the sensors' range, a non-physical jump, a stuck sensor or an \
-             innovation beyond the filter's chi-square gate; they were treated as missing (the trial's \
+             (first at t = {} s): outside the sensors' range, clipped at their full scale, a \
+             non-physical jump, a stuck sensor or an innovation beyond the filter's chi-square \
+             gate; they were treated as missing (the trial's \
              `# gyro_range_rad_s:` and `# acc_range_m_s2:` set the range; docs/ROBUST_INPUT.md)",
             limbfuse_core::ShownNumber(self.first_t)
         )

@@ -139,6 +139,9 @@ impl TrialMeta {
         if self.get(GYRO_RANGE_KEY).is_some() {
             r.gyro_full_scale_rad_s = Some(r.gyro_rad_s);
         }
+        if self.get(ACC_RANGE_KEY).is_some() {
+            r.acc_full_scale_m_s2 = Some(r.acc_m_s2);
+        }
         Ok(r)
     }
 }
@@ -186,8 +189,13 @@ mod tests {
         m.set(ACC_RANGE_KEY, "80");
         let r = m.sensor_ranges().unwrap();
         assert_eq!(
-            (r.gyro_rad_s, r.acc_m_s2, r.gyro_full_scale_rad_s),
-            (17.5, 80.0, Some(17.5))
+            (
+                r.gyro_rad_s,
+                r.acc_m_s2,
+                r.gyro_full_scale_rad_s,
+                r.acc_full_scale_m_s2
+            ),
+            (17.5, 80.0, Some(17.5), Some(80.0))
         );
         for bad in ["abc", "0", "-1", "nan", "inf"] {
             m.set(ACC_RANGE_KEY, bad);

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::cli_gait_events::{data_dir, evaluate_json, f, succeed};
-use crate::support::edit_cells;
+use crate::support::clip_accelerometers;
 
 /// The shared two-foot walk (NilsPod, 16 g) with every accelerometer axis
 /// clipped at `g` x 9.80665 m/s^2, the range stated (`# acc_range_m_s2:`)
@@ -14,17 +14,7 @@ use crate::support::edit_cells;
 fn clipped_walk(data: &Path, g: f64, stated: bool, dir: &Path) -> PathBuf {
     let full_scale = g * 9.80665;
     let text = std::fs::read_to_string(data.join("gaitmap-foot-walk/trial.csv")).unwrap();
-    let clipped = edit_cells(&text, |_, column, cell| {
-        let v: f64 = cell.parse().ok()?;
-        (column.contains("_acc_") && v.abs() > full_scale)
-            .then(|| format!("{}", v.clamp(-full_scale, full_scale)))
-    });
-    let (first, rest) = clipped.split_once('\n').unwrap();
-    let clipped = if stated {
-        format!("{first}\n# acc_range_m_s2: {full_scale}\n{rest}")
-    } else {
-        clipped
-    };
+    let clipped = clip_accelerometers(&text, full_scale, stated);
     let path = dir.join(format!("clipped-{g}g-{stated}.csv"));
     std::fs::write(&path, clipped).unwrap();
     path

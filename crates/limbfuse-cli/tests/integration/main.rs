@@ -16,6 +16,7 @@ mod cli_lowback_speed;
 mod cli_methods;
 mod cli_report;
 mod cli_smooth;
+mod clipped_accelerometers;
 mod closed_pipe;
 mod crate_layers;
 mod dash_output;

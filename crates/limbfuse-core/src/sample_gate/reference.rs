@@ -89,9 +89,15 @@ fn cell(rng: &mut Lcg, base: f64, scale: f64, ranges: &SensorRanges, gyro: bool)
     } else {
         ranges.acc_m_s2
     };
-    let clip = ranges
-        .gyro_full_scale_rad_s
-        .map_or(range, |fs| CLIPPED_FRACTION * fs);
+    let clip = if gyro {
+        ranges
+            .gyro_full_scale_rad_s
+            .map_or(range, |fs| CLIPPED_FRACTION * fs)
+    } else {
+        ranges
+            .acc_full_scale_m_s2
+            .map_or(range, |fs| ACC_CLIPPED_FRACTION * fs)
+    };
     let below = |x: f64| f64::from_bits(x.to_bits() - 1);
     let above = |x: f64| f64::from_bits(x.to_bits() + 1);
     let v = rng.pick(&[
@@ -167,9 +173,11 @@ fn issue_18_the_gate_fast_path_screens_as_every_check_does() {
         acc_m_s2: 50.0,
         encoder_rad: 1.0,
         gyro_full_scale_rad_s: Some(12.0),
+        acc_full_scale_m_s2: Some(55.0),
     };
     let no_fs = SensorRanges {
         gyro_full_scale_rad_s: None,
+        acc_full_scale_m_s2: None,
         ..SensorRanges::default()
     };
     for (seed, ranges) in [(1, SensorRanges::default()), (2, no_fs), (3, tight)] {

@@ -460,6 +460,13 @@ impl Estimator for GaitEvents {
         true
     }
 
+    /// Clipped accelerometer readings are kept too: the stride integration
+    /// needs every sample of the swing, and models a clipped impact
+    /// ([`strapdown`] step 4).
+    fn keeps_clipped_acc(&self) -> bool {
+        true
+    }
+
     fn outputs(&self) -> Outputs {
         Outputs {
             phase: true,

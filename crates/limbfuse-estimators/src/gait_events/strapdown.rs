@@ -38,13 +38,10 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// Fraction of an accelerometer's full scale from which an axis counts as
-/// clipped. Not 1: a clipped reading is the rail of the raw axis passed
-/// through the sensor's calibration, which moves it by the sensitivity and
-/// cross-axis tolerances (MPU-6050 +-3 % and +-2 %, ICM-20948 +-0.5 % and
-/// +-2 %, BMI160 +-1 % each: datasheets); the shared gaitmap walk's
-/// (NilsPod, 16 g) heel strikes reach 152.3-158.1 m/s^2 and none lies between
-/// 146 and 152.
-pub const ACC_CLIP_FRACTION: f64 = 0.97;
+/// clipped: the sensor gate's
+/// [`limbfuse_core::sample_gate::ACC_CLIPPED_FRACTION`] (0.97; see there
+/// why not 1).
+pub const ACC_CLIP_FRACTION: f64 = limbfuse_core::sample_gate::ACC_CLIPPED_FRACTION;
 
 /// From this specific force on an axis (m/s^2: 1.5 g), a reading equal to
 /// the one before it on that axis counts as clipped time

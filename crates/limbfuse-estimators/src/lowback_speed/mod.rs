@@ -344,6 +344,13 @@ impl Estimator for LowbackSpeed {
         "lowback-speed"
     }
 
+    /// Clipped trunk accelerometer readings are kept: each step's vertical
+    /// velocity is integrated from them (a clipped impact loses part of its
+    /// velocity change, a missing reading all of it).
+    fn keeps_clipped_acc(&self) -> bool {
+        true
+    }
+
     fn outputs(&self) -> Outputs {
         Outputs {
             speed: true,

@@ -160,6 +160,13 @@ pub fn resample_trial(
     // Readings no sensor can produce are left out (an audit found one 1e308
     // gyro cell spread over its neighbours). Not the plausibility checks: a
     // static recording's exactly repeated readings are data here.
+    // Nor the accelerometer clipping test: a clipped specific force is what
+    // the sensor recorded (`gait-events` models its clipped impacts), and the
+    // methods that reject it do so when they read the resampled trial.
+    let ranges = limbfuse_core::SensorRanges {
+        acc_full_scale_m_s2: None,
+        ..ranges
+    };
     let mut gate = SampleGate::with_limits(ranges, PlausibilityLimits::off());
     let slots = slots(&layout);
     let mut series = vec![Series::default(); slots.len()];

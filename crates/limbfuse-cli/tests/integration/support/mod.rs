@@ -52,6 +52,23 @@ pub fn shared_data(rel: &str) -> Option<PathBuf> {
     }
 }
 
+/// A trial file's text with every accelerometer cell clipped at
+/// `full_scale` (m/s^2), as a sensor of that full scale records it, and,
+/// when `stated`, the range stated on a `# acc_range_m_s2:` line after the
+/// first.
+pub fn clip_accelerometers(text: &str, full_scale: f64, stated: bool) -> String {
+    let clipped = edit_cells(text, |_, column, cell| {
+        let v: f64 = cell.parse().ok()?;
+        (column.contains("_acc_") && v.abs() > full_scale)
+            .then(|| format!("{}", v.clamp(-full_scale, full_scale)))
+    });
+    if !stated {
+        return clipped;
+    }
+    let (first, rest) = clipped.split_once('\n').unwrap();
+    format!("{first}\n# acc_range_m_s2: {full_scale}\n{rest}")
+}
+
 /// A trial file's text with data cells rewritten: `f(row, column name,
 /// cell)` (row 0 is the first data row) gives the new cell, or `None` to
 /// keep it. Comment lines and the header are kept as they are.
