@@ -6,6 +6,7 @@
 //! and JSON forms of the result (SPEC section 4, `evaluate`).
 #![deny(missing_docs)]
 
+pub mod acc_rails;
 pub mod blended_stride_speed;
 pub mod channel_error;
 pub mod clipped_swings;
@@ -37,6 +38,7 @@ pub mod sync_lag;
 pub mod trial_check;
 pub mod trial_summary;
 
+pub use acc_rails::{AccRailWatch, AccRails};
 pub use channel_error::ChannelError;
 pub use clipped_swings::{ClippedSwingWatch, ClippedSwings};
 pub use evaluation::{

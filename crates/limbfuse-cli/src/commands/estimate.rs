@@ -7,8 +7,8 @@ use anyhow::{Context, Result};
 use limbfuse_core::runner::{self, Observer, RecordSource};
 use limbfuse_core::{Estimator, OfflineEstimator};
 use limbfuse_eval::{
-    ClippedSwingWatch, FixedThighWatch, GaitWatch, KneeWatch, RejectionWatch, ResetWatch,
-    SampleIntervalWatch, SensorUnitsWatch, SpeedRangeWatch,
+    AccRailWatch, ClippedSwingWatch, FixedThighWatch, GaitWatch, KneeWatch, RejectionWatch,
+    ResetWatch, SampleIntervalWatch, SensorUnitsWatch, SpeedRangeWatch,
 };
 use limbfuse_io::{Calibration, DiagnosticColumns, EstimateWriter, TrialReader};
 
@@ -447,6 +447,7 @@ struct RunReport {
     resets: ResetWatch,
     rejections: RejectionWatch,
     clipped_swings: ClippedSwingWatch,
+    rails: AccRailWatch,
     intervals: SampleIntervalWatch,
     units: SensorUnitsWatch,
 }
@@ -465,6 +466,9 @@ impl RunReport {
         }
         if let Some(c) = self.clipped_swings.clipped() {
             eprintln!("warning: {label} on {}: {c}", trial.display());
+        }
+        if let Some(r) = self.rails.rails() {
+            eprintln!("warning: {label} on {}: {r}", trial.display());
         }
         super::warn_units(trial, &self.intervals, &self.units);
     }
@@ -503,16 +507,26 @@ fn run_observed<W: std::io::Write>(
     let mut resets = ResetWatch::default();
     let mut rejections = RejectionWatch::default();
     let mut clipped_swings = ClippedSwingWatch::default();
+    let mut rails = {
+        let meta = reader.meta();
+        let full_scale = limbfuse_methods::gated::sensor_ranges(meta)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", trial.display()))?
+            .acc_full_scale_m_s2
+            .unwrap_or(f64::INFINITY);
+        let stated = meta.get(limbfuse_methods::gated::ACC_RANGE_KEY).is_some();
+        AccRailWatch::new(full_scale, stated)
+    };
     let mut intervals = SampleIntervalWatch::checked_for_trial(reader.meta())
         .map_err(|e| anyhow::anyhow!("{}: {e}", trial.display()))?;
     let mut units = SensorUnitsWatch::default();
     let summary = {
-        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(7 + extra.len());
+        let mut observers: Vec<&mut dyn Observer> = Vec::with_capacity(8 + extra.len());
         observers.push(writer);
         observers.push(&mut progress);
         observers.push(&mut resets);
         observers.push(&mut rejections);
         observers.push(&mut clipped_swings);
+        observers.push(&mut rails);
         observers.push(&mut intervals);
         observers.push(&mut units);
         for o in extra.iter_mut() {
@@ -556,6 +570,7 @@ fn run_observed<W: std::io::Write>(
         resets,
         rejections,
         clipped_swings,
+        rails,
         intervals,
         units,
     })

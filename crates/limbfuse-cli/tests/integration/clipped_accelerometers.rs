@@ -16,7 +16,9 @@ use crate::support::clip_accelerometers;
 /// a clipped vector points the wrong way. The gate now rejects an
 /// accelerometer vector with an axis at 97 % of the full scale or more
 /// (`ACC_CLIPPED_FRACTION`), as a missing reading, and says so; `resample`
-/// leaves such readings in.
+/// leaves such readings in. A trial that states no range gets 16 g, and
+/// `estimate` warns of readings that repeat at their largest value
+/// (`AccRailWatch`).
 #[test]
 fn clipped_accelerometer_readings_are_rejected_for_inclinations() {
     let Some(data) = data_dir() else { return };
@@ -47,6 +49,29 @@ fn clipped_accelerometer_readings_are_rejected_for_inclinations() {
         let knee = v["rmse_deg"]["knee"].as_f64().unwrap();
         eprintln!("{method}: knee {knee:.3} deg");
         assert!(knee < knee_max, "{method}: knee {knee} deg");
+    }
+    // Without the range stated the gate assumes 16 g and passes them on;
+    // `estimate` says the readings repeat at their largest value (the rail
+    // of a 2 g sensor) and asks for the range. With it stated, not.
+    let rail = "accelerometer readings repeat exactly at their largest value";
+    std::fs::write(
+        d.path().join("unstated.csv"),
+        clip_accelerometers(&text, full_scale, false),
+    )
+    .unwrap();
+    for (file, warned) in [("w.csv", false), ("unstated.csv", true)] {
+        let o = succeed(
+            &["estimate", "--method", "chain", file, "-o", "e.csv"],
+            d.path(),
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(stderr.contains(rail), warned, "{file}: {stderr}");
+        if warned {
+            assert!(
+                stderr.contains("the foot accelerometer's x, y at +-19.6133 m/s^2 (2.00 g;"),
+                "{stderr}"
+            );
+        }
     }
     // `resample` keeps them: what the sensor recorded (`gait-events`
     // models a clipped impact); a method rejects them when it reads the file.
