@@ -161,7 +161,7 @@ impl AccRailWatch {
                 }
             }
         }
-        (!rails.is_empty()).then(|| AccRails {
+        (!rails.is_empty()).then_some(AccRails {
             rails,
             full_scale: self.full_scale,
             stated: self.stated,
