@@ -12,7 +12,7 @@
 //! present.
 
 use limbfuse_core::Sample;
-use limbfuse_eval::{FixedThighWatch, SensorUnitsWatch};
+use limbfuse_eval::{AccRailWatch, FixedThighWatch, SensorUnitsWatch};
 use nalgebra::Vector3;
 
 use crate::columns::Channel;
@@ -161,6 +161,25 @@ impl<'a> SampleColumns<'a> {
                         units.push_encoder(v);
                     }
                 }
+            }
+        }
+    }
+
+    /// Adds every [`AccRailWatch::STRIDE`]-th accelerometer reading of the
+    /// columns (both legs) to `w` (as `estimate`'s observer counts the
+    /// records).
+    pub fn count_rails(&self, w: &mut AccRailWatch) {
+        for &(slot, axes) in &self.vectors {
+            let k = match slot {
+                VectorSlot::Acc(k) => k,
+                VectorSlot::OtherAcc(k) => 4 + k,
+                VectorSlot::Gyr(_) | VectorSlot::OtherGyr(_) => continue,
+            };
+            for (j, column) in axes.iter().enumerate() {
+                let counted = || column.iter().step_by(AccRailWatch::STRIDE);
+                let largest = counted().fold(0.0f64, |m, v| m.max(v.abs()));
+                let count = counted().filter(|v| v.abs() == largest).count();
+                w.push_largest(k, j, largest, count as u64);
             }
         }
     }

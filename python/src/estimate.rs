@@ -296,6 +296,18 @@ fn estimate<'py>(
                 w.warning(spec.method().name(), &label)
             })
             .flatten();
+        // Accelerometer readings that repeat at their largest value below
+        // the full scale assumed (the CLI's warning).
+        let rail_note = {
+            let ranges =
+                limbfuse_methods::gated::sensor_ranges(&meta).map_err(|e| in_trial(&e))?;
+            let mut w = limbfuse_eval::AccRailWatch::new(
+                ranges.acc_full_scale_m_s2.unwrap_or(f64::INFINITY),
+                meta.get(limbfuse_methods::gated::ACC_RANGE_KEY).is_some(),
+            );
+            inputs.count_rails(&mut w);
+            w.rails().map(|r| format!("{} on {label}: {r}", spec.method()))
+        };
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;
         let run = |mut built: Built| -> PyResult<EstimateTuple<'py>> {
@@ -359,6 +371,7 @@ fn estimate<'py>(
                     frame_note.clone(),
                     leg_note.clone(),
                     thigh_note.clone(),
+                    rail_note.clone(),
                 ];
                 user_msg(
                     std::iter::once(message)
@@ -415,6 +428,7 @@ fn estimate<'py>(
                 clipped,
                 unit_note.clone(),
                 thigh_note.clone(),
+                rail_note.clone(),
             ]
             .into_iter()
             .flatten()

@@ -184,3 +184,20 @@ def test_a_filter_warns_of_a_swing_clipped_at_2_g():
         for i in range(1200):
             g.step({"t": float(trial.t[i]), **{n: (None if np.isnan(ch[n][i]) else float(ch[n][i])) for n in names}})
     assert len([w for w in caught if issubclass(w.category, limbfuse.LimbfuseWarning)]) == 1
+
+
+def test_an_accelerometer_rail_below_the_assumed_full_scale_is_warned_of():
+    """As `limbfuse estimate`: a 2 g sensor in a trial that states no range
+    (16 g assumed) repeats its rail exactly; `estimate` says so and asks for
+    the range. Stated, the gate rejects those readings and says that instead."""
+    trial = limbfuse.read_trial(shared("independent-sim/walk-v1.6-s302.csv"))
+    rail = 2 * 9.80665
+    ch = {k: (np.clip(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan), -rail, rail) if "_acc_" in k else v)
+          for k, v in trial.channels.items()}
+    said = r"chain on .*: accelerometer readings repeat exactly at their largest value: .*the foot accelerometer's x, y at \+-19.6133 m/s\^2 \(2.00 g;"
+    with pytest.warns(limbfuse.LimbfuseWarning, match=said):
+        limbfuse.estimate(limbfuse.Trial(trial.t, ch, trial.meta), "chain")
+    stated = limbfuse.Trial(trial.t, ch, {**trial.meta, "acc_range_m_s2": str(rail)})
+    with pytest.warns(limbfuse.LimbfuseWarning, match="accelerometer and 0 encoder reading") as caught:
+        limbfuse.estimate(stated, "chain")
+    assert not any("repeat exactly" in str(w.message) for w in caught)

@@ -9,12 +9,14 @@
 //! 1.7 deg off on the independent 1.6 m/s walk so clipped (0.15 deg with the
 //! range stated; docs/RESULTS.md "Clipped accelerometers"). A raw sensor's
 //! rail is one exact value: [`AccRailWatch`] counts, per accelerometer
-//! axis, the readings equal to the axis's largest magnitude so far. An axis
-//! whose largest magnitude is at least [`RAIL_FLOOR_M_S2`] (1.5 g: above
-//! what any still or slowly moving segment reads, below the smallest full
-//! scale in gait work, 2 g) and repeats on at least [`RAIL_MIN_READINGS`]
-//! readings, while it lies below 97 % of the assumed full scale, is
-//! reported. A calibrated sensor's rail, which its cross-axis terms spread,
+//! axis, the readings equal to the axis's largest magnitude so far, on
+//! every [`AccRailWatch::STRIDE`]-th sample (a rail holds for hundreds of
+//! readings; every sample cost 3 % of a one-hour Python `estimate` call of
+//! `mjls`). An axis whose largest magnitude is at least [`RAIL_FLOOR_M_S2`]
+//! (1.5 g: above what any still or slowly moving segment reads, below the
+//! smallest full scale in gait work, 2 g) and repeats on at least
+//! [`RAIL_MIN_READINGS`] of the counted readings, while it lies below 97 %
+//! of the assumed full scale, is reported. A calibrated sensor's rail, which its cross-axis terms spread,
 //! does not repeat exactly and is not seen. None of the shared recordings
 //! repeats its largest accelerometer reading at 1.5 g or more.
 
@@ -24,12 +26,14 @@ use limbfuse_core::runner::{BoxError, Observer};
 use limbfuse_core::sample_gate::ACC_CLIPPED_FRACTION;
 use limbfuse_core::{Estimate, Record, Sample, Segment};
 
+use crate::strided::Strided;
+
 /// Smallest magnitude (m/s^2, 1.5 g) a rail is looked for at.
 pub const RAIL_FLOOR_M_S2: f64 = 1.5 * 9.80665;
 
-/// Readings at exactly an axis's largest magnitude that make a rail: ten,
-/// where an unclipped axis reaches its extreme once (a swing's peak is
-/// passed through, not held).
+/// Counted readings at exactly an axis's largest magnitude that make a
+/// rail: ten (about 80 readings), where an unclipped axis reaches its
+/// extreme once (a swing's peak is passed through, not held).
 pub const RAIL_MIN_READINGS: u64 = 10;
 
 /// One accelerometer axis that looks clipped.
@@ -109,9 +113,13 @@ pub struct AccRailWatch {
     at_largest: [[u64; 3]; 8],
     full_scale: f64,
     stated: bool,
+    records: Strided,
 }
 
 impl AccRailWatch {
+    /// Samples counted: sample 0, `STRIDE`, `2 STRIDE`, ... of a run.
+    pub const STRIDE: usize = 8;
+
     /// A watch for a trial whose accelerometer full scale is `full_scale`
     /// (m/s^2), `stated` in its metadata or assumed.
     pub fn new(full_scale: f64, stated: bool) -> Self {
@@ -120,24 +128,49 @@ impl AccRailWatch {
             at_largest: [[0; 3]; 8],
             full_scale,
             stated,
+            records: Strided::default(),
         }
     }
 
-    /// Adds one sample's accelerometer readings (complete vectors).
+    /// Adds one sample's accelerometer readings (complete vectors and the
+    /// cells of incomplete ones).
     pub fn push(&mut self, s: &Sample) {
         let imus = s.imu.iter().chain(s.other_leg_imu.iter());
         for (k, imu) in imus.enumerate() {
-            let Some(a) = imu.acc else { continue };
-            for (j, v) in a.iter().enumerate() {
-                let m = v.abs();
-                let top = &mut self.largest[k][j];
-                if m > *top {
-                    *top = m;
-                    self.at_largest[k][j] = 1;
-                } else if m == *top {
-                    self.at_largest[k][j] += 1;
+            for j in 0..3 {
+                let cell = imu.acc.map_or(imu.acc_partial[j], |a| Some(a[j]));
+                if let Some(v) = cell {
+                    self.push_cell(k, j, v);
                 }
             }
+        }
+    }
+
+    /// Adds one reading `v` (m/s^2; NaN is ignored) of axis `j` of the
+    /// accelerometer in IMU slot `k` (0-3 this leg's trunk to foot, 4-7 the
+    /// other leg's).
+    #[inline]
+    pub fn push_cell(&mut self, k: usize, j: usize, v: f64) {
+        let m = v.abs();
+        let top = &mut self.largest[k][j];
+        if m > *top {
+            *top = m;
+            self.at_largest[k][j] = 1;
+        } else if m == *top {
+            self.at_largest[k][j] += 1;
+        }
+    }
+
+    /// Adds `count` readings of magnitude `largest`, the largest of a run
+    /// of readings of axis `j` of IMU slot `k` (a column's: the same as
+    /// pushing the run's cells one by one).
+    pub fn push_largest(&mut self, k: usize, j: usize, largest: f64, count: u64) {
+        let top = &mut self.largest[k][j];
+        if largest > *top {
+            *top = largest;
+            self.at_largest[k][j] = count;
+        } else if largest == *top {
+            self.at_largest[k][j] += count;
         }
     }
 
@@ -170,8 +203,11 @@ impl AccRailWatch {
 }
 
 impl Observer for AccRailWatch {
+    /// Counts every [`AccRailWatch::STRIDE`]-th record.
     fn observe(&mut self, record: &Record, _estimate: &Estimate) -> Result<(), BoxError> {
-        self.push(&record.sample);
+        if self.records.due(Self::STRIDE) {
+            self.push(&record.sample);
+        }
         Ok(())
     }
 }
