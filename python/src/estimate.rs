@@ -299,14 +299,14 @@ fn estimate<'py>(
         // Accelerometer readings that repeat at their largest value below
         // the full scale assumed (the CLI's warning).
         let rail_note = {
-            let ranges =
-                limbfuse_methods::gated::sensor_ranges(&meta).map_err(|e| in_trial(&e))?;
+            let ranges = limbfuse_methods::gated::sensor_ranges(&meta).map_err(|e| in_trial(&e))?;
             let mut w = limbfuse_eval::AccRailWatch::new(
                 ranges.acc_full_scale_m_s2.unwrap_or(f64::INFINITY),
                 meta.get(limbfuse_methods::gated::ACC_RANGE_KEY).is_some(),
             );
             inputs.count_rails(&mut w);
-            w.rails().map(|r| format!("{} on {label}: {r}", spec.method()))
+            w.rails()
+                .map(|r| format!("{} on {label}: {r}", spec.method()))
         };
         let knee_window = limbfuse_methods::knee_window::identification_window(&spec, &meta)
             .map_err(|e| in_trial(&e))?;
