@@ -11,6 +11,7 @@ use limbfuse_core::runner::Observer;
 use limbfuse_core::{Estimate, Record, Segment};
 use limbfuse_io::{FileError, TrialLayout, TrialReader};
 
+use crate::acc_rails::AccRailWatch;
 use crate::fixed_thigh::FixedThighWatch;
 use crate::sample_interval::{IntervalMismatch, SampleIntervalWatch, FIRST_INTERVALS};
 use crate::sensor_units::{SensorUnitsWatch, UnitSuspect};
@@ -64,6 +65,20 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
     let stated_hz = intervals.stated_hz();
     let mut units = SensorUnitsWatch::default();
     let mut thigh = FixedThighWatch::default();
+    // (a range that is not a number is `estimate`'s error to report; here
+    // the default full scale)
+    let mut rails = {
+        let meta = reader.meta();
+        let full_scale = meta
+            .sensor_ranges()
+            .ok()
+            .and_then(|r| r.acc_full_scale_m_s2)
+            .unwrap_or(f64::INFINITY);
+        AccRailWatch::new(
+            full_scale,
+            meta.get(limbfuse_io::meta::ACC_RANGE_KEY).is_some(),
+        )
+    };
     let groups = input_groups(&layout);
     let mut missing = vec![0u64; groups.len()];
     // The first steps wait for the median; later ones are counted at once.
@@ -93,6 +108,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         let _ = intervals.observe(&rec, &none);
         let _ = units.observe(&rec, &none);
         let _ = thigh.observe(&rec, &none);
+        let _ = rails.observe(&rec, &none);
         for ((_, has), m) in groups.iter().zip(missing.iter_mut()) {
             *m += u64::from(!has(&rec));
         }
@@ -121,7 +137,9 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
             .collect(),
         interval: intervals.mismatch(),
         units: units.suspects().collect(),
-        warnings: crate::unit_warnings(&intervals, &units).collect(),
+        warnings: crate::unit_warnings(&intervals, &units)
+            .chain(rails.rails().map(|r| r.to_string()))
+            .collect(),
         thigh_spread_deg: thigh.spread_deg(),
     })
 }

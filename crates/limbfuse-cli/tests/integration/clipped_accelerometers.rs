@@ -73,6 +73,14 @@ fn clipped_accelerometer_readings_are_rejected_for_inclinations() {
             );
         }
     }
+    // `inspect` says it too, before any method runs.
+    let o = succeed(&["inspect", "unstated.csv"], d.path());
+    assert!(String::from_utf8_lossy(&o.stdout).contains(rail), "inspect");
+    let o = succeed(&["inspect", "w.csv"], d.path());
+    assert!(
+        !String::from_utf8_lossy(&o.stdout).contains(rail),
+        "inspect, range stated"
+    );
     // `resample` keeps them: what the sensor recorded (`gait-events`
     // models a clipped impact); a method rejects them when it reads the file.
     let o = succeed(
