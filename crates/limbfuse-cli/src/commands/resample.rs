@@ -38,6 +38,15 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
             limbfuse_methods::shown(rej.first_t.unwrap_or(f64::NAN))
         );
     }
+    if s.clipped_gyro > 0 {
+        eprintln!(
+            "{}: {} gyroscope cells at the full scale (clipped) carried through at the rail, not \
+             low-passed: `estimate` rejects them as it does at the trial's own rate, `gait-events` \
+             keeps them (docs/RESULTS.md \"Clipped accelerometers\")",
+            a.trial.display(),
+            s.clipped_gyro
+        );
+    }
     eprintln!(
         "resampled {} to {} Hz (IMU anti-alias: {}): {} samples, {} s to {} s -> {}",
         a.trial.display(),

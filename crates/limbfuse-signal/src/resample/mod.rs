@@ -35,14 +35,17 @@
 //!   nearest present sample under the same rules. Angles are interpolated as
 //!   numbers (no wrap at +-pi: sagittal limb angles stay far from it).
 //!
-//! Readings no sensor can produce (outside the sensors' range, clipped or
-//! not finite: [`limbfuse_core::SampleGate`] with the trial's
+//! Readings no sensor can produce (outside the sensors' range or not
+//! finite: [`limbfuse_core::SampleGate`] with the trial's
 //! `gyro_range_rad_s` / `acc_range_m_s2`, as every estimator screens them;
 //! not its plausibility checks, under which a static recording's exactly
-//! repeated readings would go) are left out before resampling:
-//! interpolated, one 1e308 gyro cell became a 0.4 s burst of values around
-//! 1e306. They are counted ([`ResampledTrial::rejections`]) and named in the
-//! output's `# resampled:` line.
+//! repeated readings would go, nor its clipping tests) are left out before
+//! resampling: interpolated, one 1e308 gyro cell became a 0.4 s burst of
+//! values around 1e306. They are counted ([`ResampledTrial::rejections`])
+//! and named in the output's `# resampled:` line. Clipped accelerometer
+//! readings are resampled with the rest (what the sensor recorded); a
+//! clipped gyroscope cell is carried through at the rail to the output
+//! sample nearest to it (`clip_marks`; [`ResampledTrial::clipped_gyro`]).
 //!
 //! Not streaming: the present samples of every channel are held in memory,
 //! 16 bytes per present cell (a 10 min trial at 1 kHz with 4 IMUs, 3
@@ -53,6 +56,7 @@
 use limbfuse_io::FileError;
 
 mod anti_alias;
+mod clip_marks;
 mod interpolation;
 mod short_runs;
 mod trial;

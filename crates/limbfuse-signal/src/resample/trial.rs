@@ -24,7 +24,7 @@ pub struct ResampledTrial {
     /// One record per output time.
     pub records: Vec<Record>,
     /// The input readings left out as [`SampleGate`] leaves them out of
-    /// every estimator for being out of the sensors' range, clipped or not
+    /// every estimator for being out of the sensors' range or not
     /// finite (not for the plausibility checks, [`PlausibilityLimits::off`]):
     /// interpolated, one such reading would spread into its neighbours.
     pub rejections: Rejections,
@@ -33,6 +33,9 @@ pub struct ResampledTrial {
     /// only otherwise (an audit: upsampling said "windowed-sinc
     /// anti-alias").
     pub imu_filtered: bool,
+    /// Gyroscope cells at the full scale, carried through as the rail
+    /// ([`super::clip_marks`]).
+    pub clipped_gyro: u64,
 }
 
 /// A scalar cell of a record.
@@ -163,18 +166,21 @@ pub fn resample_trial(
     // Nor the accelerometer clipping test: a clipped specific force is what
     // the sensor recorded (`gait-events` models its clipped impacts), and the
     // methods that reject it do so when they read the resampled trial.
-    // (Clipped gyroscope readings are still left out: kept, their low-passed
-    // edges pass the gate's 99.9 % test and the angle methods integrate them,
-    // `chain` 1.1 -> 3.3 deg and `knee-gyro-axis` 11 -> 77 deg on a 250 deg/s
-    // walk resampled to 50 Hz; left out, `gait-events` finds no gait in that
-    // file. docs/RESULTS.md "Clipped accelerometers".)
+    // Clipped gyroscope cells are taken out of their series and carried
+    // through as the rail ([`super::clip_marks`]); the vector's other axes
+    // stay.
+    let gyro_clip = ranges
+        .gyro_full_scale_rad_s
+        .map(|fs| limbfuse_core::sample_gate::CLIPPED_FRACTION * fs);
     let ranges = limbfuse_core::SensorRanges {
+        gyro_full_scale_rad_s: None,
         acc_full_scale_m_s2: None,
         ..ranges
     };
     let mut gate = SampleGate::with_limits(ranges, PlausibilityLimits::off());
     let slots = slots(&layout);
     let mut series = vec![Series::default(); slots.len()];
+    let mut clipped: Vec<Vec<(f64, f64)>> = vec![Vec::new(); slots.len()];
     let mut quat: [(Vec<f64>, Vec<[f64; 4]>); 4] = Default::default();
     let mut phase: (Vec<f64>, Vec<GaitPhase>) = Default::default();
     let (mut t_first, mut t_last) = (None, 0.0);
@@ -186,8 +192,14 @@ pub fn resample_trial(
         let t = r.sample.t;
         t_first.get_or_insert(t);
         t_last = t;
-        for (s, slot) in series.iter_mut().zip(&slots) {
-            s.push(t, slot.get(&r));
+        for ((s, c), slot) in series.iter_mut().zip(&mut clipped).zip(&slots) {
+            let v = slot.get(&r);
+            match (slot, v, gyro_clip) {
+                (Slot::Gyr(..) | Slot::OtherGyr(..), Some(x), Some(level)) if x.abs() >= level => {
+                    c.push((t, x));
+                }
+                _ => s.push(t, v),
+            }
         }
         for (i, q) in quat.iter_mut().enumerate() {
             if let Some(v) = r.sample.imu[i].quat {
@@ -217,12 +229,16 @@ pub fn resample_trial(
     // vector partial until its last axis arrives: no per-sample buffer)
     let mut com = vec![[[None; 3]; 2]; grid.len()];
     let mut imu_filtered = false;
-    for (s, &slot) in series.iter().zip(&slots) {
+    for ((s, c), &slot) in series.iter().zip(&clipped).zip(&slots) {
         if let ChannelMethod::Decimate(a) = slot.method(opts.anti_alias) {
             imu_filtered |= a != AntiAlias::None
                 && nominal_period(&s.t).is_some_and(|p| p < (1.0 - 1e-9) / opts.rate_hz);
         }
-        let out = resample_series(s, &grid, opts.rate_hz, slot.method(opts.anti_alias));
+        let mut out = resample_series(s, &grid, opts.rate_hz, slot.method(opts.anti_alias));
+        if !c.is_empty() {
+            let period = super::interpolation::nominal_period(&s.t).unwrap_or(1.0 / opts.rate_hz);
+            super::clip_marks::mark_clipped(c, &grid, 0.5 * period, &mut out);
+        }
         for (k, v) in out.into_iter().enumerate() {
             let r = &mut records[k];
             match slot {
@@ -267,6 +283,7 @@ pub fn resample_trial(
         }
     }
     let rejections = *gate.rejections();
+    let clipped_gyro: u64 = clipped.iter().map(|c| c.len() as u64).sum();
     let mut meta = reader.meta().clone();
     meta.set("sample_rate_hz", opts.rate_hz);
     let left_out = if rejections.total() > 0 {
@@ -277,6 +294,11 @@ pub fn resample_trial(
         )
     } else {
         String::new()
+    };
+    let left_out = if clipped_gyro > 0 {
+        format!("{left_out}; {clipped_gyro} clipped gyroscope cells carried at the rail")
+    } else {
+        left_out
     };
     meta.set(
         "resampled",
@@ -292,6 +314,7 @@ pub fn resample_trial(
         records,
         rejections,
         imu_filtered,
+        clipped_gyro,
     })
 }
 
@@ -382,6 +405,8 @@ pub struct ResampleSummary {
     pub rejections: Rejections,
     /// [`ResampledTrial::imu_filtered`].
     pub imu_filtered: bool,
+    /// [`ResampledTrial::clipped_gyro`].
+    pub clipped_gyro: u64,
 }
 
 /// How the IMU channels were treated, in words: the filter's name, or that
@@ -421,5 +446,6 @@ pub fn resample_file(
         ),
         rejections: trial.rejections,
         imu_filtered: trial.imu_filtered,
+        clipped_gyro: trial.clipped_gyro,
     })
 }
