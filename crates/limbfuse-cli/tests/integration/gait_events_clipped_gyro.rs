@@ -3,16 +3,11 @@
 
 use crate::support::{edit_cells, limbfuse};
 
-/// A simulated 1.4 m/s walk (foot swing peaks well above 250 deg/s) with
-/// every gyroscope axis clipped at 250 deg/s = 4.3633 rad/s and the range
-/// stated (`# gyro_range_rad_s:`). The sensor gate rejected the clipped
-/// readings as saturated, every swing went missing and `gait-events` found
-/// "no gait" (exit 1; the gaitmap walk clipped so: 22 of 56 contacts
-/// missed, 0.53 m/s). It now keeps clipped gyroscope readings
-/// (`MethodInfo::keeps_clipped_gyro`): a rate at the full scale still says
-/// the foot swings.
-#[test]
-fn gait_events_keeps_clipped_gyroscope_readings() {
+/// A simulated 1.4 m/s walk (20 s, seed 5, gait reference; its foot swing
+/// peaks well above 250 deg/s) with every gyroscope axis clipped at
+/// 250 deg/s = 4.3633 rad/s and the range stated (`# gyro_range_rad_s:`),
+/// as `c.csv` in the directory returned.
+fn clipped_walk() -> tempfile::TempDir {
     let d = tempfile::tempdir().unwrap();
     let o = limbfuse(
         &[
@@ -47,6 +42,20 @@ fn gait_events_keeps_clipped_gyroscope_readings() {
     let (first, rest) = clipped.split_once('\n').unwrap();
     let clipped = format!("{first}\n# gyro_range_rad_s: {full_scale}\n{rest}");
     std::fs::write(d.path().join("c.csv"), clipped).unwrap();
+    d
+}
+
+/// A simulated 1.4 m/s walk (foot swing peaks well above 250 deg/s) with
+/// every gyroscope axis clipped at 250 deg/s = 4.3633 rad/s and the range
+/// stated (`# gyro_range_rad_s:`). The sensor gate rejected the clipped
+/// readings as saturated, every swing went missing and `gait-events` found
+/// "no gait" (exit 1; the gaitmap walk clipped so: 22 of 56 contacts
+/// missed, 0.53 m/s). It now keeps clipped gyroscope readings
+/// (`MethodInfo::keeps_clipped_gyro`): a rate at the full scale still says
+/// the foot swings.
+#[test]
+fn gait_events_keeps_clipped_gyroscope_readings() {
+    let d = clipped_walk();
     let o = limbfuse(
         &[
             "estimate",
@@ -75,34 +84,7 @@ fn gait_events_keeps_clipped_gyroscope_readings() {
 /// the rail as at the trial's own rate.
 #[test]
 fn gait_events_on_a_resampled_trial_with_clipped_gyroscopes() {
-    let d = tempfile::tempdir().unwrap();
-    let o = limbfuse(
-        &[
-            "simulate",
-            "walking",
-            "--duration",
-            "20",
-            "--speed",
-            "1.4",
-            "--seed",
-            "5",
-            "--gait-reference",
-            "-o",
-            "w.csv",
-        ],
-        d.path(),
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let full_scale = 250f64.to_radians();
-    let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
-    let clipped = edit_cells(&text, |_, column, cell| {
-        let v: f64 = cell.parse().ok()?;
-        (column.contains("_gyr_") && v.abs() > full_scale)
-            .then(|| format!("{}", v.clamp(-full_scale, full_scale)))
-    });
-    let (first, rest) = clipped.split_once('\n').unwrap();
-    let clipped = format!("{first}\n# gyro_range_rad_s: {full_scale}\n{rest}");
-    std::fs::write(d.path().join("c.csv"), clipped).unwrap();
+    let d = clipped_walk();
     let o = limbfuse(
         &["resample", "c.csv", "--rate", "50", "-o", "c50.csv"],
         d.path(),
