@@ -318,7 +318,8 @@ impl SampleGate {
         if gyr.is_none() && imu.gyr_partial.iter().any(Option::is_some) {
             let cells = &imu.gyr_partial;
             let out_of_range = !cells_within(cells, r.gyro_rad_s);
-            let clip = !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s);
+            let clip =
+                !out_of_range && cells_clipped(cells, r.gyro_full_scale_rad_s, CLIPPED_FRACTION);
             let why = (!out_of_range && !clip)
                 .then(|| track[0].check_axes(cells, t, Some(alpha), lim))
                 .flatten();
@@ -331,17 +332,14 @@ impl SampleGate {
                 }
             }
         }
-        let acc_clip = r
-            .acc_full_scale_m_s2
-            .map_or(f64::INFINITY, |fs| ACC_CLIPPED_FRACTION * fs);
         if imu.acc.is_none() && imu.acc_partial.iter().any(Option::is_some) {
             let out_of_range = !cells_within(&imu.acc_partial, r.acc_m_s2);
             let clip = !out_of_range
-                && imu
-                    .acc_partial
-                    .iter()
-                    .flatten()
-                    .any(|x| x.abs() >= acc_clip);
+                && cells_clipped(
+                    &imu.acc_partial,
+                    r.acc_full_scale_m_s2,
+                    ACC_CLIPPED_FRACTION,
+                );
             if out_of_range || clip {
                 out.acc_partial |= bit;
                 rej.acc += 1;
@@ -349,6 +347,9 @@ impl SampleGate {
             }
         }
         if let Some(a) = imu.acc.as_ref() {
+            let acc_clip = r
+                .acc_full_scale_m_s2
+                .map_or(f64::INFINITY, |fs| ACC_CLIPPED_FRACTION * fs);
             if !within(a, r.acc_m_s2) {
                 out.acc |= bit;
                 rej.acc += 1;
@@ -387,15 +388,10 @@ fn cells_within(cells: &[Option<f64>; 3], limit: f64) -> bool {
     cells.iter().flatten().all(|x| x.abs() <= limit)
 }
 
-/// Whether any present cell is at or beyond [`CLIPPED_FRACTION`] of the
-/// full scale `fs`.
-fn cells_clipped(cells: &[Option<f64>; 3], fs: Option<f64>) -> bool {
-    fs.is_some_and(|fs| {
-        cells
-            .iter()
-            .flatten()
-            .any(|x| x.abs() >= CLIPPED_FRACTION * fs)
-    })
+/// Whether any present cell is at or beyond `fraction` of the full scale
+/// `fs` (`None`: no clipping test).
+fn cells_clipped(cells: &[Option<f64>; 3], fs: Option<f64>, fraction: f64) -> bool {
+    fs.is_some_and(|fs| cells.iter().flatten().any(|x| x.abs() >= fraction * fs))
 }
 
 /// Counts a plausibility rejection by its reason.

@@ -405,10 +405,8 @@ fn with_stance_and_swing(r: &mut StrideRow, fc: &TrackEvents<'_>, end_ref: Optio
 /// contact reference for the foot, and for a stride of unknown foot, every
 /// stride with a speed reference is scored.
 fn has_own_reference(foot: StrideFoot, paired: bool, c: &Columns) -> bool {
-    let side = match foot {
-        StrideFoot::Left => 0,
-        StrideFoot::Right => 1,
-        StrideFoot::Unknown => return true,
+    let Some(side) = foot.side_index() else {
+        return true;
     };
     paired || !c.reference[side].iter().any(Option::is_some)
 }

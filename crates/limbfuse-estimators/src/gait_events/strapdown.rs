@@ -277,14 +277,14 @@ impl StrideIntegrator {
             // (no branch: `m` crosses the floor back and forth in a stride)
             repeats |= (m >= RAIL_REPEAT_FLOOR) & (a == before);
         }
+        let clipped = axes != Vector3::zeros();
+        if clipped || repeats {
+            self.clipped_time += dt;
+        }
         // (the norm only for a clipped sample: nothing else on the hot path)
-        if axes == Vector3::zeros() {
-            if repeats {
-                self.clipped_time += dt;
-            }
+        if !clipped {
             return;
         }
-        self.clipped_time += dt;
         let norm = acc.norm();
         if norm > self.clip_norm {
             self.clip_norm = norm;

@@ -8,11 +8,12 @@
 //! (`chain` 1.1 -> 3.3 deg, `knee-gyro-axis` 11 -> 77 deg on that walk at
 //! 50 Hz, docs/RESULTS.md "Clipped accelerometers"). So a clipped cell is
 //! left out of its axis's series (its vector's other axes stay), the axis
-//! is resampled from the rest, and every output sample within half a period
-//! of a clipped reading (the longer of the input and output periods) is set
-//! to that reading, the rail: the gate then rejects the vector for the
-//! angle methods, and `gait-events`, which keeps clipped gyroscope
-//! readings, still sees the swing.
+//! is resampled from the rest, and an output sample within half an input
+//! period of a clipped reading is set to the nearest such reading, the
+//! rail: the gate then rejects the vector for the angle methods, and
+//! `gait-events`, which keeps clipped gyroscope readings, still sees the
+//! swing. (Half an output period, marking every output next to a run,
+//! measured worse: docs/RESULTS.md.)
 
 /// Sets `out[k]` (a series resampled on `grid` without its clipped
 /// readings) to the clipped reading of `clipped` (times increasing, values
