@@ -26,6 +26,7 @@ mod column_samples;
 mod columns;
 mod estimate;
 mod estimate_columns;
+mod estimate_file;
 mod evaluate;
 mod filter;
 mod interrupt;
@@ -214,6 +215,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     trial::register(m)?;
     estimate::register(m)?;
+    estimate_file::register(m)?;
     evaluate::register(m)?;
     strides::register(m)?;
     simulate::register(m)?;
