@@ -36,17 +36,6 @@ pub enum EstimatorError {
     /// A numerical failure (e.g. a singular innovation covariance).
     #[error("numerical failure: {0}")]
     Numerical(&'static str),
-    /// An input channel (e.g. the stimulation `u_ke`) has been missing for
-    /// longer than the estimator holds its last value.
-    #[error("channel {channel} has been missing for {missing_s:.3} s, longer than the {limit_s} s this method holds its last value")]
-    InputGap {
-        /// Channel name.
-        channel: &'static str,
-        /// Time since the channel's last value (s).
-        missing_s: f64,
-        /// The longest hold (s).
-        limit_s: f64,
-    },
 }
 
 /// Which quantities an estimator produces (the columns of its estimate file).

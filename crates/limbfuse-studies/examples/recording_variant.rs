@@ -1,15 +1,16 @@
 //! Variants of a shared recording that a kept-back recording of the same
 //! kind could be (docs/RESULTS.md, "Second audit against kept-back
 //! recordings"): rows removed (a time gap), IMU cells emptied over a time
-//! window or on every N-th row (dropped packets), the other leg's IMU
+//! window or on every N-th row (dropped packets), the model inputs
+//! (stimulation, motor torques) emptied over a time window, the other leg's IMU
 //! columns removed, or the two legs' IMU columns and contact references
 //! exchanged without mirroring the readings, the time stamps jittered, or
 //! an encoder stuck or re-zeroed.
 //! Other rates and the mirror
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
-//! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-every N
-//! [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
+//! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-inputs A:B ...]
+//! [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
 //! [--jitter-seed S]] [--stick-encoder JOINT:START:END ...]
 //! [--offset-encoder JOINT:START:RAD ...]`
 
@@ -17,6 +18,7 @@ use std::io::BufWriter;
 use std::path::Path;
 
 use clap::Parser;
+use limbfuse_core::sample::ModelInputs;
 use limbfuse_core::ImuSample;
 use limbfuse_io::TrialWriter;
 use limbfuse_signal::recording_variants::jitter_times;
@@ -50,6 +52,9 @@ fn main() {
         if every || inside(&args.blank, t) {
             r.sample.imu = [ImuSample::default(); 4];
             r.sample.other_leg_imu = [ImuSample::default(); 4];
+        }
+        if inside(&args.blank_inputs, t) {
+            r.sample.inputs = ModelInputs::default();
         }
         if args.drop_other_leg {
             r.sample.other_leg_imu = [ImuSample::default(); 4];

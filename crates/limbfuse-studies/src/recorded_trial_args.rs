@@ -6,7 +6,7 @@
 use clap::Parser;
 
 /// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
-/// [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
+/// [--blank-inputs A:B ...] [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
 /// [--jitter-ms MS [--jitter-seed S]] [--stick-encoder JOINT:A:B ...]
 /// [--offset-encoder JOINT:T:RAD ...]`.
 #[derive(Debug, Parser)]
@@ -24,6 +24,11 @@ pub struct RecordingVariantArgs {
     /// (s): a dropout (repeatable).
     #[arg(long, value_parser = time_window)]
     pub blank: Vec<(f64, f64)>,
+    /// Every model input cell (stimulation `u_*`, motor torques) emptied on
+    /// rows with `START <= t < END` (s): a gap in the stimulation log
+    /// (repeatable).
+    #[arg(long, value_parser = time_window)]
+    pub blank_inputs: Vec<(f64, f64)>,
     /// Every IMU cell emptied on every N-th row (dropped packets).
     #[arg(long)]
     pub blank_every: Option<std::num::NonZeroUsize>,

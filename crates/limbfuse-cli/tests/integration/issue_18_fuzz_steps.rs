@@ -2,8 +2,8 @@
 //! `limbfuse estimate` builds it (sensor-range gate included), stepped over
 //! a simulated trial of its kind whose cells are replaced at random by
 //! hostile values (1e300, -1e308, NaN, infinities, subnormals, missing).
-//! Never a panic (a step may refuse a sample with its typed error: the FES
-//! filters refuse a sample whose `u_ke` is missing); every angle, speed and
+//! Never a panic (a step may refuse a sample with its typed error, e.g. a
+//! non-finite `u_ke`); every angle, speed and
 //! centre-of-mass output is finite or missing.
 //!
 //! Bounded in CI (`cases()`); a longer search:
@@ -186,8 +186,8 @@ fn step_all(
         );
     }
     for s in &rows {
-        // A refused sample is a typed error (e.g. `sdre` without its `u_ke`
-        // reading); the stream goes on with the next one.
+        // A refused sample is a typed error (e.g. `sdre` given a non-finite
+        // `u_ke`); the stream goes on with the next one.
         let Ok(e) = est.step(s) else {
             continue;
         };
