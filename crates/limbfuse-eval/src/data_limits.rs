@@ -1,7 +1,8 @@
 //! What a trial's data (not its columns) rules out, for `limbfuse inspect`
 //! and the Python `inspect`: a method whose columns are all there, and that
 //! builds with its defaults, still estimates nothing when an input it needs
-//! has no reading on any row, when the trial is shorter than a knee
+//! (or, for `sdre` / `ekf`, the stimulation `u_ke`) has no reading on any
+//! row, when the trial is shorter than a knee
 //! method's identification window, or when a method that finds walking
 //! gets a thigh that does not move. An audit found `inspect` saying "runs"
 //! for 164 (trial, method) pairs that `estimate` then refused, these among
@@ -47,6 +48,22 @@ fn empty_input(m: MethodName, s: &TrialSummary) -> Option<String> {
             "no input has a reading on any of the {} rows",
             s.rows
         ));
+    }
+    if matches!(m, MethodName::Sdre | MethodName::Ekf) {
+        // The stimulation `u_ke` is an input of every paper-004 model (the
+        // knee's only one, one of the fixed hip's six): without any value
+        // the filters never start (they wait for a model input they have
+        // not seen yet, docs/FES_ESTIMATION.md "Estimator").
+        return s
+            .inputs
+            .iter()
+            .find(|g| g.name == "u_ke" && g.missing_rows >= s.rows)
+            .map(|_| {
+                format!(
+                    "`u_ke` (the model's stimulation input) has no reading on any of the {} rows",
+                    s.rows
+                )
+            });
     }
     if !matches!(m, MethodName::KneeSelfAlign | MethodName::KneeGyroAxis) {
         return None;
@@ -202,5 +219,25 @@ mod tests {
         let mut ok = vec![(MethodName::KneeGyroAxis, runs.clone())];
         limit_by_data(&mut ok, &summary(3000, &[("thigh gyr", 2999)]), &meta);
         assert_eq!(ok[0].1, runs);
+        // a stimulation column without a value: sdre and ekf never start
+        let fes = |u_missing| {
+            let mut m = vec![
+                (MethodName::Sdre, runs.clone()),
+                (MethodName::Ekf, runs.clone()),
+                (MethodName::Rmx, runs.clone()),
+            ];
+            let s = summary(3000, &[("shank gyr", 0), ("u_ke", u_missing)]);
+            limit_by_data(&mut m, &s, &meta);
+            m
+        };
+        let none = fes(3000);
+        for (m, a) in &none[..2] {
+            assert!(
+                matches!(a, Availability::NoData(w) if w.contains("`u_ke` (the model's stimulation input) has no reading on any of the 3000 rows")),
+                "{m:?}: {a:?}"
+            );
+        }
+        assert_eq!(none[2].1, runs, "rmx reads no model input");
+        assert!(fes(2999).iter().all(|(_, a)| *a == runs));
     }
 }
