@@ -80,7 +80,7 @@ const FILES: &str = "\
 - `trial.csv`: the simulated walking trial; `estimate-<method>.csv`: one per segment method.
 - `report.html`: the walking trial against every segment estimate (plots, gait cycle, errors; docs/REPORT.md).
 - `knee-selfalign.txt`: the self-aligning knee section above.
-- `trial-knee-fes.csv`, `estimate-knee-fes-<method>.csv` (sdre, ekf, rmx), `report-knee-fes.html`.
+- `trial-knee-fes.csv`, `estimate-knee-fes-<method>.csv` (sdre, ekf, rmx; `sdre-plant` for sdre+, with its `sdre-plant.toml`), `report-knee-fes.html`.
 - `bslip_trial.csv` (simulated B-SLIP walking, 0.7 m/s), `bslip_imm.csv` (the imm-bslip estimate), `report-bslip.html`.
 
 Re-evaluate an estimate with `limbfuse evaluate TRIAL ESTIMATE` (e.g. `limbfuse evaluate trial.csv estimate-mjls.csv`,

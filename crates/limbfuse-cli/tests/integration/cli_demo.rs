@@ -52,6 +52,20 @@ fn demo_prints_an_rmse_table_for_every_method_and_writes_a_report() {
     let block_with = |s: &str| blocks.iter().position(|b| b.contains(s));
     let seg = block_with("mean seg").unwrap();
     let fes = block_with("sdre").expect("knee-FES table");
+    // the thesis estimators and sdre+ (the plant's states), each with a knee RMSE
+    let knee: Vec<&str> = blocks[fes]
+        .lines()
+        .find(|l| l.starts_with("knee "))
+        .expect("knee row")
+        .split_whitespace()
+        .skip(1)
+        .collect();
+    assert_eq!(knee.len(), 4, "{}", blocks[fes]);
+    assert!(blocks[fes].contains("sdre+"), "{}", blocks[fes]);
+    let plant: f64 = knee[3].parse().unwrap();
+    let thesis: f64 = knee[0].parse().unwrap();
+    assert!(plant < thesis, "sdre+ {plant} vs sdre {thesis}");
+    assert!(report.contains("sdre-plant.toml"));
     let imm = block_with("phase accuracy").expect("IMM result");
     assert!(seg != fes && fes != imm && seg % 2 == 1 && fes % 2 == 1 && imm % 2 == 1);
     assert!(
