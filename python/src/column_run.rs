@@ -124,7 +124,7 @@ impl RunWatches {
     pub fn for_estimator(est: &dyn Estimator) -> Self {
         RunWatches {
             resets: ResetWatch::new(est.diagnostic_names().iter()),
-            gait: GaitWatch::default(),
+            gait: GaitWatch::for_diagnostics(est.diagnostic_names()),
             knee: KneeWatch::for_diagnostics(est.diagnostic_names()),
             any_output: AnyOutputWatch::default(),
             rejections: RejectionWatch::new(est.diagnostic_names()),

@@ -391,7 +391,7 @@ fn estimate<'py>(
                 }
             }
             if gait_method && !watches.gait.found {
-                return Err(with_warnings(limbfuse_eval::gait_watch::no_gait_message(
+                return Err(with_warnings(watches.gait.no_gait_message(
                     &label,
                     spec.method().name(),
                     inputs.len() as u64,

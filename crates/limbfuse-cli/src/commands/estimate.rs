@@ -166,7 +166,7 @@ fn estimate_pass(
     // Gait methods (contacts, or a speed without a CoM model): a recording
     // in which they find no gait is an error, not an empty estimate.
     let gait_method = limbfuse_eval::gait_watch::is_gait_method(&outputs);
-    let mut gait = GaitWatch::default();
+    let mut gait = GaitWatch::for_diagnostics(est.diagnostic_names());
     let mut any_output = limbfuse_eval::output_watch::AnyOutputWatch::default();
     let mut knee = KneeWatch::for_diagnostics(est.diagnostic_names());
     let mut speed_range = range.map(|(lo, hi)| SpeedRangeWatch::new(lo, hi));
@@ -254,7 +254,7 @@ fn estimate_pass(
         };
         let (trial, name) = (a.trial.display().to_string(), spec.method().name());
         let mut why = if gait_method && !gait.found {
-            limbfuse_eval::gait_watch::no_gait_message(&trial, name, report.n_samples, kept)
+            gait.no_gait_message(&trial, name, report.n_samples, kept)
         } else {
             limbfuse_eval::output_watch::no_output_message(
                 &trial,

@@ -141,3 +141,46 @@ fn issue_19_lowback_sensor_height_is_the_pendulum_length() {
         }
     }
 }
+
+/// A walk too slow for the walking test (limbfuse's simulator at 0.4 m/s:
+/// the trunk's vertical acceleration is the pendulum's alone, 2 s RMS near
+/// 0.3 m/s^2): "no gait found" now says how large that RMS got and which
+/// setting it is compared with (2026-12-06; docs/RESULTS.md "lowback-speed:
+/// the walking test and slow walking").
+#[test]
+fn no_gait_on_a_very_slow_walk_says_the_vertical_rms() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let sim = limbfuse(
+        &[
+            "simulate",
+            "walking",
+            "--speed",
+            "0.4",
+            "--duration",
+            "20",
+            "--seed",
+            "4",
+            "-o",
+            "slow.csv",
+        ],
+        p,
+    );
+    assert!(sim.status.success());
+    let o = limbfuse(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "slow.csv",
+            "-o",
+            "e.csv",
+        ],
+        p,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    for needle in ["no gait found", "2 s RMS peaked at 0.", "walking_rms"] {
+        assert!(err.contains(needle), "{needle}: {err}");
+    }
+}
