@@ -27,7 +27,7 @@ pub struct GaitWatch {
     vertical: Option<usize>,
     rms_sq: f64,
     last_t: Option<f64>,
-    peak_rms: Option<f64>,
+    peak_sq: Option<f64>,
 }
 
 impl GaitWatch {
@@ -57,22 +57,22 @@ impl GaitWatch {
         };
         self.last_t = Some(e.t);
         self.rms_sq += (a * a - self.rms_sq) * alpha;
-        let rms = libm::sqrt(self.rms_sq);
-        if rms.is_finite() && self.peak_rms.is_none_or(|p| rms > p) {
-            self.peak_rms = Some(rms);
+        // (the mean square's peak: the root once, when asked)
+        if self.rms_sq.is_finite() && self.peak_sq.is_none_or(|p| self.rms_sq > p) {
+            self.peak_sq = Some(self.rms_sq);
         }
     }
 
     /// The largest 2 s RMS of the vertical acceleration seen (m/s^2).
     pub fn peak_vertical_rms(&self) -> Option<f64> {
-        self.peak_rms
+        self.peak_sq.map(libm::sqrt)
     }
 
     /// [`no_gait_message`], with the vertical acceleration's largest 2 s
     /// RMS when the estimator reports it.
     pub fn no_gait_message(&self, trial: &str, method: &str, n_samples: u64, kept: &str) -> String {
         let mut text = no_gait_message(trial, method, n_samples, kept);
-        if let Some(rms) = self.peak_rms {
+        if let Some(rms) = self.peak_vertical_rms() {
             text.push_str(&format!(
                 "; its vertical acceleration's 2 s RMS peaked at {rms:.3} m/s^2, and a step counts \
                  only while that RMS is above the method's `walking_rms` (0.3 m/s^2 by default: quiet \
