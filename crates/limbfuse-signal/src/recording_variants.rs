@@ -61,3 +61,87 @@ pub fn jitter_times(records: &mut [Record], max_s: f64, seed: u64) {
         r.sample.t += max_s * (2.0 * uniform01(&mut state) - 1.0);
     }
 }
+
+/// Adds `count` single-sample spikes of `+-amplitude` rad/s (seeded random
+/// sign) to the z axis of this leg's thigh, shank or foot gyroscope (seeded
+/// random choice) at seeded random rows with `t >= from` that have that
+/// gyroscope: a sensor's bus or conversion glitch that stays within the
+/// range and below a jump bound (docs/RESULTS.md, "Single-sample gyroscope
+/// spikes"). Returns the rows changed; a row is drawn at most once.
+pub fn add_gyro_spikes(
+    records: &mut [Record],
+    count: usize,
+    amplitude: f64,
+    from: f64,
+    seed: u64,
+) -> std::vec::Vec<usize> {
+    let candidates: std::vec::Vec<usize> = (0..records.len())
+        .filter(|&i| records[i].sample.t >= from)
+        .collect();
+    let mut state = seed;
+    let mut rows = std::vec::Vec::with_capacity(count);
+    let mut tries = 0;
+    while rows.len() < count.min(candidates.len()) && tries < 100 * count.max(1) {
+        tries += 1;
+        let pick = candidates[((uniform01(&mut state) * candidates.len() as f64) as usize)
+            .min(candidates.len() - 1)];
+        let segment = 1 + ((uniform01(&mut state) * 3.0) as usize).min(2);
+        let sign = if uniform01(&mut state) < 0.5 {
+            -1.0
+        } else {
+            1.0
+        };
+        if rows.contains(&pick) {
+            continue;
+        }
+        if let Some(g) = records[pick].sample.imu[segment].gyr.as_mut() {
+            g.z += sign * amplitude;
+            rows.push(pick);
+        }
+    }
+    rows.sort_unstable();
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use limbfuse_core::ImuSample;
+
+    #[test]
+    fn gyro_spikes_change_one_axis_of_the_drawn_rows_only() {
+        let mut records: std::vec::Vec<Record> = (0..500)
+            .map(|k| {
+                let mut r = Record::default();
+                r.sample.t = k as f64 * 0.01;
+                for imu in &mut r.sample.imu {
+                    *imu = ImuSample {
+                        gyr: Some(Vector3::new(0.1, 0.2, 0.3)),
+                        ..ImuSample::default()
+                    };
+                }
+                r
+            })
+            .collect();
+        let before = records.clone();
+        let rows = add_gyro_spikes(&mut records, 20, 3.0, 2.0, 5);
+        assert_eq!(rows.len(), 20);
+        assert_eq!(rows, add_gyro_spikes(&mut before.clone(), 20, 3.0, 2.0, 5));
+        for (i, (a, b)) in records.iter().zip(&before).enumerate() {
+            let changed: std::vec::Vec<usize> = (0..4)
+                .filter(|&s| a.sample.imu[s].gyr != b.sample.imu[s].gyr)
+                .collect();
+            if rows.contains(&i) {
+                assert!(a.sample.t >= 2.0);
+                assert_eq!(changed.len(), 1, "row {i}");
+                let s = changed[0];
+                assert!((1..4).contains(&s));
+                let d = a.sample.imu[s].gyr.unwrap() - b.sample.imu[s].gyr.unwrap();
+                assert_eq!((d.x, d.y), (0.0, 0.0));
+                assert!((d.z.abs() - 3.0).abs() < 1e-12);
+            } else {
+                assert!(changed.is_empty(), "row {i}");
+            }
+        }
+    }
+}

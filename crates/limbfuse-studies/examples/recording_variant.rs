@@ -5,14 +5,15 @@
 //! (stimulation, motor torques) emptied over a time window, the other leg's IMU
 //! columns removed, or the two legs' IMU columns and contact references
 //! exchanged without mirroring the readings, the time stamps jittered, or
-//! an encoder stuck or re-zeroed.
+//! an encoder stuck or re-zeroed, or single-sample gyroscope spikes added.
 //! Other rates and the mirror
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
 //! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-inputs A:B ...]
 //! [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
 //! [--jitter-seed S]] [--stick-encoder JOINT:START:END ...]
-//! [--offset-encoder JOINT:START:RAD ...]`
+//! [--offset-encoder JOINT:START:RAD ...] [--gyro-spikes N [--spike-rad-s A]
+//! [--spike-from T] [--spike-seed S]]`
 
 use std::io::BufWriter;
 use std::path::Path;
@@ -21,7 +22,7 @@ use clap::Parser;
 use limbfuse_core::sample::ModelInputs;
 use limbfuse_core::ImuSample;
 use limbfuse_io::TrialWriter;
-use limbfuse_signal::recording_variants::jitter_times;
+use limbfuse_signal::recording_variants::{add_gyro_spikes, jitter_times};
 use limbfuse_studies::example_args::RecordingVariantArgs;
 use limbfuse_studies::recorded_trial::RecordedTrial;
 
@@ -77,6 +78,21 @@ fn main() {
     }
     if let Some(ms) = args.jitter_ms {
         jitter_times(&mut out, ms / 1000.0, args.jitter_seed);
+    }
+    if let Some(n) = args.gyro_spikes {
+        let rows = add_gyro_spikes(
+            &mut out,
+            n,
+            args.spike_rad_s,
+            args.spike_from,
+            args.spike_seed,
+        );
+        eprintln!(
+            "{}: {} gyroscope spikes of {} rad/s",
+            args.trial,
+            rows.len(),
+            args.spike_rad_s
+        );
     }
     if args.drop_other_leg {
         layout.other_acc = [false; 4];

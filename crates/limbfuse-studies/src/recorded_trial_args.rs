@@ -8,7 +8,8 @@ use clap::Parser;
 /// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
 /// [--blank-inputs A:B ...] [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
 /// [--jitter-ms MS [--jitter-seed S]] [--stick-encoder JOINT:A:B ...]
-/// [--offset-encoder JOINT:T:RAD ...]`.
+/// [--offset-encoder JOINT:T:RAD ...] [--gyro-spikes N [--spike-rad-s A] [--spike-from T]
+/// [--spike-seed S]]`.
 #[derive(Debug, Parser)]
 #[command(name = "recording_variant")]
 pub struct RecordingVariantArgs {
@@ -60,6 +61,20 @@ pub struct RecordingVariantArgs {
     /// (s) on: a re-zeroed or slipped encoder (repeatable).
     #[arg(long, value_name = "JOINT:START:RAD", value_parser = joint_window)]
     pub offset_encoder: Vec<(usize, (f64, f64))>,
+    /// N single-sample spikes added to the z axis of this leg's thigh,
+    /// shank or foot gyroscope at seeded random rows from `--spike-from`
+    /// (`limbfuse_signal::recording_variants::add_gyro_spikes`).
+    #[arg(long, value_name = "N")]
+    pub gyro_spikes: Option<usize>,
+    /// Size of each `--gyro-spikes` spike (rad/s, seeded random sign).
+    #[arg(long, value_name = "RAD_S", default_value_t = 3.0)]
+    pub spike_rad_s: f64,
+    /// First time (s) a `--gyro-spikes` spike may fall at.
+    #[arg(long, value_name = "S", default_value_t = 0.0)]
+    pub spike_from: f64,
+    /// Seed of `--gyro-spikes`.
+    #[arg(long, default_value_t = 1)]
+    pub spike_seed: u64,
 }
 
 /// `JOINT:A:B` with JOINT one of hip, knee, ankle (its index) and two
