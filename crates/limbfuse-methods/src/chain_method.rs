@@ -98,6 +98,7 @@ struct ChainFile {
     startup_s: Option<f64>,
     acc_gate: Option<f64>,
     encoder_gate: Option<f64>,
+    gyro_gate: Option<f64>,
     use_encoders: Option<bool>,
     out_of_plane: Option<bool>,
     turn_tau_s: Option<f64>,
@@ -156,6 +157,7 @@ pub fn chain_settings(file: Option<(&str, &Path)>) -> Result<ChainSettings, Meth
         startup_s: f.startup_s.unwrap_or(d.startup_s),
         acc_gate: f.acc_gate.unwrap_or(d.acc_gate),
         encoder_gate: f.encoder_gate.unwrap_or(d.encoder_gate),
+        gyro_gate: f.gyro_gate.unwrap_or(d.gyro_gate),
         use_encoders: f.use_encoders.unwrap_or(d.use_encoders),
         out_of_plane: f.out_of_plane.unwrap_or(d.out_of_plane),
         turn_tau_s: f.turn_tau_s.unwrap_or(d.turn_tau_s),
@@ -332,6 +334,7 @@ pub fn default_file() -> String {
          startup_s = {}  # start-up window (s)\n\
          acc_gate = inf  # skip accelerometer rows beyond this many sigmas (inf: never)\n\
          encoder_gate = {}  # refuse encoder rows beyond this many sigmas (chi-square 1-1e-6; inf: never); refused for 0.5 s: re-adopted\n\
+         gyro_gate = {}  # refuse a segment's gyro row beyond this many sigmas while one of its joints' encoders reads (inf: never)\n\
          use_encoders = {}  # use hip/knee/ankle encoders when present\n\
          out_of_plane = {}  # correct for non-sagittal gyro components\n\
          turn_tau_s = {}  # turning: low-pass time constant of the rate about the vertical (s)\n\
@@ -370,6 +373,7 @@ pub fn default_file() -> String {
         d.stance_min_s,
         d.startup_s,
         d.encoder_gate,
+        d.gyro_gate,
         d.use_encoders,
         d.out_of_plane,
         d.turn_tau_s,

@@ -13,7 +13,26 @@
 //! chain's start-up window costs [`ChainParams::startup_s`] (1 s) of
 //! estimates, while only one joint's offset is in question.
 //!
+//! Gyroscope rows beside an encoder (session 41, ours; docs/CHAIN.md): a
+//! single-sample gyroscope glitch within the sensor gate's range and jump
+//! bound (a 3 rad/s spike) moved the segment's angle by its integral (1.7
+//! deg at 100 Hz) while the covariance said it could not have; the joint's
+//! encoder, which was right, then lay beyond `encoder_gate`, was refused,
+//! and after [`GATE_LOCKOUT_S`] re-adopted with the glitch's error as its
+//! offset. While an encoder of one of the segment's joints reads, that
+//! encoder observes the segment's motion relative to its neighbour, so the
+//! gyroscope row is tested like the encoder rows and refused
+//! ([`ChainParams::gyro_gate`]) at the cost of one sample's rate. Never
+//! two in a row for a segment: a glitch is one sample, while a run of
+//! outlying rows is a model that does not fit the data (sensors not aligned
+//! with the segments, where refusing every other row took the filter into
+//! divergence), and there the gyroscope is what the filter needs most.
+//! Without an encoder beside it the row is always applied: the gyroscope is
+//! then the segment's only rate, and real recordings' innovations exceed the
+//! gate often (docs/RESULTS.md, "Single-sample gyroscope spikes").
+//!
 //! [`ChainParams::encoder_gate`]: super::ChainParams::encoder_gate
+//! [`ChainParams::gyro_gate`]: super::ChainParams::gyro_gate
 //! [`ChainParams::startup_s`]: super::ChainParams::startup_s
 
 use limbfuse_core::Sample;
@@ -34,6 +53,11 @@ pub struct EncoderGate {
     refused: u64,
     /// Joints re-adopted after a lockout since the filter was made or reset.
     readopted: u64,
+    /// Gyroscope rows refused beside an encoder since the filter was made
+    /// or reset.
+    gyro_refused: u64,
+    /// Whether each segment's last gyroscope row was refused.
+    gyro_refused_last: [bool; 4],
 }
 
 impl EncoderGate {
@@ -47,11 +71,39 @@ impl EncoderGate {
         self.readopted
     }
 
+    /// Gyroscope rows refused beside an encoder so far.
+    pub fn gyro_refused(&self) -> u64 {
+        self.gyro_refused
+    }
+
+    /// Whether segment `i`'s last gyroscope row was refused (its next one
+    /// is then applied without the gate).
+    pub(super) fn gyro_refused_last(&self, i: usize) -> bool {
+        self.gyro_refused_last[i]
+    }
+
+    /// Records whether segment `i`'s gyroscope row was applied.
+    pub(super) fn gyro_row(&mut self, i: usize, applied: bool) {
+        self.gyro_refused_last[i] = !applied;
+        if !applied {
+            self.gyro_refused += 1;
+        }
+    }
+
     /// Forgets the current runs of refusals (a new start of the filter); the
     /// counts stay.
     pub fn restart(&mut self) {
         self.refused_since = [None; 3];
+        self.gyro_refused_last = [false; 4];
     }
+}
+
+/// Whether an encoder of one of segment `i`'s joints (hip for the trunk,
+/// hip or knee for the thigh, knee or ankle for the shank, ankle for the
+/// foot) has a finite reading in `sample`.
+pub(super) fn encoder_beside(sample: &Sample, i: usize) -> bool {
+    let reads = |j: usize| sample.encoder[j].is_some_and(f64::is_finite);
+    (i > 0 && reads(i - 1)) || (i < 3 && reads(i))
 }
 
 impl ChainEkf {

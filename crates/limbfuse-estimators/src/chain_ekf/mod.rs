@@ -38,6 +38,7 @@ use limbfuse_core::{diagnostic_set, Estimate, Estimator, EstimatorError, Sample,
 use crate::segment_kf::robust::{HELD_RATE_SD, LONG_GAP_S};
 pub use covariance::ProcessNoise;
 use covariance::{predict_covariance, predict_state, scalar_update, Covariance, StateVector};
+use encoder_gate::encoder_beside;
 pub use kinematics::{ChainGeometry, OutOfPlane};
 pub use missing_data::DIVERGED_RATE_RAD_S;
 pub use params::{ChainParams, ChainParamsError, WALKING_MEAN_ANGLE_DEG};
@@ -340,7 +341,12 @@ impl ChainEkf {
                 row.add(omega(i), 1.0);
                 row.add(gyro_bias(i), 1.0);
                 let nu = wz - self.x[omega(i)] - self.x[gyro_bias(i)];
-                self.apply(&row, nu, p.gyro_noise, inf);
+                let gated = p.use_encoders
+                    && encoder_beside(sample, i)
+                    && !self.encoder_gate.gyro_refused_last(i);
+                let gate = if gated { p.gyro_gate } else { inf };
+                let applied = self.apply(&row, nu, p.gyro_noise, gate);
+                self.encoder_gate.gyro_row(i, applied);
             }
         }
         if p.use_encoders {
@@ -451,6 +457,7 @@ impl Estimator for ChainEkf {
         writeln!(out, "startup_s: {}", p.startup_s)?;
         writeln!(out, "acc_gate: {}", p.acc_gate)?;
         writeln!(out, "encoder_gate: {}", p.encoder_gate)?;
+        writeln!(out, "gyro_gate: {}", p.gyro_gate)?;
         writeln!(out, "device_orientation: {}", p.device_orientation)?;
         writeln!(out, "device_angle_noise: {}", p.device_angle_noise)?;
         writeln!(out, "use_encoders: {}", p.use_encoders)?;
@@ -480,7 +487,11 @@ impl Estimator for ChainEkf {
     }
 
     fn rejected_readings(&self) -> [u64; 3] {
-        [0, 0, self.encoder_gate.refused()]
+        [
+            self.encoder_gate.gyro_refused(),
+            0,
+            self.encoder_gate.refused(),
+        ]
     }
 
     fn step(&mut self, sample: &Sample) -> Result<Estimate, EstimatorError> {

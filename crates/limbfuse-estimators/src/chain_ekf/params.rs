@@ -161,6 +161,14 @@ pub struct ChainParams {
     /// consistent filter refuses one good row in a million
     /// ([`crate::segment_kf::robust::INNOVATION_GATE_CHI2`]).
     pub encoder_gate: f64,
+    /// A segment's gyroscope row with |innovation| above this many sigmas
+    /// is refused (infinity: none), but only while an encoder of one of the
+    /// segment's joints has a reading in the same sample, which observes
+    /// the segment's motion relative to its neighbour; without one the row
+    /// is always applied ([`super::encoder_gate`], "Gyroscope rows beside
+    /// an encoder"). Default `sqrt(INNOVATION_GATE_CHI2)` = 4.89, as
+    /// `encoder_gate`.
+    pub gyro_gate: f64,
     /// Use the joint encoders when the trial has them.
     pub use_encoders: bool,
     /// Correct for the non-sagittal gyro components (eq C5).
@@ -204,6 +212,7 @@ impl Default for ChainParams {
             startup_s: 1.0,
             acc_gate: f64::INFINITY,
             encoder_gate: libm::sqrt(INNOVATION_GATE_CHI2),
+            gyro_gate: libm::sqrt(INNOVATION_GATE_CHI2),
             use_encoders: true,
             out_of_plane: true,
             turn_tau_s: 0.5,
@@ -276,6 +285,7 @@ impl ChainParams {
         for (name, value) in [
             ("acc_gate", self.acc_gate),
             ("encoder_gate", self.encoder_gate),
+            ("gyro_gate", self.gyro_gate),
         ] {
             if value.is_nan() || value <= 0.0 {
                 return Err(ChainParamsError::OutOfRange {

@@ -54,7 +54,12 @@ fn rezeroed_walk() -> (Vec<Record>, Vec<Record>, usize) {
 /// `chain`'s knee angle at every sample (NaN without an estimate) and the
 /// filter after the run.
 fn knee_angles(records: &[Record]) -> (Vec<f64>, ChainEkf) {
-    let mut chain = ChainEkf::new(ChainParams::default(), ChainGeometry::default(), 9.81).unwrap();
+    knee_angles_with(records, ChainParams::default())
+}
+
+/// [`knee_angles`] with the given parameters.
+pub(crate) fn knee_angles_with(records: &[Record], params: ChainParams) -> (Vec<f64>, ChainEkf) {
+    let mut chain = ChainEkf::new(params, ChainGeometry::default(), 9.81).unwrap();
     let knee = records
         .iter()
         .map(|r| chain.step(&r.sample).unwrap().joint[1].unwrap_or(f64::NAN))
@@ -63,7 +68,7 @@ fn knee_angles(records: &[Record]) -> (Vec<f64>, ChainEkf) {
 }
 
 /// Largest knee difference (deg) between two runs from sample `from` on.
-fn largest_difference(a: &[f64], b: &[f64], from: usize) -> f64 {
+pub(crate) fn largest_difference(a: &[f64], b: &[f64], from: usize) -> f64 {
     a[from..]
         .iter()
         .zip(&b[from..])

@@ -4,6 +4,7 @@
 //! `tests/allocation` binary (they install a global allocator).
 
 mod chain_encoder_gate;
+mod chain_gyro_gate;
 mod controller_loop_example;
 mod diagnostics;
 mod fes_no_resets;
