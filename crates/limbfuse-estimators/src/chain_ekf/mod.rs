@@ -346,7 +346,9 @@ impl ChainEkf {
                     && !self.encoder_gate.gyro_refused_last(i);
                 let gate = if gated { p.gyro_gate } else { inf };
                 let applied = self.apply(&row, nu, p.gyro_noise, gate);
-                self.encoder_gate.gyro_row(i, applied);
+                // (a row skipped for want of a positive innovation variance
+                // is not a refusal)
+                self.encoder_gate.gyro_row(i, applied || !gated);
             }
         }
         if p.use_encoders {

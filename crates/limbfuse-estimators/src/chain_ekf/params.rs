@@ -165,8 +165,9 @@ pub struct ChainParams {
     /// is refused (infinity: none), but only while an encoder of one of the
     /// segment's joints has a reading in the same sample, which observes
     /// the segment's motion relative to its neighbour; without one the row
-    /// is always applied ([`super::encoder_gate`], "Gyroscope rows beside
-    /// an encoder"). Default `sqrt(INNOVATION_GATE_CHI2)` = 4.89, as
+    /// is always applied, and so is the row after a refused one (a glitch
+    /// is one sample; [`super::encoder_gate`], "Gyroscope rows beside an
+    /// encoder"). Default `sqrt(INNOVATION_GATE_CHI2)` = 4.89, as
     /// `encoder_gate`.
     pub gyro_gate: f64,
     /// Use the joint encoders when the trial has them.
