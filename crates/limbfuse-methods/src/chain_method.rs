@@ -269,7 +269,7 @@ impl MethodDef for ChainMethod {
             "chain",
             "beyond the papers: planar kinematic-chain EKF; accelerometers modelled (hip acceleration, rates, angular accelerations, mount positions), not gated",
             "aligned trunk, thigh, shank and foot IMUs; hip/knee/ankle encoders when present; geometry from the trial metadata (imu_mounts_m, segment_lengths_m, height_m)",
-            "noise levels, anchors, start-up, [geometry] (parameter file; docs/CHAIN.md)",
+            "noise levels, anchors, start-up, innovation gates (encoder_gate, gyro_gate), [geometry] (parameter file; docs/CHAIN.md)",
         )
         .needing(
             ChannelNeeds::FOUR_IMUS,
