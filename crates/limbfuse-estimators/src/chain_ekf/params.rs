@@ -340,6 +340,30 @@ mod tests {
     }
 
     #[test]
+    fn the_gates_take_positive_numbers_or_infinity() {
+        for set in [
+            |p: &mut ChainParams, v| p.acc_gate = v,
+            |p: &mut ChainParams, v| p.encoder_gate = v,
+            |p: &mut ChainParams, v| p.gyro_gate = v,
+        ] {
+            for (v, ok) in [
+                (f64::INFINITY, true),
+                (3.0, true),
+                (0.0, false),
+                (-1.0, false),
+            ] {
+                let mut p = ChainParams::default();
+                set(&mut p, v);
+                assert_eq!(p.validate().is_ok(), ok, "{v}");
+            }
+            let mut p = ChainParams::default();
+            set(&mut p, f64::NAN);
+            let e = p.validate().unwrap_err().to_string();
+            assert!(e.contains("_gate"), "{e}");
+        }
+    }
+
+    #[test]
     fn winter_lengths_scale_with_height() {
         let g = ChainGeometry::from_height(1.80);
         assert!((g.thigh_length - 0.441).abs() < 1e-12);
