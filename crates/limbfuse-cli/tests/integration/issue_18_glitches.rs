@@ -286,3 +286,79 @@ fn issue_18_glitches_within_range_saturation_and_a_stuck_gyro_leave_the_rmse() {
         }
     }
 }
+
+/// Session 41 (docs/CHAIN.md, "Gyroscope rows beside an encoder"): single
+/// +-3 rad/s gyroscope spikes, inside the range and the jump bound, on the
+/// shared independent walk with encoders. Before, `chain` applied them, its
+/// encoder gate then refused the (right) encoders and re-adopted them with
+/// the spikes' error (sixty spikes: mean RMSE 0.205 -> 1.002 deg); now the
+/// spikes are refused and the rest of the trial is as clean.
+#[test]
+fn issue_18_chain_refuses_gyro_spikes_beside_an_encoder() {
+    let Some(walk) = independent_walk() else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::copy(&walk, p.join("clean.csv")).unwrap();
+    let text = std::fs::read_to_string(p.join("clean.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| l.starts_with("t,")).unwrap();
+    let cols: Vec<&str> = lines[header].split(',').collect();
+    let cell = |row: usize, column: &str| -> f64 {
+        let k = cols.iter().position(|x| *x == column).unwrap();
+        let line = lines[header + 1 + row];
+        line.split(',').nth(k).unwrap().parse().unwrap()
+    };
+    // ten spikes, 0.9-1.3 s apart from 15 s, on the thigh, shank and foot in turn
+    let spikes: Vec<(usize, &str, String)> = (0..10)
+        .map(|k| {
+            let row = 1500 + 97 * k + 11 * (k % 4);
+            let column = ["thigh_gyr_z", "shank_gyr_z", "foot_gyr_z"][k % 3];
+            let sign = if k % 2 == 0 { 3.0 } else { -3.0 };
+            (row, column, format!("{}", cell(row, column) + sign))
+        })
+        .collect();
+    let cells: Vec<(usize, &str, &str)> = spikes
+        .iter()
+        .map(|(r, c, v)| (*r, *c, v.as_str()))
+        .collect();
+    corrupt(p, "clean.csv", "spikes.csv", &cells);
+    let mut rmse = Vec::new();
+    for trial in ["clean", "spikes"] {
+        let o = limbfuse(
+            &[
+                "estimate",
+                "--method",
+                "chain",
+                &format!("{trial}.csv"),
+                "-o",
+                &format!("{trial}-chain.csv"),
+            ],
+            p,
+        );
+        assert_ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        if trial == "clean" {
+            assert!(!err.contains("were rejected"), "{err}");
+        } else {
+            assert!(
+                err.contains(
+                    "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
+                ),
+                "{err}"
+            );
+        }
+        rmse.push(segment_rmse(
+            p,
+            &format!("{trial}.csv"),
+            &format!("{trial}-chain.csv"),
+        ));
+    }
+    for (k, (a, b)) in rmse[0].iter().zip(&rmse[1]).enumerate() {
+        assert!(
+            (b - a).abs() <= 0.01,
+            "segment {k}: {b} deg with the spikes, {a} clean"
+        );
+    }
+}
