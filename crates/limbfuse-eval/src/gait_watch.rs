@@ -5,6 +5,7 @@
 use limbfuse_core::estimator::Outputs;
 use limbfuse_core::runner::{self, Observer};
 use limbfuse_core::{Estimate, Record};
+use limbfuse_estimators::lowback_speed::{LowbackParams, WALKING_RMS_TIME_CONSTANT_S};
 
 /// Whether an estimator with these outputs is a gait method: contacts, or
 /// a walking speed without a CoM model (`imm-bslip` estimates a CoM).
@@ -50,9 +51,9 @@ impl GaitWatch {
         let Some(a) = self.vertical.and_then(|c| e.diag.get(c).copied().flatten()) else {
             return;
         };
-        // the estimator's own mean: exponential, time constant 2 s
+        // the estimator's own mean: exponential, its time constant
         let alpha = match self.last_t {
-            Some(t0) if e.t > t0 => ((e.t - t0) / 2.0).min(1.0),
+            Some(t0) if e.t > t0 => ((e.t - t0) / WALKING_RMS_TIME_CONSTANT_S).min(1.0),
             _ => 0.0,
         };
         self.last_t = Some(e.t);
@@ -73,9 +74,10 @@ impl GaitWatch {
     pub fn no_gait_message(&self, trial: &str, method: &str, n_samples: u64, kept: &str) -> String {
         let mut text = no_gait_message(trial, method, n_samples, kept);
         if let Some(rms) = self.peak_vertical_rms() {
+            let default = LowbackParams::default().walking_rms;
             text.push_str(&format!(
                 "; its vertical acceleration's 2 s RMS peaked at {rms:.3} m/s^2, and a step counts \
-                 only while that RMS is above the method's `walking_rms` (0.3 m/s^2 by default: quiet \
+                 only while that RMS is above the method's `walking_rms` ({default} m/s^2 by default: quiet \
                  standing stays below 0.1, walking is 1-3; a very slow walker's can stay near or below \
                  it, docs/GAIT_EVENTS.md)"
             ));

@@ -113,6 +113,11 @@ pub const SENSOR_HEIGHT_CORRECTION: f64 = 4.587 / 4.0;
 /// enough for 1.5 s steps plus the latency up to 1 kHz.
 pub const HISTORY: usize = 4096;
 
+/// Time constant (s) of the walking test's mean square of `a_v`: the
+/// exponential mean compared with [`LowbackParams::walking_rms`] (also the
+/// one `limbfuse_eval::gait_watch` reports when no gait was found).
+pub const WALKING_RMS_TIME_CONSTANT_S: f64 = 2.0;
+
 diagnostic_set! {
     /// Diagnostics of [`LowbackSpeed`].
     pub enum LowbackDiag {

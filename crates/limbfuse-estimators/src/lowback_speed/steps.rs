@@ -5,7 +5,10 @@
 
 use limbfuse_core::DiagnosticWriter;
 
-use super::{pendulum_step_length, step_excursion, LowbackDiag, LowbackSpeed, HISTORY};
+use super::{
+    pendulum_step_length, step_excursion, LowbackDiag, LowbackSpeed, HISTORY,
+    WALKING_RMS_TIME_CONSTANT_S,
+};
 
 impl LowbackSpeed {
     /// Adds the vertical acceleration `a_v` (m/s^2) and heading `psi` (rad)
@@ -22,7 +25,7 @@ impl LowbackSpeed {
         let slot = (self.n % HISTORY as u64) as usize;
         self.history[slot] = a_v;
         self.heading[slot] = psi;
-        let alpha = (dt / 2.0).min(1.0);
+        let alpha = (dt / WALKING_RMS_TIME_CONSTANT_S).min(1.0);
         self.rms_sq += (a_v * a_v - self.rms_sq) * alpha;
         self.n += 1;
         let span = 2 * self.half as u64 + 1;
