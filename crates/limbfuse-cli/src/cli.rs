@@ -48,6 +48,8 @@ pub enum Command {
     Mirror(MirrorArgs),
     /// Resample a trial onto a uniform time base (e.g. 50 Hz, the rate of paper 001).
     Resample(ResampleArgs),
+    /// Write a copy of a trial whose time increases: drop exact duplicate rows, rows repeating an earlier time, and rows whose time stamp goes back (or sort them)
+    RepairTime(RepairTimeArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
     Tune(TuneArgs),
     /// List every estimation method: what it estimates, the columns it reads, its settings.
@@ -455,6 +457,28 @@ pub struct ResampleArgs {
     /// Anti-alias low-pass of the accelerometer and gyro channels.
     #[arg(long, value_enum, default_value_t = AntiAliasArg::Sinc)]
     pub anti_alias: AntiAliasArg,
+}
+
+/// Options of `repair-time`.
+#[derive(Debug, Args)]
+pub struct RepairTimeArgs {
+    /// Trial file (CSV or Arrow) whose `t` does not increase strictly.
+    pub trial: PathBuf,
+    /// Output trial file (CSV).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Rows whose time stamp goes back: `drop` keeps one of the longest runs of rows, in file order, whose time increases (a wrong time stamp costs its row); `sort` puts the rows in time order (packets that arrived out of order with their own time stamps).
+    #[arg(long, value_enum, default_value_t = TimeOrderArg::Drop)]
+    pub out_of_order: TimeOrderArg,
+}
+
+/// `repair-time --out-of-order`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TimeOrderArg {
+    /// Drop them (keep a longest run whose time increases).
+    Drop,
+    /// Sort the rows by time.
+    Sort,
 }
 
 /// Options of `inspect`.

@@ -29,6 +29,7 @@ mod mapped_file;
 pub mod meta;
 pub mod provenance;
 pub mod table;
+pub mod time_repair;
 mod trial_hints;
 pub mod trial_reader;
 pub mod trial_writer;

@@ -103,10 +103,120 @@ pub fn add_gyro_spikes(
     rows
 }
 
+/// A time-stamp glitch of [`add_time_glitches`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeGlitch {
+    /// The row is written twice (a logger that wrote a packet again).
+    Duplicate,
+    /// The row and the next are written in the wrong order (each with its
+    /// own stamp: packets that arrived out of order).
+    Swap,
+    /// The row's stamp is [`LATE_STAMP_S`] late (a clock read glitch).
+    Late,
+}
+
+/// How late a [`TimeGlitch::Late`] stamp is (s).
+pub const LATE_STAMP_S: f64 = 0.5;
+
+/// Adds `count` time-stamp glitches at seeded random rows (at least three
+/// rows apart, none in the first or last row), cycling through
+/// [`TimeGlitch::Duplicate`], [`TimeGlitch::Swap`] and [`TimeGlitch::Late`]:
+/// a recording whose time does not increase (the readers refuse it; `limbfuse
+/// repair-time` repairs it). Returns each glitch's row (in the output, the
+/// first of the two rows of a duplicate or a swap) and kind, in row order.
+pub fn add_time_glitches(
+    records: &mut std::vec::Vec<Record>,
+    count: usize,
+    seed: u64,
+) -> std::vec::Vec<(usize, TimeGlitch)> {
+    let n = records.len();
+    let mut state = seed;
+    let mut rows: std::vec::Vec<usize> = std::vec::Vec::with_capacity(count);
+    let mut tries = 0;
+    while rows.len() < count && n > 8 && tries < 100 * count.max(1) {
+        tries += 1;
+        let pick = 1 + ((uniform01(&mut state) * (n - 3) as f64) as usize).min(n - 4);
+        if rows.iter().all(|&r| r.abs_diff(pick) >= 3) {
+            rows.push(pick);
+        }
+    }
+    let kinds = [TimeGlitch::Duplicate, TimeGlitch::Swap, TimeGlitch::Late];
+    let mut glitches: std::vec::Vec<(usize, TimeGlitch)> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, &r)| (r, kinds[k % 3]))
+        .collect();
+    glitches.sort_unstable_by_key(|g| g.0);
+    // from the last row back, so that an inserted row moves no later pick
+    for &(r, kind) in glitches.iter().rev() {
+        match kind {
+            TimeGlitch::Duplicate => records.insert(r + 1, records[r]),
+            TimeGlitch::Swap => records.swap(r, r + 1),
+            TimeGlitch::Late => records[r].sample.t += LATE_STAMP_S,
+        }
+    }
+    // rows in the output: every duplicate before a glitch shifts it by one
+    let mut shift = 0;
+    for g in &mut glitches {
+        g.0 += shift;
+        if g.1 == TimeGlitch::Duplicate {
+            shift += 1;
+        }
+    }
+    glitches
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use limbfuse_core::ImuSample;
+
+    #[test]
+    fn time_glitches_are_one_duplicate_one_swap_and_one_late_stamp_in_turn() {
+        let records: std::vec::Vec<Record> = (0..300)
+            .map(|k| {
+                let mut r = Record::default();
+                r.sample.t = k as f64 * 0.01;
+                r.sample.encoder[1] = Some(k as f64);
+                r
+            })
+            .collect();
+        let mut out = records.clone();
+        let g = add_time_glitches(&mut out, 6, 3);
+        assert_eq!(g.len(), 6);
+        assert_eq!(out.len(), 302);
+        let mut again = records.clone();
+        assert_eq!(add_time_glitches(&mut again, 6, 3), g);
+        for &(r, kind) in &g {
+            let (a, b) = (&out[r].sample, &out[r + 1].sample);
+            match kind {
+                TimeGlitch::Duplicate => assert_eq!((a.t, a.encoder), (b.t, b.encoder)),
+                TimeGlitch::Swap => {
+                    assert!(a.t > b.t);
+                    assert_eq!(a.encoder[1].unwrap(), b.encoder[1].unwrap() + 1.0);
+                    assert!((a.t - 0.01 * a.encoder[1].unwrap()).abs() < 1e-9);
+                }
+                TimeGlitch::Late => {
+                    let k = a.encoder[1].unwrap();
+                    assert!((a.t - (0.01 * k + LATE_STAMP_S)).abs() < 1e-9);
+                }
+            }
+        }
+        // every row but the late ones keeps its own stamp
+        let late: std::vec::Vec<usize> = g
+            .iter()
+            .filter(|x| x.1 == TimeGlitch::Late)
+            .map(|x| x.0)
+            .collect();
+        let unchanged = (0..out.len()).filter(|i| !late.contains(i)).all(|i| {
+            let k = out[i].sample.encoder[1].unwrap();
+            (out[i].sample.t - 0.01 * k).abs() < 1e-9
+        });
+        assert!(unchanged);
+        for kind in [TimeGlitch::Duplicate, TimeGlitch::Swap, TimeGlitch::Late] {
+            assert_eq!(g.iter().filter(|x| x.1 == kind).count(), 2);
+        }
+    }
 
     #[test]
     fn gyro_spikes_change_one_axis_of_the_drawn_rows_only() {

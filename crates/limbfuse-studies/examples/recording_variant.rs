@@ -5,7 +5,8 @@
 //! (stimulation, motor torques) emptied over a time window, the other leg's IMU
 //! columns removed, or the two legs' IMU columns and contact references
 //! exchanged without mirroring the readings, the time stamps jittered, or
-//! an encoder stuck or re-zeroed, or single-sample gyroscope spikes added.
+//! an encoder stuck or re-zeroed, single-sample gyroscope spikes added, or
+//! time-stamp glitches (a duplicate row, a swapped pair, a late stamp).
 //! Other rates and the mirror
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
@@ -13,7 +14,7 @@
 //! [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
 //! [--jitter-seed S]] [--stick-encoder JOINT:START:END ...]
 //! [--offset-encoder JOINT:START:RAD ...] [--gyro-spikes N [--spike-rad-s A]
-//! [--spike-from T] [--spike-seed S]]`
+//! [--spike-from T] [--spike-seed S]] [--time-glitches N [--glitch-seed S]]`
 
 use std::io::BufWriter;
 use std::path::Path;
@@ -22,7 +23,7 @@ use clap::Parser;
 use limbfuse_core::sample::ModelInputs;
 use limbfuse_core::ImuSample;
 use limbfuse_io::TrialWriter;
-use limbfuse_signal::recording_variants::{add_gyro_spikes, jitter_times};
+use limbfuse_signal::recording_variants::{add_gyro_spikes, add_time_glitches, jitter_times};
 use limbfuse_studies::example_args::RecordingVariantArgs;
 use limbfuse_studies::recorded_trial::RecordedTrial;
 
@@ -92,6 +93,15 @@ fn main() {
             args.trial,
             rows.len(),
             args.spike_rad_s
+        );
+    }
+    if let Some(n) = args.time_glitches {
+        let g = add_time_glitches(&mut out, n, args.glitch_seed);
+        eprintln!(
+            "{}: {} time-stamp glitches at rows {:?}",
+            args.trial,
+            g.len(),
+            g
         );
     }
     if args.drop_other_leg {

@@ -9,7 +9,7 @@ use clap::Parser;
 /// [--blank-inputs A:B ...] [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
 /// [--jitter-ms MS [--jitter-seed S]] [--stick-encoder JOINT:A:B ...]
 /// [--offset-encoder JOINT:T:RAD ...] [--gyro-spikes N [--spike-rad-s A] [--spike-from T]
-/// [--spike-seed S]]`.
+/// [--spike-seed S]] [--time-glitches N [--glitch-seed S]]`.
 #[derive(Debug, Parser)]
 #[command(name = "recording_variant")]
 pub struct RecordingVariantArgs {
@@ -75,6 +75,15 @@ pub struct RecordingVariantArgs {
     /// Seed of `--gyro-spikes`.
     #[arg(long, default_value_t = 1)]
     pub spike_seed: u64,
+    /// N time-stamp glitches at seeded random rows, in turn a row written
+    /// twice, two rows written in the wrong order and one stamp 0.5 s late
+    /// (`limbfuse_signal::recording_variants::add_time_glitches`): a file
+    /// every reader refuses until `limbfuse repair-time` repairs it.
+    #[arg(long, value_name = "N")]
+    pub time_glitches: Option<usize>,
+    /// Seed of `--time-glitches`.
+    #[arg(long, default_value_t = 1)]
+    pub glitch_seed: u64,
 }
 
 /// `JOINT:A:B` with JOINT one of hip, knee, ankle (its index) and two

@@ -18,6 +18,7 @@ mod mirror;
 mod montecarlo;
 mod output_paths;
 mod protocol;
+mod repair_time;
 mod report;
 mod resample;
 mod shell_word;
@@ -58,6 +59,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Align(a) => align::run(&a),
         Command::Mirror(a) => mirror::run(&a),
         Command::Resample(a) => resample::run(&a),
+        Command::RepairTime(a) => repair_time::run(&a),
         Command::Tune(a) => tune::run(&a),
         Command::Methods => method_list::list(),
         Command::Params(a) => method_list::params(&a),

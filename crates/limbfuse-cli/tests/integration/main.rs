@@ -62,6 +62,7 @@ mod mirror_truth_cli;
 mod parameters_that_mean_nothing;
 mod provenance_of_outputs;
 mod raw_frames_warning;
+mod repair_time_cli;
 mod report_audit_28;
 mod report_audit_dec05;
 mod report_review27;

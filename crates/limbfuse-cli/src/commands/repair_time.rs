@@ -1,0 +1,89 @@
+//! `limbfuse repair-time TRIAL -o OUT [--out-of-order drop|sort]`: a copy of a
+//! trial whose time increases strictly (`limbfuse_io::time_repair`).
+
+use anyhow::{bail, Context, Result};
+use limbfuse_io::time_repair::{repair_time, DropReason, TimeOrder, TimeRepairReport};
+
+use crate::cli::{RepairTimeArgs, TimeOrderArg};
+
+/// Share of dropped rows beyond which the report warns that this is more
+/// than a glitch: 1 % (at 100 Hz, one row in each second dropped).
+const MANY_DROPPED: f64 = 0.01;
+
+/// Line ranges shown per reason.
+const RANGES_SHOWN: usize = 8;
+
+/// Repairs the trial's time column and says what was dropped or moved.
+pub fn run(a: &RepairTimeArgs) -> Result<()> {
+    super::refuse_stdout(&a.output)?;
+    super::refuse_input_as_output(&a.trial, &a.output)?;
+    if limbfuse_io::arrow_file::is_arrow_path(&a.output) {
+        bail!(
+            "-o {}: `repair-time` writes a CSV trial file; name the output `.csv` (an Arrow input is \
+             read, its rows written as CSV)",
+            a.output.display()
+        );
+    }
+    let order = match a.out_of_order {
+        TimeOrderArg::Drop => TimeOrder::Drop,
+        TimeOrderArg::Sort => TimeOrder::Sort,
+    };
+    let r = repair_time(&a.trial, &a.output, order)
+        .with_context(|| format!("repairing the time of {}", a.trial.display()))?;
+    eprint!("{}", said(a, &r));
+    Ok(())
+}
+
+/// The report on stderr.
+fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
+    let (input, output) = (a.trial.display(), a.output.display());
+    if r.was_clean() {
+        return format!(
+            "{input}: the time already increases on every row; {} rows copied -> {output}\n",
+            r.rows_read
+        );
+    }
+    let mut out = format!(
+        "repaired the time of {input}: {} of {} rows kept -> {output}\n",
+        r.rows_kept, r.rows_read
+    );
+    for reason in [
+        DropReason::Duplicate,
+        DropReason::SameTimeOtherValues,
+        DropReason::OutOfOrder,
+    ] {
+        let n = r.count(reason);
+        if n > 0 {
+            out += &format!(
+                "  {n} dropped, {} (line {})\n",
+                reason.said(),
+                r.line_ranges(reason, RANGES_SHOWN)
+            );
+        }
+    }
+    if r.moved > 0 {
+        out += &format!("  {} rows moved into time order\n", r.moved);
+    }
+    if r.largest_step_back_s > 0.0 {
+        out += &format!(
+            "  largest step back in time: {} s\n",
+            limbfuse_methods::shown(r.largest_step_back_s)
+        );
+    }
+    if r.sorted_onto_a_taken_time > 0 {
+        out += &format!(
+            "warning: {input}: {} rows sorted onto the time of another row: packets that only \
+             arrived late keep a time of their own, so these time stamps are wrong \
+             (`--out-of-order drop` drops them)\n",
+            r.sorted_onto_a_taken_time
+        );
+    }
+    if r.dropped_share() > MANY_DROPPED {
+        out += &format!(
+            "warning: {input}: {:.1} % of the rows dropped: more than a glitch (a clock reset or two \
+             recordings joined look like this); check the recording before using the copy\n",
+            100.0 * r.dropped_share()
+        );
+    }
+    out
+}

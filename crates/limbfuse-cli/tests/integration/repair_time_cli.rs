@@ -1,0 +1,143 @@
+//! `limbfuse repair-time`: a recording whose time does not increase (a row
+//! written twice, two rows in the wrong order, one stamp 0.5 s late) stops
+//! every reader at the first such row; the repaired copy holds only rows of
+//! the clean recording, in order, and runs.
+
+use crate::support::limbfuse;
+
+/// The data rows of a trial file (after the comment lines and the header).
+fn data_rows(text: &str) -> Vec<String> {
+    text.lines()
+        .skip_while(|l| l.starts_with('#'))
+        .skip(1)
+        .map(str::to_string)
+        .collect()
+}
+
+/// The clean trial's text with, at data rows `dup`, `swap` and `late`: the
+/// row written twice, the row and the next in the wrong order, the row's
+/// stamp 0.5 s late.
+fn glitched(clean: &str, dup: usize, swap: usize, late: usize) -> String {
+    let head: Vec<&str> = clean
+        .lines()
+        .take_while(|l| l.starts_with('#') || l.starts_with("t,"))
+        .collect();
+    let mut rows = data_rows(clean);
+    let (t, rest) = rows[late].split_once(',').unwrap();
+    rows[late] = format!("{},{rest}", t.parse::<f64>().unwrap() + 0.5);
+    rows.swap(swap, swap + 1);
+    rows.insert(dup + 1, rows[dup].clone());
+    let mut out = head.join("\n");
+    for r in rows {
+        out.push('\n');
+        out.push_str(&r);
+    }
+    out.push('\n');
+    out
+}
+
+#[test]
+fn a_glitched_time_column_is_refused_then_repaired_to_rows_of_the_clean_file() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &["simulate", "walking", "--duration", "8", "-o", "w.csv"],
+        p,
+    );
+    assert!(o.status.success());
+    let clean = std::fs::read_to_string(p.join("w.csv")).unwrap();
+    let header_line = clean.lines().take_while(|l| l.starts_with('#')).count() + 1;
+    std::fs::write(p.join("g.csv"), glitched(&clean, 100, 300, 500)).unwrap();
+    // every reader stops at the duplicate (data row 101 = line header + 102)
+    let o = limbfuse(&["estimate", "--method", "mjls", "g.csv", "-o", "e.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    let line = header_line + 102;
+    assert!(
+        e.contains(&format!(
+            "g.csv:{line}: column 1 (`t`): time must increase strictly"
+        )) && e.contains("`limbfuse repair-time`"),
+        "{e}"
+    );
+    let o = limbfuse(&["repair-time", "g.csv", "-o", "r.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("798 of 801 rows kept")
+            && e.contains(&format!(
+                "1 dropped, exact duplicates of an earlier row (line {line})"
+            ))
+            && e.contains("2 dropped, time stamps out of order")
+            && e.contains("largest step back in time: 0.49"),
+        "{e}"
+    );
+    let repaired = std::fs::read_to_string(p.join("r.csv")).unwrap();
+    assert!(repaired.contains("# time_repaired: 798 of 801 rows kept"));
+    // the rows kept are rows of the clean file, cell for cell, in its order
+    let (clean_rows, kept) = (data_rows(&clean), data_rows(&repaired));
+    assert_eq!(kept.len(), 798);
+    let mut at = clean_rows.iter();
+    for row in &kept {
+        assert!(at.any(|c| c == row), "not a clean row in order: {row}");
+    }
+    let o = limbfuse(&["estimate", "--method", "mjls", "r.csv", "-o", "e.csv"], p);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // rows in the wrong order only: sorting gives the clean file's rows back
+    let swapped = {
+        let mut rows = data_rows(&clean);
+        rows.swap(300, 301);
+        let head: Vec<&str> = clean.lines().take(header_line).collect();
+        format!("{}\n{}\n", head.join("\n"), rows.join("\n"))
+    };
+    std::fs::write(p.join("s.csv"), swapped).unwrap();
+    let o = limbfuse(
+        &[
+            "repair-time",
+            "s.csv",
+            "-o",
+            "s2.csv",
+            "--out-of-order",
+            "sort",
+        ],
+        p,
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && e.contains("1 rows moved into time order"),
+        "{e}"
+    );
+    let sorted = std::fs::read_to_string(p.join("s2.csv")).unwrap();
+    assert_eq!(data_rows(&sorted), clean_rows);
+}
+
+#[test]
+fn repair_time_writes_csv_and_copies_a_clean_file() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &["simulate", "walking", "--duration", "2", "-o", "w.csv"],
+        p,
+    );
+    assert!(o.status.success());
+    let o = limbfuse(&["repair-time", "w.csv", "-o", "w.arrow"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("-o w.arrow: `repair-time` writes a CSV trial file"),
+        "{e}"
+    );
+    let o = limbfuse(&["repair-time", "w.csv", "-o", "w.csv"], p);
+    assert_eq!(o.status.code(), Some(1));
+    let o = limbfuse(&["repair-time", "w.csv", "-o", "c.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success()
+            && e.contains("the time already increases on every row; 200 rows copied"),
+        "{e}"
+    );
+    let (a, b) = (
+        std::fs::read_to_string(p.join("w.csv")).unwrap(),
+        std::fs::read_to_string(p.join("c.csv")).unwrap(),
+    );
+    assert_eq!(data_rows(&a), data_rows(&b));
+}
