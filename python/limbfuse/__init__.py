@@ -29,7 +29,7 @@ from ._estimate import (
     read_estimate,
 )
 from ._filter import Filter
-from ._workflows import Calibration, align, calibrate, gait_library, report, simulate
+from ._workflows import Calibration, align, calibrate, gait_library, repair_time, report, simulate
 
 if TYPE_CHECKING:  # pragma: no cover
     from . import cohort as cohort  # (imported on first use: `__getattr__` below)
@@ -69,6 +69,7 @@ __all__ = [
     "methods",
     "read_estimate",
     "read_trial",
+    "repair_time",
     "report",
     "simulate",
     "write_trial",

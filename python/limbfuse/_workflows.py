@@ -145,6 +145,26 @@ def gait_library(
     )
 
 
+def repair_time(path: PathLike, output: PathLike, out_of_order: str = "drop") -> Dict[str, Any]:
+    """Writes to `output` (CSV) a copy of the trial file `path` whose time
+    increases strictly, as ``limbfuse repair-time`` does (docs/ROBUST_INPUT.md
+    "A time column that does not increase"): exact duplicate rows and rows
+    repeating the time of the row before are dropped; rows whose time stamp
+    goes back are dropped (``out_of_order="drop"``: one of the longest runs
+    of rows in file order whose time increases is kept) or sorted into time
+    order (``"sort"``). The cells are copied as written.
+
+    Returns ``rows_read``, ``rows_kept``, ``moved`` (rows sorted into
+    place), ``sorted_onto_a_taken_time`` (sorted rows that landed on another
+    row's time: wrong stamps), ``largest_step_back_s`` and ``dropped``: one
+    dict per dropped row with its ``line``, ``t``, ``reason``
+    (``"duplicate"``, ``"same_time_other_values"`` or ``"out_of_order"``)
+    and ``kept_line`` (the row it repeats, or None)."""
+    if not isinstance(out_of_order, str):
+        raise TypeError(f"out_of_order: expected \"drop\" or \"sort\", found {out_of_order!r}")
+    return dict(_native.repair_time(os.fsdecode(path), os.fsdecode(output), out_of_order))
+
+
 def _number(name: str, value: Any) -> float:
     """A number option of ``gait_library``, named when it is not one (an
     audit: "could not convert string to float: 'a'")."""

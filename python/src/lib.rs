@@ -33,6 +33,7 @@ mod interrupt;
 mod options;
 mod simulate;
 mod strides;
+mod time_repair;
 mod trial;
 mod workflows;
 
@@ -218,6 +219,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     estimate_file::register(m)?;
     evaluate::register(m)?;
     strides::register(m)?;
+    time_repair::register(m)?;
     simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;

@@ -64,6 +64,22 @@ pub enum DropReason {
 }
 
 impl DropReason {
+    /// Every reason, in the order the reports list them.
+    pub const ALL: [DropReason; 3] = [
+        DropReason::Duplicate,
+        DropReason::SameTimeOtherValues,
+        DropReason::OutOfOrder,
+    ];
+
+    /// Its name in Python's `limbfuse.repair_time` report.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DropReason::Duplicate => "duplicate",
+            DropReason::SameTimeOtherValues => "same_time_other_values",
+            DropReason::OutOfOrder => "out_of_order",
+        }
+    }
+
     /// How the report names it.
     pub const fn said(self) -> &'static str {
         match self {
@@ -151,11 +167,7 @@ impl TimeRepairReport {
             "{} of {} rows kept",
             self.rows_kept, self.rows_read
         )];
-        for reason in [
-            DropReason::Duplicate,
-            DropReason::SameTimeOtherValues,
-            DropReason::OutOfOrder,
-        ] {
+        for reason in DropReason::ALL {
             let n = self.count(reason);
             if n > 0 {
                 parts.push(format!("{n} dropped: {}", reason.said()));

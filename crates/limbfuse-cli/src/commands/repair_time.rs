@@ -47,11 +47,7 @@ fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
         "repaired the time of {input}: {} of {} rows kept -> {output}\n",
         r.rows_kept, r.rows_read
     );
-    for reason in [
-        DropReason::Duplicate,
-        DropReason::SameTimeOtherValues,
-        DropReason::OutOfOrder,
-    ] {
+    for reason in DropReason::ALL {
         let n = r.count(reason);
         if n > 0 {
             out += &format!(
