@@ -85,7 +85,7 @@ impl DropReason {
         match self {
             DropReason::Duplicate => "exact duplicates of an earlier row",
             DropReason::SameTimeOtherValues => {
-                "the time of the row before with other values (that one kept)"
+                "rows with the time of the row before and other values (that one kept)"
             }
             DropReason::OutOfOrder => "time stamps out of order",
         }
@@ -159,6 +159,24 @@ impl TimeRepairReport {
             .map(|d| d.line)
             .collect();
         line_ranges(&lines, max)
+    }
+
+    /// One line per reason with rows dropped: how many, why, and their
+    /// lines (at most `max_ranges` ranges): `10 exact duplicates of an
+    /// earlier row (line 279, 305)`.
+    pub fn dropped_lines(&self, max_ranges: usize) -> Vec<String> {
+        DropReason::ALL
+            .into_iter()
+            .filter(|&r| self.count(r) > 0)
+            .map(|r| {
+                format!(
+                    "{} {} (line {})",
+                    self.count(r),
+                    r.said(),
+                    self.line_ranges(r, max_ranges)
+                )
+            })
+            .collect()
     }
 
     /// The value of the `# time_repaired:` metadata line.
@@ -327,6 +345,23 @@ pub fn repair_time(
 ) -> Result<TimeRepairReport, FileError> {
     let mut table = TableReader::open(input)?;
     let rows = read_rows(&mut table)?;
+    let (report, kept) = plan(&rows, order);
+    write_rows(&table, &rows, &kept, output, &report.metadata_value(order))
+        .map_err(|e| FileError::io(output, e))?;
+    Ok(report)
+}
+
+/// What [`repair_time`] with [`TimeOrder::Drop`] would drop from the trial
+/// at `input`, without writing anything (`limbfuse inspect` on a file whose
+/// time does not increase).
+pub fn time_problems(input: &Path) -> Result<TimeRepairReport, FileError> {
+    let mut table = TableReader::open(input)?;
+    let rows = read_rows(&mut table)?;
+    Ok(plan(&rows, TimeOrder::Drop).0)
+}
+
+/// The report and the rows to keep, in output order.
+fn plan(rows: &Rows, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
     let n = rows.t.len();
     let mut report = TimeRepairReport {
         rows_read: n,
@@ -361,7 +396,7 @@ pub fn repair_time(
     for &i in &unique {
         match candidates.last() {
             Some(&j) if rows.t[j] == rows.t[i] => {
-                report.dropped.push(same_time(&rows, i, j));
+                report.dropped.push(same_time(rows, i, j));
             }
             _ => candidates.push(i),
         }
@@ -395,7 +430,7 @@ pub fn repair_time(
             for i in sorted {
                 match kept.last() {
                     Some(&j) if rows.t[j] == rows.t[i] => {
-                        report.dropped.push(same_time(&rows, i, j));
+                        report.dropped.push(same_time(rows, i, j));
                         report.sorted_onto_a_taken_time += 1;
                     }
                     _ => kept.push(i),
@@ -406,9 +441,7 @@ pub fn repair_time(
     };
     report.dropped.sort_by_key(|d| d.line);
     report.rows_kept = kept.len();
-    write_rows(&table, &rows, &kept, output, &report.metadata_value(order))
-        .map_err(|e| FileError::io(output, e))?;
-    Ok(report)
+    (report, kept)
 }
 
 /// Writes the metadata, `# time_repaired: repaired`, the header and the

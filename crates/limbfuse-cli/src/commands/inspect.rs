@@ -4,7 +4,8 @@
 use anyhow::Result;
 use limbfuse_eval::fixed_thigh::thigh_motion_notes;
 use limbfuse_eval::{summarise, TrialSummary};
-use limbfuse_io::{TrialMeta, TrialReader};
+use limbfuse_io::time_repair::time_problems;
+use limbfuse_io::{FileError, TrialMeta, TrialReader};
 use limbfuse_methods::{availability, metadata_settings, Availability};
 use limbfuse_workflows::align_verdict::{align_verdict, AlignVerdict};
 
@@ -25,9 +26,12 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         });
         let (meta, layout, s) = match inspected {
             Ok(x) => x,
-            Err(e) if a.trials.len() == 1 => return Err(e.into()),
             Err(e) => {
-                eprintln!("error: {e}");
+                let e = with_time_problems(path, e);
+                if a.trials.len() == 1 {
+                    return Err(e);
+                }
+                eprintln!("error: {e:#}");
                 failed += 1;
                 continue;
             }
@@ -71,6 +75,29 @@ pub fn run(a: &InspectArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A time column that does not increase: the first row that breaks it
+/// (the error), then what `repair-time` would drop over the whole file.
+fn with_time_problems(path: &std::path::Path, e: FileError) -> anyhow::Error {
+    if !matches!(e, FileError::TimeNotIncreasing { .. }) {
+        return e.into();
+    }
+    match time_problems(path) {
+        Ok(r) => {
+            let lines = r.dropped_lines(super::repair_time::RANGES_SHOWN);
+            anyhow::Error::new(e).context(format!(
+                "{}: its time does not increase on every row: `limbfuse repair-time {} -o OUT` \
+                 would drop {} of its {} rows: {}",
+                path.display(),
+                super::shell_word(&path.display().to_string()),
+                r.dropped.len(),
+                r.rows_read,
+                lines.join("; "),
+            ))
+        }
+        Err(_) => e.into(),
+    }
 }
 
 /// The JSON form of one trial (the keys of Python's `limbfuse.inspect`).

@@ -2,7 +2,7 @@
 //! trial whose time increases strictly (`limbfuse_io::time_repair`).
 
 use anyhow::{bail, Context, Result};
-use limbfuse_io::time_repair::{repair_time, DropReason, TimeOrder, TimeRepairReport};
+use limbfuse_io::time_repair::{repair_time, TimeOrder, TimeRepairReport};
 
 use crate::cli::{RepairTimeArgs, TimeOrderArg};
 
@@ -11,7 +11,7 @@ use crate::cli::{RepairTimeArgs, TimeOrderArg};
 const MANY_DROPPED: f64 = 0.01;
 
 /// Line ranges shown per reason.
-const RANGES_SHOWN: usize = 8;
+pub const RANGES_SHOWN: usize = 8;
 
 /// Repairs the trial's time column and says what was dropped or moved.
 pub fn run(a: &RepairTimeArgs) -> Result<()> {
@@ -47,15 +47,8 @@ fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
         "repaired the time of {input}: {} of {} rows kept -> {output}\n",
         r.rows_kept, r.rows_read
     );
-    for reason in DropReason::ALL {
-        let n = r.count(reason);
-        if n > 0 {
-            out += &format!(
-                "  {n} dropped, {} (line {})\n",
-                reason.said(),
-                r.line_ranges(reason, RANGES_SHOWN)
-            );
-        }
+    for line in r.dropped_lines(RANGES_SHOWN) {
+        out += &format!("  dropped: {line}\n");
     }
     if r.moved > 0 {
         out += &format!("  {} rows moved into time order\n", r.moved);

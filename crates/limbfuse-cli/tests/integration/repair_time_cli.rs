@@ -59,15 +59,26 @@ fn a_glitched_time_column_is_refused_then_repaired_to_rows_of_the_clean_file() {
         )) && e.contains("`limbfuse repair-time`"),
         "{e}"
     );
+    // `inspect` adds what the repair would drop over the whole file
+    let o = limbfuse(&["inspect", "g.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains(&format!(
+            "`limbfuse repair-time g.csv -o OUT` would drop 3 of its 801 rows: 1 exact duplicates \
+             of an earlier row (line {line}); 2 time stamps out of order (line "
+        )),
+        "{e}"
+    );
     let o = limbfuse(&["repair-time", "g.csv", "-o", "r.csv"], p);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{e}");
     assert!(
         e.contains("798 of 801 rows kept")
             && e.contains(&format!(
-                "1 dropped, exact duplicates of an earlier row (line {line})"
+                "dropped: 1 exact duplicates of an earlier row (line {line})"
             ))
-            && e.contains("2 dropped, time stamps out of order")
+            && e.contains("dropped: 2 time stamps out of order")
             && e.contains("largest step back in time: 0.49"),
         "{e}"
     );
