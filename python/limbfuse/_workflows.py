@@ -156,7 +156,8 @@ def repair_time(path: PathLike, output: PathLike, out_of_order: str = "drop") ->
 
     Returns ``rows_read``, ``rows_kept``, ``moved`` (rows sorted into
     place), ``sorted_onto_a_taken_time`` (sorted rows that landed on another
-    row's time: wrong stamps), ``largest_step_back_s`` and ``dropped``: one
+    row's time: wrong stamps), ``largest_step_back_s``, ``median_step_s`` (of
+    the forward steps) and ``dropped``: one
     dict per dropped row with its ``line``, ``t``, ``reason``
     (``"duplicate"``, ``"same_time_other_values"`` or ``"out_of_order"``)
     and ``kept_line`` (the row it repeats, or None)."""

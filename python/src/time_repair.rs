@@ -52,6 +52,7 @@ fn repair_time<'py>(
         d.set_item("moved", r.moved)?;
         d.set_item("sorted_onto_a_taken_time", r.sorted_onto_a_taken_time)?;
         d.set_item("largest_step_back_s", r.largest_step_back_s)?;
+        d.set_item("median_step_s", r.median_step_s)?;
         let dropped = r
             .dropped
             .iter()

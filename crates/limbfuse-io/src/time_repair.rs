@@ -126,12 +126,23 @@ pub struct TimeRepairReport {
     /// Largest step back in time between two consecutive rows of the input
     /// (s; 0 when `t` never goes back).
     pub largest_step_back_s: f64,
+    /// Median of the input's forward time steps (s; 0 without any): with
+    /// [`TimeRepairReport::largest_step_back_s`] it tells stamps that jitter
+    /// (every step back under a sample period) from a clock that jumps.
+    pub median_step_s: f64,
 }
 
 impl TimeRepairReport {
     /// Rows dropped for `reason`.
     pub fn count(&self, reason: DropReason) -> usize {
         self.dropped.iter().filter(|d| d.reason == reason).count()
+    }
+
+    /// Whether every step back is shorter than the median forward step: time
+    /// stamps that jitter by about a sample period, not a clock that jumps
+    /// (the rows are then likely in order, their stamps noisy).
+    pub fn steps_back_are_jitter(&self) -> bool {
+        self.largest_step_back_s > 0.0 && self.largest_step_back_s < self.median_step_s
     }
 
     /// Share of the rows read that were dropped (0-1).
@@ -367,8 +378,16 @@ fn plan(rows: &Rows, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
         rows_read: n,
         ..TimeRepairReport::default()
     };
+    let mut forward = Vec::with_capacity(n);
     for w in rows.t.windows(2) {
         report.largest_step_back_s = report.largest_step_back_s.max(w[0] - w[1]);
+        if w[1] > w[0] {
+            forward.push(w[1] - w[0]);
+        }
+    }
+    if !forward.is_empty() {
+        let mid = forward.len() / 2;
+        report.median_step_s = *forward.select_nth_unstable_by(mid, f64::total_cmp).1;
     }
     // Exact duplicates: every cell (so the time too) of an earlier row.
     let mut first_at: HashMap<u64, usize> = HashMap::with_capacity(n);

@@ -55,8 +55,8 @@ fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
     }
     if r.largest_step_back_s > 0.0 {
         out += &format!(
-            "  largest step back in time: {} s\n",
-            limbfuse_methods::shown(r.largest_step_back_s)
+            "  largest step back in time: {:.3} s (median step {:.3} s)\n",
+            r.largest_step_back_s, r.median_step_s
         );
     }
     if r.sorted_onto_a_taken_time > 0 {
@@ -67,7 +67,14 @@ fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
             r.sorted_onto_a_taken_time
         );
     }
-    if r.dropped_share() > MANY_DROPPED {
+    if r.dropped_share() > MANY_DROPPED && r.steps_back_are_jitter() {
+        out += &format!(
+            "warning: {input}: {:.1} % of the rows dropped, every step back shorter than a sample \
+             period: time stamps that jitter by that much, on rows likely in order; \
+             `--out-of-order sort` keeps every row (docs/ROBUST_INPUT.md 2m)\n",
+            100.0 * r.dropped_share()
+        );
+    } else if r.dropped_share() > MANY_DROPPED {
         out += &format!(
             "warning: {input}: {:.1} % of the rows dropped: more than a glitch (a clock reset or two \
              recordings joined look like this); check the recording before using the copy\n",

@@ -157,6 +157,37 @@ fn a_clock_reset_is_reported_as_a_block_of_lines() {
     // the five dropped rows are consecutive lines
     let ranges = r.line_ranges(DropReason::OutOfOrder, 3);
     assert!(!ranges.contains(','), "{ranges}");
+    assert!((r.median_step_s - 0.01).abs() < 1e-12);
+    assert!(!r.steps_back_are_jitter());
+}
+
+#[test]
+fn stamps_that_jitter_by_more_than_half_a_period_are_told_from_a_jump() {
+    // rows in order, stamps k / 100 + (0, +6, -6, 0) ms in turn: steps of
+    // 16, -2, 16, 10 ms, so every step back (2 ms) is under the median
+    // forward step (16 ms)
+    let mut rows = String::new();
+    for k in 0..40 {
+        let jitter = if k % 4 == 1 {
+            0.006
+        } else if k % 4 == 2 {
+            -0.006
+        } else {
+            0.0
+        };
+        rows += &format!("{},{k},\n", k as f64 / 100.0 + jitter);
+    }
+    let (r, _) = repaired(&rows, TimeOrder::Drop);
+    assert!(r.count(DropReason::OutOfOrder) > 0);
+    assert!(
+        (r.largest_step_back_s - 0.002).abs() < 1e-9,
+        "{}",
+        r.largest_step_back_s
+    );
+    assert!(r.steps_back_are_jitter());
+    let (r, out) = repaired(&rows, TimeOrder::Sort);
+    assert_eq!(r.rows_kept, 40);
+    assert_eq!(data(&out).len(), 40);
 }
 
 #[test]
