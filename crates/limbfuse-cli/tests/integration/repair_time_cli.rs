@@ -151,4 +151,22 @@ fn repair_time_writes_csv_and_copies_a_clean_file() {
         std::fs::read_to_string(p.join("c.csv")).unwrap(),
     );
     assert_eq!(data_rows(&a), data_rows(&b));
+    // an Arrow input's rows come out as the CSV writer writes them (labels too)
+    for (scenario, extra) in [
+        ("walking", &["--duration", "2"][..]),
+        ("bslip", &["--duration", "2"][..]),
+    ] {
+        for out in ["s.arrow", "s.csv"] {
+            let mut args = vec!["simulate", scenario, "-o", out];
+            args.extend_from_slice(extra);
+            assert!(limbfuse(&args, p).status.success());
+        }
+        let o = limbfuse(&["repair-time", "s.arrow", "-o", "sa.csv"], p);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (csv, from_arrow) = (
+            std::fs::read_to_string(p.join("s.csv")).unwrap(),
+            std::fs::read_to_string(p.join("sa.csv")).unwrap(),
+        );
+        assert_eq!(data_rows(&csv), data_rows(&from_arrow), "{scenario}");
+    }
 }
