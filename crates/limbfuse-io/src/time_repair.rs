@@ -4,8 +4,9 @@
 //! in three ways, which this module tells apart and repairs by dropping rows
 //! (or, on request, by sorting them), never by inventing a time stamp:
 //!
-//! * an **exact duplicate**: a row whose `t` and every other cell repeat an
-//!   earlier row (a logger that wrote a packet twice): dropped;
+//! * an **exact duplicate**: a row whose `t` and every other cell repeat the
+//!   row before it (a logger that wrote a packet twice): dropped (a copy
+//!   written further on breaks the order, and goes as out of order);
 //! * **the same time, other values**: a row whose `t` repeats the row
 //!   before it but whose cells differ. Which of the two readings belongs to
 //!   that instant cannot be told from the file: the first is kept, the later
@@ -22,7 +23,10 @@
 //!   which is right when the rows are packets that arrived out of order but
 //!   carry their sensor's time stamps, and wrong when a time stamp is wrong.
 //!
-//! The cells are copied as written (no number is re-read or re-formatted;
+//! Two passes over the input: the first keeps each row's time, line and
+//! number (24 bytes a row) and the text of one row; the second writes the
+//! rows kept (with [`TimeOrder::Sort`], a row read before its turn waits in
+//! memory). The cells are copied as written (no number is re-read or re-formatted;
 //! an Arrow input's numbers are written as the trial writer writes them),
 //! unknown columns included; the metadata lines are kept and one is added,
 //! `# time_repaired:`, saying what was dropped.
@@ -83,7 +87,7 @@ impl DropReason {
     /// How the report names it.
     pub const fn said(self) -> &'static str {
         match self {
-            DropReason::Duplicate => "exact duplicates of an earlier row",
+            DropReason::Duplicate => "exact duplicates of the row before",
             DropReason::SameTimeOtherValues => {
                 "rows with the time of the row before and other values (that one kept)"
             }
@@ -235,22 +239,6 @@ fn line_ranges(lines: &[u64], max: usize) -> String {
     out.join(", ")
 }
 
-/// The rows of a table: each row's time, line and CSV text (cells joined by
-/// commas, quoted where they must be), in one buffer.
-struct Rows {
-    t: Vec<f64>,
-    line: Vec<u64>,
-    span: Vec<(usize, usize)>,
-    text: Vec<u8>,
-}
-
-impl Rows {
-    fn text(&self, i: usize) -> &[u8] {
-        let (a, b) = self.span[i];
-        &self.text[a..b]
-    }
-}
-
 /// Appends `cell` as a CSV cell (quoted when it holds a comma, a quote or a
 /// line break).
 fn push_csv_cell(out: &mut Vec<u8>, cell: &[u8]) {
@@ -289,47 +277,93 @@ fn push_row(out: &mut Vec<u8>, row: &Row<'_>, columns: usize, buf: &mut zmij::Bu
     }
 }
 
-fn read_rows(table: &mut TableReader) -> Result<Rows, FileError> {
+/// What the first pass keeps: per row that may be written (a *candidate*:
+/// not a repeat of the row before), its time, line and row number; the
+/// repeats already dropped; the time steps. Memory is 24 bytes per row and
+/// the text of one row, whatever the file's length (a week of lower-back
+/// recording at 100 Hz is 60 million rows).
+struct Scan {
+    rows_read: usize,
+    t: Vec<f64>,
+    line: Vec<u64>,
+    row: Vec<usize>,
+    dropped: Vec<DroppedRow>,
+    largest_step_back_s: f64,
+    median_step_s: f64,
+}
+
+/// The first pass: every row's time; a row with the time of the candidate
+/// before it is dropped there (an exact duplicate, or the same time with
+/// other values: the first is kept). Only the row before is compared: a
+/// stamp 0.5 s late can equal, bit for bit, the stamp of the row 0.5 s on,
+/// which is the one to keep (the late one goes as out of order), and a copy
+/// written further on is out of order too.
+fn scan(table: &mut TableReader) -> Result<Scan, FileError> {
     let t_col = table.time_column()?;
     let columns = table.header().len();
-    let mut rows = Rows {
+    let mut s = Scan {
+        rows_read: 0,
         t: Vec::new(),
         line: Vec::new(),
-        span: Vec::new(),
-        text: Vec::new(),
+        row: Vec::new(),
+        dropped: Vec::new(),
+        largest_step_back_s: 0.0,
+        median_step_s: 0.0,
     };
     let mut buf = zmij::Buffer::new();
+    // the last candidate's text, and the row being compared with it
+    let (mut last, mut text) = (Vec::new(), Vec::new());
+    let mut forward = Vec::new();
+    let mut previous: Option<f64> = None;
     while let Some(row) = table.next_row()? {
         // (present and finite; its order is this module's business)
         let t = row.time(t_col, None)?;
-        let start = rows.text.len();
-        push_row(&mut rows.text, &row, columns, &mut buf);
-        rows.t.push(t);
-        rows.line.push(row.line());
-        rows.span.push((start, rows.text.len()));
+        if let Some(p) = previous {
+            s.largest_step_back_s = s.largest_step_back_s.max(p - t);
+            if t > p {
+                forward.push(t - p);
+            }
+        }
+        previous = Some(t);
+        let n = s.rows_read;
+        s.rows_read += 1;
+        if s.t.last() == Some(&t) {
+            text.clear();
+            push_row(&mut text, &row, columns, &mut buf);
+            s.dropped.push(DroppedRow {
+                line: row.line(),
+                t,
+                reason: if text == last {
+                    DropReason::Duplicate
+                } else {
+                    DropReason::SameTimeOtherValues
+                },
+                kept_line: s.line.last().copied(),
+            });
+            continue;
+        }
+        last.clear();
+        push_row(&mut last, &row, columns, &mut buf);
+        s.t.push(t);
+        s.line.push(row.line());
+        s.row.push(n);
     }
-    Ok(rows)
+    if !forward.is_empty() {
+        let mid = forward.len() / 2;
+        s.median_step_s = *forward.select_nth_unstable_by(mid, f64::total_cmp).1;
+    }
+    Ok(s)
 }
 
-/// Row `i` dropped for repeating the time of row `kept` (kept).
-fn same_time(rows: &Rows, i: usize, kept: usize) -> DroppedRow {
-    DroppedRow {
-        line: rows.line[i],
-        t: rows.t[i],
-        reason: DropReason::SameTimeOtherValues,
-        kept_line: Some(rows.line[kept]),
-    }
-}
-
-/// Indices (into `t`) of one longest strictly increasing subsequence, in
+/// Positions (into `t`) of one longest strictly increasing subsequence, in
 /// order (patience sorting with predecessor links, O(n log n)).
-fn longest_increasing(t: &[f64], among: &[usize]) -> Vec<usize> {
-    // tails[k]: position in `among` of the smallest last value of an
-    // increasing run of length k + 1 found so far
+fn longest_increasing(t: &[f64]) -> Vec<usize> {
+    // tails[k]: position of the smallest last value of an increasing run of
+    // length k + 1 found so far
     let mut tails: Vec<usize> = Vec::new();
-    let mut prev: Vec<Option<usize>> = vec![None; among.len()];
-    for (p, &i) in among.iter().enumerate() {
-        let k = tails.partition_point(|&q| t[among[q]] < t[i]);
+    let mut prev: Vec<Option<usize>> = vec![None; t.len()];
+    for (p, &v) in t.iter().enumerate() {
+        let k = tails.partition_point(|&q| t[q] < v);
         prev[p] = k.checked_sub(1).map(|j| tails[j]);
         if k == tails.len() {
             tails.push(p);
@@ -340,25 +374,85 @@ fn longest_increasing(t: &[f64], among: &[usize]) -> Vec<usize> {
     let mut out = Vec::with_capacity(tails.len());
     let mut at = tails.last().copied();
     while let Some(p) = at {
-        out.push(among[p]);
+        out.push(p);
         at = prev[p];
     }
     out.reverse();
     out
 }
 
+/// The report and the rows to write (row numbers in output order).
+fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
+    let mut report = TimeRepairReport {
+        rows_read: s.rows_read,
+        dropped: s.dropped,
+        largest_step_back_s: s.largest_step_back_s,
+        median_step_s: s.median_step_s,
+        ..TimeRepairReport::default()
+    };
+    let in_order = longest_increasing(&s.t);
+    let out: Vec<usize> = match order {
+        TimeOrder::Drop => {
+            let mut next = in_order.iter().peekable();
+            for p in 0..s.t.len() {
+                if next.peek() == Some(&&p) {
+                    next.next();
+                } else {
+                    report.dropped.push(DroppedRow {
+                        line: s.line[p],
+                        t: s.t[p],
+                        reason: DropReason::OutOfOrder,
+                        kept_line: None,
+                    });
+                }
+            }
+            in_order.iter().map(|&p| s.row[p]).collect()
+        }
+        TimeOrder::Sort => {
+            // the fewest rows that have to move: all but a longest run in order
+            report.moved = s.t.len() - in_order.len();
+            let mut sorted: Vec<usize> = (0..s.t.len()).collect();
+            sorted.sort_by(|&a, &b| s.t[a].total_cmp(&s.t[b]));
+            // equal times brought together: the first in file order is kept
+            let mut kept: Vec<usize> = Vec::with_capacity(sorted.len());
+            for p in sorted {
+                match kept.last() {
+                    Some(&q) if s.t[q] == s.t[p] => {
+                        report.dropped.push(DroppedRow {
+                            line: s.line[p],
+                            t: s.t[p],
+                            reason: DropReason::SameTimeOtherValues,
+                            kept_line: Some(s.line[q]),
+                        });
+                        report.sorted_onto_a_taken_time += 1;
+                    }
+                    _ => kept.push(p),
+                }
+            }
+            kept.iter().map(|&p| s.row[p]).collect()
+        }
+    };
+    report.dropped.sort_by_key(|d| d.line);
+    report.rows_kept = out.len();
+    (report, out)
+}
+
 /// Reads the trial (CSV or Arrow) at `input`, repairs its time column as the
-/// module docs say, and writes a CSV trial file to `output` (atomically).
+/// module docs say, and writes a CSV trial file to `output` (atomically):
+/// two passes over the input, the second writing the rows kept.
 pub fn repair_time(
     input: &Path,
     output: &Path,
     order: TimeOrder,
 ) -> Result<TimeRepairReport, FileError> {
-    let mut table = TableReader::open(input)?;
-    let rows = read_rows(&mut table)?;
-    let (report, kept) = plan(&rows, order);
-    write_rows(&table, &rows, &kept, output, &report.metadata_value(order))
-        .map_err(|e| FileError::io(output, e))?;
+    let (report, out) = plan(scan(&mut TableReader::open(input)?)?, order);
+    write_rows(
+        input,
+        output,
+        &out,
+        report.rows_read,
+        &report.metadata_value(order),
+    )?;
     Ok(report)
 }
 
@@ -366,141 +460,86 @@ pub fn repair_time(
 /// at `input`, without writing anything (`limbfuse inspect` on a file whose
 /// time does not increase).
 pub fn time_problems(input: &Path) -> Result<TimeRepairReport, FileError> {
-    let mut table = TableReader::open(input)?;
-    let rows = read_rows(&mut table)?;
-    Ok(plan(&rows, TimeOrder::Drop).0)
+    Ok(plan(scan(&mut TableReader::open(input)?)?, TimeOrder::Drop).0)
 }
 
-/// The report and the rows to keep, in output order.
-fn plan(rows: &Rows, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
-    let n = rows.t.len();
-    let mut report = TimeRepairReport {
-        rows_read: n,
-        ..TimeRepairReport::default()
-    };
-    let mut forward = Vec::with_capacity(n);
-    for w in rows.t.windows(2) {
-        report.largest_step_back_s = report.largest_step_back_s.max(w[0] - w[1]);
-        if w[1] > w[0] {
-            forward.push(w[1] - w[0]);
-        }
-    }
-    if !forward.is_empty() {
-        let mid = forward.len() / 2;
-        report.median_step_s = *forward.select_nth_unstable_by(mid, f64::total_cmp).1;
-    }
-    // Exact duplicates: every cell (so the time too) of an earlier row.
-    let mut first_at: HashMap<u64, usize> = HashMap::with_capacity(n);
-    let mut unique = Vec::with_capacity(n);
-    for i in 0..n {
-        let key = (rows.t[i] + 0.0).to_bits();
-        match first_at.get(&key) {
-            Some(&j) if rows.text(i) == rows.text(j) => report.dropped.push(DroppedRow {
-                line: rows.line[i],
-                t: rows.t[i],
-                reason: DropReason::Duplicate,
-                kept_line: Some(rows.line[j]),
-            }),
-            Some(_) => unique.push(i),
-            None => {
-                first_at.insert(key, i);
-                unique.push(i);
-            }
-        }
-    }
-    // A row with the time of the row before it (other values): the first
-    // is kept. (Not any earlier row: a stamp 0.5 s late can equal, bit for
-    // bit, the stamp of the row 0.5 s on, which is the one to keep.)
-    let mut candidates = Vec::with_capacity(unique.len());
-    for &i in &unique {
-        match candidates.last() {
-            Some(&j) if rows.t[j] == rows.t[i] => {
-                report.dropped.push(same_time(rows, i, j));
-            }
-            _ => candidates.push(i),
-        }
-    }
-    let kept = match order {
-        TimeOrder::Drop => {
-            let kept = longest_increasing(&rows.t, &candidates);
-            let mut in_kept = vec![false; n];
-            for &i in &kept {
-                in_kept[i] = true;
-            }
-            for &i in &candidates {
-                if !in_kept[i] {
-                    report.dropped.push(DroppedRow {
-                        line: rows.line[i],
-                        t: rows.t[i],
-                        reason: DropReason::OutOfOrder,
-                        kept_line: None,
-                    });
-                }
-            }
-            kept
-        }
-        TimeOrder::Sort => {
-            // the fewest rows that have to move: all but a longest run in order
-            report.moved = candidates.len() - longest_increasing(&rows.t, &candidates).len();
-            let mut sorted = candidates;
-            sorted.sort_by(|&a, &b| rows.t[a].total_cmp(&rows.t[b]));
-            // equal times brought together: the first in file order is kept
-            let mut kept: Vec<usize> = Vec::with_capacity(sorted.len());
-            for i in sorted {
-                match kept.last() {
-                    Some(&j) if rows.t[j] == rows.t[i] => {
-                        report.dropped.push(same_time(rows, i, j));
-                        report.sorted_onto_a_taken_time += 1;
-                    }
-                    _ => kept.push(i),
-                }
-            }
-            kept
-        }
-    };
-    report.dropped.sort_by_key(|d| d.line);
-    report.rows_kept = kept.len();
-    (report, kept)
-}
-
-/// Writes the metadata, `# time_repaired: repaired`, the header and the
-/// `kept` rows.
+/// The second pass: the metadata, `# time_repaired: repaired`, the header
+/// and the rows `out` (row numbers, in output order) of the `rows` rows. A
+/// row is written when its turn comes; a row read before its turn (sorted
+/// later) waits in memory, so that only [`TimeOrder::Sort`] holds rows.
 fn write_rows(
-    table: &TableReader,
-    rows: &Rows,
-    kept: &[usize],
+    input: &Path,
     output: &Path,
+    out: &[usize],
+    rows: usize,
     repaired: &str,
-) -> io::Result<()> {
-    let mut file = crate::AtomicFile::create(output)?;
+) -> Result<(), FileError> {
+    let mut table = TableReader::open(input)?;
+    let columns = table.header().len();
+    let io = |e: io::Error| FileError::io(output, e);
+    let mut file = crate::AtomicFile::create(output).map_err(io)?;
     {
-        let mut out = io::BufWriter::new(&mut file);
+        let mut w = io::BufWriter::new(&mut file);
         for (k, v) in table.meta().entries() {
             if k != TIME_REPAIRED_KEY {
-                writeln!(out, "# {k}: {v}")?;
+                writeln!(w, "# {k}: {v}").map_err(io)?;
             }
         }
         writeln!(
-            out,
+            w,
             "# {TIME_REPAIRED_KEY}: {}",
             crate::provenance::one_line(repaired)
-        )?;
-        let mut header = Vec::new();
+        )
+        .map_err(io)?;
+        let mut line = Vec::new();
         for (c, name) in table.header().iter().enumerate() {
             if c > 0 {
-                header.push(b',');
+                line.push(b',');
             }
-            push_csv_cell(&mut header, name.as_bytes());
+            push_csv_cell(&mut line, name.as_bytes());
         }
-        header.push(b'\n');
-        out.write_all(&header)?;
-        for &i in kept {
-            out.write_all(rows.text(i))?;
-            out.write_all(b"\n")?;
+        line.push(b'\n');
+        w.write_all(&line).map_err(io)?;
+        let mut wanted = vec![false; rows];
+        for &r in out {
+            wanted[r] = true;
         }
-        out.flush()?;
+        let mut waiting: HashMap<usize, Vec<u8>> = HashMap::new();
+        let mut buf = zmij::Buffer::new();
+        let (mut next, mut n, mut at) = (0usize, 0usize, 0u64);
+        while let Some(row) = table.next_row()? {
+            let r = n;
+            n += 1;
+            at = row.line();
+            if !wanted.get(r).copied().unwrap_or(false) {
+                continue;
+            }
+            line.clear();
+            push_row(&mut line, &row, columns, &mut buf);
+            line.push(b'\n');
+            if out[next] != r {
+                waiting.insert(r, line.clone());
+                continue;
+            }
+            w.write_all(&line).map_err(io)?;
+            next += 1;
+            while let Some(text) = out.get(next).and_then(|r| waiting.remove(r)) {
+                w.write_all(&text).map_err(io)?;
+                next += 1;
+            }
+        }
+        if n != rows || next != out.len() {
+            return Err(FileError::at(
+                input,
+                at,
+                format!(
+                    "the {rows} rows read a moment before (the file changed while it was repaired)"
+                ),
+            ));
+        }
+        w.flush().map_err(io)?;
     }
-    file.commit()
+    file.commit().map_err(io)
 }
 
 /// The metadata key [`repair_time`] adds.

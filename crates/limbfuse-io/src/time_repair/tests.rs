@@ -208,15 +208,17 @@ fn the_repaired_file_reads_as_a_trial() {
     assert!(err.contains("in.csv:6: column 1 (`t`)"), "{err}");
     let output = dir.path().join("out.csv");
     let r = repair_time(&input, &output, TimeOrder::Drop).unwrap();
-    // line 7 repeats line 5; one of 0.02 (line 5) and 0.01 (line 6) goes
-    assert_eq!((r.rows_kept, r.dropped.len()), (3, 2));
+    // line 7 repeats line 5 further on: 0, 0.01, 0.02 (line 7), 0.03 are in
+    // order, and line 5 is the one out of order
+    assert_eq!((r.rows_kept, r.dropped.len()), (4, 1));
+    assert_eq!((r.dropped[0].line, r.dropped[0].reason), (5, DropReason::OutOfOrder));
     let mut reader = TrialReader::open(&output).unwrap();
     let mut n = 0;
     while let Some(rec) = reader.next_record().unwrap() {
         assert!(rec.sample.encoder[1].is_some());
         n += 1;
     }
-    assert_eq!(n, 3);
+    assert_eq!(n, 4);
 }
 
 #[test]
@@ -257,9 +259,58 @@ proptest! {
     #[test]
     fn the_rows_kept_are_a_longest_increasing_run(t in prop::collection::vec(0u8..40, 0..60)) {
         let t: Vec<f64> = t.into_iter().map(f64::from).collect();
-        let all: Vec<usize> = (0..t.len()).collect();
-        let kept = longest_increasing(&t, &all);
+        let kept = longest_increasing(&t);
         prop_assert_eq!(kept.len(), lis_length_quadratic(&t));
         prop_assert!(kept.windows(2).all(|w| w[0] < w[1] && t[w[0]] < t[w[1]]));
+    }
+}
+
+/// The rows [`repair_time`] keeps, computed the plain way on the rows in
+/// memory: drop a row whose time equals the last kept candidate's, then the
+/// rows outside a longest increasing run (drop) or sort them, keeping the
+/// first of equal times (sort).
+fn oracle(rows: &[(f64, u32)], order: TimeOrder) -> Vec<(f64, u32)> {
+    let mut cand: Vec<(f64, u32)> = Vec::new();
+    for &r in rows {
+        if cand.last().map(|c| c.0) != Some(r.0) {
+            cand.push(r);
+        }
+    }
+    let t: Vec<f64> = cand.iter().map(|c| c.0).collect();
+    match order {
+        TimeOrder::Drop => longest_increasing(&t).into_iter().map(|p| cand[p]).collect(),
+        TimeOrder::Sort => {
+            let mut sorted = cand.clone();
+            sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+            sorted.dedup_by(|b, a| a.0 == b.0);
+            sorted
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// The file written holds the oracle's rows, in its order, and its time
+    /// increases; the report adds up.
+    #[test]
+    fn the_two_passes_write_the_rows_a_plain_repair_keeps(
+        rows in prop::collection::vec((0u8..30, 0u32..3), 0..80),
+        sort in any::<bool>(),
+    ) {
+        let rows: Vec<(f64, u32)> = rows.into_iter().map(|(t, v)| (f64::from(t) / 100.0, v)).collect();
+        let text: String = rows.iter().map(|(t, v)| format!("{t},{v},\n")).collect();
+        let order = if sort { TimeOrder::Sort } else { TimeOrder::Drop };
+        let (r, out) = repaired(&text, order);
+        let written: Vec<(f64, u32)> = data(&out)
+            .iter()
+            .map(|l| {
+                let mut c = l.split(',');
+                (c.next().unwrap().parse().unwrap(), c.next().unwrap().parse().unwrap())
+            })
+            .collect();
+        prop_assert_eq!(&written, &oracle(&rows, order));
+        prop_assert!(written.windows(2).all(|w| w[0].0 < w[1].0));
+        prop_assert_eq!(r.rows_read, rows.len());
+        prop_assert_eq!(r.rows_kept + r.dropped.len(), rows.len());
     }
 }
