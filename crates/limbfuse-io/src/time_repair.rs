@@ -12,7 +12,7 @@
 //!   that instant cannot be told from the file: the first is kept, the later
 //!   one dropped. (Only the row before: a stamp 0.5 s late can equal, bit
 //!   for bit, the stamp of the row 0.5 s on, and that row is the one to
-//!   keep; the late one goes as out of order.);
+//!   keep; the late one goes as out of order);
 //! * **out of order**: a row whose time stamp goes back. With
 //!   [`TimeOrder::Drop`] (the default) the rows kept are one of the longest
 //!   runs of rows, in file order, whose time increases (a longest strictly
@@ -24,7 +24,8 @@
 //!   carry their sensor's time stamps, and wrong when a time stamp is wrong.
 //!
 //! Two passes over the input: the first keeps each row's time, line and
-//! number (24 bytes a row) and the text of one row; the second writes the
+//! number (20 bytes a row; about 36 at the peak, with a longest run's
+//! links) and the text of one row; the second writes the
 //! rows kept (with [`TimeOrder::Sort`], a row read before its turn waits in
 //! memory). The cells are copied as written (no number is re-read or re-formatted;
 //! an Arrow input's numbers are written as the trial writer writes them),
@@ -279,14 +280,14 @@ fn push_row(out: &mut Vec<u8>, row: &Row<'_>, columns: usize, buf: &mut zmij::Bu
 
 /// What the first pass keeps: per row that may be written (a *candidate*:
 /// not a repeat of the row before), its time, line and row number; the
-/// repeats already dropped; the time steps. Memory is 24 bytes per row and
+/// repeats already dropped; the time steps. Memory is 20 bytes per row and
 /// the text of one row, whatever the file's length (a week of lower-back
 /// recording at 100 Hz is 60 million rows).
 struct Scan {
     rows_read: usize,
     t: Vec<f64>,
     line: Vec<u64>,
-    row: Vec<usize>,
+    row: Vec<u32>,
     dropped: Vec<DroppedRow>,
     largest_step_back_s: f64,
     median_step_s: f64,
@@ -325,7 +326,10 @@ fn scan(table: &mut TableReader) -> Result<Scan, FileError> {
             }
         }
         previous = Some(t);
-        let n = s.rows_read;
+        // (row numbers as u32: 4 bytes a row; 2^32 rows would be a file of
+        // hundreds of gigabytes)
+        let n = u32::try_from(s.rows_read)
+            .map_err(|_| FileError::at(row.path(), row.line(), "at most 4294967295 data rows"))?;
         s.rows_read += 1;
         if s.t.last() == Some(&t) {
             text.clear();
@@ -356,33 +360,35 @@ fn scan(table: &mut TableReader) -> Result<Scan, FileError> {
 }
 
 /// Positions (into `t`) of one longest strictly increasing subsequence, in
-/// order (patience sorting with predecessor links, O(n log n)).
-fn longest_increasing(t: &[f64]) -> Vec<usize> {
+/// order (patience sorting with predecessor links, O(n log n); positions as
+/// u32, `t` shorter than 2^32: [`scan`]).
+fn longest_increasing(t: &[f64]) -> Vec<u32> {
+    const NONE: u32 = u32::MAX;
     // tails[k]: position of the smallest last value of an increasing run of
     // length k + 1 found so far
-    let mut tails: Vec<usize> = Vec::new();
-    let mut prev: Vec<Option<usize>> = vec![None; t.len()];
+    let mut tails: Vec<u32> = Vec::new();
+    let mut prev: Vec<u32> = vec![NONE; t.len()];
     for (p, &v) in t.iter().enumerate() {
-        let k = tails.partition_point(|&q| t[q] < v);
-        prev[p] = k.checked_sub(1).map(|j| tails[j]);
+        let k = tails.partition_point(|&q| t[q as usize] < v);
+        prev[p] = k.checked_sub(1).map_or(NONE, |j| tails[j]);
         if k == tails.len() {
-            tails.push(p);
+            tails.push(p as u32);
         } else {
-            tails[k] = p;
+            tails[k] = p as u32;
         }
     }
     let mut out = Vec::with_capacity(tails.len());
-    let mut at = tails.last().copied();
-    while let Some(p) = at {
-        out.push(p);
-        at = prev[p];
+    let mut at = tails.last().copied().unwrap_or(NONE);
+    while at != NONE {
+        out.push(at);
+        at = prev[at as usize];
     }
     out.reverse();
     out
 }
 
 /// The report and the rows to write (row numbers in output order).
-fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
+fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<u32>) {
     let mut report = TimeRepairReport {
         rows_read: s.rows_read,
         dropped: s.dropped,
@@ -391,11 +397,11 @@ fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
         ..TimeRepairReport::default()
     };
     let in_order = longest_increasing(&s.t);
-    let out: Vec<usize> = match order {
+    let out: Vec<u32> = match order {
         TimeOrder::Drop => {
             let mut next = in_order.iter().peekable();
             for p in 0..s.t.len() {
-                if next.peek() == Some(&&p) {
+                if next.peek().is_some_and(|&&q| q as usize == p) {
                     next.next();
                 } else {
                     report.dropped.push(DroppedRow {
@@ -406,18 +412,19 @@ fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
                     });
                 }
             }
-            in_order.iter().map(|&p| s.row[p]).collect()
+            in_order.iter().map(|&p| s.row[p as usize]).collect()
         }
         TimeOrder::Sort => {
             // the fewest rows that have to move: all but a longest run in order
             report.moved = s.t.len() - in_order.len();
-            let mut sorted: Vec<usize> = (0..s.t.len()).collect();
-            sorted.sort_by(|&a, &b| s.t[a].total_cmp(&s.t[b]));
+            let mut sorted: Vec<u32> = (0..s.t.len() as u32).collect();
+            sorted.sort_by(|&a, &b| s.t[a as usize].total_cmp(&s.t[b as usize]));
             // equal times brought together: the first in file order is kept
-            let mut kept: Vec<usize> = Vec::with_capacity(sorted.len());
+            let mut kept: Vec<u32> = Vec::with_capacity(sorted.len());
             for p in sorted {
-                match kept.last() {
-                    Some(&q) if s.t[q] == s.t[p] => {
+                let (p, last) = (p as usize, kept.last().map(|&q| q as usize));
+                match last {
+                    Some(q) if s.t[q] == s.t[p] => {
                         report.dropped.push(DroppedRow {
                             line: s.line[p],
                             t: s.t[p],
@@ -426,10 +433,10 @@ fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<usize>) {
                         });
                         report.sorted_onto_a_taken_time += 1;
                     }
-                    _ => kept.push(p),
+                    _ => kept.push(p as u32),
                 }
             }
-            kept.iter().map(|&p| s.row[p]).collect()
+            kept.iter().map(|&p| s.row[p as usize]).collect()
         }
     };
     report.dropped.sort_by_key(|d| d.line);
@@ -470,7 +477,7 @@ pub fn time_problems(input: &Path) -> Result<TimeRepairReport, FileError> {
 fn write_rows(
     input: &Path,
     output: &Path,
-    out: &[usize],
+    out: &[u32],
     rows: usize,
     repaired: &str,
 ) -> Result<(), FileError> {
@@ -502,16 +509,16 @@ fn write_rows(
         w.write_all(&line).map_err(io)?;
         let mut wanted = vec![false; rows];
         for &r in out {
-            wanted[r] = true;
+            wanted[r as usize] = true;
         }
-        let mut waiting: HashMap<usize, Vec<u8>> = HashMap::new();
+        let mut waiting: HashMap<u32, Vec<u8>> = HashMap::new();
         let mut buf = zmij::Buffer::new();
         let (mut next, mut n, mut at) = (0usize, 0usize, 0u64);
         while let Some(row) = table.next_row()? {
-            let r = n;
+            let r = n as u32;
             n += 1;
             at = row.line();
-            if !wanted.get(r).copied().unwrap_or(false) {
+            if !wanted.get(n - 1).copied().unwrap_or(false) {
                 continue;
             }
             line.clear();

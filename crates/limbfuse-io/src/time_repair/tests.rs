@@ -211,7 +211,10 @@ fn the_repaired_file_reads_as_a_trial() {
     // line 7 repeats line 5 further on: 0, 0.01, 0.02 (line 7), 0.03 are in
     // order, and line 5 is the one out of order
     assert_eq!((r.rows_kept, r.dropped.len()), (4, 1));
-    assert_eq!((r.dropped[0].line, r.dropped[0].reason), (5, DropReason::OutOfOrder));
+    assert_eq!(
+        (r.dropped[0].line, r.dropped[0].reason),
+        (5, DropReason::OutOfOrder)
+    );
     let mut reader = TrialReader::open(&output).unwrap();
     let mut n = 0;
     while let Some(rec) = reader.next_record().unwrap() {
@@ -261,7 +264,7 @@ proptest! {
         let t: Vec<f64> = t.into_iter().map(f64::from).collect();
         let kept = longest_increasing(&t);
         prop_assert_eq!(kept.len(), lis_length_quadratic(&t));
-        prop_assert!(kept.windows(2).all(|w| w[0] < w[1] && t[w[0]] < t[w[1]]));
+        prop_assert!(kept.windows(2).all(|w| w[0] < w[1] && t[w[0] as usize] < t[w[1] as usize]));
     }
 }
 
@@ -278,7 +281,10 @@ fn oracle(rows: &[(f64, u32)], order: TimeOrder) -> Vec<(f64, u32)> {
     }
     let t: Vec<f64> = cand.iter().map(|c| c.0).collect();
     match order {
-        TimeOrder::Drop => longest_increasing(&t).into_iter().map(|p| cand[p]).collect(),
+        TimeOrder::Drop => longest_increasing(&t)
+            .into_iter()
+            .map(|p| cand[p as usize])
+            .collect(),
         TimeOrder::Sort => {
             let mut sorted = cand.clone();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
