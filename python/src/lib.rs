@@ -177,7 +177,7 @@ fn inspect(
                 .collect();
             Ok::<_, limbfuse_io::FileError>((s, methods, read, motion, align))
         })?
-        .map_err(|e| user_error(&e))?;
+        .map_err(|e| time_order_error(&path, e))?;
         Ok((
             s.rows,
             s.span,
@@ -196,6 +196,23 @@ fn inspect(
             (motion, (align.needed, align.possible, align.reason)),
         ))
     })
+}
+
+/// A file error; one about the time's order gets what `repair_time` would
+/// drop over the whole file (as `limbfuse inspect` says it).
+fn time_order_error(path: &std::path::Path, e: limbfuse_io::FileError) -> PyErr {
+    if !matches!(e, limbfuse_io::FileError::TimeNotIncreasing { .. }) {
+        return user_error(&e);
+    }
+    match limbfuse_io::time_repair::time_problems(path) {
+        Ok(r) => user_msg(format!(
+            "{}: its time does not increase on every row: {}: {}",
+            path.display(),
+            r.would_drop("limbfuse.repair_time(path, output)", 8),
+            chain_message(&e)
+        )),
+        Err(_) => user_error(&e),
+    }
 }
 
 /// Raises `InternalError` from inside Rust (tests the panic boundary).

@@ -42,6 +42,14 @@ def test_read_trial_names_the_row_and_the_repair(glitched):
     assert "limbfuse.repair_time" in m
 
 
+def test_inspect_says_what_the_repair_would_drop(glitched):
+    with pytest.raises(limbfuse.LimbfuseError) as e:
+        limbfuse.inspect(glitched)
+    m = str(e.value)
+    assert "`limbfuse.repair_time(path, output)` would drop 3 of its 1001 rows: 1 exact duplicates" in m, m
+    assert "2 time stamps out of order" in m and "time must increase strictly" in m, m
+
+
 def test_repair_time_keeps_rows_of_the_clean_file_and_matches_the_cli(walking_file, glitched, tmp_path, cli):
     out = tmp_path / "repaired.csv"
     r = limbfuse.repair_time(glitched, out)

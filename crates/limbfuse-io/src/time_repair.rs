@@ -195,6 +195,17 @@ impl TimeRepairReport {
             .collect()
     }
 
+    /// `` `{command}` would drop N of its M rows: ...`` ([`Self::dropped_lines`]
+    /// joined): what `inspect` adds to a time-order error.
+    pub fn would_drop(&self, command: &str, max_ranges: usize) -> String {
+        format!(
+            "`{command}` would drop {} of its {} rows: {}",
+            self.dropped.len(),
+            self.rows_read,
+            self.dropped_lines(max_ranges).join("; ")
+        )
+    }
+
     /// The value of the `# time_repaired:` metadata line.
     pub fn metadata_value(&self, order: TimeOrder) -> String {
         let mut parts = vec![format!(

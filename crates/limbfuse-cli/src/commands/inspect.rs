@@ -85,15 +85,14 @@ fn with_time_problems(path: &std::path::Path, e: FileError) -> anyhow::Error {
     }
     match time_problems(path) {
         Ok(r) => {
-            let lines = r.dropped_lines(super::repair_time::RANGES_SHOWN);
+            let command = format!(
+                "limbfuse repair-time {} -o OUT",
+                super::shell_word(&path.display().to_string())
+            );
             anyhow::Error::new(e).context(format!(
-                "{}: its time does not increase on every row: `limbfuse repair-time {} -o OUT` \
-                 would drop {} of its {} rows: {}",
+                "{}: its time does not increase on every row: {}",
                 path.display(),
-                super::shell_word(&path.display().to_string()),
-                r.dropped.len(),
-                r.rows_read,
-                lines.join("; "),
+                r.would_drop(&command, super::repair_time::RANGES_SHOWN)
             ))
         }
         Err(_) => e.into(),
