@@ -48,7 +48,7 @@ pub enum Command {
     Mirror(MirrorArgs),
     /// Resample a trial onto a uniform time base (e.g. 50 Hz, the rate of paper 001).
     Resample(ResampleArgs),
-    /// Write a copy of a trial whose time increases: drop exact duplicate rows, rows repeating an earlier time, and rows whose time stamp goes back (or sort them)
+    /// Write a copy of a trial whose time increases: drop a row repeating the row before (or its time), and rows whose time stamp goes back (or sort them)
     RepairTime(RepairTimeArgs),
     /// Tune a segment filter's noise parameters on a time window; writes a parameter file.
     Tune(TuneArgs),

@@ -121,6 +121,73 @@ fn a_glitched_time_column_is_refused_then_repaired_to_rows_of_the_clean_file() {
     assert_eq!(data_rows(&sorted), clean_rows);
 }
 
+/// Stamps jittering by more than half a period (rows in order): the warning
+/// tells them from a clock jump and points to `--out-of-order sort`, which
+/// keeps every row; a clock reset gets the other warning.
+#[test]
+fn jittered_stamps_and_a_clock_reset_get_their_own_warnings() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let o = limbfuse(
+        &["simulate", "walking", "--duration", "4", "-o", "w.csv"],
+        p,
+    );
+    assert!(o.status.success());
+    let clean = std::fs::read_to_string(p.join("w.csv")).unwrap();
+    let head: Vec<&str> = clean
+        .lines()
+        .take_while(|l| l.starts_with('#') || l.starts_with("t,"))
+        .collect();
+    let rows = data_rows(&clean);
+    let restamped = |f: &dyn Fn(usize, f64) -> f64| {
+        let mut out = head.join("\n");
+        for (k, r) in rows.iter().enumerate() {
+            let (t, rest) = r.split_once(',').unwrap();
+            out += &format!("\n{},{rest}", f(k, t.parse::<f64>().unwrap()));
+        }
+        out + "\n"
+    };
+    // 0, +6, -6, 0 ms in turn: a step back of 2 ms every fourth row
+    let jitter = [0.0, 0.006, -0.006, 0.0];
+    std::fs::write(p.join("j.csv"), restamped(&|k, t| t + jitter[k % 4])).unwrap();
+    let o = limbfuse(&["repair-time", "j.csv", "-o", "j2.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("every step back shorter than a sample period")
+            && e.contains("`--out-of-order sort` keeps every row"),
+        "{e}"
+    );
+    let o = limbfuse(
+        &[
+            "repair-time",
+            "j.csv",
+            "-o",
+            "j3.csv",
+            "--out-of-order",
+            "sort",
+        ],
+        p,
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && e.contains("400 of 400 rows kept"),
+        "{e}"
+    );
+    // the clock starts again at 1 s after 3 s: a block, not jitter
+    std::fs::write(
+        p.join("c.csv"),
+        restamped(&|k, t| if k >= 300 { t - 2.0 } else { t }),
+    )
+    .unwrap();
+    let o = limbfuse(&["repair-time", "c.csv", "-o", "c2.csv"], p);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && e.contains("% of the rows dropped: more than a glitch"),
+        "{e}"
+    );
+}
+
 #[test]
 fn repair_time_writes_csv_and_copies_a_clean_file() {
     let d = tempfile::tempdir().unwrap();
