@@ -46,7 +46,7 @@ def test_inspect_says_what_the_repair_would_drop(glitched):
     with pytest.raises(limbfuse.LimbfuseError) as e:
         limbfuse.inspect(glitched)
     m = str(e.value)
-    assert "`limbfuse.repair_time(path, output)` would drop 3 of its 1001 rows: 1 exact duplicates" in m, m
+    assert "`limbfuse.repair_time(path, output)` would drop 3 of its 1001 rows: 1 exact duplicate of" in m, m
     assert "2 time stamps out of order" in m and "time must increase strictly" in m, m
 
 

@@ -85,14 +85,19 @@ impl DropReason {
         }
     }
 
-    /// How the report names it.
-    pub const fn said(self) -> &'static str {
-        match self {
-            DropReason::Duplicate => "exact duplicates of the row before",
-            DropReason::SameTimeOtherValues => {
+    /// How the report names `count` such rows.
+    pub const fn said(self, count: usize) -> &'static str {
+        match (self, count == 1) {
+            (DropReason::Duplicate, true) => "exact duplicate of the row before",
+            (DropReason::Duplicate, false) => "exact duplicates of the row before",
+            (DropReason::SameTimeOtherValues, true) => {
+                "row with the time of the row before and other values (that one kept)"
+            }
+            (DropReason::SameTimeOtherValues, false) => {
                 "rows with the time of the row before and other values (that one kept)"
             }
-            DropReason::OutOfOrder => "time stamps out of order",
+            (DropReason::OutOfOrder, true) => "time stamp out of order",
+            (DropReason::OutOfOrder, false) => "time stamps out of order",
         }
     }
 }
@@ -188,7 +193,7 @@ impl TimeRepairReport {
                 format!(
                     "{} {} (line {})",
                     self.count(r),
-                    r.said(),
+                    r.said(self.count(r)),
                     self.line_ranges(r, max_ranges)
                 )
             })
@@ -215,7 +220,7 @@ impl TimeRepairReport {
         for reason in DropReason::ALL {
             let n = self.count(reason);
             if n > 0 {
-                parts.push(format!("{n} dropped: {}", reason.said()));
+                parts.push(format!("{n} dropped: {}", reason.said(n)));
             }
         }
         if order == TimeOrder::Sort && self.moved > 0 {

@@ -65,7 +65,7 @@ fn a_glitched_time_column_is_refused_then_repaired_to_rows_of_the_clean_file() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(
         e.contains(&format!(
-            "`limbfuse repair-time g.csv -o OUT` would drop 3 of its 801 rows: 1 exact duplicates \
+            "`limbfuse repair-time g.csv -o OUT` would drop 3 of its 801 rows: 1 exact duplicate \
              of the row before (line {line}); 2 time stamps out of order (line "
         )),
         "{e}"
@@ -76,7 +76,7 @@ fn a_glitched_time_column_is_refused_then_repaired_to_rows_of_the_clean_file() {
     assert!(
         e.contains("798 of 801 rows kept")
             && e.contains(&format!(
-                "dropped: 1 exact duplicates of the row before (line {line})"
+                "dropped: 1 exact duplicate of the row before (line {line})"
             ))
             && e.contains("dropped: 2 time stamps out of order")
             && e.contains("largest step back in time: 0.49"),
