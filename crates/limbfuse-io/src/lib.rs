@@ -16,6 +16,7 @@ pub mod calibration;
 pub mod calibration_bounds;
 mod cell_format;
 mod cell_sink;
+mod column_spelling;
 pub mod content_hash;
 mod csv_lines;
 pub mod diagnostic_columns;

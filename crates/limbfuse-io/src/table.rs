@@ -327,9 +327,10 @@ impl TableReader {
             path: self.path.clone(),
             line: self.header_line(),
             message: format!(
-                "missing required column `t` (time in seconds){}{}",
+                "missing required column `t` (time in seconds){}{}{}",
                 self.separator_hint(),
-                crate::trial_hints::importer_hint(&self.path, &self.header)
+                crate::trial_hints::importer_hint(&self.path, &self.header),
+                crate::column_spelling::time_column_hint(&self.header)
             ),
         })
     }

@@ -134,6 +134,20 @@ impl TrialReader {
 
     fn from_table(table: TableReader) -> Result<Self, FileError> {
         let t = table.time_column()?;
+        // A channel written another way would be ignored as an unknown column.
+        if let Some((column, found, name)) =
+            crate::column_spelling::misspelt_channel(table.header())
+        {
+            return Err(FileError::Header {
+                path: table.path().to_path_buf(),
+                line: table.header_line(),
+                message: format!(
+                    "column {column} `{found}` is the channel `{name}` written another way: SPEC \
+                     section 2 spells channel names in lowercase with `_`; rename it (as it is, \
+                     it would be ignored like any column limbfuse does not know)"
+                ),
+            });
+        }
         let mut plan = ColumnPlan {
             t,
             ..Default::default()

@@ -181,8 +181,37 @@ fn another_separator_is_named() {
     let m = message("t\tknee_enc\n0\t1\n");
     assert!(m.contains("`t\\tknee_enc`") && m.contains("tabs"), "{m}");
     // a plain missing `t` has no hint
-    let m = message("time,knee_enc\n0,1\n");
+    let m = message("clock,knee_enc\n0,1\n");
     assert!(m.ends_with("(time in seconds)"), "{m}");
+}
+
+/// A column that is `t` or a channel written another way (a
+/// fresh-recording audit, session 42): the time was "missing required
+/// column `t`" with nothing more, and `Thigh_Gyr_X` was ignored as an
+/// unknown column, so a method then said the trial had no `thigh_gyr_x`.
+#[test]
+fn a_time_or_channel_column_spelt_another_way_is_named() {
+    let m = message("Time (s),knee_enc\n0,1\n");
+    assert!(
+        m.contains("missing required column `t`")
+            && m.contains("column `Time (s)` looks like it: name it `t`"),
+        "{m}"
+    );
+    let m = message("t,Thigh_Gyr_X,Thigh_Gyr_Y,Thigh_Gyr_Z\n0,1,2,3\n");
+    assert!(
+        m.starts_with(
+            "bad.csv:1: header: column 2 `Thigh_Gyr_X` is the channel `thigh_gyr_x` written \
+             another way"
+        ),
+        "{m}"
+    );
+    let m = message("t,knee-enc\n0,1\n");
+    assert!(
+        m.contains("column 2 `knee-enc` is the channel `knee_enc`"),
+        "{m}"
+    );
+    // a column that is not a channel, in any case, is still ignored
+    assert_eq!(read_all("t,Knee_Note,knee_enc\n0.0,a,1.0\n").unwrap(), 1);
 }
 
 /// Loggers that end every line with the separator give a last column with
