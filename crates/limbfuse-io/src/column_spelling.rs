@@ -1,6 +1,6 @@
 //! Column names written another way than SPEC section 2 spells them (a
 //! fresh-recording audit, session 42): `Time (s)` or `timestamp` for `t`,
-//! `Thigh_Gyr_X` or `thigh-gyr-x` for `thigh_gyr_x`. An unknown column is
+//! `Thigh_Gyr_X`, `thigh-gyr-x` or `thigh_gyr_x [deg/s]` for `thigh_gyr_x`. An unknown column is
 //! ignored, as it must be (a file may carry anything else), so such a file
 //! was read without the channel and a method then said only that the trial
 //! has no `thigh_gyr_x` column; the missing `t` was "missing required
@@ -50,13 +50,26 @@ fn known_columns() -> Vec<String> {
     names
 }
 
+/// `name` without a trailing unit in brackets or parentheses
+/// (`thigh_gyr_x [deg/s]`, `knee_enc (rad)`).
+fn without_unit(name: &str) -> &str {
+    let n = name.trim_end();
+    match (n.ends_with(')') || n.ends_with(']'))
+        .then(|| n.rfind(['(', '[']))
+        .flatten()
+    {
+        Some(at) => n[..at].trim_end(),
+        None => n,
+    }
+}
+
 /// The first header cell (1-based column, name) that is a known trial
-/// column written another way while the column itself is absent, with the
-/// name SPEC gives it.
+/// column written another way (another case, `-` or `.` for `_`, a unit
+/// after it) while the column itself is absent, with the name SPEC gives it.
 pub(crate) fn misspelt_channel(header: &[String]) -> Option<(usize, String, String)> {
     let known = known_columns();
     header.iter().enumerate().find_map(|(i, h)| {
-        let s = spelled(h);
+        let s = spelled(without_unit(h));
         (s != *h && known.contains(&s) && !header.contains(&s)).then(|| (i + 1, h.clone(), s))
     })
 }
@@ -103,6 +116,15 @@ mod tests {
         );
         let h = header(&["t", "knee-enc", "foot_left_acc_x"]);
         assert_eq!(misspelt_channel(&h).map(|m| m.2), Some("knee_enc".into()));
+        // a unit after the name
+        for name in [
+            "thigh_gyr_x [deg/s]",
+            "Thigh_Gyr_X (rad/s)",
+            "knee_enc(rad)",
+        ] {
+            let found = misspelt_channel(&header(&["t", name])).map(|m| m.1);
+            assert_eq!(found.as_deref(), Some(name));
+        }
         // the spelled name present, or nothing like a channel: nothing said
         assert_eq!(
             misspelt_channel(&header(&["t", "Knee_Enc", "knee_enc"])),

@@ -143,8 +143,9 @@ impl TrialReader {
                 line: table.header_line(),
                 message: format!(
                     "column {column} `{found}` is the channel `{name}` written another way: SPEC \
-                     section 2 spells channel names in lowercase with `_`; rename it (as it is, \
-                     it would be ignored like any column limbfuse does not know)"
+                     section 2 spells channel names in lowercase with `_` and no unit (its units \
+                     are SI: m/s^2, rad/s, rad); rename it (as it is, it would be ignored like \
+                     any column limbfuse does not know)"
                 ),
             });
         }
