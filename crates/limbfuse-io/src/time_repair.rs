@@ -503,15 +503,13 @@ fn write_rows(
     let mut file = crate::AtomicFile::create(output).map_err(io)?;
     {
         let mut w = io::BufWriter::new(&mut file);
-        for (k, v) in table.meta().entries() {
-            if k != TIME_REPAIRED_KEY {
-                writeln!(w, "# {k}: {v}").map_err(io)?;
-            }
-        }
-        writeln!(
-            w,
-            "# {TIME_REPAIRED_KEY}: {}",
-            crate::provenance::one_line(repaired)
+        // the input's metadata (an earlier repair's line replaced) and this one's
+        let kept = table.meta().entries().iter();
+        let kept = kept.filter(|(k, _)| k != TIME_REPAIRED_KEY);
+        crate::cell_format::write_comments(
+            &mut w,
+            kept.map(|(k, v)| (k.as_str(), v.as_str()))
+                .chain([(TIME_REPAIRED_KEY, repaired)]),
         )
         .map_err(io)?;
         let mut line = Vec::new();
