@@ -206,10 +206,12 @@ class Estimate(SetOnce):
         ``stride_length_m``, ``speed_m_s``, ``acc_clipped_s``
         (``gait-events``: how long the stride's accelerometer sat at its
         full scale; beyond 0.04 s the swing clipped and the stride is
-        short); ``lowback-speed`` only:
-        ``step_length_1_m``, ``step_length_2_m``, ``turn_rate_rad_s``,
+        short); ``turn_rate_rad_s`` (mean heading rate over the stride:
+        the trunk's for ``lowback-speed``, the foot's for ``gait-events``),
         ``speed_withheld`` (``turn`` / ``after_turn``: why the stride has no
-        speed). With ``trial`` (its references), what ``evaluate`` pairs with
+        speed or length; a stride of either method that turns faster than
+        15 deg/s has none); ``lowback-speed`` only: ``step_length_1_m``,
+        ``step_length_2_m``. With ``trial`` (its references), what ``evaluate`` pairs with
         each stride: ``ic_ref_s`` (the reference initial contact paired with
         ``ic_s``), ``fc_ref_s`` (the reference final contact paired with
         ``fc_s``), ``stride_time_ref_s``, ``stance_time_ref_s`` (``fc_ref_s -

@@ -52,7 +52,7 @@ EVENT_METRICS = (
     tuple(f"ic_{k}" for k in EVENT_TIMING)
     + tuple(f"fc_{k}" for k in EVENT_TIMING)
     + ("contact_accuracy_pct", "phase_accuracy_pct", "speed_mae_mps", "speed_bias_mps",
-       "n_strides", "stride_length_error_pct",
+       "n_strides", "stride_length_error_pct", "n_withheld",
        "stance_time_mae_ms", "stance_time_bias_ms", "swing_time_mae_ms", "swing_time_bias_ms",
        "n_stance_swing")
 )

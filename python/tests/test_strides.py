@@ -91,7 +91,13 @@ def test_strides_without_a_trial_have_no_reference():
     refs = ["ic_ref_s", "fc_ref_s", "stride_time_ref_s", "stance_time_ref_s", "swing_time_ref_s",
             "speed_ref_m_s", "stride_length_ref_m"]
     assert df[refs].isna().all().all() and df["stance_time_s"].notna().all()
-    assert np.allclose(df["speed_m_s"], df["stride_length_m"] / df["stride_time_s"])
+    assert np.allclose(df["speed_m_s"], df["stride_length_m"] / df["stride_time_s"], equal_nan=True)
+    # a stride without a length turns (faster than 15 deg/s), and says so
+    no_length = df["stride_length_m"].isna()
+    assert no_length.sum() == 7
+    assert (df.loc[no_length, "speed_withheld"] == "turn").all()
+    assert (np.degrees(df.loc[no_length, "turn_rate_rad_s"].abs()) > 15).all()
+    assert (np.degrees(df.loc[~no_length, "turn_rate_rad_s"].abs()) < 15).all()
 
 
 def test_strides_of_a_method_without_strides_is_a_clear_error(walking_trial):

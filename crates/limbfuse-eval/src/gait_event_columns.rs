@@ -32,15 +32,19 @@ pub(crate) struct Columns {
     pub(crate) ic: [Vec<f64>; 2],
     /// Estimated final contact times per side (s).
     pub(crate) fc: [Vec<f64>; 2],
-    /// (row, length, time) per side.
-    pub(crate) strides: [Vec<(usize, f64, f64)>; 2],
+    /// (row, length, time) per side; no length: a turning stride
+    /// (`gait-events` gives its time but withholds its length).
+    pub(crate) strides: [Vec<(usize, Option<f64>, f64)>; 2],
+    /// (row, `diag_stride_turn_rate_*`) per side: the stride's mean heading
+    /// rate (`gait-events`).
+    pub(crate) turn_rate: [Vec<(usize, f64)>; 2],
     /// (row, `diag_stride_clipped_*`) per side: the stride's accelerometer
     /// time at full scale (`gait-events`).
     pub(crate) clipped: [Vec<(usize, f64)>; 2],
     /// Initial contacts of either foot (`diag_ic`, methods that do not tell the side).
     pub(crate) ic_any: Vec<f64>,
     /// Strides of either foot (`diag_stride_length`, `diag_stride_time`).
-    pub(crate) strides_any: Vec<(usize, f64, f64)>,
+    pub(crate) strides_any: Vec<(usize, Option<f64>, f64)>,
     /// (row, `diag_step_length`): steps of either foot (`lowback-speed`).
     pub(crate) steps_any: Vec<(usize, f64)>,
     /// (row, `diag_stride_turn_rate`) (`lowback-speed`).
@@ -71,6 +75,7 @@ pub(crate) fn read_columns(
     let len_col = Side::BOTH.map(|s| diag_index(er, &key("stride_length", s)));
     let time_col = Side::BOTH.map(|s| diag_index(er, &key("stride_time", s)));
     let clipped_col = Side::BOTH.map(|s| diag_index(er, &key("stride_clipped", s)));
+    let turn_col = Side::BOTH.map(|s| diag_index(er, &key("stride_turn_rate", s)));
     let (ic_any_col, len_any_col, time_any_col) = (
         diag_index(er, "ic"),
         diag_index(er, "stride_length"),
@@ -133,7 +138,7 @@ pub(crate) fn read_columns(
                     len_any_col.and_then(|k| e.diag[k]),
                     time_any_col.and_then(|k| e.diag[k]),
                 ) {
-                    c.strides_any.push((row, l, tm));
+                    c.strides_any.push((row, Some(l), tm));
                 }
                 for s in 0..2 {
                     let reference = r.as_ref().and_then(|r| r.reference.contact[s]);
@@ -145,11 +150,12 @@ pub(crate) fn read_columns(
                     if let Some(v) = fc_col[s].and_then(|k| e.diag[k]) {
                         c.fc[s].push(v);
                     }
-                    if let (Some(l), Some(tm)) = (
-                        len_col[s].and_then(|k| e.diag[k]),
-                        time_col[s].and_then(|k| e.diag[k]),
-                    ) {
-                        c.strides[s].push((row, l, tm));
+                    // (a stride's time without its length: it turns)
+                    if let Some(tm) = time_col[s].and_then(|k| e.diag[k]) {
+                        c.strides[s].push((row, len_col[s].and_then(|k| e.diag[k]), tm));
+                    }
+                    if let Some(v) = turn_col[s].and_then(|k| e.diag[k]) {
+                        c.turn_rate[s].push((row, v));
                     }
                     if let Some(v) = clipped_col[s].and_then(|k| e.diag[k]) {
                         c.clipped[s].push((row, v));

@@ -86,6 +86,11 @@ pub struct GaitEventEvaluation {
     /// Stride speed and length, each estimated stride against the mean
     /// `speed_ref` over its rows.
     pub per_stride: StrideFigures,
+    /// Strides with a speed reference whose speed and length the method
+    /// withheld (turning strides: `gait-events` and `lowback-speed`'s
+    /// `turn_rate`; `lowback-speed`'s stride after a turn): not in
+    /// `per_stride` or `blended`.
+    pub n_withheld: u64,
     /// Stance and swing time per stride (methods with final contacts).
     pub stance_swing: StanceSwingFigures,
     /// Stride speed and length with the estimate blended as the reference is
@@ -374,7 +379,9 @@ pub(crate) fn evaluate_with_strides(
         let track = se.track();
         let rows = track_strides(StrideFoot::Unknown, &c.strides_any, &track, None, &c);
         score_strides(&rows, &c, &mut ev);
-        return Ok((ev, unknown_foot_strides(rows, &track, &c)));
+        let rows = unknown_foot_strides(rows, &track, &c);
+        ev.n_withheld = withheld_with_reference(&rows);
+        return Ok((ev, rows));
     }
     let estimated = [0, 1].map(|s| {
         c.contact[s].iter().any(Option::is_some) || !c.ic[s].is_empty() || !c.fc[s].is_empty()
@@ -421,7 +428,15 @@ pub(crate) fn evaluate_with_strides(
     }
     score_strides(&rows, &c, &mut ev);
     ev.stance_swing = StanceSwingFigures::of_strides(&rows);
+    ev.n_withheld = withheld_with_reference(&rows);
     Ok((ev, rows))
+}
+
+/// How many of `rows` have a speed reference but no speed from the method.
+fn withheld_with_reference(rows: &[StrideRow]) -> u64 {
+    rows.iter()
+        .filter(|r| r.speed_withheld.is_some() && r.speed_ref_m_s.is_some())
+        .count() as u64
 }
 
 fn accuracies(c: &Columns, ev: &mut GaitEventEvaluation) {

@@ -86,6 +86,7 @@ impl GaitEventEvaluation {
             "contact_accuracy_pct": self.contact_accuracy_pct,
             "phase_accuracy_pct": self.phase_accuracy_pct,
             "blended": self.blended.to_json(),
+            "n_withheld": self.n_withheld,
             "speed_reference": if self.speed_from_com { "com_velocity" } else { "speed_ref" },
         });
         for fields in [self.per_stride.to_json(), self.stance_swing.to_json()] {
@@ -129,6 +130,12 @@ impl GaitEventEvaluation {
             f(self.per_stride.stride_length_mae_m, "m", 3),
             self.per_stride.n_lengths,
         );
+        if self.n_withheld > 0 {
+            s += &format!(
+                "(not scored: {} strides with a reference that the method withheld for a turn: no speed or length; `speed_withheld` in --strides)\n",
+                self.n_withheld
+            );
+        }
         if self.speed_from_com {
             s += "(stride speed against the trial's horizontal CoM speed, row by row: it has no speed_ref column)\n";
             return s;

@@ -61,7 +61,8 @@ impl StrideFoot {
     }
 }
 
-/// Why `lowback-speed` gives a stride no speed (`diag_stride_withheld`).
+/// Why a stride has no speed: `lowback-speed`'s `diag_stride_withheld`, or
+/// a `gait-events` stride with a time and no length (it turns).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SpeedWithheld {
     /// The stride turns (mean heading rate above `turn_rate`): `turn`.
@@ -119,9 +120,11 @@ pub struct StrideRow {
     pub step_length_1_m: Option<f64>,
     /// `lowback-speed`: its second step length (m).
     pub step_length_2_m: Option<f64>,
-    /// `lowback-speed`: mean heading rate over the stride (rad/s, signed).
+    /// Mean heading rate over the stride (rad/s, signed): the trunk's
+    /// (`lowback-speed`) or the foot's (`gait-events`).
     pub turn_rate_rad_s: Option<f64>,
-    /// `lowback-speed`: why the stride has no speed.
+    /// Why the stride has no speed (a turn; `lowback-speed`: or the stride
+    /// after one).
     pub speed_withheld: Option<SpeedWithheld>,
     /// The reference initial contact paired with `ic_s` (s).
     pub ic_ref_s: Option<f64>,
@@ -339,7 +342,7 @@ impl TrackEvents<'_> {
 /// `evaluate`'s final-contact timing), `None` when the method has none.
 pub(crate) fn track_strides(
     foot: StrideFoot,
-    strides: &[(usize, f64, f64)],
+    strides: &[(usize, Option<f64>, f64)],
     ev: &TrackEvents<'_>,
     fc: Option<&TrackEvents<'_>>,
     c: &Columns,
@@ -360,15 +363,22 @@ pub(crate) fn track_strides(
             with_stance_and_swing(&mut r, fc, ev.reference_of(end_j));
         }
         r.stride_time_s = Some(time);
-        r.stride_length_m = Some(length);
-        r.speed_m_s = Some(length / time);
-        r.acc_clipped_s = foot.side_index().and_then(|s| {
-            let rows = &c.clipped[s];
-            // (pushed in row order)
+        r.stride_length_m = length;
+        r.speed_m_s = length.map(|l| l / time);
+        // (each pushed in row order)
+        let at_row = |rows: &[(usize, f64)]| {
             rows.binary_search_by_key(&row, |&(k, _)| k)
                 .ok()
                 .map(|i| rows[i].1)
-        });
+        };
+        r.acc_clipped_s = foot.side_index().and_then(|s| at_row(&c.clipped[s]));
+        if let Some(s) = foot.side_index() {
+            r.turn_rate_rad_s = at_row(&c.turn_rate[s]);
+            // `gait-events` gives a turning stride its time, not its length.
+            if length.is_none() {
+                r.speed_withheld = Some(SpeedWithheld::Turn);
+            }
+        }
         rows.push(r);
     }
     rows

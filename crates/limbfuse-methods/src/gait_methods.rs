@@ -10,6 +10,7 @@
 //! shoe_gamma = 3e4           # zero-velocity detector threshold (Skog 2010)
 //! axis_time_constant = 10.0  # s: averaging of the medio-lateral axis
 //! speed_hold = 3.0           # s: how long a stride's speed is output
+//! turn_rate = 15.0           # deg/s: a stride turning faster has no length or speed
 //! leg_imu = "auto"           # "auto" (foot IMU, else shank IMU), "foot" or "shank"
 //! shank_contact = "zero-crossing"  # shank initial contact: "zero-crossing" or "valley"
 //! ```
@@ -38,6 +39,7 @@ struct GaitEventsFile {
     shoe_gamma: Option<f64>,
     axis_time_constant: Option<f64>,
     speed_hold: Option<f64>,
+    turn_rate: Option<f64>,
     leg_imu: Option<String>,
     shank_contact: Option<String>,
 }
@@ -127,7 +129,7 @@ impl MethodDef for GaitEventsMethod {
         "gait-events",
         "beyond the papers: initial/final contacts, stance/swing, SS1/DS/SS2 phase, stride length and speed from foot IMUs (ZUPT); events from shank IMUs",
         "per leg foot_acc/gyr (foot_<other side>_ for the other leg), else shank_gyr; raw sensor frames",
-        "swing_rate, min_swing_time, min_rest_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, leg_imu, shank_contact",
+        "swing_rate, min_swing_time, min_rest_time, shoe_window, shoe_gamma, axis_time_constant, speed_hold, turn_rate, leg_imu, shank_contact",
     )
     .finding_walking();
     type Settings = GaitEventsSettings;
@@ -187,6 +189,13 @@ impl MethodDef for GaitEventsMethod {
         )
         .map_err(&bad)?;
         positive("speed_hold", f.speed_hold, &mut p.speed_hold).map_err(&bad)?;
+        // The file says deg/s (El-Gohary's unit, as `lowback-speed`'s); the
+        // estimator takes rad/s.
+        let mut turn_rate_deg = p.turn_rate.to_degrees();
+        positive("turn_rate", f.turn_rate, &mut turn_rate_deg).map_err(&bad)?;
+        if f.turn_rate.is_some() {
+            p.turn_rate = turn_rate_deg.to_radians();
+        }
         if let Some(w) = f.shoe_window {
             if !(1..=limbfuse_estimators::gait_events::zero_velocity::MAX_WINDOW).contains(&w) {
                 return Err(bad(format!(
@@ -287,14 +296,18 @@ impl MethodDef for GaitEventsMethod {
              # Averaging time constant (s) of the foot's medio-lateral axis.\n\
              axis_time_constant = {:?}\n\
              # How long (s) a stride's speed stays the `speed` output.\n\
-             speed_hold = {:?}\n",
+             speed_hold = {:?}\n\
+             # Mean heading rate (deg/s) above which a stride turns: no length or speed\n\
+             # (El-Gohary et al. 2014's turn threshold, as lowback-speed's).\n\
+             turn_rate = {:?}\n",
             p.swing_rate,
             p.min_swing_time,
             p.min_rest_time,
             p.shoe.window,
             p.shoe.gamma,
             p.axis_time_constant,
-            p.speed_hold
+            p.speed_hold,
+            (p.turn_rate.to_degrees() * 1e9).round() / 1e9
         )
     }
 }

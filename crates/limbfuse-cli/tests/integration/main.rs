@@ -49,6 +49,7 @@ mod issue_19_mid_walk_start;
 mod issue_19_report_gait_events;
 mod issue_19_speed_against_the_com;
 mod issue_19_speed_on_a_walk_with_angles;
+mod issue_19_turning_strides;
 mod knee_backfill_cli;
 mod knee_bad_input;
 mod knee_cli;

@@ -185,6 +185,7 @@ impl FootTracker {
                         length,
                         time,
                         clipped_time: seg.clipped_time,
+                        turn_rate: seg.heading_change / time,
                     });
                 }
             }

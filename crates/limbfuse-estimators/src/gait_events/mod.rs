@@ -33,6 +33,7 @@ pub mod foot_events;
 mod foot_tracker;
 pub mod reading_gap;
 pub mod shank_events;
+mod shank_tracker;
 pub mod sign_replay;
 pub mod strapdown;
 pub mod trough_time;
@@ -47,9 +48,8 @@ use limbfuse_core::{
 };
 
 use foot_tracker::FootTracker;
-use reading_gap::ReadingGap;
-use shank_events::{ShankAxis, ShankContact, ShankEvents};
-use sign_replay::{LateEvents, Reading, UndecidedReadings};
+use shank_events::ShankContact;
+use shank_tracker::ShankTracker;
 use zero_velocity::ShoeParams;
 
 diagnostic_set! {
@@ -78,6 +78,12 @@ diagnostic_set! {
         StrideClippedLeft = "stride_clipped_left",
         /// The same for the right foot (s).
         StrideClippedRight = "stride_clipped_right",
+        /// Mean heading rate (rad/s, signed, counter-clockwise seen from
+        /// above) of the left stride just finished, turning or not (a
+        /// stride faster than `turn_rate` has no length: it turns).
+        StrideTurnRateLeft = "stride_turn_rate_left",
+        /// The same for the right foot (rad/s).
+        StrideTurnRateRight = "stride_turn_rate_right",
         /// 1 while the left foot is at rest (zero-velocity detector), else 0
         /// (a stride ends only at a rest that lasted `min_rest_time`).
         RestLeft = "rest_left",
@@ -160,6 +166,13 @@ pub struct GaitEventsParams {
     pub max_stride_time: f64,
     /// How long (s) a stride's speed is held as the `speed` output: 3.0.
     pub speed_hold: f64,
+    /// Mean heading rate (rad/s) above which a stride turns and has no
+    /// length or speed: 15 deg/s, the turn threshold of El-Gohary et al.
+    /// 2014 that `lowback-speed` uses (docs/GAIT_EVENTS.md "Turning
+    /// strides": in a turn the foot's displacement depends on the point of
+    /// the foot it is taken at, by up to `2 r sin(dpsi / 2)`, and is not
+    /// the walking distance).
+    pub turn_rate: f64,
     /// Gravity (m/s^2), from the trial's metadata.
     pub gravity: f64,
     /// Accelerometer full scale (m/s^2): the trial's `acc_range_m_s2`
@@ -186,6 +199,7 @@ impl Default for GaitEventsParams {
             min_stride_time: 0.4,
             max_stride_time: 3.0,
             speed_hold: 3.0,
+            turn_rate: 15.0 * core::f64::consts::PI / 180.0,
             gravity: limbfuse_core::STANDARD_GRAVITY,
             acc_full_scale: 16.0 * 9.80665,
             shank_contact: ShankContact::ZeroCrossing,
@@ -203,6 +217,19 @@ pub struct Stride {
     /// Time (s) its accelerometer was at full scale while the foot moved
     /// ([`strapdown::Segment::clipped_time`]).
     pub clipped_time: f64,
+    /// Mean heading rate (rad/s, signed, counter-clockwise seen from
+    /// above): the foot's heading change from the rest before the stride's
+    /// swing to the rest after it ([`strapdown::Segment::heading_change`])
+    /// over the stride time.
+    pub turn_rate: f64,
+}
+
+impl Stride {
+    /// The stride turns faster than `turn_rate` (rad/s): its length and
+    /// speed are withheld (docs/GAIT_EVENTS.md "Turning strides").
+    pub fn turns(&self, turn_rate: f64) -> bool {
+        libm::fabs(self.turn_rate) > turn_rate
+    }
 }
 
 /// What one foot gave at one sample.
@@ -234,103 +261,6 @@ impl SwingTimes {
                 self.last_swing = Some(t_ic - t_fc);
             }
         }
-    }
-}
-
-/// The pipeline of one leg with a shank IMU only: events, no strides.
-#[derive(Debug, Clone)]
-struct ShankTracker {
-    axis: ShankAxis,
-    events: ShankEvents,
-    sign: i32,
-    swing: SwingTimes,
-    gap: ReadingGap,
-    undecided: UndecidedReadings,
-    late: LateEvents,
-}
-
-impl ShankTracker {
-    fn new(p: &GaitEventsParams) -> Self {
-        ShankTracker::with_buffer(p, UndecidedReadings::default())
-    }
-
-    /// A tracker in its starting state with `undecided` (emptied) as its
-    /// buffer of undecided readings.
-    fn with_buffer(p: &GaitEventsParams, mut undecided: UndecidedReadings) -> Self {
-        undecided.clear();
-        ShankTracker {
-            axis: ShankAxis::new(p.axis_time_constant),
-            events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
-            sign: 0,
-            swing: SwingTimes::default(),
-            gap: ReadingGap::default(),
-            undecided,
-            late: LateEvents::default(),
-        }
-    }
-
-    /// Back to the starting state, keeping the buffer (no allocation).
-    fn reset(&mut self, p: &GaitEventsParams) {
-        let undecided = core::mem::replace(&mut self.undecided, UndecidedReadings::empty());
-        *self = ShankTracker::with_buffer(p, undecided);
-    }
-
-    /// The sign was just decided: the readings kept since the start (or the
-    /// last restart) go through the event detector ([`sign_replay`]).
-    fn replay_undecided(&mut self) {
-        for i in 0..self.undecided.len() {
-            let r = self.undecided.get(i);
-            if let Some(w) = self.axis.sagittal_rate(&r.gyr) {
-                let e = self.events.update(r.t, w);
-                self.swing.record(e);
-                self.late.push(e);
-            }
-        }
-    }
-
-    fn step(&mut self, p: &GaitEventsParams, t: f64, dt: f64, imu: &ImuSample) -> FootOutput {
-        let Some(gyr) = imu.gyr else {
-            return FootOutput::default();
-        };
-        let dt = self
-            .gap
-            .reading(t, dt, p.min_swing_time)
-            .unwrap_or_else(|| {
-                self.events.reset();
-                self.undecided.clear();
-                dt
-            });
-        let mut out = FootOutput::default();
-        self.axis.update(&gyr, dt);
-        let sign = self.axis.sign();
-        if sign != self.sign {
-            let decided = self.sign == 0;
-            self.sign = sign;
-            self.events.reset();
-            if decided {
-                self.replay_undecided();
-            }
-            self.undecided.clear();
-        }
-        if self.sign == 0 {
-            self.undecided.push(Reading {
-                t,
-                dt,
-                gyr,
-                rest: false,
-            });
-        }
-        if let Some(w) = self.axis.sagittal_rate(&gyr) {
-            out.rate = Some(w);
-            let e = self.events.update(t, w);
-            self.swing.record(e);
-            self.late.push(e);
-        }
-        let written = self.late.pop();
-        out.initial_contact = written.initial_contact;
-        out.final_contact = written.final_contact;
-        out.contact = self.events.contact();
-        out
     }
 }
 
@@ -501,6 +431,11 @@ impl Estimator for GaitEvents {
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
         writeln!(
             out,
+            "turn_rate: {:.6} deg/s (a stride turning faster has no length or speed)",
+            p.turn_rate.to_degrees()
+        )?;
+        writeln!(
+            out,
             "acc_full_scale: {} m/s^2 (clipped from {} of it)",
             p.acc_full_scale,
             strapdown::ACC_CLIP_FRACTION
@@ -555,7 +490,9 @@ impl Estimator for GaitEvents {
             e.contact[side] = o.contact;
             if let Some(s) = o.stride {
                 self.strides += 1;
-                self.speed = Some((s.length / s.time, t));
+                if !s.turns(self.params.turn_rate) {
+                    self.speed = Some((s.length / s.time, t));
+                }
             }
         }
         e.phase = self.phase(t, e.contact);
@@ -571,6 +508,7 @@ impl Estimator for GaitEvents {
                 GaitDiag::StrideLengthLeft,
                 GaitDiag::StrideTimeLeft,
                 GaitDiag::StrideClippedLeft,
+                GaitDiag::StrideTurnRateLeft,
                 GaitDiag::RestLeft,
                 GaitDiag::RateLeft,
             ),
@@ -580,16 +518,22 @@ impl Estimator for GaitEvents {
                 GaitDiag::StrideLengthRight,
                 GaitDiag::StrideTimeRight,
                 GaitDiag::StrideClippedRight,
+                GaitDiag::StrideTurnRateRight,
                 GaitDiag::RestRight,
                 GaitDiag::RateRight,
             ),
         ];
-        for (o, (ic, fc, len, time, clipped, rest, rate)) in outs.iter().zip(keys) {
+        let turn_rate = self.params.turn_rate;
+        for (o, (ic, fc, len, time, clipped, turn, rest, rate)) in outs.iter().zip(keys) {
             d.set(ic, o.initial_contact);
             d.set(fc, o.final_contact);
-            d.set(len, o.stride.map(|s| s.length));
+            d.set(
+                len,
+                o.stride.filter(|s| !s.turns(turn_rate)).map(|s| s.length),
+            );
             d.set(time, o.stride.map(|s| s.time));
             d.set(clipped, o.stride.map(|s| s.clipped_time));
+            d.set(turn, o.stride.map(|s| s.turn_rate));
             d.set(rest, o.rest.map(|r| if r { 1.0 } else { 0.0 }));
             d.set(rate, o.rate);
         }

@@ -116,6 +116,11 @@ pub struct Segment {
     /// lost velocity back); longer is a clipped swing, whose lost velocity is
     /// not recovered ([`IMPACT_CLIP_TIME`]).
     pub clipped_time: f64,
+    /// Rotation (rad) of the sensor about the vertical from the rest before
+    /// the period to the rest after it, counter-clockwise seen from above:
+    /// the foot's heading change over the stride (gaitmap's per-stride
+    /// `turning_angle`), `atan2(M_yx - M_xy, M_xx + M_yy)` of `M = R_N R_0^T`.
+    pub heading_change: f64,
 }
 
 impl Segment {
@@ -132,6 +137,8 @@ pub struct StrideIntegrator {
     rest_n: u32,
     moving: bool,
     r: Matrix3<f64>,
+    /// The attitude at the start of the period (the rest's tilt).
+    r0: Matrix3<f64>,
     g_rest: f64,
     v: Vector3<f64>,
     s1: Vector3<f64>,
@@ -166,6 +173,7 @@ impl StrideIntegrator {
             rest_n: 0,
             moving: false,
             r: Matrix3::identity(),
+            r0: Matrix3::identity(),
             g_rest: 0.0,
             v: Vector3::zeros(),
             s1: Vector3::zeros(),
@@ -229,6 +237,7 @@ impl StrideIntegrator {
                 return None;
             }
             self.r = tilt_to_vertical(&(mean / g));
+            self.r0 = self.r;
             self.g_rest = g;
             self.v = Vector3::zeros();
             self.s1 = Vector3::zeros();
@@ -307,6 +316,7 @@ impl StrideIntegrator {
         let h = Vector3::new(d[0], d[1], 0.0);
         let hn = h.norm();
         let rt = self.r.transpose();
+        let m = self.r * self.r0.transpose();
         Segment {
             displacement: d,
             forward_in_sensor: if hn > 0.0 {
@@ -317,236 +327,11 @@ impl StrideIntegrator {
             up_in_sensor: rt * Vector3::z(),
             duration: self.tau,
             clipped_time: self.clipped_time,
+            heading_change: libm::atan2(m[(1, 0)] - m[(0, 1)], m[(0, 0)] + m[(1, 1)]),
         }
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rodrigues_matches_a_small_step_product() {
-        let r = Vector3::new(0.3, -0.2, 0.5);
-        let mut m = Matrix3::identity();
-        let n = 20000;
-        for _ in 0..n {
-            m *= Matrix3::identity() + skew(&(r / n as f64));
-        }
-        assert!((exp_so3(&r) - m).norm() < 1e-4);
-    }
-
-    #[test]
-    fn tilt_turns_the_vector_to_vertical() {
-        let u = Vector3::new(0.3, 0.9, -0.2).normalize();
-        let r = tilt_to_vertical(&u);
-        assert!((r * u - Vector3::z()).norm() < 1e-12);
-        assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-12);
-    }
-
-    /// A sensor tilted by a fixed rotation moves 1.2 m forward with a
-    /// smooth velocity bump, without rotating: the integrated length is the
-    /// true one, and a constant accelerometer bias of 0.05 m/s^2 along the
-    /// motion (1.6 cm of position error over 0.8 s uncorrected) is removed
-    /// by the linear velocity correction (its velocity error is exactly
-    /// linear in time).
-    #[test]
-    fn a_known_translation_is_recovered() {
-        let tilt = exp_so3(&Vector3::new(0.4, -0.3, 0.2)); // sensor -> world
-        let g = 9.81;
-        let fs = 200.0;
-        let dt = 1.0 / fs;
-        let t_move = 0.8;
-        let length = 1.2;
-        for bias in [0.0, 0.05] {
-            let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
-            let up_sensor = tilt.transpose() * Vector3::z();
-            for _ in 0..20 {
-                s.update(true, &(up_sensor * g), &Vector3::zeros(), dt);
-            }
-            let n = (t_move * fs) as usize;
-            let mut seg = None;
-            for k in 1..=n + 1 {
-                let tau = k as f64 * dt;
-                // x(t) = L (t/T - sin(2 pi t / T) / (2 pi)): velocity zero at both ends.
-                let w = 2.0 * core::f64::consts::PI / t_move;
-                let ax = if k <= n {
-                    length * w * libm::sin(w * tau) / t_move
-                } else {
-                    0.0
-                };
-                let a_world = Vector3::new(ax + bias, 0.0, g);
-                let rest = k > n;
-                let out = s.update(rest, &(tilt.transpose() * a_world), &Vector3::zeros(), dt);
-                if out.is_some() {
-                    seg = out;
-                }
-            }
-            let seg = seg.expect("a finished segment");
-            let err = (seg.horizontal_length() - length).abs();
-            let limit = 2e-3;
-            assert!(
-                err < limit,
-                "bias {bias}: length {} (err {err})",
-                seg.horizontal_length()
-            );
-        }
-    }
-
-    /// A foot-like stride with the sensor pitching by up to 0.6 rad while
-    /// it moves 1.4 m forward and lifts 0.1 m in 1.0 s (exact kinematics:
-    /// the gyro is the pitch rate, the accelerometer the specific force in
-    /// the turning sensor frame): the length is 1.8 mm short at 50 Hz and
-    /// 0.5 mm at 100 Hz, the error falling with the square of the sampling
-    /// period. The first-order scheme used until 2026-12-06 (attitude
-    /// stepped by the sample's own rate, the velocity by the sample's
-    /// acceleration) was 28.8 mm long at 50 Hz and 14.9 mm at 100 Hz (2.1
-    /// and 1.1 % of the stride; the walking-speed error that grew with the
-    /// sampling period on the independent simulator's walks, docs/RESULTS.md).
-    #[test]
-    fn a_pitching_stride_is_integrated_to_second_order() {
-        use core::f64::consts::PI;
-        let g = 9.81;
-        let (t_move, length, lift, pitch) = (1.0, 1.4, 0.1, 0.6);
-        let mut errors = [0.0; 2];
-        for (fs, error) in [50.0, 100.0].into_iter().zip(&mut errors) {
-            let dt = 1.0 / fs;
-            let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
-            let up = Vector3::new(0.0, 0.0, g);
-            for _ in 0..20 {
-                s.update(true, &up, &Vector3::zeros(), dt);
-            }
-            let w = 2.0 * PI / t_move;
-            let n = (t_move * fs).round() as usize;
-            let mut seg = None;
-            for k in 1..=n + 1 {
-                let t = (k as f64 * dt).min(t_move);
-                // theta = pitch sin^2(pi t / T) = pitch (1 - cos w t) / 2
-                let th = pitch * 0.5 * (1.0 - libm::cos(w * t));
-                let th_dot = pitch * 0.5 * w * libm::sin(w * t);
-                let ax = length * w * libm::sin(w * t) / t_move;
-                let az = lift * 0.5 * w * w * libm::cos(w * t);
-                let r = exp_so3(&Vector3::new(0.0, th, 0.0)); // sensor -> world
-                let f = r.transpose() * Vector3::new(ax, 0.0, az + g);
-                let gyr = Vector3::new(0.0, th_dot, 0.0);
-                if let Some(out) = s.update(k > n, &f, &gyr, dt) {
-                    seg = Some(out);
-                }
-            }
-            let seg = seg.expect("a finished segment");
-            let err = seg.horizontal_length() - length;
-            assert!(err.abs() < 2.5e-3, "{fs} Hz: length error {err} m");
-            *error = err;
-        }
-        let order = libm::log2(errors[0] / errors[1]);
-        assert!((1.7..2.3).contains(&order), "{errors:?}: order {order}");
-    }
-    /// A level sensor moves forward and stops with a heel-strike impulse
-    /// (one sample of -157 m/s^2 along x at 200 Hz, from 0.8 m/s) that an
-    /// accelerometer of 80 m/s^2 full scale clips at -80: the velocity change
-    /// lost, 0.38 m/s, is a step at the impact. The linear drift removal
-    /// alone spreads it over the stride and comes out 111 mm short of the
-    /// unclipped 586 mm (the clipping model off: `acc_full_scale` infinite,
-    /// as before 2026-12-06); the clipped axis's step gives the unclipped
-    /// length within 0.1 mm.
-    #[test]
-    fn a_clipped_impact_is_a_velocity_step_not_a_drift() {
-        use core::f64::consts::PI;
-        let g = 9.81;
-        let dt = 1.0 / 200.0;
-        let (t_move, top) = (0.8, 1.6);
-        let n_i = (0.75 * t_move / dt) as usize;
-        let mut readings = Vec::new();
-        // v(t) = top (1 - cos(2 pi t / T)) / 2 up to the impact.
-        let accel = |t: f64| top * PI / t_move * libm::sin(2.0 * PI * t / t_move);
-        let mut v_trap = 0.0;
-        let mut a_prev = 0.0;
-        for k in 1..=n_i {
-            let a = accel(k as f64 * dt);
-            v_trap += (a_prev + a) * 0.5 * dt;
-            a_prev = a;
-            readings.push(a);
-        }
-        // The impulse that brings the trapezoid's velocity to zero, then
-        // five still moving samples before the rest.
-        let impulse = -(v_trap + a_prev * 0.5 * dt) / dt;
-        assert!((-165.0..-150.0).contains(&impulse), "{impulse}");
-        readings.push(impulse);
-        readings.extend([0.0; 5]);
-        let run = |full_scale: f64, clip: f64| {
-            let mut s = StrideIntegrator::new(5.0, full_scale);
-            for _ in 0..20 {
-                s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
-            }
-            for a in &readings {
-                let f = Vector3::new(a.clamp(-clip, clip), 0.0, g);
-                assert!(s.update(false, &f, &Vector3::zeros(), dt).is_none());
-            }
-            let end = s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
-            end.expect("a finished segment").horizontal_length()
-        };
-        let unclipped = run(f64::INFINITY, f64::INFINITY);
-        let linear = run(f64::INFINITY, 80.0);
-        let stepped = run(80.0, 80.0);
-        assert!(
-            (linear - unclipped + 0.1114).abs() < 0.002,
-            "linear {linear} vs {unclipped}"
-        );
-        assert!(
-            (stepped - unclipped).abs() < 1e-4,
-            "stepped {stepped} vs {unclipped}"
-        );
-    }
-
-    /// A 2 g accelerometer's rail in a trial that states no range (16 g
-    /// assumed): the swing's readings sit at 19.6133 m/s^2 (a 30 m/s^2
-    /// sine, clipped). The exact repeats count as clipped time, from each
-    /// run's second sample, and step 4 does not use them (the displacement
-    /// is the linear drift removal's, bit for bit); a reading repeated below
-    /// 1.5 g (a still 10 m/s^2 stretch) is not a rail.
-    #[test]
-    fn a_rail_seen_as_exact_repeats_is_clipped_time_not_a_step() {
-        use core::f64::consts::PI;
-        let g = 9.81;
-        let dt = 1.0 / 200.0;
-        let rail = 2.0 * 9.80665;
-        let n = 80;
-        let mut readings: Vec<f64> = (1..=n)
-            .map(|k| (30.0 * libm::sin(2.0 * PI * k as f64 / n as f64)).clamp(-rail, rail))
-            .collect();
-        readings.extend([10.0; 6]);
-        readings.extend([-10.0; 6]);
-        let repeats = readings
-            .windows(2)
-            .filter(|w| w[1] == w[0] && w[1].abs() >= RAIL_REPEAT_FLOOR)
-            .count();
-        assert!((35..=50).contains(&repeats), "{repeats}");
-        let run = |full_scale: f64| {
-            let mut s = StrideIntegrator::new(5.0, full_scale);
-            for _ in 0..20 {
-                s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
-            }
-            for a in &readings {
-                let f = Vector3::new(*a, 0.0, g);
-                assert!(s.update(false, &f, &Vector3::zeros(), dt).is_none());
-            }
-            let end = s.update(true, &Vector3::new(0.0, 0.0, g), &Vector3::zeros(), dt);
-            end.expect("a finished segment")
-        };
-        let seen = run(16.0 * 9.80665);
-        assert!(
-            (seen.clipped_time - repeats as f64 * dt).abs() < 1e-12,
-            "{} s for {repeats} repeats",
-            seen.clipped_time
-        );
-        assert_eq!(seen.displacement, run(f64::INFINITY).displacement);
-        // The rail stated as the full scale: every railed sample is clipped
-        // (each run's first too) and step 4 applies.
-        let stated = run(rail);
-        assert!(
-            stated.clipped_time > seen.clipped_time,
-            "{}",
-            stated.clipped_time
-        );
-    }
-}
+#[path = "strapdown_tests.rs"]
+mod tests;
