@@ -271,6 +271,11 @@ pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -
                 ss.n_strides
             )
         };
+        // (`evaluate`'s "not scored" line: strides withheld for a turn)
+        let strides = match e.n_withheld {
+            0 => st.n_strides.to_string(),
+            n => format!("{} ({n} more withheld: turning)", st.n_strides),
+        };
         let _ = write!(
             s,
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{} ({})</td></tr>",
@@ -284,7 +289,7 @@ pub fn events_table(labels: &[String], evals: &[(usize, GaitEventEvaluation)]) -
             f(e.phase_accuracy_pct, 1),
             f(st.speed_mae_mps, 3),
             f(st.speed_bias_mps, 3),
-            st.n_strides,
+            strides,
             f(st.stride_length_error_pct, 2),
             st.n_lengths,
         );

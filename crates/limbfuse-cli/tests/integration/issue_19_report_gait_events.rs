@@ -46,8 +46,10 @@ fn issue_19_report_of_gait_events_on_the_gaitmap_walk() {
         ic["p95_abs_ms"].as_f64().unwrap()
     );
     assert!(html.contains(&row), "no {row} in the events table");
+    // (the turning strides withheld, as `evaluate` says: 3 here)
+    assert_eq!(v["n_withheld"], 3);
     let speed = format!(
-        "<td>{:.3} ({:.3})</td><td>{}</td>",
+        "<td>{:.3} ({:.3})</td><td>{} (3 more withheld: turning)</td>",
         v["speed_mae_mps"].as_f64().unwrap(),
         v["speed_bias_mps"].as_f64().unwrap(),
         v["n_strides"]
