@@ -70,6 +70,32 @@ fn a_known_translation_is_recovered() {
     }
 }
 
+/// The moving period of a sensor resting with specific force `rest` (20
+/// samples), then moving for `t_move` s sampled at `fs` Hz (`n` = `t_move
+/// fs` samples, the time clamped at `t_move`), its specific force and rate
+/// at time `t` given by `motion`, then at rest again.
+fn moving_period(
+    fs: f64,
+    t_move: f64,
+    rest: Vector3<f64>,
+    motion: impl Fn(f64) -> (Vector3<f64>, Vector3<f64>),
+) -> Segment {
+    let dt = 1.0 / fs;
+    let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
+    for _ in 0..20 {
+        s.update(true, &rest, &Vector3::zeros(), dt);
+    }
+    let n = (t_move * fs).round() as usize;
+    let mut seg = None;
+    for k in 1..=n + 1 {
+        let (f, gyr) = motion((k as f64 * dt).min(t_move));
+        if let Some(out) = s.update(k > n, &f, &gyr, dt) {
+            seg = Some(out);
+        }
+    }
+    seg.expect("a finished segment")
+}
+
 /// A foot-like stride with the sensor pitching by up to 0.6 rad while
 /// it moves 1.4 m forward and lifts 0.1 m in 1.0 s (exact kinematics:
 /// the gyro is the pitch rate, the accelerometer the specific force in
@@ -85,19 +111,10 @@ fn a_pitching_stride_is_integrated_to_second_order() {
     use core::f64::consts::PI;
     let g = 9.81;
     let (t_move, length, lift, pitch) = (1.0, 1.4, 0.1, 0.6);
+    let w = 2.0 * PI / t_move;
     let mut errors = [0.0; 2];
     for (fs, error) in [50.0, 100.0].into_iter().zip(&mut errors) {
-        let dt = 1.0 / fs;
-        let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
-        let up = Vector3::new(0.0, 0.0, g);
-        for _ in 0..20 {
-            s.update(true, &up, &Vector3::zeros(), dt);
-        }
-        let w = 2.0 * PI / t_move;
-        let n = (t_move * fs).round() as usize;
-        let mut seg = None;
-        for k in 1..=n + 1 {
-            let t = (k as f64 * dt).min(t_move);
+        let seg = moving_period(fs, t_move, Vector3::new(0.0, 0.0, g), |t| {
             // theta = pitch sin^2(pi t / T) = pitch (1 - cos w t) / 2
             let th = pitch * 0.5 * (1.0 - libm::cos(w * t));
             let th_dot = pitch * 0.5 * w * libm::sin(w * t);
@@ -105,12 +122,8 @@ fn a_pitching_stride_is_integrated_to_second_order() {
             let az = lift * 0.5 * w * w * libm::cos(w * t);
             let r = exp_so3(&Vector3::new(0.0, th, 0.0)); // sensor -> world
             let f = r.transpose() * Vector3::new(ax, 0.0, az + g);
-            let gyr = Vector3::new(0.0, th_dot, 0.0);
-            if let Some(out) = s.update(k > n, &f, &gyr, dt) {
-                seg = Some(out);
-            }
-        }
-        let seg = seg.expect("a finished segment");
+            (f, Vector3::new(0.0, th_dot, 0.0))
+        });
         let err = seg.horizontal_length() - length;
         assert!(err.abs() < 2.5e-3, "{fs} Hz: length error {err} m");
         *error = err;
@@ -131,23 +144,11 @@ fn heading_change_is_the_turn_about_the_vertical() {
     use core::f64::consts::PI;
     let g = 9.81;
     let (t_move, pitch, fs) = (1.0, 0.6, 200.0);
-    let dt = 1.0 / fs;
+    let w = 2.0 * PI / t_move;
     let q = exp_so3(&Vector3::new(0.4, -0.3, 1.1)); // sensor -> foot
     for psi_end in [0.0, 0.5, -1.7] {
-        let mut s = StrideIntegrator::new(5.0, f64::INFINITY);
-        for _ in 0..20 {
-            s.update(
-                true,
-                &(q.transpose() * Vector3::new(0.0, 0.0, g)),
-                &Vector3::zeros(),
-                dt,
-            );
-        }
-        let w = 2.0 * PI / t_move;
-        let n = (t_move * fs).round() as usize;
-        let mut seg = None;
-        for k in 1..=n + 1 {
-            let t = (k as f64 * dt).min(t_move);
+        let rest = q.transpose() * Vector3::new(0.0, 0.0, g);
+        let seg = moving_period(fs, t_move, rest, |t| {
             let th = pitch * 0.5 * (1.0 - libm::cos(w * t));
             let th_dot = pitch * 0.5 * w * libm::sin(w * t);
             let psi = psi_end * 0.5 * (1.0 - libm::cos(0.5 * w * t));
@@ -155,12 +156,11 @@ fn heading_change_is_the_turn_about_the_vertical() {
             let rz = exp_so3(&Vector3::new(0.0, 0.0, psi));
             let r = rz * exp_so3(&Vector3::new(0.0, th, 0.0)) * q;
             let w_world = Vector3::new(0.0, 0.0, psi_dot) + rz * Vector3::new(0.0, th_dot, 0.0);
-            let f = r.transpose() * Vector3::new(0.0, 0.0, g);
-            if let Some(out) = s.update(k > n, &f, &(r.transpose() * w_world), dt) {
-                seg = Some(out);
-            }
-        }
-        let seg = seg.expect("a finished segment");
+            (
+                r.transpose() * Vector3::new(0.0, 0.0, g),
+                r.transpose() * w_world,
+            )
+        });
         let limit = if psi_end == 0.0 { 1e-9 } else { 1e-3 };
         assert!(
             (seg.heading_change - psi_end).abs() < limit,
@@ -169,6 +169,7 @@ fn heading_change_is_the_turn_about_the_vertical() {
         );
     }
 }
+
 /// A level sensor moves forward and stops with a heel-strike impulse
 /// (one sample of -157 m/s^2 along x at 200 Hz, from 0.8 m/s) that an
 /// accelerometer of 80 m/s^2 full scale clips at -80: the velocity change
