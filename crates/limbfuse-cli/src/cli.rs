@@ -334,6 +334,32 @@ pub struct EstimateArgs {
     /// list of its diagnostics).
     #[arg(long, value_name = "all|none|NAMES")]
     pub diagnostics: Option<String>,
+    /// Rows whose time does not follow the row before (SPEC asks `t` to increase strictly):
+    /// `refuse` stops there (default); `drop` drops them and says how many at the end: a row
+    /// not after the last one passed, or one whose time jumps ahead of the rows after it (for a
+    /// live stream, `-`; a file is better repaired first with `limbfuse repair-time`;
+    /// docs/STREAMING.md).
+    #[arg(long, value_enum, default_value_t = LateRowsArg::Refuse)]
+    pub late_rows: LateRowsArg,
+}
+
+/// `estimate --late-rows`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LateRowsArg {
+    /// Stop at the first such row with its line.
+    Refuse,
+    /// Drop such rows and count them.
+    Drop,
+}
+
+impl LateRowsArg {
+    /// The reader's rule.
+    pub fn rule(self) -> limbfuse_io::LateRows {
+        match self {
+            LateRowsArg::Refuse => limbfuse_io::LateRows::Refuse,
+            LateRowsArg::Drop => limbfuse_io::LateRows::Drop,
+        }
+    }
 }
 
 /// `estimate --window`: the knee methods' identification window in samples.

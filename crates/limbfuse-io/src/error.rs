@@ -78,7 +78,7 @@ pub enum FileError {
         found: String,
     },
     /// Time is not strictly increasing.
-    #[error("{}:{line}: column {column} (`t`): time must increase strictly, but {t} follows {previous} (`limbfuse repair-time`, Python `limbfuse.repair_time`, writes a copy without the rows that break the order: docs/ROBUST_INPUT.md)", path.display())]
+    #[error("{}:{line}: column {column} (`t`): time must increase strictly, but {t} follows {previous} (`limbfuse repair-time`, Python `limbfuse.repair_time`, writes a copy without the rows that break the order; for a live stream, `limbfuse estimate --late-rows drop` drops them as it reads: docs/ROBUST_INPUT.md)", path.display())]
     TimeNotIncreasing {
         /// File path.
         path: PathBuf,

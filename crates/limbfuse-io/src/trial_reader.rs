@@ -13,6 +13,7 @@ use limbfuse_core::{Joint, Record, Segment, Side};
 use nalgebra::Vector3;
 
 use crate::error::FileError;
+use crate::late_rows::{LateRowFilter, LateRowLog, LateRows};
 use crate::layout::{contact_ref_column, other_leg_prefix, TrialLayout, AXES, QUAT};
 use crate::meta::TrialMeta;
 use crate::table::TableReader;
@@ -79,6 +80,9 @@ pub struct TrialReader {
     layout: TrialLayout,
     previous_t: Option<f64>,
     rows: u64,
+    /// [`LateRows::Drop`]: the rule over rows out of time order, and a row
+    /// to return at the next read (after a held one passed first).
+    late: Option<Box<LateRowFilter>>,
     /// [`ColumnPlan::number_columns`], and the current row's values by column.
     number_columns: Vec<usize>,
     values: Vec<Option<f64>>,
@@ -252,6 +256,7 @@ impl TrialReader {
             layout,
             previous_t: None,
             rows: 0,
+            late: None,
             number_columns,
             values,
         })
@@ -303,10 +308,63 @@ impl TrialReader {
         Ok(self.read_into(&mut rec)?.then_some(rec))
     }
 
+    /// What to do with a row whose time does not follow the row before it
+    /// ([`LateRows`]; SPEC's refusal by default). Set before the first read.
+    pub fn with_late_rows(mut self, late: LateRows) -> Self {
+        self.late = match late {
+            LateRows::Refuse => None,
+            LateRows::Drop => Some(Box::default()),
+        };
+        self
+    }
+
+    /// With [`LateRows::Drop`], the rows dropped so far.
+    pub fn late_rows(&self) -> Option<&LateRowLog> {
+        self.late.as_ref().map(|l| l.log())
+    }
+
     /// [`TrialReader::next_record`] parsed straight into `rec` (every field
     /// overwritten): `Ok(false)` at the end of the file. The runner reads a
     /// whole trial into one record this way ([`RecordSource`]).
     pub fn read_into(&mut self, rec: &mut Record) -> Result<bool, FileError> {
+        let Some(mut late) = self.late.take() else {
+            return Ok(self.read_row(rec, true)?.is_some());
+        };
+        let more = self.read_in_order(rec, &mut late);
+        self.late = Some(late);
+        more
+    }
+
+    /// [`TrialReader::read_into`] under [`LateRows::Drop`] (module
+    /// [`crate::late_rows`]).
+    fn read_in_order(
+        &mut self,
+        rec: &mut Record,
+        filter: &mut LateRowFilter,
+    ) -> Result<bool, FileError> {
+        if let Some(next) = filter.take_pending() {
+            *rec = next;
+            return Ok(true);
+        }
+        loop {
+            let Some(line) = self.read_row(rec, false)? else {
+                return Ok(match filter.finish() {
+                    Some(held) => {
+                        *rec = held;
+                        true
+                    }
+                    None => false,
+                });
+            };
+            if filter.offer(rec, line) {
+                return Ok(true);
+            }
+        }
+    }
+
+    /// Parses the next row into `rec`; its line, or `None` at the end of
+    /// the file. `ordered`: a time not after the row before is an error.
+    fn read_row(&mut self, rec: &mut Record, ordered: bool) -> Result<Option<u64>, FileError> {
         let header_line = self.table.header_line();
         let Some(row) = self.table.next_row()? else {
             if self.rows == 0 {
@@ -315,10 +373,11 @@ impl TrialReader {
                     line: header_line + 1,
                 });
             }
-            return Ok(false);
+            return Ok(None);
         };
+        let line = row.line();
         let plan = &self.plan;
-        let t = row.time(plan.t, self.previous_t)?;
+        let t = row.time(plan.t, self.previous_t.filter(|_| ordered))?;
         row.numbers_into(&self.number_columns, &mut self.values)?;
         let v = &self.values;
         let opt = |c: Option<usize>| c.and_then(|c| v[c]);
@@ -380,7 +439,7 @@ impl TrialReader {
         }
         self.previous_t = Some(t);
         self.rows += 1;
-        Ok(true)
+        Ok(Some(line))
     }
 }
 

@@ -48,7 +48,8 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         )?
     } else {
         TrialReader::open(&a.trial)?
-    };
+    }
+    .with_late_rows(a.late_rows.rule());
     let est = methods::build_for(&spec, &reader)?;
     methods::report_body(&spec, &reader)?;
     let range = methods::library_speed_range(&spec, &reader)?;
@@ -75,7 +76,7 @@ pub fn run(a: &EstimateArgs) -> Result<()> {
         {
             eprintln!("{}: {}", spec.method(), ext.message);
             if let Some(est) = ext.estimator {
-                let reader = TrialReader::open(&a.trial)?;
+                let reader = TrialReader::open(&a.trial)?.with_late_rows(a.late_rows.rule());
                 pass = estimate_pass(a, &spec, reader, est, None, Some(ext.range))?;
             }
         }
@@ -323,6 +324,9 @@ fn command_line(a: &EstimateArgs) -> String {
         c += " --backfill";
     }
     opt(&mut c, "diagnostics", a.diagnostics.clone());
+    if a.late_rows == crate::cli::LateRowsArg::Drop {
+        c += " --late-rows drop";
+    }
     c + &format!(" {} -o {}", name(&a.trial), name(&a.output))
 }
 
@@ -450,6 +454,8 @@ struct RunReport {
     rails: AccRailWatch,
     intervals: SampleIntervalWatch,
     units: SensorUnitsWatch,
+    /// `--late-rows drop`: the rows dropped.
+    late_rows: Option<limbfuse_io::LateRowLog>,
 }
 
 impl RunReport {
@@ -469,6 +475,9 @@ impl RunReport {
         }
         if let Some(r) = self.rails.rails() {
             eprintln!("warning: {label} on {}: {r}", trial.display());
+        }
+        if let Some(m) = self.late_rows.as_ref().and_then(|l| l.message()) {
+            eprintln!("warning: {label} on {}: {m}", trial.display());
         }
         super::warn_units(trial, &self.intervals, &self.units);
     }
@@ -573,5 +582,6 @@ fn run_observed<W: std::io::Write>(
         rails,
         intervals,
         units,
+        late_rows: reader.late_rows().copied(),
     })
 }

@@ -57,6 +57,7 @@ mod knee_empty_cells;
 mod knee_rate_bias_cli;
 mod knee_sensor_delay_cli;
 mod knee_time_gap;
+mod late_rows_stream;
 mod long_runs_check_outputs_first;
 mod lowback_time_stamps;
 mod mirror_truth_cli;
