@@ -262,7 +262,9 @@ def _trial_from_state(t, channels, meta, phase_ref, source) -> Trial:
 
 
 def read_trial(path: PathLike) -> Trial:
-    """Reads a trial file. Errors name the file, line and column."""
+    """Reads a trial file. Errors name the file, line and column. A last
+    line cut off while the file was written (fewer cells than the header,
+    no line break) is left out with a ``LimbfuseWarning``."""
     return Trial._from_native(_native.read_trial(os.fsdecode(path)))
 
 

@@ -55,7 +55,7 @@ pub struct NativeFilter {
 }
 
 /// The `LimbfuseWarning` of `text`.
-fn warn_user(py: Python<'_>, text: String) -> PyResult<()> {
+pub(crate) fn warn_user(py: Python<'_>, text: String) -> PyResult<()> {
     let category = py
         .import("limbfuse._estimate")?
         .getattr("LimbfuseWarning")?;

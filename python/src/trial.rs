@@ -110,7 +110,7 @@ pub fn trial_tuple<'py>(
 #[pyfunction]
 fn read_trial(py: Python<'_>, path: PathBuf) -> PyResult<TrialTuple<'_>> {
     guarded(|| {
-        let (meta, cols, hash) =
+        let (meta, cols, hash, cut) =
             crate::interrupt::detach(py, || -> Result<_, limbfuse_io::FileError> {
                 let mut reader = TrialReader::open(&path)?;
                 let meta = reader.meta().clone();
@@ -121,9 +121,14 @@ fn read_trial(py: Python<'_>, path: PathBuf) -> PyResult<TrialTuple<'_>> {
                         break;
                     }
                 }
-                Ok((meta, cols, reader.content_hash()))
+                let cut = reader.cut_last_line().map(|c| c.message(&path));
+                Ok((meta, cols, reader.content_hash(), cut))
             })?
             .map_err(|e| user_error(&e))?;
+        // (the CLI's warning: a recording cut off mid-line, its last line left out)
+        if let Some(cut) = cut {
+            crate::filter::warn_user(py, cut)?;
+        }
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),

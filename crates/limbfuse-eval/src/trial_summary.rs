@@ -139,6 +139,7 @@ pub fn summarise(reader: &mut TrialReader) -> Result<TrialSummary, FileError> {
         units: units.suspects().collect(),
         warnings: crate::unit_warnings(&intervals, &units)
             .chain(rails.rails().map(|r| r.to_string()))
+            .chain(reader.cut_last_line().map(|c| c.message(reader.path())))
             .collect(),
         thigh_spread_deg: thigh.spread_deg(),
     })

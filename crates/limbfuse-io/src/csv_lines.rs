@@ -37,6 +37,8 @@ pub(crate) struct LineSource {
     start: usize,
     end: usize,
     at_end: bool,
+    /// The line last returned ended the source without a `\n`.
+    unterminated: bool,
 }
 
 /// Why a line could not be read.
@@ -57,6 +59,7 @@ impl LineSource {
             start: 0,
             end: 0,
             at_end: false,
+            unterminated: false,
         }
     }
 
@@ -70,6 +73,7 @@ impl LineSource {
             map: Some((map, hash, 0)),
             start: 0,
             at_end: true,
+            unterminated: false,
         }
     }
 
@@ -82,6 +86,7 @@ impl LineSource {
             start: 0,
             end: 0,
             at_end: true,
+            unterminated: false,
         }
     }
 
@@ -116,6 +121,12 @@ impl LineSource {
         Ok(())
     }
 
+    /// The line last returned was the source's last and had no `\n`: a
+    /// file whose writer stopped in the middle of a line, if it is short.
+    pub(crate) fn last_line_unterminated(&self) -> bool {
+        self.unterminated
+    }
+
     /// The first byte of the next line, without consuming it (`None` at the end).
     pub(crate) fn peek(&mut self) -> Result<Option<u8>, LineError> {
         while self.start == self.end && !self.at_end {
@@ -143,7 +154,10 @@ impl LineSource {
         let scan_end = self.end.min(self.start + MAX_LINE_BYTES);
         let line_end = match memchr(b'\n', &bytes[self.start..scan_end]) {
             Some(i) => self.start + i,
-            None if scan_end == self.end && self.end - self.start < MAX_LINE_BYTES => self.end,
+            None if scan_end == self.end && self.end - self.start < MAX_LINE_BYTES => {
+                self.unterminated = true;
+                self.end
+            }
             None => return Err(LineError::TooLong),
         };
         let line = self.start..line_end;
@@ -171,6 +185,7 @@ impl LineSource {
                 }
                 let line = self.start..self.end;
                 self.start = self.end;
+                self.unterminated = true;
                 return Ok(Some(line));
             }
             let scanned = self.end - self.start;

@@ -44,6 +44,34 @@ pub struct TableReader {
     /// The rows of an Arrow IPC file (then `lines` is empty), and the
     /// file's hash once its last row has been read.
     arrow: Option<(ArrowSource, Option<ContentHash>)>,
+    /// The last line, left out: fewer cells than the header and no line
+    /// break (a recording cut off while it was written).
+    cut_last_line: Option<CutLine>,
+}
+
+/// A last line left out of a table ([`TableReader::cut_last_line`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CutLine {
+    /// Its 1-based line number.
+    pub line: u64,
+    /// Cells it has.
+    pub found: usize,
+    /// Cells a row has (the header's).
+    pub expected: usize,
+}
+
+impl CutLine {
+    /// What a reader's user is told.
+    pub fn message(&self, path: &Path) -> String {
+        format!(
+            "{}:{}: the last line has {} of {} cells and no line break: the recording was cut off \
+             while it was written, and that line is left out",
+            path.display(),
+            self.line,
+            self.found,
+            self.expected
+        )
+    }
 }
 
 impl std::fmt::Debug for TableReader {
@@ -115,6 +143,7 @@ impl TableReader {
             quoted: Vec::new(),
             hash: HashHandle::default(),
             arrow: Some((source, None)),
+            cut_last_line: None,
         };
         table.check_header(0)?;
         Ok(table)
@@ -140,6 +169,7 @@ impl TableReader {
             quoted: Vec::new(),
             hash,
             arrow: None,
+            cut_last_line: None,
         };
         table
             .lines
@@ -292,6 +322,12 @@ impl TableReader {
         }
     }
 
+    /// The last line, left out because it was cut off (fewer cells than
+    /// the header, no line break); known once the rows have been read.
+    pub fn cut_last_line(&self) -> Option<CutLine> {
+        self.cut_last_line
+    }
+
     /// The file path used in messages.
     pub fn path(&self) -> &Path {
         &self.path
@@ -382,6 +418,21 @@ impl TableReader {
         let Some((line, cells)) = self.next_record()? else {
             return Ok(None);
         };
+        if self.cells.len() < self.header.len()
+            && matches!(cells, Cells::Line(_))
+            && self.lines.last_line_unterminated()
+        {
+            // A writer stopped mid-line (a logger switched off, a copy of a
+            // file still being written): the row is incomplete, and the
+            // last. Read on to the end so that the hash is finished.
+            self.cut_last_line = Some(CutLine {
+                line,
+                found: self.cells.len(),
+                expected: self.header.len(),
+            });
+            let _ = self.lines.next_line().map_err(|e| self.line_error(e))?;
+            return Ok(None);
+        }
         if self.cells.len() != self.header.len() {
             return Err(FileError::RowLength {
                 path: self.path.clone(),

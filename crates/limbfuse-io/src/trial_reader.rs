@@ -318,6 +318,12 @@ impl TrialReader {
         self
     }
 
+    /// The last line, left out because it was cut off (fewer cells than
+    /// the header and no line break): known once every record was read.
+    pub fn cut_last_line(&self) -> Option<crate::table::CutLine> {
+        self.table.cut_last_line()
+    }
+
     /// With [`LateRows::Drop`], the rows dropped so far.
     pub fn late_rows(&self) -> Option<&LateRowLog> {
         self.late.as_ref().map(|l| l.log())

@@ -456,6 +456,8 @@ struct RunReport {
     units: SensorUnitsWatch,
     /// `--late-rows drop`: the rows dropped.
     late_rows: Option<limbfuse_io::LateRowLog>,
+    /// The trial's last line, left out because it was cut off.
+    cut_last_line: Option<String>,
 }
 
 impl RunReport {
@@ -478,6 +480,9 @@ impl RunReport {
         }
         if let Some(m) = self.late_rows.as_ref().and_then(|l| l.message()) {
             eprintln!("warning: {label} on {}: {m}", trial.display());
+        }
+        if let Some(m) = &self.cut_last_line {
+            eprintln!("warning: {m}");
         }
         super::warn_units(trial, &self.intervals, &self.units);
     }
@@ -583,5 +588,6 @@ fn run_observed<W: std::io::Write>(
         intervals,
         units,
         late_rows: reader.late_rows().copied(),
+        cut_last_line: reader.cut_last_line().map(|c| c.message(reader.path())),
     })
 }

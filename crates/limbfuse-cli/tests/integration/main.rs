@@ -19,6 +19,7 @@ mod cli_smooth;
 mod clipped_accelerometers;
 mod closed_pipe;
 mod crate_layers;
+mod cut_recording;
 mod dash_output;
 mod evaluate_rows_scored;
 mod fes_start_in_a_pulse;

@@ -3,6 +3,7 @@
 //! dependency graph again).
 
 mod byte_order_mark;
+mod cut_last_line;
 mod estimate_provenance;
 mod import_gaittoolbox;
 mod import_knee_rig;

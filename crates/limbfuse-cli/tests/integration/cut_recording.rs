@@ -1,0 +1,61 @@
+//! A recording cut off while it was written (its last line short, with no
+//! line break): `estimate` gave no estimate at all ("expected 35 cells ...,
+//! found 34", exit 1, no output file); now the line is left out with a
+//! warning, and `inspect` says so (docs/ROBUST_INPUT.md 2o).
+
+use std::path::Path;
+
+use crate::support::limbfuse;
+
+fn rows(path: &Path) -> Vec<String> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let sim = [
+        "simulate",
+        "walking",
+        "--duration",
+        "3",
+        "--seed",
+        "2",
+        "-o",
+        "w.csv",
+    ];
+    assert_eq!(limbfuse(&sim, dir).status.code(), Some(0));
+    let whole = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    // the whole file without its last line, and the file cut 40 bytes before its end
+    let body = whole.trim_end_matches('\n');
+    let last = body.rfind('\n').unwrap();
+    std::fs::write(dir.join("short.csv"), &whole[..=last]).unwrap();
+    std::fs::write(dir.join("cut.csv"), &whole[..whole.len() - 40]).unwrap();
+    let est = |trial: &str, out: &str| {
+        limbfuse(&["estimate", "--method", "chain", trial, "-o", out], dir)
+    };
+    assert_eq!(est("short.csv", "short-e.csv").status.code(), Some(0));
+    let o = est("cut.csv", "cut-e.csv");
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{e}");
+    let line = whole[..last].lines().count() + 1;
+    assert!(
+        e.contains(&format!(
+            "cut.csv:{line}: the last line has 34 of 35 cells and no line break"
+        )),
+        "{e}"
+    );
+    assert_eq!(rows(&dir.join("cut-e.csv")), rows(&dir.join("short-e.csv")));
+    let i = limbfuse(&["inspect", "cut.csv"], dir);
+    let out = String::from_utf8_lossy(&i.stdout);
+    assert!(
+        out.contains("the recording was cut off while it was written"),
+        "{out}"
+    );
+}
