@@ -68,8 +68,9 @@ fn the_estimate_header_records_the_trial_name_and_hash() {
 fn a_failing_run_leaves_no_output_file() {
     let dir = tempfile::tempdir().unwrap();
     let trial = dir.path().join("bad.csv");
-    // The third row is truncated.
-    std::fs::write(&trial, "t,thigh_ref\n0,0\n0.01,0.1\n0.02").unwrap();
+    // The third row is short (a short last line without a line break is a
+    // recording cut off and is left out since 2026-12-07; this one has one).
+    std::fs::write(&trial, "t,thigh_ref\n0,0\n0.01,0.1\n0.02\n").unwrap();
     let out = dir.path().join("e.csv");
     let run = |path: &Path| -> Result<(), Box<dyn std::error::Error>> {
         let mut reader = TrialReader::open(&trial)?;
