@@ -66,6 +66,10 @@ fn repair_time<'py>(
             })
             .collect::<PyResult<Vec<_>>>()?;
         d.set_item("dropped", dropped)?;
+        // (the CLI's warning: a last line cut off while the file was written)
+        if let Some(c) = r.cut_last_line {
+            crate::filter::warn_user(py, c.message(&path))?;
+        }
         Ok(d)
     })
 }

@@ -29,3 +29,11 @@ def test_a_whole_file_gives_no_warning_and_a_short_line_inside_is_an_error(tmp_p
     path.write_text(WHOLE + "0.03,0.1\n")
     with pytest.raises(LimbfuseError, match=r"whole.csv:5: expected 3 cells"):
         limbfuse.read_trial(path)
+
+
+def test_repair_time_leaves_a_cut_last_line_out_with_a_warning(tmp_path):
+    path = tmp_path / "cut.csv"
+    path.write_text(WHOLE + "0.03,0.1")
+    with pytest.warns(limbfuse.LimbfuseWarning, match=r"cut.csv:5: the last line has 2 of 3 cells"):
+        report = limbfuse.repair_time(path, tmp_path / "copy.csv")
+    assert report["rows_read"] == 3 and report["rows_kept"] == 3

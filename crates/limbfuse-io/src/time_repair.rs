@@ -140,6 +140,9 @@ pub struct TimeRepairReport {
     /// [`TimeRepairReport::largest_step_back_s`] it tells stamps that jitter
     /// (every step back under a sample period) from a clock that jumps.
     pub median_step_s: f64,
+    /// The input's last line, left out: cut off while it was written
+    /// (docs/ROBUST_INPUT.md 2o).
+    pub cut_last_line: Option<crate::table::CutLine>,
 }
 
 impl TimeRepairReport {
@@ -307,6 +310,7 @@ struct Scan {
     dropped: Vec<DroppedRow>,
     largest_step_back_s: f64,
     median_step_s: f64,
+    cut_last_line: Option<crate::table::CutLine>,
 }
 
 /// The first pass: every row's time; a row with the time of the candidate
@@ -326,6 +330,7 @@ fn scan(table: &mut TableReader) -> Result<Scan, FileError> {
         dropped: Vec::new(),
         largest_step_back_s: 0.0,
         median_step_s: 0.0,
+        cut_last_line: None,
     };
     let mut buf = zmij::Buffer::new();
     // the last candidate's text, and the row being compared with it
@@ -372,6 +377,7 @@ fn scan(table: &mut TableReader) -> Result<Scan, FileError> {
         let mid = forward.len() / 2;
         s.median_step_s = *forward.select_nth_unstable_by(mid, f64::total_cmp).1;
     }
+    s.cut_last_line = table.cut_last_line();
     Ok(s)
 }
 
@@ -410,6 +416,7 @@ fn plan(s: Scan, order: TimeOrder) -> (TimeRepairReport, Vec<u32>) {
         dropped: s.dropped,
         largest_step_back_s: s.largest_step_back_s,
         median_step_s: s.median_step_s,
+        cut_last_line: s.cut_last_line,
         ..TimeRepairReport::default()
     };
     let in_order = longest_increasing(&s.t);

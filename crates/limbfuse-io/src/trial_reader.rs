@@ -80,8 +80,7 @@ pub struct TrialReader {
     layout: TrialLayout,
     previous_t: Option<f64>,
     rows: u64,
-    /// [`LateRows::Drop`]: the rule over rows out of time order, and a row
-    /// to return at the next read (after a held one passed first).
+    /// [`LateRows::Drop`]: the rule over rows out of time order.
     late: Option<Box<LateRowFilter>>,
     /// [`ColumnPlan::number_columns`], and the current row's values by column.
     number_columns: Vec<usize>,

@@ -37,9 +37,14 @@ pub fn run(a: &RepairTimeArgs) -> Result<()> {
 /// The report on stderr.
 fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
     let (input, output) = (a.trial.display(), a.output.display());
+    // (a last line cut off while the file was written is left out, as every
+    // reader leaves it out: docs/ROBUST_INPUT.md 2o)
+    let cut = r.cut_last_line.map_or_else(String::new, |c| {
+        format!("warning: {}\n", c.message(&a.trial))
+    });
     if r.was_clean() {
         return format!(
-            "{input}: the time already increases on every row; {} rows copied -> {output}\n",
+            "{input}: the time already increases on every row; {} rows copied -> {output}\n{cut}",
             r.rows_read
         );
     }
@@ -81,5 +86,5 @@ fn said(a: &RepairTimeArgs, r: &TimeRepairReport) -> String {
             100.0 * r.dropped_share()
         );
     }
-    out
+    out + &cut
 }

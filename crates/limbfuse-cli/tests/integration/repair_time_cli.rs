@@ -237,3 +237,23 @@ fn repair_time_writes_csv_and_copies_a_clean_file() {
         assert_eq!(data_rows(&csv), data_rows(&from_arrow), "{scenario}");
     }
 }
+
+/// A file cut off while it was written (its last line short, no line
+/// break): `repair-time` copies it without that line and says so, as every
+/// reader does (docs/ROBUST_INPUT.md 2o).
+#[test]
+fn a_cut_last_line_is_left_out_of_the_copy_with_a_warning() {
+    let d = tempfile::tempdir().unwrap();
+    let whole = "t,thigh_ref\n0,0.1\n0.01,0.2\n0.02,0.3\n";
+    std::fs::write(d.path().join("cut.csv"), format!("{whole}0.0")).unwrap();
+    let o = limbfuse(&["repair-time", "cut.csv", "-o", "copy.csv"], d.path());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{e}");
+    assert!(
+        e.contains("the time already increases on every row; 3 rows copied")
+            && e.contains("cut.csv:5: the last line has 1 of 2 cells and no line break"),
+        "{e}"
+    );
+    let copy = std::fs::read_to_string(d.path().join("copy.csv")).unwrap();
+    assert_eq!(data_rows(&copy), data_rows(whole));
+}
