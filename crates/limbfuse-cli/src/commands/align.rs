@@ -67,7 +67,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
         ],
         &[("-o", Some(&a.output))],
     )?;
-    let reader = TrialReader::open(&a.trial)?;
+    let mut reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();
     if !layout.gyr.iter().any(|&g| g) {
@@ -77,7 +77,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
             TrialAlignmentError::NoGyroscope
         );
     }
-    let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let mut records: Vec<Record> = super::read_records(&mut reader)?;
     super::warn_input_units(&a.trial, &meta, &records)?;
     if let Some(path) = &a.imu_calibration {
         let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;

@@ -18,7 +18,7 @@ const MAX_WINDOW: usize = 100_000;
 
 /// Identifies and writes the joint geometry.
 pub fn run(a: &AlignArgs) -> Result<()> {
-    let reader = TrialReader::open(&a.trial)?;
+    let mut reader = TrialReader::open(&a.trial)?;
     let layout = *reader.layout();
     for (s, name) in [(1usize, "thigh"), (2, "shank")] {
         if !layout.gyr[s] || !layout.acc[s] {
@@ -28,7 +28,7 @@ pub fn run(a: &AlignArgs) -> Result<()> {
             );
         }
     }
-    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let records: Vec<Record> = super::read_records(&mut reader)?;
     let n = records.len();
     if !(20..=MAX_WINDOW).contains(&n) {
         bail!(

@@ -12,13 +12,13 @@ use crate::cli::AlignArgs;
 
 /// Runs the procedure and writes the aligned trial.
 pub fn run(a: &AlignArgs) -> Result<()> {
-    let reader = TrialReader::open(&a.trial)?;
+    let mut reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let layout = *reader.layout();
     // (the `# g:` line first, named with the trial)
     meta.gravity()
         .map_err(|e| anyhow::anyhow!("{}: {e}", a.trial.display()))?;
-    let mut records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let mut records: Vec<Record> = super::read_records(&mut reader)?;
     let imu_cal = match &a.imu_calibration {
         Some(path) => {
             let (cal, frame) = super::calibrate::load_for_trial(path, &a.trial, &meta, &layout)?;
@@ -30,8 +30,8 @@ pub fn run(a: &AlignArgs) -> Result<()> {
     };
     let (cal_records, cal_name) = match &a.calibration {
         Some(p) => {
-            let r = TrialReader::open(p)?;
-            let mut rec = r.collect::<Result<Vec<_>, _>>()?;
+            let mut r = TrialReader::open(p)?;
+            let mut rec = super::read_records(&mut r)?;
             // The same sensors, raw: the same IMU calibration.
             if let Some(c) = &imu_cal {
                 rec.iter_mut().for_each(|r| c.apply(r));

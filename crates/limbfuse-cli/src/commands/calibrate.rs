@@ -29,7 +29,7 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
     };
     let meta = reader.meta().clone();
     let mut reader = reader;
-    let records: Vec<Record> = reader.by_ref().collect::<Result<_, _>>()?;
+    let records: Vec<Record> = super::read_records(&mut reader)?;
     // (hashed as it was read, like an estimate's trial)
     let source_hash = reader.content_hash();
     // (accelerometers in g would be fitted a scale of 9.81: say why first)

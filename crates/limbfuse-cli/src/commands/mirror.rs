@@ -15,7 +15,7 @@ use crate::cli::MirrorArgs;
 /// Reads the trial, mirrors (and re-mounts) every sensor, writes the result.
 pub fn run(a: &MirrorArgs) -> Result<()> {
     super::refuse_input_as_output(&a.trial, &a.output)?;
-    let reader = TrialReader::open(&a.trial)?;
+    let mut reader = TrialReader::open(&a.trial)?;
     let mut meta = reader.meta().clone();
     let mut layout = *reader.layout();
     let has_imu = |l: &limbfuse_io::TrialLayout| {
@@ -28,7 +28,7 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
             a.trial.display()
         );
     }
-    let records: Vec<Record> = reader.collect::<Result<_, _>>()?;
+    let records: Vec<Record> = super::read_records(&mut reader)?;
     let declared = meta.get("leg").map(str::to_string);
     let leg = match declared.as_deref().map(Leg::parse) {
         None => Leg::Right,

@@ -92,6 +92,18 @@ pub fn warn_input_units(
     Ok(())
 }
 
+/// Reads every record of `reader` (a command that reads a trial whole) and
+/// says on stderr when its last line was left out, cut off mid-line
+/// (`limbfuse_io::table::CutLine`, docs/ROBUST_INPUT.md 2o), as `estimate`
+/// and `inspect` do.
+pub fn read_records(reader: &mut limbfuse_io::TrialReader) -> Result<Vec<Record>> {
+    let records = reader.by_ref().collect::<Result<Vec<_>, _>>()?;
+    if let Some(cut) = reader.cut_last_line() {
+        eprintln!("warning: {}", cut.message(reader.path()));
+    }
+    Ok(records)
+}
+
 /// Prints the unit checks' warnings (`limbfuse_eval::unit_warnings`) for
 /// `trial` on stderr: one printer for `estimate` (streaming) and the
 /// commands that read a trial whole.

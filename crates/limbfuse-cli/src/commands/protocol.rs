@@ -24,7 +24,7 @@ pub struct TrialInMemory {
 /// Reads a whole trial; it must have a reference angle and the columns
 /// `method` needs.
 pub fn read_trial(path: &std::path::Path, method: MethodName) -> Result<TrialInMemory> {
-    let reader = TrialReader::open(path)?;
+    let mut reader = TrialReader::open(path)?;
     if !reader.layout().has_angle_reference() {
         bail!(
             "{}: the trial has no reference angle column (`thigh_ref`, `knee_ref`, ...), so there is nothing to evaluate against",
@@ -33,7 +33,7 @@ pub fn read_trial(path: &std::path::Path, method: MethodName) -> Result<TrialInM
     }
     check_channels(method, reader.layout()).with_context(|| path.display().to_string())?;
     let (meta, layout) = (reader.meta().clone(), *reader.layout());
-    let records = reader.collect::<Result<Vec<_>, _>>()?;
+    let records = super::read_records(&mut reader)?;
     // (`tune` and `evaluate --starts` run the method over these records)
     super::warn_input_units(path, &meta, &records)?;
     Ok(TrialInMemory {

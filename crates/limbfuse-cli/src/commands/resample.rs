@@ -25,6 +25,9 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
             limbfuse_methods::shown(a.rate)
         )
     })?;
+    if let Some(cut) = s.cut_last_line {
+        eprintln!("warning: {}", cut.message(&a.trial));
+    }
     let rej = s.rejections;
     if rej.total() > 0 {
         eprintln!(

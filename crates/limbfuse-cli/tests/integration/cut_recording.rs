@@ -59,3 +59,51 @@ fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
         "{out}"
     );
 }
+
+/// The commands that write a new trial from a recording (`resample`, `align`,
+/// `mirror`) left a cut last line out without a word; now they say so, and
+/// their outputs are those of the file without that line.
+#[test]
+fn commands_that_rewrite_a_cut_recording_say_they_left_its_last_line_out() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let sim = [
+        "simulate",
+        "walking",
+        "--duration",
+        "12",
+        "--seed",
+        "3",
+        "-o",
+        "w.csv",
+    ];
+    assert_eq!(limbfuse(&sim, dir).status.code(), Some(0));
+    let whole = std::fs::read_to_string(dir.join("w.csv")).unwrap();
+    let last = whole.trim_end_matches('\n').rfind('\n').unwrap();
+    std::fs::write(dir.join("short.csv"), &whole[..=last]).unwrap();
+    std::fs::write(dir.join("cut.csv"), &whole[..whole.len() - 40]).unwrap();
+    let line = whole[..last].lines().count() + 1;
+    let runs: [&[&str]; 3] = [&["resample", "--rate", "50"], &["align"], &["mirror"]];
+    for args in runs {
+        let mut outputs = Vec::new();
+        for trial in ["short.csv", "cut.csv"] {
+            let out = format!("{}-{trial}", args[0]);
+            let mut a = args.to_vec();
+            a.extend([trial, "-o", out.as_str()]);
+            let o = limbfuse(&a, dir);
+            let e = String::from_utf8_lossy(&o.stderr).to_string();
+            assert_eq!(o.status.code(), Some(0), "{args:?} {trial}: {e}");
+            let said = e.contains(&format!(
+                "warning: cut.csv:{line}: the last line has 34 of 35 cells and no line break"
+            ));
+            assert_eq!(said, trial == "cut.csv", "{args:?} {trial}: {e}");
+            outputs.push(rows(&dir.join(&out)));
+        }
+        assert_eq!(outputs[0], outputs[1], "{args:?}");
+    }
+    let meta = std::fs::read_to_string(dir.join("resample-cut.csv")).unwrap();
+    assert!(
+        meta.contains(&format!("its line {line} left out, cut off mid-line")),
+        "{meta}"
+    );
+}

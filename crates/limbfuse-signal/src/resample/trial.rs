@@ -36,6 +36,9 @@ pub struct ResampledTrial {
     /// Gyroscope cells at the full scale, carried through as the rail
     /// ([`super::clip_marks`]).
     pub clipped_gyro: u64,
+    /// The input's last line, left out: cut off mid-line
+    /// ([`TrialReader::cut_last_line`]).
+    pub cut_last_line: Option<limbfuse_io::table::CutLine>,
 }
 
 /// A scalar cell of a record.
@@ -300,6 +303,10 @@ pub fn resample_trial(
     } else {
         left_out
     };
+    let left_out = match reader.cut_last_line() {
+        Some(c) => format!("{left_out}; its line {} left out, cut off mid-line", c.line),
+        None => left_out,
+    };
     meta.set(
         "resampled",
         format!(
@@ -315,6 +322,7 @@ pub fn resample_trial(
         rejections,
         imu_filtered,
         clipped_gyro,
+        cut_last_line: reader.cut_last_line(),
     })
 }
 
@@ -407,6 +415,8 @@ pub struct ResampleSummary {
     pub imu_filtered: bool,
     /// [`ResampledTrial::clipped_gyro`].
     pub clipped_gyro: u64,
+    /// [`ResampledTrial::cut_last_line`].
+    pub cut_last_line: Option<limbfuse_io::table::CutLine>,
 }
 
 /// How the IMU channels were treated, in words: the filter's name, or that
@@ -447,5 +457,6 @@ pub fn resample_file(
         rejections: trial.rejections,
         imu_filtered: trial.imu_filtered,
         clipped_gyro: trial.clipped_gyro,
+        cut_last_line: trial.cut_last_line,
     })
 }
