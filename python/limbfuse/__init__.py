@@ -29,7 +29,18 @@ from ._estimate import (
     read_estimate,
 )
 from ._filter import Filter
-from ._workflows import Calibration, align, calibrate, gait_library, repair_time, report, simulate
+from ._workflows import (
+    Calibration,
+    align,
+    calibrate,
+    gait_library,
+    import_recording,
+    mirror,
+    repair_time,
+    report,
+    resample,
+    simulate,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from . import cohort as cohort  # (imported on first use: `__getattr__` below)
@@ -65,12 +76,15 @@ __all__ = [
     "estimate",
     "evaluate",
     "gait_library",
+    "import_recording",
     "inspect",
     "methods",
+    "mirror",
     "read_estimate",
     "read_trial",
     "repair_time",
     "report",
+    "resample",
     "simulate",
     "write_trial",
 ]

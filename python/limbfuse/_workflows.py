@@ -166,6 +166,82 @@ def repair_time(path: PathLike, output: PathLike, out_of_order: str = "drop") ->
     return dict(_native.repair_time(os.fsdecode(path), os.fsdecode(output), out_of_order))
 
 
+def resample(trial: Trial, rate_hz: float, anti_alias: str = "sinc") -> Trial:
+    """The trial on a uniform time base at ``rate_hz`` (``limbfuse resample``;
+    e.g. 50 Hz, the rate of paper 001): IMU channels low-passed before they
+    are downsampled (``anti_alias``: ``"sinc"``, a windowed sinc, default;
+    ``"boxcar"``; ``"none"``) and interpolated, the other channels
+    interpolated linearly, orientations by slerp, the gait phase held.
+    Readings out of the sensors' range are left out as ``estimate`` leaves
+    them out, and clipped gyroscope cells carried at the rail; both are said
+    in a ``LimbfuseWarning``, with the CLI's words. The result equals the
+    CLI's output file for the same trial, value for value."""
+    if not isinstance(trial, Trial):
+        raise TypeError(f"resample: expected a limbfuse.Trial, found {type(trial).__name__}")
+    rate = _number("resample: rate_hz", rate_hz)
+    if not isinstance(anti_alias, str):
+        raise TypeError(f'resample: anti_alias: expected "sinc", "boxcar" or "none", found {anti_alias!r}')
+    tup, said = _native.resample(trial._native(), rate, anti_alias)
+    for line in said:
+        warnings.warn(line, LimbfuseWarning, stacklevel=2)
+    return Trial._from_native(tup)
+
+
+def mirror(trial: Trial, remount_seed: Optional[int] = None) -> Trial:
+    """The trial as the mirror-image leg's sensors would read it
+    (``limbfuse mirror``; docs/ALIGNMENT.md, "Both legs"): accelerometers
+    (x, y, -z), gyroscopes (-x, -y, z), orientations and the simulator's
+    sensor truth mirrored, ``# leg:`` set to the other leg. With
+    ``remount_seed`` every sensor is also re-mounted at a random
+    orientation drawn from that seed (``--remount-seed``): a test of
+    alignment on data it has not seen. Metadata lines that cannot be
+    mirrored are left out with a ``LimbfuseWarning``."""
+    if not isinstance(trial, Trial):
+        raise TypeError(f"mirror: expected a limbfuse.Trial, found {type(trial).__name__}")
+    if remount_seed is not None and (
+        isinstance(remount_seed, bool) or not isinstance(remount_seed, int) or remount_seed < 0
+    ):
+        raise TypeError(f"mirror: remount_seed: expected a non-negative integer or None, found {remount_seed!r}")
+    tup, said = _native.mirror(trial._native(), remount_seed)
+    for line in said:
+        warnings.warn(line, LimbfuseWarning, stacklevel=2)
+    return Trial._from_native(tup)
+
+
+def import_recording(
+    path: PathLike, format: str, leg: Optional[str] = None, calibration: Union[Calibration, PathLike, None] = None
+) -> Trial:
+    """A real recording converted into a trial (``limbfuse import``;
+    docs/IMPORTERS.md): ``format="gaittoolbox"`` reads a gait-tech
+    gaittoolbox sample folder (Xsens ``imu-*.csv`` and the Vicon reference;
+    ``leg="left"`` or ``"right"`` picks the leg when both have a reference),
+    ``format="knee-rig"`` a KneeAngleAlgorithmComparison rig log. With
+    ``calibration`` (a ``Calibration`` from ``calibrate`` or its file) the raw
+    channels are calibrated first (``--calibration``). The result is the
+    trial the CLI writes, value for value; it has no ``source`` (it was not
+    read from a trial file)."""
+    if not isinstance(format, str):
+        raise TypeError(f'import_recording: format: expected "gaittoolbox" or "knee-rig", found {format!r}')
+    if leg is not None and not isinstance(leg, str):
+        raise TypeError(f'import_recording: leg: expected "left" or "right", found {leg!r}')
+    cal: Optional[Tuple[str, str]] = None
+    if isinstance(calibration, Calibration):
+        cal = (calibration.toml, "<Calibration>")
+    elif isinstance(calibration, (str, os.PathLike)):
+        name = os.fspath(calibration)
+        try:
+            with open(name, encoding="utf-8") as f:
+                cal = (f.read(), name)
+        except OSError as e:
+            raise _native.LimbfuseError(f"import_recording: calibration: cannot read {name}: {e.strerror}") from None
+    elif calibration is not None:
+        raise TypeError(
+            "import_recording: calibration: expected a Calibration (limbfuse.calibrate) or its file, found "
+            f"{type(calibration).__name__}"
+        )
+    return Trial._from_native(_native.import_recording(os.fsdecode(path), format, leg, cal))
+
+
 def _number(name: str, value: Any) -> float:
     """A number option of ``gait_library``, named when it is not one (an
     audit: "could not convert string to float: 'a'")."""

@@ -31,10 +31,12 @@ mod evaluate;
 mod filter;
 mod interrupt;
 mod options;
+mod recording_import;
 mod simulate;
 mod strides;
 mod time_repair;
 mod trial;
+mod trial_transforms;
 mod workflows;
 
 create_exception!(
@@ -237,6 +239,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     evaluate::register(m)?;
     strides::register(m)?;
     time_repair::register(m)?;
+    trial_transforms::register(m)?;
+    recording_import::register(m)?;
     simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;

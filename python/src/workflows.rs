@@ -157,7 +157,7 @@ fn align<'py>(
 
 /// The records of `it` until Ctrl-C (in a run of [`detach`], which then
 /// raises `KeyboardInterrupt`).
-fn polled(it: impl Iterator<Item = Record>) -> Vec<Record> {
+pub(crate) fn polled(it: impl Iterator<Item = Record>) -> Vec<Record> {
     let mut out = Vec::with_capacity(it.size_hint().0);
     for r in it {
         out.push(r);

@@ -1,7 +1,9 @@
 //! `limbfuse resample TRIAL --rate HZ -o OUT`.
 
 use anyhow::{Context, Result};
-use limbfuse_signal::resample::{anti_alias_said, resample_file, AntiAlias, ResampleOptions};
+use limbfuse_signal::resample::{
+    anti_alias_said, resample_file, resample_notes, AntiAlias, ResampleOptions,
+};
 
 use crate::cli::{AntiAliasArg, ResampleArgs};
 
@@ -28,27 +30,12 @@ pub fn run(a: &ResampleArgs) -> Result<()> {
     if let Some(cut) = s.cut_last_line {
         eprintln!("warning: {}", cut.message(&a.trial));
     }
-    let rej = s.rejections;
-    if rej.total() > 0 {
-        eprintln!(
-            "warning: {}: {} gyroscope, {} accelerometer and {} encoder readings out of the \
-             sensors' range (first at t = {} s) left out, as `estimate` leaves them out \
-             (interpolated, they would spread into their neighbours)",
-            a.trial.display(),
-            rej.gyro,
-            rej.acc,
-            rej.encoder,
-            limbfuse_methods::shown(rej.first_t.unwrap_or(f64::NAN))
-        );
+    let (rejected, clipped) = resample_notes(&a.trial, &s.rejections, s.clipped_gyro);
+    if let Some(w) = rejected {
+        eprintln!("warning: {w}");
     }
-    if s.clipped_gyro > 0 {
-        eprintln!(
-            "{}: {} gyroscope cells at the full scale (clipped) carried through at the rail, not \
-             low-passed: `estimate` rejects them as it does at the trial's own rate, `gait-events` \
-             keeps them (docs/RESULTS.md \"Clipped accelerometers\")",
-            a.trial.display(),
-            s.clipped_gyro
-        );
+    if let Some(n) = clipped {
+        eprintln!("{n}");
     }
     eprintln!(
         "resampled {} to {} Hz (IMU anti-alias: {}): {} samples, {} s to {} s -> {}",

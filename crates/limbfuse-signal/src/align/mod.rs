@@ -27,6 +27,7 @@ mod gait_window;
 mod leg_side;
 mod legs;
 pub mod mirror;
+pub mod mirror_trial;
 pub mod mirror_truth;
 mod series;
 mod sign;

@@ -62,8 +62,8 @@ mod short_runs;
 mod trial;
 
 pub use trial::{
-    anti_alias_said, bytes_per_output_sample, resample_file, resample_trial, ResampleSummary,
-    ResampledTrial, MAX_RESAMPLE_BYTES,
+    anti_alias_said, bytes_per_output_sample, resample_file, resample_notes, resample_records,
+    resample_trial, ResampleSummary, ResampledTrial, MAX_RESAMPLE_BYTES,
 };
 
 /// Cut-off of the windowed-sinc anti-alias filter as a fraction of the

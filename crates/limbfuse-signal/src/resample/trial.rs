@@ -152,13 +152,74 @@ pub fn resample_trial(
     mut reader: TrialReader,
     opts: &ResampleOptions,
 ) -> Result<ResampledTrial, ResampleError> {
+    let (meta, layout) = (reader.meta().clone(), *reader.layout());
+    let path = reader.path().to_path_buf();
+    let rows = std::iter::from_fn(|| reader.next_record().transpose());
+    let mut trial = resample_rows(rows, &meta, layout, &path, opts)?;
+    trial.cut_last_line = reader.cut_last_line();
+    note_resampling(&mut trial, &path, opts);
+    Ok(trial)
+}
+
+/// Resamples a trial held in memory (its `records` in time order, as a
+/// [`TrialReader`] would give them; `source` names it in messages and in the
+/// `# resampled:` line): what [`resample_trial`] does with a file.
+pub fn resample_records(
+    records: &[Record],
+    meta: &TrialMeta,
+    layout: TrialLayout,
+    source: &Path,
+    opts: &ResampleOptions,
+) -> Result<ResampledTrial, ResampleError> {
+    let rows = records.iter().map(|r| Ok(*r));
+    let mut trial = resample_rows(rows, meta, layout, source, opts)?;
+    note_resampling(&mut trial, source, opts);
+    Ok(trial)
+}
+
+/// Sets the `# resampled:` line: where from, how, and what was left out.
+fn note_resampling(trial: &mut ResampledTrial, source: &Path, opts: &ResampleOptions) {
+    let (rejections, clipped_gyro) = (trial.rejections, trial.clipped_gyro);
+    let mut left_out = String::new();
+    if rejections.total() > 0 {
+        left_out = format!(
+            "; {} gyroscope, {} accelerometer and {} encoder readings out of the \
+             sensors' range left out",
+            rejections.gyro, rejections.acc, rejections.encoder
+        );
+    }
+    if clipped_gyro > 0 {
+        left_out =
+            format!("{left_out}; {clipped_gyro} clipped gyroscope cells carried at the rail");
+    }
+    if let Some(c) = trial.cut_last_line {
+        left_out = format!("{left_out}; its line {} left out, cut off mid-line", c.line);
+    }
+    trial.meta.set(
+        "resampled",
+        format!(
+            "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear{left_out})",
+            source.display(),
+            anti_alias_said(opts.anti_alias, trial.imu_filtered)
+        ),
+    );
+}
+
+/// The resampler over a trial's rows: everything but the `# resampled:`
+/// line and the cut last line, which its callers know.
+fn resample_rows(
+    rows: impl Iterator<Item = Result<Record, FileError>>,
+    meta: &TrialMeta,
+    layout: TrialLayout,
+    source: &Path,
+    opts: &ResampleOptions,
+) -> Result<ResampledTrial, ResampleError> {
     check_rate(opts.rate_hz)?;
-    let layout = *reader.layout();
-    let ranges = reader.meta().sensor_ranges().map_err(|e| {
+    let ranges = meta.sensor_ranges().map_err(|e| {
         ResampleError::Invalid(format!(
             "{}: trial metadata `# {}: {}`: expected the sensor's full-scale range as a positive \
              number",
-            reader.path().display(),
+            source.display(),
             e.key,
             e.found
         ))
@@ -187,7 +248,8 @@ pub fn resample_trial(
     let mut quat: [(Vec<f64>, Vec<[f64; 4]>); 4] = Default::default();
     let mut phase: (Vec<f64>, Vec<GaitPhase>) = Default::default();
     let (mut t_first, mut t_last) = (None, 0.0);
-    while let Some(mut r) = reader.next_record()? {
+    for r in rows {
+        let mut r = r?;
         let screening = gate.check(&r.sample);
         if !screening.is_clean() {
             screening.apply(&mut r.sample);
@@ -215,9 +277,13 @@ pub fn resample_trial(
             phase.1.push(p);
         }
     }
-    // TrialReader errors on a file without rows, so t_first is set.
-    let t_first = t_first.unwrap_or(t_last);
-    check_memory(reader.path(), t_first, t_last, opts.rate_hz)?;
+    let Some(t_first) = t_first else {
+        return Err(ResampleError::Invalid(format!(
+            "{}: no rows to resample",
+            source.display()
+        )));
+    };
+    check_memory(source, t_first, t_last, opts.rate_hz)?;
     let grid = uniform_grid(t_first, t_last, opts.rate_hz)?;
     let mut records: Vec<Record> = grid
         .iter()
@@ -287,34 +353,8 @@ pub fn resample_trial(
     }
     let rejections = *gate.rejections();
     let clipped_gyro: u64 = clipped.iter().map(|c| c.len() as u64).sum();
-    let mut meta = reader.meta().clone();
+    let mut meta = meta.clone();
     meta.set("sample_rate_hz", opts.rate_hz);
-    let left_out = if rejections.total() > 0 {
-        format!(
-            "; {} gyroscope, {} accelerometer and {} encoder readings out of the \
-             sensors' range left out",
-            rejections.gyro, rejections.acc, rejections.encoder
-        )
-    } else {
-        String::new()
-    };
-    let left_out = if clipped_gyro > 0 {
-        format!("{left_out}; {clipped_gyro} clipped gyroscope cells carried at the rail")
-    } else {
-        left_out
-    };
-    let left_out = match reader.cut_last_line() {
-        Some(c) => format!("{left_out}; its line {} left out, cut off mid-line", c.line),
-        None => left_out,
-    };
-    meta.set(
-        "resampled",
-        format!(
-            "from {} by limbfuse resample (IMU anti-alias: {}; other channels linear{left_out})",
-            reader.path().display(),
-            anti_alias_said(opts.anti_alias, imu_filtered)
-        ),
-    );
     Ok(ResampledTrial {
         meta,
         layout,
@@ -322,7 +362,7 @@ pub fn resample_trial(
         rejections,
         imu_filtered,
         clipped_gyro,
-        cut_last_line: reader.cut_last_line(),
+        cut_last_line: None,
     })
 }
 
@@ -427,6 +467,39 @@ pub fn anti_alias_said(anti_alias: AntiAlias, imu_filtered: bool) -> &'static st
         (false, AntiAlias::None) => AntiAlias::None.label(),
         (false, _) => "none needed (no IMU channel downsampled: interpolated)",
     }
+}
+
+/// What the user is told about readings a resampling left out or carried
+/// at the rail (`source` names the trial): the warning on out-of-range
+/// readings, and the note on clipped gyroscope cells; the CLI's words, and
+/// Python's.
+pub fn resample_notes(
+    source: &Path,
+    rejections: &Rejections,
+    clipped_gyro: u64,
+) -> (Option<String>, Option<String>) {
+    let rejected = (rejections.total() > 0).then(|| {
+        format!(
+            "{}: {} gyroscope, {} accelerometer and {} encoder readings out of the \
+             sensors' range (first at t = {} s) left out, as `estimate` leaves them out \
+             (interpolated, they would spread into their neighbours)",
+            source.display(),
+            rejections.gyro,
+            rejections.acc,
+            rejections.encoder,
+            limbfuse_core::ShownNumber(rejections.first_t.unwrap_or(f64::NAN))
+        )
+    });
+    let clipped = (clipped_gyro > 0).then(|| {
+        format!(
+            "{}: {} gyroscope cells at the full scale (clipped) carried through at the rail, not \
+             low-passed: `estimate` rejects them as it does at the trial's own rate, `gait-events` \
+             keeps them (docs/RESULTS.md \"Clipped accelerometers\")",
+            source.display(),
+            clipped_gyro
+        )
+    });
+    (rejected, clipped)
 }
 
 /// Resamples the trial file `input` into the trial file `output`.
