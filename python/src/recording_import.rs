@@ -71,7 +71,9 @@ fn import_recording<'py>(
                 .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
             cal.annotate(&mut trial.meta, &file, frame);
         }
-        let cols = detach(py, || OwnedColumns::of_records(&trial.layout, &trial.records))?;
+        let cols = detach(py, || {
+            OwnedColumns::of_records(&trial.layout, &trial.records)
+        })?;
         Ok(trial_tuple(py, &trial.meta, cols, None))
     })
 }
