@@ -210,14 +210,15 @@ pub struct WalkingArgs {
     /// Leg the sensors are on (the left leg moves as the mirror image of the right).
     #[arg(long, value_enum, default_value_t = LegArg::Right)]
     pub leg: LegArg,
-    /// Turn the walking path every this many seconds (the body turns about the vertical
-    /// through the hip while the gait goes on); default: walk straight.
+    /// Turn the walking path every this many seconds (step turns: the leg changes heading in its
+    /// swings, the stance foot stays planted, the trunk turns step by step); default: walk straight.
     #[arg(long, value_name = "SECONDS")]
     pub turn_every: Option<f64>,
     /// Heading change of each turn (deg; positive = to the left).
     #[arg(long, default_value_t = simulator_options::DEFAULT_TURN_DEG, requires = "turn_every")]
     pub turn_deg: f64,
-    /// Duration of each turn (s).
+    /// Duration of each turn (s): the swings whose toe off falls within it take the turn (at least
+    /// one, and enough that none turns by more than 90 deg).
     #[arg(long, default_value_t = simulator_options::DEFAULT_TURN_S, requires = "turn_every")]
     pub turn_s: f64,
     /// No mounting misalignment (the ~1 deg no calibration can observe); every other sensor error unchanged.

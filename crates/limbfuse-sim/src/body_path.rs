@@ -13,7 +13,7 @@
 //! `R_L^T w_L = -S (R^T w)`: accelerometer `(f_x, f_y, -f_z)`, gyroscope
 //! `(-w_x, -w_y, w_z)`.
 //!
-//! **Turns.** The whole body turns about the vertical through the hip joint
+//! **Turns.** The body turns about the vertical through the hip joint
 //! centre by the heading `psi(t)` (positive = to the left, counter-clockwise
 //! seen from above): with `h` the hip's horizontal position and `H` the
 //! turned hip path (`dH/dt = Ry(psi) dh/dt`), a point `p = h + r` moves to
@@ -22,10 +22,18 @@
 //! `w' = Ry w + psi' e`, `w'dot = Ry wdot + psi' e x Ry w + psi'' e`,
 //! `v' = Ry (h' + r') + psi' e x Ry r`,
 //! `a' = Ry (h'' + r'' + psi' e x (h' + 2 r') + psi'' e x r + psi'^2 e x (e x r))`.
-//! The gait itself (sagittal angles, stride) is unchanged during the turn:
-//! the body walks along an arc of radius `speed / psi'`. A turn follows the
-//! quintic smoothstep `s(u) = 10u^3 - 15u^4 + 6u^5` (continuous heading rate
-//! and acceleration).
+//! The gait itself (sagittal angles, stride) is unchanged during the turn.
+//! The leg's heading `psi` changes only in its swings (a step turn: the
+//! stance foot stays planted and does not turn; [`crate::turn_schedule`])
+//! and the hip path follows it (`dH/dt = Ry(psi) dh/dt`); the trunk turns by
+//! its own heading `psi_T` about the same vertical (`p' = H + Ry(psi_T) r`,
+//! the formulas above with `psi_T` for the rotation of `r` and `psi` for
+//! `H`), spread over the strides around the swings, so that `psi - psi_T`
+//! is the hip's rotation about the vertical. Each heading change follows the
+//! quintic smoothstep `s(u) = 10u^3 - 15u^4 + 6u^5` (continuous heading
+//! rate and acceleration). Until session 44 the whole body turned with one
+//! smooth heading at every instant, so the stance foot turned and slid with
+//! it.
 
 use limbfuse_core::Leg;
 use nalgebra::{Matrix3, Vector3};
@@ -33,8 +41,10 @@ use nalgebra::{Matrix3, Vector3};
 use crate::chain::{rot_y, Frame, LegKin, PointKin};
 use crate::fourier::D2;
 
-/// Turns of the walking path: the `k`-th turn (k = 1, 2, ...) starts at
-/// `k * every_s` and lasts `duration_s`, turning by `angle_rad` each.
+/// Turns of the walking path: the `k`-th turn (k = 1, 2, ...) turns by
+/// `angle_rad` in the simulated leg's swings whose toe off falls in
+/// `[k every_s, k every_s + duration_s)` (at least one, and enough that none
+/// turns by more than 90 deg; [`crate::turn_schedule`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Turns {
     /// Interval between turn starts (s), > `duration_s`.
@@ -43,32 +53,6 @@ pub struct Turns {
     pub duration_s: f64,
     /// Heading change of one turn (rad; positive = to the left).
     pub angle_rad: f64,
-}
-
-impl Turns {
-    /// Heading `psi` (rad) with its first two time derivatives at `t` (s).
-    pub fn heading(&self, t: f64) -> D2 {
-        if t <= 0.0 {
-            return D2::constant(0.0);
-        }
-        let k = (t / self.every_s).floor();
-        let done = (k - 1.0).max(0.0) * self.angle_rad;
-        let u = if k >= 1.0 {
-            (t - k * self.every_s) / self.duration_s
-        } else {
-            0.0
-        };
-        if k < 1.0 || u >= 1.0 {
-            let whole = if k >= 1.0 { self.angle_rad } else { 0.0 };
-            return D2::constant(done + whole);
-        }
-        let (a, d) = (self.angle_rad, self.duration_s);
-        D2 {
-            v: done + a * u * u * u * (10.0 + u * (-15.0 + 6.0 * u)),
-            d1: a / d * 30.0 * u * u * (1.0 - u) * (1.0 - u),
-            d2: a / (d * d) * 60.0 * u * (1.0 + u * (-3.0 + 2.0 * u)),
-        }
-    }
 }
 
 /// `S = diag(1, 1, -1)` applied to a vector.
@@ -97,36 +81,43 @@ pub fn mirror_to(leg: Leg, k: &mut LegKin) {
     k.contacts.iter_mut().for_each(pm);
 }
 
-/// Turns the whole body of `k` by heading `psi` about the vertical through
-/// the hip (module docs); `hip_path` is the turned hip's horizontal
-/// position `H` (the caller integrates it).
-pub fn turn(k: &mut LegKin, psi: D2, hip_path: Vector3<f64>) {
-    let ry = rot_y(psi.v);
+/// Turns the body of `k` about the vertical through the hip (module docs):
+/// the leg (thigh, shank, foot, their joints, sensors and contact points)
+/// by heading `psi`, the trunk and its sensor by `psi_trunk` (the hip's
+/// rotation about the vertical is their difference); `hip_path` is the
+/// turned hip's horizontal position `H`, whose rate is `Ry(psi) dh/dt` (the
+/// caller integrates it).
+pub fn turn(k: &mut LegKin, psi: D2, psi_trunk: D2, hip_path: Vector3<f64>) {
     let e = Vector3::y();
     let hip = k.joints[0];
     let (h, hd, hdd) = (horizontal(&hip.p), horizontal(&hip.v), horizontal(&hip.a));
-    let frame = |f: &mut Frame| {
+    // The hip path: H' = Ry(psi) h', H'' = Ry(psi) (h'' + psi' e x h').
+    let ry = rot_y(psi.v);
+    let path_v = ry * hd;
+    let path_a = ry * (hdd + e.cross(&hd) * psi.d1);
+    let frame = |f: &mut Frame, q: &D2| {
+        let ry = rot_y(q.v);
         let w = ry * f.w;
-        f.wd = ry * f.wd + e.cross(&w) * psi.d1 + e * psi.d2;
-        f.w = w + e * psi.d1;
+        f.wd = ry * f.wd + e.cross(&w) * q.d1 + e * q.d2;
+        f.w = w + e * q.d1;
         f.r = ry * f.r;
     };
-    k.frames.iter_mut().for_each(frame);
-    let point = |p: &mut PointKin| {
+    // A point `H + Ry(q) r`, `r` its offset from the hip.
+    let point = |p: &mut PointKin, q: &D2| {
+        let ry = rot_y(q.v);
         let (r, rd, rdd) = (p.p - h, p.v - hd, p.a - hdd);
         let ey_r = e.cross(&r);
-        p.a = ry
-            * (hdd
-                + rdd
-                + e.cross(&(hd + 2.0 * rd)) * psi.d1
-                + ey_r * psi.d2
-                + e.cross(&ey_r) * psi.d1 * psi.d1);
-        p.v = ry * (hd + rd + ey_r * psi.d1);
+        p.a = path_a
+            + ry * (rdd + e.cross(&rd) * (2.0 * q.d1) + ey_r * q.d2 + e.cross(&ey_r) * q.d1 * q.d1);
+        p.v = path_v + ry * (rd + ey_r * q.d1);
         p.p = hip_path + ry * r;
     };
-    k.joints.iter_mut().for_each(point);
-    k.imu.iter_mut().for_each(point);
-    k.contacts.iter_mut().for_each(point);
+    frame(&mut k.frames[0], &psi_trunk);
+    k.frames[1..].iter_mut().for_each(|f| frame(f, &psi));
+    k.joints.iter_mut().for_each(|p| point(p, &psi));
+    point(&mut k.imu[0], &psi_trunk);
+    k.imu[1..].iter_mut().for_each(|p| point(p, &psi));
+    k.contacts.iter_mut().for_each(|p| point(p, &psi));
 }
 
 /// Horizontal velocity of the turned hip path, `Ry(psi) dh/dt`, of the
@@ -143,23 +134,6 @@ pub fn horizontal(v: &Vector3<f64>) -> Vector3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn heading_derivatives_match_finite_differences() {
-        let t = Turns {
-            every_s: 5.0,
-            duration_s: 2.0,
-            angle_rad: 3.0,
-        };
-        for &x in &[0.5, 5.3, 6.0, 6.9, 8.0, 10.4, 11.99] {
-            let h = 1e-5;
-            let (p, m, c) = (t.heading(x + h), t.heading(x - h), t.heading(x));
-            assert!(((p.v - m.v) / (2.0 * h) - c.d1).abs() < 1e-6, "{x}");
-            assert!(((p.d1 - m.d1) / (2.0 * h) - c.d2).abs() < 1e-5, "{x}");
-        }
-        assert_eq!(t.heading(7.5).v, 3.0);
-        assert!((t.heading(12.0).v - 6.0).abs() < 1e-12);
-    }
 
     #[test]
     fn mirroring_twice_is_the_identity_and_keeps_planar_frames() {

@@ -29,6 +29,7 @@ pub mod knee_fes;
 pub mod knee_scenario;
 pub mod planar_imu;
 pub mod stance;
+pub mod turn_schedule;
 pub mod variability;
 pub mod walking;
 

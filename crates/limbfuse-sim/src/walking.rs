@@ -11,6 +11,7 @@ use crate::encoder_model::Encoders;
 use crate::gait_curves::SpeedLaw;
 use crate::gait_model::GaitModel;
 use crate::imu_model::Imu;
+use crate::turn_schedule::TurnSchedule;
 use crate::variability::{Clock, Modulation};
 
 /// ChaCha stream of the set-up draws (variability, mountings, sensor errors, offsets).
@@ -111,6 +112,8 @@ pub struct WalkingSimulator {
     last_encoder: [f64; 3],
     /// With turns: the turned hip path `H` every [`HIP_PATH_CHECKPOINT_S`].
     hip_path: Vec<Vector3<f64>>,
+    /// With turns: the heading, changed in the simulated leg's swings.
+    turning: TurnSchedule,
 }
 
 /// Spacing (s) of the stored points of the turned hip path.
@@ -166,8 +169,20 @@ impl WalkingSimulator {
             next_tick: 0,
             last_encoder: [0.0; 3],
             hip_path: Vec::new(),
+            turning: Default::default(),
         }
+        .with_turn_schedule()
         .with_hip_path())
+    }
+
+    /// Places the turns of `cfg.turns` in the simulated leg's swings
+    /// ([`crate::turn_schedule`]); nothing without turns or walking.
+    fn with_turn_schedule(mut self) -> Self {
+        if let (Some(turns), Motion::Walk) = (self.cfg.turns, self.cfg.motion) {
+            let (end, f0) = (self.cfg.duration_s, self.clock.mean_frequency());
+            self.turning = TurnSchedule::on_gait(&turns, end, |t| self.gait_phase(t), f0);
+        }
+        self
     }
 
     /// Integrates the turned hip path `H` (Gauss-Legendre, IMU step) and stores it
@@ -201,16 +216,13 @@ impl WalkingSimulator {
             (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
             (0.906_179_845_938_664, 0.236_926_885_056_189_1),
         ];
-        let Some(turns) = self.cfg.turns else {
-            return Vector3::zeros();
-        };
-        if span <= 0.0 {
+        if self.cfg.turns.is_none() || span <= 0.0 {
             return Vector3::zeros();
         }
         let m = (span * self.cfg.imu_rate_hz).ceil().max(1.0) as usize;
         let step = span / m as f64;
         let rate = |t: f64| {
-            crate::body_path::hip_path_rate(&self.mirrored_kinematics(t), turns.heading(t).v)
+            crate::body_path::hip_path_rate(&self.mirrored_kinematics(t), self.turning.heading(t).v)
         };
         let mut sum = Vector3::zeros();
         for i in 0..m {
@@ -228,6 +240,12 @@ impl WalkingSimulator {
             .min(self.hip_path.len().saturating_sub(1));
         let t0 = c as f64 * HIP_PATH_CHECKPOINT_S;
         self.hip_path.get(c).copied().unwrap_or_default() + self.hip_path_step(t0, t - t0)
+    }
+
+    /// The heading of a walk with turns, changed in the simulated leg's
+    /// swings ([`crate::turn_schedule`]; empty without turns).
+    pub fn turn_schedule(&self) -> &TurnSchedule {
+        &self.turning
     }
 
     /// The configuration in use.
@@ -287,13 +305,14 @@ impl WalkingSimulator {
     fn kinematics_at(&self, t: f64, with_positions: bool) -> (f64, LegKin, [f64; 4]) {
         let (phase, mut k, seg) = self.base_kinematics(t);
         crate::body_path::mirror_to(self.cfg.leg, &mut k);
-        if let Some(turns) = self.cfg.turns {
+        if self.cfg.turns.is_some() {
             let path = if with_positions {
                 self.hip_path_at(t)
             } else {
                 crate::body_path::horizontal(&k.joints[0].p)
             };
-            crate::body_path::turn(&mut k, turns.heading(t), path);
+            let (psi, psi_trunk) = (self.turning.heading(t), self.turning.trunk_heading(t));
+            crate::body_path::turn(&mut k, psi, psi_trunk, path);
         }
         (phase, k, seg)
     }
@@ -413,7 +432,7 @@ impl WalkingSimulator {
             put(
                 "turns",
                 format!(
-                    "every_s={} duration_s={} angle_deg={}",
+                    "every_s={} duration_s={} angle_deg={} (step turns: the leg's heading changes in its swings)",
                     tr.every_s,
                     tr.duration_s,
                     tr.angle_rad.to_degrees()

@@ -153,13 +153,25 @@ fn issue_14_turns_widen_the_angles_so_the_accelerometers_reanchor_them() {
         }),
         ..Default::default()
     };
-    let with = mean_offset_free(&run(cfg, ChainParams::default()));
-    let without = mean_offset_free(&run(
+    // The simulated body's lengths and sensor positions, as `limbfuse
+    // estimate` reads them from the trial's metadata: under the turns'
+    // rates a wrong lever arm makes the accelerometers pull the angles off.
+    let body = WalkingSimulator::new(cfg).unwrap().model().body;
+    let geometry = ChainGeometry {
+        thigh_length: body.thigh,
+        shank_length: body.shank,
+        imu_position: body.imu.map(|r| [r.x, r.y, r.z]),
+        ..ChainGeometry::from_height(body.height)
+    };
+    let with = mean_offset_free(&run_turned(cfg, ChainParams::default(), [0.0; 4], geometry));
+    let without = mean_offset_free(&run_turned(
         cfg,
         ChainParams {
             turn_angle_noise: 0.0,
             ..Default::default()
         },
+        [0.0; 4],
+        geometry,
     ));
     std::println!("turns: offset-free mean {with:.3} deg (without the turn noise {without:.3})");
     assert!(with < 0.9 * without, "with {with} without {without}");

@@ -138,12 +138,102 @@ fn left_leg_with_turns_matches_finite_differences() {
         // Around the first turn (6.0-8.5 s) and the straight walking either side.
         specific_force_and_rate_match_finite_differences(cfg, 5.51, 0.0931, 40);
         let sim = WalkingSimulator::new(cfg).unwrap();
-        // Mid-turn the heading rate is 1.875 angle / duration (smoothstep peak).
-        let mid = sim.truth(7.25).frames[0].w.y;
-        let expect = 1.875 * angle.to_radians() / 2.5;
+        // The leg turns in the swings of the simulated leg whose toe off
+        // falls in 6.0-8.5 s; mid-swing the thigh's heading rate is 1.875
+        // times the swing's share over its duration (smoothstep peak). The
+        // trunk turns each share over the stride around its swing.
+        let swings: Vec<_> = sim.turn_schedule().turning_swings().collect();
+        let first: Vec<_> = swings.iter().filter(|s| s.0 < 8.5).collect();
+        assert!(first.len() >= 2 && first[0].0 >= 6.0, "{swings:?}");
+        for (a, b) in &first {
+            let mid = sim.truth(0.5 * (a + b)).frames[1].w.y;
+            let expect = 1.875 * angle.to_radians() / first.len() as f64 / (b - a);
+            assert!((mid - expect).abs() < 0.6, "{mid} vs {expect}");
+        }
+        let (a, b) = first[0];
+        let mid = sim.truth(0.5 * (a + b)).frames[0].w.y;
+        let expect = 1.875 * angle.to_radians() / first.len() as f64 / ((b - a) / 0.4);
         assert!((mid - expect).abs() < 0.6, "{mid} vs {expect}");
         assert!(sim.truth(4.0).frames[0].w.y.abs() < 0.6);
     }
+}
+
+/// The stance foot rests through a turn (issue 19's turning strides; until
+/// session 44 the whole leg turned about the hip at every instant and the
+/// planted foot slid and turned with it): in single support the forefoot
+/// contact point stands as still as on a straight walk, and the foot's rate
+/// about the vertical is that of straight walking.
+#[test]
+fn the_stance_foot_rests_through_a_turn() {
+    let turning = WalkingConfig {
+        turns: Some(limbfuse_sim::Turns {
+            every_s: 10.0,
+            duration_s: 2.5,
+            angle_rad: core::f64::consts::PI,
+        }),
+        duration_s: 20.0,
+        ..ideal(0.7)
+    };
+    let straight = WalkingConfig {
+        turns: None,
+        ..turning
+    };
+    let (turned, plain) = (
+        WalkingSimulator::new(turning).unwrap(),
+        WalkingSimulator::new(straight).unwrap(),
+    );
+    let swings: Vec<_> = turned.turn_schedule().turning_swings().collect();
+    assert!(swings.len() >= 2, "{swings:?}");
+    let (mut worst_v, mut worst_w, mut worst_plain_v, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
+    // single support (15-45 % of the stride) from the first turning swing to the last
+    let (t0, t1) = (swings[0].0, swings[swings.len() - 1].1);
+    let mut t = t0;
+    while t < t1 {
+        let frac = (turned.gait_phase(t) / core::f64::consts::TAU).rem_euclid(1.0);
+        if (0.15..0.45).contains(&frac) {
+            let k = turned.truth(t);
+            worst_v = worst_v.max(k.contacts[1].v.norm());
+            worst_w = worst_w.max(k.frames[3].w.y.abs());
+            worst_plain_v = worst_plain_v.max(plain.truth(t).contacts[1].v.norm());
+            n += 1;
+        }
+        t += 0.005;
+    }
+    assert!(n > 50, "{n}");
+    eprintln!(
+        "single support in the turn ({n} times): forefoot contact speed <= {worst_v:.2e} m/s \
+         (straight walk {worst_plain_v:.2e}), foot rate about the vertical <= {worst_w:.2e} rad/s"
+    );
+    // The hip's rotation about the vertical (leg minus trunk heading) and
+    // the trunk's peak heading rate, across speeds.
+    for speed in [0.7, 1.0, 1.4, 1.8] {
+        let sim = WalkingSimulator::new(WalkingConfig {
+            speed_mps: speed,
+            ..turning
+        })
+        .unwrap();
+        let s = sim.turn_schedule();
+        let (mut hip, mut rate) = (0.0f64, 0.0f64);
+        for i in 0..2000 {
+            let t = i as f64 * 0.01;
+            hip = hip.max((s.heading(t).v - s.trunk_heading(t).v).abs());
+            rate = rate.max(s.trunk_heading(t).d1.abs());
+        }
+        eprintln!(
+            "{speed} m/s, 180 deg turn: hip rotation up to {:.1} deg, trunk heading rate up to {:.0} deg/s",
+            hip.to_degrees(),
+            rate.to_degrees()
+        );
+        assert!(hip.to_degrees() < 30.0 && rate.to_degrees() < 250.0);
+    }
+    assert!(
+        worst_v <= worst_plain_v + 1e-9,
+        "{worst_v} vs straight {worst_plain_v}"
+    );
+    assert!(
+        worst_v < 0.02 && worst_w < 0.05,
+        "{worst_v} m/s, {worst_w} rad/s"
+    );
 }
 
 fn specific_force_and_rate_match_finite_differences(
