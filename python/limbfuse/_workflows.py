@@ -23,7 +23,8 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
         walking: speed, duration, imu_rate, seed, mounting ("aligned" or
             "random"), noise, out_of_plane, variability, misalignment,
             leg ("right" or "left"), turn_every (s between turn starts;
-            with turn_deg, default 180, and turn_s, default 2.5),
+            with turn_deg, default 180, and turn_s, default 2.5: step turns,
+            the leg turning in its swings, docs/SIMULATOR.md),
             gait_reference (``--gait-reference``: the feet's contact and
             the per-stride speed as ``contact_*_ref`` / ``speed_ref``, for
             ``gait-events`` and ``lowback-speed``).
