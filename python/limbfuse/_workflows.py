@@ -203,6 +203,8 @@ def mirror(trial: Trial, remount_seed: Optional[int] = None) -> Trial:
         isinstance(remount_seed, bool) or not isinstance(remount_seed, int) or remount_seed < 0
     ):
         raise TypeError(f"mirror: remount_seed: expected a non-negative integer or None, found {remount_seed!r}")
+    if remount_seed is not None and remount_seed > 2**64 - 1:
+        raise _native.LimbfuseError(f"mirror: remount_seed: expected at most 2^64 - 1 (a 64-bit seed), found {remount_seed}")
     tup, said = _native.mirror(trial._native(), remount_seed)
     for line in said:
         warnings.warn(line, LimbfuseWarning, stacklevel=2)

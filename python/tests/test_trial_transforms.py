@@ -81,6 +81,8 @@ def test_resample_and_mirror_bad_input():
         limbfuse.mirror(t, remount_seed=-1)
     with pytest.raises(TypeError, match="remount_seed: expected a non-negative integer or None, found True"):
         limbfuse.mirror(t, remount_seed=True)
+    with pytest.raises(LimbfuseError, match=r"remount_seed: expected at most 2\^64 - 1"):
+        limbfuse.mirror(t, remount_seed=2**70)
     no_imu = Trial(t.t, {"knee_enc": t.channels["knee_enc"]}, meta={"leg": "right"})
     with pytest.raises(LimbfuseError, match="no IMU channel to mirror"):
         limbfuse.mirror(no_imu)
