@@ -40,6 +40,7 @@ from ._workflows import (
     report,
     resample,
     simulate,
+    tune,
 )
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -86,5 +87,6 @@ __all__ = [
     "report",
     "resample",
     "simulate",
+    "tune",
     "write_trial",
 ]

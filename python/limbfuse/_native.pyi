@@ -82,6 +82,19 @@ def repair_time(path: str, output: str, out_of_order: str = "drop") -> Dict[str,
 def resample(trial: TrialTuple, rate_hz: float, anti_alias: str = "sinc") -> Tuple[TrialTuple, List[str]]: ...
 def mirror(trial: TrialTuple, remount_seed: Optional[int] = None) -> Tuple[TrialTuple, List[str]]: ...
 def import_recording(path: str, format: str, leg: Optional[str] = None, calibration: Optional[Tuple[str, str]] = None) -> TrialTuple: ...
+def tune(
+    trial: TrialTuple,
+    method: str,
+    window: str,
+    params: Any = None,
+    preset: str = "default",
+    validate: Optional[str] = None,
+    seed: int = 1,
+    budget: int = 400,
+    particles: int = 20,
+    starts: int = 50,
+    length: Optional[float] = None,
+) -> Dict[str, Any]: ...
 def gait_library(path: str, speeds: Sequence[float], mass: float = 80.0, leg_length: float = 1.0) -> List[Dict[str, float]]: ...
 def report(
     trial: str,

@@ -7,7 +7,7 @@ import os
 import re
 import tempfile
 import warnings
-from typing import Any, Dict, Iterable, List, Optional, Sequence, SupportsFloat, SupportsIndex, Tuple, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, SupportsFloat, SupportsIndex, Tuple, Union
 
 from . import _native
 from ._calibration import Calibration
@@ -243,6 +243,63 @@ def import_recording(
             f"{type(calibration).__name__}"
         )
     return Trial._from_native(_native.import_recording(os.fsdecode(path), format, leg, cal))
+
+
+def tune(
+    trial: Trial,
+    method: str,
+    window: Union[str, Tuple[Optional[float], Optional[float]]],
+    *,
+    params: Union[None, PathLike, Mapping[str, Any]] = None,
+    preset: str = "default",
+    validate: Union[None, str, Tuple[Optional[float], Optional[float]]] = None,
+    seed: int = 1,
+    budget: int = 400,
+    particles: int = 20,
+    starts: int = 50,
+    length: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Tunes the noise parameters of ``local``, ``mjls`` or ``global`` on a
+    window of a trial with reference angles (``limbfuse tune``; paper 001's
+    protocol, docs/TUNING.md): a particle swarm (``seed``, ``budget``
+    evaluations, ``particles``) minimising the mean segment RMSE over
+    ``starts`` runs from starting points in ``window`` (``"0:20"`` or
+    ``(0, 20)`` s; each run ``length`` s, default half the window), started
+    from ``params`` (a parameter file, its text or a dict, as ``estimate``
+    takes them) or ``preset`` (``"default"`` or ``"paper-2014"``), and
+    scored on ``validate`` (default the block of the window's length right
+    after it; ``"none"`` for none).
+
+    Returns a dict: ``params`` (the parameter file's text, for
+    ``estimate(..., params=...)`` or a file: the CLI's file but its first
+    comment line), ``table`` (the CLI's RMSE table), ``tuning_rmse_deg`` and
+    ``validation_rmse_deg`` (mean segment RMSE before and after),
+    ``tuning_window``, ``validation_window``, ``dims``, ``evaluations`` and
+    ``warnings`` (also given as ``LimbfuseWarning``s: a validation window
+    overlapping the tuning one, tuned parameters worse than the start on
+    it). ``sdre`` and ``ekf`` are tuned with the CLI."""
+    if not isinstance(trial, Trial):
+        raise TypeError(f"tune: expected a limbfuse.Trial, found {type(trial).__name__}")
+    if not isinstance(method, str):
+        raise TypeError(f"tune: method: expected a method name, found {method!r}")
+    win = _window_text(window)
+    if win is None:
+        raise _native.LimbfuseError("tune: window: expected \"START:END\" or (start, end) in seconds, found None")
+    val = validate if validate is None or validate == "none" else _window_text(validate)
+    counts = {"seed": seed, "budget": budget, "particles": particles, "starts": starts}
+    for name, value in counts.items():
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise TypeError(f"tune: {name}: expected a non-negative integer, found {value!r}")
+    if seed > 2**64 - 1:
+        raise _native.LimbfuseError(f"tune: seed: expected at most 2^64 - 1 (a 64-bit seed), found {seed}")
+    span = None if length is None else _number("tune: length", length)
+    p = os.fsdecode(params) if isinstance(params, (str, bytes, os.PathLike)) else params
+    out = dict(
+        _native.tune(trial._native(), method, win, p, preset, val, seed, budget, particles, starts, span)
+    )
+    for line in out["warnings"]:
+        warnings.warn(line, LimbfuseWarning, stacklevel=2)
+    return out
 
 
 def _number(name: str, value: Any) -> float:

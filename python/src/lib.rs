@@ -37,6 +37,7 @@ mod strides;
 mod time_repair;
 mod trial;
 mod trial_transforms;
+mod tune;
 mod workflows;
 
 create_exception!(
@@ -241,6 +242,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     time_repair::register(m)?;
     trial_transforms::register(m)?;
     recording_import::register(m)?;
+    tune::register(m)?;
     simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;

@@ -381,7 +381,7 @@ pub(crate) fn python_spelling(message: &str) -> String {
 }
 
 /// A dict of parameters as the text of a TOML parameter file.
-fn toml_text(d: &Bound<'_, PyDict>) -> PyResult<String> {
+pub(crate) fn toml_text(d: &Bound<'_, PyDict>) -> PyResult<String> {
     let table = toml_table(d, "params")?;
     toml::to_string(&table).map_err(|e| user_msg(format!("params: {e}")))
 }

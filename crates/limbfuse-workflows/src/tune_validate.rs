@@ -198,6 +198,47 @@ impl TuneValidateReport {
         h
     }
 
+    /// What a user is told about the validation (an audit found both
+    /// missing): a validation window overlapping the tuning window (its
+    /// figures are not held out), and tuned parameters that do worse than
+    /// the start on it (they fit the tuning window only); `written` says
+    /// what the caller does with them anyway (the CLI: "`out.toml` is
+    /// written as asked"), `window` names its tuning-window option.
+    pub fn validation_warnings(&self, written: &str, window: &str) -> Vec<String> {
+        let hull = |iv: &[(f64, f64)]| {
+            let lo = iv.iter().map(|i| i.0).fold(f64::INFINITY, f64::min);
+            let hi = iv.iter().map(|i| i.1).fold(f64::NEG_INFINITY, f64::max);
+            (lo, hi)
+        };
+        let mut out = Vec::new();
+        let Some(valid) = &self.validation else {
+            return out;
+        };
+        let ((t0, t1), (v0, v1)) = (hull(&self.tuning), hull(valid));
+        let overlap = t1.min(v1) - t0.max(v0);
+        if overlap > 1e-9 {
+            out.push(format!(
+                "the validation window ({v0}:{v1} s) overlaps the tuning window ({t0}:{t1} s) \
+                 by {overlap:.3} s: its figures are not on held-out data"
+            ));
+        }
+        if let Some([before, after]) = &self.validation_before_after {
+            if let (Some(b), Some(t)) = (before.mean_rmse(), after.mean_rmse()) {
+                if t > b {
+                    out.push(format!(
+                        "the tuned parameters do worse than the start on the validation window \
+                         (mean RMSE {:.3} -> {:.3} deg): they fit the tuning window only; \
+                         {written} (a longer {window}, or the start parameters, may serve \
+                         better)",
+                        b.to_degrees(),
+                        t.to_degrees(),
+                    ));
+                }
+            }
+        }
+        out
+    }
+
     /// The RMSE table (deg, mean over starting points): one row per
     /// segment and the mean, then the share of segment samples with a
     /// reference that were scored (`scored %`, [`crate::coverage`]);

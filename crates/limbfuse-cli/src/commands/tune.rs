@@ -144,39 +144,10 @@ pub fn run(a: &TuneArgs) -> Result<()> {
     Ok(())
 }
 
-/// Warnings an audit found missing: a validation window overlapping the
-/// tuning window (its figures are not held out), and tuned parameters that
-/// do worse than the start on the validation window (they fit the tuning
-/// window only; the file is written as asked).
+/// The validation warnings of [`limbfuse_workflows::tune_validate::TuneValidateReport::validation_warnings`].
 fn warn_about_validation(a: &TuneArgs, r: &limbfuse_workflows::tune_validate::TuneValidateReport) {
-    let hull = |iv: &[(f64, f64)]| {
-        let lo = iv.iter().map(|i| i.0).fold(f64::INFINITY, f64::min);
-        let hi = iv.iter().map(|i| i.1).fold(f64::NEG_INFINITY, f64::max);
-        (lo, hi)
-    };
-    let Some(valid) = &r.validation else {
-        return;
-    };
-    let ((t0, t1), (v0, v1)) = (hull(&r.tuning), hull(valid));
-    let overlap = t1.min(v1) - t0.max(v0);
-    if overlap > 1e-9 {
-        eprintln!(
-            "warning: the validation window ({v0}:{v1} s) overlaps the tuning window ({t0}:{t1} s) \
-             by {overlap:.3} s: its figures are not on held-out data"
-        );
-    }
-    if let Some([before, after]) = &r.validation_before_after {
-        if let (Some(b), Some(t)) = (before.mean_rmse(), after.mean_rmse()) {
-            if t > b {
-                eprintln!(
-                    "warning: the tuned parameters do worse than the start on the validation \
-                     window (mean RMSE {:.3} -> {:.3} deg): they fit the tuning window only; {} is \
-                     written as asked (a longer --window, or the start parameters, may serve better)",
-                    b.to_degrees(),
-                    t.to_degrees(),
-                    a.output.display()
-                );
-            }
-        }
+    let written = format!("{} is written as asked", a.output.display());
+    for w in r.validation_warnings(&written, "--window") {
+        eprintln!("warning: {w}");
     }
 }
