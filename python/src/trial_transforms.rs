@@ -41,7 +41,14 @@ fn resample<'py>(
         let (label, meta) = (trial.label(), trial.meta());
         let records = detach(py, || polled(cols.records()))?;
         let out = detach(py, || {
-            resample_records(&records, &meta, layout, Path::new(&label), &opts)
+            resample_records(
+                &records,
+                &meta,
+                layout,
+                Path::new(&label),
+                &opts,
+                Some(crate::interrupt::cancelled),
+            )
         })?
         .map_err(|e| {
             user_msg(format!(

@@ -134,6 +134,7 @@ fn tune<'py>(
                 seed,
                 budget,
                 particles,
+                cancel: Some(crate::interrupt::cancelled),
             },
         };
         let r = detach(py, || tune_and_validate(&records, &cfg, &|| ()))?.map_err(|e| {

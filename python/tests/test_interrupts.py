@@ -76,6 +76,15 @@ def test_ctrl_c_stops_a_long_simulate(kind, options):
     _stops_within_a_second(lambda: limbfuse.simulate(kind, **options))
 
 
+def test_ctrl_c_stops_tune():
+    """`tune` (session 44) looks at Ctrl-C after every generation of its
+    swarm; a generation of 20 particles x 50 starts x 10 s runs on both
+    cores (about 0.5 s of CPU here), hence the larger CPU bound. This budget
+    would take minutes."""
+    walk = limbfuse.simulate("walking", duration=60, seed=4)
+    _stops_within_a_second(lambda: limbfuse.tune(walk, "mjls", (0, 20), budget=10000), cpu_s=2.5)
+
+
 def test_ctrl_c_stops_a_gait_library_build(tmp_path):
     path = tmp_path / "lib.json"
     _stops_within_a_second(lambda: limbfuse.gait_library(path, [0.5, 0.7, 0.9, 1.1]))
@@ -125,6 +134,12 @@ def test_ctrl_c_stops_a_long_estimate_within_a_second():
         lambda: Filter.for_trial(big, "chain").run({"t": big.t, **big.channels}),
     ):
         _stops_within_a_second(run, cpu_s=1.5)
+
+
+def test_ctrl_c_stops_resample(hour_trial):
+    """`resample` of an hour takes 9-14 s (session 44); it looks at Ctrl-C
+    every 4096 rows and before each channel."""
+    _stops_within_a_second(lambda: limbfuse.resample(hour_trial, 50))
 
 
 def test_ctrl_c_stops_align(hour_trial):

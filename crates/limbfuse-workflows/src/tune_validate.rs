@@ -26,7 +26,7 @@ pub enum Validation {
 }
 
 /// What to tune, where, and how hard.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct TuneValidateConfig {
     /// The parameters to start from.
     pub start: FilterParams,

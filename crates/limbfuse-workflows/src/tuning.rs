@@ -203,7 +203,7 @@ impl SearchSpace {
 }
 
 /// How to tune.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct TuneConfig {
     /// Seed of the swarm's random draws: same seed, same result.
     pub seed: u64,
@@ -211,6 +211,11 @@ pub struct TuneConfig {
     pub budget: usize,
     /// Swarm size (>= 2).
     pub particles: usize,
+    /// A cancellation hook, polled after every generation of the swarm
+    /// (`particles` evaluations) on the calling thread: once it returns
+    /// true the tuning ends with [`TuneError::Cancelled`] (Python's Ctrl-C;
+    /// `None`: never).
+    pub cancel: Option<fn() -> bool>,
 }
 
 impl Default for TuneConfig {
@@ -219,6 +224,7 @@ impl Default for TuneConfig {
             seed: 1,
             budget: 400,
             particles: 20,
+            cancel: None,
         }
     }
 }
@@ -247,6 +253,9 @@ pub enum TuneError {
     /// The objective could not be evaluated (filter error) or the optimiser failed.
     #[error("{0}")]
     Failed(String),
+    /// [`TuneConfig::cancel`] asked to stop.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// The multi-start result of `params` over the intervals; `None` when the
@@ -387,6 +396,9 @@ pub fn tune(
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| TuneError::Failed(e.to_string()))?,
     );
+    if cfg.cancel.is_some_and(|c| c()) {
+        return Err(TuneError::Cancelled);
+    }
     if !start_cost.is_finite() {
         return Err(TuneError::Failed(
             "the trial window gives no segment-angle error to minimise (no reference or no estimate)".into(),
@@ -409,8 +421,15 @@ pub fn tune(
             HistoryObserver(Arc::clone(&history)),
             argmin::core::observers::ObserverMode::Always,
         )
+        .add_observer(
+            CancelObserver(cfg.cancel),
+            argmin::core::observers::ObserverMode::Always,
+        )
         .run()
-        .map_err(|e| TuneError::Failed(format!("optimiser: {e}")))?;
+        .map_err(|e| match cfg.cancel.is_some_and(|c| c()) {
+            true => TuneError::Cancelled,
+            false => TuneError::Failed(format!("optimiser: {e}")),
+        })?;
     let state = res.state();
     let best = state
         .get_best_param()
@@ -431,6 +450,19 @@ pub fn tune(
 }
 
 /// Records the best cost after each generation.
+/// Ends the run when [`TuneConfig::cancel`] says so (an observer's error
+/// stops argmin's executor after the generation).
+struct CancelObserver(Option<fn() -> bool>);
+
+impl<I: State> argmin::core::observers::Observe<I> for CancelObserver {
+    fn observe_iter(&mut self, _state: &I, _kv: &argmin::core::KV) -> Result<(), ArgminError> {
+        match self.0.is_some_and(|c| c()) {
+            true => Err(ArgminError::msg("cancelled")),
+            false => Ok(()),
+        }
+    }
+}
+
 struct HistoryObserver(Arc<Mutex<Vec<f64>>>);
 
 impl<I> argmin::core::observers::Observe<I> for HistoryObserver

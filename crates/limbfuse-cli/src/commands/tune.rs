@@ -81,6 +81,7 @@ pub fn run(a: &TuneArgs) -> Result<()> {
             seed: a.seed,
             budget: a.budget,
             particles: a.particles,
+            cancel: None,
         },
     };
     let n_eval = if a.particles > 0 {

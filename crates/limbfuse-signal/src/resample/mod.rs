@@ -146,6 +146,9 @@ pub enum ResampleError {
     /// A bad option or an input that cannot be resampled.
     #[error("{0}")]
     Invalid(String),
+    /// The caller's cancellation hook asked to stop ([`resample_records`]).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// The present samples of one scalar channel, in time order.

@@ -155,7 +155,7 @@ pub fn resample_trial(
     let (meta, layout) = (reader.meta().clone(), *reader.layout());
     let path = reader.path().to_path_buf();
     let rows = std::iter::from_fn(|| reader.next_record().transpose());
-    let mut trial = resample_rows(rows, &meta, layout, &path, opts)?;
+    let mut trial = resample_rows(rows, &meta, layout, &path, opts, None)?;
     trial.cut_last_line = reader.cut_last_line();
     note_resampling(&mut trial, &path, opts);
     Ok(trial)
@@ -163,16 +163,21 @@ pub fn resample_trial(
 
 /// Resamples a trial held in memory (its `records` in time order, as a
 /// [`TrialReader`] would give them; `source` names it in messages and in the
-/// `# resampled:` line): what [`resample_trial`] does with a file.
+/// `# resampled:` line): what [`resample_trial`] does with a file. `cancel`
+/// is polled every 4096 rows read and before each channel (a fraction of a
+/// second each on an hour):
+/// once it returns true the call ends with [`ResampleError::Cancelled`]
+/// (Python's Ctrl-C).
 pub fn resample_records(
     records: &[Record],
     meta: &TrialMeta,
     layout: TrialLayout,
     source: &Path,
     opts: &ResampleOptions,
+    cancel: Option<fn() -> bool>,
 ) -> Result<ResampledTrial, ResampleError> {
     let rows = records.iter().map(|r| Ok(*r));
-    let mut trial = resample_rows(rows, meta, layout, source, opts)?;
+    let mut trial = resample_rows(rows, meta, layout, source, opts, cancel)?;
     note_resampling(&mut trial, source, opts);
     Ok(trial)
 }
@@ -213,6 +218,7 @@ fn resample_rows(
     layout: TrialLayout,
     source: &Path,
     opts: &ResampleOptions,
+    cancel: Option<fn() -> bool>,
 ) -> Result<ResampledTrial, ResampleError> {
     check_rate(opts.rate_hz)?;
     let ranges = meta.sensor_ranges().map_err(|e| {
@@ -248,7 +254,10 @@ fn resample_rows(
     let mut quat: [(Vec<f64>, Vec<[f64; 4]>); 4] = Default::default();
     let mut phase: (Vec<f64>, Vec<GaitPhase>) = Default::default();
     let (mut t_first, mut t_last) = (None, 0.0);
-    for r in rows {
+    for (k, r) in rows.enumerate() {
+        if k % 4096 == 4095 && cancel.is_some_and(|c| c()) {
+            return Err(ResampleError::Cancelled);
+        }
         let mut r = r?;
         let screening = gate.check(&r.sample);
         if !screening.is_clean() {
@@ -299,6 +308,9 @@ fn resample_rows(
     let mut com = vec![[[None; 3]; 2]; grid.len()];
     let mut imu_filtered = false;
     for ((s, c), &slot) in series.iter().zip(&clipped).zip(&slots) {
+        if cancel.is_some_and(|c| c()) {
+            return Err(ResampleError::Cancelled);
+        }
         if let ChannelMethod::Decimate(a) = slot.method(opts.anti_alias) {
             imu_filtered |= a != AntiAlias::None
                 && nominal_period(&s.t).is_some_and(|p| p < (1.0 - 1e-9) / opts.rate_hz);

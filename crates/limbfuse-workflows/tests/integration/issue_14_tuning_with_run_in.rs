@@ -112,6 +112,7 @@ fn issue_14_tuned_parameters_with_a_run_in_score_every_sample_the_start_scores()
         seed: 12,
         budget: 120,
         particles: 12,
+        cancel: None,
     };
     let r = tune(&start(), &records, &iv, &cfg, &|| {}).unwrap();
     let s = measure_params(&start(), &records, &iv).unwrap().unwrap();

@@ -37,6 +37,7 @@ fn tuning_reduces_the_rmse_on_the_tuning_window_deterministically() {
         seed: 7,
         budget: 60,
         particles: 10,
+        cancel: None,
     };
     for method in [FilterMethod::Local, FilterMethod::Mjls] {
         let start = FilterParams::preset(method, Preset::Default);
