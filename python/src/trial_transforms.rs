@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use limbfuse_signal::align::mirror_trial::mirror_trial;
+use limbfuse_signal::align::mirror_trial::{mirror_trial, mirrored_leg};
 use limbfuse_signal::resample::{resample_notes, resample_records, AntiAlias, ResampleOptions};
 use pyo3::prelude::*;
 
@@ -85,7 +85,7 @@ fn mirror<'py>(
         let layout = *cols.layout();
         let (label, meta) = (trial.label(), trial.meta());
         // (the channels checked before the records are built)
-        mirror_trial(&[], &meta, layout, &label, None).map_err(|e| user_msg(e.to_string()))?;
+        mirrored_leg(&meta, &layout, &label).map_err(|e| user_msg(e.to_string()))?;
         let records = detach(py, || polled(cols.records()))?;
         let m = detach(py, || {
             mirror_trial(&records, &meta, layout, &label, remount_seed)

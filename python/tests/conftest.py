@@ -64,3 +64,21 @@ def gait_library(tmp_path_factory):
     (file, the gait summaries `limbfuse.gait_library` returned)."""
     p = tmp_path_factory.mktemp("gait") / "lib.json"
     return p, limbfuse.gait_library(p, [0.7])
+
+
+SHARED_DATA = REPO.parent / "shared" / "data"
+
+
+@pytest.fixture(scope="session")
+def shared_data():
+    """The path of a file or folder of ../shared/data (the real recordings
+    and the independent simulator's trials); the test is skipped, saying
+    which, when it is absent."""
+
+    def path(rel):
+        p = SHARED_DATA / rel
+        if not p.exists():
+            pytest.skip(f"the shared data {p} is absent (../shared/data next to the repository)")
+        return p
+
+    return path

@@ -3,7 +3,6 @@ table"), the same rows and numbers as ``limbfuse evaluate --strides`` and
 the strides ``evaluate`` scores; bad input raises clear errors."""
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +12,6 @@ from limbfuse import LimbfuseError
 
 pd = pytest.importorskip("pandas")
 
-SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 COLUMNS = [
     "foot", "ic_s", "fc_s", "end_s", "decided_s", "stride_time_s", "stance_time_s", "swing_time_s",
     "stride_length_m", "speed_m_s", "acc_clipped_s", "step_length_1_m", "step_length_2_m", "turn_rate_rad_s",
@@ -22,18 +20,11 @@ COLUMNS = [
 ]
 
 
-def shared(rel):
-    path = SHARED / rel
-    if not path.exists():
-        pytest.skip(f"the shared data {path} is absent (../shared/data next to the repository)")
-    return path
-
-
 @pytest.mark.parametrize(
     "rel, method", [("gaitmap-foot-walk/trial.csv", "gait-events"), ("mobgap-lowerback/HA001-test11-trial1.csv", "lowback-speed")]
 )
-def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path):
-    trial = limbfuse.read_trial(shared(rel))
+def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path, shared_data):
+    trial = limbfuse.read_trial(shared_data(rel))
     est = limbfuse.estimate(trial, method)
     df = est.strides(trial)
     assert list(df.columns) == COLUMNS
@@ -44,7 +35,7 @@ def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path):
     assert abs((scored["speed_m_s"] - scored["speed_ref_m_s"]).abs().mean() - ev["speed_mae_mps"]) < 1e-12
     # the CLI's table, same rows and numbers
     est.write(tmp_path / "e.csv")
-    cli("evaluate", shared(rel), tmp_path / "e.csv", "--strides", tmp_path / "s.csv")
+    cli("evaluate", shared_data(rel), tmp_path / "e.csv", "--strides", tmp_path / "s.csv")
     csv = pd.read_csv(tmp_path / "s.csv")
     assert list(csv.columns) == COLUMNS
     text = ["foot", "speed_withheld"]
@@ -63,8 +54,8 @@ def test_strides_reproduce_evaluate_and_the_cli(rel, method, cli, tmp_path):
         assert df["fc_s"].notna().all() and df["step_length_1_m"].isna().all()
 
 
-def test_strides_stance_and_swing_errors_are_evaluates():
-    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+def test_strides_stance_and_swing_errors_are_evaluates(shared_data):
+    trial = limbfuse.read_trial(shared_data("gaitmap-foot-walk/trial.csv"))
     est = limbfuse.estimate(trial, "gait-events")
     df = est.strides(trial)
     ev = limbfuse.evaluate(trial, est)
@@ -83,8 +74,8 @@ def test_strides_stance_and_swing_errors_are_evaluates():
         assert abs(got - ev[key]) < 1e-9, key
 
 
-def test_strides_without_a_trial_have_no_reference():
-    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+def test_strides_without_a_trial_have_no_reference(shared_data):
+    trial = limbfuse.read_trial(shared_data("gaitmap-foot-walk/trial.csv"))
     est = limbfuse.estimate(trial, "gait-events")
     df = est.strides()
     assert len(df) == len(est.strides(trial))
@@ -116,8 +107,8 @@ def test_strides_bad_arguments(walking_trial):
         est.strides(walking_trial, allow_trial_mismatch="yes")
 
 
-def test_strides_refuse_another_trial(walking_trial):
-    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+def test_strides_refuse_another_trial(walking_trial, shared_data):
+    trial = limbfuse.read_trial(shared_data("gaitmap-foot-walk/trial.csv"))
     est = limbfuse.estimate(trial, "gait-events")
     other = limbfuse.Trial(trial.t, {n: v * 1.01 if "_ref" not in n else v for n, v in trial.channels.items()}, meta=trial.meta)
     with pytest.raises(LimbfuseError, match="another trial"):
@@ -126,11 +117,11 @@ def test_strides_refuse_another_trial(walking_trial):
         est.strides(walking_trial)  # (other length)
 
 
-def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_path):
+def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_path, shared_data):
     # (session 32: `evaluate` took a window, `strides` did not, so the table
     # paired references `evaluate(..., window=...)` had not scored)
     rel = "gaitmap-foot-walk/trial.csv"
-    trial = limbfuse.read_trial(shared(rel))
+    trial = limbfuse.read_trial(shared_data(rel))
     est = limbfuse.estimate(trial, "gait-events")
     whole = est.strides(trial)
     df = est.strides(trial, window=(5, 15))
@@ -140,7 +131,7 @@ def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_pa
     assert 0 < len(scored) == ev["n_strides"] < len(whole.dropna(subset=["speed_m_s", "speed_ref_m_s"]))
     assert abs((scored["speed_m_s"] - scored["speed_ref_m_s"]).abs().mean() - ev["speed_mae_mps"]) < 1e-12
     est.write(tmp_path / "e.csv")
-    cli("evaluate", shared(rel), tmp_path / "e.csv", "--window", "5:15", "--strides", tmp_path / "s.csv")
+    cli("evaluate", shared_data(rel), tmp_path / "e.csv", "--window", "5:15", "--strides", tmp_path / "s.csv")
     csv = pd.read_csv(tmp_path / "s.csv")
     text = ["foot", "speed_withheld"]
     pd.testing.assert_frame_equal(df.drop(columns=text), csv.drop(columns=text), check_exact=True)
@@ -150,11 +141,11 @@ def test_strides_in_a_window_pair_references_as_evaluate_scores_them(cli, tmp_pa
         est.strides(trial, window="15:5")
 
 
-def test_a_swing_clipped_at_2_g_is_warned_of():
+def test_a_swing_clipped_at_2_g_is_warned_of(shared_data):
     """A 2 g foot sensor clips through the swing (the strides come out short,
     docs/GAIT_EVENTS.md "Clipped swings"): `estimate` warns, as the CLI does,
     and each stride's clipped time is in the estimate."""
-    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    trial = limbfuse.read_trial(shared_data("gaitmap-foot-walk/trial.csv"))
     rail = 2 * 9.80665
     ch = {k: (np.clip(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan), -rail, rail) if "_acc_" in k else v)
           for k, v in trial.channels.items()}
@@ -172,10 +163,10 @@ def test_a_swing_clipped_at_2_g_is_warned_of():
     assert est.strides()["acc_clipped_s"].max() <= 0.01
 
 
-def test_a_filter_warns_of_a_swing_clipped_at_2_g():
+def test_a_filter_warns_of_a_swing_clipped_at_2_g(shared_data):
     """`Filter` warns of clipped swings as `estimate` does: once per `run`
     that has them, and once per stream of `step`s."""
-    trial = limbfuse.read_trial(shared("gaitmap-foot-walk/trial.csv"))
+    trial = limbfuse.read_trial(shared_data("gaitmap-foot-walk/trial.csv"))
     rail = 2 * 9.80665
     names = [n for n in trial.channels if n.startswith("foot_")]
     ch = {n: np.clip(np.ma.filled(np.ma.asarray(trial.channels[n], dtype=float), np.nan), -rail, rail)
@@ -192,11 +183,11 @@ def test_a_filter_warns_of_a_swing_clipped_at_2_g():
     assert len([w for w in caught if issubclass(w.category, limbfuse.LimbfuseWarning)]) == 1
 
 
-def test_an_accelerometer_rail_below_the_assumed_full_scale_is_warned_of():
+def test_an_accelerometer_rail_below_the_assumed_full_scale_is_warned_of(shared_data):
     """As `limbfuse estimate`: a 2 g sensor in a trial that states no range
     (16 g assumed) repeats its rail exactly; `estimate` says so and asks for
     the range. Stated, the gate rejects those readings and says that instead."""
-    trial = limbfuse.read_trial(shared("independent-sim/walk-v1.6-s302.csv"))
+    trial = limbfuse.read_trial(shared_data("independent-sim/walk-v1.6-s302.csv"))
     rail = 2 * 9.80665
     ch = {k: (np.clip(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan), -rail, rail) if "_acc_" in k else v)
           for k, v in trial.channels.items()}

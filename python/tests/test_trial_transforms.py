@@ -88,22 +88,12 @@ def test_resample_and_mirror_bad_input():
         limbfuse.mirror(no_imu)
 
 
-SHARED = __import__("pathlib").Path(__file__).resolve().parents[2].parent / "shared" / "data"
-
-
-def _shared(rel):
-    p = SHARED / rel
-    if not p.exists():
-        pytest.skip(f"the shared recording {p} is absent (../shared/data next to the repository)")
-    return p
-
-
 @pytest.mark.parametrize(
     "fmt,rel,leg",
     [("gaittoolbox", "gaittoolbox-s02-walk", None), ("gaittoolbox", "gaittoolbox-s02-walk", "right"), ("knee-rig", "knee-rig/Trial_02.csv", None)],
 )
-def test_import_recording_is_the_clis_import(cli, tmp_path, fmt, rel, leg):
-    src = _shared(rel)
+def test_import_recording_is_the_clis_import(cli, tmp_path, fmt, rel, leg, shared_data):
+    src = shared_data(rel)
     out = tmp_path / "cli.csv"
     cli("import", "--format", fmt, *(["--leg", leg] if leg else []), src, "-o", out)
     got = limbfuse.import_recording(src, fmt, leg=leg)
@@ -113,8 +103,8 @@ def test_import_recording_is_the_clis_import(cli, tmp_path, fmt, rel, leg):
     assert mine.read_bytes() == out.read_bytes()
 
 
-def test_import_recording_with_a_calibration_is_the_clis(cli, tmp_path):
-    src = _shared("knee-rig/Trial_02.csv")
+def test_import_recording_with_a_calibration_is_the_clis(cli, tmp_path, shared_data):
+    src = shared_data("knee-rig/Trial_02.csv")
     rig = limbfuse.import_recording(src, "knee-rig")
     # a calibration of the rig's two IMUs (thigh, shank) from simulated poses
     poses = limbfuse.simulate("calibration", seed=7)

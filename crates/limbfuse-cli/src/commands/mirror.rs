@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use limbfuse_core::Record;
 use limbfuse_io::{TrialReader, TrialWriter};
-use limbfuse_signal::align::mirror_trial::mirror_trial;
+use limbfuse_signal::align::mirror_trial::{mirror_trial, mirrored_leg};
 
 use crate::cli::MirrorArgs;
 
@@ -15,7 +15,7 @@ pub fn run(a: &MirrorArgs) -> Result<()> {
     let (meta, layout) = (reader.meta().clone(), *reader.layout());
     let source = a.trial.display().to_string();
     // (the channels checked before the whole file is read)
-    mirror_trial(&[], &meta, layout, &source, None)?;
+    mirrored_leg(&meta, &layout, &source)?;
     let records: Vec<Record> = super::read_records(&mut reader)?;
     let m = mirror_trial(&records, &meta, layout, &source, a.remount_seed)?;
     if !m.dropped_meta.is_empty() {

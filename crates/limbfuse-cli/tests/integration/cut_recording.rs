@@ -16,27 +16,33 @@ fn rows(path: &Path) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
-    let d = tempfile::tempdir().unwrap();
-    let dir = d.path();
+/// Simulates `seconds` of walking into `dir/w.csv` and writes beside it
+/// `short.csv` (the file without its last line) and `cut.csv` (the file cut
+/// 40 bytes before its end); returns the cut line's number.
+fn short_and_cut(dir: &Path, seconds: &str, seed: &str) -> usize {
     let sim = [
         "simulate",
         "walking",
         "--duration",
-        "3",
+        seconds,
         "--seed",
-        "2",
+        seed,
         "-o",
         "w.csv",
     ];
     assert_eq!(limbfuse(&sim, dir).status.code(), Some(0));
     let whole = std::fs::read_to_string(dir.join("w.csv")).unwrap();
-    // the whole file without its last line, and the file cut 40 bytes before its end
-    let body = whole.trim_end_matches('\n');
-    let last = body.rfind('\n').unwrap();
+    let last = whole.trim_end_matches('\n').rfind('\n').unwrap();
     std::fs::write(dir.join("short.csv"), &whole[..=last]).unwrap();
     std::fs::write(dir.join("cut.csv"), &whole[..whole.len() - 40]).unwrap();
+    whole[..last].lines().count() + 1
+}
+
+#[test]
+fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let line = short_and_cut(dir, "3", "2");
     let est = |trial: &str, out: &str| {
         limbfuse(&["estimate", "--method", "chain", trial, "-o", out], dir)
     };
@@ -44,7 +50,6 @@ fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
     let o = est("cut.csv", "cut-e.csv");
     let e = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{e}");
-    let line = whole[..last].lines().count() + 1;
     assert!(
         e.contains(&format!(
             "cut.csv:{line}: the last line has 34 of 35 cells and no line break"
@@ -67,22 +72,7 @@ fn a_recording_cut_mid_line_is_estimated_without_its_last_line() {
 fn commands_that_rewrite_a_cut_recording_say_they_left_its_last_line_out() {
     let d = tempfile::tempdir().unwrap();
     let dir = d.path();
-    let sim = [
-        "simulate",
-        "walking",
-        "--duration",
-        "12",
-        "--seed",
-        "3",
-        "-o",
-        "w.csv",
-    ];
-    assert_eq!(limbfuse(&sim, dir).status.code(), Some(0));
-    let whole = std::fs::read_to_string(dir.join("w.csv")).unwrap();
-    let last = whole.trim_end_matches('\n').rfind('\n').unwrap();
-    std::fs::write(dir.join("short.csv"), &whole[..=last]).unwrap();
-    std::fs::write(dir.join("cut.csv"), &whole[..whole.len() - 40]).unwrap();
-    let line = whole[..last].lines().count() + 1;
+    let line = short_and_cut(dir, "12", "3");
     let runs: [&[&str]; 3] = [&["resample", "--rate", "50"], &["align"], &["mirror"]];
     for args in runs {
         let mut outputs = Vec::new();

@@ -47,16 +47,14 @@ pub struct MirroredTrial {
     pub dropped_meta: Vec<String>,
 }
 
-/// Mirrors a trial across the sagittal plane (`source` names it in
-/// messages and in the `# mirrored:` line); with `remount_seed`, every
-/// sensor is also re-mounted at a random orientation drawn from that seed.
-pub fn mirror_trial(
-    records: &[Record],
+/// The leg a trial was recorded on (`# leg:`, right when unstated), after
+/// checking that it has something to mirror: what [`mirror_trial`] checks
+/// first, for a caller that wants to know before it reads the records.
+pub fn mirrored_leg(
     meta: &TrialMeta,
-    layout: TrialLayout,
+    layout: &TrialLayout,
     source: &str,
-    remount_seed: Option<u64>,
-) -> Result<MirroredTrial, MirrorTrialError> {
+) -> Result<Leg, MirrorTrialError> {
     let has_imu = (0..4).any(|i| {
         layout.acc[i]
             || layout.gyr[i]
@@ -67,13 +65,26 @@ pub fn mirror_trial(
     if !has_imu {
         return Err(MirrorTrialError::NoImu(source.to_string()));
     }
-    let from = match meta.get("leg") {
-        None => Leg::Right,
+    match meta.get("leg") {
+        None => Ok(Leg::Right),
         Some(text) => Leg::parse(text).ok_or_else(|| MirrorTrialError::Leg {
             trial: source.to_string(),
             found: text.to_string(),
-        })?,
-    };
+        }),
+    }
+}
+
+/// Mirrors a trial across the sagittal plane (`source` names it in
+/// messages and in the `# mirrored:` line); with `remount_seed`, every
+/// sensor is also re-mounted at a random orientation drawn from that seed.
+pub fn mirror_trial(
+    records: &[Record],
+    meta: &TrialMeta,
+    layout: TrialLayout,
+    source: &str,
+    remount_seed: Option<u64>,
+) -> Result<MirroredTrial, MirrorTrialError> {
+    let from = mirrored_leg(meta, &layout, source)?;
     let to = from.other();
     let mut meta = meta.clone();
     let mut layout = layout;

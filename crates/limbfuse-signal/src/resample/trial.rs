@@ -165,9 +165,8 @@ pub fn resample_trial(
 /// [`TrialReader`] would give them; `source` names it in messages and in the
 /// `# resampled:` line): what [`resample_trial`] does with a file. `cancel`
 /// is polled every 4096 rows read and before each channel (a fraction of a
-/// second each on an hour):
-/// once it returns true the call ends with [`ResampleError::Cancelled`]
-/// (Python's Ctrl-C).
+/// second each on an hour): once it returns true the call ends with
+/// [`ResampleError::Cancelled`] (Python's Ctrl-C).
 pub fn resample_records(
     records: &[Record],
     meta: &TrialMeta,
