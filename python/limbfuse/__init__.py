@@ -29,6 +29,7 @@ from ._estimate import (
     read_estimate,
 )
 from ._filter import Filter
+from ._montecarlo import montecarlo
 from ._workflows import (
     Calibration,
     align,
@@ -81,6 +82,7 @@ __all__ = [
     "inspect",
     "methods",
     "mirror",
+    "montecarlo",
     "read_estimate",
     "read_trial",
     "repair_time",

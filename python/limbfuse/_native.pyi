@@ -7,7 +7,7 @@ a NaN, None = not known); arrays are float64 with NaN = missing (the public
 classes mask them).
 """
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -94,6 +94,14 @@ def tune(
     particles: int = 20,
     starts: int = 50,
     length: Optional[float] = None,
+) -> Dict[str, Any]: ...
+def montecarlo(
+    runs: int = 100,
+    levels: Union[None, str, Sequence[float]] = None,
+    seed: int = 1,
+    speed: float = 1.0,
+    duration: float = 30.0,
+    svg: Optional[str] = None,
 ) -> Dict[str, Any]: ...
 def gait_library(path: str, speeds: Sequence[float], mass: float = 80.0, leg_length: float = 1.0) -> List[Dict[str, float]]: ...
 def report(

@@ -30,6 +30,7 @@ mod estimate_file;
 mod evaluate;
 mod filter;
 mod interrupt;
+mod monte_carlo;
 mod options;
 mod recording_import;
 mod simulate;
@@ -243,6 +244,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trial_transforms::register(m)?;
     recording_import::register(m)?;
     tune::register(m)?;
+    monte_carlo::register(m)?;
     simulate::register(m)?;
     workflows::register(m)?;
     m.add_class::<filter::NativeFilter>()?;

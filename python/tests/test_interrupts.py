@@ -85,6 +85,14 @@ def test_ctrl_c_stops_tune():
     _stops_within_a_second(lambda: limbfuse.tune(walk, "mjls", (0, 20), budget=10000), cpu_s=2.5)
 
 
+def test_ctrl_c_stops_montecarlo():
+    """`montecarlo` (session 45) runs on rayon's pool while the calling
+    thread looks at Ctrl-C every 50 ms; each run stops before its next level
+    (about 0.05 s of CPU for a 30 s trial). 1000 runs would take minutes; the
+    CPU bound counts both cores busy until the signal."""
+    _stops_within_a_second(lambda: limbfuse.montecarlo(1000), cpu_s=1.5)
+
+
 def test_ctrl_c_stops_a_gait_library_build(tmp_path):
     path = tmp_path / "lib.json"
     _stops_within_a_second(lambda: limbfuse.gait_library(path, [0.5, 0.7, 0.9, 1.1]))

@@ -16,6 +16,8 @@
 
 use std::convert::Infallible;
 use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 use limbfuse_core::runner::{run, Observer};
 use limbfuse_core::{Estimator, Record};
@@ -98,6 +100,53 @@ pub enum MonteCarloError {
     /// A filter failed.
     #[error("{0}")]
     Filter(String),
+    /// The caller's cancellation hook stopped the study.
+    #[error("stopped before the end")]
+    Cancelled,
+}
+
+/// Uncertainty levels written `START:END:STEP` in percent (the CLI's
+/// `--levels`, e.g. `0:20:2`), as fractions; the error says what was
+/// expected (without the flag or option's name, which the caller adds).
+pub fn levels_from_spec(text: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let bad = || format!("expected START:END:STEP in percent (e.g. 0:20:2), found `{text}`");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let v: Vec<f64> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    levels_from_range(v[0], v[1], v[2]).map_err(|m| format!("`{text}`: {m}"))
+}
+
+/// Levels `start`, `start + step`, ..., `end` in percent, as fractions
+/// (percent rounded to 1e-9: `0:1:0.1` gave 0.30000000000000004).
+pub fn levels_from_range(start: f64, end: f64, step: f64) -> Result<Vec<f64>, String> {
+    let (a, b) = (start, end);
+    if !(a.is_finite() && b.is_finite() && step.is_finite())
+        || step <= 0.0
+        || b < a
+        || a < 0.0
+        || b >= 100.0
+    {
+        return Err("need 0 <= START <= END < 100 and STEP > 0".into());
+    }
+    let n = ((b - a) / step + 1e-9).floor() as usize;
+    let last = a + n as f64 * step;
+    if (b - last).abs() > 1e-6 * step.max(1e-3) {
+        return Err(format!(
+            "END is not START + k STEP (the last level would be {}); give an END on that grid",
+            (last * 1e9).round() / 1e9
+        ));
+    }
+    if n > 1000 {
+        return Err(format!("{} levels is too many (at most 1000)", n + 1));
+    }
+    Ok((0..=n)
+        .map(|k| ((a + k as f64 * step) * 1e9).round() / 1e9 / 100.0)
+        .collect())
 }
 
 /// Multiplies every model noise parameter by `1 + level u`, `u ~ U[-1, 1]`.
@@ -141,7 +190,11 @@ fn mean_rmse_deg(est: &mut dyn Estimator, records: &[Record]) -> Result<f64, Mon
 }
 
 /// One run: errors `[method][level]` in degrees.
-fn one_run(cfg: &MonteCarloConfig, r: usize) -> Result<Vec<[f64; 3]>, MonteCarloError> {
+fn one_run(
+    cfg: &MonteCarloConfig,
+    r: usize,
+    stop: &AtomicBool,
+) -> Result<Vec<[f64; 3]>, MonteCarloError> {
     let trial = WalkingConfig {
         seed: cfg.seed.wrapping_add(r as u64),
         ..cfg.trial
@@ -151,6 +204,9 @@ fn one_run(cfg: &MonteCarloConfig, r: usize) -> Result<Vec<[f64; 3]>, MonteCarlo
     let enc0 = MarkovJumpKfParams::default().encoder_sigma;
     let mut out = Vec::with_capacity(cfg.levels.len());
     for (li, &level) in cfg.levels.iter().enumerate() {
+        if stop.load(Ordering::Relaxed) {
+            return Err(MonteCarloError::Cancelled);
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(stream_seed(cfg.seed, r, li));
         let (common, enc) = perturb(&base, &enc0, level, &mut rng);
         let bad =
@@ -189,6 +245,20 @@ pub fn monte_carlo(
     cfg: &MonteCarloConfig,
     on_run_done: &(dyn Fn() + Sync),
 ) -> Result<Vec<MonteCarloRow>, MonteCarloError> {
+    monte_carlo_cancellable(cfg, on_run_done, None)
+}
+
+/// [`monte_carlo`] that stops when `cancel` says so
+/// ([`MonteCarloError::Cancelled`]). `cancel` is called on the calling
+/// thread (so it may read that thread's state: the Python binding's Ctrl-C
+/// check) about every 50 ms while the runs go on in rayon's pool; each run
+/// looks at the verdict before each level. The rows are those of
+/// [`monte_carlo`]: runs are reduced in run order.
+pub fn monte_carlo_cancellable(
+    cfg: &MonteCarloConfig,
+    on_run_done: &(dyn Fn() + Sync),
+    cancel: Option<fn() -> bool>,
+) -> Result<Vec<MonteCarloRow>, MonteCarloError> {
     if !(1..=MAX_RUNS).contains(&cfg.runs) {
         return Err(MonteCarloError::Config(format!(
             "runs: expected 1 to {MAX_RUNS} runs per level, found {}",
@@ -200,14 +270,38 @@ pub fn monte_carlo(
             "levels: expected fractions in [0, 1), e.g. 0, 0.02, ..., 0.2".into(),
         ));
     }
-    let per_run: Vec<Vec<[f64; 3]>> = (0..cfg.runs)
-        .into_par_iter()
-        .map(|r| {
-            let res = one_run(cfg, r);
-            on_run_done();
-            res
-        })
-        .collect::<Result<_, _>>()?;
+    let stop = AtomicBool::new(false);
+    let all_runs = || -> Result<Vec<Vec<[f64; 3]>>, MonteCarloError> {
+        (0..cfg.runs)
+            .into_par_iter()
+            .map(|r| {
+                let res = one_run(cfg, r, &stop);
+                on_run_done();
+                res
+            })
+            .collect()
+    };
+    let per_run = match cancel {
+        None => all_runs()?,
+        Some(cancelled) => {
+            let caller = std::thread::current();
+            std::thread::scope(|s| {
+                let runs = s.spawn(|| {
+                    let out = all_runs();
+                    caller.unpark();
+                    out
+                });
+                while !runs.is_finished() {
+                    std::thread::park_timeout(Duration::from_millis(50));
+                    if !stop.load(Ordering::Relaxed) && cancelled() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+                runs.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })?
+        }
+    };
     let n = cfg.runs as f64;
     let mut rows = Vec::new();
     for (m, method) in METHODS.iter().enumerate() {

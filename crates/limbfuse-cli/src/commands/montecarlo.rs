@@ -2,51 +2,17 @@
 
 use std::io::Write;
 
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, Context, Result};
 use limbfuse_io::provenance::{COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_sim::WalkingConfig;
-use limbfuse_workflows::monte_carlo::{monte_carlo, write_csv, MonteCarloConfig};
+use limbfuse_workflows::monte_carlo::{levels_from_spec, monte_carlo, write_csv, MonteCarloConfig};
 use limbfuse_workflows::monte_carlo_plot::render_svg;
 
 use crate::cli::MonteCarloArgs;
 
 /// Parses `START:END:STEP` percent into fractions.
 fn parse_levels(text: &str) -> Result<Vec<f64>> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let bad =
-        || anyhow!("--levels: expected START:END:STEP in percent (e.g. 0:20:2), found `{text}`");
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    let v: Vec<f64> = parts
-        .iter()
-        .map(|p| p.trim().parse::<f64>().map_err(|_| bad()))
-        .collect::<Result<_>>()?;
-    let (a, b, step) = (v[0], v[1], v[2]);
-    if !(a.is_finite() && b.is_finite() && step.is_finite())
-        || step <= 0.0
-        || b < a
-        || a < 0.0
-        || b >= 100.0
-    {
-        bail!("--levels: need 0 <= START <= END < 100 and STEP > 0, found `{text}`");
-    }
-    let n = ((b - a) / step + 1e-9).floor() as usize;
-    let last = a + n as f64 * step;
-    if (b - last).abs() > 1e-6 * step.max(1e-3) {
-        bail!(
-            "--levels {text}: END is not START + k STEP (the last level would be {}); give an END \
-             on that grid",
-            (last * 1e9).round() / 1e9
-        );
-    }
-    if n > 1000 {
-        bail!("--levels: {} levels is too many (at most 1000)", n + 1);
-    }
-    // (percent rounded to 1e-9: `0:1:0.1` gave 0.30000000000000004)
-    Ok((0..=n)
-        .map(|k| ((a + k as f64 * step) * 1e9).round() / 1e9 / 100.0)
-        .collect())
+    levels_from_spec(text).map_err(|m| anyhow!("--levels: {m}"))
 }
 
 /// The provenance lines of the CSV and SVG (docs/OUTPUTS.md section 3): the
