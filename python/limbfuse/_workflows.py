@@ -277,7 +277,19 @@ def tune(
     ``tuning_window``, ``validation_window``, ``dims``, ``evaluations`` and
     ``warnings`` (also given as ``LimbfuseWarning``s: a validation window
     overlapping the tuning one, tuned parameters worse than the start on
-    it). ``sdre`` and ``ekf`` are tuned with the CLI."""
+    it).
+
+    ``sdre`` and ``ekf`` (``limbfuse tune --method sdre|ekf``, docs/
+    FES_ESTIMATION.md): ``params`` is the extended knee model (a file, its
+    text or a dict with ``[states]`` or ``[measurement]``), ``trial`` a
+    pre-trial with ``u_ke`` and ``knee_ref``; its ``[tuning]
+    torque_error`` is chosen among fixed candidates by leave-one-pulse-out
+    cross-validation within ``window`` (the swarm's options do not apply).
+    The dict then has ``params`` (the model with the chosen torque error,
+    the CLI's file but its first comment line), ``table`` (what the CLI
+    prints), ``torque_errors`` and ``rmse_deg`` (each candidate's knee RMSE
+    over all pulse windows, infinite where it diverged), ``torque_error``,
+    ``cv_rmse_deg``, ``pulse_windows`` and ``warnings`` (none)."""
     if not isinstance(trial, Trial):
         raise TypeError(f"tune: expected a limbfuse.Trial, found {type(trial).__name__}")
     if not isinstance(method, str):

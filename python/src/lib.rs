@@ -39,6 +39,7 @@ mod time_repair;
 mod trial;
 mod trial_transforms;
 mod tune;
+mod tune_fes;
 mod workflows;
 
 create_exception!(

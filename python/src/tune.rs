@@ -58,6 +58,21 @@ fn start_params(
     parsed.map_err(|e| user_error(&e))
 }
 
+/// The options of the swarm given for `sdre` / `ekf`, which have none.
+fn optimiser_options_message(name: MethodName, ignored: &[&str]) -> String {
+    format!(
+        "tune: method `{name}`: {} {} to local, mjls and global only; sdre and ekf choose the \
+         torque error among fixed candidates by leave-one-pulse-out cross-validation within the \
+         window (docs/FES_ESTIMATION.md)",
+        ignored.join(", "),
+        if ignored.len() == 1 {
+            "applies"
+        } else {
+            "apply"
+        }
+    )
+}
+
 /// Tunes `method`'s noise parameters on `window` of `trial` (`limbfuse
 /// tune`); returns the parameter file's text, the RMSE table, the windows
 /// and the validation warnings.
@@ -80,10 +95,31 @@ fn tune<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     guarded(|| {
         let name = MethodName::parse(method).map_err(|e| user_error(&e))?;
+        if matches!(name, MethodName::Sdre | MethodName::Ekf) {
+            let ignored: Vec<&str> = [
+                ("preset", preset != "default"),
+                ("validate", validate.is_some()),
+                ("seed", seed != 1),
+                ("budget", budget != 400),
+                ("particles", particles != 20),
+                ("starts", starts != 50),
+                ("length", length.is_some()),
+            ]
+            .into_iter()
+            .filter_map(|(k, given)| given.then_some(k))
+            .collect();
+            if !ignored.is_empty() {
+                return Err(user_msg(optimiser_options_message(name, &ignored)));
+            }
+            let d = crate::tune_fes::tune_fes(py, &trial, name, window, params)?;
+            d.set_item("warnings", Vec::<String>::new())?;
+            return Ok(d);
+        }
         let Some(fm) = FilterMethod::from_method(name) else {
             return Err(user_msg(format!(
-                "tune: method `{name}` has no tunable noise parameters here; tune supports local, \
-                 mjls and global (sdre and ekf: `limbfuse tune --method sdre|ekf`)"
+                "tune: method `{name}` has no tunable parameters; tune supports local, mjls and \
+                 global (their noise parameters) and sdre and ekf (the extended knee model's \
+                 torque error)"
             )));
         };
         let start = start_params(fm, params, preset)?;

@@ -54,12 +54,33 @@ pub fn pulse_windows(recs: &[Record]) -> Vec<f64> {
 /// Runs `est` over `recs` and sums its squared knee error per window
 /// (`starts` from [`pulse_windows`]).
 pub fn window_errors(est: &mut dyn Estimator, recs: &[Record], starts: &[f64]) -> WindowErrors {
+    // (without a hook it always finishes: the fallback is never taken)
+    window_errors_cancellable(est, recs, starts, None).unwrap_or_else(|| WindowErrors {
+        sse: vec![f64::INFINITY; starts.len()],
+        n: vec![0; starts.len()],
+    })
+}
+
+/// Samples between two looks at a cancellation hook.
+const CANCEL_STRIDE: usize = 4096;
+
+/// [`window_errors`] that stops when `cancel` says so (asked every 4096
+/// samples): `None` then.
+pub fn window_errors_cancellable(
+    est: &mut dyn Estimator,
+    recs: &[Record],
+    starts: &[f64],
+    cancel: Option<fn() -> bool>,
+) -> Option<WindowErrors> {
     let mut out = WindowErrors {
         sse: vec![0.0; starts.len()],
         n: vec![0; starts.len()],
     };
     let resets = est.diagnostic_names().iter().position(|n| *n == "resets");
-    for r in recs {
+    for (i, r) in recs.iter().enumerate() {
+        if i % CANCEL_STRIDE == CANCEL_STRIDE - 1 && cancel.is_some_and(|stop| stop()) {
+            return None;
+        }
         let diverged = match est.step(&r.sample) {
             Err(_) => true,
             Ok(e) => {
@@ -78,10 +99,10 @@ pub fn window_errors(est: &mut dyn Estimator, recs: &[Record], starts: &[f64]) -
         };
         if diverged {
             out.sse.iter_mut().for_each(|v| *v = f64::INFINITY);
-            return out;
+            return Some(out);
         }
     }
-    out
+    Some(out)
 }
 
 /// Result of [`leave_one_pulse_out`].

@@ -18,6 +18,7 @@ pub mod align_verdict;
 pub mod bslip_gait;
 pub mod coverage;
 pub mod fes_pulse_cv;
+pub mod fes_torque_tuning;
 pub mod gait_library;
 pub mod imm_library_extension;
 pub mod monte_carlo;
