@@ -12,7 +12,7 @@ use limbfuse_io::Calibration;
 use limbfuse_methods::knee_backfill::build_backfilled;
 use limbfuse_methods::smoothed_chain::build_smoothed;
 use limbfuse_methods::MethodSpec;
-use limbfuse_signal::align::rotations_from_metadata;
+use limbfuse_signal::calibration::trial_calibration::for_trial;
 use limbfuse_workflows::imm_library_extension;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -144,20 +144,23 @@ fn speed_watch(
 /// The calibration `text` (file `name`) for the trial `label`, as
 /// `limbfuse estimate --calibration` takes it: refused for a trial
 /// calibrated already or one with an IMU it does not cover; rotated into
-/// the aligned frames of a trial `align` wrote.
+/// the aligned frames of a trial `align` wrote; the CLI's notes given as
+/// `LimbfuseWarning`s.
 pub(crate) fn calibration_for_trial(
+    py: Python<'_>,
     text: &str,
     name: &str,
     label: &str,
     meta: &limbfuse_io::TrialMeta,
     layout: &limbfuse_io::TrialLayout,
 ) -> PyResult<Calibration> {
-    calibration_and_frame(text, name, label, meta, layout).map(|(c, _)| c)
+    calibration_and_frame(py, text, name, label, meta, layout).map(|(c, _)| c)
 }
 
 /// [`calibration_for_trial`] and the frame it applies in, for the metadata
 /// (`Calibration::annotate`, as `limbfuse align --imu-calibration` writes it).
 pub(crate) fn calibration_and_frame(
+    py: Python<'_>,
     text: &str,
     name: &str,
     label: &str,
@@ -166,19 +169,11 @@ pub(crate) fn calibration_and_frame(
 ) -> PyResult<(Calibration, &'static str)> {
     let (path, trial) = (Path::new(name), Path::new(label));
     let cal = Calibration::from_toml(text, path).map_err(|e| user_error(&e))?;
-    Calibration::check_not_calibrated(meta, trial).map_err(|e| user_error(&e))?;
-    cal.check_covers(layout, path, trial)
-        .map_err(|e| user_error(&e))?;
-    let rotations = rotations_from_metadata(meta)
-        .map_err(|e| user_msg(format!("{label}: reading the alignment rotations: {e}")))?;
-    Ok(if rotations.iter().any(Option::is_some) {
-        (
-            cal.rotated(&rotations),
-            "raw sensor frame, rotated with the alignment",
-        )
-    } else {
-        (cal, "raw sensor frame")
-    })
+    let prepared = for_trial(cal, path, trial, meta, layout).map_err(|e| user_error(&e))?;
+    for note in prepared.notes {
+        crate::filter::warn_user(py, note)?;
+    }
+    Ok((prepared.calibration, prepared.frame))
 }
 
 /// The estimator of an `estimate` call: real-time, or offline: a knee
@@ -238,6 +233,7 @@ fn estimate<'py>(
         let label = trial.label();
         let calibration = match calibration {
             Some((text, name)) => Some(calibration_for_trial(
+                py,
                 &text,
                 &name,
                 &label,

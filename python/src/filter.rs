@@ -205,6 +205,7 @@ impl NativeFilter {
                 .map_err(|e| user_msg(chain_message(&e)))?;
             let calibration = match calibration {
                 Some((text, name)) => Some(crate::estimate::calibration_for_trial(
+                    py,
                     &text,
                     &name,
                     "the filter's channels",

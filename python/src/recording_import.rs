@@ -63,7 +63,7 @@ fn import_recording<'py>(
         if let Some((text, name)) = &calibration {
             let label = path.display().to_string();
             let (cal, frame) =
-                calibration_and_frame(text, name, &label, &trial.meta, &trial.layout)?;
+                calibration_and_frame(py, text, name, &label, &trial.meta, &trial.layout)?;
             trial.records.iter_mut().for_each(|r| cal.apply(r));
             // (the file's name, as `limbfuse import --calibration` writes it)
             let file = std::path::Path::new(name)

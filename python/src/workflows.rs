@@ -89,7 +89,7 @@ fn align<'py>(
         let mut said = Vec::new();
         let cal = match &imu_calibration {
             Some((text, name)) => {
-                let (cal, frame) = calibration_and_frame(text, name, &label, &meta, &layout)?;
+                let (cal, frame) = calibration_and_frame(py, text, name, &label, &meta, &layout)?;
                 records.iter_mut().for_each(|r| cal.apply(r));
                 // (the file's name, as `limbfuse align --imu-calibration` writes it)
                 let file = std::path::Path::new(name)

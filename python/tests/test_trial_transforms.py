@@ -118,11 +118,42 @@ def test_import_recording_with_a_calibration_is_the_clis(cli, tmp_path, shared_d
         with pytest.raises(LimbfuseError):
             limbfuse.import_recording(src, "knee-rig", calibration=cal_file)
         return
-    got = limbfuse.import_recording(src, "knee-rig", calibration=cal_file)
+    with pytest.warns(LimbfuseWarning, match="also calibrates trunk, foot"):
+        got = limbfuse.import_recording(src, "knee-rig", calibration=cal_file)
     mine = tmp_path / "py.csv"
     got.write(mine)
     assert mine.read_bytes() == out.read_bytes()
     assert not np.array_equal(np.ma.filled(got.channels["thigh_acc_x"], 0), np.ma.filled(rig.channels["thigh_acc_x"], 0))
+
+
+def test_calibration_notes_are_the_clis_notes_as_warnings(cli, tmp_path, shared_data):
+    """A calibration of sensors the trial lacks, or applied to an aligned
+    trial: the CLI prints a `note:`, Python gives the same words as a
+    `LimbfuseWarning` (session 45; it said nothing before)."""
+    cal = limbfuse.calibrate(limbfuse.simulate("calibration", seed=7))
+    cal_file = tmp_path / "cal.toml"
+    cal.write(cal_file)
+    src = shared_data("knee-rig/Trial_02.csv")
+    r = cli("import", "--format", "knee-rig", src, "--calibration", cal_file, "-o", tmp_path / "t.csv")
+    notes = [line[len("note: "):] for line in r.stderr.splitlines() if line.startswith("note: ")]
+    assert any("also calibrates trunk, foot, which" in n for n in notes), r.stderr
+    with pytest.warns(LimbfuseWarning) as said:
+        limbfuse.import_recording(src, "knee-rig", calibration=cal_file)
+    assert set(notes) <= {str(w.message) for w in said}
+    walk = tmp_path / "walk.csv"
+    cli("simulate", "walking", "--seed", "7", "--duration", "6", "--mounting", "random", "-o", walk)
+    aligned = tmp_path / "aligned.csv"
+    cli("align", walk, "-o", aligned)
+    r = cli("estimate", "--method", "mjls", "--calibration", cal_file, aligned, "-o", tmp_path / "e.csv")
+    notes = [line[len("note: "):] for line in r.stderr.splitlines() if line.startswith("note: ")]
+    assert any("was aligned (`<segment>_align_quat`)" in n for n in notes), r.stderr
+    with pytest.warns(LimbfuseWarning) as said:
+        limbfuse.estimate(limbfuse.read_trial(aligned), "mjls", calibration=cal_file)
+    texts = {str(w.message) for w in said}
+    # (the trial is named by its file name in Python, by the path given in the CLI)
+    assert any(t.endswith("the raw-frame calibration is rotated into the aligned frames") and "aligned.csv" in t for t in texts)
+    with pytest.warns(LimbfuseWarning, match="was aligned"):
+        limbfuse.Filter.for_trial(limbfuse.read_trial(aligned), "mjls", calibration=cal)
 
 
 def test_import_recording_bad_input(tmp_path):

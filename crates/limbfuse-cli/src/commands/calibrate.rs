@@ -9,7 +9,7 @@ use limbfuse_core::Record;
 use limbfuse_io::calibration::CalibrationModel;
 use limbfuse_io::provenance::{COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_io::{Calibration, TrialLayout, TrialMeta, TrialReader};
-use limbfuse_signal::align::rotations_from_metadata;
+use limbfuse_signal::calibration::trial_calibration::for_trial;
 use limbfuse_signal::calibration::{calibrate, CalibrationParams};
 use limbfuse_sim::{PoseRecordingConfig, WalkingConfig};
 use limbfuse_workflows::simulated_trials;
@@ -183,12 +183,11 @@ pub fn simulate(a: &CalibrationSimArgs) -> Result<()> {
 }
 
 /// Reads the calibration file `path` for the trial `trial` (its metadata
-/// and layout): refuses a trial calibrated already and a file that does not
-/// cover every IMU of the trial; notes calibrated sensors the trial lacks.
-/// When the trial's channels were rotated by `align` (`<seg>_align_quat`),
-/// the calibration is rotated with them, so it still acts in the raw frame.
-/// Returns the calibration to apply and the frame it acts in (for the
-/// metadata).
+/// and layout) and prepares it for the trial
+/// (`limbfuse_signal::calibration::trial_calibration`: refused for a trial
+/// calibrated already or an IMU not covered; rotated with an alignment),
+/// printing its notes. Returns the calibration to apply and the frame it
+/// acts in (for the metadata).
 pub fn load_for_trial(
     path: &Path,
     trial: &Path,
@@ -196,31 +195,11 @@ pub fn load_for_trial(
     layout: &TrialLayout,
 ) -> Result<(Calibration, &'static str)> {
     let cal = Calibration::read(path)?;
-    Calibration::check_not_calibrated(meta, trial)?;
-    let unused = cal.check_covers(layout, path, trial)?;
-    if !unused.is_empty() {
-        let names: Vec<&str> = unused.iter().map(|s| s.name()).collect();
-        eprintln!(
-            "note: {} also calibrates {}, which {} does not have",
-            path.display(),
-            names.join(", "),
-            trial.display()
-        );
+    let prepared = for_trial(cal, path, trial, meta, layout)?;
+    for note in &prepared.notes {
+        eprintln!("note: {note}");
     }
-    let rotations = rotations_from_metadata(meta)
-        .with_context(|| format!("{}: reading the alignment rotations", trial.display()))?;
-    if rotations.iter().any(Option::is_some) {
-        eprintln!(
-            "note: {} was aligned (`<segment>_align_quat`): the raw-frame calibration is rotated into the aligned frames",
-            trial.display()
-        );
-        Ok((
-            cal.rotated(&rotations),
-            "raw sensor frame, rotated with the alignment",
-        ))
-    } else {
-        Ok((cal, "raw sensor frame"))
-    }
+    Ok((prepared.calibration, prepared.frame))
 }
 
 /// File name of `path` for the metadata.

@@ -15,6 +15,7 @@ use nalgebra::Vector3;
 
 pub mod fit;
 pub mod static_poses;
+pub mod trial_calibration;
 
 use static_poses::{find_poses, RejectedHold, StaticPose};
 
