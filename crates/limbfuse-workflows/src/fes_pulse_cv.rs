@@ -54,23 +54,23 @@ pub fn pulse_windows(recs: &[Record]) -> Vec<f64> {
 /// Runs `est` over `recs` and sums its squared knee error per window
 /// (`starts` from [`pulse_windows`]).
 pub fn window_errors(est: &mut dyn Estimator, recs: &[Record], starts: &[f64]) -> WindowErrors {
-    // (without a hook it always finishes: the fallback is never taken)
-    window_errors_cancellable(est, recs, starts, None).unwrap_or_else(|| WindowErrors {
+    // (never stopped, it always finishes: the fallback is never taken)
+    window_errors_until(est, recs, starts, &|| false).unwrap_or_else(|| WindowErrors {
         sse: vec![f64::INFINITY; starts.len()],
         n: vec![0; starts.len()],
     })
 }
 
-/// Samples between two looks at a cancellation hook.
-const CANCEL_STRIDE: usize = 4096;
+/// Samples between two looks at a stop check.
+const STOP_STRIDE: usize = 4096;
 
-/// [`window_errors`] that stops when `cancel` says so (asked every 4096
+/// [`window_errors`] that stops when `stop` says so (asked every 4096
 /// samples): `None` then.
-pub fn window_errors_cancellable(
+pub fn window_errors_until(
     est: &mut dyn Estimator,
     recs: &[Record],
     starts: &[f64],
-    cancel: Option<fn() -> bool>,
+    stop: &dyn Fn() -> bool,
 ) -> Option<WindowErrors> {
     let mut out = WindowErrors {
         sse: vec![0.0; starts.len()],
@@ -78,7 +78,7 @@ pub fn window_errors_cancellable(
     };
     let resets = est.diagnostic_names().iter().position(|n| *n == "resets");
     for (i, r) in recs.iter().enumerate() {
-        if i % CANCEL_STRIDE == CANCEL_STRIDE - 1 && cancel.is_some_and(|stop| stop()) {
+        if i % STOP_STRIDE == STOP_STRIDE - 1 && stop() {
             return None;
         }
         let diverged = match est.step(&r.sample) {

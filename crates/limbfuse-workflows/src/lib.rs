@@ -23,6 +23,7 @@ pub mod gait_library;
 pub mod imm_library_extension;
 pub mod monte_carlo;
 pub mod monte_carlo_plot;
+pub mod parallel_cancellation;
 pub mod protocol;
 pub mod simulated_trials;
 pub mod simulator_options;

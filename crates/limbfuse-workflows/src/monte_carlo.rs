@@ -16,8 +16,6 @@
 
 use std::convert::Infallible;
 use std::io::Write;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
 
 use limbfuse_core::runner::{run, Observer};
 use limbfuse_core::{Estimator, Record};
@@ -31,6 +29,8 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use limbfuse_methods::MethodName;
+
+use crate::parallel_cancellation::{run_with_stop_flag, StopFlag};
 
 use limbfuse_eval::AngleMetrics;
 use limbfuse_eval::EvalOptions;
@@ -193,7 +193,7 @@ fn mean_rmse_deg(est: &mut dyn Estimator, records: &[Record]) -> Result<f64, Mon
 fn one_run(
     cfg: &MonteCarloConfig,
     r: usize,
-    stop: &AtomicBool,
+    stop: &StopFlag,
 ) -> Result<Vec<[f64; 3]>, MonteCarloError> {
     let trial = WalkingConfig {
         seed: cfg.seed.wrapping_add(r as u64),
@@ -204,7 +204,7 @@ fn one_run(
     let enc0 = MarkovJumpKfParams::default().encoder_sigma;
     let mut out = Vec::with_capacity(cfg.levels.len());
     for (li, &level) in cfg.levels.iter().enumerate() {
-        if stop.load(Ordering::Relaxed) {
+        if stop.raised() {
             return Err(MonteCarloError::Cancelled);
         }
         let mut rng = ChaCha8Rng::seed_from_u64(stream_seed(cfg.seed, r, li));
@@ -251,8 +251,9 @@ pub fn monte_carlo(
 /// [`monte_carlo`] that stops when `cancel` says so
 /// ([`MonteCarloError::Cancelled`]). `cancel` is called on the calling
 /// thread (so it may read that thread's state: the Python binding's Ctrl-C
-/// check) about every 50 ms while the runs go on in rayon's pool; each run
-/// looks at the verdict before each level. The rows are those of
+/// check) about every 50 ms while the runs go on in rayon's pool
+/// ([`crate::parallel_cancellation`]); each run looks at the verdict
+/// before each level. The rows are those of
 /// [`monte_carlo`]: runs are reduced in run order.
 pub fn monte_carlo_cancellable(
     cfg: &MonteCarloConfig,
@@ -270,38 +271,19 @@ pub fn monte_carlo_cancellable(
             "levels: expected fractions in [0, 1), e.g. 0, 0.02, ..., 0.2".into(),
         ));
     }
-    let stop = AtomicBool::new(false);
-    let all_runs = || -> Result<Vec<Vec<[f64; 3]>>, MonteCarloError> {
-        (0..cfg.runs)
-            .into_par_iter()
-            .map(|r| {
-                let res = one_run(cfg, r, &stop);
-                on_run_done();
-                res
-            })
-            .collect()
-    };
-    let per_run = match cancel {
-        None => all_runs()?,
-        Some(cancelled) => {
-            let caller = std::thread::current();
-            std::thread::scope(|s| {
-                let runs = s.spawn(|| {
-                    let out = all_runs();
-                    caller.unpark();
-                    out
-                });
-                while !runs.is_finished() {
-                    std::thread::park_timeout(Duration::from_millis(50));
-                    if !stop.load(Ordering::Relaxed) && cancelled() {
-                        stop.store(true, Ordering::Relaxed);
-                    }
-                }
-                runs.join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-            })?
-        }
-    };
+    let per_run = run_with_stop_flag(
+        |stop: &StopFlag| -> Result<Vec<Vec<[f64; 3]>>, MonteCarloError> {
+            (0..cfg.runs)
+                .into_par_iter()
+                .map(|r| {
+                    let res = one_run(cfg, r, stop);
+                    on_run_done();
+                    res
+                })
+                .collect()
+        },
+        cancel,
+    )?;
     let n = cfg.runs as f64;
     let mut rows = Vec::new();
     for (m, method) in METHODS.iter().enumerate() {
