@@ -44,8 +44,8 @@ def montecarlo(
     for name, value in (("runs", runs), ("seed", seed)):
         if isinstance(value, bool) or not isinstance(value, int):
             raise TypeError(f"montecarlo: {name}: expected an int, found {value!r}")
-    if seed < 0:
-        raise _native.LimbfuseError(f"montecarlo: seed = {seed}: expected a seed >= 0")
+    if not 0 <= seed <= 2**64 - 1:
+        raise _native.LimbfuseError(f"montecarlo: seed = {seed}: expected a seed from 0 to 2^64 - 1 (64 bits)")
     if runs < 1:
         raise _native.LimbfuseError(f"montecarlo: runs = {runs}: expected at least 1 run per level")
     for name, number in (("speed", speed), ("duration", duration)):

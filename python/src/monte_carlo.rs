@@ -70,6 +70,13 @@ fn trial(speed: f64, duration: f64) -> PyResult<WalkingConfig> {
         duration_s: duration,
         ..WalkingConfig::default()
     };
+    if (duration * cfg.imu_rate_hz).round() < 1.0 {
+        return Err(user_msg(format!(
+            "montecarlo: duration = {}: less than one sample at the simulator's {} Hz",
+            limbfuse_methods::shown(duration),
+            cfg.imu_rate_hz
+        )));
+    }
     if let Err(e) = cfg.validate() {
         let msg = match OptionOutOfRange::of(&e) {
             Some(o) => format!(

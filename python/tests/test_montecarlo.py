@@ -53,7 +53,10 @@ def test_montecarlo_seed_changes_the_runs_and_draws_the_plot(tmp_path):
         ({"speed": 0.0}, "montecarlo: speed = 0: outside the allowed range"),
         ({"duration": 0.0}, "montecarlo: duration = 0: expected 0 < duration <= 86400 s"),
         ({"duration": float("inf")}, "montecarlo: duration = inf: expected"),
-        ({"seed": -1}, "montecarlo: seed = -1: expected a seed >= 0"),
+        ({"seed": -1}, "montecarlo: seed = -1: expected a seed from 0 to 2\\^64 - 1"),
+        ({"seed": 2**64}, "montecarlo: seed = 18446744073709551616: expected a seed from 0"),
+        ({"duration": 1e-9}, "montecarlo: duration = 1e-9: less than one sample at the simulator's 100 Hz"),
+        ({"levels": [0, "a"]}, "levels: expected \"START:END:STEP\" in percent"),
     ],
 )
 def test_montecarlo_bad_settings_are_named(kwargs, message):
