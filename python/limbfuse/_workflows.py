@@ -32,7 +32,9 @@ def simulate(kind: str = "walking", **options: Any) -> Trial:
             ap_offset_sd_cm, remount_at (s; with remount_deg, default 50)
             (paper 002 scenario: random IMU orientations and positions).
         knee-fes: subject ("P1-L" ... "P3-R"), duration, rate, seed, noise,
-            mounting, gyro_drift (deg/s), activation_dynamics, calibration
+            mounting, gyro_drift (deg/s), activation_dynamics, cycles (leg
+            extensions, 6 s each after 2 s of rest, default 5: a longer
+            trial warns that the leg rests after them), calibration
             (a path: also write there the calibration recording of the same
             sensors, quiet standing + 4 hip rotations, for ``align(...,
             procedure="static-rotation", calibration=...)``) (paper 004).

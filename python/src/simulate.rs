@@ -259,6 +259,20 @@ fn simulate<'py>(
                     activation_dynamics: o
                         .bool("activation_dynamics")?
                         .unwrap_or(d.activation_dynamics),
+                    cycles: match o.u64("cycles")? {
+                        None => d.cycles,
+                        // (beyond u32: the simulator's own range check names it)
+                        Some(n) => u32::try_from(n).map_err(|_| {
+                            option_error(
+                                "knee-fes",
+                                simulator_options::OptionOutOfRange {
+                                    option: "cycles",
+                                    value: n as f64,
+                                    range: "[0, 600] (6 s each)",
+                                },
+                            )
+                        })?,
+                    },
                     ..d
                 };
                 let calibration = o.string("calibration")?;
@@ -267,6 +281,9 @@ fn simulate<'py>(
                     simulated_trials::knee_fes(&cfg, "limbfuse simulate knee-fes").map(collect)
                 })?;
                 let tr = tr.map_err(|e| user_error(&e))?; // (its message names the simulator)
+                if let Some(note) = simulated_trials::knee_fes_rest_note(&cfg, "option `cycles`") {
+                    crate::filter::warn_user(py, note)?;
+                }
                 if let Some(path) = calibration {
                     detach(py, || write_knee_fes_calibration(&cfg, Path::new(&path)))??;
                 }

@@ -25,3 +25,26 @@ def test_a_stimulation_gap_past_the_hold_restarts_sdre_instead_of_failing():
     out = [f.step({"t": float(sim.t[i]), **{n: ch[n][i] for n in ch}}) for i in range(240)]
     assert all(np.isfinite(o["knee"]) for o in out[:210] + out[230:])
     assert all(o["knee"] is None or np.isnan(o["knee"]) for o in out[210:230])
+
+
+def test_knee_fes_cycles_set_the_extensions_and_a_long_rest_is_said():
+    """`cycles` (session 45; `--cycles`): the extensions, default 5 (paper
+    004's 30 s trials); a trial much longer than them warns that the leg
+    rests after the last one."""
+    import warnings
+
+    from limbfuse import LimbfuseError, LimbfuseWarning
+
+    def onsets(trial):
+        u = np.ma.filled(trial.channels["u_ke"], 0.0)
+        return int(((u[1:] > 0) & (u[:-1] <= 0)).sum())
+
+    with pytest.warns(LimbfuseWarning, match="the 5 extension cycles end at 32 s; the leg rests for the last 28 s"):
+        five = limbfuse.simulate("knee-fes", duration=60)
+    assert onsets(five) == 5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        nine = limbfuse.simulate("knee-fes", duration=60, cycles=9)
+    assert onsets(nine) == 9
+    with pytest.raises(LimbfuseError, match=r"option `cycles` = 601: outside the allowed range \[0, 600\]"):
+        limbfuse.simulate("knee-fes", cycles=601)

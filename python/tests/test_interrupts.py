@@ -195,12 +195,12 @@ def test_ctrl_c_stops_inspect_checking_the_alignment(tmp_path):
 
 def test_ctrl_c_stops_tune_of_a_knee_fes_filter(tmp_path):
     """`tune(..., "sdre")` (session 45) runs 7 candidates over the whole
-    pre-trial on both cores (17 s of CPU in all on this 600 s one, the
+    pre-trial on both cores (17 s of CPU in all on a 600 s one of 5 cycles, the
     larger torque errors the slower); the calling thread looks at Ctrl-C
     every 50 ms and each running candidate stops within 4096 samples (that
     it stops midway is tested in Rust: limbfuse-workflows'
     `a_cancelled_tuning_stops_inside_the_first_candidate`). The CPU bound
     counts both cores busy until the signal."""
-    pre = limbfuse.simulate("knee-fes", subject="P1-L", duration=600, seed=5)
+    pre = limbfuse.simulate("knee-fes", subject="P1-L", duration=600, seed=5, cycles=99)
     model = "[states]\nactivation = true\ngyro_bias = true\nacc_bias = true\n"
     _stops_within_a_second(lambda: limbfuse.tune(pre, "sdre", "0:600", params=model), cpu_s=1.5)

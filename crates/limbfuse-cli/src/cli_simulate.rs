@@ -129,6 +129,10 @@ pub struct KneeFesArgs {
     /// Sensor mounting (random: raw sensor frames, align with `align --procedure static-rotation`).
     #[arg(long, value_enum, default_value_t = MountingArg::Aligned)]
     pub mounting: MountingArg,
+    /// Leg extensions, 6 s each after 2 s of rest (paper 004's 30 s trials hold five); the leg rests
+    /// after the last one.
+    #[arg(long, default_value_t = 5)]
+    pub cycles: u32,
     /// Also write the calibration recording (quiet standing + 4 hip rotations) of the same sensors.
     #[arg(long)]
     pub calibration: Option<PathBuf>,

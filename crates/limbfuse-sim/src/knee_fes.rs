@@ -53,7 +53,8 @@ pub struct KneeFesConfig {
     pub encoder: EncoderSpec,
     /// Quiet rest before the first extension (s).
     pub rest_s: f64,
-    /// Number of extensions.
+    /// Number of extensions (each [`CYCLE_S`]; default 5, paper 004's 30 s
+    /// trials); the leg rests after the last one.
     pub cycles: u32,
     /// Target extension angle x1 at peak stimulation (deg from hanging).
     pub target_deg: f64,
@@ -65,6 +66,17 @@ pub struct KneeFesConfig {
     pub gyro_drift: f64,
     /// How the IMUs sit on their segments (`Random` needs `limbfuse align`).
     pub mounting: Mounting,
+}
+
+/// Length of one extension cycle (s): 1 s rest, 1.5 s ramp up, 1 s hold,
+/// 1.5 s ramp down, 1 s rest.
+pub const CYCLE_S: f64 = 6.0;
+
+impl KneeFesConfig {
+    /// When the last extension cycle ends (s): the leg rests after it.
+    pub fn cycles_end_s(&self) -> f64 {
+        self.rest_s + f64::from(self.cycles) * CYCLE_S
+    }
 }
 
 impl Default for KneeFesConfig {
@@ -180,6 +192,8 @@ pub fn knee_fes_stream(
     in_range("shank_imu_m", cfg.shank_imu_m, 0.0, 0.6, "[0, 0.6]")?;
     in_range("gyro_drift", cfg.gyro_drift, -1.0, 1.0, "[-1, 1] rad/s")?;
     in_range("rest_s", cfg.rest_s, 0.0, 60.0, "[0, 60]")?;
+    // (3600 s, the longest trial, holds 600 cycles of `CYCLE_S`)
+    in_range("cycles", f64::from(cfg.cycles), 0.0, 600.0, "[0, 600]")?;
     let params = cfg
         .params
         .unwrap_or_else(|| KneeFesParams::subject(cfg.subject));
@@ -196,7 +210,7 @@ pub fn knee_fes_stream(
         })?;
     let profile = Profile {
         rest: cfg.rest_s,
-        period: 6.0,
+        period: CYCLE_S,
         cycles: cfg.cycles,
         peak,
     };

@@ -228,6 +228,24 @@ pub fn knee_fes(
     Ok(fes_trial(source, cfg.rate_hz, tr, false))
 }
 
+/// What a knee-FES trial much longer than its extension cycles should say:
+/// the leg rests after the last cycle (`None` when the cycles fill the
+/// trial to within one cycle, or none were asked for); `option` is how the
+/// caller spells the setting (`--cycles`, `cycles`).
+pub fn knee_fes_rest_note(cfg: &KneeFesConfig, option: &str) -> Option<String> {
+    let end = cfg.cycles_end_s();
+    let resting = cfg.duration_s - end;
+    (cfg.cycles > 0 && resting >= limbfuse_sim::knee_fes::CYCLE_S).then(|| {
+        format!(
+            "the {} extension cycles end at {} s; the leg rests for the last {} s ({option}: more \
+             extensions, 6 s each)",
+            cfg.cycles,
+            limbfuse_methods::shown(end),
+            limbfuse_methods::shown(resting)
+        )
+    })
+}
+
 /// The calibration recording (quiet standing + 4 hip rotations) of the
 /// knee-FES trial's sensors (`simulate knee-fes --calibration`).
 pub fn knee_fes_calibration(

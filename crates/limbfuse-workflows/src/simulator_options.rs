@@ -67,6 +67,7 @@ impl OptionOutOfRange {
         let (option, range) = match name {
             "duration_s" => ("duration", "[1, 3600] s"),
             "rate_hz" => ("rate", "[10, 2000] Hz"),
+            "cycles" => ("cycles", "[0, 600] (6 s each)"),
             _ => return None,
         };
         Some(OptionOutOfRange {

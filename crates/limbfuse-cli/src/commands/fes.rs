@@ -29,6 +29,7 @@ pub fn knee_config(a: &KneeFesArgs) -> Result<KneeFesConfig> {
         noise: !a.no_noise,
         gyro_drift,
         activation_dynamics: !a.no_activation_dynamics,
+        cycles: a.cycles,
         mounting: match a.mounting {
             crate::cli::MountingArg::Aligned => limbfuse_sim::Mounting::Aligned,
             crate::cli::MountingArg::Random => limbfuse_sim::Mounting::Random,
@@ -71,6 +72,9 @@ pub fn simulate_knee(a: &KneeFesArgs) -> Result<()> {
         a.seed,
         a.output.display()
     );
+    if let Some(note) = simulated_trials::knee_fes_rest_note(&cfg, "--cycles") {
+        eprintln!("note: {note}");
+    }
     Ok(())
 }
 

@@ -351,3 +351,46 @@ fn issue_16_stimulation_gap_is_held_then_restarted() {
         }
     }
 }
+
+/// Session 45: `simulate knee-fes` stimulated five extensions whatever the
+/// duration, and a 600 s trial was 568 s of a resting leg without a word.
+/// `--cycles N` sets the extensions (default 5, paper 004's 30 s trials);
+/// a trial much longer than its cycles says the leg rests after them.
+#[test]
+fn knee_fes_cycles_set_the_extensions_and_a_long_rest_is_said() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let onsets = |file: &str| -> usize {
+        let text = std::fs::read_to_string(p.join(file)).unwrap();
+        let mut rows = text.lines().filter(|l| !l.starts_with('#'));
+        let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+        let c = header.iter().position(|h| *h == "u_ke").unwrap();
+        let u: Vec<f64> = rows
+            .map(|r| r.split(',').nth(c).unwrap().parse().unwrap_or(0.0))
+            .collect();
+        u.windows(2).filter(|w| w[0] <= 0.0 && w[1] > 0.0).count()
+    };
+    let run = |flags: &[&str], out: &str| {
+        let mut args = vec!["simulate", "knee-fes", "--duration", "60", "-o", out];
+        args.extend_from_slice(flags);
+        let o = limbfuse(&args, p);
+        ok(&o);
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let said = run(&[], "five.csv");
+    assert_eq!(onsets("five.csv"), 5);
+    assert!(
+        said.contains("note: the 5 extension cycles end at 32 s; the leg rests for the last 28 s"),
+        "{said}"
+    );
+    let said = run(&["--cycles", "9"], "nine.csv");
+    assert_eq!(onsets("nine.csv"), 9);
+    assert!(!said.contains("note:"), "{said}");
+    user_error(
+        &limbfuse(
+            &["simulate", "knee-fes", "--cycles", "601", "-o", "x.csv"],
+            p,
+        ),
+        &["--cycles 601: outside the allowed range [0, 600] (6 s each)"],
+    );
+}
