@@ -208,7 +208,7 @@ impl NativeFilter {
                     py,
                     &text,
                     &name,
-                    "the filter's channels",
+                    "the filter's input",
                     &m,
                     cols.layout(),
                 )?),

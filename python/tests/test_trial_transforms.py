@@ -152,7 +152,7 @@ def test_calibration_notes_are_the_clis_notes_as_warnings(cli, tmp_path, shared_
     texts = {str(w.message) for w in said}
     # (the trial is named by its file name in Python, by the path given in the CLI)
     assert any(t.endswith("the raw-frame calibration is rotated into the aligned frames") and "aligned.csv" in t for t in texts)
-    with pytest.warns(LimbfuseWarning, match="was aligned"):
+    with pytest.warns(LimbfuseWarning, match="the filter's input was aligned"):
         limbfuse.Filter.for_trial(limbfuse.read_trial(aligned), "mjls", calibration=cal)
 
 
