@@ -23,6 +23,7 @@ def montecarlo(
     speed: float = 1.0,
     duration: float = 30.0,
     svg: Optional[PathLike] = None,
+    progress: bool = False,
 ) -> pd.DataFrame:
     """The segment filters under parametric uncertainty (``limbfuse
     montecarlo``; paper 000 section 4, Fig. 9; docs/RESULTS.md, "Monte Carlo under
@@ -39,8 +40,10 @@ def montecarlo(
     mean RMSE), the same numbers as the CLI's file for the same settings;
     ``df.attrs["csv"]`` is that file's text (with ``# version``, ``#
     command`` and ``# trial_seeds`` lines naming this call). ``svg``: also
-    draw the plot there. Runs use every core (rayon); the rows do not depend
-    on their number. Ctrl-C stops it (``KeyboardInterrupt``)."""
+    draw the plot there. ``progress``: show ``montecarlo: N/M runs`` on
+    ``sys.stderr`` as the runs end (the CLI draws a bar). Runs use every
+    core (rayon); the rows do not depend on their number. Ctrl-C stops it
+    (``KeyboardInterrupt``)."""
     for name, value in (("runs", runs), ("seed", seed)):
         if isinstance(value, bool) or not isinstance(value, int):
             raise TypeError(f"montecarlo: {name}: expected an int, found {value!r}")
@@ -58,6 +61,7 @@ def montecarlo(
         float(speed),
         float(duration),
         None if svg is None else os.fspath(svg),
+        bool(progress),
     )
     import pandas as pd
 

@@ -102,6 +102,7 @@ def montecarlo(
     speed: float = 1.0,
     duration: float = 30.0,
     svg: Optional[str] = None,
+    progress: bool = False,
 ) -> Dict[str, Any]: ...
 def gait_library(path: str, speeds: Sequence[float], mass: float = 80.0, leg_length: float = 1.0) -> List[Dict[str, float]]: ...
 def report(

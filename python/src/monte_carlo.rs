@@ -3,6 +3,7 @@
 //! filters' mean RMSE against the uncertainty of their noise parameters.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use limbfuse_io::provenance::{comment_lines, COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_sim::WalkingConfig;
@@ -93,9 +94,11 @@ fn trial(speed: f64, duration: f64) -> PyResult<WalkingConfig> {
 }
 
 /// Runs the study (`limbfuse montecarlo`); returns its rows as columns,
-/// the CSV text and the provenance lines; `svg`: also draws the plot there.
+/// the CSV text and the provenance lines; `svg`: also draws the plot there;
+/// `progress`: the runs done on `sys.stderr`.
 #[pyfunction]
-#[pyo3(signature = (runs=100, levels=None, seed=1, speed=1.0, duration=30.0, svg=None))]
+#[pyo3(signature = (runs=100, levels=None, seed=1, speed=1.0, duration=30.0, svg=None, progress=false))]
+#[allow(clippy::too_many_arguments)]
 fn montecarlo<'py>(
     py: Python<'py>,
     runs: usize,
@@ -104,6 +107,7 @@ fn montecarlo<'py>(
     speed: f64,
     duration: f64,
     svg: Option<PathBuf>,
+    progress: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     guarded(|| {
         if !(1..=MAX_RUNS).contains(&runs) {
@@ -118,10 +122,23 @@ fn montecarlo<'py>(
             seed,
             trial: trial(speed, duration)?,
         };
-        let rows = detach(py, || {
-            monte_carlo_cancellable(&cfg, &|| (), Some(crate::interrupt::cancelled))
-        })?
-        .map_err(|e| match e {
+        let done = AtomicUsize::new(0);
+        let shown = AtomicUsize::new(usize::MAX);
+        let count = || {
+            done.fetch_add(1, Ordering::Relaxed);
+        };
+        // (asked on this thread every 50 ms while the runs go on)
+        let check = || {
+            if progress {
+                show_progress(&done, &shown, runs, false);
+            }
+            crate::interrupt::cancelled()
+        };
+        let rows = detach(py, || monte_carlo_cancellable(&cfg, &count, Some(&check)));
+        if progress {
+            show_progress(&done, &shown, runs, true);
+        }
+        let rows = rows?.map_err(|e| match e {
             MonteCarloError::Cancelled => user_msg("montecarlo: stopped before the end"),
             e => user_msg(format!("montecarlo: {e}")),
         })?;
@@ -173,6 +190,26 @@ fn montecarlo<'py>(
         d.set_item("provenance", comment_lines(&provenance))?;
         Ok(d)
     })
+}
+
+/// `montecarlo: N/M runs` on Python's `sys.stderr` (a notebook shows it),
+/// rewritten in place when the count changed; `last`: end the line.
+/// Errors writing it are ignored (a closed stderr does not stop the study).
+fn show_progress(done: &AtomicUsize, shown: &AtomicUsize, runs: usize, last: bool) {
+    let d = done.load(Ordering::Relaxed);
+    if shown.swap(d, Ordering::Relaxed) == d && !last {
+        return;
+    }
+    let line = format!(
+        "\rmontecarlo: {d}/{runs} runs{}",
+        if last { "\n" } else { "" }
+    );
+    let _ = Python::attach(|py| -> PyResult<()> {
+        let err = py.import("sys")?.getattr("stderr")?;
+        err.call_method1("write", (line,))?;
+        err.call_method0("flush")?;
+        Ok(())
+    });
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -103,7 +103,7 @@ pub fn tune_fes<'py>(
             &records,
             &shown,
             &|| (),
-            Some(crate::interrupt::cancelled),
+            Some(&crate::interrupt::cancelled),
         )
     })?
     .map_err(|e| user_msg(format!("{label}: {}", python_spelling(&chain_message(&e)))))?;

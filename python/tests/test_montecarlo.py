@@ -68,3 +68,16 @@ def test_montecarlo_bad_settings_are_named(kwargs, message):
 def test_montecarlo_wrong_types_are_type_errors(kwargs):
     with pytest.raises(TypeError, match="montecarlo: "):
         limbfuse.montecarlo(**kwargs)
+
+
+def test_montecarlo_progress_counts_the_runs_on_stderr(capsys):
+    """`progress=True` (session 45) writes `montecarlo: N/M runs` to
+    `sys.stderr` as the runs end and ends the line; the rows are the same."""
+    quiet = limbfuse.montecarlo(4, [0, 10], duration=2)
+    assert capsys.readouterr().err == ""
+    shown = limbfuse.montecarlo(4, [0, 10], duration=2, progress=True)
+    err = capsys.readouterr().err
+    assert err.endswith("\rmontecarlo: 4/4 runs\n"), repr(err)
+    counts = [int(part.split("/")[0]) for part in err.replace("montecarlo: ", "").strip().split("\r") if part]
+    assert counts == sorted(counts) and counts[-1] == 4
+    pd.testing.assert_frame_equal(quiet, shown)

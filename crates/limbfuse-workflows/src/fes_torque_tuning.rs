@@ -139,7 +139,7 @@ pub fn tune_torque_error(
     records: &[Record],
     window: &str,
     on_candidate: &(dyn Fn() + Sync),
-    cancel: Option<fn() -> bool>,
+    cancel: Option<&dyn Fn() -> bool>,
 ) -> Result<TorqueTuning, TorqueTuningError> {
     if !matches!(method, MethodName::Sdre | MethodName::Ekf) {
         return Err(TorqueTuningError::NotKneeFes(method));

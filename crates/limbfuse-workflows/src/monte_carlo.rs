@@ -258,7 +258,7 @@ pub fn monte_carlo(
 pub fn monte_carlo_cancellable(
     cfg: &MonteCarloConfig,
     on_run_done: &(dyn Fn() + Sync),
-    cancel: Option<fn() -> bool>,
+    cancel: Option<&dyn Fn() -> bool>,
 ) -> Result<Vec<MonteCarloRow>, MonteCarloError> {
     if !(1..=MAX_RUNS).contains(&cfg.runs) {
         return Err(MonteCarloError::Config(format!(

@@ -31,10 +31,11 @@ impl StopFlag {
 /// flag is never raised); with it, in a scoped thread while this thread
 /// asks `cancel` every [`POLL_PERIOD`] (woken as soon as `work` returns,
 /// so a finished run is not held up) and raises the flag when it says so.
+/// `cancel` may do more on that thread each time (show progress).
 /// A panic in `work` resumes here.
 pub fn run_with_stop_flag<T: Send>(
     work: impl FnOnce(&StopFlag) -> T + Send,
-    cancel: Option<fn() -> bool>,
+    cancel: Option<&dyn Fn() -> bool>,
 ) -> T {
     let stop = StopFlag::default();
     let Some(cancelled) = cancel else {
@@ -84,12 +85,12 @@ mod tests {
             }
             false
         };
-        assert!(run_with_stop_flag(wait, Some(now)));
+        assert!(run_with_stop_flag(wait, Some(&now)));
         assert!(!run_with_stop_flag(
             |stop: &StopFlag| stop.raised(),
-            Some(never)
+            Some(&never)
         ));
         assert!(!run_with_stop_flag(|stop: &StopFlag| stop.raised(), None));
-        assert_eq!(run_with_stop_flag(|_: &StopFlag| 7, Some(never)), 7);
+        assert_eq!(run_with_stop_flag(|_: &StopFlag| 7, Some(&never)), 7);
     }
 }

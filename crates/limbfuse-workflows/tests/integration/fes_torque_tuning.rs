@@ -48,7 +48,7 @@ fn pre_trial(seconds: f64) -> (SimulatedTrial<Vec<Record>>, FesParamsFile) {
 fn tune(
     (trial, file): &(SimulatedTrial<Vec<Record>>, FesParamsFile),
     on_candidate: &(dyn Fn() + Sync),
-    cancel: Option<fn() -> bool>,
+    cancel: Option<&dyn Fn() -> bool>,
 ) -> Result<TorqueTuning, TorqueTuningError> {
     let trial_settings = (&trial.meta, &trial.layout);
     let (records, window) = (&trial.records[..], "the test window");
@@ -72,7 +72,7 @@ fn a_cancelled_tuning_stops_inside_the_first_candidate() {
     let count = || {
         done.fetch_add(1, Ordering::Relaxed);
     };
-    let r = tune(&long, &count, Some(now));
+    let r = tune(&long, &count, Some(&now));
     assert!(matches!(r, Err(TorqueTuningError::Cancelled)), "{r:?}");
     // (checked only between candidates, the two running would have finished)
     assert_eq!(done.load(Ordering::Relaxed), 0);

@@ -86,7 +86,7 @@ fn bad_configuration_is_an_error() {
 fn a_cancelled_study_stops_and_an_uncancelled_one_gives_the_same_rows() {
     let never = || false;
     let a = monte_carlo(&small(), &|| {}).unwrap();
-    let b = monte_carlo_cancellable(&small(), &|| {}, Some(never)).unwrap();
+    let b = monte_carlo_cancellable(&small(), &|| {}, Some(&never)).unwrap();
     assert_eq!(a, b);
     let long = MonteCarloConfig {
         runs: 1000,
@@ -98,7 +98,7 @@ fn a_cancelled_study_stops_and_an_uncancelled_one_gives_the_same_rows() {
         done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     };
     let now = || true;
-    let r = monte_carlo_cancellable(&long, &count, Some(now));
+    let r = monte_carlo_cancellable(&long, &count, Some(&now));
     assert!(matches!(r, Err(MonteCarloError::Cancelled)), "{r:?}");
     // (the hook is first asked 50 ms in: a few runs of 11 levels at most,
     // of the 1000 that take minutes)
