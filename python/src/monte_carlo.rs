@@ -8,8 +8,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use limbfuse_io::provenance::{comment_lines, COMMAND_KEY, LIMBFUSE_VERSION, VERSION_KEY};
 use limbfuse_sim::WalkingConfig;
 use limbfuse_workflows::monte_carlo::{
-    levels_from_range, levels_from_spec, monte_carlo_cancellable, write_csv, MonteCarloConfig,
-    MonteCarloError, MAX_RUNS,
+    level_from_percent, levels_from_range, levels_from_spec, monte_carlo_cancellable, write_csv,
+    MonteCarloConfig, MonteCarloError, MAX_RUNS,
 };
 use limbfuse_workflows::monte_carlo_plot::render_svg;
 use limbfuse_workflows::simulator_options::OptionOutOfRange;
@@ -51,11 +51,7 @@ fn levels(levels: Option<&Bound<'_, PyAny>>) -> PyResult<(Vec<f64>, String)> {
         return Err(bad(format!("expected percents in [0, 100), found {p}")));
     }
     let shown: Vec<String> = pct.iter().map(|p| p.to_string()).collect();
-    // (rounded to 1e-9 % as the CLI's START:END:STEP levels)
-    let fractions = pct
-        .iter()
-        .map(|p| (p * 1e9).round() / 1e9 / 100.0)
-        .collect();
+    let fractions = pct.iter().map(|&p| level_from_percent(p)).collect();
     Ok((fractions, format!("[{}]", shown.join(", "))))
 }
 

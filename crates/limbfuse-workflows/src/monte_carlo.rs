@@ -122,7 +122,7 @@ pub fn levels_from_spec(text: &str) -> Result<Vec<f64>, String> {
 }
 
 /// Levels `start`, `start + step`, ..., `end` in percent, as fractions
-/// (percent rounded to 1e-9: `0:1:0.1` gave 0.30000000000000004).
+/// ([`level_from_percent`]).
 pub fn levels_from_range(start: f64, end: f64, step: f64) -> Result<Vec<f64>, String> {
     let (a, b) = (start, end);
     if !(a.is_finite() && b.is_finite() && step.is_finite())
@@ -145,8 +145,15 @@ pub fn levels_from_range(start: f64, end: f64, step: f64) -> Result<Vec<f64>, St
         return Err(format!("{} levels is too many (at most 1000)", n + 1));
     }
     Ok((0..=n)
-        .map(|k| ((a + k as f64 * step) * 1e9).round() / 1e9 / 100.0)
+        .map(|k| level_from_percent(a + k as f64 * step))
         .collect())
+}
+
+/// A level given in percent as a fraction, the percent rounded to 1e-9
+/// (`0:1:0.1` gave 0.30000000000000004 %): every way of giving levels
+/// (the CLI's `START:END:STEP`, Python's list) gives the same fractions.
+pub fn level_from_percent(pct: f64) -> f64 {
+    (pct * 1e9).round() / 1e9 / 100.0
 }
 
 /// Multiplies every model noise parameter by `1 + level u`, `u ~ U[-1, 1]`.
