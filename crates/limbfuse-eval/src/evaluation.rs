@@ -217,26 +217,55 @@ pub fn evaluate_files(
                 metrics.push(&r, &e);
             }
             (Some(_), None) => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{}: the estimate ends after {index} samples but the trial {} has more",
-                    estimate.display(),
-                    trial.display()
-                )))
+                return Err(length_mismatch(
+                    format!(
+                        "{}: the estimate ends after {index} samples but the trial {} has more",
+                        estimate.display(),
+                        trial.display()
+                    ),
+                    cut_lines(Some(&tr), &er),
+                ))
             }
             (None, Some((line, _))) => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{}:{line}: the estimate has more samples than the trial {} ({index})",
-                    estimate.display(),
-                    trial.display()
-                )))
+                return Err(length_mismatch(
+                    format!(
+                        "{}:{line}: the estimate has more samples than the trial {} ({index})",
+                        estimate.display(),
+                        trial.display()
+                    ),
+                    cut_lines(Some(&tr), &er),
+                ))
             }
         }
         index += 1;
     }
     Ok(Evaluation {
         trial_check,
+        cut_lines: cut_lines(Some(&tr), &er),
         ..metrics.evaluation()
     })
+}
+
+/// [`EvalError::LengthMismatch`] with `why`, and the last line the file
+/// that ended first left out, if it was cut off mid-row (`cut`, from
+/// [`cut_lines`]): the likely cause.
+pub(crate) fn length_mismatch(why: String, cut: Vec<String>) -> EvalError {
+    EvalError::LengthMismatch(
+        core::iter::once(why)
+            .chain(cut)
+            .collect::<Vec<_>>()
+            .join("; "),
+    )
+}
+
+/// What was left out of a trial and an estimate file read to their ends:
+/// a last line cut off mid-row (`limbfuse_io::table::CutLine`), the
+/// trial's first. Every file evaluation reports them (`evaluate` said
+/// nothing, where `estimate`, `inspect` and the other commands warn).
+pub(crate) fn cut_lines(trial: Option<&TrialReader>, estimate: &EstimateReader) -> Vec<String> {
+    let trial = trial.and_then(|r| Some(r.cut_last_line()?.message(r.path())));
+    let estimate = estimate.cut_last_line().map(|c| c.message(estimate.path()));
+    trial.into_iter().chain(estimate).collect()
 }
 
 /// [`evaluate_files`], refusing an evaluation that scored nothing: an

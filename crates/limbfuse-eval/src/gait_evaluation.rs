@@ -30,6 +30,9 @@ pub struct GaitEvaluation {
     pub speed_ref_mps: Option<f64>,
     /// Whether the estimate file records this trial ([`crate::trial_check`]).
     pub trial_check: crate::trial_check::TrialCheck,
+    /// Last lines left out of the two files, cut off mid-row (as
+    /// [`crate::Evaluation::cut_lines`]); in the JSON under `warnings`.
+    pub cut_lines: Vec<String>,
 }
 
 fn index(p: limbfuse_core::GaitPhase) -> usize {
@@ -85,11 +88,14 @@ pub fn evaluate_gait_files(
                 }
             }
             (Some(_), None) | (None, Some(_)) => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{} and {} have different numbers of samples (mismatch after {index_row})",
-                    trial.display(),
-                    estimate.display()
-                )))
+                return Err(crate::evaluation::length_mismatch(
+                    format!(
+                        "{} and {} have different numbers of samples (mismatch after {index_row})",
+                        trial.display(),
+                        estimate.display()
+                    ),
+                    crate::evaluation::cut_lines(Some(&tr), &er),
+                ))
             }
         }
         index_row += 1;
@@ -105,13 +111,14 @@ pub fn evaluate_gait_files(
     }
     ev.speed_mean_mps = (n_speed > 0).then(|| speed / n_speed as f64);
     ev.speed_ref_mps = (n_vref > 0).then(|| vref / n_vref as f64);
+    ev.cut_lines = crate::evaluation::cut_lines(Some(&tr), &er);
     Ok(ev)
 }
 
 impl GaitEvaluation {
     /// SPEC section 4's JSON object (no angle channels) plus the gait fields.
     pub fn to_json(&self) -> Value {
-        json!({
+        let mut v = json!({
             "method": self.method,
             "n_samples": self.n_samples,
             "rmse_deg": {},
@@ -128,7 +135,11 @@ impl GaitEvaluation {
                 (Some(a), Some(b)) => Some(a - b),
                 _ => None,
             },
-        })
+        });
+        if let (false, Some(obj)) = (self.cut_lines.is_empty(), v.as_object_mut()) {
+            obj.insert("warnings".into(), json!(self.cut_lines));
+        }
+        v
     }
 
     /// A short text table.

@@ -99,11 +99,15 @@ pub(crate) fn read_columns(
         match (record, er.next_estimate()?) {
             (Some(None), None) | (None, None) => break,
             (Some(Some(_)), None) | (Some(None), Some(_)) => {
-                return Err(EvalError::LengthMismatch(format!(
-                    "{} and {} have different numbers of samples (mismatch after {row})",
-                    trial.map_or_else(String::new, |(p, _)| p.display().to_string()),
-                    estimate.display()
-                )))
+                let cut = crate::evaluation::cut_lines(trial.as_ref().map(|(_, tr)| &**tr), er);
+                return Err(crate::evaluation::length_mismatch(
+                    format!(
+                        "{} and {} have different numbers of samples (mismatch after {row})",
+                        trial.map_or_else(String::new, |(p, _)| p.display().to_string()),
+                        estimate.display()
+                    ),
+                    cut,
+                ));
             }
             (record, Some((line, e))) => {
                 let r = record.flatten();

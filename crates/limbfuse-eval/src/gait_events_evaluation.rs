@@ -319,7 +319,7 @@ pub(crate) fn evaluate_with_strides(
     let mut er = EstimateReader::open(estimate)?;
     let method = er.method().to_string();
     let mut ev = GaitEventEvaluation::default();
-    let (c, has_event_columns, with_imu) = match trial {
+    let (c, has_event_columns, with_imu, cut_lines) = match trial {
         Some(trial) => {
             let hash = limbfuse_io::TrialFingerprint::of_file(trial)?.hash;
             let mut tr = TrialReader::open(trial)?;
@@ -328,11 +328,13 @@ pub(crate) fn evaluate_with_strides(
             let with_imu = crate::scored_feet::legs_with_imu(tr.layout());
             ev.contact_ref_columns = tr.layout().contact_ref;
             let (c, has) = read_columns(Some((trial, &mut tr)), estimate, &mut er, window)?;
-            (c, has, with_imu)
+            let cut = crate::evaluation::cut_lines(Some(&tr), &er);
+            (c, has, with_imu, cut)
         }
         None => {
             let (c, has) = read_columns(None, estimate, &mut er, window)?;
-            (c, has, [false; 2])
+            let cut = crate::evaluation::cut_lines(None, &er);
+            (c, has, [false; 2], cut)
         }
     };
     // (an audit: `--diagnostics none` changed the scores silently: 14
@@ -351,6 +353,7 @@ pub(crate) fn evaluate_with_strides(
             )
         })
         .into_iter()
+        .chain(cut_lines)
         .collect();
     ev.method = method;
     ev.n_samples = c.n_inside;

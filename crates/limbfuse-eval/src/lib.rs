@@ -13,6 +13,7 @@ pub mod clipped_swings;
 pub mod data_limits;
 pub mod evaluation;
 pub mod evaluation_kind;
+mod evaluation_output;
 pub mod fixed_thigh;
 pub mod gait_evaluation;
 mod gait_event_columns;

@@ -489,6 +489,12 @@ impl EstimateReader {
         self.table.path()
     }
 
+    /// The last line, left out when it was cut off mid-row (known once the
+    /// reader reached the end; [`crate::table::CutLine`]).
+    pub fn cut_last_line(&self) -> Option<crate::table::CutLine> {
+        self.table.cut_last_line()
+    }
+
     /// Reads the next estimate and its line number; `Ok(None)` at the end.
     pub fn next_estimate(&mut self) -> Result<Option<(u64, Estimate)>, FileError> {
         let Some(row) = self.table.next_row()? else {

@@ -125,6 +125,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
                 strides_refused(a, "gait phase, CoM and speed (paper 003)")?;
                 let ev =
                     limbfuse_eval::gait_evaluation::evaluate_gait_files(trial, estimate, mismatch)?;
+                for w in &ev.cut_lines {
+                    eprintln!("warning: {w}");
+                }
                 print_gait(a.json, &ev.trial_check, ev.to_json(), || ev.to_text());
                 return Ok(());
             }
@@ -167,6 +170,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         e => e.into(),
     })?;
     warn(&ev.trial_check);
+    for w in &ev.cut_lines {
+        eprintln!("warning: {w}");
+    }
     super::warn_resets(&estimate.display().to_string(), ev.resets.as_ref());
     if let Some(w) = &ev.reference_units {
         eprintln!("warning: {}: {w}", a.trial.display());

@@ -97,3 +97,70 @@ fn commands_that_rewrite_a_cut_recording_say_they_left_its_last_line_out() {
         "{meta}"
     );
 }
+
+/// `evaluate` scored a cut trial without a word (session 43's note; the
+/// other commands warn). Now it warns of a cut last line in the trial or
+/// the estimate (also in `--json`'s `warnings`), for angles and gait
+/// events alike, and when a cut estimate is a row short of its trial the
+/// error names the cut line, the likely cause.
+#[test]
+fn evaluate_says_a_cut_last_line_was_left_out() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let line = short_and_cut(dir, "3", "2");
+    let said = format!("cut.csv:{line}: the last line has 34 of 35 cells and no line break");
+    let ok = |args: &[&str]| {
+        let o = limbfuse(args, dir);
+        let e = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {e}");
+        (String::from_utf8_lossy(&o.stdout).to_string(), e)
+    };
+    ok(&["estimate", "--method", "chain", "cut.csv", "-o", "e.csv"]);
+    let (_, e) = ok(&["evaluate", "cut.csv", "e.csv"]);
+    assert!(e.contains(&format!("warning: {said}")), "{e}");
+    let (json, _) = ok(&["evaluate", "cut.csv", "e.csv", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let warned = v["warnings"].as_array().expect("warnings");
+    assert!(
+        warned.iter().any(|w| w.as_str().unwrap().contains(&said)),
+        "{json}"
+    );
+    // The whole file gives no such warning.
+    ok(&["estimate", "--method", "chain", "w.csv", "-o", "w-e.csv"]);
+    let (json, e) = ok(&["evaluate", "w.csv", "w-e.csv", "--json"]);
+    assert!(
+        !e.contains("cut off") && !json.contains("cut off"),
+        "{e}{json}"
+    );
+    // Gait events (a trial with contact references, cut the same way).
+    let sim = ["simulate", "walking", "--duration", "6", "--gait-reference"];
+    ok(&[&sim[..], &["-o", "gw.csv"]].concat());
+    let whole = std::fs::read_to_string(dir.join("gw.csv")).unwrap();
+    std::fs::write(dir.join("gcut.csv"), &whole[..whole.len() - 40]).unwrap();
+    let gait_line = whole.lines().count();
+    ok(&[
+        "estimate",
+        "--method",
+        "gait-events",
+        "gcut.csv",
+        "-o",
+        "g.csv",
+    ]);
+    let (_, e) = ok(&["evaluate", "gcut.csv", "g.csv"]);
+    assert!(
+        e.contains(&format!("warning: gcut.csv:{gait_line}: the last line has")),
+        "{e}"
+    );
+    // An estimate cut in its last line: one row short of its trial.
+    let est = std::fs::read_to_string(dir.join("e.csv")).unwrap();
+    std::fs::write(dir.join("e-cut.csv"), &est[..est.len() - 20]).unwrap();
+    let est_line = est.lines().count();
+    let o = limbfuse(&["evaluate", "cut.csv", "e-cut.csv"], dir);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("the estimate ends after")
+            && e.contains(&format!("e-cut.csv:{est_line}: the last line has")),
+        "{e}"
+    );
+}
