@@ -32,8 +32,16 @@ Pendulum pairs: `sensor` = l 0.964 m (the trials' sensor height) with
 K = 4.587 / 4 (Mobilise-D, what limbfuse ships for these files); `leg` =
 l = 0.530 x 1.59 m with K = 1.25 (Zijlstra & Hof 2003).
 
+Then the same pitch correction where the geometry is known: the shared
+independent simulator's three walks (`../shared/data/independent-sim`,
+trunk IMU aligned to the trunk, 0.080 m behind and 0.100 m above the hip
+joint, `# imu_mounts_m`; the hip joint's height is `com_y`): each kept
+step's excursion of the sensor, of the hip joint (truth) and of the sensor
+corrected by `d` = 0.08 m, and the stride speed MAE (bias) against
+`evaluate`'s reference with the default pendulum (0.9275 m, K = 1.25).
+
 Usage (numpy and scipy needed; `limbfuse` on PATH or LIMBFUSE_BIN):
-    python3 scripts/lowback_lever_arms.py [../shared/data/mobgap-lowerback]
+    python3 scripts/lowback_lever_arms.py [../shared/data]
 """
 import csv
 import os
@@ -111,8 +119,53 @@ def strides(data_dir, name, work, exe):
     return table(trial_path), table(est), list(csv.DictReader(open(strides_csv)))
 
 
+def kept_steps(est, rows):
+    """(stride, its two steps as (start, end) rows) of every stride the
+    estimator gave a speed with a reference, split at its middle contact."""
+    ics = np.unique(est["diag_ic"][~np.isnan(est["diag_ic"])])
+    for s in rows:
+        if not s["speed_ref_m_s"] or s["speed_withheld"] or not s["speed_m_s"]:
+            continue
+        t0, t2 = float(s["ic_s"]), float(s["end_s"])
+        mids = [x for x in ics if t0 + 0.2 < x < t2 - 0.2]
+        if len(mids) == 1:
+            i0, i1, i2 = (int(round(x / DT)) for x in (t0, mids[0], t2))
+            yield s, ((i0, i1), (i1, i2))
+
+
+def independent_walks(sim_dir, work, exe):
+    """The pitch lever arm where the simulator states it (0.080 m behind the hip)."""
+    l, K, d = 0.530 * 1.75, 1.25, 0.080
+    print("\nindependent simulator's walks: step excursion (mm) and stride speed MAE (bias), m/s")
+    print("| walk | sensor | hip joint (truth) | sensor + pitch | speed, shipped | speed, + pitch |")
+    print("|---|---|---|---|---|---|")
+    for walk in ("walk-v0.7-s300", "walk-v1.2-s301", "walk-v1.6-s302"):
+        trial, est, rows = strides(sim_dir, walk, work, exe)
+        a_v = np.nan_to_num(est["diag_vertical_acc"])
+        pitch_rate = trial["trunk_gyr_z"]  # aligned trunk IMU: SPEC's sagittal rate
+        excursions, errors = [], []
+        for s, steps in kept_steps(est, rows):
+            v_ref, v_cli = float(s["speed_ref_m_s"]), float(s["speed_m_s"])
+            length = 0.0
+            for a, b in steps:
+                z = step_excursion_curve(a_v[a:b])
+                # SPEC: theta counter-clockwise seen from the right; a point d
+                # behind the hip moves down by d theta.
+                zc = z + d * detrended_angle(pitch_rate[a:b])
+                hip = detrended_angle(np.diff(trial["com_y"][a:b + 1]) / DT)
+                excursions.append((np.ptp(z), np.ptp(hip), np.ptp(zc)))
+                h = np.ptp(zc)
+                length += K * 2.0 * np.sqrt(2.0 * l * h - h * h)
+            errors.append((v_cli - v_ref, length / (float(s["end_s"]) - float(s["ic_s"])) - v_ref))
+        x, e = 1000.0 * np.array(excursions).mean(0), np.array(errors)
+        print("| %s | %.1f | %.1f | %.1f | %.3f (%+.3f) | %.3f (%+.3f) |" % (
+            walk, x[0], x[1], x[2], np.abs(e[:, 0]).mean(), e[:, 0].mean(),
+            np.abs(e[:, 1]).mean(), e[:, 1].mean()))
+
+
 def main():
-    data_dir = sys.argv[1] if len(sys.argv) > 1 else "../shared/data/mobgap-lowerback"
+    data = sys.argv[1] if len(sys.argv) > 1 else "../shared/data"
+    data_dir = os.path.join(data, "mobgap-lowerback")
     exe = os.environ.get("LIMBFUSE_BIN", "limbfuse")
     variants = [("shipped", "sensor", 0.0, 0.0)]
     for pair in ("sensor", "leg"):
@@ -182,6 +235,8 @@ def main():
         rescaled = np.abs(scale * (course[:, 0] + course[:, 1]) - course[:, 1]).mean()
         print("| %s | %s | %s | %.3f | %.3f (x %.3f) |"
               % (label, pair, " | ".join(cells), slope, rescaled, scale))
+    with tempfile.TemporaryDirectory() as work:
+        independent_walks(os.path.join(data, "independent-sim"), work, exe)
 
 
 if __name__ == "__main__":
