@@ -268,6 +268,37 @@ impl DelayLine {
     }
 }
 
+impl super::KneeSelfAlign {
+    /// This sample's thigh and shank readings paired by the offset in use
+    /// (this module; the input's own with the search off or no offset found).
+    /// Before the sample that ends a window, the offset is searched over
+    /// the window; a new offset re-pairs the samples of the window and of
+    /// the rate derivative.
+    pub(super) fn align(&mut self, sample: &Sample) -> [ImuSample; 2] {
+        let raw = [*sample.imu(Segment::Thigh), *sample.imu(Segment::Shank)];
+        if self.delay.max() == 0 {
+            return raw;
+        }
+        self.delay.push(sample);
+        if self.counter + 1 >= self.params.window && !self.fixed {
+            let found = self.delay.search(&self.params);
+            if found.is_some_and(|s| self.delay.adopt(&s)) {
+                let range = self.params.gyro_range;
+                for ring in [&mut self.window, &mut self.recent] {
+                    let n = ring.len();
+                    ring.clear();
+                    for back in (1..=n).rev() {
+                        if let Some((t, imu)) = self.delay.paired(back) {
+                            ring.push(slot(t, &imu, range));
+                        }
+                    }
+                }
+            }
+        }
+        self.delay.paired(0).map_or(raw, |(_, imu)| imu)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,11 +11,12 @@
 //! | [`position`] | `Gamma`, eq 3 (`e_o`, a difference: SPEC 6), eqs 12-13, o-correction, rate derivative |
 //! | [`param_ekf`] | Algorithm 2 (information form: linear in the window length) |
 //! | [`angle`] | eq 4, eqs 5-7 (signed `atan2`: SPEC 6), Algorithm 1 |
-//! | [`window`] | Algorithm 3's window, the sign rules of SPEC 6 |
+//! | [`ring`], [`window`] | Algorithm 3's window (its samples; its identification), the sign rules of SPEC 6 |
 //! | [`upright`] | ours (issue 15): the upright-leg axis prior for knees eq 2 does not fit |
 //! | [`acc_scale`] | ours (issue 15 item 3): a relative accelerometer scale in eqs 3 and 7 |
 //! | [`position_fit`] | Algorithm 2 on eq 3 for one window (with the relative scale: ours) |
 //! | [`position_fusion`] | ours (issue 15 item 3): the positions fused over windows by their information |
+//! | [`position_outliers`] | ours (2026-12-07): eq 3's outliers (a gyroscope spike) left out of the fit and the accelerometer angle |
 //! | [`rest_gravity`] | ours (issue knee31b): no trust in an accelerometer whose norm at rest is off g |
 //!
 //! Inputs are the *raw* thigh and shank IMU channels (`sample.imu[thigh]`,
@@ -39,7 +40,9 @@ pub mod params;
 pub mod position;
 pub mod position_fit;
 pub mod position_fusion;
+pub mod position_outliers;
 pub mod rest_gravity;
+pub mod ring;
 pub mod sign;
 pub mod stamp_clock;
 pub mod upright;
@@ -132,6 +135,8 @@ pub struct KneeSelfAlign {
     flexion: sign::FlexionEvidence,
     acc_trusted: bool,
     fixed: bool,
+    /// The last identified window's eq-3 residual level (ours).
+    screen: Option<position_outliers::ResidualScreen>,
     /// A first window's geometry not taken because the window showed no
     /// flexion axis ([`Self::defers`], ours); `Some` once deferred.
     deferred: Option<Geometry>,
@@ -191,6 +196,7 @@ impl KneeSelfAlign {
             flexion: sign::FlexionEvidence::default(),
             acc_trusted: true,
             fixed: false,
+            screen: None,
             deferred: None,
             delay: DelayLine::new(params.max_delay, params.window),
             aligned: [ImuSample::default(); 2],
@@ -268,35 +274,6 @@ impl KneeSelfAlign {
         saturated(g, self.params.gyro_range)
     }
 
-    /// This sample's thigh and shank readings paired by the offset in use
-    /// ([`delay`]; the input's own with the search off or no offset found).
-    /// Before the sample that ends a window, the offset is searched over
-    /// the window; a new offset re-pairs the samples of the window and of
-    /// the rate derivative.
-    fn align(&mut self, sample: &Sample) -> [ImuSample; 2] {
-        let raw = [*sample.imu(Segment::Thigh), *sample.imu(Segment::Shank)];
-        if self.delay.max() == 0 {
-            return raw;
-        }
-        self.delay.push(sample);
-        if self.counter + 1 >= self.params.window && !self.fixed {
-            let found = self.delay.search(&self.params);
-            if found.is_some_and(|s| self.delay.adopt(&s)) {
-                let range = self.params.gyro_range;
-                for ring in [&mut self.window, &mut self.recent] {
-                    let n = ring.len();
-                    ring.clear();
-                    for back in (1..=n).rev() {
-                        if let Some((t, imu)) = self.delay.paired(back) {
-                            ring.push(slot(t, &imu, range));
-                        }
-                    }
-                }
-            }
-        }
-        self.delay.paired(0).map_or(raw, |(_, imu)| imu)
-    }
-
     /// The thigh and shank readings of the last sample stepped, paired by
     /// the offset in use ([`delay`]).
     pub fn aligned(&self) -> [ImuSample; 2] {
@@ -341,7 +318,7 @@ impl KneeSelfAlign {
             })
             .count();
         match identify(
-            &self.window,
+            &mut self.window,
             self.geometry.as_ref(),
             self.fused.as_ref(),
             self.sign_committed,
@@ -358,6 +335,7 @@ impl KneeSelfAlign {
                 acc_trusted,
                 axis_source,
                 fused,
+                screen,
             } => {
                 if self.defers(axis_source) {
                     self.deferred = Some(geometry);
@@ -390,6 +368,7 @@ impl KneeSelfAlign {
                     }
                     self.geometry = Some(geometry);
                     self.fused = Some(fused);
+                    self.screen = screen;
                     self.bases = Some(bases);
                     self.status = WindowStatus::Identified;
                     self.rms = [rms_axis, rms_position, axis_source];
@@ -434,7 +413,10 @@ impl KneeSelfAlign {
     /// two samples after it), with the current geometry.
     pub fn lagged_accel_angle(&self) -> Option<f64> {
         let (g, b) = (self.geometry.as_ref()?, self.bases.as_ref()?);
-        let [at, as_] = g.joint_accelerations(&self.recent.kinematics(2)?);
+        let screen = self.screen.as_ref();
+        let kin =
+            (self.recent.kinematics(2)).filter(|k| !position_outliers::rejects(screen, g, k))?;
+        let [at, as_] = g.joint_accelerations(&kin);
         accel_angle(&at, &as_, &b[0], &b[1])
     }
 }
@@ -486,6 +468,7 @@ impl Estimator for KneeSelfAlign {
         self.flexion = sign::FlexionEvidence::default();
         self.acc_trusted = true;
         self.fixed = false;
+        self.screen = None;
         self.deferred = None;
         self.delay.clear();
         self.rest.reset();

@@ -14,6 +14,7 @@ use super::param_ekf::{
 };
 use super::params::KneeSelfAlignParams;
 use super::position::position_residual;
+use super::position_outliers::{mark_outliers, ResidualScreen};
 use super::window::{Geometry, Ring};
 
 /// Eq 3's residuals over the window, the shank's specific force scaled by
@@ -130,4 +131,37 @@ pub fn fit_positions(
         rms: fit.rms_after,
         information: covariance(&fit, noise).and_then(|c| information_of(&c)),
     })
+}
+
+/// Most fits of [`fit_positions_screened`].
+pub const SCREEN_ROUNDS: usize = 4;
+
+/// Ours (2026-12-07): [`fit_positions`] with the window's eq-3 outliers left
+/// out ([`super::position_outliers`]). The window is screened first at the
+/// previous window's geometry (when there is one: a spike's residual stands
+/// out there, where a fit it has already pulled spreads it over the
+/// window), fitted, screened at the solution, fitted again, until a screen
+/// leaves no new sample out (at most [`SCREEN_ROUNDS`] fits). The samples
+/// left out stay out of [`Ring::kinematics`] for the rest of the window's
+/// identification. The screen returned is the last one (`None` when no
+/// screen could be taken).
+pub fn fit_positions_screened(
+    ring: &mut Ring,
+    previous: Option<&Geometry>,
+    p: &KneeSelfAlignParams,
+) -> Result<(PositionFit, Option<ResidualScreen>), ParamEkfError> {
+    ring.clear_excluded();
+    let mut screen = previous.and_then(|g| mark_outliers(ring, &stack(&g.position), g.acc_scale));
+    let mut fit = fit_positions(ring, previous, p)?;
+    for _ in 1..SCREEN_ROUNDS {
+        let Some((s, marked)) = mark_outliers(ring, &fit.o, fit.r) else {
+            break;
+        };
+        screen = Some((s, marked));
+        if marked == 0 {
+            break;
+        }
+        fit = fit_positions(ring, previous, p)?;
+    }
+    Ok((fit, screen.map(|(s, _)| s)))
 }

@@ -1,9 +1,7 @@
-//! The data window of Algorithm 3 (a fixed-capacity ring buffer allocated
-//! once) and the identification of one window: Algorithm 2 for the axes and
-//! for the positions, the choice of the axis signs (SPEC section 6) and the
-//! correction of the positions along the axes.
-
-use alloc::vec::Vec;
+//! The identification of one window of Algorithm 3 (its samples in a
+//! [`Ring`]): Algorithm 2 for the axes and for the positions, the choice of
+//! the axis signs (SPEC section 6) and the correction of the positions along
+//! the axes.
 
 use nalgebra::{Vector3, Vector4};
 
@@ -13,153 +11,14 @@ use super::param_ekf::{
     estimate_parameters, residual_sum, ParamEkfError, ParamEkfResult, WindowResiduals,
 };
 use super::params::{AngleZero, KneeSelfAlignParams};
-use super::position::{
-    central_derivative, central_difference, rate_derivative, rate_derivative3, Kinematics,
-};
-use super::position_fit::{fit_positions, PositionResiduals};
+use super::position::Kinematics;
+use super::position_fit::{fit_positions_screened, PositionResiduals};
 use super::position_fusion::{fuse, FusedPositions};
+use super::position_outliers::ResidualScreen;
+pub use super::ring::{Ring, Slot};
 use super::sign::{gyro_angle_moments, score_pairs, SignChoice};
-use super::stamp_clock::StampClock;
 use super::upright::{upright_axes, UprightAxes};
 use crate::hinge_axis::spherical::{axes_of_state, axis_residual, axis_state};
-
-/// Both IMUs' readings at one sample.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Slot {
-    /// Time (s).
-    pub t: f64,
-    /// Thigh and shank angular rates (rad/s).
-    pub gyr: [Vector3<f64>; 2],
-    /// Thigh and shank specific forces (m/s^2).
-    pub acc: [Vector3<f64>; 2],
-    /// Both gyros present and unsaturated.
-    pub gyr_ok: bool,
-    /// Both accelerometers present.
-    pub acc_ok: bool,
-}
-
-/// The last `capacity` samples, oldest first, and the time base of their
-/// rate derivatives ([`StampClock`], which sees every sample pushed).
-#[derive(Debug, Clone)]
-pub struct Ring {
-    slots: Vec<Slot>,
-    head: usize,
-    len: usize,
-    clock: StampClock,
-}
-
-impl Ring {
-    /// An empty ring; the only allocation.
-    pub fn new(capacity: usize) -> Self {
-        Ring {
-            slots: alloc::vec![Slot::default(); capacity.max(1)],
-            head: 0,
-            len: 0,
-            clock: StampClock::default(),
-        }
-    }
-
-    /// Appends a sample, dropping the oldest when full.
-    pub fn push(&mut self, s: Slot) {
-        self.clock.observe(&s);
-        let cap = self.slots.len();
-        let idx = (self.head + self.len) % cap;
-        self.slots[idx] = s;
-        if self.len < cap {
-            self.len += 1;
-        } else {
-            self.head = (self.head + 1) % cap;
-        }
-    }
-
-    /// Number of samples held.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// True when empty.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
-    /// Forgets every sample; the time base stays (samples pushed again
-    /// are not newer than the last one, and [`StampClock`] ignores them).
-    pub fn clear(&mut self) {
-        self.head = 0;
-        self.len = 0;
-    }
-
-    /// [`StampClock::last_grid_step`] of the samples pushed.
-    pub fn last_grid_step(&self) -> Option<f64> {
-        self.clock.last_grid_step()
-    }
-
-    /// Forgets every sample and the time base.
-    pub fn reset(&mut self) {
-        self.clear();
-        self.clock.reset();
-    }
-
-    /// The `i`-th oldest sample.
-    pub fn get(&self, i: usize) -> &Slot {
-        &self.slots[(self.head + i) % self.slots.len()]
-    }
-
-    /// Thigh and shank kinematics (with the five-point rate derivative) at
-    /// sample `i`, when samples `i-2..=i+2` have complete, unsaturated gyros
-    /// (or the three-point one, [`rate_derivative3`], when only `i-1..=i+1`
-    /// have),
-    /// sample `i` complete accelerometers, and the times are equally spaced
-    /// or jittered without a gap ([`rate_derivative`], on the time base of
-    /// [`StampClock`]; with jittered stamps, no sample lost among them by
-    /// the clock's count, [`StampClock::consecutive`]).
-    pub fn kinematics(&self, i: usize) -> Option<[Kinematics; 2]> {
-        if i < 2 || i + 2 >= self.len || !self.get(i).acc_ok {
-            return None;
-        }
-        let w: [&Slot; 5] = core::array::from_fn(|k| self.get(i + k - 2));
-        let grid = self.clock.grid_step();
-        let gyr_dot = if w.iter().all(|s| s.gyr_ok) {
-            let t = w.map(|s| s.t);
-            let g = |seg: usize| w.map(|x| x.gyr[seg]);
-            match grid {
-                // Jittered stamps of a regular clock: the clock's count says
-                // whether the five are consecutive samples, not their
-                // stamps' steps (2026-12-07).
-                Some(dt) => {
-                    if !self.clock.consecutive(&t) {
-                        return None;
-                    }
-                    [central_derivative(&g(0), dt), central_derivative(&g(1), dt)]
-                }
-                None => [rate_derivative(&t, &g(0))?, rate_derivative(&t, &g(1))?],
-            }
-        } else if w[1..4].iter().all(|s| s.gyr_ok) {
-            // An outer sample without its gyro (empty cells): the
-            // three-point difference of the inner three.
-            let n: [&Slot; 3] = [w[1], w[2], w[3]];
-            let t = n.map(|s| s.t);
-            let g = |seg: usize| n.map(|x| x.gyr[seg]);
-            match grid {
-                Some(dt) => {
-                    if !self.clock.consecutive(&t) {
-                        return None;
-                    }
-                    [central_difference(&g(0), dt), central_difference(&g(1), dt)]
-                }
-                None => [rate_derivative3(&t, &g(0))?, rate_derivative3(&t, &g(1))?],
-            }
-        } else {
-            return None;
-        };
-        let s = w[2];
-        Some(core::array::from_fn(|seg| Kinematics {
-            acc: s.acc[seg],
-            gyr: s.gyr[seg],
-            gyr_dot: gyr_dot[seg],
-        }))
-    }
-}
 
 struct AxisResiduals<'a>(&'a Ring);
 
@@ -327,6 +186,9 @@ pub enum WindowOutcome {
         /// The positions fused over the windows so far
         /// ([`super::position_fusion`]).
         fused: FusedPositions,
+        /// The residual level of the window's position fit, whose
+        /// outliers it left out ([`super::position_outliers`], ours).
+        screen: Option<ResidualScreen>,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -359,10 +221,11 @@ pub enum WindowOutcome {
 /// no accelerometer angle is trusted.
 ///
 /// The positions (and the relative accelerometer scale) are ours beyond the
-/// paper: [`fit_positions`], then fused with `fused`, the positions of
+/// paper: [`fit_positions_screened`] (the window's gross outliers left out,
+/// [`super::position_outliers`]), then fused with `fused`, the positions of
 /// the earlier windows ([`super::position_fusion`]).
 pub fn identify(
-    ring: &Ring,
+    ring: &mut Ring,
     previous: Option<&Geometry>,
     fused: Option<&FusedPositions>,
     committed: bool,
@@ -378,7 +241,6 @@ pub fn identify(
             c.acc_trusted(p.acc_max_spread, p.acc_min_motion)
         }
     };
-    let flexion_side = |c: SignChoice| flexion_side(ring, c, trusted(&c) == Some(true), p.zero);
     let usable = (0..ring.len())
         .filter(|&i| ring.get(i).gyr_ok && ring.get(i).acc_ok)
         .count();
@@ -430,11 +292,13 @@ pub fn identify(
     if (moving_samples(ring) as f64) < p.min_valid_fraction * p.window as f64 {
         return WindowOutcome::Unobservable { information };
     }
-    let o = match fit_positions(ring, previous, p) {
+    let (o, screen) = match fit_positions_screened(ring, previous, p) {
         Ok(o) => o,
         Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
     };
+    let ring: &Ring = ring;
+    let flexion_side = |c: SignChoice| flexion_side(ring, c, trusted(&c) == Some(true), p.zero);
     let (j_t, j_s) = axes_of_state(&j.x);
     // Ours (issue 15): the upright-leg prior where eq 2's hinge does not fit.
     let source = p.axis_prior.map_or(UprightAxes::Hinge, |u| {
@@ -459,6 +323,7 @@ pub fn identify(
         acc_trusted: trusted(&c),
         axis_source: source.code(),
         fused: fusion,
+        screen,
     };
     let o = [o_t, o_s];
     let score = |j, keep| score_pairs(ring, j, o, r, p.zero, p.sign_floor, keep);

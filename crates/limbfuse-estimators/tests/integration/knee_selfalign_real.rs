@@ -123,7 +123,7 @@ fn rig_first_window_pairs_the_z_axes() {
             ring.push(slot(r));
         }
         let WindowOutcome::Identified { geometry: g, .. } =
-            identify(&ring, None, None, false, false, &p)
+            identify(&mut ring, None, None, false, false, &p)
         else {
             panic!("trial {k}: first window not identified");
         };

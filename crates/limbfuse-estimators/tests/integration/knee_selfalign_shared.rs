@@ -63,7 +63,7 @@ fn first_window_positions_are_the_true_ones() {
         for r in &records[..p.window] {
             ring.push(slot(r));
         }
-        let g = match identify(&ring, None, None, false, false, &p) {
+        let g = match identify(&mut ring, None, None, false, false, &p) {
             limbfuse_estimators::knee_selfalign::window::WindowOutcome::Identified {
                 geometry,
                 ..

@@ -1,0 +1,150 @@
+//! Ours (2026-12-07, beyond paper 002): samples whose eq-3 residual is a
+//! gross outlier, left out of the window's position fit and of the
+//! accelerometer angle.
+//!
+//! Eq 3 needs the rate derivative (the five-point formula of
+//! [`super::position`]), which turns one corrupted gyroscope reading into
+//! four corrupted derivatives: a single-sample spike of 3 rad/s at 100 Hz
+//! is a pair of 200 rad/s^2 errors, `Gamma` errors of tens of m/s^2 at a
+//! sensor 0.2 m from the joint, against residuals of about 0.1 m/s^2. Three
+//! such spikes in 50 s of walking moved the fitted positions far enough
+//! that the accelerometer angle was no longer trusted (knee RMSE 1.1 -> 3.8
+//! deg on the independent 1.2 m/s walk; 60 spikes: 20 deg, docs/RESULTS.md
+//! "Single-sample gyroscope spikes"). The outliers are found by Hampel's
+//! identifier (Hampel 1974; Pearson 2002, IEEE Trans. Control Syst.
+//! Technol. 10:55-63): a residual more than [`HAMPEL_K`] robust standard
+//! deviations (1.4826 median absolute deviations) from the window's median.
+//! They are left out ([`Ring::exclude`]), the positions fitted again, and
+//! a sample whose residual at the current geometry is beyond the last
+//! window's bound gives no accelerometer angle ([`rejects`]).
+//!
+//! The threshold is not the Gaussian 3: eq 3's residuals are heavy-tailed
+//! (impacts, soft tissue, a rig's belt), and leaving out every residual
+//! beyond 3 robust SDs took 2-5 % of each window and moved the knee of
+//! limbfuse's simulated walks by up to 0.5 deg. Measured over every window
+//! of the shared recordings and simulations (docs/RESULTS.md), the largest
+//! clean residual is 4-7 robust SDs on the simulated walks and 19 on the
+//! knee rig, a 3 rad/s spike's 500-650: 25 leaves every clean window as it
+//! was and still finds a spike of 0.3 rad/s.
+
+use nalgebra::Vector6;
+
+use super::acc_scale::scaled;
+use super::position::{position_residual, Kinematics};
+use super::ring::Ring;
+use super::window::Geometry;
+
+/// Hampel's identifier's threshold, in robust standard deviations.
+pub const HAMPEL_K: f64 = 25.0;
+
+/// A normal distribution's standard deviation over its median absolute
+/// deviation.
+const MAD_TO_SD: f64 = 1.482_6;
+
+/// Fewest residuals from which a median absolute deviation is taken.
+const MIN_RESIDUALS: usize = 20;
+
+/// The residual level of a window's position fit: a residual `e` is an
+/// outlier when `|e - median| > bound`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResidualScreen {
+    /// Median of the window's eq-3 residuals (m/s^2).
+    pub median: f64,
+    /// [`HAMPEL_K`] robust standard deviations (m/s^2).
+    pub bound: f64,
+}
+
+impl ResidualScreen {
+    /// Whether the residual `e` (m/s^2) is an outlier.
+    pub fn is_outlier(&self, e: f64) -> bool {
+        (e - self.median).abs() > self.bound
+    }
+}
+
+/// Eq 3's residual of sample `i` at the positions `o` with the relative
+/// accelerometer scale `r` (`None` where [`Ring::kinematics`] or the
+/// residual has none).
+pub fn residual_at(ring: &Ring, i: usize, o: &Vector6<f64>, r: f64) -> Option<f64> {
+    residual_of(&ring.kinematics(i)?, o, r)
+}
+
+fn residual_of(kin: &[Kinematics; 2], o: &Vector6<f64>, r: f64) -> Option<f64> {
+    let [t, s] = *kin;
+    let s = if r == 1.0 { s } else { scaled(&s, r) };
+    position_residual(&t, &s, o).map(|(e, _)| e)
+}
+
+/// Whether a sample's kinematics `kin` are an outlier of `screen` at the
+/// geometry `g`: its accelerometer angle is then not used. `false` without
+/// a screen or a residual.
+pub fn rejects(screen: Option<&ResidualScreen>, g: &Geometry, kin: &[Kinematics; 2]) -> bool {
+    let [o_t, o_s] = g.position;
+    let o = Vector6::new(o_t.x, o_t.y, o_t.z, o_s.x, o_s.y, o_s.z);
+    screen.is_some_and(|s| residual_of(kin, &o, g.acc_scale).is_some_and(|e| s.is_outlier(e)))
+}
+
+/// Leaves the window's outliers at `o` (scale `r`) out of
+/// [`Ring::kinematics`]: the screen, and how many samples it left out
+/// (`None` with fewer than 20 residuals or all equal). No allocation.
+pub fn mark_outliers(ring: &mut Ring, o: &Vector6<f64>, r: f64) -> Option<(ResidualScreen, usize)> {
+    let mut e = ring.take_scratch();
+    e.extend((0..ring.len()).filter_map(|i| residual_at(ring, i, o, r)));
+    let screen = screen_of(&mut e);
+    ring.put_scratch(e);
+    let screen = screen?;
+    let mut marked = 0;
+    for i in 0..ring.len() {
+        if residual_at(ring, i, o, r).is_some_and(|e| screen.is_outlier(e)) {
+            ring.exclude(i);
+            marked += 1;
+        }
+    }
+    Some((screen, marked))
+}
+
+/// The median (the upper one of an even count) of `v`, which it reorders.
+fn median(v: &mut [f64]) -> f64 {
+    let m = v.len() / 2;
+    *v.select_nth_unstable_by(m, f64::total_cmp).1
+}
+
+/// Hampel's screen of the residuals `e` (reordered and overwritten).
+fn screen_of(e: &mut [f64]) -> Option<ResidualScreen> {
+    if e.len() < MIN_RESIDUALS {
+        return None;
+    }
+    let med = median(e);
+    e.iter_mut().for_each(|v| *v = (*v - med).abs());
+    let mad = median(e);
+    (mad > 0.0 && mad.is_finite()).then_some(ResidualScreen {
+        median: med,
+        bound: HAMPEL_K * MAD_TO_SD * mad,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hampel_screen_of_known_values() {
+        // 1..=21: median 11, absolute deviations 0,1,1,...,10,10: MAD 5
+        // (the upper median of 21 values is the 11th smallest: 5).
+        let mut e: Vec<f64> = (1..=21).map(f64::from).collect();
+        let s = screen_of(&mut e).unwrap();
+        assert_eq!(s.median, 11.0);
+        // bound 25 x 1.4826 x 5 = 185.325
+        assert_eq!(s.bound, 25.0 * 1.4826 * 5.0);
+        assert!(!s.is_outlier(11.0 + 185.3));
+        assert!(s.is_outlier(11.0 + 185.4));
+        assert!(s.is_outlier(11.0 - 185.4));
+    }
+
+    #[test]
+    fn too_few_or_constant_residuals_give_no_screen() {
+        let mut few: Vec<f64> = (0..19).map(f64::from).collect();
+        assert_eq!(screen_of(&mut few), None);
+        let mut flat = vec![0.5; 40];
+        assert_eq!(screen_of(&mut flat), None);
+    }
+}
