@@ -30,7 +30,7 @@
 use nalgebra::Vector6;
 
 use super::acc_scale::scaled;
-use super::position::{position_residual, Kinematics};
+use super::position::{Kinematics, MIN_JOINT_ACCELERATION};
 use super::ring::Ring;
 use super::window::Geometry;
 
@@ -68,10 +68,18 @@ pub fn residual_at(ring: &Ring, i: usize, o: &Vector6<f64>, r: f64) -> Option<f6
     residual_of(&ring.kinematics(i)?, o, r)
 }
 
+/// `e_o` of [`position_residual`] without its gradient (`None` where that
+/// has none).
 fn residual_of(kin: &[Kinematics; 2], o: &Vector6<f64>, r: f64) -> Option<f64> {
     let [t, s] = *kin;
     let s = if r == 1.0 { s } else { scaled(&s, r) };
-    position_residual(&t, &s, o).map(|(e, _)| e)
+    let n_t = t
+        .joint_acceleration(&o.fixed_rows::<3>(0).into_owned())
+        .norm();
+    let n_s = s
+        .joint_acceleration(&o.fixed_rows::<3>(3).into_owned())
+        .norm();
+    (n_t >= MIN_JOINT_ACCELERATION && n_s >= MIN_JOINT_ACCELERATION).then_some(n_t - n_s)
 }
 
 /// Whether a sample's kinematics `kin` are an outlier of `screen` at the
@@ -87,19 +95,21 @@ pub fn rejects(screen: Option<&ResidualScreen>, g: &Geometry, kin: &[Kinematics;
 /// [`Ring::kinematics`]: the screen, and how many samples it left out
 /// (`None` with fewer than 20 residuals or all equal). No allocation.
 pub fn mark_outliers(ring: &mut Ring, o: &Vector6<f64>, r: f64) -> Option<(ResidualScreen, usize)> {
-    let mut e = ring.take_scratch();
-    e.extend((0..ring.len()).filter_map(|i| residual_at(ring, i, o, r)));
-    let screen = screen_of(&mut e);
-    ring.put_scratch(e);
-    let screen = screen?;
+    let (mut indexed, mut values) = ring.take_scratch();
+    indexed.extend((0..ring.len()).filter_map(|i| Some((i, residual_at(ring, i, o, r)?))));
+    values.extend(indexed.iter().map(|&(_, e)| e));
+    let screen = screen_of(&mut values);
     let mut marked = 0;
-    for i in 0..ring.len() {
-        if residual_at(ring, i, o, r).is_some_and(|e| screen.is_outlier(e)) {
-            ring.exclude(i);
-            marked += 1;
+    if let Some(s) = screen {
+        for &(i, e) in &indexed {
+            if s.is_outlier(e) {
+                ring.exclude(i);
+                marked += 1;
+            }
         }
     }
-    Some((screen, marked))
+    ring.put_scratch((indexed, values));
+    Some((screen?, marked))
 }
 
 /// The median (the upper one of an even count) of `v`, which it reorders.

@@ -36,8 +36,9 @@ pub struct Ring {
     /// position fit ([`super::position_outliers`]); cleared when the slot is
     /// written.
     excluded: Vec<bool>,
-    /// Room for one value per sample ([`Ring::take_scratch`]).
-    scratch: Vec<f64>,
+    /// Room for one indexed value and one value per sample
+    /// ([`Ring::take_scratch`]).
+    scratch: (Vec<(usize, f64)>, Vec<f64>),
     head: usize,
     len: usize,
     clock: StampClock,
@@ -50,7 +51,7 @@ impl Ring {
         Ring {
             slots: alloc::vec![Slot::default(); capacity],
             excluded: alloc::vec![false; capacity],
-            scratch: Vec::with_capacity(capacity),
+            scratch: (Vec::with_capacity(capacity), Vec::with_capacity(capacity)),
             head: 0,
             len: 0,
             clock: StampClock::default(),
@@ -106,17 +107,18 @@ impl Ring {
         self.excluded.iter_mut().for_each(|x| *x = false);
     }
 
-    /// The ring's buffer of one value per sample, emptied, for a pass over
-    /// the window without allocating; give it back with
-    /// [`Ring::put_scratch`].
-    pub fn take_scratch(&mut self) -> Vec<f64> {
-        let mut v = core::mem::take(&mut self.scratch);
-        v.clear();
-        v
+    /// The ring's buffers of one indexed value and one value per sample,
+    /// emptied, for a pass over the window without allocating; give them
+    /// back with [`Ring::put_scratch`].
+    pub fn take_scratch(&mut self) -> (Vec<(usize, f64)>, Vec<f64>) {
+        let (mut a, mut b) = core::mem::take(&mut self.scratch);
+        a.clear();
+        b.clear();
+        (a, b)
     }
 
-    /// Returns the buffer [`Ring::take_scratch`] gave.
-    pub fn put_scratch(&mut self, v: Vec<f64>) {
+    /// Returns the buffers [`Ring::take_scratch`] gave.
+    pub fn put_scratch(&mut self, v: (Vec<(usize, f64)>, Vec<f64>)) {
         self.scratch = v;
     }
 
@@ -232,16 +234,17 @@ mod tests {
     }
 
     #[test]
-    fn the_scratch_buffer_comes_back_without_allocating() {
+    fn the_scratch_buffers_come_back_without_allocating() {
         let mut ring = Ring::new(50);
-        let mut v = ring.take_scratch();
-        let cap = v.capacity();
-        assert!(cap >= 50);
-        v.extend((0..50).map(f64::from));
-        ring.put_scratch(v);
-        let v = ring.take_scratch();
-        assert!(v.is_empty());
-        assert_eq!(v.capacity(), cap);
-        ring.put_scratch(v);
+        let (mut a, mut b) = ring.take_scratch();
+        let caps = (a.capacity(), b.capacity());
+        assert!(caps.0 >= 50 && caps.1 >= 50);
+        a.extend((0..50).map(|i| (i, i as f64)));
+        b.extend((0..50).map(f64::from));
+        ring.put_scratch((a, b));
+        let (a, b) = ring.take_scratch();
+        assert!(a.is_empty() && b.is_empty());
+        assert_eq!((a.capacity(), b.capacity()), caps);
+        ring.put_scratch((a, b));
     }
 }
