@@ -81,6 +81,10 @@ diagnostic_set! {
         /// Thigh-shank time offset in use (s; the inner `knee-selfalign`'s
         /// delay search, positive: the shank lags).
         SensorDelay = "sensor_delay_s",
+        /// Samples the inner `knee-selfalign`'s windows left out of their
+        /// position fits so far as gross eq-3 outliers (a gyroscope spike;
+        /// `knee_selfalign::position_outliers`).
+        PositionOutliers = "position_outliers",
     }
 }
 
@@ -480,6 +484,10 @@ impl Estimator for KneeGyroAxis {
         d.flag(KneeGyroDiag::Identified, identified);
         d.value(KneeGyroDiag::Windows, self.windows as f64);
         d.value(KneeGyroDiag::SensorDelay, self.inner.sensor_delay_s());
+        d.value(
+            KneeGyroDiag::PositionOutliers,
+            self.inner.position_outliers() as f64,
+        );
         if identified {
             d.flag(KneeGyroDiag::InclinationUsed, self.use_inclination);
             d.value(KneeGyroDiag::AlphaGyro, self.alpha);

@@ -30,6 +30,10 @@ pub struct KneeWatch {
     /// The `identified` diagnostic: an estimate with a knee angle before the
     /// axes were identified (`estimate --backfill`) does not count.
     identified: Option<usize>,
+    /// Column of `position_outliers` (samples left out of the position
+    /// fits so far) and its last value.
+    outliers: Option<usize>,
+    last_outliers: Option<f64>,
 }
 
 impl KneeWatch {
@@ -43,6 +47,7 @@ impl KneeWatch {
             acc_used: col("acc_trusted").or_else(|| col("inclination_used")),
             windows: col("windows"),
             identified: col("identified"),
+            outliers: col("position_outliers"),
             ..Default::default()
         })
     }
@@ -97,6 +102,12 @@ impl KneeWatch {
             let pct = 100.0 * self.acc_used_samples as f64 / self.after_first as f64;
             line += &format!(", accelerometer angle corrects the drift in {pct:.0} % of the samples after it (high-pass otherwise)");
         }
+        if let Some(n) = self.last_outliers.filter(|&n| n > 0.0) {
+            line += &format!(
+                "; {n} samples left out of the sensor-position fits as gross outliers of eq 3 \
+                 (a gyroscope spike; docs/KNEE_SELFALIGN.md \"Gyroscope spikes\")"
+            );
+        }
         Ok(line)
     }
 }
@@ -114,6 +125,9 @@ impl KneeWatch {
         let get = |c: Option<usize>| c.and_then(|c| e.diag.get(c).copied().flatten());
         if let Some(w) = get(self.windows) {
             self.last_windows = Some(w);
+        }
+        if let Some(n) = get(self.outliers) {
+            self.last_outliers = Some(n);
         }
         let identified = match self.identified {
             Some(c) => get(Some(c)) == Some(1.0),

@@ -395,7 +395,8 @@ fn issue_18_chain_refuses_gyro_spikes_beside_an_encoder() {
 /// outliers are left out of the fit and of the accelerometer angle
 /// (`knee_selfalign::position_outliers`): within 0.3 deg of the clean run
 /// (1.25 and 1.07 deg: each spike still adds 1.7 deg to the gyroscope
-/// angle until the accelerometer angle corrects it).
+/// angle until the accelerometer angle corrects it), and `estimate` says
+/// how many samples were left out (`diag_position_outliers`).
 #[test]
 fn knee_methods_leave_gyro_spikes_out_of_the_position_fit() {
     let Some(walk) = independent_walk() else {
@@ -422,6 +423,10 @@ fn knee_methods_leave_gyro_spikes_out_of_the_position_fit() {
                     p,
                 );
                 assert_ok(&o);
+                // the summary says how many samples the screens left out
+                let said = String::from_utf8_lossy(&o.stderr)
+                    .contains("left out of the sensor-position fits as gross outliers");
+                assert_eq!(said, trial == "spikes", "{method} {trial}");
                 rmse_rows(p, &format!("{trial}.csv"), &out, ["knee"])[0]
             });
             println!("{method}: knee RMSE {clean:.3} deg clean, {spiked:.3} with the spikes");

@@ -106,6 +106,10 @@ diagnostic_set! {
         /// accelerometer angle is not trusted from then on. Empty until a
         /// rest was seen.
         RestNormError = "rest_norm_error",
+        /// Samples left out of the windows' position fits so far as gross
+        /// eq-3 outliers (ours, [`super::position_outliers`]: a gyroscope
+        /// spike's rate derivative; 0 on every clean recording measured).
+        PositionOutliers = "position_outliers",
     }
 }
 
@@ -171,5 +175,6 @@ impl KneeSelfAlign {
         d.value(KneeDiag::AlphaAccLag, position::DERIVATIVE_LATENCY as f64);
         d.value(KneeDiag::SensorDelay, self.sensor_delay_s());
         d.set(KneeDiag::RestNormError, self.rest.last_error());
+        d.value(KneeDiag::PositionOutliers, self.position_outliers as f64);
     }
 }

@@ -137,6 +137,8 @@ pub struct KneeSelfAlign {
     fixed: bool,
     /// The last identified window's eq-3 residual level (ours).
     screen: Option<position_outliers::ResidualScreen>,
+    /// Samples the windows' screens left out so far (`diag_position_outliers`).
+    position_outliers: usize,
     /// A first window's geometry not taken because the window showed no
     /// flexion axis ([`Self::defers`], ours); `Some` once deferred.
     deferred: Option<Geometry>,
@@ -197,6 +199,7 @@ impl KneeSelfAlign {
             acc_trusted: true,
             fixed: false,
             screen: None,
+            position_outliers: 0,
             deferred: None,
             delay: DelayLine::new(params.max_delay, params.window),
             aligned: [ImuSample::default(); 2],
@@ -255,6 +258,12 @@ impl KneeSelfAlign {
     /// and whether the relative sign is committed.
     pub fn sign_state(&self) -> (f64, bool) {
         (self.sign_confidence, self.sign_committed)
+    }
+
+    /// Samples the windows left out of their position fits so far
+    /// ([`position_outliers`]).
+    pub fn position_outliers(&self) -> usize {
+        self.position_outliers
     }
 
     /// The current joint geometry (`None` until a window was identified).
@@ -336,6 +345,7 @@ impl KneeSelfAlign {
                 axis_source,
                 fused,
                 screen,
+                outliers,
             } => {
                 if self.defers(axis_source) {
                     self.deferred = Some(geometry);
@@ -369,6 +379,7 @@ impl KneeSelfAlign {
                     self.geometry = Some(geometry);
                     self.fused = Some(fused);
                     self.screen = screen;
+                    self.position_outliers += outliers;
                     self.bases = Some(bases);
                     self.status = WindowStatus::Identified;
                     self.rms = [rms_axis, rms_position, axis_source];
@@ -469,6 +480,7 @@ impl Estimator for KneeSelfAlign {
         self.acc_trusted = true;
         self.fixed = false;
         self.screen = None;
+        self.position_outliers = 0;
         self.deferred = None;
         self.delay.clear();
         self.rest.reset();

@@ -144,12 +144,12 @@ pub const SCREEN_ROUNDS: usize = 4;
 /// leaves no new sample out (at most [`SCREEN_ROUNDS`] fits). The samples
 /// left out stay out of [`Ring::kinematics`] for the rest of the window's
 /// identification. The screen returned is the last one (`None` when no
-/// screen could be taken).
+/// screen could be taken), with the number of samples left out.
 pub fn fit_positions_screened(
     ring: &mut Ring,
     previous: Option<&Geometry>,
     p: &KneeSelfAlignParams,
-) -> Result<(PositionFit, Option<ResidualScreen>), ParamEkfError> {
+) -> Result<(PositionFit, Option<ResidualScreen>, usize), ParamEkfError> {
     ring.clear_excluded();
     let mut screen = previous.and_then(|g| mark_outliers(ring, &stack(&g.position), g.acc_scale));
     let mut fit = fit_positions(ring, previous, p)?;
@@ -163,5 +163,6 @@ pub fn fit_positions_screened(
         }
         fit = fit_positions(ring, previous, p)?;
     }
-    Ok((fit, screen.map(|(s, _)| s)))
+    let left_out = (0..ring.len()).filter(|&i| ring.is_excluded(i)).count();
+    Ok((fit, screen.map(|(s, _)| s), left_out))
 }

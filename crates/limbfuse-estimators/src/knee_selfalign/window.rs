@@ -189,6 +189,8 @@ pub enum WindowOutcome {
         /// The residual level of the window's position fit, whose
         /// outliers it left out ([`super::position_outliers`], ours).
         screen: Option<ResidualScreen>,
+        /// How many samples that screen left out.
+        outliers: usize,
     },
     /// Too few complete, unsaturated samples.
     TooFewSamples {
@@ -292,7 +294,7 @@ pub fn identify(
     if (moving_samples(ring) as f64) < p.min_valid_fraction * p.window as f64 {
         return WindowOutcome::Unobservable { information };
     }
-    let (o, screen) = match fit_positions_screened(ring, previous, p) {
+    let (o, screen, outliers) = match fit_positions_screened(ring, previous, p) {
         Ok(o) => o,
         Err(ParamEkfError::NoResiduals) => return WindowOutcome::TooFewSamples { usable: 0 },
         Err(ParamEkfError::Numerical) => return WindowOutcome::Failed,
@@ -324,6 +326,7 @@ pub fn identify(
         axis_source: source.code(),
         fused: fusion,
         screen,
+        outliers,
     };
     let o = [o_t, o_s];
     let score = |j, keep| score_pairs(ring, j, o, r, p.zero, p.sign_floor, keep);
