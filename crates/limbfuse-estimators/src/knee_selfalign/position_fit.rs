@@ -14,7 +14,7 @@ use super::param_ekf::{
 };
 use super::params::KneeSelfAlignParams;
 use super::position::position_residual;
-use super::position_outliers::{mark_outliers, ResidualScreen};
+use super::position_outliers::{mark_outliers, mark_rate_spikes, ResidualScreen};
 use super::window::{Geometry, Ring};
 
 /// Eq 3's residuals over the window, the shank's specific force scaled by
@@ -140,7 +140,9 @@ pub const SCREEN_ROUNDS: usize = 4;
 /// out ([`super::position_outliers`]). The window is screened first at the
 /// previous window's geometry (when there is one: a spike's residual stands
 /// out there, where a fit it has already pulled spreads it over the
-/// window), fitted, screened at the solution, fitted again, until a screen
+/// window) and, when the fit-free pre-screen finds a reading that departs
+/// from its neighbours ([`mark_rate_spikes`]), at the fit without those
+/// readings; then fitted, screened at the solution, fitted again, until a screen
 /// leaves no new sample out (at most [`SCREEN_ROUNDS`] fits). The samples
 /// left out stay out of [`Ring::kinematics`] for the rest of the window's
 /// identification. The screen returned is the last one (`None` when no
@@ -151,7 +153,20 @@ pub fn fit_positions_screened(
     p: &KneeSelfAlignParams,
 ) -> Result<(PositionFit, Option<ResidualScreen>, usize), ParamEkfError> {
     ring.clear_excluded();
+    // A robust start: the fit without the readings the fit-free pre-screen
+    // finds (a window of spikes with no trusted geometry before it, the
+    // first one, pulled every fit far enough that no residual stood out).
+    let robust = if mark_rate_spikes(ring) > 0 {
+        let fit = fit_positions(ring, previous, p).ok();
+        ring.clear_excluded();
+        fit
+    } else {
+        None
+    };
     let mut screen = previous.and_then(|g| mark_outliers(ring, &stack(&g.position), g.acc_scale));
+    if let Some(s) = robust.and_then(|f| mark_outliers(ring, &f.o, f.r)) {
+        screen = Some(s);
+    }
     let mut fit = fit_positions(ring, previous, p)?;
     for _ in 1..SCREEN_ROUNDS {
         let Some((s, marked)) = mark_outliers(ring, &fit.o, fit.r) else {

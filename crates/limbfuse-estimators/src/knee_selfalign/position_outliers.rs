@@ -112,6 +112,57 @@ pub fn mark_outliers(ring: &mut Ring, o: &Vector6<f64>, r: f64) -> Option<(Resid
     Some((screen?, marked))
 }
 
+/// Threshold of [`mark_rate_spikes`], in robust scales of the window's
+/// rate departures. Clean windows reach 3.3 on the independent walks, 9.4 on
+/// limbfuse's simulated ones, 30 on the gaittoolbox walk and 58 on the knee
+/// rig; a 1 rad/s spike 52-61, a 3 rad/s spike 160-185 (docs/RESULTS.md,
+/// "Single-sample gyroscope spikes"). A pre-screen only: its marks give the
+/// robust start of [`super::position_fit::fit_positions_screened`] and are
+/// then dropped, so a real sample it marks costs one more fit, not an
+/// output.
+pub const RATE_SPIKE_K: f64 = 25.0;
+
+/// Fit-free pre-screen (ours): marks the samples around a gyroscope reading
+/// that departs from the mean of its two neighbours (`|g_i - (g_i-1 +
+/// g_i+1) / 2|`, the larger of the thigh's and the shank's) by more than
+/// [`RATE_SPIKE_K`] times the window's robust scale of that departure
+/// (1.4826 x its median): the reading and the two on each side, whose
+/// five-point derivatives take it in. Returns how many it marked. No
+/// allocation.
+pub fn mark_rate_spikes(ring: &mut Ring) -> usize {
+    let departure = |ring: &Ring, i: usize| -> Option<f64> {
+        let [a, b, c] = [ring.get(i - 1), ring.get(i), ring.get(i + 1)];
+        (a.gyr_ok && b.gyr_ok && c.gyr_ok).then(|| {
+            (0..2)
+                .map(|seg| (b.gyr[seg] - (a.gyr[seg] + c.gyr[seg]) * 0.5).norm())
+                .fold(0.0, f64::max)
+        })
+    };
+    let n = ring.len();
+    if n < 3 {
+        return 0;
+    }
+    let (mut indexed, mut values) = ring.take_scratch();
+    indexed.extend((1..n - 1).filter_map(|i| Some((i, departure(ring, i)?))));
+    values.extend(indexed.iter().map(|&(_, d)| d));
+    let mut marked = 0;
+    if values.len() >= MIN_RESIDUALS {
+        let scale = MAD_TO_SD * median(&mut values);
+        if scale > 0.0 && scale.is_finite() {
+            for &(i, d) in &indexed {
+                if d > RATE_SPIKE_K * scale {
+                    for k in i.saturating_sub(2)..(i + 3).min(n) {
+                        ring.exclude(k);
+                    }
+                    marked += 1;
+                }
+            }
+        }
+    }
+    ring.put_scratch((indexed, values));
+    marked
+}
+
 /// The median (the upper one of an even count) of `v`, which it reorders.
 fn median(v: &mut [f64]) -> f64 {
     let m = v.len() / 2;
@@ -148,6 +199,52 @@ mod tests {
         assert!(!s.is_outlier(11.0 + 185.3));
         assert!(s.is_outlier(11.0 + 185.4));
         assert!(s.is_outlier(11.0 - 185.4));
+    }
+
+    /// 100 Hz walking-like rates (two sines) with white noise of 0.005
+    /// rad/s from a seeded generator, one reading of the shank's z axis
+    /// off by `spike` rad/s at sample 100.
+    fn rates(spike: f64) -> Ring {
+        let mut ring = Ring::new(300);
+        let mut u = 0x2545_f491_4f6c_dd1d_u64;
+        let mut noise = || {
+            u ^= u << 13;
+            u ^= u >> 7;
+            u ^= u << 17;
+            0.005 * ((u >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 12f64.sqrt()
+        };
+        for k in 0..300 {
+            let t = k as f64 * 0.01;
+            let w = 4.0 * (2.0 * core::f64::consts::PI * t).sin();
+            let mut shank = nalgebra::Vector3::new(noise(), noise(), -1.2 * w + noise());
+            if k == 100 {
+                shank.z += spike;
+            }
+            ring.push(crate::knee_selfalign::ring::Slot {
+                t,
+                gyr: [nalgebra::Vector3::new(noise(), noise(), w + noise()), shank],
+                acc: [nalgebra::Vector3::new(0.0, 9.81, 0.0); 2],
+                gyr_ok: true,
+                acc_ok: true,
+            });
+        }
+        ring
+    }
+
+    #[test]
+    fn a_rate_spike_and_its_stencil_are_marked_and_nothing_else() {
+        // Smooth rates: the largest departure is the noise's, a few robust
+        // scales; a 1 rad/s reading departs by ~1 rad/s, hundreds of them.
+        let mut clean = rates(0.0);
+        assert_eq!(mark_rate_spikes(&mut clean), 0);
+        assert!((0..300).all(|i| !clean.is_excluded(i)));
+        // The spike departs by 1 rad/s, its neighbours by half of it (it is
+        // in their neighbours' mean): three readings, each with the two
+        // samples on either side.
+        let mut spiked = rates(1.0);
+        assert_eq!(mark_rate_spikes(&mut spiked), 3);
+        let marked: Vec<usize> = (0..300).filter(|&i| spiked.is_excluded(i)).collect();
+        assert_eq!(marked, (97..=103).collect::<Vec<_>>());
     }
 
     #[test]
