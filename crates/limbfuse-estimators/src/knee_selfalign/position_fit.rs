@@ -133,7 +133,7 @@ pub fn fit_positions(
     })
 }
 
-/// Most fits of [`fit_positions_screened`].
+/// Most fits of [`fit_positions_screened`] after its robust start.
 pub const SCREEN_ROUNDS: usize = 4;
 
 /// Ours (2026-12-07): [`fit_positions`] with the window's eq-3 outliers left
@@ -142,8 +142,9 @@ pub const SCREEN_ROUNDS: usize = 4;
 /// out there, where a fit it has already pulled spreads it over the
 /// window) and, when the fit-free pre-screen finds a reading that departs
 /// from its neighbours ([`mark_rate_spikes`]), at the fit without those
-/// readings; then fitted, screened at the solution, fitted again, until a screen
-/// leaves no new sample out (at most [`SCREEN_ROUNDS`] fits). The samples
+/// readings; then fitted, screened at the solution, fitted again, until a
+/// screen leaves no new sample out (at most [`SCREEN_ROUNDS`] fits after
+/// that start). The samples
 /// left out stay out of [`Ring::kinematics`] for the rest of the window's
 /// identification. The screen returned is the last one (`None` when no
 /// screen could be taken), with the number of samples left out.
