@@ -424,10 +424,10 @@ impl KneeSelfAlign {
     /// two samples after it), with the current geometry.
     pub fn lagged_accel_angle(&self) -> Option<f64> {
         let (g, b) = (self.geometry.as_ref()?, self.bases.as_ref()?);
-        let screen = self.screen.as_ref();
-        let kin =
-            (self.recent.kinematics(2)).filter(|k| !position_outliers::rejects(screen, g, k))?;
-        let [at, as_] = g.joint_accelerations(&kin);
+        let [at, as_] = g.joint_accelerations(&self.recent.kinematics(2)?);
+        if position_outliers::rejects(self.screen.as_ref(), &[at, as_]) {
+            return None;
+        }
         accel_angle(&at, &as_, &b[0], &b[1])
     }
 }

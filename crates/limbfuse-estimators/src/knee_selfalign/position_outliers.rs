@@ -27,12 +27,11 @@
 //! knee rig, a 3 rad/s spike's 500-650: 25 leaves every clean window as it
 //! was and still finds a spike of 0.3 rad/s.
 
-use nalgebra::Vector6;
+use nalgebra::{Vector3, Vector6};
 
 use super::acc_scale::scaled;
 use super::position::{Kinematics, MIN_JOINT_ACCELERATION};
 use super::ring::Ring;
-use super::window::Geometry;
 
 /// Hampel's identifier's threshold, in robust standard deviations.
 pub const HAMPEL_K: f64 = 25.0;
@@ -82,13 +81,16 @@ fn residual_of(kin: &[Kinematics; 2], o: &Vector6<f64>, r: f64) -> Option<f64> {
     (n_t >= MIN_JOINT_ACCELERATION && n_s >= MIN_JOINT_ACCELERATION).then_some(n_t - n_s)
 }
 
-/// Whether a sample's kinematics `kin` are an outlier of `screen` at the
-/// geometry `g`: its accelerometer angle is then not used. `false` without
-/// a screen or a residual.
-pub fn rejects(screen: Option<&ResidualScreen>, g: &Geometry, kin: &[Kinematics; 2]) -> bool {
-    let [o_t, o_s] = g.position;
-    let o = Vector6::new(o_t.x, o_t.y, o_t.z, o_s.x, o_s.y, o_s.z);
-    screen.is_some_and(|s| residual_of(kin, &o, g.acc_scale).is_some_and(|e| s.is_outlier(e)))
+/// Whether a sample whose joint-centre accelerations (eq 7, both sensors,
+/// at the current geometry) are `joint` is an outlier of `screen`: its
+/// accelerometer angle is then not used. Its eq-3 residual is the
+/// difference of their norms, so the accelerometer angle's own
+/// accelerations serve. `false` without a screen or a residual.
+pub fn rejects(screen: Option<&ResidualScreen>, joint: &[Vector3<f64>; 2]) -> bool {
+    let [n_t, n_s] = joint.map(|a| a.norm());
+    screen.is_some_and(|s| {
+        n_t >= MIN_JOINT_ACCELERATION && n_s >= MIN_JOINT_ACCELERATION && s.is_outlier(n_t - n_s)
+    })
 }
 
 /// Leaves the window's outliers at `o` (scale `r`) out of
