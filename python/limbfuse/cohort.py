@@ -46,6 +46,9 @@ COLUMNS = ("trial", "method", "channel", "n_samples") + METRICS + ("mean_rmse_de
 #: The timing figures of each kind of gait event (``initial_contact``,
 #: ``final_contact`` of ``evaluate --json``), as ``ic_*`` / ``fc_*`` columns.
 EVENT_TIMING = ("n_reference", "n_matched", "missed", "extra", "median_abs_ms", "p95_abs_ms", "mean_ms")
+#: The ``side_*`` columns, from ``evaluate --json``'s ``contact_sides``
+#: (``lowback-speed``: the contacts whose foot it told); empty otherwise.
+SIDE_FIELDS = ("n_paired", "n_sided", "n_correct", "accuracy_pct")
 #: The columns of a trial evaluated for gait events and walking speed
 #: (``gait-events``, ``lowback-speed``; channel ``events``): one row per trial.
 EVENT_METRICS = (
@@ -55,6 +58,7 @@ EVENT_METRICS = (
        "n_strides", "stride_length_error_pct", "n_withheld",
        "stance_time_mae_ms", "stance_time_bias_ms", "swing_time_mae_ms", "swing_time_bias_ms",
        "n_stance_swing")
+    + tuple(f"side_{k}" for k in SIDE_FIELDS)
 )
 #: The columns of a paper-003 gait trial (``imm-bslip``; channel ``gait``).
 GAIT_METRICS = ("phase_accuracy_pct", "com_pos_rmse_m", "com_pos_max_m", "speed_mean_mps",
@@ -256,8 +260,11 @@ def rows_of(path: str, ev: Mapping[str, Any]) -> List[Dict[str, Any]]:
             timing = ev.get(key) or {}
             for k in EVENT_TIMING:
                 row[f"{prefix}_{k}"] = timing.get(k)
-        for k in EVENT_METRICS[2 * len(EVENT_TIMING):]:
+        for k in EVENT_METRICS[2 * len(EVENT_TIMING):-len(SIDE_FIELDS)]:
             row[k] = ev.get(k)
+        sides = ev.get("contact_sides") or {}
+        for k in SIDE_FIELDS:
+            row[f"side_{k}"] = sides.get(k)
         return [row]
     if "phase_accuracy_pct" in ev and "com_pos_rmse_m" in ev:
         row = dict(base, channel="gait")

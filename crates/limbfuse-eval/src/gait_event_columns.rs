@@ -28,7 +28,9 @@ pub(crate) struct Columns {
     pub(crate) contact: [Vec<Option<bool>>; 2],
     /// The estimate's gait phase.
     pub(crate) phase: Vec<Option<GaitPhase>>,
-    /// Estimated initial contact times per side (s).
+    /// Estimated initial contact times per side (s): `gait-events`'
+    /// contacts, or the contacts of `ic_any` whose side `lowback-speed`
+    /// told.
     pub(crate) ic: [Vec<f64>; 2],
     /// Estimated final contact times per side (s).
     pub(crate) fc: [Vec<f64>; 2],
@@ -53,6 +55,9 @@ pub(crate) struct Columns {
     pub(crate) withheld_any: Vec<(usize, f64)>,
     /// (row, `diag_ic`): the row where each initial contact of either foot is decided.
     pub(crate) ic_any_rows: Vec<usize>,
+    /// The estimate has pooled contacts (`diag_ic`) and side columns
+    /// (`diag_ic_<side>`): `lowback-speed` since 2026-12-07.
+    pub(crate) has_ic_sides: bool,
 }
 
 fn diag_index(er: &EstimateReader, name: &str) -> Option<usize> {
@@ -86,7 +91,12 @@ pub(crate) fn read_columns(
         diag_index(er, "stride_turn_rate"),
         diag_index(er, "stride_withheld"),
     );
-    let has_event_columns = ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
+    // Per-foot events, unless the method writes its contacts pooled
+    // (`diag_ic`): `lowback-speed`'s `diag_ic_<side>` are the sides it could
+    // tell, 2 s later, scored apart ([`crate::contact_sides`]).
+    let has_event_columns =
+        ic_any_col.is_none() && ic_col.iter().chain(fc_col.iter()).any(Option::is_some);
+    c.has_ic_sides = ic_any_col.is_some() && ic_col.iter().any(Option::is_some);
     c.speed_from_com = trial
         .as_ref()
         .is_some_and(|(_, tr)| crate::speed_from_com(tr.layout()));

@@ -77,8 +77,14 @@ pub struct GaitEventEvaluation {
     /// Final contacts (toe off); `None` when the method does not estimate them.
     pub final_contact: Option<EventTiming>,
     /// Whether events were compared per foot (`false`: pooled over both feet,
-    /// for methods that do not tell which foot).
+    /// for methods that do not tell which foot, or tell it apart and later:
+    /// `lowback-speed`).
     pub per_foot: bool,
+    /// The sides of pooled contacts (`lowback-speed`'s `diag_ic_<side>`),
+    /// against the foot of the reference contact each is paired with;
+    /// `None` when the estimate has pooled contacts without side columns,
+    /// or per-foot events.
+    pub contact_sides: Option<crate::contact_sides::ContactSides>,
     /// % of rows (both sides pooled) where the contact equals the reference.
     pub contact_accuracy_pct: Option<f64>,
     /// % of rows where the phase equals the phase of the contact references.
@@ -112,7 +118,7 @@ pub struct GaitEventEvaluation {
 }
 
 /// Times of the `from -> to` steps of a contact column.
-fn steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
+pub(crate) fn steps(t: &[f64], v: &[Option<bool>], to: bool) -> Vec<f64> {
     (1..v.len())
         .filter(|&k| v[k - 1] == Some(!to) && v[k] == Some(to))
         .map(|k| t[k])
@@ -378,6 +384,8 @@ pub(crate) fn evaluate_with_strides(
             estimated: est,
         };
         ev.initial_contact = timing(core::slice::from_ref(&se), &c, &[None]);
+        ev.contact_sides =
+            crate::contact_sides::ContactSides::score(&c, &se.reference, &se.estimated, &se.pairs);
         accuracies(&c, &mut ev);
         let track = se.track();
         let rows = track_strides(StrideFoot::Unknown, &c.strides_any, &track, None, &c);

@@ -83,6 +83,7 @@ impl GaitEventEvaluation {
             "initial_contact": self.initial_contact.to_json(),
             "final_contact": self.final_contact.as_ref().map(EventTiming::to_json),
             "events_per_foot": self.per_foot,
+            "contact_sides": self.contact_sides.as_ref().map(|s| s.to_json()),
             "contact_accuracy_pct": self.contact_accuracy_pct,
             "phase_accuracy_pct": self.phase_accuracy_pct,
             "blended": self.blended.to_json(),
@@ -116,8 +117,11 @@ impl GaitEventEvaluation {
             }
             None => s += "final contact    not estimated by this method\n",
         }
-        if !self.per_foot {
-            s += "(initial contacts pooled over both feet: the method does not tell which foot)\n";
+        match (&self.contact_sides, self.per_foot) {
+            (Some(sides), _) => s += &sides.to_text(),
+            (None, false) => s +=
+                "(initial contacts pooled over both feet: the method does not tell which foot)\n",
+            (None, true) => {}
         }
         s += &format!(
             "contact accuracy {}\nphase accuracy   {}\nstride speed     MAE {} (bias {}) over {} strides\nstride length    error {} (MAE {}) over {} strides\n",

@@ -10,6 +10,7 @@ pub mod acc_rails;
 pub mod blended_stride_speed;
 pub mod channel_error;
 pub mod clipped_swings;
+pub mod contact_sides;
 pub mod data_limits;
 pub mod evaluation;
 pub mod evaluation_kind;

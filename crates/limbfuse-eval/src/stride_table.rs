@@ -27,8 +27,9 @@ pub enum StrideFoot {
     Left,
     /// Right foot.
     Right,
-    /// A method that does not tell left from right (`lowback-speed`: its
-    /// stride is two steps, initial contact to the second next).
+    /// A foot not told (`lowback-speed`, whose stride is two steps, initial
+    /// contact to the second next, when it could not tell its first
+    /// contact's side: docs/GAIT_EVENTS.md "Sides").
     Unknown,
 }
 
@@ -501,6 +502,13 @@ pub(crate) fn unknown_foot_strides(
     let at =
         |v: &[(usize, f64)], row: usize| v.iter().position(|&(r, _)| r == row).map(|k| (k, v[k].1));
     for r in &mut scored {
+        // The stride's foot: its first contact's side, when the method told it.
+        let told = |s: usize| c.ic[s].iter().any(|&x| (x - r.ic_s).abs() <= 1e-9);
+        if told(1) {
+            r.foot = StrideFoot::of_side(1);
+        } else if told(0) {
+            r.foot = StrideFoot::of_side(0);
+        }
         r.turn_rate_rad_s = at(&c.turn_rate_any, r.decided_row).map(|x| x.1);
         if let Some((k, second)) = at(&c.steps_any, r.decided_row) {
             r.step_length_2_m = Some(second);

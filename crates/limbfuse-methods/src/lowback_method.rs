@@ -36,6 +36,7 @@ struct LowbackFile {
     turn_rate: Option<f64>,
     withhold_after_turn: Option<bool>,
     gravity_follows_gyro: Option<bool>,
+    side_min_rate: Option<f64>,
 }
 
 impl MethodFile for LowbackFile {
@@ -66,9 +67,9 @@ pub struct LowbackSpeedMethod;
 impl MethodDef for LowbackSpeedMethod {
     const INFO: MethodInfo = MethodInfo::new(
         "lowback-speed",
-        "beyond the papers: initial contacts (McCamley 2012) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
+        "beyond the papers: initial contacts (McCamley 2012), their feet (McCamley 2012, Ullrich 2021) and walking speed (Zijlstra & Hof 2003 inverted pendulum) from one lower-back IMU",
         "trunk_acc (lower back, raw sensor frame); pendulum length from the parameter file, `# sensor_height_m:`, `# leg_length:` or `# height_m:` (m)",
-        "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate, withhold_after_turn, gravity_follows_gyro",
+        "leg_length, correction, wavelet_scale, walking_rms, speed_hold, turn_rate, withhold_after_turn, gravity_follows_gyro, side_min_rate",
     )
     .needing(
         crate::ChannelNeeds {
@@ -123,6 +124,16 @@ impl MethodDef for LowbackSpeedMethod {
         if let Some(b) = f.gravity_follows_gyro {
             p.gravity_follows_gyro = b;
         }
+        // deg/s in the file, as `turn_rate`; 0 gives every contact a side
+        // unless its rate is exactly 0 (no gyroscope).
+        if let Some(v) = f.side_min_rate {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(bad(format!(
+                    "side_min_rate = {v}: expected a rate of 0 deg/s or more"
+                )));
+            }
+            p.side_min_rate = v.to_radians();
+        }
         Ok(LowbackSettings {
             params: p,
             leg_length_given: f.leg_length.is_some(),
@@ -164,7 +175,10 @@ impl MethodDef for LowbackSpeedMethod {
              # The stride after a turning stride (its first step turned) has no speed either.\n\
              withhold_after_turn = {:?}\n\
              # The gravity mean is rotated with the trunk gyroscope (follows posture changes).\n\
-             gravity_follows_gyro = {:?}\n",
+             gravity_follows_gyro = {:?}\n\
+             # Band-passed trunk rate about the vertical (deg/s) at or below which a contact's side\n\
+             # (diag_ic_right / diag_ic_left; McCamley 2012, Ullrich 2021) is left unknown.\n\
+             side_min_rate = {:?}\n",
             p.leg_length,
             DEFAULT_BODY_HEIGHT_M,
             p.leg_length,
@@ -176,7 +190,8 @@ impl MethodDef for LowbackSpeedMethod {
             // radian round trip gives (read back, it is the default).
             (p.turn_rate.to_degrees() * 1e9).round() / 1e9,
             p.withhold_after_turn,
-            p.gravity_follows_gyro
+            p.gravity_follows_gyro,
+            (p.side_min_rate.to_degrees() * 1e9).round() / 1e9
         )
     }
 }

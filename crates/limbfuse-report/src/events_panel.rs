@@ -120,7 +120,7 @@ pub fn events_panel(
         id: "panel-events".into(),
         kind: "events".into(),
         title: "Gait events and walking speed".into(),
-        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed; without <code>speed_ref</code>, its horizontal CoM speed when <code>evaluate</code> scores against it) where it has them; the initial contacts of estimates that do not tell the foot (<code>diag_ic</code>: <code>lowback-speed</code>) as spikes, down, under the reference ones, up. The numbers are in the errors section; each estimate's strides, one row per stride as <code>limbfuse evaluate --strides</code> writes them, are in the tables under the plots (click to open).".into(),
+        note: "Each foot's contact and the walking speed of the estimates that carry them, against the trial's <code>contact_*_ref</code> and <code>speed_ref</code> (dashed; without <code>speed_ref</code>, its horizontal CoM speed when <code>evaluate</code> scores against it) where it has them; the initial contacts of estimates that pool both feet (<code>diag_ic</code>: <code>lowback-speed</code>, which tells a contact's foot 2 s later, in the stride tables' foot column) as spikes, down, under the reference ones, up. The numbers are in the errors section; each estimate's strides, one row per stride as <code>limbfuse evaluate --strides</code> writes them, are in the tables under the plots (click to open).".into(),
         plots,
         table: strides
             .iter()

@@ -88,8 +88,12 @@ pub fn strides_details(label: &str, s: &EstimateStrides) -> String {
             )
         }
     };
-    // (`lowback-speed`'s strides: no foot, and a speed it may withhold)
-    let withheld_column = table.rows.iter().any(|r| r.foot == StrideFoot::Unknown);
+    // (`lowback-speed`'s strides, their two step lengths given: a speed it
+    // may withhold, and a foot it may not know)
+    let withheld_column = table
+        .rows
+        .iter()
+        .any(|r| r.foot == StrideFoot::Unknown || r.step_length_2_m.is_some());
     // (stance and swing: strides with a final contact, `gait-events`')
     let phase_columns = table.rows.iter().any(|r| r.fc_s.is_some());
     let mut out = format!(

@@ -235,7 +235,7 @@ fn no_foot_or_shank_imu_is_a_clear_error() {
 }
 
 /// The `diag_<name>` values of an estimate file.
-fn diag_values(path: &Path, name: &str) -> Vec<f64> {
+pub(crate) fn diag_values(path: &Path, name: &str) -> Vec<f64> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

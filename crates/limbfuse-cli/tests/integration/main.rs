@@ -60,6 +60,7 @@ mod knee_sensor_delay_cli;
 mod knee_time_gap;
 mod late_rows_stream;
 mod long_runs_check_outputs_first;
+mod lowback_sides;
 mod lowback_time_stamps;
 mod mirror_truth_cli;
 mod parameters_that_mean_nothing;

@@ -65,6 +65,9 @@
 //!    stride ends, like the turn itself (causal); the stride *before* a turn
 //!    would need the next step and is kept. Without a trunk gyroscope no turn
 //!    is detected.
+//! 6. **Sides** (ours, issue 19): each contact's foot from the sign of the
+//!    trunk's band-passed rate about the vertical at it (McCamley et al.
+//!    2012, Ullrich et al. 2021), decided 2 s later: [`sides`].
 //!
 //! Memory: rings of the last [`HISTORY`] vertical accelerations and
 //! headings, allocated at construction; nothing is allocated per sample.
@@ -84,8 +87,10 @@ use nalgebra::{Rotation3, Vector3};
 
 use crate::cell_hold::CellHold;
 use sampling_period::SamplingPeriod;
+use sides::PendingContacts;
 
 pub mod sampling_period;
+pub mod sides;
 mod steps;
 
 /// Leg (greater-trochanter) height as a fraction of body height: 0.530
@@ -140,6 +145,12 @@ diagnostic_set! {
         /// turns (`turn_rate`), 2 = the stride before it turned
         /// (`withhold_after_turn`).
         StrideWithheld = "stride_withheld",
+        /// Time (s) of an initial contact of the right foot, its side
+        /// decided at this sample ([`sides`]: 2 s after the contact).
+        IcRight = "ic_right",
+        /// Time (s) of an initial contact of the left foot, its side
+        /// decided at this sample.
+        IcLeft = "ic_left",
     }
 }
 
@@ -170,6 +181,9 @@ pub struct LowbackParams {
     pub withhold_after_turn: bool,
     /// The gravity mean is rotated with the trunk gyroscope.
     pub gravity_follows_gyro: bool,
+    /// Band-passed rate about the vertical (rad/s) at or below which a
+    /// contact's side is unknown: 3 deg/s ([`sides`]).
+    pub side_min_rate: f64,
 }
 
 impl Default for LowbackParams {
@@ -186,6 +200,7 @@ impl Default for LowbackParams {
             turn_rate: 15.0_f64.to_radians(),
             withhold_after_turn: true,
             gravity_follows_gyro: true,
+            side_min_rate: 3.0_f64.to_radians(),
         }
     }
 }
@@ -247,6 +262,11 @@ pub struct LowbackSpeed {
     psi: f64,
     kernel: Vec<f64>,
     half: usize,
+    /// The side filter's taps and half length ([`sides`]).
+    side_taps: Vec<f64>,
+    side_half: usize,
+    /// Contacts waiting for their side.
+    pending_sides: PendingContacts,
     dt: Option<f64>,
     /// The sampling period from the time steps so far that are not gaps
     /// (over `min_step_time`), lost rows counted.
@@ -286,6 +306,9 @@ impl LowbackSpeed {
             psi: 0.0,
             kernel: Vec::with_capacity(HISTORY),
             half: 0,
+            side_taps: Vec::with_capacity(HISTORY),
+            side_half: 0,
+            pending_sides: PendingContacts::default(),
             dt: None,
             period: SamplingPeriod::default(),
             grid: StampGrid::default(),
@@ -318,6 +341,8 @@ impl LowbackSpeed {
             *w /= sum;
         }
         self.half = half;
+        // The side window and the sample before it stay in the rings.
+        self.side_half = sides::side_filter_taps(dt, HISTORY / 2 - 2, &mut self.side_taps);
     }
 
     /// After a gap in the readings (rows or accelerometer cells missing)
@@ -333,6 +358,7 @@ impl LowbackSpeed {
         self.last_step = None;
         self.last_stride_turned = false;
         self.last_vertical = None;
+        self.pending_sides.clear();
     }
 
     fn at(&self, index: u64) -> f64 {
@@ -378,7 +404,12 @@ impl Estimator for LowbackSpeed {
         writeln!(out, "speed_hold: {} s", p.speed_hold)?;
         writeln!(out, "turn_rate: {:.6} deg/s", p.turn_rate.to_degrees())?;
         writeln!(out, "withhold_after_turn: {}", p.withhold_after_turn)?;
-        writeln!(out, "gravity_follows_gyro: {}", p.gravity_follows_gyro)
+        writeln!(out, "gravity_follows_gyro: {}", p.gravity_follows_gyro)?;
+        writeln!(
+            out,
+            "side_min_rate: {:.6} deg/s",
+            p.side_min_rate.to_degrees()
+        )
     }
 
     fn diagnostic_names(&self) -> &[&'static str] {

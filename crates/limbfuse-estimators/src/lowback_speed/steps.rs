@@ -6,7 +6,7 @@
 use limbfuse_core::DiagnosticWriter;
 
 use super::{
-    pendulum_step_length, step_excursion, LowbackDiag, LowbackSpeed, HISTORY,
+    pendulum_step_length, sides, step_excursion, LowbackDiag, LowbackSpeed, HISTORY,
     WALKING_RMS_TIME_CONSTANT_S,
 };
 
@@ -28,6 +28,7 @@ impl LowbackSpeed {
         let alpha = (dt / WALKING_RMS_TIME_CONSTANT_S).min(1.0);
         self.rms_sq += (a_v * a_v - self.rms_sq) * alpha;
         self.n += 1;
+        self.decide_sides(dt, d);
         let span = 2 * self.half as u64 + 1;
         if self.n >= span {
             // Smoothed value centred `half` samples back.
@@ -90,12 +91,47 @@ impl LowbackSpeed {
                 }
                 if accept {
                     d.value(LowbackDiag::Ic, t_ic);
+                    self.pending_sides.push(index, t_ic);
                     if self.last_ic.is_none() {
                         self.last_step = None;
                         self.last_stride_turned = false;
                     }
                     self.last_ic = Some((index, t_ic, s1));
                 }
+            }
+        }
+    }
+
+    /// Writes the side of every waiting contact whose filter window has
+    /// arrived ([`sides`]): the rate about the vertical is the heading's
+    /// difference per sample, band-passed around the contact.
+    fn decide_sides(&mut self, dt: f64, d: &mut DiagnosticWriter<'_, LowbackDiag>) {
+        let m = self.side_half as u64;
+        while let Some((index, t_ic)) = self.pending_sides.front() {
+            let newest = self.n - 1;
+            if index + m > newest {
+                break;
+            }
+            self.pending_sides.pop();
+            // The window's first rate needs the heading one sample before it.
+            if index < m + 1 || newest - (index - m - 1) >= HISTORY as u64 {
+                continue;
+            }
+            let start = index - m;
+            let rate: f64 = self
+                .side_taps
+                .iter()
+                .enumerate()
+                .map(|(j, h)| {
+                    let i = start + j as u64;
+                    h * (self.heading_at(i) - self.heading_at(i - 1))
+                })
+                .sum::<f64>()
+                / dt;
+            match sides::contact_side(rate, self.params.side_min_rate) {
+                Some(true) => d.value(LowbackDiag::IcRight, t_ic),
+                Some(false) => d.value(LowbackDiag::IcLeft, t_ic),
+                None => {}
             }
         }
     }

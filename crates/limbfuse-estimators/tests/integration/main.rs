@@ -37,6 +37,7 @@ mod knee_selfalign_real;
 mod knee_selfalign_shared;
 mod knee_selfalign_sim;
 mod knee_sensor_delay;
+mod lowback_sides;
 mod segment_kf_accel_gate;
 mod segment_kf_golden;
 mod segment_kf_issue_18;
