@@ -102,3 +102,41 @@ fn lowback_contact_sides_match_the_right_foot_on_s02() {
     );
     assert!(right.len() >= 3 && left.len() >= 2, "{right:?} {left:?}");
 }
+
+/// The HA001 course mirrored across the sagittal plane (`limbfuse mirror`:
+/// the gyroscope's rate about the vertical changes sign, the contact
+/// references are swapped): the same counts, every side swapped with the
+/// feet.
+#[test]
+fn lowback_contact_sides_follow_a_mirrored_recording() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let trial = data.join("mobgap-lowerback/HA001-test11-trial1.csv");
+    succeed(
+        &["mirror", trial.to_str().unwrap(), "-o", "m.csv"],
+        d.path(),
+    );
+    let plain = evaluate_json("lowback-speed", &trial, d.path());
+    let mirrored = evaluate_json("lowback-speed", &d.path().join("m.csv"), d.path());
+    assert_eq!(
+        plain["contact_sides"], mirrored["contact_sides"],
+        "{mirrored}"
+    );
+    assert_eq!(f(&mirrored, &["contact_sides", "n_correct"]), 37.0);
+    let e = d.path().join("e.csv");
+    let (right, left) = (diag_values(&e, "ic_right"), diag_values(&e, "ic_left"));
+    succeed(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            trial.to_str().unwrap(),
+            "-o",
+            "p.csv",
+        ],
+        d.path(),
+    );
+    let p = d.path().join("p.csv");
+    assert_eq!(right, diag_values(&p, "ic_left"));
+    assert_eq!(left, diag_values(&p, "ic_right"));
+}
