@@ -433,6 +433,31 @@ mod tests {
         let d = LowbackParams::default();
         assert_eq!(settings.params.turn_rate.to_bits(), d.turn_rate.to_bits());
         assert_eq!(settings.params.leg_length.to_bits(), d.leg_length.to_bits());
+        assert!(text.contains("\nside_min_rate = 3.0\n"), "{text}");
+        assert_eq!(
+            settings.params.side_min_rate.to_bits(),
+            d.side_min_rate.to_bits()
+        );
+    }
+
+    /// `side_min_rate` is in deg/s, 0 or more (2026-12-07).
+    #[test]
+    fn side_min_rate_is_read_in_degrees_per_second() {
+        let read = |v: &str| {
+            LowbackSpeedMethod::resolve(
+                Some((&format!("side_min_rate = {v}\n"), Path::new("p.toml"))),
+                &MethodFlags::default(),
+            )
+        };
+        let p = read("6.0").unwrap().params;
+        assert!((p.side_min_rate - 6.0_f64.to_radians()).abs() < 1e-15);
+        assert_eq!(read("0.0").unwrap().params.side_min_rate, 0.0);
+        let e = read("-1.0").unwrap_err().to_string();
+        assert!(
+            e.contains("p.toml")
+                && e.contains("side_min_rate = -1: expected a rate of 0 deg/s or more"),
+            "{e}"
+        );
     }
 
     /// The pendulum length: the parameter file, else `# leg_length:`, else
