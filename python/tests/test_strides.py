@@ -199,3 +199,24 @@ def test_an_accelerometer_rail_below_the_assumed_full_scale_is_warned_of(shared_
     with pytest.warns(limbfuse.LimbfuseWarning, match="accelerometer and 0 encoder reading") as caught:
         limbfuse.estimate(stated, "chain")
     assert not any("repeat exactly" in str(w.message) for w in caught)
+
+
+def test_lowback_sides_as_the_cli_scores_them(cli, tmp_path, shared_data):
+    """Session 48: `lowback-speed` tells each contact's foot (`diag_ic_right`
+    / `diag_ic_left`, 2 s after it); `evaluate` scores them apart
+    (`contact_sides`, as `limbfuse evaluate --json`) and a stride's `foot` is
+    its first contact's side."""
+    import json
+
+    path = shared_data("mobgap-lowerback/HA001-test5-trial2.csv")
+    trial = limbfuse.read_trial(path)
+    est = limbfuse.estimate(trial, "lowback-speed")
+    ev = limbfuse.evaluate(trial, est)
+    assert ev["contact_sides"] == {"n_paired": 7, "n_sided": 7, "n_correct": 7, "accuracy_pct": 100.0}
+    est.write(tmp_path / "e.csv")
+    out = cli("evaluate", path, tmp_path / "e.csv", "--json").stdout
+    assert json.loads(out)["contact_sides"] == ev["contact_sides"]
+    right = est.to_pandas()["diag_ic_right"].dropna().to_numpy()
+    strides = est.strides(trial)
+    told = strides[strides["foot"] == "right"]["ic_s"].to_numpy()
+    assert len(told) > 0 and all(np.any(np.abs(right - t) < 1e-9) for t in told)

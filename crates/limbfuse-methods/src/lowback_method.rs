@@ -434,10 +434,7 @@ mod tests {
         assert_eq!(settings.params.turn_rate.to_bits(), d.turn_rate.to_bits());
         assert_eq!(settings.params.leg_length.to_bits(), d.leg_length.to_bits());
         assert!(text.contains("\nside_min_rate = 3.0\n"), "{text}");
-        assert_eq!(
-            settings.params.side_min_rate.to_bits(),
-            d.side_min_rate.to_bits()
-        );
+        assert_eq!(settings.params.side_min_rate, d.side_min_rate);
     }
 
     /// `side_min_rate` is in deg/s, 0 or more (2026-12-07).
