@@ -129,13 +129,21 @@ pub fn events_panel(
     })
 }
 
-/// The initial contacts of the estimates that decide them without a foot
-/// (`diag_ic`, the back-dated contact times of `lowback-speed`) against the
-/// reference ones (the 0 -> 1 steps of `contact_*_ref`, either foot), as
-/// spikes: the reference's up to 1 (dashed), each estimate's down to -1, so
-/// a detected contact sits under its reference one. Before (review 27), a
-/// `lowback-speed` estimate showed only its speed: its contacts, scored in
-/// the events table, were not drawn.
+/// The initial contacts of the estimates that pool both feet (`diag_ic`,
+/// the back-dated contact times of `lowback-speed`) against the reference
+/// ones (the 0 -> 1 steps of `contact_*_ref`), as spikes: the reference's
+/// up (dashed), each estimate's down, so a detected contact sits under its
+/// reference one; the spike's height tells the foot: a right contact 1, a
+/// left one [`LEFT_SPIKE`], an estimated contact whose foot the method did
+/// not tell (`diag_ic_right` / `diag_ic_left`) [`UNTOLD_SPIKE`]. Before
+/// (review 27), a `lowback-speed` estimate showed only its speed: its
+/// contacts, scored in the events table, were not drawn; before session 48
+/// every spike was of height 1.
+/// Height of a left contact's spike in the initial-contacts plot.
+const LEFT_SPIKE: f64 = 0.6;
+/// Height of an estimated contact whose foot was not told.
+const UNTOLD_SPIKE: f64 = 0.3;
+
 fn initial_contacts_plot(
     trial: &TrialData,
     shown: &[(usize, &EstimateData)],
@@ -149,20 +157,25 @@ fn initial_contacts_plot(
         return None;
     }
     let n = trial.t.len();
-    let refs: Vec<&Column> = Side::BOTH
+    let refs: Vec<(Side, &Column)> = Side::BOTH
         .iter()
-        .filter_map(|s| trial.columns.get(&format!("contact_{}_ref", s.name())))
+        .filter_map(|s| Some((*s, trial.columns.get(&format!("contact_{}_ref", s.name()))?)))
         .collect();
     let mut columns: Vec<(String, String, String, Column, bool)> = Vec::new();
     if !refs.is_empty() {
         let mut r: Column = (0..n)
-            .map(|k| refs.iter().any(|c| c[k].is_some()).then_some(0.0))
+            .map(|k| refs.iter().any(|(_, c)| c[k].is_some()).then_some(0.0))
             .collect();
-        for c in &refs {
+        for (side, c) in &refs {
+            let height = if *side == Side::Right {
+                1.0
+            } else {
+                LEFT_SPIKE
+            };
             for k in 1..n {
                 if let (Some(a), Some(b)) = (c[k - 1], c[k]) {
                     if a < 0.5 && b >= 0.5 {
-                        r[k] = Some(1.0);
+                        r[k] = Some(height);
                     }
                 }
             }
@@ -177,9 +190,23 @@ fn initial_contacts_plot(
     }
     for (i, e, ic) in detected {
         let mut c: Column = vec![Some(0.0); n];
+        let [right, left] = ["ic_right", "ic_left"].map(|name| {
+            e.diag
+                .get(name)
+                .map(|col| col.iter().flatten().copied().collect::<Vec<f64>>())
+                .unwrap_or_default()
+        });
+        let told = |side: &[f64], t: f64| side.iter().any(|x| (x - t).abs() <= 1e-9);
         for t_ic in ic.iter().flatten() {
             if let Some(k) = nearest_sample(&trial.t, *t_ic) {
-                c[k] = Some(-1.0);
+                let height = if told(&right, *t_ic) {
+                    1.0
+                } else if told(&left, *t_ic) {
+                    LEFT_SPIKE
+                } else {
+                    UNTOLD_SPIKE
+                };
+                c[k] = Some(-height);
             }
         }
         columns.push((
@@ -197,10 +224,10 @@ fn initial_contacts_plot(
             // (an audit 2026-12-05: the title spoke of a reference on
             // trials without one)
             if refs.is_empty() {
-                "initial contacts (estimated, down; either foot; the trial has no contact_*_ref)"
+                "initial contacts (estimated, down; right foot 1, left 0.6, foot not told 0.3; the trial has no contact_*_ref)"
                     .into()
             } else {
-                "initial contacts (reference up, estimated down; either foot)".into()
+                "initial contacts (reference up, estimated down; right foot 1, left 0.6, foot not told 0.3)".into()
             },
             "contact",
             columns

@@ -57,7 +57,7 @@ pub fn wanted_diagnostic(name: &str) -> bool {
         || name.starts_with("j_shank_")
         || matches!(
             name,
-            "speed_mean" | "sign_confidence" | "p11" | "activation" | "ic"
+            "speed_mean" | "sign_confidence" | "p11" | "activation" | "ic" | "ic_right" | "ic_left"
         )
 }
 

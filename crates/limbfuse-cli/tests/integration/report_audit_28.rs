@@ -9,7 +9,7 @@ use crate::s02_support::run_ok;
 use crate::support::shared_data;
 
 /// The title text of plot `id`.
-fn title_of(html: &str, id: &str) -> String {
+pub(crate) fn title_of(html: &str, id: &str) -> String {
     let start = html.find(&format!(r#"id="{id}""#)).expect("the plot");
     let plot = &html[start..start + html[start..].find("</svg></svg>").expect("its end")];
     let t = plot.split(r#"class="title""#).nth(1).expect("a title");

@@ -38,24 +38,7 @@ fn path_of(html: &str, id: &str, series: &str) -> String {
 /// Spikes of a path `M x y l dx dy dx dy ...` (integers, a `-` may follow
 /// a digit) that leaves 0 and comes back: half its vertical moves.
 fn spikes(d: &str) -> usize {
-    let mut moves = 0;
-    for segment in d.split('M').skip(1) {
-        let Some((_, rel)) = segment.split_once('l') else {
-            continue;
-        };
-        let numbers: Vec<i64> = rel
-            .replace('-', " -")
-            .split_whitespace()
-            .map(|v| v.parse().expect("an integer"))
-            .collect();
-        moves += numbers
-            .iter()
-            .skip(1)
-            .step_by(2)
-            .filter(|dy| **dy != 0)
-            .count();
-    }
-    moves / 2
+    spike_depths(d).len()
 }
 
 /// A `lowback-speed` estimate of a simulated walk with gait references:
@@ -259,4 +242,71 @@ fn fes_plot_titles_fit_their_plots() {
         html.contains("Riccati solution of sdre"),
         "the note explains P_11"
     );
+}
+
+/// Session 48: the initial-contacts plot tells the feet of `lowback-speed`'s
+/// contacts by the spike's depth (right 1, left 0.6, not told 0.3), as its
+/// `diag_ic_right` / `diag_ic_left` give them, and the reference's by its
+/// height. HA001 test5 trial2 (10.8 s, no decimation): 11 contacts, 4 told
+/// right, 5 left, 2 not told (within 2 s of the start or the end).
+#[test]
+fn report_draws_the_feet_of_lowback_contacts() {
+    let Some(data) = crate::cli_gait_events::data_dir() else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let trial = data.join("mobgap-lowerback/HA001-test5-trial2.csv");
+    let trial = trial.to_str().unwrap();
+    ok(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            trial,
+            "-o",
+            "lb.csv",
+        ],
+        p,
+    );
+    ok(&["report", trial, "lb.csv", "-o", "r.html"], p);
+    let html = read(p, "r.html");
+    let count = |name: &str| crate::cli_gait_events::diag_values(&p.join("lb.csv"), name).len();
+    let (right, left, all) = (count("ic_right"), count("ic_left"), count("ic"));
+    assert!(
+        right > 2 && left > 2 && all > right + left,
+        "{right} {left} {all}"
+    );
+    // Depths of the estimate's spikes (pixels), deepest first.
+    let mut depths = spike_depths(&path_of(&html, "plot-initial-contacts", "e0"));
+    depths.sort_unstable_by(|a, b| b.cmp(a));
+    assert_eq!(depths.len(), all);
+    let deepest = depths[0] as f64;
+    let near = |x: i64, f: f64| (x as f64 - f * deepest).abs() <= 1.0;
+    assert_eq!(depths.iter().filter(|&&x| near(x, 1.0)).count(), right);
+    assert_eq!(depths.iter().filter(|&&x| near(x, 0.6)).count(), left);
+    assert_eq!(
+        depths.iter().filter(|&&x| near(x, 0.3)).count(),
+        all - right - left
+    );
+    let title = crate::report_audit_28::title_of(&html, "plot-initial-contacts");
+    assert!(title.contains("right foot 1, left 0.6"), "{title}");
+}
+
+/// The depth (pixels) of each spike of a path (`spikes`' format): the first
+/// vertical move of each pair.
+fn spike_depths(d: &str) -> Vec<i64> {
+    let mut moves: Vec<i64> = vec![];
+    for segment in d.split('M').skip(1) {
+        let Some((_, rel)) = segment.split_once('l') else {
+            continue;
+        };
+        let numbers: Vec<i64> = rel
+            .replace('-', " -")
+            .split_whitespace()
+            .map(|v| v.parse().expect("an integer"))
+            .collect();
+        moves.extend(numbers.iter().skip(1).step_by(2).filter(|dy| **dy != 0));
+    }
+    moves.chunks_exact(2).map(|m| m[0].abs()).collect()
 }
