@@ -182,7 +182,7 @@ fn initial_contacts_plot(
         }
         columns.push((
             "ref".into(),
-            "reference initial contacts (contact_*_ref 0 -> 1, either foot)".into(),
+            "reference initial contacts (contact_*_ref 0 -> 1; right 1, left 0.6)".into(),
             "#000000".into(),
             r,
             true,
