@@ -167,6 +167,16 @@ pub fn report_body(spec: &MethodSpec, reader: &TrialReader) -> Result<()> {
         if let Some(note) = note {
             eprintln!("{note}");
         }
+        // (session 48: a trial without the trunk gyroscope gave no side
+        // and no turn rule, and nothing said why)
+        if !reader.layout().gyr[limbfuse_core::Segment::Trunk.index()] {
+            eprintln!(
+                "lowback-speed: {} has no trunk gyroscope (trunk_gyr_x/y/z): the gravity mean does not \
+                 follow the trunk's turns, turning strides are not told apart (each gets a speed) and \
+                 no contact gets its foot (docs/GAIT_EVENTS.md, lowback-speed items 1, 5 and 7)",
+                reader.path().display()
+            );
+        }
     }
     if let MethodSpec::ImmBslip(s) = spec {
         let (_, note) = limbfuse_methods::imm_params::templates_for_trial(s, reader.meta())

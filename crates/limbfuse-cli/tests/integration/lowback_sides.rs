@@ -140,3 +140,51 @@ fn lowback_contact_sides_follow_a_mirrored_recording() {
     assert_eq!(right, diag_values(&p, "ic_left"));
     assert_eq!(left, diag_values(&p, "ic_right"));
 }
+
+/// Session 48: without a trunk gyroscope no contact gets its foot (nor is
+/// a turn told apart), and `estimate` says so on stderr; before, nothing
+/// said why every side was unknown.
+#[test]
+fn lowback_without_a_trunk_gyroscope_says_what_it_cannot_do() {
+    let Some(data) = data_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let text =
+        std::fs::read_to_string(data.join("mobgap-lowerback/HA001-test5-trial1.csv")).unwrap();
+    let mut keep: Vec<usize> = vec![];
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.starts_with('#') {
+                return l.to_string();
+            }
+            let cells: Vec<&str> = l.split(',').collect();
+            if keep.is_empty() {
+                keep = (0..cells.len())
+                    .filter(|&k| !cells[k].contains("gyr"))
+                    .collect();
+            }
+            keep.iter().map(|&k| cells[k]).collect::<Vec<_>>().join(",")
+        })
+        .collect();
+    std::fs::write(d.path().join("nogyr.csv"), lines.join("\n") + "\n").unwrap();
+    let o = succeed(
+        &[
+            "estimate",
+            "--method",
+            "lowback-speed",
+            "nogyr.csv",
+            "-o",
+            "e.csv",
+        ],
+        d.path(),
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("nogyr.csv has no trunk gyroscope")
+            && stderr.contains("no contact gets its foot"),
+        "{stderr}"
+    );
+    let e = d.path().join("e.csv");
+    assert!(diag_values(&e, "ic").len() > 5);
+    assert!(diag_values(&e, "ic_right").is_empty() && diag_values(&e, "ic_left").is_empty());
+}
