@@ -1,6 +1,6 @@
 //! The sides of contacts a method pools (`lowback-speed`: `diag_ic` for
 //! every contact, `diag_ic_right` / `diag_ic_left` for those whose foot it
-//! told, 2 s later; docs/GAIT_EVENTS.md "Sides"), against the foot of the
+//! told, 2 s later; docs/GAIT_EVENTS.md, `lowback-speed` item 7), against the foot of the
 //! reference contact each is paired with: the timing stays pooled (a
 //! contact without a side is still a contact), and the sides are scored
 //! apart, as mobgap scores its laterality apart from its contacts.

@@ -29,7 +29,7 @@ pub enum StrideFoot {
     Right,
     /// A foot not told (`lowback-speed`, whose stride is two steps, initial
     /// contact to the second next, when it could not tell its first
-    /// contact's side: docs/GAIT_EVENTS.md "Sides").
+    /// contact's side: docs/GAIT_EVENTS.md, `lowback-speed` item 7).
     Unknown,
 }
 

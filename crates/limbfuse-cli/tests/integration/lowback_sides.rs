@@ -1,4 +1,4 @@
-//! `lowback-speed`'s contact sides (docs/GAIT_EVENTS.md "Sides"; issue 19,
+//! `lowback-speed`'s contact sides (docs/GAIT_EVENTS.md, `lowback-speed` item 7; issue 19,
 //! beyond its items) through the binary on real lower-back recordings:
 //! the shared HA001 files (their Vicon contacts per foot) and the S02 walk
 //! (its right-foot IMU's contacts from `gait-events`). Skipped with a
