@@ -5,6 +5,7 @@
 //! message when `../shared/data` is absent.
 
 use crate::cli_gait_events::{data_dir, diag_values, evaluate_json, f, succeed};
+use crate::support::keep_columns;
 
 /// The HA001 recordings: every contact given a side has the foot of the
 /// Vicon contact it is paired with on the straight walks, 37 of 39 on the
@@ -148,25 +149,12 @@ fn lowback_contact_sides_follow_a_mirrored_recording() {
 fn lowback_without_a_trunk_gyroscope_says_what_it_cannot_do() {
     let Some(data) = data_dir() else { return };
     let d = tempfile::tempdir().unwrap();
-    let text =
-        std::fs::read_to_string(data.join("mobgap-lowerback/HA001-test5-trial1.csv")).unwrap();
-    let mut keep: Vec<usize> = vec![];
-    let lines: Vec<String> = text
-        .lines()
-        .map(|l| {
-            if l.starts_with('#') {
-                return l.to_string();
-            }
-            let cells: Vec<&str> = l.split(',').collect();
-            if keep.is_empty() {
-                keep = (0..cells.len())
-                    .filter(|&k| !cells[k].contains("gyr"))
-                    .collect();
-            }
-            keep.iter().map(|&k| cells[k]).collect::<Vec<_>>().join(",")
-        })
-        .collect();
-    std::fs::write(d.path().join("nogyr.csv"), lines.join("\n") + "\n").unwrap();
+    std::fs::copy(
+        data.join("mobgap-lowerback/HA001-test5-trial1.csv"),
+        d.path().join("ha.csv"),
+    )
+    .unwrap();
+    keep_columns(d.path(), "ha.csv", "nogyr.csv", |n| !n.contains("gyr"));
     let o = succeed(
         &[
             "estimate",
