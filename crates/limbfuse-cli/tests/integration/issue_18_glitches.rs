@@ -392,6 +392,74 @@ fn issue_18_chain_refuses_gyro_spikes_beside_an_encoder() {
     }
 }
 
+/// Session 49 (docs/ROBUST_INPUT.md, "Gyroscope spikes beside the
+/// encoders"): the same kind of spikes made `mjls` refuse the knee or ankle
+/// encoder that contradicted the moved segment until the 0.5 s lockout
+/// restarted it (sixty spikes: seven restarts, knee RMSE 0.086 -> 0.963
+/// deg). Now `mjls` and `global` replace each spike by the rate the
+/// encoders imply; `rate_spike_test = false` applies them as before.
+#[test]
+fn issue_18_mjls_and_global_replace_gyro_spikes_the_encoders_contradict() {
+    let Some(walk) = independent_walk() else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // ten spikes, 0.9-1.3 s apart from 15 s, on the thigh, shank and foot in turn
+    spiked_copy(
+        p,
+        &walk,
+        ("spikes.csv", 1500),
+        &["thigh_gyr_z", "shank_gyr_z", "foot_gyr_z"],
+        |k| k % 2 == 1,
+    );
+    std::fs::write(p.join("off.toml"), "rate_spike_test = false\n").unwrap();
+    for method in ["mjls", "global"] {
+        let mut rmse = Vec::new();
+        for (trial, params) in [
+            ("clean", None),
+            ("spikes", None),
+            ("spikes", Some("off.toml")),
+        ] {
+            let out = format!("{trial}-{method}-{}.csv", params.is_some());
+            let mut args = vec!["estimate", "--method", method, &format!("{trial}.csv")]
+                .into_iter()
+                .map(String::from)
+                .collect::<Vec<_>>();
+            if let Some(f) = params {
+                args.extend(["--params".into(), f.into()]);
+            }
+            args.extend(["-o".into(), out.clone()]);
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let o = limbfuse(&args, p);
+            assert_ok(&o);
+            let err = String::from_utf8_lossy(&o.stderr).to_string();
+            match (trial, params) {
+                ("clean", _) => assert!(!err.contains("were rejected"), "{err}"),
+                (_, None) => assert!(
+                    err.contains(
+                        "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
+                    ),
+                    "{method}: {err}"
+                ),
+                _ => assert!(!err.contains("10 gyroscope"), "{method}: {err}"),
+            }
+            rmse.push(segment_rmse(p, &format!("{trial}.csv"), &out));
+        }
+        eprintln!("{method}: segment RMSE clean / spikes / spikes without the test: {rmse:?}");
+        let worst = |k: usize| {
+            (0..4)
+                .map(|s| (rmse[k][s] - rmse[0][s]).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(worst(1) <= 0.03, "{method}: {rmse:?}");
+        assert!(
+            worst(2) > 0.1,
+            "{method}: the spikes must matter without the test: {rmse:?}"
+        );
+    }
+}
+
 /// Session 47 (docs/KNEE_SELFALIGN.md, "Gyroscope spikes"): ten single
 /// +-3 rad/s spikes on the thigh and shank gyroscopes of the shared
 /// independent walk, inside the range and the jump bound. Eq 3 takes the

@@ -29,6 +29,7 @@ use nalgebra::{SVector, Vector3};
 use super::criteria::reliability;
 use super::model::{angle_state, bias_state, Discretizer, Mat8};
 use super::params::{CommonParams, LoopMode};
+use super::rate_spikes::RateSpikeTest;
 use super::robust::{
     predicted_rate, predicted_rate_variance, rate_slope, FillContext, RateDropouts, GATE_LOCKOUT_S,
     HELD_RATE_VARIANCE_CAP, INNOVATION_GATE_CHI2, LONG_GAP_S,
@@ -118,6 +119,12 @@ pub(crate) struct Chain {
     first_t: Option<f64>,
     /// The segments' wait for a start ([`start`]).
     start: StartWindow,
+    /// Gyroscope spikes told from the encoders (kept over restarts: it
+    /// tests the sensors, not the filter).
+    spikes: RateSpikeTest,
+    /// The filter has encoder rows, so the spike test may use the
+    /// encoders ([`Chain::with_spike_test`]; `local` has none).
+    encoder_rows: bool,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -160,6 +167,18 @@ impl Chain {
             resets: 0,
             first_t: None,
             start: StartWindow::default(),
+            spikes: RateSpikeTest::default(),
+            encoder_rows: false,
+        }
+    }
+
+    /// The chain of a filter with encoder rows (`mjls`, `global`): when
+    /// `common.rate_spike_test` is on, a gyroscope reading the encoders show
+    /// to be a spike is replaced by the rate they imply ([`RateSpikeTest`]).
+    pub fn with_spike_test(self) -> Self {
+        Chain {
+            encoder_rows: true,
+            ..self
         }
     }
 
@@ -193,25 +212,33 @@ impl Chain {
     }
 
     pub fn reset(&mut self) {
-        let start = self.encoder_start;
+        let (start, encoder_rows) = (self.encoder_start, self.encoder_rows);
         *self = Chain::new(self.common);
         self.encoder_start = start;
+        self.encoder_rows = encoder_rows;
     }
 
     /// Starts every segment afresh from the next data, keeping the time and
     /// the counts (a restart, counted in `resets`).
     fn restart(&mut self) {
         let (time, now, gated, resets) = (self.time, self.now, self.gated_encoder, self.resets);
+        let spikes = self.spikes;
         self.reset();
         self.time = time;
         self.now = now;
         self.gated_encoder = gated;
         self.resets = resets + 1;
+        self.spikes = spikes;
     }
 
     /// Encoder rows rejected by the innovation gate so far.
     pub fn gated_encoders(&self) -> u64 {
         self.gated_encoder
+    }
+
+    /// Gyroscope readings refused as spikes so far ([`RateSpikeTest`]).
+    pub fn refused_rates(&self) -> u64 {
+        self.spikes.refused()
     }
 
     /// Restarts so far (long gaps, divergences).
@@ -279,6 +306,9 @@ impl Chain {
             // tests/integration/issue_18_fuzz.rs: -1e308 started the chain at infinity).
             // (NaN and infinity fail the comparison too)
             *e = s.filter(|v| v.abs() <= core::f64::consts::TAU);
+        }
+        if self.encoder_rows && self.common.rate_spike_test {
+            self.spikes.check(&mut rate, &encoder, dt);
         }
         let rate_missing = rate.iter().filter(|r| r.is_none()).count() as u8;
         let own_gap_before = self.dropouts.observe(&rate, dt);

@@ -174,7 +174,7 @@ impl GlobalKf {
             R[(4 + j, 4 + j)] = s * s;
         }
         GlobalKf {
-            chain: Chain::new(params.common),
+            chain: Chain::new(params.common).with_spike_test(),
             params,
             gate: AccelGateState::default(),
             R,
@@ -235,7 +235,7 @@ impl Estimator for GlobalKf {
     }
 
     fn rejected_readings(&self) -> [u64; 3] {
-        [0, 0, self.chain.gated_encoders()]
+        [self.chain.refused_rates(), 0, self.chain.gated_encoders()]
     }
 
     fn reset(&mut self) {

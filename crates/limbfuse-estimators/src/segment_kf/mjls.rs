@@ -162,7 +162,7 @@ impl MarkovJumpKf {
 
     fn build(params: MarkovJumpKfParams) -> Self {
         MarkovJumpKf {
-            chain: Chain::with_encoder_start(params.common, params.encoder_sigma),
+            chain: Chain::with_encoder_start(params.common, params.encoder_sigma).with_spike_test(),
             params,
             gate: AccelGateState::default(),
             last: Gain::zero(),
@@ -235,7 +235,7 @@ impl Estimator for MarkovJumpKf {
     }
 
     fn rejected_readings(&self) -> [u64; 3] {
-        [0, 0, self.chain.gated_encoders()]
+        [self.chain.refused_rates(), 0, self.chain.gated_encoders()]
     }
 
     fn reset(&mut self) {

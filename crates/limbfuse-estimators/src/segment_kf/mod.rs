@@ -38,6 +38,7 @@ pub mod local;
 pub mod mjls;
 pub mod model;
 pub mod params;
+pub mod rate_spikes;
 pub mod robust;
 pub mod sequential;
 pub mod structured;

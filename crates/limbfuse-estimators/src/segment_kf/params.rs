@@ -267,6 +267,13 @@ pub struct CommonParams {
     /// not say how their filters start; docs/SEGMENT_FILTERS.md,
     /// "Initialisation").
     pub first_sample_start: bool,
+    /// `true` (default): a gyroscope reading that the joint encoders show
+    /// to be a single-sample spike is replaced by the rate the encoders
+    /// imply (ours, not the papers'; [`super::rate_spikes`],
+    /// docs/ROBUST_INPUT.md "Gyroscope spikes beside the encoders"). Needs
+    /// the three encoders; `false` applies every reading the sample gate
+    /// passes, as the papers do.
+    pub rate_spike_test: bool,
 }
 
 impl Default for CommonParams {
@@ -288,6 +295,7 @@ impl Default for CommonParams {
             accel_gate: AccelGate::OFF,
             startup_s: 0.0,
             first_sample_start: false,
+            rate_spike_test: true,
         }
     }
 }

@@ -234,25 +234,32 @@ pub(crate) struct RateDropouts {
     rate_power: [Option<f64>; 4],
     /// The previous time step (s), against which a time gap is told.
     last_step: Option<f64>,
-    /// The smoothing weights `1 - exp(-dt / RATE_POWER_S)` of the last few
-    /// distinct steps, reused when a step repeats bit for bit: timestamps
-    /// such as `k * 0.01` give steps that differ in their last bits, a few
-    /// distinct values in turn (the default, a zero step with weight zero,
-    /// is exact too).
-    weights: [(f64, f64); 4],
-    /// The entry of `weights` replaced next.
-    next_weight: usize,
+    /// The smoothing weights of the rate power.
+    weights: ExpWeights,
 }
 
-impl RateDropouts {
-    /// `1 - exp(-dt / RATE_POWER_S)`, from the cache when `dt` repeats.
-    fn weight(&mut self, dt: f64) -> f64 {
-        if let Some(&(_, k)) = self.weights.iter().find(|w| w.0.to_bits() == dt.to_bits()) {
+/// The smoothing weights `1 - exp(-dt / T)` of an exponential running mean
+/// with one time constant `T` for the last few distinct steps `dt`, reused
+/// when a step repeats bit for bit: timestamps such as `k * 0.01` give steps
+/// that differ in their last bits, a few distinct values in turn (the
+/// default, a zero step with weight zero, is exact too). One cache serves
+/// one time constant.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ExpWeights {
+    entries: [(f64, f64); 4],
+    /// The entry replaced next.
+    next: usize,
+}
+
+impl ExpWeights {
+    /// `1 - exp(-dt / time_constant)`, from the cache when `dt` repeats.
+    pub fn weight(&mut self, dt: f64, time_constant: f64) -> f64 {
+        if let Some(&(_, k)) = self.entries.iter().find(|w| w.0.to_bits() == dt.to_bits()) {
             return k;
         }
-        let k = 1.0 - libm::exp(-dt / RATE_POWER_S);
-        self.weights[self.next_weight] = (dt, k);
-        self.next_weight = (self.next_weight + 1) % self.weights.len();
+        let k = 1.0 - libm::exp(-dt / time_constant);
+        self.entries[self.next] = (dt, k);
+        self.next = (self.next + 1) % self.entries.len();
         k
     }
 }
@@ -293,7 +300,7 @@ impl RateDropouts {
             *g = if r.is_some() { 0.0 } else { *g + step };
         }
         if let Some(dt) = dt {
-            let k = self.weight(dt);
+            let k = self.weights.weight(dt, RATE_POWER_S);
             for (p, r) in self.rate_power.iter_mut().zip(rate.iter()) {
                 if let Some(r) = r {
                     *p = Some(p.map_or(r * r, |p| p + k * (r * r - p)));
@@ -375,7 +382,7 @@ mod tests {
     /// than the cache holds (entries replaced in turn).
     #[test]
     fn rate_power_weight_from_the_cache_equals_the_computed_one() {
-        let mut d = RateDropouts::default();
+        let mut d = ExpWeights::default();
         let steps = [
             0.01,
             0.010000000000000009,
@@ -388,7 +395,11 @@ mod tests {
         for k in 0..200 {
             let dt = steps[(k * 7 + k / 3) % steps.len()];
             let want = 1.0 - libm::exp(-dt / RATE_POWER_S);
-            assert_eq!(d.weight(dt).to_bits(), want.to_bits(), "dt {dt}");
+            assert_eq!(
+                d.weight(dt, RATE_POWER_S).to_bits(),
+                want.to_bits(),
+                "dt {dt}"
+            );
         }
     }
 

@@ -14,7 +14,7 @@ use limbfuse_sim::{WalkingConfig, WalkingSimulator};
 use crate::chain_encoder_gate::{knee_angles_with as run, largest_difference};
 
 /// A 12 s simulated walk at 100 Hz (short: the test runs in debug builds).
-fn walk() -> Vec<Record> {
+pub(crate) fn walk() -> Vec<Record> {
     WalkingSimulator::new(WalkingConfig {
         duration_s: 12.0,
         seed: 2,
@@ -27,13 +27,13 @@ fn walk() -> Vec<Record> {
 
 /// The rows (from 4 s, about 0.9 s apart) and segments (thigh, shank, foot
 /// in turn) of the spikes.
-fn spikes(records: &[Record]) -> Vec<(usize, usize)> {
+pub(crate) fn spikes(records: &[Record]) -> Vec<(usize, usize)> {
     let i0 = records.iter().position(|r| r.sample.t >= 4.0).unwrap();
     (0..8).map(|k| (i0 + 93 * k, 1 + k % 3)).collect()
 }
 
 /// The walk with +-3 rad/s added to one gyroscope's z axis at each spike.
-fn spiked(clean: &[Record]) -> Vec<Record> {
+pub(crate) fn spiked(clean: &[Record]) -> Vec<Record> {
     let mut out = clean.to_vec();
     for (k, &(i, seg)) in spikes(clean).iter().enumerate() {
         let g = out[i].sample.imu[seg]

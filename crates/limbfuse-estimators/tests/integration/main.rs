@@ -43,6 +43,7 @@ mod segment_kf_golden;
 mod segment_kf_issue_18;
 mod segment_kf_mid_walk_start;
 mod segment_kf_papers;
+mod segment_kf_rate_spikes;
 mod segment_kf_robustness;
 mod segment_kf_static;
 mod segment_kf_support;

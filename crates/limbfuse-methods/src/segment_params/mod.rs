@@ -265,6 +265,7 @@ struct RawFile {
     accel_max_rate: Option<f64>,
     startup_s: Option<f64>,
     first_sample_start: Option<bool>,
+    rate_spike_test: Option<bool>,
     min_reliable: Option<i64>,
     encoder_sigma: Option<toml::Value>,
     when_unreliable: Option<RawWhenUnreliable>,
@@ -312,6 +313,9 @@ fn unit_of(key: &str) -> &'static str {
         "startup_s" => "start-up window, s (0 = off: the papers' start)",
         "first_sample_start" => {
             "start every segment at its first accelerometer sample (the start before 2026-12-06)"
+        }
+        "rate_spike_test" => {
+            "replace a gyroscope spike the encoders contradict (false = apply every reading, the papers')"
         }
         "encoder_sigma" => "encoder standard deviation, rad",
         "relative_sigma" => "relative-row standard deviation, rad",
@@ -469,6 +473,13 @@ pub fn parse_params(
         a.set("first_sample_start", v, |p| {
             p.common_mut().first_sample_start = v
         })?;
+    }
+    if let Some(v) = raw.rate_spike_test {
+        a.only_for(
+            "rate_spike_test",
+            &[FilterMethod::Mjls, FilterMethod::Global],
+        )?;
+        a.set("rate_spike_test", v, |p| p.common_mut().rate_spike_test = v)?;
     }
     if let Some(segs) = &raw.segments {
         if let Some(s) = &segs.all {

@@ -85,6 +85,13 @@ pub fn to_toml(params: &FilterParams, header: &[String]) -> String {
             "first_sample_start = true  # the start before 2026-12-06"
         );
     }
+    if !c.rate_spike_test && !matches!(params, FilterParams::Local(_)) {
+        // (written only when off: the default files stay as they were)
+        let _ = writeln!(
+            s,
+            "rate_spike_test = false  # apply every gyroscope reading the sample gate passes (the papers')"
+        );
+    }
     let arr = |v: [f64; 3]| format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]));
     match params {
         FilterParams::Local(p) => {

@@ -75,6 +75,9 @@ fn written_file_reads_back_to_the_same_parameters() {
             if preset == Preset::Paper2014 {
                 p.common_mut().accel_gate.max_rate = 0.7;
                 p.common_mut().startup_s = 1.0 / 3.0;
+                if m != FilterMethod::Local {
+                    p.common_mut().rate_spike_test = false;
+                }
             }
             let path = d.path().join(format!("{}.toml", m.name()));
             save_params(&path, &p, &["tuned by a test".into()]).unwrap();
@@ -170,6 +173,28 @@ fn issue_14_run_in_key_applies_to_every_method_and_is_checked() {
     let e = parse("startup_s = -1", FilterMethod::Local).unwrap_err();
     assert!(
         e.contains("`startup_s` = -1") && e.contains("0 (off) to 30 s"),
+        "{e}"
+    );
+}
+
+#[test]
+fn issue_18_rate_spike_test_key_for_the_filters_with_encoder_rows() {
+    for m in [FilterMethod::Mjls, FilterMethod::Global] {
+        assert!(parse("", m).unwrap().common().rate_spike_test);
+        let off = parse("rate_spike_test = false", m).unwrap();
+        assert!(!off.common().rate_spike_test);
+        // written only when off: a default file is unchanged
+        assert!(
+            !to_toml(&FilterParams::preset(m, Preset::Default), &[]).contains("rate_spike_test")
+        );
+        assert!(to_toml(&off, &[]).contains("rate_spike_test = false"));
+    }
+    // `local` has no encoder rows: the key means nothing there
+    let e = parse("rate_spike_test = false", FilterMethod::Local).unwrap_err();
+    assert!(e.contains("rate_spike_test"), "{e}");
+    let e = parse("rate_spike_test = 0", FilterMethod::Mjls).unwrap_err();
+    assert!(
+        e.starts_with("p.toml:1:") && e.contains("expected a boolean"),
         "{e}"
     );
 }
