@@ -44,9 +44,11 @@
 //! * the fitted spike exceeds [`SPIKE_MIN_RATE`].
 //!
 //! The refused reading is replaced by the rate its neighbours and encoders
-//! imply (the mean of the two for thigh and shank), the rate
-//! [`super::robust::borrow_rates`] lends a segment whose gyroscope is gone;
-//! the filter integrates that. It counts as a rejected gyroscope reading.
+//! imply through the relation each joint was tested on (`implied_rate`;
+//! thigh and shank weigh their two joints by the residuals' running mean
+//! squares), as `robust::borrow_rates` lends a segment whose gyroscope is
+//! gone; the filter integrates that. It counts as a rejected gyroscope
+//! reading.
 //! A reading the test wrongly refuses (an impact the encoders and the
 //! gyroscope sample differently) is thus replaced by the encoders' view of
 //! the same motion, not held. Limits: a single-sample glitch of the hip or
