@@ -34,7 +34,7 @@ pub struct Fault {
 }
 
 /// The faults: each at sample `i` = [`FAULT_T`].
-pub const FAULTS: [Fault; 9] = [
+pub const FAULTS: [Fault; 10] = [
     Fault {
         name: "none",
         apply: |_, _| {},
@@ -85,6 +85,14 @@ pub const FAULTS: [Fault; 9] = [
             let n = (0.5 * RATE_HZ) as usize;
             for rec in &mut r[i..i + n] {
                 rec.sample.encoder[1] = stuck;
+            }
+        },
+    },
+    Fault {
+        name: "a 3 rad/s spike in the shank gyro's z for one sample (passes the gate)",
+        apply: |r, i| {
+            if let Some(g) = r[i].sample.imu[Segment::Shank.index()].gyr.as_mut() {
+                g.z += 3.0;
             }
         },
     },
