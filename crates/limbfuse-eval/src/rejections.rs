@@ -31,7 +31,7 @@ impl fmt::Display for Rejected {
              (first at t = {} s): outside the sensors' range, clipped at their full scale, a \
              non-physical jump, a stuck sensor, an innovation beyond the filter's chi-square \
              gate or a gyroscope spike the joint encoders contradict; they were treated as \
-             missing (a spike in `mjls` and `global`: replaced by the rate the encoders imply; the trial's \
+             missing (a spike in `mjls` and `global`: a thigh or shank reading replaced by the rate the encoders imply; the trial's \
              `# gyro_range_rad_s:` and `# acc_range_m_s2:` set the range; docs/ROBUST_INPUT.md)",
             limbfuse_core::ShownNumber(self.first_t)
         )

@@ -397,7 +397,8 @@ fn issue_18_chain_refuses_gyro_spikes_beside_an_encoder() {
 /// encoder that contradicted the moved segment until the 0.5 s lockout
 /// restarted it (sixty spikes: seven restarts, knee RMSE 0.086 -> 0.963
 /// deg). Now `mjls` and `global` replace each spike by the rate the
-/// encoders imply; `rate_spike_test = false` applies them as before.
+/// encoders imply (thigh, shank) or hold the segment's rate over them (foot);
+/// `rate_spike_test = false` applies them as before.
 #[test]
 fn issue_18_mjls_and_global_replace_gyro_spikes_the_encoders_contradict() {
     let Some(walk) = independent_walk() else {

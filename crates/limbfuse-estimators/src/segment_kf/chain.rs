@@ -174,7 +174,8 @@ impl Chain {
 
     /// The chain of a filter with encoder rows (`mjls`, `global`): when
     /// `common.rate_spike_test` is on, a gyroscope reading the encoders show
-    /// to be a spike is replaced by the rate they imply ([`RateSpikeTest`]).
+    /// to be a spike is replaced by the rate they imply or held
+    /// ([`RateSpikeTest`]).
     pub fn with_spike_test(self) -> Self {
         Chain {
             encoder_rows: true,

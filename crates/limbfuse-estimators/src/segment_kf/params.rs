@@ -269,7 +269,8 @@ pub struct CommonParams {
     pub first_sample_start: bool,
     /// `true` (default): a gyroscope reading that the joint encoders show
     /// to be a single-sample spike is replaced by the rate the encoders
-    /// imply (ours, not the papers'; [`super::rate_spikes`],
+    /// imply (thigh, shank) or held as a missing one (trunk, foot) (ours,
+    /// not the papers'; [`super::rate_spikes`],
     /// docs/ROBUST_INPUT.md "Gyroscope spikes beside the encoders"). Needs
     /// the three encoders; `false` applies every reading the sample gate
     /// passes, as the papers do.

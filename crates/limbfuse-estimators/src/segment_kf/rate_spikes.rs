@@ -43,20 +43,19 @@
 //!   spread over the chain), and
 //! * the fitted spike exceeds [`SPIKE_MIN_RATE`].
 //!
-//! The refused reading is replaced by the rate its neighbours and encoders
-//! imply through the relation each joint was tested on (`implied_rate`;
-//! thigh and shank weigh their two joints by the residuals' running mean
+//! A refused thigh or shank reading is replaced by the rate its neighbours
+//! and encoders imply through the relation each joint was tested on
+//! (`implied_rate`; the two joints weighed by the residuals' running mean
 //! squares), as `robust::borrow_rates` lends a segment whose gyroscope is
-//! gone; the filter integrates that. It counts as a rejected gyroscope
-//! reading.
-//! A reading the test wrongly refuses (an impact the encoders and the
-//! gyroscope sample differently) is thus replaced by the encoders' view of
-//! the same motion, not held. Limits: a single-sample glitch of the hip or
-//! ankle encoder has the trunk's or foot's signature and replaces that
-//! segment's rate for a sample or two (the encoder row itself is the
-//! innovation gate's); nothing is tested before [`SCALE_TIME_S`] of
-//! residuals, across a time gap, or while any of the four rates or three
-//! encoders is missing.
+//! gone; the filter integrates that. A reading the test wrongly refuses (an
+//! impact the encoders and the gyroscope sample differently) is thus
+//! replaced by the encoders' view of the same motion. A refused trunk or
+//! foot reading becomes a missing one, which the filter holds: their
+//! signature is one joint's residual, which a glitch or step of the hip or
+//! ankle encoder makes too, and the encoders' rate would turn the segment by
+//! the glitch. Refusals count as rejected gyroscope readings. Nothing is
+//! tested before [`SCALE_TIME_S`] of residuals, across a time gap, or while
+//! any of the four rates or three encoders is missing.
 
 use super::chain::wrap;
 use super::robust::{ExpWeights, GAP_STEP_RATIO, INNOVATION_GATE_CHI2};
@@ -129,7 +128,8 @@ impl RateSpikeTest {
     }
 
     /// Tests this sample's rates against the encoders; a refused rate is
-    /// replaced in `rate` by the one the encoders imply, and its segment is
+    /// replaced in `rate` (thigh, shank: by the one the encoders imply;
+    /// trunk, foot: by none, a missing reading), and its segment is
     /// returned. `dt` is the step from the last sample (`None` on the
     /// first).
     pub fn check(
@@ -141,7 +141,7 @@ impl RateSpikeTest {
         let refused = self.test(rate, encoder, dt);
         if let Some((i, implied)) = refused {
             self.refused += 1;
-            rate[i] = Some(implied);
+            rate[i] = implied;
         }
         self.prev_rate = *rate;
         self.prev_encoder = *encoder;
@@ -149,14 +149,15 @@ impl RateSpikeTest {
         refused.map(|(i, _)| i)
     }
 
-    /// The refused segment and the rate that replaces its reading, if any;
-    /// updates the mean squares when none is refused.
+    /// The refused segment and what replaces its reading (the encoders'
+    /// rate for thigh and shank, nothing for trunk and foot: [`implied_rate`]),
+    /// if any; updates the mean squares when none is refused.
     fn test(
         &mut self,
         rate: &[Option<f64>; 4],
         encoder: &[Option<f64>; 3],
         dt: Option<f64>,
-    ) -> Option<(usize, f64)> {
+    ) -> Option<(usize, Option<f64>)> {
         let dt = dt.filter(|&d| d > 0.0)?;
         if self.prev_dt.is_some_and(|p| dt > GAP_STEP_RATIO * p) {
             return None;
@@ -257,43 +258,50 @@ fn all<const N: usize>(v: &[Option<f64>; N]) -> Option<[f64; N]> {
     Some(out)
 }
 
-/// The rate of segment `i` that its neighbours' rates `w` and the encoders
-/// imply, through each joint `j` beside it by the relation its residual was
-/// tested on (SPEC section 1: joint `j` is `theta_j - theta_(j+1)`): the
-/// backward difference `(w_j - w_(j+1))(k) = d enc_j / dt`, or the
-/// trapezoid's `(w_j - w_(j+1))(k) = 2 d enc_j / dt - (w_j - w_(j+1))(k-1)`
-/// (with which the filter's trapezoidal integration turns the joint exactly
-/// by its encoder's change). The residual's running mean square is that
-/// relation's error, so each joint uses the one with the smaller (the
-/// choice of [`RateSpikeTest::hypothesis`]), and thigh and shank weigh their
-/// two joints' values by its inverse. The backward difference carries the
-/// segments' angular acceleration (`alpha dt / 2`), the trapezoid twice the
-/// encoder noise: on limbfuse's own walk with eight spikes the largest angle
-/// error is 0.13 deg with the backward difference alone, 0.076 with the
-/// trapezoid alone (measured); on the shared independent walk, whose
-/// encoders are noisier, the backward difference is the better one.
+/// The rate that replaces segment `i`'s refused reading. Thigh and shank:
+/// the rate their neighbours' rates `w` and the encoders imply, through each
+/// joint `j` beside them by the relation its residual was tested on (SPEC
+/// section 1: joint `j` is `theta_j - theta_(j+1)`): the backward difference
+/// `(w_j - w_(j+1))(k) = d enc_j / dt`, or the trapezoid's `(w_j -
+/// w_(j+1))(k) = 2 d enc_j / dt - (w_j - w_(j+1))(k-1)` (with which the
+/// filter's trapezoidal integration turns the joint exactly by its
+/// encoder's change), the two joints' values weighed by the inverse of the
+/// residuals' running mean squares (that relation's error; each joint uses
+/// the one with the smaller, the choice of [`RateSpikeTest::hypothesis`]).
+/// The backward difference carries the segments' angular acceleration
+/// (`alpha dt / 2`), the trapezoid twice the encoder noise: on limbfuse's own
+/// walk with eight spikes the largest angle error is 0.13 deg with the
+/// backward difference alone, 0.076 with the trapezoid alone (measured); on
+/// the shared independent walk, whose encoders are noisier, the backward
+/// difference is the better one.
+///
+/// Trunk and foot: `None`, a missing reading (the filter holds the segment's
+/// own rate over it, as over any dropout). Their pattern is one joint's
+/// residual, which a single-sample glitch or step of the hip or ankle
+/// encoder makes too; the encoders' rate would then turn the segment by the
+/// glitch (a hip encoder re-zeroed by 0.3 rad turned `mjls`'s trunk by 17
+/// deg, measured), while the held rate is right in both cases. Thigh and
+/// shank patterns need both of their encoders to disagree at once, in
+/// opposite directions.
 fn implied_rate(
     i: usize,
     w: &[f64; 4],
     enc_rate: &[f64; 3],
     prev: Option<[f64; 4]>,
     c: &Chosen,
-) -> f64 {
+) -> Option<f64> {
+    if i == 0 || i == 3 {
+        return None;
+    }
     // the relative rate of joint `j` the encoder implies
     let relative = |j: usize| match prev {
         Some(p) if c.trapezoid[j] => 2.0 * enc_rate[j] - (p[j] - p[j + 1]),
         _ => enc_rate[j],
     };
-    match i {
-        0 => w[1] + relative(0),
-        3 => w[2] - relative(2),
-        _ => {
-            let (a, b) = (i - 1, i);
-            let from_proximal = w[i - 1] - relative(a);
-            let from_distal = w[i + 1] + relative(b);
-            (c.weight[a] * from_proximal + c.weight[b] * from_distal) / (c.weight[a] + c.weight[b])
-        }
-    }
+    let (a, b) = (i - 1, i);
+    let from_proximal = w[i - 1] - relative(a);
+    let from_distal = w[i + 1] + relative(b);
+    Some((c.weight[a] * from_proximal + c.weight[b] * from_distal) / (c.weight[a] + c.weight[b]))
 }
 
 #[cfg(test)]
@@ -317,7 +325,7 @@ mod tests {
     fn run(
         n: usize,
         spike: impl Fn(usize) -> Option<(usize, f64)>,
-    ) -> Vec<(usize, usize, f64, f64)> {
+    ) -> Vec<(usize, usize, Option<f64>, f64)> {
         let mut test = RateSpikeTest::default();
         let mut out = Vec::new();
         for k in 0..n {
@@ -333,7 +341,7 @@ mod tests {
             }
             let dt = (k > 0).then_some(0.01);
             if let Some(i) = test.check(&mut rate, &enc, dt) {
-                out.push((k, i, rate[i].unwrap(), truth[i].unwrap()));
+                out.push((k, i, rate[i], truth[i].unwrap()));
             }
         }
         out
@@ -345,7 +353,7 @@ mod tests {
     }
 
     #[test]
-    fn each_segments_spike_is_told_and_replaced_by_the_encoders_rate() {
+    fn each_segments_spike_is_told_and_replaced() {
         for segment in 0..4 {
             for s in [3.0, -2.0] {
                 let refused = run(400, |k| (k == 250).then_some((segment, s)));
@@ -356,10 +364,18 @@ mod tests {
                 );
                 let (k, i, replaced, truth) = refused[0];
                 assert_eq!((k, i), (250, segment));
-                // the rate with which the trapezoid turns the joints by the
-                // encoders' change: within twice the previous sample's noise
-                // (0.02 rad/s) and the truncation of the trapezoid
-                assert!((replaced - truth).abs() < 0.2, "{replaced} against {truth}");
+                match replaced {
+                    // thigh and shank: the rate with which the trapezoid turns
+                    // the joints by the encoders' change, within twice the
+                    // previous sample's noise (0.02 rad/s) and the
+                    // trapezoid's truncation
+                    Some(r) => {
+                        assert!(segment == 1 || segment == 2);
+                        assert!((r - truth).abs() < 0.2, "{r} against {truth}");
+                    }
+                    // trunk and foot: a missing reading, held by the filter
+                    None => assert!(segment == 0 || segment == 3),
+                }
             }
         }
     }

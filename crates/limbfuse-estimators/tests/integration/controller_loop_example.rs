@@ -42,7 +42,7 @@ fn controller_loop_example_survives_every_driver_fault() {
         assert!(example::FAULTS[8].name.contains("spike"));
         if name == "mjls" || name == "global" || name == "chain" {
             // Refused beside the encoders (mjls and global: replaced by the
-            // rate they imply, docs/ROBUST_INPUT.md section 2p; measured
+            // rate they imply for a shank spike, docs/ROBUST_INPUT.md section 2p; measured
             // 0.023 deg, 0.342 / 0.344 with `rate_spike_test = false`: the
             // spike's integral; chain: its gyroscope gate, 0.001 deg).
             assert_eq!(spike.rejected, [1, 0, 0], "{name}: {spike:?}");
