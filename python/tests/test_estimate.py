@@ -771,3 +771,31 @@ def test_inspect_names_the_model_file_as_inspect_json_does(cli, tmp_path):
     assert {k: list(v) for k, v in py["methods"].items()} == js["methods"]
     assert py["align"] == js["align"]
 
+
+
+def test_issue_18_a_gyro_spike_the_encoders_contradict_is_refused(walking_trial):
+    # mjls and global replace a thigh or shank gyroscope spike the joint
+    # encoders contradict (docs/ROBUST_INPUT.md section 2p); the parameter
+    # `rate_spike_test = false` applies it, as the papers do
+    channels = dict(walking_trial.channels)
+    shank = np.array(channels["shank_gyr_z"], dtype=float)
+    shank[500] += 3.0  # 3 rad/s for one sample at 5 s
+    channels["shank_gyr_z"] = shank
+    spiked = Trial(walking_trial.t, channels, walking_trial.meta)
+    for method in ("mjls", "global"):
+        with pytest.warns(limbfuse.LimbfuseWarning, match="1 gyroscope, 0 accelerometer"):
+            on = limbfuse.estimate(spiked, method)
+        off = limbfuse.estimate(spiked, method, {"rate_spike_test": False})
+        clean = limbfuse.estimate(walking_trial, method)
+        assert on.channels["diag_rejected_gyro"][-1] == 1, method
+        assert off.channels["diag_rejected_gyro"][-1] == 0, method
+        assert clean.channels["diag_rejected_gyro"][-1] == 0, method
+        late = slice(501, None)
+        dev_on = np.nanmax(np.abs(on.channels["shank"][late] - clean.channels["shank"][late]))
+        dev_off = np.nanmax(np.abs(off.channels["shank"][late] - clean.channels["shank"][late]))
+        assert dev_off > 0.005 > dev_on, (method, dev_on, dev_off)  # rad
+        with pytest.warns(limbfuse.LimbfuseWarning, match="1 gyroscope"):
+            run = Filter.for_trial(spiked, method).run({"t": spiked.t, **spiked.channels})
+        assert np.array_equal(bits(run.channels["shank"]), bits(on.channels["shank"])), method
+    with pytest.raises(LimbfuseError, match="rate_spike_test"):
+        limbfuse.estimate(spiked, "local", {"rate_spike_test": False})
