@@ -30,8 +30,9 @@ impl fmt::Display for Rejected {
             "{g} gyroscope, {a} accelerometer and {e} encoder reading(s) were rejected \
              (first at t = {} s): outside the sensors' range, clipped at their full scale, a \
              non-physical jump, a stuck sensor, an innovation beyond the filter's chi-square \
-             gate or a gyroscope spike the joint encoders contradict; they were treated as \
-             missing (a spike in `mjls` and `global`: a thigh or shank reading replaced by the rate the encoders imply; the trial's \
+             gate or a single-sample gyroscope spike; they were treated as missing (a spike: \
+             in `mjls` and `global` a thigh or shank reading is replaced by the rate the joint \
+             encoders imply, in the FES filters by the median of the last three readings; the trial's \
              `# gyro_range_rad_s:` and `# acc_range_m_s2:` set the range; docs/ROBUST_INPUT.md)",
             limbfuse_core::ShownNumber(self.first_t)
         )

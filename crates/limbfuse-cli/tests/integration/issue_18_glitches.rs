@@ -526,3 +526,54 @@ fn knee_methods_leave_gyro_spikes_out_of_the_position_fit() {
         }
     }
 }
+
+/// Session 49 (docs/ROBUST_INPUT.md, "Gyroscope spikes in the FES
+/// filters"): single shank gyroscope spikes within the range and the jump
+/// bound were measurements the continuous FES filters took at face value
+/// (thirty +-3 rad/s spikes on the shared P2-R trial: `sdre` 0.073 -> 18.5
+/// deg knee RMSE after 1 s). Now each is replaced by the median of the last
+/// three accepted readings, and the knee is the clean run's.
+#[test]
+fn issue_18_fes_filters_replace_shank_gyro_spikes() {
+    let Some(trial) = independent_walk().map(|w| w.with_file_name("fes-P2-R-s900.csv")) else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // ten spikes, 0.9-1.3 s apart from 5 s, on the shank gyroscope
+    spiked_copy(p, &trial, ("spikes.csv", 500), &["shank_gyr_z"], |k| {
+        k % 3 != 0
+    });
+    for method in ["sdre", "ekf", "knee-kinematic"] {
+        let mut rmse = Vec::new();
+        for t in ["clean", "spikes"] {
+            let out = format!("{t}-{method}.csv");
+            let o = limbfuse(
+                &[
+                    "estimate",
+                    "--method",
+                    method,
+                    &format!("{t}.csv"),
+                    "-o",
+                    &out,
+                ],
+                p,
+            );
+            assert_ok(&o);
+            let err = String::from_utf8_lossy(&o.stderr).to_string();
+            if t == "clean" {
+                assert!(!err.contains("were rejected"), "{method}: {err}");
+            } else {
+                assert!(
+                    err.contains(
+                        "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
+                    ),
+                    "{method}: {err}"
+                );
+            }
+            rmse.push(rmse_rows(p, &format!("{t}.csv"), &out, ["knee"])[0]);
+        }
+        eprintln!("{method}: knee RMSE clean / spikes {rmse:?}");
+        assert!((rmse[1] - rmse[0]).abs() <= 0.01, "{method}: {rmse:?}");
+    }
+}

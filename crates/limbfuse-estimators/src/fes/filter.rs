@@ -10,6 +10,7 @@ use limbfuse_models::SdcModel;
 use nalgebra::{SMatrix, SVector};
 
 use super::continuous::{propagate, update_parts, ContinuousTuning, FilterState, Linearisation};
+use super::gyro_spikes::GyroSpikeTest;
 
 /// A model together with how a trial feeds it.
 pub trait Plant<const N: usize, const M: usize, const U: usize> {
@@ -146,6 +147,11 @@ pub struct FesFilter<P, const N: usize, const M: usize, const U: usize> {
     /// The state was dropped for an input gap longer than
     /// [`MAX_INPUT_HOLD_S`]: the next start is a restart.
     input_gap: bool,
+    /// Single-sample spikes of the gyroscope measurements (ours; kept over
+    /// restarts: it tests the sensor, not the filter).
+    spikes: [GyroSpikeTest; M],
+    /// Whether [`FesFilter::spikes`] refuses readings.
+    spike_test: bool,
 }
 
 impl<P, const N: usize, const M: usize, const U: usize> FesFilter<P, N, M, U>
@@ -170,6 +176,19 @@ where
             held: 0,
             resets: 0,
             input_gap: false,
+            spikes: [GyroSpikeTest::default(); M],
+            spike_test: true,
+        }
+    }
+
+    /// With `false`, every gyroscope reading the sample gate passes is a
+    /// measurement, as in paper 004; with `true` (the default) a
+    /// single-sample spike is refused (docs/ROBUST_INPUT.md, "Gyroscope
+    /// spikes in the FES filters").
+    pub fn with_gyro_spike_test(self, on: bool) -> Self {
+        FesFilter {
+            spike_test: on,
+            ..self
         }
     }
 
@@ -291,9 +310,14 @@ where
         <P::Diag as DiagnosticSet>::NAMES
     }
 
+    fn rejected_readings(&self) -> [u64; 3] {
+        [self.spikes.iter().map(GyroSpikeTest::refused).sum(), 0, 0]
+    }
+
     fn reset(&mut self) {
         self.time.reset();
         self.state = None;
+        self.spikes = [GyroSpikeTest::default(); M];
         self.y_seen = [false; M];
         self.u_seen = [false; U];
         self.held = 0;
@@ -306,7 +330,17 @@ where
         let Some(u) = self.inputs(s)? else {
             return Ok(self.without_inputs(s));
         };
-        let meas = self.plant.measurement(s);
+        let mut meas = self.plant.measurement(s);
+        if self.spike_test {
+            let names = self.plant.measurement_names();
+            for (i, (m, test)) in meas.iter_mut().zip(&mut self.spikes).enumerate() {
+                if let Some(v) = m.filter(|v| v.is_finite() && names[i].contains("_gyr")) {
+                    if let Some(r) = test.replacement(s.t, v, self.tuning.s[i]) {
+                        *m = Some(r);
+                    }
+                }
+            }
+        }
         let mut y = self.y_prev;
         let mut weight = self.s_inv;
         for (i, m) in meas.iter().enumerate() {

@@ -21,6 +21,7 @@ pub mod continuous;
 pub mod filter;
 pub mod fixed_hip;
 pub mod fixed_hip_activation;
+mod gyro_spikes;
 pub mod knee;
 pub mod knee_extended;
 pub mod mahony;

@@ -7,6 +7,7 @@ mod chain_encoder_gate;
 mod chain_gyro_gate;
 mod controller_loop_example;
 mod diagnostics;
+mod fes_gyro_spikes;
 mod fes_no_resets;
 mod fes_simulated;
 mod gait_events_sim;
