@@ -12,6 +12,8 @@ use limbfuse_models::{
 };
 use limbfuse_sim::knee_fes::{simulate_knee_fes, KneeFesConfig};
 
+use crate::chain_encoder_gate::largest_difference;
+
 /// The knee over a run, and the readings rejected.
 fn knee(records: &[Record], f: &mut dyn Estimator) -> (Vec<f64>, [u64; 3]) {
     let k = records
@@ -19,15 +21,6 @@ fn knee(records: &[Record], f: &mut dyn Estimator) -> (Vec<f64>, [u64; 3]) {
         .map(|r| f.step(&r.sample).unwrap().joint[1].unwrap_or(f64::NAN))
         .collect();
     (k, f.rejected_readings())
-}
-
-/// Largest knee difference (deg) from sample `from` on.
-fn largest_difference(a: &[f64], b: &[f64], from: usize) -> f64 {
-    a[from..]
-        .iter()
-        .zip(&b[from..])
-        .map(|(x, y)| (x - y).abs().to_degrees())
-        .fold(0.0, f64::max)
 }
 
 #[test]
