@@ -150,7 +150,7 @@ pub struct FesFilter<P, const N: usize, const M: usize, const U: usize> {
     /// Single-sample spikes of the gyroscope measurements (ours; kept over
     /// restarts: it tests the sensor, not the filter).
     spikes: [GyroSpikeTest; M],
-    /// Whether [`FesFilter::spikes`] refuses readings.
+    /// Whether `spikes` replaces readings.
     spike_test: bool,
 }
 
@@ -183,7 +183,8 @@ where
 
     /// With `false`, every gyroscope reading the sample gate passes is a
     /// measurement, as in paper 004; with `true` (the default) a
-    /// single-sample spike is refused (docs/ROBUST_INPUT.md, "Gyroscope
+    /// single-sample spike is replaced by the median of the last three
+    /// readings (`fes::gyro_spikes`; docs/ROBUST_INPUT.md, "Gyroscope
     /// spikes in the FES filters").
     pub fn with_gyro_spike_test(self, on: bool) -> Self {
         FesFilter {

@@ -96,9 +96,10 @@ pub const SCALE_FLOOR: f64 = core::f64::consts::SQRT_2
 /// to the next, docs/ROBUST_INPUT.md), so a reading is refused only as far
 /// beyond the encoders' view of the motion as a jump check allows beyond
 /// the last reading. Below it a spike moves the angle by less than 0.6 deg
-/// at 100 Hz, within the encoder rows' reach; real heel-strike transients
-/// (residuals up to about 1 rad/s at 200 Hz on limbfuse's own walks) stay
-/// applied.
+/// at 100 Hz, within the encoder rows' reach; residuals of real motion
+/// near it (up to 1.1 rad/s at heel strike on limbfuse's own walk upsampled
+/// to 200 Hz by linear interpolation, where the interpolated rates and
+/// angles disagree) stay applied but for the few beyond.
 pub const SPIKE_MIN_RATE: f64 = 1.0;
 
 /// The test's memory: the last sample's rates and encoders and the
