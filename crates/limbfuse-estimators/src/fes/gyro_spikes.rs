@@ -5,8 +5,8 @@
 //! a measurement the continuous filters weigh by their measurement noise
 //! intensity, far below it: it pulled the shank rate and the gyroscope-bias
 //! state, and `sdre` on the shared independent FES trial P2-R with thirty
-//! +-3 rad/s spikes went from 0.073 to 22.3 deg knee RMSE, with thirty
-//! +-0.5 rad/s spikes to 1.8 deg (measured). A reading is refused when it
+//! +-3 rad/s spikes went from 0.073 to 18.5 deg knee RMSE, with thirty
+//! +-0.5 rad/s spikes to 1.8 deg (measured; docs/ROBUST_INPUT.md section 2q). A reading is refused when it
 //! departs from the median of the last three accepted readings by more than
 //! both `sqrt(`[`INNOVATION_GATE_CHI2`]`)` (4.89) standard deviations of the
 //! difference of two readings under the filter's own measurement noise,
