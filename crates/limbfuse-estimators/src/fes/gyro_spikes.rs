@@ -254,4 +254,34 @@ mod tests {
         assert!(!test.refuses(2.02, 0.0, S));
         assert_eq!(test.refused(), 0);
     }
+
+    proptest::proptest! {
+        /// Whatever the readings (finite, in any order of size), no two
+        /// readings in a row are refused, and a refused reading is replaced
+        /// by one of the last three accepted (the median of them).
+        #[test]
+        fn never_two_in_a_row_and_replaced_by_an_accepted_reading(
+            ys in proptest::collection::vec(-30.0f64..30.0, 1..400),
+            spike_every in 3usize..50,
+        ) {
+            let mut test = GyroSpikeTest::default();
+            let mut accepted: Vec<f64> = Vec::new();
+            let mut last_refused = false;
+            for (k, y) in ys.iter().enumerate() {
+                let y = if k % spike_every == 0 { y * 10.0 } else { *y * 0.01 };
+                match test.replacement(k as f64 * 0.01, y, S) {
+                    Some(r) => {
+                        proptest::prop_assert!(!last_refused, "two refusals in a row at {k}");
+                        let n = accepted.len();
+                        proptest::prop_assert!(accepted[n.saturating_sub(3)..].contains(&r));
+                        last_refused = true;
+                    }
+                    None => {
+                        accepted.push(y);
+                        last_refused = false;
+                    }
+                }
+            }
+        }
+    }
 }

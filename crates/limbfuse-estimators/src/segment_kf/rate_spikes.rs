@@ -456,4 +456,46 @@ mod tests {
             "a missing row: a gap"
         );
     }
+
+    proptest::proptest! {
+        /// Whatever the readings: a refusal needs every rate and encoder,
+        /// a refused trunk or foot reading becomes missing, a refused thigh
+        /// or shank reading a finite rate, and the others are untouched.
+        #[test]
+        fn a_refusal_needs_every_input_and_leaves_a_finite_rate_or_none(
+            steps in proptest::collection::vec(
+                (proptest::array::uniform4(-8.0f64..8.0), proptest::array::uniform3(-3.0f64..3.0), 0u8..20),
+                1..300,
+            ),
+        ) {
+            let mut test = RateSpikeTest::default();
+            for (k, (w, e, missing)) in steps.iter().enumerate() {
+                let mut rate: [Option<f64>; 4] = core::array::from_fn(|i| Some(w[i] * 0.05));
+                let mut enc: [Option<f64>; 3] = core::array::from_fn(|j| Some(e[j] * 0.01));
+                if k % 37 == 5 {
+                    rate[k % 4] = rate[k % 4].map(|v| v + w[0]); // a spike, or not
+                }
+                match missing {
+                    0 => rate[1] = None,
+                    1 => enc[2] = None,
+                    _ => {}
+                }
+                let before = rate;
+                let complete = rate.iter().all(Option::is_some) && enc.iter().all(Option::is_some);
+                let refused = test.check(&mut rate, &enc, (k > 0).then_some(0.01));
+                if let Some(i) = refused {
+                    proptest::prop_assert!(complete);
+                    match i {
+                        0 | 3 => proptest::prop_assert!(rate[i].is_none()),
+                        _ => proptest::prop_assert!(rate[i].is_some_and(f64::is_finite)),
+                    }
+                }
+                for j in 0..4 {
+                    if Some(j) != refused {
+                        proptest::prop_assert_eq!(rate[j], before[j]);
+                    }
+                }
+            }
+        }
+    }
 }
