@@ -332,6 +332,42 @@ fn spiked_copy(
     corrupt(dir, "clean.csv", to, &cells);
 }
 
+/// Runs `estimate --method method [--params params] trial.csv` in `dir` and
+/// checks what its warning says was rejected: `Some(0)` no warning at all,
+/// `Some(n)` exactly `n` gyroscope readings and nothing else, `None` no
+/// gyroscope reading (other rejections allowed). Returns the output's name.
+fn estimate_with_rejections(
+    dir: &Path,
+    method: &str,
+    trial: &str,
+    params: Option<&str>,
+    gyroscope: Option<u32>,
+) -> String {
+    let out = format!("{trial}-{method}-{}.csv", params.unwrap_or("default"));
+    let input = format!("{trial}.csv");
+    let mut args = vec!["estimate", "--method", method, &input, "-o", &out];
+    if let Some(f) = params {
+        args.extend(["--params", f]);
+    }
+    let o = limbfuse(&args, dir);
+    assert_ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    match gyroscope {
+        Some(0) => assert!(!err.contains("were rejected"), "{method}, {trial}: {err}"),
+        Some(n) => assert!(
+            err.contains(&format!(
+                ": {n} gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
+            )),
+            "{method}, {trial}: {err}"
+        ),
+        None => assert!(
+            !err.contains("were rejected") || err.contains(": 0 gyroscope,"),
+            "{method}, {trial}: {err}"
+        ),
+    }
+    out
+}
+
 /// Session 41 (docs/CHAIN.md, "Gyroscope rows beside an encoder"): single
 /// +-3 rad/s gyroscope spikes, inside the range and the jump bound, on the
 /// shared independent walk with encoders. Before, `chain` applied them, its
@@ -354,35 +390,9 @@ fn issue_18_chain_refuses_gyro_spikes_beside_an_encoder() {
         |k| k % 2 == 0,
     );
     let mut rmse = Vec::new();
-    for trial in ["clean", "spikes"] {
-        let o = limbfuse(
-            &[
-                "estimate",
-                "--method",
-                "chain",
-                &format!("{trial}.csv"),
-                "-o",
-                &format!("{trial}-chain.csv"),
-            ],
-            p,
-        );
-        assert_ok(&o);
-        let err = String::from_utf8_lossy(&o.stderr).to_string();
-        if trial == "clean" {
-            assert!(!err.contains("were rejected"), "{err}");
-        } else {
-            assert!(
-                err.contains(
-                    "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
-                ),
-                "{err}"
-            );
-        }
-        rmse.push(segment_rmse(
-            p,
-            &format!("{trial}.csv"),
-            &format!("{trial}-chain.csv"),
-        ));
+    for (trial, refused) in [("clean", 0), ("spikes", 10)] {
+        let out = estimate_with_rejections(p, "chain", trial, None, Some(refused));
+        rmse.push(segment_rmse(p, &format!("{trial}.csv"), &out));
     }
     for (k, (a, b)) in rmse[0].iter().zip(&rmse[1]).enumerate() {
         assert!(
@@ -417,34 +427,12 @@ fn issue_18_mjls_and_global_replace_gyro_spikes_the_encoders_contradict() {
     std::fs::write(p.join("off.toml"), "rate_spike_test = false\n").unwrap();
     for method in ["mjls", "global"] {
         let mut rmse = Vec::new();
-        for (trial, params) in [
-            ("clean", None),
-            ("spikes", None),
-            ("spikes", Some("off.toml")),
+        for (trial, params, refused) in [
+            ("clean", None, Some(0)),
+            ("spikes", None, Some(10)),
+            ("spikes", Some("off.toml"), None),
         ] {
-            let out = format!("{trial}-{method}-{}.csv", params.is_some());
-            let mut args = vec!["estimate", "--method", method, &format!("{trial}.csv")]
-                .into_iter()
-                .map(String::from)
-                .collect::<Vec<_>>();
-            if let Some(f) = params {
-                args.extend(["--params".into(), f.into()]);
-            }
-            args.extend(["-o".into(), out.clone()]);
-            let args: Vec<&str> = args.iter().map(String::as_str).collect();
-            let o = limbfuse(&args, p);
-            assert_ok(&o);
-            let err = String::from_utf8_lossy(&o.stderr).to_string();
-            match (trial, params) {
-                ("clean", _) => assert!(!err.contains("were rejected"), "{err}"),
-                (_, None) => assert!(
-                    err.contains(
-                        "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
-                    ),
-                    "{method}: {err}"
-                ),
-                _ => assert!(!err.contains("10 gyroscope"), "{method}: {err}"),
-            }
+            let out = estimate_with_rejections(p, method, trial, params, refused);
             rmse.push(segment_rmse(p, &format!("{trial}.csv"), &out));
         }
         eprintln!("{method}: segment RMSE clean / spikes / spikes without the test: {rmse:?}");
@@ -546,31 +534,8 @@ fn issue_18_fes_filters_replace_shank_gyro_spikes() {
     });
     for method in ["sdre", "ekf", "knee-kinematic"] {
         let mut rmse = Vec::new();
-        for t in ["clean", "spikes"] {
-            let out = format!("{t}-{method}.csv");
-            let o = limbfuse(
-                &[
-                    "estimate",
-                    "--method",
-                    method,
-                    &format!("{t}.csv"),
-                    "-o",
-                    &out,
-                ],
-                p,
-            );
-            assert_ok(&o);
-            let err = String::from_utf8_lossy(&o.stderr).to_string();
-            if t == "clean" {
-                assert!(!err.contains("were rejected"), "{method}: {err}");
-            } else {
-                assert!(
-                    err.contains(
-                        "10 gyroscope, 0 accelerometer and 0 encoder reading(s) were rejected"
-                    ),
-                    "{method}: {err}"
-                );
-            }
+        for (t, refused) in [("clean", 0), ("spikes", 10)] {
+            let out = estimate_with_rejections(p, method, t, None, Some(refused));
             rmse.push(rmse_rows(p, &format!("{t}.csv"), &out, ["knee"])[0]);
         }
         eprintln!("{method}: knee RMSE clean / spikes {rmse:?}");

@@ -152,6 +152,9 @@ pub struct FesFilter<P, const N: usize, const M: usize, const U: usize> {
     spikes: [GyroSpikeTest; M],
     /// Whether `spikes` replaces readings.
     spike_test: bool,
+    /// Which measurement channels are gyroscopes (`*_gyr*`), the ones
+    /// `spikes` tests.
+    gyro_channel: [bool; M],
 }
 
 impl<P, const N: usize, const M: usize, const U: usize> FesFilter<P, N, M, U>
@@ -161,6 +164,7 @@ where
     /// A filter on `plant`. `S` entries must be positive (they are inverted).
     pub fn new(plant: P, lin: Linearisation, tuning: ContinuousTuning<N, M>) -> Self {
         let s_inv = tuning.s.map(|s| if s > 0.0 { 1.0 / s } else { 0.0 });
+        let gyro_channel = plant.measurement_names().map(|n| n.contains("_gyr"));
         FesFilter {
             plant,
             lin,
@@ -178,6 +182,7 @@ where
             input_gap: false,
             spikes: [GyroSpikeTest::default(); M],
             spike_test: true,
+            gyro_channel,
         }
     }
 
@@ -333,9 +338,8 @@ where
         };
         let mut meas = self.plant.measurement(s);
         if self.spike_test {
-            let names = self.plant.measurement_names();
             for (i, (m, test)) in meas.iter_mut().zip(&mut self.spikes).enumerate() {
-                if let Some(v) = m.filter(|v| v.is_finite() && names[i].contains("_gyr")) {
+                if let Some(v) = m.filter(|v| v.is_finite() && self.gyro_channel[i]) {
                     if let Some(r) = test.replacement(s.t, v, self.tuning.s[i]) {
                         *m = Some(r);
                     }

@@ -31,7 +31,7 @@
 //! there; it is not used on walking data (`rmx` is not tested either).
 
 use crate::segment_kf::rate_spikes::SCALE_TIME_S;
-use crate::segment_kf::robust::{GAP_STEP_RATIO, INNOVATION_GATE_CHI2};
+use crate::segment_kf::robust::{ExpWeights, GAP_STEP_RATIO, INNOVATION_GATE_CHI2};
 
 /// The test of one gyroscope channel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -45,6 +45,7 @@ pub(crate) struct GyroSpikeTest {
     /// averaged.
     mean_square: f64,
     averaged_s: f64,
+    weights: ExpWeights,
     /// The last reading was refused.
     refused_last: bool,
     /// Readings refused so far.
@@ -100,7 +101,7 @@ impl GyroSpikeTest {
             return true;
         }
         if departure.is_finite() {
-            let k = 1.0 - libm::exp(-dt / SCALE_TIME_S);
+            let k = self.weights.weight(dt, SCALE_TIME_S);
             let d2 = departure * departure;
             self.mean_square = if self.averaged_s == 0.0 {
                 d2

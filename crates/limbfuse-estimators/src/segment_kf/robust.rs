@@ -244,7 +244,7 @@ pub(crate) struct RateDropouts {
 /// that differ in their last bits, a few distinct values in turn (the
 /// default, a zero step with weight zero, is exact too). One cache serves
 /// one time constant.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct ExpWeights {
     entries: [(f64, f64); 4],
     /// The entry replaced next.
