@@ -74,7 +74,7 @@ enum State {
 }
 
 /// Per-foot contact detector.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 pub struct FootEvents {
     swing_rate: f64,
     min_swing_time: f64,
@@ -226,13 +226,13 @@ impl FootEvents {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A synthetic stride in `w`: flat, push-off lobe (min at 0.30 s), swing
     /// lobe (0.35-0.75 s), loading lobe, flat. Events at the lobe minimum and
     /// the swing's downward zero crossing.
-    fn w_of(t: f64) -> f64 {
+    pub(crate) fn w_of(t: f64) -> f64 {
         use core::f64::consts::PI;
         if (0.2..0.35).contains(&t) {
             // push-off: -4 sin over [0.2, 0.35], but skewed: min at 0.30

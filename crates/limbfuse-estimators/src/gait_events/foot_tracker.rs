@@ -5,8 +5,9 @@
 
 use limbfuse_core::ImuSample;
 
+use super::confirmed_events::ConfirmedFootEvents;
 use super::foot_axis::FootAxis;
-use super::foot_events::{EventsAt, FootEvents};
+use super::foot_events::EventsAt;
 use super::reading_gap::ReadingGap;
 use super::sign_replay::{LateEvents, Reading, UndecidedReadings};
 use super::strapdown::StrideIntegrator;
@@ -19,7 +20,7 @@ use crate::cell_hold::CellHold;
 pub(super) struct FootTracker {
     shoe: Shoe,
     axis: FootAxis,
-    events: FootEvents,
+    pub(super) events: ConfirmedFootEvents,
     integrator: StrideIntegrator,
     sign: i32,
     ics_in_segment: u32,
@@ -47,7 +48,7 @@ impl FootTracker {
         FootTracker {
             shoe: Shoe::new(p.shoe),
             axis: FootAxis::new(p.axis_time_constant),
-            events: FootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
+            events: ConfirmedFootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
             integrator: StrideIntegrator::new(p.max_moving_time, p.acc_full_scale),
             sign: 0,
             ics_in_segment: 0,

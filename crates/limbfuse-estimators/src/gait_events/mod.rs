@@ -24,10 +24,14 @@
 //! Latency: an initial contact is decided one sample after it; a final
 //! contact when the foot's rate exceeds `swing_rate` (tens of ms, reported
 //! in docs/RESULTS.md); a stride length when the foot is flat again. The
-//! contact columns are causal (they switch when the event is decided).
+//! contact columns are causal (they switch when the event is decided). A
+//! foot's event is written one sample after its decision, when the next
+//! reading has confirmed it ([`confirmed_events`]: a single-sample
+//! gyroscope spike reverses its own).
 //! The events before a leg's axis sign was decided are replayed then and
 //! written late ([`sign_replay`]). Allocation-free per sample.
 
+pub mod confirmed_events;
 pub mod foot_axis;
 pub mod foot_events;
 mod foot_tracker;
@@ -251,6 +255,14 @@ struct SwingTimes {
 }
 
 impl SwingTimes {
+    /// Last toe off and last swing duration had `e` been recorded too (a
+    /// decision held for confirmation, [`confirmed_events`]).
+    fn with(&self, e: foot_events::EventsAt) -> (Option<f64>, Option<f64>) {
+        let mut times = *self;
+        times.record(e);
+        (times.last_fc, times.last_swing)
+    }
+
     /// Records one sample's events (in time order: live, or replayed).
     fn record(&mut self, e: foot_events::EventsAt) {
         if let Some(t_fc) = e.final_contact {
@@ -302,7 +314,7 @@ impl LegTracker {
     /// Last toe off and last swing duration (s).
     fn swing(&self) -> (Option<f64>, Option<f64>) {
         match self {
-            LegTracker::Foot(f) => (f.swing.last_fc, f.swing.last_swing),
+            LegTracker::Foot(f) => f.swing.with(f.events.held_events()),
             LegTracker::Shank(s) => (s.swing.last_fc, s.swing.last_swing),
         }
     }
