@@ -42,7 +42,9 @@
 //! after the decision anyway is written on it, as before), so an initial
 //! contact is written two samples after its zero crossing instead of one; the contact columns
 //! switch on the same sample as before, and for one sample only on a spike.
-//! A decision held at a trial's last sample is not written.
+//! A decision held at a trial's last sample is not written. Per sample of
+//! two feet `GaitEvents::step` costs 2 325 instructions instead of 2 166
+//! (callgrind, the shared gaitmap walk).
 
 use super::foot_events::{EventsAt, FootEvents};
 
@@ -102,21 +104,25 @@ impl ConfirmedFootEvents {
     /// this sample.
     pub fn update(&mut self, t: f64, dt: f64, w: f64, rest: bool) -> EventsAt {
         let mut out = EventsAt::default();
-        if let Some(h) = self.held.take() {
+        if let Some(h) = &self.held {
             if h.reversed_by(w, self.swing_rate) {
                 self.detector = h.before;
                 self.last_w = Some(h.w_before);
             } else {
                 out = h.events;
             }
+            self.held = None;
         }
         let contact = self.detector.contact();
-        let before = self.detector;
+        // (the copy only where the contact can change: taken at every
+        // sample it cost 113 more instructions per sample of two feet)
+        let before = self.detector.may_change_contact(w).then(|| self.detector);
         let events = self.detector.update(t, dt, w, rest);
         let into_swing = contact == Some(true) && self.detector.contact() == Some(false);
         let into_stance = contact == Some(false) && self.detector.contact() == Some(true);
-        match self.last_w {
-            Some(w_before) if into_swing || into_stance => {
+        debug_assert!(before.is_some() || !(into_swing || into_stance));
+        match (before, self.last_w) {
+            (Some(before), Some(w_before)) if into_swing || into_stance => {
                 self.held = Some(Held {
                     before,
                     events,

@@ -133,6 +133,17 @@ impl FootEvents {
         }
     }
 
+    /// Whether a sample of rate `w` can change the contact between stance
+    /// and swing ([`FootEvents::update`]: a swing needs `w > swing_rate`,
+    /// the end of one `w <= 0`).
+    pub fn may_change_contact(&self, w: f64) -> bool {
+        match self.state {
+            State::Stance => w > self.swing_rate,
+            State::Swing => w <= 0.0,
+            State::Unknown => false,
+        }
+    }
+
     /// One sample at time `t` with step `dt`: sagittal rate `w` (rad/s), foot at rest or not.
     pub fn update(&mut self, t: f64, dt: f64, w: f64, rest: bool) -> EventsAt {
         let mut out = EventsAt::default();
