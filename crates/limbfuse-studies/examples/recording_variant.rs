@@ -3,7 +3,7 @@
 //! recordings"): rows removed (a time gap), IMU cells emptied over a time
 //! window or on every N-th row (dropped packets), the model inputs
 //! (stimulation, motor torques) emptied over a time window, the other leg's IMU
-//! columns removed, or the two legs' IMU columns and contact references
+//! columns removed, one of this leg's IMUs removed, or the two legs' IMU columns and contact references
 //! exchanged without mirroring the readings, the time stamps jittered, or
 //! an encoder stuck or re-zeroed, single-sample gyroscope spikes added, or
 //! time-stamp glitches (a duplicate row, a swapped pair, a late stamp).
@@ -11,7 +11,7 @@
 //! image are `limbfuse resample` and `limbfuse mirror`.
 //! `cargo run --release -p limbfuse-studies --example recording_variant --
 //! TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...] [--blank-inputs A:B ...]
-//! [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs] [--jitter-ms MS
+//! [--blank-every N [--blank-first K]] [--drop-other-leg] [--drop-imu SEGMENT ...] [--swap-legs] [--jitter-ms MS
 //! [--jitter-seed S]] [--stick-encoder JOINT:START:END ...]
 //! [--offset-encoder JOINT:START:RAD ...] [--gyro-spikes N [--spike-rad-s A]
 //! [--spike-from T] [--spike-seed S]] [--time-glitches N [--glitch-seed S]]`
@@ -61,6 +61,9 @@ fn main() {
         if args.drop_other_leg {
             r.sample.other_leg_imu = [ImuSample::default(); 4];
         }
+        for &i in &args.drop_imu {
+            r.sample.imu[i] = ImuSample::default();
+        }
         for &(j, (start, rad)) in &args.offset_encoder {
             if t >= start {
                 r.sample.encoder[j] = r.sample.encoder[j].map(|e| e + rad);
@@ -107,6 +110,10 @@ fn main() {
     if args.drop_other_leg {
         layout.other_acc = [false; 4];
         layout.other_gyr = [false; 4];
+    }
+    for &i in &args.drop_imu {
+        layout.acc[i] = false;
+        layout.gyr[i] = false;
     }
     if args.swap_legs {
         core::mem::swap(&mut layout.acc, &mut layout.other_acc);

@@ -6,7 +6,8 @@
 use clap::Parser;
 
 /// `recording_variant TRIAL -o OUT [--drop-rows A:B ...] [--blank A:B ...]
-/// [--blank-inputs A:B ...] [--blank-every N [--blank-first K]] [--drop-other-leg] [--swap-legs]
+/// [--blank-inputs A:B ...] [--blank-every N [--blank-first K]] [--drop-other-leg]
+/// [--drop-imu SEGMENT ...] [--swap-legs]
 /// [--jitter-ms MS [--jitter-seed S]] [--stick-encoder JOINT:A:B ...]
 /// [--offset-encoder JOINT:T:RAD ...] [--gyro-spikes N [--spike-rad-s A] [--spike-from T]
 /// [--spike-seed S]] [--time-glitches N [--glitch-seed S]]`.
@@ -39,6 +40,10 @@ pub struct RecordingVariantArgs {
     /// The other leg's IMU columns removed (one-leg recording).
     #[arg(long)]
     pub drop_other_leg: bool,
+    /// This leg's IMU on SEGMENT (trunk, thigh, shank or foot) removed: a
+    /// recording without that sensor (repeatable; before `--gyro-spikes`).
+    #[arg(long, value_name = "SEGMENT", value_parser = segment_index)]
+    pub drop_imu: Vec<usize>,
     /// The two legs' IMU columns and contact references exchanged, the
     /// readings not mirrored (the sensors' columns mislabelled, or a
     /// recording whose two sensors are mounted alike).
@@ -88,6 +93,13 @@ pub struct RecordingVariantArgs {
 
 /// `JOINT:A:B` with JOINT one of hip, knee, ankle (its index) and two
 /// numbers.
+fn segment_index(s: &str) -> Result<usize, String> {
+    ["trunk", "thigh", "shank", "foot"]
+        .iter()
+        .position(|n| *n == s.trim())
+        .ok_or_else(|| format!("`{s}` is not trunk, thigh, shank or foot"))
+}
+
 fn joint_window(s: &str) -> Result<(usize, (f64, f64)), String> {
     let (joint, rest) = s
         .split_once(':')

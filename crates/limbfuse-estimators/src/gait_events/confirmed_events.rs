@@ -1,9 +1,11 @@
-//! A foot's contact change confirmed by the next reading (ours, issue 18's
-//! glitches applied to `gait-events`).
+//! A leg's contact change confirmed by the next reading (ours, issue 18's
+//! glitches applied to `gait-events`), for the foot detector
+//! ([`FootEvents`]) and the shank detector ([`ShankEvents`]) alike.
 //!
 //! [`FootEvents`] decides a swing on the first sample whose rate `w`
 //! exceeds `swing_rate`, and an initial contact on the first sample at or
-//! below zero after a swing. A single-sample gyroscope spike does both: one
+//! below zero after a swing ([`ShankEvents`] the same, at its zero-crossing
+//! landmark). A single-sample gyroscope spike does both: one
 //! reading of +3 rad/s on the sagittal axis of a foot at rest is a "swing"
 //! whose toe off is the rest's noise trough, and the real toe off of that
 //! stance is then lost; one reading below zero in early or late swing is an
@@ -43,16 +45,53 @@
 //! contact is written two samples after its zero crossing instead of one; the contact columns
 //! switch on the same sample as before, and for one sample only on a spike.
 //! A decision held at a trial's last sample is not written. Per sample of
-//! two feet `GaitEvents::step` costs 2 325 instructions instead of 2 166
+//! two feet `GaitEvents::step` costs 2 343 instructions instead of 2 166
 //! (callgrind, the shared gaitmap walk).
 
 use super::foot_events::{EventsAt, FootEvents};
+use super::shank_events::ShankEvents;
+
+/// A per-leg contact detector whose changes between stance and swing
+/// [`ConfirmedEvents`] holds for one sample.
+pub trait ContactDetector: Copy {
+    /// Contact state: `Some(true)` in stance, `Some(false)` in swing.
+    fn contact(&self) -> Option<bool>;
+    /// Whether a sample of rate `w` can change the contact between stance
+    /// and swing (a cheap superset; the state is copied only then).
+    fn may_change_contact(&self, w: f64) -> bool;
+    /// Forgets the state.
+    fn reset(&mut self);
+}
+
+impl ContactDetector for FootEvents {
+    fn contact(&self) -> Option<bool> {
+        FootEvents::contact(self)
+    }
+    fn may_change_contact(&self, w: f64) -> bool {
+        FootEvents::may_change_contact(self, w)
+    }
+    fn reset(&mut self) {
+        FootEvents::reset(self)
+    }
+}
+
+impl ContactDetector for ShankEvents {
+    fn contact(&self) -> Option<bool> {
+        ShankEvents::contact(self)
+    }
+    fn may_change_contact(&self, w: f64) -> bool {
+        ShankEvents::may_change_contact(self, w)
+    }
+    fn reset(&mut self) {
+        ShankEvents::reset(self)
+    }
+}
 
 /// A change of contact decided on one reading, waiting for the next.
 #[derive(Debug, Clone, Copy)]
-struct Held {
+struct Held<D> {
     /// The detector before the sample that decided.
-    before: FootEvents,
+    before: D,
     /// What that sample decided.
     events: EventsAt,
     /// The change was into swing (else into stance).
@@ -62,20 +101,21 @@ struct Held {
     w: f64,
 }
 
-/// [`FootEvents`] whose changes of contact are confirmed by the next reading.
+/// A [`ContactDetector`] whose changes of contact are confirmed by the
+/// next reading.
 #[derive(Debug, Clone)]
-pub struct ConfirmedFootEvents {
-    detector: FootEvents,
-    held: Option<Held>,
+pub struct ConfirmedEvents<D> {
+    detector: D,
+    held: Option<Held<D>>,
     last_w: Option<f64>,
     swing_rate: f64,
 }
 
-impl ConfirmedFootEvents {
-    /// A detector with the arguments of [`FootEvents::new`].
-    pub fn new(swing_rate: f64, min_swing_time: f64, min_rest_time: f64) -> Self {
-        ConfirmedFootEvents {
-            detector: FootEvents::new(swing_rate, min_swing_time, min_rest_time),
+impl<D: ContactDetector> ConfirmedEvents<D> {
+    /// `detector`, whose swings are decided above `swing_rate` (rad/s).
+    pub fn new(detector: D, swing_rate: f64) -> Self {
+        ConfirmedEvents {
+            detector,
             held: None,
             last_w: None,
             swing_rate,
@@ -89,7 +129,7 @@ impl ConfirmedFootEvents {
         self.last_w = None;
     }
 
-    /// Contact state, a held decision's included ([`FootEvents::contact`]).
+    /// Contact state, a held decision's included.
     pub fn contact(&self) -> Option<bool> {
         self.detector.contact()
     }
@@ -97,12 +137,14 @@ impl ConfirmedFootEvents {
     /// The events of the decision held for confirmation (none when nothing
     /// is held).
     pub fn held_events(&self) -> EventsAt {
-        self.held.map_or_else(EventsAt::default, |h| h.events)
+        self.held
+            .as_ref()
+            .map_or_else(EventsAt::default, |h| h.events)
     }
 
-    /// One sample ([`FootEvents::update`]); returns the events confirmed at
-    /// this sample.
-    pub fn update(&mut self, t: f64, dt: f64, w: f64, rest: bool) -> EventsAt {
+    /// One sample of rate `w` (rad/s), which `step` gives the detector;
+    /// returns the events confirmed at this sample.
+    pub fn update(&mut self, w: f64, step: impl FnOnce(&mut D) -> EventsAt) -> EventsAt {
         let mut out = EventsAt::default();
         if let Some(h) = &self.held {
             if h.reversed_by(w, self.swing_rate) {
@@ -114,10 +156,15 @@ impl ConfirmedFootEvents {
             self.held = None;
         }
         let contact = self.detector.contact();
-        // (the copy only where the contact can change: taken at every
-        // sample it cost 113 more instructions per sample of two feet)
-        let before = self.detector.may_change_contact(w).then(|| self.detector);
-        let events = self.detector.update(t, dt, w, rest);
+        // The copy only where the contact can change: taken at every sample
+        // (as `then_some` does, its argument being evaluated first) it cost
+        // 113 more instructions per sample of two feet.
+        let before = if self.detector.may_change_contact(w) {
+            Some(self.detector)
+        } else {
+            None
+        };
+        let events = step(&mut self.detector);
         let into_swing = contact == Some(true) && self.detector.contact() == Some(false);
         let into_stance = contact == Some(false) && self.detector.contact() == Some(true);
         debug_assert!(before.is_some() || !(into_swing || into_stance));
@@ -143,7 +190,7 @@ impl ConfirmedFootEvents {
     }
 }
 
-impl Held {
+impl<D> Held<D> {
     /// The next reading `w` gives back more than half of the step that
     /// crossed and lies on the other side of the decision again.
     fn reversed_by(&self, w: f64, swing_rate: f64) -> bool {
@@ -168,7 +215,7 @@ mod tests {
     /// Every event and every sample's contact of three strides, with `spike`
     /// added to the reading at the sample indices given.
     fn run(spikes: &[(usize, f64)]) -> (Vec<f64>, Vec<f64>, Vec<Option<bool>>) {
-        let mut d = ConfirmedFootEvents::new(1.0, 0.15, 0.05);
+        let mut d = ConfirmedEvents::new(FootEvents::new(1.0, 0.15, 0.05), 1.0);
         let dt = 1.0 / 200.0;
         let (mut ic, mut fc, mut contact) = (vec![], vec![], vec![]);
         for k in 0..600 {
@@ -176,7 +223,7 @@ mod tests {
             let spike: f64 = spikes.iter().filter(|s| s.0 == k).map(|s| s.1).sum();
             let w = w_of(t) + spike;
             let rest = w_of(t) == 0.0 && spike == 0.0;
-            let e = d.update(t, dt, w, rest);
+            let e = d.update(w, |f| f.update(t, dt, w, rest));
             ic.extend(e.initial_contact);
             fc.extend(e.final_contact);
             contact.push(d.contact());
@@ -203,7 +250,7 @@ mod tests {
     #[test]
     fn a_confirmed_decision_is_written_one_sample_later_with_its_time() {
         let mut plain = FootEvents::new(1.0, 0.15, 0.05);
-        let mut held = ConfirmedFootEvents::new(1.0, 0.15, 0.05);
+        let mut held = ConfirmedEvents::new(FootEvents::new(1.0, 0.15, 0.05), 1.0);
         let dt = 1.0 / 200.0;
         let (mut a, mut b) = (vec![], vec![]);
         for k in 0..600 {
@@ -211,7 +258,7 @@ mod tests {
             let w = w_of(t);
             let rest = w == 0.0;
             let e = plain.update(t, dt, w, rest);
-            let f = held.update(t, dt, w, rest);
+            let f = held.update(w, |d| d.update(t, dt, w, rest));
             assert_eq!(plain.contact(), held.contact(), "contact at sample {k}");
             a.extend(e.initial_contact.map(|x| (k, x)));
             a.extend(e.final_contact.map(|x| (k, -x)));
@@ -244,5 +291,39 @@ mod tests {
         };
         assert!(!stance.reversed_by(0.27, 1.0));
         assert!(stance.reversed_by(1.2, 1.0));
+    }
+
+    /// The shank detector behind the same hold: a +3 rad/s spike in stance
+    /// (its rate -1 rad/s) was a swing whose toe off was the sample before
+    /// it; a -3 rad/s spike in late swing (rate 1.4 rad/s) an initial
+    /// contact. Neither makes an event now.
+    #[test]
+    fn issue_18_a_shank_spike_makes_no_event() {
+        use super::super::shank_events::{tests::w_of, ShankContact};
+        let run = |spikes: &[(usize, f64)]| {
+            let mut d =
+                ConfirmedEvents::new(ShankEvents::new(1.0, 0.15, ShankContact::ZeroCrossing), 1.0);
+            let (mut ic, mut fc) = (vec![], vec![]);
+            for k in 0..2000 {
+                let t = k as f64 * 0.002;
+                let spike: f64 = spikes.iter().filter(|s| s.0 == k).map(|s| s.1).sum();
+                let w = w_of(t) + spike;
+                let e = d.update(w, |s| s.update(t, w));
+                ic.extend(e.initial_contact);
+                fc.extend(e.final_contact);
+            }
+            (ic, fc)
+        };
+        let clean = run(&[]);
+        assert!(clean.0.len() >= 3 && clean.1.len() >= 3, "{clean:?}");
+        // in stance at 1.3 s; in late swing at 2.034 s (w 1.44, then 1.31)
+        let late_swing = (0..2000)
+            .find(|&k| {
+                let t = k as f64 * 0.002;
+                t > 1.95 && w_of(t) < 1.5 && w_of(t) > 1.0 && w_of(t + 0.002) < w_of(t)
+            })
+            .unwrap();
+        let spiked = run(&[(650, 3.0), (late_swing, -3.0)]);
+        assert_eq!(spiked, clean);
     }
 }

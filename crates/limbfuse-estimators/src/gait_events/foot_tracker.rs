@@ -5,9 +5,9 @@
 
 use limbfuse_core::ImuSample;
 
-use super::confirmed_events::ConfirmedFootEvents;
+use super::confirmed_events::ConfirmedEvents;
 use super::foot_axis::FootAxis;
-use super::foot_events::EventsAt;
+use super::foot_events::{EventsAt, FootEvents};
 use super::reading_gap::ReadingGap;
 use super::sign_replay::{LateEvents, Reading, UndecidedReadings};
 use super::strapdown::StrideIntegrator;
@@ -20,7 +20,7 @@ use crate::cell_hold::CellHold;
 pub(super) struct FootTracker {
     shoe: Shoe,
     axis: FootAxis,
-    pub(super) events: ConfirmedFootEvents,
+    pub(super) events: ConfirmedEvents<FootEvents>,
     integrator: StrideIntegrator,
     sign: i32,
     ics_in_segment: u32,
@@ -48,7 +48,10 @@ impl FootTracker {
         FootTracker {
             shoe: Shoe::new(p.shoe),
             axis: FootAxis::new(p.axis_time_constant),
-            events: ConfirmedFootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
+            events: ConfirmedEvents::new(
+                FootEvents::new(p.swing_rate, p.min_swing_time, p.min_rest_time),
+                p.swing_rate,
+            ),
             integrator: StrideIntegrator::new(p.max_moving_time, p.acc_full_scale),
             sign: 0,
             ics_in_segment: 0,
@@ -110,7 +113,8 @@ impl FootTracker {
         };
         for i in 0..self.undecided.len() {
             let r = self.undecided.get(i);
-            let e = self.events.update(r.t, r.dt, axis.dot(&r.gyr), r.rest);
+            let w = axis.dot(&r.gyr);
+            let e = self.events.update(w, |d| d.update(r.t, r.dt, w, r.rest));
             self.record(e);
         }
         self.ic_in_segment = None;
@@ -160,7 +164,7 @@ impl FootTracker {
         }
         if let Some(w) = self.axis.sagittal_rate(&gyr) {
             out.rate = Some(w);
-            let e = self.events.update(t, dt, w, rest);
+            let e = self.events.update(w, |d| d.update(t, dt, w, rest));
             self.record(e);
         }
         let written = self.late.pop();

@@ -315,7 +315,7 @@ impl LegTracker {
     fn swing(&self) -> (Option<f64>, Option<f64>) {
         match self {
             LegTracker::Foot(f) => f.swing.with(f.events.held_events()),
-            LegTracker::Shank(s) => (s.swing.last_fc, s.swing.last_swing),
+            LegTracker::Shank(s) => s.swing.with(s.events.held_events()),
         }
     }
 }

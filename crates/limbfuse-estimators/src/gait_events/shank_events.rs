@@ -86,7 +86,7 @@ enum Phase {
 }
 
 /// Per-leg shank event detector on the signed sagittal rate.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 pub struct ShankEvents {
     swing_rate: f64,
     min_swing_time: f64,
@@ -135,6 +135,16 @@ impl ShankEvents {
             Phase::Unknown => None,
             Phase::Stance => Some(true),
             Phase::Swing => Some(false),
+        }
+    }
+
+    /// Whether a sample of rate `w` can change the contact between stance
+    /// and swing ([`ShankEvents::update`]: a swing needs `w > swing_rate`;
+    /// the end of one `w <= 0` at the zero crossing, any rate at a valley).
+    pub fn may_change_contact(&self, w: f64) -> bool {
+        match self.phase {
+            Phase::Swing => self.landmark == ShankContact::Valley || w <= 0.0,
+            Phase::Stance | Phase::Unknown => w > self.swing_rate,
         }
     }
 
@@ -276,13 +286,13 @@ impl ShankAxis {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A synthetic shank stride of 1.1 s: stance -1 rad/s with a toe-off
     /// valley of -3 rad/s at 0.65 s, swing peak 5 rad/s at 0.85 s, heel-strike
     /// valley of -2 rad/s at 1.03 s (= 1.1 s + ... of the next stride).
-    fn w_of(t: f64) -> f64 {
+    pub(crate) fn w_of(t: f64) -> f64 {
         use core::f64::consts::PI;
         let u = t % 1.1;
         let bump = |c: f64, width: f64, h: f64| {

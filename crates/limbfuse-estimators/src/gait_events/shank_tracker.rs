@@ -3,6 +3,7 @@
 
 use limbfuse_core::ImuSample;
 
+use super::confirmed_events::ConfirmedEvents;
 use super::reading_gap::ReadingGap;
 use super::shank_events::{ShankAxis, ShankEvents};
 use super::sign_replay::{LateEvents, Reading, UndecidedReadings};
@@ -12,7 +13,7 @@ use super::{FootOutput, GaitEventsParams, SwingTimes};
 #[derive(Debug, Clone)]
 pub(super) struct ShankTracker {
     axis: ShankAxis,
-    events: ShankEvents,
+    pub(super) events: ConfirmedEvents<ShankEvents>,
     sign: i32,
     pub(super) swing: SwingTimes,
     gap: ReadingGap,
@@ -31,7 +32,10 @@ impl ShankTracker {
         undecided.clear();
         ShankTracker {
             axis: ShankAxis::new(p.axis_time_constant),
-            events: ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
+            events: ConfirmedEvents::new(
+                ShankEvents::new(p.swing_rate, p.min_swing_time, p.shank_contact),
+                p.swing_rate,
+            ),
             sign: 0,
             swing: SwingTimes::default(),
             gap: ReadingGap::default(),
@@ -52,7 +56,7 @@ impl ShankTracker {
         for i in 0..self.undecided.len() {
             let r = self.undecided.get(i);
             if let Some(w) = self.axis.sagittal_rate(&r.gyr) {
-                let e = self.events.update(r.t, w);
+                let e = self.events.update(w, |d| d.update(r.t, w));
                 self.swing.record(e);
                 self.late.push(e);
             }
@@ -99,7 +103,7 @@ impl ShankTracker {
         }
         if let Some(w) = self.axis.sagittal_rate(&gyr) {
             out.rate = Some(w);
-            let e = self.events.update(t, w);
+            let e = self.events.update(w, |d| d.update(t, w));
             self.swing.record(e);
             self.late.push(e);
         }
