@@ -34,7 +34,7 @@ pub struct Fault {
 }
 
 /// The faults: each at sample `i` = [`FAULT_T`].
-pub const FAULTS: [Fault; 10] = [
+pub const FAULTS: [Fault; 11] = [
     Fault {
         name: "none",
         apply: |_, _| {},
@@ -92,6 +92,19 @@ pub const FAULTS: [Fault; 10] = [
         name: "a 3 rad/s spike in the shank gyro's z for one sample (passes the gate)",
         apply: |r, i| {
             if let Some(g) = r[i].sample.imu[Segment::Shank.index()].gyr.as_mut() {
+                g.z += 3.0;
+            }
+        },
+    },
+    Fault {
+        name:
+            "a 3 rad/s spike in the foot gyro's z for one sample, the foot flat (passes the gate)",
+        apply: |r, i| {
+            let foot = Segment::Foot.index();
+            let flat = (i..r.len()).find(|&k| {
+                (k - 5..=k + 5).all(|j| r[j].sample.imu[foot].gyr.is_some_and(|g| g.norm() < 0.5))
+            });
+            if let Some(g) = flat.and_then(|k| r[k].sample.imu[foot].gyr.as_mut()) {
                 g.z += 3.0;
             }
         },

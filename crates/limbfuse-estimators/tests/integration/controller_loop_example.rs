@@ -50,6 +50,20 @@ fn controller_loop_example_survives_every_driver_fault() {
         } else {
             assert_eq!(spike.rejected, [0, 0, 0], "{name}: {spike:?}");
         }
+        // A foot spike on a flat foot (session 50): refused beside the ankle
+        // encoder by the three encoder methods; for gait-events a swing for
+        // one sample only (56 samples of contact before its one-sample hold,
+        // docs/ROBUST_INPUT.md section 2r).
+        let foot = &runs[9];
+        assert!(example::FAULTS[9].name.contains("foot gyro"));
+        match name {
+            "mjls" | "global" | "chain" => {
+                assert_eq!(foot.rejected, [1, 0, 0], "{name}: {foot:?}");
+                assert!(foot.max_dev_deg < 0.05, "{name}: {foot:?}");
+            }
+            "gait-events" => assert!(foot.contact_diffs <= 1, "{foot:?}"),
+            _ => {}
+        }
         assert_eq!(runs[1].rejected, [0, 0, 1], "{name}: the encoder jump");
         assert_eq!(runs[3].rejected, [1, 0, 0], "{name}: the NaN");
         assert_eq!(runs[4].rejected, [10, 0, 0], "{name}: the saturated gyro");
