@@ -32,7 +32,8 @@
 //! are found as without the spike. On every clean recording with foot IMUs
 //! we have (the gaitmap walk at 204.8 and 50 Hz, the independent
 //! simulator's three walks, the S02 foot, limbfuse's own walks at 0.4-1.8
-//! m/s and 1 kHz) no decision is reversed: the nearest were a swing whose
+//! m/s and 1 kHz), and on the same walks' shanks alone, no decision is
+//! reversed: the nearest (feet) were a swing whose
 //! rate fell from 1.14 to 0.75 rad/s at the next 50 Hz sample (it keeps
 //! more than half of its step) and a real initial contact whose rate came
 //! back to +0.27 rad/s (below `swing_rate`). A spike in late swing while
@@ -44,7 +45,8 @@
 //! after the decision anyway is written on it, as before), so an initial
 //! contact is written two samples after its zero crossing instead of one; the contact columns
 //! switch on the same sample as before, and for one sample only on a spike.
-//! A decision held at a trial's last sample is not written. Per sample of
+//! A decision held at a trial's last sample, or at the last before a gap
+//! in the leg's readings (the detector restarts), is not written. Per sample of
 //! two feet `GaitEvents::step` costs 2 343 instructions instead of 2 166
 //! (callgrind, the shared gaitmap walk).
 

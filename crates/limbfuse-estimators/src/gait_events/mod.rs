@@ -25,9 +25,9 @@
 //! contact when the foot's rate exceeds `swing_rate` (tens of ms, reported
 //! in docs/RESULTS.md); a stride length when the foot is flat again. The
 //! contact columns are causal (they switch when the event is decided). A
-//! foot's event is written one sample after its decision, when the next
-//! reading has confirmed it ([`confirmed_events`]: a single-sample
-//! gyroscope spike reverses its own).
+//! leg's event (foot or shank) is written one sample after its decision,
+//! when the next reading has confirmed it ([`confirmed_events`]: a
+//! single-sample gyroscope spike reverses its own).
 //! The events before a leg's axis sign was decided are replayed then and
 //! written late ([`sign_replay`]). Allocation-free per sample.
 
