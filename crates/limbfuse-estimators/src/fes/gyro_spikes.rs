@@ -63,9 +63,7 @@ impl GyroSpikeTest {
     /// remembered as accepted); `s` is the channel's measurement noise
     /// intensity.
     pub fn replacement(&mut self, t: f64, y: f64, s: f64) -> Option<f64> {
-        let before = self.refused;
-        self.refuses(t, y, s);
-        (self.refused > before).then(|| {
+        self.refuses(t, y, s).then(|| {
             let [a, b, c] = self.accepted.map(|v| v.unwrap_or(y));
             median(a, b, c)
         })
